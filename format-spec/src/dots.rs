@@ -1,0 +1,345 @@
+//! Dot tables (`DOTS`): outline dots, point symbols and braille cells, stored
+//! with a uniform grid index so that a player finds the dots near an actuator
+//! without scanning the whole table.
+
+use alloc::vec::Vec;
+
+use crate::bytes::{Out, f32_at, u8_at, u32_at};
+use crate::error::FormatError;
+use crate::units::Mm;
+use crate::{NO_SOURCE, Tag, finite, in_range, source_from_raw};
+
+pub(crate) const DOTS_HEADER_LEN: usize = 32;
+pub(crate) const DOT_LEN: usize = 20;
+/// Largest number of dots in one table.
+pub const MAX_DOTS: u32 = 4 << 20;
+/// Largest number of cells in a table's grid index.
+pub const MAX_DOT_GRID_CELLS: u32 = 1 << 20;
+
+/// What a dot table draws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum DotKind {
+    /// Dots spaced along an outline (`dots(...)`).
+    Outline,
+    /// A single dot per point symbol (`dot(...)`).
+    Symbol,
+    /// Braille cells (`braille(...)`).
+    Braille,
+}
+
+impl DotKind {
+    /// Code stored in the chunk.
+    pub fn code(self) -> u8 {
+        match self {
+            DotKind::Outline => 1,
+            DotKind::Symbol => 2,
+            DotKind::Braille => 3,
+        }
+    }
+
+    /// Kind for a stored code.
+    pub fn from_code(c: u8) -> Option<Self> {
+        match c {
+            1 => Some(DotKind::Outline),
+            2 => Some(DotKind::Symbol),
+            3 => Some(DotKind::Braille),
+            _ => None,
+        }
+    }
+
+    /// Name used in the text form and messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            DotKind::Outline => "outline",
+            DotKind::Symbol => "symbol",
+            DotKind::Braille => "braille",
+        }
+    }
+}
+
+/// One dot (seed 000 eq. 1): centre, radius and amplitude.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Dot {
+    /// Centre x on the page.
+    pub x: Mm,
+    /// Centre y on the page.
+    pub y: Mm,
+    /// Radius ρ.
+    pub radius: Mm,
+    /// Amplitude (0..=1) that scales δ.
+    pub amplitude: f32,
+    /// Provenance entry of the element the dot came from.
+    pub source: Option<u32>,
+}
+
+/// A dot table. When written, dots are stored sorted by grid cell (stable
+/// within a cell), so reading a table back gives that order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DotTable {
+    /// What the dots draw.
+    pub kind: DotKind,
+    /// The dots.
+    pub dots: Vec<Dot>,
+}
+
+/// The grid index of a dot table: cells of `cell_mm`, `cols` x `rows`, from
+/// `(origin_x, origin_y)`. A dot belongs to the cell that holds its centre
+/// (clamped to the grid).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DotGrid {
+    /// Page x of the grid's left edge.
+    pub origin_x: f32,
+    /// Page y of the grid's top edge.
+    pub origin_y: f32,
+    /// Side of one cell in millimetres.
+    pub cell_mm: f32,
+    /// Cells per row.
+    pub cols: u32,
+    /// Rows of cells.
+    pub rows: u32,
+    /// Largest dot radius in the table.
+    pub max_radius: f32,
+}
+
+impl DotGrid {
+    /// The cell column of page x, clamped to the grid.
+    #[inline]
+    pub fn col_of(&self, x: f32) -> u32 {
+        clamp_cell((x - self.origin_x) / self.cell_mm, self.cols)
+    }
+
+    /// The cell row of page y, clamped to the grid.
+    #[inline]
+    pub fn row_of(&self, y: f32) -> u32 {
+        clamp_cell((y - self.origin_y) / self.cell_mm, self.rows)
+    }
+
+    fn derive(dots: &[Dot]) -> DotGrid {
+        if dots.is_empty() {
+            return DotGrid { origin_x: 0.0, origin_y: 0.0, cell_mm: 1.0, cols: 1, rows: 1, max_radius: 0.0 };
+        }
+        let (mut x0, mut y0, mut x1, mut y1, mut r) = (f32::MAX, f32::MAX, f32::MIN, f32::MIN, 0.0f32);
+        for d in dots {
+            x0 = x0.min(d.x.0);
+            y0 = y0.min(d.y.0);
+            x1 = x1.max(d.x.0);
+            y1 = y1.max(d.y.0);
+            r = r.max(d.radius.0);
+        }
+        // A cell of at least two radii means an actuator is reached by dots
+        // of at most 2 x 2 cells; grow the cell until the grid fits the limit.
+        let mut cell = (2.0 * r).max(1e-3);
+        loop {
+            let cols = ((x1 - x0) / cell) as u64 + 1;
+            let rows = ((y1 - y0) / cell) as u64 + 1;
+            if cols * rows <= MAX_DOT_GRID_CELLS as u64 || !cell.is_finite() {
+                return DotGrid {
+                    origin_x: x0,
+                    origin_y: y0,
+                    cell_mm: cell,
+                    cols: cols.min(MAX_DOT_GRID_CELLS as u64) as u32,
+                    rows: rows.min(MAX_DOT_GRID_CELLS as u64) as u32,
+                    max_radius: r,
+                };
+            }
+            cell *= 2.0;
+        }
+    }
+}
+
+#[inline]
+fn clamp_cell(v: f32, n: u32) -> u32 {
+    // `as` saturates and maps NaN to 0, so this never panics.
+    let c = libm::floorf(v) as i64;
+    c.clamp(0, n as i64 - 1) as u32
+}
+
+impl DotTable {
+    pub(crate) fn encode(&self) -> Vec<u8> {
+        let grid = DotGrid::derive(&self.dots);
+        let cells = grid.cols as usize * grid.rows as usize;
+        let cell_of = |d: &Dot| grid.row_of(d.y.0) as usize * grid.cols as usize + grid.col_of(d.x.0) as usize;
+        let mut order: Vec<(usize, usize)> = self.dots.iter().enumerate().map(|(i, d)| (cell_of(d), i)).collect();
+        order.sort_unstable();
+        let mut starts = alloc::vec![0u32; cells + 1];
+        for &(c, _) in &order {
+            starts[c + 1] += 1;
+        }
+        for c in 0..cells {
+            starts[c + 1] += starts[c];
+        }
+        let mut out = Vec::with_capacity(DOTS_HEADER_LEN + 4 * (cells + 1) + DOT_LEN * self.dots.len());
+        let mut w = Out(&mut out);
+        w.u8(self.kind.code())
+            .zeros(3)
+            .u32(self.dots.len() as u32)
+            .u32(grid.cols)
+            .u32(grid.rows)
+            .f32(grid.origin_x)
+            .f32(grid.origin_y)
+            .f32(grid.cell_mm)
+            .f32(grid.max_radius);
+        for s in starts {
+            w.u32(s);
+        }
+        for &(_, i) in &order {
+            let d = &self.dots[i];
+            w.f32(d.x.0).f32(d.y.0).f32(d.radius.0).f32(d.amplitude).u32(d.source.unwrap_or(NO_SOURCE));
+        }
+        out
+    }
+
+    pub(crate) fn from_view(v: &DotTableView<'_>) -> Self {
+        DotTable { kind: v.kind, dots: (0..v.len()).filter_map(|i| v.dot(i)).collect() }
+    }
+}
+
+/// A validated dot table, read in place.
+#[derive(Debug, Clone, Copy)]
+pub struct DotTableView<'a> {
+    /// What the dots draw.
+    pub kind: DotKind,
+    /// The grid index.
+    pub grid: DotGrid,
+    count: u32,
+    starts: &'a [u8],
+    dots: &'a [u8],
+}
+
+impl<'a> DotTableView<'a> {
+    /// Number of dots.
+    pub fn len(&self) -> u32 {
+        self.count
+    }
+
+    /// Whether the table has no dots.
+    pub fn is_empty(&self) -> bool {
+        self.count == 0
+    }
+
+    /// Dot `i` in stored order.
+    #[inline]
+    pub fn dot(&self, i: u32) -> Option<Dot> {
+        let o = i as usize * DOT_LEN;
+        Some(Dot {
+            x: Mm(f32_at(self.dots, o)?),
+            y: Mm(f32_at(self.dots, o + 4)?),
+            radius: Mm(f32_at(self.dots, o + 8)?),
+            amplitude: f32_at(self.dots, o + 12)?,
+            source: source_from_raw(u32_at(self.dots, o + 16)?),
+        })
+    }
+
+    /// The range of dot indices stored in cell `(col, row)`.
+    #[inline]
+    pub fn cell(&self, col: u32, row: u32) -> core::ops::Range<u32> {
+        if col >= self.grid.cols || row >= self.grid.rows {
+            return 0..0;
+        }
+        let c = row as usize * self.grid.cols as usize + col as usize;
+        let a = u32_at(self.starts, 4 * c).unwrap_or(0);
+        let b = u32_at(self.starts, 4 * c + 4).unwrap_or(a);
+        a..b.max(a)
+    }
+
+    /// Calls `f` for every dot whose disc may contain the point `(x, y)`
+    /// (every dot within `max_radius` of it, and possibly a few more).
+    /// The work is bounded by the dots in at most a few cells, whatever the
+    /// size of the table.
+    #[inline]
+    pub fn for_each_near(&self, x: f32, y: f32, mut f: impl FnMut(Dot)) {
+        if self.count == 0 {
+            return;
+        }
+        let r = self.grid.max_radius;
+        let (c0, c1) = (self.grid.col_of(x - r), self.grid.col_of(x + r));
+        let (r0, r1) = (self.grid.row_of(y - r), self.grid.row_of(y + r));
+        for row in r0..=r1 {
+            for col in c0..=c1 {
+                for i in self.cell(col, row) {
+                    if let Some(d) = self.dot(i) {
+                        f(d);
+                    }
+                }
+            }
+        }
+    }
+
+    pub(crate) fn parse(d: &'a [u8], index: u32) -> Result<Self, FormatError> {
+        let tag = Tag::DOTS;
+        if d.len() < DOTS_HEADER_LEN {
+            return Err(FormatError::ChunkLength {
+                tag,
+                index,
+                expected: DOTS_HEADER_LEN as u64,
+                found: d.len() as u64,
+            });
+        }
+        let bad = |field, expected| FormatError::InvalidValue { tag, index, field, expected };
+        let kind = DotKind::from_code(u8_at(d, 0).unwrap_or(0)).ok_or(bad("kind", "1, 2 or 3"))?;
+        if d[1..4].iter().any(|&b| b != 0) {
+            return Err(bad("reserved", "zero"));
+        }
+        let count = u32_at(d, 4).unwrap_or(0);
+        let cols = u32_at(d, 8).unwrap_or(0);
+        let rows = u32_at(d, 12).unwrap_or(0);
+        if count > MAX_DOTS {
+            return Err(FormatError::Limit { tag, field: "dot count", value: count as u64, limit: MAX_DOTS as u64 });
+        }
+        let cells = cols as u64 * rows as u64;
+        if cols == 0 || rows == 0 || cells > MAX_DOT_GRID_CELLS as u64 {
+            return Err(FormatError::Limit {
+                tag,
+                field: "grid cells (1 or more)",
+                value: cells,
+                limit: MAX_DOT_GRID_CELLS as u64,
+            });
+        }
+        let f = |o| f32_at(d, o).unwrap_or(f32::NAN);
+        let grid = DotGrid {
+            origin_x: finite(f(16), tag, index, "grid origin_x")?,
+            origin_y: finite(f(20), tag, index, "grid origin_y")?,
+            cell_mm: in_range(f(24), 1e-6, f32::MAX, tag, index, "cell_mm", "finite and above 0")?,
+            cols,
+            rows,
+            max_radius: in_range(f(28), 0.0, f32::MAX, tag, index, "max_radius", "finite and not negative")?,
+        };
+        let starts_len = 4 * (cells as usize + 1);
+        let expected = (DOTS_HEADER_LEN + starts_len) as u64 + DOT_LEN as u64 * count as u64;
+        if d.len() as u64 != expected {
+            return Err(FormatError::ChunkLength { tag, index, expected, found: d.len() as u64 });
+        }
+        let starts = &d[DOTS_HEADER_LEN..DOTS_HEADER_LEN + starts_len];
+        let view = DotTableView { kind, grid, count, starts, dots: &d[DOTS_HEADER_LEN + starts_len..] };
+        // The index must partition the dots: starts run from 0 to count without
+        // decreasing, and every dot lies in the cell that lists it.
+        if u32_at(starts, 0) != Some(0) || u32_at(starts, 4 * cells as usize) != Some(count) {
+            return Err(bad("grid index", "cell starts from 0 to the dot count"));
+        }
+        let mut max_r = 0.0f32;
+        for row in 0..rows {
+            for col in 0..cols {
+                let c = row as usize * cols as usize + col as usize;
+                let (a, b) = (u32_at(starts, 4 * c).unwrap_or(0), u32_at(starts, 4 * c + 4).unwrap_or(0));
+                if b < a {
+                    return Err(bad("grid index", "non-decreasing cell starts"));
+                }
+                for i in a..b {
+                    let dot = view.dot(i).ok_or(bad("grid index", "starts within the table"))?;
+                    finite(dot.x.0, tag, index, "dot x")?;
+                    finite(dot.y.0, tag, index, "dot y")?;
+                    in_range(dot.radius.0, 1e-6, f32::MAX, tag, index, "dot radius", "finite and above 0")?;
+                    in_range(dot.amplitude, 0.0, 1.0, tag, index, "dot amplitude", "from 0 to 1")?;
+                    if view.grid.col_of(dot.x.0) != col || view.grid.row_of(dot.y.0) != row {
+                        return Err(bad("grid index", "every dot in the cell that holds its centre"));
+                    }
+                    max_r = max_r.max(dot.radius.0);
+                }
+            }
+        }
+        if max_r > grid.max_radius {
+            return Err(bad("max_radius", "at least the largest dot radius"));
+        }
+        Ok(view)
+    }
+}

@@ -1,0 +1,262 @@
+//! Height fields (`HFLD`): a regular grid of surface heights, gradients and
+//! flags sampled from a mesh, for the finger-mounted device.
+
+use alloc::vec::Vec;
+
+use crate::bytes::{Out, f32_at, u8_at, u32_at};
+use crate::error::FormatError;
+use crate::units::Mm;
+use crate::{NO_SOURCE, Tag, in_range, source_from_raw};
+
+const HEADER_LEN: usize = 48;
+/// Largest number of nodes along one side of a height field.
+pub const MAX_FIELD_SIDE: u32 = 16_384;
+/// Largest number of nodes in one height field.
+pub const MAX_FIELD_NODES: u64 = 16 << 20;
+/// Flag bit: the surface is present above this node (the finger can touch it).
+pub const FIELD_CONTACT: u8 = 1;
+/// Flag bit: a step (vertical wall) passes next to this node; its gradient is capped.
+pub const FIELD_EDGE: u8 = 2;
+
+/// A height field: node `(i, j)` (column `i`, row `j`, row 0 at the top) is at
+/// page position `(origin_x + i * cell, origin_y + j * cell)`.
+///
+/// Heights are in millimetres; gradients are dimensionless slopes
+/// (millimetres of height per millimetre on the page, x right and y down).
+/// Nodes without [`FIELD_CONTACT`] have height and gradient 0.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeightField {
+    /// Provenance entry of the mesh.
+    pub source: Option<u32>,
+    /// Nodes per row (at least 2).
+    pub cols: u32,
+    /// Rows of nodes (at least 2).
+    pub rows: u32,
+    /// Page x of node (0, 0).
+    pub origin_x: Mm,
+    /// Page y of node (0, 0).
+    pub origin_y: Mm,
+    /// Distance between nodes.
+    pub cell: Mm,
+    /// The cap applied to gradient magnitudes (at steps).
+    pub gradient_cap: f32,
+    /// Heights, row-major.
+    pub heights: Vec<f32>,
+    /// ∂h/∂x, row-major.
+    pub grad_x: Vec<f32>,
+    /// ∂h/∂y (y down the page), row-major.
+    pub grad_y: Vec<f32>,
+    /// [`FIELD_CONTACT`] and [`FIELD_EDGE`] bits, row-major.
+    pub flags: Vec<u8>,
+}
+
+/// Extremes a player needs to scale intensity and rhythm: computed by the
+/// writer, checked by the reader.
+fn extremes(heights: impl Iterator<Item = (f32, f32, f32, u8)>) -> (f32, f32, f32) {
+    let (mut lo, mut hi, mut g) = (0.0f32, 0.0f32, 0.0f32);
+    let mut any = false;
+    for (h, gx, gy, fl) in heights {
+        if fl & FIELD_CONTACT == 0 {
+            continue;
+        }
+        if !any {
+            (lo, hi) = (h, h);
+            any = true;
+        }
+        lo = lo.min(h);
+        hi = hi.max(h);
+        g = g.max(libm::sqrtf(gx * gx + gy * gy));
+    }
+    (lo, hi, g)
+}
+
+impl HeightField {
+    pub(crate) fn encode(&self) -> Vec<u8> {
+        let n = self.cols as usize * self.rows as usize;
+        let (lo, hi, g) = extremes((0..n).map(|k| {
+            (
+                self.heights.get(k).copied().unwrap_or(0.0),
+                self.grad_x.get(k).copied().unwrap_or(0.0),
+                self.grad_y.get(k).copied().unwrap_or(0.0),
+                self.flags.get(k).copied().unwrap_or(0),
+            )
+        }));
+        let mut out = Vec::with_capacity(HEADER_LEN + 13 * n + 4);
+        let mut w = Out(&mut out);
+        w.u32(self.source.unwrap_or(NO_SOURCE))
+            .u32(self.cols)
+            .u32(self.rows)
+            .u32(0)
+            .f32(self.origin_x.0)
+            .f32(self.origin_y.0)
+            .f32(self.cell.0)
+            .f32(lo)
+            .f32(hi)
+            .f32(g)
+            .f32(self.gradient_cap)
+            .u32(0);
+        for v in [&self.heights, &self.grad_x, &self.grad_y] {
+            for k in 0..n {
+                w.f32(v.get(k).copied().unwrap_or(0.0));
+            }
+        }
+        for k in 0..n {
+            w.u8(self.flags.get(k).copied().unwrap_or(0));
+        }
+        w.zeros(n.next_multiple_of(4) - n);
+        out
+    }
+
+    pub(crate) fn from_view(v: &HeightFieldView<'_>) -> Self {
+        let n = v.cols * v.rows;
+        HeightField {
+            source: v.source,
+            cols: v.cols,
+            rows: v.rows,
+            origin_x: v.origin_x,
+            origin_y: v.origin_y,
+            cell: v.cell,
+            gradient_cap: v.gradient_cap,
+            heights: (0..n).map(|k| v.height_at(k)).collect(),
+            grad_x: (0..n).map(|k| v.gradient_at(k).0).collect(),
+            grad_y: (0..n).map(|k| v.gradient_at(k).1).collect(),
+            flags: (0..n).map(|k| v.flags_at(k)).collect(),
+        }
+    }
+}
+
+/// A validated height field, read in place.
+#[derive(Debug, Clone, Copy)]
+pub struct HeightFieldView<'a> {
+    /// Provenance entry of the mesh.
+    pub source: Option<u32>,
+    /// Nodes per row.
+    pub cols: u32,
+    /// Rows of nodes.
+    pub rows: u32,
+    /// Page x of node (0, 0).
+    pub origin_x: Mm,
+    /// Page y of node (0, 0).
+    pub origin_y: Mm,
+    /// Distance between nodes.
+    pub cell: Mm,
+    /// Lowest height over contact nodes.
+    pub height_min: f32,
+    /// Highest height over contact nodes.
+    pub height_max: f32,
+    /// Largest gradient magnitude over contact nodes.
+    pub max_gradient: f32,
+    /// The cap applied to gradient magnitudes.
+    pub gradient_cap: f32,
+    data: &'a [u8],
+}
+
+impl<'a> HeightFieldView<'a> {
+    fn n(&self) -> usize {
+        self.cols as usize * self.rows as usize
+    }
+
+    /// Height of node `k` (row-major index), 0 outside.
+    #[inline]
+    pub fn height_at(&self, k: u32) -> f32 {
+        f32_at(self.data, 4 * k as usize).filter(|_| (k as usize) < self.n()).unwrap_or(0.0)
+    }
+
+    /// Gradient `(∂h/∂x, ∂h/∂y)` of node `k`, zero outside.
+    #[inline]
+    pub fn gradient_at(&self, k: u32) -> (f32, f32) {
+        let n = self.n();
+        if k as usize >= n {
+            return (0.0, 0.0);
+        }
+        let gx = f32_at(self.data, 4 * (n + k as usize)).unwrap_or(0.0);
+        let gy = f32_at(self.data, 4 * (2 * n + k as usize)).unwrap_or(0.0);
+        (gx, gy)
+    }
+
+    /// Flags of node `k`, 0 (no contact) outside.
+    #[inline]
+    pub fn flags_at(&self, k: u32) -> u8 {
+        if k as usize >= self.n() {
+            return 0;
+        }
+        u8_at(self.data, 12 * self.n() + k as usize).unwrap_or(0)
+    }
+
+    pub(crate) fn parse(d: &'a [u8], index: u32) -> Result<Self, FormatError> {
+        let tag = Tag::HEIGHT;
+        if d.len() < HEADER_LEN {
+            return Err(FormatError::ChunkLength { tag, index, expected: HEADER_LEN as u64, found: d.len() as u64 });
+        }
+        let bad = |field, expected| FormatError::InvalidValue { tag, index, field, expected };
+        let cols = u32_at(d, 4).unwrap_or(0);
+        let rows = u32_at(d, 8).unwrap_or(0);
+        if u32_at(d, 12) != Some(0) || u32_at(d, 44) != Some(0) {
+            return Err(bad("reserved", "zero"));
+        }
+        for (field, v) in [("cols", cols), ("rows", rows)] {
+            if !(2..=MAX_FIELD_SIDE).contains(&v) {
+                return Err(FormatError::Limit {
+                    tag,
+                    field: if field == "cols" { "cols (2 or more)" } else { "rows (2 or more)" },
+                    value: v as u64,
+                    limit: MAX_FIELD_SIDE as u64,
+                });
+            }
+        }
+        let n = cols as u64 * rows as u64;
+        if n > MAX_FIELD_NODES {
+            return Err(FormatError::Limit { tag, field: "nodes", value: n, limit: MAX_FIELD_NODES });
+        }
+        let expected = HEADER_LEN as u64 + 13 * n + (n.next_multiple_of(4) - n);
+        if d.len() as u64 != expected {
+            return Err(FormatError::ChunkLength { tag, index, expected, found: d.len() as u64 });
+        }
+        let f = |o| f32_at(d, o).unwrap_or(f32::NAN);
+        const BIG: f32 = 1e9;
+        let view = HeightFieldView {
+            source: source_from_raw(u32_at(d, 0).unwrap_or(NO_SOURCE)),
+            cols,
+            rows,
+            origin_x: Mm(in_range(f(16), -BIG, BIG, tag, index, "origin_x_mm", "finite, within 1e9 mm")?),
+            origin_y: Mm(in_range(f(20), -BIG, BIG, tag, index, "origin_y_mm", "finite, within 1e9 mm")?),
+            cell: Mm(in_range(f(24), 1e-9, BIG, tag, index, "cell_mm", "above 0, within 1e9 mm")?),
+            height_min: f(28),
+            height_max: f(32),
+            max_gradient: f(36),
+            gradient_cap: in_range(f(40), 0.0, BIG, tag, index, "gradient_cap", "from 0 to 1e9")?,
+            data: &d[HEADER_LEN..],
+        };
+        let n = n as u32;
+        for k in 0..n {
+            let h = view.height_at(k);
+            let (gx, gy) = view.gradient_at(k);
+            let fl = view.flags_at(k);
+            in_range(h, -BIG, BIG, tag, index, "height", "finite, within 1e9 mm")?;
+            let cap = view.gradient_cap * (1.0 + 1e-6);
+            in_range(gx, -cap, cap, tag, index, "gradient x", "finite and within the gradient cap")?;
+            in_range(gy, -cap, cap, tag, index, "gradient y", "finite and within the gradient cap")?;
+            if fl & !(FIELD_CONTACT | FIELD_EDGE) != 0 {
+                return Err(bad("flags", "only the contact and edge bits"));
+            }
+            if fl & FIELD_CONTACT == 0 && (h != 0.0 || gx != 0.0 || gy != 0.0 || fl != 0) {
+                return Err(bad("no-contact node", "height, gradient and flags 0"));
+            }
+        }
+        let pad = 12 * n as usize + n as usize;
+        if d[HEADER_LEN + pad..].iter().any(|&b| b != 0) {
+            return Err(bad("padding", "zero"));
+        }
+        let (lo, hi, g) = extremes((0..n).map(|k| {
+            let (gx, gy) = view.gradient_at(k);
+            (view.height_at(k), gx, gy, view.flags_at(k))
+        }));
+        if lo.to_bits() != view.height_min.to_bits()
+            || hi.to_bits() != view.height_max.to_bits()
+            || g.to_bits() != view.max_gradient.to_bits()
+        {
+            return Err(bad("extremes", "the lowest and highest height and largest gradient of the contact nodes"));
+        }
+        Ok(view)
+    }
+}

@@ -1,0 +1,124 @@
+//! The owned bundle model and its canonical writer.
+
+use alloc::vec::Vec;
+
+use crate::Tag;
+use crate::container::{self, Encoded};
+use crate::dots::DotTable;
+use crate::error::FormatError;
+use crate::height::HeightField;
+use crate::manifest::Manifest;
+use crate::mask::MaskLayer;
+use crate::provenance::Provenance;
+use crate::strokes::StrokeTable;
+use crate::view::{BundleView, ChunkView};
+
+/// A chunk this crate does not interpret, kept byte for byte (an optional
+/// chunk from a newer minor version, say).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RawChunk {
+    /// Its tag.
+    pub tag: Tag,
+    /// Whether readers that do not know it must refuse the bundle.
+    pub required: bool,
+    /// Its data.
+    pub data: Vec<u8>,
+}
+
+/// One chunk after the manifest.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Chunk {
+    /// A vibration or grating mask (`VIBR` / `GRAT`).
+    Mask(MaskLayer),
+    /// A dot table (`DOTS`).
+    Dots(DotTable),
+    /// A stroke table (`STRK`).
+    Strokes(StrokeTable),
+    /// A height field (`HFLD`).
+    Height(HeightField),
+    /// Provenance (`PROV`).
+    Provenance(Provenance),
+    /// Anything else, kept as it was.
+    Raw(RawChunk),
+}
+
+impl Chunk {
+    /// The chunk's tag.
+    pub fn tag(&self) -> Tag {
+        match self {
+            Chunk::Mask(m) => m.kind.tag(),
+            Chunk::Dots(_) => Tag::DOTS,
+            Chunk::Strokes(_) => Tag::STROKES,
+            Chunk::Height(_) => Tag::HEIGHT,
+            Chunk::Provenance(_) => Tag::PROVENANCE,
+            Chunk::Raw(r) => r.tag,
+        }
+    }
+}
+
+/// A whole bundle: the manifest and the chunks after it, in file order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Bundle {
+    /// The manifest.
+    pub manifest: Manifest,
+    /// Layers, provenance and any other chunks, in the order they are written.
+    pub chunks: Vec<Chunk>,
+}
+
+impl Bundle {
+    /// A bundle with only a manifest.
+    pub fn new(manifest: Manifest) -> Self {
+        Bundle { manifest, chunks: Vec::new() }
+    }
+
+    /// The canonical encoding. The result is checked with the reader before it
+    /// is returned, so a bundle that the writer accepts always reads back.
+    pub fn to_bytes(&self) -> Result<Vec<u8>, FormatError> {
+        let mut encoded = Vec::with_capacity(self.chunks.len() + 1);
+        encoded.push(Encoded { tag: Tag::MANIFEST, required: true, data: self.manifest.encode() });
+        for c in &self.chunks {
+            encoded.push(match c {
+                Chunk::Mask(m) => Encoded { tag: m.kind.tag(), required: true, data: m.encode() },
+                Chunk::Dots(d) => Encoded { tag: Tag::DOTS, required: true, data: d.encode() },
+                Chunk::Strokes(s) => Encoded { tag: Tag::STROKES, required: true, data: s.encode() },
+                Chunk::Height(h) => Encoded { tag: Tag::HEIGHT, required: true, data: h.encode() },
+                Chunk::Provenance(p) => Encoded { tag: Tag::PROVENANCE, required: false, data: p.encode() },
+                Chunk::Raw(r) => Encoded { tag: r.tag, required: r.required, data: r.data.clone() },
+            });
+        }
+        let bytes = container::assemble(&encoded)?;
+        BundleView::parse(&bytes)?;
+        Ok(bytes)
+    }
+
+    /// Copies a validated bundle into the owned model.
+    pub fn from_view(view: &BundleView<'_>) -> Self {
+        let chunks = view
+            .chunks()
+            .map(|c| match c {
+                ChunkView::Mask(m) => Chunk::Mask(MaskLayer::from_view(&m)),
+                ChunkView::Dots(d) => Chunk::Dots(DotTable::from_view(&d)),
+                ChunkView::Strokes(s) => Chunk::Strokes(StrokeTable::from_view(&s)),
+                ChunkView::Height(h) => Chunk::Height(HeightField::from_view(&h)),
+                ChunkView::Provenance(p) => Chunk::Provenance(Provenance::from_view(&p)),
+                ChunkView::Unknown { tag, required, data } => {
+                    Chunk::Raw(RawChunk { tag, required, data: data.to_vec() })
+                }
+            })
+            .collect();
+        Bundle { manifest: *view.manifest(), chunks }
+    }
+
+    /// Reads and validates `bytes` into the owned model.
+    pub fn from_bytes(bytes: &[u8]) -> Result<Self, FormatError> {
+        Ok(Bundle::from_view(&BundleView::parse(bytes)?))
+    }
+
+    /// The provenance table, if the bundle has one.
+    pub fn provenance(&self) -> Option<&Provenance> {
+        self.chunks.iter().find_map(|c| match c {
+            Chunk::Provenance(p) => Some(p),
+            _ => None,
+        })
+    }
+}

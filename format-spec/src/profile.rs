@@ -1,0 +1,236 @@
+//! Device profiles: the geometry, rate and ranges of one tactile device.
+//!
+//! A profile is data, not code. It is stored in every bundle's manifest, so a
+//! player needs nothing but the bundle; the `std` feature adds TOML parsing and
+//! the built-in profiles (`stress2`, `brush-4x3`, `finger3`).
+
+use crate::units::FixedStr;
+
+/// A profile name: at most 31 bytes of UTF-8.
+pub type ProfileName = FixedStr<32>;
+
+/// The device families taxel can drive. Each has its own player in the runtime.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Family {
+    /// A laterotactile pin array such as STRESS² (dots, vibration, gratings).
+    Laterotactile,
+    /// A sparse grid of vibrotactile tactors (Tactile Brush strokes).
+    Grid,
+    /// A finger-mounted ring of three actuators (Left, Down, Right) fed by a height field.
+    Finger,
+}
+
+impl Family {
+    /// The family's code in a bundle manifest.
+    pub fn code(self) -> u8 {
+        match self {
+            Family::Laterotactile => 1,
+            Family::Grid => 2,
+            Family::Finger => 3,
+        }
+    }
+
+    /// The family for a manifest code.
+    pub fn from_code(code: u8) -> Option<Self> {
+        match code {
+            1 => Some(Family::Laterotactile),
+            2 => Some(Family::Grid),
+            3 => Some(Family::Finger),
+            _ => None,
+        }
+    }
+
+    /// The name used in profile files and messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            Family::Laterotactile => "laterotactile",
+            Family::Grid => "grid",
+            Family::Finger => "finger",
+        }
+    }
+}
+
+impl core::fmt::Display for Family {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Parameters that only a vibrotactile grid has.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GridParams {
+    /// Lowest carrier frequency the tactors accept, in hertz.
+    pub carrier_min_hz: f32,
+    /// Highest carrier frequency the tactors accept, in hertz.
+    pub carrier_max_hz: f32,
+    /// Sample rate of the audio interface that drives the tactors.
+    pub audio_rate_hz: u32,
+    /// Length of the onset and offset ramps that keep a tactor from clicking, in milliseconds.
+    pub ramp_ms: f32,
+}
+
+/// Parameters that only the finger-mounted device has.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FingerParams {
+    /// Largest vibration rhythm R (the paper's unit); the modulating period is `T = (105 - R) / 0.5` ms.
+    pub rhythm_max: f32,
+    /// Largest vibration intensity D (0..=1 of full drive).
+    pub intensity_max: f32,
+    /// Slope (|dh/ds|, dimensionless) below which the surface counts as flat.
+    pub flat_slope: f32,
+    /// Number of touch samples over which the motion direction is averaged.
+    pub direction_window: u32,
+    /// Smallest movement, in millimetres over the window, that gives the finger a direction.
+    pub min_move_mm: f32,
+}
+
+/// What a family needs beyond the common fields.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FamilyParams {
+    /// Laterotactile arrays need nothing more.
+    Laterotactile,
+    /// Vibrotactile grid parameters.
+    Grid(GridParams),
+    /// Finger device parameters.
+    Finger(FingerParams),
+}
+
+impl FamilyParams {
+    /// The family these parameters belong to.
+    pub fn family(&self) -> Family {
+        match self {
+            FamilyParams::Laterotactile => Family::Laterotactile,
+            FamilyParams::Grid(_) => Family::Grid,
+            FamilyParams::Finger(_) => Family::Finger,
+        }
+    }
+}
+
+/// One device: its actuator layout, rate, output resolution and surface.
+///
+/// Actuator `(row, col)` has index `cols * row + col` in a frame. For a
+/// laterotactile array the actuators are centred on the carrier position:
+/// actuator `(row, col)` sits at `carrier + ((col - (cols-1)/2) * pitch_x,
+/// (row - (rows-1)/2) * pitch_y)`. For a grid, actuator `(row, col)` sits at
+/// page position `(col * pitch_x, row * pitch_y)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DeviceProfile {
+    /// The profile's name (`stress2`, `brush-4x3`, ...).
+    pub name: ProfileName,
+    /// Actuator rows.
+    pub rows: u16,
+    /// Actuator columns.
+    pub cols: u16,
+    /// Distance between columns, in millimetres.
+    pub pitch_x_mm: f32,
+    /// Distance between rows, in millimetres.
+    pub pitch_y_mm: f32,
+    /// Ticks per second of the device's output.
+    pub rate_hz: u32,
+    /// Bits per actuator value (10 for STRESS²).
+    pub output_bits: u8,
+    /// Width of the surface the device explores, in millimetres.
+    pub surface_w_mm: f32,
+    /// Height of the surface the device explores, in millimetres.
+    pub surface_h_mm: f32,
+    /// Family-specific parameters; they also say which family this is.
+    pub params: FamilyParams,
+}
+
+/// Largest number of actuators in a profile.
+pub const MAX_ACTUATORS: u32 = 4096;
+/// Largest tick rate a profile may declare.
+pub const MAX_RATE_HZ: u32 = 1_000_000;
+
+impl DeviceProfile {
+    /// The profile's family.
+    pub fn family(&self) -> Family {
+        self.params.family()
+    }
+
+    /// Number of actuators (`rows * cols`).
+    pub fn actuator_count(&self) -> usize {
+        self.rows as usize * self.cols as usize
+    }
+
+    /// Largest actuator value (`2^bits - 1`).
+    pub fn max_code(&self) -> u32 {
+        (1u32 << self.output_bits.min(31)) - 1
+    }
+
+    /// Checks every field's range; the first problem is returned as
+    /// `(field, expected)`.
+    pub fn check(&self) -> Result<(), (&'static str, &'static str)> {
+        fn pos(v: f32) -> bool {
+            v.is_finite() && v > 0.0
+        }
+        if self.name.as_str().is_empty() {
+            return Err(("name", "a non-empty name"));
+        }
+        if self.rows == 0 || self.cols == 0 {
+            return Err(("rows/cols", "at least one row and one column"));
+        }
+        if self.rows as u32 * self.cols as u32 > MAX_ACTUATORS {
+            return Err(("rows/cols", "at most 4096 actuators"));
+        }
+        if !pos(self.pitch_x_mm) || self.pitch_x_mm > 1000.0 {
+            return Err(("pitch_x_mm", "a finite pitch above 0 and at most 1000 mm"));
+        }
+        if !pos(self.pitch_y_mm) || self.pitch_y_mm > 1000.0 {
+            return Err(("pitch_y_mm", "a finite pitch above 0 and at most 1000 mm"));
+        }
+        if self.rate_hz == 0 || self.rate_hz > MAX_RATE_HZ {
+            return Err(("rate_hz", "a rate from 1 to 1000000 Hz"));
+        }
+        if self.output_bits == 0 || self.output_bits > 24 {
+            return Err(("output_bits", "from 1 to 24 bits"));
+        }
+        if !pos(self.surface_w_mm) || self.surface_w_mm > 1.0e6 {
+            return Err(("surface.width_mm", "a finite width above 0 and at most 1e6 mm"));
+        }
+        if !pos(self.surface_h_mm) || self.surface_h_mm > 1.0e6 {
+            return Err(("surface.height_mm", "a finite height above 0 and at most 1e6 mm"));
+        }
+        match self.params {
+            FamilyParams::Laterotactile => {}
+            FamilyParams::Grid(g) => {
+                if !pos(g.carrier_min_hz) || !g.carrier_max_hz.is_finite() || g.carrier_max_hz < g.carrier_min_hz {
+                    return Err(("grid.carrier_min_hz/carrier_max_hz", "finite, above 0, min <= max"));
+                }
+                if g.audio_rate_hz < 8000 || g.audio_rate_hz > 384_000 {
+                    return Err(("grid.audio_rate_hz", "from 8000 to 384000 Hz"));
+                }
+                if (g.carrier_max_hz as f64) * 2.0 >= g.audio_rate_hz as f64 {
+                    return Err(("grid.carrier_max_hz", "below half the audio rate"));
+                }
+                if !g.ramp_ms.is_finite() || g.ramp_ms < 0.0 || g.ramp_ms > 1000.0 {
+                    return Err(("grid.ramp_ms", "from 0 to 1000 ms"));
+                }
+            }
+            FamilyParams::Finger(p) => {
+                if self.rows as u32 * self.cols as u32 != 3 {
+                    return Err(("rows/cols", "exactly three actuators (Left, Down, Right) for a finger device"));
+                }
+                if !pos(p.rhythm_max) || p.rhythm_max >= 105.0 {
+                    return Err((
+                        "finger.rhythm_max",
+                        "above 0 and below 105 (the period T = (105 - R) / 0.5 ms must stay positive)",
+                    ));
+                }
+                if !pos(p.intensity_max) || p.intensity_max > 1.0 {
+                    return Err(("finger.intensity_max", "above 0 and at most 1"));
+                }
+                if !p.flat_slope.is_finite() || p.flat_slope < 0.0 || p.flat_slope > 10.0 {
+                    return Err(("finger.flat_slope", "from 0 to 10"));
+                }
+                if p.direction_window == 0 || p.direction_window > 64 {
+                    return Err(("finger.direction_window", "from 1 to 64 samples"));
+                }
+                if !p.min_move_mm.is_finite() || p.min_move_mm < 0.0 || p.min_move_mm > 100.0 {
+                    return Err(("finger.min_move_mm", "from 0 to 100 mm"));
+                }
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,9 @@
+//! taxel's runtime: plays bundles on tactile devices. The core is `no_std`
+//! and allocation-free per tick; the `std` feature adds sinks, the loader and
+//! the device simulator.
+#![no_std]
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+#[cfg(feature = "std")]
+extern crate std;

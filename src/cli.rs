@@ -1,0 +1,189 @@
+//! The command line, as clap types. Exit codes: 0 success; 1 the input has
+//! errors (diagnostics printed); 2 usage or IO failure.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+/// Compile annotated drawings and height meshes into refreshable tactile
+/// graphics, and play them on tactile devices.
+///
+/// With no command, runs the demo: builds every scene in examples/, plays each
+/// on its example trace, prints a summary and writes previews under
+/// target/taxel-demo/.
+#[derive(Debug, Parser)]
+#[command(name = "taxel", version, about, long_about)]
+pub struct Cli {
+    /// What to do (the demo when omitted).
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+/// Output format of reports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Default)]
+pub enum Format {
+    /// Text for people.
+    #[default]
+    Human,
+    /// JSON for programs.
+    Json,
+}
+
+/// Options shared by the commands that compile.
+#[derive(Debug, Clone, Args)]
+pub struct CompileOpts {
+    /// Device profile: a built-in name (see `taxel profiles`) or a TOML file.
+    #[arg(long, short = 'p', value_name = "NAME|FILE")]
+    pub profile: Option<String>,
+    /// Style sheet (TOML) mapping ids, classes, layers and colours to tactile styles.
+    #[arg(long, value_name = "FILE")]
+    pub style: Option<PathBuf>,
+    /// Mask resolution in pixels per millimetre (default: see docs/annotations.md).
+    #[arg(long, value_name = "PX_PER_MM")]
+    pub resolution: Option<f32>,
+    /// Physical width of a drawing that has no absolute size, in millimetres.
+    #[arg(long, value_name = "MM")]
+    pub width_mm: Option<f32>,
+}
+
+/// The commands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Compile drawings (.svg) and meshes (.gltf, .glb) into bundles.
+    Build {
+        /// Input files or folders (folders are searched for .svg, .gltf and .glb).
+        #[arg(required = true)]
+        inputs: Vec<PathBuf>,
+        /// Output bundle (one input) or folder (several inputs).
+        #[arg(long, short = 'o')]
+        out: Option<PathBuf>,
+        #[command(flatten)]
+        opts: CompileOpts,
+        /// Parallel jobs (default: all cores).
+        #[arg(long, short = 'j')]
+        jobs: Option<usize>,
+        /// Build only shard I of N (1-based), e.g. 2/8.
+        #[arg(long, value_name = "I/N")]
+        shard: Option<String>,
+        /// Rebuild even when the bundle is up to date.
+        #[arg(long)]
+        force: bool,
+    },
+    /// Print diagnostics without writing bundles; exit 1 on errors.
+    Check {
+        /// Input files or folders.
+        #[arg(required = true)]
+        inputs: Vec<PathBuf>,
+        #[command(flatten)]
+        opts: CompileOpts,
+        /// Output format.
+        #[arg(long, value_enum, default_value_t)]
+        format: Format,
+    },
+    /// Describe a bundle: profile, surface, layers and sizes.
+    Inspect {
+        /// The bundle.
+        bundle: PathBuf,
+        /// Output format.
+        #[arg(long, value_enum, default_value_t)]
+        format: Format,
+    },
+    /// Turn an unpacked folder back into a bundle.
+    Pack {
+        /// The folder written by `taxel unpack`.
+        dir: PathBuf,
+        /// The bundle to write.
+        #[arg(long, short = 'o', required = true)]
+        out: PathBuf,
+    },
+    /// Write a bundle as a folder of TOML, PNG masks and CSV tables.
+    Unpack {
+        /// The bundle.
+        bundle: PathBuf,
+        /// The folder to write.
+        #[arg(long, short = 'o', required = true)]
+        out: PathBuf,
+    },
+    /// Draw a drawing or a bundle the way a reader will feel it.
+    Preview {
+        /// A drawing (.svg, .gltf, .glb) or a bundle (.taxel).
+        input: PathBuf,
+        /// The PNG to write.
+        #[arg(long, short = 'o', required = true)]
+        out: PathBuf,
+        #[command(flatten)]
+        opts: CompileOpts,
+    },
+    /// Play a bundle: frames (CSV) for an exploration trace, or a WAV drive signal.
+    Play {
+        /// The bundle.
+        bundle: PathBuf,
+        /// Exploration trace (CSV: t_ms,x_mm,y_mm[,contact]).
+        #[arg(long)]
+        trace: Option<PathBuf>,
+        /// Output: FRAMES.csv, MOTORS.csv or DRIVE.wav (standard output when omitted).
+        #[arg(long, short = 'o')]
+        out: Option<PathBuf>,
+    },
+    /// Report error against run time over a ladder of settings.
+    Report {
+        /// A drawing or mesh.
+        input: PathBuf,
+        #[command(flatten)]
+        opts: CompileOpts,
+        /// Also draw error against run time to this PNG.
+        #[arg(long)]
+        plot: Option<PathBuf>,
+        /// Output format.
+        #[arg(long, value_enum, default_value_t)]
+        format: Format,
+    },
+    /// Load bundles onto a device (a mounted folder or tcp://HOST:PORT).
+    Load {
+        /// The bundles.
+        #[arg(required = true)]
+        bundles: Vec<PathBuf>,
+        /// The device: a folder (USB storage, SD card) or tcp://HOST:PORT.
+        #[arg(long, required = true)]
+        device: String,
+    },
+    /// Device simulator and device management.
+    #[command(subcommand)]
+    Device(DeviceCommand),
+    /// List the built-in device profiles.
+    Profiles,
+}
+
+/// `taxel device ...`
+#[derive(Debug, Subcommand)]
+pub enum DeviceCommand {
+    /// Run a device simulator that stores bundles like a real device.
+    Serve {
+        /// Where the simulated device keeps its bundles.
+        #[arg(long, required = true)]
+        store: PathBuf,
+        /// Address to listen on (loopback), e.g. 127.0.0.1:7878.
+        #[arg(long, required = true)]
+        listen: String,
+        /// Storage capacity in bytes.
+        #[arg(long)]
+        capacity: Option<u64>,
+        /// Device profile the simulated device accepts.
+        #[arg(long)]
+        profile: Option<String>,
+    },
+    /// List the bundles on a device.
+    Ls {
+        /// The device: a folder or tcp://HOST:PORT.
+        #[arg(long, required = true)]
+        device: String,
+    },
+    /// Delete a bundle from a device.
+    Rm {
+        /// The bundle's name on the device.
+        name: String,
+        /// The device: a folder or tcp://HOST:PORT.
+        #[arg(long, required = true)]
+        device: String,
+    },
+}

@@ -1,0 +1,35 @@
+//! One module per command; `run` dispatches.
+
+use std::process::ExitCode;
+
+use anyhow::Result;
+
+use crate::cli::{Cli, Command, DeviceCommand};
+
+mod profiles;
+
+/// Runs a parsed command line.
+pub fn run(cli: Cli) -> Result<ExitCode> {
+    match cli.command {
+        None => not_yet("the demo", 8),
+        Some(Command::Build { .. }) => not_yet("taxel build", 3),
+        Some(Command::Check { .. }) => not_yet("taxel check", 3),
+        Some(Command::Inspect { .. }) => not_yet("taxel inspect", 2),
+        Some(Command::Pack { .. }) => not_yet("taxel pack", 2),
+        Some(Command::Unpack { .. }) => not_yet("taxel unpack", 2),
+        Some(Command::Preview { .. }) => not_yet("taxel preview", 3),
+        Some(Command::Play { .. }) => not_yet("taxel play", 4),
+        Some(Command::Report { .. }) => not_yet("taxel report", 8),
+        Some(Command::Load { .. }) => not_yet("taxel load", 7),
+        Some(Command::Device(DeviceCommand::Serve { .. })) => not_yet("taxel device serve", 7),
+        Some(Command::Device(DeviceCommand::Ls { .. })) => not_yet("taxel device ls", 7),
+        Some(Command::Device(DeviceCommand::Rm { .. })) => not_yet("taxel device rm", 7),
+        Some(Command::Profiles) => profiles::run(),
+    }
+}
+
+/// A command whose issue has not landed: it says so and exits 2, never pretending to work.
+fn not_yet(what: &str, issue: u32) -> Result<ExitCode> {
+    eprintln!("error: {what} is not available yet (issue {issue})");
+    Ok(ExitCode::from(2))
+}

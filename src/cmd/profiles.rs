@@ -1,0 +1,42 @@
+//! `taxel profiles`: the built-in device profiles and their key figures.
+
+use std::process::ExitCode;
+
+use anyhow::Result;
+use taxel_format::{FamilyParams, profiles};
+
+pub fn run() -> Result<ExitCode> {
+    println!(
+        "{:<10} {:<14} {:>9} {:>15} {:>8} {:>6} {:>15}  notes",
+        "name", "family", "actuators", "pitch mm", "rate Hz", "bits", "surface mm"
+    );
+    for name in profiles::builtin_names() {
+        let Some(p) = profiles::builtin(name) else { continue };
+        let notes = match p.params {
+            FamilyParams::Laterotactile => String::new(),
+            FamilyParams::Grid(g) => format!(
+                "carriers {}-{} Hz, audio {} Hz, ramps {} ms",
+                g.carrier_min_hz, g.carrier_max_hz, g.audio_rate_hz, g.ramp_ms
+            ),
+            FamilyParams::Finger(f) => format!(
+                "rhythm up to {}, intensity up to {}, direction over {} samples",
+                f.rhythm_max, f.intensity_max, f.direction_window
+            ),
+        };
+        println!(
+            "{:<10} {:<14} {:>9} {:>15} {:>8} {:>6} {:>15}  {}",
+            name,
+            p.family().name(),
+            format!("{}x{}", p.cols, p.rows),
+            format!("{} x {}", p.pitch_x_mm, p.pitch_y_mm),
+            p.rate_hz,
+            p.output_bits,
+            format!("{} x {}", p.surface_w_mm, p.surface_h_mm),
+            notes
+        );
+    }
+    println!(
+        "\nA profile file (TOML, same layout as format-spec/profiles/*.toml) can be given to --profile instead of a name."
+    );
+    Ok(ExitCode::SUCCESS)
+}
