@@ -7,6 +7,8 @@ use clap::Parser;
 
 mod cli;
 mod cmd;
+#[allow(dead_code)] // Used once the build command lands (issue 3).
+mod compile;
 
 fn main() -> ExitCode {
     let args = cli::Cli::parse();

@@ -1,0 +1,115 @@
+//! Diagnostics: what the compiler says about a drawing. The compiler collects
+//! them and goes on; `Result` is only for "cannot go on".
+
+use serde::Serialize;
+
+/// How bad a diagnostic is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Severity {
+    /// Something worth knowing; the output is as intended.
+    Note,
+    /// The output is made but will not read well by touch, or something was changed to make it.
+    Warning,
+    /// The input is wrong; the bundle is not written.
+    Error,
+}
+
+impl core::fmt::Display for Severity {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            Severity::Note => "note",
+            Severity::Warning => "warning",
+            Severity::Error => "error",
+        })
+    }
+}
+
+/// One diagnostic, printed like a compiler's and serialisable as JSON.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Diagnostic {
+    /// Stable code, such as `T0101`; documented in `docs/diagnostics.md`.
+    pub code: &'static str,
+    /// How bad it is.
+    pub severity: Severity,
+    /// What is wrong, lower-case, no trailing period.
+    pub message: String,
+    /// How to fix it, when there is something to say.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub help: Option<String>,
+    /// The element's id (or a path to it when it has none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub element: Option<String>,
+    /// 1-based line in the source.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub line: Option<u32>,
+    /// 1-based column in the source.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub column: Option<u32>,
+}
+
+impl Diagnostic {
+    /// A diagnostic with only a code, a severity and a message.
+    pub fn new(code: &'static str, severity: Severity, message: impl Into<String>) -> Self {
+        Diagnostic { code, severity, message: message.into(), help: None, element: None, line: None, column: None }
+    }
+
+    /// An error.
+    pub fn error(code: &'static str, message: impl Into<String>) -> Self {
+        Self::new(code, Severity::Error, message)
+    }
+
+    /// A warning.
+    pub fn warning(code: &'static str, message: impl Into<String>) -> Self {
+        Self::new(code, Severity::Warning, message)
+    }
+
+    /// A note.
+    pub fn note(code: &'static str, message: impl Into<String>) -> Self {
+        Self::new(code, Severity::Note, message)
+    }
+
+    /// Adds advice on how to fix it.
+    pub fn with_help(mut self, help: impl Into<String>) -> Self {
+        self.help = Some(help.into());
+        self
+    }
+
+    /// Names the element.
+    pub fn with_element(mut self, element: impl Into<String>) -> Self {
+        self.element = Some(element.into());
+        self
+    }
+
+    /// Places it at a 1-based line and column.
+    pub fn at(mut self, line: u32, column: u32) -> Self {
+        self.line = Some(line);
+        self.column = Some(column);
+        self
+    }
+
+    /// Formats it like a compiler: `file:line:col: warning[T0101]: message (element #id)`
+    /// followed by `  help: ...` when there is help.
+    pub fn render(&self, file: &str) -> String {
+        let mut s = String::from(file);
+        if let Some(l) = self.line {
+            s += &format!(":{l}");
+            if let Some(c) = self.column {
+                s += &format!(":{c}");
+            }
+        }
+        s += &format!(": {}[{}]: {}", self.severity, self.code, self.message);
+        if let Some(e) = &self.element {
+            s += &format!(" (element #{e})");
+        }
+        if let Some(h) = &self.help {
+            s += &format!("\n  help: {h}");
+        }
+        s
+    }
+}
+
+/// Whether any diagnostic is an error.
+pub fn has_errors(diags: &[Diagnostic]) -> bool {
+    diags.iter().any(|d| d.severity == Severity::Error)
+}

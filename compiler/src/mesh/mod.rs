@@ -1,0 +1,2 @@
+//! glTF height meshes to height and gradient fields for the finger device.
+//! (Placeholder; issue 6 fills it in.)
