@@ -7,3 +7,7 @@
 
 #[cfg(feature = "std")]
 extern crate std;
+
+pub mod finger;
+pub mod grid;
+pub mod latero;

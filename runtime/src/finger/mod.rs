@@ -1,0 +1,1 @@
+//! Player for the finger device family (placeholder until its issue lands).

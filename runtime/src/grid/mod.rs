@@ -1,0 +1,1 @@
+//! Player for the grid device family (placeholder until its issue lands).

@@ -1,0 +1,1 @@
+//! Player for the latero device family (placeholder until its issue lands).
