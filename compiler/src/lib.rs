@@ -2,14 +2,24 @@
 //! bundles and diagnostics out. The library does no file IO of its own: it
 //! takes bytes and strings, and returns the bundle together with every
 //! diagnostic it collected.
+//!
+//! Entry points: [`svg::compile_svg`] for drawings; [`preview`] draws a
+//! bundle the way a reader will feel it; [`geometry`] holds the exact (f64)
+//! geometry that error reports compare rasters against.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod annotation;
 pub mod brush;
 pub mod diagnostic;
 pub mod mesh;
+pub mod options;
+pub mod stylesheet;
+mod text_pos;
 
 pub use diagnostic::{Diagnostic, Severity, has_errors};
+pub use options::{CompileOptions, DEFAULT_PX_PER_MM};
+pub use stylesheet::{StyleError, StyleSheet};
 
 use taxel_format::Bundle;
 

@@ -1,0 +1,2 @@
+//! Compile-time benchmark (filled in with the SVG pipeline).
+fn main() {}
