@@ -8,6 +8,8 @@
 #[cfg(feature = "std")]
 extern crate std;
 
+#[cfg(feature = "std")]
+pub mod device;
 pub mod finger;
 pub mod grid;
 pub mod latero;

@@ -6,6 +6,8 @@ use anyhow::Result;
 
 use crate::cli::{Cli, Command, DeviceCommand};
 
+mod device;
+mod load;
 mod profiles;
 
 /// Runs a parsed command line.
@@ -20,10 +22,12 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
         Some(Command::Preview { .. }) => not_yet("taxel preview", 3),
         Some(Command::Play { .. }) => not_yet("taxel play", 4),
         Some(Command::Report { .. }) => not_yet("taxel report", 8),
-        Some(Command::Load { .. }) => not_yet("taxel load", 7),
-        Some(Command::Device(DeviceCommand::Serve { .. })) => not_yet("taxel device serve", 7),
-        Some(Command::Device(DeviceCommand::Ls { .. })) => not_yet("taxel device ls", 7),
-        Some(Command::Device(DeviceCommand::Rm { .. })) => not_yet("taxel device rm", 7),
+        Some(Command::Load { bundles, device }) => load::run(&bundles, &device),
+        Some(Command::Device(DeviceCommand::Serve { store, listen, capacity, profile })) => {
+            device::serve(&store, &listen, capacity, profile.as_deref())
+        }
+        Some(Command::Device(DeviceCommand::Ls { device })) => device::ls(&device),
+        Some(Command::Device(DeviceCommand::Rm { name, device })) => device::rm(&name, &device),
         Some(Command::Profiles) => profiles::run(),
     }
 }

@@ -1,0 +1,1 @@
+//! `taxel build` over many files: see the batch stage.

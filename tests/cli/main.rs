@@ -1,0 +1,4 @@
+//! End-to-end tests of the `taxel` command line, one module per area.
+
+mod batch;
+mod device;
