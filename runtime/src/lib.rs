@@ -1,6 +1,10 @@
 //! taxel's runtime: plays bundles on tactile devices. The core is `no_std`
 //! and allocation-free per tick; the `std` feature adds sinks, the loader and
 //! the device simulator.
+//!
+//! - [`latero::LateroPlayer`]: laterotactile arrays (dots, vibration, gratings).
+//! - [`RuntimeError`]: why a bundle cannot be played.
+//! - With `std`: [`trace`] (exploration traces) and [`sinks`] (frames CSV).
 #![no_std]
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -10,6 +14,13 @@ extern crate std;
 
 #[cfg(feature = "std")]
 pub mod device;
+mod error;
 pub mod finger;
 pub mod grid;
 pub mod latero;
+#[cfg(feature = "std")]
+pub mod sinks;
+#[cfg(feature = "std")]
+pub mod trace;
+
+pub use error::RuntimeError;

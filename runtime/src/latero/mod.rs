@@ -1,1 +1,316 @@
-//! Player for the latero device family (placeholder until its issue lands).
+//! The player for laterotactile arrays such as STRESS² (device family 1):
+//! dots, vibration and gratings of seed 000, composited per tick.
+//!
+//! A [`LateroPlayer`] is built once from a validated [`BundleView`]: it reads
+//! the manifest's profile, refuses any other family, and prepares one
+//! [`Layer`] per chunk with its constants (mask box, sample scale, sin θ / λ,
+//! cos θ / λ, ...). After that, [`LateroPlayer::frame`] turns a tick and the
+//! carrier position into one output code per actuator. The per-tick path
+//! does not allocate, does not re-read chunk headers, and cannot panic.
+//!
+//! # Geometry
+//! Actuator (row, col) sits at carrier + ((col − (cols − 1)/2) · pitch_x,
+//! (row − (rows − 1)/2) · pitch_y) on the page (x right, y down), and its
+//! index in a frame is `cols · row + col` (primitives.md, device family 1).
+//! An actuator outside the profile's surface, or outside every layer, rests at 0.
+//!
+//! # Storage
+//! The player keeps its layers in storage the caller chooses, so it needs no
+//! allocator: [`LateroPlayer::new`] uses an array of [`DEFAULT_LAYERS`]
+//! layers inside the player; [`LateroPlayer::with_storage`] takes any
+//! `[Layer; N]`, a borrowed `&mut [Layer]` or (with an allocator) a
+//! `Vec<Layer>`, so a host can size it to the bundle
+//! (`BundleView::chunk_count()` is always enough). A bundle with more layers
+//! than the storage holds is refused with [`RuntimeError::TooManyLayers`].
+//!
+//! Profiles may have at most [`MAX_COLS`] columns (any number of rows up to
+//! the format's actuator limit) and at most 16 output bits.
+//!
+//! ```
+//! use taxel_format::{Bundle, BundleView, Manifest, MaskKind, MaskLayer, MaskSamples, MilliHertz, Mm, Tick, profiles};
+//! use taxel_runtime::latero::LateroPlayer;
+//!
+//! let mut bundle = Bundle::new(Manifest::new(profiles::builtin("stress2").unwrap()));
+//! bundle.chunks.push(taxel_format::Chunk::Mask(MaskLayer {
+//!     source: None,
+//!     kind: MaskKind::Vibration { freq: MilliHertz(50_000) },
+//!     amplitude: 1.0,
+//!     origin_x: Mm(0.0),
+//!     origin_y: Mm(0.0),
+//!     px_per_mm: 1.0,
+//!     width: 110,
+//!     height: 60,
+//!     samples: MaskSamples::U8(vec![255; 110 * 60]),
+//! }));
+//! let bytes = bundle.to_bytes().unwrap();
+//! let view = BundleView::parse(&bytes).unwrap();
+//! let player = LateroPlayer::new(&view).unwrap();
+//! let mut frame = [0u16; 64];
+//! let stats = player.frame(Tick(0), Mm(50.0), Mm(30.0), &mut frame);
+//! // At tick 0, cos 2πft = 1: actuators whose row and column parities differ
+//! // are fully left, the others at rest.
+//! assert_eq!(&frame[..4], &[0, 1023, 0, 1023]);
+//! assert_eq!(stats.clamped, 0);
+//! ```
+
+mod dots;
+mod mask;
+mod osc;
+
+pub use dots::PLATEAU;
+
+use taxel_format::{BundleView, ChunkView, DotTableView, Family, Mm, Tag, Tick};
+
+use crate::error::RuntimeError;
+use mask::MaskLayer;
+
+/// Number of layers [`LateroPlayer::new`] can hold.
+pub const DEFAULT_LAYERS: usize = 64;
+/// Largest number of columns a laterotactile profile may have for this player.
+pub const MAX_COLS: usize = 64;
+/// Actuators evaluated together: frames are computed in blocks of whole
+/// rows of at most this many actuators, accumulated on the stack.
+pub(crate) const BLOCK: usize = 64;
+/// Largest output resolution, in bits (codes are `u16`).
+pub const MAX_OUTPUT_BITS: u8 = 16;
+
+/// One prepared layer: a vibration or grating mask, or a dot table.
+/// Opaque; it exists so that callers can provide storage for a player.
+#[derive(Debug, Clone, Copy)]
+pub struct Layer<'a>(Slot<'a>);
+
+#[derive(Debug, Clone, Copy)]
+enum Slot<'a> {
+    Empty,
+    Mask(MaskLayer<'a>),
+    Dots(DotTableView<'a>),
+}
+
+impl Layer<'_> {
+    /// An unused slot, to fill storage with.
+    pub const EMPTY: Self = Layer(Slot::Empty);
+}
+
+/// What happened while computing one frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct FrameStats {
+    /// Actuators whose summed deflection exceeded full deflection by more
+    /// than half an output step and were clamped to it (overlapping layers).
+    pub clamped: u32,
+    /// Actuator codes written (the profile's actuator count, or less when
+    /// the output slice is shorter).
+    pub written: u32,
+}
+
+/// Plays a laterotactile bundle: tick and carrier position in, one code per actuator out.
+#[derive(Debug, Clone)]
+pub struct LateroPlayer<'a, S = [Layer<'a>; DEFAULT_LAYERS]> {
+    layers: S,
+    len: usize,
+    rows: usize,
+    cols: usize,
+    pitch_x: f32,
+    pitch_y: f32,
+    surface_w: f32,
+    surface_h: f32,
+    rate_hz: u32,
+    max_code: f32,
+    _bundle: core::marker::PhantomData<&'a [u8]>,
+}
+
+impl<'a> LateroPlayer<'a> {
+    /// A player for `view` with room for [`DEFAULT_LAYERS`] layers.
+    pub fn new(view: &BundleView<'a>) -> Result<Self, RuntimeError> {
+        Self::with_storage(view, [Layer::EMPTY; DEFAULT_LAYERS])
+    }
+}
+
+impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
+    /// A player for `view` that keeps its layers in `storage` (see the module docs).
+    pub fn with_storage(view: &BundleView<'a>, mut storage: S) -> Result<Self, RuntimeError> {
+        let p = &view.manifest().profile;
+        if p.family() != Family::Laterotactile {
+            return Err(RuntimeError::WrongFamily {
+                expected: Family::Laterotactile,
+                found: p.family(),
+                profile: p.name,
+            });
+        }
+        if p.cols as usize > MAX_COLS {
+            return Err(RuntimeError::Unsupported { field: "cols", value: p.cols as u32, limit: MAX_COLS as u32 });
+        }
+        if p.output_bits > MAX_OUTPUT_BITS {
+            return Err(RuntimeError::Unsupported {
+                field: "output_bits",
+                value: p.output_bits as u32,
+                limit: MAX_OUTPUT_BITS as u32,
+            });
+        }
+        let mut needed = 0usize;
+        for chunk in view.chunks() {
+            match chunk {
+                ChunkView::Mask(_) | ChunkView::Dots(_) => needed += 1,
+                ChunkView::Strokes(_) => {
+                    return Err(RuntimeError::UnexpectedChunk { family: Family::Laterotactile, tag: Tag::STROKES });
+                }
+                ChunkView::Height(_) => {
+                    return Err(RuntimeError::UnexpectedChunk { family: Family::Laterotactile, tag: Tag::HEIGHT });
+                }
+                // Provenance and unknown optional chunks do not play.
+                ChunkView::Provenance(_) | ChunkView::Unknown { .. } => {}
+            }
+        }
+        let slots = storage.as_mut();
+        if needed > slots.len() {
+            return Err(RuntimeError::TooManyLayers { needed, capacity: slots.len() });
+        }
+        let mut len = 0;
+        for chunk in view.chunks() {
+            let slot = match chunk {
+                ChunkView::Mask(m) => Slot::Mask(MaskLayer::new(&m, p.pitch_x_mm, p.pitch_y_mm)),
+                ChunkView::Dots(d) if d.is_empty() => continue,
+                ChunkView::Dots(d) => Slot::Dots(d),
+                _ => continue,
+            };
+            if let Some(s) = slots.get_mut(len) {
+                *s = Layer(slot);
+                len += 1;
+            }
+        }
+        Ok(LateroPlayer {
+            layers: storage,
+            len,
+            rows: p.rows as usize,
+            cols: p.cols as usize,
+            pitch_x: p.pitch_x_mm,
+            pitch_y: p.pitch_y_mm,
+            surface_w: p.surface_w_mm,
+            surface_h: p.surface_h_mm,
+            rate_hz: p.rate_hz,
+            max_code: p.max_code() as f32,
+            _bundle: core::marker::PhantomData,
+        })
+    }
+
+    /// Number of actuators in a frame (`rows · cols`).
+    pub fn actuator_count(&self) -> usize {
+        self.rows * self.cols
+    }
+
+    /// Number of layers the player holds (empty dot tables are dropped at load).
+    pub fn layer_count(&self) -> usize {
+        self.len
+    }
+
+    /// Writes the code of every actuator at `tick` with the carrier at
+    /// `(x, y)` into `out` (index `cols · row + col`; codes in
+    /// `0..=2^output_bits − 1`). If `out` is shorter than the actuator count
+    /// only its length is written; entries past the actuator count are left
+    /// alone. A non-finite position puts every actuator at rest.
+    ///
+    /// Allocates nothing, cannot panic, and costs the same for a table of
+    /// ten dots or ten thousand.
+    pub fn frame(&self, tick: Tick, x: Mm, y: Mm, out: &mut [u16]) -> FrameStats {
+        let n = self.actuator_count().min(out.len());
+        let out = &mut out[..n];
+        let mut stats = FrameStats { clamped: 0, written: n as u32 };
+        if !(x.0.is_finite() && y.0.is_finite()) {
+            out.fill(0);
+            return stats;
+        }
+        let mut f = Frame {
+            tick,
+            rate_hz: self.rate_hz,
+            cols: self.cols,
+            pitch_x: self.pitch_x,
+            pitch_y: self.pitch_y,
+            x_first: x.0 - (self.cols - 1) as f32 * 0.5 * self.pitch_x,
+            y_first: y.0 - (self.rows - 1) as f32 * 0.5 * self.pitch_y,
+            col_lo: 0,
+            col_hi: 0,
+            row_lo: 0,
+            row_hi: 0,
+            r0: 0,
+            r1: 0,
+        };
+        // Actuators on the surface form one rectangle of columns and rows.
+        (f.col_lo, f.col_hi) = inside(self.cols, self.surface_w, |c| f.col_x(c));
+        (f.row_lo, f.row_hi) = inside(self.rows, self.surface_h, |r| f.row_y(r));
+        let layers = self.layers.as_ref().get(..self.len).unwrap_or(&[]);
+        let rows_per_block = (BLOCK / self.cols).max(1);
+        let half_step = 0.5 / self.max_code;
+        for (b, block) in out.chunks_mut(rows_per_block * self.cols).enumerate() {
+            f.r0 = b * rows_per_block;
+            f.r1 = (f.r0 + rows_per_block).min(self.rows);
+            let mut acc = [0.0f32; BLOCK];
+            for layer in layers {
+                match &layer.0 {
+                    Slot::Mask(m) => m.accumulate(&f, &mut acc),
+                    Slot::Dots(d) => dots::accumulate(d, &f, &mut acc),
+                    Slot::Empty => {}
+                }
+            }
+            for (o, &a) in block.iter_mut().zip(acc.iter()) {
+                // `max` also maps a NaN (impossible from validated layers) to rest.
+                let mut v = a.max(0.0);
+                if v > 1.0 {
+                    if v > 1.0 + half_step {
+                        stats.clamped += 1;
+                    }
+                    v = 1.0;
+                }
+                *o = (v * self.max_code + 0.5) as u16;
+            }
+        }
+        stats
+    }
+}
+
+/// The half-open range of indices `0..n` whose position lies in `[0, limit]`
+/// (positions increase with the index).
+fn inside(n: usize, limit: f32, pos: impl Fn(usize) -> f32) -> (usize, usize) {
+    let mut lo = n;
+    let mut hi = 0;
+    for i in 0..n {
+        let p = pos(i);
+        if p >= 0.0 && p <= limit {
+            lo = lo.min(i);
+            hi = i + 1;
+        }
+    }
+    if lo >= hi { (0, 0) } else { (lo, hi) }
+}
+
+/// The geometry of one frame and the block of rows being computed.
+pub(crate) struct Frame {
+    pub(crate) tick: Tick,
+    pub(crate) rate_hz: u32,
+    pub(crate) cols: usize,
+    pub(crate) pitch_x: f32,
+    pub(crate) pitch_y: f32,
+    /// Page position of column 0 and row 0.
+    pub(crate) x_first: f32,
+    pub(crate) y_first: f32,
+    /// Columns and rows whose actuators lie on the surface.
+    pub(crate) col_lo: usize,
+    pub(crate) col_hi: usize,
+    pub(crate) row_lo: usize,
+    pub(crate) row_hi: usize,
+    /// The block's rows.
+    pub(crate) r0: usize,
+    pub(crate) r1: usize,
+}
+
+impl Frame {
+    /// Page x of column `c`.
+    #[inline(always)]
+    pub(crate) fn col_x(&self, c: usize) -> f32 {
+        self.x_first + c as f32 * self.pitch_x
+    }
+
+    /// Page y of row `r`.
+    #[inline(always)]
+    pub(crate) fn row_y(&self, r: usize) -> f32 {
+        self.y_first + r as f32 * self.pitch_y
+    }
+}

@@ -1,0 +1,2 @@
+//! Benchmarks of the laterotactile player.
+fn main() {}

@@ -1,0 +1,1 @@
+//! Sinks: where frames go on a host (files, standard output).

@@ -1,0 +1,35 @@
+//! The per-tick path allocates nothing (counted by the test binary's global allocator).
+
+use taxel_format::{BundleView, Mm, Tick};
+use taxel_runtime::latero::LateroPlayer;
+
+use crate::support::*;
+
+#[test]
+fn frames_allocate_nothing() {
+    let mut list = Vec::new();
+    for i in 0..100 {
+        for j in 0..50 {
+            list.push((1.0 + 1.1 * i as f32, 1.0 + 1.2 * j as f32, 0.5, 1.0));
+        }
+    }
+    let bytes = bundle_bytes(
+        stress2(),
+        vec![full_surface(vibration(50_000), 0.3), full_surface(grating(2.0, 45.0), 0.3), dots(&list)],
+    );
+    let view = BundleView::parse(&bytes).unwrap();
+    let mut out = [0u16; 64];
+    let mut moved = 0u64;
+    let info = allocation_counter::measure(|| {
+        // Building the player with in-place storage allocates nothing either.
+        let player = LateroPlayer::new(&view).unwrap();
+        for k in 0..5_000u64 {
+            let x = (k % 1200) as f32 * 0.1 - 5.0;
+            let y = (k % 700) as f32 * 0.1 - 5.0;
+            let stats = player.frame(Tick(k * 1_000_003), Mm(x), Mm(y), &mut out);
+            moved += out.iter().filter(|&&c| c > 0).count() as u64 + stats.clamped as u64;
+        }
+    });
+    assert_eq!(info.count_total, 0, "allocations while playing: {info:?}");
+    assert!(moved > 0, "the frames were not all at rest");
+}
