@@ -77,9 +77,6 @@ pub(crate) fn validate(bytes: &[u8]) -> Result<(u16, u16, u32), FormatError> {
     if u32_at(bytes, 28) != Some(0) {
         return Err(FormatError::NonZeroReserved { offset: 28 });
     }
-    if file_len != total as u64 {
-        return Err(FormatError::FileLength { header: file_len, actual: total as u64 });
-    }
     if file_len > MAX_FILE_LEN {
         return Err(FormatError::Limit {
             tag: Tag::HEADER,
@@ -88,10 +85,17 @@ pub(crate) fn validate(bytes: &[u8]) -> Result<(u16, u16, u32), FormatError> {
             limit: MAX_FILE_LEN,
         });
     }
-    if count == 0 || count > MAX_CHUNKS {
+    if file_len != total as u64 {
+        return Err(FormatError::FileLength { header: file_len, actual: total as u64 });
+    }
+    if count == 0 {
+        // The manifest is itself a chunk, so an empty table has no manifest.
+        return Err(FormatError::MissingManifest);
+    }
+    if count > MAX_CHUNKS {
         return Err(FormatError::Limit {
             tag: Tag::HEADER,
-            field: "chunk count (1 or more)",
+            field: "chunk count",
             value: count as u64,
             limit: MAX_CHUNKS as u64,
         });
@@ -142,7 +146,8 @@ pub(crate) fn validate(bytes: &[u8]) -> Result<(u16, u16, u32), FormatError> {
         expected_offset = align_up(end);
     }
     if expected_offset != total as u64 {
-        return Err(FormatError::FileLength { header: file_len, actual: expected_offset });
+        // Bytes after the last chunk's padding, or padding missing at the end.
+        return Err(FormatError::CanonicalLength { expected: expected_offset, found: total as u64 });
     }
     check_zero(bytes, prev_end, total as u64)?;
     Ok((major, minor, count))
@@ -176,12 +181,12 @@ pub(crate) struct Encoded {
 }
 
 /// Lays chunks out canonically and computes every checksum.
-pub(crate) fn assemble(chunks: &[Encoded]) -> Result<Vec<u8>, FormatError> {
+pub(crate) fn assemble(chunks: &[Encoded], minor: u16) -> Result<Vec<u8>, FormatError> {
     let count = chunks.len();
     if count == 0 || count > MAX_CHUNKS as usize {
         return Err(FormatError::Limit {
             tag: Tag::HEADER,
-            field: "chunk count (1 or more)",
+            field: "chunk count",
             value: count as u64,
             limit: MAX_CHUNKS as u64,
         });
@@ -204,7 +209,7 @@ pub(crate) fn assemble(chunks: &[Encoded]) -> Result<Vec<u8>, FormatError> {
     }
     let mut out = Vec::with_capacity(file_len as usize);
     let mut w = Out(&mut out);
-    w.bytes(&MAGIC).u16(FORMAT_MAJOR).u16(FORMAT_MINOR).u32(count as u32).u64(file_len).u32(0).u32(0);
+    w.bytes(&MAGIC).u16(FORMAT_MAJOR).u16(minor).u32(count as u32).u64(file_len).u32(0).u32(0);
     for (c, &offset) in chunks.iter().zip(&offsets) {
         w.bytes(&c.tag.0)
             .u16(if c.required { FLAG_REQUIRED } else { 0 })

@@ -114,25 +114,34 @@ impl DotGrid {
         clamp_cell((y - self.origin_y) / self.cell_mm, self.rows)
     }
 
-    fn derive(dots: &[Dot]) -> DotGrid {
-        if dots.is_empty() {
-            return DotGrid { origin_x: 0.0, origin_y: 0.0, cell_mm: 1.0, cols: 1, rows: 1, max_radius: 0.0 };
-        }
+    /// The canonical grid of a set of dots (SPEC.md, `DOTS`): the writer
+    /// always uses it and the reader accepts no other, so that a dot table
+    /// has exactly one encoding.
+    fn derive(dots: impl Iterator<Item = Dot>) -> DotGrid {
         let (mut x0, mut y0, mut x1, mut y1, mut r) = (f32::MAX, f32::MAX, f32::MIN, f32::MIN, 0.0f32);
+        let mut any = false;
         for d in dots {
+            any = true;
             x0 = x0.min(d.x.0);
             y0 = y0.min(d.y.0);
             x1 = x1.max(d.x.0);
             y1 = y1.max(d.y.0);
             r = r.max(d.radius.0);
         }
+        if !any {
+            return DotGrid { origin_x: 0.0, origin_y: 0.0, cell_mm: 1.0, cols: 1, rows: 1, max_radius: 0.0 };
+        }
         // A cell of at least two radii means an actuator is reached by dots
         // of at most 2 x 2 cells; grow the cell until the grid fits the limit.
+        // The span is measured in f64 so that coordinates near f32::MAX
+        // cannot overflow it, and the cell counts saturate instead of wrapping.
+        let (span_x, span_y) = (x1 as f64 - x0 as f64, y1 as f64 - y0 as f64);
         let mut cell = (2.0 * r).max(1e-3);
         loop {
-            let cols = ((x1 - x0) / cell) as u64 + 1;
-            let rows = ((y1 - y0) / cell) as u64 + 1;
-            if cols * rows <= MAX_DOT_GRID_CELLS as u64 || !cell.is_finite() {
+            let cols = (span_x / cell as f64).min(u32::MAX as f64) as u64 + 1;
+            let rows = (span_y / cell as f64).min(u32::MAX as f64) as u64 + 1;
+            // The cell stays finite: at f32::MAX the span (below 2^129) gives 3 cells a side.
+            if cols.saturating_mul(rows) <= MAX_DOT_GRID_CELLS as u64 || cell >= f32::MAX / 2.0 {
                 return DotGrid {
                     origin_x: x0,
                     origin_y: y0,
@@ -156,7 +165,7 @@ fn clamp_cell(v: f32, n: u32) -> u32 {
 
 impl DotTable {
     pub(crate) fn encode(&self) -> Vec<u8> {
-        let grid = DotGrid::derive(&self.dots);
+        let grid = DotGrid::derive(self.dots.iter().copied());
         let cells = grid.cols as usize * grid.rows as usize;
         let cell_of = |d: &Dot| grid.row_of(d.y.0) as usize * grid.cols as usize + grid.col_of(d.x.0) as usize;
         let mut order: Vec<(usize, usize)> = self.dots.iter().enumerate().map(|(i, d)| (cell_of(d), i)).collect();
@@ -265,7 +274,8 @@ impl<'a> DotTableView<'a> {
         }
     }
 
-    pub(crate) fn parse(d: &'a [u8], index: u32) -> Result<Self, FormatError> {
+    /// Reads the table; with `full`, also checks the index and every dot.
+    pub(crate) fn parse(d: &'a [u8], index: u32, full: bool) -> Result<Self, FormatError> {
         let tag = Tag::DOTS;
         if d.len() < DOTS_HEADER_LEN {
             return Err(FormatError::ChunkLength {
@@ -311,12 +321,14 @@ impl<'a> DotTableView<'a> {
         }
         let starts = &d[DOTS_HEADER_LEN..DOTS_HEADER_LEN + starts_len];
         let view = DotTableView { kind, grid, count, starts, dots: &d[DOTS_HEADER_LEN + starts_len..] };
+        if !full {
+            return Ok(view);
+        }
         // The index must partition the dots: starts run from 0 to count without
         // decreasing, and every dot lies in the cell that lists it.
         if u32_at(starts, 0) != Some(0) || u32_at(starts, 4 * cells as usize) != Some(count) {
             return Err(bad("grid index", "cell starts from 0 to the dot count"));
         }
-        let mut max_r = 0.0f32;
         for row in 0..rows {
             for col in 0..cols {
                 let c = row as usize * cols as usize + col as usize;
@@ -333,12 +345,19 @@ impl<'a> DotTableView<'a> {
                     if view.grid.col_of(dot.x.0) != col || view.grid.row_of(dot.y.0) != row {
                         return Err(bad("grid index", "every dot in the cell that holds its centre"));
                     }
-                    max_r = max_r.max(dot.radius.0);
                 }
             }
         }
-        if max_r > grid.max_radius {
-            return Err(bad("max_radius", "at least the largest dot radius"));
+        let canonical = DotGrid::derive((0..count).filter_map(|i| view.dot(i)));
+        let same = |a: f32, b: f32| a.to_bits() == b.to_bits();
+        if !(same(canonical.origin_x, grid.origin_x)
+            && same(canonical.origin_y, grid.origin_y)
+            && same(canonical.cell_mm, grid.cell_mm)
+            && same(canonical.max_radius, grid.max_radius)
+            && canonical.cols == grid.cols
+            && canonical.rows == grid.rows)
+        {
+            return Err(bad("grid", "the canonical grid of its dots (SPEC.md, DOTS)"));
         }
         Ok(view)
     }

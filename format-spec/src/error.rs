@@ -38,6 +38,14 @@ pub enum FormatError {
         /// Length of the bytes given.
         actual: u64,
     },
+    /// The file does not end where the canonical layout ends (right after the
+    /// last chunk and its zero padding to a multiple of 8 bytes).
+    CanonicalLength {
+        /// Length the canonical layout gives.
+        expected: u64,
+        /// Length of the file.
+        found: u64,
+    },
     /// The header or chunk table checksum does not match.
     TableChecksum {
         /// Checksum recorded in the header.
@@ -153,6 +161,9 @@ impl fmt::Display for FormatError {
             FormatError::FileLength { header, actual } => {
                 write!(f, "bundle length mismatch: the header records {header} bytes but the file has {actual}")
             }
+            FormatError::CanonicalLength { expected, found } => {
+                write!(f, "bundle is {found} bytes long, but its last chunk and padding end at {expected}")
+            }
             FormatError::TableChecksum { expected, found } => write!(
                 f,
                 "header or chunk table is corrupt: checksum {found:08x} does not match the recorded {expected:08x}"
@@ -182,8 +193,11 @@ impl fmt::Display for FormatError {
             FormatError::ChunkLength { tag, index, expected, found } => {
                 write!(f, "chunk {index} ({tag}) is {found} bytes long but its contents need {expected}")
             }
+            FormatError::Limit { tag, field, value, limit } if *tag == Tag::HEADER => {
+                write!(f, "{field} in the header is {value}, above the limit of {limit}")
+            }
             FormatError::Limit { tag, field, value, limit } => {
-                write!(f, "{tag}: {field} is {value}, above the limit of {limit}")
+                write!(f, "{field} in the {tag} chunk is {value}, above the limit of {limit}")
             }
             FormatError::InvalidValue { tag, index, field, expected } => {
                 write!(f, "chunk {index} ({tag}): {field} must be {expected}")

@@ -71,6 +71,22 @@ fn extremes(heights: impl Iterator<Item = (f32, f32, f32, u8)>) -> (f32, f32, f3
 }
 
 impl HeightField {
+    /// Checks that the four node arrays hold `cols * rows` values each, so the
+    /// writer never pads or drops data silently.
+    pub(crate) fn check_shape(&self, index: u32) -> Result<(), FormatError> {
+        let n = self.cols as usize * self.rows as usize;
+        let lens = [self.heights.len(), self.grad_x.len(), self.grad_y.len(), self.flags.len()];
+        if lens.iter().any(|&l| l != n) {
+            return Err(FormatError::InvalidValue {
+                tag: Tag::HEIGHT,
+                index,
+                field: "heights, grad_x, grad_y and flags",
+                expected: "cols * rows values each",
+            });
+        }
+        Ok(())
+    }
+
     pub(crate) fn encode(&self) -> Vec<u8> {
         let n = self.cols as usize * self.rows as usize;
         let (lo, hi, g) = extremes((0..n).map(|k| {
@@ -183,7 +199,8 @@ impl<'a> HeightFieldView<'a> {
         u8_at(self.data, 12 * self.n() + k as usize).unwrap_or(0)
     }
 
-    pub(crate) fn parse(d: &'a [u8], index: u32) -> Result<Self, FormatError> {
+    /// Reads the field; with `full`, also checks every node and the extremes.
+    pub(crate) fn parse(d: &'a [u8], index: u32, full: bool) -> Result<Self, FormatError> {
         let tag = Tag::HEIGHT;
         if d.len() < HEADER_LEN {
             return Err(FormatError::ChunkLength { tag, index, expected: HEADER_LEN as u64, found: d.len() as u64 });
@@ -227,6 +244,9 @@ impl<'a> HeightFieldView<'a> {
             gradient_cap: in_range(f(40), 0.0, BIG, tag, index, "gradient_cap", "from 0 to 1e9")?,
             data: &d[HEADER_LEN..],
         };
+        if !full {
+            return Ok(view);
+        }
         let n = n as u32;
         for k in 0..n {
             let h = view.height_at(k);

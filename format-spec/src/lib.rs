@@ -44,6 +44,7 @@ mod profile;
 #[cfg(feature = "std")]
 pub mod profiles;
 mod provenance;
+pub mod sample;
 mod strokes;
 mod units;
 mod view;

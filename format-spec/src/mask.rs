@@ -104,6 +104,19 @@ pub struct MaskLayer {
 }
 
 impl MaskLayer {
+    /// Checks that the samples fill exactly `width * height`.
+    pub(crate) fn check_shape(&self, index: u32) -> Result<(), FormatError> {
+        if self.samples.len() as u64 != self.width as u64 * self.height as u64 {
+            return Err(FormatError::InvalidValue {
+                tag: self.kind.tag(),
+                index,
+                field: "samples",
+                expected: "width * height samples",
+            });
+        }
+        Ok(())
+    }
+
     pub(crate) fn encode(&self) -> Vec<u8> {
         let mut out = Vec::with_capacity(MASK_HEADER_LEN + self.samples.len() * 2);
         let mut w = Out(&mut out);

@@ -71,12 +71,29 @@ impl Bundle {
         Bundle { manifest, chunks: Vec::new() }
     }
 
-    /// The canonical encoding. The result is checked with the reader before it
-    /// is returned, so a bundle that the writer accepts always reads back.
+    /// The canonical encoding, as format version
+    /// [`FORMAT_MAJOR`](crate::FORMAT_MAJOR).[`FORMAT_MINOR`](crate::FORMAT_MINOR).
+    /// The result is checked with the reader before it is returned, so a
+    /// bundle that the writer accepts always reads back.
     pub fn to_bytes(&self) -> Result<Vec<u8>, FormatError> {
+        self.to_bytes_with_minor(crate::FORMAT_MINOR)
+    }
+
+    /// The canonical encoding with minor version `minor` in the header: for
+    /// tools that rewrite a bundle from a newer minor version (whose unknown
+    /// optional chunks they keep as [`RawChunk`]s) without changing a byte.
+    pub fn to_bytes_with_minor(&self, minor: u16) -> Result<Vec<u8>, FormatError> {
         let mut encoded = Vec::with_capacity(self.chunks.len() + 1);
         encoded.push(Encoded { tag: Tag::MANIFEST, required: true, data: self.manifest.encode() });
-        for c in &self.chunks {
+        for (i, c) in self.chunks.iter().enumerate() {
+            // Chunk index in the table: the manifest is chunk 0.
+            let index = u32::try_from(i + 1).unwrap_or(u32::MAX);
+            match c {
+                Chunk::Mask(m) => m.check_shape(index)?,
+                Chunk::Strokes(s) => s.check_shape()?,
+                Chunk::Height(h) => h.check_shape(index)?,
+                _ => {}
+            }
             encoded.push(match c {
                 Chunk::Mask(m) => Encoded { tag: m.kind.tag(), required: true, data: m.encode() },
                 Chunk::Dots(d) => Encoded { tag: Tag::DOTS, required: true, data: d.encode() },
@@ -86,7 +103,7 @@ impl Bundle {
                 Chunk::Raw(r) => Encoded { tag: r.tag, required: r.required, data: r.data.clone() },
             });
         }
-        let bytes = container::assemble(&encoded)?;
+        let bytes = container::assemble(&encoded, minor)?;
         BundleView::parse(&bytes)?;
         Ok(bytes)
     }

@@ -159,7 +159,7 @@ impl DeviceProfile {
     }
 
     /// Checks every field's range; the first problem is returned as
-    /// `(field, expected)`.
+    /// `(key, expected)`, the key named as in a profile TOML file (`array.rows`).
     pub fn check(&self) -> Result<(), (&'static str, &'static str)> {
         fn pos(v: f32) -> bool {
             v.is_finite() && v > 0.0
@@ -168,16 +168,16 @@ impl DeviceProfile {
             return Err(("name", "a non-empty name"));
         }
         if self.rows == 0 || self.cols == 0 {
-            return Err(("rows/cols", "at least one row and one column"));
+            return Err((if self.rows == 0 { "array.rows" } else { "array.cols" }, "at least 1"));
         }
         if self.rows as u32 * self.cols as u32 > MAX_ACTUATORS {
-            return Err(("rows/cols", "at most 4096 actuators"));
+            return Err(("array.rows", "rows * cols at most 4096 actuators"));
         }
         if !pos(self.pitch_x_mm) || self.pitch_x_mm > 1000.0 {
-            return Err(("pitch_x_mm", "a finite pitch above 0 and at most 1000 mm"));
+            return Err(("array.pitch_x_mm", "a finite pitch above 0 and at most 1000 mm"));
         }
         if !pos(self.pitch_y_mm) || self.pitch_y_mm > 1000.0 {
-            return Err(("pitch_y_mm", "a finite pitch above 0 and at most 1000 mm"));
+            return Err(("array.pitch_y_mm", "a finite pitch above 0 and at most 1000 mm"));
         }
         if self.rate_hz == 0 || self.rate_hz > MAX_RATE_HZ {
             return Err(("rate_hz", "a rate from 1 to 1000000 Hz"));
@@ -195,7 +195,7 @@ impl DeviceProfile {
             FamilyParams::Laterotactile => {}
             FamilyParams::Grid(g) => {
                 if !pos(g.carrier_min_hz) || !g.carrier_max_hz.is_finite() || g.carrier_max_hz < g.carrier_min_hz {
-                    return Err(("grid.carrier_min_hz/carrier_max_hz", "finite, above 0, min <= max"));
+                    return Err(("grid.carrier_min_hz", "finite, above 0 and at most carrier_max_hz"));
                 }
                 if g.audio_rate_hz < 8000 || g.audio_rate_hz > 384_000 {
                     return Err(("grid.audio_rate_hz", "from 8000 to 384000 Hz"));
@@ -209,7 +209,10 @@ impl DeviceProfile {
             }
             FamilyParams::Finger(p) => {
                 if self.rows as u32 * self.cols as u32 != 3 {
-                    return Err(("rows/cols", "exactly three actuators (Left, Down, Right) for a finger device"));
+                    return Err((
+                        "array.cols",
+                        "rows * cols exactly 3 actuators (Left, Down, Right) for a finger device",
+                    ));
                 }
                 if !pos(p.rhythm_max) || p.rhythm_max >= 105.0 {
                     return Err((

@@ -11,8 +11,6 @@ use std::string::{String, ToString};
 use std::vec::Vec;
 use std::{fmt, format};
 
-use serde::Deserialize;
-
 use crate::profile::{DeviceProfile, FamilyParams, FingerParams, GridParams, ProfileName};
 
 /// The built-in profiles: `(name, TOML source)`.
@@ -44,119 +42,156 @@ impl fmt::Display for ProfileError {
 
 impl std::error::Error for ProfileError {}
 
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct File {
-    name: String,
-    family: String,
-    rate_hz: u32,
-    output_bits: u8,
-    array: Array,
-    surface: Surface,
-    grid: Option<Grid>,
-    finger: Option<Finger>,
+/// The keys a profile file may have, per table; everything else is refused
+/// by name, so that a misspelt key cannot be silently ignored.
+const TOP_KEYS: &[&str] = &["name", "family", "rate_hz", "output_bits", "array", "surface", "grid", "finger"];
+const ARRAY_KEYS: &[&str] = &["rows", "cols", "pitch_x_mm", "pitch_y_mm"];
+const SURFACE_KEYS: &[&str] = &["width_mm", "height_mm"];
+const GRID_KEYS: &[&str] = &["carrier_min_hz", "carrier_max_hz", "audio_rate_hz", "ramp_ms"];
+const FINGER_KEYS: &[&str] = &["rhythm_max", "intensity_max", "flat_slope", "direction_window", "min_move_mm"];
+
+/// Reads typed values out of one TOML table, naming keys by their full path.
+struct Fields<'a> {
+    table: &'a toml::Table,
+    path: &'static str,
+    source_name: &'a str,
 }
 
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct Array {
-    rows: u16,
-    cols: u16,
-    pitch_x_mm: f32,
-    pitch_y_mm: f32,
-}
+impl<'a> Fields<'a> {
+    fn new(
+        table: &'a toml::Table,
+        path: &'static str,
+        allowed: &[&str],
+        source_name: &'a str,
+    ) -> Result<Self, ProfileError> {
+        let f = Fields { table, path, source_name };
+        // Sorted so that the first unknown key reported does not depend on hashing.
+        let mut keys: Vec<&String> = table.keys().collect();
+        keys.sort();
+        if let Some(k) = keys.into_iter().find(|k| !allowed.contains(&k.as_str())) {
+            return Err(f.err(k, format!("unknown key, expected one of: {}", allowed.join(", "))));
+        }
+        Ok(f)
+    }
 
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct Surface {
-    width_mm: f32,
-    height_mm: f32,
-}
+    fn key(&self, k: &str) -> String {
+        if self.path.is_empty() { k.into() } else { format!("{}.{k}", self.path) }
+    }
 
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct Grid {
-    carrier_min_hz: f32,
-    carrier_max_hz: f32,
-    audio_rate_hz: u32,
-    ramp_ms: f32,
-}
+    fn err(&self, k: &str, message: String) -> ProfileError {
+        ProfileError { source_name: self.source_name.into(), key: Some(self.key(k)), message }
+    }
 
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct Finger {
-    rhythm_max: f32,
-    intensity_max: f32,
-    flat_slope: f32,
-    direction_window: u32,
-    min_move_mm: f32,
+    fn get(&self, k: &str) -> Result<&'a toml::Value, ProfileError> {
+        self.table.get(k).ok_or_else(|| self.err(k, "missing key".into()))
+    }
+
+    fn string(&self, k: &str) -> Result<&'a str, ProfileError> {
+        self.get(k)?.as_str().ok_or_else(|| self.err(k, "expected a string".into()))
+    }
+
+    fn int(&self, k: &str, max: u64) -> Result<u64, ProfileError> {
+        self.get(k)?
+            .as_integer()
+            .and_then(|v| u64::try_from(v).ok())
+            .filter(|&v| v <= max)
+            .ok_or_else(|| self.err(k, format!("expected an integer from 0 to {max}")))
+    }
+
+    fn float(&self, k: &str) -> Result<f32, ProfileError> {
+        match self.get(k)? {
+            toml::Value::Float(v) => Ok(*v as f32),
+            toml::Value::Integer(v) => Ok(*v as f32),
+            _ => Err(self.err(k, "expected a number".into())),
+        }
+    }
+
+    fn table(&self, k: &str) -> Result<Option<&'a toml::Table>, ProfileError> {
+        match self.table.get(k) {
+            None => Ok(None),
+            Some(toml::Value::Table(t)) => Ok(Some(t)),
+            Some(_) => Err(self.err(k, "expected a table".into())),
+        }
+    }
 }
 
 /// Parses a profile from TOML. `source_name` (a file path or a built-in name)
-/// is carried into every error.
+/// is carried into every error, with the key (`array.rows`) when one is at fault.
 pub fn parse(text: &str, source_name: &str) -> Result<DeviceProfile, ProfileError> {
-    let err = |key: Option<&str>, message: String| ProfileError {
+    let doc: toml::Table = toml::from_str(text).map_err(|e| ProfileError {
         source_name: source_name.into(),
-        key: key.map(Into::into),
-        message,
-    };
-    let file: File = toml::from_str(text).map_err(|e| err(None, e.to_string().trim_end().replace('\n', " ")))?;
-    let name = ProfileName::new(&file.name)
-        .ok_or_else(|| err(Some("name"), "expected a name of 1 to 31 bytes without NUL".into()))?;
-    let params = match file.family.as_str() {
+        key: None,
+        message: e.to_string().trim_end().replace('\n', " "),
+    })?;
+    let top = Fields::new(&doc, "", TOP_KEYS, source_name)?;
+    let array = top.table("array")?.ok_or_else(|| top.err("array", "missing table [array]".into()))?;
+    let array = Fields::new(array, "array", ARRAY_KEYS, source_name)?;
+    let surface = top.table("surface")?.ok_or_else(|| top.err("surface", "missing table [surface]".into()))?;
+    let surface = Fields::new(surface, "surface", SURFACE_KEYS, source_name)?;
+    let name_text = top.string("name")?;
+    let name = ProfileName::new(name_text)
+        .filter(|_| !name_text.is_empty())
+        .ok_or_else(|| top.err("name", "expected a name of 1 to 31 bytes without NUL".into()))?;
+    let grid = top.table("grid")?;
+    let finger = top.table("finger")?;
+    let params = match top.string("family")? {
         "laterotactile" => {
-            if file.grid.is_some() || file.finger.is_some() {
-                return Err(err(None, "a laterotactile profile has no [grid] or [finger] table".into()));
+            if let Some(k) = [("grid", grid.is_some()), ("finger", finger.is_some())].iter().find(|(_, b)| *b) {
+                return Err(top.err(k.0, "a laterotactile profile has no such table".into()));
             }
             FamilyParams::Laterotactile
         }
         "grid" => {
-            let g = file.grid.ok_or_else(|| err(Some("grid"), "missing table [grid] for family \"grid\"".into()))?;
-            if file.finger.is_some() {
-                return Err(err(Some("finger"), "a grid profile has no [finger] table".into()));
+            let g = grid.ok_or_else(|| top.err("grid", "missing table [grid] for family \"grid\"".into()))?;
+            if finger.is_some() {
+                return Err(top.err("finger", "a grid profile has no [finger] table".into()));
             }
+            let g = Fields::new(g, "grid", GRID_KEYS, source_name)?;
             FamilyParams::Grid(GridParams {
-                carrier_min_hz: g.carrier_min_hz,
-                carrier_max_hz: g.carrier_max_hz,
-                audio_rate_hz: g.audio_rate_hz,
-                ramp_ms: g.ramp_ms,
+                carrier_min_hz: g.float("carrier_min_hz")?,
+                carrier_max_hz: g.float("carrier_max_hz")?,
+                audio_rate_hz: g.int("audio_rate_hz", u32::MAX as u64)? as u32,
+                ramp_ms: g.float("ramp_ms")?,
             })
         }
         "finger" => {
-            let f = file
-                .finger
-                .ok_or_else(|| err(Some("finger"), "missing table [finger] for family \"finger\"".into()))?;
-            if file.grid.is_some() {
-                return Err(err(Some("grid"), "a finger profile has no [grid] table".into()));
+            let f = finger.ok_or_else(|| top.err("finger", "missing table [finger] for family \"finger\"".into()))?;
+            if grid.is_some() {
+                return Err(top.err("grid", "a finger profile has no [grid] table".into()));
             }
+            let f = Fields::new(f, "finger", FINGER_KEYS, source_name)?;
             FamilyParams::Finger(FingerParams {
-                rhythm_max: f.rhythm_max,
-                intensity_max: f.intensity_max,
-                flat_slope: f.flat_slope,
-                direction_window: f.direction_window,
-                min_move_mm: f.min_move_mm,
+                rhythm_max: f.float("rhythm_max")?,
+                intensity_max: f.float("intensity_max")?,
+                flat_slope: f.float("flat_slope")?,
+                direction_window: f.int("direction_window", u32::MAX as u64)? as u32,
+                min_move_mm: f.float("min_move_mm")?,
             })
         }
         other => {
-            return Err(err(
-                Some("family"),
+            return Err(top.err(
+                "family",
                 format!("unknown family \"{other}\", expected \"laterotactile\", \"grid\" or \"finger\""),
             ));
         }
     };
     let profile = DeviceProfile {
         name,
-        rows: file.array.rows,
-        cols: file.array.cols,
-        pitch_x_mm: file.array.pitch_x_mm,
-        pitch_y_mm: file.array.pitch_y_mm,
-        rate_hz: file.rate_hz,
-        output_bits: file.output_bits,
-        surface_w_mm: file.surface.width_mm,
-        surface_h_mm: file.surface.height_mm,
+        rows: array.int("rows", u16::MAX as u64)? as u16,
+        cols: array.int("cols", u16::MAX as u64)? as u16,
+        pitch_x_mm: array.float("pitch_x_mm")?,
+        pitch_y_mm: array.float("pitch_y_mm")?,
+        rate_hz: top.int("rate_hz", u32::MAX as u64)? as u32,
+        output_bits: top.int("output_bits", u8::MAX as u64)? as u8,
+        surface_w_mm: surface.float("width_mm")?,
+        surface_h_mm: surface.float("height_mm")?,
         params,
     };
-    profile.check().map_err(|(key, expected)| err(Some(key), format!("out of range, expected {expected}")))?;
+    profile.check().map_err(|(key, expected)| ProfileError {
+        source_name: source_name.into(),
+        key: Some(key.into()),
+        message: format!("out of range, expected {expected}"),
+    })?;
     Ok(profile)
 }
 
@@ -233,21 +268,21 @@ mod tests {
         let text = BUILTIN[0].1.replace("rate_hz = 1000", "rate_hz = 1000\nspeed = 3");
         let e = parse(&text, "my.toml").unwrap_err();
         assert!(e.to_string().starts_with("my.toml"), "{e}");
-        assert!(e.message.contains("speed"), "{e}");
+        assert_eq!(e.key.as_deref(), Some("speed"), "{e}");
     }
 
     #[test]
     fn missing_field_is_named() {
         let text = BUILTIN[0].1.replace("rate_hz = 1000", "");
         let e = parse(&text, "my.toml").unwrap_err();
-        assert!(e.message.contains("rate_hz"), "{e}");
+        assert_eq!(e.key.as_deref(), Some("rate_hz"), "{e}");
     }
 
     #[test]
     fn out_of_range_value_names_the_key() {
         let text = BUILTIN[0].1.replace("pitch_x_mm = 1.2", "pitch_x_mm = -1.2");
         let e = parse(&text, "my.toml").unwrap_err();
-        assert_eq!(e.key.as_deref(), Some("pitch_x_mm"), "{e}");
+        assert_eq!(e.key.as_deref(), Some("array.pitch_x_mm"), "{e}");
         let text = BUILTIN[0].1.replace("output_bits = 10", "output_bits = 40");
         assert_eq!(parse(&text, "p").unwrap_err().key.as_deref(), Some("output_bits"));
         let text = BUILTIN[0].1.replace("family = \"laterotactile\"", "family = \"piano\"");
@@ -258,5 +293,7 @@ mod tests {
     fn grid_profile_needs_its_table() {
         let text = BUILTIN[1].1.split("[grid]").next().unwrap();
         assert_eq!(parse(text, "p").unwrap_err().key.as_deref(), Some("grid"));
+        let e = parse(&BUILTIN[0].1.replace("[surface]", "[surface]\nwidth = 3"), "p").unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("surface.width"));
     }
 }

@@ -103,7 +103,8 @@ impl<'a> ProvenanceView<'a> {
         Some((id, label, line))
     }
 
-    pub(crate) fn parse(d: &'a [u8], index: u32) -> Result<Self, FormatError> {
+    /// Reads the table; with `full`, also checks every entry's strings.
+    pub(crate) fn parse(d: &'a [u8], index: u32, full: bool) -> Result<Self, FormatError> {
         let tag = Tag::PROVENANCE;
         let bad = |field, expected| FormatError::InvalidValue { tag, index, field, expected };
         let count = u32_at(d, 0).ok_or(FormatError::ChunkLength {
@@ -127,6 +128,9 @@ impl<'a> ProvenanceView<'a> {
         }
         let split = HEADER_LEN + ENTRY_LEN * count as usize;
         let view = ProvenanceView { table: &d[HEADER_LEN..split], blob: &d[split..], count };
+        if !full {
+            return Ok(view);
+        }
         // Entries are laid out back to back in the blob, in order.
         let mut next = 0usize;
         for i in 0..count {

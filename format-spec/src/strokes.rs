@@ -74,6 +74,26 @@ pub struct StrokeTable {
 }
 
 impl StrokeTable {
+    /// Checks the counts that the encoding stores in fixed-width fields, so
+    /// that none of them can wrap.
+    pub(crate) fn check_shape(&self) -> Result<(), FormatError> {
+        let tag = Tag::STROKES;
+        let points: usize = self.strokes.iter().map(|s| s.points.len()).sum();
+        let drives: usize = self.strokes.iter().flat_map(|s| &s.points).map(|p| p.drives.len()).sum();
+        let per_point = self.strokes.iter().flat_map(|s| &s.points).map(|p| p.drives.len()).max().unwrap_or(0);
+        for (field, v, limit) in [
+            ("strokes", self.strokes.len(), MAX_STROKES as usize),
+            ("points", points, MAX_STROKE_POINTS as usize),
+            ("drives", drives, MAX_STROKE_DRIVES as usize),
+            ("drives per point", per_point, MAX_DRIVES_PER_POINT as usize),
+        ] {
+            if v > limit {
+                return Err(FormatError::Limit { tag, field, value: v as u64, limit: limit as u64 });
+            }
+        }
+        Ok(())
+    }
+
     pub(crate) fn encode(&self) -> Vec<u8> {
         let points: usize = self.strokes.iter().map(|s| s.points.len()).sum();
         let drives: usize = self.strokes.iter().flat_map(|s| &s.points).map(|p| p.drives.len()).sum();
@@ -217,7 +237,9 @@ impl<'a> StrokeTableView<'a> {
         Some(Drive { actuator: ActuatorIndex(u16_at(self.drives, o)?), intensity: f32_at(self.drives, o + 4)? })
     }
 
-    pub(crate) fn parse(d: &'a [u8], index: u32, actuators: usize) -> Result<Self, FormatError> {
+    /// Reads the table; with `full`, also checks every stroke, point and drive
+    /// (the reader does that once, in [`crate::BundleView::parse`]).
+    pub(crate) fn parse(d: &'a [u8], index: u32, actuators: usize, full: bool) -> Result<Self, FormatError> {
         let tag = Tag::STROKES;
         if d.len() < HEADER_LEN {
             return Err(FormatError::ChunkLength { tag, index, expected: HEADER_LEN as u64, found: d.len() as u64 });
@@ -247,6 +269,9 @@ impl<'a> StrokeTableView<'a> {
             drives: &d[HEADER_LEN + ls + lp..],
             stroke_count: ns,
         };
+        if !full {
+            return Ok(view);
+        }
         let (mut next_point, mut next_drive) = (0u32, 0u32);
         for i in 0..ns {
             let (s, range) = view.stroke(i).ok_or(bad("point range", "within the table"))?;

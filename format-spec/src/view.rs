@@ -66,6 +66,13 @@ impl<'a> BundleView<'a> {
         for index in 0..count {
             let e = container::entry(bytes, index).ok_or(FormatError::MissingManifest)?;
             let data = &bytes[e.offset..e.offset + e.length];
+            if index == 0 && e.tag != Tag::MANIFEST {
+                return Err(FormatError::ChunkOrder {
+                    index,
+                    tag: e.tag,
+                    rule: "the first chunk must be the manifest",
+                });
+            }
             match known_required(e.tag) {
                 None if e.required => return Err(FormatError::UnknownRequiredChunk { index, tag: e.tag }),
                 None => continue,
@@ -81,6 +88,7 @@ impl<'a> BundleView<'a> {
                 manifest = Some(Manifest::decode(data, index)?);
                 continue;
             }
+            // Chunk 0 was the manifest (checked above), so it is known here.
             let Some(m) = manifest else {
                 return Err(FormatError::MissingManifest);
             };
@@ -90,7 +98,7 @@ impl<'a> BundleView<'a> {
                 }
                 seen_provenance = true;
             }
-            parse_chunk(e.tag, data, index, m.profile.actuator_count())?;
+            parse_chunk(e.tag, data, index, m.profile.actuator_count(), true)?;
         }
         let manifest = manifest.ok_or(FormatError::MissingManifest)?;
         Ok(BundleView { bytes, manifest, count, version: (major, minor) })
@@ -133,8 +141,9 @@ impl<'a> BundleView<'a> {
             let data = bytes.get(e.offset..e.offset + e.length)?;
             match known_required(e.tag) {
                 None => Some(ChunkView::Unknown { tag: e.tag, required: e.required, data }),
-                // Every chunk was validated by `parse`, so this cannot fail.
-                Some(_) => parse_chunk(e.tag, data, index, actuators).ok().flatten(),
+                // Every chunk was validated in full by `parse`, so this cannot
+                // fail; only the O(1) header reads are repeated, not the scans.
+                Some(_) => parse_chunk(e.tag, data, index, actuators, false).ok().flatten(),
             }
         })
     }
@@ -148,13 +157,19 @@ impl<'a> BundleView<'a> {
     }
 }
 
-fn parse_chunk(tag: Tag, data: &[u8], index: u32, actuators: usize) -> Result<Option<ChunkView<'_>>, FormatError> {
+fn parse_chunk(
+    tag: Tag,
+    data: &[u8],
+    index: u32,
+    actuators: usize,
+    full: bool,
+) -> Result<Option<ChunkView<'_>>, FormatError> {
     Ok(Some(match tag {
         Tag::VIBRATION | Tag::GRATING => ChunkView::Mask(MaskView::parse(data, tag, index)?),
-        Tag::DOTS => ChunkView::Dots(DotTableView::parse(data, index)?),
-        Tag::STROKES => ChunkView::Strokes(StrokeTableView::parse(data, index, actuators)?),
-        Tag::HEIGHT => ChunkView::Height(HeightFieldView::parse(data, index)?),
-        Tag::PROVENANCE => ChunkView::Provenance(ProvenanceView::parse(data, index)?),
+        Tag::DOTS => ChunkView::Dots(DotTableView::parse(data, index, full)?),
+        Tag::STROKES => ChunkView::Strokes(StrokeTableView::parse(data, index, actuators, full)?),
+        Tag::HEIGHT => ChunkView::Height(HeightFieldView::parse(data, index, full)?),
+        Tag::PROVENANCE => ChunkView::Provenance(ProvenanceView::parse(data, index, full)?),
         _ => return Ok(None),
     }))
 }

@@ -1,0 +1,18 @@
+//! Fuzzes the bundle reader: `BundleView::parse` must never panic, and any
+//! bundle it accepts must read into the owned model and write back to the
+//! same bytes (a valid bundle has exactly one encoding, SPEC.md section 1).
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+use taxel_format::{Bundle, BundleView};
+
+fuzz_target!(|data: &[u8]| {
+    if let Ok(view) = BundleView::parse(data) {
+        for chunk in view.chunks() {
+            let _ = chunk;
+        }
+        let (_, minor) = view.version();
+        let again = Bundle::from_view(&view).to_bytes_with_minor(minor).expect("an accepted bundle re-encodes");
+        assert_eq!(again, data, "an accepted bundle is canonical");
+    }
+});

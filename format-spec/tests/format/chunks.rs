@@ -1,0 +1,172 @@
+//! Field-level errors in every known chunk, crafted at the offsets SPEC.md
+//! gives and re-sealed, so that each check of the reader is reached.
+
+use taxel_format::{BundleView, FormatError, Tag};
+
+use crate::craft::{edit_chunk, put_f32, put_u16, put_u32};
+
+/// Asserts that `bytes` are refused with `InvalidValue` for `field` of a chunk with `tag`.
+fn invalid(bytes: Vec<u8>, tag: &[u8; 4], field: &str) {
+    match BundleView::parse(&bytes) {
+        Err(FormatError::InvalidValue { tag: t, field: f, .. }) if t == Tag(*tag) && f == field => {}
+        other => panic!("expected {} `{field}` to be refused, got {other:?}", Tag(*tag)),
+    }
+}
+
+fn limit(bytes: Vec<u8>, tag: &[u8; 4], field: &str) {
+    match BundleView::parse(&bytes) {
+        Err(FormatError::Limit { tag: t, field: f, .. }) if t == Tag(*tag) && f == field => {}
+        other => panic!("expected {} `{field}` over its limit, got {other:?}", Tag(*tag)),
+    }
+}
+
+fn length(bytes: Vec<u8>, tag: &[u8; 4]) {
+    match BundleView::parse(&bytes) {
+        Err(FormatError::ChunkLength { tag: t, .. }) if t == Tag(*tag) => {}
+        other => panic!("expected a {} length error, got {other:?}", Tag(*tag)),
+    }
+}
+
+#[test]
+fn manifest_fields() {
+    invalid(edit_chunk(b"MANI", |d| d[32] = 9), b"MANI", "family");
+    invalid(edit_chunk(b"MANI", |d| d[..32].fill(b'a')), b"MANI", "profile name");
+    invalid(edit_chunk(b"MANI", |d| d[96..112].fill(0xff)), b"MANI", "generator");
+    invalid(edit_chunk(b"MANI", |d| put_u32(d, 48, 0)), b"MANI", "rate_hz");
+    invalid(edit_chunk(b"MANI", |d| put_f32(d, 40, f32::NAN)), b"MANI", "array.pitch_x_mm");
+    invalid(edit_chunk(b"MANI", |d| put_u16(d, 36, 0)), b"MANI", "array.cols");
+    invalid(edit_chunk(b"MANI", |d| d[38] = 1), b"MANI", "reserved");
+    invalid(edit_chunk(b"MANI", |d| d[143] = 1), b"MANI", "reserved");
+    // The sample targets a grid: its carrier range must be valid.
+    invalid(edit_chunk(b"MANI", |d| put_f32(d, 112, 0.0)), b"MANI", "grid.carrier_min_hz");
+    // A laterotactile manifest has no family parameters.
+    invalid(edit_chunk(b"MANI", |d| d[32] = 1), b"MANI", "family parameters");
+    length(edit_chunk(b"MANI", |d| d.truncate(143)), b"MANI");
+}
+
+#[test]
+fn mask_fields() {
+    invalid(edit_chunk(b"VIBR", |d| d[12] = 12), b"VIBR", "bits");
+    invalid(edit_chunk(b"VIBR", |d| d[14] = 1), b"VIBR", "reserved");
+    invalid(edit_chunk(b"VIBR", |d| d[47] = 1), b"VIBR", "reserved");
+    invalid(edit_chunk(b"VIBR", |d| put_f32(d, 16, f32::INFINITY)), b"VIBR", "origin_x_mm");
+    invalid(edit_chunk(b"VIBR", |d| put_f32(d, 20, f32::NAN)), b"VIBR", "origin_y_mm");
+    invalid(edit_chunk(b"VIBR", |d| put_f32(d, 24, 0.0)), b"VIBR", "px_per_mm");
+    invalid(edit_chunk(b"VIBR", |d| put_f32(d, 28, 1.5)), b"VIBR", "amplitude");
+    invalid(edit_chunk(b"VIBR", |d| put_u32(d, 32, 0)), b"VIBR", "frequency");
+    invalid(edit_chunk(b"VIBR", |d| put_u32(d, 36, 1)), b"VIBR", "reserved");
+    invalid(edit_chunk(b"GRAT", |d| put_f32(d, 32, 0.0)), b"GRAT", "wavelength_mm");
+    invalid(edit_chunk(b"GRAT", |d| put_f32(d, 36, 400.0)), b"GRAT", "angle_deg");
+    limit(edit_chunk(b"VIBR", |d| put_u32(d, 4, 0)), b"VIBR", "width");
+    limit(edit_chunk(b"VIBR", |d| put_u32(d, 8, 16_385)), b"VIBR", "height");
+    length(edit_chunk(b"VIBR", |d| d.truncate(d.len() - 1)), b"VIBR");
+    // 16-bit samples take two bytes each: one byte short is refused.
+    length(edit_chunk(b"GRAT", |d| d.truncate(d.len() - 1)), b"GRAT");
+    length(edit_chunk(b"GRAT", |d| d.truncate(40)), b"GRAT");
+}
+
+/// Offset of dot `i` in the first (outline) dot table of the sample: 18 x 13 cells.
+fn dot(i: usize) -> usize {
+    32 + 4 * (18 * 13 + 1) + 20 * i
+}
+
+#[test]
+fn dot_table_fields() {
+    let grid = edit_chunk(b"DOTS", |_| {});
+    let view = BundleView::parse(&grid).unwrap();
+    let Some(taxel_format::ChunkView::Dots(d)) = view.chunks().nth(2) else { panic!() };
+    assert_eq!((d.grid.cols, d.grid.rows), (18, 13), "the offsets below assume this grid");
+    invalid(edit_chunk(b"DOTS", |d| d[0] = 4), b"DOTS", "kind");
+    invalid(edit_chunk(b"DOTS", |d| d[2] = 4), b"DOTS", "reserved");
+    invalid(edit_chunk(b"DOTS", |d| put_f32(d, 16, f32::NAN)), b"DOTS", "grid origin_x");
+    invalid(edit_chunk(b"DOTS", |d| put_f32(d, 24, 0.0)), b"DOTS", "cell_mm");
+    invalid(edit_chunk(b"DOTS", |d| put_f32(d, 28, -1.0)), b"DOTS", "max_radius");
+    // A larger max_radius keeps every dot in its cell but is not the canonical grid.
+    invalid(edit_chunk(b"DOTS", |d| put_f32(d, 28, 5.0)), b"DOTS", "grid");
+    invalid(edit_chunk(b"DOTS", |d| put_u32(d, 32, 1)), b"DOTS", "grid index");
+    // Dot 0 moved two cells to the right but still listed in cell 0.
+    invalid(edit_chunk(b"DOTS", |d| put_f32(d, dot(0), 9.0)), b"DOTS", "grid index");
+    invalid(edit_chunk(b"DOTS", |d| put_f32(d, dot(0) + 8, 0.0)), b"DOTS", "dot radius");
+    invalid(edit_chunk(b"DOTS", |d| put_f32(d, dot(1) + 12, 1.01)), b"DOTS", "dot amplitude");
+    invalid(edit_chunk(b"DOTS", |d| put_f32(d, dot(4) + 4, f32::NAN)), b"DOTS", "dot y");
+    // Cell starts that decrease: cell 1 claims to start after cell 2.
+    invalid(edit_chunk(b"DOTS", |d| put_u32(d, 36, 3)), b"DOTS", "grid index");
+    length(edit_chunk(b"DOTS", |d| put_u32(d, 4, 6)), b"DOTS");
+    limit(edit_chunk(b"DOTS", |d| put_u32(d, 8, 0)), b"DOTS", "grid cells (1 or more)");
+}
+
+// Stroke table layout of the sample: 2 strokes, 4 points, 5 drives.
+const S0: usize = 16;
+const P0: usize = 16 + 2 * 32;
+const D0: usize = P0 + 4 * 28;
+
+#[test]
+fn stroke_table_fields() {
+    invalid(edit_chunk(b"STRK", |d| put_u32(d, 12, 1)), b"STRK", "reserved");
+    invalid(edit_chunk(b"STRK", |d| put_u32(d, S0 + 8, 0)), b"STRK", "stroke duration");
+    invalid(edit_chunk(b"STRK", |d| put_u32(d, S0 + 12, 0)), b"STRK", "carrier");
+    invalid(edit_chunk(b"STRK", |d| put_f32(d, S0 + 16, 1.5)), b"STRK", "stroke intensity");
+    invalid(edit_chunk(b"STRK", |d| put_u32(d, S0 + 20, 1)), b"STRK", "point range");
+    // The second stroke starts at tick 86 400 000: u64::MAX would overflow its end.
+    invalid(
+        edit_chunk(b"STRK", |d| d[S0 + 32..S0 + 40].copy_from_slice(&u64::MAX.to_le_bytes())),
+        b"STRK",
+        "stroke start",
+    );
+    invalid(edit_chunk(b"STRK", |d| put_u32(d, P0 + 4, 0)), b"STRK", "point timing");
+    invalid(edit_chunk(b"STRK", |d| put_u32(d, P0 + 4, 2000)), b"STRK", "point timing");
+    invalid(edit_chunk(b"STRK", |d| put_u32(d, P0 + 28 + 8, 10)), b"STRK", "point peak");
+    invalid(edit_chunk(b"STRK", |d| put_f32(d, P0 + 12, f32::NAN)), b"STRK", "point x");
+    invalid(edit_chunk(b"STRK", |d| put_u32(d, P0 + 20, 1)), b"STRK", "drive range");
+    invalid(edit_chunk(b"STRK", |d| put_u16(d, P0 + 26, 1)), b"STRK", "reserved");
+    // brush-4x3 has 12 actuators: index 12 does not exist.
+    invalid(edit_chunk(b"STRK", |d| put_u16(d, D0, 12)), b"STRK", "drive actuator");
+    invalid(edit_chunk(b"STRK", |d| put_u16(d, D0 + 2, 1)), b"STRK", "reserved");
+    invalid(edit_chunk(b"STRK", |d| put_f32(d, D0 + 4, -0.5)), b"STRK", "drive intensity");
+    // A table whose strokes do not use every point.
+    invalid(edit_chunk(b"STRK", |d| put_u32(d, S0 + 32 + 24, 0)), b"STRK", "counts");
+    length(edit_chunk(b"STRK", |d| put_u32(d, 8, 6)), b"STRK");
+    length(edit_chunk(b"STRK", |d| d.truncate(8)), b"STRK");
+}
+
+// Height field of the sample: 3 x 2 nodes.
+const N: usize = 6;
+
+#[test]
+fn height_field_fields() {
+    invalid(edit_chunk(b"HFLD", |d| put_u32(d, 12, 1)), b"HFLD", "reserved");
+    invalid(edit_chunk(b"HFLD", |d| put_f32(d, 24, 0.0)), b"HFLD", "cell_mm");
+    invalid(edit_chunk(b"HFLD", |d| put_f32(d, 40, -1.0)), b"HFLD", "gradient_cap");
+    invalid(edit_chunk(b"HFLD", |d| put_f32(d, 28, -5.0)), b"HFLD", "extremes");
+    invalid(edit_chunk(b"HFLD", |d| put_f32(d, 48 + 4, f32::NAN)), b"HFLD", "height");
+    // Node 0 has no contact: it must be all zero.
+    invalid(edit_chunk(b"HFLD", |d| put_f32(d, 48, 1.0)), b"HFLD", "no-contact node");
+    invalid(edit_chunk(b"HFLD", |d| d[48 + 12 * N] = taxel_format::FIELD_EDGE), b"HFLD", "no-contact node");
+    invalid(edit_chunk(b"HFLD", |d| d[48 + 12 * N + 1] = 1 | 4), b"HFLD", "flags");
+    invalid(edit_chunk(b"HFLD", |d| put_f32(d, 48 + 4 * N + 4, 4.5)), b"HFLD", "gradient x");
+    invalid(edit_chunk(b"HFLD", |d| put_f32(d, 48 + 8 * N + 4, -4.5)), b"HFLD", "gradient y");
+    invalid(edit_chunk(b"HFLD", |d| d[48 + 13 * N] = 1), b"HFLD", "padding");
+    limit(edit_chunk(b"HFLD", |d| put_u32(d, 4, 1)), b"HFLD", "cols (2 or more)");
+    limit(edit_chunk(b"HFLD", |d| put_u32(d, 8, 16_385)), b"HFLD", "rows (2 or more)");
+    length(edit_chunk(b"HFLD", |d| d.truncate(d.len() - 4)), b"HFLD");
+}
+
+#[test]
+fn provenance_fields() {
+    // Entry 0 is "lake" + "Lac Léman": the blob starts after 2 entries.
+    let blob = 8 + 2 * 16;
+    invalid(edit_chunk(b"PROV", |d| d[blob + 5] = 0xff), b"PROV", "strings");
+    invalid(edit_chunk(b"PROV", |d| put_u32(d, 8, 1)), b"PROV", "string offsets");
+    invalid(edit_chunk(b"PROV", |d| put_u32(d, 8 + 12, 1)), b"PROV", "string offsets");
+    invalid(
+        edit_chunk(b"PROV", |d| {
+            d.push(b'x');
+            let n = u32::from_le_bytes(d[4..8].try_into().unwrap());
+            put_u32(d, 4, n + 1);
+        }),
+        b"PROV",
+        "blob",
+    );
+    length(edit_chunk(b"PROV", |d| d.truncate(4)), b"PROV");
+    length(edit_chunk(b"PROV", |d| put_u32(d, 4, 1000)), b"PROV");
+}
