@@ -2,3 +2,4 @@
 
 mod batch;
 mod device;
+mod examples;

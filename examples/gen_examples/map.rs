@@ -1,0 +1,66 @@
+//! The Tala map (`examples/map/`), drawn by hand: the annotated Inkscape
+//! drawing and the plain-colour drawing with its style sheet. The generator
+//! only indexes them and writes their traces, so the places visited here
+//! repeat the drawings' coordinates (the examples test checks that the trace
+//! passes over every layer, which catches a drawing that moved).
+
+use crate::scene::{Scene, Visit};
+
+/// The two map scenes.
+pub fn scenes() -> Vec<Scene> {
+    let map = Scene {
+        name: "tala-map".into(),
+        dir: "map",
+        profile: "stress2",
+        size: (110.0, 60.0),
+        body: None,
+        visits: Some(visits()),
+        style: None,
+        warnings: vec![],
+        source: "STRESS² (seed 000) section 5: \"vibrating political boundaries and regions colored with easily discriminable textures\".".into(),
+        description: "A teacher's tactile map drawn in Inkscape with one layer per kind (`tactile: …` labels): vibrating coast and province borders, three provinces with gratings 3 mm apart in wavelength at 0°, 90° and 45°, town dots in cleared circles, and a braille key.".into(),
+    };
+    let plain = Scene {
+        name: "tala-plain".into(),
+        style: Some("map/tala-plain.toml"),
+        warnings: vec![],
+        description: "The same map drawn in plain colours by someone who never heard of taxel (regions touch their borders, towns sit on the regions), built through the style sheet tala-plain.toml that maps its colours, ids and classes to tactile styles.".into(),
+        ..map.clone()
+    };
+    vec![map, plain]
+}
+
+fn visits() -> Vec<Visit> {
+    let coast = vec![
+        (6.0, 7.0),
+        (30.0, 2.0),
+        (52.0, 4.5),
+        (68.0, 14.0),
+        (69.0, 41.0),
+        (56.0, 57.0),
+        (28.0, 58.0),
+        (8.0, 50.5),
+        (3.0, 29.0),
+    ];
+    let mut v = vec![
+        Visit::Outline(coast),
+        Visit::Path(vec![(30.0, 2.0), (36.0, 31.0)]),
+        Visit::Path(vec![(3.0, 29.0), (36.0, 31.0), (69.0, 41.0)]),
+        Visit::Area { centre: (19.0, 18.0), reach: 8.0 },
+        Visit::Area { centre: (52.0, 22.0), reach: 10.0 },
+        Visit::Area { centre: (35.0, 45.0), reach: 12.0 },
+        Visit::Point((17.0, 18.0)),
+        Visit::Point((52.0, 22.0)),
+        Visit::Point((30.0, 45.0)),
+        Visit::Path(vec![(73.0, 6.0), (82.0, 6.0)]),
+    ];
+    for y in [18.0, 30.0, 42.0] {
+        v.push(Visit::Area { centre: (77.5, y), reach: 4.0 });
+    }
+    v.push(Visit::Point((77.5, 54.0)));
+    // Reading each braille label left to right along its cells.
+    for y in [6.0, 18.0, 30.0, 42.0, 54.0] {
+        v.push(Visit::Path(vec![(86.0, y), (108.0, y)]));
+    }
+    v
+}
