@@ -177,3 +177,40 @@ fn every_trace_is_a_plausible_exploration_at_20_to_80_mm_per_s() {
         assert!(share >= 0.95, "{}: only {:.0} % of samples move at 20-80 mm/s", s.name, share * 100.0);
     }
 }
+
+/// Every annotation written in a drawing: `data-tactile` values and the
+/// `tactile:` part of Inkscape layer labels, found by a plain scan.
+fn annotations(svg: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for (key, prefix) in [("data-tactile=\"", ""), ("inkscape:label=\"", "tactile:")] {
+        for (i, _) in svg.match_indices(key) {
+            let rest = &svg[i + key.len()..];
+            let value = &rest[..rest.find('"').unwrap_or(0)];
+            if let Some(a) = value.trim_start().strip_prefix(prefix) {
+                out.push(a.trim().to_string());
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn every_annotation_and_style_sheet_parses() {
+    let mut seen = 0;
+    for s in index().scene {
+        let text = std::fs::read_to_string(examples_dir().join(&s.input)).unwrap_or_default();
+        for a in annotations(&text) {
+            if let Err(e) = taxel_compiler::annotation::parse(&a) {
+                panic!("{}: annotation {a:?}: {e}", s.input);
+            }
+            seen += 1;
+        }
+        if let Some(style) = &s.style {
+            let text = std::fs::read_to_string(examples_dir().join(style)).unwrap_or_default();
+            if let Err(e) = taxel_compiler::StyleSheet::parse(&text, style) {
+                panic!("{e}");
+            }
+        }
+    }
+    assert!(seen >= 40, "only {seen} annotations found: the scan is broken");
+}
