@@ -100,8 +100,9 @@ fn exp1(m: Method, size: &str, kinds: &[Kind]) -> Scene {
         // 12.5 mm between columns, 7 mm between rows.
         (20.0, [12.5, 45.0, 77.5], &[6.5, 33.5])
     } else {
-        // 5 mm between shapes and at the sides, centred vertically.
-        (30.0, [5.0, 40.0, 75.0], &[15.0])
+        // 7 mm between shapes (room for 1 mm dots and the 3.2 mm rule), 3 mm
+        // at the sides, centred vertically.
+        (30.0, [3.0, 40.0, 77.0], &[15.0])
     };
     let mut body = format!("  <g id=\"{}\" data-tactile=\"{}\">\n", m.name(), m.annotation());
     let mut visits = Vec::new();

@@ -138,3 +138,39 @@ fn extent(v: &Visit) -> Vec<Pt> {
         Visit::Point(p) => vec![*p],
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rows(csv: &str) -> Vec<(u64, f64, f64)> {
+        csv.lines()
+            .skip(1)
+            .map(|l| {
+                let v: Vec<&str> = l.split(',').collect();
+                (v[0].parse().unwrap(), v[1].parse().unwrap(), v[2].parse().unwrap())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn samples_every_10_ms_from_zero_and_never_faster_than_a_transfer() {
+        let r = rows(&csv((110.0, 60.0), &[Visit::Point((20.0, 20.0)), Visit::Point((90.0, 40.0))]));
+        for (k, w) in r.windows(2).enumerate() {
+            assert_eq!((w[0].0, w[1].0), (k as u64 * 10, k as u64 * 10 + 10));
+            let v = (w[1].1 - w[0].1).hypot(w[1].2 - w[0].2) / 0.010;
+            // Positions are written to 0.01 mm, so a chord may gain up to 1.42 mm/s.
+            assert!(v <= TRANSFER + 1.5, "{v} mm/s");
+        }
+    }
+
+    #[test]
+    fn the_sweep_leaves_no_gap_taller_than_the_array() {
+        // The 8 x 8 array reaches 4.9 mm above and below the carrier.
+        let visits = [Visit::Area { centre: (55.0, 30.0), reach: 28.0 }];
+        let r = rows(&csv((110.0, 60.0), &visits));
+        for y in (2..=58).map(f64::from) {
+            assert!(r.iter().any(|&(_, _, ty)| (ty - y).abs() <= 4.9), "y = {y} mm is never under the array");
+        }
+    }
+}

@@ -159,8 +159,9 @@ fn every_trace_is_a_plausible_exploration_at_20_to_80_mm_per_s() {
             let d = (x1 - x0).hypot(y1 - y0);
             let v = d / (t1 - t0) * 1000.0;
             // A chord is never longer than the path it cuts, so no sample can
-            // exceed the fastest leg; corners make a few chords slower.
-            assert!(v <= 80.0 + 1.0, "{}: {v:.1} mm/s at t = {t1} ms", s.name);
+            // exceed the fastest leg (positions are rounded to 0.01 mm, worth
+            // 1.42 mm/s over 10 ms); corners make a few chords slower.
+            assert!(v <= 80.0 + 1.5, "{}: {v:.1} mm/s at t = {t1} ms", s.name);
             in_band += usize::from(v >= 20.0);
             path += d;
         }
