@@ -5,6 +5,7 @@ use std::process::ExitCode;
 
 use clap::Parser;
 
+mod batch;
 mod cli;
 mod cmd;
 #[allow(dead_code)] // Used once the build command lands (issue 3).

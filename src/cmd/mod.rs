@@ -6,6 +6,7 @@ use anyhow::Result;
 
 use crate::cli::{Cli, Command, DeviceCommand};
 
+mod build;
 mod device;
 mod load;
 mod profiles;
@@ -14,7 +15,9 @@ mod profiles;
 pub fn run(cli: Cli) -> Result<ExitCode> {
     match cli.command {
         None => not_yet("the demo", 8),
-        Some(Command::Build { .. }) => not_yet("taxel build", 3),
+        Some(Command::Build { inputs, out, opts, jobs, shard, force }) => {
+            build::run(build::BuildArgs { inputs, out, opts, jobs, shard, force })
+        }
         Some(Command::Check { .. }) => not_yet("taxel check", 3),
         Some(Command::Inspect { .. }) => not_yet("taxel inspect", 2),
         Some(Command::Pack { .. }) => not_yet("taxel pack", 2),

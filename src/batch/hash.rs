@@ -1,0 +1,151 @@
+//! The content hash recorded in each bundle's manifest: everything the build
+//! depended on, so that an incremental build can tell an up-to-date bundle.
+//!
+//! BLAKE3 over, each length-prefixed: a domain string; the tool and format
+//! versions; the input's extension and bytes; for a `.gltf`, the bytes of
+//! every relative buffer and image file it names; the style sheet's bytes;
+//! the profile (its name, or its file's bytes); the resolution and width.
+
+use std::path::Path;
+
+use anyhow::{Context, Result};
+
+use crate::cli::CompileOpts;
+
+struct Hasher(blake3::Hasher);
+
+impl Hasher {
+    fn field(&mut self, bytes: &[u8]) -> &mut Self {
+        self.0.update(&(bytes.len() as u64).to_le_bytes());
+        self.0.update(bytes);
+        self
+    }
+    fn opt(&mut self, bytes: Option<&[u8]>) -> &mut Self {
+        match bytes {
+            None => self.field(b"-"),
+            Some(b) => self.field(b"+").field(b),
+        }
+    }
+}
+
+/// The content hash of building `input` (whose bytes are `bytes`) with `opts`.
+pub fn content_hash(input: &Path, bytes: &[u8], opts: &CompileOpts) -> Result<[u8; 32]> {
+    let mut h = Hasher(blake3::Hasher::new());
+    h.field(b"taxel build content hash v1")
+        .field(env!("CARGO_PKG_VERSION").as_bytes())
+        .field(&[taxel_format::FORMAT_MAJOR.to_le_bytes(), taxel_format::FORMAT_MINOR.to_le_bytes()].concat());
+    let ext = input.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
+    h.field(ext.as_bytes()).field(bytes);
+    if ext == "gltf" {
+        for (uri, data) in gltf_resources(input, bytes) {
+            h.field(uri.as_bytes()).opt(data.as_deref());
+        }
+    }
+    let style = match &opts.style {
+        Some(p) => Some(std::fs::read(p).with_context(|| format!("cannot read style sheet {}", p.display()))?),
+        None => None,
+    };
+    h.opt(style.as_deref());
+    match &opts.profile {
+        // A file is hashed by content, so editing it rebuilds; a name by name.
+        Some(p) if Path::new(p).is_file() => {
+            let text = std::fs::read(p).with_context(|| format!("cannot read profile {p}"))?;
+            h.field(b"file").field(&text)
+        }
+        Some(p) => h.field(b"name").field(p.as_bytes()),
+        None => h.field(b"default"),
+    };
+    h.opt(opts.resolution.map(|r| r.to_le_bytes()).as_ref().map(|b| &b[..]));
+    h.opt(opts.width_mm.map(|w| w.to_le_bytes()).as_ref().map(|b| &b[..]));
+    Ok(*h.0.finalize().as_bytes())
+}
+
+/// The relative files (buffers, images) a glTF file names, with their bytes
+/// (`None` when missing: the compiler will say so). Embedded `data:` URIs are
+/// already in the file's own bytes.
+fn gltf_resources(input: &Path, bytes: &[u8]) -> Vec<(String, Option<Vec<u8>>)> {
+    let Ok(json) = serde_json::from_slice::<serde_json::Value>(bytes) else { return Vec::new() };
+    let base = input.parent().unwrap_or(Path::new(""));
+    let mut out = Vec::new();
+    for list in ["buffers", "images"] {
+        let Some(items) = json.get(list).and_then(|v| v.as_array()) else { continue };
+        for item in items {
+            let Some(uri) = item.get("uri").and_then(|u| u.as_str()) else { continue };
+            if uri.starts_with("data:") || uri.contains("://") {
+                continue;
+            }
+            let data = std::fs::read(base.join(percent_decode(uri))).ok();
+            out.push((uri.to_string(), data));
+        }
+    }
+    out
+}
+
+/// URIs in glTF are percent-encoded (`my%20mesh.bin`).
+fn percent_decode(s: &str) -> String {
+    let b = s.as_bytes();
+    let mut out = Vec::with_capacity(b.len());
+    let mut i = 0;
+    while i < b.len() {
+        let hex = |c: u8| (c as char).to_digit(16);
+        if b[i] == b'%' && i + 2 < b.len() {
+            if let (Some(h), Some(l)) = (hex(b[i + 1]), hex(b[i + 2])) {
+                out.push((h * 16 + l) as u8);
+                i += 3;
+                continue;
+            }
+        }
+        out.push(b[i]);
+        i += 1;
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn opts() -> CompileOpts {
+        CompileOpts { profile: None, style: None, resolution: None, width_mm: None }
+    }
+
+    #[test]
+    fn every_dependency_changes_the_hash() {
+        let dir = tempfile::tempdir().unwrap();
+        let style = dir.path().join("s.toml");
+        std::fs::write(&style, "a").unwrap();
+        let svg = Path::new("x.svg");
+        let base = content_hash(svg, b"<svg/>", &opts()).unwrap();
+        assert_eq!(base, content_hash(svg, b"<svg/>", &opts()).unwrap(), "deterministic");
+        let mut variants = vec![
+            content_hash(svg, b"<svg />", &opts()).unwrap(),
+            content_hash(Path::new("x.glb"), b"<svg/>", &opts()).unwrap(),
+            content_hash(svg, b"<svg/>", &CompileOpts { profile: Some("finger3".into()), ..opts() }).unwrap(),
+            content_hash(svg, b"<svg/>", &CompileOpts { resolution: Some(8.0), ..opts() }).unwrap(),
+            content_hash(svg, b"<svg/>", &CompileOpts { width_mm: Some(8.0), ..opts() }).unwrap(),
+            content_hash(svg, b"<svg/>", &CompileOpts { style: Some(style.clone()), ..opts() }).unwrap(),
+        ];
+        std::fs::write(&style, "b").unwrap();
+        variants.push(content_hash(svg, b"<svg/>", &CompileOpts { style: Some(style), ..opts() }).unwrap());
+        variants.push(base);
+        let distinct: std::collections::HashSet<_> = variants.iter().collect();
+        assert_eq!(distinct.len(), variants.len());
+    }
+
+    #[test]
+    fn a_gltf_buffer_is_part_of_the_hash() {
+        let dir = tempfile::tempdir().unwrap();
+        let gltf = dir.path().join("m.gltf");
+        let json = br#"{"buffers":[{"uri":"m%20data.bin","byteLength":1}]}"#;
+        std::fs::write(dir.path().join("m data.bin"), [1]).unwrap();
+        let a = content_hash(&gltf, json, &opts()).unwrap();
+        std::fs::write(dir.path().join("m data.bin"), [2]).unwrap();
+        assert_ne!(a, content_hash(&gltf, json, &opts()).unwrap());
+    }
+
+    #[test]
+    fn percent_decoding_leaves_malformed_escapes_alone() {
+        assert_eq!(percent_decode("a%20b%2"), "a b%2");
+        assert_eq!(percent_decode("%zz%41"), "%zzA");
+    }
+}

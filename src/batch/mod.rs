@@ -1,0 +1,265 @@
+//! Building many inputs at once: discovery of inputs in folders, where each
+//! bundle goes, sharding, the incremental check, parallel compilation, safe
+//! writes, progress and the summary. `taxel build` is a thin layer over this.
+//!
+//! A failing input is reported with its diagnostics and the batch goes on;
+//! nothing is ever written for it. Every bundle is written to a temporary
+//! file and renamed into place ([`output::write_atomic`]), so an interrupted
+//! batch leaves each output either as it was or complete.
+
+pub mod discover;
+pub mod hash;
+pub mod output;
+pub mod progress;
+pub mod shard;
+
+use std::collections::HashMap;
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Result, bail};
+use rayon::prelude::*;
+use taxel_compiler::{Compiled, Severity};
+
+use crate::cli::CompileOpts;
+pub use discover::{Input, discover};
+pub use progress::{Outcome, Reporter, Summary};
+pub use shard::Shard;
+
+/// Compiles one file (the real one is [`crate::compile::compile_file`]).
+pub type CompileFn = dyn Fn(&Path, &CompileOpts) -> Result<Compiled> + Sync;
+
+/// Where the bundles go.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Destination {
+    /// Beside each input, with the `.taxel` extension.
+    NextToInputs,
+    /// Under a folder, mirroring the inputs' relative paths.
+    Folder(PathBuf),
+    /// One named bundle for the one input.
+    File(PathBuf),
+}
+
+impl Destination {
+    /// `-o OUT` for these inputs: a path ending in `.taxel` that is not an
+    /// existing folder names one bundle (and needs exactly one input);
+    /// anything else is a folder.
+    pub fn choose(out: Option<&Path>, inputs_found: usize) -> Result<Destination> {
+        let Some(out) = out else { return Ok(Destination::NextToInputs) };
+        let named_bundle = out.extension().is_some_and(|e| e.eq_ignore_ascii_case("taxel")) && !out.is_dir();
+        if !named_bundle {
+            return Ok(Destination::Folder(out.to_path_buf()));
+        }
+        if inputs_found != 1 {
+            bail!(
+                "-o {}: names one bundle, but {inputs_found} inputs were found; give a folder to mirror the inputs under",
+                out.display()
+            );
+        }
+        Ok(Destination::File(out.to_path_buf()))
+    }
+
+    /// Where the bundle of `input` goes.
+    pub fn output_for(&self, input: &Input) -> PathBuf {
+        match self {
+            Destination::NextToInputs => input.path.with_extension("taxel"),
+            Destination::Folder(dir) => dir.join(&input.rel).with_extension("taxel"),
+            Destination::File(f) => f.clone(),
+        }
+    }
+}
+
+/// One input and its bundle.
+#[derive(Debug, Clone)]
+pub struct Job {
+    /// The input.
+    pub input: Input,
+    /// Its bundle.
+    pub output: PathBuf,
+    /// Why it must not be built (another input would write the same bundle).
+    pub conflict: Option<String>,
+}
+
+/// The jobs for `inputs`. Inputs that would write the same bundle (`a.svg`
+/// and `a.gltf` in one folder) are all refused rather than one silently
+/// overwriting another.
+pub fn plan(inputs: Vec<Input>, dest: &Destination) -> Vec<Job> {
+    let mut jobs: Vec<Job> =
+        inputs.into_iter().map(|input| Job { output: dest.output_for(&input), input, conflict: None }).collect();
+    let mut by_output: HashMap<PathBuf, Vec<usize>> = HashMap::new();
+    for (i, j) in jobs.iter().enumerate() {
+        by_output.entry(j.output.clone()).or_default().push(i);
+    }
+    for same in by_output.values().filter(|v| v.len() > 1) {
+        let names: Vec<String> = same.iter().map(|&i| jobs[i].input.path.display().to_string()).collect();
+        for &i in same {
+            jobs[i].conflict =
+                Some(format!("{} would all write {}; rename one of them", names.join(", "), jobs[i].output.display()));
+        }
+    }
+    jobs
+}
+
+/// How to build.
+#[derive(Debug, Clone)]
+pub struct Settings {
+    /// Compiler options from the command line.
+    pub opts: CompileOpts,
+    /// Rebuild even when the bundle is up to date.
+    pub force: bool,
+    /// Parallel jobs; `None` for all cores.
+    pub jobs: Option<usize>,
+    /// Show a progress bar (on a terminal) rather than plain lines.
+    pub terminal: bool,
+}
+
+/// Builds every job in parallel; `problems` (unreadable folder entries) are
+/// reported as failures. Returns the summary; IO failures of single inputs
+/// are failures in it, not errors.
+pub fn run(jobs: &[Job], problems: &[String], settings: &Settings, compile: &CompileFn) -> Result<Summary> {
+    let started = Instant::now();
+    let reporter = Reporter::new(jobs.len() + problems.len(), settings.terminal);
+    for p in problems {
+        reporter.report(&Outcome::Failed, &format!("failed {p}"), &[format!("error: {p}")]);
+    }
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(settings.jobs.unwrap_or(0)).build()?;
+    pool.install(|| {
+        jobs.par_iter().for_each(|job| {
+            let (outcome, line, messages) = build_one(job, settings, compile);
+            reporter.report(&outcome, &line, &messages);
+        })
+    });
+    Ok(Summary { counts: reporter.finish(), elapsed: started.elapsed() })
+}
+
+/// Builds one job: `(outcome, plain line, diagnostics)`.
+fn build_one(job: &Job, settings: &Settings, compile: &CompileFn) -> (Outcome, String, Vec<String>) {
+    let shown = job.input.path.display().to_string();
+    let out = job.output.display();
+    let failed = |message: String| (Outcome::Failed, format!("failed {shown}"), vec![format!("error: {message}")]);
+    if let Some(c) = &job.conflict {
+        return failed(format!("{shown}: {c}"));
+    }
+    let bytes = match std::fs::read(&job.input.path) {
+        Ok(b) => b,
+        Err(e) => return failed(format!("cannot read {shown}: {e}")),
+    };
+    let hash = match hash::content_hash(&job.input.path, &bytes, &settings.opts) {
+        Ok(h) => h,
+        Err(e) => return failed(format!("{shown}: {e:#}")),
+    };
+    drop(bytes);
+    if !settings.force && output::up_to_date(&job.output, &hash) {
+        return (Outcome::Skipped, format!("skipped {shown} ({out} is up to date)"), Vec::new());
+    }
+    // A panic in the compiler is a bug, but it must cost one input, not the batch.
+    let compiled = match catch_unwind(AssertUnwindSafe(|| compile(&job.input.path, &settings.opts))) {
+        Ok(Ok(c)) => c,
+        Ok(Err(e)) => return failed(format!("{e:#}")),
+        Err(_) => return failed(format!("{shown}: internal error: the compiler panicked (please report this input)")),
+    };
+    let messages: Vec<String> =
+        compiled.diagnostics.iter().filter(|d| d.severity >= Severity::Warning).map(|d| d.render(&shown)).collect();
+    let warnings = compiled.diagnostics.iter().filter(|d| d.severity == Severity::Warning).count();
+    let errors = compiled.diagnostics.iter().filter(|d| d.severity == Severity::Error).count();
+    let bundle = match compiled.bundle {
+        Some(b) if errors == 0 => b,
+        _ => {
+            let why = if errors == 0 { "no bundle".to_string() } else { plural(errors, "error") };
+            return (Outcome::Failed, format!("failed {shown} ({why})"), messages);
+        }
+    };
+    let mut bundle = bundle;
+    bundle.manifest.content_hash = hash;
+    let bytes = match bundle.to_bytes() {
+        Ok(b) => b,
+        Err(e) => return failed(format!("{shown}: internal error: the compiler made an invalid bundle: {e}")),
+    };
+    if let Err(e) = output::write_atomic(&job.output, &bytes) {
+        return failed(format!("cannot write {out}: {e}"));
+    }
+    let line = match warnings {
+        0 => format!("built {shown} -> {out}"),
+        n => format!("built {shown} -> {out} ({})", plural(n, "warning")),
+    };
+    (Outcome::Built { warnings }, line, messages)
+}
+
+fn plural(n: usize, what: &str) -> String {
+    if n == 1 { format!("1 {what}") } else { format!("{n} {what}s") }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use super::progress::Counts;
+    use taxel_compiler::Diagnostic;
+    use taxel_format::{Bundle, Manifest, profiles};
+
+    /// Stands in for the compiler in these unit tests (the command-line
+    /// tests use the real one): "good" builds, "warn" builds with a warning,
+    /// "bad" fails, "panic" panics.
+    fn fake(path: &Path, _: &CompileOpts) -> Result<Compiled> {
+        let text = std::fs::read_to_string(path)?;
+        let bundle = Some(Bundle::new(Manifest::new(profiles::builtin("stress2").unwrap())));
+        Ok(match text.trim() {
+            "good" => Compiled { bundle, diagnostics: vec![] },
+            "warn" => Compiled { bundle, diagnostics: vec![Diagnostic::warning("T9", "thin").at(1, 1)] },
+            "panic" => panic!("fake compiler panic"),
+            _ => Compiled { bundle: None, diagnostics: vec![Diagnostic::error("T8", "broken").at(2, 3)] },
+        })
+    }
+
+    fn settings(force: bool) -> Settings {
+        Settings {
+            opts: CompileOpts { profile: None, style: None, resolution: None, width_mm: None },
+            force,
+            jobs: Some(2),
+            terminal: false,
+        }
+    }
+
+    #[test]
+    fn good_warning_bad_and_panicking_inputs_then_an_incremental_run() {
+        let dir = tempfile::tempdir().unwrap();
+        let src = dir.path().join("src");
+        for (f, t) in [("a.svg", "good"), ("sub/b.svg", "warn"), ("c.svg", "bad"), ("d.svg", "panic")] {
+            let p = src.join(f);
+            std::fs::create_dir_all(p.parent().unwrap()).unwrap();
+            std::fs::write(p, t).unwrap();
+        }
+        let out = dir.path().join("out");
+        let (inputs, problems) = discover(std::slice::from_ref(&src)).unwrap();
+        let jobs = plan(inputs, &Destination::Folder(out.clone()));
+        let s = run(&jobs, &problems, &settings(false), &fake).unwrap();
+        assert_eq!(s.counts, Counts { built: 2, warned: 1, skipped: 0, failed: 2 });
+        assert!(out.join("a.taxel").is_file() && out.join("sub/b.taxel").is_file());
+        assert!(!out.join("c.taxel").exists() && !out.join("d.taxel").exists());
+        let again = run(&jobs, &problems, &settings(false), &fake).unwrap();
+        assert_eq!(again.counts, Counts { built: 0, warned: 0, skipped: 2, failed: 2 });
+        let forced = run(&jobs, &problems, &settings(true), &fake).unwrap();
+        assert_eq!(forced.counts.built, 2);
+    }
+
+    #[test]
+    fn inputs_writing_the_same_bundle_are_all_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        for f in ["a.svg", "a.gltf", "b.svg"] {
+            std::fs::write(dir.path().join(f), "good").unwrap();
+        }
+        let (inputs, _) = discover(&[dir.path().to_path_buf()]).unwrap();
+        let jobs = plan(inputs, &Destination::NextToInputs);
+        let refused: Vec<_> = jobs.iter().filter(|j| j.conflict.is_some()).map(|j| j.input.key()).collect();
+        assert_eq!(refused, ["a.gltf", "a.svg"]);
+    }
+
+    #[test]
+    fn a_named_bundle_needs_exactly_one_input() {
+        let f = Path::new("x.taxel");
+        assert_eq!(Destination::choose(Some(f), 1).unwrap(), Destination::File(f.into()));
+        assert!(Destination::choose(Some(f), 2).is_err());
+        assert_eq!(Destination::choose(Some(Path::new("out")), 2).unwrap(), Destination::Folder("out".into()));
+        assert_eq!(Destination::choose(None, 3).unwrap(), Destination::NextToInputs);
+    }
+}

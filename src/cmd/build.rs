@@ -1,0 +1,56 @@
+//! `taxel build INPUT... [-o OUT] [--jobs N] [--shard I/N] [--force]`: one
+//! file or thousands, through [`crate::batch`].
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::{Result, bail};
+
+use crate::batch::{self, Destination, Settings, Shard};
+use crate::cli::CompileOpts;
+use crate::compile::compile_file;
+
+/// The command line's arguments for `build`.
+pub struct BuildArgs {
+    /// Files and folders.
+    pub inputs: Vec<PathBuf>,
+    /// `-o`.
+    pub out: Option<PathBuf>,
+    /// Compiler options.
+    pub opts: CompileOpts,
+    /// `--jobs`.
+    pub jobs: Option<usize>,
+    /// `--shard`.
+    pub shard: Option<String>,
+    /// `--force`.
+    pub force: bool,
+}
+
+pub fn run(args: BuildArgs) -> Result<ExitCode> {
+    let shard = args.shard.as_deref().map(str::parse::<Shard>).transpose().map_err(anyhow::Error::msg)?;
+    if args.jobs == Some(0) {
+        bail!("--jobs 0: at least one job is needed");
+    }
+    let (found, problems) = batch::discover(&args.inputs)?;
+    let found_count = found.len();
+    let dest = Destination::choose(args.out.as_deref(), found_count)?;
+    let selected: Vec<_> = match shard {
+        Some(s) => found.into_iter().filter(|i| s.contains(&i.key())).collect(),
+        None => found,
+    };
+    if found_count == 0 && problems.is_empty() {
+        eprintln!(
+            "warning: no inputs found in {} (folders are searched for .svg, .gltf and .glb)",
+            args.inputs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
+        );
+    }
+    let jobs = batch::plan(selected, &dest);
+    let settings = Settings { opts: args.opts, force: args.force, jobs: args.jobs, terminal: std::io::stderr().is_terminal() };
+    let summary = batch::run(&jobs, &problems, &settings, &compile_file)?;
+    match shard {
+        Some(s) => println!("shard {s} ({} of {found_count} inputs): {summary}", jobs.len()),
+        None => println!("{summary}"),
+    }
+    Ok(if summary.counts.failed > 0 { ExitCode::from(1) } else { ExitCode::SUCCESS })
+}
