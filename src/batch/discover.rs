@@ -30,9 +30,7 @@ impl Input {
 
 /// Whether a file found in a folder is an input.
 pub fn is_input(path: &Path) -> bool {
-    path.extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| EXTENSIONS.iter().any(|x| x.eq_ignore_ascii_case(e)))
+    path.extension().and_then(|e| e.to_str()).is_some_and(|e| EXTENSIONS.iter().any(|x| x.eq_ignore_ascii_case(e)))
 }
 
 /// The inputs named by `args`, in argument order and, within a folder, in
@@ -61,9 +59,10 @@ pub fn discover(args: &[PathBuf]) -> Result<(Vec<Input>, Vec<String>)> {
         }
         // Hidden folders (.git, .cache) are not walked; symbolic links are
         // not followed, so a link cycle cannot make the walk endless.
-        let walk = WalkDir::new(arg).sort_by_file_name().into_iter().filter_entry(|e| {
-            e.depth() == 0 || !e.file_name().to_string_lossy().starts_with('.')
-        });
+        let walk = WalkDir::new(arg)
+            .sort_by_file_name()
+            .into_iter()
+            .filter_entry(|e| e.depth() == 0 || !e.file_name().to_string_lossy().starts_with('.'));
         for entry in walk {
             match entry {
                 Ok(e) if e.file_type().is_file() && is_input(e.path()) => {
@@ -73,7 +72,10 @@ pub fn discover(args: &[PathBuf]) -> Result<(Vec<Input>, Vec<String>)> {
                 Ok(_) => {}
                 Err(e) => {
                     let at = e.path().map_or_else(|| arg.display().to_string(), |p| p.display().to_string());
-                    problems.push(format!("{at}: cannot read: {}", e.io_error().map_or_else(|| e.to_string(), |io| io.to_string())));
+                    problems.push(format!(
+                        "{at}: cannot read: {}",
+                        e.io_error().map_or_else(|| e.to_string(), |io| io.to_string())
+                    ));
                 }
             }
         }

@@ -192,8 +192,8 @@ fn plural(n: usize, what: &str) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
     use super::progress::Counts;
+    use super::*;
     use taxel_compiler::Diagnostic;
     use taxel_format::{Bundle, Manifest, profiles};
 

@@ -147,7 +147,10 @@ mod tests {
 
     #[test]
     fn the_summary_names_every_count() {
-        let s = Summary { counts: Counts { built: 3, warned: 1, skipped: 2, failed: 4 }, elapsed: Duration::from_millis(1500) };
+        let s = Summary {
+            counts: Counts { built: 3, warned: 1, skipped: 2, failed: 4 },
+            elapsed: Duration::from_millis(1500),
+        };
         assert_eq!(s.to_string(), "built 3, with warnings 1, failed 4, skipped 2 (up to date); 9 inputs in 1.50 s");
     }
 }

@@ -46,7 +46,8 @@ pub fn run(args: BuildArgs) -> Result<ExitCode> {
         );
     }
     let jobs = batch::plan(selected, &dest);
-    let settings = Settings { opts: args.opts, force: args.force, jobs: args.jobs, terminal: std::io::stderr().is_terminal() };
+    let settings =
+        Settings { opts: args.opts, force: args.force, jobs: args.jobs, terminal: std::io::stderr().is_terminal() };
     let summary = batch::run(&jobs, &problems, &settings, &compile_file)?;
     match shard {
         Some(s) => println!("shard {s} ({} of {found_count} inputs): {summary}", jobs.len()),
