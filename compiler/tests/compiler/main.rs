@@ -1,0 +1,3 @@
+//! Integration tests of the compiler, one module per area.
+
+mod brush;
