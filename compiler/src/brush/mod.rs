@@ -16,7 +16,8 @@
 //! clamped, T0504 carrier clamped, T0505 path moved onto the grid, T0506
 //! stationary stroke, T0510 stiff stroke resolved by merging points, T0511 no
 //! feasible schedule (states the shortest duration), T0512 shared actuator
-//! clamped, T0513 stroke does not fit the table, T0514 profile is not a grid.
+//! clamped where strokes overlap, T0513 stroke does not fit the table, T0514
+//! profile is not a grid, T0515 (note) clamped where one stroke's own points overlap.
 
 mod grid;
 mod motion;

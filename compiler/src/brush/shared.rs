@@ -8,7 +8,10 @@
 //! model rests on). Combining at play time is exact under the ramps and for
 //! strokes whose overlap only the player sees; the compiler predicts the
 //! clamping here, from the tick intervals of the table (ignoring the ramps,
-//! which can only lower the sum), and warns where it will happen.
+//! which can only lower the sum), and says where it will happen: a warning
+//! (T0512) when separate strokes overlap on an actuator, a note (T0515) when
+//! the neighbouring points of one stroke do (inherent to apparent motion at
+//! high intensity; the clamped moments lose at most a few percent).
 
 use std::collections::BTreeMap;
 
@@ -108,7 +111,11 @@ pub(crate) fn check_shared(
             message += &format!(" (overlapping {})", others.join(", "));
         }
         let scale = 1.0 / worst.sqrt();
-        let mut d = Diagnostic::warning("T0512", message).with_help(format!(
+        // Overlap between neighbouring points of one stroke is how apparent
+        // motion works, and at full intensity it is expected: a note. Strokes
+        // the author placed over each other are worth a warning.
+        let d = if who.len() > 1 { Diagnostic::warning("T0512", message) } else { Diagnostic::note("T0515", message) };
+        let mut d = d.with_help(format!(
             "scale the intensity by {scale:.2} or less, or separate the strokes in time, to avoid clamping"
         ));
         if let Some(r) = first {

@@ -308,6 +308,24 @@ fn overlapping_strokes_on_one_actuator_are_clamped_with_a_warning() {
 }
 
 #[test]
+fn one_strokes_own_overlap_is_a_note() {
+    // Paper stroke 1 at full intensity: λ1 (2/3 on actuator 5) overlaps λ2 (1/2 on
+    // 5 and on 6), which overlaps λ3 (2/3 on 6): 1/2 + 2/3 = 7/6 of full energy.
+    let mut diags = Vec::new();
+    compile_strokes(&[request(&[(0.0, 0.0), (189.0, 126.0)], 1000.0)], &brush_profile(), &mut diags).unwrap();
+    let n: Vec<_> = diags.iter().filter(|d| d.code == "T0515").collect();
+    assert_eq!(n.len(), 1, "{diags:?}");
+    assert_eq!(n[0].severity, Severity::Note);
+    assert!(
+        n[0].message.contains("1.17 times")
+            && n[0].message.contains("actuators 5 (row 1, column 1), 6 (row 1, column 2)"),
+        "{}",
+        n[0].message
+    );
+    assert!(!diags.iter().any(|d| d.severity >= Severity::Warning), "{diags:?}");
+}
+
+#[test]
 fn odd_paths_are_handled() {
     let profile = brush_profile();
     let mut diags = Vec::new();
