@@ -9,6 +9,7 @@ use crate::cli::{Cli, Command, DeviceCommand};
 mod build;
 mod device;
 mod load;
+mod play;
 mod profiles;
 
 /// Runs a parsed command line.
@@ -23,7 +24,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
         Some(Command::Pack { .. }) => not_yet("taxel pack", 2),
         Some(Command::Unpack { .. }) => not_yet("taxel unpack", 2),
         Some(Command::Preview { .. }) => not_yet("taxel preview", 3),
-        Some(Command::Play { .. }) => not_yet("taxel play", 4),
+        Some(Command::Play { bundle, trace, out }) => play::run(&bundle, trace.as_deref(), out.as_deref()),
         Some(Command::Report { .. }) => not_yet("taxel report", 8),
         Some(Command::Load { bundles, device }) => load::run(&bundles, &device),
         Some(Command::Device(DeviceCommand::Serve { store, listen, capacity, profile })) => {

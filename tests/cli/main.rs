@@ -1,5 +1,6 @@
 //! End-to-end tests of the `taxel` command line, one module per area.
 
 mod batch;
+mod brush;
 mod device;
 mod examples;

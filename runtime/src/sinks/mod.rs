@@ -1,1 +1,3 @@
 //! Sinks: where frames go on a host (files, standard output).
+
+pub mod wav;

@@ -1,0 +1,34 @@
+//! `taxel play BUNDLE [--trace CSV] [--out FRAMES.csv|DRIVE.wav]`: reads and
+//! validates the bundle, then hands it to the player of its device family.
+
+use std::path::Path;
+use std::process::ExitCode;
+
+use anyhow::Result;
+use taxel_format::{BundleView, Family};
+
+mod grid;
+
+pub fn run(bundle: &Path, trace: Option<&Path>, out: Option<&Path>) -> Result<ExitCode> {
+    let bytes = match std::fs::read(bundle) {
+        Ok(b) => b,
+        Err(e) => {
+            eprintln!("error: cannot read {}: {e}", bundle.display());
+            return Ok(ExitCode::from(2));
+        }
+    };
+    let view = match BundleView::parse(&bytes) {
+        Ok(v) => v,
+        Err(e) => {
+            eprintln!("error: {}: not a valid taxel bundle: {e}", bundle.display());
+            return Ok(ExitCode::from(1));
+        }
+    };
+    match view.manifest().profile.family() {
+        Family::Grid => grid::run(bundle, &view, trace, out),
+        family => {
+            eprintln!("error: taxel play for {family} bundles is not available yet (issue 4)");
+            Ok(ExitCode::from(2))
+        }
+    }
+}
