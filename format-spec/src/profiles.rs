@@ -50,67 +50,91 @@ const SURFACE_KEYS: &[&str] = &["width_mm", "height_mm"];
 const GRID_KEYS: &[&str] = &["carrier_min_hz", "carrier_max_hz", "audio_rate_hz", "ramp_ms"];
 const FINGER_KEYS: &[&str] = &["rhythm_max", "intensity_max", "flat_slope", "direction_window", "min_move_mm"];
 
-/// Reads typed values out of one TOML table, naming keys by their full path.
-struct Fields<'a> {
-    table: &'a toml::Table,
+type Table<'i> = toml::de::DeTable<'i>;
+type Value<'i> = toml::de::DeValue<'i>;
+
+/// Reads typed values out of one TOML table, naming keys by their full path
+/// and values by their line. Numbers are read from their text, so that a
+/// float written with Rust's shortest round-trip `Display` of an `f32` reads
+/// back as exactly that `f32` (not through an `f64` and a second rounding).
+struct Fields<'a, 'i> {
+    table: &'a Table<'i>,
     path: &'static str,
     source_name: &'a str,
+    text: &'a str,
 }
 
-impl<'a> Fields<'a> {
+impl<'a, 'i> Fields<'a, 'i> {
     fn new(
-        table: &'a toml::Table,
+        table: &'a Table<'i>,
         path: &'static str,
         allowed: &[&str],
         source_name: &'a str,
+        text: &'a str,
     ) -> Result<Self, ProfileError> {
-        let f = Fields { table, path, source_name };
-        // Sorted so that the first unknown key reported does not depend on hashing.
-        let mut keys: Vec<&String> = table.keys().collect();
-        keys.sort();
-        if let Some(k) = keys.into_iter().find(|k| !allowed.contains(&k.as_str())) {
-            return Err(f.err(k, format!("unknown key, expected one of: {}", allowed.join(", "))));
+        let f = Fields { table, path, source_name, text };
+        // In file order, so that the first unknown key reported is the first in the file.
+        let mut keys: Vec<_> = table.iter().map(|(k, _)| k).collect();
+        keys.sort_by_key(|k| k.span().start);
+        if let Some(k) = keys.into_iter().find(|k| !allowed.contains(&k.get_ref().as_ref())) {
+            let line = f.line(k.span().start);
+            return Err(f.err(k.get_ref(), Some(line), format!("unknown key, expected one of: {}", allowed.join(", "))));
         }
         Ok(f)
     }
 
-    fn key(&self, k: &str) -> String {
-        if self.path.is_empty() { k.into() } else { format!("{}.{k}", self.path) }
+    fn line(&self, at: usize) -> usize {
+        self.text.get(..at).map_or(0, |t| t.matches('\n').count()) + 1
     }
 
-    fn err(&self, k: &str, message: String) -> ProfileError {
-        ProfileError { source_name: self.source_name.into(), key: Some(self.key(k)), message }
+    fn err(&self, k: &str, line: Option<usize>, message: String) -> ProfileError {
+        let key = if self.path.is_empty() { k.into() } else { format!("{}.{k}", self.path) };
+        let message = match line {
+            Some(l) => format!("line {l}: {message}"),
+            None => message,
+        };
+        ProfileError { source_name: self.source_name.into(), key: Some(key), message }
     }
 
-    fn get(&self, k: &str) -> Result<&'a toml::Value, ProfileError> {
-        self.table.get(k).ok_or_else(|| self.err(k, "missing key".into()))
+    fn get(&self, k: &str) -> Result<(&'a Value<'i>, usize), ProfileError> {
+        self.table
+            .iter()
+            .find(|(key, _)| key.get_ref().as_ref() == k)
+            .map(|(_, v)| (v.get_ref(), self.line(v.span().start)))
+            .ok_or_else(|| self.err(k, None, "missing key".into()))
     }
 
     fn string(&self, k: &str) -> Result<&'a str, ProfileError> {
-        self.get(k)?.as_str().ok_or_else(|| self.err(k, "expected a string".into()))
-    }
-
-    fn int(&self, k: &str, max: u64) -> Result<u64, ProfileError> {
-        self.get(k)?
-            .as_integer()
-            .and_then(|v| u64::try_from(v).ok())
-            .filter(|&v| v <= max)
-            .ok_or_else(|| self.err(k, format!("expected an integer from 0 to {max}")))
-    }
-
-    fn float(&self, k: &str) -> Result<f32, ProfileError> {
         match self.get(k)? {
-            toml::Value::Float(v) => Ok(*v as f32),
-            toml::Value::Integer(v) => Ok(*v as f32),
-            _ => Err(self.err(k, "expected a number".into())),
+            (Value::String(s), _) => Ok(s.as_ref()),
+            (_, line) => Err(self.err(k, Some(line), "expected a string".into())),
         }
     }
 
-    fn table(&self, k: &str) -> Result<Option<&'a toml::Table>, ProfileError> {
-        match self.table.get(k) {
-            None => Ok(None),
-            Some(toml::Value::Table(t)) => Ok(Some(t)),
-            Some(_) => Err(self.err(k, "expected a table".into())),
+    fn int(&self, k: &str, max: u64) -> Result<u64, ProfileError> {
+        let (v, line) = self.get(k)?;
+        let parsed = match v {
+            Value::Integer(i) => u64::from_str_radix(i.as_str(), i.radix()).ok(),
+            _ => None,
+        };
+        parsed.filter(|&v| v <= max).ok_or_else(|| self.err(k, Some(line), format!("expected an integer from 0 to {max}")))
+    }
+
+    fn float(&self, k: &str) -> Result<f32, ProfileError> {
+        let (v, line) = self.get(k)?;
+        let parsed = match v {
+            Value::Float(f) => f.as_str().parse::<f32>().ok(),
+            Value::Integer(i) if i.radix() == 10 => i.as_str().parse::<f32>().ok(),
+            _ => None,
+        };
+        parsed.ok_or_else(|| self.err(k, Some(line), "expected a number".into()))
+    }
+
+    fn table(&self, k: &str) -> Result<Option<&'a Table<'i>>, ProfileError> {
+        match self.get(k) {
+            Err(_) => Ok(None),
+            Ok((Value::Table(t), _)) => Ok(Some(t)),
+            Ok((_, line)) => Err(self.err(k, Some(line), "expected a table".into())),
         }
     }
 }
@@ -118,35 +142,35 @@ impl<'a> Fields<'a> {
 /// Parses a profile from TOML. `source_name` (a file path or a built-in name)
 /// is carried into every error, with the key (`array.rows`) when one is at fault.
 pub fn parse(text: &str, source_name: &str) -> Result<DeviceProfile, ProfileError> {
-    let doc: toml::Table = toml::from_str(text).map_err(|e| ProfileError {
+    let doc = Table::parse(text).map_err(|e| ProfileError {
         source_name: source_name.into(),
         key: None,
         message: e.to_string().trim_end().replace('\n', " "),
     })?;
-    let top = Fields::new(&doc, "", TOP_KEYS, source_name)?;
-    let array = top.table("array")?.ok_or_else(|| top.err("array", "missing table [array]".into()))?;
-    let array = Fields::new(array, "array", ARRAY_KEYS, source_name)?;
-    let surface = top.table("surface")?.ok_or_else(|| top.err("surface", "missing table [surface]".into()))?;
-    let surface = Fields::new(surface, "surface", SURFACE_KEYS, source_name)?;
+    let top = Fields::new(doc.get_ref(), "", TOP_KEYS, source_name, text)?;
+    let array = top.table("array")?.ok_or_else(|| top.err("array", None, "missing table [array]".into()))?;
+    let array = Fields::new(array, "array", ARRAY_KEYS, source_name, text)?;
+    let surface = top.table("surface")?.ok_or_else(|| top.err("surface", None, "missing table [surface]".into()))?;
+    let surface = Fields::new(surface, "surface", SURFACE_KEYS, source_name, text)?;
     let name_text = top.string("name")?;
     let name = ProfileName::new(name_text)
         .filter(|_| !name_text.is_empty())
-        .ok_or_else(|| top.err("name", "expected a name of 1 to 31 bytes without NUL".into()))?;
+        .ok_or_else(|| top.err("name", None, "expected a name of 1 to 31 bytes without NUL".into()))?;
     let grid = top.table("grid")?;
     let finger = top.table("finger")?;
     let params = match top.string("family")? {
         "laterotactile" => {
             if let Some(k) = [("grid", grid.is_some()), ("finger", finger.is_some())].iter().find(|(_, b)| *b) {
-                return Err(top.err(k.0, "a laterotactile profile has no such table".into()));
+                return Err(top.err(k.0, None, "a laterotactile profile has no such table".into()));
             }
             FamilyParams::Laterotactile
         }
         "grid" => {
-            let g = grid.ok_or_else(|| top.err("grid", "missing table [grid] for family \"grid\"".into()))?;
+            let g = grid.ok_or_else(|| top.err("grid", None, "missing table [grid] for family \"grid\"".into()))?;
             if finger.is_some() {
-                return Err(top.err("finger", "a grid profile has no [finger] table".into()));
+                return Err(top.err("finger", None, "a grid profile has no [finger] table".into()));
             }
-            let g = Fields::new(g, "grid", GRID_KEYS, source_name)?;
+            let g = Fields::new(g, "grid", GRID_KEYS, source_name, text)?;
             FamilyParams::Grid(GridParams {
                 carrier_min_hz: g.float("carrier_min_hz")?,
                 carrier_max_hz: g.float("carrier_max_hz")?,
@@ -155,11 +179,11 @@ pub fn parse(text: &str, source_name: &str) -> Result<DeviceProfile, ProfileErro
             })
         }
         "finger" => {
-            let f = finger.ok_or_else(|| top.err("finger", "missing table [finger] for family \"finger\"".into()))?;
+            let f = finger.ok_or_else(|| top.err("finger", None, "missing table [finger] for family \"finger\"".into()))?;
             if grid.is_some() {
-                return Err(top.err("grid", "a finger profile has no [grid] table".into()));
+                return Err(top.err("grid", None, "a finger profile has no [grid] table".into()));
             }
-            let f = Fields::new(f, "finger", FINGER_KEYS, source_name)?;
+            let f = Fields::new(f, "finger", FINGER_KEYS, source_name, text)?;
             FamilyParams::Finger(FingerParams {
                 rhythm_max: f.float("rhythm_max")?,
                 intensity_max: f.float("intensity_max")?,
@@ -171,6 +195,7 @@ pub fn parse(text: &str, source_name: &str) -> Result<DeviceProfile, ProfileErro
         other => {
             return Err(top.err(
                 "family",
+                None,
                 format!("unknown family \"{other}\", expected \"laterotactile\", \"grid\" or \"finger\""),
             ));
         }

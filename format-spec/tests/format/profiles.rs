@@ -82,3 +82,28 @@ fn toml_syntax_errors_name_the_file_and_line() {
     assert!(msg.starts_with("bad.toml"), "{msg}");
     assert!(msg.contains("line 2"), "{msg}");
 }
+
+#[test]
+fn value_errors_give_the_line() {
+    let text = stress2().replace("rows = 8", "rows = \"eight\"");
+    let line = text.lines().position(|l| l.starts_with("rows")).unwrap() + 1;
+    let e = profiles::parse(&text, "dev.toml").unwrap_err();
+    assert_eq!(e.to_string(), format!("dev.toml: key `array.rows`: line {line}: expected an integer from 0 to 65535"));
+}
+
+proptest::proptest! {
+    /// Floats are read from their text as `f32`, so any pitch written with
+    /// Rust's shortest round-trip `Display` reads back bit for bit.
+    #[test]
+    fn profile_floats_round_trip_exactly(bits in 0x3000_0000u32..0x447a_0000u32, w in 1.0e-3f32..1.0e6) {
+        let mut p = profiles::builtin("brush-4x3").unwrap();
+        p.pitch_x_mm = f32::from_bits(bits);
+        p.surface_w_mm = w;
+        if let taxel_format::FamilyParams::Grid(g) = &mut p.params {
+            g.ramp_ms = f32::from_bits(bits).min(1000.0);
+        }
+        let back = profiles::parse(&profiles::to_toml(&p), "p.toml").unwrap();
+        proptest::prop_assert_eq!(back.pitch_x_mm.to_bits(), p.pitch_x_mm.to_bits());
+        proptest::prop_assert_eq!(back, p);
+    }
+}
