@@ -10,6 +10,7 @@ mod cli;
 mod cmd;
 #[allow(dead_code)] // Used once the build command lands (issue 3).
 mod compile;
+mod textform;
 
 fn main() -> ExitCode {
     let args = cli::Cli::parse();

@@ -78,7 +78,11 @@ impl<'a, 'i> Fields<'a, 'i> {
         keys.sort_by_key(|k| k.span().start);
         if let Some(k) = keys.into_iter().find(|k| !allowed.contains(&k.get_ref().as_ref())) {
             let line = f.line(k.span().start);
-            return Err(f.err(k.get_ref(), Some(line), format!("unknown key, expected one of: {}", allowed.join(", "))));
+            return Err(f.err(
+                k.get_ref(),
+                Some(line),
+                format!("unknown key, expected one of: {}", allowed.join(", ")),
+            ));
         }
         Ok(f)
     }
@@ -117,7 +121,9 @@ impl<'a, 'i> Fields<'a, 'i> {
             Value::Integer(i) => u64::from_str_radix(i.as_str(), i.radix()).ok(),
             _ => None,
         };
-        parsed.filter(|&v| v <= max).ok_or_else(|| self.err(k, Some(line), format!("expected an integer from 0 to {max}")))
+        parsed
+            .filter(|&v| v <= max)
+            .ok_or_else(|| self.err(k, Some(line), format!("expected an integer from 0 to {max}")))
     }
 
     fn float(&self, k: &str) -> Result<f32, ProfileError> {
@@ -179,7 +185,8 @@ pub fn parse(text: &str, source_name: &str) -> Result<DeviceProfile, ProfileErro
             })
         }
         "finger" => {
-            let f = finger.ok_or_else(|| top.err("finger", None, "missing table [finger] for family \"finger\"".into()))?;
+            let f =
+                finger.ok_or_else(|| top.err("finger", None, "missing table [finger] for family \"finger\"".into()))?;
             if grid.is_some() {
                 return Err(top.err("grid", None, "a finger profile has no [grid] table".into()));
             }

@@ -8,9 +8,12 @@ use crate::cli::{Cli, Command, DeviceCommand};
 
 mod build;
 mod device;
+mod inspect;
 mod load;
+mod pack;
 mod play;
 mod profiles;
+mod unpack;
 
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> Result<ExitCode> {
@@ -20,9 +23,9 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
             build::run(build::BuildArgs { inputs, out, opts, jobs, shard, force })
         }
         Some(Command::Check { .. }) => not_yet("taxel check", 3),
-        Some(Command::Inspect { .. }) => not_yet("taxel inspect", 2),
-        Some(Command::Pack { .. }) => not_yet("taxel pack", 2),
-        Some(Command::Unpack { .. }) => not_yet("taxel unpack", 2),
+        Some(Command::Inspect { bundle, format }) => inspect::run(&bundle, format),
+        Some(Command::Pack { dir, out }) => pack::run(&dir, &out),
+        Some(Command::Unpack { bundle, out }) => unpack::run(&bundle, &out),
         Some(Command::Preview { .. }) => not_yet("taxel preview", 3),
         Some(Command::Play { bundle, trace, out }) => play::run(&bundle, trace.as_deref(), out.as_deref()),
         Some(Command::Report { .. }) => not_yet("taxel report", 8),
@@ -34,6 +37,13 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
         Some(Command::Device(DeviceCommand::Rm { name, device })) => device::rm(&name, &device),
         Some(Command::Profiles) => profiles::run(),
     }
+}
+
+/// Reports a problem with a text-form folder or bundle: exit 1 when the input
+/// is wrong, 2 when the file system failed or the command would overwrite data.
+fn bad_input(e: crate::textform::TextError) -> Result<ExitCode> {
+    eprintln!("error: {e}");
+    Ok(ExitCode::from(if e.io { 2 } else { 1 }))
 }
 
 /// A command whose issue has not landed: it says so and exits 2, never pretending to work.

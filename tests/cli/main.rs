@@ -4,3 +4,4 @@ mod batch;
 mod brush;
 mod device;
 mod examples;
+mod format;

@@ -1,0 +1,264 @@
+//! `taxel inspect BUNDLE [--format human|json]`: what a bundle holds —
+//! profile, surface, version, content hash, and each chunk with its kind,
+//! parameters, provenance and size.
+
+use std::collections::BTreeSet;
+use std::path::Path;
+use std::process::ExitCode;
+
+use anyhow::Result;
+use serde_json::{Value, json};
+use taxel_format::{BundleView, ChunkView, FamilyParams, MaskKind, ProvenanceView};
+
+use crate::cli::Format;
+
+pub fn run(path: &Path, format: Format) -> Result<ExitCode> {
+    let bytes = match std::fs::read(path) {
+        Ok(b) => b,
+        Err(e) => {
+            eprintln!("error: {}: cannot read the bundle: {e}", path.display());
+            return Ok(ExitCode::from(2));
+        }
+    };
+    let view = match BundleView::parse(&bytes) {
+        Ok(v) => v,
+        Err(e) => {
+            eprintln!("error: {}: {e}", path.display());
+            return Ok(ExitCode::from(1));
+        }
+    };
+    let report = describe(&view);
+    match format {
+        Format::Json => println!("{}", serde_json::to_string_pretty(&report)?),
+        Format::Human => print!("{}", human(path, &report)),
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The names of provenance entries `sources`, as `id "label"`.
+fn names(prov: Option<&ProvenanceView<'_>>, sources: &BTreeSet<u32>) -> Vec<Value> {
+    sources
+        .iter()
+        .map(|&s| match prov.and_then(|p| p.get(s)) {
+            Some((id, label, line)) => json!({ "index": s, "id": id, "label": label, "line": line }),
+            None => json!({ "index": s }),
+        })
+        .collect()
+}
+
+/// The whole report as JSON; the human form is printed from it.
+fn describe(view: &BundleView<'_>) -> Value {
+    let m = view.manifest();
+    let p = &m.profile;
+    let (major, minor) = view.version();
+    let family = match p.params {
+        FamilyParams::Laterotactile => json!({}),
+        FamilyParams::Grid(g) => json!({
+            "carrier_min_hz": g.carrier_min_hz, "carrier_max_hz": g.carrier_max_hz,
+            "audio_rate_hz": g.audio_rate_hz, "ramp_ms": g.ramp_ms,
+        }),
+        FamilyParams::Finger(f) => json!({
+            "rhythm_max": f.rhythm_max, "intensity_max": f.intensity_max, "flat_slope": f.flat_slope,
+            "direction_window": f.direction_window, "min_move_mm": f.min_move_mm,
+        }),
+    };
+    let prov = view.provenance();
+    let mut chunks = Vec::new();
+    if let Some((tag, required, _, length)) = view.chunk_entry(0) {
+        chunks.push(
+            json!({ "index": 0, "tag": tag.to_string(), "required": required, "bytes": length, "kind": "manifest" }),
+        );
+    }
+    for (i, c) in view.chunks().enumerate() {
+        let index = i as u32 + 1;
+        let Some((tag, required, _, length)) = view.chunk_entry(index) else { continue };
+        let mut sources = BTreeSet::new();
+        let mut entry = match c {
+            ChunkView::Mask(mk) => {
+                sources.extend(mk.source);
+                let mut e = json!({
+                    "kind": match mk.kind { MaskKind::Vibration { .. } => "vibration", MaskKind::Grating { .. } => "grating" },
+                    "width": mk.width, "height": mk.height, "bits": mk.bits, "px_per_mm": mk.px_per_mm,
+                    "origin_mm": [mk.origin_x.0, mk.origin_y.0],
+                    "size_mm": [mk.width as f32 / mk.px_per_mm, mk.height as f32 / mk.px_per_mm],
+                    "amplitude": mk.amplitude,
+                });
+                match mk.kind {
+                    MaskKind::Vibration { freq } => e["freq_hz"] = json!(freq.hz()),
+                    MaskKind::Grating { wavelength, angle_deg } => {
+                        e["wavelength_mm"] = json!(wavelength.0);
+                        e["angle_deg"] = json!(angle_deg);
+                    }
+                }
+                e
+            }
+            ChunkView::Dots(d) => {
+                let (mut rmin, mut rmax) = (f32::INFINITY, 0.0f32);
+                for k in 0..d.len() {
+                    if let Some(dot) = d.dot(k) {
+                        rmin = rmin.min(dot.radius.0);
+                        rmax = rmax.max(dot.radius.0);
+                        sources.extend(dot.source);
+                    }
+                }
+                json!({ "kind": "dots", "dot_kind": d.kind.name(), "dots": d.len(),
+                        "radius_mm": if d.is_empty() { json!(null) } else { json!([rmin, rmax]) } })
+            }
+            ChunkView::Strokes(s) => {
+                let (mut first, mut last, mut drives) = (u64::MAX, 0u64, 0u64);
+                for k in 0..s.stroke_count() {
+                    if let Some((stroke, points)) = s.stroke(k) {
+                        first = first.min(stroke.start.0);
+                        last = last.max(stroke.start.0 + stroke.duration as u64);
+                        sources.extend(stroke.source);
+                        for pk in points {
+                            drives += s.point_timing(pk).map_or(0, |(_, _, d)| d.len() as u64);
+                        }
+                    }
+                }
+                json!({ "kind": "strokes", "strokes": s.stroke_count(), "points": s.point_count(), "drives": drives,
+                        "ticks": if s.stroke_count() == 0 { json!(null) } else { json!([first, last]) } })
+            }
+            ChunkView::Height(h) => {
+                sources.extend(h.source);
+                json!({ "kind": "height", "cols": h.cols, "rows": h.rows, "cell_mm": h.cell.0,
+                        "origin_mm": [h.origin_x.0, h.origin_y.0],
+                        "height_mm": [h.height_min, h.height_max], "max_gradient": h.max_gradient,
+                        "gradient_cap": h.gradient_cap })
+            }
+            ChunkView::Provenance(p) => json!({ "kind": "provenance", "entries": p.len() }),
+            ChunkView::Unknown { .. } => json!({ "kind": "unknown" }),
+        };
+        entry["index"] = json!(index);
+        entry["tag"] = json!(tag.to_string());
+        entry["required"] = json!(required);
+        entry["bytes"] = json!(length);
+        if !sources.is_empty() {
+            entry["sources"] = json!(names(prov.as_ref(), &sources));
+        }
+        chunks.push(entry);
+    }
+    json!({
+        "format_version": format!("{major}.{minor}"),
+        "bytes": view.bytes().len(),
+        "profile": {
+            "name": p.name.as_str(), "family": p.family().name(), "rows": p.rows, "cols": p.cols,
+            "pitch_mm": [p.pitch_x_mm, p.pitch_y_mm], "rate_hz": p.rate_hz, "output_bits": p.output_bits,
+            "params": family,
+        },
+        "surface_mm": [p.surface_w_mm, p.surface_h_mm],
+        "generator": m.generator.as_str(),
+        "content_hash": m.content_hash.iter().map(|b| format!("{b:02x}")).collect::<String>(),
+        "chunks": chunks,
+    })
+}
+
+fn num(v: &Value) -> String {
+    match v.as_f64() {
+        Some(f) if f.fract() == 0.0 && f.abs() < 1e15 => format!("{}", f as i64),
+        Some(f) => format!("{}", (f * 1e4).round() / 1e4),
+        None => v.to_string(),
+    }
+}
+
+fn pair(v: &Value, sep: &str) -> String {
+    format!("{}{sep}{}", num(&v[0]), num(&v[1]))
+}
+
+fn human(path: &Path, r: &Value) -> String {
+    let p = &r["profile"];
+    let mut out = format!(
+        "{}: taxel bundle {}, {} bytes, {} chunks\nprofile    {} ({}), {} x {} actuators, pitch {} mm, {} Hz, {}-bit output\nsurface    {} mm\ngenerator  {}\ncontent    {}\n\n",
+        path.display(),
+        r["format_version"].as_str().unwrap_or("?"),
+        r["bytes"],
+        r["chunks"].as_array().map_or(0, Vec::len),
+        p["name"].as_str().unwrap_or("?"),
+        p["family"].as_str().unwrap_or("?"),
+        p["cols"],
+        p["rows"],
+        pair(&p["pitch_mm"], " x "),
+        p["rate_hz"],
+        p["output_bits"],
+        pair(&r["surface_mm"], " x "),
+        r["generator"].as_str().unwrap_or(""),
+        r["content_hash"].as_str().unwrap_or(""),
+    );
+    out += "     #  tag   flag         bytes  layer\n";
+    for c in r["chunks"].as_array().into_iter().flatten() {
+        let what = match c["kind"].as_str().unwrap_or("") {
+            "manifest" => "manifest".to_string(),
+            k @ ("vibration" | "grating") => {
+                let prim = if k == "vibration" {
+                    format!("vibration {} Hz", num(&c["freq_hz"]))
+                } else {
+                    format!("grating {} mm at {}°", num(&c["wavelength_mm"]), num(&c["angle_deg"]))
+                };
+                format!(
+                    "{prim}, amplitude {}; mask {} x {} {}-bit at {} px/mm, {} mm from ({}) mm",
+                    num(&c["amplitude"]),
+                    c["width"],
+                    c["height"],
+                    c["bits"],
+                    num(&c["px_per_mm"]),
+                    pair(&c["size_mm"], " x "),
+                    pair(&c["origin_mm"], ", ")
+                )
+            }
+            "dots" => match c["radius_mm"].as_array() {
+                Some(_) => format!(
+                    "{} {} dots, radius {} mm",
+                    c["dots"],
+                    c["dot_kind"].as_str().unwrap_or(""),
+                    pair(&c["radius_mm"], " to ")
+                ),
+                None => format!("no {} dots", c["dot_kind"].as_str().unwrap_or("")),
+            },
+            "strokes" => format!(
+                "{} strokes, {} points, {} drives{}",
+                c["strokes"],
+                c["points"],
+                c["drives"],
+                c["ticks"].as_array().map_or(String::new(), |_| format!(", ticks {}", pair(&c["ticks"], " to ")))
+            ),
+            "height" => format!(
+                "height field {} x {} nodes every {} mm from ({}) mm, heights {} mm, max gradient {}",
+                c["cols"],
+                c["rows"],
+                num(&c["cell_mm"]),
+                pair(&c["origin_mm"], ", "),
+                pair(&c["height_mm"], " to "),
+                num(&c["max_gradient"])
+            ),
+            "provenance" => format!("provenance, {} entries", c["entries"]),
+            _ => "unknown to this taxel (optional, kept as is)".to_string(),
+        };
+        let flag = if c["required"].as_bool() == Some(true) { "required" } else { "optional" };
+        // serde_json values ignore width, so pad their text.
+        out += &format!(
+            "{:>6}  {:<4}  {:<8}  {:>8}  {what}\n",
+            c["index"].to_string(),
+            c["tag"].as_str().unwrap_or("?"),
+            flag,
+            c["bytes"].to_string()
+        );
+        for s in c["sources"].as_array().into_iter().flatten().take(5) {
+            let mut name = format!("#{}", s["index"]);
+            if let Some(id) = s["id"].as_str().filter(|id| !id.is_empty()) {
+                name += &format!(" {id}");
+            }
+            if let Some(label) = s["label"].as_str().filter(|l| !l.is_empty()) {
+                name += &format!(" \"{label}\"");
+            }
+            if let Some(line) = s["line"].as_u64().filter(|&l| l > 0) {
+                name += &format!(" (line {line})");
+            }
+            out += &format!("{:34}from {name}\n", "");
+        }
+        let more = c["sources"].as_array().map_or(0, Vec::len).saturating_sub(5);
+        if more > 0 {
+            out += &format!("{:34}and {more} more sources\n", "");
+        }
+    }
+    out
+}

@@ -1,0 +1,152 @@
+//! The file-system side of the text form: where files go, what may be
+//! overwritten, and atomic writes.
+//!
+//! - `unpack` writes into a folder that does not exist, is empty, or holds a
+//!   previous unpack and nothing else (only `manifest.toml`, `profile.toml`
+//!   and `NN-kind.ext` files, with a manifest that `taxel unpack` wrote); any
+//!   other folder is refused, so no one's files are lost. The new folder is
+//!   written beside the target and swapped in, so a failure leaves the old
+//!   one as it was.
+//! - `pack` writes the bundle to a temporary file beside the output and
+//!   renames it over the output, so there is never a partial bundle.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use super::error::TextError;
+use super::{MANIFEST, MANIFEST_HEADER, PROFILE, pack, unpack};
+
+fn io_err(path: &Path, what: &str, e: std::io::Error) -> TextError {
+    TextError::io(path.display().to_string(), format!("{what}: {e}"))
+}
+
+/// Unpacks the bundle file `bundle` into the folder `dir`. Returns the number of files written.
+pub fn unpack_to(bundle: &Path, dir: &Path) -> Result<usize, TextError> {
+    let bytes = fs::read(bundle).map_err(|e| io_err(bundle, "cannot read the bundle", e))?;
+    let files = unpack(&bundle.display().to_string(), &bytes)?;
+    check_replaceable(dir)?;
+    let parent = match dir.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    fs::create_dir_all(&parent).map_err(|e| io_err(&parent, "cannot create the folder", e))?;
+    let fresh = tempfile::Builder::new()
+        .prefix(".taxel-unpack-")
+        .tempdir_in(&parent)
+        .map_err(|e| io_err(&parent, "cannot create a temporary folder", e))?;
+    for (name, data) in &files {
+        let path = fresh.path().join(name);
+        fs::write(&path, data).map_err(|e| io_err(&dir.join(name), "cannot write", e))?;
+    }
+    if dir.exists() {
+        // Move the old folder aside first, so that it is only deleted once the new one is in place.
+        let old = parent.join(format!(".taxel-unpack-old-{}", std::process::id()));
+        fs::rename(dir, &old).map_err(|e| io_err(dir, "cannot replace the folder", e))?;
+        if let Err(e) = fs::rename(fresh.path(), dir) {
+            let _ = fs::rename(&old, dir);
+            return Err(io_err(dir, "cannot replace the folder", e));
+        }
+        let _ = fs::remove_dir_all(&old);
+    } else {
+        fs::rename(fresh.path(), dir).map_err(|e| io_err(dir, "cannot create the folder", e))?;
+    }
+    // The temporary folder was renamed away; keep TempDir from deleting the result.
+    let _ = fresh.keep();
+    Ok(files.len())
+}
+
+/// Refuses a folder that holds anything but a previous unpack.
+fn check_replaceable(dir: &Path) -> Result<(), TextError> {
+    if !dir.exists() {
+        return Ok(());
+    }
+    let refuse = |why: &str| {
+        TextError::io(
+            dir.display().to_string(),
+            format!("{why}; refusing to overwrite it (remove it or choose another folder)"),
+        )
+    };
+    if !dir.is_dir() {
+        return Err(refuse("exists and is not a folder"));
+    }
+    let entries: Vec<_> = fs::read_dir(dir)
+        .map_err(|e| io_err(dir, "cannot list the folder", e))?
+        .filter_map(Result::ok)
+        .map(|e| (e.file_name().to_string_lossy().into_owned(), e.path().is_file()))
+        .collect();
+    if entries.is_empty() {
+        return Ok(());
+    }
+    let manifest = fs::read_to_string(dir.join(MANIFEST)).unwrap_or_default();
+    if !manifest.starts_with(MANIFEST_HEADER) {
+        return Err(refuse("is not empty and is not a folder written by `taxel unpack`"));
+    }
+    if let Some((name, _)) = entries.iter().find(|(name, is_file)| !is_file || !is_unpack_file(name)) {
+        return Err(refuse(&format!("holds `{name}`, which `taxel unpack` did not write")));
+    }
+    Ok(())
+}
+
+/// Whether `name` is a file that `unpack` writes.
+fn is_unpack_file(name: &str) -> bool {
+    if name == MANIFEST || name == PROFILE {
+        return true;
+    }
+    let Some((num, rest)) = name.split_once('-') else { return false };
+    let kinds = ["vibration.png", "grating.png", "dots.csv", "strokes.toml", "height.csv", "provenance.csv", "raw.bin"];
+    !num.is_empty() && num.bytes().all(|b| b.is_ascii_digit()) && kinds.contains(&rest)
+}
+
+/// Packs the folder `dir` into the bundle file `out`, atomically. Returns the bundle's size.
+pub fn pack_to(dir: &Path, out: &Path) -> Result<usize, TextError> {
+    if !dir.is_dir() {
+        return Err(TextError::io(
+            dir.display().to_string(),
+            "is not a folder (expected one written by `taxel unpack`)",
+        ));
+    }
+    let read = |name: &str| -> Result<Vec<u8>, TextError> {
+        let path = dir.join(name);
+        fs::read(&path).map_err(|e| io_err(&path, "cannot read", e))
+    };
+    let bytes = pack(&read).map_err(|mut e| {
+        // Name files by their path, so the message can be acted on from anywhere.
+        if !Path::new(&e.file).is_absolute() && !e.file.starts_with(&*dir.display().to_string()) {
+            e.file = dir.join(&e.file).display().to_string();
+        }
+        e
+    })?;
+    write_atomic(out, &bytes)?;
+    Ok(bytes.len())
+}
+
+/// Writes `bytes` to `path` through a temporary file in the same folder and a rename.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), TextError> {
+    use std::io::Write as _;
+    let parent = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let mut tmp = tempfile::Builder::new()
+        .prefix(".taxel-")
+        .tempfile_in(parent)
+        .map_err(|e| io_err(path, "cannot create a temporary file beside it", e))?;
+    tmp.write_all(bytes).and_then(|()| tmp.as_file().sync_all()).map_err(|e| io_err(path, "cannot write", e))?;
+    tmp.persist(path).map_err(|e| io_err(path, "cannot rename the finished file into place", e.error))?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_unpack_files_are_recognised() {
+        for n in ["manifest.toml", "profile.toml", "01-vibration.png", "123-raw.bin", "07-strokes.toml"] {
+            assert!(is_unpack_file(n), "{n}");
+        }
+        for n in ["notes.txt", "01-vibration.jpg", "-dots.csv", "a1-dots.csv", "01-dots.csv.bak"] {
+            assert!(!is_unpack_file(n), "{n}");
+        }
+    }
+}

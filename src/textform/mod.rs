@@ -1,0 +1,157 @@
+//! The text form of a bundle: a folder that people can read and edit.
+//!
+//! `taxel unpack B -o DIR` writes:
+//!
+//! - `manifest.toml`: the format version, the generator, the content hash,
+//!   and one `[[chunk]]` per chunk in table order, with its kind, its
+//!   parameters and the file that holds its data;
+//! - `profile.toml`: the device profile, in the same layout as a profile file
+//!   (so it can also be given to `--profile`);
+//! - one file per chunk, named `NN-kind.ext` after its position in the table:
+//!   masks as grayscale PNG (8- or 16-bit, like the mask), dot tables, height
+//!   fields and provenance as CSV, stroke tables as TOML, and chunks this
+//!   version does not know as `.bin` (their bytes, unchanged).
+//!
+//! `taxel pack DIR -o B` reads it back; `pack(unpack(b))` is byte-identical
+//! to `b`. Floats are written with Rust's shortest round-trip formatting and
+//! read back from their text as `f32`, so they survive exactly. The layout is
+//! documented for people in docs/text-form.md.
+//!
+//! [`unpack`] and [`pack`] work on bytes and file contents only; [`folder`]
+//! does the file system part (refusing to overwrite, atomic writes).
+
+pub mod error;
+pub mod folder;
+mod png;
+mod read;
+mod tables;
+pub mod toml_in;
+mod write;
+
+pub use error::TextError;
+pub use read::pack;
+pub use write::unpack;
+
+/// The manifest's file name.
+pub const MANIFEST: &str = "manifest.toml";
+/// The device profile's file name.
+pub const PROFILE: &str = "profile.toml";
+/// The first line of every manifest `taxel unpack` writes; `unpack` only
+/// replaces a folder whose manifest starts with it.
+pub const MANIFEST_HEADER: &str = "# A taxel bundle in text form, written by `taxel unpack`.";
+
+#[cfg(test)]
+mod tests {
+    use std::collections::BTreeMap;
+
+    use proptest::prelude::*;
+    use taxel_format::{
+        Bundle, Chunk, Dot, DotKind, DotTable, FIELD_CONTACT, HeightField, Manifest, MaskKind, MaskLayer, MaskSamples,
+        Mm, sample,
+    };
+
+    use super::*;
+
+    fn round_trip(bytes: &[u8]) -> Result<Vec<u8>, TextError> {
+        let files: BTreeMap<String, Vec<u8>> = unpack("b.taxel", bytes)?.into_iter().collect();
+        pack(&|name: &str| files.get(name).cloned().ok_or_else(|| TextError::io(name, "missing")))
+    }
+
+    #[test]
+    fn every_chunk_kind_packs_back_byte_for_byte() {
+        for b in [sample::every_kind(), sample::tiny(), Bundle::new(sample::tiny().manifest)] {
+            let bytes = b.to_bytes().unwrap();
+            assert_eq!(round_trip(&bytes).unwrap(), bytes);
+        }
+        // A newer minor version with a chunk this taxel does not know, whose tag is not text.
+        let mut b = sample::every_kind();
+        b.chunks.push(Chunk::Raw(taxel_format::RawChunk {
+            tag: taxel_format::Tag([0, 0xff, b'"', 7]),
+            required: false,
+            data: vec![0; 3],
+        }));
+        let bytes = b.to_bytes_with_minor(3).unwrap();
+        assert_eq!(round_trip(&bytes).unwrap(), bytes);
+    }
+
+    #[test]
+    fn the_manifest_lists_every_chunk_in_order() {
+        let files = unpack("b.taxel", &sample::every_kind().to_bytes().unwrap()).unwrap();
+        let names: Vec<&str> = files.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(
+            names,
+            [
+                "profile.toml",
+                "01-vibration.png",
+                "02-grating.png",
+                "03-dots.csv",
+                "04-dots.csv",
+                "05-dots.csv",
+                "06-dots.csv",
+                "07-strokes.toml",
+                "08-height.csv",
+                "09-provenance.csv",
+                "10-raw.bin",
+                "manifest.toml"
+            ]
+        );
+        let manifest = String::from_utf8(files.last().unwrap().1.clone()).unwrap();
+        assert!(manifest.starts_with(MANIFEST_HEADER));
+        assert!(manifest.contains("kind = \"grating\"\nfile = \"02-grating.png\"\namplitude = 0.1\n"), "{manifest}");
+        assert!(manifest.contains("tag = \"XTRA\"\nrequired = false\n"), "{manifest}");
+    }
+
+    fn finite() -> impl Strategy<Value = f32> {
+        prop_oneof![-1.0e30f32..1.0e30, -10.0f32..10.0, Just(-0.0f32), Just(1.0e-40f32)]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// Arbitrary finite values survive the text form bit for bit.
+        #[test]
+        fn random_values_round_trip_exactly(
+            origin in (finite(), finite()),
+            ppm in 0.001f32..10_000.0,
+            amplitude in 0.0f32..=1.0,
+            samples in proptest::collection::vec(any::<u16>(), 6),
+            base in (finite(), finite()),
+            dots in proptest::collection::vec((-50.0f32..50.0, -50.0f32..50.0, 1.0f32..10.0, 0.0f32..=1.0, any::<Option<u32>>()), 0..20),
+            heights in proptest::collection::vec((-1.0e9f32..1.0e9, -3.0f32..3.0, -3.0f32..3.0, any::<bool>()), 6),
+        ) {
+            let mut b = Bundle::new(Manifest::new(sample::grid_profile()));
+            b.chunks.push(Chunk::Mask(MaskLayer {
+                source: None,
+                kind: MaskKind::Grating { wavelength: Mm(ppm.min(1e6)), angle_deg: amplitude * 360.0 - 180.0 },
+                amplitude,
+                origin_x: Mm(origin.0),
+                origin_y: Mm(origin.1),
+                px_per_mm: ppm,
+                width: 3,
+                height: 2,
+                samples: MaskSamples::U16(samples),
+            }));
+            // Near an arbitrary base, so values are arbitrary but the dot grid stays small.
+            let dots = dots.into_iter().map(|(x, y, r, a, s)| Dot {
+                x: Mm(base.0 + x), y: Mm(base.1 + y), radius: Mm(r), amplitude: a, source: s.filter(|&s| s != u32::MAX),
+            }).collect();
+            b.chunks.push(Chunk::Dots(DotTable { kind: DotKind::Braille, dots }));
+            let contact = |c: bool| if c { FIELD_CONTACT } else { 0 };
+            b.chunks.push(Chunk::Height(HeightField {
+                source: Some(0),
+                cols: 3,
+                rows: 2,
+                origin_x: Mm(origin.0.clamp(-1e9, 1e9)),
+                origin_y: Mm(origin.1.clamp(-1e9, 1e9)),
+                cell: Mm(ppm),
+                gradient_cap: 3.0,
+                heights: heights.iter().map(|h| if h.3 { h.0 } else { 0.0 }).collect(),
+                grad_x: heights.iter().map(|h| if h.3 { h.1 } else { 0.0 }).collect(),
+                grad_y: heights.iter().map(|h| if h.3 { h.2 } else { 0.0 }).collect(),
+                flags: heights.iter().map(|h| contact(h.3)).collect(),
+            }));
+            let bytes = b.to_bytes().unwrap();
+            prop_assert_eq!(round_trip(&bytes).unwrap(), bytes);
+        }
+    }
+}

@@ -1,0 +1,238 @@
+//! `taxel unpack`, `taxel pack` and `taxel inspect` on bundles the format's
+//! sample builder makes: byte-identical round trips through the folder,
+//! errors that name the file, and what inspect prints.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use taxel_format::sample;
+
+fn taxel(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_taxel")).args(args).output().unwrap()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn p(path: &Path) -> &str {
+    path.to_str().unwrap()
+}
+
+fn every_kind(dir: &Path) -> (std::path::PathBuf, Vec<u8>) {
+    let bytes = sample::every_kind().to_bytes().unwrap();
+    let path = dir.join("every.taxel");
+    std::fs::write(&path, &bytes).unwrap();
+    (path, bytes)
+}
+
+#[test]
+fn unpack_then_pack_gives_the_same_bytes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (bundle, bytes) = every_kind(tmp.path());
+    let dir = tmp.path().join("every");
+    let o = taxel(&["unpack", p(&bundle), "-o", p(&dir)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.join("manifest.toml").is_file() && dir.join("01-vibration.png").is_file());
+    let out = tmp.path().join("again.taxel");
+    let o = taxel(&["pack", p(&dir), "-o", p(&out)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(std::fs::read(&out).unwrap(), bytes);
+    // No temporary files are left behind.
+    let names: Vec<_> = std::fs::read_dir(tmp.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(names.len(), 3, "{names:?}");
+}
+
+#[test]
+fn masks_are_grayscale_pngs_of_their_depth() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (bundle, _) = every_kind(tmp.path());
+    let dir = tmp.path().join("d");
+    assert!(taxel(&["unpack", p(&bundle), "-o", p(&dir)]).status.success());
+    let v = image::open(dir.join("01-vibration.png")).unwrap();
+    assert_eq!((v.color(), v.width(), v.height()), (image::ColorType::L8, 3, 2));
+    assert_eq!(v.to_luma8().into_raw(), [0, 1, 127, 128, 254, 255]);
+    let g = image::open(dir.join("02-grating.png")).unwrap();
+    assert_eq!(g.color(), image::ColorType::L16);
+    assert_eq!(g.to_luma16().into_raw(), [0, 1, 255, 256, 65_534, 65_535]);
+}
+
+#[test]
+fn an_edited_folder_packs_the_edit() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (bundle, _) = every_kind(tmp.path());
+    let dir = tmp.path().join("d");
+    assert!(taxel(&["unpack", p(&bundle), "-o", p(&dir)]).status.success());
+    // Halve the grating's amplitude and move a dot, as a person would.
+    let m = std::fs::read_to_string(dir.join("manifest.toml")).unwrap();
+    std::fs::write(dir.join("manifest.toml"), m.replace("amplitude = 0.1\n", "amplitude = 0.05\n")).unwrap();
+    let d = std::fs::read_to_string(dir.join("04-dots.csv")).unwrap();
+    std::fs::write(dir.join("04-dots.csv"), d.replace("60.0,45.0,", "61.5,45.0,")).unwrap();
+    let out = tmp.path().join("edited.taxel");
+    let o = taxel(&["pack", p(&dir), "-o", p(&out)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let b = taxel_format::Bundle::from_bytes(&std::fs::read(&out).unwrap()).unwrap();
+    let mut expected = sample::every_kind();
+    let taxel_format::Chunk::Mask(g) = &mut expected.chunks[1] else { panic!() };
+    g.amplitude = 0.05;
+    let taxel_format::Chunk::Dots(t) = &mut expected.chunks[3] else { panic!() };
+    t.dots[0].x = taxel_format::Mm(61.5);
+    assert_eq!(b, expected);
+}
+
+#[test]
+fn mistakes_in_a_hand_edited_folder_name_the_file_and_what_was_expected() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (bundle, _) = every_kind(tmp.path());
+    let dir = tmp.path().join("d");
+    assert!(taxel(&["unpack", p(&bundle), "-o", p(&dir)]).status.success());
+    let manifest = std::fs::read_to_string(dir.join("manifest.toml")).unwrap();
+    let out = tmp.path().join("o.taxel");
+    let cases: Vec<(&str, String, String, &str)> = vec![
+        (
+            "manifest.toml",
+            manifest.replace("amplitude = 0.75", "amplitude = \"loud\""),
+            "manifest.toml:".into(),
+            "key `chunk[1].amplitude`: expected a number",
+        ),
+        (
+            "manifest.toml",
+            manifest.replace("freq_mhz = 50000", "freq_hz = 50"),
+            "manifest.toml:".into(),
+            "key `chunk[1].freq_hz`: unknown key",
+        ),
+        (
+            "manifest.toml",
+            manifest.replace("dot_kind = \"symbol\"", "dot_kind = \"stars\""),
+            "manifest.toml:".into(),
+            "unknown dot kind \"stars\"",
+        ),
+        (
+            "manifest.toml",
+            manifest.replace("format = \"1.0\"", "format = \"2.0\""),
+            "manifest.toml:".into(),
+            "key `format`",
+        ),
+        (
+            "03-dots.csv",
+            "x_mm,y_mm,radius_mm,amplitude,source\n1,2,fat,1,\n".into(),
+            "03-dots.csv:2:".into(),
+            "column `radius_mm`: expected a number, found `fat`",
+        ),
+        // Values that parse but that the format refuses name the chunk's file.
+        (
+            "03-dots.csv",
+            "x_mm,y_mm,radius_mm,amplitude,source\n1,2,1,7,\n".into(),
+            "03-dots.csv:".into(),
+            "dot amplitude must be from 0 to 1",
+        ),
+        ("profile.toml", "name = \"x\"\n".into(), "profile.toml".into(), "key `array`: missing table [array]"),
+    ];
+    for (file, contents, at, expected) in cases {
+        let original = std::fs::read(dir.join(file)).unwrap();
+        std::fs::write(dir.join(file), contents).unwrap();
+        let o = taxel(&["pack", p(&dir), "-o", p(&out)]);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(1), "{file}: {err}");
+        assert!(err.contains(&format!("{}", dir.join(&at).display())), "{file}: {err}");
+        assert!(err.contains(expected), "{file}: expected `{expected}` in {err}");
+        assert!(!out.exists(), "no bundle is written when the folder has errors");
+        std::fs::write(dir.join(file), original).unwrap();
+    }
+    std::fs::remove_file(dir.join("08-height.csv")).unwrap();
+    let o = taxel(&["pack", p(&dir), "-o", p(&out)]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("08-height.csv: cannot read"), "{}", stderr(&o));
+}
+
+#[test]
+fn unpack_refuses_to_overwrite_other_files_but_replaces_a_previous_unpack() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (bundle, _) = every_kind(tmp.path());
+    let dir = tmp.path().join("d");
+    std::fs::create_dir(&dir).unwrap();
+    std::fs::write(dir.join("thesis.txt"), "mine").unwrap();
+    let o = taxel(&["unpack", p(&bundle), "-o", p(&dir)]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("refusing to overwrite"), "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(dir.join("thesis.txt")).unwrap(), "mine");
+    // A previous unpack (here of a bundle with more chunks) is replaced whole.
+    std::fs::remove_file(dir.join("thesis.txt")).unwrap();
+    assert!(taxel(&["unpack", p(&bundle), "-o", p(&dir)]).status.success());
+    let tiny = tmp.path().join("tiny.taxel");
+    std::fs::write(&tiny, sample::tiny().to_bytes().unwrap()).unwrap();
+    let o = taxel(&["unpack", p(&tiny), "-o", p(&dir)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mut names: Vec<_> =
+        std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    names.sort();
+    assert_eq!(names, ["01-vibration.png", "manifest.toml", "profile.toml"]);
+    // But not once someone has added a file to it.
+    std::fs::write(dir.join("notes.md"), "x").unwrap();
+    assert_eq!(taxel(&["unpack", p(&tiny), "-o", p(&dir)]).status.code(), Some(2));
+}
+
+#[test]
+fn inspect_prints_profile_layers_and_sizes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (bundle, bytes) = every_kind(tmp.path());
+    let o = taxel(&["inspect", p(&bundle)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8(o.stdout).unwrap();
+    assert!(out.contains(&format!("taxel bundle 1.0, {} bytes, 11 chunks", bytes.len())), "{out}");
+    assert!(
+        out.contains("profile    brush-4x3 (grid), 4 x 3 actuators, pitch 63 x 63 mm, 1000 Hz, 16-bit output"),
+        "{out}"
+    );
+    assert!(out.contains("surface    189 x 126 mm"), "{out}");
+    assert!(out.contains("vibration 50 Hz, amplitude 0.75; mask 3 x 2 8-bit at 4 px/mm"), "{out}");
+    assert!(out.contains("grating 6 mm at 45°"), "{out}");
+    assert!(out.contains("6 braille dots"), "{out}");
+    assert!(out.contains("2 strokes, 4 points, 5 drives"), "{out}");
+    assert!(out.contains("from #0 lake \"Lac Léman\" (line 12)"), "{out}");
+    assert!(out.contains("XTRA  optional"), "{out}");
+}
+
+#[test]
+fn inspect_json_has_every_chunk_with_its_size() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (bundle, bytes) = every_kind(tmp.path());
+    let o = taxel(&["inspect", p(&bundle), "--format", "json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["bytes"], bytes.len());
+    assert_eq!(v["profile"]["name"], "brush-4x3");
+    assert_eq!(v["surface_mm"], serde_json::json!([189.0, 126.0]));
+    let chunks = v["chunks"].as_array().unwrap();
+    let view = taxel_format::BundleView::parse(&bytes).unwrap();
+    assert_eq!(chunks.len() as u32, view.chunk_count());
+    for (i, c) in chunks.iter().enumerate() {
+        let (tag, required, _, len) = view.chunk_entry(i as u32).unwrap();
+        assert_eq!(
+            (c["tag"].as_str().unwrap(), c["required"].as_bool().unwrap()),
+            (tag.to_string().as_str(), required)
+        );
+        assert_eq!(c["bytes"], len);
+    }
+    assert_eq!(chunks[2]["kind"], "grating");
+    assert_eq!(chunks[2]["bits"], 16);
+    assert_eq!(chunks[1]["sources"][0]["label"], "Lac Léman");
+}
+
+#[test]
+fn a_corrupt_bundle_is_bad_input_named_with_its_file() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (bundle, mut bytes) = every_kind(tmp.path());
+    let last = bytes.len() - 20;
+    bytes[last] ^= 1;
+    std::fs::write(&bundle, &bytes).unwrap();
+    for args in [vec!["inspect", p(&bundle)], vec!["unpack", p(&bundle), "-o", p(&tmp.path().join("x"))]] {
+        let o = taxel(&args);
+        assert_eq!(o.status.code(), Some(1), "{args:?}");
+        let err = stderr(&o);
+        assert!(err.contains(p(&bundle)) && err.contains("is corrupt: checksum"), "{err}");
+    }
+    assert!(!tmp.path().join("x").exists());
+    let o = taxel(&["inspect", p(&tmp.path().join("missing.taxel"))]);
+    assert_eq!(o.status.code(), Some(2));
+}
