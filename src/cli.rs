@@ -118,7 +118,7 @@ pub enum Command {
     Play {
         /// The bundle.
         bundle: PathBuf,
-        /// Exploration trace (CSV: t_ms,x_mm,y_mm[,contact]).
+        /// Exploration trace (CSV with header `t_ms,x_mm,y_mm`, plus `contact` for the finger device).
         #[arg(long)]
         trace: Option<PathBuf>,
         /// Output: FRAMES.csv, MOTORS.csv or DRIVE.wav (standard output when omitted).
