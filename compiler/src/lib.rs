@@ -12,9 +12,11 @@
 pub mod annotation;
 pub mod brush;
 pub mod diagnostic;
+pub mod geometry;
 pub mod mesh;
 pub mod options;
 pub mod stylesheet;
+pub mod svg;
 mod text_pos;
 
 pub use diagnostic::{Diagnostic, Severity, has_errors};

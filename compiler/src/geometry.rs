@@ -1,0 +1,266 @@
+//! Exact geometry in f64: outlines flattened to polylines in page
+//! millimetres, point-in-shape tests and distances to an outline.
+//!
+//! The compiler uses these for dots along paths, spacing rules and overlap
+//! checks; error reports use them as the exact reference that raster masks
+//! are measured against ("coverage computed from the path itself").
+//!
+//! ```
+//! use taxel_compiler::geometry::{FillRule, Polyline, contains, distance_to_outline};
+//!
+//! let square = vec![Polyline { points: vec![(0.0, 0.0), (10.0, 0.0), (10.0, 10.0), (0.0, 10.0)], closed: true }];
+//! assert!(contains(&square, (5.0, 5.0), FillRule::NonZero));
+//! assert!(!contains(&square, (15.0, 5.0), FillRule::NonZero));
+//! assert!((distance_to_outline(&square, (5.0, 3.0)) - 3.0).abs() < 1e-12);
+//! ```
+
+use resvg::tiny_skia::{Path, PathSegment, Transform};
+
+/// Largest distance, in millimetres, between a curve and the polyline that replaces it.
+pub const FLATTEN_TOLERANCE_MM: f64 = 0.005;
+
+/// How the inside of a shape is decided (SVG `fill-rule`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FillRule {
+    /// Inside where the winding number is not zero.
+    #[default]
+    NonZero,
+    /// Inside where a ray crosses the outline an odd number of times.
+    EvenOdd,
+}
+
+/// One subpath as a polyline in page millimetres.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Polyline {
+    /// The vertices, in drawing order. A closed polyline does not repeat its first point.
+    pub points: Vec<(f64, f64)>,
+    /// Whether the subpath was closed (`Z`).
+    pub closed: bool,
+}
+
+impl Polyline {
+    /// The segments, including the closing one of a closed polyline.
+    pub fn segments(&self) -> impl Iterator<Item = ((f64, f64), (f64, f64))> + '_ {
+        let n = self.points.len();
+        let extra = if self.closed && n > 2 { 1 } else { 0 };
+        (0..(n.saturating_sub(1) + extra)).map(move |i| (self.points[i], self.points[(i + 1) % n]))
+    }
+
+    /// The length along the polyline (closing segment included when closed).
+    pub fn length(&self) -> f64 {
+        self.segments().map(|(a, b)| dist(a, b)).sum()
+    }
+}
+
+/// Euclidean distance between two points.
+pub fn dist(a: (f64, f64), b: (f64, f64)) -> f64 {
+    (a.0 - b.0).hypot(a.1 - b.1)
+}
+
+/// Flattens `path` after applying `ts` (which should map to page millimetres),
+/// so that no point of a curve is farther than `tolerance` from the result.
+/// Subpaths with fewer than two distinct points are dropped.
+pub fn flatten(path: &Path, ts: Transform, tolerance: f64) -> Vec<Polyline> {
+    let tol = if tolerance.is_finite() && tolerance > 0.0 { tolerance } else { FLATTEN_TOLERANCE_MM };
+    let map = |p: resvg::tiny_skia::Point| {
+        let (x, y) = (p.x as f64, p.y as f64);
+        (ts.sx as f64 * x + ts.kx as f64 * y + ts.tx as f64, ts.ky as f64 * x + ts.sy as f64 * y + ts.ty as f64)
+    };
+    let mut out: Vec<Polyline> = Vec::new();
+    let mut cur = Polyline::default();
+    let finish = |cur: &mut Polyline, out: &mut Vec<Polyline>| {
+        let mut pl = core::mem::take(cur);
+        pl.points.dedup();
+        if pl.closed && pl.points.len() > 1 && pl.points.first() == pl.points.last() {
+            pl.points.pop();
+        }
+        if pl.points.len() >= 2 && pl.points.iter().all(|p| p.0.is_finite() && p.1.is_finite()) {
+            out.push(pl);
+        }
+    };
+    for seg in path.segments() {
+        match seg {
+            PathSegment::MoveTo(p) => {
+                finish(&mut cur, &mut out);
+                cur.points.push(map(p));
+            }
+            PathSegment::LineTo(p) => cur.points.push(map(p)),
+            PathSegment::QuadTo(c, p) => {
+                let p0 = cur.points.last().copied().unwrap_or(map(c));
+                let (c, p) = (map(c), map(p));
+                let d = second_diff(p0, c, p);
+                let n = steps(0.25 * d, tol);
+                for i in 1..=n {
+                    let t = i as f64 / n as f64;
+                    let u = 1.0 - t;
+                    cur.points.push((
+                        u * u * p0.0 + 2.0 * u * t * c.0 + t * t * p.0,
+                        u * u * p0.1 + 2.0 * u * t * c.1 + t * t * p.1,
+                    ));
+                }
+            }
+            PathSegment::CubicTo(c1, c2, p) => {
+                let p0 = cur.points.last().copied().unwrap_or(map(c1));
+                let (c1, c2, p) = (map(c1), map(c2), map(p));
+                let d = second_diff(p0, c1, c2).max(second_diff(c1, c2, p));
+                let n = steps(0.75 * d, tol);
+                for i in 1..=n {
+                    let t = i as f64 / n as f64;
+                    let u = 1.0 - t;
+                    let (a, b, c, e) = (u * u * u, 3.0 * u * u * t, 3.0 * u * t * t, t * t * t);
+                    cur.points
+                        .push((a * p0.0 + b * c1.0 + c * c2.0 + e * p.0, a * p0.1 + b * c1.1 + c * c2.1 + e * p.1));
+                }
+            }
+            PathSegment::Close => {
+                cur.closed = true;
+                let start = cur.points.first().copied();
+                finish(&mut cur, &mut out);
+                // A drawing command after `Z` starts from the subpath's first point.
+                if let Some(s) = start {
+                    cur.points.push(s);
+                }
+            }
+        }
+    }
+    finish(&mut cur, &mut out);
+    out
+}
+
+fn second_diff(a: (f64, f64), b: (f64, f64), c: (f64, f64)) -> f64 {
+    (a.0 - 2.0 * b.0 + c.0).hypot(a.1 - 2.0 * b.1 + c.1)
+}
+
+/// Segments needed so that a curve whose chord error bound is `m / n²` stays within `tol`.
+fn steps(m: f64, tol: f64) -> usize {
+    let n = (m / tol).sqrt().ceil();
+    if n.is_finite() { (n as usize).clamp(1, 1000) } else { 1 }
+}
+
+/// Whether `p` is inside the shape whose subpaths are `polys` (each closed
+/// implicitly, as SVG fills do).
+pub fn contains(polys: &[Polyline], p: (f64, f64), rule: FillRule) -> bool {
+    let mut winding = 0i32;
+    let mut crossings = 0u32;
+    for pl in polys {
+        let n = pl.points.len();
+        for i in 0..n {
+            let a = pl.points[i];
+            let b = pl.points[(i + 1) % n];
+            if (a.1 <= p.1) != (b.1 <= p.1) {
+                let x = a.0 + (p.1 - a.1) / (b.1 - a.1) * (b.0 - a.0);
+                if x > p.0 {
+                    crossings += 1;
+                    winding += if b.1 > a.1 { 1 } else { -1 };
+                }
+            }
+        }
+    }
+    match rule {
+        FillRule::NonZero => winding != 0,
+        FillRule::EvenOdd => crossings % 2 == 1,
+    }
+}
+
+/// Distance from `p` to the nearest point of a segment.
+pub fn distance_to_segment(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let len2 = dx * dx + dy * dy;
+    let t = if len2 > 0.0 { (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / len2).clamp(0.0, 1.0) } else { 0.0 };
+    dist(p, (a.0 + t * dx, a.1 + t * dy))
+}
+
+/// Distance from `p` to the nearest point of the outline (every segment of every subpath);
+/// infinite when there is no segment.
+pub fn distance_to_outline(polys: &[Polyline], p: (f64, f64)) -> f64 {
+    polys.iter().flat_map(|pl| pl.segments()).map(|(a, b)| distance_to_segment(p, a, b)).fold(f64::INFINITY, f64::min)
+}
+
+/// Exact coverage of a vibrating outline: whether `p` lies within `width / 2`
+/// of the outline (the band the compiler strokes with round joins and caps).
+pub fn in_outline_band(polys: &[Polyline], p: (f64, f64), width: f64) -> bool {
+    distance_to_outline(polys, p) <= width / 2.0
+}
+
+/// Smallest distance between two segments (0 when they cross).
+pub fn segment_distance(a0: (f64, f64), a1: (f64, f64), b0: (f64, f64), b1: (f64, f64)) -> f64 {
+    let cross = |o: (f64, f64), a: (f64, f64), b: (f64, f64)| (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0);
+    let (d1, d2) = (cross(a0, a1, b0), cross(a0, a1, b1));
+    let (d3, d4) = (cross(b0, b1, a0), cross(b0, b1, a1));
+    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0)) && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0)) {
+        return 0.0;
+    }
+    distance_to_segment(a0, b0, b1)
+        .min(distance_to_segment(a1, b0, b1))
+        .min(distance_to_segment(b0, a0, a1))
+        .min(distance_to_segment(b1, a0, a1))
+}
+
+/// Axis-aligned bounds `(x0, y0, x1, y1)` of polylines, or `None` when empty.
+pub fn bounds(polys: &[Polyline]) -> Option<(f64, f64, f64, f64)> {
+    let mut it = polys.iter().flat_map(|p| p.points.iter());
+    let first = *it.next()?;
+    Some(it.fold((first.0, first.1, first.0, first.1), |b, &(x, y)| (b.0.min(x), b.1.min(y), b.2.max(x), b.3.max(y))))
+}
+
+/// Points at arc-length positions `s` (ascending) along a polyline.
+pub fn points_at(pl: &Polyline, positions: &[f64]) -> Vec<(f64, f64)> {
+    let mut out = Vec::with_capacity(positions.len());
+    let mut acc = 0.0;
+    let mut segs = pl.segments().peekable();
+    let mut k = 0;
+    while let Some((a, b)) = segs.next() {
+        let l = dist(a, b);
+        while k < positions.len() && (positions[k] <= acc + l || segs.peek().is_none()) {
+            let t = if l > 0.0 { ((positions[k] - acc) / l).clamp(0.0, 1.0) } else { 0.0 };
+            out.push((a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1)));
+            k += 1;
+        }
+        acc += l;
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use resvg::tiny_skia::PathBuilder;
+
+    #[test]
+    fn circle_flattens_within_tolerance() {
+        let path = PathBuilder::from_circle(50.0, 50.0, 20.0).unwrap();
+        let polys = flatten(&path, Transform::from_scale(0.5, 0.5), 0.001);
+        assert_eq!(polys.len(), 1);
+        assert!(polys[0].closed);
+        // Vertices lie on the circle (centre 25,25, radius 10; tiny-skia's
+        // conic-to-quad circle is itself within ~1e-4 of exact) and chords stay close.
+        for (a, b) in polys[0].segments() {
+            let mid = ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0);
+            assert!((dist(a, (25.0, 25.0)) - 10.0).abs() < 2e-3);
+            assert!((dist(mid, (25.0, 25.0)) - 10.0).abs() < 3e-3);
+        }
+        let exact = 2.0 * core::f64::consts::PI * 10.0;
+        assert!((polys[0].length() - exact).abs() / exact < 1e-3);
+    }
+
+    #[test]
+    fn even_odd_and_nonzero_differ_for_a_doubled_square() {
+        let sq = Polyline { points: vec![(0.0, 0.0), (4.0, 0.0), (4.0, 4.0), (0.0, 4.0)], closed: true };
+        let polys = vec![sq.clone(), sq];
+        assert!(contains(&polys, (2.0, 2.0), FillRule::NonZero));
+        assert!(!contains(&polys, (2.0, 2.0), FillRule::EvenOdd));
+    }
+
+    #[test]
+    fn crossing_segments_have_zero_distance() {
+        assert_eq!(segment_distance((0.0, 0.0), (2.0, 2.0), (0.0, 2.0), (2.0, 0.0)), 0.0);
+        assert!((segment_distance((0.0, 0.0), (1.0, 0.0), (0.0, 3.0), (1.0, 3.0)) - 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn points_at_walks_arc_length() {
+        let pl = Polyline { points: vec![(0.0, 0.0), (10.0, 0.0), (10.0, 10.0)], closed: false };
+        let p = points_at(&pl, &[0.0, 5.0, 15.0, 20.0]);
+        assert_eq!(p, vec![(0.0, 0.0), (5.0, 0.0), (10.0, 5.0), (10.0, 10.0)]);
+    }
+}

@@ -1,0 +1,161 @@
+//! Mask layers: a shape's outline band (vibration) or fill (grating)
+//! rasterised with tiny-skia, anti-aliased, on the page-wide pixel lattice
+//! (so masks of different shapes sample the same points), cropped to the
+//! samples that are not zero.
+
+use resvg::tiny_skia::{BlendMode, FillRule as SkFillRule, LineCap, LineJoin, Paint, Pixmap, Stroke, Transform};
+use taxel_format::{MAX_MASK_SIDE, MaskKind, MaskLayer, MaskSamples, Mm};
+
+use super::scene::Item;
+use super::size::Page;
+use crate::diagnostic::Diagnostic;
+use crate::geometry::FillRule;
+
+/// Largest mask the compiler makes, in samples (64 MB of RGBA while rendering).
+pub(crate) const MAX_SAMPLES: u64 = 16 << 20;
+
+/// What to draw.
+pub(crate) enum Coverage {
+    /// The band of this width (mm) centred on the outline, round joins and caps.
+    Band(f64),
+    /// The fill, minus a band of this width (mm) when the shape also vibrates
+    /// (a tactile icon), so the two layers do not overlap.
+    Fill { minus_band: Option<f64> },
+}
+
+/// Renders one mask; `None` when nothing of it is left on the page.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn render(
+    item: &Item<'_>,
+    coverage: &Coverage,
+    kind: MaskKind,
+    amplitude: f32,
+    source: Option<u32>,
+    page: Page,
+    px_per_mm: f32,
+    element: &str,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<MaskLayer> {
+    let path = item.path.as_ref()?;
+    let b = path.compute_tight_bounds()?;
+    let grow = match coverage {
+        Coverage::Band(w) => *w / 2.0,
+        Coverage::Fill { .. } => 0.0,
+    };
+    let x0 = (b.left() as f64 - grow).max(0.0);
+    let y0 = (b.top() as f64 - grow).max(0.0);
+    let x1 = (b.right() as f64 + grow).min(page.width_mm);
+    let y1 = (b.bottom() as f64 + grow).min(page.height_mm);
+    if !(x1 > x0 && y1 > y0) {
+        return None;
+    }
+    let mut px = px_per_mm as f64;
+    let extent = |px: f64| {
+        let (i0, j0) = ((x0 * px).floor(), (y0 * px).floor());
+        (i0, j0, ((x1 * px).ceil() - i0).max(1.0), ((y1 * px).ceil() - j0).max(1.0))
+    };
+    let (_, _, w, h) = extent(px);
+    if w * h > MAX_SAMPLES as f64 || w > MAX_MASK_SIDE as f64 || h > MAX_MASK_SIDE as f64 {
+        let f = (MAX_SAMPLES as f64 / (w * h)).sqrt().min(MAX_MASK_SIDE as f64 / w.max(h)) * 0.99;
+        let lower = px * f;
+        diags.push(
+            Diagnostic::warning(
+                "T0303",
+                format!("the mask of this shape would need {:.0} x {:.0} samples; its resolution is lowered from {px} to {lower:.3} px/mm", w, h),
+            )
+            .with_element(element)
+            .with_help("split the shape, or lower --resolution for the whole drawing"),
+        );
+        px = lower;
+    }
+    let (i0, j0, w, h) = extent(px);
+    let mut pixmap = Pixmap::new(w as u32, h as u32)?;
+    let ts = Transform::from_row(px as f32, 0.0, 0.0, px as f32, -i0 as f32, -j0 as f32);
+    let mut paint = Paint::default();
+    paint.set_color_rgba8(0, 0, 0, 255);
+    paint.anti_alias = true;
+    let band = |width: f64| Stroke {
+        width: width as f32,
+        line_cap: LineCap::Round,
+        line_join: LineJoin::Round,
+        ..Stroke::default()
+    };
+    match coverage {
+        Coverage::Band(width) => pixmap.stroke_path(path, &paint, &band(*width), ts, None),
+        Coverage::Fill { minus_band } => {
+            let rule = match item.fill_rule {
+                FillRule::NonZero => SkFillRule::Winding,
+                FillRule::EvenOdd => SkFillRule::EvenOdd,
+            };
+            pixmap.fill_path(path, &paint, rule, ts, None);
+            if let Some(wb) = minus_band {
+                let mut cut = paint.clone();
+                cut.blend_mode = BlendMode::DestinationOut;
+                pixmap.stroke_path(path, &cut, &band(*wb), ts, None);
+            }
+        }
+    }
+    let mut alpha: Vec<u8> = pixmap.pixels().iter().map(|p| p.alpha()).collect();
+    let page_ts = Transform::from_scale(page.scale as f32, page.scale as f32);
+    for (clip, group_ts) in &item.clips {
+        let mut cp = Pixmap::new(w as u32, h as u32)?;
+        let node = usvg::Node::Group(Box::new(clip.root().clone()));
+        let cts = ts.pre_concat(page_ts).pre_concat(*group_ts).pre_concat(clip.transform());
+        resvg::render_node(&node, cts, &mut cp.as_mut());
+        for (a, c) in alpha.iter_mut().zip(cp.pixels()) {
+            *a = ((*a as u32 * c.alpha() as u32 + 127) / 255) as u8;
+        }
+    }
+    crop(alpha, w as u32, h as u32).map(|(ci, cj, cw, ch, samples)| MaskLayer {
+        source,
+        kind,
+        amplitude,
+        origin_x: Mm(((i0 + ci as f64) / px) as f32),
+        origin_y: Mm(((j0 + cj as f64) / px) as f32),
+        px_per_mm: px as f32,
+        width: cw,
+        height: ch,
+        samples: MaskSamples::U8(samples),
+    })
+}
+
+/// Crops a raster to its non-zero samples: `(first column, first row, width, height, samples)`.
+fn crop(a: Vec<u8>, w: u32, h: u32) -> Option<(u32, u32, u32, u32, Vec<u8>)> {
+    let (w, h) = (w as usize, h as usize);
+    let rows: Vec<usize> = (0..h).filter(|&j| a[j * w..(j + 1) * w].iter().any(|&v| v > 0)).collect();
+    let (&j0, &j1) = (rows.first()?, rows.last()?);
+    let mut i0 = w;
+    let mut i1 = 0;
+    for j in j0..=j1 {
+        let row = &a[j * w..(j + 1) * w];
+        if let Some(f) = row.iter().position(|&v| v > 0) {
+            i0 = i0.min(f);
+            i1 = i1.max(row.iter().rposition(|&v| v > 0).unwrap_or(f));
+        }
+    }
+    if i0 == 0 && i1 + 1 == w && j0 == 0 && j1 + 1 == h {
+        return Some((0, 0, w as u32, h as u32, a));
+    }
+    let mut out = Vec::with_capacity((i1 + 1 - i0) * (j1 + 1 - j0));
+    for j in j0..=j1 {
+        out.extend_from_slice(&a[j * w + i0..j * w + i1 + 1]);
+    }
+    Some((i0 as u32, j0 as u32, (i1 + 1 - i0) as u32, (j1 + 1 - j0) as u32, out))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::crop;
+
+    #[test]
+    fn crop_keeps_only_nonzero_extent() {
+        #[rustfmt::skip]
+        let a = vec![
+            0, 0, 0, 0,
+            0, 5, 0, 0,
+            0, 0, 7, 0,
+        ];
+        assert_eq!(crop(a, 4, 3), Some((1, 1, 2, 2, vec![5, 0, 0, 7])));
+        assert_eq!(crop(vec![0; 6], 3, 2), None);
+    }
+}

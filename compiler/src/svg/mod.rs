@@ -1,0 +1,134 @@
+//! The SVG front end: annotated SVG in, bundle and diagnostics out.
+//!
+//! Stages: [`source`] reads what usvg does not keep (annotations, labels,
+//! lines) and gives every element an id; usvg resolves the drawing (CSS,
+//! transforms, `use`, clip paths, text); [`size`] fixes the millimetres;
+//! [`scene`] finds the tactile shapes; [`layers`] turns them into masks, dot
+//! tables and strokes; [`rules`] checks the design rules; the bundle is
+//! assembled last.
+//!
+//! ```
+//! use taxel_compiler::{CompileOptions, svg::compile_svg};
+//! use taxel_format::profiles;
+//!
+//! let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="60mm" height="40mm" viewBox="0 0 60 40">
+//!   <rect x="10" y="10" width="30" height="22" data-tactile="vibrate()"/>
+//! </svg>"#;
+//! let out = compile_svg(svg, &CompileOptions::new(profiles::builtin("stress2").unwrap()));
+//! assert!(out.bundle.is_some(), "{:?}", out.diagnostics);
+//! ```
+
+mod braille;
+mod dots;
+mod layers;
+mod masks;
+pub(crate) mod rules;
+mod scene;
+mod size;
+mod source;
+
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::sync::{Arc, OnceLock};
+
+use taxel_format::{Bundle, Manifest};
+
+use crate::Compiled;
+use crate::diagnostic::{Diagnostic, has_errors};
+use crate::options::{CompileOptions, DEFAULT_PX_PER_MM};
+
+pub use braille::{CELL_PITCH_MM, DOT_PITCH_MM, LINE_PITCH_MM, translate as braille_cells};
+
+/// System fonts, loaded once per process (text converted to paths needs them;
+/// braille does not).
+fn fonts() -> Arc<usvg::fontdb::Database> {
+    static DB: OnceLock<Arc<usvg::fontdb::Database>> = OnceLock::new();
+    DB.get_or_init(|| {
+        let mut db = usvg::fontdb::Database::new();
+        db.load_system_fonts();
+        Arc::new(db)
+    })
+    .clone()
+}
+
+/// Compiles an annotated SVG for `opts.profile`. Never panics: a drawing that
+/// cannot be compiled gives error diagnostics and no bundle.
+pub fn compile_svg(svg_text: &str, opts: &CompileOptions) -> Compiled {
+    match catch_unwind(AssertUnwindSafe(|| {
+        let mut diags = Vec::new();
+        let bundle = compile(svg_text, opts, &mut diags);
+        (bundle, diags)
+    })) {
+        Ok((bundle, diagnostics)) => {
+            let bundle = if has_errors(&diagnostics) { None } else { bundle };
+            Compiled { bundle, diagnostics }
+        }
+        // A panic here is a bug in taxel or a dependency; it must still not take the caller down.
+        Err(_) => Compiled {
+            bundle: None,
+            diagnostics: vec![
+                Diagnostic::error("T0900", "internal error while compiling this drawing")
+                    .with_help("please report it with the drawing attached"),
+            ],
+        },
+    }
+}
+
+fn compile(text: &str, opts: &CompileOptions, diags: &mut Vec<Diagnostic>) -> Option<Bundle> {
+    let px = match opts.resolution_px_per_mm {
+        None => DEFAULT_PX_PER_MM,
+        Some(r) if r.is_finite() && (0.1..=200.0).contains(&r) => r,
+        Some(r) => {
+            diags.push(Diagnostic::error(
+                "T0204",
+                format!("the resolution {r} px/mm is out of range, expected 0.1 to 200"),
+            ));
+            return None;
+        }
+    };
+    let doc = source::parse_xml(text, diags)?;
+    let src = source::read(text, &doc, opts.style.as_ref(), diags)?;
+    let doc2 = roxmltree::Document::parse_with_options(&src.rewritten, source::xml_options()).ok()?;
+    let mut uopt = usvg::Options { fontdb: fonts(), ..usvg::Options::default() };
+    // The library does no file IO: images that name files are not loaded.
+    uopt.image_href_resolver.resolve_string = Box::new(|_, _| None);
+    let tree = match usvg::Tree::from_xmltree(&doc2, &uopt) {
+        Ok(t) => t,
+        Err(e) => {
+            diags.push(
+                Diagnostic::error("T0200", format!("the SVG could not be read: {e}"))
+                    .with_help("check the root <svg> has a valid width, height or viewBox"),
+            );
+            return None;
+        }
+    };
+    let (w, h) = (tree.size().width(), tree.size().height());
+    let page = size::page(doc.root_element(), w as f64, h as f64, opts.width_mm, &opts.profile, diags);
+    let scene = scene::collect(&tree, &src, opts.style.as_ref(), page);
+    let root_ts = size::root_transform(doc.root_element(), w, h);
+    let built = layers::build(&scene, &src, &doc, opts, page, px, root_ts, diags);
+    if built.is_empty() {
+        let any_style = built.styled_elements > 0;
+        let d = if any_style {
+            Diagnostic::error("T0300", format!("nothing in this drawing can be rendered on {}", opts.profile.name))
+                .with_help(
+                    "see the warnings above: the styles used are not rendered on this device, or the shapes are empty",
+                )
+        } else {
+            Diagnostic::error("T0300", "nothing tactile was found in the drawing").with_help(
+                "mark shapes with data-tactile=\"vibrate()\" (or grating(), dots(), dot(), braille()), \
+                 put them in an Inkscape layer labelled \"tactile: vibrate()\", or map colours with --style FILE \
+                 (see docs/annotations.md)",
+            )
+        };
+        diags.push(d);
+        return None;
+    }
+    rules::check(&built, &opts.profile, diags);
+    let mut bundle = Bundle::new(Manifest { content_hash: opts.content_hash, ..Manifest::new(opts.profile) });
+    bundle.chunks = built.into_chunks();
+    if let Err(e) = bundle.to_bytes() {
+        diags.push(Diagnostic::error("T0900", format!("internal error: the bundle does not validate: {e}")));
+        return None;
+    }
+    Some(bundle)
+}

@@ -1,0 +1,322 @@
+//! Design rules from the research: what will not read well by touch.
+//! Every rule, its threshold and its source are listed in docs/diagnostics.md.
+
+use std::collections::HashSet;
+
+use taxel_format::{DeviceProfile, MaskLayer, MaskSamples};
+
+use super::layers::{Built, Feature, FeatureKind};
+use crate::diagnostic::Diagnostic;
+use crate::geometry::{FillRule, bounds, contains, dist, distance_to_outline, segment_distance};
+
+/// Smallest distance between distinct elements (1/8 in, Hasty).
+pub const MIN_GAP_MM: f64 = 3.2;
+/// Smallest shape readers identified reliably (seed 000 §4.1: 2-3 cm shapes).
+pub const MIN_SHAPE_MM: f64 = 20.0;
+/// Grating wavelengths closer than this cannot be told apart (seed 000 §4.2: 0.5 mm at 74 %).
+pub const WAVELENGTH_ERROR_MM: f64 = 0.5;
+/// Grating wavelengths closer than this are not told apart reliably (seed 000 §4.2: 3 mm almost always).
+pub const WAVELENGTH_WARN_MM: f64 = 3.0;
+/// Gratings this close count as adjacent: both fit under the array (about 9 x 11 mm) in one hand position.
+pub const ADJACENT_MM: f64 = 10.0;
+/// Most distinct textures, line styles or point symbols in one graphic (BANA 2010).
+pub const MAX_DISTINCT: usize = 5;
+
+fn at(d: Diagnostic, f: &Feature) -> Diagnostic {
+    Diagnostic { line: Some(f.line), ..d.with_element(&f.name) }
+}
+
+/// Checks every design rule, adding warnings and errors.
+pub(crate) fn check(built: &Built, profile: &DeviceProfile, diags: &mut Vec<Diagnostic>) {
+    let (px, py) = (profile.pitch_x_mm as f64, profile.pitch_y_mm as f64);
+    let pitch = px.max(py);
+    for f in &built.features {
+        match f.kind {
+            FeatureKind::Vibrate { width_mm, .. } if width_mm < pitch => diags.push(at(
+                Diagnostic::warning(
+                    "T0404",
+                    format!("the vibrating outline is {width_mm} mm wide, thinner than the actuator pitch ({pitch} mm), so it aliases"),
+                )
+                .with_help(format!("use a width of at least {pitch} mm (the STRESS² study used 1.5 mm)")),
+                f,
+            )),
+            FeatureKind::Grating { wavelength_mm, angle_deg } => {
+                let a = angle_deg.rem_euclid(180.0);
+                let near = [0.0, 45.0, 90.0, 135.0, 180.0].iter().any(|c| (a - c).abs() < 0.5);
+                if !near {
+                    diags.push(at(
+                        Diagnostic::warning("T0403", format!("the grating angle {angle_deg}° is not one of 0°, 45°, 90°, 135°"))
+                            .with_help("readers identify only these orientations reliably (30° steps were at chance)"),
+                        f,
+                    ));
+                }
+                // Spatial frequency across the ridges, per axis; Nyquist needs each under 1 / (2 pitch).
+                let t = angle_deg.to_radians();
+                let (kx, ky) = (t.sin().abs() / wavelength_mm, t.cos().abs() / wavelength_mm);
+                if kx > 1.0 / (2.0 * px) + 1e-9 || ky > 1.0 / (2.0 * py) + 1e-9 {
+                    let across = if kx * px >= ky * py { px } else { py };
+                    diags.push(at(
+                        Diagnostic::warning(
+                            "T0405",
+                            format!(
+                                "the grating wavelength {wavelength_mm} mm is below twice the actuator pitch across its ridges ({} mm), so the array aliases it when still",
+                                2.0 * across
+                            ),
+                        )
+                        .with_help("it still reads while the array moves; use a longer wavelength for a texture felt at rest"),
+                        f,
+                    ));
+                }
+            }
+            _ => {}
+        }
+        if matches!(f.kind, FeatureKind::Vibrate { .. } | FeatureKind::Grating { .. } | FeatureKind::Dots { .. }) {
+            let (x0, y0, x1, y1) = bounds(&f.outline).unwrap_or(f.bbox);
+            let (w, h) = (x1 - x0, y1 - y0);
+            if w.max(h) < MIN_SHAPE_MM {
+                diags.push(at(
+                    Diagnostic::warning("T0407", format!("the shape is {w:.1} x {h:.1} mm, smaller than 2 cm"))
+                        .with_help("shapes of 2-3 cm were identified reliably; enlarge it or use a point symbol"),
+                    f,
+                ));
+            }
+        }
+    }
+    counts(built, diags);
+    pairs(built, diags);
+}
+
+fn counts(built: &Built, diags: &mut Vec<Diagnostic>) {
+    let key = |v: f64| (v * 100.0).round() as i64;
+    let mut textures = HashSet::new();
+    let mut lines = HashSet::new();
+    let mut symbols = HashSet::new();
+    for f in &built.features {
+        match f.kind {
+            FeatureKind::Grating { wavelength_mm, angle_deg } => {
+                textures.insert((key(wavelength_mm), key(angle_deg.rem_euclid(180.0)), key(f.amplitude)));
+            }
+            FeatureKind::Vibrate { width_mm, freq_hz } => {
+                lines.insert((0, key(width_mm), key(freq_hz), key(f.amplitude)));
+            }
+            FeatureKind::Dots { radius_mm, spacing_mm } => {
+                lines.insert((1, key(radius_mm), key(spacing_mm), key(f.amplitude)));
+            }
+            FeatureKind::Dot { radius_mm } => {
+                symbols.insert((key(radius_mm), key(f.amplitude)));
+            }
+            FeatureKind::Braille => {}
+        }
+    }
+    for (n, what) in [(textures.len(), "textures"), (lines.len(), "line styles"), (symbols.len(), "point symbols")] {
+        if n > MAX_DISTINCT {
+            diags.push(
+                Diagnostic::warning(
+                    "T0409",
+                    format!("the drawing uses {n} distinct {what}; more than {MAX_DISTINCT} are hard to keep apart"),
+                )
+                .with_help("merge similar ones, or split the graphic and give a key"),
+            );
+        }
+    }
+}
+
+fn grow(b: (f64, f64, f64, f64), m: f64) -> (f64, f64, f64, f64) {
+    (b.0 - m, b.1 - m, b.2 + m, b.3 + m)
+}
+
+fn overlaps(a: (f64, f64, f64, f64), b: (f64, f64, f64, f64)) -> bool {
+    a.0 <= b.2 && b.0 <= a.2 && a.1 <= b.3 && b.1 <= a.3
+}
+
+fn pairs(built: &Built, diags: &mut Vec<Diagnostic>) {
+    let f = &built.features;
+    for i in 0..f.len() {
+        for j in i + 1..f.len() {
+            let (a, b) = (&f[i], &f[j]);
+            if !overlaps(grow(a.bbox, ADJACENT_MM), b.bbox) {
+                continue;
+            }
+            let distinct = a.elem != b.elem;
+            if let (
+                FeatureKind::Grating { wavelength_mm: la, angle_deg: ta },
+                FeatureKind::Grating { wavelength_mm: lb, angle_deg: tb },
+            ) = (a.kind, b.kind)
+            {
+                let same_angle = ((ta - tb).rem_euclid(180.0) < 1.0) || ((ta - tb).rem_euclid(180.0) > 179.0);
+                let d = (la - lb).abs();
+                if distinct && same_angle && d > 1e-9 && d < WAVELENGTH_WARN_MM && gap(a, b) <= ADJACENT_MM {
+                    let msg = format!(
+                        "adjacent gratings #{} ({la} mm) and this one ({lb} mm) differ by {d:.2} mm in wavelength",
+                        a.name
+                    );
+                    let diag = if d < WAVELENGTH_ERROR_MM {
+                        Diagnostic::error("T0401", format!("{msg}; readers cannot tell them apart"))
+                    } else {
+                        Diagnostic::warning("T0402", format!("{msg}; readers may confuse them"))
+                    };
+                    diags.push(at(diag.with_help("make neighbouring wavelengths differ by 3 mm or more (2 mm and 6 mm work well), or change the angle"), b));
+                }
+            }
+            let g = gap(a, b);
+            if distinct && g > 0.0 && g < MIN_GAP_MM {
+                diags.push(at(
+                    Diagnostic::warning(
+                        "T0408",
+                        format!("this element is {g:.1} mm from #{}, closer than {MIN_GAP_MM} mm", a.name),
+                    )
+                    .with_help("leave at least 3.2 mm (1/8 in) between distinct elements so they are felt apart"),
+                    b,
+                ));
+            }
+            overlap(built, a, b, diags);
+        }
+    }
+}
+
+/// The gap between two features' footprints (≤ 0 when they touch or overlap).
+fn gap(a: &Feature, b: &Feature) -> f64 {
+    // A feature inside a filled region overlaps it, whatever the distance to its outline.
+    for (r, o) in [(a, b), (b, a)] {
+        if let FeatureKind::Grating { .. } = r.kind {
+            let p = o.dots.first().map(|d| (d.0, d.1)).or(o.outline.first().and_then(|p| p.points.first().copied()));
+            if p.is_some_and(|p| contains(&r.outline, p, FillRule::NonZero)) {
+                return 0.0;
+            }
+        }
+    }
+    match (a.dots.is_empty(), b.dots.is_empty()) {
+        (true, true) => {
+            let reach = MIN_GAP_MM.max(ADJACENT_MM) + a.half_band + b.half_band;
+            let bb = grow(b.bbox, reach);
+            let mut best = f64::INFINITY;
+            for pa in &a.outline {
+                for (p0, p1) in pa.segments() {
+                    let sb = (p0.0.min(p1.0), p0.1.min(p1.1), p0.0.max(p1.0), p0.1.max(p1.1));
+                    if !overlaps(sb, bb) {
+                        continue;
+                    }
+                    for pb in &b.outline {
+                        for (q0, q1) in pb.segments() {
+                            best = best.min(segment_distance(p0, p1, q0, q1));
+                        }
+                    }
+                }
+            }
+            best - a.half_band - b.half_band
+        }
+        (false, true) | (true, false) => {
+            let (d, m) = if a.dots.is_empty() { (b, a) } else { (a, b) };
+            d.dots
+                .iter()
+                .map(|&(x, y, r)| distance_to_outline(&m.outline, (x, y)) - r - m.half_band)
+                .fold(f64::INFINITY, f64::min)
+        }
+        (false, false) => {
+            let mut best = f64::INFINITY;
+            near_dot_pairs(a, b, MIN_GAP_MM, |p, q| best = best.min(dist((p.0, p.1), (q.0, q.1)) - p.2 - q.2));
+            best
+        }
+    }
+}
+
+/// Calls `f` for every pair of dots (one of `a`, one of `b`) whose discs come
+/// within `reach` of each other, using a grid so the work stays near linear.
+fn near_dot_pairs(a: &Feature, b: &Feature, reach: f64, mut f: impl FnMut((f64, f64, f64), (f64, f64, f64))) {
+    let rmax = a.dots.iter().chain(&b.dots).map(|d| d.2).fold(0.0, f64::max);
+    let cell = (2.0 * rmax + reach).max(1e-3);
+    let key = |x: f64, y: f64| ((x / cell).floor() as i64, (y / cell).floor() as i64);
+    let mut grid: std::collections::HashMap<(i64, i64), Vec<usize>> = std::collections::HashMap::new();
+    for (i, d) in b.dots.iter().enumerate() {
+        grid.entry(key(d.0, d.1)).or_default().push(i);
+    }
+    for &p in &a.dots {
+        let (kx, ky) = key(p.0, p.1);
+        for x in kx - 1..=kx + 1 {
+            for y in ky - 1..=ky + 1 {
+                for &j in grid.get(&(x, y)).into_iter().flatten() {
+                    f(p, b.dots[j]);
+                }
+            }
+        }
+    }
+}
+
+/// The mask's value (0..=1) at the sample nearest to `(x, y)`, 0 outside.
+fn mask_at(m: &MaskLayer, x: f64, y: f64) -> f64 {
+    let px = m.px_per_mm as f64;
+    let i = ((x - m.origin_x.0 as f64) * px).floor();
+    let j = ((y - m.origin_y.0 as f64) * px).floor();
+    if i < 0.0 || j < 0.0 || i >= m.width as f64 || j >= m.height as f64 {
+        return 0.0;
+    }
+    let k = j as usize * m.width as usize + i as usize;
+    match &m.samples {
+        MaskSamples::U8(v) => v.get(k).map_or(0.0, |&s| s as f64 / 255.0),
+        MaskSamples::U16(v) => v.get(k).map_or(0.0, |&s| s as f64 / 65535.0),
+    }
+}
+
+/// Half a 10-bit step of slack, so anti-aliased edges that just meet are not reported.
+const SUM_SLACK: f64 = 0.5 / 1023.0;
+
+fn overlap(built: &Built, a: &Feature, b: &Feature, diags: &mut Vec<Diagnostic>) {
+    if !overlaps(a.bbox, b.bbox) {
+        return;
+    }
+    let over = match (a.mask, b.mask) {
+        (Some(ia), Some(ib)) => {
+            let (ma, mb) = (&built.masks[ia], &built.masks[ib]);
+            let px = ma.px_per_mm as f64;
+            let x0 = a.bbox.0.max(b.bbox.0);
+            let y0 = a.bbox.1.max(b.bbox.1);
+            let x1 = a.bbox.2.min(b.bbox.2);
+            let y1 = a.bbox.3.min(b.bbox.3);
+            let mut found = false;
+            let mut y = ((y0 * px).floor() + 0.5) / px;
+            'rows: while y < y1 {
+                let mut x = ((x0 * px).floor() + 0.5) / px;
+                while x < x1 {
+                    if a.amplitude * mask_at(ma, x, y) + b.amplitude * mask_at(mb, x, y) > 1.0 + SUM_SLACK {
+                        found = true;
+                        break 'rows;
+                    }
+                    x += 1.0 / px;
+                }
+                y += 1.0 / px;
+            }
+            found
+        }
+        (Some(im), None) | (None, Some(im)) => {
+            let (m, d) = if a.mask.is_some() { (a, b) } else { (b, a) };
+            let layer = &built.masks[im];
+            d.dots.iter().any(|&(x, y, _)| d.amplitude + m.amplitude * mask_at(layer, x, y) > 1.0 + SUM_SLACK)
+        }
+        (None, None) => {
+            let mut n = 0usize;
+            near_dot_pairs(a, b, 0.0, |p, q| {
+                if dist((p.0, p.1), (q.0, q.1)) < (p.2 + q.2) * (1.0 - 1e-4) {
+                    n += 1;
+                }
+            });
+            if n > 0 {
+                diags.push(at(
+                    Diagnostic::warning("T0406", format!("{n} dot(s) of this element overlap dots of #{}", a.name))
+                        .with_help("dots must not overlap (seed 000 eq. 1); move the elements apart"),
+                    b,
+                ));
+            }
+            false
+        }
+    };
+    if over {
+        diags.push(at(
+            Diagnostic::warning(
+                "T0410",
+                format!("this layer overlaps #{} and together they exceed full deflection", a.name),
+            )
+            .with_help("layers add up (seed 000 §3.4); keep active regions apart or lower their amplitudes"),
+            b,
+        ));
+    }
+}

@@ -1,0 +1,273 @@
+//! The XML side of an SVG: what usvg does not keep (annotations, layer
+//! labels, titles, classes, source lines), read with the same XML parser usvg
+//! uses, and the id rewrite that lets us match usvg's nodes to elements.
+//!
+//! Why ids: usvg keeps the `id` of every path, text, `g` and `use`, so an id
+//! is a reliable key from a usvg node back to its element. Elements without an
+//! id get a deterministic one (`taxel-auto-N`, in document order) inserted in
+//! their start tag before usvg sees the text; matching by document order
+//! instead would break wherever usvg drops, splits or clones elements (`use`,
+//! markers, `switch`). The insertion adds no line breaks, so line numbers stay
+//! true; annotations are always read from the original text.
+
+use std::collections::{HashMap, HashSet};
+
+use roxmltree::{Document, Node, ParsingOptions};
+
+use crate::annotation::{self, Declaration};
+use crate::diagnostic::Diagnostic;
+use crate::stylesheet::{ElementFacts, StyleSheet};
+use crate::text_pos::{line_col, raw_offset};
+
+const INKSCAPE_NS: &str = "http://www.inkscape.org/namespaces/inkscape";
+/// Largest number of XML nodes taxel reads (bounds memory on hostile input).
+pub(crate) const NODES_LIMIT: u32 = 2_000_000;
+
+/// How usvg treats an element, as far as inheritance is concerned.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Kind {
+    /// `svg` (root), `g`, `use`: usvg always keeps a group with the id.
+    Group,
+    /// `defs`: its content only appears through references.
+    Defs,
+    /// Other containers (`a`, `switch`, `symbol`, nested `svg`) that usvg may flatten away.
+    Container,
+    /// `text`.
+    Text,
+    /// Anything else (shapes, images, titles, ...).
+    Other,
+}
+
+/// One element of the original document.
+#[derive(Debug, Clone)]
+pub(crate) struct Element {
+    /// The id usvg sees (the original one or an inserted one).
+    pub key: String,
+    /// The id as written, empty when it had none.
+    pub id: String,
+    /// A name for messages: the id, or a path such as `svg/g[2]/path[1]`.
+    pub name: String,
+    /// Local tag name.
+    pub tag: String,
+    pub kind: Kind,
+    /// 1-based line of the start tag.
+    pub line: u32,
+    /// `<title>`, `inkscape:label` or `aria-label`, whichever comes first.
+    pub label: String,
+    pub classes: String,
+    /// Labels of the Inkscape layers that contain the element (itself included).
+    pub layers: Vec<String>,
+    /// The element's own annotation: `data-tactile`, else a `tactile:` label.
+    pub own: Option<Declaration>,
+    /// The style sheet rule that selects it by id, class or layer alone.
+    pub sheet: Option<Declaration>,
+    pub parent: Option<usize>,
+    pub in_defs: bool,
+    /// Whether it draws markers (so the group after its usvg path holds them).
+    pub has_markers: bool,
+    /// The node in the original document.
+    pub node: roxmltree::NodeId,
+}
+
+/// The original document's elements and the text to give usvg.
+pub(crate) struct Source {
+    pub elements: Vec<Element>,
+    pub by_key: HashMap<String, usize>,
+    pub rewritten: String,
+}
+
+impl Source {
+    /// The element usvg calls `key`.
+    pub fn get(&self, key: &str) -> Option<(usize, &Element)> {
+        let &i = self.by_key.get(key)?;
+        Some((i, &self.elements[i]))
+    }
+}
+
+/// XML parsing options shared with the usvg pass.
+pub(crate) fn xml_options<'a>() -> ParsingOptions<'a> {
+    ParsingOptions { allow_dtd: true, nodes_limit: NODES_LIMIT, ..ParsingOptions::default() }
+}
+
+/// Parses the XML; `None` (with an error diagnostic) when it is not well-formed.
+pub(crate) fn parse_xml<'a>(text: &'a str, diags: &mut Vec<Diagnostic>) -> Option<Document<'a>> {
+    match Document::parse_with_options(text, xml_options()) {
+        Ok(d) => Some(d),
+        Err(e) => {
+            let p = e.pos();
+            diags.push(
+                Diagnostic::error("T0200", format!("the file is not well-formed SVG (XML): {e}"))
+                    .at(p.row, p.col)
+                    .with_help("open it in an SVG editor and save it again, or fix the XML by hand"),
+            );
+            None
+        }
+    }
+}
+
+/// Reads the elements of a parsed document; `None` (with an error diagnostic) when it is not SVG.
+pub(crate) fn read(
+    text: &str,
+    doc: &Document<'_>,
+    sheet: Option<&StyleSheet>,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<Source> {
+    let root = doc.root_element();
+    if root.tag_name().name() != "svg" {
+        diags.push(
+            Diagnostic::error("T0200", format!("the root element is <{}>, expected <svg>", root.tag_name().name()))
+                .at(line_col(text, root.range().start).0, 1),
+        );
+        return None;
+    }
+    let existing: HashSet<&str> = doc.descendants().filter_map(|n| n.attribute("id")).collect();
+    let mut prefix = String::from("taxel-auto-");
+    while existing.iter().any(|id| id.starts_with(&prefix)) {
+        prefix.push('x');
+    }
+    // Markers set from a `<style>` sheet through a class.
+    let css_markers =
+        doc.descendants().any(|n| n.tag_name().name() == "style" && n.text().is_some_and(|t| t.contains("marker")));
+    let mut elements = Vec::new();
+    let mut by_key = HashMap::new();
+    let mut inserts: Vec<(usize, String)> = Vec::new();
+    let mut index_of: HashMap<roxmltree::NodeId, usize> = HashMap::new();
+    for node in root.descendants().filter(|n| n.is_element()) {
+        let parent = node.parent_element().and_then(|p| index_of.get(&p.id()).copied());
+        let parent_el: Option<&Element> = parent.map(|p| &elements[p]);
+        let tag = node.tag_name().name().to_string();
+        let id = node.attribute("id").unwrap_or("").to_string();
+        let key = if id.is_empty() {
+            let k = format!("{prefix}{}", elements.len());
+            if let Some(at) = tag_name_end(text, node) {
+                inserts.push((at, format!(" id=\"{k}\"")));
+            }
+            k
+        } else {
+            id.clone()
+        };
+        let name = match parent_el {
+            _ if !id.is_empty() => id.clone(),
+            None => tag.clone(),
+            Some(p) => {
+                let nth = node.prev_siblings().filter(|s| s.is_element() && s.tag_name().name() == tag).count();
+                format!("{}/{tag}[{nth}]", p.name)
+            }
+        };
+        let kind = match tag.as_str() {
+            "svg" if parent.is_none() => Kind::Group,
+            "g" | "use" => Kind::Group,
+            "defs" => Kind::Defs,
+            "a" | "switch" | "symbol" | "svg" => Kind::Container,
+            "text" => Kind::Text,
+            _ => Kind::Other,
+        };
+        let line = line_col(text, node.range().start).0;
+        let ink_label = node.attribute((INKSCAPE_NS, "label"));
+        let label = node
+            .children()
+            .find(|c| c.is_element() && c.tag_name().name() == "title")
+            .and_then(|t| t.text())
+            .or(ink_label)
+            .or(node.attribute("aria-label"))
+            .unwrap_or("")
+            .trim()
+            .to_string();
+        let mut layers = parent_el.map_or(Vec::new(), |p| p.layers.clone());
+        let is_layer = tag == "g" && node.attribute((INKSCAPE_NS, "groupmode")) == Some("layer");
+        if let (true, Some(l)) = (is_layer, ink_label) {
+            layers.push(l.trim().to_string());
+        }
+        let in_defs = parent_el.is_some_and(|p| p.in_defs || p.kind == Kind::Defs);
+        let display = if id.is_empty() { name.clone() } else { id.clone() };
+        let mut own = None;
+        if let Some(attr) = node.attributes().find(|a| a.name() == "data-tactile" && a.namespace().is_none()) {
+            own = annotation_at(text, attr.value(), attr.range_value(), 0, &display, diags);
+        } else if let Some(attr) = node.attributes().find(|a| a.name() == "label" && a.namespace() == Some(INKSCAPE_NS))
+        {
+            let v = attr.value();
+            let trimmed = v.trim_start();
+            if trimmed.len() >= 8 && trimmed[..8].eq_ignore_ascii_case("tactile:") {
+                let skip = v.len() - trimmed.len() + 8;
+                own = annotation_at(text, &v[skip..], attr.range_value(), skip, &display, diags);
+            }
+        }
+        let classes = node.attribute("class").unwrap_or("").to_string();
+        let sheet_decl = sheet.and_then(|s| {
+            let facts = ElementFacts { id: &id, classes: &classes, layers: &layers, fill: None, stroke: None };
+            s.lookup(&facts).map(|r| r.declaration.clone())
+        });
+        let has_markers = ["marker-start", "marker-mid", "marker-end", "marker"].iter().any(|a| node.has_attribute(*a))
+            || node.attribute("style").is_some_and(|s| s.contains("marker"))
+            || (css_markers && node.has_attribute("class"));
+        by_key.insert(key.clone(), elements.len());
+        index_of.insert(node.id(), elements.len());
+        elements.push(Element {
+            key,
+            id,
+            name,
+            tag,
+            kind,
+            line,
+            label,
+            classes,
+            layers,
+            own,
+            sheet: sheet_decl,
+            parent,
+            in_defs,
+            has_markers,
+            node: node.id(),
+        });
+    }
+    let mut rewritten = String::with_capacity(text.len() + inserts.len() * 24);
+    let mut last = 0;
+    for (at, s) in &inserts {
+        rewritten.push_str(&text[last..*at]);
+        rewritten.push_str(s);
+        last = *at;
+    }
+    rewritten.push_str(&text[last..]);
+    Some(Source { elements, by_key, rewritten })
+}
+
+/// The byte offset just after an element's tag name in its start tag, when
+/// the source there really is that start tag (not an entity expansion).
+fn tag_name_end(text: &str, node: Node<'_, '_>) -> Option<usize> {
+    let start = node.range().start;
+    let rest = text.get(start..)?;
+    if !rest.starts_with('<') {
+        return None;
+    }
+    let len = rest[1..].find(|c: char| c.is_whitespace() || c == '/' || c == '>')?;
+    Some(start + 1 + len)
+}
+
+/// Parses an annotation found at `value_range` of the source (after skipping
+/// `skip` decoded bytes), turning an error into a diagnostic at its line and column.
+fn annotation_at(
+    text: &str,
+    value: &str,
+    value_range: core::ops::Range<usize>,
+    skip: usize,
+    element: &str,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<Declaration> {
+    match annotation::parse(value) {
+        Ok(d) => Some(d),
+        Err(e) => {
+            let raw = text.get(value_range.clone()).unwrap_or("");
+            let (line, col) = line_col(text, value_range.start + raw_offset(raw, skip + e.offset));
+            let mut d = Diagnostic::error(e.kind.code(), format!("malformed annotation: {}", e.message))
+                .with_element(element)
+                .at(line, col);
+            d.help = Some(e.help.unwrap_or_else(|| {
+                "annotations look like `vibrate(width: 1.5mm); grating(wavelength: 6mm, angle: 0deg)` \
+                 (see docs/annotations.md)"
+                    .into()
+            }));
+            diags.push(d);
+            None
+        }
+    }
+}

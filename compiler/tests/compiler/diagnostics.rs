@@ -1,0 +1,238 @@
+//! One test per diagnostic code: the drawing that triggers it, and where it points.
+
+use taxel_compiler::{CompileOptions, Severity, svg::compile_svg};
+use taxel_format::profiles;
+
+use crate::common::*;
+
+fn codes(svg: &str) -> Vec<&'static str> {
+    compile(svg).diagnostics.iter().map(|d| d.code).collect()
+}
+
+fn assert_code(svg: &str, code: &str, severity: Severity) {
+    let c = compile(svg);
+    let d = with_code(&c, code);
+    assert!(!d.is_empty(), "expected {code}, got {:#?}", c.diagnostics);
+    assert!(d.iter().all(|d| d.severity == severity), "{code}: {d:#?}");
+}
+
+#[test]
+fn malformed_annotation_points_at_line_and_column() {
+    let svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"50mm\" height=\"50mm\">\n  <rect width=\"30\" height=\"30\"\n        data-tactile=\"vibrate(width 2mm)\"/>\n</svg>";
+    let c = compile(svg);
+    let d = with_code(&c, "T0101");
+    assert_eq!(d.len(), 1, "{:#?}", c.diagnostics);
+    // Line 3: eight spaces and `data-tactile="` take 22 columns, so the value starts at column 23;
+    // the offending `2` is its 15th character.
+    assert_eq!((d[0].line, d[0].column), (Some(3), Some(23 + 14)));
+    assert!(d[0].message.contains("expected `:`"), "{}", d[0].message);
+    assert_eq!(d[0].element.as_deref(), Some("svg/rect[1]"));
+    assert!(d[0].render("map.svg").starts_with("map.svg:3:37: error[T0101]"), "{}", d[0].render("map.svg"));
+}
+
+#[test]
+fn column_counts_through_entities_in_the_attribute() {
+    let svg = page(r#"<rect width="30" height="30" data-tactile="vibrate(width:&#32;2)"/>"#);
+    let c = compile(&svg);
+    let d = with_code(&c, "T0104");
+    let line = svg.lines().nth(1).unwrap();
+    let col = line.find("2)").unwrap() as u32 + 1;
+    assert_eq!(d[0].column, Some(col), "{:#?}", c.diagnostics);
+}
+
+#[test]
+fn each_annotation_error_has_its_code() {
+    for (a, code) in [
+        ("vibrate(", "T0101"),
+        ("wobble()", "T0102"),
+        ("grating(colour: 2mm)", "T0103"),
+        ("grating(wavelength: 2)", "T0104"),
+        ("vibrate(amplitude: 3)", "T0105"),
+        ("dot(radius: 1mm, radius: 1mm)", "T0106"),
+        ("braille(grade: 2)", "T0107"),
+    ] {
+        let svg = page(&format!(r#"<rect width="30" height="30" data-tactile="{a}"/>"#));
+        assert_code(&svg, code, Severity::Error);
+    }
+}
+
+#[test]
+fn layer_label_errors_point_inside_the_label() {
+    let svg = page(
+        r#"<g inkscape:groupmode="layer" inkscape:label="tactile: grating(angle: 0)"><rect width="30" height="30"/></g>"#,
+    );
+    let c = compile(&svg);
+    let d = with_code(&c, "T0104");
+    let line = svg.lines().nth(1).unwrap();
+    assert_eq!(d[0].column, Some(line.find("0)").unwrap() as u32 + 1), "{:#?}", c.diagnostics);
+}
+
+#[test]
+fn device_and_element_mismatches_are_warnings() {
+    assert_code(&page(r#"<path d="M10 10 L 80 10" data-tactile="brush()"/>"#), "T0120", Severity::Warning);
+    assert_code(
+        &page(r#"<rect x="5" y="5" width="30" height="30" data-tactile="braille(); vibrate()"/>"#),
+        "T0121",
+        Severity::Warning,
+    );
+}
+
+#[test]
+fn document_problems() {
+    assert_code("<svg><rect></svg>", "T0200", Severity::Error);
+    assert_code("<html/>", "T0200", Severity::Error);
+    let no_size = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100"><rect x="20" y="20" width="80" height="60" data-tactile="vibrate()"/></svg>"#;
+    assert_code(no_size, "T0201", Severity::Note);
+    let big = r#"<svg xmlns="http://www.w3.org/2000/svg" width="300mm" height="100mm" viewBox="0 0 300 100"><rect x="20" y="20" width="80" height="60" data-tactile="vibrate()"/></svg>"#;
+    assert_code(big, "T0202", Severity::Warning);
+    let opts = CompileOptions { width_mm: Some(80.0), ..CompileOptions::new(stress2()) };
+    let c = compile_svg(&page(r#"<rect x="20" y="10" width="30" height="30" data-tactile="vibrate()"/>"#), &opts);
+    assert_eq!(with_code(&c, "T0203")[0].severity, Severity::Note);
+    let opts = CompileOptions { resolution_px_per_mm: Some(-1.0), ..CompileOptions::new(stress2()) };
+    let c = compile_svg(&page(r#"<rect width="30" height="30" data-tactile="vibrate()"/>"#), &opts);
+    assert_eq!(with_code(&c, "T0204")[0].severity, Severity::Error);
+}
+
+#[test]
+fn nothing_tactile_is_an_error_that_says_how_to_annotate() {
+    let c = compile(&page(r#"<rect width="30" height="30" fill="red"/>"#));
+    let d = with_code(&c, "T0300");
+    assert_eq!(d.len(), 1);
+    assert!(d[0].message.contains("nothing tactile"));
+    assert!(d[0].help.as_deref().unwrap_or("").contains("data-tactile"));
+    assert!(c.bundle.is_none());
+}
+
+#[test]
+fn empty_and_invisible_shapes_warn_instead_of_making_empty_layers() {
+    let c = compile(&page(
+        r#"<rect x="5" y="5" width="30" height="30" data-tactile="vibrate()"/>
+<rect id="hidden" x="40" y="5" width="30" height="30" visibility="hidden" data-tactile="grating()"/>
+<rect id="flat" x="40" y="40" width="0" height="30" data-tactile="grating()"/>
+<circle id="gone" cx="50" cy="50" r="5" display="none" data-tactile="grating()"/>"#,
+    ));
+    let names: Vec<_> = with_code(&c, "T0301").iter().filter_map(|d| d.element.clone()).collect();
+    for n in ["hidden", "flat", "gone"] {
+        assert!(names.iter().any(|x| x == n), "{n}: {:#?}", c.diagnostics);
+    }
+    assert_eq!(masks(bundle(&c)).len(), 1);
+}
+
+#[test]
+fn layer_problems() {
+    assert_code(
+        &page(r#"<path d="M10 30 L 90 30" data-tactile="dots(radius: 1mm, spacing: 1mm)"/>"#),
+        "T0302",
+        Severity::Warning,
+    );
+    let huge = r#"<svg xmlns="http://www.w3.org/2000/svg" width="2000mm" height="2000mm" viewBox="0 0 2000 2000"><rect width="2000" height="2000" data-tactile="grating()"/></svg>"#;
+    assert_code(huge, "T0303", Severity::Warning);
+    assert_code(&page(r#"<text x="10" y="30" data-tactile="braille()">naïve</text>"#), "T0304", Severity::Warning);
+    assert_code(
+        &page(
+            r#"<rect x="5" y="5" width="30" height="30" data-tactile="vibrate()"/><image id="photo" x="40" y="5" width="20" height="20" href="data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR4nGNgYGD4DwABBAEAwS2OUAAAAABJRU5ErkJggg==" data-tactile="grating()"/>"#,
+        ),
+        "T0305",
+        Severity::Warning,
+    );
+}
+
+#[test]
+fn adjacent_gratings_with_close_wavelengths() {
+    let two = |a: f64, b: f64| {
+        page(&format!(
+            r#"<rect x="5" y="5" width="30" height="30" data-tactile="grating(wavelength: {a}mm, angle: 0deg)"/>
+<rect x="40" y="5" width="30" height="30" data-tactile="grating(wavelength: {b}mm, angle: 0deg)"/>"#
+        ))
+    };
+    assert_code(&two(4.0, 4.3), "T0401", Severity::Error);
+    assert_code(&two(4.0, 6.0), "T0402", Severity::Warning);
+    let far = codes(&two(3.0, 6.0));
+    assert!(!far.contains(&"T0401") && !far.contains(&"T0402"), "{far:?}");
+}
+
+#[test]
+fn design_rules_for_single_features() {
+    assert_code(
+        &page(r#"<rect x="5" y="5" width="30" height="30" data-tactile="grating(wavelength: 6mm, angle: 30deg)"/>"#),
+        "T0403",
+        Severity::Warning,
+    );
+    let ok = codes(&page(
+        r#"<rect x="5" y="5" width="30" height="30" data-tactile="grating(wavelength: 6mm, angle: 135deg)"/>"#,
+    ));
+    assert!(!ok.contains(&"T0403"), "{ok:?}");
+    assert_code(
+        &page(r#"<rect x="5" y="5" width="30" height="30" data-tactile="vibrate(width: 0.8mm)"/>"#),
+        "T0404",
+        Severity::Warning,
+    );
+    // 2 mm across vertical ridges (variation along x, pitch 1.2 mm): Nyquist needs 2.4 mm.
+    assert_code(
+        &page(r#"<rect x="5" y="5" width="30" height="30" data-tactile="grating(wavelength: 2mm, angle: 90deg)"/>"#),
+        "T0405",
+        Severity::Warning,
+    );
+    let ok = codes(&page(
+        r#"<rect x="5" y="5" width="30" height="30" data-tactile="grating(wavelength: 2.5mm, angle: 90deg)"/>"#,
+    ));
+    assert!(!ok.contains(&"T0405"), "{ok:?}");
+    assert_code(
+        &page(r#"<rect x="5" y="5" width="12" height="12" data-tactile="vibrate()"/>"#),
+        "T0407",
+        Severity::Warning,
+    );
+}
+
+#[test]
+fn design_rules_between_elements() {
+    assert_code(
+        &page(
+            r#"<circle cx="20" cy="20" r="1" data-tactile="dot()"/><circle cx="21.5" cy="20" r="1" data-tactile="dot()"/>"#,
+        ),
+        "T0406",
+        Severity::Warning,
+    );
+    assert_code(
+        &page(
+            r#"<rect x="5" y="5" width="30" height="30" data-tactile="vibrate()"/><rect x="38" y="5" width="30" height="30" data-tactile="vibrate()"/>"#,
+        ),
+        "T0408",
+        Severity::Warning,
+    );
+    let apart = codes(&page(
+        r#"<rect x="5" y="5" width="30" height="30" data-tactile="vibrate()"/><rect x="45" y="5" width="30" height="30" data-tactile="vibrate()"/>"#,
+    ));
+    assert!(!apart.contains(&"T0408"), "{apart:?}");
+    let six: String = (0..6)
+        .map(|k| {
+            format!(
+                r#"<circle cx="{}" cy="30" r="1" data-tactile="dot(radius: {}mm)"/>"#,
+                8 + 15 * k,
+                1.0 + 0.2 * k as f64
+            )
+        })
+        .collect();
+    assert_code(&page(&six), "T0409", Severity::Warning);
+    assert_code(
+        &page(
+            r#"<rect x="5" y="5" width="40" height="40" data-tactile="grating(wavelength: 6mm, angle: 0deg)"/><circle cx="25" cy="25" r="1" data-tactile="dot()"/>"#,
+        ),
+        "T0410",
+        Severity::Warning,
+    );
+}
+
+#[test]
+fn brush_on_a_grid_profile_goes_to_the_brush_scheduler() {
+    let opts = CompileOptions::new(profiles::builtin("brush-4x3").unwrap());
+    let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="189mm" height="126mm" viewBox="0 0 189 126"><path d="M 0 0 L 189 0" data-tactile="brush(duration: 1s); vibrate()"/></svg>"#;
+    let c = compile_svg(svg, &opts);
+    // vibrate is not rendered on a grid; the brush request reached compile_strokes (its diagnostics, if any, follow).
+    assert!(c.diagnostics.iter().any(|d| d.code == "T0120"), "{:#?}", c.diagnostics);
+    assert!(
+        !c.diagnostics.iter().any(|d| d.code == "T0300" && d.message.contains("nothing tactile")),
+        "{:#?}",
+        c.diagnostics
+    );
+}

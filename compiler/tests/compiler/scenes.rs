@@ -1,0 +1,119 @@
+//! Whole scenes through the SVG pipeline: one feature each, every kind, none.
+
+use taxel_format::{DotKind, MaskKind};
+
+use crate::common::*;
+
+#[test]
+fn vibrating_rectangle_outline() {
+    let c = compile(&page(
+        r#"<rect id="box" x="20" y="10" width="30" height="30" fill="none" stroke="black" data-tactile="vibrate(width: 2mm)"/>"#,
+    ));
+    let b = bundle(&c);
+    let m = masks(b);
+    assert_eq!(m.len(), 1, "{:?}", c.diagnostics);
+    assert!(matches!(m[0].kind, MaskKind::Vibration { freq } if freq.0 == 50_000));
+    // On the outline: full; 0.8 mm from it (inside the 1 mm half band): full; 2 mm off: zero; centre: zero.
+    assert!(sample(m[0], 20.0, 25.0) > 0.99);
+    assert!(sample(m[0], 20.8, 25.0) > 0.99);
+    assert!(sample(m[0], 22.0, 25.0) < 0.01);
+    assert!(sample(m[0], 35.0, 25.0) == 0.0);
+    // Cropped to the band's bounding box (19..51 x 9..41 mm), give or take a pixel.
+    assert!((m[0].origin_x.0 - 19.0).abs() <= 0.11, "{}", m[0].origin_x.0);
+    assert!((m[0].width as f32 / m[0].px_per_mm - 32.0).abs() <= 0.21);
+}
+
+#[test]
+fn grating_fills_the_shape_with_its_parameters() {
+    let c = compile(&page(
+        r#"<circle id="lake" cx="50" cy="30" r="12" fill="blue" data-tactile="grating(wavelength: 6mm, angle: 0deg, amplitude: 80%)"/>"#,
+    ));
+    let m = masks(bundle(&c));
+    assert_eq!(m.len(), 1);
+    let MaskKind::Grating { wavelength, angle_deg } = m[0].kind else { panic!("{:?}", m[0].kind) };
+    assert_eq!((wavelength.0, angle_deg, m[0].amplitude), (6.0, 0.0, 0.8));
+    assert!(sample(m[0], 50.0, 30.0) > 0.99);
+    assert!(sample(m[0], 50.0 + 11.5, 30.0) > 0.99);
+    assert_eq!(sample(m[0], 50.0 + 12.5, 30.0), 0.0);
+    // A circle's mask is cropped to its 24 mm box.
+    assert!((m[0].width as f32 / m[0].px_per_mm - 24.0).abs() <= 0.21);
+}
+
+#[test]
+fn tactile_icon_keeps_grating_out_of_the_vibrating_band() {
+    let c = compile(&page(
+        r#"<rect id="icon" x="10" y="10" width="30" height="30" data-tactile="vibrate(); grating(wavelength: 6mm, angle: 0deg)"/>"#,
+    ));
+    let m = masks(bundle(&c));
+    assert_eq!(m.len(), 2);
+    let (vib, grat) = (m[0], m[1]);
+    // 0.5 mm inside the edge the band vibrates and the grating is off; deep inside, the reverse.
+    assert!(sample(vib, 10.5, 25.0) > 0.99 && sample(grat, 10.5, 25.0) < 0.01);
+    assert!(sample(vib, 25.0, 25.0) == 0.0 && sample(grat, 25.0, 25.0) > 0.99);
+    assert!(with_code(&c, "T0410").is_empty(), "{:?}", c.diagnostics);
+}
+
+#[test]
+fn dots_along_a_path_never_overlap() {
+    let c = compile(&page(
+        r#"<path id="route" d="M 10 30 L 90 30" stroke="black" data-tactile="dots(radius: 1mm, spacing: 4mm)"/>"#,
+    ));
+    let t = dots(bundle(&c), DotKind::Outline).expect("outline dots");
+    // 80 mm at 4 mm: 21 dots including both ends.
+    assert_eq!(t.dots.len(), 21);
+    let mut xs: Vec<f32> = t.dots.iter().map(|d| d.x.0).collect();
+    xs.sort_by(f32::total_cmp);
+    assert!((xs[0] - 10.0).abs() < 1e-4 && (xs[20] - 90.0).abs() < 1e-4);
+    for w in xs.windows(2) {
+        assert!((w[1] - w[0] - 4.0).abs() < 1e-3);
+    }
+    assert!(t.dots.iter().all(|d| d.radius.0 == 1.0 && d.source == Some(0)));
+}
+
+#[test]
+fn point_symbols_give_one_dot_each_at_their_centres() {
+    let c = compile(&page(
+        r#"<g id="towns" data-tactile="dot(radius: 1.5mm)">
+  <circle cx="20" cy="20" r="1"/><ellipse cx="70" cy="40" rx="2" ry="1"/>
+</g>"#,
+    ));
+    let t = dots(bundle(&c), DotKind::Symbol).expect("symbol dots");
+    let mut got: Vec<(f32, f32)> = t.dots.iter().map(|d| (d.x.0, d.y.0)).collect();
+    got.sort_by(|a, b| a.0.total_cmp(&b.0));
+    assert_eq!(got.len(), 2);
+    assert!((got[0].0 - 20.0).abs() < 1e-3 && (got[0].1 - 20.0).abs() < 1e-3);
+    assert!((got[1].0 - 70.0).abs() < 1e-3 && (got[1].1 - 40.0).abs() < 1e-3);
+}
+
+#[test]
+fn markers_are_point_symbols() {
+    let c = compile(&page(
+        r#"<defs><marker id="m" markerWidth="4" markerHeight="4" refX="2" refY="2" markerUnits="userSpaceOnUse"><circle cx="2" cy="2" r="2"/></marker></defs>
+<polyline id="stops" points="10,10 40,10 40,40" fill="none" stroke="black" marker-start="url(#m)" marker-mid="url(#m)" marker-end="url(#m)" data-tactile="dot()"/>"#,
+    ));
+    let t = dots(bundle(&c), DotKind::Symbol).expect("symbol dots");
+    let mut got: Vec<(f32, f32)> = t.dots.iter().map(|d| (d.x.0, d.y.0)).collect();
+    got.sort_by(|a, b| (a.0, a.1).partial_cmp(&(b.0, b.1)).unwrap());
+    let want = [(10.0, 10.0), (40.0, 10.0), (40.0, 40.0)];
+    assert_eq!(got.len(), 3, "{got:?}");
+    for (g, w) in got.iter().zip(want) {
+        assert!((g.0 - w.0).abs() < 0.01 && (g.1 - w.1).abs() < 0.01, "{got:?}");
+    }
+}
+
+#[test]
+fn braille_follows_the_text_not_the_font() {
+    // "ab": a = dot 1, b = dots 1 2 — three dots; the first cell's left edge at x = 10, baseline y = 40.
+    let c = compile(&page(r#"<text id="label" x="10" y="40" font-size="4" data-tactile="braille()">ab</text>"#));
+    let t = dots(bundle(&c), DotKind::Braille).expect("braille dots");
+    let mut got: Vec<(f32, f32)> = t.dots.iter().map(|d| (d.x.0, d.y.0)).collect();
+    got.sort_by(|a, b| (a.0, a.1).partial_cmp(&(b.0, b.1)).unwrap());
+    let r = 0.72f32;
+    let top = 40.0 - r - 2.0 * 2.34;
+    let want = [(10.0 + r, top), (10.0 + r + 6.2, top), (10.0 + r + 6.2, top + 2.34)];
+    assert_eq!(got.len(), 3, "{got:?}");
+    for (g, w) in got.iter().zip(want) {
+        assert!((g.0 - w.0).abs() < 1e-3 && (g.1 - w.1).abs() < 1e-3, "{got:?} vs {want:?}");
+    }
+    assert!(t.dots.iter().all(|d| (d.radius.0 - 0.72).abs() < 1e-6));
+}
