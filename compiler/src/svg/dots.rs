@@ -40,7 +40,8 @@ pub(crate) fn along(
         s = 2.0 * radius;
     }
     let total: f64 = polys.iter().map(Polyline::length).sum();
-    if !(total / s <= MAX_DOTS_PER_ELEMENT as f64) {
+    let count = total / s;
+    if count.is_nan() || count > MAX_DOTS_PER_ELEMENT as f64 {
         diags.push(
             Diagnostic::warning(
                 "T0302",
