@@ -206,11 +206,12 @@ fn human(path: &Path, r: &Value) -> String {
                 )
             }
             "dots" => match c["radius_mm"].as_array() {
-                Some(_) => format!(
-                    "{} {} dots, radius {} mm",
+                Some(r) => format!(
+                    "{} {} {}, radius {} mm",
                     c["dots"],
                     c["dot_kind"].as_str().unwrap_or(""),
-                    pair(&c["radius_mm"], " to ")
+                    if c["dots"] == 1 { "dot" } else { "dots" },
+                    if r[0] == r[1] { num(&r[0]) } else { pair(&c["radius_mm"], " to ") }
                 ),
                 None => format!("no {} dots", c["dot_kind"].as_str().unwrap_or("")),
             },
