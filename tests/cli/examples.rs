@@ -1,13 +1,20 @@
-//! The example scenes in `examples/`, through their index `examples.toml`:
-//! every file the index names exists, every drawing is indexed and described
-//! in the README, every drawing has a physical size that fits its profile's
-//! surface, and every exploration trace is a plausible finger path.
+//! The example scenes in `examples/`, through their index `examples.toml`
+//! (so nothing here names a scene except the map and brush checks):
+//! every file the index names exists and every drawing is indexed and
+//! described in the README; every drawing has a physical size that fits its
+//! profile; every annotation and style sheet parses; every scene builds with
+//! no errors and exactly the warnings the index expects; every exploration
+//! trace is a plausible finger path that passes over every layer of its
+//! bundle; the plain map through its style sheet feels like the Inkscape map;
+//! and the Tactile Brush strokes have the virtual points the paper describes.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
-use taxel_format::profiles;
+use taxel_compiler::svg::compile_svg;
+use taxel_compiler::{CompileOptions, Compiled, Severity, StyleSheet};
+use taxel_format::{Chunk, DeviceProfile, DotKind, MaskKind, MaskLayer, MaskSamples, profiles};
 
 /// `examples/examples.toml`.
 #[derive(Debug, Deserialize)]
@@ -214,4 +221,247 @@ fn every_annotation_and_style_sheet_parses() {
         }
     }
     assert!(seen >= 40, "only {seen} annotations found: the scan is broken");
+}
+
+/// Compiles a scene the way `taxel build` does: its profile, its style sheet.
+fn build(s: &Scene) -> Compiled {
+    let profile = profiles::builtin(&s.profile).unwrap_or_else(|| panic!("{}: unknown profile", s.name));
+    let mut opts = CompileOptions::new(profile);
+    if let Some(style) = &s.style {
+        let text = std::fs::read_to_string(examples_dir().join(style)).unwrap_or_default();
+        opts.style = Some(StyleSheet::parse(&text, style).unwrap_or_else(|e| panic!("{e}")));
+    }
+    let text = std::fs::read_to_string(examples_dir().join(&s.input)).unwrap_or_default();
+    compile_svg(&text, &opts)
+}
+
+fn svg_scenes() -> Vec<Scene> {
+    index().scene.into_iter().filter(|s| s.input.ends_with(".svg")).collect()
+}
+
+#[test]
+fn every_example_builds_with_exactly_the_warnings_it_is_meant_to_show() {
+    let mut failures = Vec::new();
+    for s in svg_scenes() {
+        let out = build(&s);
+        let errors = out.diagnostics.iter().any(|d| d.severity == Severity::Error);
+        let warnings: Vec<String> = out
+            .diagnostics
+            .iter()
+            .filter(|d| d.severity == Severity::Warning)
+            .map(|d| d.code.to_string())
+            .collect::<BTreeSet<_>>()
+            .into_iter()
+            .collect();
+        if errors || out.bundle.is_none() || warnings != s.warnings {
+            let all: Vec<String> = out.diagnostics.iter().map(|d| d.render(&s.input)).collect();
+            failures.push(format!(
+                "{}: expected warnings {:?}, got {warnings:?}{}\n{}",
+                s.name,
+                s.warnings,
+                if out.bundle.is_none() { " and no bundle" } else { "" },
+                all.join("\n")
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+/// Actuator offsets from the carrier: the array centred on it, row 0 on top
+/// (primitives.md, "Device family 1").
+fn actuator_offsets(p: &DeviceProfile) -> Vec<(f32, f32)> {
+    let (rows, cols) = (p.rows as f32, p.cols as f32);
+    (0..p.rows)
+        .flat_map(|r| {
+            (0..p.cols).map(move |c| {
+                ((c as f32 - (cols - 1.0) / 2.0) * p.pitch_x_mm, (r as f32 - (rows - 1.0) / 2.0) * p.pitch_y_mm)
+            })
+        })
+        .collect()
+}
+
+/// Whether the mask is non-zero at page point `(x, y)` (nearest sample).
+fn mask_on(m: &MaskLayer, x: f32, y: f32) -> bool {
+    let i = ((x - m.origin_x.0) * m.px_per_mm).floor();
+    let j = ((y - m.origin_y.0) * m.px_per_mm).floor();
+    if i < 0.0 || j < 0.0 || i >= m.width as f32 || j >= m.height as f32 {
+        return false;
+    }
+    let k = j as usize * m.width as usize + i as usize;
+    match &m.samples {
+        MaskSamples::U8(v) => v.get(k).is_some_and(|&s| s > 0),
+        MaskSamples::U16(v) => v.get(k).is_some_and(|&s| s > 0),
+    }
+}
+
+#[test]
+fn every_trace_passes_over_every_layer_of_its_bundle() {
+    for s in svg_scenes() {
+        let Some(trace) = &s.trace else { continue };
+        let Some(bundle) = build(&s).bundle else { panic!("{}: does not build", s.name) };
+        let offsets = actuator_offsets(&bundle.manifest.profile);
+        let carrier: Vec<(f32, f32)> =
+            read_trace(&examples_dir().join(trace)).iter().map(|&(_, x, y)| (x as f32, y as f32)).collect();
+        let touched = |on: &dyn Fn(f32, f32) -> bool| {
+            carrier.iter().any(|&(cx, cy)| offsets.iter().any(|&(dx, dy)| on(cx + dx, cy + dy)))
+        };
+        let mut layers = 0;
+        for chunk in &bundle.chunks {
+            let ok = match chunk {
+                Chunk::Mask(m) => touched(&|x, y| mask_on(m, x, y)),
+                Chunk::Dots(t) => t.dots.iter().all(|d| touched(&|x, y| (x - d.x.0).hypot(y - d.y.0) <= d.radius.0)),
+                _ => continue,
+            };
+            layers += 1;
+            assert!(ok, "{}: the trace never puts an actuator on layer {:?}", s.name, chunk.tag());
+        }
+        assert!(layers > 0, "{}: no layers", s.name);
+    }
+}
+
+/// What a bundle's layers are, without their rasters: kind and parameters of
+/// each mask, kind and dot count of each dot table, sorted.
+fn layer_summary(b: &taxel_format::Bundle) -> Vec<String> {
+    let mut v: Vec<String> = b
+        .chunks
+        .iter()
+        .filter_map(|c| match c {
+            Chunk::Mask(m) => Some(match m.kind {
+                MaskKind::Vibration { freq } => format!("vibration {} mHz", freq.0),
+                MaskKind::Grating { wavelength, angle_deg } => format!("grating {} mm at {angle_deg}°", wavelength.0),
+            }),
+            Chunk::Dots(t) => Some(format!("{} dots x{}", t.kind.name(), t.dots.len())),
+            _ => None,
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+fn bundle_of(name: &str) -> taxel_format::Bundle {
+    let s = svg_scenes().into_iter().find(|s| s.name == name).unwrap_or_else(|| panic!("no scene {name}"));
+    build(&s).bundle.unwrap_or_else(|| panic!("{name} does not build"))
+}
+
+fn dots_of(b: &taxel_format::Bundle, kind: DotKind) -> Vec<(f32, f32, f32)> {
+    let mut v: Vec<(f32, f32, f32)> = b
+        .chunks
+        .iter()
+        .filter_map(|c| match c {
+            Chunk::Dots(t) if t.kind == kind => Some(t.dots.iter().map(|d| (d.x.0, d.y.0, d.radius.0))),
+            _ => None,
+        })
+        .flatten()
+        .collect();
+    v.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
+    v
+}
+
+#[test]
+fn the_plain_map_through_its_style_sheet_feels_like_the_inkscape_map() {
+    let (map, plain) = (bundle_of("tala-map"), bundle_of("tala-plain"));
+    let expected = [
+        // Uncontracted braille of the key's labels: edge (e d g e: 2+3+4+2 dots), ash (1+3+3),
+        // elm (2+3+3), oak (3+1+2), town (4+3+4+4).
+        "braille dots x47",
+        // Each province and its key swatch.
+        "grating 3 mm at 0°",
+        "grating 3 mm at 0°",
+        "grating 6 mm at 90°",
+        "grating 6 mm at 90°",
+        "grating 9 mm at 45°",
+        "grating 9 mm at 45°",
+        // Three towns and the key's town.
+        "symbol dots x4",
+    ];
+    // The vibrating lines: the teacher combined the coast and the province
+    // borders into one path (one mask, so their junctions do not add up);
+    // the plain drawing keeps them apart. 50 Hz is the default (seed 000, 3.2).
+    let vibration = |n: usize| vec!["vibration 50000 mHz"; n];
+    let with = |n: usize| {
+        let mut v: Vec<&str> = expected.iter().copied().chain(vibration(n)).collect();
+        v.sort();
+        v
+    };
+    assert_eq!(layer_summary(&map), with(2));
+    assert_eq!(layer_summary(&plain), with(3));
+    let towns: Vec<(f32, f32, f32)> = vec![(17.0, 18.0, 1.5), (30.0, 45.0, 1.5), (52.0, 22.0, 1.5), (77.5, 54.0, 1.5)];
+    assert_close(&dots_of(&map, DotKind::Symbol), &towns, "towns of tala-map");
+    // The style sheet's 1.5 mm radius, not the 1.2 mm drawn.
+    assert_close(&dots_of(&plain, DotKind::Symbol), &towns, "towns of tala-plain");
+    assert_close(&dots_of(&map, DotKind::Braille), &dots_of(&plain, DotKind::Braille), "braille");
+}
+
+/// Same dots to a micrometre (an SVG transform's f32 rounding is allowed).
+fn assert_close(a: &[(f32, f32, f32)], b: &[(f32, f32, f32)], what: &str) {
+    let same = a.len() == b.len()
+        && a.iter()
+            .zip(b)
+            .all(|(p, q)| (p.0 - q.0).abs() < 1e-3 && (p.1 - q.1).abs() < 1e-3 && (p.2 - q.2).abs() < 1e-3);
+    assert!(same, "{what}: {a:?} != {b:?}");
+}
+
+/// Where a straight stroke from `a` to `b` crosses the grid lines x = l·c and
+/// y = l·r, with its ends, in order along it (seed 001, step 1).
+fn grid_crossings(a: (f64, f64), b: (f64, f64), l: f64) -> Vec<(f64, f64)> {
+    let mut ts = vec![0.0, 1.0];
+    for (p, q) in [(a.0, b.0), (a.1, b.1)] {
+        if (q - p).abs() > 1e-12 {
+            for k in -10..=10 {
+                let t = (l * k as f64 - p) / (q - p);
+                if t > 1e-9 && t < 1.0 - 1e-9 {
+                    ts.push(t);
+                }
+            }
+        }
+    }
+    ts.sort_by(|x, y| x.partial_cmp(y).unwrap_or(std::cmp::Ordering::Equal));
+    ts.dedup_by(|x, y| (*x - *y).abs() < 1e-9);
+    ts.iter().map(|t| (a.0 + (b.0 - a.0) * t, a.1 + (b.1 - a.1) * t)).collect()
+}
+
+#[test]
+fn the_evaluation_strokes_have_the_virtual_points_the_paper_describes() {
+    // (scene, start, end, duration ms, intensity, carrier Hz), as annotated.
+    let cases = [
+        ("brush-1-diagonal", (0.0, 0.0), (189.0, 126.0), 1000.0, 1.0, 200.0),
+        ("brush-2-horizontal", (31.5, 63.0), (157.5, 63.0), 800.0, 0.8, 150.0),
+        ("brush-3-virtual", (31.5, 0.0), (157.5, 126.0), 1200.0, 0.9, 270.0),
+    ];
+    for (name, a, b, ms, intensity, hz) in cases {
+        let bundle = bundle_of(name);
+        let p = bundle.manifest.profile;
+        let strokes: Vec<&taxel_format::Stroke> = bundle
+            .chunks
+            .iter()
+            .filter_map(|c| if let Chunk::Strokes(t) = c { Some(&t.strokes) } else { None })
+            .flatten()
+            .collect();
+        assert_eq!(strokes.len(), 1, "{name}: one stroke");
+        let s = strokes[0];
+        assert_eq!(s.duration as f64, ms * p.rate_hz as f64 / 1000.0, "{name}: T in ticks");
+        assert_eq!(s.carrier.0 as f64, hz * 1000.0, "{name}: carrier");
+        assert!((s.intensity as f64 - intensity).abs() < 1e-6, "{name}: intensity");
+        let expected = grid_crossings(a, b, p.pitch_x_mm as f64);
+        let got: Vec<(f64, f64)> = s.points.iter().map(|q| (q.x.0 as f64, q.y.0 as f64)).collect();
+        assert_eq!(got.len(), expected.len(), "{name}: points {got:?}, expected {expected:?}");
+        for (g, e) in got.iter().zip(&expected) {
+            assert!((g.0 - e.0).abs() < 0.01 && (g.1 - e.1).abs() < 0.01, "{name}: point {g:?}, expected {e:?}");
+        }
+        // On an actuator a point drives it alone; between actuators it is a phantom.
+        let on_actuator = |q: &(f64, f64)| {
+            let l = p.pitch_x_mm as f64;
+            ((q.0 / l).round() * l - q.0).abs() < 1e-6 && ((q.1 / l).round() * l - q.1).abs() < 1e-6
+        };
+        let physical: Vec<bool> = expected.iter().map(on_actuator).collect();
+        match name {
+            "brush-1-diagonal" => assert_eq!(physical, [true, false, false, false, true], "{name}"),
+            "brush-2-horizontal" => assert_eq!(physical, [false, true, true, false], "{name}"),
+            _ => assert!(physical.iter().all(|x| !x), "{name}: virtual points only"),
+        }
+        for (q, phys) in s.points.iter().zip(&physical) {
+            let driven = q.drives.iter().filter(|d| d.intensity > 1e-6).count();
+            assert_eq!(driven == 1, *phys, "{name}: point ({}, {}) drives {driven} actuators", q.x.0, q.y.0);
+        }
+    }
 }
