@@ -1,2 +1,93 @@
-//! Benchmarks of the laterotactile player.
-fn main() {}
+//! Cost of one 64-actuator STRESS² frame: all three primitives active at
+//! once, each alone, and dots in a scene of 1 dot against 10,000 dots.
+//!
+//! Run briefly with
+//! `cargo bench -p taxel-runtime --bench latero -- --warm-up-time 1 --measurement-time 3`.
+
+use std::hint::black_box;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use taxel_format::{
+    Bundle, BundleView, Chunk, Dot, DotKind, DotTable, Manifest, MaskKind, MaskLayer, MaskSamples, MilliHertz, Mm,
+    Tick, profiles,
+};
+use taxel_runtime::latero::LateroPlayer;
+
+/// Carrier position of every benchmark: the middle of the surface.
+const X: f32 = 55.0;
+const Y: f32 = 30.0;
+
+fn bytes(chunks: Vec<Chunk>) -> Vec<u8> {
+    let mut b = Bundle::new(Manifest::new(profiles::builtin("stress2").expect("built-in profile")));
+    b.chunks = chunks;
+    b.to_bytes().expect("valid bundle")
+}
+
+/// A mask at 10 px/mm over `[x0, x0 + w) x [y0, y0 + h)` mm with a soft gradient.
+fn mask(kind: MaskKind, x0: f32, y0: f32, w_mm: u32, h_mm: u32) -> Chunk {
+    let (w, h) = (w_mm * 10, h_mm * 10);
+    let samples = (0..w * h).map(|k| (128 + (k % w) * 127 / w) as u8).collect();
+    Chunk::Mask(MaskLayer {
+        source: None,
+        kind,
+        amplitude: 0.8,
+        origin_x: Mm(x0),
+        origin_y: Mm(y0),
+        px_per_mm: 10.0,
+        width: w,
+        height: h,
+        samples: MaskSamples::U8(samples),
+    })
+}
+
+fn vibration(x0: f32, y0: f32, w: u32, h: u32) -> Chunk {
+    mask(MaskKind::Vibration { freq: MilliHertz(50_000) }, x0, y0, w, h)
+}
+
+fn grating(x0: f32, y0: f32, w: u32, h: u32) -> Chunk {
+    mask(MaskKind::Grating { wavelength: Mm(3.0), angle_deg: 30.0 }, x0, y0, w, h)
+}
+
+fn dots(list: impl IntoIterator<Item = (f32, f32)>) -> Chunk {
+    let dots = list.into_iter().map(|(x, y)| Dot { x: Mm(x), y: Mm(y), radius: Mm(1.0), amplitude: 1.0, source: None });
+    Chunk::Dots(DotTable { kind: DotKind::Outline, dots: dots.collect() })
+}
+
+/// 10,000 dots of radius 1 mm on a 100 x 100 lattice over the surface
+/// (1.1 x 0.6 mm apart would overlap; 2.2 x 1.2 keeps them mostly apart).
+fn many_dots() -> Chunk {
+    dots((0..100).flat_map(|i| (0..100).map(move |j| (1.0 + 1.08 * i as f32, 1.0 + 0.58 * j as f32))))
+}
+
+fn bench_scene(c: &mut Criterion, name: &str, chunks: Vec<Chunk>) {
+    let bytes = bytes(chunks);
+    let view = BundleView::parse(&bytes).expect("valid bundle");
+    let player = LateroPlayer::new(&view).expect("laterotactile bundle");
+    let mut out = [0u16; 64];
+    let mut tick = 0u64;
+    c.bench_function(name, |b| {
+        b.iter(|| {
+            tick += 1;
+            // Small movements so that positions vary like a real exploration.
+            let dx = (tick % 16) as f32 * 0.01;
+            black_box(player.frame(Tick(tick), Mm(black_box(X + dx)), Mm(black_box(Y)), &mut out));
+        })
+    });
+}
+
+fn latero(c: &mut Criterion) {
+    // All three at once: a vibrating region on the left half of the array,
+    // a grated region on the right half, and two dots on the boundary.
+    bench_scene(
+        c,
+        "latero frame: vibration + grating + dots",
+        vec![vibration(X - 10.0, Y - 10.0, 10, 20), grating(X, Y - 10.0, 10, 20), dots([(X, Y - 2.0), (X, Y + 2.0)])],
+    );
+    bench_scene(c, "latero frame: vibration alone", vec![vibration(X - 10.0, Y - 10.0, 20, 20)]);
+    bench_scene(c, "latero frame: grating alone", vec![grating(X - 10.0, Y - 10.0, 20, 20)]);
+    bench_scene(c, "latero frame: 1 dot", vec![dots([(X, Y)])]);
+    bench_scene(c, "latero frame: 10,000 dots", vec![many_dots()]);
+}
+
+criterion_group!(benches, latero);
+criterion_main!(benches);

@@ -71,6 +71,8 @@ pub const MAX_COLS: usize = 64;
 /// Actuators evaluated together: frames are computed in blocks of whole
 /// rows of at most this many actuators, accumulated on the stack.
 pub(crate) const BLOCK: usize = 64;
+/// 2²³: an `f32` in [2²³, 2²⁴) has integer spacing, so `v + 2²³` rounds `v`.
+const ROUND_BITS: f32 = 8_388_608.0;
 /// Largest output resolution, in bits (codes are `u16`).
 pub const MAX_OUTPUT_BITS: u8 = 16;
 
@@ -234,11 +236,12 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
             r1: 0,
         };
         // Actuators on the surface form one rectangle of columns and rows.
-        (f.col_lo, f.col_hi) = inside(self.cols, self.surface_w, |c| f.col_x(c));
-        (f.row_lo, f.row_hi) = inside(self.rows, self.surface_h, |r| f.row_y(r));
+        (f.col_lo, f.col_hi) = inside(self.cols, f.x_first, self.pitch_x, self.surface_w);
+        (f.row_lo, f.row_hi) = inside(self.rows, f.y_first, self.pitch_y, self.surface_h);
         let layers = self.layers.as_ref().get(..self.len).unwrap_or(&[]);
         let rows_per_block = (BLOCK / self.cols).max(1);
-        let half_step = 0.5 / self.max_code;
+        // A sum counts as clamped when clamping changed its code.
+        let clamp_at = 1.0 + 0.5 / self.max_code;
         for (b, block) in out.chunks_mut(rows_per_block * self.cols).enumerate() {
             f.r0 = b * rows_per_block;
             f.r1 = (f.r0 + rows_per_block).min(self.rows);
@@ -250,33 +253,48 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
                     Slot::Empty => {}
                 }
             }
-            for (o, &a) in block.iter_mut().zip(acc.iter()) {
-                // `max` also maps a NaN (impossible from validated layers) to rest.
-                let mut v = a.max(0.0);
-                if v > 1.0 {
-                    if v > 1.0 + half_step {
-                        stats.clamped += 1;
-                    }
-                    v = 1.0;
-                }
-                *o = (v * self.max_code + 0.5) as u16;
+            // Clamp and quantise the whole block branch-free, then copy out.
+            let mut codes = [0u16; BLOCK];
+            let mut clamped = 0u32;
+            for (o, &a) in codes.iter_mut().zip(acc.iter()) {
+                clamped += (a > clamp_at) as u32;
+                // Comparisons rather than `min`/`max` compile to one
+                // instruction each; a NaN (impossible from validated layers)
+                // fails `v > 0.0` and rests.
+                let v = if a < 1.0 { a } else { 1.0 };
+                let v = if v > 0.0 { v } else { 0.0 };
+                // Adding 2²³ leaves round(v · max) in the low mantissa bits
+                // (v · max ≤ 65535), a conversion that vectorises, unlike `as`.
+                *o = ((v * self.max_code + ROUND_BITS).to_bits() & 0xffff) as u16;
+            }
+            stats.clamped += clamped;
+            for (o, &c) in block.iter_mut().zip(codes.iter()) {
+                *o = c;
             }
         }
         stats
     }
 }
 
-/// The half-open range of indices `0..n` whose position lies in `[0, limit]`
-/// (positions increase with the index).
-fn inside(n: usize, limit: f32, pos: impl Fn(usize) -> f32) -> (usize, usize) {
-    let mut lo = n;
-    let mut hi = 0;
-    for i in 0..n {
-        let p = pos(i);
-        if p >= 0.0 && p <= limit {
-            lo = lo.min(i);
-            hi = i + 1;
-        }
+/// The half-open range of indices `0..n` whose position `first + i · pitch`
+/// lies in `[0, limit]`.
+fn inside(n: usize, first: f32, pitch: f32, limit: f32) -> (usize, usize) {
+    let pos = |i: usize| first + i as f32 * pitch;
+    // Estimate from the division, then settle the edges with the same
+    // position formula the layers use, so both agree exactly.
+    let mut lo = osc::ceil_i32(-first / pitch).clamp(0, n as i32) as usize;
+    while lo > 0 && pos(lo - 1) >= 0.0 {
+        lo -= 1;
+    }
+    while lo < n && pos(lo) < 0.0 {
+        lo += 1;
+    }
+    let mut hi = (osc::floor_i32((limit - first) / pitch).saturating_add(1)).clamp(0, n as i32) as usize;
+    while hi < n && pos(hi) <= limit {
+        hi += 1;
+    }
+    while hi > 0 && pos(hi - 1) > limit {
+        hi -= 1;
     }
     if lo >= hi { (0, 0) } else { (lo, hi) }
 }
