@@ -6,6 +6,9 @@ use taxel_format::{MaskKind, MaskView, MilliHertz};
 use super::osc::{cos_turns, frac64, phase_turns};
 use super::{BLOCK, Frame, MAX_COLS};
 
+/// Lanes of the interpolation loop.
+const LANES: usize = 8;
+
 /// What a mask modulates, with the per-layer constants computed at load.
 #[derive(Debug, Clone, Copy)]
 pub(crate) enum Primitive {
@@ -83,53 +86,59 @@ impl<'a> MaskLayer<'a> {
         // check; at a row's last sample (a mask one sample wide) it repeats it.
         if self.wide {
             self.accumulate_in(f, acc, |row: &[u8], i: usize| match row.get(2 * i..2 * i + 4) {
-                Some(&[a, b, c, d]) => (u16::from_le_bytes([a, b]) as f32, u16::from_le_bytes([c, d]) as f32),
+                Some(&[a, b, c, d]) => (u16::from_le_bytes([a, b]) as i32, u16::from_le_bytes([c, d]) as i32),
                 _ => {
                     let v = match row.get(2 * i..2 * i + 2) {
-                        Some(&[a, b]) => u16::from_le_bytes([a, b]) as f32,
-                        _ => 0.0,
+                        Some(&[a, b]) => u16::from_le_bytes([a, b]) as i32,
+                        _ => 0,
                     };
                     (v, v)
                 }
             })
         } else {
             self.accumulate_in(f, acc, |row: &[u8], i: usize| match row.get(i..i + 2) {
-                Some(&[a, b]) => (a as f32, b as f32),
+                Some(&[a, b]) => (a as i32, b as i32),
                 _ => {
-                    let v = row.get(i).copied().unwrap_or(0) as f32;
+                    let v = row.get(i).copied().unwrap_or(0) as i32;
                     (v, v)
                 }
             })
         }
     }
 
-    /// The work is split per row into a gather of mask values (scalar: four
-    /// samples per actuator) and the primitive, which is straight-line
-    /// arithmetic over the row that the compiler vectorises.
+    /// Per row, a scalar gather of the four samples around each actuator,
+    /// then straight-line arithmetic over the row (interpolation and the
+    /// primitive) that the compiler vectorises.
     #[inline(always)]
-    fn accumulate_in(&self, f: &Frame, acc: &mut [f32; BLOCK], pair: impl Fn(&[u8], usize) -> (f32, f32)) {
+    fn accumulate_in(&self, f: &Frame, acc: &mut [f32; BLOCK], pair: impl Fn(&[u8], usize) -> (i32, i32)) {
         // Columns inside both the surface and the mask's box, with their
-        // bilinear taps. Pixel centres sit at (i + ½) / px_per_mm; between
-        // the box edge and the first centre the edge sample holds.
-        let mut taps = [Tap::ZERO; MAX_COLS];
-        let (mut c_lo, mut c_hi) = (usize::MAX, 0usize);
-        // Tap `a` is at most width − 2, so that samples a and a + 1 are both
-        // in the row; at the right edge the weight on a + 1 is then 1.
+        // bilinear taps (index k = column − c_lo). Pixel centres sit at
+        // (i + ½) / px_per_mm; between the box edge and the first centre the
+        // edge sample holds. Tap `a` is at most width − 2, so that samples a
+        // and a + 1 are both in the row; at the right edge the weight on
+        // a + 1 is then 1.
+        let mut tap_a = [0u32; MAX_COLS];
+        let mut tap_w = [0.0f32; MAX_COLS];
+        let (mut c_lo, mut n) = (0usize, 0usize);
         let wmax = (self.width - 1) as f32;
         let amax = self.width.saturating_sub(2);
         for c in f.col_lo..f.col_hi {
             let x = f.col_x(c);
             if x >= self.x0 && x < self.x1 {
+                if n == 0 {
+                    c_lo = c;
+                }
                 let fx = ((x - self.x0) * self.px_per_mm - 0.5).max(0.0).min(wmax);
                 let a = (fx as u32).min(amax);
-                if let Some(slot) = taps.get_mut(c) {
-                    *slot = Tap { a, w: fx - a as f32 };
+                if let (Some(ta), Some(tw)) = (tap_a.get_mut(c - c_lo), tap_w.get_mut(c - c_lo)) {
+                    (*ta, *tw) = (a, fx - a as f32);
                 }
-                c_lo = c_lo.min(c);
-                c_hi = c + 1;
+                n = c - c_lo + 1;
             }
         }
-        let (Some(taps), Some(n)) = (taps.get(c_lo..c_hi), c_hi.checked_sub(c_lo)) else { return };
+        if n == 0 {
+            return;
+        }
         let bpr = if self.wide { 2 } else { 1 } * self.width as usize;
         let hmax = (self.height - 1) as f32;
         let mut base = 0.0;
@@ -147,10 +156,14 @@ impl<'a> MaskLayer<'a> {
             }
             Primitive::Grating { .. } => (0.0, 0.0),
         };
+        // The four samples around each actuator of a row, in separate arrays
+        // so that the interpolation below runs on whole vectors.
+        let (mut g00, mut g10, mut g01, mut g11) =
+            ([0i32; MAX_COLS], [0i32; MAX_COLS], [0i32; MAX_COLS], [0i32; MAX_COLS]);
         let mut m = [0.0f32; MAX_COLS];
-        for r in f.r0..f.r1 {
+        for r in f.r0.max(f.row_lo)..f.r1.min(f.row_hi) {
             let y = f.row_y(r);
-            if r < f.row_lo || r >= f.row_hi || !(y >= self.y0 && y < self.y1) {
+            if !(y >= self.y0 && y < self.y1) {
                 continue;
             }
             let fy = ((y - self.y0) * self.px_per_mm - 0.5).max(0.0).min(hmax);
@@ -160,41 +173,53 @@ impl<'a> MaskLayer<'a> {
             let row0 = self.samples.get(j0 as usize * bpr..).unwrap_or(&[]);
             let row1 = self.samples.get(j1 as usize * bpr..).unwrap_or(&[]);
             let k0 = (r - f.r0) * f.cols + c_lo;
-            let (Some(out), Some(m)) = (acc.get_mut(k0..k0 + n), m.get_mut(..n)) else { continue };
-            for (mv, t) in m.iter_mut().zip(taps) {
-                let (a0, b0) = pair(row0, t.a as usize);
-                let (a1, b1) = pair(row1, t.a as usize);
-                let top = a0 + t.w * (b0 - a0);
-                let bot = a1 + t.w * (b1 - a1);
-                *mv = (top + wy * (bot - top)) * self.scale;
+            let Some(out) = acc.get_mut(k0..k0 + n) else { continue };
+            // Eq. 2: column c_lo + k differs in parity from row r when r + c_lo + k is odd.
+            let parity = if (r + c_lo) & 1 == 1 { [differ, same] } else { [same, differ] };
+            let row_phase = match self.primitive {
+                Primitive::Grating { step_row, .. } => base + (r - f.r0) as f32 * step_row,
+                Primitive::Vibration { .. } => 0.0,
+            };
+            // A scalar gather of the row's samples (n ≤ MAX_COLS, so the
+            // indexing below cannot fail).
+            for k in 0..n.min(MAX_COLS) {
+                let a = tap_a[k] as usize;
+                ((g00[k], g10[k]), (g01[k], g11[k])) = (pair(row0, a), pair(row1, a));
             }
+            // Then LANES actuators at a time, with a fixed trip count the
+            // compiler turns into vector code, over the groups the row needs.
+            let groups = n.div_ceil(LANES);
+            let chunks = m.chunks_exact_mut(LANES).zip(tap_w.chunks_exact(LANES));
+            let chunks = chunks.zip(g00.chunks_exact(LANES).zip(g10.chunks_exact(LANES)));
+            let chunks = chunks.zip(g01.chunks_exact(LANES).zip(g11.chunks_exact(LANES)));
+            let bilinear = |w: f32, s00: i32, s10: i32, s01: i32, s11: i32| {
+                let (s00, s10, s01, s11) = (s00 as f32, s10 as f32, s01 as f32, s11 as f32);
+                let top = s00 + w * (s10 - s00);
+                let bot = s01 + w * (s11 - s01);
+                (top + wy * (bot - top)) * self.scale
+            };
             match self.primitive {
                 Primitive::Vibration { .. } => {
-                    // Column c_lo + k differs in parity from row r when (r + c_lo + k) is odd.
-                    let pair = if (r + c_lo) & 1 == 1 { [differ, same] } else { [same, differ] };
-                    for (k, (a, mv)) in out.iter_mut().zip(m.iter()).enumerate() {
-                        *a += mv * pair[k & 1];
+                    for (((m, w), (g00, g10)), (g01, g11)) in chunks.take(groups) {
+                        for i in 0..LANES {
+                            m[i] = bilinear(w[i], g00[i], g10[i], g01[i], g11[i]) * parity[i & 1];
+                        }
                     }
                 }
                 // Eq. 3.
-                Primitive::Grating { step_col, step_row, .. } => {
-                    let row_base = base + (r - f.r0) as f32 * step_row;
-                    for (k, (a, mv)) in out.iter_mut().zip(m.iter()).enumerate() {
-                        *a += mv * (0.5 + 0.5 * cos_turns(row_base + k as f32 * step_col));
+                Primitive::Grating { step_col, .. } => {
+                    for (group, (((m, w), (g00, g10)), (g01, g11))) in chunks.take(groups).enumerate() {
+                        let phase0 = row_phase + (group * LANES) as f32 * step_col;
+                        for i in 0..LANES {
+                            let delta = 0.5 + 0.5 * cos_turns(phase0 + i as f32 * step_col);
+                            m[i] = bilinear(w[i], g00[i], g10[i], g01[i], g11[i]) * delta;
+                        }
                     }
                 }
             }
+            for (a, &v) in out.iter_mut().zip(m.iter()) {
+                *a += v;
+            }
         }
     }
-}
-
-/// Bilinear taps of one column: samples `a` and `a + 1`, weight `w` on `a + 1`.
-#[derive(Clone, Copy)]
-struct Tap {
-    a: u32,
-    w: f32,
-}
-
-impl Tap {
-    const ZERO: Tap = Tap { a: 0, w: 0.0 };
 }
