@@ -1,1 +1,403 @@
-//! Exploration traces.
+//! Exploration traces: where the reader's finger (or the array's carrier)
+//! was at each moment, as CSV with the header `t_ms,x_mm,y_mm` and an
+//! optional `contact` column (0 or 1, for the finger device).
+//!
+//! Columns are found by name, in any order; other columns are ignored.
+//! Times are milliseconds on the trace's own clock, not negative, and never
+//! decreasing; every number is finite. Between samples the position is
+//! interpolated linearly and contact holds the latest sample's value. Tick
+//! `k` of a rate `R` is the instant `k · 1000 / R` ms on the same clock
+//! (t_ms = 0 is tick 0), and a trace covers the ticks from its first
+//! sample's time to its last's, both included.
+//!
+//! ```
+//! use taxel_runtime::trace::Trace;
+//!
+//! let trace = Trace::parse("t_ms,x_mm,y_mm\n0,10,20\n4,14,20\n".as_bytes()).unwrap();
+//! let points: Vec<_> = trace.ticks(1000).collect();
+//! assert_eq!(points.len(), 5);
+//! assert_eq!((points[1].0.0, points[1].1.x_mm, points[1].1.y_mm), (1, 11.0, 20.0));
+//! ```
+
+use std::fmt;
+use std::io::Read;
+use std::string::{String, ToString};
+use std::vec::Vec;
+
+use taxel_format::Tick;
+
+/// One row of a trace.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TraceSample {
+    /// Time in milliseconds.
+    pub t_ms: f64,
+    /// Page x in millimetres.
+    pub x_mm: f64,
+    /// Page y in millimetres (down).
+    pub y_mm: f64,
+    /// Whether the finger touches the surface (true when the trace has no `contact` column).
+    pub contact: bool,
+}
+
+/// The state of the exploration at one instant.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TracePoint {
+    /// Page x in millimetres.
+    pub x_mm: f64,
+    /// Page y in millimetres.
+    pub y_mm: f64,
+    /// Whether the finger touches the surface.
+    pub contact: bool,
+}
+
+/// A parsed, checked exploration trace (at least one sample).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trace {
+    samples: Vec<TraceSample>,
+    has_contact: bool,
+}
+
+/// Why a trace was refused. `line` is the 1-based line in the file (the
+/// header is line 1).
+#[derive(Debug, Clone, PartialEq)]
+pub enum TraceError {
+    /// The CSV itself is malformed (or not UTF-8), or could not be read.
+    Csv {
+        /// Line of the problem, when known.
+        line: Option<u64>,
+        /// What the CSV reader said.
+        message: String,
+    },
+    /// A required column is not in the header.
+    MissingColumn {
+        /// The column.
+        column: &'static str,
+        /// The header found.
+        header: String,
+    },
+    /// A column appears twice in the header.
+    DuplicateColumn {
+        /// The column.
+        column: &'static str,
+    },
+    /// A row has fewer fields than the header.
+    MissingField {
+        /// Line of the row.
+        line: u64,
+        /// The column with no value.
+        column: &'static str,
+    },
+    /// A field is not a number.
+    NotANumber {
+        /// Line of the row.
+        line: u64,
+        /// The column.
+        column: &'static str,
+        /// The text found.
+        value: String,
+    },
+    /// A number is NaN or infinite.
+    NotFinite {
+        /// Line of the row.
+        line: u64,
+        /// The column.
+        column: &'static str,
+        /// The text found.
+        value: String,
+    },
+    /// A `contact` field is not 0 or 1.
+    BadContact {
+        /// Line of the row.
+        line: u64,
+        /// The text found.
+        value: String,
+    },
+    /// A time before 0 ms.
+    NegativeTime {
+        /// Line of the row.
+        line: u64,
+        /// The time.
+        t_ms: f64,
+    },
+    /// A time earlier than the previous row's.
+    TimeBackwards {
+        /// Line of the row.
+        line: u64,
+        /// The time.
+        t_ms: f64,
+        /// The previous row's time.
+        previous: f64,
+    },
+    /// The trace has a header but no samples (or nothing at all).
+    Empty,
+}
+
+impl fmt::Display for TraceError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            TraceError::Csv { line: Some(l), message } => write!(f, "line {l}: malformed CSV: {message}"),
+            TraceError::Csv { line: None, message } => write!(f, "malformed CSV: {message}"),
+            TraceError::MissingColumn { column, header } => write!(
+                f,
+                "line 1: the header has no `{column}` column (expected t_ms,x_mm,y_mm and optionally contact; found `{header}`)"
+            ),
+            TraceError::DuplicateColumn { column } => write!(f, "line 1: the header names `{column}` twice"),
+            TraceError::MissingField { line, column } => write!(f, "line {line}: no value for `{column}`"),
+            TraceError::NotANumber { line, column, value } => {
+                write!(f, "line {line}: `{column}` must be a number, found `{value}`")
+            }
+            TraceError::NotFinite { line, column, value } => {
+                write!(f, "line {line}: `{column}` must be a finite number, found `{value}`")
+            }
+            TraceError::BadContact { line, value } => {
+                write!(f, "line {line}: `contact` must be 0 or 1, found `{value}`")
+            }
+            TraceError::NegativeTime { line, t_ms } => {
+                write!(f, "line {line}: time {t_ms} ms is negative (t_ms = 0 is tick 0)")
+            }
+            TraceError::TimeBackwards { line, t_ms, previous } => {
+                write!(f, "line {line}: time goes backwards, from {previous} ms to {t_ms} ms")
+            }
+            TraceError::Empty => write!(f, "the trace has no samples (expected a header t_ms,x_mm,y_mm and rows)"),
+        }
+    }
+}
+
+impl std::error::Error for TraceError {}
+
+const COLUMNS: [&str; 4] = ["t_ms", "x_mm", "y_mm", "contact"];
+
+impl Trace {
+    /// Reads and checks a trace.
+    pub fn parse(reader: impl Read) -> Result<Trace, TraceError> {
+        let mut csv = csv::ReaderBuilder::new()
+            .has_headers(true)
+            .flexible(true)
+            .trim(csv::Trim::All)
+            .comment(None)
+            .from_reader(reader);
+        let csv_error = |e: csv::Error| TraceError::Csv {
+            line: e.position().map(|p| p.line()),
+            message: match e.kind() {
+                csv::ErrorKind::Utf8 { .. } => "not UTF-8 text".to_string(),
+                _ => e.to_string(),
+            },
+        };
+        let header = csv.headers().map_err(csv_error)?.clone();
+        if header.is_empty() || header.iter().all(str::is_empty) {
+            return Err(TraceError::Empty);
+        }
+        let mut index = [None; 4];
+        for (i, name) in header.iter().enumerate() {
+            // A byte-order mark may precede the first column's name.
+            let name = name.trim_start_matches('\u{feff}');
+            if let Some(c) = COLUMNS.iter().position(|&c| c == name) {
+                if index[c].is_some() {
+                    return Err(TraceError::DuplicateColumn { column: COLUMNS[c] });
+                }
+                index[c] = Some(i);
+            }
+        }
+        let header_text = header.iter().collect::<Vec<_>>().join(",");
+        let mut required = [0usize; 3];
+        for c in 0..3 {
+            required[c] =
+                index[c].ok_or(TraceError::MissingColumn { column: COLUMNS[c], header: header_text.clone() })?;
+        }
+        let has_contact = index[3].is_some();
+        let mut samples: Vec<TraceSample> = Vec::new();
+        let mut record = csv::StringRecord::new();
+        loop {
+            match csv.read_record(&mut record) {
+                Ok(true) => {}
+                Ok(false) => break,
+                Err(e) => return Err(csv_error(e)),
+            }
+            let line = record.position().map(|p| p.line()).unwrap_or(0);
+            // A blank line reads as one empty field; skip it.
+            if record.len() == 1 && record.get(0) == Some("") {
+                continue;
+            }
+            let field = |c: usize, i: usize| record.get(i).ok_or(TraceError::MissingField { line, column: COLUMNS[c] });
+            let number = |c: usize| -> Result<f64, TraceError> {
+                let text = field(c, required[c])?;
+                let v: f64 = text.parse().map_err(|_| TraceError::NotANumber {
+                    line,
+                    column: COLUMNS[c],
+                    value: text.to_string(),
+                })?;
+                if v.is_finite() {
+                    Ok(v)
+                } else {
+                    Err(TraceError::NotFinite { line, column: COLUMNS[c], value: text.to_string() })
+                }
+            };
+            let (t_ms, x_mm, y_mm) = (number(0)?, number(1)?, number(2)?);
+            let contact = match index[3] {
+                None => true,
+                Some(i) => match field(3, i)? {
+                    "1" => true,
+                    "0" => false,
+                    other => return Err(TraceError::BadContact { line, value: other.to_string() }),
+                },
+            };
+            if t_ms < 0.0 {
+                return Err(TraceError::NegativeTime { line, t_ms });
+            }
+            if let Some(prev) = samples.last() {
+                if t_ms < prev.t_ms {
+                    return Err(TraceError::TimeBackwards { line, t_ms, previous: prev.t_ms });
+                }
+            }
+            samples.push(TraceSample { t_ms, x_mm, y_mm, contact });
+        }
+        if samples.is_empty() {
+            return Err(TraceError::Empty);
+        }
+        Ok(Trace { samples, has_contact })
+    }
+
+    /// The samples, in time order.
+    pub fn samples(&self) -> &[TraceSample] {
+        &self.samples
+    }
+
+    /// Whether the trace had a `contact` column.
+    pub fn has_contact(&self) -> bool {
+        self.has_contact
+    }
+
+    /// The first and last tick of `rate_hz` inside the trace's time span, or
+    /// `None` when no tick falls inside it (a span shorter than one tick).
+    pub fn tick_range(&self, rate_hz: u32) -> Option<(Tick, Tick)> {
+        let (first, last) = (self.samples.first()?, self.samples.last()?);
+        let rate = rate_hz.max(1) as f64;
+        // A tolerance of a millionth of a tick absorbs decimal rounding
+        // (0.3 ms at 10 kHz is tick 3, not 2.9999999999999996).
+        let a = first.t_ms * rate / 1000.0;
+        let b = last.t_ms * rate / 1000.0;
+        let k0 = (a - 1e-6).ceil().max(0.0);
+        let k1 = (b + 1e-6).floor();
+        if k1 < k0 || k1 >= u64::MAX as f64 {
+            return None;
+        }
+        Some((Tick(k0 as u64), Tick(k1 as u64)))
+    }
+
+    /// The interpolated state at `t_ms` (clamped to the trace's span).
+    pub fn at_ms(&self, t_ms: f64) -> TracePoint {
+        let i = self.samples.partition_point(|s| s.t_ms <= t_ms);
+        self.between(i.saturating_sub(1), t_ms)
+    }
+
+    /// Every tick of `rate_hz` inside the trace with its interpolated state,
+    /// in order (linear time over the whole trace).
+    pub fn ticks(&self, rate_hz: u32) -> impl Iterator<Item = (Tick, TracePoint)> + '_ {
+        let range = self.tick_range(rate_hz);
+        let (k0, k1) = range.map(|(a, b)| (a.0, b.0)).unwrap_or((1, 0));
+        let rate = rate_hz.max(1) as f64;
+        let mut seg = 0usize;
+        (k0..=k1).map(move |k| {
+            let t = k as f64 * 1000.0 / rate;
+            while seg + 1 < self.samples.len() && self.samples[seg + 1].t_ms <= t {
+                seg += 1;
+            }
+            (Tick(k), self.between(seg, t))
+        })
+    }
+
+    /// Interpolates between sample `i` and the next at `t` (clamped).
+    fn between(&self, i: usize, t: f64) -> TracePoint {
+        let Some(a) = self.samples.get(i) else {
+            return TracePoint { x_mm: 0.0, y_mm: 0.0, contact: false };
+        };
+        let point = |s: &TraceSample| TracePoint { x_mm: s.x_mm, y_mm: s.y_mm, contact: s.contact };
+        match self.samples.get(i + 1) {
+            Some(b) if b.t_ms > a.t_ms && t > a.t_ms => {
+                let u = ((t - a.t_ms) / (b.t_ms - a.t_ms)).min(1.0);
+                TracePoint {
+                    x_mm: a.x_mm + u * (b.x_mm - a.x_mm),
+                    y_mm: a.y_mm + u * (b.y_mm - a.y_mm),
+                    contact: a.contact,
+                }
+            }
+            _ => point(a),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(s: &str) -> Result<Trace, TraceError> {
+        Trace::parse(s.as_bytes())
+    }
+
+    #[test]
+    fn interpolates_linearly_between_samples() {
+        let t = parse("t_ms,x_mm,y_mm\n0,0,10\n10,20,0\n20,20,0\n").unwrap();
+        assert_eq!(t.tick_range(1000), Some((Tick(0), Tick(20))));
+        let p: Vec<_> = t.ticks(1000).collect();
+        assert_eq!(p.len(), 21);
+        assert_eq!((p[5].1.x_mm, p[5].1.y_mm), (10.0, 5.0));
+        assert_eq!((p[15].1.x_mm, p[15].1.y_mm), (20.0, 0.0));
+        assert_eq!(t.at_ms(2.5).x_mm, 5.0);
+        // At 48 kHz the first millisecond holds 48 ticks.
+        assert_eq!(t.tick_range(48_000), Some((Tick(0), Tick(960))));
+    }
+
+    #[test]
+    fn ticks_cover_only_the_trace_span() {
+        let t = parse("t_ms,x_mm,y_mm\n2.5,0,0\n7.5,5,0\n").unwrap();
+        assert_eq!(t.tick_range(1000), Some((Tick(3), Tick(7))));
+        let first = t.ticks(1000).next().unwrap();
+        assert_eq!(first.0, Tick(3));
+        assert!((first.1.x_mm - 0.5).abs() < 1e-12);
+        let t = parse("t_ms,x_mm,y_mm\n0.3,0,0\n0.6,1,1\n").unwrap();
+        assert_eq!(t.tick_range(1000), None);
+        assert_eq!(t.ticks(1000).count(), 0);
+        assert_eq!(t.tick_range(10_000), Some((Tick(3), Tick(6))));
+    }
+
+    #[test]
+    fn columns_by_name_with_contact_and_extras() {
+        let t = parse("y_mm, note ,x_mm,contact,t_ms\n1,a,2,1,0\n3,b,4,0,5\n").unwrap();
+        assert!(t.has_contact());
+        assert_eq!(t.samples()[1], TraceSample { t_ms: 5.0, x_mm: 4.0, y_mm: 3.0, contact: false });
+        assert!(!t.at_ms(5.0).contact);
+        assert!(t.at_ms(4.9).contact);
+        assert!(parse("t_ms,x_mm,y_mm\n0,1,2\n").unwrap().samples()[0].contact);
+    }
+
+    #[test]
+    fn bad_traces_name_the_line_and_the_problem() {
+        let cases = [
+            ("t_ms,x_mm\n0,1\n", "line 1: the header has no `y_mm` column"),
+            ("t_ms,x_mm,y_mm,x_mm\n", "line 1: the header names `x_mm` twice"),
+            ("t_ms,x_mm,y_mm\n0,1,2\n1,abc,2\n", "line 3: `x_mm` must be a number, found `abc`"),
+            ("t_ms,x_mm,y_mm\n0,1,2\n1,NaN,2\n", "line 3: `x_mm` must be a finite number, found `NaN`"),
+            ("t_ms,x_mm,y_mm\n0,1,inf\n", "line 2: `y_mm` must be a finite number, found `inf`"),
+            ("t_ms,x_mm,y_mm\n0,1,2\n5,1,2\n4,1,2\n", "line 4: time goes backwards, from 5 ms to 4 ms"),
+            ("t_ms,x_mm,y_mm\n-1,1,2\n", "line 2: time -1 ms is negative"),
+            ("t_ms,x_mm,y_mm\n0,1\n", "line 2: no value for `y_mm`"),
+            ("t_ms,x_mm,y_mm,contact\n0,1,2,yes\n", "line 2: `contact` must be 0 or 1, found `yes`"),
+            ("t_ms,x_mm,y_mm\n", "the trace has no samples"),
+            ("", "the trace has no samples"),
+        ];
+        for (text, want) in cases {
+            let got = parse(text).unwrap_err().to_string();
+            assert!(got.starts_with(want), "{text:?}: {got}");
+        }
+        let bad_utf8 = b"t_ms,x_mm,y_mm\n0,1,\xff\n";
+        let got = Trace::parse(&bad_utf8[..]).unwrap_err().to_string();
+        assert!(got.contains("line 2") && got.contains("UTF-8"), "{got}");
+    }
+
+    #[test]
+    fn equal_times_are_allowed_and_blank_lines_skipped() {
+        let t = parse("t_ms,x_mm,y_mm\n0,0,0\n\n5,1,0\n5,2,0\n10,2,0\n").unwrap();
+        assert_eq!(t.samples().len(), 4);
+        assert_eq!(t.at_ms(5.0).x_mm, 2.0);
+    }
+}

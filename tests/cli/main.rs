@@ -5,3 +5,4 @@ mod brush;
 mod device;
 mod examples;
 mod format;
+mod play;

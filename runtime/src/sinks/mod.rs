@@ -1,3 +1,4 @@
 //! Sinks: where frames go on a host (files, standard output).
 
+pub mod frames;
 pub mod wav;

@@ -8,6 +8,7 @@ use anyhow::Result;
 use taxel_format::{BundleView, Family};
 
 mod grid;
+mod latero;
 
 pub fn run(bundle: &Path, trace: Option<&Path>, out: Option<&Path>) -> Result<ExitCode> {
     let bytes = match std::fs::read(bundle) {
@@ -26,8 +27,9 @@ pub fn run(bundle: &Path, trace: Option<&Path>, out: Option<&Path>) -> Result<Ex
     };
     match view.manifest().profile.family() {
         Family::Grid => grid::run(bundle, &view, trace, out),
-        family => {
-            eprintln!("error: taxel play for {family} bundles is not available yet (issue 4)");
+        Family::Laterotactile => latero::run(bundle, &view, trace, out),
+        Family::Finger => {
+            eprintln!("error: taxel play for finger bundles is not available yet (issue 6)");
             Ok(ExitCode::from(2))
         }
     }
