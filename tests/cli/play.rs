@@ -179,3 +179,46 @@ fn finger_bundles_are_not_played_yet_and_garbage_is_refused() {
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("junk.taxel"), "{}", stderr(&o));
 }
+
+#[test]
+fn compiled_examples_play_along_their_traces() {
+    // Each stress2 example scene, compiled with the compiler library and
+    // played on its own exploration trace: one frame per millisecond of the
+    // trace, and the reader feels something along the way.
+    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let dir = tempfile::tempdir().unwrap();
+    let mut played = 0;
+    for name in ["exp1-vibrate-2cm", "exp1-dots-2cm", "exp1-grating-2cm"] {
+        let svg = examples.join("stress2").join(format!("{name}.svg"));
+        let trace = examples.join("traces").join(format!("{name}.csv"));
+        let (Ok(text), true) = (std::fs::read_to_string(&svg), trace.exists()) else { continue };
+        let opts = taxel_compiler::CompileOptions::new(profiles::builtin("stress2").unwrap());
+        let Some(bundle) = taxel_compiler::svg::compile_svg(&text, &opts).bundle else {
+            panic!("{name} does not compile")
+        };
+        let path = dir.path().join(format!("{name}.taxel"));
+        std::fs::write(&path, bundle.to_bytes().unwrap()).unwrap();
+        let out = dir.path().join(format!("{name}.csv"));
+        let o = taxel(&[
+            "play",
+            path.to_str().unwrap(),
+            "--trace",
+            trace.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        let frames = read_frames(&std::fs::read_to_string(&out).unwrap());
+        let last_ms: f64 = std::fs::read_to_string(&trace)
+            .unwrap()
+            .lines()
+            .last()
+            .and_then(|l| l.split(',').next().map(|t| t.parse().unwrap()))
+            .unwrap();
+        assert_eq!(frames.last().unwrap().0, last_ms.floor() as u64, "{name}");
+        let active = frames.iter().filter(|f| f.1.iter().any(|&c| c > 0)).count();
+        assert!(active > frames.len() / 20, "{name}: only {active} of {} frames move", frames.len());
+        played += 1;
+    }
+    assert!(played > 0, "no example scene found under {}", examples.display());
+}
