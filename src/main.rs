@@ -8,7 +8,8 @@ use clap::Parser;
 mod batch;
 mod cli;
 mod cmd;
-#[allow(dead_code)] // Used once the build command lands (issue 3).
+mod demo;
+mod report;
 mod compile;
 mod textform;
 

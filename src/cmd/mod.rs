@@ -13,12 +13,13 @@ mod load;
 mod pack;
 mod play;
 mod profiles;
+mod report;
 mod unpack;
 
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> Result<ExitCode> {
     match cli.command {
-        None => not_yet("the demo", 8),
+        None => crate::demo::main(),
         Some(Command::Build { inputs, out, opts, jobs, shard, force }) => {
             build::run(build::BuildArgs { inputs, out, opts, jobs, shard, force })
         }
@@ -28,7 +29,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
         Some(Command::Unpack { bundle, out }) => unpack::run(&bundle, &out),
         Some(Command::Preview { .. }) => not_yet("taxel preview", 3),
         Some(Command::Play { bundle, trace, out }) => play::run(&bundle, trace.as_deref(), out.as_deref()),
-        Some(Command::Report { .. }) => not_yet("taxel report", 8),
+        Some(Command::Report { input, opts, plot, format }) => report::run(&input, &opts, plot.as_deref(), format),
         Some(Command::Load { bundles, device }) => load::run(&bundles, &device),
         Some(Command::Device(DeviceCommand::Serve { store, listen, capacity, profile })) => {
             device::serve(&store, &listen, capacity, profile.as_deref())

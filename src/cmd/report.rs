@@ -1,0 +1,75 @@
+//! `taxel report INPUT [--profile P] [--plot PNG] [--format human|json]`:
+//! error against run time over a ladder of settings (docs/report.md).
+
+use std::path::Path;
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+
+use crate::cli::{CompileOpts, Format};
+use crate::report::{self, Report, plot};
+
+/// Runs the report and prints it; writes the plot when asked.
+pub fn run(input: &Path, opts: &CompileOpts, plot_path: Option<&Path>, format: Format) -> Result<ExitCode> {
+    let rep = report::run(input, opts, None)?;
+    match format {
+        Format::Human => print!("{}", human(&rep)),
+        Format::Json => println!("{}", serde_json::to_string_pretty(&rep)?),
+    }
+    if let Some(p) = plot_path {
+        let title = format!(
+            "{} ON {}",
+            input.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default(),
+            rep.profile
+        );
+        let png = plot::draw(&rep.rows, rep.trace_frames, &title).map_err(anyhow::Error::msg)?;
+        crate::batch::output::write_atomic(p, &png).with_context(|| format!("cannot write {}", p.display()))?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The report as a table for people.
+pub fn human(rep: &Report) -> String {
+    let mut s = format!(
+        "{} on {}: {} frames of {}\n\n{:<10} {:>9} {:>11} {:>10} {:>9} {:>10} {:>10}  {}\n",
+        rep.input,
+        rep.profile,
+        rep.trace_frames,
+        rep.trace,
+        "kernel",
+        "setting",
+        "compile ms",
+        "bytes",
+        "µs/frame",
+        "max err",
+        "rms err",
+        "note"
+    );
+    for r in &rep.rows {
+        let mut note = Vec::new();
+        if r.default {
+            note.push("default");
+        }
+        if r.on_front {
+            note.push("front");
+        }
+        s += &format!(
+            "{:<10} {:>9} {:>11.2} {:>10} {:>9.3} {:>10.2} {:>10.3}  {}\n",
+            r.kernel,
+            r.setting,
+            r.compile_ms,
+            r.bundle_bytes,
+            r.frame_us,
+            r.max_error,
+            r.rms_error,
+            note.join(", ")
+        );
+    }
+    if let Some(r) = rep.rows.first() {
+        s += &format!("\nsetting: {}; errors in {} against the exact reference (docs/report.md)\n", r.unit, r.error_unit);
+    }
+    for n in &rep.notes {
+        s += &format!("note: {n}\n");
+    }
+    s
+}

@@ -1,0 +1,228 @@
+//! The demo, `taxel` with no arguments: build every scene of
+//! `examples/examples.toml` for its profile, play each on its example trace,
+//! measure it against the exact reference, and print a summary. Bundles,
+//! previews and frames go under `target/taxel-demo/`.
+//!
+//! A scene that fails is reported in its row and the demo goes on; the exit
+//! code is 1 when any scene failed.
+
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use rayon::prelude::*;
+use serde::Deserialize;
+use taxel_format::{BundleView, Chunk, Family, Mm, Tick};
+use taxel_runtime::grid::{ActuatorDrive, GridPlayer};
+use taxel_runtime::latero::LateroPlayer;
+use taxel_runtime::sinks::wav::{SampleBits, write_wav_file};
+
+use crate::batch::output::write_atomic;
+use crate::cli::CompileOpts;
+use crate::report::{self, Prepared};
+
+/// Frames compared with the reference per scene (evenly spaced over its trace).
+const DEMO_EVAL_FRAMES: usize = 4_000;
+
+/// One `[[scene]]` of the examples index.
+#[derive(Debug, Clone, Deserialize)]
+pub struct Scene {
+    /// Unique name.
+    pub name: String,
+    /// The drawing or mesh, relative to the index's folder.
+    pub input: String,
+    /// Device profile.
+    pub profile: String,
+    /// Exploration trace, relative to the index's folder.
+    pub trace: Option<String>,
+    /// Style sheet, relative to the index's folder.
+    pub style: Option<String>,
+}
+
+#[derive(Deserialize)]
+struct Index {
+    #[serde(default)]
+    scene: Vec<Scene>,
+}
+
+/// Reads an examples index.
+pub fn read_index(path: &Path) -> Result<Vec<Scene>> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let index: Index = toml::from_str(&text).with_context(|| format!("{} is not a valid examples index", path.display()))?;
+    Ok(index.scene)
+}
+
+/// One line of the summary.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    /// Scene name.
+    pub scene: String,
+    /// Profile name.
+    pub profile: String,
+    /// What happened.
+    pub result: Result<Figures, String>,
+}
+
+/// The figures of a scene that built and played.
+#[derive(Debug, Clone)]
+pub struct Figures {
+    /// Layer chunks in the bundle.
+    pub layers: usize,
+    /// Bundle size.
+    pub bundle_bytes: usize,
+    /// Build wall time, ms.
+    pub build_ms: f64,
+    /// Runtime cost per frame, µs.
+    pub frame_us: f64,
+    /// Frames played.
+    pub frames: usize,
+    /// Largest error against the exact reference, with its unit; `None` when there is no reference yet.
+    pub max_error: Option<(f64, String)>,
+}
+
+/// The demo entry point: examples next to the current folder, else the source tree's.
+pub fn main() -> Result<ExitCode> {
+    let root = [PathBuf::from("."), PathBuf::from(env!("CARGO_MANIFEST_DIR"))]
+        .into_iter()
+        .find(|r| r.join("examples/examples.toml").is_file())
+        .context("no examples/examples.toml here or in the source tree: run the demo from the taxel repository")?;
+    let t0 = Instant::now();
+    let outcomes = run(&root.join("examples"), &root.join("target/taxel-demo"), None)?;
+    let text = summary(&outcomes);
+    print!("{text}");
+    println!("wall time {:.1} s; output in {}", t0.elapsed().as_secs_f64(), root.join("target/taxel-demo").display());
+    Ok(if outcomes.iter().any(|o| o.result.is_err()) { ExitCode::from(1) } else { ExitCode::SUCCESS })
+}
+
+/// Builds and plays the scenes of `examples/examples.toml` (only those named
+/// in `only`, when given) into `out`; writes `out/summary.txt`.
+pub fn run(examples: &Path, out: &Path, only: Option<&[&str]>) -> Result<Vec<Outcome>> {
+    let scenes = read_index(&examples.join("examples.toml"))?;
+    let scenes: Vec<Scene> =
+        scenes.into_iter().filter(|s| only.is_none_or(|o| o.contains(&s.name.as_str()))).collect();
+    for sub in ["bundles", "frames", "previews"] {
+        std::fs::create_dir_all(out.join(sub)).with_context(|| format!("cannot create {}", out.join(sub).display()))?;
+    }
+    let outcomes: Vec<Outcome> = scenes
+        .par_iter()
+        .map(|s| Outcome {
+            scene: s.name.clone(),
+            profile: s.profile.clone(),
+            result: scene(examples, out, s).map_err(|e| format!("{e:#}")),
+        })
+        .collect();
+    write_atomic(&out.join("summary.txt"), summary(&outcomes).as_bytes())
+        .with_context(|| format!("cannot write {}", out.join("summary.txt").display()))?;
+    Ok(outcomes)
+}
+
+fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
+    let input = examples.join(&s.input);
+    let opts = CompileOpts {
+        profile: Some(s.profile.clone()),
+        style: s.style.as_ref().map(|p| examples.join(p)),
+        resolution: None,
+        width_mm: None,
+    };
+    let (bundle, build_ms) = report::compile(&input, &opts, None)?;
+    let bytes = bundle.to_bytes().map_err(|e| anyhow::anyhow!("{e}"))?;
+    write_atomic(&out.join("bundles").join(format!("{}.taxel", s.name)), &bytes)?;
+    let layers = bundle.chunks.iter().filter(|c| !matches!(c, Chunk::Provenance(_) | Chunk::Raw(_))).count();
+    let trace = s.trace.as_ref().map(|t| examples.join(t));
+    match bundle.manifest.profile.family() {
+        Family::Laterotactile => {
+            let prep = Prepared::new(&input, &opts, &bundle, trace.as_deref(), DEMO_EVAL_FRAMES)?;
+            let reference = prep.reference_frames("all");
+            let m = prep.measure(&bundle, &reference)?;
+            write_frames(&out.join("frames").join(format!("{}.csv", s.name)), &bytes, &prep.positions)?;
+            Ok(Figures {
+                layers,
+                bundle_bytes: bytes.len(),
+                build_ms,
+                frame_us: m.frame_us,
+                frames: prep.positions.len(),
+                max_error: Some((m.max_error, format!("{}-bit steps", prep.profile.output_bits))),
+            })
+        }
+        Family::Grid => {
+            let view = BundleView::parse(&bytes).map_err(|e| anyhow::anyhow!("{e}"))?;
+            let player = GridPlayer::new(&view).map_err(|e| anyhow::anyhow!("{e}"))?;
+            let wav = out.join("frames").join(format!("{}.wav", s.name));
+            let bits = SampleBits::for_output_bits(bundle.manifest.profile.output_bits);
+            write_wav_file(&wav, &player, bits).map_err(|e| anyhow::anyhow!("{}: {e}", wav.display()))?;
+            let ticks = player.end().0 + 1;
+            let mut drive = vec![ActuatorDrive::default(); player.actuator_count()];
+            let t0 = Instant::now();
+            for t in 0..ticks {
+                player.frame(Tick(t), std::hint::black_box(&mut drive));
+            }
+            let frame_us = t0.elapsed().as_secs_f64() * 1e6 / ticks as f64;
+            let max_error = report::strokes::max_schedule_error(&input, &opts, &bundle).ok();
+            Ok(Figures {
+                layers,
+                bundle_bytes: bytes.len(),
+                build_ms,
+                frame_us,
+                frames: ticks as usize,
+                max_error: max_error.map(|e| (e, "ms".to_string())),
+            })
+        }
+        other => anyhow::bail!("built ({} bytes), but playing {other:?} bundles is not in the demo yet", bytes.len()),
+    }
+}
+
+/// Frames CSV (`tick,a0,…`) of a laterotactile bundle along `positions`.
+fn write_frames(path: &Path, bytes: &[u8], positions: &[(u64, f64, f64)]) -> Result<()> {
+    let view = BundleView::parse(bytes).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let player = LateroPlayer::new(&view).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let n = player.actuator_count();
+    let mut text = Vec::with_capacity(positions.len() * (n * 4 + 8));
+    write!(text, "tick")?;
+    for i in 0..n {
+        write!(text, ",a{i}")?;
+    }
+    writeln!(text)?;
+    let mut frame = vec![0u16; n];
+    for &(tick, x, y) in positions {
+        player.frame(Tick(tick), Mm(x as f32), Mm(y as f32), &mut frame);
+        write!(text, "{tick}")?;
+        for v in &frame {
+            write!(text, ",{v}")?;
+        }
+        writeln!(text)?;
+    }
+    write_atomic(path, &text).with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// The summary table.
+pub fn summary(outcomes: &[Outcome]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{:<36} {:<10} {:>6} {:>9} {:>9} {:>9} {:>9}  {}",
+        "scene", "profile", "layers", "bytes", "build ms", "µs/frame", "frames", "max error"
+    );
+    let mut failed = 0;
+    for o in outcomes {
+        match &o.result {
+            Ok(f) => {
+                let err = f.max_error.as_ref().map_or("n/a".to_string(), |(e, u)| format!("{e:.1} {u}"));
+                let _ = writeln!(
+                    s,
+                    "{:<36} {:<10} {:>6} {:>9} {:>9.1} {:>9.3} {:>9}  {}",
+                    o.scene, o.profile, f.layers, f.bundle_bytes, f.build_ms, f.frame_us, f.frames, err
+                );
+            }
+            Err(e) => {
+                failed += 1;
+                let _ = writeln!(s, "{:<36} {:<10} FAILED: {e}", o.scene, o.profile);
+            }
+        }
+    }
+    let _ = writeln!(s, "{} scenes, {} built and played, {failed} failed", outcomes.len(), outcomes.len() - failed);
+    s
+}
+

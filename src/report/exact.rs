@@ -1,0 +1,356 @@
+//! The exact reference for laterotactile scenes: the seed-000 equations
+//! evaluated in f64 with exact geometry, at every actuator of a frame.
+//!
+//! A raster mask is an approximation of a region; here the region is the
+//! shape itself (a polygon fill, or the band within `width / 2` of the
+//! outline), tested point by point on the flattened f64 outline. Dots are
+//! already exact (centre and radius), so they enter through eq. 1 in f64.
+//! The reference is what the runtime *should* output before its last rounding
+//! to 10 bits; errors are reported in steps of that output.
+
+use taxel_compiler::geometry::{FillRule, Polyline, distance_to_segment};
+use taxel_format::DeviceProfile;
+
+/// Plateau of eq. 1 (seed 000, section 3.1), written here again so that the
+/// reference does not borrow the runtime's constant.
+const PLATEAU: f64 = 0.25;
+
+/// Where a mask layer is on: a region of the page in exact geometry.
+#[derive(Debug, Clone)]
+pub enum Region {
+    /// The inside of closed outlines, minus a band around them when the shape
+    /// also vibrates (the compiler keeps a tactile icon's two layers apart).
+    Fill {
+        /// The outline.
+        polys: Index,
+        /// SVG fill rule.
+        rule: FillRule,
+        /// Width of the band around the outline that is left out, in mm.
+        minus_band: Option<f64>,
+    },
+    /// The band of this width (mm) centred on the outline, round joins and caps.
+    Band {
+        /// The outline.
+        polys: Index,
+        /// Band width in mm.
+        width: f64,
+    },
+}
+
+impl Region {
+    /// Exact coverage (0 or 1) at page point `p` in mm.
+    pub fn covers(&self, p: (f64, f64)) -> bool {
+        match self {
+            Region::Fill { polys, rule, minus_band } => {
+                polys.contains(p, *rule) && minus_band.is_none_or(|w| !polys.within(p, w / 2.0))
+            }
+            Region::Band { polys, width } => polys.within(p, width / 2.0),
+        }
+    }
+}
+
+/// One layer of the reference scene.
+#[derive(Debug, Clone)]
+pub enum ExactLayer {
+    /// Eq. 2 over a region.
+    Vibration {
+        /// Where it is on.
+        region: Region,
+        /// Frequency in hertz.
+        freq_hz: f64,
+        /// Amplitude 0..=1.
+        amplitude: f64,
+    },
+    /// Eq. 3 over a region.
+    Grating {
+        /// Where it is on.
+        region: Region,
+        /// Wavelength in mm.
+        wavelength_mm: f64,
+        /// Ridge direction on the page, degrees counter-clockwise from +x.
+        angle_deg: f64,
+        /// Amplitude 0..=1.
+        amplitude: f64,
+    },
+    /// Eq. 1 for each dot `(x, y, radius, amplitude)` in mm.
+    Dots(Vec<(f64, f64, f64, f64)>),
+}
+
+/// Eq. 1 with plateau P = 0.25: deflection at normalised distance `r`.
+pub fn dot_profile(r: f64) -> f64 {
+    if r <= PLATEAU {
+        1.0
+    } else if r <= 1.0 {
+        0.5 + 0.5 * (std::f64::consts::PI * (r - PLATEAU) / (1.0 - PLATEAU)).cos()
+    } else {
+        0.0
+    }
+}
+
+/// The exact frame at `tick` with the carrier at `(x, y)`: deflection δ of
+/// each actuator, composited by addition and clamped to `[0, 1]` (seed 000
+/// section 3.4), in the runtime's index order `cols · row + col`.
+pub fn frame(layers: &[ExactLayer], profile: &DeviceProfile, tick: u64, x: f64, y: f64, out: &mut [f64]) {
+    let (rows, cols) = (profile.rows as usize, profile.cols as usize);
+    let (px, py) = (profile.pitch_x_mm as f64, profile.pitch_y_mm as f64);
+    let (sw, sh) = (profile.surface_w_mm as f64, profile.surface_h_mm as f64);
+    // Phase of the time-varying part, in turns, from the integer tick (exact
+    // in f64 for any tick below 2^53).
+    let t_s = tick as f64 / profile.rate_hz.max(1) as f64;
+    for row in 0..rows {
+        for col in 0..cols {
+            let Some(o) = out.get_mut(row * cols + col) else { return };
+            let ax = x + (col as f64 - (cols as f64 - 1.0) / 2.0) * px;
+            let ay = y + (row as f64 - (rows as f64 - 1.0) / 2.0) * py;
+            if !(0.0..=sw).contains(&ax) || !(0.0..=sh).contains(&ay) {
+                *o = 0.0;
+                continue;
+            }
+            let mut d = 0.0;
+            for layer in layers {
+                d += match layer {
+                    ExactLayer::Vibration { region, freq_hz, amplitude } => {
+                        if !region.covers((ax, ay)) {
+                            continue;
+                        }
+                        let c = (std::f64::consts::TAU * freq_hz * t_s).cos();
+                        let v = if row % 2 != col % 2 { 0.5 + 0.5 * c } else { 0.5 - 0.5 * c };
+                        amplitude * v
+                    }
+                    ExactLayer::Grating { region, wavelength_mm, angle_deg, amplitude } => {
+                        if !region.covers((ax, ay)) {
+                            continue;
+                        }
+                        // Eq. 3 with the page's y axis flipped (primitives.md): the
+                        // author's angle is counter-clockwise as seen on the page.
+                        let th = angle_deg.to_radians();
+                        let dist = (-ay) * th.cos() - ax * th.sin();
+                        amplitude * (0.5 + 0.5 * (std::f64::consts::TAU * dist / wavelength_mm).cos())
+                    }
+                    ExactLayer::Dots(dots) => dots
+                        .iter()
+                        .filter(|&&(_, _, r, _)| r > 0.0)
+                        .map(|&(cx, cy, r, a)| a * dot_profile((ax - cx).hypot(ay - cy) / r))
+                        .sum(),
+                };
+            }
+            *o = if d.is_nan() { 0.0 } else { d.clamp(0.0, 1.0) };
+        }
+    }
+}
+
+/// Flattened outlines with a coarse bucket index, so that a point query only
+/// looks at the segments near it. Answers are those of
+/// `taxel_compiler::geometry::{contains, distance_to_outline}` (tested).
+#[derive(Debug, Clone)]
+pub struct Index {
+    segs: Vec<((f64, f64), (f64, f64))>,
+    x0: f64,
+    y0: f64,
+    cell: f64,
+    cols: usize,
+    rows: usize,
+    /// Segment indices per cell (a segment is listed in every cell its box touches).
+    cells: Vec<Vec<u32>>,
+    /// Segment indices per row of cells, for the crossing test of fills.
+    bands: Vec<Vec<u32>>,
+}
+
+impl Index {
+    /// Indexes `polys` (each closed implicitly for fills; open ones keep their ends for bands).
+    pub fn new(polys: &[Polyline], closed_fill: bool) -> Self {
+        let mut segs = Vec::new();
+        for pl in polys {
+            let n = pl.points.len();
+            if n == 1 {
+                segs.push((pl.points[0], pl.points[0]));
+            }
+            let closing = (pl.closed || closed_fill) && n > 2;
+            for i in 0..n.saturating_sub(1) + usize::from(closing) {
+                segs.push((pl.points[i], pl.points[(i + 1) % n]));
+            }
+        }
+        segs.retain(|(a, b)| a.0.is_finite() && a.1.is_finite() && b.0.is_finite() && b.1.is_finite());
+        let (mut x0, mut y0, mut x1, mut y1) = (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
+        for &(a, b) in &segs {
+            x0 = x0.min(a.0).min(b.0);
+            y0 = y0.min(a.1).min(b.1);
+            x1 = x1.max(a.0).max(b.0);
+            y1 = y1.max(a.1).max(b.1);
+        }
+        if segs.is_empty() {
+            return Index { segs, x0: 0.0, y0: 0.0, cell: 1.0, cols: 0, rows: 0, cells: Vec::new(), bands: Vec::new() };
+        }
+        // About 64 cells along the longer side, never more than 4096 cells.
+        let span = (x1 - x0).max(y1 - y0).max(1e-9);
+        let cell = span / 64.0;
+        let cols = (((x1 - x0) / cell).floor() as usize + 1).min(64);
+        let rows = (((y1 - y0) / cell).floor() as usize + 1).min(64);
+        let mut idx = Index { segs, x0, y0, cell, cols, rows, cells: vec![Vec::new(); cols * rows], bands: vec![Vec::new(); rows] };
+        for (k, &(a, b)) in idx.segs.iter().enumerate() {
+            let (c0, c1) = (idx.col(a.0.min(b.0)), idx.col(a.0.max(b.0)));
+            let (r0, r1) = (idx.row(a.1.min(b.1)), idx.row(a.1.max(b.1)));
+            for r in r0..=r1 {
+                idx.bands[r].push(k as u32);
+                for c in c0..=c1 {
+                    idx.cells[r * idx.cols + c].push(k as u32);
+                }
+            }
+        }
+        idx
+    }
+
+    fn col(&self, x: f64) -> usize {
+        (((x - self.x0) / self.cell).floor().max(0.0) as usize).min(self.cols.saturating_sub(1))
+    }
+
+    fn row(&self, y: f64) -> usize {
+        (((y - self.y0) / self.cell).floor().max(0.0) as usize).min(self.rows.saturating_sub(1))
+    }
+
+    /// Whether `p` is inside (the crossing rule of `geometry::contains`).
+    pub fn contains(&self, p: (f64, f64), rule: FillRule) -> bool {
+        if self.rows == 0 || p.1 < self.y0 || p.1 > self.y0 + self.cell * self.rows as f64 {
+            return false;
+        }
+        let (mut winding, mut crossings) = (0i32, 0u32);
+        for &k in &self.bands[self.row(p.1)] {
+            let (a, b) = self.segs[k as usize];
+            if (a.1 <= p.1) != (b.1 <= p.1) {
+                let x = a.0 + (p.1 - a.1) / (b.1 - a.1) * (b.0 - a.0);
+                if x > p.0 {
+                    crossings += 1;
+                    winding += if b.1 > a.1 { 1 } else { -1 };
+                }
+            }
+        }
+        match rule {
+            FillRule::NonZero => winding != 0,
+            FillRule::EvenOdd => crossings % 2 == 1,
+        }
+    }
+
+    /// Whether `p` is within `r` mm of a segment.
+    pub fn within(&self, p: (f64, f64), r: f64) -> bool {
+        if self.rows == 0 || !(r >= 0.0) {
+            return false;
+        }
+        let (lo_x, hi_x) = (p.0 - r, p.0 + r);
+        let (lo_y, hi_y) = (p.1 - r, p.1 + r);
+        if hi_x < self.x0
+            || hi_y < self.y0
+            || lo_x > self.x0 + self.cell * self.cols as f64
+            || lo_y > self.y0 + self.cell * self.rows as f64
+        {
+            return false;
+        }
+        for row in self.row(lo_y)..=self.row(hi_y) {
+            for col in self.col(lo_x)..=self.col(hi_x) {
+                for &k in &self.cells[row * self.cols + col] {
+                    let (a, b) = self.segs[k as usize];
+                    if distance_to_segment(p, a, b) <= r {
+                        return true;
+                    }
+                }
+            }
+        }
+        false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+    use taxel_compiler::geometry::{contains, distance_to_outline};
+
+    fn stress2() -> DeviceProfile {
+        taxel_format::profiles::builtin("stress2").expect("built-in profile")
+    }
+
+    #[test]
+    fn dot_profile_follows_eq1() {
+        assert_eq!(dot_profile(0.0), 1.0);
+        assert_eq!(dot_profile(0.25), 1.0);
+        // Half way down the cosine flank: r = P + (1 − P)/2.
+        assert!((dot_profile(0.625) - 0.5).abs() < 1e-12);
+        assert!(dot_profile(1.0).abs() < 1e-12);
+        assert_eq!(dot_profile(1.5), 0.0);
+    }
+
+    #[test]
+    fn vibration_is_checkerboard_antiphase_at_tick_zero() {
+        let sq = Polyline { points: vec![(0.0, 0.0), (110.0, 0.0), (110.0, 60.0), (0.0, 60.0)], closed: true };
+        let layers = [ExactLayer::Vibration {
+            region: Region::Fill { polys: Index::new(&[sq], true), rule: FillRule::NonZero, minus_band: None },
+            freq_hz: 50.0,
+            amplitude: 1.0,
+        }];
+        let mut out = [0.0; 64];
+        frame(&layers, &stress2(), 0, 50.0, 30.0, &mut out);
+        // cos 0 = 1: parities that differ are fully left, the others at rest.
+        assert_eq!(&out[..4], &[0.0, 1.0, 0.0, 1.0]);
+        // 10 ms later (half a period at 50 Hz) the pattern has swapped.
+        frame(&layers, &stress2(), 10, 50.0, 30.0, &mut out);
+        assert!((out[0] - 1.0).abs() < 1e-12 && out[1].abs() < 1e-12);
+    }
+
+    #[test]
+    fn grating_at_90_degrees_varies_along_x_only() {
+        let sq = Polyline { points: vec![(0.0, 0.0), (110.0, 0.0), (110.0, 60.0), (0.0, 60.0)], closed: true };
+        let layers = [ExactLayer::Grating {
+            region: Region::Fill { polys: Index::new(&[sq], true), rule: FillRule::NonZero, minus_band: None },
+            wavelength_mm: 2.4,
+            angle_deg: 90.0,
+            amplitude: 1.0,
+        }];
+        let mut out = [0.0; 64];
+        frame(&layers, &stress2(), 0, 50.0, 30.0, &mut out);
+        for row in 1..8 {
+            for col in 0..8 {
+                assert!((out[row * 8 + col] - out[col]).abs() < 1e-9);
+            }
+        }
+        // Column x = 50 + (c − 3.5)·1.2; with λ = 2.4, columns two apart are in phase.
+        assert!((out[0] - out[2]).abs() < 1e-9);
+        let want = 0.5 + 0.5 * (std::f64::consts::TAU * (50.0 - 3.5 * 1.2) / 2.4).cos();
+        assert!((out[0] - want).abs() < 1e-9);
+    }
+
+    #[test]
+    fn off_surface_actuators_rest() {
+        let layers = [ExactLayer::Dots(vec![(0.0, 0.0, 5.0, 1.0)])];
+        let mut out = [9.0; 64];
+        frame(&layers, &stress2(), 0, 0.0, 0.0, &mut out);
+        // Actuator (0, 0) is at (−4.2, −4.9), off the page.
+        assert_eq!(out[0], 0.0);
+        // Actuator (4, 4) is at (0.6, 0.7), inside the dot's plateau radius 1.25.
+        assert_eq!(out[4 * 8 + 4], 1.0);
+    }
+
+    fn poly() -> impl Strategy<Value = Polyline> {
+        (prop::collection::vec((-20.0f64..20.0, -20.0f64..20.0), 1..12), any::<bool>())
+            .prop_map(|(points, closed)| Polyline { points, closed })
+    }
+
+    proptest! {
+        #[test]
+        fn index_agrees_with_the_compilers_geometry(
+            polys in prop::collection::vec(poly(), 1..4),
+            p in (-25.0f64..25.0, -25.0f64..25.0),
+            r in 0.0f64..6.0,
+        ) {
+            let idx = Index::new(&polys, true);
+            // The compiler's `contains` closes every subpath implicitly, as fills do.
+            for rule in [FillRule::NonZero, FillRule::EvenOdd] {
+                prop_assert_eq!(idx.contains(p, rule), contains(&polys, p, rule));
+            }
+            let band = Index::new(&polys, false);
+            let d = distance_to_outline(&polys, p);
+            // Single points are no segment to the compiler; skip those scenes for distance.
+            if polys.iter().all(|pl| pl.points.len() >= 2) && (d - r).abs() > 1e-9 {
+                prop_assert_eq!(band.within(p, r), d <= r);
+            }
+        }
+    }
+}

@@ -1,0 +1,360 @@
+//! Error against run time (`taxel report`): compile a scene at a ladder of
+//! settings, play each bundle on one reproducible trace, and measure every
+//! output against an exact reference (docs/report.md).
+//!
+//! Laterotactile scenes climb the mask resolution ladder. Each setting gives
+//! one row per kernel present (vibration, grating, dots) and one for the whole
+//! composite: a kernel's row plays only that kernel's chunks and compares them
+//! with only that kernel's exact layers, so the plot shows one line per kernel.
+
+pub mod exact;
+mod font;
+pub mod plot;
+pub mod strokes;
+pub mod svgref;
+pub mod trace;
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use serde::Serialize;
+use taxel_format::{Bundle, BundleView, Chunk, Family, Mm, Tick};
+use taxel_runtime::latero::LateroPlayer;
+
+use crate::cli::CompileOpts;
+use exact::ExactLayer;
+use trace::Trace;
+
+/// Mask resolutions (px/mm) on the ladder; the compiler's default is added when missing.
+pub const MASK_LADDER: [f32; 5] = [2.0, 4.0, 8.0, 16.0, 32.0];
+/// Most frames compared against the reference per row (evenly spaced over the trace).
+pub const MAX_EVAL_FRAMES: usize = 20_000;
+/// Seed of the generated sweep when the scene has no trace.
+pub const SWEEP_SEED: u64 = 2024;
+
+/// One measured setting of one kernel.
+#[derive(Debug, Clone, Serialize)]
+pub struct Row {
+    /// `vibration`, `grating`, `dots` or `all`.
+    pub kernel: String,
+    /// The setting's value (px/mm for masks).
+    pub setting: f64,
+    /// Its unit.
+    pub unit: String,
+    /// Whether this is the compiler's default.
+    pub default: bool,
+    /// Compile time of the whole scene at this setting, ms.
+    pub compile_ms: f64,
+    /// Bytes of this kernel's chunks (the whole bundle for `all`).
+    pub bundle_bytes: usize,
+    /// Runtime cost of one frame of this kernel, µs.
+    pub frame_us: f64,
+    /// Largest error, in `error_unit`.
+    pub max_error: f64,
+    /// Root-mean-square error, in `error_unit`.
+    pub rms_error: f64,
+    /// Unit of the errors.
+    pub error_unit: String,
+    /// Frames compared.
+    pub frames: usize,
+    /// No other setting of the same kernel is both faster (compile + play) and more accurate (RMS).
+    pub on_front: bool,
+}
+
+/// A whole report.
+#[derive(Debug, Clone, Serialize)]
+pub struct Report {
+    /// The input file.
+    pub input: String,
+    /// Profile name.
+    pub profile: String,
+    /// Where the trace came from.
+    pub trace: String,
+    /// Frames in the trace.
+    pub trace_frames: usize,
+    /// The rows, kernel by kernel, setting by setting.
+    pub rows: Vec<Row>,
+    /// Things the reader should know (layers without a reference, ...).
+    pub notes: Vec<String>,
+}
+
+/// Everything a measurement needs that does not depend on the setting: the
+/// trace's positions, the frames to compare, and the exact layers.
+pub struct Prepared {
+    /// The profile the scene was compiled for.
+    pub profile: taxel_format::DeviceProfile,
+    /// The exact layers.
+    pub reference: Vec<ExactLayer>,
+    /// The trace.
+    pub trace: Trace,
+    /// Carrier position at every tick of the trace.
+    pub positions: Vec<(u64, f64, f64)>,
+    /// The ticks compared against the reference (evenly spaced, at most `max_eval`).
+    pub eval: Vec<(u64, f64, f64)>,
+    /// Things the reader should know.
+    pub notes: Vec<String>,
+}
+
+/// What one bundle measured against the reference.
+#[derive(Debug, Clone, Copy)]
+pub struct Measured {
+    /// Bundle bytes.
+    pub bytes: usize,
+    /// Mean runtime cost of a frame, µs.
+    pub frame_us: f64,
+    /// Largest error in output steps.
+    pub max_error: f64,
+    /// RMS error in output steps.
+    pub rms_error: f64,
+}
+
+impl Prepared {
+    /// Prepares the reference for a laterotactile scene compiled as `base`.
+    pub fn new(
+        input: &Path,
+        opts: &CompileOpts,
+        base: &Bundle,
+        trace: Option<&Path>,
+        max_eval: usize,
+    ) -> Result<Prepared> {
+        let profile = base.manifest.profile;
+        if profile.family() != Family::Laterotactile {
+            bail!(
+                "{}: the exact reference covers laterotactile scenes; {} is a {:?} profile and its reference is not available yet",
+                input.display(),
+                profile.name.as_str(),
+                profile.family()
+            );
+        }
+        let svg = std::fs::read_to_string(input).with_context(|| format!("cannot read {}", input.display()))?;
+        let sheet = match &opts.style {
+            Some(p) => {
+                let text = std::fs::read_to_string(p).with_context(|| format!("cannot read {}", p.display()))?;
+                Some(
+                    taxel_compiler::StyleSheet::parse(&text, &p.display().to_string())
+                        .map_err(|e| anyhow::anyhow!("{e}"))?,
+                )
+            }
+            None => None,
+        };
+        let (reference, gaps) = svgref::exact_layers(&svg, base, sheet.as_ref(), opts.width_mm)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", input.display()))?;
+        let mut notes: Vec<String> = gaps
+            .missing
+            .iter()
+            .map(|m| format!("no exact geometry for the layer of {m}; left out of the reference"))
+            .collect();
+        let trace = load_trace(input, trace, base)?;
+        let positions = trace.positions(profile.rate_hz);
+        let stride = positions.len().div_ceil(max_eval.max(1)).max(1);
+        let eval: Vec<(u64, f64, f64)> = positions.iter().step_by(stride).copied().collect();
+        if stride > 1 {
+            notes.push(format!("errors are measured on every {stride}th of {} frames", positions.len()));
+        }
+        Ok(Prepared { profile, reference, trace, positions, eval, notes })
+    }
+
+    /// Reference frames (δ in 0..=1, actuator-major per frame) of `kernel`'s layers at the compared ticks.
+    pub fn reference_frames(&self, kernel: &str) -> Vec<f64> {
+        let layers: Vec<ExactLayer> =
+            self.reference.iter().filter(|l| kernel == "all" || exact_kind(l) == kernel).cloned().collect();
+        let n = self.profile.actuator_count();
+        let mut frames = vec![0.0; self.eval.len() * n];
+        for (i, &(tick, x, y)) in self.eval.iter().enumerate() {
+            exact::frame(&layers, &self.profile, tick, x, y, &mut frames[i * n..(i + 1) * n]);
+        }
+        frames
+    }
+
+    /// Plays `bundle` on the whole trace (timed) and compares it at the
+    /// compared ticks with `reference` (from [`Prepared::reference_frames`]).
+    pub fn measure(&self, bundle: &Bundle, reference: &[f64]) -> Result<Measured> {
+        let n = self.profile.actuator_count();
+        let max_code = ((1u32 << self.profile.output_bits.min(16)) - 1) as f64;
+        let bytes = bundle.to_bytes().map_err(|e| anyhow::anyhow!("{e}"))?;
+        let view = BundleView::parse(&bytes).map_err(|e| anyhow::anyhow!("{e}"))?;
+        let player = LateroPlayer::new(&view).map_err(|e| anyhow::anyhow!("{e}"))?;
+        let frame_us = time_frames(&player, &self.positions, n);
+        let mut out = vec![0u16; n];
+        let (mut max, mut sum2, mut count) = (0.0f64, 0.0f64, 0usize);
+        for (i, &(tick, x, y)) in self.eval.iter().enumerate() {
+            player.frame(Tick(tick), Mm(x as f32), Mm(y as f32), &mut out);
+            for (o, r) in out.iter().zip(reference.get(i * n..(i + 1) * n).unwrap_or(&[])) {
+                let e = (*o as f64 - r * max_code).abs();
+                max = max.max(e);
+                sum2 += e * e;
+                count += 1;
+            }
+        }
+        Ok(Measured { bytes: bytes.len(), frame_us, max_error: max, rms_error: (sum2 / count.max(1) as f64).sqrt() })
+    }
+}
+
+/// Runs the report for `input`. `trace` overrides the scene's own trace.
+pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>) -> Result<Report> {
+    let default_px = taxel_compiler::DEFAULT_PX_PER_MM;
+    let mut ladder: Vec<f32> = MASK_LADDER.to_vec();
+    if !ladder.contains(&default_px) {
+        ladder.push(default_px);
+        ladder.sort_by(f32::total_cmp);
+    }
+    // Compile once at the default for the reference (this also warms fonts and caches).
+    let base = compile(input, opts, None)?.0;
+    let prep = Prepared::new(input, opts, &base, trace, MAX_EVAL_FRAMES)?;
+    let kernels = kernels_of(&base);
+    let refs: Vec<Vec<f64>> = kernels.iter().map(|k| prep.reference_frames(k)).collect();
+    let mut rows = Vec::new();
+    for &px in &ladder {
+        let (bundle, compile_ms) = compile(input, opts, Some(px))?;
+        for (k, reference) in kernels.iter().zip(&refs) {
+            let m = prep.measure(&only_kernel(&bundle, k), reference)?;
+            rows.push(Row {
+                kernel: k.clone(),
+                setting: px as f64,
+                unit: "px/mm".into(),
+                default: px == default_px,
+                compile_ms,
+                bundle_bytes: m.bytes,
+                frame_us: m.frame_us,
+                max_error: m.max_error,
+                rms_error: m.rms_error,
+                error_unit: format!("{}-bit steps", prep.profile.output_bits),
+                frames: prep.eval.len(),
+                on_front: false,
+            });
+        }
+    }
+    let frames = prep.positions.len();
+    mark_front(&mut rows, |r| plot::run_ms(r, frames));
+    Ok(Report {
+        input: input.display().to_string(),
+        profile: prep.profile.name.as_str().to_string(),
+        trace: prep.trace.origin,
+        trace_frames: frames,
+        rows,
+        notes: prep.notes,
+    })
+}
+
+/// Marks, per kernel, the rows that no other row beats on both `cost` and RMS error.
+pub fn mark_front(rows: &mut [Row], cost: impl Fn(&Row) -> f64) {
+    let snapshot: Vec<(String, f64, f64)> = rows.iter().map(|r| (r.kernel.clone(), cost(r), r.rms_error)).collect();
+    for r in rows.iter_mut() {
+        let (c, e) = (cost(r), r.rms_error);
+        r.on_front = !snapshot.iter().any(|(k, c2, e2)| *k == r.kernel && *c2 < c && *e2 < e);
+    }
+}
+
+fn exact_kind(l: &ExactLayer) -> &'static str {
+    match l {
+        ExactLayer::Vibration { .. } => "vibration",
+        ExactLayer::Grating { .. } => "grating",
+        ExactLayer::Dots(_) => "dots",
+    }
+}
+
+/// The kernels a bundle uses, in a fixed order, then `all`.
+pub fn kernels_of(b: &Bundle) -> Vec<String> {
+    let mut ks = Vec::new();
+    for k in ["vibration", "grating", "dots"] {
+        if b.chunks.iter().any(|c| chunk_kind(c) == Some(k)) {
+            ks.push(k.to_string());
+        }
+    }
+    if ks.len() > 1 {
+        ks.push("all".into());
+    }
+    ks
+}
+
+fn chunk_kind(c: &Chunk) -> Option<&'static str> {
+    match c {
+        Chunk::Mask(m) => Some(match m.kind {
+            taxel_format::MaskKind::Vibration { .. } => "vibration",
+            taxel_format::MaskKind::Grating { .. } => "grating",
+        }),
+        Chunk::Dots(_) => Some("dots"),
+        _ => None,
+    }
+}
+
+/// The bundle with only the chunks of `kernel` (all of them for `all`).
+pub fn only_kernel(b: &Bundle, kernel: &str) -> Bundle {
+    let mut out = Bundle::new(b.manifest);
+    out.chunks =
+        b.chunks.iter().filter(|c| kernel == "all" || chunk_kind(c).is_none_or(|k| k == kernel)).cloned().collect();
+    out
+}
+
+/// Compiles at `px` (None: the default) and returns the bundle and the wall time in ms.
+pub fn compile(input: &Path, opts: &CompileOpts, px: Option<f32>) -> Result<(Bundle, f64)> {
+    let mut o = opts.clone();
+    if px.is_some() {
+        o.resolution = px;
+    }
+    let t0 = Instant::now();
+    let compiled = crate::compile::compile_file(input, &o)?;
+    let ms = t0.elapsed().as_secs_f64() * 1000.0;
+    match compiled.bundle {
+        Some(b) => Ok((b, ms)),
+        None => {
+            let errs: Vec<String> = compiled
+                .diagnostics
+                .iter()
+                .filter(|d| d.severity == taxel_compiler::Severity::Error)
+                .map(|d| format!("{}: {}", d.code, d.message))
+                .collect();
+            bail!("{} does not compile{}: {}", input.display(), px.map_or(String::new(), |p| format!(" at {p} px/mm")), errs.join("; "))
+        }
+    }
+}
+
+/// The trace to play: `explicit`, else the scene's own, else a seeded sweep over every layer.
+pub fn load_trace(input: &Path, explicit: Option<&Path>, bundle: &Bundle) -> Result<Trace> {
+    let path: Option<PathBuf> = explicit.map(Path::to_path_buf).or_else(|| trace::own_trace_path(input));
+    if let Some(p) = path {
+        let text = std::fs::read_to_string(&p).with_context(|| format!("cannot read {}", p.display()))?;
+        return Trace::parse(&text, &p.display().to_string()).map_err(|e| anyhow::anyhow!(e));
+    }
+    let p = &bundle.manifest.profile;
+    let mut boxes = Vec::new();
+    for c in &bundle.chunks {
+        match c {
+            Chunk::Mask(m) => {
+                let (x0, y0) = (m.origin_x.0 as f64, m.origin_y.0 as f64);
+                let px = m.px_per_mm.max(1e-6) as f64;
+                boxes.push((x0, y0, x0 + m.width as f64 / px, y0 + m.height as f64 / px));
+            }
+            Chunk::Dots(d) if !d.dots.is_empty() => {
+                let xs = d.dots.iter().map(|d| d.x.0 as f64);
+                let ys = d.dots.iter().map(|d| d.y.0 as f64);
+                let (x0, x1) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |a, v| (a.0.min(v), a.1.max(v)));
+                let (y0, y1) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |a, v| (a.0.min(v), a.1.max(v)));
+                boxes.push((x0, y0, x1, y1));
+            }
+            _ => {}
+        }
+    }
+    // Rows half the array's height apart: every point of a box passes under the array twice.
+    let row_mm = p.rows as f64 * p.pitch_y_mm as f64 / 2.0;
+    Ok(Trace::sweep(&boxes, row_mm, SWEEP_SEED))
+}
+
+/// Wall time of one frame over the whole trace, in µs: the best of three
+/// passes, so that a pass disturbed by another process does not count.
+fn time_frames(player: &LateroPlayer<'_>, positions: &[(u64, f64, f64)], n: usize) -> f64 {
+    let mut out = vec![0u16; n];
+    let mut sink = 0u64;
+    let mut best = f64::INFINITY;
+    for _ in 0..3 {
+        let t0 = Instant::now();
+        for &(tick, x, y) in positions {
+            player.frame(Tick(tick), Mm(x as f32), Mm(y as f32), std::hint::black_box(&mut out));
+            sink = sink.wrapping_add(out.first().copied().unwrap_or(0) as u64);
+        }
+        best = best.min(t0.elapsed().as_secs_f64());
+    }
+    std::hint::black_box(sink);
+    best * 1e6 / positions.len().max(1) as f64
+}

@@ -1,0 +1,104 @@
+//! The exact reference for brushed strokes: the unquantised (f64 ms)
+//! schedule of every stroke, planned again from the drawing's own paths and
+//! `brush()` parameters, against the integer ticks stored in the bundle.
+
+use std::path::Path;
+
+use anyhow::{Context, Result, anyhow, bail};
+use taxel_compiler::annotation::Style;
+use taxel_compiler::brush::{BrushRequest, plan_strokes};
+use taxel_compiler::geometry::FLATTEN_TOLERANCE_MM;
+use taxel_format::{Bundle, Chunk};
+
+use super::svgref::{Drawing, resolved_styles};
+use crate::cli::CompileOpts;
+
+/// Errors of one bundle's schedule against the unquantised one, in ms.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ScheduleError {
+    /// Largest onset error.
+    pub max_onset_ms: f64,
+    /// Largest duration error.
+    pub max_duration_ms: f64,
+    /// RMS over onsets and durations together.
+    pub rms_ms: f64,
+    /// Points compared.
+    pub points: usize,
+}
+
+/// Plans the strokes of `input` again in f64 and compares them with `bundle`'s ticks.
+pub fn schedule_error(input: &Path, opts: &CompileOpts, bundle: &Bundle) -> Result<ScheduleError> {
+    let svg = std::fs::read_to_string(input).with_context(|| format!("cannot read {}", input.display()))?;
+    let profile = bundle.manifest.profile;
+    let sheet = match &opts.style {
+        Some(p) => {
+            let text = std::fs::read_to_string(p).with_context(|| format!("cannot read {}", p.display()))?;
+            Some(taxel_compiler::StyleSheet::parse(&text, &p.display().to_string()).map_err(|e| anyhow!("{e}"))?)
+        }
+        None => None,
+    };
+    let drawing = Drawing::read(&svg, &profile, opts.width_mm).map_err(|e| anyhow!("{}: {e}", input.display()))?;
+    let Some(table) = bundle.chunks.iter().find_map(|c| if let Chunk::Strokes(t) = c { Some(t) } else { None }) else {
+        bail!("{}: the bundle has no strokes", input.display());
+    };
+    let prov = bundle.provenance();
+    // One request per subpath of each stroked element, in the bundle's order
+    // (the compiler keeps document order); an element is visited once.
+    let mut requests = Vec::new();
+    let mut seen = Vec::new();
+    for s in &table.strokes {
+        if seen.contains(&s.source) {
+            continue;
+        }
+        seen.push(s.source);
+        let entry = s.source.and_then(|i| prov.and_then(|p| p.entries.get(i as usize)));
+        let elem = entry.and_then(|e| drawing.element(&e.id, e.line)).context("a stroke's source element was not found")?;
+        let geo = drawing.geometry(elem, FLATTEN_TOLERANCE_MM).context("a stroke's element has no geometry")?;
+        let styles = resolved_styles(elem, sheet.as_ref(), geo.fill, geo.stroke);
+        let Some(br) = styles.iter().find_map(|st| if let Style::Brush(b) = st { Some(*b) } else { None }) else {
+            bail!("a stroke's element has no brush() style");
+        };
+        for pl in &geo.polys {
+            let mut polyline = pl.points.clone();
+            if pl.closed {
+                polyline.push(pl.points[0]);
+            }
+            requests.push(BrushRequest {
+                polyline,
+                duration_ms: br.duration_ms,
+                intensity: br.intensity,
+                freq_hz: br.freq_hz,
+                start_ms: br.start_ms,
+                source: s.source,
+                element: String::new(),
+                line: None,
+            });
+        }
+    }
+    let plans: Vec<_> = plan_strokes(&requests, &profile, &mut Vec::new()).into_iter().flatten().collect();
+    if plans.len() != table.strokes.len() {
+        bail!("{} strokes planned again, {} in the bundle", plans.len(), table.strokes.len());
+    }
+    let ms = 1000.0 / profile.rate_hz.max(1) as f64;
+    let (mut mo, mut md, mut sum2, mut n) = (0.0f64, 0.0f64, 0.0f64, 0usize);
+    for (plan, stroke) in plans.iter().zip(&table.strokes) {
+        if plan.points.len() != stroke.points.len() {
+            bail!("a stroke has {} points planned again and {} in the bundle", plan.points.len(), stroke.points.len());
+        }
+        for (p, q) in plan.points.iter().zip(&stroke.points) {
+            let onset = (stroke.start.0 as f64 + q.onset as f64) * ms;
+            let eo = (onset - (plan.start_ms + p.onset_ms)).abs();
+            let ed = (q.duration as f64 * ms - (p.end_ms - p.onset_ms)).abs();
+            mo = mo.max(eo);
+            md = md.max(ed);
+            sum2 += eo * eo + ed * ed;
+            n += 2;
+        }
+    }
+    Ok(ScheduleError { max_onset_ms: mo, max_duration_ms: md, rms_ms: (sum2 / n.max(1) as f64).sqrt(), points: n / 2 })
+}
+
+/// The largest onset or duration error in ms (for the demo's summary).
+pub fn max_schedule_error(input: &Path, opts: &CompileOpts, bundle: &Bundle) -> Result<f64> {
+    schedule_error(input, opts, bundle).map(|e| e.max_onset_ms.max(e.max_duration_ms))
+}
