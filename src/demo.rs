@@ -51,7 +51,8 @@ struct Index {
 /// Reads an examples index.
 pub fn read_index(path: &Path) -> Result<Vec<Scene>> {
     let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-    let index: Index = toml::from_str(&text).with_context(|| format!("{} is not a valid examples index", path.display()))?;
+    let index: Index =
+        toml::from_str(&text).with_context(|| format!("{} is not a valid examples index", path.display()))?;
     Ok(index.scene)
 }
 
@@ -101,8 +102,7 @@ pub fn main() -> Result<ExitCode> {
 /// in `only`, when given) into `out`; writes `out/summary.txt`.
 pub fn run(examples: &Path, out: &Path, only: Option<&[&str]>) -> Result<Vec<Outcome>> {
     let scenes = read_index(&examples.join("examples.toml"))?;
-    let scenes: Vec<Scene> =
-        scenes.into_iter().filter(|s| only.is_none_or(|o| o.contains(&s.name.as_str()))).collect();
+    let scenes: Vec<Scene> = scenes.into_iter().filter(|s| only.is_none_or(|o| o.contains(&s.name.as_str()))).collect();
     for sub in ["bundles", "frames", "previews"] {
         std::fs::create_dir_all(out.join(sub)).with_context(|| format!("cannot create {}", out.join(sub).display()))?;
     }
@@ -202,8 +202,8 @@ pub fn summary(outcomes: &[Outcome]) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "{:<36} {:<10} {:>6} {:>9} {:>9} {:>9} {:>9}  {}",
-        "scene", "profile", "layers", "bytes", "build ms", "µs/frame", "frames", "max error"
+        "{:<36} {:<10} {:>6} {:>9} {:>9} {:>9} {:>9}  max error",
+        "scene", "profile", "layers", "bytes", "build ms", "µs/frame", "frames"
     );
     let mut failed = 0;
     for o in outcomes {
@@ -225,4 +225,3 @@ pub fn summary(outcomes: &[Outcome]) -> String {
     let _ = writeln!(s, "{} scenes, {} built and played, {failed} failed", outcomes.len(), outcomes.len() - failed);
     s
 }
-

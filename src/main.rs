@@ -8,9 +8,9 @@ use clap::Parser;
 mod batch;
 mod cli;
 mod cmd;
+mod compile;
 mod demo;
 mod report;
-mod compile;
 mod textform;
 
 fn main() -> ExitCode {

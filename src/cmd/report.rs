@@ -66,7 +66,10 @@ pub fn human(rep: &Report) -> String {
         );
     }
     if let Some(r) = rep.rows.first() {
-        s += &format!("\nsetting: {}; errors in {} against the exact reference (docs/report.md)\n", r.unit, r.error_unit);
+        s += &format!(
+            "\nsetting: {}; errors in {} against the exact reference (docs/report.md)\n",
+            r.unit, r.error_unit
+        );
     }
     for n in &rep.notes {
         s += &format!("note: {n}\n");

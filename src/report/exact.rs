@@ -165,7 +165,8 @@ impl Index {
             if n == 1 {
                 segs.push((pl.points[0], pl.points[0]));
             }
-            let closing = (pl.closed || closed_fill) && n > 2;
+            // Fills close every subpath (as `geometry::contains` does); bands close only `Z` subpaths.
+            let closing = if closed_fill { n >= 2 } else { pl.closed && n > 2 };
             for i in 0..n.saturating_sub(1) + usize::from(closing) {
                 segs.push((pl.points[i], pl.points[(i + 1) % n]));
             }
@@ -186,7 +187,16 @@ impl Index {
         let cell = span / 64.0;
         let cols = (((x1 - x0) / cell).floor() as usize + 1).min(64);
         let rows = (((y1 - y0) / cell).floor() as usize + 1).min(64);
-        let mut idx = Index { segs, x0, y0, cell, cols, rows, cells: vec![Vec::new(); cols * rows], bands: vec![Vec::new(); rows] };
+        let mut idx = Index {
+            segs,
+            x0,
+            y0,
+            cell,
+            cols,
+            rows,
+            cells: vec![Vec::new(); cols * rows],
+            bands: vec![Vec::new(); rows],
+        };
         for (k, &(a, b)) in idx.segs.iter().enumerate() {
             let (c0, c1) = (idx.col(a.0.min(b.0)), idx.col(a.0.max(b.0)));
             let (r0, r1) = (idx.row(a.1.min(b.1)), idx.row(a.1.max(b.1)));
@@ -232,7 +242,7 @@ impl Index {
 
     /// Whether `p` is within `r` mm of a segment.
     pub fn within(&self, p: (f64, f64), r: f64) -> bool {
-        if self.rows == 0 || !(r >= 0.0) {
+        if self.rows == 0 || r.is_nan() || r < 0.0 {
             return false;
         }
         let (lo_x, hi_x) = (p.0 - r, p.0 + r);
@@ -311,9 +321,11 @@ mod tests {
                 assert!((out[row * 8 + col] - out[col]).abs() < 1e-9);
             }
         }
-        // Column x = 50 + (c − 3.5)·1.2; with λ = 2.4, columns two apart are in phase.
-        assert!((out[0] - out[2]).abs() < 1e-9);
-        let want = 0.5 + 0.5 * (std::f64::consts::TAU * (50.0 - 3.5 * 1.2) / 2.4).cos();
+        // Column x = 50 + (c − 3.5)·1.2; with λ = 2.4, columns two apart are in
+        // phase (up to the profile's f32 pitch, 1.2 + 5e-8 mm).
+        assert!((out[0] - out[2]).abs() < 1e-6, "{out:?}");
+        let pitch = stress2().pitch_x_mm as f64;
+        let want = 0.5 + 0.5 * (std::f64::consts::TAU * (50.0 - 3.5 * pitch) / 2.4).cos();
         assert!((out[0] - want).abs() < 1e-9);
     }
 

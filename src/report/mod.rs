@@ -305,7 +305,12 @@ pub fn compile(input: &Path, opts: &CompileOpts, px: Option<f32>) -> Result<(Bun
                 .filter(|d| d.severity == taxel_compiler::Severity::Error)
                 .map(|d| format!("{}: {}", d.code, d.message))
                 .collect();
-            bail!("{} does not compile{}: {}", input.display(), px.map_or(String::new(), |p| format!(" at {p} px/mm")), errs.join("; "))
+            bail!(
+                "{} does not compile{}: {}",
+                input.display(),
+                px.map_or(String::new(), |p| format!(" at {p} px/mm")),
+                errs.join("; ")
+            )
         }
     }
 }

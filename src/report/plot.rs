@@ -44,7 +44,8 @@ pub fn draw(rows: &[Row], frames: usize, title: &str) -> Result<Vec<u8>, String>
     let (pw, ph) = (W as f32 - LEFT - RIGHT, H as f32 - TOP - BOTTOM);
     // Errors of exactly zero sit on the bottom axis.
     let sx = move |v: f64| LEFT + ((v.max(10f64.powi(x_lo)).log10() - x_lo as f64) / (x_hi - x_lo) as f64) as f32 * pw;
-    let sy = move |v: f64| TOP + ph - ((v.max(10f64.powi(y_lo)).log10() - y_lo as f64) / (y_hi - y_lo) as f64) as f32 * ph;
+    let sy =
+        move |v: f64| TOP + ph - ((v.max(10f64.powi(y_lo)).log10() - y_lo as f64) / (y_hi - y_lo) as f64) as f32 * ph;
     let black = Color::from_rgba8(0, 0, 0, 255);
     let grey = Color::from_rgba8(220, 220, 220, 255);
     for e in x_lo..=x_hi {
@@ -136,11 +137,8 @@ fn line(pm: &mut Pixmap, a: (f32, f32), b: (f32, f32), c: Color, width: f32, das
     let mut paint = Paint::default();
     paint.set_color(c);
     paint.anti_alias = true;
-    let stroke = Stroke {
-        width,
-        dash: if dashed { StrokeDash::new(vec![6.0, 4.0], 0.0) } else { None },
-        ..Stroke::default()
-    };
+    let stroke =
+        Stroke { width, dash: if dashed { StrokeDash::new(vec![6.0, 4.0], 0.0) } else { None }, ..Stroke::default() };
     pm.stroke_path(&path, &paint, &stroke, Transform::identity(), None);
 }
 

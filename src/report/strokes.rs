@@ -52,7 +52,8 @@ pub fn schedule_error(input: &Path, opts: &CompileOpts, bundle: &Bundle) -> Resu
         }
         seen.push(s.source);
         let entry = s.source.and_then(|i| prov.and_then(|p| p.entries.get(i as usize)));
-        let elem = entry.and_then(|e| drawing.element(&e.id, e.line)).context("a stroke's source element was not found")?;
+        let elem =
+            entry.and_then(|e| drawing.element(&e.id, e.line)).context("a stroke's source element was not found")?;
         let geo = drawing.geometry(elem, FLATTEN_TOLERANCE_MM).context("a stroke's element has no geometry")?;
         let styles = resolved_styles(elem, sheet.as_ref(), geo.fill, geo.stroke);
         let Some(br) = styles.iter().find_map(|st| if let Style::Brush(b) = st { Some(*b) } else { None }) else {

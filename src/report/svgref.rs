@@ -204,7 +204,11 @@ fn page_scale(root: roxmltree::Node<'_, '_>, tree: &usvg::Tree, width_mm: Option
         };
         (l.number > 0.0).then_some(l.number * f)
     };
-    let own = root.attribute("width").and_then(abs).map(|mm| mm / w).or(root.attribute("height").and_then(abs).map(|mm| mm / h));
+    let own = root
+        .attribute("width")
+        .and_then(abs)
+        .map(|mm| mm / w)
+        .or(root.attribute("height").and_then(abs).map(|mm| mm / h));
     match (width_mm.map(f64::from).filter(|v| v.is_finite() && *v > 0.0), own) {
         (Some(mm), _) => mm / w,
         (None, Some(s)) => s,

@@ -42,7 +42,11 @@ impl Trace {
                 return Err(format!("{name}:{}: t_ms {t} is negative", i + 1));
             }
             if samples.last().is_some_and(|p| t < p.0) {
-                return Err(format!("{name}:{}: time goes backwards ({t} ms after {} ms)", i + 1, samples[samples.len() - 1].0));
+                return Err(format!(
+                    "{name}:{}: time goes backwards ({t} ms after {} ms)",
+                    i + 1,
+                    samples[samples.len() - 1].0
+                ));
             }
             samples.push((t, x, y));
         }
