@@ -16,14 +16,14 @@ const GENERATED: usize = 48;
 /// A small annotated diagram, different for each `i`: an outline, a grating
 /// and dots, the mix a transcriber's folder holds.
 fn diagram(i: usize) -> String {
-    let x = 5 + (i * 7) % 50;
+    let x = 5 + (i * 7) % 20;
     let r = 4 + i % 9;
-    let w = 2 + i % 5;
+    let w = 3 + i % 5;
     format!(
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="110mm" height="60mm" viewBox="0 0 110 60">
   <rect id="box" x="{x}" y="8" width="40" height="22" fill="none" stroke="black" data-tactile="vibrate()"/>
-  <circle id="disc" cx="80" cy="38" r="{r}" fill="gray" data-tactile="grating(wavelength: {w}mm, angle: 45deg)"/>
-  <path id="route" d="M 10 50 L 60 52 L 100 45" fill="none" stroke="black" data-tactile="dots(radius: 1mm)"/>
+  <circle id="disc" cx="85" cy="28" r="{r}" fill="gray" data-tactile="grating(wavelength: {w}mm, angle: 45deg)"/>
+  <path id="route" d="M 10 52 L 60 54 L 100 50" fill="none" stroke="black" data-tactile="dots(radius: 1mm)"/>
 </svg>
 "#
     )
