@@ -18,38 +18,11 @@ pub const SWEEP_MM_PER_S: f64 = 40.0;
 pub const SWEEP_MAX_MS: f64 = 60_000.0;
 
 impl Trace {
-    /// Parses a trace CSV (`t_ms,x_mm,y_mm`, more columns ignored); `name` is used in messages.
+    /// Parses a trace CSV with the runtime's parser (`taxel play` reads the
+    /// same files); `name` prefixes its messages.
     pub fn parse(text: &str, name: &str) -> Result<Trace, String> {
-        let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
-        let Some((_, header)) = lines.next() else { return Err(format!("{name}: the trace is empty")) };
-        let cols: Vec<&str> = header.split(',').map(str::trim).collect();
-        let find = |c: &str| cols.iter().position(|h| *h == c);
-        let (Some(it), Some(ix), Some(iy)) = (find("t_ms"), find("x_mm"), find("y_mm")) else {
-            return Err(format!("{name}:1: expected the header t_ms,x_mm,y_mm, found {header:?}"));
-        };
-        let mut samples: Vec<(f64, f64, f64)> = Vec::new();
-        for (i, line) in lines {
-            let f: Vec<&str> = line.split(',').map(str::trim).collect();
-            let get = |k: usize, what: &str| -> Result<f64, String> {
-                let s = f.get(k).ok_or_else(|| format!("{name}:{}: missing the {what} column", i + 1))?;
-                match s.parse::<f64>() {
-                    Ok(v) if v.is_finite() => Ok(v),
-                    _ => Err(format!("{name}:{}: {what} {s:?} is not a finite number", i + 1)),
-                }
-            };
-            let (t, x, y) = (get(it, "t_ms")?, get(ix, "x_mm")?, get(iy, "y_mm")?);
-            if t < 0.0 {
-                return Err(format!("{name}:{}: t_ms {t} is negative", i + 1));
-            }
-            if samples.last().is_some_and(|p| t < p.0) {
-                return Err(format!(
-                    "{name}:{}: time goes backwards ({t} ms after {} ms)",
-                    i + 1,
-                    samples[samples.len() - 1].0
-                ));
-            }
-            samples.push((t, x, y));
-        }
+        let t = taxel_runtime::trace::Trace::parse(text.as_bytes()).map_err(|e| format!("{name}: {e}"))?;
+        let samples: Vec<(f64, f64, f64)> = t.samples().iter().map(|s| (s.t_ms, s.x_mm, s.y_mm)).collect();
         if samples.is_empty() {
             return Err(format!("{name}: the trace has no samples"));
         }
@@ -171,9 +144,9 @@ mod tests {
     #[test]
     fn bad_traces_name_the_line() {
         let e = Trace::parse("t_ms,x_mm,y_mm\n0,0,0\n5,NaN,0\n", "a.csv").expect_err("NaN");
-        assert!(e.contains("a.csv:3") && e.contains("x_mm"), "{e}");
+        assert!(e.starts_with("a.csv: line 3") && e.contains("x_mm"), "{e}");
         let e = Trace::parse("t_ms,x_mm,y_mm\n5,0,0\n4,0,0\n", "a.csv").expect_err("backwards");
-        assert!(e.contains("backwards"), "{e}");
+        assert!(e.contains("line 3"), "{e}");
         assert!(Trace::parse("x,y\n", "a.csv").is_err());
     }
 

@@ -6,3 +6,4 @@ mod device;
 mod examples;
 mod format;
 mod play;
+mod stability;

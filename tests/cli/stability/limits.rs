@@ -1,0 +1,58 @@
+//! Inputs too large to handle are refused by a limit with a clear message,
+//! not by running out of memory: a 100 MB SVG at the command line's edge,
+//! and a 10,000 x 10,000 mask request in the compiler.
+
+use std::process::Command;
+
+use taxel_compiler::{CompileOptions, svg::compile_svg};
+use taxel_format::{Chunk, profiles};
+
+use super::{codes, has, page};
+
+/// A 100 MB SVG (a sparse file: instant to make, no disk used) is refused
+/// before it is read, naming the file, its size and the limit.
+#[test]
+fn svg_of_100_mb_is_refused_by_the_input_limit() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let big = dir.path().join("big.svg");
+    let f = std::fs::File::create(&big).expect("create");
+    f.set_len(100 << 20).expect("sparse file");
+    for args in
+        [vec!["report", big.to_str().expect("utf-8 path")], vec!["build", big.to_str().expect("utf-8 path"), "-o"]]
+    {
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_taxel"));
+        cmd.args(&args);
+        if args[0] == "build" {
+            cmd.arg(dir.path().join("big.taxel"));
+        }
+        let out = cmd.output().expect("runs");
+        let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+        assert!(!out.status.success(), "{args:?} accepted a 100 MB drawing");
+        assert!(text.contains("big.svg") && text.contains("limit"), "{args:?}: {text}");
+        assert!(!dir.path().join("big.taxel").exists(), "no output for a refused input");
+    }
+}
+
+/// A 100 x 100 mm shape at 100 px/mm asks for a 10,000 x 10,000 mask
+/// (10^8 samples): the compiler lowers that mask's resolution to its sample
+/// limit and says so (T0303); resolutions beyond 200 px/mm are refused (T0204).
+#[test]
+fn mask_of_10000_by_10000_is_limited() {
+    let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="110mm" height="110mm" viewBox="0 0 110 110">
+        <rect id="r" x="5" y="5" width="100" height="100" data-tactile="grating()"/></svg>"#;
+    let mut opts = CompileOptions::new(profiles::builtin("stress2").expect("profile"));
+    opts.resolution_px_per_mm = Some(100.0);
+    let out = compile_svg(svg, &opts);
+    assert!(has(&out.diagnostics, "T0303"), "{:?}", codes(&out.diagnostics));
+    let b = out.bundle.expect("built at a lower resolution");
+    for c in &b.chunks {
+        if let Chunk::Mask(m) = c {
+            assert!((m.width as u64) * (m.height as u64) <= 16 << 20, "{} x {}", m.width, m.height);
+            assert!(m.px_per_mm < 100.0);
+        }
+    }
+    opts.resolution_px_per_mm = Some(10_000.0);
+    let out =
+        compile_svg(&page(r#"<rect id="r" x="5" y="5" width="10" height="10" data-tactile="grating()"/>"#), &opts);
+    assert!(out.bundle.is_none() && has(&out.diagnostics, "T0204"), "{:?}", codes(&out.diagnostics));
+}

@@ -1,0 +1,62 @@
+//! The named stiff and extreme cases (docs/stability.md lists each one, what
+//! taxel does and why). Every case asserts its outcome: values finite and in
+//! range, the diagnostic that must appear, or the limit's message.
+
+mod drawings;
+mod limits;
+mod playback;
+mod strokes;
+
+use taxel_compiler::{CompileOptions, Compiled, Diagnostic, svg::compile_svg};
+use taxel_format::{Bundle, BundleView, Chunk, profiles};
+
+/// Compiles `svg` for the built-in profile `profile`.
+pub fn compile(svg: &str, profile: &str) -> Compiled {
+    compile_svg(svg, &CompileOptions::new(profiles::builtin(profile).expect("built-in profile")))
+}
+
+/// Whether a diagnostic with `code` is among `diags`.
+pub fn has(diags: &[Diagnostic], code: &str) -> bool {
+    diags.iter().any(|d| d.code == code)
+}
+
+/// Codes of `diags`, for assertion messages.
+pub fn codes(diags: &[Diagnostic]) -> Vec<&'static str> {
+    diags.iter().map(|d| d.code).collect()
+}
+
+/// A 110 x 60 mm drawing (the stress2 surface) around `body`.
+pub fn page(body: &str) -> String {
+    format!(r#"<svg xmlns="http://www.w3.org/2000/svg" width="110mm" height="60mm" viewBox="0 0 110 60">{body}</svg>"#)
+}
+
+/// Asserts every number a bundle carries is finite and in its range, and
+/// that it survives its own writer and reader.
+pub fn assert_sane(b: &Bundle) {
+    let bytes = b.to_bytes().expect("the bundle writes");
+    BundleView::parse(&bytes).expect("the bundle reads back");
+    for c in &b.chunks {
+        match c {
+            Chunk::Mask(m) => {
+                assert!(m.origin_x.0.is_finite() && m.origin_y.0.is_finite() && m.px_per_mm.is_finite());
+                assert!((0.0..=1.0).contains(&m.amplitude));
+            }
+            Chunk::Dots(t) => {
+                for d in &t.dots {
+                    assert!(d.x.0.is_finite() && d.y.0.is_finite() && d.radius.0.is_finite() && d.radius.0 > 0.0);
+                    assert!((0.0..=1.0).contains(&d.amplitude));
+                }
+            }
+            Chunk::Strokes(t) => {
+                for s in &t.strokes {
+                    assert!((0.0..=1.0).contains(&s.intensity));
+                    for p in &s.points {
+                        assert!(p.duration >= 1 && p.x.0.is_finite() && p.y.0.is_finite());
+                        assert!(p.drives.iter().all(|d| (0.0..=1.0).contains(&d.intensity)));
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+}
