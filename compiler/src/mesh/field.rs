@@ -1,0 +1,237 @@
+//! Sampling the top surface into a height field: resolution, heights,
+//! gradients, contact and edge flags.
+
+use taxel_format::{FIELD_CONTACT, FIELD_EDGE, HeightField, MAX_FIELD_NODES, MAX_FIELD_SIDE, Mm};
+
+use super::error::MeshError;
+use super::surface::Surface;
+
+/// Default node spacing ceiling: half a millimetre, finer than a touch
+/// screen reports a fingertip's position and than the ring can render.
+pub const FINGER_CELL_MM: f64 = 0.5;
+/// Most nodes along the longer side that the default resolution uses, so a
+/// 10 m mesh stays at a megabyte-sized field; an explicit resolution may go
+/// up to the format's limits.
+pub const DEFAULT_MAX_SIDE: u32 = 1024;
+/// Fewest nodes along the longer side that the default resolution uses, so a
+/// micrometre-sized mesh still has a shape.
+pub const DEFAULT_MIN_SIDE: u32 = 17;
+/// Smallest gradient cap: a step is felt at least as strongly as a 45° slope.
+pub const MIN_GRADIENT_CAP: f64 = 1.0;
+
+/// The grid of a field: origin, spacing, size.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Grid {
+    /// Page x of node (0, 0), as stored (f32).
+    pub ox: f32,
+    /// Page y of node (0, 0), as stored (f32).
+    pub oy: f32,
+    /// Node spacing, as stored (f32).
+    pub cell: f32,
+    /// Nodes per row.
+    pub cols: u32,
+    /// Rows.
+    pub rows: u32,
+}
+
+impl Grid {
+    /// Page position of node `(i, j)`, computed from the stored values as the player will.
+    pub fn node(&self, i: u32, j: u32) -> (f64, f64) {
+        (self.ox as f64 + i as f64 * self.cell as f64, self.oy as f64 + j as f64 * self.cell as f64)
+    }
+}
+
+/// The default node spacing for a surface (see docs/finger.md).
+pub fn default_cell(s: &Surface) -> f64 {
+    let extent = (s.bbox[2] - s.bbox[0]).max(s.bbox[3] - s.bbox[1]);
+    let target = if s.median_edge > 0.0 { (s.median_edge / 2.0).min(FINGER_CELL_MM) } else { FINGER_CELL_MM };
+    target.max(extent / (DEFAULT_MAX_SIDE - 1) as f64).min(extent / (DEFAULT_MIN_SIDE - 1) as f64)
+}
+
+/// The grid covering the surface's footprint at `cell` mm, or an error when
+/// it would exceed the format's limits.
+pub fn grid(s: &Surface, cell: f64) -> Result<Grid, MeshError> {
+    if !(cell.is_finite() && cell > 0.0) {
+        return Err(MeshError::BadResolution(1.0 / cell));
+    }
+    let ox = s.bbox[0] as f32;
+    let oy = s.bbox[1] as f32;
+    let c = cell as f32;
+    // Enough nodes that the last one reaches the far side of the footprint.
+    let side = |far: f64, o: f32| ((far - o as f64) / c as f64 - 1e-9).ceil().max(1.0) + 1.0;
+    let cols = side(s.bbox[2], ox);
+    let rows = side(s.bbox[3], oy);
+    let (w, h) = (s.bbox[2] - s.bbox[0], s.bbox[3] - s.bbox[1]);
+    let fits = c >= 1e-9
+        && cols <= MAX_FIELD_SIDE as f64
+        && rows <= MAX_FIELD_SIDE as f64
+        && cols * rows <= MAX_FIELD_NODES as f64;
+    if !fits {
+        let per_side = (MAX_FIELD_SIDE - 1) as f64 / w.max(h).max(f64::MIN_POSITIVE);
+        let per_area = ((MAX_FIELD_NODES as f64).sqrt() - 1.0) / (w * h).sqrt().max(f64::MIN_POSITIVE);
+        return Err(MeshError::FieldTooLarge {
+            cols: cols.min(u64::MAX as f64) as u64,
+            rows: rows.min(u64::MAX as f64) as u64,
+            per_mm: 1.0 / cell,
+            max_per_mm: per_side.min(per_area) * 0.999,
+        });
+    }
+    Ok(Grid { ox, oy, cell: c, cols: cols as u32, rows: rows as u32 })
+}
+
+/// Samples `s` on `g`: exact top-surface heights at the nodes, facet
+/// gradients, finite differences across steps, and the gradient cap.
+pub fn sample(s: &Surface, g: &Grid, source: Option<u32>) -> HeightField {
+    let n = g.cols as usize * g.rows as usize;
+    let mut best = vec![f64::NEG_INFINITY; n];
+    let mut grad = vec![[0.0f64; 2]; n];
+    let mut ties = vec![0u16; n];
+    let cell = g.cell as f64;
+    let tol = s.step_tol;
+    for f in &s.faces {
+        let [a, b, c] = f.corners;
+        let area2 = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
+        if area2 == 0.0 {
+            continue;
+        }
+        let (x0, x1) = (a[0].min(b[0]).min(c[0]), a[0].max(b[0]).max(c[0]));
+        let (y0, y1) = (a[1].min(b[1]).min(c[1]), a[1].max(b[1]).max(c[1]));
+        let Some((i0, i1)) = span(x0, x1, g.ox as f64, cell, g.cols) else { continue };
+        let Some((j0, j1)) = span(y0, y1, g.oy as f64, cell, g.rows) else { continue };
+        for j in j0..=j1 {
+            for i in i0..=i1 {
+                let (x, y) = g.node(i, j);
+                // Barycentric weights with a small inclusive margin so a node on
+                // a shared edge is never lost to rounding between the two faces.
+                let w = |p: [f64; 2], q: [f64; 2]| ((q[0] - p[0]) * (y - p[1]) - (x - p[0]) * (q[1] - p[1])) / area2;
+                const EPS: f64 = -1e-9;
+                if w(a, b) < EPS || w(b, c) < EPS || w(c, a) < EPS {
+                    continue;
+                }
+                let Some((h, gx, gy)) = s.top(f, x, y) else { continue };
+                let k = j as usize * g.cols as usize + i as usize;
+                if h > best[k] + tol {
+                    best[k] = h;
+                    grad[k] = [gx, gy];
+                    ties[k] = 1;
+                } else if h >= best[k] - tol && ties[k] < u16::MAX {
+                    // Same height from another face (the node is on an edge or
+                    // corner): average the slopes so a ridge on a node is level.
+                    grad[k][0] += gx;
+                    grad[k][1] += gy;
+                    ties[k] += 1;
+                }
+            }
+        }
+    }
+    for (g2, &t) in grad.iter_mut().zip(&ties) {
+        if t > 1 {
+            g2[0] /= t as f64;
+            g2[1] /= t as f64;
+        }
+    }
+    let mut flags: Vec<u8> = best.iter().map(|h| if h.is_finite() { FIELD_CONTACT } else { 0 }).collect();
+
+    // Across a step the finite difference between the two nodes is the
+    // slope the bilinear field actually has there; it replaces the facet slope.
+    let mut over = vec![[f64::NAN; 2]; n];
+    let idx = |i: u32, j: u32| j as usize * g.cols as usize + i as usize;
+    let mark = |k1: usize, k2: usize, axis: usize, over: &mut Vec<[f64; 2]>, flags: &mut Vec<u8>| {
+        if flags[k1] & FIELD_CONTACT == 0 || flags[k2] & FIELD_CONTACT == 0 {
+            return;
+        }
+        let d = (best[k2] - best[k1]) / cell;
+        for k in [k1, k2] {
+            flags[k] |= FIELD_EDGE;
+            if over[k][axis].is_nan() || d.abs() > over[k][axis].abs() {
+                over[k][axis] = d;
+            }
+        }
+    };
+    for st in &s.steps {
+        // Rows the step crosses: the horizontal node pair it passes between.
+        for (along, across, axis) in [(0usize, 1usize, 0usize), (1, 0, 1)] {
+            let (o_across, o_along) = if axis == 0 { (g.oy as f64, g.ox as f64) } else { (g.ox as f64, g.oy as f64) };
+            let (n_across, n_along) = if axis == 0 { (g.rows, g.cols) } else { (g.cols, g.rows) };
+            let (c0, c1) = (st.a[across].min(st.b[across]), st.a[across].max(st.b[across]));
+            let Some((r0, r1)) = span(c0, c1, o_across, cell, n_across) else { continue };
+            for r in r0..=r1 {
+                let line = o_across + r as f64 * cell;
+                let dc = st.b[across] - st.a[across];
+                if dc == 0.0 {
+                    // Parallel to these node lines: the other axis sees it.
+                    continue;
+                }
+                let t = ((line - st.a[across]) / dc).clamp(0.0, 1.0);
+                let pos = st.a[along] + t * (st.b[along] - st.a[along]);
+                let u = (pos - o_along) / cell;
+                if !(u > -1.0 && u < n_along as f64) {
+                    continue;
+                }
+                let lo = u.floor();
+                // On a node: both neighbouring pairs straddle the step.
+                let pairs: &[(f64, f64)] =
+                    if (u - lo) < 1e-9 { &[(lo - 1.0, lo), (lo, lo + 1.0)] } else { &[(lo, lo + 1.0)] };
+                for &(p, q) in pairs {
+                    if p < 0.0 || q > (n_along - 1) as f64 {
+                        continue;
+                    }
+                    let (p, q) = (p as u32, q as u32);
+                    let (k1, k2) = if axis == 0 { (idx(p, r), idx(q, r)) } else { (idx(r, p), idx(r, q)) };
+                    mark(k1, k2, axis, &mut over, &mut flags);
+                }
+            }
+        }
+    }
+    for (g2, o) in grad.iter_mut().zip(&over) {
+        for axis in 0..2 {
+            if !o[axis].is_nan() {
+                g2[axis] = o[axis];
+            }
+        }
+    }
+
+    // The cap: the steepest slope of the surface proper, and at least 45°.
+    let cap = s.max_surface_slope.max(MIN_GRADIENT_CAP);
+    let cap32 = cap as f32;
+    let mut heights = Vec::with_capacity(n);
+    let (mut gxs, mut gys) = (Vec::with_capacity(n), Vec::with_capacity(n));
+    for k in 0..n {
+        if flags[k] & FIELD_CONTACT == 0 {
+            heights.push(0.0);
+            gxs.push(0.0);
+            gys.push(0.0);
+            continue;
+        }
+        let [mut gx, mut gy] = grad[k];
+        let m = gx.hypot(gy);
+        if m > cap {
+            gx *= cap / m;
+            gy *= cap / m;
+            flags[k] |= FIELD_EDGE;
+        }
+        heights.push(best[k] as f32);
+        gxs.push((gx as f32).clamp(-cap32, cap32));
+        gys.push((gy as f32).clamp(-cap32, cap32));
+    }
+    HeightField {
+        source,
+        cols: g.cols,
+        rows: g.rows,
+        origin_x: Mm(g.ox),
+        origin_y: Mm(g.oy),
+        cell: Mm(g.cell),
+        gradient_cap: cap32,
+        heights,
+        grad_x: gxs,
+        grad_y: gys,
+        flags,
+    }
+}
+
+/// Node indices `i` with `lo <= origin + i * cell <= hi` (a hair inclusive), clamped to `0..count`.
+fn span(lo: f64, hi: f64, origin: f64, cell: f64, count: u32) -> Option<(u32, u32)> {
+    let a = ((lo - origin) / cell - 1e-7).ceil().max(0.0);
+    let b = ((hi - origin) / cell + 1e-7).floor().min(count as f64 - 1.0);
+    (a <= b && b >= 0.0).then_some((a as u32, b as u32))
+}

@@ -1,0 +1,426 @@
+//! The top surface of a triangle soup, seen from above (+Y), built on a
+//! spade constrained Delaunay triangulation.
+//!
+//! Every projected mesh edge is a constraint; where projected edges cross
+//! (overhangs, walls, overlapping parts) spade splits them at the crossing.
+//! The triangulation then refines the arrangement of all projected
+//! triangles: each of its faces lies wholly inside or wholly outside each
+//! mesh triangle, so a face has a fixed set of covering triangles, and the
+//! surface over it is the highest of their planes (the finger touches the
+//! top). Heights are interpolated linearly on the original triangles, which
+//! for a single-valued mesh is exactly spade's barycentric interpolation on
+//! the triangulation (a test checks this). Height jumps across a constraint
+//! edge are recorded as steps.
+
+use std::collections::HashMap;
+
+use spade::handles::{FixedFaceHandle, FixedVertexHandle, InnerTag};
+use spade::{ConstrainedDelaunayTriangulation, Point2, PositionInTriangulation, Triangulation};
+
+use super::error::MeshError;
+use super::load::Soup;
+
+/// Slope (|∇h|) above which a triangle counts as a wall: it still covers its
+/// thin footprint, but it does not raise the gradient cap.
+pub const WALL_SLOPE: f64 = 10.0;
+/// Largest number of (face, covering triangle) pairs, which bounds the work
+/// that heavily overlapping meshes can cause.
+const MAX_COVER_PAIRS: usize = 50_000_000;
+
+/// The plane of one mesh triangle over the page.
+#[derive(Debug, Clone, Copy)]
+pub struct Plane {
+    x0: f64,
+    y0: f64,
+    h0: f64,
+    /// ∂h/∂x.
+    pub gx: f64,
+    /// ∂h/∂y (y down the page).
+    pub gy: f64,
+    lo: f64,
+    hi: f64,
+}
+
+impl Plane {
+    /// The plane through three `[x, y, h]` points, or `None` when their
+    /// projection has no area (a vertical or degenerate triangle).
+    pub fn through(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> Option<Plane> {
+        let (dx1, dy1, dh1) = (b[0] - a[0], b[1] - a[1], b[2] - a[2]);
+        let (dx2, dy2, dh2) = (c[0] - a[0], c[1] - a[1], c[2] - a[2]);
+        let det = dx1 * dy2 - dx2 * dy1;
+        let scale = (dx1 * dx1 + dy1 * dy1).max(dx2 * dx2 + dy2 * dy2);
+        // Relative test: the sine of the triangle's smallest angle seen from
+        // above must be above 1e-12, so the gradient is not rounding noise.
+        if det.abs() <= 1e-12 * scale || det.is_nan() {
+            return None;
+        }
+        let gx = (dh1 * dy2 - dh2 * dy1) / det;
+        let gy = (dx1 * dh2 - dx2 * dh1) / det;
+        if !gx.is_finite() || !gy.is_finite() {
+            return None;
+        }
+        Some(Plane { x0: a[0], y0: a[1], h0: a[2], gx, gy, lo: a[2].min(b[2]).min(c[2]), hi: a[2].max(b[2]).max(c[2]) })
+    }
+
+    /// Height at page point `(x, y)`, kept within the triangle's own range
+    /// so that evaluating a sliver just outside itself cannot run away.
+    pub fn at(&self, x: f64, y: f64) -> f64 {
+        (self.h0 + self.gx * (x - self.x0) + self.gy * (y - self.y0)).clamp(self.lo, self.hi)
+    }
+
+    /// Slope magnitude |∇h|.
+    pub fn slope(&self) -> f64 {
+        self.gx.hypot(self.gy)
+    }
+}
+
+/// One face of the triangulation with the mesh triangles that cover it.
+#[derive(Debug, Clone)]
+pub struct Face {
+    /// Corners `[x, y]` in page mm, counter-clockwise.
+    pub corners: [[f64; 2]; 3],
+    /// Range into [`Surface::cover`].
+    pub cover: core::ops::Range<u32>,
+}
+
+/// A height jump along a segment of the page.
+#[derive(Debug, Clone, Copy)]
+pub struct Step {
+    /// One end, page mm.
+    pub a: [f64; 2],
+    /// The other end, page mm.
+    pub b: [f64; 2],
+}
+
+/// The top surface: covered faces, planes, steps and statistics.
+#[derive(Debug, Clone)]
+pub struct Surface {
+    /// Faces covered by at least one triangle.
+    pub faces: Vec<Face>,
+    /// Covering triangle indices (into `planes`), grouped per face.
+    pub cover: Vec<u32>,
+    /// The plane of each covering (non-degenerate) triangle.
+    pub planes: Vec<Plane>,
+    /// Height jumps.
+    pub steps: Vec<Step>,
+    /// Footprint bounding box `[xmin, ymin, xmax, ymax]` in mm.
+    pub bbox: [f64; 4],
+    /// Median length of the projected edges of covering triangles, mm.
+    pub median_edge: f64,
+    /// Height jumps smaller than this are rounding, not steps (mm).
+    pub step_tol: f64,
+    /// Steepest slope among triangles that are not walls.
+    pub max_surface_slope: f64,
+    /// Triangles with no projected area (vertical walls, degenerate or duplicate corners).
+    pub degenerate: usize,
+}
+
+impl Surface {
+    /// Highest plane over face `f` at `(x, y)`: `(height, ∂h/∂x, ∂h/∂y)`.
+    pub fn top(&self, f: &Face, x: f64, y: f64) -> Option<(f64, f64, f64)> {
+        let mut best: Option<(f64, f64, f64)> = None;
+        for &t in self.cover.get(f.cover.start as usize..f.cover.end as usize).unwrap_or(&[]) {
+            if let Some(p) = self.planes.get(t as usize) {
+                let h = p.at(x, y);
+                if best.is_none_or(|b| h > b.0) {
+                    best = Some((h, p.gx, p.gy));
+                }
+            }
+        }
+        best
+    }
+}
+
+type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
+
+/// Builds the top surface of `soup`.
+pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
+    // Planes of the triangles that cover area; the rest are walls or degenerate.
+    let mut planes = Vec::new();
+    let mut corners = Vec::new();
+    let mut degenerate = 0usize;
+    let (mut lo_h, mut hi_h) = (f64::INFINITY, f64::NEG_INFINITY);
+    for t in &soup.triangles {
+        let v = t.map(|i| soup.vertices.get(i as usize).copied().unwrap_or([f64::NAN; 3]));
+        for p in &v {
+            lo_h = lo_h.min(p[2]);
+            hi_h = hi_h.max(p[2]);
+        }
+        match Plane::through(v[0], v[1], v[2]) {
+            Some(p) => {
+                planes.push(p);
+                corners.push(*t);
+            }
+            None => degenerate += 1,
+        }
+    }
+    if planes.is_empty() {
+        return Err(MeshError::NoArea);
+    }
+
+    // Distinct projected vertices, in first-seen order (spade keeps the order
+    // of a duplicate-free bulk load, so index i is vertex handle i).
+    let mut index: HashMap<(u64, u64), u32> = HashMap::new();
+    let mut points: Vec<Point2<f64>> = Vec::new();
+    let mut map = vec![u32::MAX; soup.vertices.len()];
+    let key = |v: f64| (v + 0.0).to_bits();
+    for t in &corners {
+        for &i in t {
+            let Some(slot) = map.get_mut(i as usize) else { continue };
+            if *slot != u32::MAX {
+                continue;
+            }
+            let v = soup.vertices[i as usize];
+            *slot = *index.entry((key(v[0]), key(v[1]))).or_insert_with(|| {
+                points.push(Point2::new(v[0], v[1]));
+                (points.len() - 1) as u32
+            });
+        }
+    }
+    let mut edges: Vec<[usize; 2]> = Vec::with_capacity(3 * corners.len());
+    for t in &corners {
+        let m = t.map(|i| map[i as usize] as usize);
+        for (a, b) in [(m[0], m[1]), (m[1], m[2]), (m[2], m[0])] {
+            if a != b {
+                edges.push([a.min(b), a.max(b)]);
+            }
+        }
+    }
+    edges.sort_unstable();
+    edges.dedup();
+
+    let mut bbox = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
+    for p in &points {
+        bbox = [bbox[0].min(p.x), bbox[1].min(p.y), bbox[2].max(p.x), bbox[3].max(p.y)];
+    }
+    let extent = (bbox[2] - bbox[0]).max(bbox[3] - bbox[1]).max(hi_h - lo_h);
+    let step_tol = (extent * 1e-7).max(f64::MIN_POSITIVE);
+
+    let mut lengths: Vec<f64> =
+        edges.iter().map(|&[a, b]| (points[a].x - points[b].x).hypot(points[a].y - points[b].y)).collect();
+    let mid = lengths.len() / 2;
+    let median_edge = if lengths.is_empty() { 0.0 } else { *lengths.select_nth_unstable_by(mid, f64::total_cmp).1 };
+
+    let cdt = triangulate(&points, edges)?;
+    // A handle in a bulk load is its input index; check rather than trust.
+    for (i, p) in points.iter().enumerate() {
+        if i >= cdt.num_vertices() || cdt.vertex(FixedVertexHandle::from_index(i)).position() != *p {
+            return Err(MeshError::Triangulation("vertex order changed in the bulk load".into()));
+        }
+    }
+
+    // Which faces each triangle covers: a walk from the face under the
+    // triangle's centroid to neighbours whose centroid is inside it.
+    let mut stamp = vec![u32::MAX; cdt.num_all_faces()];
+    let mut pairs: Vec<(u32, u32)> = Vec::new();
+    let mut queue: Vec<FixedFaceHandle<InnerTag>> = Vec::new();
+    let mut max_surface_slope: f64 = 0.0;
+    for (ti, t) in corners.iter().enumerate() {
+        let v = t.map(|i| soup.vertices[i as usize]);
+        let tri = Tri::new(v);
+        if planes[ti].slope() <= WALL_SLOPE {
+            max_surface_slope = max_surface_slope.max(planes[ti].slope());
+        }
+        let c = Point2::new((v[0][0] + v[1][0] + v[2][0]) / 3.0, (v[0][1] + v[1][1] + v[2][1]) / 3.0);
+        let hint = FixedVertexHandle::from_index(map[t[0] as usize] as usize);
+        queue.clear();
+        let seeds: Vec<FixedFaceHandle<InnerTag>> = match cdt.locate_with_hint(c, hint) {
+            PositionInTriangulation::OnFace(f) => vec![f],
+            PositionInTriangulation::OnEdge(e) => {
+                let d = cdt.directed_edge(e);
+                [d.face(), d.rev().face()].iter().filter_map(|f| f.as_inner()).map(|f| f.fix()).collect()
+            }
+            PositionInTriangulation::OnVertex(vh) => {
+                cdt.vertex(vh).out_edges().filter_map(|e| e.face().as_inner()).map(|f| f.fix()).collect()
+            }
+            _ => Vec::new(),
+        };
+        for f in seeds {
+            let fi = f.index();
+            if stamp[fi] != ti as u32 && tri.contains(face_centroid(&cdt, f)) {
+                stamp[fi] = ti as u32;
+                queue.push(f);
+            }
+        }
+        while let Some(f) = queue.pop() {
+            pairs.push((f.index() as u32, ti as u32));
+            if pairs.len() > MAX_COVER_PAIRS {
+                return Err(MeshError::TooBig { what: "overlapping triangle layers", limit: MAX_COVER_PAIRS });
+            }
+            for e in cdt.face(f).adjacent_edges() {
+                let Some(n) = e.rev().face().as_inner() else { continue };
+                let n = n.fix();
+                if stamp[n.index()] != ti as u32 && tri.contains(face_centroid(&cdt, n)) {
+                    stamp[n.index()] = ti as u32;
+                    queue.push(n);
+                }
+            }
+        }
+    }
+    pairs.sort_unstable();
+
+    // Covered faces in triangulation order, with their covering triangles.
+    let mut handles: Vec<Option<FixedFaceHandle<InnerTag>>> = vec![None; cdt.num_all_faces()];
+    for f in cdt.inner_faces() {
+        if let Some(h) = handles.get_mut(f.fix().index()) {
+            *h = Some(f.fix());
+        }
+    }
+    let mut face_slot = vec![u32::MAX; cdt.num_all_faces()];
+    let mut faces = Vec::new();
+    let mut cover = Vec::with_capacity(pairs.len());
+    let mut k = 0;
+    while k < pairs.len() {
+        let f = pairs[k].0;
+        let start = cover.len() as u32;
+        while k < pairs.len() && pairs[k].0 == f {
+            cover.push(pairs[k].1);
+            k += 1;
+        }
+        let Some(Some(fh)) = handles.get(f as usize) else { continue };
+        let pos = cdt.face(*fh).positions();
+        face_slot[f as usize] = faces.len() as u32;
+        faces.push(Face { corners: pos.map(|p| [p.x, p.y]), cover: start..cover.len() as u32 });
+    }
+
+    let mut surface =
+        Surface { faces, cover, planes, steps: Vec::new(), bbox, median_edge, step_tol, max_surface_slope, degenerate };
+
+    // Steps: constraint edges with a covered face on each side whose tops differ.
+    let mut steps = Vec::new();
+    for e in cdt.undirected_edges() {
+        if !cdt.is_constraint_edge(e.fix()) {
+            continue;
+        }
+        let d = e.as_directed();
+        let side = |f: spade::handles::FaceHandle<'_, spade::handles::PossiblyOuterTag, _, _, _, _>| {
+            f.as_inner().and_then(|f| surface.faces.get(face_slot[f.fix().index()] as usize))
+        };
+        let (Some(f1), Some(f2)) = (side(d.face()), side(d.rev().face())) else { continue };
+        let [a, b] = d.positions().map(|p| [p.x, p.y]);
+        let m = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
+        let jump = [a, m, b]
+            .iter()
+            .map(|q| match (surface.top(f1, q[0], q[1]), surface.top(f2, q[0], q[1])) {
+                (Some(h1), Some(h2)) => (h1.0 - h2.0).abs(),
+                _ => 0.0,
+            })
+            .fold(0.0, f64::max);
+        if jump > step_tol {
+            steps.push(Step { a, b });
+        }
+    }
+    surface.steps = steps;
+    Ok(surface)
+}
+
+/// Builds the triangulation; crossing constraints are split where they cross.
+fn triangulate(points: &[Point2<f64>], edges: Vec<[usize; 2]>) -> Result<Cdt, MeshError> {
+    for p in points {
+        spade::validate_vertex(p).map_err(|e| MeshError::Triangulation(format!("vertex ({}, {}): {e:?}", p.x, p.y)))?;
+    }
+    let mut conflicts = Vec::new();
+    let mut cdt = Cdt::try_bulk_load_cdt(points.to_vec(), edges, |e| conflicts.push(e))
+        .map_err(|e| MeshError::Triangulation(format!("{e:?}")))?;
+    // Each crossing adds a vertex; bound them so a hostile mesh of long
+    // crossing slivers cannot exhaust memory.
+    let budget = 4 * points.len() + 1_000_000;
+    for [a, b] in conflicts {
+        cdt.add_constraint_and_split(FixedVertexHandle::from_index(a), FixedVertexHandle::from_index(b), |p| p);
+        if cdt.num_vertices() > budget {
+            return Err(MeshError::TooBig { what: "crossings between projected edges", limit: budget });
+        }
+    }
+    Ok(cdt)
+}
+
+fn face_centroid(cdt: &Cdt, f: FixedFaceHandle<InnerTag>) -> [f64; 2] {
+    let p = cdt.face(f).positions();
+    [(p[0].x + p[1].x + p[2].x) / 3.0, (p[0].y + p[1].y + p[2].y) / 3.0]
+}
+
+/// A projected triangle for inside tests.
+struct Tri {
+    p: [[f64; 2]; 3],
+    area2: f64,
+}
+
+impl Tri {
+    fn new(v: [[f64; 3]; 3]) -> Tri {
+        let p = v.map(|q| [q[0], q[1]]);
+        let area2 = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]);
+        Tri { p, area2 }
+    }
+
+    /// Whether `q` is inside or on the triangle (either winding).
+    fn contains(&self, q: [f64; 2]) -> bool {
+        let w = |a: [f64; 2], b: [f64; 2]| ((b[0] - a[0]) * (q[1] - a[1]) - (q[0] - a[0]) * (b[1] - a[1])) / self.area2;
+        w(self.p[0], self.p[1]) >= 0.0 && w(self.p[1], self.p[2]) >= 0.0 && w(self.p[2], self.p[0]) >= 0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn soup(vertices: Vec<[f64; 3]>, triangles: Vec<[u32; 3]>) -> Soup {
+        Soup { vertices, triangles, ..Soup::default() }
+    }
+
+    #[test]
+    fn crossing_triangles_are_split_and_the_top_one_wins() {
+        // Two triangles whose projections cross like a star of David; the
+        // second lies 5 mm higher, so wherever both cover, it is on top.
+        let s = soup(
+            vec![
+                [0.0, 0.0, 0.0],
+                [10.0, 0.0, 0.0],
+                [5.0, 9.0, 0.0],
+                [0.0, 6.0, 5.0],
+                [10.0, 6.0, 5.0],
+                [5.0, -3.0, 5.0],
+            ],
+            vec![[0, 1, 2], [3, 4, 5]],
+        );
+        let surf = build(&s).unwrap();
+        let mut both = 0;
+        for f in &surf.faces {
+            let c = [
+                (f.corners[0][0] + f.corners[1][0] + f.corners[2][0]) / 3.0,
+                (f.corners[0][1] + f.corners[1][1] + f.corners[2][1]) / 3.0,
+            ];
+            let h = surf.top(f, c[0], c[1]).unwrap().0;
+            if f.cover.len() == 2 {
+                both += 1;
+                assert_eq!(h, 5.0);
+            }
+        }
+        assert!(both > 0, "the overlap must be a set of faces covered twice");
+    }
+
+    #[test]
+    fn vertical_wall_is_a_step_and_not_a_face() {
+        // Two flat squares at heights 0 and 10 joined by a vertical wall at x = 10.
+        let s = soup(
+            vec![
+                [0.0, 0.0, 0.0],
+                [10.0, 0.0, 0.0],
+                [10.0, 10.0, 0.0],
+                [0.0, 10.0, 0.0],
+                [10.0, 0.0, 10.0],
+                [20.0, 0.0, 10.0],
+                [20.0, 10.0, 10.0],
+                [10.0, 10.0, 10.0],
+            ],
+            vec![[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7], [1, 4, 7], [1, 7, 2]],
+        );
+        let surf = build(&s).unwrap();
+        assert_eq!(surf.degenerate, 2);
+        assert_eq!(surf.faces.len(), 4);
+        assert!(!surf.steps.is_empty());
+        for st in &surf.steps {
+            assert_eq!(st.a[0], 10.0);
+            assert_eq!(st.b[0], 10.0);
+        }
+    }
+}
