@@ -1,9 +1,9 @@
 //! Compiling one input file, whatever its kind: the CLI's single entry into
 //! the compiler, used by `build`, `check`, `preview`, `report` and the demo.
 
-use std::path::Path;
+use std::path::{Component, Path, PathBuf};
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use taxel_compiler::Compiled;
 
 use crate::cli::CompileOpts;
@@ -12,8 +12,70 @@ use crate::cli::CompileOpts;
 /// problems in the input are diagnostics in the result.
 pub fn compile_file(path: &Path, opts: &CompileOpts) -> Result<Compiled> {
     check_input_size(path)?;
-    let _ = opts;
-    anyhow::bail!("{}: compiling is not available yet (issues 3 and 6)", path.display())
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("gltf" | "glb") => compile_mesh(path, opts),
+        _ => anyhow::bail!("{}: compiling is not available yet (issue 3)", path.display()),
+    }
+}
+
+/// A glTF height mesh for the finger device (docs/finger.md). Without
+/// `--profile` the built-in `finger3` is used: a mesh only plays on a finger device.
+fn compile_mesh(path: &Path, opts: &CompileOpts) -> Result<Compiled> {
+    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let profile = load_profile(opts.profile.as_deref().unwrap_or("finger3"))?;
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let mut resolve = |uri: &str| read_beside(&dir, uri);
+    let mesh_opts = taxel_compiler::mesh::MeshOptions { nodes_per_mm: opts.resolution.map(f64::from) };
+    Ok(taxel_compiler::mesh::compile_gltf(&bytes, &mut resolve, &profile, &mesh_opts))
+}
+
+fn load_profile(spec: &str) -> Result<taxel_format::DeviceProfile> {
+    if let Some(p) = taxel_format::profiles::builtin(spec) {
+        return Ok(p);
+    }
+    let text = std::fs::read_to_string(spec)
+        .with_context(|| format!("'{spec}' is neither a built-in profile nor a readable profile file"))?;
+    taxel_format::profiles::parse(&text, spec).map_err(|e| anyhow::anyhow!("{e}"))
+}
+
+/// Reads an external buffer named by a relative URI, only from the glTF's
+/// own folder or below it: absolute paths, `..`, and URI schemes are refused.
+fn read_beside(dir: &Path, uri: &str) -> Result<Vec<u8>, String> {
+    let rel = percent_decode(uri).ok_or_else(|| format!("buffer URI '{uri}' is not valid percent-encoded UTF-8"))?;
+    if rel.contains(':') || rel.contains('\\') {
+        return Err(format!("buffer URI '{uri}' is not a relative path (schemes and drive letters are refused)"));
+    }
+    let rel_path = PathBuf::from(&rel);
+    if rel_path.components().any(|c| !matches!(c, Component::Normal(_) | Component::CurDir)) {
+        return Err(format!("buffer URI '{uri}' leaves the glTF file's folder"));
+    }
+    let full = dir.join(&rel_path);
+    check_input_size(&full).map_err(|e| e.to_string())?;
+    // Symbolic links may still point elsewhere: compare the real paths.
+    let real_dir = dir.canonicalize().unwrap_or_else(|_| dir.to_path_buf());
+    let real = full.canonicalize().map_err(|e| format!("cannot read buffer '{}': {e}", full.display()))?;
+    if !real.starts_with(&real_dir) {
+        return Err(format!("buffer '{}' lies outside the glTF file's folder", full.display()));
+    }
+    std::fs::read(&real).map_err(|e| format!("cannot read buffer '{}': {e}", full.display()))
+}
+
+fn percent_decode(s: &str) -> Option<String> {
+    let b = s.as_bytes();
+    let mut out = Vec::with_capacity(b.len());
+    let mut i = 0;
+    while i < b.len() {
+        if b[i] == b'%' {
+            let hex = s.get(i + 1..i + 3)?;
+            out.push(u8::from_str_radix(hex, 16).ok()?);
+            i += 3;
+        } else {
+            out.push(b[i]);
+            i += 1;
+        }
+    }
+    String::from_utf8(out).ok()
 }
 
 /// Largest input file taxel reads, in bytes (docs/stability.md): far above

@@ -7,3 +7,4 @@ mod examples;
 mod format;
 mod play;
 mod stability;
+mod finger;

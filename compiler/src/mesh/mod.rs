@@ -23,6 +23,7 @@
 pub mod error;
 pub mod field;
 pub mod load;
+pub mod shapes;
 pub mod surface;
 pub mod write;
 

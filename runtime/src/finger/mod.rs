@@ -27,8 +27,6 @@
 //! only ever the caller's integer tick.
 
 pub mod field;
-#[cfg(feature = "std")]
-pub mod trace;
 
 use taxel_format::{BundleView, ChunkView, Family, FamilyParams, FingerParams, HeightFieldView, Mm, Tick};
 

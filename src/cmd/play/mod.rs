@@ -7,6 +7,7 @@ use std::process::ExitCode;
 use anyhow::Result;
 use taxel_format::{BundleView, Family};
 
+mod finger;
 mod grid;
 mod latero;
 
@@ -28,9 +29,6 @@ pub fn run(bundle: &Path, trace: Option<&Path>, out: Option<&Path>) -> Result<Ex
     match view.manifest().profile.family() {
         Family::Grid => grid::run(bundle, &view, trace, out),
         Family::Laterotactile => latero::run(bundle, &view, trace, out),
-        Family::Finger => {
-            eprintln!("error: taxel play for finger bundles is not available yet (issue 6)");
-            Ok(ExitCode::from(2))
-        }
+        Family::Finger => finger::run(bundle, &view, trace, out),
     }
 }
