@@ -5,7 +5,7 @@
 //! [`load`] reads every triangle of the scene into page millimetres,
 //! [`surface`] builds the top surface on a spade constrained Delaunay
 //! triangulation, and [`field`] samples it into a
-//! [`HeightField`](taxel_format::HeightField). The library does no file IO:
+//! [`taxel_format::HeightField`]. The library does no file IO:
 //! external buffers come through a resolver closure.
 //!
 //! ```
