@@ -191,3 +191,49 @@ fn play_refuses_a_corrupt_bundle_and_a_missing_trace() {
     assert_eq!(o.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&o.stderr).contains("bad.taxel"));
 }
+
+#[test]
+fn taxel_build_compiles_glb_and_gltf_with_an_external_buffer() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("edge.taxel");
+    let o = taxel()
+        .arg("build")
+        .arg(examples().join("edge.glb"))
+        .args(["--profile", "finger3", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let from_cli = std::fs::read(&out).unwrap();
+    let from_lib = std::fs::read(build("edge.glb", dir.path())).unwrap();
+    let (a, l) =
+        (taxel_format::Bundle::from_bytes(&from_cli).unwrap(), taxel_format::Bundle::from_bytes(&from_lib).unwrap());
+    // The CLI adds a content hash to the manifest; the layers are the library's.
+    assert!(a.chunks == l.chunks, "the CLI builds the layers the library builds");
+
+    // The same mesh with its buffer in a file beside the .gltf.
+    let (json, bin) = Shape::Edge.mesh().to_gltf_external("edge%20data.bin");
+    std::fs::write(dir.path().join("ext.gltf"), json).unwrap();
+    std::fs::write(dir.path().join("edge data.bin"), bin).unwrap();
+    let out2 = dir.path().join("ext.taxel");
+    let o = taxel().arg("build").arg(dir.path().join("ext.gltf")).arg("-o").arg(&out2).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let b = taxel_format::Bundle::from_bytes(&std::fs::read(&out2).unwrap()).unwrap();
+    assert!(a.chunks[0] == b.chunks[0], "same height field from an external buffer");
+}
+
+#[test]
+fn taxel_build_refuses_a_buffer_outside_the_meshs_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let sub = dir.path().join("sub");
+    std::fs::create_dir(&sub).unwrap();
+    let (json, bin) = Shape::Flat.mesh().to_gltf_external("../secret.bin");
+    std::fs::write(sub.join("m.gltf"), json).unwrap();
+    std::fs::write(dir.path().join("secret.bin"), bin).unwrap();
+    let out = dir.path().join("m.taxel");
+    let o = taxel().arg("build").arg(sub.join("m.gltf")).arg("-o").arg(&out).output().unwrap();
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("m.gltf") && err.contains("leaves the glTF file's folder"), "{err}");
+    assert!(!out.exists());
+}

@@ -164,7 +164,7 @@ fn an_earlier_output_survives_a_failed_run() {
 }
 
 #[test]
-fn finger_bundles_are_not_played_yet_and_garbage_is_refused() {
+fn finger_bundles_without_a_height_field_and_garbage_are_refused() {
     let dir = tempfile::tempdir().unwrap();
     let bundle = dir.path().join("finger.taxel");
     std::fs::write(&bundle, Bundle::new(Manifest::new(profiles::builtin("finger3").unwrap())).to_bytes().unwrap())
@@ -172,7 +172,8 @@ fn finger_bundles_are_not_played_yet_and_garbage_is_refused() {
     let trace = dir.path().join("t.csv");
     std::fs::write(&trace, "t_ms,x_mm,y_mm,contact\n0,1,2,1\n").unwrap();
     let o = taxel(&["play", bundle.to_str().unwrap(), "--trace", trace.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("no height field"), "{}", stderr(&o));
     let junk = dir.path().join("junk.taxel");
     std::fs::write(&junk, b"not a bundle at all").unwrap();
     let o = taxel(&["play", junk.to_str().unwrap(), "--trace", trace.to_str().unwrap()]);
