@@ -4,7 +4,7 @@ mod batch;
 mod brush;
 mod device;
 mod examples;
+mod finger;
 mod format;
 mod play;
 mod stability;
-mod finger;
