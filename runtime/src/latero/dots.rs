@@ -42,8 +42,14 @@ pub(crate) fn accumulate(t: &DotTableView<'_>, f: &Frame, acc: &mut [f32; BLOCK]
     }
     let g = t.grid;
     let reach = g.max_radius;
-    let (gc0, gc1) = (g.col_of(f.col_x(f.col_lo) - reach), g.col_of(f.col_x(f.col_hi - 1) + reach));
-    let (gr0, gr1) = (g.row_of(f.row_y(r_lo) - reach), g.row_of(f.row_y(r_hi - 1) + reach));
+    // The cells under the block's actuators widened by the largest radius
+    // (the same floor-and-clamp as `DotGrid::col_of`, without a libm call).
+    let cell = |v: f32, origin: f32, n: u32| floor_i32((v - origin) / g.cell_mm).clamp(0, n as i32 - 1) as u32;
+    let (gc0, gc1) =
+        (cell(f.col_x(f.col_lo) - reach, g.origin_x, g.cols), cell(f.col_x(f.col_hi - 1) + reach, g.origin_x, g.cols));
+    let (gr0, gr1) =
+        (cell(f.row_y(r_lo) - reach, g.origin_y, g.rows), cell(f.row_y(r_hi - 1) + reach, g.origin_y, g.rows));
+    let (inv_px, inv_py) = (1.0 / f.pitch_x, 1.0 / f.pitch_y);
     for gr in gr0..=gr1 {
         let (first, last) = (t.cell(gc0, gr), t.cell(gc1, gr));
         for i in first.start..last.end.max(first.start) {
@@ -51,10 +57,10 @@ pub(crate) fn accumulate(t: &DotTableView<'_>, f: &Frame, acc: &mut [f32; BLOCK]
             let rho = d.radius.0;
             // Actuator columns and rows within the dot's radius, clipped to
             // the surface and to this block.
-            let c0 = ceil_i32((d.x.0 - rho - f.x_first) / f.pitch_x).max(f.col_lo as i32);
-            let c1 = floor_i32((d.x.0 + rho - f.x_first) / f.pitch_x).min(f.col_hi as i32 - 1);
-            let q0 = ceil_i32((d.y.0 - rho - f.y_first) / f.pitch_y).max(r_lo as i32);
-            let q1 = floor_i32((d.y.0 + rho - f.y_first) / f.pitch_y).min(r_hi as i32 - 1);
+            let c0 = ceil_i32((d.x.0 - rho - f.x_first) * inv_px).max(f.col_lo as i32);
+            let c1 = floor_i32((d.x.0 + rho - f.x_first) * inv_px).min(f.col_hi as i32 - 1);
+            let q0 = ceil_i32((d.y.0 - rho - f.y_first) * inv_py).max(r_lo as i32);
+            let q1 = floor_i32((d.y.0 + rho - f.y_first) * inv_py).min(r_hi as i32 - 1);
             if c0 > c1 || q0 > q1 {
                 continue;
             }

@@ -280,6 +280,10 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
 /// lies in `[0, limit]`.
 fn inside(n: usize, first: f32, pitch: f32, limit: f32) -> (usize, usize) {
     let pos = |i: usize| first + i as f32 * pitch;
+    // The usual case: the whole array is on the surface.
+    if n > 0 && pos(0) >= 0.0 && pos(n - 1) <= limit {
+        return (0, n);
+    }
     // Estimate from the division, then settle the edges with the same
     // position formula the layers use, so both agree exactly.
     let mut lo = osc::ceil_i32(-first / pitch).clamp(0, n as i32) as usize;

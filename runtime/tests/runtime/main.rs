@@ -8,6 +8,7 @@ mod device;
 mod grid;
 mod latero_alloc;
 mod latero_art;
+mod latero_extreme;
 mod latero_formula;
 mod latero_load;
 mod support;
