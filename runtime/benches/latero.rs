@@ -8,17 +8,23 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use taxel_format::{
-    Bundle, BundleView, Chunk, Dot, DotKind, DotTable, Manifest, MaskKind, MaskLayer, MaskSamples, MilliHertz, Mm,
-    Tick, profiles,
+    Bundle, BundleView, Chunk, DeviceProfile, Dot, DotKind, DotTable, Manifest, MaskKind, MaskLayer, MaskSamples,
+    MilliHertz, Mm, Tick, profiles,
 };
 use taxel_runtime::latero::LateroPlayer;
 
 /// Carrier position of every benchmark: the middle of the surface.
-const X: f32 = 55.0;
-const Y: f32 = 30.0;
+const X: f32 = 500.0;
+const Y: f32 = 500.0;
 
 fn bytes(chunks: Vec<Chunk>) -> Vec<u8> {
-    let mut b = Bundle::new(Manifest::new(profiles::builtin("stress2").expect("built-in profile")));
+    // STRESS² on a 1 x 1 m surface, so that a large dot table fits without overlaps.
+    let profile = DeviceProfile {
+        surface_w_mm: 1000.0,
+        surface_h_mm: 1000.0,
+        ..profiles::builtin("stress2").expect("built-in profile")
+    };
+    let mut b = Bundle::new(Manifest::new(profile));
     b.chunks = chunks;
     b.to_bytes().expect("valid bundle")
 }
@@ -53,10 +59,11 @@ fn dots(list: impl IntoIterator<Item = (f32, f32)>) -> Chunk {
     Chunk::Dots(DotTable { kind: DotKind::Outline, dots: dots.collect() })
 }
 
-/// 10,000 dots of radius 1 mm on a 100 x 100 lattice over the surface
-/// (1.1 x 0.6 mm apart would overlap; 2.2 x 1.2 keeps them mostly apart).
-fn many_dots() -> Chunk {
-    dots((0..100).flat_map(|i| (0..100).map(move |j| (1.0 + 1.08 * i as f32, 1.0 + 0.58 * j as f32))))
+/// 10,000 dots of radius 1 mm on a 100 x 100 lattice `pitch` mm apart, one of
+/// them at the carrier position.
+fn lattice(pitch: f32) -> Chunk {
+    let (x0, y0) = (X - 50.0 * pitch, Y - 50.0 * pitch);
+    dots((0..100).flat_map(|i| (0..100).map(move |j| (x0 + pitch * i as f32, y0 + pitch * j as f32))))
 }
 
 fn bench_scene(c: &mut Criterion, name: &str, chunks: Vec<Chunk>) {
@@ -86,7 +93,12 @@ fn latero(c: &mut Criterion) {
     bench_scene(c, "latero frame: vibration alone", vec![vibration(X - 10.0, Y - 10.0, 20, 20)]);
     bench_scene(c, "latero frame: grating alone", vec![grating(X - 10.0, Y - 10.0, 20, 20)]);
     bench_scene(c, "latero frame: 1 dot", vec![dots([(X, Y)])]);
-    bench_scene(c, "latero frame: 10,000 dots", vec![many_dots()]);
+    // The same dot under the array among 9,999 others 10 mm apart, out of
+    // its reach: the cost must match the single dot's.
+    bench_scene(c, "latero frame: 10,000 dots (1 under the array)", vec![lattice(10.0)]);
+    // A page dense with dots 2.5 mm apart (about 16 under the array): the
+    // cost follows the dots near the array, not the table's size.
+    bench_scene(c, "latero frame: 10,000 dots (2.5 mm apart)", vec![lattice(2.5)]);
 }
 
 criterion_group!(benches, latero);
