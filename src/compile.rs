@@ -3,20 +3,78 @@
 
 use std::path::{Component, Path, PathBuf};
 
-use anyhow::{Context, Result};
-use taxel_compiler::Compiled;
+use anyhow::{Context, Result, bail};
+use taxel_compiler::{CompileOptions, Compiled, Diagnostic, StyleSheet};
+use taxel_format::{DeviceProfile, profiles};
 
 use crate::cli::CompileOpts;
+
+/// The profile `--profile` names: a built-in name or a TOML file (default `stress2`).
+pub fn resolve_profile(name: Option<&str>) -> Result<DeviceProfile> {
+    let name = name.unwrap_or("stress2");
+    if let Some(p) = profiles::builtin(name) {
+        return Ok(p);
+    }
+    let path = Path::new(name);
+    if path.is_file() {
+        let text = std::fs::read_to_string(path).with_context(|| format!("reading profile {name}"))?;
+        return Ok(profiles::parse(&text, name)?);
+    }
+    bail!("--profile {name}: not a built-in profile ({}) nor a profile file", profiles::builtin_names().join(", "))
+}
+
+/// The compiler options for `opts`, or the diagnostic that says why the style
+/// sheet cannot be used (an input problem, reported like the drawing's own).
+pub fn compile_options(opts: &CompileOpts) -> Result<Result<CompileOptions, Diagnostic>> {
+    let profile = resolve_profile(opts.profile.as_deref())?;
+    let style = match &opts.style {
+        None => None,
+        Some(path) => {
+            let text =
+                std::fs::read_to_string(path).with_context(|| format!("reading style sheet {}", path.display()))?;
+            match StyleSheet::parse(&text, &path.display().to_string()) {
+                Ok(s) => Some(s),
+                Err(e) => {
+                    return Ok(Err(Diagnostic::error("T0110", format!("the style sheet is malformed: {e}"))
+                        .with_help("see docs/annotations.md, \"Style sheets\"")));
+                }
+            }
+        }
+    };
+    Ok(Ok(CompileOptions {
+        profile,
+        style,
+        resolution_px_per_mm: opts.resolution,
+        width_mm: opts.width_mm,
+        content_hash: [0; 32],
+    }))
+}
 
 /// Reads and compiles one input (.svg, .gltf, .glb). IO failures are `Err`;
 /// problems in the input are diagnostics in the result.
 pub fn compile_file(path: &Path, opts: &CompileOpts) -> Result<Compiled> {
     check_input_size(path)?;
-    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-    match ext.as_deref() {
-        Some("gltf" | "glb") => compile_mesh(path, opts),
-        _ => anyhow::bail!("{}: compiling is not available yet (issue 3)", path.display()),
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).unwrap_or_default();
+    match ext.as_str() {
+        "svg" => compile_drawing(path, opts),
+        "gltf" | "glb" => compile_mesh(path, opts),
+        _ => bail!("{}: unknown input kind, expected .svg, .gltf or .glb", path.display()),
     }
+}
+
+/// An annotated SVG drawing (docs/annotations.md).
+fn compile_drawing(path: &Path, opts: &CompileOpts) -> Result<Compiled> {
+    let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
+    let options = match compile_options(opts)? {
+        Ok(o) => o,
+        Err(d) => return Ok(Compiled { bundle: None, diagnostics: vec![d] }),
+    };
+    let Ok(text) = String::from_utf8(bytes) else {
+        let d = Diagnostic::error("T0200", "the file is not UTF-8 text, expected an SVG document")
+            .with_help("compressed .svgz files must be unpacked first");
+        return Ok(Compiled { bundle: None, diagnostics: vec![d] });
+    };
+    Ok(taxel_compiler::svg::compile_svg(&text, &options))
 }
 
 /// A glTF height mesh for the finger device (docs/finger.md). Without

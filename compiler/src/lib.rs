@@ -15,6 +15,7 @@ pub mod diagnostic;
 pub mod geometry;
 pub mod mesh;
 pub mod options;
+pub mod preview;
 pub mod stylesheet;
 pub mod svg;
 mod text_pos;

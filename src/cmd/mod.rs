@@ -7,11 +7,13 @@ use anyhow::Result;
 use crate::cli::{Cli, Command, DeviceCommand};
 
 mod build;
+mod check;
 mod device;
 mod inspect;
 mod load;
 mod pack;
 mod play;
+mod preview;
 mod profiles;
 mod report;
 mod unpack;
@@ -23,11 +25,11 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
         Some(Command::Build { inputs, out, opts, jobs, shard, force }) => {
             build::run(build::BuildArgs { inputs, out, opts, jobs, shard, force })
         }
-        Some(Command::Check { .. }) => not_yet("taxel check", 3),
+        Some(Command::Check { inputs, opts, format }) => check::run(&inputs, &opts, format),
         Some(Command::Inspect { bundle, format }) => inspect::run(&bundle, format),
         Some(Command::Pack { dir, out }) => pack::run(&dir, &out),
         Some(Command::Unpack { bundle, out }) => unpack::run(&bundle, &out),
-        Some(Command::Preview { .. }) => not_yet("taxel preview", 3),
+        Some(Command::Preview { input, out, opts }) => preview::run(&input, &out, &opts),
         Some(Command::Play { bundle, trace, out }) => play::run(&bundle, trace.as_deref(), out.as_deref()),
         Some(Command::Report { input, opts, plot, format }) => report::run(&input, &opts, plot.as_deref(), format),
         Some(Command::Load { bundles, device }) => load::run(&bundles, &device),

@@ -2,6 +2,7 @@
 
 mod batch;
 mod brush;
+mod compile;
 mod device;
 mod examples;
 mod finger;

@@ -151,6 +151,9 @@ fn with_line(d: Diagnostic, line: u32) -> Diagnostic {
     Diagnostic { line: Some(line), column: None, ..d }
 }
 
+/// A vibrating band: its outline, width (mm) and bounds (x0, y0, x1, y1).
+type Band<'a> = (&'a resvg::tiny_skia::Path, f64, (f32, f32, f32, f32));
+
 /// Builds every layer.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn build(
@@ -168,6 +171,27 @@ pub(crate) fn build(
     let mut b = Built::default();
     let mut styled: HashSet<usize> = HashSet::new();
     let mut requests: Vec<BrushRequest> = Vec::new();
+    // Every vibrating band on the page, to cut out of the gratings it crosses.
+    let bands: Vec<Band<'_>> = if family == Family::Laterotactile {
+        scene
+            .items
+            .iter()
+            .filter(|it| it.visible)
+            .flat_map(|it| {
+                it.styles.iter().filter_map(move |s| match s {
+                    Style::Vibrate(v) => it.path.as_ref().map(|p| (p, v.width_mm)),
+                    _ => None,
+                })
+            })
+            .filter_map(|(p, w)| {
+                let b = p.compute_tight_bounds()?;
+                let g = (w / 2.0) as f32;
+                Some((p, w, (b.left() - g, b.top() - g, b.right() + g, b.bottom() + g)))
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
     for item in &scene.items {
         let e = &src.elements[item.elem];
         styled.insert(item.elem);
@@ -186,10 +210,6 @@ pub(crate) fn build(
             ));
             continue;
         }
-        let vib_width = item.styles.iter().find_map(|s| match s {
-            Style::Vibrate(v) if family == Family::Laterotactile => Some(v.width_mm),
-            _ => None,
-        });
         for style in &item.styles {
             if !renders_on(style, family) {
                 diags.push(not_here(style, &e.name, e.line, profile));
@@ -206,7 +226,17 @@ pub(crate) fn build(
                     let kind =
                         MaskKind::Grating { wavelength: Mm(g.wavelength_mm as f32), angle_deg: g.angle_deg as f32 };
                     let fk = FeatureKind::Grating { wavelength_mm: g.wavelength_mm, angle_deg: g.angle_deg };
-                    let cov = Coverage::Fill { minus_band: vib_width };
+                    let mine = item.path.as_ref().and_then(|p| p.compute_tight_bounds());
+                    let minus_bands = bands
+                        .iter()
+                        .filter(|(_, _, b)| {
+                            mine.is_some_and(|m| {
+                                b.0 <= m.right() && m.left() <= b.2 && b.1 <= m.bottom() && m.top() <= b.3
+                            })
+                        })
+                        .map(|&(p, w, _)| (p, w))
+                        .collect();
+                    let cov = Coverage::Fill { minus_bands };
                     mask(&mut b, src, item, cov, kind, g.amplitude, fk, page, px, diags);
                 }
                 Style::Dots(d) => {
@@ -322,7 +352,7 @@ fn mask(
     let source = b.source(src, item.elem);
     match masks::render(item, &coverage, kind, amplitude as f32, Some(source), page, px, &e.name, diags) {
         Some(m) => {
-            let half_band = match coverage {
+            let half_band = match &coverage {
                 Coverage::Band(w) => w / 2.0,
                 Coverage::Fill { .. } => 0.0,
             };

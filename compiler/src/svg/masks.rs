@@ -3,7 +3,7 @@
 //! (so masks of different shapes sample the same points), cropped to the
 //! samples that are not zero.
 
-use resvg::tiny_skia::{BlendMode, FillRule as SkFillRule, LineCap, LineJoin, Paint, Pixmap, Stroke, Transform};
+use resvg::tiny_skia::{BlendMode, FillRule as SkFillRule, LineCap, LineJoin, Paint, Path, Pixmap, Stroke, Transform};
 use taxel_format::{MAX_MASK_SIDE, MaskKind, MaskLayer, MaskSamples, Mm};
 
 use super::scene::Item;
@@ -15,19 +15,20 @@ use crate::geometry::FillRule;
 pub(crate) const MAX_SAMPLES: u64 = 16 << 20;
 
 /// What to draw.
-pub(crate) enum Coverage {
+pub(crate) enum Coverage<'a> {
     /// The band of this width (mm) centred on the outline, round joins and caps.
     Band(f64),
-    /// The fill, minus a band of this width (mm) when the shape also vibrates
-    /// (a tactile icon), so the two layers do not overlap.
-    Fill { minus_band: Option<f64> },
+    /// The fill, minus the vibrating bands `(outline in page mm, width)` that
+    /// cross it (its own, for a tactile icon, and any other shape's border),
+    /// so a vibrating outline is never summed with the grating under it.
+    Fill { minus_bands: Vec<(&'a Path, f64)> },
 }
 
 /// Renders one mask; `None` when nothing of it is left on the page.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn render(
     item: &Item<'_>,
-    coverage: &Coverage,
+    coverage: &Coverage<'_>,
     kind: MaskKind,
     amplitude: f32,
     source: Option<u32>,
@@ -82,16 +83,16 @@ pub(crate) fn render(
     };
     match coverage {
         Coverage::Band(width) => pixmap.stroke_path(path, &paint, &band(*width), ts, None),
-        Coverage::Fill { minus_band } => {
+        Coverage::Fill { minus_bands } => {
             let rule = match item.fill_rule {
                 FillRule::NonZero => SkFillRule::Winding,
                 FillRule::EvenOdd => SkFillRule::EvenOdd,
             };
             pixmap.fill_path(path, &paint, rule, ts, None);
-            if let Some(wb) = minus_band {
-                let mut cut = paint.clone();
-                cut.blend_mode = BlendMode::DestinationOut;
-                pixmap.stroke_path(path, &cut, &band(*wb), ts, None);
+            let mut cut = paint.clone();
+            cut.blend_mode = BlendMode::DestinationOut;
+            for (p, wb) in minus_bands {
+                pixmap.stroke_path(p, &cut, &band(*wb), ts, None);
             }
         }
     }

@@ -107,6 +107,10 @@ fn compile(text: &str, opts: &CompileOptions, diags: &mut Vec<Diagnostic>) -> Op
     let root_ts = size::root_transform(doc.root_element(), w, h);
     let built = layers::build(&scene, &src, &doc, opts, page, px, root_ts, diags);
     if built.is_empty() {
+        // A malformed annotation already explains why nothing is tactile.
+        if has_errors(diags) {
+            return None;
+        }
         let any_style = built.styled_elements > 0;
         let d = if any_style {
             Diagnostic::error("T0300", format!("nothing in this drawing can be rendered on {}", opts.profile.name))
@@ -131,4 +135,24 @@ fn compile(text: &str, opts: &CompileOptions, diags: &mut Vec<Diagnostic>) -> Op
         return None;
     }
     Some(bundle)
+}
+
+/// Renders the drawing itself (no tactile layers) with resvg at `px_per_mm`,
+/// page origin at the top-left, for previews. `None` when it cannot be read.
+pub(crate) fn render_page(text: &str, opts: &CompileOptions, px_per_mm: f64) -> Option<resvg::tiny_skia::Pixmap> {
+    let mut scratch = Vec::new();
+    let doc = source::parse_xml(text, &mut scratch)?;
+    let mut uopt = usvg::Options { fontdb: fonts(), ..usvg::Options::default() };
+    uopt.image_href_resolver.resolve_string = Box::new(|_, _| None);
+    let tree = usvg::Tree::from_xmltree(&doc, &uopt).ok()?;
+    let (w, h) = (tree.size().width(), tree.size().height());
+    let page = size::page(doc.root_element(), w as f64, h as f64, opts.width_mm, &opts.profile, &mut scratch);
+    let k = (page.scale * px_per_mm) as f32;
+    let (pw, ph) = ((page.width_mm * px_per_mm).ceil(), (page.height_mm * px_per_mm).ceil());
+    if !(pw >= 1.0 && ph >= 1.0 && pw * ph <= 64e6) {
+        return None;
+    }
+    let mut pixmap = resvg::tiny_skia::Pixmap::new(pw as u32, ph as u32)?;
+    resvg::render(&tree, resvg::tiny_skia::Transform::from_scale(k, k), &mut pixmap.as_mut());
+    Some(pixmap)
 }

@@ -22,6 +22,11 @@ pub const ADJACENT_MM: f64 = 10.0;
 /// Most distinct textures, line styles or point symbols in one graphic (BANA 2010).
 pub const MAX_DISTINCT: usize = 5;
 
+/// A length for messages: profile values are f32, so show them as written (2.4, not 2.4000000953674316).
+fn short(v: f64) -> f64 {
+    (v * 1000.0).round() / 1000.0
+}
+
 fn at(d: Diagnostic, f: &Feature) -> Diagnostic {
     Diagnostic { line: Some(f.line), ..d.with_element(&f.name) }
 }
@@ -35,9 +40,9 @@ pub(crate) fn check(built: &Built, profile: &DeviceProfile, diags: &mut Vec<Diag
             FeatureKind::Vibrate { width_mm, .. } if width_mm < pitch => diags.push(at(
                 Diagnostic::warning(
                     "T0404",
-                    format!("the vibrating outline is {width_mm} mm wide, thinner than the actuator pitch ({pitch} mm), so it aliases"),
+                    format!("the vibrating outline is {width_mm} mm wide, thinner than the actuator pitch ({} mm), so it aliases", short(pitch)),
                 )
-                .with_help(format!("use a width of at least {pitch} mm (the STRESS² study used 1.5 mm)")),
+                .with_help(format!("use a width of at least {} mm (the STRESS² study used 1.5 mm)", short(pitch))),
                 f,
             )),
             FeatureKind::Grating { wavelength_mm, angle_deg } => {
@@ -60,7 +65,7 @@ pub(crate) fn check(built: &Built, profile: &DeviceProfile, diags: &mut Vec<Diag
                             "T0405",
                             format!(
                                 "the grating wavelength {wavelength_mm} mm is below twice the actuator pitch across its ridges ({} mm), so the array aliases it when still",
-                                2.0 * across
+                                short(2.0 * across)
                             ),
                         )
                         .with_help("it still reads while the array moves; use a longer wavelength for a texture felt at rest"),
@@ -70,10 +75,15 @@ pub(crate) fn check(built: &Built, profile: &DeviceProfile, diags: &mut Vec<Diag
             }
             _ => {}
         }
-        if matches!(f.kind, FeatureKind::Vibrate { .. } | FeatureKind::Grating { .. } | FeatureKind::Dots { .. }) {
+        // Only closed shapes: the research measured shapes, not line segments (a key's sample line, say).
+        let closed = f.outline.iter().any(|p| p.closed);
+        if closed
+            && matches!(f.kind, FeatureKind::Vibrate { .. } | FeatureKind::Grating { .. } | FeatureKind::Dots { .. })
+        {
             let (x0, y0, x1, y1) = bounds(&f.outline).unwrap_or(f.bbox);
             let (w, h) = (x1 - x0, y1 - y0);
-            if w.max(h) < MIN_SHAPE_MM {
+            // A hair of tolerance: a shape drawn at exactly 2 cm must not be reported.
+            if w.max(h) < MIN_SHAPE_MM - 0.05 {
                 diags.push(at(
                     Diagnostic::warning("T0407", format!("the shape is {w:.1} x {h:.1} mm, smaller than 2 cm"))
                         .with_help("shapes of 2-3 cm were identified reliably; enlarge it or use a point symbol"),
@@ -257,8 +267,10 @@ fn mask_at(m: &MaskLayer, x: f64, y: f64) -> f64 {
     }
 }
 
-/// Half a 10-bit step of slack, so anti-aliased edges that just meet are not reported.
-const SUM_SLACK: f64 = 0.5 / 1023.0;
+/// Slack above full deflection before an overlap is reported: anti-aliased
+/// edges of shapes that merely meet (two regions sharing a border) can sum a
+/// little above 1 at the seam; a real overlap sums to about 2.
+const SUM_SLACK: f64 = 0.1;
 
 fn overlap(built: &Built, a: &Feature, b: &Feature, diags: &mut Vec<Diagnostic>) {
     if !overlaps(a.bbox, b.bbox) {

@@ -1,0 +1,376 @@
+//! Previews: a picture of what a reader will feel, drawn the way the STRESS²
+//! paper drew its primitives (seed 000, Fig. 2): a noise texture where the
+//! surface vibrates, stripes at the true wavelength and angle where it is
+//! grated, raised-cosine discs for dots and braille, and for grid devices the
+//! stroke paths with their virtual points. Everything sits over a faint copy
+//! of the drawing (when there is one), with a 10 mm scale bar.
+//!
+//! The picture is drawn from the bundle alone, so `taxel preview BUNDLE`
+//! shows exactly what was compiled.
+
+use resvg::tiny_skia::Pixmap;
+use taxel_format::{Bundle, Chunk, DotKind, DotTable, HeightField, MaskKind, MaskLayer, MaskSamples, StrokeTable};
+
+use crate::options::CompileOptions;
+use crate::{Compiled, svg};
+
+/// Pixels per millimetre of a preview.
+pub const PREVIEW_PX_PER_MM: f64 = 8.0;
+/// Margin around the surface, in millimetres (room for the scale bar).
+const MARGIN_MM: f64 = 8.0;
+/// Largest preview side in pixels (hostile bundles may claim huge extents).
+const MAX_SIDE_PX: f64 = 8000.0;
+
+/// An RGBA picture, 8 bits per channel, row-major, top row first.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Picture {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// `width * height * 4` bytes.
+    pub rgba: Vec<u8>,
+}
+
+/// A faint copy of the drawing to draw under the layers.
+pub struct Backdrop {
+    /// The drawing rendered at `px_per_mm`, page origin at its top-left.
+    pub pixmap: Pixmap,
+}
+
+struct Canvas {
+    w: usize,
+    h: usize,
+    /// Page mm at pixel (0, 0).
+    x0: f64,
+    y0: f64,
+    k: f64,
+    rgb: Vec<[f32; 3]>,
+}
+
+impl Canvas {
+    /// Blends `colour` over pixel `(i, j)` with opacity `a`.
+    fn paint(&mut self, i: usize, j: usize, colour: [f32; 3], a: f64) {
+        if i >= self.w || j >= self.h || a.is_nan() || a <= 0.0 {
+            return;
+        }
+        let a = a.min(1.0) as f32;
+        let p = &mut self.rgb[j * self.w + i];
+        for c in 0..3 {
+            p[c] = p[c] * (1.0 - a) + colour[c] * a;
+        }
+    }
+
+    /// The page position of pixel centre `(i, j)`.
+    fn at(&self, i: usize, j: usize) -> (f64, f64) {
+        (self.x0 + (i as f64 + 0.5) / self.k, self.y0 + (j as f64 + 0.5) / self.k)
+    }
+
+    /// Pixel range covering page x from `a` to `b`.
+    fn cols(&self, a: f64, b: f64) -> core::ops::Range<usize> {
+        let lo = ((a - self.x0) * self.k).floor().clamp(0.0, self.w as f64) as usize;
+        let hi = ((b - self.x0) * self.k).ceil().clamp(0.0, self.w as f64) as usize;
+        lo..hi
+    }
+
+    fn rows(&self, a: f64, b: f64) -> core::ops::Range<usize> {
+        let lo = ((a - self.y0) * self.k).floor().clamp(0.0, self.h as f64) as usize;
+        let hi = ((b - self.y0) * self.k).ceil().clamp(0.0, self.h as f64) as usize;
+        lo..hi
+    }
+}
+
+const VIBRATION: [f32; 3] = [0.75, 0.1, 0.1];
+const GRATING: [f32; 3] = [0.1, 0.25, 0.7];
+const DOTS: [f32; 3] = [0.05, 0.05, 0.05];
+const BRAILLE: [f32; 3] = [0.2, 0.45, 0.1];
+const STROKE: [f32; 3] = [0.55, 0.2, 0.6];
+const HEIGHT: [f32; 3] = [0.35, 0.25, 0.1];
+
+/// Bilinear mask value in 0..=1 at page `(x, y)`, as a player reads it.
+fn mask_value(m: &MaskLayer, x: f64, y: f64) -> f64 {
+    let px = m.px_per_mm as f64;
+    let fx = (x - m.origin_x.0 as f64) * px - 0.5;
+    let fy = (y - m.origin_y.0 as f64) * px - 0.5;
+    let (i0, j0) = (fx.floor(), fy.floor());
+    let (tx, ty) = (fx - i0, fy - j0);
+    let get = |i: f64, j: f64| -> f64 {
+        if i < 0.0 || j < 0.0 || i >= m.width as f64 || j >= m.height as f64 {
+            return 0.0;
+        }
+        let k = j as usize * m.width as usize + i as usize;
+        match &m.samples {
+            MaskSamples::U8(v) => v.get(k).map_or(0.0, |&s| s as f64 / 255.0),
+            MaskSamples::U16(v) => v.get(k).map_or(0.0, |&s| s as f64 / 65535.0),
+        }
+    };
+    let a = get(i0, j0) * (1.0 - tx) + get(i0 + 1.0, j0) * tx;
+    let b = get(i0, j0 + 1.0) * (1.0 - tx) + get(i0 + 1.0, j0 + 1.0) * tx;
+    a * (1.0 - ty) + b * ty
+}
+
+/// Deterministic noise in 0..1 for a pixel (a small integer hash).
+fn noise(i: usize, j: usize) -> f64 {
+    let mut h = (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ (j as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F);
+    h ^= h >> 29;
+    h = h.wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    h ^= h >> 32;
+    (h & 0xFFFF) as f64 / 65535.0
+}
+
+fn draw_mask(c: &mut Canvas, m: &MaskLayer) {
+    let px = m.px_per_mm as f64;
+    let (x0, y0) = (m.origin_x.0 as f64, m.origin_y.0 as f64);
+    let (x1, y1) = (x0 + m.width as f64 / px, y0 + m.height as f64 / px);
+    let amp = m.amplitude as f64;
+    for j in c.rows(y0, y1) {
+        for i in c.cols(x0, x1) {
+            let (x, y) = c.at(i, j);
+            let v = mask_value(m, x, y) * amp;
+            if v <= 0.0 {
+                continue;
+            }
+            match m.kind {
+                // Seed 000 drew vibration as a noise texture.
+                MaskKind::Vibration { .. } => c.paint(i, j, VIBRATION, v * (0.25 + 0.75 * noise(i, j))),
+                // Eq. 3 with the page's y axis flipped, so angles are counter-clockwise as seen.
+                MaskKind::Grating { wavelength, angle_deg } => {
+                    let t = (angle_deg as f64).to_radians();
+                    let d = -y * t.cos() - x * t.sin();
+                    let delta = 0.5 + 0.5 * (2.0 * core::f64::consts::PI * d / wavelength.0 as f64).cos();
+                    c.paint(i, j, GRATING, v * (0.1 + 0.9 * delta));
+                }
+            }
+        }
+    }
+}
+
+/// Seed 000 eq. 1: the dot's deflection profile, plateau P = 0.25.
+fn dot_profile(r: f64) -> f64 {
+    const P: f64 = 0.25;
+    if r <= P {
+        1.0
+    } else if r <= 1.0 {
+        0.5 + 0.5 * (core::f64::consts::PI * (r - P) / (1.0 - P)).cos()
+    } else {
+        0.0
+    }
+}
+
+fn draw_dots(c: &mut Canvas, t: &DotTable) {
+    let colour = if t.kind == DotKind::Braille { BRAILLE } else { DOTS };
+    for d in &t.dots {
+        let (x, y, r) = (d.x.0 as f64, d.y.0 as f64, d.radius.0 as f64);
+        if r.is_nan() || r <= 0.0 {
+            continue;
+        }
+        for j in c.rows(y - r, y + r) {
+            for i in c.cols(x - r, x + r) {
+                let (px, py) = c.at(i, j);
+                let rel = ((px - x).powi(2) + (py - y).powi(2)).sqrt() / r;
+                c.paint(i, j, colour, dot_profile(rel) * d.amplitude as f64);
+            }
+        }
+    }
+}
+
+fn disc(c: &mut Canvas, x: f64, y: f64, r: f64, colour: [f32; 3], a: f64) {
+    for j in c.rows(y - r, y + r) {
+        for i in c.cols(x - r, x + r) {
+            let (px, py) = c.at(i, j);
+            if (px - x).powi(2) + (py - y).powi(2) <= r * r {
+                c.paint(i, j, colour, a);
+            }
+        }
+    }
+}
+
+fn line(c: &mut Canvas, a: (f64, f64), b: (f64, f64), width: f64, colour: [f32; 3], alpha: f64) {
+    let len = ((b.0 - a.0).powi(2) + (b.1 - a.1).powi(2)).sqrt();
+    let steps = (len * c.k).ceil().clamp(1.0, 1e5) as usize;
+    for s in 0..=steps {
+        let t = s as f64 / steps as f64;
+        disc(c, a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1), width / 2.0, colour, alpha);
+    }
+}
+
+fn draw_strokes(c: &mut Canvas, t: &StrokeTable) {
+    for s in &t.strokes {
+        let pts: Vec<(f64, f64)> = s.points.iter().map(|p| (p.x.0 as f64, p.y.0 as f64)).collect();
+        for w in pts.windows(2) {
+            line(c, w[0], w[1], 1.5, STROKE, 0.6);
+        }
+        for p in &pts {
+            disc(c, p.0, p.1, 2.5, STROKE, 0.9);
+        }
+    }
+}
+
+fn draw_height(c: &mut Canvas, f: &HeightField) {
+    let cell = f.cell.0 as f64;
+    let max = f.heights.iter().fold(0.0f32, |m, h| m.max(h.abs())) as f64;
+    if cell.is_nan() || cell <= 0.0 || max.is_nan() || max <= 0.0 {
+        return;
+    }
+    for r in 0..f.rows as usize {
+        for q in 0..f.cols as usize {
+            let h = f.heights.get(r * f.cols as usize + q).copied().unwrap_or(0.0) as f64;
+            let (x, y) = (f.origin_x.0 as f64 + q as f64 * cell, f.origin_y.0 as f64 + r as f64 * cell);
+            for j in c.rows(y - cell / 2.0, y + cell / 2.0) {
+                for i in c.cols(x - cell / 2.0, x + cell / 2.0) {
+                    c.paint(i, j, HEIGHT, 0.8 * h.abs() / max);
+                }
+            }
+        }
+    }
+}
+
+/// 3 x 5 pixel glyphs for the scale bar's label ("0"-"9", "m", " ").
+fn glyph(ch: char) -> [u8; 5] {
+    match ch {
+        '0' => [7, 5, 5, 5, 7],
+        '1' => [2, 6, 2, 2, 7],
+        '2' => [7, 1, 7, 4, 7],
+        '3' => [7, 1, 7, 1, 7],
+        '4' => [5, 5, 7, 1, 1],
+        '5' => [7, 4, 7, 1, 7],
+        '6' => [7, 4, 7, 5, 7],
+        '7' => [7, 1, 1, 1, 1],
+        '8' => [7, 5, 7, 5, 7],
+        '9' => [7, 5, 7, 1, 7],
+        'm' => [0, 0, 7, 7, 5],
+        _ => [0; 5],
+    }
+}
+
+fn scale_bar(c: &mut Canvas, x: f64, y: f64) {
+    let black = [0.0, 0.0, 0.0];
+    line(c, (x, y), (x + 10.0, y), 0.5, black, 1.0);
+    for k in 0..=10 {
+        let tick = if k % 5 == 0 { 1.5 } else { 0.8 };
+        let xk = x + k as f64;
+        line(c, (xk, y - tick), (xk, y), 0.25, black, 1.0);
+    }
+    // "10 mm" in 3 x 5 glyphs, each glyph pixel 0.4 mm.
+    let p = 0.4;
+    for (n, ch) in "10 mm".chars().enumerate() {
+        let g = glyph(ch);
+        for (row, bits) in g.iter().enumerate() {
+            for col in 0..3 {
+                if bits & (4 >> col) != 0 {
+                    let gx = x + 11.5 + n as f64 * 4.0 * p + col as f64 * p;
+                    let gy = y - 2.0 + row as f64 * p;
+                    for j in c.rows(gy, gy + p) {
+                        for i in c.cols(gx, gx + p) {
+                            c.paint(i, j, black, 1.0);
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The page extent a bundle covers: the device surface and every layer.
+fn extent(b: &Bundle) -> (f64, f64, f64, f64) {
+    let p = &b.manifest.profile;
+    let mut e = (0.0f64, 0.0f64, p.surface_w_mm as f64, p.surface_h_mm as f64);
+    let mut grow = |x0: f64, y0: f64, x1: f64, y1: f64| {
+        if [x0, y0, x1, y1].iter().all(|v| v.is_finite()) {
+            e = (e.0.min(x0), e.1.min(y0), e.2.max(x1), e.3.max(y1));
+        }
+    };
+    for c in &b.chunks {
+        match c {
+            Chunk::Mask(m) => {
+                let px = m.px_per_mm as f64;
+                let (x, y) = (m.origin_x.0 as f64, m.origin_y.0 as f64);
+                grow(x, y, x + m.width as f64 / px, y + m.height as f64 / px);
+            }
+            Chunk::Dots(t) => {
+                for d in &t.dots {
+                    let r = d.radius.0 as f64;
+                    grow(d.x.0 as f64 - r, d.y.0 as f64 - r, d.x.0 as f64 + r, d.y.0 as f64 + r);
+                }
+            }
+            _ => {}
+        }
+    }
+    e
+}
+
+/// Draws a bundle, optionally over a faint backdrop rendered at [`PREVIEW_PX_PER_MM`].
+pub fn render_bundle(bundle: &Bundle, backdrop: Option<&Backdrop>) -> Picture {
+    let (ex0, ey0, ex1, ey1) = extent(bundle);
+    let mut k = PREVIEW_PX_PER_MM;
+    let (wmm, hmm) = (ex1 - ex0 + 2.0 * MARGIN_MM, ey1 - ey0 + 2.0 * MARGIN_MM);
+    if wmm.max(hmm) * k > MAX_SIDE_PX {
+        k = MAX_SIDE_PX / wmm.max(hmm);
+    }
+    let (w, h) = ((wmm * k).ceil().max(1.0) as usize, (hmm * k).ceil().max(1.0) as usize);
+    let mut c = Canvas { w, h, x0: ex0 - MARGIN_MM, y0: ey0 - MARGIN_MM, k, rgb: vec![[1.0; 3]; w * h] };
+    // The device's surface, lightly shaded, so the reachable area is visible.
+    let p = bundle.manifest.profile;
+    for j in c.rows(0.0, p.surface_h_mm as f64) {
+        for i in c.cols(0.0, p.surface_w_mm as f64) {
+            c.paint(i, j, [0.9, 0.9, 0.88], 1.0);
+        }
+    }
+    if let Some(b) = backdrop.filter(|_| (k - PREVIEW_PX_PER_MM).abs() < 1e-9) {
+        let off_i = ((0.0 - c.x0) * k).round() as usize;
+        let off_j = ((0.0 - c.y0) * k).round() as usize;
+        for (n, px) in b.pixmap.pixels().iter().enumerate() {
+            let (bi, bj) = (n % b.pixmap.width() as usize, n / b.pixmap.width() as usize);
+            let a = px.alpha() as f64 / 255.0;
+            if a > 0.0 {
+                let col = px.demultiply();
+                let rgb = [col.red() as f32 / 255.0, col.green() as f32 / 255.0, col.blue() as f32 / 255.0];
+                c.paint(bi + off_i, bj + off_j, rgb, 0.3 * a);
+            }
+        }
+    }
+    for ch in &bundle.chunks {
+        match ch {
+            Chunk::Height(f) => draw_height(&mut c, f),
+            Chunk::Mask(m) => draw_mask(&mut c, m),
+            _ => {}
+        }
+    }
+    for ch in &bundle.chunks {
+        match ch {
+            Chunk::Dots(t) => draw_dots(&mut c, t),
+            Chunk::Strokes(s) => draw_strokes(&mut c, s),
+            _ => {}
+        }
+    }
+    scale_bar(&mut c, ex0 - MARGIN_MM + 2.0, ey1 + MARGIN_MM - 3.0);
+    let rgba = c
+        .rgb
+        .iter()
+        .flat_map(|p| [p[0], p[1], p[2]].map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8).into_iter().chain([255]))
+        .collect();
+    Picture { width: w as u32, height: h as u32, rgba }
+}
+
+/// Compiles an SVG and draws the result over a faint copy of the drawing.
+/// The picture is `None` when the drawing did not compile (see the diagnostics).
+pub fn preview_svg(svg_text: &str, opts: &CompileOptions) -> (Option<Picture>, Compiled) {
+    let compiled = svg::compile_svg(svg_text, opts);
+    let Some(bundle) = compiled.bundle.as_ref() else { return (None, compiled) };
+    let backdrop = svg::render_page(svg_text, opts, PREVIEW_PX_PER_MM).map(|pixmap| Backdrop { pixmap });
+    (Some(render_bundle(bundle, backdrop.as_ref())), compiled)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dot_profile_matches_eq_1() {
+        assert_eq!(dot_profile(0.0), 1.0);
+        assert_eq!(dot_profile(0.25), 1.0);
+        assert!((dot_profile(0.625) - 0.5).abs() < 1e-12);
+        assert!(dot_profile(1.0).abs() < 1e-12);
+        assert_eq!(dot_profile(1.5), 0.0);
+    }
+}
