@@ -49,8 +49,3 @@ fn bad_input(e: crate::textform::TextError) -> Result<ExitCode> {
     Ok(ExitCode::from(if e.io { 2 } else { 1 }))
 }
 
-/// A command whose issue has not landed: it says so and exits 2, never pretending to work.
-fn not_yet(what: &str, issue: u32) -> Result<ExitCode> {
-    eprintln!("error: {what} is not available yet (issue {issue})");
-    Ok(ExitCode::from(2))
-}
