@@ -70,6 +70,7 @@ fn stroke(name: &str, d: &str, params: &str, description: &str) -> Scene {
         name: name.into(),
         dir: "brush",
         profile: "brush-4x3",
+        external: None,
         size: (3.0 * L, 2.0 * L),
         body: Some(body),
         visits: None,

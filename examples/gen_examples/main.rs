@@ -1,7 +1,8 @@
 //! Generates the example scenes under `examples/`: the STRESS² stimuli and
 //! the Tactile Brush strokes as SVG, an exploration trace (CSV) for every
 //! scene played on a moving display, and the index `examples/examples.toml`
-//! that the demo and the tests read. Deterministic: running it twice gives
+//! that the demo and the tests read (it also indexes the finger meshes that
+//! `gen_finger_meshes` writes). Deterministic: running it twice gives
 //! the same files.
 //!
 //! ```text
@@ -9,6 +10,7 @@
 //! ```
 
 mod brush;
+mod finger;
 mod map;
 mod scene;
 mod shapes;
@@ -24,7 +26,7 @@ const INDEX_HEADER: &str = "\
 # name        unique name of the scene
 # input       the drawing, relative to examples/
 # profile     device profile it is built for
-# trace       exploration trace (t_ms,x_mm,y_mm), absent for time-driven brush scenes
+# trace       exploration trace (t_ms,x_mm,y_mm[,contact]), absent for time-driven brush scenes
 # style       style sheet to build it with, when it has one
 # warnings    the warning codes the compiler is expected to give, each once
 # source      the paper, experiment and figure it reproduces
@@ -33,7 +35,7 @@ const INDEX_HEADER: &str = "\
 
 fn main() -> std::io::Result<()> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
-    let scenes = [stress2::scenes(), map::scenes(), brush::scenes()].concat();
+    let scenes = [stress2::scenes(), map::scenes(), brush::scenes(), finger::scenes()].concat();
     let mut index = String::from(INDEX_HEADER);
     for s in &scenes {
         if let Some(svg) = s.svg() {

@@ -12,6 +12,7 @@ pub fn scenes() -> Vec<Scene> {
         name: "tala-map".into(),
         dir: "map",
         profile: "stress2",
+        external: None,
         size: (110.0, 60.0),
         body: None,
         visits: Some(visits()),

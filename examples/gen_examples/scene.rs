@@ -33,6 +33,9 @@ pub struct Scene {
     pub dir: &'static str,
     /// Device profile to build it with.
     pub profile: &'static str,
+    /// Input and trace made elsewhere (relative to `examples/`), for scenes
+    /// this generator only indexes.
+    pub external: Option<(String, Option<String>)>,
     /// Page size in millimetres.
     pub size: (f64, f64),
     /// The SVG body (inside the root element), or `None` for a drawing kept by hand.
@@ -52,11 +55,17 @@ pub struct Scene {
 impl Scene {
     /// The drawing's path relative to `examples/`.
     pub fn input(&self) -> String {
+        if let Some((input, _)) = &self.external {
+            return input.clone();
+        }
         format!("{}/{}.svg", self.dir, self.name)
     }
 
     /// The trace's path relative to `examples/`, when the scene has one.
     pub fn trace(&self) -> Option<String> {
+        if let Some((_, trace)) = &self.external {
+            return trace.clone();
+        }
         self.visits.as_ref().map(|_| format!("traces/{}.csv", self.name))
     }
 

@@ -49,15 +49,14 @@ fn index() -> Index {
     toml::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
-/// Every `.svg` under `examples/`, relative to it, except the finger meshes'
-/// folder (indexed by their own generator's scenes, if any).
+/// Every drawing (`.svg`) and mesh (`.gltf`, `.glb`) under `examples/`, relative to it.
 fn drawings(dir: &Path, out: &mut BTreeSet<String>) {
     let Ok(entries) = std::fs::read_dir(dir) else { return };
     for e in entries.flatten() {
         let p = e.path();
         if p.is_dir() {
             drawings(&p, out);
-        } else if p.extension().is_some_and(|x| x == "svg") {
+        } else if p.extension().is_some_and(|x| x == "svg" || x == "gltf" || x == "glb") {
             let rel = p.strip_prefix(examples_dir()).unwrap_or(&p);
             out.insert(rel.to_string_lossy().replace('\\', "/"));
         }
@@ -83,7 +82,9 @@ fn the_index_names_every_drawing_and_every_file_it_names_exists() {
     let indexed: BTreeSet<String> = idx.scene.iter().map(|s| s.input.clone()).collect();
     let mut found = BTreeSet::new();
     drawings(&examples_dir(), &mut found);
-    let missing: Vec<_> = found.difference(&indexed).collect();
+    // A `.glb` is the binary twin of the indexed `.gltf` beside it.
+    let twin = |f: &String| f.strip_suffix(".glb").is_some_and(|stem| indexed.contains(&format!("{stem}.gltf")));
+    let missing: Vec<_> = found.difference(&indexed).filter(|f| !twin(f)).collect();
     assert!(missing.is_empty(), "drawings not in examples.toml: {missing:?}");
 }
 
@@ -132,19 +133,31 @@ fn every_drawing_has_a_physical_size_that_fits_its_profile() {
     }
 }
 
-/// A trace as `(t_ms, x_mm, y_mm)` rows, checking the header.
+/// A trace as `(t_ms, x_mm, y_mm)` rows of the samples in contact, checking
+/// the header (`t_ms,x_mm,y_mm`, or with `contact` for the finger device).
 fn read_trace(path: &Path) -> Vec<(f64, f64, f64)> {
     let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let mut lines = text.lines();
-    assert_eq!(lines.next(), Some("t_ms,x_mm,y_mm"), "{}: header", path.display());
+    let header = lines.next();
+    let cols = match header {
+        Some("t_ms,x_mm,y_mm") => 3,
+        Some("t_ms,x_mm,y_mm,contact") => 4,
+        _ => panic!("{}: header {header:?}", path.display()),
+    };
     lines
         .enumerate()
-        .map(|(i, l)| {
+        .filter_map(|(i, l)| {
             let v: Vec<f64> = l.split(',').map(|f| f.parse().unwrap_or(f64::NAN)).collect();
-            assert!(v.len() == 3 && v.iter().all(|x| x.is_finite()), "{}:{}: bad row {l:?}", path.display(), i + 2);
-            (v[0], v[1], v[2])
+            assert!(v.len() == cols && v.iter().all(|x| x.is_finite()), "{}:{}: bad row {l:?}", path.display(), i + 2);
+            (cols == 3 || v[3] != 0.0).then_some((v[0], v[1], v[2]))
         })
         .collect()
+}
+
+/// Whether a trace comes from a touch screen (it has a `contact` column):
+/// coarse, jittery samples whose sweep, not each step, has the reader's speed.
+fn is_touch(path: &Path) -> bool {
+    std::fs::read_to_string(path).unwrap_or_default().lines().next().is_some_and(|h| h.ends_with(",contact"))
 }
 
 #[test]
@@ -160,6 +173,15 @@ fn every_trace_is_a_plausible_exploration_at_20_to_80_mm_per_s() {
         let rows = read_trace(&examples_dir().join(trace));
         assert!(rows.len() > 100, "{}: a trace of {} samples explores nothing", s.name, rows.len());
         assert_eq!(rows[0].0, 0.0, "{}: t_ms starts at 0 (tick 0)", s.name);
+        if is_touch(&examples_dir().join(trace)) {
+            // A touch screen's positions jitter by a fraction of a millimetre
+            // from sample to sample, so the reader's speed is the sweep's.
+            let (a, b) = (rows[0], rows[rows.len() - 1]);
+            let sweep = (b.1 - a.1).hypot(b.2 - a.2) / (b.0 - a.0) * 1000.0;
+            assert!((20.0..=80.0).contains(&sweep), "{}: sweeps at {sweep:.1} mm/s", s.name);
+            assert!(rows.windows(2).all(|w| w[1].0 > w[0].0), "{}: time goes backwards", s.name);
+            continue;
+        }
         let (mut path, mut in_band) = (0.0, 0);
         for w in rows.windows(2) {
             let ((t0, x0, y0), (t1, x1, y1)) = (w[0], w[1]);
@@ -232,18 +254,27 @@ fn build(s: &Scene) -> Compiled {
         let text = std::fs::read_to_string(examples_dir().join(style)).unwrap_or_default();
         opts.style = Some(StyleSheet::parse(&text, style).unwrap_or_else(|e| panic!("{e}")));
     }
-    let text = std::fs::read_to_string(examples_dir().join(&s.input)).unwrap_or_default();
+    let path = examples_dir().join(&s.input);
+    if s.input.ends_with(".gltf") || s.input.ends_with(".glb") {
+        let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        let mut beside = |uri: &str| std::fs::read(dir.join(uri)).map_err(|e| format!("{uri}: {e}"));
+        let mesh = taxel_compiler::mesh::MeshOptions { nodes_per_mm: None };
+        return taxel_compiler::mesh::compile_gltf(&bytes, &mut beside, &opts.profile, &mesh);
+    }
+    let text = std::fs::read_to_string(&path).unwrap_or_default();
     compile_svg(&text, &opts)
 }
 
-fn svg_scenes() -> Vec<Scene> {
-    index().scene.into_iter().filter(|s| s.input.ends_with(".svg")).collect()
+/// Every indexed scene (drawings and meshes alike).
+fn scenes() -> Vec<Scene> {
+    index().scene
 }
 
 #[test]
 fn every_example_builds_with_exactly_the_warnings_it_is_meant_to_show() {
     let mut failures = Vec::new();
-    for s in svg_scenes() {
+    for s in scenes() {
         let out = build(&s);
         let errors = out.diagnostics.iter().any(|d| d.severity == Severity::Error);
         let warnings: Vec<String> = out
@@ -297,7 +328,7 @@ fn mask_on(m: &MaskLayer, x: f32, y: f32) -> bool {
 
 #[test]
 fn every_trace_passes_over_every_layer_of_its_bundle() {
-    for s in svg_scenes() {
+    for s in scenes() {
         let Some(trace) = &s.trace else { continue };
         let Some(bundle) = build(&s).bundle else { panic!("{}: does not build", s.name) };
         let offsets = actuator_offsets(&bundle.manifest.profile);
@@ -311,6 +342,12 @@ fn every_trace_passes_over_every_layer_of_its_bundle() {
             let ok = match chunk {
                 Chunk::Mask(m) => touched(&|x, y| mask_on(m, x, y)),
                 Chunk::Dots(t) => t.dots.iter().all(|d| touched(&|x, y| (x - d.x.0).hypot(y - d.y.0) <= d.radius.0)),
+                // The finger device feels the mesh under the fingertip itself.
+                Chunk::Height(h) => carrier.iter().any(|&(x, y)| {
+                    let (w, ht) =
+                        (h.cols.saturating_sub(1) as f32 * h.cell.0, h.rows.saturating_sub(1) as f32 * h.cell.0);
+                    (h.origin_x.0..=h.origin_x.0 + w).contains(&x) && (h.origin_y.0..=h.origin_y.0 + ht).contains(&y)
+                }),
                 _ => continue,
             };
             layers += 1;
@@ -340,7 +377,7 @@ fn layer_summary(b: &taxel_format::Bundle) -> Vec<String> {
 }
 
 fn bundle_of(name: &str) -> taxel_format::Bundle {
-    let s = svg_scenes().into_iter().find(|s| s.name == name).unwrap_or_else(|| panic!("no scene {name}"));
+    let s = scenes().into_iter().find(|s| s.name == name).unwrap_or_else(|| panic!("no scene {name}"));
     build(&s).bundle.unwrap_or_else(|| panic!("{name} does not build"))
 }
 
@@ -471,7 +508,7 @@ fn the_evaluation_strokes_have_the_virtual_points_the_paper_describes() {
 fn every_stress2_example_plays_on_its_trace_and_clamps_only_where_it_warns_of_overlap() {
     use taxel_runtime::latero::LateroPlayer;
     use taxel_runtime::trace::Trace;
-    for s in svg_scenes().into_iter().filter(|s| s.profile == "stress2") {
+    for s in scenes().into_iter().filter(|s| s.profile == "stress2") {
         let Some(trace) = &s.trace else { panic!("{}: no trace", s.name) };
         let path = examples_dir().join(trace);
         let file = std::fs::File::open(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
