@@ -48,4 +48,3 @@ fn bad_input(e: crate::textform::TextError) -> Result<ExitCode> {
     eprintln!("error: {e}");
     Ok(ExitCode::from(if e.io { 2 } else { 1 }))
 }
-
