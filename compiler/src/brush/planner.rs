@@ -6,7 +6,7 @@
 //! allocates nothing once the buffers have grown to the largest stroke seen.
 
 use super::grid::{Drives, GridGeometry};
-use super::motion::{next_rise, shortest_duration};
+use super::motion::{SOA_INTERCEPT_MS, next_rise, shortest_duration};
 use super::path::{DUPLICATE_MM, VirtualPoint, arc_lengths, point_at, virtual_points};
 
 /// One virtual point of a planned stroke, unquantised (milliseconds from the
@@ -182,6 +182,7 @@ impl Planner {
         self.fractions.clear();
         self.fractions.extend(self.points.iter().map(|p| p.s / length));
 
+        self.thin_hopeless(t, length);
         self.resolve(t, length, min_ms, grid)?;
         if self.points.len() < report.crossings {
             report.merged_keep_all_ms = shortest_duration(&self.fractions, min_ms);
@@ -205,6 +206,34 @@ impl Planner {
             });
         }
         Ok(report)
+    }
+
+    /// Every SOA is at least 47.3 ms, so a stroke of T ms can keep at most
+    /// about T / 47.3 + 1 points. When a path has many times more crossings
+    /// than that (a scribble along a grid line), merging them one by one would
+    /// cost time quadratic in their number; instead keep, in one linear pass,
+    /// only points at least one minimum SOA after the last kept one (and the
+    /// end), then let [`Planner::resolve`] finish as usual.
+    fn thin_hopeless(&mut self, t: f64, length: f64) {
+        let cap = (t / SOA_INTERCEPT_MS) as usize + 2;
+        if self.points.len() <= 4 * cap {
+            return;
+        }
+        let last = self.points.len() - 1;
+        let end = self.points[last];
+        let mut kept = 1;
+        let mut prev = 0.0;
+        for k in 1..last {
+            let p = self.points[k];
+            let tau = t * (p.s / length);
+            if tau - prev >= SOA_INTERCEPT_MS && t - tau >= SOA_INTERCEPT_MS {
+                self.points[kept] = p;
+                kept += 1;
+                prev = tau;
+            }
+        }
+        self.points[kept] = end;
+        self.points.truncate(kept + 1);
     }
 
     /// Runs the rise recurrence along the points and, where a rise comes out
@@ -296,6 +325,20 @@ mod tests {
         let BrushError::TooFast { shortest_ms, .. } = e else { panic!("{e:?}") };
         assert!(p.plan(&[(0.0, 0.0), (63.0, 0.0)], shortest_ms, 1.0, &grid(), 1.0).is_ok());
         assert!(p.plan(&[(0.0, 0.0), (63.0, 0.0)], shortest_ms - 0.02, 1.0, &grid(), 1.0).is_err());
+    }
+
+    #[test]
+    fn a_scribble_with_thousands_of_crossings_is_thinned_quickly() {
+        // 20 000 zigzags across the column line x = 63 in 1 s.
+        let poly: Vec<(f64, f64)> =
+            (0..40_000).map(|i| (if i % 2 == 0 { 60.0 } else { 66.0 }, 10.0 + i as f64 * 1e-3)).collect();
+        let mut p = Planner::new();
+        let r = p.plan(&poly, 1000.0, 1.0, &grid(), 1.0).unwrap();
+        assert!(r.crossings > 39_000);
+        assert!(p.points().len() <= 1000 / 47 + 1);
+        for q in p.points() {
+            assert!(q.onset_ms <= q.peak_ms && q.duration_ms >= 1.0 && q.end_ms <= 1000.0);
+        }
     }
 
     #[test]

@@ -11,7 +11,7 @@
 //! which can only lower the sum), and says where it will happen: a warning
 //! (T0512) when separate strokes overlap on an actuator, a note (T0515) when
 //! the neighbouring points of one stroke do (inherent to apparent motion at
-//! high intensity; the clamped moments lose at most a few percent).
+//! high intensity; only the moments of overlap lose some amplitude).
 
 use std::collections::BTreeMap;
 
