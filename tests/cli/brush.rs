@@ -130,3 +130,73 @@ fn play_refuses_a_broken_bundle_by_name() {
     let o = taxel(&["play", dir.path().join("missing.taxel").to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
 }
+
+/// Compiles an SVG for `brush-4x3` with the library's SVG front end and writes the bundle.
+fn build_svg(svg: &str, path: &Path) -> Vec<taxel_compiler::Diagnostic> {
+    let opts = taxel_compiler::CompileOptions::new(profiles::builtin("brush-4x3").unwrap());
+    let compiled = taxel_compiler::svg::compile_svg(svg, &opts);
+    let bundle = compiled.bundle.unwrap_or_else(|| panic!("no bundle: {:?}", compiled.diagnostics));
+    std::fs::write(path, bundle.to_bytes().unwrap()).unwrap();
+    compiled.diagnostics
+}
+
+/// Per channel, the largest absolute sample.
+fn channel_peaks(wav: &Path) -> (hound::WavSpec, usize, Vec<i32>) {
+    let mut r = hound::WavReader::open(wav).unwrap();
+    let spec = r.spec();
+    let mut peaks = vec![0i32; spec.channels as usize];
+    let mut n = 0;
+    for (i, s) in r.samples::<i32>().enumerate() {
+        let c = i % spec.channels as usize;
+        peaks[c] = peaks[c].max(s.unwrap().abs());
+        n += 1;
+    }
+    (spec, n / spec.channels as usize, peaks)
+}
+
+#[test]
+fn svg_brush_path_builds_and_plays_to_wav() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="189mm" height="126mm" viewBox="0 0 189 126">
+  <path id="sweep" d="M 0,63 L 189,63" fill="none" stroke="black" data-tactile="brush(duration: 1s)"/>
+</svg>"#;
+    let bundle = dir.path().join("sweep.taxel");
+    let diags = build_svg(svg, &bundle);
+    assert!(!taxel_compiler::has_errors(&diags), "{diags:?}");
+    let wav = dir.path().join("drive.wav");
+    let o = taxel(&["play", bundle.to_str().unwrap(), "--out", wav.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
+    let (spec, frames, peaks) = channel_peaks(&wav);
+    assert_eq!((spec.channels, spec.sample_rate), (12, 48_000));
+    assert_eq!(frames, 48_000, "a 1 s stroke");
+    // Along row 1: the four actuators of that row sound, no other.
+    for (a, &p) in peaks.iter().enumerate() {
+        assert_eq!(p > 0, (4..8).contains(&a), "actuator {a}: peak {p}");
+    }
+}
+
+#[test]
+fn example_brush_scenes_build_and_play() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/brush");
+    let mut seen = 0;
+    for entry in std::fs::read_dir(&root).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().and_then(|e| e.to_str()) != Some("svg") {
+            continue;
+        }
+        seen += 1;
+        let svg = std::fs::read_to_string(&path).unwrap();
+        let bundle = dir.path().join("scene.taxel");
+        let diags = build_svg(&svg, &bundle);
+        let loud: Vec<_> = diags.iter().filter(|d| d.severity >= taxel_compiler::Severity::Warning).collect();
+        assert!(loud.is_empty(), "{}: {loud:?}", path.display());
+        let wav = dir.path().join("scene.wav");
+        let o = taxel(&["play", bundle.to_str().unwrap(), "--out", wav.to_str().unwrap()]);
+        assert!(o.status.success(), "{}: {}", path.display(), text(&o));
+        let (_, frames, peaks) = channel_peaks(&wav);
+        assert!(frames >= 48_000 * 8 / 10, "{}: {frames} frames", path.display());
+        assert!(peaks.iter().filter(|&&p| p > 0).count() >= 2, "{}: {peaks:?}", path.display());
+    }
+    assert!(seen >= 3, "brush examples found: {seen}");
+}
