@@ -26,6 +26,15 @@
 //! Profiles may have at most [`MAX_COLS`] columns (any number of rows up to
 //! the format's actuator limit) and at most 16 output bits.
 //!
+//! # Cost
+//! Work per frame is per layer whose box meets the array: for a mask, a
+//! bilinear gather of four samples per covered actuator (scalar) and the
+//! interpolation and primitive in vector lanes; for a dot table, two cell
+//! starts per grid row under the array and the dots found there. Phases
+//! (vibration from the tick, grating at the array's corner) are computed once
+//! per layer per frame; oscillators use a polynomial cosine with an error
+//! below 1e-6. `benches/latero.rs` measures a 64-actuator frame.
+//!
 //! ```
 //! use taxel_format::{Bundle, BundleView, Manifest, MaskKind, MaskLayer, MaskSamples, MilliHertz, Mm, Tick, profiles};
 //! use taxel_runtime::latero::LateroPlayer;
@@ -206,12 +215,14 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
 
     /// Writes the code of every actuator at `tick` with the carrier at
     /// `(x, y)` into `out` (index `cols · row + col`; codes in
-    /// `0..=2^output_bits − 1`). If `out` is shorter than the actuator count
-    /// only its length is written; entries past the actuator count are left
-    /// alone. A non-finite position puts every actuator at rest.
+    /// `0..=2^output_bits − 1`). Each code is the sum of the layers' δ,
+    /// clamped to [0, 1], times `2^output_bits − 1`, rounded to nearest
+    /// (ties to even). If `out` is shorter than the actuator count only its
+    /// length is written; entries past the actuator count are left alone. A
+    /// non-finite position puts every actuator at rest.
     ///
     /// Allocates nothing, cannot panic, and costs the same for a table of
-    /// ten dots or ten thousand.
+    /// ten dots or ten thousand (it depends on the dots near the array).
     pub fn frame(&self, tick: Tick, x: Mm, y: Mm, out: &mut [u16]) -> FrameStats {
         let n = self.actuator_count().min(out.len());
         let out = &mut out[..n];
