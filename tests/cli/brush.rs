@@ -160,9 +160,11 @@ fn svg_brush_path_builds_and_plays_to_wav() {
     let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="189mm" height="126mm" viewBox="0 0 189 126">
   <path id="sweep" d="M 0,63 L 189,63" fill="none" stroke="black" data-tactile="brush(duration: 1s)"/>
 </svg>"#;
+    let input = dir.path().join("sweep.svg");
+    std::fs::write(&input, svg).unwrap();
     let bundle = dir.path().join("sweep.taxel");
-    let diags = build_svg(svg, &bundle);
-    assert!(!taxel_compiler::has_errors(&diags), "{diags:?}");
+    let o = taxel(&["build", input.to_str().unwrap(), "--profile", "brush-4x3", "-o", bundle.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
     let wav = dir.path().join("drive.wav");
     let o = taxel(&["play", bundle.to_str().unwrap(), "--out", wav.to_str().unwrap()]);
     assert!(o.status.success(), "{}", text(&o));
