@@ -15,7 +15,8 @@ use taxel_format::{ActuatorIndex, DeviceProfile};
 const NEGLIGIBLE_WEIGHT: f64 = 1e-9;
 
 /// Distance (mm) within which a computed point is snapped onto a grid line,
-/// so that points on lines and actuators map to two or one actuators exactly.
+/// so that points on lines and actuators map to two or one actuators exactly
+/// (grown with the grid's size by [`GridGeometry::tolerance`]).
 pub(crate) const SNAP_MM: f64 = 1e-7;
 
 /// The geometry of a vibrotactile grid, in page millimetres.
@@ -93,13 +94,20 @@ impl GridGeometry {
         (x.clamp(0.0, self.width()), y.clamp(0.0, self.height()))
     }
 
-    /// Moves a coordinate that is within [`SNAP_MM`] of a grid line onto it.
+    /// The distance (mm) below which two computed positions are the same: 1e-7 mm,
+    /// or more on grids so large that f64 rounding of their coordinates is coarser.
+    pub(crate) fn tolerance(&self) -> f64 {
+        SNAP_MM.max(1e-12 * (self.width() + self.height()))
+    }
+
+    /// Moves a coordinate that is within [`GridGeometry::tolerance`] of a grid line onto it.
     pub(crate) fn snap(&self, x: f64, y: f64) -> (f64, f64) {
-        fn snap1(v: f64, pitch: f64, n: u16) -> f64 {
+        let tol = self.tolerance();
+        let snap1 = |v: f64, pitch: f64, n: u16| {
             let k = (v / pitch).round().clamp(0.0, (n.max(1) - 1) as f64);
             let line = k * pitch;
-            if (v - line).abs() <= SNAP_MM { line } else { v }
-        }
+            if (v - line).abs() <= tol { line } else { v }
+        };
         (snap1(x, self.pitch_x, self.cols), snap1(y, self.pitch_y, self.rows))
     }
 

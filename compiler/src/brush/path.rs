@@ -6,7 +6,8 @@
 //! reaches a row or column line of the grid from elsewhere: a segment that runs
 //! *along* a line meets the perpendicular lines at the actuators, a segment
 //! through an actuator gives one point there, and zero-length segments give
-//! nothing. Points closer than [`DUPLICATE_MM`] in arc length are one point.
+//! nothing. Points closer than [`DUPLICATE_MM`] in arc length (more on huge
+//! grids, see `GridGeometry::tolerance`) are one point.
 
 use super::grid::GridGeometry;
 
@@ -89,7 +90,7 @@ fn push_point(out: &mut Vec<VirtualPoint>, grid: &GridGeometry, p: VirtualPoint)
     let (x, y) = grid.snap(p.x, p.y);
     let p = VirtualPoint { x, y, ..p };
     if let Some(last) = out.last_mut() {
-        if (p.s - last.s).abs() <= DUPLICATE_MM {
+        if (p.s - last.s).abs() <= DUPLICATE_MM.max(grid.tolerance()) {
             let (lx, ly) = grid.snap(last.x, last.y);
             // A crossing found on a vertical line has an exact x, one on a
             // horizontal line an exact y; keep the exact one of each.

@@ -157,7 +157,7 @@ impl Planner {
         let length = arc_lengths(&self.poly, &mut self.cum);
         report.length_mm = length;
 
-        if length <= DUPLICATE_MM {
+        if length <= DUPLICATE_MM.max(grid.tolerance()) {
             if t < min_ms {
                 return Err(BrushError::TooFast { duration_ms: t, shortest_ms: min_ms });
             }

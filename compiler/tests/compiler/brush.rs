@@ -348,6 +348,22 @@ fn odd_paths_are_handled() {
 }
 
 #[test]
+fn huge_grids_still_see_one_point_per_actuator_crossed() {
+    // 64 x 64 actuators 1 m apart: a diagonal through 64 actuators gives 64 points,
+    // each on exactly one actuator, with no stiff-case merging over 60 s.
+    let profile = grid_profile(64, 64, 1000.0, 1000);
+    let mut diags = Vec::new();
+    let plans = plan_strokes(&[request(&[(0.0, 0.0), (63_000.0, 63_000.0)], 60_000.0)], &profile, &mut diags);
+    assert!(diags.is_empty(), "{diags:?}");
+    let pts = &plans[0].as_ref().unwrap().points;
+    assert_eq!(pts.len(), 64);
+    for (k, p) in pts.iter().enumerate() {
+        assert_eq!(p.drives.as_slice().len(), 1, "point {k}");
+        assert_eq!(p.drives.as_slice()[0].actuator.0 as usize, 65 * k);
+    }
+}
+
+#[test]
 fn other_families_leave_strokes_out_with_a_warning() {
     let mut diags = Vec::new();
     let stress = profiles::builtin("stress2").unwrap();

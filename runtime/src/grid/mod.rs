@@ -198,7 +198,10 @@ impl<'a> GridPlayer<'a> {
                     if into >= length as u64 {
                         continue;
                     }
-                    let env = envelope(into as f32 + frac, length as f32, self.ramp_ticks);
+                    // Both distances from integers, so the ramps stay exact on long points.
+                    let since = into as f32 + frac;
+                    let until = (length as u64 - into) as f32 - frac;
+                    let env = envelope(since, until, self.ramp_ticks);
                     stats.active_points += 1;
                     for j in drives {
                         let Some(d) = table.drive(j) else { continue };
@@ -228,15 +231,19 @@ impl<'a> GridPlayer<'a> {
     }
 }
 
-/// The envelope of a point `u` ticks after its onset (`0 ≤ u < length`):
-/// smoothstep ramps of `ramp` ticks (at most half the length) at both ends.
+/// The envelope of a point `since` ticks after its onset and `until` ticks
+/// before its end: smoothstep ramps of `ramp` ticks (at most half the
+/// point's length) at both ends, 0 outside the point.
 #[inline]
-pub fn envelope(u: f32, length: f32, ramp: f32) -> f32 {
-    let r = ramp.min(0.5 * length);
-    if r <= 0.0 {
-        return if u >= 0.0 && u < length { 1.0 } else { 0.0 };
+pub fn envelope(since: f32, until: f32, ramp: f32) -> f32 {
+    if since < 0.0 || until <= 0.0 {
+        return 0.0;
     }
-    let v = (u.min(length - u) / r).clamp(0.0, 1.0);
+    let r = ramp.min(0.5 * (since + until));
+    if r <= 0.0 {
+        return 1.0;
+    }
+    let v = (since.min(until) / r).clamp(0.0, 1.0);
     v * v * (3.0 - 2.0 * v)
 }
 
@@ -247,13 +254,16 @@ mod tests {
     #[test]
     fn envelope_ramps_and_holds() {
         assert_eq!(envelope(0.0, 100.0, 5.0), 0.0);
-        assert_eq!(envelope(2.5, 100.0, 5.0), 0.5);
-        assert_eq!(envelope(5.0, 100.0, 5.0), 1.0);
-        assert_eq!(envelope(50.0, 100.0, 5.0), 1.0);
-        assert_eq!(envelope(97.5, 100.0, 5.0), 0.5);
+        assert_eq!(envelope(2.5, 97.5, 5.0), 0.5);
+        assert_eq!(envelope(5.0, 95.0, 5.0), 1.0);
+        assert_eq!(envelope(50.0, 50.0, 5.0), 1.0);
+        assert_eq!(envelope(97.5, 2.5, 5.0), 0.5);
+        assert_eq!(envelope(100.0, 0.0, 5.0), 0.0);
         // A short point ramps over half its length each way.
-        assert_eq!(envelope(2.0, 4.0, 5.0), 1.0);
-        assert_eq!(envelope(1.0, 4.0, 5.0), 0.5);
+        assert_eq!(envelope(2.0, 2.0, 5.0), 1.0);
+        assert_eq!(envelope(1.0, 3.0, 5.0), 0.5);
         assert_eq!(envelope(0.0, 4.0, 0.0), 1.0);
+        // A point of four billion ticks still ramps exactly at its end.
+        assert_eq!(envelope(4.0e9, 2.5, 5.0), 0.5);
     }
 }
