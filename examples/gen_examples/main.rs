@@ -33,22 +33,32 @@ const INDEX_HEADER: &str = "\
 # description what it shows
 ";
 
-fn main() -> std::io::Result<()> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+/// Every file the generator writes, relative to `examples/`, with its text.
+fn outputs() -> Vec<(String, String)> {
     let scenes = [stress2::scenes(), map::scenes(), brush::scenes(), finger::scenes()].concat();
+    let mut files = Vec::new();
     let mut index = String::from(INDEX_HEADER);
     for s in &scenes {
         if let Some(svg) = s.svg() {
-            write(&root.join(s.input()), &svg)?;
+            files.push((s.input(), svg));
         }
         if let (Some(t), Some(visits)) = (s.trace(), &s.visits) {
-            write(&root.join(t), &trace::csv(s.size, visits))?;
+            files.push((t, trace::csv(s.size, visits)));
         }
         index += "\n";
         index += &s.toml();
     }
-    write(&root.join("examples.toml"), &index)?;
-    println!("wrote {} scenes under {}", scenes.len(), root.display());
+    files.push(("examples.toml".into(), index));
+    files
+}
+
+fn main() -> std::io::Result<()> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let files = outputs();
+    for (rel, text) in &files {
+        write(&root.join(rel), text)?;
+    }
+    println!("wrote {} files under {}", files.len(), root.display());
     Ok(())
 }
 
@@ -57,4 +67,33 @@ fn write(path: &Path, text: &str) -> std::io::Result<()> {
         std::fs::create_dir_all(dir)?;
     }
     std::fs::write(path, text)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The committed files are the generator's output: a hand edit to a
+    /// generated file (say, an expected warning changed in examples.toml)
+    /// would be lost at the next run, so it fails here instead.
+    #[test]
+    fn committed_files_match_the_generator() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+        for (rel, text) in outputs() {
+            let on_disk = std::fs::read_to_string(root.join(&rel)).unwrap_or_default();
+            assert!(
+                on_disk == text,
+                "examples/{rel} differs from the generator's output: edit examples/gen_examples/ and run `cargo run --example gen_examples`"
+            );
+        }
+    }
+
+    #[test]
+    fn every_output_is_written_once() {
+        let files = outputs();
+        let mut names: Vec<&String> = files.iter().map(|(n, _)| n).collect();
+        names.sort();
+        names.dedup();
+        assert_eq!(names.len(), files.len());
+    }
 }
