@@ -5,9 +5,9 @@ use taxel_format::DeviceProfile;
 use crate::stylesheet::StyleSheet;
 
 /// Default mask resolution in samples per millimetre (see `docs/annotations.md`,
-/// "Mask resolution"): the bilinear 50 % contour of an anti-aliased edge then
-/// lies within about 0.01 mm of the true edge, under the STRESS² carrier's
-/// 13 µm position resolution, and away from edges the mask is exact.
+/// "Mask resolution"): the bilinear 50 % contour of an edge then lies within
+/// 11.4 µm of the true edge, under the STRESS² carrier's 13 µm position
+/// resolution, and more than 0.15 mm from edges the mask is exact.
 pub const DEFAULT_PX_PER_MM: f32 = 10.0;
 
 /// Options for one compilation.

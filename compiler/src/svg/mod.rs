@@ -1,10 +1,10 @@
 //! The SVG front end: annotated SVG in, bundle and diagnostics out.
 //!
-//! Stages: [`source`] reads what usvg does not keep (annotations, labels,
+//! Stages: `source` reads what usvg does not keep (annotations, labels,
 //! lines) and gives every element an id; usvg resolves the drawing (CSS,
-//! transforms, `use`, clip paths, text); [`size`] fixes the millimetres;
-//! [`scene`] finds the tactile shapes; [`layers`] turns them into masks, dot
-//! tables and strokes; [`rules`] checks the design rules; the bundle is
+//! transforms, `use`, clip paths, text); `size` fixes the millimetres;
+//! `scene` finds the tactile shapes; `layers` turns them into masks, dot
+//! tables and strokes; `rules` checks the design rules; the bundle is
 //! assembled last.
 //!
 //! ```

@@ -62,7 +62,7 @@ pub(crate) fn collect<'t>(tree: &'t usvg::Tree, src: &Source, sheet: Option<&Sty
         page_ts: Transform::from_scale(s, s),
         scene: Scene { items: Vec::new(), group_ts: HashMap::new(), seen: HashSet::new(), images: Vec::new() },
     };
-    w.group(tree.root(), None, &mut Vec::new());
+    w.group(tree.root(), None, None, &mut Vec::new());
     w.scene
 }
 
@@ -108,10 +108,13 @@ impl<'s, 't> Walker<'s, 't> {
         inherited.cloned()
     }
 
+    /// Walks a group. `owner` is the `<use>` whose copy this is, if any: usvg
+    /// clears the ids of the elements it copies, so those belong to the `<use>`.
     fn group(
         &mut self,
         g: &'t Group,
         inherited: Option<&Declaration>,
+        owner: Option<usize>,
         clips: &mut Vec<(&'t usvg::ClipPath, Transform)>,
     ) {
         let children = g.children();
@@ -139,13 +142,19 @@ impl<'s, 't> Walker<'s, 't> {
                         continue;
                     }
                     let pushed = cg.clip_path().map(|c| clips.push((c, cg.abs_transform()))).is_some();
-                    self.group(cg, decl.as_ref(), clips);
+                    let owner = own.filter(|&ei| self.src.elements[ei].tag == "use").or(owner);
+                    self.group(cg, decl.as_ref(), owner, clips);
                     if pushed {
                         clips.pop();
                     }
                 }
                 Node::Path(p) => {
-                    let Some((ei, e)) = self.src.get(p.id()) else { continue };
+                    let found = if p.id().is_empty() {
+                        owner.map(|ei| (ei, &self.src.elements[ei]))
+                    } else {
+                        self.src.get(p.id())
+                    };
+                    let Some((ei, e)) = found else { continue };
                     self.scene.seen.insert(ei);
                     let markers = if e.has_markers {
                         match children.get(i + 1) {

@@ -3,5 +3,6 @@
 mod brush;
 mod common;
 mod diagnostics;
+mod golden;
 mod malformed;
 mod scenes;

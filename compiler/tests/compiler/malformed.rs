@@ -69,7 +69,7 @@ fn malformed_style_sheets_name_file_and_line() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
 
     #[test]
     fn annotation_parser_never_panics(s in "\\PC{0,40}") {

@@ -117,3 +117,92 @@ fn braille_follows_the_text_not_the_font() {
     }
     assert!(t.dots.iter().all(|d| (d.radius.0 - 0.72).abs() < 1e-6));
 }
+
+#[test]
+fn building_twice_gives_identical_bytes() {
+    let svg =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/compiler/golden/every-kind.svg")).unwrap();
+    let a = bundle(&compile(&svg)).to_bytes().unwrap();
+    let b = bundle(&compile(&svg)).to_bytes().unwrap();
+    assert_eq!(a, b);
+}
+
+#[test]
+fn every_layer_kind_in_one_scene_gives_one_chunk_per_kind_and_shape() {
+    let svg =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/compiler/golden/every-kind.svg")).unwrap();
+    let b = bundle(&compile(&svg)).clone();
+    let tags: Vec<String> = b.chunks.iter().map(|c| c.tag().to_string()).collect();
+    assert_eq!(tags, ["VIBR", "GRAT", "DOTS", "DOTS", "DOTS", "PROV"]);
+    for kind in [DotKind::Outline, DotKind::Symbol, DotKind::Braille] {
+        assert!(dots(&b, kind).is_some(), "{kind:?}");
+    }
+}
+
+#[test]
+fn only_what_the_scene_needs() {
+    let b = bundle(&compile(&page(r#"<circle cx="30" cy="30" r="12" data-tactile="grating()"/>"#))).clone();
+    let tags: Vec<String> = b.chunks.iter().map(|c| c.tag().to_string()).collect();
+    assert_eq!(tags, ["GRAT", "PROV"]);
+}
+
+#[test]
+fn precedence_inherited_then_style_sheet_then_attribute() {
+    use taxel_compiler::{CompileOptions, StyleSheet, svg::compile_svg};
+    let svg = page(
+        r#"<g data-tactile="vibrate()">
+  <rect id="a" x="5" y="5" width="25" height="25"/>
+  <rect id="b" x="40" y="5" width="25" height="25" data-tactile="dot()"/>
+  <rect id="c" x="5" y="35" width="20" height="20"/>
+  <rect id="d" x="40" y="35" width="20" height="20" data-tactile="none"/>
+</g>"#,
+    );
+    let sheet = "[[rule]]\nid = \"a\"\ntactile = \"grating(wavelength: 6mm, angle: 0deg)\"\n\n[[rule]]\nid = \"b\"\ntactile = \"grating()\"\n";
+    let opts =
+        CompileOptions { style: Some(StyleSheet::parse(sheet, "s.toml").unwrap()), ..CompileOptions::new(stress2()) };
+    let c = compile_svg(&svg, &opts);
+    let b = bundle(&c);
+    let prov = b.provenance().unwrap();
+    let id_of = |s: Option<u32>| prov.entries[s.unwrap() as usize].id.clone();
+    let kinds: Vec<(String, &str)> = masks(b)
+        .iter()
+        .map(|m| (id_of(m.source), if matches!(m.kind, MaskKind::Grating { .. }) { "grating" } else { "vibrate" }))
+        .collect();
+    // a: the sheet beats the inherited vibrate; c: inherits it; b: its attribute beats the sheet; d: none.
+    assert_eq!(kinds, [("a".to_string(), "grating"), ("c".to_string(), "vibrate")]);
+    let sym = dots(b, DotKind::Symbol).unwrap();
+    assert_eq!(sym.dots.iter().map(|d| id_of(d.source)).collect::<Vec<_>>(), ["b"]);
+}
+
+#[test]
+fn width_mm_scales_a_drawing_without_size() {
+    use taxel_compiler::{CompileOptions, svg::compile_svg};
+    let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100"><rect x="50" y="25" width="100" height="50" data-tactile="grating()"/></svg>"#;
+    let opts = CompileOptions { width_mm: Some(80.0), ..CompileOptions::new(stress2()) };
+    let c = compile_svg(svg, &opts);
+    let m = masks(bundle(&c))[0];
+    // 200 user units = 80 mm: the rectangle spans 20..60 mm.
+    assert!((m.origin_x.0 - 20.0).abs() < 0.05 && (m.width as f32 / m.px_per_mm - 40.0).abs() < 0.15, "{m:?}");
+    assert!(with_code(&c, "T0201").is_empty());
+}
+
+/// The default resolution's promise (docs/annotations.md, "Mask resolution"):
+/// the bilinear 50 % contour of a straight edge lies within the carrier's
+/// 13 µm position resolution of the true edge, and a sample more than a
+/// pixel and a half from the edge reads exactly.
+#[test]
+fn default_resolution_places_edges_within_13_micrometres() {
+    for edge in [20.0, 20.013, 20.025, 20.037, 20.05, 20.071, 20.094] {
+        let c =
+            compile(&page(&format!(r#"<rect x="{edge}" y="10" width="30" height="30" data-tactile="grating()"/>"#)));
+        let m = masks(bundle(&c))[0];
+        // Scan along y = 25 mm for the 0.5 crossing, finely.
+        let mut x = edge - 0.5;
+        while sample(m, x, 25.0) < 0.5 {
+            x += 0.0005;
+        }
+        assert!((x - edge).abs() < 0.013, "edge at {edge}: crossing at {x}");
+        assert_eq!(sample(m, edge + 0.15, 25.0), 1.0);
+        assert_eq!(sample(m, edge - 0.15, 25.0), 0.0);
+    }
+}

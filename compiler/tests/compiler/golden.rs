@@ -1,0 +1,176 @@
+//! Golden bundles: small one-feature scenes compiled and dumped as text that a
+//! person can review (chunk parameters, an ASCII picture of every mask, every
+//! dot, provenance). `TAXEL_BLESS=1 cargo test -p taxel-compiler golden`
+//! rewrites the `.txt` files; review the diff like code.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use taxel_compiler::{CompileOptions, StyleSheet, svg::compile_svg};
+use taxel_format::{Bundle, Chunk, MaskKind, MaskLayer, MaskSamples};
+
+use crate::common::*;
+
+fn dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/compiler/golden")
+}
+
+/// One character per 2 x 2 mm cell: ' ' empty, '.' partial, '#' mostly full.
+fn ascii(m: &MaskLayer) -> String {
+    let px = m.px_per_mm as f64;
+    let cell = (2.0 * px).round().max(1.0) as usize;
+    let (w, h) = (m.width as usize, m.height as usize);
+    let value = |i: usize, j: usize| match &m.samples {
+        MaskSamples::U8(v) => v[j * w + i] as f64 / 255.0,
+        MaskSamples::U16(v) => v[j * w + i] as f64 / 65535.0,
+    };
+    let mut out = String::new();
+    for cj in (0..h).step_by(cell) {
+        out.push_str("      |");
+        for ci in (0..w).step_by(cell) {
+            let (mut sum, mut n) = (0.0, 0.0);
+            for j in cj..(cj + cell).min(h) {
+                for i in ci..(ci + cell).min(w) {
+                    sum += value(i, j);
+                    n += 1.0;
+                }
+            }
+            let mean = sum / n;
+            out.push(if mean > 0.75 {
+                '#'
+            } else if mean > 0.0 {
+                '.'
+            } else {
+                ' '
+            });
+        }
+        out.push_str("|\n");
+    }
+    out
+}
+
+/// The text dump of a bundle.
+pub fn dump(b: &Bundle) -> String {
+    let mut s = String::new();
+    let p = &b.manifest.profile;
+    writeln!(s, "profile {} surface {} x {} mm", p.name, p.surface_w_mm, p.surface_h_mm).unwrap();
+    for c in &b.chunks {
+        match c {
+            Chunk::Mask(m) => {
+                let kind = match m.kind {
+                    MaskKind::Vibration { freq } => format!("VIBR {} Hz", freq.hz()),
+                    MaskKind::Grating { wavelength, angle_deg } => {
+                        format!("GRAT {} mm at {}°", wavelength.0, angle_deg)
+                    }
+                };
+                let full = match &m.samples {
+                    MaskSamples::U8(v) => v.iter().filter(|&&x| x == 255).count(),
+                    MaskSamples::U16(v) => v.iter().filter(|&&x| x == 65535).count(),
+                };
+                writeln!(
+                    s,
+                    "{kind} amplitude {} source {:?}: {} x {} at {} px/mm from ({:.2}, {:.2}) mm, {full} full samples",
+                    m.amplitude, m.source, m.width, m.height, m.px_per_mm, m.origin_x.0, m.origin_y.0
+                )
+                .unwrap();
+                s += &ascii(m);
+            }
+            Chunk::Dots(t) => {
+                writeln!(s, "DOTS {} ({} dots)", t.kind.name(), t.dots.len()).unwrap();
+                for d in &t.dots {
+                    writeln!(
+                        s,
+                        "  ({:.2}, {:.2}) r {:.2} amplitude {} source {:?}",
+                        d.x.0, d.y.0, d.radius.0, d.amplitude, d.source
+                    )
+                    .unwrap();
+                }
+            }
+            Chunk::Provenance(pr) => {
+                writeln!(s, "PROV").unwrap();
+                for (i, e) in pr.entries.iter().enumerate() {
+                    writeln!(s, "  #{i} id {:?} label {:?} line {}", e.id, e.label, e.line).unwrap();
+                }
+            }
+            other => writeln!(s, "{}", other.tag()).unwrap(),
+        }
+    }
+    s
+}
+
+fn check(name: &str) {
+    let svg = std::fs::read_to_string(dir().join(format!("{name}.svg"))).unwrap();
+    let mut opts = CompileOptions::new(stress2());
+    if let Ok(sheet) = std::fs::read_to_string(dir().join(format!("{name}.toml"))) {
+        opts.style = Some(StyleSheet::parse(&sheet, &format!("{name}.toml")).unwrap());
+    }
+    let c = compile_svg(&svg, &opts);
+    let b = bundle(&c);
+    let mut got = dump(b);
+    for d in &c.diagnostics {
+        writeln!(got, "{}", d.render(&format!("{name}.svg"))).unwrap();
+    }
+    let path = dir().join(format!("{name}.txt"));
+    if std::env::var_os("TAXEL_BLESS").is_some() {
+        std::fs::write(&path, &got).unwrap();
+        return;
+    }
+    let want =
+        std::fs::read_to_string(&path).unwrap_or_else(|_| panic!("{} missing: run with TAXEL_BLESS=1", path.display()));
+    assert_eq!(got, want, "{name}: golden differs (TAXEL_BLESS=1 to re-bless after review)");
+}
+
+#[test]
+fn vibrate_square() {
+    check("vibrate-square");
+}
+
+#[test]
+fn grating_circle() {
+    check("grating-circle");
+}
+
+#[test]
+fn icon() {
+    check("icon");
+}
+
+#[test]
+fn dots_route() {
+    check("dots-route");
+}
+
+#[test]
+fn dot_symbols() {
+    check("dot-symbols");
+}
+
+#[test]
+fn braille_label() {
+    check("braille-label");
+}
+
+#[test]
+fn inkscape_layers() {
+    check("inkscape-layers");
+}
+
+#[test]
+fn stylesheet_colours() {
+    check("stylesheet-colours");
+}
+
+#[test]
+fn use_inheritance() {
+    check("use-inheritance");
+}
+
+#[test]
+fn every_kind() {
+    check("every-kind");
+}
+
+#[test]
+fn no_size() {
+    check("no-size");
+}
