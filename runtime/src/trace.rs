@@ -276,9 +276,12 @@ impl Trace {
         // (0.3 ms at 10 kHz is tick 3, not 2.9999999999999996).
         let a = first.t_ms * rate / 1000.0;
         let b = last.t_ms * rate / 1000.0;
-        let k0 = (a - 1e-6).ceil().max(0.0);
-        let k1 = (b + 1e-6).floor();
-        if k1 < k0 || k1 >= u64::MAX as f64 {
+        // Times beyond 2^62 ticks (some 146 million years at 1 kHz)
+        // saturate there; a player refuses such spans by their length.
+        const LAST: f64 = (1u64 << 62) as f64;
+        let k0 = (a - 1e-6).ceil().clamp(0.0, LAST);
+        let k1 = (b + 1e-6).floor().min(LAST);
+        if k1 < k0 {
             return None;
         }
         Some((Tick(k0 as u64), Tick(k1 as u64)))
@@ -358,6 +361,8 @@ mod tests {
         assert_eq!(t.tick_range(1000), None);
         assert_eq!(t.ticks(1000).count(), 0);
         assert_eq!(t.tick_range(10_000), Some((Tick(3), Tick(6))));
+        let t = parse("t_ms,x_mm,y_mm\n0,0,0\n1e300,0,0\n").unwrap();
+        assert_eq!(t.tick_range(1000), Some((Tick(0), Tick(1 << 62))));
     }
 
     #[test]

@@ -118,6 +118,7 @@ fn bad_traces_are_refused_with_file_and_line_and_no_output() {
         ("inf.csv", "t_ms,x_mm,y_mm\n0,1,2\ninf,1,2\n", "line 3"),
         ("empty.csv", "", "no samples"),
         ("header-only.csv", "t_ms,x_mm,y_mm\n", "no samples"),
+        ("eternal.csv", "t_ms,x_mm,y_mm\n0,1,2\n1e300,1,2\n", "above the limit"),
     ];
     for (name, text, want) in cases {
         let trace = dir.path().join(name);
