@@ -5,6 +5,7 @@
 //! disturb each other's counts.
 
 mod device;
+mod finger;
 mod grid;
 mod latero_alloc;
 mod latero_art;
