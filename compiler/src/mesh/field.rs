@@ -57,8 +57,11 @@ pub fn grid(s: &Surface, cell: f64) -> Result<Grid, MeshError> {
     let ox = s.bbox[0] as f32;
     let oy = s.bbox[1] as f32;
     let c = cell as f32;
-    // Enough nodes that the last one reaches the far side of the footprint.
-    let side = |far: f64, o: f32| ((far - o as f64) / c as f64 - 1e-9).ceil().max(1.0) + 1.0;
+    // Enough nodes that the last one reaches the far side of the footprint,
+    // give or take a thousandth of a cell: glTF's f32 metres rarely convert
+    // to round millimetres, and a whole extra row of nodes beyond the mesh
+    // for 1e-7 mm would only hold no-contact nodes.
+    let side = |far: f64, o: f32| ((far - o as f64) / c as f64 - 1e-3).ceil().max(1.0) + 1.0;
     let cols = side(s.bbox[2], ox);
     let rows = side(s.bbox[3], oy);
     let (w, h) = (s.bbox[2] - s.bbox[0], s.bbox[3] - s.bbox[1]);
@@ -88,6 +91,7 @@ pub fn sample(s: &Surface, g: &Grid, source: Option<u32>) -> HeightField {
     let mut ties = vec![0u16; n];
     let cell = g.cell as f64;
     let tol = s.step_tol;
+    let slack = 1e-3 * cell;
     for f in &s.faces {
         let [a, b, c] = f.corners;
         let area2 = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
@@ -96,16 +100,19 @@ pub fn sample(s: &Surface, g: &Grid, source: Option<u32>) -> HeightField {
         }
         let (x0, x1) = (a[0].min(b[0]).min(c[0]), a[0].max(b[0]).max(c[0]));
         let (y0, y1) = (a[1].min(b[1]).min(c[1]), a[1].max(b[1]).max(c[1]));
+        let (lab, lbc, lca) = (dist(a, b), dist(b, c), dist(c, a));
         let Some((i0, i1)) = span(x0, x1, g.ox as f64, cell, g.cols) else { continue };
         let Some((j0, j1)) = span(y0, y1, g.oy as f64, cell, g.rows) else { continue };
         for j in j0..=j1 {
             for i in i0..=i1 {
                 let (x, y) = g.node(i, j);
-                // Barycentric weights with a small inclusive margin so a node on
-                // a shared edge is never lost to rounding between the two faces.
-                let w = |p: [f64; 2], q: [f64; 2]| ((q[0] - p[0]) * (y - p[1]) - (x - p[0]) * (q[1] - p[1])) / area2;
-                const EPS: f64 = -1e-9;
-                if w(a, b) < EPS || w(b, c) < EPS || w(c, a) < EPS {
+                // Inside, or within a thousandth of a cell of the face: so a node on
+                // a shared edge is never lost to rounding between two faces, and a
+                // node on the outline is not lost to the f32 metres of glTF.
+                let out = |p: [f64; 2], q: [f64; 2], len: f64| {
+                    ((q[0] - p[0]) * (y - p[1]) - (x - p[0]) * (q[1] - p[1])) * area2.signum() < -slack * len
+                };
+                if out(a, b, lab) || out(b, c, lbc) || out(c, a, lca) {
                     continue;
                 }
                 let Some((h, gx, gy)) = s.top(f, x, y) else { continue };
@@ -229,9 +236,14 @@ pub fn sample(s: &Surface, g: &Grid, source: Option<u32>) -> HeightField {
     }
 }
 
-/// Node indices `i` with `lo <= origin + i * cell <= hi` (a hair inclusive), clamped to `0..count`.
+fn dist(p: [f64; 2], q: [f64; 2]) -> f64 {
+    (q[0] - p[0]).hypot(q[1] - p[1])
+}
+
+/// Node indices `i` with `lo <= origin + i * cell <= hi` (a thousandth of a
+/// cell inclusive), clamped to `0..count`.
 fn span(lo: f64, hi: f64, origin: f64, cell: f64, count: u32) -> Option<(u32, u32)> {
-    let a = ((lo - origin) / cell - 1e-7).ceil().max(0.0);
-    let b = ((hi - origin) / cell + 1e-7).floor().min(count as f64 - 1.0);
+    let a = ((lo - origin) / cell - 1e-3).ceil().max(0.0);
+    let b = ((hi - origin) / cell + 1e-3).floor().min(count as f64 - 1.0);
     (a <= b && b >= 0.0).then_some((a as u32, b as u32))
 }

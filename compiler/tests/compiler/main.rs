@@ -5,4 +5,5 @@ mod common;
 mod diagnostics;
 mod golden;
 mod malformed;
+mod mesh;
 mod scenes;
