@@ -1,0 +1,68 @@
+//! Cost of one finger-player sample: field lookup (bilinear over four
+//! nodes), direction window update, actuator choice, intensity and rhythm.
+//!
+//! Run briefly with
+//! `cargo bench -p taxel-runtime --bench finger -- --warm-up-time 1 --measurement-time 3`.
+
+use std::hint::black_box;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use taxel_format::{Bundle, BundleView, Chunk, FIELD_CONTACT, HeightField, Manifest, Mm, Tick, profiles};
+use taxel_runtime::finger::{FingerPlayer, Touch};
+
+/// A 120 x 60 mm convex cap sampled every 0.5 mm (the size of the paper's shapes).
+fn bytes() -> Vec<u8> {
+    let (cols, rows, cell) = (241u32, 121u32, 0.5f32);
+    let n = (cols * rows) as usize;
+    let mut f = HeightField {
+        source: None,
+        cols,
+        rows,
+        origin_x: Mm(20.0),
+        origin_y: Mm(20.0),
+        cell: Mm(cell),
+        gradient_cap: 1.0,
+        heights: vec![0.0; n],
+        grad_x: vec![0.0; n],
+        grad_y: vec![0.0; n],
+        flags: vec![FIELD_CONTACT; n],
+    };
+    for j in 0..rows {
+        for i in 0..cols {
+            let k = (j * cols + i) as usize;
+            let (u, v) = ((i as f32 * cell - 60.0) / 60.0, (j as f32 * cell - 30.0) / 30.0);
+            f.heights[k] = 35.0 - 20.0 * u * u - 10.0 * v * v;
+            f.grad_x[k] = -40.0 * u / 60.0;
+            f.grad_y[k] = -20.0 * v / 30.0;
+        }
+    }
+    let mut b = Bundle::new(Manifest::new(profiles::builtin("finger3").expect("built-in profile")));
+    b.chunks.push(Chunk::Height(f));
+    b.to_bytes().expect("valid bundle")
+}
+
+fn bench(c: &mut Criterion) {
+    let bytes = bytes();
+    let view = BundleView::parse(&bytes).expect("valid bundle");
+    // A wavy sweep across the shape, as touch events.
+    let touches: Vec<Touch> = (0..1024u64)
+        .map(|k| Touch {
+            tick: Tick(k),
+            x: Mm(15.0 + 0.13 * k as f32),
+            y: Mm(50.0 + 8.0 * (k as f32 * 0.05).sin()),
+            contact: k % 300 != 299,
+        })
+        .collect();
+    let mut player = FingerPlayer::new(&view).expect("finger bundle");
+    let mut k = 0usize;
+    c.bench_function("finger sample", |b| {
+        b.iter(|| {
+            let t = touches[k & 1023];
+            k += 1;
+            black_box(player.sample(black_box(t)))
+        })
+    });
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
