@@ -206,3 +206,16 @@ fn default_resolution_places_edges_within_13_micrometres() {
         assert_eq!(sample(m, edge - 0.15, 25.0), 0.0);
     }
 }
+
+#[test]
+fn clip_paths_and_transforms_are_honoured() {
+    let c = compile(&page(
+        r#"<defs><clipPath id="half"><rect x="0" y="0" width="30" height="60"/></clipPath></defs>
+<g clip-path="url(#half)"><g transform="translate(10 10) scale(2)"><rect id="r" width="20" height="10" data-tactile="grating()"/></g></g>"#,
+    ));
+    let m = masks(bundle(&c))[0];
+    // The rectangle spans 10..50 x 10..30 mm after the transform; the clip keeps x < 30.
+    assert!(sample(m, 20.0, 20.0) > 0.99);
+    assert_eq!(sample(m, 40.0, 20.0), 0.0);
+    assert!((m.origin_x.0 - 10.0).abs() < 0.11 && (m.width as f32 / m.px_per_mm - 20.0).abs() < 0.21, "{m:?}");
+}
