@@ -22,7 +22,7 @@ pub fn run(input: &Path, opts: &CompileOpts, plot_path: Option<&Path>, format: F
             input.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default(),
             rep.profile
         );
-        let png = plot::draw(&rep.rows, rep.trace_frames, &title).map_err(anyhow::Error::msg)?;
+        let png = plot::draw(&rep.rows, &title).map_err(anyhow::Error::msg)?;
         crate::batch::output::write_atomic(p, &png).with_context(|| format!("cannot write {}", p.display()))?;
     }
     Ok(ExitCode::SUCCESS)
@@ -31,7 +31,7 @@ pub fn run(input: &Path, opts: &CompileOpts, plot_path: Option<&Path>, format: F
 /// The report as a table for people.
 pub fn human(rep: &Report) -> String {
     let mut s = format!(
-        "{} on {}: {} frames of {}\n\n{:<10} {:>9} {:>11} {:>10} {:>9} {:>10} {:>10}  {}\n",
+        "{} on {}: {} frames of {}\n\n{:<10} {:>9} {:>11} {:>10} {:>9} {:>9} {:>10} {:>10}  {}\n",
         rep.input,
         rep.profile,
         rep.trace_frames,
@@ -41,6 +41,7 @@ pub fn human(rep: &Report) -> String {
         "compile ms",
         "bytes",
         "µs/frame",
+        "run ms",
         "max err",
         "rms err",
         "note"
@@ -54,12 +55,13 @@ pub fn human(rep: &Report) -> String {
             note.push("front");
         }
         s += &format!(
-            "{:<10} {:>9} {:>11.2} {:>10} {:>9.3} {:>10.2} {:>10.3}  {}\n",
+            "{:<10} {:>9} {:>11.2} {:>10} {:>9.3} {:>9.1} {:>10.2} {:>10.3}  {}\n",
             r.kernel,
             r.setting,
             r.compile_ms,
             r.bundle_bytes,
             r.frame_us,
+            r.run_ms,
             r.max_error,
             r.rms_error,
             note.join(", ")

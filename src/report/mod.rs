@@ -58,6 +58,8 @@ pub struct Row {
     pub error_unit: String,
     /// Frames compared.
     pub frames: usize,
+    /// Run time of the setting: compile plus playing the whole trace, ms.
+    pub run_ms: f64,
     /// No other setting of the same kernel is both faster (compile + play) and more accurate (RMS).
     pub on_front: bool,
 }
@@ -201,6 +203,19 @@ pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>) -> Result<Rep
     }
     // Compile once at the default for the reference (this also warms fonts and caches).
     let base = compile(input, opts, None)?.0;
+    if base.manifest.profile.family() == Family::Grid {
+        let mut rows = strokes::ladder(input, opts, &base)?;
+        // Strokes play in time: a row's run time is its compile plus all its ticks.
+        mark_front(&mut rows);
+        return Ok(Report {
+            input: input.display().to_string(),
+            profile: base.manifest.profile.name.as_str().to_string(),
+            trace: "none: strokes play in time from tick 0".into(),
+            trace_frames: rows.iter().find(|r| r.default).map_or(0, |r| r.frames),
+            rows,
+            notes: vec!["the setting is the tick rate; errors are the largest onset or duration error (max) and the RMS over both, against the unquantised schedule".into()],
+        });
+    }
     let prep = Prepared::new(input, opts, &base, trace, MAX_EVAL_FRAMES)?;
     let kernels = kernels_of(&base);
     let refs: Vec<Vec<f64>> = kernels.iter().map(|k| prep.reference_frames(k)).collect();
@@ -221,12 +236,13 @@ pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>) -> Result<Rep
                 rms_error: m.rms_error,
                 error_unit: format!("{}-bit steps", prep.profile.output_bits),
                 frames: prep.eval.len(),
+                run_ms: compile_ms + m.frame_us * prep.positions.len() as f64 / 1000.0,
                 on_front: false,
             });
         }
     }
     let frames = prep.positions.len();
-    mark_front(&mut rows, |r| plot::run_ms(r, frames));
+    mark_front(&mut rows);
     Ok(Report {
         input: input.display().to_string(),
         profile: prep.profile.name.as_str().to_string(),
@@ -237,11 +253,11 @@ pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>) -> Result<Rep
     })
 }
 
-/// Marks, per kernel, the rows that no other row beats on both `cost` and RMS error.
-pub fn mark_front(rows: &mut [Row], cost: impl Fn(&Row) -> f64) {
-    let snapshot: Vec<(String, f64, f64)> = rows.iter().map(|r| (r.kernel.clone(), cost(r), r.rms_error)).collect();
+/// Marks, per kernel, the rows that no other row beats on both run time and RMS error.
+pub fn mark_front(rows: &mut [Row]) {
+    let snapshot: Vec<(String, f64, f64)> = rows.iter().map(|r| (r.kernel.clone(), r.run_ms, r.rms_error)).collect();
     for r in rows.iter_mut() {
-        let (c, e) = (cost(r), r.rms_error);
+        let (c, e) = (r.run_ms, r.rms_error);
         r.on_front = !snapshot.iter().any(|(k, c2, e2)| *k == r.kernel && *c2 < c && *e2 < e);
     }
 }

@@ -26,16 +26,11 @@ fn colour(kernel: &str) -> Color {
     Color::from_rgba8(r, g, b, 255)
 }
 
-/// The run time the plot and the front use: compile plus playing `frames` frames, in ms.
-pub fn run_ms(r: &Row, frames: usize) -> f64 {
-    r.compile_ms + r.frame_us * frames as f64 / 1000.0
-}
-
 /// Draws the plot as PNG bytes; `title` goes on top.
-pub fn draw(rows: &[Row], frames: usize, title: &str) -> Result<Vec<u8>, String> {
+pub fn draw(rows: &[Row], title: &str) -> Result<Vec<u8>, String> {
     let mut pm = Pixmap::new(W, H).ok_or("cannot allocate the plot")?;
     pm.fill(Color::WHITE);
-    let pts: Vec<(f64, f64)> = rows.iter().map(|r| (run_ms(r, frames), r.rms_error)).collect();
+    let pts: Vec<(f64, f64)> = rows.iter().map(|r| (r.run_ms, r.rms_error)).collect();
     let pos = |v: f64| v.is_finite() && v > 0.0;
     let xs: Vec<f64> = pts.iter().map(|p| p.0).filter(|&v| pos(v)).collect();
     let ys: Vec<f64> = pts.iter().map(|p| p.1).filter(|&v| pos(v)).collect();
@@ -197,6 +192,7 @@ mod tests {
             rms_error: err,
             error_unit: "steps".into(),
             frames: 1,
+            run_ms: ms,
             on_front: true,
         }
     }
@@ -204,7 +200,7 @@ mod tests {
     #[test]
     fn plot_is_a_png_with_coloured_lines() {
         let rows = vec![row("grating", 2.0, 1.0, 30.0, false), row("grating", 8.0, 10.0, 3.0, true)];
-        let png = draw(&rows, 100, "TEST").expect("plot");
+        let png = draw(&rows, "TEST").expect("plot");
         let img = image::load_from_memory(&png).expect("decodes").to_rgba8();
         assert_eq!(img.dimensions(), (W, H));
         // Some pixel carries the grating's blue.

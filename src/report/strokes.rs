@@ -103,3 +103,74 @@ pub fn schedule_error(input: &Path, opts: &CompileOpts, bundle: &Bundle) -> Resu
 pub fn max_schedule_error(input: &Path, opts: &CompileOpts, bundle: &Bundle) -> Result<f64> {
     schedule_error(input, opts, bundle).map(|e| e.max_onset_ms.max(e.max_duration_ms))
 }
+
+/// Tick rates (Hz) on the stroke ladder; the profile's own rate is added when missing.
+pub const RATE_LADDER: [u32; 5] = [250, 500, 1000, 2000, 4000];
+
+/// The tick-rate ladder of a grid scene: one `strokes` row per rate, the
+/// error being the schedule's largest onset or duration error in ms.
+pub fn ladder(input: &Path, opts: &CompileOpts, base: &Bundle) -> Result<Vec<super::Row>> {
+    use std::time::Instant;
+    use taxel_format::{BundleView, Tick};
+    use taxel_runtime::grid::{ActuatorDrive, GridPlayer};
+
+    crate::compile::check_input_size(input)?;
+    let svg = std::fs::read_to_string(input).with_context(|| format!("cannot read {}", input.display()))?;
+    let default_rate = base.manifest.profile.rate_hz;
+    let mut rates: Vec<u32> = RATE_LADDER.to_vec();
+    if !rates.contains(&default_rate) {
+        rates.push(default_rate);
+        rates.sort_unstable();
+    }
+    let sheet = match &opts.style {
+        Some(p) => {
+            let text = std::fs::read_to_string(p).with_context(|| format!("cannot read {}", p.display()))?;
+            Some(taxel_compiler::StyleSheet::parse(&text, &p.display().to_string()).map_err(|e| anyhow!("{e}"))?)
+        }
+        None => None,
+    };
+    let mut rows = Vec::new();
+    for rate in rates {
+        let mut profile = base.manifest.profile;
+        profile.rate_hz = rate;
+        let mut o = taxel_compiler::CompileOptions::new(profile);
+        o.style = sheet.clone();
+        o.width_mm = opts.width_mm;
+        let t0 = Instant::now();
+        let compiled = taxel_compiler::svg::compile_svg(&svg, &o);
+        let compile_ms = t0.elapsed().as_secs_f64() * 1000.0;
+        let Some(bundle) = compiled.bundle else {
+            bail!("{} does not compile at {rate} Hz", input.display());
+        };
+        let err = schedule_error(input, opts, &bundle)?;
+        let bytes = bundle.to_bytes().map_err(|e| anyhow!("{e}"))?;
+        let view = BundleView::parse(&bytes).map_err(|e| anyhow!("{e}"))?;
+        let player = GridPlayer::new(&view).map_err(|e| anyhow!("{e}"))?;
+        let ticks = player.end().0 + 1;
+        let mut drive = vec![ActuatorDrive::default(); player.actuator_count()];
+        let mut best = f64::INFINITY;
+        for _ in 0..3 {
+            let t0 = Instant::now();
+            for t in 0..ticks {
+                player.frame(Tick(t), std::hint::black_box(&mut drive));
+            }
+            best = best.min(t0.elapsed().as_secs_f64());
+        }
+        rows.push(super::Row {
+            kernel: "strokes".into(),
+            setting: rate as f64,
+            unit: "Hz".into(),
+            default: rate == default_rate,
+            compile_ms,
+            bundle_bytes: bytes.len(),
+            frame_us: best * 1e6 / ticks as f64,
+            max_error: err.max_onset_ms.max(err.max_duration_ms),
+            rms_error: err.rms_ms,
+            error_unit: "ms".into(),
+            frames: ticks as usize,
+            run_ms: compile_ms + best * 1000.0,
+            on_front: false,
+        });
+    }
+    Ok(rows)
+}
