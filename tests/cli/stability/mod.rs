@@ -4,6 +4,7 @@
 
 mod drawings;
 mod limits;
+mod meshes;
 mod playback;
 mod strokes;
 
