@@ -16,6 +16,7 @@ use anyhow::{Context, Result};
 use rayon::prelude::*;
 use serde::Deserialize;
 use taxel_format::{BundleView, Chunk, Family, Mm, Tick};
+use taxel_runtime::finger::{FingerPlayer, Touch};
 use taxel_runtime::grid::{ActuatorDrive, GridPlayer};
 use taxel_runtime::latero::LateroPlayer;
 use taxel_runtime::sinks::wav::{SampleBits, write_wav_file};
@@ -170,7 +171,20 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
                 max_error: max_error.map(|e| (e, "ms".to_string())),
             })
         }
-        other => anyhow::bail!("built ({} bytes), but playing {other:?} bundles is not in the demo yet", bytes.len()),
+        Family::Finger => {
+            let Some(t) = trace.as_deref() else { anyhow::bail!("a finger scene needs a touch trace") };
+            let tr = report::load_trace(&input, Some(t), &bundle)?;
+            let (max, sample_us) = report::mesh::max_height_error(&input, &bundle, &tr)?;
+            write_motors(&out.join("frames").join(format!("{}.csv", s.name)), &bytes, t)?;
+            Ok(Figures {
+                layers,
+                bundle_bytes: bytes.len(),
+                build_ms,
+                frame_us: sample_us,
+                frames: tr.samples.len(),
+                max_error: Some((max, "mm of height".to_string())),
+            })
+        }
     }
 }
 
@@ -195,6 +209,28 @@ fn write_frames(path: &Path, bytes: &[u8], positions: &[(u64, f64, f64)]) -> Res
         writeln!(text)?;
     }
     write_atomic(path, &text).with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// Motor output CSV (`t_ms,left,down,right,period_ms`, as `taxel play` writes it) along a touch trace.
+fn write_motors(path: &Path, bytes: &[u8], trace: &Path) -> Result<()> {
+    let view = BundleView::parse(bytes).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let mut player = FingerPlayer::new(&view).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let file = std::fs::File::open(trace).with_context(|| format!("cannot read {}", trace.display()))?;
+    let tr = taxel_runtime::trace::Trace::parse(std::io::BufReader::new(file))
+        .map_err(|e| anyhow::anyhow!("{}: {e}", trace.display()))?;
+    let rate = view.manifest().profile.rate_hz as f64;
+    let mut text = String::from("t_ms,left,down,right,period_ms\n");
+    for s in tr.samples() {
+        let tick = Tick((s.t_ms * rate / 1000.0).round() as u64);
+        let f = player.sample(Touch { tick, x: Mm(s.x_mm as f32), y: Mm(s.y_mm as f32), contact: s.contact });
+        let [l, d, r] = f.levels();
+        let _ = write!(text, "{},{l:.4},{d:.4},{r:.4},", s.t_ms);
+        if f.active.is_some() {
+            let _ = write!(text, "{:.2}", f.period_ms);
+        }
+        text.push('\n');
+    }
+    write_atomic(path, text.as_bytes()).with_context(|| format!("cannot write {}", path.display()))
 }
 
 /// The summary table.
@@ -224,4 +260,46 @@ pub fn summary(outcomes: &[Outcome]) -> String {
     }
     let _ = writeln!(s, "{} scenes, {} built and played, {failed} failed", outcomes.len(), outcomes.len() - failed);
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The demo on two scenes (one per device family played) writes the
+    /// summary, the bundles, the frames CSV and the WAV, and fails no scene.
+    #[test]
+    fn demo_on_a_subset_writes_summary_and_files() {
+        let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+        let out = tempfile::tempdir().expect("temp dir");
+        let outcomes = run(&examples, out.path(), Some(&["exp1-dots-2cm", "brush-2-horizontal"])).expect("runs");
+        assert_eq!(outcomes.len(), 2);
+        for o in &outcomes {
+            let f = o.result.as_ref().unwrap_or_else(|e| panic!("{}: {e}", o.scene));
+            assert!(f.layers >= 1 && f.bundle_bytes > 0 && f.frames > 0);
+            assert!(f.frame_us.is_finite() && f.frame_us > 0.0);
+        }
+        let summary = std::fs::read_to_string(out.path().join("summary.txt")).expect("summary");
+        assert!(summary.contains("exp1-dots-2cm") && summary.contains("brush-2-horizontal"), "{summary}");
+        assert!(summary.contains("2 built and played, 0 failed"), "{summary}");
+        // Dots are exact geometry already: the error is the last rounding to 10
+        // bits (½ step) plus the runtime's f32 arithmetic, within one step.
+        let dots = outcomes.iter().find(|o| o.scene == "exp1-dots-2cm").and_then(|o| o.result.as_ref().ok());
+        let (err, unit) = dots.and_then(|f| f.max_error.clone()).expect("dots have a reference");
+        assert!(err < 1.0 && unit == "10-bit steps", "{err} {unit}");
+        // A 1 kHz stroke schedule is within one tick of the unquantised one.
+        let brush = outcomes.iter().find(|o| o.scene == "brush-2-horizontal").and_then(|o| o.result.as_ref().ok());
+        let (err, unit) = brush.and_then(|f| f.max_error.clone()).expect("strokes have a reference");
+        assert!(err <= 1.0 + 1e-9 && unit == "ms", "{err} {unit}");
+        for file in ["bundles/exp1-dots-2cm.taxel", "bundles/brush-2-horizontal.taxel", "frames/brush-2-horizontal.wav"]
+        {
+            assert!(out.path().join(file).is_file(), "{file} missing");
+        }
+        let frames = std::fs::read_to_string(out.path().join("frames/exp1-dots-2cm.csv")).expect("frames");
+        assert!(frames.starts_with("tick,a0,a1,"));
+        assert_eq!(frames.lines().count(), dots.map_or(0, |f| f.frames) + 1);
+        // The bundle written is a valid stress2 bundle.
+        let b = std::fs::read(out.path().join("bundles/exp1-dots-2cm.taxel")).expect("bundle");
+        assert_eq!(BundleView::parse(&b).expect("valid").manifest().profile.name.as_str(), "stress2");
+    }
 }

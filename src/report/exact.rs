@@ -8,6 +8,8 @@
 //! The reference is what the runtime *should* output before its last rounding
 //! to 10 bits; errors are reported in steps of that output.
 
+use std::sync::Arc;
+
 use taxel_compiler::geometry::{FillRule, Polyline, distance_to_segment};
 use taxel_format::DeviceProfile;
 
@@ -18,20 +20,21 @@ const PLATEAU: f64 = 0.25;
 /// Where a mask layer is on: a region of the page in exact geometry.
 #[derive(Debug, Clone)]
 pub enum Region {
-    /// The inside of closed outlines, minus a band around them when the shape
-    /// also vibrates (the compiler keeps a tactile icon's two layers apart).
+    /// The inside of closed outlines, minus every vibrating band on the page
+    /// (the compiler keeps gratings out from under vibrating borders, so that
+    /// a tactile icon's or a map region's two layers do not overlap).
     Fill {
         /// The outline.
         polys: Index,
         /// SVG fill rule.
         rule: FillRule,
-        /// Width of the band around the outline that is left out, in mm.
-        minus_band: Option<f64>,
+        /// Vibrating bands (outline, width in mm) that are left out.
+        minus_bands: Vec<(Arc<Index>, f64)>,
     },
     /// The band of this width (mm) centred on the outline, round joins and caps.
     Band {
         /// The outline.
-        polys: Index,
+        polys: Arc<Index>,
         /// Band width in mm.
         width: f64,
     },
@@ -41,8 +44,8 @@ impl Region {
     /// Exact coverage (0 or 1) at page point `p` in mm.
     pub fn covers(&self, p: (f64, f64)) -> bool {
         match self {
-            Region::Fill { polys, rule, minus_band } => {
-                polys.contains(p, *rule) && minus_band.is_none_or(|w| !polys.within(p, w / 2.0))
+            Region::Fill { polys, rule, minus_bands } => {
+                polys.contains(p, *rule) && !minus_bands.iter().any(|(b, w)| b.within(p, w / 2.0))
             }
             Region::Band { polys, width } => polys.within(p, width / 2.0),
         }
@@ -292,7 +295,7 @@ mod tests {
     fn vibration_is_checkerboard_antiphase_at_tick_zero() {
         let sq = Polyline { points: vec![(0.0, 0.0), (110.0, 0.0), (110.0, 60.0), (0.0, 60.0)], closed: true };
         let layers = [ExactLayer::Vibration {
-            region: Region::Fill { polys: Index::new(&[sq], true), rule: FillRule::NonZero, minus_band: None },
+            region: Region::Fill { polys: Index::new(&[sq], true), rule: FillRule::NonZero, minus_bands: Vec::new() },
             freq_hz: 50.0,
             amplitude: 1.0,
         }];
@@ -309,7 +312,7 @@ mod tests {
     fn grating_at_90_degrees_varies_along_x_only() {
         let sq = Polyline { points: vec![(0.0, 0.0), (110.0, 0.0), (110.0, 60.0), (0.0, 60.0)], closed: true };
         let layers = [ExactLayer::Grating {
-            region: Region::Fill { polys: Index::new(&[sq], true), rule: FillRule::NonZero, minus_band: None },
+            region: Region::Fill { polys: Index::new(&[sq], true), rule: FillRule::NonZero, minus_bands: Vec::new() },
             wavelength_mm: 2.4,
             angle_deg: 90.0,
             amplitude: 1.0,

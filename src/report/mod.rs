@@ -9,6 +9,7 @@
 
 pub mod exact;
 mod font;
+pub mod mesh;
 pub mod plot;
 pub mod strokes;
 pub mod svgref;
@@ -216,6 +217,19 @@ pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>) -> Result<Rep
             notes: vec!["the setting is the tick rate; errors are the largest onset or duration error (max) and the RMS over both, against the unquantised schedule".into()],
         });
     }
+    if base.manifest.profile.family() == Family::Finger {
+        let tr = load_trace(input, trace, &base)?;
+        let (mut rows, notes) = mesh::ladder(input, opts, &base, &tr)?;
+        mark_front(&mut rows);
+        return Ok(Report {
+            input: input.display().to_string(),
+            profile: base.manifest.profile.name.as_str().to_string(),
+            trace_frames: tr.samples.len(),
+            trace: tr.origin,
+            rows,
+            notes,
+        });
+    }
     let prep = Prepared::new(input, opts, &base, trace, MAX_EVAL_FRAMES)?;
     let kernels = kernels_of(&base);
     let refs: Vec<Vec<f64>> = kernels.iter().map(|k| prep.reference_frames(k)).collect();
@@ -346,6 +360,15 @@ pub fn load_trace(input: &Path, explicit: Option<&Path>, bundle: &Bundle) -> Res
                 let (x0, y0) = (m.origin_x.0 as f64, m.origin_y.0 as f64);
                 let px = m.px_per_mm.max(1e-6) as f64;
                 boxes.push((x0, y0, x0 + m.width as f64 / px, y0 + m.height as f64 / px));
+            }
+            Chunk::Height(h) => {
+                let (x0, y0, c) = (h.origin_x.0 as f64, h.origin_y.0 as f64, h.cell.0 as f64);
+                boxes.push((
+                    x0,
+                    y0,
+                    x0 + c * h.cols.saturating_sub(1) as f64,
+                    y0 + c * h.rows.saturating_sub(1) as f64,
+                ));
             }
             Chunk::Dots(d) if !d.dots.is_empty() => {
                 let xs = d.dots.iter().map(|d| d.x.0 as f64);

@@ -127,9 +127,9 @@ pub fn exact_layers(
     let prov = bundle.provenance();
     let mut layers = Vec::new();
     let mut gaps = Gaps::default();
-    // Band widths of the shapes that vibrate, by source, to cut them out of their gratings.
-    let mut band_of: HashMap<u32, f64> = HashMap::new();
-    let mut pending: Vec<(Option<u32>, Geometry, MaskKind, f64, f64)> = Vec::new();
+    // Every vibrating band, to cut out of the gratings (as the compiler does).
+    let mut bands: Vec<(Arc<Index>, f64)> = Vec::new();
+    let mut pending: Vec<(usize, Geometry, MaskKind, f64, f64)> = Vec::new();
     for chunk in &bundle.chunks {
         match chunk {
             Chunk::Mask(m) => {
@@ -149,14 +149,13 @@ pub fn exact_layers(
                                 _ => None,
                             })
                             .unwrap_or(DEFAULT_BAND_MM);
-                        if let Some(s) = m.source {
-                            band_of.insert(s, w);
-                        }
+                        bands.push((Arc::new(Index::new(&geo.polys, false)), w));
                         w
                     }
                     MaskKind::Grating { .. } => 0.0,
                 };
-                pending.push((m.source, geo, m.kind, m.amplitude as f64, width));
+                let band = if matches!(m.kind, MaskKind::Vibration { .. }) { bands.len() - 1 } else { usize::MAX };
+                pending.push((band, geo, m.kind, m.amplitude as f64, width));
             }
             Chunk::Dots(d) => layers.push(ExactLayer::Dots(
                 d.dots.iter().map(|d| (d.x.0 as f64, d.y.0 as f64, d.radius.0 as f64, d.amplitude as f64)).collect(),
@@ -164,10 +163,10 @@ pub fn exact_layers(
             _ => {}
         }
     }
-    for (source, geo, kind, amplitude, width) in pending {
+    for (band, geo, kind, amplitude, width) in pending {
         layers.push(match kind {
             MaskKind::Vibration { freq } => ExactLayer::Vibration {
-                region: Region::Band { polys: Index::new(&geo.polys, false), width },
+                region: Region::Band { polys: bands[band].0.clone(), width },
                 freq_hz: freq.0 as f64 / 1000.0,
                 amplitude,
             },
@@ -175,7 +174,7 @@ pub fn exact_layers(
                 region: Region::Fill {
                     polys: Index::new(&geo.polys, true),
                     rule: geo.rule,
-                    minus_band: source.and_then(|s| band_of.get(&s).copied()),
+                    minus_bands: bands.clone(),
                 },
                 wavelength_mm: wavelength.0 as f64,
                 angle_deg: angle_deg as f64,

@@ -8,4 +8,5 @@ mod examples;
 mod finger;
 mod format;
 mod play;
+mod report;
 mod stability;

@@ -1,0 +1,239 @@
+//! The exact reference for height meshes: the top surface of the original
+//! triangles, interpolated barycentrically (each triangle's own plane), in f64.
+//! The height field the runtime samples (bilinear between nodes) is compared
+//! with it along the scene's touch trace: height error in mm, slope error in
+//! degrees (the angle of the surface along x and along y).
+
+use std::path::{Component, Path};
+use std::time::Instant;
+
+use anyhow::{Context, Result, anyhow, bail};
+use taxel_compiler::mesh::load;
+use taxel_format::{Bundle, BundleView, Chunk, Mm, Tick};
+use taxel_runtime::finger::{FingerPlayer, Touch, field};
+
+use super::Row;
+use super::trace::Trace;
+use crate::cli::CompileOpts;
+
+/// Height-field resolutions (nodes per mm) on the ladder; the compiler's own choice is added.
+pub const NODE_LADDER: [f64; 5] = [0.25, 0.5, 1.0, 2.0, 4.0];
+
+/// One original triangle with its plane `h = a·x + b·y + c` and its box.
+struct Tri {
+    p: [[f64; 3]; 3],
+    plane: (f64, f64, f64),
+    bbox: [f64; 4],
+}
+
+/// The original triangles of a glTF file in page mm.
+pub struct MeshRef {
+    tris: Vec<Tri>,
+}
+
+impl MeshRef {
+    /// Reads the mesh's triangles with the compiler's loader (the same
+    /// frame: page mm, height up); external buffers only from beside the file.
+    pub fn read(path: &Path) -> Result<MeshRef> {
+        crate::compile::check_input_size(path)?;
+        let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+        let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        let mut resolve = |uri: &str| -> Result<Vec<u8>, String> {
+            let rel = Path::new(uri);
+            if uri.contains(':') || rel.components().any(|c| !matches!(c, Component::Normal(_) | Component::CurDir)) {
+                return Err(format!("buffer URI '{uri}' is not a path beside the file"));
+            }
+            std::fs::read(dir.join(rel)).map_err(|e| format!("cannot read buffer '{uri}': {e}"))
+        };
+        let soup = load::load(&bytes, &mut resolve).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+        let mut tris = Vec::with_capacity(soup.triangles.len());
+        for t in &soup.triangles {
+            let Some(p) = t.iter().map(|&i| soup.vertices.get(i as usize).copied()).collect::<Option<Vec<_>>>() else {
+                continue;
+            };
+            let p = [p[0], p[1], p[2]];
+            // Plane through the three corners; triangles with no area seen from above
+            // (walls, slivers) have no plane: the neighbouring faces decide there.
+            let (ux, uy, uh) = (p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]);
+            let (vx, vy, vh) = (p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]);
+            let det = ux * vy - uy * vx;
+            let scale = (ux.abs() + uy.abs()) * (vx.abs() + vy.abs());
+            if det.is_nan() || det.abs() <= 1e-12 * scale {
+                continue;
+            }
+            let a = (uh * vy - uy * vh) / det;
+            let b = (ux * vh - uh * vx) / det;
+            let c = p[0][2] - a * p[0][0] - b * p[0][1];
+            let bbox = [
+                p.iter().map(|q| q[0]).fold(f64::INFINITY, f64::min),
+                p.iter().map(|q| q[1]).fold(f64::INFINITY, f64::min),
+                p.iter().map(|q| q[0]).fold(f64::NEG_INFINITY, f64::max),
+                p.iter().map(|q| q[1]).fold(f64::NEG_INFINITY, f64::max),
+            ];
+            tris.push(Tri { p, plane: (a, b, c), bbox });
+        }
+        if tris.is_empty() {
+            bail!("{}: the mesh has no triangle with area seen from above", path.display());
+        }
+        Ok(MeshRef { tris })
+    }
+
+    /// The top surface at `(x, y)`: height and gradient of the highest
+    /// triangle containing the point, or `None` off the mesh.
+    pub fn at(&self, x: f64, y: f64) -> Option<(f64, f64, f64)> {
+        let mut best: Option<(f64, f64, f64)> = None;
+        for t in &self.tris {
+            if x < t.bbox[0] || x > t.bbox[2] || y < t.bbox[1] || y > t.bbox[3] {
+                continue;
+            }
+            let [a, b, c] = t.p;
+            let d = (b[1] - c[1]) * (a[0] - c[0]) + (c[0] - b[0]) * (a[1] - c[1]);
+            let l1 = ((b[1] - c[1]) * (x - c[0]) + (c[0] - b[0]) * (y - c[1])) / d;
+            let l2 = ((c[1] - a[1]) * (x - c[0]) + (a[0] - c[0]) * (y - c[1])) / d;
+            let l3 = 1.0 - l1 - l2;
+            let eps = -1e-9;
+            if l1 >= eps && l2 >= eps && l3 >= eps {
+                let h = l1 * a[2] + l2 * b[2] + l3 * c[2];
+                if best.is_none_or(|(bh, _, _)| h > bh) {
+                    best = Some((h, t.plane.0, t.plane.1));
+                }
+            }
+        }
+        best
+    }
+}
+
+/// Height and slope errors of one bundle along `trace`.
+struct MeshMeasured {
+    bytes: usize,
+    sample_us: f64,
+    height: (f64, f64),
+    slope: (f64, f64),
+    compared: usize,
+}
+
+fn measure(bundle: &Bundle, exact: &MeshRef, trace: &Trace) -> Result<MeshMeasured> {
+    let bytes = bundle.to_bytes().map_err(|e| anyhow!("{e}"))?;
+    let view = BundleView::parse(&bytes).map_err(|e| anyhow!("{e}"))?;
+    let Some(hf) = view.chunks().find_map(|c| if let taxel_format::ChunkView::Height(h) = c { Some(h) } else { None })
+    else {
+        bail!("the bundle has no height field");
+    };
+    let rate = view.manifest().profile.rate_hz as f64;
+    let mut player = FingerPlayer::new(&view).map_err(|e| anyhow!("{e}"))?;
+    let mut best = f64::INFINITY;
+    for _ in 0..3 {
+        player.reset();
+        let t0 = Instant::now();
+        for &(t, x, y) in &trace.samples {
+            let tick = Tick((t * rate / 1000.0).round() as u64);
+            std::hint::black_box(player.sample(Touch { tick, x: Mm(x as f32), y: Mm(y as f32), contact: true }));
+        }
+        best = best.min(t0.elapsed().as_secs_f64());
+    }
+    let (mut hm, mut h2, mut sm, mut s2, mut n) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0usize);
+    for &(_, x, y) in &trace.samples {
+        let (Some(s), Some((h, gx, gy))) = (field::sample(&hf, x as f32, y as f32), exact.at(x, y)) else { continue };
+        // At a step the exact slope is vertical and the field's is capped by design: not an error.
+        if s.edge {
+            continue;
+        }
+        let eh = (s.height as f64 - h).abs();
+        let ex = ((s.grad_x as f64).atan() - gx.atan()).abs().to_degrees();
+        let ey = ((s.grad_y as f64).atan() - gy.atan()).abs().to_degrees();
+        hm = hm.max(eh);
+        h2 += eh * eh;
+        sm = sm.max(ex).max(ey);
+        s2 += (ex * ex + ey * ey) / 2.0;
+        n += 1;
+    }
+    let rms = |v: f64| (v / n.max(1) as f64).sqrt();
+    Ok(MeshMeasured {
+        bytes: bytes.len(),
+        sample_us: best * 1e6 / trace.samples.len().max(1) as f64,
+        height: (hm, rms(h2)),
+        slope: (sm, rms(s2)),
+        compared: n,
+    })
+}
+
+/// The cell of the bundle's height field in mm.
+fn cell_of(b: &Bundle) -> Option<f64> {
+    b.chunks.iter().find_map(|c| if let Chunk::Height(h) = c { Some(h.cell.0 as f64) } else { None })
+}
+
+/// The height-field ladder of a mesh scene: per setting a `height` row (mm)
+/// and a `gradient` row (degrees of slope).
+pub fn ladder(input: &Path, opts: &CompileOpts, base: &Bundle, trace: &Trace) -> Result<(Vec<Row>, Vec<String>)> {
+    let exact = MeshRef::read(input)?;
+    let default = cell_of(base).map(|c| 1.0 / c);
+    let mut settings: Vec<(Option<f64>, f64)> = NODE_LADDER.iter().map(|&r| (Some(r), r)).collect();
+    if let Some(d) = default {
+        // The compiler's own choice replaces an equal rung of the ladder.
+        settings.retain(|s| (s.1 - d).abs() > 1e-9 * d);
+        settings.push((None, d));
+        settings.sort_by(|a, b| a.1.total_cmp(&b.1));
+    }
+    let mut rows = Vec::new();
+    let mut notes = Vec::new();
+    for (setting, value) in settings {
+        let (bundle, compile_ms) = match super::compile(input, opts, setting.map(|r| r as f32)) {
+            Ok(v) => v,
+            Err(e) => {
+                notes.push(format!("{value} nodes/mm: {e:#}"));
+                continue;
+            }
+        };
+        let m = measure(&bundle, &exact, trace)?;
+        let run_ms = compile_ms + m.sample_us * trace.samples.len() as f64 / 1000.0;
+        for (kernel, (max, rms), unit) in [("height", m.height, "mm"), ("gradient", m.slope, "degrees of slope")] {
+            rows.push(Row {
+                kernel: kernel.into(),
+                setting: value,
+                unit: "nodes/mm".into(),
+                default: setting.is_none(),
+                compile_ms,
+                bundle_bytes: m.bytes,
+                frame_us: m.sample_us,
+                max_error: max,
+                rms_error: rms,
+                error_unit: unit.into(),
+                frames: m.compared,
+                run_ms,
+                on_front: false,
+            });
+        }
+    }
+    notes.push("touch samples at a step (an edge node around the point) are left out: there the exact slope is vertical and the field's is capped by design".into());
+    Ok((rows, notes))
+}
+
+/// The largest height error in mm of `bundle` along `trace` (for the demo).
+pub fn max_height_error(input: &Path, bundle: &Bundle, trace: &Trace) -> Result<(f64, f64)> {
+    let exact = MeshRef::read(input)?;
+    let m = measure(bundle, &exact, trace)?;
+    Ok((m.height.0, m.sample_us))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use taxel_compiler::mesh::write::HeightMesh;
+
+    #[test]
+    fn top_surface_is_the_plane_of_the_highest_triangle() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        // A 40 x 20 mm ramp rising 10 mm to the right (h = x / 4), and a
+        // floating square 5 mm up over part of it.
+        let mut m = HeightMesh::grid(2, 2, |u, v| [0.04 * u, 0.01 * u, 0.02 * v]);
+        m.append(&HeightMesh::grid(1, 1, |u, v| [0.002 * u, 0.005, 0.002 * v]));
+        let p = dir.path().join("m.glb");
+        std::fs::write(&p, m.to_glb()).expect("write");
+        let r = MeshRef::read(&p).expect("reads");
+        let (h, gx, gy) = r.at(30.0, 7.0).expect("on the mesh");
+        assert!((h - 7.5).abs() < 1e-6 && (gx - 0.25).abs() < 1e-6 && gy.abs() < 1e-6, "{h} {gx} {gy}");
+        let (h, _, _) = r.at(1.0, 1.0).expect("on the square");
+        assert!((h - 5.0).abs() < 1e-6, "{h}");
+        assert!(r.at(50.0, 5.0).is_none());
+    }
+}
