@@ -141,6 +141,10 @@ fn build_one(job: &Job, settings: &Settings, compile: &CompileFn) -> (Outcome, S
     if let Some(c) = &job.conflict {
         return failed(format!("{shown}: {c}"));
     }
+    // Refuse an oversized input before reading it whole for the content hash.
+    if let Err(e) = crate::compile::check_input_size(&job.input.path) {
+        return failed(format!("{e:#}"));
+    }
     let bytes = match std::fs::read(&job.input.path) {
         Ok(b) => b,
         Err(e) => return failed(format!("cannot read {shown}: {e}")),

@@ -204,9 +204,24 @@ proptest! {
                 match reference(&m, x, y) {
                     Some(z) => {
                         prop_assert!(f.flags[k] & FIELD_CONTACT != 0, "contact at ({x}, {y})");
-                        prop_assert!((f.heights[k] as f64 - z).abs() < 1e-3, "h({x}, {y}) = {} vs {z}", f.heights[k]);
+                        // A node within the field's outline slack (a thousandth of a
+                        // cell) of a neighbouring face may take that face's height:
+                        // allow the slope difference (at most 2 * 4 * sqrt 2 here) times the slack.
+                        let tol = 1e-3 + 12.0 * 1e-3 * f.cell.0 as f64;
+                        prop_assert!((f.heights[k] as f64 - z).abs() < tol, "h({x}, {y}) = {} vs {z}", f.heights[k]);
                     }
-                    None => prop_assert_eq!(f.flags[k], 0, "no contact at ({}, {})", x, y),
+                    // The field counts nodes within a thousandth of a cell of the
+                    // outline as touching (its vertices are f32), so a node that
+                    // the f64 reference puts just outside may touch only if a
+                    // triangle lies within that slack.
+                    None if f.flags[k] != 0 => {
+                        let eps = f.cell.0 as f64 * 2e-3;
+                        let near = [(eps, 0.0), (-eps, 0.0), (0.0, eps), (0.0, -eps), (eps, eps), (-eps, -eps), (eps, -eps), (-eps, eps)]
+                            .iter()
+                            .any(|(dx, dy)| reference(&m, x + dx, y + dy).is_some());
+                        prop_assert!(near, "contact at ({}, {}) away from every triangle", x, y);
+                    }
+                    None => {}
                 }
             }
         }
