@@ -131,6 +131,9 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
     let (bundle, build_ms) = report::compile(&input, &opts, None)?;
     let bytes = bundle.to_bytes().map_err(|e| anyhow::anyhow!("{e}"))?;
     write_atomic(&out.join("bundles").join(format!("{}.taxel", s.name)), &bytes)?;
+    // The preview is drawn from the bundle alone, as `taxel preview B.taxel` does.
+    let picture = taxel_compiler::preview::render_bundle(&bundle, None);
+    write_atomic(&out.join("previews").join(format!("{}.png", s.name)), &crate::cmd::preview::encode_png(&picture)?)?;
     let layers = bundle.chunks.iter().filter(|c| !matches!(c, Chunk::Provenance(_) | Chunk::Raw(_))).count();
     let trace = s.trace.as_ref().map(|t| examples.join(t));
     match bundle.manifest.profile.family() {
@@ -291,8 +294,13 @@ mod tests {
         let brush = outcomes.iter().find(|o| o.scene == "brush-2-horizontal").and_then(|o| o.result.as_ref().ok());
         let (err, unit) = brush.and_then(|f| f.max_error.clone()).expect("strokes have a reference");
         assert!(err <= 1.0 + 1e-9 && unit == "ms", "{err} {unit}");
-        for file in ["bundles/exp1-dots-2cm.taxel", "bundles/brush-2-horizontal.taxel", "frames/brush-2-horizontal.wav"]
-        {
+        for file in [
+            "bundles/exp1-dots-2cm.taxel",
+            "bundles/brush-2-horizontal.taxel",
+            "frames/brush-2-horizontal.wav",
+            "previews/exp1-dots-2cm.png",
+            "previews/brush-2-horizontal.png",
+        ] {
             assert!(out.path().join(file).is_file(), "{file} missing");
         }
         let frames = std::fs::read_to_string(out.path().join("frames/exp1-dots-2cm.csv")).expect("frames");

@@ -13,7 +13,7 @@ mod inspect;
 mod load;
 mod pack;
 mod play;
-mod preview;
+pub(crate) mod preview;
 mod profiles;
 mod report;
 mod unpack;

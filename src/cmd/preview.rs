@@ -60,7 +60,7 @@ fn print_diagnostics(file: &str, diags: &[taxel_compiler::Diagnostic]) {
     }
 }
 
-fn encode_png(p: &Picture) -> Result<Vec<u8>> {
+pub(crate) fn encode_png(p: &Picture) -> Result<Vec<u8>> {
     let img = image::RgbaImage::from_raw(p.width, p.height, p.rgba.clone()).context("preview has the wrong size")?;
     let mut out = std::io::Cursor::new(Vec::new());
     img.write_to(&mut out, image::ImageFormat::Png)?;
