@@ -34,6 +34,26 @@ fn bench(c: &mut Criterion) {
         })
     });
     g.finish();
+
+    // Size, measured once: the bundle beside the 8-bit grayscale PNG of the
+    // same page at the same resolution (what an embosser workflow would store).
+    let bundle_bytes = compiled.bundle.as_ref().and_then(|b| b.to_bytes().ok()).map_or(0, |b| b.len());
+    let mut pixmap = resvg::tiny_skia::Pixmap::new(w, h).expect("pixmap");
+    pixmap.fill(resvg::tiny_skia::Color::WHITE);
+    resvg::render(&tree, resvg::tiny_skia::Transform::from_scale(k, k), &mut pixmap.as_mut());
+    let gray: Vec<u8> = pixmap
+        .data()
+        .chunks_exact(4)
+        .map(|p| ((p[0] as u32 * 299 + p[1] as u32 * 587 + p[2] as u32 * 114) / 1000) as u8)
+        .collect();
+    let img = image::GrayImage::from_raw(w, h, gray).expect("gray image");
+    let mut png = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut png, image::ImageFormat::Png).expect("png");
+    let png_bytes = png.into_inner().len();
+    eprintln!(
+        "typical map: bundle {bundle_bytes} bytes, 8-bit PNG {w}x{h} {png_bytes} bytes, ratio {:.2}",
+        bundle_bytes as f64 / png_bytes as f64
+    );
 }
 
 criterion_group!(benches, bench);
