@@ -39,6 +39,16 @@ pub struct Polyline {
 }
 
 impl Polyline {
+    /// The vertices as a path that is walked: a closed polyline ends where it
+    /// started (its first point repeated), an open one is returned as it is.
+    pub fn walked(&self) -> Vec<(f64, f64)> {
+        let mut points = self.points.clone();
+        if let (true, Some(&first)) = (self.closed, self.points.first()) {
+            points.push(first);
+        }
+        points
+    }
+
     /// The segments, including the closing one of a closed polyline.
     pub fn segments(&self) -> impl Iterator<Item = ((f64, f64), (f64, f64))> + '_ {
         let n = self.points.len();
@@ -225,6 +235,16 @@ pub fn points_at(pl: &Polyline, positions: &[f64]) -> Vec<(f64, f64)> {
 mod tests {
     use super::*;
     use resvg::tiny_skia::PathBuilder;
+
+    #[test]
+    fn walked_closes_only_closed_polylines() {
+        let pts = vec![(0.0, 0.0), (1.0, 0.0), (1.0, 1.0)];
+        let closed = Polyline { points: pts.clone(), closed: true };
+        assert_eq!(closed.walked(), vec![(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 0.0)]);
+        let open = Polyline { points: pts.clone(), closed: false };
+        assert_eq!(open.walked(), pts);
+        assert!(Polyline { points: vec![], closed: true }.walked().is_empty());
+    }
 
     #[test]
     fn circle_flattens_within_tolerance() {

@@ -60,10 +60,7 @@ pub fn schedule_error(input: &Path, opts: &CompileOpts, bundle: &Bundle) -> Resu
             bail!("a stroke's element has no brush() style");
         };
         for pl in &geo.polys {
-            let mut polyline = pl.points.clone();
-            if pl.closed {
-                polyline.push(pl.points[0]);
-            }
+            let polyline = pl.walked();
             requests.push(BrushRequest {
                 polyline,
                 duration_ms: br.duration_ms,

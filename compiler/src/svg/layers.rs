@@ -283,10 +283,7 @@ pub(crate) fn build(
                 Style::Brush(br) => {
                     let source = b.source(src, item.elem);
                     for pl in &item.polylines {
-                        let mut polyline = pl.points.clone();
-                        if pl.closed {
-                            polyline.push(pl.points[0]);
-                        }
+                        let polyline = pl.walked();
                         requests.push(BrushRequest {
                             polyline,
                             duration_ms: br.duration_ms,
