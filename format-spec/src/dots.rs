@@ -203,6 +203,35 @@ impl DotTable {
     }
 }
 
+/// The dots of a run of cells ([`DotTableView::row_run`]), read in place.
+#[derive(Debug, Clone)]
+pub struct DotRun<'a>(core::slice::ChunksExact<'a, u8>);
+
+impl Iterator for DotRun<'_> {
+    type Item = Dot;
+
+    #[inline]
+    fn next(&mut self) -> Option<Dot> {
+        // Every chunk is DOT_LEN bytes, so the fields below are read at
+        // constant offsets of a fixed-size array with no bounds checks.
+        let d: &[u8; DOT_LEN] = self.0.next()?.try_into().ok()?;
+        let w = |o: usize| [d[o], d[o + 1], d[o + 2], d[o + 3]];
+        Some(Dot {
+            x: Mm(f32::from_le_bytes(w(0))),
+            y: Mm(f32::from_le_bytes(w(4))),
+            radius: Mm(f32::from_le_bytes(w(8))),
+            amplitude: f32::from_le_bytes(w(12)),
+            source: source_from_raw(u32::from_le_bytes(w(16))),
+        })
+    }
+
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        self.0.size_hint()
+    }
+}
+
+impl ExactSizeIterator for DotRun<'_> {}
+
 /// A validated dot table, read in place.
 #[derive(Debug, Clone, Copy)]
 pub struct DotTableView<'a> {
@@ -251,6 +280,27 @@ impl<'a> DotTableView<'a> {
         a..b.max(a)
     }
 
+    /// The dots stored in cells `col0..=col1` of grid row `row`, in stored
+    /// order. The table keeps its dots sorted by cell, row by row, so these
+    /// are one contiguous run: finding it costs two index reads, and each dot
+    /// is then read without a further bounds check. Cells outside the grid
+    /// hold no dots.
+    #[inline]
+    pub fn row_run(&self, col0: u32, col1: u32, row: u32) -> DotRun<'a> {
+        let col1 = col1.min(self.grid.cols.saturating_sub(1));
+        let bytes = if col0 <= col1 && row < self.grid.rows {
+            // Cell c's dots are starts[c]..starts[c + 1]; the run of cells
+            // col0..=col1 of this row is starts[first]..starts[last + 1].
+            let cell = row as usize * self.grid.cols as usize;
+            let first = u32_at(self.starts, 4 * (cell + col0 as usize)).unwrap_or(0) as usize;
+            let end = u32_at(self.starts, 4 * (cell + col1 as usize + 1)).unwrap_or(0) as usize;
+            self.dots.get(first * DOT_LEN..end * DOT_LEN).unwrap_or(&[])
+        } else {
+            &[]
+        };
+        DotRun(bytes.chunks_exact(DOT_LEN))
+    }
+
     /// Calls `f` for every dot whose disc may contain the point `(x, y)`
     /// (every dot within `max_radius` of it, and possibly a few more).
     /// The work is bounded by the dots in at most a few cells, whatever the
@@ -264,13 +314,7 @@ impl<'a> DotTableView<'a> {
         let (c0, c1) = (self.grid.col_of(x - r), self.grid.col_of(x + r));
         let (r0, r1) = (self.grid.row_of(y - r), self.grid.row_of(y + r));
         for row in r0..=r1 {
-            for col in c0..=c1 {
-                for i in self.cell(col, row) {
-                    if let Some(d) = self.dot(i) {
-                        f(d);
-                    }
-                }
-            }
+            self.row_run(c0, c1, row).for_each(&mut f);
         }
     }
 

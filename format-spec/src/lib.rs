@@ -52,7 +52,7 @@ mod view;
 pub use container::{
     CHUNK_ALIGN, FORMAT_MAJOR, FORMAT_MINOR, HEADER_LEN, MAGIC, MAX_CHUNKS, MAX_FILE_LEN, TABLE_ENTRY_LEN,
 };
-pub use dots::{Dot, DotGrid, DotKind, DotTable, DotTableView, MAX_DOT_GRID_CELLS, MAX_DOTS};
+pub use dots::{Dot, DotGrid, DotKind, DotRun, DotTable, DotTableView, MAX_DOT_GRID_CELLS, MAX_DOTS};
 pub use error::FormatError;
 pub use height::{FIELD_CONTACT, FIELD_EDGE, HeightField, HeightFieldView, MAX_FIELD_NODES, MAX_FIELD_SIDE};
 pub use manifest::{MANIFEST_LEN, Manifest};
@@ -137,6 +137,7 @@ pub(crate) fn in_range(
 /// The source index stored for "no provenance entry".
 pub(crate) const NO_SOURCE: u32 = u32::MAX;
 
+#[inline]
 pub(crate) fn source_from_raw(raw: u32) -> Option<u32> {
     (raw != NO_SOURCE).then_some(raw)
 }

@@ -2,16 +2,24 @@
 
 use taxel_format::DotTableView;
 
-use super::osc::{ceil_i32, cos_turns, floor_i32};
-use super::{BLOCK, Frame};
+use wide::{f32x4, i32x4};
+
+use super::osc::{ceil_in, cos_turns4, floor_in};
+use super::{Acc, Frame, LANES};
+
+/// Lane offsets 0, 1, 2, 3.
+const LANE: i32x4 = i32x4::new([0, 1, 2, 3]);
 
 /// Radius of the plateau of full deflection, as a fraction of the dot radius (seed 000, section 3.1).
 pub const PLATEAU: f32 = 0.25;
 
 /// Eq. 1 as a function of `s = r²` (`r` the distance from the centre over the radius):
-/// 1 on the plateau, a half cosine down to 0 at the rim, 0 outside.
-#[inline]
-pub(crate) fn dot_profile(s: f32) -> f32 {
+/// 1 on the plateau, a half cosine down to 0 at the rim, 0 outside. The
+/// scalar form, kept as the reference the four-lane [`dot_profile4`] is
+/// tested against.
+#[cfg(test)]
+fn dot_profile(s: f32) -> f32 {
+    use super::osc::cos_turns;
     if s.is_nan() || s >= 1.0 {
         return 0.0;
     }
@@ -24,56 +32,100 @@ pub(crate) fn dot_profile(s: f32) -> f32 {
     }
 }
 
-/// Adds every dot that touches an actuator of rows `f.r0..f.r1` to `acc`.
-///
-/// The table stores its dots sorted by grid cell, so the dots of cells
-/// `c0..=c1` in one grid row are one contiguous index range: the query reads
-/// two cell starts per grid row under the array and then only dots that lie
-/// near it. The cost depends on the array's size and the local dot density,
-/// never on the size of the table.
-#[inline]
-pub(crate) fn accumulate(t: &DotTableView<'_>, f: &Frame, acc: &mut [f32; BLOCK]) {
-    if t.is_empty() || f.col_lo >= f.col_hi {
-        return;
+/// [`dot_profile`] on four lanes: equal to it lane by lane up to the last
+/// bit of the square root (both use the same cosine), so within 1e-6.
+#[inline(always)]
+pub(crate) fn dot_profile4(s: f32x4) -> f32x4 {
+    // NaN and s ≥ 1 fail `s < 1` and rest; the square root of a clamped s
+    // keeps every lane finite whatever it holds.
+    let inside = s.simd_lt(f32x4::ONE);
+    let r = s.fast_max(f32x4::ZERO).fast_min(f32x4::ONE).sqrt();
+    let rim = f32x4::splat(0.5) + f32x4::splat(0.5) * cos_turns4((r - PLATEAU) * (0.5 / (1.0 - PLATEAU)));
+    let v = r.simd_le(f32x4::splat(PLATEAU)).select(f32x4::ONE, rim);
+    inside.select(v, f32x4::ZERO)
+}
+
+/// A dot table prepared for playback.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct DotLayer<'a> {
+    table: DotTableView<'a>,
+    /// The reciprocal of the grid's cell size, so the per-tick path
+    /// multiplies where it would divide.
+    inv_cell: f32,
+}
+
+impl<'a> DotLayer<'a> {
+    pub(crate) fn new(table: DotTableView<'a>) -> Self {
+        // The format keeps cells positive and finite.
+        DotLayer { table, inv_cell: 1.0 / table.grid.cell_mm }
     }
+
+    /// Adds every dot that touches an actuator of rows `f.r0..f.r1` to `acc`.
+    ///
+    /// The table stores its dots sorted by grid cell, so the dots of cells
+    /// `c0..=c1` in one grid row are one contiguous run: the query reads
+    /// two cell starts per grid row under the array and then only dots that
+    /// lie near it. The cost depends on the array's size and the local dot
+    /// density, never on the size of the table.
+    #[inline]
+    pub(crate) fn accumulate(&self, f: &Frame, acc: &mut Acc) {
+        accumulate(&self.table, self.inv_cell, f, acc)
+    }
+}
+
+#[inline(always)]
+fn accumulate(t: &DotTableView<'_>, inv_cell: f32, f: &Frame, acc: &mut Acc) {
     let (r_lo, r_hi) = (f.r0.max(f.row_lo), f.r1.min(f.row_hi));
-    if r_lo >= r_hi {
+    if t.is_empty() || f.col_lo >= f.col_hi || r_lo >= r_hi {
         return;
     }
     let g = t.grid;
     let reach = g.max_radius;
     // The cells under the block's actuators widened by the largest radius
-    // (the same floor-and-clamp as `DotGrid::col_of`, without a libm call).
-    let cell = |v: f32, origin: f32, n: u32| floor_i32((v - origin) / g.cell_mm).clamp(0, n as i32 - 1) as u32;
+    // (the floor-and-clamp of `DotGrid::col_of`). Every index below is
+    // far inside the ±2²² that `floor_in` and `ceil_in` accept: grids have
+    // at most 2²⁰ cells and arrays at most 64 columns.
+    // (A product by the reciprocal may land a hair below a cell boundary
+    // that the division would reach; a dot so placed is a full radius away
+    // from every actuator the query serves, where eq. 1 gives 0.)
+    let cell = |v: f32, origin: f32, n: u32| floor_in((v - origin) * inv_cell, 0, n as i32 - 1) as u32;
     let (gc0, gc1) =
         (cell(f.col_x(f.col_lo) - reach, g.origin_x, g.cols), cell(f.col_x(f.col_hi - 1) + reach, g.origin_x, g.cols));
     let (gr0, gr1) =
         (cell(f.row_y(r_lo) - reach, g.origin_y, g.rows), cell(f.row_y(r_hi - 1) + reach, g.origin_y, g.rows));
-    let (inv_px, inv_py) = (1.0 / f.pitch_x, 1.0 / f.pitch_y);
+    let (inv_px, inv_py) = (f.inv_pitch_x, f.inv_pitch_y);
+    let (col_lo, col_hi) = (f.col_lo as i32, f.col_hi as i32);
+    let (row_lo, row_hi) = (r_lo as i32, r_hi as i32);
     for gr in gr0..=gr1 {
-        let (first, last) = (t.cell(gc0, gr), t.cell(gc1, gr));
-        for i in first.start..last.end.max(first.start) {
-            let Some(d) = t.dot(i) else { continue };
-            let rho = d.radius.0;
+        for d in t.row_run(gc0, gc1, gr) {
+            let (x, y, rho) = (d.x.0, d.y.0, d.radius.0);
             // Actuator columns and rows within the dot's radius, clipped to
-            // the surface and to this block.
-            let c0 = ceil_i32((d.x.0 - rho - f.x_first) * inv_px).max(f.col_lo as i32);
-            let c1 = floor_i32((d.x.0 + rho - f.x_first) * inv_px).min(f.col_hi as i32 - 1);
-            let q0 = ceil_i32((d.y.0 - rho - f.y_first) * inv_py).max(r_lo as i32);
-            let q1 = floor_i32((d.y.0 + rho - f.y_first) * inv_py).min(r_hi as i32 - 1);
+            // the surface and to this block (an empty range when the dot
+            // lies beside them: then c0 > c1 or q0 > q1).
+            let c0 = ceil_in((x - rho - f.x_first) * inv_px, col_lo, col_hi);
+            let c1 = floor_in((x + rho - f.x_first) * inv_px, col_lo - 1, col_hi - 1);
+            let q0 = ceil_in((y - rho - f.y_first) * inv_py, row_lo, row_hi);
+            let q1 = floor_in((y + rho - f.y_first) * inv_py, row_lo - 1, row_hi - 1);
             if c0 > c1 || q0 > q1 {
                 continue;
             }
             let inv2 = 1.0 / (rho * rho);
-            for r in q0 as usize..=q1 as usize {
-                let ey = f.row_y(r) - d.y.0;
-                let k0 = (r - f.r0) * f.cols;
-                for c in c0 as usize..=c1 as usize {
-                    let ex = f.col_x(c) - d.x.0;
-                    let delta = dot_profile((ex * ex + ey * ey) * inv2);
-                    if let Some(a) = acc.get_mut(k0 + c) {
-                        *a += d.amplitude * delta;
+            // Four columns at a time; lanes past c1 rest (they may fall on
+            // the next row's first columns or the padding: they add 0).
+            for r in q0..=q1 {
+                let ey = f.row_y(r as usize) - y;
+                let k0 = (r as usize - f.r0) * f.cols;
+                let mut c = c0;
+                while c <= c1 {
+                    let cols = i32x4::splat(c) + LANE;
+                    let ex = f32x4::splat(f.x_first) + f32x4::from_i32x4(cols) * f.pitch_x - x;
+                    let v = dot_profile4((ex * ex + ey * ey) * inv2) * d.amplitude;
+                    let v = cols.simd_le(i32x4::splat(c1)).select(v, f32x4::ZERO);
+                    let k = k0 + c as usize;
+                    if let Some(out) = acc.get_mut(k..k + LANES).and_then(|s| <&mut [f32; LANES]>::try_from(s).ok()) {
+                        *out = (f32x4::new(*out) + v).to_array();
                     }
+                    c += LANES as i32;
                 }
             }
         }
@@ -98,9 +150,13 @@ mod tests {
         for k in 0..=1200 {
             let r = k as f64 / 1000.0;
             let got = dot_profile((r * r) as f32) as f64;
+            let lanes = dot_profile4(f32x4::splat((r * r) as f32)).to_array();
+            assert!(lanes.iter().all(|&l| (l as f64 - got).abs() < 1e-6), "r = {r}: {lanes:?} vs {got}");
             assert!((got - eq1(r)).abs() < 1e-5, "r = {r}: {got} vs {}", eq1(r));
         }
         assert_eq!(dot_profile(f32::NAN), 0.0);
+        assert_eq!(dot_profile4(f32x4::splat(f32::NAN)).to_array(), [0.0; 4]);
+        assert_eq!(dot_profile4(f32x4::splat(f32::INFINITY)).to_array(), [0.0; 4]);
         assert_eq!(dot_profile(f32::INFINITY), 0.0);
     }
 }

@@ -27,13 +27,17 @@
 //! the format's actuator limit) and at most 16 output bits.
 //!
 //! # Cost
-//! Work per frame is per layer whose box meets the array: for a mask, a
-//! bilinear gather of four samples per covered actuator (scalar) and the
-//! interpolation and primitive in vector lanes; for a dot table, two cell
-//! starts per grid row under the array and the dots found there. Phases
-//! (vibration from the tick, grating at the array's corner) are computed once
-//! per layer per frame; oscillators use a polynomial cosine with an error
-//! below 1e-6. `benches/latero.rs` measures a 64-actuator frame.
+//! Work per frame is per layer whose box meets the array: for a mask, two
+//! sample-pair reads per covered actuator and the interpolation and
+//! primitive four actuators at a time in 128-bit lanes (`mask.rs`, through
+//! the `wide` crate: SSE2 on x86-64, NEON on AArch64, plain arrays
+//! elsewhere); for a dot table, two cell starts per grid row under the
+//! array and the dots found there, each evaluated four columns at a time.
+//! Phases (vibration from the tick, grating at the array's corner) are
+//! computed once per layer per frame; oscillators use a polynomial cosine
+//! with an error below 1e-6. The per-tick path divides nothing: the
+//! reciprocals it needs are taken at load. `benches/latero.rs` measures a
+//! 64-actuator frame; `docs/performance.md` has the figures.
 //!
 //! ```
 //! use taxel_format::{Bundle, BundleView, Manifest, MaskKind, MaskLayer, MaskSamples, MilliHertz, Mm, Tick, profiles};
@@ -68,7 +72,9 @@ mod osc;
 
 pub use dots::PLATEAU;
 
-use taxel_format::{BundleView, ChunkView, DotTableView, Family, Mm, Tag, Tick};
+use taxel_format::{BundleView, ChunkView, Family, Mm, Tag, Tick};
+use wide::bytemuck::cast;
+use wide::{f32x4, i16x8, i32x4};
 
 use crate::error::RuntimeError;
 use mask::MaskLayer;
@@ -80,6 +86,12 @@ pub const MAX_COLS: usize = 64;
 /// Actuators evaluated together: frames are computed in blocks of whole
 /// rows of at most this many actuators, accumulated on the stack.
 pub(crate) const BLOCK: usize = 64;
+/// Actuators a mask layer interpolates at once: the width of a 128-bit
+/// vector of `f32`, which every x86-64 and AArch64 core has.
+pub(crate) const LANES: usize = 4;
+/// A block's sums, padded so that a mask's last group of [`LANES`] may run
+/// past the block's end (its extra lanes add 0).
+pub(crate) type Acc = [f32; BLOCK + LANES];
 /// 2²³: an `f32` in [2²³, 2²⁴) has integer spacing, so `v + 2²³` rounds `v`.
 const ROUND_BITS: f32 = 8_388_608.0;
 /// Largest output resolution, in bits (codes are `u16`).
@@ -94,7 +106,7 @@ pub struct Layer<'a>(Slot<'a>);
 enum Slot<'a> {
     Empty,
     Mask(MaskLayer<'a>),
-    Dots(DotTableView<'a>),
+    Dots(dots::DotLayer<'a>),
 }
 
 impl Layer<'_> {
@@ -122,6 +134,8 @@ pub struct LateroPlayer<'a, S = [Layer<'a>; DEFAULT_LAYERS]> {
     cols: usize,
     pitch_x: f32,
     pitch_y: f32,
+    inv_pitch_x: f32,
+    inv_pitch_y: f32,
     surface_w: f32,
     surface_h: f32,
     rate_hz: u32,
@@ -180,7 +194,7 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
             let slot = match chunk {
                 ChunkView::Mask(m) => Slot::Mask(MaskLayer::new(&m, p.pitch_x_mm, p.pitch_y_mm)),
                 ChunkView::Dots(d) if d.is_empty() => continue,
-                ChunkView::Dots(d) => Slot::Dots(d),
+                ChunkView::Dots(d) => Slot::Dots(dots::DotLayer::new(d)),
                 _ => continue,
             };
             if let Some(s) = slots.get_mut(len) {
@@ -195,6 +209,9 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
             cols: p.cols as usize,
             pitch_x: p.pitch_x_mm,
             pitch_y: p.pitch_y_mm,
+            // Profiles have positive pitches (taxel-format checks them).
+            inv_pitch_x: 1.0 / p.pitch_x_mm,
+            inv_pitch_y: 1.0 / p.pitch_y_mm,
             surface_w: p.surface_w_mm,
             surface_h: p.surface_h_mm,
             rate_hz: p.rate_hz,
@@ -237,6 +254,8 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
             cols: self.cols,
             pitch_x: self.pitch_x,
             pitch_y: self.pitch_y,
+            inv_pitch_x: self.inv_pitch_x,
+            inv_pitch_y: self.inv_pitch_y,
             x_first: x.0 - (self.cols - 1) as f32 * 0.5 * self.pitch_x,
             y_first: y.0 - (self.rows - 1) as f32 * 0.5 * self.pitch_y,
             col_lo: 0,
@@ -256,35 +275,77 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
         for (b, block) in out.chunks_mut(rows_per_block * self.cols).enumerate() {
             f.r0 = b * rows_per_block;
             f.r1 = (f.r0 + rows_per_block).min(self.rows);
-            let mut acc = [0.0f32; BLOCK];
+            let mut acc: Acc = [0.0; BLOCK + LANES];
             for layer in layers {
                 match &layer.0 {
                     Slot::Mask(m) => m.accumulate(&f, &mut acc),
-                    Slot::Dots(d) => dots::accumulate(d, &f, &mut acc),
+                    Slot::Dots(d) => d.accumulate(&f, &mut acc),
                     Slot::Empty => {}
                 }
             }
-            // Clamp and quantise the whole block branch-free, then copy out.
-            let mut codes = [0u16; BLOCK];
-            let mut clamped = 0u32;
-            for (o, &a) in codes.iter_mut().zip(acc.iter()) {
-                clamped += (a > clamp_at) as u32;
-                // Comparisons rather than `min`/`max` compile to one
-                // instruction each; a NaN (impossible from validated layers)
-                // fails `v > 0.0` and rests.
-                let v = if a < 1.0 { a } else { 1.0 };
-                let v = if v > 0.0 { v } else { 0.0 };
-                // Adding 2²³ leaves round(v · max) in the low mantissa bits
-                // (v · max ≤ 65535), a conversion that vectorises, unlike `as`.
-                *o = ((v * self.max_code + ROUND_BITS).to_bits() & 0xffff) as u16;
-            }
-            stats.clamped += clamped;
-            for (o, &c) in block.iter_mut().zip(codes.iter()) {
-                *o = c;
-            }
+            stats.clamped += match <&mut [u16; BLOCK]>::try_from(&mut *block) {
+                // A whole block (every 64-actuator array) at up to 14 bits:
+                // eight codes at a time in 16-bit lanes.
+                Ok(block) if self.max_code <= VECTOR_MAX_CODE => quantise_block(block, &acc, self.max_code),
+                _ => quantise(block, &acc, clamp_at, self.max_code),
+            };
         }
         stats
     }
+}
+
+/// Clamps each sum to [0, 1], scales it to `max_code` and rounds it to
+/// the nearest code (ties to even) into `out`; returns how many sums
+/// clamping changed (those above `clamp_at`).
+#[inline(always)]
+fn quantise(out: &mut [u16], acc: &Acc, clamp_at: f32, max_code: f32) -> u32 {
+    let mut clamped = 0u32;
+    for (o, &a) in out.iter_mut().zip(acc.iter()) {
+        clamped += (a > clamp_at) as u32;
+        // Comparisons rather than `min`/`max` compile to one instruction
+        // each; a NaN (impossible from validated layers) fails `v > 0.0`
+        // and rests.
+        let v = if a < 1.0 { a } else { 1.0 };
+        let v = if v > 0.0 { v } else { 0.0 };
+        // Adding 2²³ leaves round(v · max) in the low mantissa bits
+        // (v · max ≤ 65535), a conversion that vectorises, unlike `as`.
+        *o = ((v * max_code + ROUND_BITS).to_bits() & 0xffff) as u16;
+    }
+    clamped
+}
+
+/// The largest `max_code` that [`quantise_block`] serves: twice it (a sum
+/// clamped to 2) must still fit an `i16` lane, or saturation would hide the
+/// codes above `max_code` that count as clamped. 14 bits.
+const VECTOR_MAX_CODE: f32 = (i16::MAX / 2) as f32;
+
+/// [`quantise`] for a whole block and `max_code` ≤ [`VECTOR_MAX_CODE`], in
+/// vector lanes: the sums, clamped to [0, 2], are scaled and rounded to nearest,
+/// ties to even, by the same 2²³ addition; the codes then narrow to 16-bit
+/// lanes, where those above `max_code` are counted and every code is
+/// clamped to `0..=max_code` (so that even a NaN, impossible from validated
+/// layers, gives a code in range on every target). A sum above 1 by more than half a step rounds above `max_code`,
+/// exactly the sums [`quantise`] counts.
+#[inline(always)]
+fn quantise_block(out: &mut [u16; BLOCK], acc: &Acc, max_code: f32) -> u32 {
+    let (scale, round) = (f32x4::splat(max_code), f32x4::splat(ROUND_BITS));
+    let bias = i32x4::splat(ROUND_BITS.to_bits() as i32);
+    let top = i16x8::splat(max_code as i16);
+    let mut over = i16x8::ZERO;
+    for (o, a) in out.chunks_exact_mut(8).zip(acc.chunks_exact(8)) {
+        let code = |a: &[f32]| -> i32x4 {
+            let a: [f32; 4] = a.try_into().unwrap_or([0.0; 4]);
+            let v = f32x4::new(a).fast_max(f32x4::ZERO).fast_min(f32x4::splat(2.0));
+            cast::<f32x4, i32x4>(v * scale + round) - bias
+        };
+        let c = i16x8::from_i32x8_saturate(cast([code(&a[..4]), code(&a[4..])]));
+        // A true lane compares as −1.
+        over -= c.simd_gt(top);
+        if let Ok(o) = <&mut [u16; 8]>::try_from(o) {
+            *o = cast(c.max(i16x8::ZERO).min(top));
+        }
+    }
+    over.to_array().iter().map(|&n| n as u32).sum()
 }
 
 /// The half-open range of indices `0..n` whose position `first + i · pitch`
@@ -321,6 +382,9 @@ pub(crate) struct Frame {
     pub(crate) cols: usize,
     pub(crate) pitch_x: f32,
     pub(crate) pitch_y: f32,
+    /// Their reciprocals, so that the per-tick path divides nothing.
+    pub(crate) inv_pitch_x: f32,
+    pub(crate) inv_pitch_y: f32,
     /// Page position of column 0 and row 0.
     pub(crate) x_first: f32,
     pub(crate) y_first: f32,
@@ -338,12 +402,14 @@ impl Frame {
     /// Page x of column `c`.
     #[inline(always)]
     pub(crate) fn col_x(&self, c: usize) -> f32 {
-        self.x_first + c as f32 * self.pitch_x
+        // Through u32: an unsigned 64-bit to float conversion is a branchy
+        // sequence on x86-64, a 32-bit one a single instruction.
+        self.x_first + c as u32 as f32 * self.pitch_x
     }
 
     /// Page y of row `r`.
     #[inline(always)]
     pub(crate) fn row_y(&self, r: usize) -> f32 {
-        self.y_first + r as f32 * self.pitch_y
+        self.y_first + r as u32 as f32 * self.pitch_y
     }
 }

@@ -82,3 +82,42 @@ fn other_array_shapes_follow_their_profile() {
         assert_matches_reference(&p, chunks.clone(), tick, x, y);
     }
 }
+
+#[test]
+fn every_output_resolution_rounds_and_counts_like_the_reference() {
+    use taxel_format::{BundleView, Tick};
+    use taxel_runtime::latero::LateroPlayer;
+    // A whole 8 x 8 block at up to 14 bits is quantised in 16-bit vector
+    // lanes, at 15 and 16 bits (and other shapes) one code at a time: both must
+    // give the reference's codes and count the same clamped sums. Uniform
+    // masks keep the interpolation exact, so one step is a fair tolerance
+    // even at 16 bits; the vibration and the grating overlap on purpose.
+    for bits in [1, 8, 10, 14, 15, 16] {
+        let p = taxel_format::DeviceProfile { output_bits: bits, ..stress2() };
+        let chunks = vec![
+            full_surface(vibration(50_000), 0.7),
+            full_surface(grating(3.0, 30.0), 0.6),
+            dots(&[(40.5, 30.2, 1.5, 0.9)]),
+        ];
+        let bytes = bundle_bytes(p, chunks.clone());
+        let view = BundleView::parse(&bytes).unwrap();
+        let player = LateroPlayer::new(&view).unwrap();
+        let step = 1.0 / ((1u32 << bits) - 1) as f64;
+        for (tick, x, y) in [(0u64, 40.0f32, 30.0f32), (3, 41.1, 29.3), (7, 12.3, 45.6)] {
+            assert_matches_reference(&p, chunks.clone(), tick, x, y);
+            let mut out = [0u16; 64];
+            let stats = player.frame(Tick(tick), Mm(x), Mm(y), &mut out);
+            let sums: Vec<f64> =
+                (0..64).map(|k| reference(&p, &chunks, tick, x as f64, y as f64, k / 8, k % 8)).collect();
+            // Sums within a hair of the rounding boundary may go either way.
+            let surely = sums.iter().filter(|&&s| s > 1.0 + 0.5 * step + 1e-4).count() as u32;
+            let maybe = sums.iter().filter(|&&s| s > 1.0 + 0.5 * step - 1e-4).count() as u32;
+            assert!(
+                (surely..=maybe).contains(&stats.clamped),
+                "{bits} bits at tick {tick}: clamped {} not in {surely}..={maybe}",
+                stats.clamped
+            );
+            assert!(out.iter().all(|&c| u32::from(c) < 1 << bits), "{bits} bits: {out:?}");
+        }
+    }
+}
