@@ -3,7 +3,7 @@
 
 use alloc::vec::Vec;
 
-use crate::bytes::{Out, f32_at, u8_at, u32_at};
+use crate::bytes::{Out, array_at, f32_at, u8_at, u32_at};
 use crate::error::FormatError;
 use crate::units::Mm;
 use crate::{NO_SOURCE, Tag, in_range, source_from_raw};
@@ -48,6 +48,12 @@ pub struct HeightField {
     pub grad_y: Vec<f32>,
     /// [`FIELD_CONTACT`] and [`FIELD_EDGE`] bits, row-major.
     pub flags: Vec<u8>,
+}
+
+/// The little-endian `f32` of node `k` of a plane, 0 past its end.
+#[inline]
+fn plane_f32(plane: &[u8], k: u32) -> f32 {
+    (k as usize).checked_mul(4).and_then(|o| f32_at(plane, o)).unwrap_or(0.0)
 }
 
 /// Extremes a player needs to scale intensity and rhythm: computed by the
@@ -164,39 +170,87 @@ pub struct HeightFieldView<'a> {
     pub max_gradient: f32,
     /// The cap applied to gradient magnitudes.
     pub gradient_cap: f32,
-    data: &'a [u8],
+    // The four node planes, sliced once by `parse` so that each read checks
+    // only its own plane's bounds: heights, ∂h/∂x and ∂h/∂y hold `4 * n`
+    // little-endian bytes each, flags `n` bytes.
+    heights: &'a [u8],
+    grad_x: &'a [u8],
+    grad_y: &'a [u8],
+    flags: &'a [u8],
+}
+
+/// The four nodes around one cell of a height field, as read by
+/// [`HeightFieldView::cell_nodes`].
+///
+/// Each array lists, in this order, the top-left node `k`, its right
+/// neighbour `k + 1`, the node below it `k + cols`, and the node diagonally
+/// below `k + cols + 1`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CellNodes {
+    /// Heights in mm.
+    pub heights: [f32; 4],
+    /// ∂h/∂x.
+    pub grad_x: [f32; 4],
+    /// ∂h/∂y (y down the page).
+    pub grad_y: [f32; 4],
+    /// [`FIELD_CONTACT`] and [`FIELD_EDGE`] bits.
+    pub flags: [u8; 4],
+}
+
+/// The little-endian `f32` values of nodes `k` and `k + 1` of a plane, or
+/// `None` when node `k + 1` is past its end.
+#[inline]
+fn f32_pair(plane: &[u8], k: usize) -> Option<[f32; 2]> {
+    let b: [u8; 8] = array_at(plane, k.checked_mul(4)?)?;
+    Some([f32::from_le_bytes([b[0], b[1], b[2], b[3]]), f32::from_le_bytes([b[4], b[5], b[6], b[7]])])
 }
 
 impl<'a> HeightFieldView<'a> {
-    fn n(&self) -> usize {
-        self.cols as usize * self.rows as usize
-    }
-
     /// Height of node `k` (row-major index), 0 outside.
     #[inline]
     pub fn height_at(&self, k: u32) -> f32 {
-        f32_at(self.data, 4 * k as usize).filter(|_| (k as usize) < self.n()).unwrap_or(0.0)
+        plane_f32(self.heights, k)
     }
 
     /// Gradient `(∂h/∂x, ∂h/∂y)` of node `k`, zero outside.
     #[inline]
     pub fn gradient_at(&self, k: u32) -> (f32, f32) {
-        let n = self.n();
-        if k as usize >= n {
-            return (0.0, 0.0);
-        }
-        let gx = f32_at(self.data, 4 * (n + k as usize)).unwrap_or(0.0);
-        let gy = f32_at(self.data, 4 * (2 * n + k as usize)).unwrap_or(0.0);
-        (gx, gy)
+        (plane_f32(self.grad_x, k), plane_f32(self.grad_y, k))
     }
 
     /// Flags of node `k`, 0 (no contact) outside.
     #[inline]
     pub fn flags_at(&self, k: u32) -> u8 {
-        if k as usize >= self.n() {
-            return 0;
-        }
-        u8_at(self.data, 12 * self.n() + k as usize).unwrap_or(0)
+        u8_at(self.flags, k as usize).unwrap_or(0)
+    }
+
+    /// The four nodes around the cell whose top-left node is `k` (row-major
+    /// index): `k`, `k + 1`, `k + cols` and `k + cols + 1`, or `None` when
+    /// one of them is past the last node.
+    ///
+    /// This is the bilinear lookup's read: one call instead of sixteen
+    /// single-node reads. For a cell of the grid `k` is `j * cols + i` with
+    /// `i <= cols - 2` and `j <= rows - 2`; with `i = cols - 1` the nodes
+    /// `k + 1` and `k + cols + 1` are the first ones of the next rows.
+    #[inline]
+    pub fn cell_nodes(&self, k: u32) -> Option<CellNodes> {
+        let top = k as usize;
+        let below = top.checked_add(self.cols as usize)?;
+        let flags = |at: usize| -> Option<[u8; 2]> { array_at(self.flags, at) };
+        let [f0, f1] = flags(top)?;
+        let [f2, f3] = flags(below)?;
+        let [h0, h1] = f32_pair(self.heights, top)?;
+        let [h2, h3] = f32_pair(self.heights, below)?;
+        let [x0, x1] = f32_pair(self.grad_x, top)?;
+        let [x2, x3] = f32_pair(self.grad_x, below)?;
+        let [y0, y1] = f32_pair(self.grad_y, top)?;
+        let [y2, y3] = f32_pair(self.grad_y, below)?;
+        Some(CellNodes {
+            heights: [h0, h1, h2, h3],
+            grad_x: [x0, x1, x2, x3],
+            grad_y: [y0, y1, y2, y3],
+            flags: [f0, f1, f2, f3],
+        })
     }
 
     /// Reads the field; with `full`, also checks every node and the extremes.
@@ -230,6 +284,20 @@ impl<'a> HeightFieldView<'a> {
             return Err(FormatError::ChunkLength { tag, index, expected, found: d.len() as u64 });
         }
         let f = |o| f32_at(d, o).unwrap_or(f32::NAN);
+        // The length check above makes every split succeed; a failure would
+        // still be reported, never a panic.
+        let planes = |body: &'a [u8]| {
+            let n = n as usize;
+            let (heights, rest) = body.split_at_checked(4 * n)?;
+            let (grad_x, rest) = rest.split_at_checked(4 * n)?;
+            let (grad_y, rest) = rest.split_at_checked(4 * n)?;
+            let (flags, _padding) = rest.split_at_checked(n)?;
+            Some((heights, grad_x, grad_y, flags))
+        };
+        let (heights, grad_x, grad_y, flags) = d
+            .get(HEADER_LEN..)
+            .and_then(planes)
+            .ok_or(FormatError::ChunkLength { tag, index, expected, found: d.len() as u64 })?;
         const BIG: f32 = 1e9;
         let view = HeightFieldView {
             source: source_from_raw(u32_at(d, 0).unwrap_or(NO_SOURCE)),
@@ -242,7 +310,10 @@ impl<'a> HeightFieldView<'a> {
             height_max: f(32),
             max_gradient: f(36),
             gradient_cap: in_range(f(40), 0.0, BIG, tag, index, "gradient_cap", "from 0 to 1e9")?,
-            data: &d[HEADER_LEN..],
+            heights,
+            grad_x,
+            grad_y,
+            flags,
         };
         if !full {
             return Ok(view);
@@ -278,5 +349,73 @@ impl<'a> HeightFieldView<'a> {
             return Err(bad("extremes", "the lowest and highest height and largest gradient of the contact nodes"));
         }
         Ok(view)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 5 x 3 field whose every node holds distinct values, with a hole and an edge.
+    fn field() -> HeightField {
+        let (cols, rows) = (5u32, 3u32);
+        let n = (cols * rows) as usize;
+        let mut f = HeightField {
+            source: None,
+            cols,
+            rows,
+            origin_x: Mm(1.0),
+            origin_y: Mm(2.0),
+            cell: Mm(0.5),
+            gradient_cap: 100.0,
+            heights: (0..n).map(|k| 1.0 + k as f32).collect(),
+            grad_x: (0..n).map(|k| 0.5 - k as f32).collect(),
+            grad_y: (0..n).map(|k| 0.25 * k as f32).collect(),
+            flags: alloc::vec![FIELD_CONTACT; n],
+        };
+        // Node 7 has no contact, so its values must be zero; node 8 is at a step.
+        (f.heights[7], f.grad_x[7], f.grad_y[7], f.flags[7]) = (0.0, 0.0, 0.0, 0);
+        f.flags[8] |= FIELD_EDGE;
+        f
+    }
+
+    #[test]
+    fn cell_nodes_agree_with_the_single_node_reads() {
+        let f = field();
+        let bytes = f.encode();
+        let view = HeightFieldView::parse(&bytes, 0, true).unwrap();
+        let n = f.cols * f.rows;
+        for k in 0..n + 8 {
+            let got = view.cell_nodes(k);
+            if k + f.cols + 1 >= n {
+                assert_eq!(got, None, "cell at node {k}");
+                continue;
+            }
+            let nodes = [k, k + 1, k + f.cols, k + f.cols + 1];
+            let want = CellNodes {
+                heights: nodes.map(|k| view.height_at(k)),
+                grad_x: nodes.map(|k| view.gradient_at(k).0),
+                grad_y: nodes.map(|k| view.gradient_at(k).1),
+                flags: nodes.map(|k| view.flags_at(k)),
+            };
+            assert_eq!(got, Some(want), "cell at node {k}");
+            // And both agree with the owned field the bytes were written from.
+            assert_eq!(want.heights, nodes.map(|k| f.heights[k as usize]));
+            assert_eq!(want.flags, nodes.map(|k| f.flags[k as usize]));
+        }
+        assert_eq!(view.cell_nodes(u32::MAX), None);
+    }
+
+    #[test]
+    fn single_node_reads_are_zero_past_the_last_node() {
+        let bytes = field().encode();
+        let view = HeightFieldView::parse(&bytes, 0, true).unwrap();
+        for k in [15, 16, u32::MAX / 4, u32::MAX] {
+            assert_eq!(view.height_at(k), 0.0);
+            assert_eq!(view.gradient_at(k), (0.0, 0.0));
+            assert_eq!(view.flags_at(k), 0);
+        }
+        assert_eq!(view.height_at(14), 15.0);
+        assert_eq!(view.flags_at(8), FIELD_CONTACT | FIELD_EDGE);
     }
 }

@@ -54,7 +54,7 @@ pub use container::{
 };
 pub use dots::{Dot, DotGrid, DotKind, DotRun, DotTable, DotTableView, MAX_DOT_GRID_CELLS, MAX_DOTS};
 pub use error::FormatError;
-pub use height::{FIELD_CONTACT, FIELD_EDGE, HeightField, HeightFieldView, MAX_FIELD_NODES, MAX_FIELD_SIDE};
+pub use height::{CellNodes, FIELD_CONTACT, FIELD_EDGE, HeightField, HeightFieldView, MAX_FIELD_NODES, MAX_FIELD_SIDE};
 pub use manifest::{MANIFEST_LEN, Manifest};
 pub use mask::{MAX_MASK_SAMPLES, MAX_MASK_SIDE, MaskKind, MaskLayer, MaskSamples, MaskView};
 pub use model::{Bundle, Chunk, RawChunk};

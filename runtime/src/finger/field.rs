@@ -32,30 +32,36 @@ pub fn sample(field: &HeightFieldView<'_>, x: f32, y: f32) -> Option<SurfacePoin
     if !(u >= 0.0 && v >= 0.0 && u <= (cols - 1) as f32 && v <= (rows - 1) as f32) {
         return None;
     }
-    let i = (libm::floorf(u) as u32).min(cols - 2);
-    let j = (libm::floorf(v) as u32).min(rows - 2);
+    // Here u and v are finite, at least 0 and below 16,384 (the largest
+    // side), so truncating them gives their floor.
+    let i = (u as u32).min(cols - 2);
+    let j = (v as u32).min(rows - 2);
     let (fx, fy) = (u - i as f32, v - j as f32);
-    let k00 = j * cols + i;
-    let nodes = [
-        (k00, (1.0 - fx) * (1.0 - fy)),
-        (k00 + 1, fx * (1.0 - fy)),
-        (k00 + cols, (1.0 - fx) * fy),
-        (k00 + cols + 1, fx * fy),
-    ];
-    let (mut w, mut h, mut gx, mut gy) = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
+    // One read of the cell's four nodes, listed in the order of the weights.
+    let nodes = field.cell_nodes(j * cols + i)?;
+    let weights = [(1.0 - fx) * (1.0 - fy), fx * (1.0 - fy), (1.0 - fx) * fy, fx * fy];
+    // A node without contact gets weight +0.0 instead of being skipped. The
+    // format guarantees that such a node's height and gradient are 0 (a
+    // validated view holds nothing else), so its terms are ±0.0, and adding
+    // ±0.0 to a sum that starts at +0.0 changes no bit of it: the sums below
+    // equal, bit for bit, those of a loop that skips the node, and they need
+    // no branch per node. Likewise only a contact node can have a positive
+    // masked weight, so the edge test needs no separate contact test.
+    let mut wm = [0.0f32; 4];
     let mut edge = false;
-    for (k, wk) in nodes {
-        let fl = field.flags_at(k);
-        if fl & FIELD_CONTACT == 0 {
-            continue;
-        }
-        edge |= fl & FIELD_EDGE != 0 && wk > 0.0;
-        let (a, b) = field.gradient_at(k);
-        w += wk;
-        h += wk * field.height_at(k);
-        gx += wk * a;
-        gy += wk * b;
+    for n in 0..4 {
+        let fl = nodes.flags[n];
+        wm[n] = if fl & FIELD_CONTACT != 0 { weights[n] } else { 0.0 };
+        edge |= fl & FIELD_EDGE != 0 && wm[n] > 0.0;
     }
+    // Each sum is added in node order from +0.0, as before, because
+    // floating-point addition is not associative and the results must not
+    // move by a bit.
+    let (hs, xs, ys) = (nodes.heights, nodes.grad_x, nodes.grad_y);
+    let w = 0.0 + wm[0] + wm[1] + wm[2] + wm[3];
+    let h = 0.0 + wm[0] * hs[0] + wm[1] * hs[1] + wm[2] * hs[2] + wm[3] * hs[3];
+    let gx = 0.0 + wm[0] * xs[0] + wm[1] * xs[1] + wm[2] * xs[2] + wm[3] * xs[3];
+    let gy = 0.0 + wm[0] * ys[0] + wm[1] * ys[1] + wm[2] * ys[2] + wm[3] * ys[3];
     if w < 0.5 {
         return None;
     }

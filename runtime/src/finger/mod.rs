@@ -32,8 +32,15 @@ use taxel_format::{BundleView, ChunkView, Family, FamilyParams, FingerParams, He
 
 pub use field::SurfacePoint;
 
-/// Most samples the direction window can hold (the profile allows 1..=64).
-const RING: usize = 65;
+/// Most steps the direction window spans (the profile allows 1..=64); the
+/// window holds one sample more than it has steps.
+const WINDOW_MAX: usize = 64;
+
+/// Capacity of the ring of recent positions: the power of two above the
+/// largest window's `WINDOW_MAX + 1` samples, so that slots are found with a
+/// mask instead of a division by 65.
+const RING: usize = 128;
+const RING_MASK: usize = RING - 1;
 
 /// One of the three actuators. The discriminant is its index in a frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -198,8 +205,12 @@ impl<'a> FingerPlayer<'a> {
         if self.len < 2 {
             return None;
         }
-        let newest = self.ring[(self.head + RING - 1) % RING];
-        let oldest = self.ring[(self.head + RING - self.len) % RING];
+        // `head` is the slot after the newest sample and the window holds
+        // `len` samples, so both slots are `head` minus a count, modulo RING.
+        // RING divides `usize::MAX + 1`, so a wrapping subtraction and the
+        // mask give exactly that remainder.
+        let newest = self.ring[self.head.wrapping_sub(1) & RING_MASK];
+        let oldest = self.ring[self.head.wrapping_sub(self.len) & RING_MASK];
         let (dx, dy) = (newest.0 - oldest.0, newest.1 - oldest.1);
         let d = libm::sqrtf(dx * dx + dy * dy);
         if !(d > 0.0 && d >= self.params.min_move_mm) {
@@ -216,9 +227,9 @@ impl<'a> FingerPlayer<'a> {
             return FingerFrame::off(t.tick);
         }
         // The window spans `direction_window` steps: that many samples plus one.
-        let cap = (self.params.direction_window as usize).clamp(1, RING - 1) + 1;
-        self.ring[self.head] = (x, y);
-        self.head = (self.head + 1) % RING;
+        let cap = (self.params.direction_window as usize).clamp(1, WINDOW_MAX) + 1;
+        self.ring[self.head & RING_MASK] = (x, y);
+        self.head = (self.head + 1) & RING_MASK;
         self.len = (self.len + 1).min(cap);
         let Some(p) = field::sample(&self.field, x, y) else {
             return FingerFrame::off(t.tick);

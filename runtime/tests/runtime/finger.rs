@@ -4,10 +4,10 @@
 
 use proptest::prelude::*;
 use taxel_format::{
-    Bundle, BundleView, Chunk, FIELD_CONTACT, FIELD_EDGE, FamilyParams, FingerParams, HeightField, Manifest, Mm, Tick,
-    profiles,
+    Bundle, BundleView, Chunk, FIELD_CONTACT, FIELD_EDGE, FamilyParams, FingerParams, HeightField, HeightFieldView,
+    Manifest, Mm, Tick, profiles,
 };
-use taxel_runtime::finger::{Actuator, FingerError, FingerPlayer, Touch, field};
+use taxel_runtime::finger::{Actuator, FingerError, FingerFrame, FingerPlayer, Touch, field};
 
 /// A field sampled from `h(x, y)` with its exact gradient, on a grid from
 /// (0, 0) mm every `cell` mm; nodes where `h` is `None` have no contact.
@@ -282,6 +282,274 @@ proptest! {
                 prop_assert!(f.period_ms >= 10.0 && f.period_ms <= 210.0);
             }
             prop_assert!(f.levels().iter().filter(|&&v| v > 0.0).count() <= 1);
+        }
+    }
+}
+
+/// The field sampler as it was before the four-node read (commit 83accde):
+/// sixteen single-node reads, a loop that skips the nodes without contact,
+/// and a floor. The fast sampler must match it bit for bit.
+fn reference_sample(field: &HeightFieldView<'_>, x: f32, y: f32) -> Option<field::SurfacePoint> {
+    let cell = field.cell.0;
+    let u = (x - field.origin_x.0) / cell;
+    let v = (y - field.origin_y.0) / cell;
+    let (cols, rows) = (field.cols, field.rows);
+    if !(u >= 0.0 && v >= 0.0 && u <= (cols - 1) as f32 && v <= (rows - 1) as f32) {
+        return None;
+    }
+    let i = (u.floor() as u32).min(cols - 2);
+    let j = (v.floor() as u32).min(rows - 2);
+    let (fx, fy) = (u - i as f32, v - j as f32);
+    let k00 = j * cols + i;
+    let nodes = [
+        (k00, (1.0 - fx) * (1.0 - fy)),
+        (k00 + 1, fx * (1.0 - fy)),
+        (k00 + cols, (1.0 - fx) * fy),
+        (k00 + cols + 1, fx * fy),
+    ];
+    let (mut w, mut h, mut gx, mut gy) = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
+    let mut edge = false;
+    for (k, wk) in nodes {
+        let fl = field.flags_at(k);
+        if fl & FIELD_CONTACT == 0 {
+            continue;
+        }
+        edge |= fl & FIELD_EDGE != 0 && wk > 0.0;
+        let (a, b) = field.gradient_at(k);
+        w += wk;
+        h += wk * field.height_at(k);
+        gx += wk * a;
+        gy += wk * b;
+    }
+    if w < 0.5 {
+        return None;
+    }
+    Some(field::SurfacePoint { height: h / w, grad_x: gx / w, grad_y: gy / w, edge })
+}
+
+/// The player as it was before (commit 83accde): a ring of 65 positions
+/// indexed modulo 65, and the reference sampler.
+struct ReferencePlayer<'a> {
+    field: HeightFieldView<'a>,
+    params: FingerParams,
+    k1: f32,
+    k2: f32,
+    ring: [(f32, f32); 65],
+    len: usize,
+    head: usize,
+}
+
+impl<'a> ReferencePlayer<'a> {
+    const RING: usize = 65;
+
+    fn new(field: HeightFieldView<'a>, params: FingerParams) -> Self {
+        let hmax = field.height_min.abs().max(field.height_max.abs());
+        let gmax = field.max_gradient;
+        let k1 = if gmax > 0.0 { params.rhythm_max / gmax } else { 0.0 };
+        let k2 = if hmax > 0.0 { params.intensity_max / hmax } else { 0.0 };
+        ReferencePlayer { field, params, k1, k2, ring: [(0.0, 0.0); 65], len: 0, head: 0 }
+    }
+
+    fn direction(&self) -> Option<(f32, f32)> {
+        if self.len < 2 {
+            return None;
+        }
+        let newest = self.ring[(self.head + Self::RING - 1) % Self::RING];
+        let oldest = self.ring[(self.head + Self::RING - self.len) % Self::RING];
+        let (dx, dy) = (newest.0 - oldest.0, newest.1 - oldest.1);
+        let d = (dx * dx + dy * dy).sqrt();
+        if !(d > 0.0 && d >= self.params.min_move_mm) {
+            return None;
+        }
+        Some((dx / d, dy / d))
+    }
+
+    fn sample(&mut self, t: Touch) -> FingerFrame {
+        let (x, y) = (t.x.0, t.y.0);
+        if !t.contact || !x.is_finite() || !y.is_finite() {
+            (self.len, self.head) = (0, 0);
+            return FingerFrame::off(t.tick);
+        }
+        let cap = (self.params.direction_window as usize).clamp(1, Self::RING - 1) + 1;
+        self.ring[self.head] = (x, y);
+        self.head = (self.head + 1) % Self::RING;
+        self.len = (self.len + 1).min(cap);
+        let Some(p) = reference_sample(&self.field, x, y) else {
+            return FingerFrame::off(t.tick);
+        };
+        let (local, lateral, moving) = match self.direction() {
+            Some((vx, vy)) => {
+                let f = p.grad_x * vx + p.grad_y * vy;
+                (f, f * vx, true)
+            }
+            None => (0.0, 0.0, false),
+        };
+        let active = if lateral < -self.params.flat_slope {
+            Actuator::Left
+        } else if lateral > self.params.flat_slope {
+            Actuator::Right
+        } else {
+            Actuator::Down
+        };
+        let rhythm = (self.k1 * local.abs()).clamp(0.0, self.params.rhythm_max);
+        let intensity = (self.k2 * p.height.abs()).clamp(0.0, self.params.intensity_max);
+        FingerFrame {
+            tick: t.tick,
+            active: Some(active),
+            intensity,
+            rhythm,
+            period_ms: (105.0 - rhythm) / 0.5,
+            height: p.height,
+            local_gradient: local,
+            moving,
+            on_edge: p.edge,
+        }
+    }
+}
+
+/// Bit patterns of a surface point, so that `-0.0` and `0.0` differ.
+fn point_bits(p: Option<field::SurfacePoint>) -> Option<(u32, u32, u32, bool)> {
+    p.map(|p| (p.height.to_bits(), p.grad_x.to_bits(), p.grad_y.to_bits(), p.edge))
+}
+
+/// Bit patterns of a frame.
+fn frame_bits(f: FingerFrame) -> (Tick, Option<Actuator>, [u32; 5], bool, bool) {
+    let floats = [f.intensity, f.rhythm, f.period_ms, f.height, f.local_gradient].map(f32::to_bits);
+    (f.tick, f.active, floats, f.moving, f.on_edge)
+}
+
+/// One node of a random field: contact, edge, height and gradient.
+type Node = (bool, bool, f32, f32, f32);
+
+/// A random field of 2..=9 by 2..=9 nodes at a cell size that is rarely a
+/// power of two, with holes (no-contact nodes, some holding -0.0, which the
+/// format allows), edges, and heights that are sometimes exactly ±0.
+fn random_field() -> impl Strategy<Value = HeightField> {
+    let node = (
+        prop::bool::weighted(0.8),
+        prop::bool::weighted(0.2),
+        prop_oneof![8 => -5.0f32..5.0, 1 => Just(0.0f32), 1 => Just(-0.0f32)],
+        -3.0f32..3.0,
+        -3.0f32..3.0,
+    );
+    (2u32..10, 2u32..10, 0.05f32..3.0, -20.0f32..20.0, -20.0f32..20.0, any::<bool>()).prop_flat_map(
+        move |(cols, rows, cell, ox, oy, neg_zero_holes)| {
+            prop::collection::vec(node.clone(), (cols * rows) as usize).prop_map(move |nodes: Vec<Node>| {
+                let n = nodes.len();
+                let zero = if neg_zero_holes { -0.0 } else { 0.0 };
+                let mut f = HeightField {
+                    source: None,
+                    cols,
+                    rows,
+                    origin_x: Mm(ox),
+                    origin_y: Mm(oy),
+                    cell: Mm(cell),
+                    gradient_cap: 10.0,
+                    heights: vec![0.0; n],
+                    grad_x: vec![0.0; n],
+                    grad_y: vec![0.0; n],
+                    flags: vec![0; n],
+                };
+                for (k, (contact, edge, h, gx, gy)) in nodes.into_iter().enumerate() {
+                    (f.heights[k], f.grad_x[k], f.grad_y[k], f.flags[k]) = if contact {
+                        (h, gx, gy, FIELD_CONTACT | if edge { FIELD_EDGE } else { 0 })
+                    } else {
+                        (zero, zero, zero, 0)
+                    };
+                }
+                f
+            })
+        },
+    )
+}
+
+/// Where to look on a field: a fraction of its extent (beyond it on every
+/// side too), exactly a node, or not a number.
+#[derive(Debug, Clone, Copy)]
+enum Spot {
+    Frac(f32, f32),
+    Node(u32, u32),
+    Nan,
+}
+
+fn spot() -> impl Strategy<Value = Spot> {
+    prop_oneof![
+        8 => (-0.2f32..1.2, -0.2f32..1.2).prop_map(|(a, b)| Spot::Frac(a, b)),
+        3 => (0u32..11, 0u32..11).prop_map(|(i, j)| Spot::Node(i, j)),
+        1 => Just(Spot::Nan),
+    ]
+}
+
+fn place(f: &HeightFieldView<'_>, s: Spot) -> (f32, f32) {
+    let (ox, oy, c) = (f.origin_x.0, f.origin_y.0, f.cell.0);
+    match s {
+        Spot::Frac(a, b) => (ox + a * c * (f.cols - 1) as f32, oy + b * c * (f.rows - 1) as f32),
+        Spot::Node(i, j) => (ox + i as f32 * c, oy + j as f32 * c),
+        Spot::Nan => (f32::NAN, oy),
+    }
+}
+
+fn field_view(bytes: &[u8]) -> HeightFieldView<'_> {
+    let view = BundleView::parse(bytes).unwrap();
+    *FingerPlayer::new(&view).unwrap().field()
+}
+
+proptest! {
+    /// The four-node sampler gives, bit for bit, what the sixteen-read
+    /// sampler gave: inside, outside, on nodes and cell sides, next to
+    /// holes and edges.
+    #[test]
+    fn field_sampling_matches_the_reference_bit_for_bit(
+        f in random_field(),
+        spots in prop::collection::vec(spot(), 1..64),
+    ) {
+        let bytes = bytes_of(f);
+        let hf = field_view(&bytes);
+        for s in spots {
+            let (x, y) = place(&hf, s);
+            prop_assert_eq!(
+                point_bits(field::sample(&hf, x, y)),
+                point_bits(reference_sample(&hf, x, y)),
+                "{:?} at ({}, {})", s, x, y
+            );
+        }
+    }
+
+    /// The player gives, bit for bit, the frames and directions that the
+    /// 65-slot player gave, over walks long enough to wrap both rings, with
+    /// jumps, lifts, non-finite positions, every window size (and sizes
+    /// past the profile's range, which are clamped) and any minimum move.
+    #[test]
+    fn player_matches_the_reference_bit_for_bit(
+        f in random_field(),
+        window in prop_oneof![1u32..=64, Just(0u32), Just(65u32), Just(1000u32)],
+        min_move in prop_oneof![0.0f32..2.0, Just(0.0f32)],
+        start in spot(),
+        steps in prop::collection::vec(
+            (-1.0f32..1.0, -1.0f32..1.0, prop::bool::weighted(0.97), prop::option::weighted(0.03, spot())),
+            1..300,
+        ),
+    ) {
+        let bytes = bytes_of(f);
+        let hf = field_view(&bytes);
+        let params = FingerParams { direction_window: window, min_move_mm: min_move, ..finger3().1 };
+        let mut fast = FingerPlayer::with_field(hf, params);
+        let mut slow = ReferencePlayer::new(hf, params);
+        let (mut x, mut y) = place(&hf, start);
+        let step = hf.cell.0 * 0.7;
+        for (k, (dx, dy, contact, jump)) in steps.into_iter().enumerate() {
+            (x, y) = match jump {
+                Some(s) => place(&hf, s),
+                None if !x.is_finite() => place(&hf, Spot::Frac(0.5, 0.5)),
+                None => (x + dx * step, y + dy * step),
+            };
+            let t = Touch { tick: Tick(k as u64), x: Mm(x), y: Mm(y), contact };
+            let (a, b) = (fast.sample(t), slow.sample(t));
+            prop_assert_eq!(frame_bits(a), frame_bits(b), "sample {} at ({}, {})", k, x, y);
+            prop_assert_eq!(
+                fast.direction().map(|(a, b)| (a.to_bits(), b.to_bits())),
+                slow.direction().map(|(a, b)| (a.to_bits(), b.to_bits()))
+            );
         }
     }
 }
