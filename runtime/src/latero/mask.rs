@@ -3,8 +3,9 @@
 //!
 //! The kernel works on groups of [`LANES`] actuators of one row. Per actuator
 //! it reads two packed sample pairs, the pair above it and the pair below
-//! it, each at an offset clamped into the mask, so that the read is in
-//! bounds by construction and needs no branch. It interpolates horizontally
+//! it; the eight reads of a group share one window whose bounds are checked
+//! once, and the compiler proves each read in it in bounds, so the reads
+//! themselves carry no check. It interpolates horizontally
 //! in fixed point: the pair's 16-bit lanes are multiplied by the weights
 //! `(W − w, w)` and added in one instruction (`pmaddwd` on x86-64). It then
 //! interpolates vertically, and applies the primitive, in `f32` lanes.
@@ -124,12 +125,15 @@ impl<'a> MaskLayer<'a> {
     /// Adds this layer's deflection for rows `f.r0..f.r1` to `acc`.
     #[inline]
     pub(crate) fn accumulate(&self, f: &Frame, acc: &mut Acc) {
-        // `pairs(row0, row1, taps)` reads, for each of a group's four taps,
-        // the sample at that byte offset of the row and its right
-        // neighbour, and returns them as (left, right) i16 lanes, above and
-        // below. Each offset is first clamped to the last place a pair
-        // starts: a tap is at most width − 2, so for a valid layer the
-        // clamp changes nothing, and the read is in bounds by construction.
+        // `pairs(b0, b1, taps)` reads, for each of a group's four taps, the
+        // sample at byte offset b + tap and its right neighbour, for the
+        // mask rows starting at b0 (above the actuators) and b1 (below),
+        // and returns them as (left, right) i16 lanes. The caller passes
+        // b0 ≤ b1 and taps that grow, clamped to the last one, so all eight
+        // pairs lie in the window that ends with the last tap's pair in row
+        // b1: one check of that window, and the compiler proves every read
+        // in it in bounds (a tap is at most width − 2, so for a valid layer
+        // the check always passes; if it ever failed the group would add 0).
         let s = self.samples;
         if self.wmax == 0.0 {
             // A mask one sample wide: the sample twice (its right weight is 0).
@@ -147,35 +151,41 @@ impl<'a> MaskLayer<'a> {
                 (cast(u32x4::new(t.map(|t| one(b0 + t)))), cast(u32x4::new(t.map(|t| one(b1 + t)))))
             })
         } else if self.wide {
-            // 16-bit samples lose their lowest bit to fit the i16 lanes.
-            let Some(lim) = s.len().checked_sub(4) else { return };
-            let pair = |a: u32| -> u32 {
-                let a = (a as usize).min(lim);
-                s.get(a..a + 4).map_or(0, |s| u32::from_le_bytes([s[0], s[1], s[2], s[3]]))
-            };
+            // 16-bit samples lose their lowest bit to fit the i16 lanes; the
+            // reads share one window, as for 8-bit samples below.
             let half = |v: u32x4| -> i16x8 { cast((v >> 1) & u32x4::splat(0x7fff_7fff)) };
             self.accumulate_in(f, acc, |b0, b1, t: [u32; LANES]| {
+                let (b0, b1, last) = (b0 as usize, b1 as usize, t[LANES - 1] as usize);
+                let Some(win) = s.get(..b1 + last + 4) else {
+                    return (i16x8::ZERO, i16x8::ZERO);
+                };
+                let pair = |a: usize| win.get(a..a + 4).map_or(0, |p| u32::from_le_bytes([p[0], p[1], p[2], p[3]]));
+                let t = t.map(|t| (t as usize).min(last));
                 (half(u32x4::new(t.map(|t| pair(b0 + t)))), half(u32x4::new(t.map(|t| pair(b1 + t)))))
             })
         } else {
             // Eight u16 pairs fill one u16x8, whose bytes widen to two i16x8.
-            let Some(lim) = s.len().checked_sub(2) else { return };
-            let pair = |a: u32| -> u16 {
-                let a = (a as usize).min(lim);
-                s.get(a..a + 2).map_or(0, |s| u16::from_le_bytes([s[0], s[1]]))
-            };
-            self.accumulate_in(f, acc, |b0, b1, [t0, t1, t2, t3]: [u32; LANES]| {
-                let v = u16x8::new([
-                    pair(b0 + t0),
-                    pair(b0 + t1),
-                    pair(b0 + t2),
-                    pair(b0 + t3),
-                    pair(b1 + t0),
-                    pair(b1 + t1),
-                    pair(b1 + t2),
-                    pair(b1 + t3),
-                ]);
-                let bytes: u8x16 = cast(v);
+            // The pairs lie between the first tap of the upper row and the
+            // end of the last tap's pair in the lower row: one check of that
+            // window covers all eight reads (the caller passes b0 ≤ b1 and
+            // taps bounded by the last one).
+            self.accumulate_in(f, acc, |b0, b1, t: [u32; LANES]| {
+                let (b0, b1, last) = (b0 as usize, b1 as usize, t[LANES - 1] as usize);
+                let Some(win) = s.get(..b1 + last + 2) else {
+                    return (i16x8::ZERO, i16x8::ZERO);
+                };
+                let pair = |a: usize| win.get(a..a + 2).map_or(0, |p| u16::from_le_bytes([p[0], p[1]]));
+                let t = t.map(|t| (t as usize).min(last));
+                let bytes: u8x16 = cast(u16x8::new([
+                    pair(b0 + t[0]),
+                    pair(b0 + t[1]),
+                    pair(b0 + t[2]),
+                    pair(b0 + t[3]),
+                    pair(b1 + t[0]),
+                    pair(b1 + t[1]),
+                    pair(b1 + t[2]),
+                    pair(b1 + t[3]),
+                ]));
                 (i16x8::from_u8x16_low(bytes), i16x8::from_u8x16_high(bytes))
             })
         }
@@ -281,11 +291,14 @@ impl<'a> MaskLayer<'a> {
                 let (off0, off1): (&[u32; CHUNK], &[u32; CHUNK]) = (cast_ref(&off0), cast_ref(&off1));
                 let wy: &[f32; CHUNK] = cast_ref(&wy);
                 for g in 0..groups {
+                    // The taps of a group only grow (columns move right):
+                    // saying so with a min lets each row check one window.
                     let (taps, w) = (taps[g], weights[g]);
+                    let taps = taps.map(|t| t.min(taps[LANES - 1]));
                     let group_phase = base + col_phase + (g * LANES) as u32 as f32 * step_col;
                     let cols = start + g * LANES;
                     for i in 0..m.min(CHUNK) {
-                        let (b0, b1, r) = (off0[i], off1[i], rs + i);
+                        let (b0, b1, r) = (off0[i].min(off1[i]), off1[i], rs + i);
                         let (top, bot) = pairs(b0, b1, taps);
                         let t = f32x4::from_i32x4(top.dot(w));
                         let b = f32x4::from_i32x4(bot.dot(w));
