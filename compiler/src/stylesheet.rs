@@ -161,13 +161,13 @@ impl StyleSheet {
             let msg = e.message().trim_end().replace('\n', " ");
             err_at(e.span().map(|s| s.start), msg)
         })?;
-        if let Some(v) = &file.version {
-            if *v.get_ref() != 1 {
-                return Err(err_at(
-                    Some(v.span().start),
-                    format!("unknown style sheet version {}, expected 1", v.get_ref()),
-                ));
-            }
+        if let Some(v) = &file.version
+            && *v.get_ref() != 1
+        {
+            return Err(err_at(
+                Some(v.span().start),
+                format!("unknown style sheet version {}, expected 1", v.get_ref()),
+            ));
         }
         let mut rules = Vec::with_capacity(file.rule.len());
         for r in file.rule {

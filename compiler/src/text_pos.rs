@@ -23,13 +23,13 @@ pub(crate) fn raw_offset(raw: &str, decoded_offset: usize) -> usize {
     let mut i = 0usize;
     let b = raw.as_bytes();
     while i < raw.len() && decoded < decoded_offset {
-        if b[i] == b'&' {
-            if let Some(end) = raw[i..].find(';') {
-                let ent = &raw[i + 1..i + end];
-                decoded += decoded_len(ent);
-                i += end + 1;
-                continue;
-            }
+        if b[i] == b'&'
+            && let Some(end) = raw[i..].find(';')
+        {
+            let ent = &raw[i + 1..i + end];
+            decoded += decoded_len(ent);
+            i += end + 1;
+            continue;
         }
         if b[i] == b'\r' && b.get(i + 1) == Some(&b'\n') {
             decoded += 1;

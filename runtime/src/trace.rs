@@ -244,10 +244,10 @@ impl Trace {
             if t_ms < 0.0 {
                 return Err(TraceError::NegativeTime { line, t_ms });
             }
-            if let Some(prev) = samples.last() {
-                if t_ms < prev.t_ms {
-                    return Err(TraceError::TimeBackwards { line, t_ms, previous: prev.t_ms });
-                }
+            if let Some(prev) = samples.last()
+                && t_ms < prev.t_ms
+            {
+                return Err(TraceError::TimeBackwards { line, t_ms, previous: prev.t_ms });
             }
             samples.push(TraceSample { t_ms, x_mm, y_mm, contact });
         }

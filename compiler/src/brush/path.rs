@@ -89,15 +89,15 @@ fn line_hits(a: f64, b: f64, pitch: f64, n: u16, mut f: impl FnMut(f64, f64)) {
 fn push_point(out: &mut Vec<VirtualPoint>, grid: &GridGeometry, p: VirtualPoint) {
     let (x, y) = grid.snap(p.x, p.y);
     let p = VirtualPoint { x, y, ..p };
-    if let Some(last) = out.last_mut() {
-        if (p.s - last.s).abs() <= DUPLICATE_MM.max(grid.tolerance()) {
-            let (lx, ly) = grid.snap(last.x, last.y);
-            // A crossing found on a vertical line has an exact x, one on a
-            // horizontal line an exact y; keep the exact one of each.
-            last.x = if on_line(x, grid.pitch_x, grid.cols) { x } else { lx };
-            last.y = if on_line(y, grid.pitch_y, grid.rows) { y } else { ly };
-            return;
-        }
+    if let Some(last) = out.last_mut()
+        && (p.s - last.s).abs() <= DUPLICATE_MM.max(grid.tolerance())
+    {
+        let (lx, ly) = grid.snap(last.x, last.y);
+        // A crossing found on a vertical line has an exact x, one on a
+        // horizontal line an exact y; keep the exact one of each.
+        last.x = if on_line(x, grid.pitch_x, grid.cols) { x } else { lx };
+        last.y = if on_line(y, grid.pitch_y, grid.rows) { y } else { ly };
+        return;
     }
     out.push(p);
 }

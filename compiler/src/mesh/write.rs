@@ -111,7 +111,7 @@ impl HeightMesh {
     /// A binary glTF (`.glb`).
     pub fn to_glb(&self) -> Vec<u8> {
         let mut json = self.json(None).into_bytes();
-        while json.len() % 4 != 0 {
+        while !json.len().is_multiple_of(4) {
             json.push(b' ');
         }
         let bin = self.buffer();

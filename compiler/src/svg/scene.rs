@@ -199,10 +199,10 @@ impl<'s, 't> Walker<'s, 't> {
                 Node::Image(im) => {
                     if let Some((ei, _)) = self.src.get(im.id()) {
                         self.scene.seen.insert(ei);
-                        if let Some(Declaration::Styles(s)) = self.resolve(ei, None, None, inherited) {
-                            if !s.is_empty() {
-                                self.scene.images.push(ei);
-                            }
+                        if let Some(Declaration::Styles(s)) = self.resolve(ei, None, None, inherited)
+                            && !s.is_empty()
+                        {
+                            self.scene.images.push(ei);
                         }
                     }
                 }

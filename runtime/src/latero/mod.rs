@@ -332,17 +332,18 @@ fn quantise_block(out: &mut [u16; BLOCK], acc: &Acc, max_code: f32) -> u32 {
     let bias = i32x4::splat(ROUND_BITS.to_bits() as i32);
     let top = i16x8::splat(max_code as i16);
     let mut over = i16x8::ZERO;
-    let (sums, _padding) = acc.as_chunks::<LANES>();
-    let (outs, _) = out.as_chunks_mut::<8>();
-    let code = |a: &[f32; LANES]| -> i32x4 {
-        let v = f32x4::new(*a).fast_max(f32x4::ZERO).fast_min(f32x4::splat(2.0));
-        cast::<f32x4, i32x4>(v * scale + round) - bias
-    };
-    for (o, a) in outs.iter_mut().zip(sums.chunks_exact(2)) {
-        let c = i16x8::from_i32x8_saturate(cast([code(&a[0]), code(&a[1])]));
+    for (o, a) in out.chunks_exact_mut(8).zip(acc.chunks_exact(8)) {
+        let code = |a: &[f32]| -> i32x4 {
+            let a: [f32; 4] = a.try_into().unwrap_or([0.0; 4]);
+            let v = f32x4::new(a).fast_max(f32x4::ZERO).fast_min(f32x4::splat(2.0));
+            cast::<f32x4, i32x4>(v * scale + round) - bias
+        };
+        let c = i16x8::from_i32x8_saturate(cast([code(&a[..4]), code(&a[4..])]));
         // A true lane compares as −1.
         over -= c.simd_gt(top);
-        *o = cast(c.max(i16x8::ZERO).min(top));
+        if let Ok(o) = <&mut [u16; 8]>::try_from(o) {
+            *o = cast(c.max(i16x8::ZERO).min(top));
+        }
     }
     over.to_array().iter().map(|&n| n as u32).sum()
 }

@@ -75,11 +75,11 @@ pub fn run(bundle: &Path, view: &BundleView<'_>, trace: Option<&Path>, out: Opti
         }
         None => {
             let stdout = io::stdout();
-            if let Err(e) = write_frames(&player, BufWriter::new(stdout.lock())) {
-                if e.kind() != io::ErrorKind::BrokenPipe {
-                    eprintln!("error: standard output: {e}");
-                    return Ok(ExitCode::from(2));
-                }
+            if let Err(e) = write_frames(&player, BufWriter::new(stdout.lock()))
+                && e.kind() != io::ErrorKind::BrokenPipe
+            {
+                eprintln!("error: standard output: {e}");
+                return Ok(ExitCode::from(2));
             }
         }
     }
