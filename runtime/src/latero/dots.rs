@@ -36,8 +36,8 @@ fn dot_profile(s: f32) -> f32 {
 /// bit of the square root (both use the same cosine), so within 1e-6.
 #[inline(always)]
 pub(crate) fn dot_profile4(s: f32x4) -> f32x4 {
-    // NaN and s ≥ 1 fail `s < 1` and rest; the square root of a clamped s
-    // keeps every lane finite whatever it holds.
+    // NaN and s ≥ 1 fail `s < 1` and rest: the last select gives them 0
+    // whatever the square root and the cosine made of them.
     let inside = s.simd_lt(f32x4::ONE);
     let r = s.fast_max(f32x4::ZERO).fast_min(f32x4::ONE).sqrt();
     let rim = f32x4::splat(0.5) + f32x4::splat(0.5) * cos_turns4((r - PLATEAU) * (0.5 / (1.0 - PLATEAU)));
@@ -69,12 +69,13 @@ impl<'a> DotLayer<'a> {
     /// density, never on the size of the table.
     #[inline]
     pub(crate) fn accumulate(&self, f: &Frame, acc: &mut Acc) {
-        accumulate(&self.table, self.inv_cell, f, acc)
+        accumulate_table(&self.table, self.inv_cell, f, acc)
     }
 }
 
+/// [`DotLayer::accumulate`] for table `t` with cells of size `1 / inv_cell`.
 #[inline(always)]
-fn accumulate(t: &DotTableView<'_>, inv_cell: f32, f: &Frame, acc: &mut Acc) {
+fn accumulate_table(t: &DotTableView<'_>, inv_cell: f32, f: &Frame, acc: &mut Acc) {
     let (r_lo, r_hi) = (f.r0.max(f.row_lo), f.r1.min(f.row_hi));
     if t.is_empty() || f.col_lo >= f.col_hi || r_lo >= r_hi {
         return;
