@@ -16,7 +16,7 @@ use anyhow::{Context, Result};
 use rayon::prelude::*;
 use serde::Deserialize;
 use taxel_format::{BundleView, Chunk, Family, Mm, Tick};
-use taxel_runtime::finger::{FingerPlayer, Touch};
+use taxel_runtime::finger::FingerPlayer;
 use taxel_runtime::grid::{ActuatorDrive, GridPlayer};
 use taxel_runtime::latero::LateroPlayer;
 use taxel_runtime::sinks::wav::{SampleBits, write_wav_file};
@@ -221,18 +221,7 @@ fn write_motors(path: &Path, bytes: &[u8], trace: &Path) -> Result<()> {
     let file = std::fs::File::open(trace).with_context(|| format!("cannot read {}", trace.display()))?;
     let tr = taxel_runtime::trace::Trace::parse(std::io::BufReader::new(file))
         .map_err(|e| anyhow::anyhow!("{}: {e}", trace.display()))?;
-    let rate = view.manifest().profile.rate_hz as f64;
-    let mut text = String::from("t_ms,left,down,right,period_ms\n");
-    for s in tr.samples() {
-        let tick = Tick((s.t_ms * rate / 1000.0).round() as u64);
-        let f = player.sample(Touch { tick, x: Mm(s.x_mm as f32), y: Mm(s.y_mm as f32), contact: s.contact });
-        let [l, d, r] = f.levels();
-        let _ = write!(text, "{},{l:.4},{d:.4},{r:.4},", s.t_ms);
-        if f.active.is_some() {
-            let _ = write!(text, "{:.2}", f.period_ms);
-        }
-        text.push('\n');
-    }
+    let text = crate::cmd::play::finger::motors_csv(&mut player, &tr, view.manifest().profile.rate_hz);
     write_atomic(path, text.as_bytes()).with_context(|| format!("cannot write {}", path.display()))
 }
 

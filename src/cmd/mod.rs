@@ -12,7 +12,7 @@ mod device;
 mod inspect;
 mod load;
 mod pack;
-mod play;
+pub(crate) mod play;
 pub(crate) mod preview;
 mod profiles;
 mod report;

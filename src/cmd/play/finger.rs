@@ -17,6 +17,25 @@ use taxel_format::{BundleView, Mm, Tick};
 use taxel_runtime::finger::{FingerPlayer, Touch};
 use taxel_runtime::trace::Trace;
 
+/// The motors CSV of `player` along `trace` (one row per trace sample), for
+/// a profile running at `rate_hz`; `taxel play` and the demo both write it.
+pub(crate) fn motors_csv(player: &mut FingerPlayer<'_>, trace: &Trace, rate_hz: u32) -> String {
+    let rate = rate_hz as f64;
+    let mut csv = String::from("t_ms,left,down,right,period_ms\n");
+    for s in trace.samples() {
+        // The parser bounds times, so the tick is finite and non-negative.
+        let tick = Tick((s.t_ms * rate / 1000.0).round() as u64);
+        let f = player.sample(Touch { tick, x: Mm(s.x_mm as f32), y: Mm(s.y_mm as f32), contact: s.contact });
+        let [l, d, r] = f.levels();
+        let _ = write!(csv, "{},{l:.4},{d:.4},{r:.4},", s.t_ms);
+        if f.active.is_some() {
+            let _ = write!(csv, "{:.2}", f.period_ms);
+        }
+        csv.push('\n');
+    }
+    csv
+}
+
 /// Plays `view` on the trace at `trace_path`.
 pub fn run(bundle: &Path, view: &BundleView<'_>, trace_path: Option<&Path>, out: Option<&Path>) -> Result<ExitCode> {
     let Some(trace_path) = trace_path else {
@@ -38,19 +57,7 @@ pub fn run(bundle: &Path, view: &BundleView<'_>, trace_path: Option<&Path>, out:
             return Ok(ExitCode::from(1));
         }
     };
-    let rate = view.manifest().profile.rate_hz as f64;
-    let mut csv = String::from("t_ms,left,down,right,period_ms\n");
-    for s in trace.samples() {
-        // The parser bounds times, so the tick is finite and non-negative.
-        let tick = Tick((s.t_ms * rate / 1000.0).round() as u64);
-        let f = player.sample(Touch { tick, x: Mm(s.x_mm as f32), y: Mm(s.y_mm as f32), contact: s.contact });
-        let [l, d, r] = f.levels();
-        let _ = write!(csv, "{},{l:.4},{d:.4},{r:.4},", s.t_ms);
-        if f.active.is_some() {
-            let _ = write!(csv, "{:.2}", f.period_ms);
-        }
-        csv.push('\n');
-    }
+    let csv = motors_csv(&mut player, &trace, view.manifest().profile.rate_hz);
     match out {
         Some(path) => {
             // Through a temporary file in the same folder: never a partial output.

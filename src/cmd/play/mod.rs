@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use anyhow::Result;
 use taxel_format::{BundleView, Family};
 
-mod finger;
+pub(crate) mod finger;
 mod grid;
 mod latero;
 
