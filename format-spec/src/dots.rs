@@ -205,16 +205,18 @@ impl DotTable {
 
 /// The dots of a run of cells ([`DotTableView::row_run`]), read in place.
 #[derive(Debug, Clone)]
-pub struct DotRun<'a>(core::slice::ChunksExact<'a, u8>);
+pub struct DotRun<'a>(&'a [u8]);
 
 impl Iterator for DotRun<'_> {
     type Item = Dot;
 
     #[inline]
     fn next(&mut self) -> Option<Dot> {
-        // Every chunk is DOT_LEN bytes, so the fields below are read at
-        // constant offsets of a fixed-size array with no bounds checks.
-        let d: &[u8; DOT_LEN] = self.0.next()?.try_into().ok()?;
+        // The run is whole dots, taken DOT_LEN bytes at a time, so the fields
+        // below are read at constant offsets of a fixed-size array with no
+        // bounds checks (and no division finds the number of dots).
+        let (d, rest) = self.0.split_first_chunk::<DOT_LEN>()?;
+        self.0 = rest;
         let w = |o: usize| [d[o], d[o + 1], d[o + 2], d[o + 3]];
         Some(Dot {
             x: Mm(f32::from_le_bytes(w(0))),
@@ -226,7 +228,8 @@ impl Iterator for DotRun<'_> {
     }
 
     fn size_hint(&self) -> (usize, Option<usize>) {
-        self.0.size_hint()
+        let n = self.0.len() / DOT_LEN;
+        (n, Some(n))
     }
 }
 
@@ -298,7 +301,7 @@ impl<'a> DotTableView<'a> {
         } else {
             &[]
         };
-        DotRun(bytes.chunks_exact(DOT_LEN))
+        DotRun(bytes)
     }
 
     /// Calls `f` for every dot whose disc may contain the point `(x, y)`

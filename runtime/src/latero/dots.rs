@@ -4,8 +4,8 @@ use taxel_format::DotTableView;
 
 use wide::{f32x4, i32x4};
 
-use super::osc::{ceil_in, cos_turns4, floor_in};
-use super::{Acc, Frame, LANES};
+use super::osc::{ceil_in, cos_turns4_half, floor_in};
+use super::{Acc, Frame, LANES, add_lanes};
 
 /// Lane offsets 0, 1, 2, 3.
 const LANE: i32x4 = i32x4::new([0, 1, 2, 3]);
@@ -40,7 +40,9 @@ pub(crate) fn dot_profile4(s: f32x4) -> f32x4 {
     // whatever the square root and the cosine made of them.
     let inside = s.simd_lt(f32x4::ONE);
     let r = s.fast_max(f32x4::ZERO).fast_min(f32x4::ONE).sqrt();
-    let rim = f32x4::splat(0.5) + f32x4::splat(0.5) * cos_turns4((r - PLATEAU) * (0.5 / (1.0 - PLATEAU)));
+    // (r − P) / (2 (1 − P)) is within [−⅙, ½] turn, where the cosine needs
+    // no reduction.
+    let rim = f32x4::splat(0.5) + f32x4::splat(0.5) * cos_turns4_half((r - PLATEAU) * (0.5 / (1.0 - PLATEAU)));
     let v = r.simd_le(f32x4::splat(PLATEAU)).select(f32x4::ONE, rim);
     inside.select(v, f32x4::ZERO)
 }
@@ -67,7 +69,10 @@ impl<'a> DotLayer<'a> {
     /// two cell starts per grid row under the array and then only dots that
     /// lie near it. The cost depends on the array's size and the local dot
     /// density, never on the size of the table.
-    #[inline]
+    ///
+    /// Not inlined: inlined, its set-up is hoisted into the frame's
+    /// prologue and paid by every frame, even one without this kind of layer.
+    #[inline(never)]
     pub(crate) fn accumulate(&self, f: &Frame, acc: &mut Acc) {
         accumulate_table(&self.table, self.inv_cell, f, acc)
     }
@@ -112,7 +117,7 @@ fn accumulate_table(t: &DotTableView<'_>, inv_cell: f32, f: &Frame, acc: &mut Ac
             }
             let inv2 = 1.0 / (rho * rho);
             // Four columns at a time; lanes past c1 rest (they may fall on
-            // the next row's first columns or the padding: they add 0).
+            // the next row's first columns or past the block: they add 0).
             for r in q0..=q1 {
                 let ey = f.row_y(r as usize) - y;
                 let k0 = (r as usize - f.r0) * f.cols;
@@ -122,10 +127,7 @@ fn accumulate_table(t: &DotTableView<'_>, inv_cell: f32, f: &Frame, acc: &mut Ac
                     let ex = f32x4::splat(f.x_first) + f32x4::from_i32x4(cols) * f.pitch_x - x;
                     let v = dot_profile4((ex * ex + ey * ey) * inv2) * d.amplitude;
                     let v = cols.simd_le(i32x4::splat(c1)).select(v, f32x4::ZERO);
-                    let k = k0 + c as usize;
-                    if let Some(out) = acc.get_mut(k..k + LANES).and_then(|s| <&mut [f32; LANES]>::try_from(s).ok()) {
-                        *out = (f32x4::new(*out) + v).to_array();
-                    }
+                    add_lanes(acc, k0 + c as usize, v);
                     c += LANES as i32;
                 }
             }

@@ -5,7 +5,9 @@
 //! it reads two packed sample pairs, the pair above it and the pair below
 //! it; the eight reads of a group share one window whose bounds are checked
 //! once, and the compiler proves each read in it in bounds, so the reads
-//! themselves carry no check. It interpolates horizontally
+//! themselves carry no check. (An 8-bit pair is read as the first half of a
+//! u32, which loads straight into a vector lane; the lanes' low halves are
+//! then gathered into one vector, see [`quads_to_pairs`].) It interpolates horizontally
 //! in fixed point: the pair's 16-bit lanes are multiplied by the weights
 //! `(W − w, w)` and added in one instruction (`pmaddwd` on x86-64). It then
 //! interpolates vertically, and applies the primitive, in `f32` lanes.
@@ -14,17 +16,14 @@
 //! (16-bit masks also drop their lowest sample bit, 1.5·10⁻⁵ of full scale.)
 
 use taxel_format::{MaskKind, MaskView, MilliHertz};
-use wide::bytemuck::{cast, cast_ref};
+use wide::bytemuck::cast;
 use wide::{f32x4, i16x8, i32x4, u8x16, u16x8, u32x4};
 
-use super::osc::{cos_turns, cos_turns4, frac64, phase_turns};
-use super::{Acc, Frame, LANES};
+use super::osc::{cos_turns, cos_turns4, frac64};
+use super::{Acc, Frame, LANES, add_lanes};
 
-/// Columns whose taps are prepared together: a multiple of [`LANES`], small
-/// so that the per-frame tap arrays cost a few stores to set up.
-const CHUNK: usize = 16;
-/// Groups of [`LANES`] columns in a chunk.
-const GROUPS: usize = CHUNK / LANES;
+/// Rows whose vertical taps are prepared together: a multiple of [`LANES`].
+const ROWS: usize = 8;
 /// The fixed-point unit of the horizontal weights: `(W − w, w)` fit in
 /// `i16`, and a sample below 2¹⁵ times `W` fits in `i32`.
 const W: i32 = 1 << 14;
@@ -70,8 +69,8 @@ pub(crate) struct MaskLayer<'a> {
     last_row: u32,
     x0: f32,
     y0: f32,
-    x1: f32,
-    y1: f32,
+    /// The box, `[x0, x1, y0, y1]`.
+    bounds: f32x4,
     px_per_mm: f32,
     /// What one unit of the fixed-point interpolation is worth in δ: the
     /// layer's amplitude over the mask's full-scale code, over `W`, times 2
@@ -115,15 +114,22 @@ impl<'a> MaskLayer<'a> {
             last_row: m.height.saturating_sub(1),
             x0: m.origin_x.0,
             y0: m.origin_y.0,
-            x1: (m.origin_x.0 as f64 + m.width as f64 / ppm as f64) as f32,
-            y1: (m.origin_y.0 as f64 + m.height as f64 / ppm as f64) as f32,
+            bounds: f32x4::new([
+                m.origin_x.0,
+                (m.origin_x.0 as f64 + m.width as f64 / ppm as f64) as f32,
+                m.origin_y.0,
+                (m.origin_y.0 as f64 + m.height as f64 / ppm as f64) as f32,
+            ]),
             px_per_mm: ppm,
             unit: scale * if wide { 2.0 } else { 1.0 } / W as f32,
         }
     }
 
     /// Adds this layer's deflection for rows `f.r0..f.r1` to `acc`.
-    #[inline]
+    ///
+    /// Not inlined: inlined, its set-up is hoisted into the frame's
+    /// prologue and paid by every frame, even one without this kind of layer.
+    #[inline(never)]
     pub(crate) fn accumulate(&self, f: &Frame, acc: &mut Acc) {
         // `pairs(b0, b1, taps)` reads, for each of a group's four taps, the
         // sample at byte offset b + tap and its right neighbour, for the
@@ -164,61 +170,70 @@ impl<'a> MaskLayer<'a> {
                 (half(u32x4::new(t.map(|t| pair(b0 + t)))), half(u32x4::new(t.map(|t| pair(b1 + t)))))
             })
         } else {
-            // Eight u16 pairs fill one u16x8, whose bytes widen to two i16x8.
-            // The pairs lie between the first tap of the upper row and the
-            // end of the last tap's pair in the lower row: one check of that
-            // window covers all eight reads (the caller passes b0 ≤ b1 and
-            // taps bounded by the last one).
+            // Each pair is read as the first two bytes of a u32, which goes
+            // straight into a vector lane (a u16 read would pass through a
+            // general register, one lane at a time). Shifting each lane up
+            // and back down sign-extends its pair, so that the signed
+            // narrowing to 16-bit lanes keeps the two bytes exactly; the
+            // eight pairs' bytes then widen to two i16x8. The reads lie
+            // between the first tap of the upper row and the end of the last
+            // tap's u32 in the lower row: one check of that window covers
+            // all eight (the caller passes b0 ≤ b1 and taps bounded by the
+            // last one). Only near the end of the samples, where the u32s
+            // would run past them, are the pairs read as u16s.
             self.accumulate_in(f, acc, |b0, b1, t: [u32; LANES]| {
                 let (b0, b1, last) = (b0 as usize, b1 as usize, t[LANES - 1] as usize);
-                let Some(win) = s.get(..b1 + last + 2) else {
-                    return (i16x8::ZERO, i16x8::ZERO);
-                };
-                let pair = |a: usize| win.get(a..a + 2).map_or(0, |p| u16::from_le_bytes([p[0], p[1]]));
                 let t = t.map(|t| (t as usize).min(last));
-                let bytes: u8x16 = cast(u16x8::new([
-                    pair(b0 + t[0]),
-                    pair(b0 + t[1]),
-                    pair(b0 + t[2]),
-                    pair(b0 + t[3]),
-                    pair(b1 + t[0]),
-                    pair(b1 + t[1]),
-                    pair(b1 + t[2]),
-                    pair(b1 + t[3]),
-                ]));
+                let bytes: u8x16 = if let Some(win) = s.get(..b1 + last + 4) {
+                    let quad = |a: usize| win.get(a..a + 4).map_or(0, |p| i32::from_le_bytes([p[0], p[1], p[2], p[3]]));
+                    quads_to_pairs(t.map(|t| quad(b0 + t)), t.map(|t| quad(b1 + t)))
+                } else {
+                    let Some(win) = s.get(..b1 + last + 2) else {
+                        return (i16x8::ZERO, i16x8::ZERO);
+                    };
+                    let pair = |a: usize| win.get(a..a + 2).map_or(0, |p| u16::from_le_bytes([p[0], p[1]]));
+                    cast(u16x8::new([
+                        pair(b0 + t[0]),
+                        pair(b0 + t[1]),
+                        pair(b0 + t[2]),
+                        pair(b0 + t[3]),
+                        pair(b1 + t[0]),
+                        pair(b1 + t[1]),
+                        pair(b1 + t[2]),
+                        pair(b1 + t[3]),
+                    ]))
+                };
                 (i16x8::from_u8x16_low(bytes), i16x8::from_u8x16_high(bytes))
             })
         }
     }
 
     /// The columns inside both the surface and the mask's box are one run
-    /// (positions grow with the column), and so are the rows; both are
-    /// taken [`CHUNK`] at a time. For a chunk of columns the horizontal taps
-    /// and weights are prepared once, for a chunk of rows the vertical ones,
-    /// both [`LANES`] at a time. Then each group of columns runs down the
-    /// rows with its four taps in registers: eight `pair` reads, two
+    /// (positions grow with the column), and so are the rows
+    /// ([`Frame::runs`]). The rows are taken [`ROWS`] at a time, their
+    /// vertical taps and weights prepared [`LANES`] at a time; then each
+    /// group of [`LANES`] columns prepares its horizontal taps and weights
+    /// and runs down those rows with them in registers: eight reads, two
     /// `pmaddwd`, the vertical step and the primitive per row.
     #[inline(always)]
     fn accumulate_in(&self, f: &Frame, acc: &mut Acc, pairs: impl Fn(u32, u32, [u32; LANES]) -> (i16x8, i16x8)) {
-        let mut c = f.col_lo;
-        while c < f.col_hi && f.col_x(c) < self.x0 {
-            c += 1;
+        // One loop per primitive, so that neither carries the other's
+        // registers and tests.
+        match self.primitive {
+            Primitive::Vibration { .. } => self.tiles::<false>(f, acc, pairs),
+            Primitive::Grating { .. } => self.tiles::<true>(f, acc, pairs),
         }
-        let c_lo = c;
-        while c < f.col_hi && f.col_x(c) < self.x1 {
-            c += 1;
-        }
-        let c_hi = c;
-        let mut r = f.r0.max(f.row_lo);
-        let r_end = f.r1.min(f.row_hi);
-        while r < r_end && f.row_y(r) < self.y0 {
-            r += 1;
-        }
-        let r_lo = r;
-        while r < r_end && f.row_y(r) < self.y1 {
-            r += 1;
-        }
-        let r_hi = r;
+    }
+
+    /// [`accumulate_in`](Self::accumulate_in) for a grating (`GRATING`) or a vibration.
+    #[inline(always)]
+    fn tiles<const GRATING: bool>(
+        &self,
+        f: &Frame,
+        acc: &mut Acc,
+        pairs: impl Fn(u32, u32, [u32; LANES]) -> (i16x8, i16x8),
+    ) {
+        let [c_lo, c_hi, r_lo, r_hi] = f.runs(self.bounds);
         if c_lo >= c_hi || r_lo >= r_hi {
             return;
         }
@@ -226,7 +241,7 @@ impl<'a> MaskLayer<'a> {
         // row and column parities differ, ½ − ½ cos where they agree.
         let (differ, same) = match self.primitive {
             Primitive::Vibration { freq } => {
-                let c = cos_turns(phase_turns(f.tick, freq, f.rate_hz));
+                let c = cos_turns(f.clock.phase(f.tick_in_second, freq));
                 ((0.5 + 0.5 * c) * self.unit, (0.5 - 0.5 * c) * self.unit)
             }
             Primitive::Grating { .. } => (0.0, 0.0),
@@ -242,89 +257,137 @@ impl<'a> MaskLayer<'a> {
         };
         let lanes = f32x4::new([0.0, 1.0, 2.0, 3.0]);
         let lane_index = i32x4::new([0, 1, 2, 3]);
-        let unit = f32x4::splat(self.unit);
-        let mut start = c_lo;
-        while start < c_hi {
-            let n = (c_hi - start).min(CHUNK);
-            let groups = n.div_ceil(LANES).min(GROUPS);
-            // Per column: byte offset of the left tap, and the weights of
-            // the left and right samples as (W − w, w) i16 pairs. Pixel
-            // centres sit at (i + ½) / px_per_mm; between the box edge and
-            // the first centre the edge sample holds. Lanes past the run
-            // take its last tap with weights 0, so they read in bounds and
-            // add nothing.
-            let mut taps = [[0u32; LANES]; GROUPS];
-            let mut weights = [i16x8::ZERO; GROUPS];
-            let last_x = f.col_x(c_hi - 1);
-            for g in 0..groups {
-                let first = start + g * LANES;
+        // Eq. 3's ½ + ½ cos, times the unit: (1 + cos) · unit / 2.
+        let half_unit = f32x4::splat(0.5 * self.unit);
+        let lane_phase = lanes * step_col;
+        let last_x = f.col_x(c_hi - 1);
+        let mut rs = r_lo;
+        while rs < r_hi {
+            let m = (r_hi - rs).min(ROWS);
+            // Per row of the tile: byte offsets of the mask rows above and
+            // below it, and the weight of the lower one, [`LANES`] rows at
+            // a time (rows past the run are computed too, and not used).
+            let mut off0 = [0u32; ROWS];
+            let mut off1 = [0u32; ROWS];
+            let mut wy = [0f32; ROWS];
+            // And eq. 3's phase step from row f.r0 to each row.
+            let mut row_phase = [0f32; ROWS];
+            for q in 0..ROWS / LANES {
+                let rows = f32x4::from_i32x4(i32x4::splat((rs + q * LANES) as i32) + lane_index);
+                let y = f32x4::splat(f.y_first) + rows * f.pitch_y;
+                let fy = ((y - self.y0) * self.px_per_mm - 0.5).fast_max(f32x4::ZERO).fast_min(f32x4::splat(self.hmax));
+                let j0 = (fy - 0.5).fast_round_int().min(i32x4::splat(self.jmax as i32));
+                // The row below, unless j0 is the last row (a mask one row tall).
+                let below = j0.simd_lt(i32x4::splat(self.last_row as i32)) & i32x4::splat(self.bpr as i32);
+                let o0 = j0 * self.bpr as i32;
+                let at = q * LANES..(q + 1) * LANES;
+                wy[at.clone()].copy_from_slice(&(fy - f32x4::from_i32x4(j0)).to_array());
+                off0[at.clone()].copy_from_slice(&cast::<i32x4, [u32; LANES]>(o0));
+                off1[at.clone()].copy_from_slice(&cast::<i32x4, [u32; LANES]>(o0 + below));
+                if GRATING {
+                    let from_r0 = f32x4::from_i32x4(i32x4::splat((rs + q * LANES - f.r0) as i32) + lane_index);
+                    row_phase[at].copy_from_slice(&(from_r0 * step_row).to_array());
+                }
+            }
+            let mut cols = c_lo;
+            while cols < c_hi {
+                // The group's columns: byte offset of each left tap, and
+                // the weights of the left and right samples as (W − w, w)
+                // i16 pairs. Pixel centres sit at (i + ½) / px_per_mm;
+                // between the box edge and the first centre the edge sample
+                // holds. Lanes past the run take its last tap with weights
+                // 0, so they read in bounds and add nothing.
+                let first = f32x4::from_i32x4(i32x4::splat(cols as i32) + lane_index);
                 // The same formula as `Frame::col_x`, lane by lane.
-                let cols = f32x4::from_i32x4(i32x4::splat(first as i32) + lane_index);
-                let x = (f32x4::splat(f.x_first) + cols * f.pitch_x).fast_min(f32x4::splat(last_x));
+                let x = (f32x4::splat(f.x_first) + first * f.pitch_x).fast_min(f32x4::splat(last_x));
                 let fx = ((x - self.x0) * self.px_per_mm - 0.5).fast_max(f32x4::ZERO).fast_min(f32x4::splat(self.wmax));
                 let a = (fx - 0.5).fast_round_int().min(i32x4::splat(self.amax as i32));
                 let wi = ((fx - f32x4::from_i32x4(a)) * W as f32).fast_round_int();
-                let real = lane_index.simd_lt(i32x4::splat((n - g * LANES) as i32));
-                let pairs = (i32x4::splat(W) - wi) | (wi << 16);
-                weights[g] = cast(pairs & real);
-                taps[g] = cast::<i32x4, [u32; LANES]>(a * self.bps as i32);
-            }
-            let col_phase = (start - c_lo) as u32 as f32 * step_col;
-            let mut rs = r_lo;
-            while rs < r_hi {
-                let m = (r_hi - rs).min(CHUNK);
-                // Per row: byte offsets of the mask rows above and below it,
-                // and the weight of the lower one.
-                let (mut off0, mut off1, mut wy) =
-                    ([[0u32; LANES]; GROUPS], [[0u32; LANES]; GROUPS], [f32x4::ZERO; GROUPS]);
-                for q in 0..m.div_ceil(LANES).min(GROUPS) {
-                    let rows = f32x4::from_i32x4(i32x4::splat((rs + q * LANES) as i32) + lane_index);
-                    let y = f32x4::splat(f.y_first) + rows * f.pitch_y;
-                    let fy =
-                        ((y - self.y0) * self.px_per_mm - 0.5).fast_max(f32x4::ZERO).fast_min(f32x4::splat(self.hmax));
-                    let j0 = (fy - 0.5).fast_round_int().min(i32x4::splat(self.jmax as i32));
-                    let j1 = (j0 + 1).min(i32x4::splat(self.last_row as i32));
-                    wy[q] = fy - f32x4::from_i32x4(j0);
-                    off0[q] = cast(j0 * self.bpr as i32);
-                    off1[q] = cast(j1 * self.bpr as i32);
+                let real = lane_index.simd_lt(i32x4::splat((c_hi - cols) as i32));
+                let w: i16x8 = cast(((i32x4::splat(W) - wi) | (wi << 16)) & real);
+                let taps = cast::<i32x4, [u32; LANES]>(a * self.bps as i32);
+                // The taps of a group only grow (columns move right):
+                // saying so with a min lets each row check one window.
+                let taps = taps.map(|t| t.min(taps[LANES - 1]));
+                let group_phase = base + (cols - c_lo) as u32 as f32 * step_col;
+                for i in 0..m {
+                    let (b0, b1, r) = (off0[i].min(off1[i]), off1[i], rs + i);
+                    let (top, bot) = pairs(b0, b1, taps);
+                    let t = f32x4::from_i32x4(top.dot(w));
+                    let b = f32x4::from_i32x4(bot.dot(w));
+                    let v = t + (b - t) * wy[i];
+                    let v = if GRATING {
+                        let phase = f32x4::splat(group_phase + row_phase[i]) + lane_phase;
+                        v * (f32x4::ONE + cos_turns4(phase)) * half_unit
+                    } else {
+                        // Eq. 2: column `cols + lane` differs in parity
+                        // from row r when r + cols + lane is odd.
+                        v * parity[(r + cols) & 1]
+                    };
+                    // Lanes past the row's last column carry 0.
+                    add_lanes(acc, (r - f.r0) * f.cols + cols, v);
                 }
-                let (off0, off1): (&[u32; CHUNK], &[u32; CHUNK]) = (cast_ref(&off0), cast_ref(&off1));
-                let wy: &[f32; CHUNK] = cast_ref(&wy);
-                for g in 0..groups {
-                    // The taps of a group only grow (columns move right):
-                    // saying so with a min lets each row check one window.
-                    let (taps, w) = (taps[g], weights[g]);
-                    let taps = taps.map(|t| t.min(taps[LANES - 1]));
-                    let group_phase = base + col_phase + (g * LANES) as u32 as f32 * step_col;
-                    let cols = start + g * LANES;
-                    for i in 0..m.min(CHUNK) {
-                        let (b0, b1, r) = (off0[i].min(off1[i]), off1[i], rs + i);
-                        let (top, bot) = pairs(b0, b1, taps);
-                        let t = f32x4::from_i32x4(top.dot(w));
-                        let b = f32x4::from_i32x4(bot.dot(w));
-                        let v = t + (b - t) * wy[i];
-                        let v = match self.primitive {
-                            // Eq. 2: column `cols + lane` differs in parity
-                            // from row r when r + cols + lane is odd.
-                            Primitive::Vibration { .. } => v * parity[(r + cols) & 1],
-                            Primitive::Grating { .. } => {
-                                let phase =
-                                    f32x4::splat(group_phase + (r - f.r0) as u32 as f32 * step_row) + lanes * step_col;
-                                v * (f32x4::splat(0.5) + f32x4::splat(0.5) * cos_turns4(phase)) * unit
-                            }
-                        };
-                        // Lanes past the row's last column carry 0 and land
-                        // in the accumulator's padding or the next row.
-                        let k = (r - f.r0) * f.cols + cols;
-                        if let Some(out) = acc.get_mut(k..k + LANES).and_then(|s| <&mut [f32; LANES]>::try_from(s).ok())
-                        {
-                            *out = (f32x4::new(*out) + v).to_array();
-                        }
-                    }
-                }
-                rs += m;
+                cols += LANES;
             }
-            start += n;
+            rs += m;
+        }
+    }
+}
+
+/// The first two bytes of each of four u32 read from the upper row and four
+/// from the lower row, in that order. On x86-64 the 16-bit halves are
+/// interleaved into place (`punpcklwd`, `punpckldq`, `punpcklqdq`);
+/// elsewhere each lane is sign-extended from its low 16 bits and the lanes
+/// narrowed with signed saturation, which keeps those bits exactly.
+#[inline(always)]
+fn quads_to_pairs(top: [i32; LANES], bot: [i32; LANES]) -> u8x16 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use safe_arch::{
+            m128i, set_i32_m128i_s, unpack_low_i16_m128i as words, unpack_low_i32_m128i as dwords,
+            unpack_low_i64_m128i as halves,
+        };
+        let row = |q: [i32; LANES]| -> m128i {
+            let v = q.map(set_i32_m128i_s);
+            dwords(words(v[0], v[1]), words(v[2], v[3]))
+        };
+        cast(halves(row(top), row(bot)))
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        quads_to_pairs_portable(top, bot)
+    }
+}
+
+/// [`quads_to_pairs`] in `wide`'s portable operations.
+#[cfg(any(test, not(target_arch = "x86_64")))]
+#[inline(always)]
+fn quads_to_pairs_portable(top: [i32; LANES], bot: [i32; LANES]) -> u8x16 {
+    let pairs = |q: [i32; LANES]| (i32x4::new(q) << 16) >> 16;
+    cast(i16x8::from_i32x8_saturate(cast([pairs(top), pairs(bot)])))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quads_give_their_first_two_bytes_in_order() {
+        let mut s = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            s as i32
+        };
+        for _ in 0..100_000 {
+            let (top, bot) = ([next(), next(), next(), next()], [next(), next(), next(), i32::MIN]);
+            let mut want = [0u8; 16];
+            for (k, q) in top.iter().chain(&bot).enumerate() {
+                want[2 * k..2 * k + 2].copy_from_slice(&q.to_le_bytes()[..2]);
+            }
+            assert_eq!(quads_to_pairs(top, bot).to_array(), want);
+            assert_eq!(quads_to_pairs_portable(top, bot).to_array(), want);
         }
     }
 }

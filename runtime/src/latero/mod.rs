@@ -31,13 +31,16 @@
 //! sample-pair reads per covered actuator and the interpolation and
 //! primitive four actuators at a time in 128-bit lanes (`mask.rs`, through
 //! the `wide` crate: SSE2 on x86-64, NEON on AArch64, plain arrays
-//! elsewhere); for a dot table, two cell starts per grid row under the
-//! array and the dots found there, each evaluated four columns at a time.
-//! Phases (vibration from the tick, grating at the array's corner) are
-//! computed once per layer per frame; oscillators use a polynomial cosine
-//! with an error below 1e-6. The per-tick path divides nothing: the
-//! reciprocals it needs are taken at load. `benches/latero.rs` measures a
-//! 64-actuator frame; `docs/performance.md` has the figures.
+//! elsewhere; on x86-64 `safe_arch` adds the 16-bit unpacks `wide` lacks);
+//! for a dot table, two cell starts per grid row under the array and the
+//! dots found there, each evaluated four columns at a time. Phases
+//! (vibration from the tick, grating at the array's corner) are computed
+//! once per layer per frame; oscillators use a polynomial cosine with an
+//! error below 1e-6. The per-tick path has no integer division (the tick is
+//! reduced by a reciprocal taken at load, see `osc::PhaseClock`), and its
+//! only float division is one reciprocal per dot it evaluates.
+//! `benches/latero.rs` measures a 64-actuator frame; `docs/performance.md`
+//! has the figures.
 //!
 //! ```
 //! use taxel_format::{Bundle, BundleView, Manifest, MaskKind, MaskLayer, MaskSamples, MilliHertz, Mm, Tick, profiles};
@@ -89,9 +92,24 @@ pub(crate) const BLOCK: usize = 64;
 /// Actuators a mask layer interpolates at once: the width of a 128-bit
 /// vector of `f32`, which every x86-64 and AArch64 core has.
 pub(crate) const LANES: usize = 4;
-/// A block's sums, padded so that a mask's last group of [`LANES`] may run
-/// past the block's end (its extra lanes add 0).
-pub(crate) type Acc = [f32; BLOCK + LANES];
+/// A block's sums. Layers add [`LANES`] actuators at a time through
+/// [`add_lanes`]; a group's lanes past its row's last column add 0.
+pub(crate) type Acc = [f32; BLOCK];
+
+/// Adds `v` to the sums of actuators `k..k + LANES` of the block. Lanes
+/// past the block's end carry 0 and are dropped (the block is exactly
+/// [`BLOCK`] sums, so that clearing it takes a few vector stores).
+#[inline(always)]
+pub(crate) fn add_lanes(acc: &mut Acc, k: usize, v: f32x4) {
+    match acc.get_mut(k..k + LANES).and_then(|s| <&mut [f32; LANES]>::try_from(s).ok()) {
+        Some(out) => *out = (f32x4::new(*out) + v).to_array(),
+        None => {
+            for (a, x) in acc.iter_mut().skip(k).zip(v.to_array()) {
+                *a += x;
+            }
+        }
+    }
+}
 /// 2²³: an `f32` in [2²³, 2²⁴) has integer spacing, so `v + 2²³` rounds `v`.
 const ROUND_BITS: f32 = 8_388_608.0;
 /// Largest output resolution, in bits (codes are `u16`).
@@ -138,8 +156,15 @@ pub struct LateroPlayer<'a, S = [Layer<'a>; DEFAULT_LAYERS]> {
     inv_pitch_y: f32,
     surface_w: f32,
     surface_h: f32,
-    rate_hz: u32,
+    clock: osc::PhaseClock,
     max_code: f32,
+    /// Distance from the array's centre to column 0 and to row 0.
+    half_span_x: f32,
+    half_span_y: f32,
+    /// Rows per block of at most [`BLOCK`] actuators (at least 1).
+    rows_per_block: usize,
+    /// A sum counts as clamped above this: clamping changed its code.
+    clamp_at: f32,
     _bundle: core::marker::PhantomData<&'a [u8]>,
 }
 
@@ -214,8 +239,12 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
             inv_pitch_y: 1.0 / p.pitch_y_mm,
             surface_w: p.surface_w_mm,
             surface_h: p.surface_h_mm,
-            rate_hz: p.rate_hz,
+            clock: osc::PhaseClock::new(p.rate_hz),
             max_code: p.max_code() as f32,
+            half_span_x: (p.cols as usize).saturating_sub(1) as f32 * 0.5 * p.pitch_x_mm,
+            half_span_y: (p.rows as usize).saturating_sub(1) as f32 * 0.5 * p.pitch_y_mm,
+            rows_per_block: (BLOCK / (p.cols as usize).max(1)).max(1),
+            clamp_at: 1.0 + 0.5 / p.max_code() as f32,
             _bundle: core::marker::PhantomData,
         })
     }
@@ -249,15 +278,15 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
             return stats;
         }
         let mut f = Frame {
-            tick,
-            rate_hz: self.rate_hz,
+            tick_in_second: self.clock.tick_in_second(tick),
+            clock: self.clock,
             cols: self.cols,
             pitch_x: self.pitch_x,
             pitch_y: self.pitch_y,
             inv_pitch_x: self.inv_pitch_x,
             inv_pitch_y: self.inv_pitch_y,
-            x_first: x.0 - (self.cols - 1) as f32 * 0.5 * self.pitch_x,
-            y_first: y.0 - (self.rows - 1) as f32 * 0.5 * self.pitch_y,
+            x_first: x.0 - self.half_span_x,
+            y_first: y.0 - self.half_span_y,
             col_lo: 0,
             col_hi: 0,
             row_lo: 0,
@@ -269,13 +298,11 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
         (f.col_lo, f.col_hi) = inside(self.cols, f.x_first, self.pitch_x, self.surface_w);
         (f.row_lo, f.row_hi) = inside(self.rows, f.y_first, self.pitch_y, self.surface_h);
         let layers = self.layers.as_ref().get(..self.len).unwrap_or(&[]);
-        let rows_per_block = (BLOCK / self.cols).max(1);
-        // A sum counts as clamped when clamping changed its code.
-        let clamp_at = 1.0 + 0.5 / self.max_code;
+        let rows_per_block = self.rows_per_block;
         for (b, block) in out.chunks_mut(rows_per_block * self.cols).enumerate() {
             f.r0 = b * rows_per_block;
             f.r1 = (f.r0 + rows_per_block).min(self.rows);
-            let mut acc: Acc = [0.0; BLOCK + LANES];
+            let mut acc: Acc = [0.0; BLOCK];
             for layer in layers {
                 match &layer.0 {
                     Slot::Mask(m) => m.accumulate(&f, &mut acc),
@@ -287,7 +314,7 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
                 // A whole block (every 64-actuator array) at up to 14 bits:
                 // eight codes at a time in 16-bit lanes.
                 Ok(block) if self.max_code <= VECTOR_MAX_CODE => quantise_block(block, &acc, self.max_code),
-                _ => quantise(block, &acc, clamp_at, self.max_code),
+                _ => quantise(block, &acc, self.clamp_at, self.max_code),
             };
         }
         stats
@@ -320,7 +347,7 @@ fn quantise(out: &mut [u16], acc: &Acc, clamp_at: f32, max_code: f32) -> u32 {
 const VECTOR_MAX_CODE: f32 = (i16::MAX / 2) as f32;
 
 /// [`quantise`] for a whole block and `max_code` ≤ [`VECTOR_MAX_CODE`], in
-/// vector lanes: the sums, clamped to [0, 2], are scaled and rounded to nearest,
+/// vector lanes: the sums, clamped above at 2, are scaled and rounded to nearest,
 /// ties to even, by the same 2²³ addition; the codes then narrow to 16-bit
 /// lanes, where those above `max_code` are counted and every code is
 /// clamped to `0..=max_code` (so that even a NaN, impossible from validated
@@ -335,7 +362,9 @@ fn quantise_block(out: &mut [u16; BLOCK], acc: &Acc, max_code: f32) -> u32 {
     for (o, a) in out.chunks_exact_mut(8).zip(acc.chunks_exact(8)) {
         let code = |a: &[f32]| -> i32x4 {
             let a: [f32; 4] = a.try_into().unwrap_or([0.0; 4]);
-            let v = f32x4::new(a).fast_max(f32x4::ZERO).fast_min(f32x4::splat(2.0));
+            // No lower clamp: a negative sum (even −∞) gives a negative
+            // code, which the clamp to 0 below settles.
+            let v = f32x4::new(a).fast_min(f32x4::splat(2.0));
             cast::<f32x4, i32x4>(v * scale + round) - bias
         };
         let c = i16x8::from_i32x8_saturate(cast([code(&a[..4]), code(&a[4..])]));
@@ -350,12 +379,20 @@ fn quantise_block(out: &mut [u16; BLOCK], acc: &Acc, max_code: f32) -> u32 {
 
 /// The half-open range of indices `0..n` whose position `first + i · pitch`
 /// lies in `[0, limit]`.
+#[inline(always)]
 fn inside(n: usize, first: f32, pitch: f32, limit: f32) -> (usize, usize) {
-    let pos = |i: usize| first + i as f32 * pitch;
     // The usual case: the whole array is on the surface.
-    if n > 0 && pos(0) >= 0.0 && pos(n - 1) <= limit {
+    if n > 0 && first >= 0.0 && first + (n - 1) as u32 as f32 * pitch <= limit {
         return (0, n);
     }
+    inside_edge(n, first, pitch, limit)
+}
+
+/// [`inside`] for an array that reaches past an edge of the surface.
+#[cold]
+#[inline(never)]
+fn inside_edge(n: usize, first: f32, pitch: f32, limit: f32) -> (usize, usize) {
+    let pos = |i: usize| first + i as u32 as f32 * pitch;
     // Estimate from the division, then settle the edges with the same
     // position formula the layers use, so both agree exactly.
     let mut lo = osc::ceil_i32(-first / pitch).clamp(0, n as i32) as usize;
@@ -377,8 +414,10 @@ fn inside(n: usize, first: f32, pitch: f32, limit: f32) -> (usize, usize) {
 
 /// The geometry of one frame and the block of rows being computed.
 pub(crate) struct Frame {
-    pub(crate) tick: Tick,
-    pub(crate) rate_hz: u32,
+    /// The tick modulo one second of millihertz cycles, and the clock
+    /// that turns it into phases.
+    pub(crate) tick_in_second: u64,
+    pub(crate) clock: osc::PhaseClock,
     pub(crate) cols: usize,
     pub(crate) pitch_x: f32,
     pub(crate) pitch_y: f32,
@@ -411,5 +450,102 @@ impl Frame {
     #[inline(always)]
     pub(crate) fn row_y(&self, r: usize) -> f32 {
         self.y_first + r as u32 as f32 * self.pitch_y
+    }
+
+    /// The runs of actuators inside the box `[x0, x1) x [y0, y1)` given as
+    /// `[x0, x1, y0, y1]`: returns `[c_lo, c_hi, r_lo, r_hi]`, the columns
+    /// `c_lo..c_hi` of `col_lo..col_hi` whose [`col_x`](Self::col_x) is in
+    /// `[x0, x1)` and the rows `r_lo..r_hi` of the block's rows on the
+    /// surface whose [`row_y`](Self::row_y) is in `[y0, y1)` (positions grow
+    /// with the index, so each is one run). The four ends are found at once,
+    /// in vector lanes: an estimate from the pitch, clamped, then settled
+    /// with the positions themselves, so that each end is exactly the first
+    /// index whose position reaches the bound. (The estimate is off by less
+    /// than one index: a bound near the array is a few pitches away, where
+    /// the rounding of the estimate is far below one pitch.)
+    #[inline(always)]
+    pub(crate) fn runs(&self, bounds: f32x4) -> [usize; 4] {
+        let (xf, yf) = (self.x_first, self.y_first);
+        let first = f32x4::new([xf, xf, yf, yf]);
+        let pitch = f32x4::new([self.pitch_x, self.pitch_x, self.pitch_y, self.pitch_y]);
+        let inv = f32x4::new([self.inv_pitch_x, self.inv_pitch_x, self.inv_pitch_y, self.inv_pitch_y]);
+        let (rlo, rhi) = (self.r0.max(self.row_lo), self.r1.min(self.row_hi).max(self.r0.max(self.row_lo)));
+        let lo = i32x4::new([self.col_lo as i32, self.col_lo as i32, rlo as i32, rlo as i32]);
+        let hi = i32x4::new([self.col_hi as i32, self.col_hi as i32, rhi as i32, rhi as i32]);
+        let pos = |i: i32x4| first + f32x4::from_i32x4(i) * pitch;
+        let e = osc::ceil_in4((bounds - first) * inv, lo, hi);
+        // One step down if the index before already reaches the bound, one
+        // up if this one does not yet. (A NaN bound gives `hi`.)
+        let e = e - (e.simd_gt(lo) & cast::<f32x4, i32x4>(pos(e - 1).simd_ge(bounds))).select(i32x4::ONE, i32x4::ZERO);
+        let e = e + (e.simd_lt(hi) & cast::<f32x4, i32x4>(!pos(e).simd_ge(bounds))).select(i32x4::ONE, i32x4::ZERO);
+        e.to_array().map(|v| v as usize)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// [`Frame::runs`] against a scan of the positions, over arrays far from
+    /// and near the origin, pitches, surface and block limits, and bounds
+    /// anywhere: beside the array, between actuators and exactly on one.
+    #[test]
+    fn runs_equal_a_scan_of_the_positions() {
+        let mut s = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (s >> 40) as u32
+        };
+        for _ in 0..200_000 {
+            let unit = |n: u32| n as f32 / (1 << 24) as f32;
+            let (cols, rows) = (1 + next() as usize % 16, 1 + next() as usize % 16);
+            let pitch_x = [1.2, 1.4, 0.05 + 5.0 * unit(next())][next() as usize % 3];
+            let pitch_y = [1.4, 1.2, 0.05 + 5.0 * unit(next())][next() as usize % 3];
+            let scale = [1.0, 100.0, 1e4, 1e5][next() as usize % 4];
+            let (col_lo, row_lo) = (next() as usize % cols, next() as usize % rows);
+            let (col_hi, row_hi) =
+                (col_lo + next() as usize % (cols - col_lo + 1), row_lo + next() as usize % (rows - row_lo + 1));
+            let r0 = next() as usize % rows;
+            let r1 = (r0 + 1 + next() as usize % rows).min(rows);
+            let clock = osc::PhaseClock::new(1000);
+            let f = Frame {
+                tick_in_second: 0,
+                clock,
+                cols,
+                pitch_x,
+                pitch_y,
+                inv_pitch_x: 1.0 / pitch_x,
+                inv_pitch_y: 1.0 / pitch_y,
+                x_first: scale * unit(next()),
+                y_first: scale * unit(next()),
+                col_lo,
+                col_hi,
+                row_lo,
+                row_hi,
+                r0,
+                r1,
+            };
+            // A bound on an actuator, between two, or anywhere around the array.
+            let mut bound = |first: f32, pitch: f32, n: usize| match next() % 3 {
+                0 => first + (next() as usize % (n + 2)) as u32 as f32 * pitch - pitch,
+                1 => first + (next() as f32 / (1 << 24) as f32) * (n + 4) as f32 * pitch - 2.0 * pitch,
+                _ => first + (next() as usize % (n + 2)) as u32 as f32 * pitch - pitch + 1e-3 * pitch,
+            };
+            let (a, b) = (bound(f.x_first, pitch_x, cols), bound(f.x_first, pitch_x, cols));
+            let (c, d) = (bound(f.y_first, pitch_y, rows), bound(f.y_first, pitch_y, rows));
+            let (x0, x1, y0, y1) = (a.min(b), a.max(b), c.min(d), c.max(d));
+            let got = f.runs(f32x4::new([x0, x1, y0, y1]));
+            let scan = |lo: usize, hi: usize, bound: f32, pos: &dyn Fn(usize) -> f32| {
+                (lo..hi).find(|&i| pos(i) >= bound).unwrap_or(hi.max(lo))
+            };
+            let (rlo, rhi) = (r0.max(row_lo), r1.min(row_hi));
+            let want = [
+                scan(col_lo, col_hi, x0, &|c| f.col_x(c)),
+                scan(col_lo, col_hi, x1, &|c| f.col_x(c)),
+                scan(rlo, rhi, y0, &|r| f.row_y(r)),
+                scan(rlo, rhi, y1, &|r| f.row_y(r)),
+            ];
+            assert_eq!(got, want, "bounds {:?} in a frame from ({}, {})", [x0, x1, y0, y1], f.x_first, f.y_first);
+        }
     }
 }

@@ -8,7 +8,8 @@
 //! `cos_turns_error_is_far_below_one_output_step` measures it against `f64::cos`.
 
 use taxel_format::{MilliHertz, Tick};
-use wide::f32x4;
+use wide::bytemuck::cast;
+use wide::{f32x4, i32x4};
 
 /// Adding and subtracting 1.5 · 2²³ rounds an `f32` of magnitude below 2²²
 /// to the nearest integer with plain arithmetic (no `floorf`, which is a
@@ -55,18 +56,70 @@ pub(crate) fn cos_turns4(u: f32x4) -> f32x4 {
     z * (a + z4 * (b + z4 * c))
 }
 
-/// The oscillator phase at `tick`, in turns in `[0, 1)`: exactly
-/// `(tick · mhz) mod (rate_hz · 1000)` divided by `rate_hz · 1000`.
-///
-/// `tick` is reduced modulo `rate_hz · 1000` before the product, which keeps
-/// the arithmetic in `u64` without changing the residue, so the phase is
-/// exact for every tick a `u64` can count: hour 24 sounds like hour 0.
-#[inline]
+/// Turns a tick into oscillator phases: the tick modulo one second's worth
+/// of millihertz cycles, `m = rate_hz · 1000`, reduced once per frame, then
+/// `(tick · mhz) mod m` per oscillator, all in integers. The reductions
+/// multiply by a reciprocal taken at load (Barrett reduction) instead of
+/// dividing, which is several times slower on x86-64 and a library call on
+/// 32-bit cores.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PhaseClock {
+    /// `rate_hz · 1000`, at most 10⁹ (profiles run at up to 1 MHz).
+    m: u64,
+    /// `⌊(2⁶⁴ − 1) / m⌋`.
+    inv: u64,
+    /// `1 / m`, to turn a residue into turns without a division.
+    turn: f64,
+}
+
+impl PhaseClock {
+    pub(crate) fn new(rate_hz: u32) -> Self {
+        let m = (rate_hz as u64 * 1000).max(1);
+        PhaseClock { m, inv: u64::MAX / m, turn: 1.0 / m as f64 }
+    }
+
+    /// `x mod m`. The quotient estimate `⌊x · inv / 2⁶⁴⌋` is at most
+    /// `⌊x / m⌋` and short of it by at most 2 (`inv` is within 1 of
+    /// `2⁶⁴ / m` and `x < 2⁶⁴`), so at most two subtractions settle it.
+    #[inline(always)]
+    pub(crate) fn rem(&self, x: u64) -> u64 {
+        let q = ((x as u128 * self.inv as u128) >> 64) as u64;
+        let mut r = x.wrapping_sub(q.wrapping_mul(self.m));
+        if r >= self.m {
+            r -= self.m;
+        }
+        if r >= self.m {
+            r -= self.m;
+        }
+        r
+    }
+
+    /// The tick reduced modulo `m`: the same phase for every oscillator
+    /// (every frequency is a whole number of millihertz), below 2³⁰.
+    #[inline(always)]
+    pub(crate) fn tick_in_second(&self, tick: Tick) -> u64 {
+        self.rem(tick.0)
+    }
+
+    /// The phase of `freq` at a tick whose [`tick_in_second`](Self::tick_in_second)
+    /// is `t`, in turns in `[0, 1)`: exactly `(t · mhz) mod m` over `m`,
+    /// the residue in integers (`t < 2³⁰` and `mhz < 2³²`, so the product
+    /// fits in u64), so the phase is the same for every tick a `u64` can
+    /// count: hour 24 sounds like hour 0.
+    #[inline(always)]
+    pub(crate) fn phase(&self, t: u64, freq: MilliHertz) -> f32 {
+        // The residue is below m ≤ 10⁹, so it converts through u32 (one
+        // instruction, where a u64 takes several on x86-64).
+        (self.rem(t * freq.0 as u64) as u32 as f64 * self.turn) as f32
+    }
+}
+
+/// The oscillator phase at `tick`, in turns in `[0, 1)`, through a
+/// [`PhaseClock`] (for callers with one tick and one oscillator).
+#[cfg(test)]
 pub(crate) fn phase_turns(tick: Tick, freq: MilliHertz, rate_hz: u32) -> f32 {
-    let m = (rate_hz as u64 * 1000).max(1);
-    // (tick mod m) < 2^30 and mhz < 2^32, so the product fits in u64.
-    let p = (tick.0 % m) * freq.0 as u64 % m;
-    (p as f64 / m as f64) as f32
+    let clock = PhaseClock::new(rate_hz);
+    clock.phase(clock.tick_in_second(tick), freq)
 }
 
 /// The largest integer not above `v`, saturating at the `i32` range (NaN gives 0).
@@ -99,6 +152,31 @@ fn clamp_f(v: f32, lo: f32, hi: f32) -> f32 {
     if c < hi { c } else { hi }
 }
 
+/// [`ceil_in`] on four lanes, each with its own bounds.
+#[inline(always)]
+pub(crate) fn ceil_in4(v: f32x4, lo: i32x4, hi: i32x4) -> i32x4 {
+    // `fast_max` and `fast_min` return their second operand for a NaN lane:
+    // max(NaN, lo) is lo, as in `ceil_in`.
+    let c = v.fast_max(f32x4::from_i32x4(lo)).fast_min(f32x4::from_i32x4(hi));
+    let m = f32x4::splat(ROUND_MAGIC);
+    let r = cast::<f32x4, i32x4>(c + m) - i32x4::splat(ROUND_MAGIC.to_bits() as i32);
+    // A true lane compares as −1.
+    r - cast::<f32x4, i32x4>(f32x4::from_i32x4(r).simd_lt(c))
+}
+
+/// [`cos_turns4`] for `|u| ≤ ½` turn, where the reduction to the nearest
+/// whole turn changes nothing: the same lanes, bit for bit, four operations
+/// sooner.
+#[inline(always)]
+pub(crate) fn cos_turns4_half(u: f32x4) -> f32x4 {
+    let z = f32x4::splat(0.25) - u.abs();
+    let z2 = z * z;
+    let z4 = z2 * z2;
+    let s = |c: f32| f32x4::splat(c);
+    let (a, b, c) = (s(S1) + z2 * s(S3), s(S5) + z2 * s(S7), s(S9) + z2 * s(S11));
+    z * (a + z4 * (b + z4 * c))
+}
+
 /// `floor(v)` clamped to `lo..=hi` (NaN gives `lo`), for bounds within
 /// ±2²²: the clamp comes first, in `f32`, so that the rounding trick of
 /// [`round_small`] applies. Cheaper than a saturating `as` conversion.
@@ -117,10 +195,21 @@ pub(crate) fn ceil_in(v: f32, lo: i32, hi: i32) -> i32 {
     r + ((r as f32) < c) as i32
 }
 
+/// 1.5 · 2⁵²: [`ROUND_MAGIC`]'s trick for `f64` below 2⁵¹ in magnitude.
+const ROUND_MAGIC64: f64 = 6_755_399_441_055_744.0;
+
 /// `v − floor(v)` in `f64`, in `[0, 1)` for finite `v`.
 #[inline]
 pub(crate) fn frac64(v: f64) -> f64 {
-    let f = v - libm::floor(v);
+    // Below 2⁵¹ (every phase a page produces) by the rounding trick, which
+    // is plain arithmetic; beyond it through `floor`.
+    let fl = if v.abs() < 2_251_799_813_685_248.0 {
+        let r = (v + ROUND_MAGIC64) - ROUND_MAGIC64;
+        if r > v { r - 1.0 } else { r }
+    } else {
+        libm::floor(v)
+    };
+    let f = v - fl;
     if f >= 1.0 { 0.0 } else { f }
 }
 
@@ -163,6 +252,30 @@ mod tests {
     }
 
     #[test]
+    fn half_turn_cosine_equals_the_full_one() {
+        for k in 0..=200_000 {
+            let u = -0.5 + k as f32 * 5e-6;
+            let lanes = [u, -u, u * 0.5, 0.5];
+            assert_eq!(
+                cos_turns4_half(f32x4::new(lanes)).to_array().map(f32::to_bits),
+                cos_turns4(f32x4::new(lanes)).to_array().map(f32::to_bits),
+                "u = {u}"
+            );
+        }
+    }
+
+    #[test]
+    fn four_lane_ceil_equals_the_scalar_one() {
+        let specials = [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 1e9, -1e9, -0.0];
+        for v in (0..8000).map(|k| -40.0 + k as f32 * 0.01).chain(specials) {
+            for (lo, hi) in [(0, 7), (-1, 7), (2, 5), (-4_000_000, 4_000_000)] {
+                let got = ceil_in4(f32x4::splat(v), i32x4::splat(lo), i32x4::splat(hi)).to_array();
+                assert_eq!(got, [ceil_in(v, lo, hi); 4], "ceil {v} in {lo}..={hi}");
+            }
+        }
+    }
+
+    #[test]
     fn phase_is_exact_and_periodic() {
         let f = MilliHertz(50_000);
         assert_eq!(phase_turns(Tick(0), f, 1000), 0.0);
@@ -175,6 +288,50 @@ mod tests {
         let m = 1_000_000u128;
         let want = (big as u128 * 50_000 % m) as f64 / m as f64;
         assert_eq!(phase_turns(Tick(big), f, 1000) as f64, want as f32 as f64);
+    }
+
+    #[test]
+    fn barrett_reduction_equals_the_remainder() {
+        let mut x = 0x9e37_79b9_7f4a_7c15u64;
+        for rate in [1u32, 7, 999, 1000, 44_100, 65_536, 999_983, 1_000_000] {
+            let clock = PhaseClock::new(rate);
+            let m = rate as u64 * 1000;
+            let edges =
+                [0, 1, m - 1, m, m + 1, 2 * m - 1, u64::MAX, u64::MAX - 1, u64::MAX / m * m, u64::MAX / m * m - 1];
+            for v in edges {
+                assert_eq!(clock.rem(v), v % m, "{v} mod {m}");
+            }
+            for _ in 0..100_000 {
+                // xorshift64: values over the whole u64 range.
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                assert_eq!(clock.rem(x), x % m, "{x} mod {m}");
+                let small = x >> (x % 64);
+                assert_eq!(clock.rem(small), small % m, "{small} mod {m}");
+            }
+        }
+    }
+
+    #[test]
+    fn phase_equals_the_exact_fraction() {
+        let mut x = 0x2545_f491_4f6c_dd1du64;
+        for rate in [1u32, 1000, 1_000_000] {
+            let clock = PhaseClock::new(rate);
+            let m = rate as u128 * 1000;
+            for _ in 0..20_000 {
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                let freq = MilliHertz((x >> 32) as u32);
+                let want = (x as u128 * freq.0 as u128 % m) as f64 / m as f64;
+                let got = clock.phase(clock.tick_in_second(Tick(x)), freq);
+                // Within one f32 step of the exact fraction (`turn` is 1/m
+                // rounded, so the last f64 bit may differ before the cast).
+                assert!((got as f64 - want).abs() <= 0.5f64.powi(24), "tick {x} at {} mHz, {rate} Hz", freq.0);
+                assert!((0.0..1.0).contains(&got));
+            }
+        }
     }
 
     #[test]
@@ -194,6 +351,19 @@ mod tests {
         assert_eq!(round_small(2.5), 2);
         assert_eq!(round_small(-2.5), -2);
         assert_eq!(round_small(3.5), 4);
+    }
+
+    #[test]
+    fn frac64_is_v_minus_its_floor() {
+        let edges = [0.0, -0.0, 0.5, -0.5, 1.0, -1.0, 2.5, -2.5, 1e-300, -1e-300, 1e15, -1e15 - 0.25];
+        let big = [2f64.powi(51) - 0.5, -(2f64.powi(51) - 0.5), 2f64.powi(51), 2f64.powi(52) + 2.0, -1e300, 1e300];
+        let sweep = (0..20_000).map(|k| (k as f64 - 10_000.0) * 0.123_456_789);
+        for v in edges.into_iter().chain(big).chain(sweep) {
+            let want = v - v.floor();
+            let want = if want >= 1.0 { 0.0 } else { want };
+            assert_eq!(frac64(v), want, "{v}");
+            assert!((0.0..1.0).contains(&frac64(v)), "{v}");
+        }
     }
 
     #[test]

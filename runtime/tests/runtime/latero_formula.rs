@@ -226,3 +226,46 @@ fn dots_match_the_reference_among_ten_thousand() {
         assert_matches_reference(&p, vec![dots(&list)], 0, x, y);
     }
 }
+
+#[test]
+fn masks_ending_inside_the_array_are_sampled_to_their_last_samples() {
+    // The carrier at (50, 30): columns sit at 45.8 + 1.2 c, rows at 25.1 + 1.4 r.
+    // Each box below starts between two columns (so a group of four columns
+    // starts at column 5, 6 or 7 and runs past the last row's end) and ends
+    // after the array's last row, or just inside it, so that the lowest
+    // actuators read the mask's last row and last column (where a four-byte
+    // read would run past the samples). Random samples, 8 and 16 bits, at
+    // several resolutions, checked against the f64 reference.
+    let mut s = 0x2545_f491_4f6c_dd1du64;
+    let mut next = || {
+        s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (s >> 33) as u32
+    };
+    for first_col in 4..8 {
+        let ox = 45.8 + 1.2 * first_col as f32 + 0.3;
+        for (ppm, oy) in [(1.0f32, 33.0f32), (2.0, 34.3), (10.0, 30.0), (0.5, 26.0)] {
+            for wide in [false, true] {
+                let (w, h) =
+                    (((50.0 + 4.2 + 0.5 - ox) * ppm).ceil() as u32, ((35.0 - oy) * ppm).ceil().max(1.0) as u32);
+                let n = (w * h) as usize;
+                let samples = if wide {
+                    MaskSamples::U16((0..n).map(|_| next() as u16).collect())
+                } else {
+                    MaskSamples::U8((0..n).map(|_| next() as u8).collect())
+                };
+                for kind in [vibration(50_000), grating(3.0, 30.0)] {
+                    let m = MaskLayer {
+                        samples: samples.clone(),
+                        px_per_mm: ppm,
+                        width: w,
+                        height: h,
+                        origin_x: Mm(ox),
+                        origin_y: Mm(oy),
+                        ..uniform_mask(kind, 1.0, 0.0, 0.0, 1, 1)
+                    };
+                    assert_matches_reference(&stress2(), vec![Chunk::Mask(m)], 3, 50.0, 30.0);
+                }
+            }
+        }
+    }
+}
