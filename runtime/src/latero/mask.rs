@@ -309,7 +309,8 @@ impl<'a> MaskLayer<'a> {
                 // The taps of a group only grow (columns move right):
                 // saying so with a min lets each row check one window.
                 let taps = taps.map(|t| t.min(taps[LANES - 1]));
-                let group_phase = base + (cols - c_lo) as u32 as f32 * step_col;
+                // Eq. 3's phase of the group's columns in row f.r0.
+                let group_phase = f32x4::splat(base + (cols - c_lo) as u32 as f32 * step_col) + lane_phase;
                 for i in 0..m {
                     let (b0, b1, r) = (off0[i].min(off1[i]), off1[i], rs + i);
                     let (top, bot) = pairs(b0, b1, taps);
@@ -317,7 +318,7 @@ impl<'a> MaskLayer<'a> {
                     let b = f32x4::from_i32x4(bot.dot(w));
                     let v = t + (b - t) * wy[i];
                     let v = if GRATING {
-                        let phase = f32x4::splat(group_phase + row_phase[i]) + lane_phase;
+                        let phase = f32x4::splat(row_phase[i]) + group_phase;
                         v * (f32x4::ONE + cos_turns4(phase)) * half_unit
                     } else {
                         // Eq. 2: column `cols + lane` differs in parity
