@@ -22,10 +22,10 @@ const ROUND_MAGIC: f32 = 12_582_912.0;
 // 3.3e-9; in f32 the rounding dominates, and the unit test below measures
 // the whole below 1e-6. One term fewer than the Taylor series, whose first
 // omitted term after z⁹ would be 3.6e-6.
-const S1: f32 = 6.283_185_16;
+const S1: f32 = 6.283_185;
 const S3: f32 = -41.341_655;
 const S5: f32 = 81.601_004;
-const S7: f32 = -76.549_786;
+const S7: f32 = -76.549_79;
 const S9: f32 = 39.536_734;
 
 /// `cos(2π u)`, for `|u| < 2²²` turns (larger or non-finite `u` give an
