@@ -32,19 +32,22 @@ fn dot_profile(s: f32) -> f32 {
     }
 }
 
-/// [`dot_profile`] on four lanes: equal to it lane by lane up to the last
-/// bit of the square root (both use the same cosine), so within 1e-6.
+/// [`dot_profile`] on four lanes, times `amplitude`: equal to it lane by
+/// lane up to the last bit of the square root and of the scaling (both use
+/// the same cosine), so within 1e-6 of full deflection.
 #[inline(always)]
-pub(crate) fn dot_profile4(s: f32x4) -> f32x4 {
-    // NaN and s ≥ 1 fail `s < 1` and rest: the last select gives them 0
+pub(crate) fn dot_profile4(s: f32x4, amplitude: f32) -> f32x4 {
+    // NaN and s ≥ 1 fail `s < 1` and rest: the last mask gives them 0
     // whatever the square root and the cosine made of them.
     let inside = s.simd_lt(f32x4::ONE);
     let r = s.fast_max(f32x4::ZERO).fast_min(f32x4::ONE).sqrt();
     // (r − P) / (2 (1 − P)) is within [−⅙, ½] turn, where the cosine needs
-    // no reduction.
-    let rim = f32x4::splat(0.5) + f32x4::splat(0.5) * cos_turns4_half((r - PLATEAU) * (0.5 / (1.0 - PLATEAU)));
-    let v = r.simd_le(f32x4::splat(PLATEAU)).select(f32x4::ONE, rim);
-    inside.select(v, f32x4::ZERO)
+    // no reduction. The amplitude is folded into ½ + ½ cos, off the chain
+    // of dependent steps that a dot's cost follows.
+    let half = f32x4::splat(0.5 * amplitude);
+    let rim = half + half * cos_turns4_half((r - PLATEAU) * (0.5 / (1.0 - PLATEAU)));
+    let v = r.simd_le(f32x4::splat(PLATEAU)).select(f32x4::splat(amplitude), rim);
+    v & inside
 }
 
 /// A dot table prepared for playback.
@@ -94,7 +97,14 @@ fn accumulate_table(t: &DotTableView<'_>, inv_cell: f32, f: &Frame, acc: &mut Ac
     // (A product by the reciprocal may land a hair below a cell boundary
     // that the division would reach; a dot so placed is a full radius away
     // from every actuator the query serves, where eq. 1 gives 0.)
-    let cell = |v: f32, origin: f32, n: u32| floor_in((v - origin) * inv_cell, 0, n as i32 - 1) as u32;
+    // Clamped first (a NaN fails `c > 0` and becomes 0), the index is not
+    // negative, where truncation is the floor: one conversion.
+    let cell = |v: f32, origin: f32, n: u32| {
+        let c = (v - origin) * inv_cell;
+        let c = if c > 0.0 { c } else { 0.0 };
+        let top = (n - 1) as f32;
+        (if c < top { c } else { top }) as u32
+    };
     let (gc0, gc1) =
         (cell(f.col_x(f.col_lo) - reach, g.origin_x, g.cols), cell(f.col_x(f.col_hi - 1) + reach, g.origin_x, g.cols));
     let (gr0, gr1) =
@@ -125,7 +135,7 @@ fn accumulate_table(t: &DotTableView<'_>, inv_cell: f32, f: &Frame, acc: &mut Ac
                 while c <= c1 {
                     let cols = i32x4::splat(c) + LANE;
                     let ex = f32x4::splat(f.x_first) + f32x4::from_i32x4(cols) * f.pitch_x - x;
-                    let v = dot_profile4((ex * ex + ey * ey) * inv2) * d.amplitude;
+                    let v = dot_profile4((ex * ex + ey * ey) * inv2, d.amplitude);
                     let v = cols.simd_le(i32x4::splat(c1)).select(v, f32x4::ZERO);
                     add_lanes(acc, k0 + c as usize, v);
                     c += LANES as i32;
@@ -153,13 +163,13 @@ mod tests {
         for k in 0..=1200 {
             let r = k as f64 / 1000.0;
             let got = dot_profile((r * r) as f32) as f64;
-            let lanes = dot_profile4(f32x4::splat((r * r) as f32)).to_array();
+            let lanes = dot_profile4(f32x4::splat((r * r) as f32), 1.0).to_array();
             assert!(lanes.iter().all(|&l| (l as f64 - got).abs() < 1e-6), "r = {r}: {lanes:?} vs {got}");
             assert!((got - eq1(r)).abs() < 1e-5, "r = {r}: {got} vs {}", eq1(r));
         }
         assert_eq!(dot_profile(f32::NAN), 0.0);
-        assert_eq!(dot_profile4(f32x4::splat(f32::NAN)).to_array(), [0.0; 4]);
-        assert_eq!(dot_profile4(f32x4::splat(f32::INFINITY)).to_array(), [0.0; 4]);
+        assert_eq!(dot_profile4(f32x4::splat(f32::NAN), 0.7).to_array(), [0.0; 4]);
+        assert_eq!(dot_profile4(f32x4::splat(f32::INFINITY), 0.7).to_array(), [0.0; 4]);
         assert_eq!(dot_profile(f32::INFINITY), 0.0);
     }
 }
