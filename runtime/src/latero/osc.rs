@@ -51,13 +51,8 @@ pub(crate) fn cos_turns(u: f32) -> f32 {
 #[inline(always)]
 pub(crate) fn cos_turns4(u: f32x4) -> f32x4 {
     let magic = f32x4::splat(ROUND_MAGIC);
-    let x = u - ((u + magic) - magic);
-    let z = f32x4::splat(0.25) - x.abs();
-    let z2 = z * z;
-    let z4 = z2 * z2;
-    let s = |c: f32| f32x4::splat(c);
-    let (a, b) = (s(S1) + z2 * s(S3), s(S5) + z2 * s(S7));
-    z * (a + z4 * (b + z4 * s(S9)))
+    // The nearest whole turn off, x is within ½ turn.
+    cos_turns4_half(u - ((u + magic) - magic))
 }
 
 /// Turns a tick into oscillator phases: the tick modulo one second's worth
@@ -170,7 +165,7 @@ pub(crate) fn ceil_in4(v: f32x4, lo: i32x4, hi: i32x4) -> i32x4 {
 
 /// [`cos_turns4`] for `|u| ≤ ½` turn, where the reduction to the nearest
 /// whole turn changes nothing: the same lanes, bit for bit, four operations
-/// sooner.
+/// sooner. (It is [`cos_turns4`]'s polynomial.)
 #[inline(always)]
 pub(crate) fn cos_turns4_half(u: f32x4) -> f32x4 {
     let z = f32x4::splat(0.25) - u.abs();
