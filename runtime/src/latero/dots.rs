@@ -32,7 +32,7 @@ fn dot_profile(s: f32) -> f32 {
     }
 }
 
-/// [`dot_profile`] on four lanes, times `amplitude`: equal to it lane by
+/// `dot_profile` (the tests' scalar reference) on four lanes, times `amplitude`: equal to it lane by
 /// lane up to the last bit of the square root and of the scaling (both use
 /// the same cosine), so within 1e-6 of full deflection.
 #[inline(always)]

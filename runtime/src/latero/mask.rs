@@ -67,9 +67,11 @@ pub(crate) struct MaskLayer<'a> {
     hmax: f32,
     /// Last row index.
     last_row: u32,
+    /// The box's top-left corner, as scalars for the tap arithmetic (the
+    /// same values as `bounds`' lanes 0 and 2).
     x0: f32,
     y0: f32,
-    /// The box, `[x0, x1, y0, y1]`.
+    /// The box, `[x0, x1, y0, y1]`, for [`Frame::runs`].
     bounds: f32x4,
     px_per_mm: f32,
     /// What one unit of the fixed-point interpolation is worth in δ: the
@@ -172,10 +174,9 @@ impl<'a> MaskLayer<'a> {
         } else {
             // Each pair is read as the first two bytes of a u32, which goes
             // straight into a vector lane (a u16 read would pass through a
-            // general register, one lane at a time). Shifting each lane up
-            // and back down sign-extends its pair, so that the signed
-            // narrowing to 16-bit lanes keeps the two bytes exactly; the
-            // eight pairs' bytes then widen to two i16x8. The reads lie
+            // general register, one lane at a time); `quads_to_pairs`
+            // gathers the eight pairs into one vector, whose bytes then
+            // widen to two i16x8. The reads lie
             // between the first tap of the upper row and the end of the last
             // tap's u32 in the lower row: one check of that window covers
             // all eight (the caller passes b0 ≤ b1 and taps bounded by the
