@@ -29,8 +29,18 @@ pub enum Format {
     Json,
 }
 
+/// Height axis of a mesh (`--up`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Default)]
+pub enum Up {
+    /// +Y is up, as glTF 2.0 says.
+    #[default]
+    Y,
+    /// +Z is up, as GIS tools and some exporters write terrains.
+    Z,
+}
+
 /// Options shared by the commands that compile.
-#[derive(Debug, Clone, Args)]
+#[derive(Debug, Clone, Default, Args)]
 pub struct CompileOpts {
     /// Device profile: a built-in name (see `taxel profiles`) or a TOML file.
     #[arg(long, short = 'p', value_name = "NAME|FILE")]
@@ -44,6 +54,29 @@ pub struct CompileOpts {
     /// Physical width of a drawing that has no absolute size, in millimetres.
     #[arg(long, value_name = "MM")]
     pub width_mm: Option<f32>,
+    /// Scale the drawing or mesh to fill the device's surface, keeping its aspect ratio.
+    #[arg(long)]
+    pub fit: bool,
+    /// Keep only part of the drawing, then fit it: `X,Y,W,H` in drawing units, or `#id`.
+    #[arg(long, value_name = "X,Y,W,H|#id", value_parser = parse_region)]
+    pub region: Option<taxel_compiler::Region>,
+    /// Meshes: which model axis is up (height).
+    #[arg(long, value_enum, default_value_t)]
+    pub up: Up,
+    /// Meshes: multiply heights by this factor (above 0).
+    #[arg(long, value_name = "F", value_parser = parse_exaggerate)]
+    pub exaggerate: Option<f64>,
+}
+
+fn parse_region(s: &str) -> Result<taxel_compiler::Region, String> {
+    s.parse()
+}
+
+fn parse_exaggerate(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(f) if f.is_finite() && f > 0.0 && f <= 1e6 => Ok(f),
+        _ => Err(format!("`{s}` is not a factor above 0 (such as 2 or 0.5)")),
+    }
 }
 
 /// The commands.

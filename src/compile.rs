@@ -47,6 +47,13 @@ pub fn compile_options(opts: &CompileOpts) -> Result<Result<CompileOptions, Diag
         resolution_px_per_mm: opts.resolution,
         width_mm: opts.width_mm,
         content_hash: [0; 32],
+        fit: opts.fit,
+        region: opts.region.clone(),
+        up: match opts.up {
+            crate::cli::Up::Y => taxel_compiler::UpAxis::Y,
+            crate::cli::Up::Z => taxel_compiler::UpAxis::Z,
+        },
+        exaggerate: opts.exaggerate.unwrap_or(1.0),
     }))
 }
 

@@ -125,8 +125,7 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
     let opts = CompileOpts {
         profile: Some(s.profile.clone()),
         style: s.style.as_ref().map(|p| examples.join(p)),
-        resolution: None,
-        width_mm: None,
+        ..CompileOpts::default()
     };
     let (bundle, build_ms) = report::compile(&input, &opts, None)?;
     let bytes = bundle.to_bytes().map_err(|e| anyhow::anyhow!("{e}"))?;

@@ -21,7 +21,7 @@ pub mod svg;
 mod text_pos;
 
 pub use diagnostic::{Diagnostic, Severity, has_errors};
-pub use options::{CompileOptions, DEFAULT_PX_PER_MM};
+pub use options::{CompileOptions, DEFAULT_PX_PER_MM, Region, UpAxis};
 pub use stylesheet::{StyleError, StyleSheet};
 
 use taxel_format::Bundle;

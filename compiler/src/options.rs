@@ -10,6 +10,57 @@ use crate::stylesheet::StyleSheet;
 /// resolution, and more than 0.15 mm from edges the mask is exact.
 pub const DEFAULT_PX_PER_MM: f32 = 10.0;
 
+/// Part of a drawing or mesh to keep (`--region`), before fitting.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Region {
+    /// A rectangle in drawing units (SVG user units of the root, or model
+    /// units of a mesh's footprint): left, top, width, height.
+    Rect {
+        /// Left edge.
+        x: f64,
+        /// Top edge.
+        y: f64,
+        /// Width, above 0.
+        w: f64,
+        /// Height, above 0.
+        h: f64,
+    },
+    /// The bounding box of the element (or mesh node) with this id or name.
+    Element(String),
+}
+
+impl std::str::FromStr for Region {
+    type Err = String;
+
+    /// `X,Y,W,H` (four finite numbers, W and H above 0) or `#id`.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let s = s.trim();
+        if let Some(id) = s.strip_prefix('#') {
+            if id.is_empty() {
+                return Err("`#` must be followed by an element id, as in `#france`".into());
+            }
+            return Ok(Region::Element(id.to_string()));
+        }
+        let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+        let nums: Vec<f64> = parts.iter().filter_map(|p| p.parse::<f64>().ok()).filter(|v| v.is_finite()).collect();
+        match (parts.len(), nums.as_slice()) {
+            (4, &[x, y, w, h]) if w > 0.0 && h > 0.0 => Ok(Region::Rect { x, y, w, h }),
+            (4, &[_, _, _, _]) => Err(format!("the region `{s}` has a width or height that is not above 0")),
+            _ => Err(format!("the region `{s}` is not `X,Y,W,H` (four numbers in drawing units) nor `#id`")),
+        }
+    }
+}
+
+/// Which model axis is "up" (height) for a mesh (`--up`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum UpAxis {
+    /// +Y, as glTF 2.0 says.
+    #[default]
+    Y,
+    /// +Z, as GIS tools and some exporters write terrains.
+    Z,
+}
+
 /// Options for one compilation.
 #[derive(Debug, Clone)]
 pub struct CompileOptions {
@@ -23,11 +74,45 @@ pub struct CompileOptions {
     pub width_mm: Option<f32>,
     /// Hash of everything the build depended on, stored in the manifest.
     pub content_hash: [u8; 32],
+    /// Scale (and centre) the drawing or mesh to fill the profile's surface,
+    /// keeping its aspect ratio (`--fit`).
+    pub fit: bool,
+    /// Keep only this part of the drawing or mesh, then fit it (`--region`).
+    pub region: Option<Region>,
+    /// Height axis of a mesh (`--up`).
+    pub up: UpAxis,
+    /// Factor on a mesh's heights (`--exaggerate`), above 0; 1 keeps them.
+    pub exaggerate: f64,
 }
 
 impl CompileOptions {
     /// Options for `profile` with every other setting at its default.
     pub fn new(profile: DeviceProfile) -> Self {
-        CompileOptions { profile, style: None, resolution_px_per_mm: None, width_mm: None, content_hash: [0; 32] }
+        CompileOptions {
+            profile,
+            style: None,
+            resolution_px_per_mm: None,
+            width_mm: None,
+            content_hash: [0; 32],
+            fit: false,
+            region: None,
+            up: UpAxis::Y,
+            exaggerate: 1.0,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn regions_parse_from_rectangles_and_ids() {
+        assert_eq!("10,20,30,40".parse(), Ok(Region::Rect { x: 10.0, y: 20.0, w: 30.0, h: 40.0 }));
+        assert_eq!(" -1.5, 2e1 ,3,4 ".parse(), Ok(Region::Rect { x: -1.5, y: 20.0, w: 3.0, h: 4.0 }));
+        assert_eq!("#France".parse(), Ok(Region::Element("France".into())));
+        for bad in ["", "#", "1,2,3", "1,2,3,4,5", "1,2,0,4", "1,2,3,-4", "a,b,c,d", "1,2,inf,4", "1,2,NaN,4"] {
+            assert!(bad.parse::<Region>().is_err(), "{bad:?} was accepted");
+        }
     }
 }

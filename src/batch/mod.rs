@@ -216,12 +216,7 @@ mod tests {
     }
 
     fn settings(force: bool) -> Settings {
-        Settings {
-            opts: CompileOpts { profile: None, style: None, resolution: None, width_mm: None },
-            force,
-            jobs: Some(2),
-            terminal: false,
-        }
+        Settings { opts: CompileOpts::default(), force, jobs: Some(2), terminal: false }
     }
 
     #[test]
