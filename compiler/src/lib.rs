@@ -12,6 +12,7 @@
 pub mod annotation;
 pub mod brush;
 pub mod diagnostic;
+pub mod drawing;
 pub mod geometry;
 pub mod mesh;
 pub mod options;
