@@ -88,6 +88,13 @@ impl Diagnostic {
         self
     }
 
+    /// Places it at a 1-based source line, without a column (it is about a whole element).
+    pub fn at_line(mut self, line: u32) -> Self {
+        self.line = Some(line);
+        self.column = None;
+        self
+    }
+
     /// Formats it like a compiler: `file:line:col: warning[T0101]: message (element #id)`
     /// followed by `  help: ...` when there is help.
     pub fn render(&self, file: &str) -> String {

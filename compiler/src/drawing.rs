@@ -12,6 +12,16 @@
 //! exact f64 in page millimetres (origin top-left, y down) after the page
 //! transform, including `--fit` and `--region`.
 
+mod page;
+mod resolve;
+pub(crate) mod source;
+mod text;
+mod walk;
+
+pub(crate) use page::page as page_size;
+pub(crate) use resolve::{NOT_DRAWN, run as resolve_into, usvg_options};
+pub use resolve::{Resolved, resolve};
+
 use crate::annotation::Style;
 use crate::geometry::{FillRule, Polyline};
 

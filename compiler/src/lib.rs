@@ -3,7 +3,8 @@
 //! takes bytes and strings, and returns the bundle together with every
 //! diagnostic it collected.
 //!
-//! Entry points: [`svg::compile_svg`] for drawings; [`preview`] draws a
+//! Entry points: [`svg::compile_svg`] for drawings; [`drawing::resolve`] for
+//! the resolved drawing that its layers are built from; [`preview`] draws a
 //! bundle the way a reader will feel it; [`geometry`] holds the exact (f64)
 //! geometry that error reports compare rasters against.
 #![forbid(unsafe_code)]
@@ -16,6 +17,7 @@ pub mod drawing;
 pub mod geometry;
 pub mod mesh;
 pub mod options;
+mod prepare;
 pub mod preview;
 pub mod stylesheet;
 pub mod svg;

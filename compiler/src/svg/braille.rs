@@ -4,8 +4,6 @@
 //! Braille is made from the text's characters, never from glyph outlines, so
 //! it does not depend on fonts. Contracted (grade 2) braille is not supported.
 
-use roxmltree::Node;
-
 /// Dot pitch within a cell (NLS Spec 800: 0.092 in).
 pub const DOT_PITCH_MM: f64 = 2.34;
 /// Distance between corresponding dots of neighbouring cells (0.245 in).
@@ -185,70 +183,6 @@ pub fn layout(cells: &[Cell], x0: f64, baseline: f64, r: f64) -> Vec<(f64, f64)>
 /// Width of a run of `n` cells of dots of radius `r`, from the first dot's left edge to the last's right edge.
 pub fn run_width(n: usize, r: f64) -> f64 {
     if n == 0 { 0.0 } else { (n - 1) as f64 * CELL_PITCH_MM + DOT_PITCH_MM + 2.0 * r }
-}
-
-/// One positioned run of a `<text>`: a start position (user units, when given) and its text.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Run {
-    pub x: Option<f64>,
-    pub y: Option<f64>,
-    pub text: String,
-}
-
-/// The runs of a `<text>` element: a new run wherever `x` or `y` is given (on
-/// the text or a `<tspan>`); whitespace collapsed as SVG does by default.
-pub(crate) fn runs(text: Node<'_, '_>) -> Vec<Run> {
-    fn first(n: Node<'_, '_>, a: &str) -> Option<f64> {
-        let v = n.attribute(a)?;
-        let tok = v.split(|c: char| c.is_whitespace() || c == ',').find(|t| !t.is_empty())?;
-        let l: svgtypes::Length = tok.parse().ok()?;
-        let per = match l.unit {
-            svgtypes::LengthUnit::Mm => 96.0 / 25.4,
-            svgtypes::LengthUnit::Cm => 96.0 / 2.54,
-            svgtypes::LengthUnit::In => 96.0,
-            svgtypes::LengthUnit::Pt => 96.0 / 72.0,
-            svgtypes::LengthUnit::Pc => 16.0,
-            _ => 1.0,
-        };
-        Some(l.number * per).filter(|v| v.is_finite())
-    }
-    fn walk(n: Node<'_, '_>, runs: &mut Vec<Run>) {
-        for c in n.children() {
-            if c.is_text() {
-                if let Some(t) = runs.last_mut() {
-                    t.text.push_str(c.text().unwrap_or(""));
-                }
-            } else if c.is_element() && matches!(c.tag_name().name(), "tspan" | "a") {
-                let (x, y) = (first(c, "x"), first(c, "y"));
-                if x.is_some() || y.is_some() {
-                    runs.push(Run { x, y, text: String::new() });
-                }
-                walk(c, runs);
-            }
-        }
-    }
-    let mut out = vec![Run { x: first(text, "x"), y: first(text, "y"), text: String::new() }];
-    walk(text, &mut out);
-    for r in &mut out {
-        r.text = r.text.split_whitespace().collect::<Vec<_>>().join(" ");
-    }
-    out.retain(|r| !r.text.is_empty());
-    out
-}
-
-/// The text's `text-anchor` as a fraction of the run's width to shift left (0, ½ or 1).
-pub(crate) fn anchor(text: Node<'_, '_>) -> f64 {
-    let from_style = text.attribute("style").and_then(|s| {
-        s.split(';').find_map(|d| {
-            let (k, v) = d.split_once(':')?;
-            (k.trim() == "text-anchor").then(|| v.trim())
-        })
-    });
-    match from_style.or(text.attribute("text-anchor")) {
-        Some("middle") => 0.5,
-        Some("end") => 1.0,
-        _ => 0.0,
-    }
 }
 
 #[cfg(test)]

@@ -1,11 +1,10 @@
-//! From tactile shapes to layers: one mask per shape and mask style, dot
-//! tables per kind, brush requests for grid devices, provenance, and the
+//! From the resolved drawing to layers: one mask per shape and mask style,
+//! dot tables per kind, brush requests for grid devices, provenance, and the
 //! features the design rules look at.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 
-use resvg::tiny_skia::Transform;
-use roxmltree::Document;
+use resvg::tiny_skia::Path;
 use taxel_format::{
     Chunk, Dot, DotKind, DotTable, Family, MaskKind, MaskLayer, MilliHertz, Mm, Provenance, ProvenanceEntry,
     StrokeTable,
@@ -13,14 +12,12 @@ use taxel_format::{
 
 use super::braille;
 use super::dots;
-use super::masks::{self, Coverage};
-use super::scene::{Item, Scene};
-use super::size::Page;
-use super::source::{Kind, Source};
-use crate::annotation::{Declaration, Style};
+use super::masks::{self, Area, Coverage};
+use crate::annotation::{Braille as BrailleStyle, Style};
 use crate::brush::{self, BrushRequest};
 use crate::diagnostic::Diagnostic;
-use crate::geometry::Polyline;
+use crate::drawing::{Drawing, Element, Page, Shape, TextShape};
+use crate::geometry::{FillRule, Polyline};
 use crate::options::CompileOptions;
 
 /// What a feature is, with the parameters the design rules need.
@@ -36,6 +33,8 @@ pub(crate) enum FeatureKind {
 /// One rendered style of one element.
 #[derive(Debug, Clone)]
 pub(crate) struct Feature {
+    /// The source element it comes from (its provenance entry): the copies a
+    /// `<use>` makes share one.
     pub elem: usize,
     pub name: String,
     pub line: u32,
@@ -65,7 +64,7 @@ pub(crate) struct Built {
     pub features: Vec<Feature>,
     /// Elements that asked for any tactile style.
     pub styled_elements: usize,
-    prov_index: HashMap<usize, u32>,
+    prov_index: HashMap<(String, u32), u32>,
 }
 
 impl Built {
@@ -100,14 +99,14 @@ impl Built {
         out
     }
 
-    fn source(&mut self, src: &Source, elem: usize) -> u32 {
-        if let Some(&i) = self.prov_index.get(&elem) {
+    /// The provenance entry of the source element that `e` comes from (its name and line).
+    fn source(&mut self, e: &Element) -> u32 {
+        if let Some(&i) = self.prov_index.get(&(e.name.clone(), e.line)) {
             return i;
         }
-        let e = &src.elements[elem];
         let i = self.provenance.len() as u32;
         self.provenance.push(ProvenanceEntry { id: e.id.clone(), label: e.label.clone(), line: e.line });
-        self.prov_index.insert(elem, i);
+        self.prov_index.insert((e.name.clone(), e.line), i);
         i
     }
 
@@ -140,46 +139,63 @@ fn not_here(style: &Style, e: &str, line: u32, profile: &str) -> Diagnostic {
         Style::Brush(_) => "brush() strokes play on vibrotactile grids such as brush-4x3",
         _ => "vibrate, grating, dots, dot and braille play on laterotactile arrays such as stress2",
     };
-    let d = Diagnostic::warning("T0120", format!("`{}` is not rendered on {profile}; it is left out", style.name()))
+    Diagnostic::warning("T0120", format!("`{}` is not rendered on {profile}; it is left out", style.name()))
         .with_element(e)
-        .with_help(help);
-    with_line(d, line)
-}
-
-/// Places a diagnostic at a source line (no column: it is about the whole element).
-fn with_line(d: Diagnostic, line: u32) -> Diagnostic {
-    Diagnostic { line: Some(line), column: None, ..d }
+        .with_help(help)
+        .at_line(line)
 }
 
 /// A vibrating band: its outline, width (mm) and bounds (x0, y0, x1, y1).
-type Band<'a> = (&'a resvg::tiny_skia::Path, f64, (f32, f32, f32, f32));
+type Band<'a> = (&'a Path, f64, (f32, f32, f32, f32));
 
-/// Builds every layer.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn build(
-    scene: &Scene<'_>,
-    src: &Source,
-    doc: &Document<'_>,
-    opts: &CompileOptions,
-    page: Page,
-    px: f32,
-    root_ts: Transform,
-    diags: &mut Vec<Diagnostic>,
-) -> Built {
+/// An element's outline as a tiny-skia path (rebuilt from its exact
+/// polylines), and its clip regions as paths; `None` for the whole when a
+/// clip region is empty (nothing of the element is left).
+struct Raster {
+    path: Option<Path>,
+    fill_rule: FillRule,
+    clips: Option<Vec<(Path, FillRule)>>,
+}
+
+impl Raster {
+    fn of(e: &Element) -> Raster {
+        let (outline, fill_rule, clips): (&[Polyline], _, &[_]) = match &e.shape {
+            Shape::Path(p) => (&p.outline, p.fill_rule, &p.clips),
+            Shape::Text(t) => (&t.outline, FillRule::NonZero, &[]),
+            Shape::Image { .. } => (&[], FillRule::NonZero, &[]),
+        };
+        let clips = clips.iter().map(|c| masks::to_path(&c.outline).map(|p| (p, c.fill_rule))).collect();
+        Raster { path: masks::to_path(outline), fill_rule, clips }
+    }
+}
+
+/// The outline a style is rendered from (glyph outlines for text).
+fn outline(e: &Element) -> &[Polyline] {
+    match &e.shape {
+        Shape::Path(p) => &p.outline,
+        Shape::Text(t) => &t.outline,
+        Shape::Image { .. } => &[],
+    }
+}
+
+/// Builds every layer of `drawing` at `px` samples per mm.
+pub(crate) fn build(drawing: &Drawing, opts: &CompileOptions, px: f32, diags: &mut Vec<Diagnostic>) -> Built {
     let family = opts.profile.family();
     let profile = opts.profile.name.as_str();
+    let page = drawing.page;
     let mut b = Built::default();
-    let mut styled: HashSet<usize> = HashSet::new();
     let mut requests: Vec<BrushRequest> = Vec::new();
+    let rasters: Vec<Raster> = drawing.elements.iter().map(Raster::of).collect();
     // Every vibrating band on the page, to cut out of the gratings it crosses.
     let bands: Vec<Band<'_>> = if family == Family::Laterotactile {
-        scene
-            .items
+        drawing
+            .elements
             .iter()
-            .filter(|it| it.visible)
-            .flat_map(|it| {
-                it.styles.iter().filter_map(move |s| match s {
-                    Style::Vibrate(v) => it.path.as_ref().map(|p| (p, v.width_mm)),
+            .zip(&rasters)
+            .filter(|(e, _)| e.visible)
+            .flat_map(|(e, r)| {
+                e.styles.iter().filter_map(move |s| match s {
+                    Style::Vibrate(v) => r.path.as_ref().map(|p| (p, v.width_mm)),
                     _ => None,
                 })
             })
@@ -192,25 +208,55 @@ pub(crate) fn build(
     } else {
         Vec::new()
     };
-    for item in &scene.items {
-        let e = &src.elements[item.elem];
-        styled.insert(item.elem);
-        if !item.visible {
-            diags.push(with_line(
+    for (e, r) in drawing.elements.iter().zip(&rasters) {
+        if e.styles.is_empty() {
+            continue;
+        }
+        b.styled_elements += 1;
+        if let Shape::Image { .. } = e.shape {
+            diags.push(
+                Diagnostic::warning("T0305", "images are not rendered tactilely; this one is left out")
+                    .with_element(&e.name)
+                    .with_help("trace the picture as paths (Inkscape: Path > Trace Bitmap) and annotate the paths")
+                    .at_line(e.line),
+            );
+            continue;
+        }
+        // Braille is made from a text's characters (below), never from its glyph outlines.
+        let is_text = matches!(e.shape, Shape::Text(_));
+        let styles: Vec<&Style> = e.styles.iter().filter(|s| !(is_text && matches!(s, Style::Braille(_)))).collect();
+        if styles.is_empty() {
+            continue;
+        }
+        let polylines = outline(e);
+        if is_text && polylines.is_empty() {
+            // Glyph outlines need fonts, which are optional: without them only braille is made of text.
+            continue;
+        }
+        if !e.visible {
+            diags.push(
                 Diagnostic::warning("T0301", "this shape is hidden (visibility: hidden); nothing is rendered for it")
-                    .with_element(&e.name),
-                e.line,
-            ));
+                    .with_element(&e.name)
+                    .at_line(e.line),
+            );
             continue;
         }
-        if item.polylines.is_empty() || item.path.is_none() {
-            diags.push(with_line(
-                Diagnostic::warning("T0301", "this shape is empty; nothing is rendered for it").with_element(&e.name),
-                e.line,
-            ));
+        let (Some(path), Some(clips)) = (&r.path, &r.clips) else {
+            let what = if r.path.is_none() { "this shape is empty" } else { "this shape is clipped away" };
+            diags.push(
+                Diagnostic::warning("T0301", format!("{what}; nothing is rendered for it"))
+                    .with_element(&e.name)
+                    .at_line(e.line),
+            );
             continue;
-        }
-        for style in &item.styles {
+        };
+        let clips: Vec<Area<'_>> = clips.iter().map(|(p, rule)| (p, *rule)).collect();
+        let area = (path, r.fill_rule);
+        let markers: &[(f64, f64)] = match &e.shape {
+            Shape::Path(p) => &p.markers,
+            _ => &[],
+        };
+        for &style in &styles {
             if !renders_on(style, family) {
                 diags.push(not_here(style, &e.name, e.line, profile));
                 continue;
@@ -220,13 +266,14 @@ pub(crate) fn build(
                     let Some(freq) = MilliHertz::from_hz(v.freq_hz) else { continue };
                     let kind = MaskKind::Vibration { freq };
                     let fk = FeatureKind::Vibrate { width_mm: v.width_mm, freq_hz: v.freq_hz };
-                    mask(&mut b, src, item, Coverage::Band(v.width_mm), kind, v.amplitude, fk, page, px, diags);
+                    let m = MaskJob { e, area, clips: &clips, kind, amplitude: v.amplitude, fk };
+                    mask(&mut b, m, Coverage::Band(v.width_mm), page, px, diags);
                 }
                 Style::Grating(g) => {
                     let kind =
                         MaskKind::Grating { wavelength: Mm(g.wavelength_mm as f32), angle_deg: g.angle_deg as f32 };
                     let fk = FeatureKind::Grating { wavelength_mm: g.wavelength_mm, angle_deg: g.angle_deg };
-                    let mine = item.path.as_ref().and_then(|p| p.compute_tight_bounds());
+                    let mine = path.compute_tight_bounds();
                     let minus_bands = bands
                         .iter()
                         .filter(|(_, _, b)| {
@@ -236,56 +283,35 @@ pub(crate) fn build(
                         })
                         .map(|&(p, w, _)| (p, w))
                         .collect();
-                    let cov = Coverage::Fill { minus_bands };
-                    mask(&mut b, src, item, cov, kind, g.amplitude, fk, page, px, diags);
+                    let m = MaskJob { e, area, clips: &clips, kind, amplitude: g.amplitude, fk };
+                    mask(&mut b, m, Coverage::Fill { minus_bands }, page, px, diags);
                 }
                 Style::Dots(d) => {
-                    let pts = dots::along(&item.polylines, d.radius_mm, d.spacing_mm, &e.name, diags);
+                    let pts = dots::along(polylines, d.radius_mm, d.spacing_mm, &e.name, diags);
                     let spacing = d.spacing_mm.unwrap_or(3.0 * d.radius_mm).max(2.0 * d.radius_mm);
                     let fk = FeatureKind::Dots { radius_mm: d.radius_mm, spacing_mm: spacing };
-                    dot_feature(
-                        &mut b,
-                        src,
-                        item.elem,
-                        DotKind::Outline,
-                        &pts,
-                        d.radius_mm,
-                        d.amplitude,
-                        fk,
-                        page,
-                        diags,
-                    );
+                    let job = DotJob { e, kind: DotKind::Outline, radius: d.radius_mm, amplitude: d.amplitude, fk };
+                    dot_feature(&mut b, job, &pts, page, diags);
                 }
                 Style::Dot(d) => {
-                    let pts = dots::symbol(&item.polylines, &item.markers);
+                    let pts = dots::symbol(polylines, markers);
                     let fk = FeatureKind::Dot { radius_mm: d.radius_mm };
-                    dot_feature(
-                        &mut b,
-                        src,
-                        item.elem,
-                        DotKind::Symbol,
-                        &pts,
-                        d.radius_mm,
-                        d.amplitude,
-                        fk,
-                        page,
-                        diags,
-                    );
+                    let job = DotJob { e, kind: DotKind::Symbol, radius: d.radius_mm, amplitude: d.amplitude, fk };
+                    dot_feature(&mut b, job, &pts, page, diags);
                 }
-                Style::Braille(_) => diags.push(with_line(
+                Style::Braille(_) => diags.push(
                     Diagnostic::warning(
                         "T0121",
                         "braille() applies to <text> elements; this shape is left out of the braille",
                     )
-                    .with_element(&e.name),
-                    e.line,
-                )),
+                    .with_element(&e.name)
+                    .at_line(e.line),
+                ),
                 Style::Brush(br) => {
-                    let source = b.source(src, item.elem);
-                    for pl in &item.polylines {
-                        let polyline = pl.walked();
+                    let source = b.source(e);
+                    for pl in polylines {
                         requests.push(BrushRequest {
-                            polyline,
+                            polyline: pl.walked(),
                             duration_ms: br.duration_ms,
                             intensity: br.intensity,
                             freq_hz: br.freq_hz,
@@ -299,124 +325,95 @@ pub(crate) fn build(
             }
         }
     }
-    braille_texts(&mut b, scene, src, doc, opts, page, root_ts, &mut styled, diags);
-    for &i in &scene.images {
-        let e = &src.elements[i];
-        styled.insert(i);
-        diags.push(with_line(
-            Diagnostic::warning("T0305", "images are not rendered tactilely; this one is left out")
-                .with_element(&e.name)
-                .with_help("trace the picture as paths (Inkscape: Path > Trace Bitmap) and annotate the paths"),
-            e.line,
-        ));
-    }
-    const SHAPES: &[&str] = &["path", "rect", "circle", "ellipse", "line", "polyline", "polygon"];
-    for (i, e) in src.elements.iter().enumerate() {
-        let annotated = matches!(&e.own, Some(Declaration::Styles(s)) if !s.is_empty());
-        if annotated && !e.in_defs && SHAPES.contains(&e.tag.as_str()) && !scene.seen.contains(&i) {
-            styled.insert(i);
-            diags.push(with_line(
-                Diagnostic::warning(
-                    "T0301",
-                    "this shape is not drawn (display: none, zero size or no geometry); nothing is rendered for it",
-                )
-                .with_element(&e.name),
-                e.line,
-            ));
-        }
-    }
+    braille_texts(&mut b, drawing, opts, diags);
     if !requests.is_empty() {
         b.strokes = brush::compile_strokes(&requests, &opts.profile, diags);
     }
-    b.styled_elements = styled.len();
     b
 }
 
-#[allow(clippy::too_many_arguments)]
-fn mask(
-    b: &mut Built,
-    src: &Source,
-    item: &Item<'_>,
-    coverage: Coverage,
+/// One mask to render: the element, its area and clips, and what the mask is.
+struct MaskJob<'a> {
+    e: &'a Element,
+    area: Area<'a>,
+    clips: &'a [Area<'a>],
     kind: MaskKind,
     amplitude: f64,
     fk: FeatureKind,
-    page: Page,
-    px: f32,
-    diags: &mut Vec<Diagnostic>,
-) {
-    let e = &src.elements[item.elem];
-    let source = b.source(src, item.elem);
-    match masks::render(item, &coverage, kind, amplitude as f32, Some(source), page, px, &e.name, diags) {
-        Some(m) => {
+}
+
+fn mask(b: &mut Built, m: MaskJob<'_>, coverage: Coverage, page: Page, px: f32, diags: &mut Vec<Diagnostic>) {
+    let e = m.e;
+    let source = b.source(e);
+    match masks::render(m.area, m.clips, &coverage, m.kind, m.amplitude as f32, Some(source), page, px, &e.name, diags)
+    {
+        Some(layer) => {
             let half_band = match &coverage {
                 Coverage::Band(w) => w / 2.0,
                 Coverage::Fill { .. } => 0.0,
             };
             let bbox = (
-                m.origin_x.0 as f64,
-                m.origin_y.0 as f64,
-                m.origin_x.0 as f64 + m.width as f64 / m.px_per_mm as f64,
-                m.origin_y.0 as f64 + m.height as f64 / m.px_per_mm as f64,
+                layer.origin_x.0 as f64,
+                layer.origin_y.0 as f64,
+                layer.origin_x.0 as f64 + layer.width as f64 / layer.px_per_mm as f64,
+                layer.origin_y.0 as f64 + layer.height as f64 / layer.px_per_mm as f64,
             );
             b.features.push(Feature {
-                elem: item.elem,
+                elem: source as usize,
                 name: e.name.clone(),
                 line: e.line,
-                kind: fk,
-                outline: item.polylines.clone(),
+                kind: m.fk,
+                outline: outline(e).to_vec(),
                 half_band,
                 dots: Vec::new(),
                 bbox,
                 mask: Some(b.masks.len()),
-                amplitude,
+                amplitude: m.amplitude,
             });
-            b.masks.push(m);
+            b.masks.push(layer);
         }
-        None => diags.push(with_line(
+        None => diags.push(
             Diagnostic::warning(
                 "T0301",
                 "nothing of this shape is left on the page (empty, invisible or outside the page)",
             )
-            .with_element(&e.name),
-            e.line,
-        )),
+            .with_element(&e.name)
+            .at_line(e.line),
+        ),
     }
 }
 
-#[allow(clippy::too_many_arguments)]
-fn dot_feature(
-    b: &mut Built,
-    src: &Source,
-    elem: usize,
+/// Dots to place for one element: what they are and how big.
+struct DotJob<'a> {
+    e: &'a Element,
     kind: DotKind,
-    pts: &[(f64, f64)],
     radius: f64,
     amplitude: f64,
     fk: FeatureKind,
-    page: Page,
-    diags: &mut Vec<Diagnostic>,
-) {
-    let e = &src.elements[elem];
+}
+
+fn dot_feature(b: &mut Built, job: DotJob<'_>, pts: &[(f64, f64)], page: Page, diags: &mut Vec<Diagnostic>) {
+    let DotJob { e, kind, radius, amplitude, fk } = job;
     let pts: Vec<(f64, f64)> = pts
         .iter()
         .copied()
         .filter(|&(x, y)| x >= -radius && y >= -radius && x <= page.width_mm + radius && y <= page.height_mm + radius)
         .collect();
     if pts.is_empty() {
-        diags.push(with_line(
-            Diagnostic::warning("T0301", "no dots are left on the page for this element").with_element(&e.name),
-            e.line,
-        ));
+        diags.push(
+            Diagnostic::warning("T0301", "no dots are left on the page for this element")
+                .with_element(&e.name)
+                .at_line(e.line),
+        );
         return;
     }
-    let source = b.source(src, elem);
+    let source = b.source(e);
     b.push_dots(kind, &pts, radius, amplitude, source);
     let (x0, y0, x1, y1) = pts.iter().fold((f64::MAX, f64::MAX, f64::MIN, f64::MIN), |a, p| {
         (a.0.min(p.0), a.1.min(p.1), a.2.max(p.0), a.3.max(p.1))
     });
     b.features.push(Feature {
-        elem,
+        elem: source as usize,
         name: e.name.clone(),
         line: e.line,
         kind: fk,
@@ -429,136 +426,84 @@ fn dot_feature(
     });
 }
 
-/// The declaration in force at an element from the XML alone (own, style
-/// sheet by id/class/layer, then its ancestors'), for `<text>` elements.
-fn xml_decl(src: &Source, elem: usize) -> Option<&Declaration> {
-    let mut i = Some(elem);
-    while let Some(k) = i {
-        let e = &src.elements[k];
-        if let Some(d) = e.own.as_ref().or(e.sheet.as_ref()) {
-            return Some(d);
-        }
-        i = e.parent;
-    }
-    None
-}
-
-#[allow(clippy::too_many_arguments)]
-fn braille_texts(
-    b: &mut Built,
-    scene: &Scene<'_>,
-    src: &Source,
-    doc: &Document<'_>,
-    opts: &CompileOptions,
-    page: Page,
-    root_ts: Transform,
-    styled: &mut HashSet<usize>,
-    diags: &mut Vec<Diagnostic>,
-) {
+/// Braille for every text with a braille style, in document order, after the other layers.
+fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOptions, diags: &mut Vec<Diagnostic>) {
     let family = opts.profile.family();
-    for (i, e) in src.elements.iter().enumerate() {
-        if e.kind != Kind::Text || e.in_defs {
-            continue;
-        }
-        let Some(style) = xml_decl(src, i).and_then(|d| {
-            d.styles().iter().find_map(|s| match s {
-                Style::Braille(br) => Some(*br),
-                _ => None,
-            })
+    for e in &drawing.elements {
+        let Shape::Text(text) = &e.shape else { continue };
+        let Some(style) = e.styles.iter().find_map(|s| match s {
+            Style::Braille(br) => Some(*br),
+            _ => None,
         }) else {
             continue;
         };
-        styled.insert(i);
         if family != Family::Laterotactile {
             diags.push(not_here(&Style::Braille(style), &e.name, e.line, opts.profile.name.as_str()));
             continue;
         }
-        // The nearest group usvg kept gives the transform; if usvg dropped it, the text is not drawn.
-        let mut parent_ts = root_ts;
-        let mut p = e.parent;
-        while let Some(k) = p {
-            let a = &src.elements[k];
-            if a.kind == Kind::Group && a.parent.is_some() {
-                match scene.group_ts.get(&a.key) {
-                    Some(ts) => parent_ts = *ts,
-                    None => {
-                        parent_ts = Transform::from_scale(f32::NAN, f32::NAN);
-                    }
-                }
-                break;
-            }
-            p = a.parent;
-        }
-        let Some(node) = doc.get_node(e.node) else { continue };
-        let own_ts = node
-            .attribute("transform")
-            .and_then(|t| t.parse::<svgtypes::Transform>().ok())
-            .map_or(Transform::identity(), |t| {
-                Transform::from_row(t.a as f32, t.b as f32, t.c as f32, t.d as f32, t.e as f32, t.f as f32)
-            });
-        let s = page.scale as f32;
-        let ts = Transform::from_scale(s, s).pre_concat(parent_ts).pre_concat(own_ts);
-        if !(ts.sx.is_finite() && ts.ty.is_finite()) || node.attribute("display") == Some("none") {
-            diags.push(with_line(
-                Diagnostic::warning("T0301", "this text is not drawn; no braille is made for it").with_element(&e.name),
-                e.line,
-            ));
-            continue;
-        }
-        let r = style.radius_mm;
-        let anchor = braille::anchor(node);
-        let (mut ux, mut uy) = (0.0f64, 0.0f64);
-        let mut prev_baseline: Option<f64> = None;
-        let mut cursor: Option<f64> = None;
-        let mut pts = Vec::new();
-        let mut missing: Vec<char> = Vec::new();
-        for run in braille::runs(node) {
-            let (cells, miss) = braille::translate(&run.text);
-            missing.extend(miss);
-            let continues = run.x.is_none() && run.y.is_none() && cursor.is_some();
-            ux = run.x.unwrap_or(ux);
-            uy = run.y.unwrap_or(uy);
-            let (fx, fy) = (ux as f32, uy as f32);
-            let px_mm = (ts.sx * fx + ts.kx * fy + ts.tx) as f64;
-            let mut py_mm = (ts.ky * fx + ts.sy * fy + ts.ty) as f64;
-            if let Some(prev) = prev_baseline {
-                if py_mm > prev + 1e-6 && py_mm < prev + braille::LINE_PITCH_MM {
-                    // A new line closer than braille's line pitch: keep lines apart.
-                    py_mm = prev + braille::LINE_PITCH_MM;
-                } else if py_mm <= prev + 1e-6 && run.y.is_none() {
-                    py_mm = prev;
-                }
-            }
-            let width = braille::run_width(cells.len(), r);
-            let x0 = match (continues, cursor) {
-                (true, Some(c)) => c,
-                _ => px_mm - anchor * width,
-            };
-            pts.extend(braille::layout(&cells, x0, py_mm, r));
-            cursor = Some(x0 + cells.len() as f64 * braille::CELL_PITCH_MM);
-            prev_baseline = Some(py_mm);
-        }
+        let (pts, missing) = braille_dots(text, &style);
         if !missing.is_empty() {
-            missing.sort_unstable();
-            missing.dedup();
             let list: String = missing.iter().collect();
-            diags.push(with_line(
+            diags.push(
                 Diagnostic::warning(
                     "T0304",
                     format!("no uncontracted UEB braille for {list:?}; these characters are left out"),
                 )
                 .with_element(&e.name)
-                .with_help("taxel's built-in table covers a-z, A-Z, 0-9, space and common punctuation"),
-                e.line,
-            ));
+                .with_help("taxel's built-in table covers a-z, A-Z, 0-9, space and common punctuation")
+                .at_line(e.line),
+            );
         }
         if pts.is_empty() {
-            diags.push(with_line(
-                Diagnostic::warning("T0301", "this text has no characters to write in braille").with_element(&e.name),
-                e.line,
-            ));
+            diags.push(
+                Diagnostic::warning("T0301", "this text has no characters to write in braille")
+                    .with_element(&e.name)
+                    .at_line(e.line),
+            );
             continue;
         }
-        dot_feature(b, src, i, DotKind::Braille, &pts, r, style.amplitude, FeatureKind::Braille, page, diags);
+        let job = DotJob {
+            e,
+            kind: DotKind::Braille,
+            radius: style.radius_mm,
+            amplitude: style.amplitude,
+            fk: FeatureKind::Braille,
+        };
+        dot_feature(b, job, &pts, drawing.page, diags);
     }
+}
+
+/// The braille dot centres of a text, and the characters braille has no
+/// cell for (sorted, once each). Lines closer than braille's line pitch are
+/// moved apart; a run without its own `y` stays on the line before.
+fn braille_dots(text: &TextShape, style: &BrailleStyle) -> (Vec<(f64, f64)>, Vec<char>) {
+    let r = style.radius_mm;
+    let mut prev_baseline: Option<f64> = None;
+    let mut cursor: Option<f64> = None;
+    let mut pts = Vec::new();
+    let mut missing: Vec<char> = Vec::new();
+    for run in &text.runs {
+        let (cells, miss) = braille::translate(&run.text);
+        missing.extend(miss);
+        let mut y = run.y_mm;
+        if let Some(prev) = prev_baseline {
+            if y > prev + 1e-6 && y < prev + braille::LINE_PITCH_MM {
+                // A new line closer than braille's line pitch: keep lines apart.
+                y = prev + braille::LINE_PITCH_MM;
+            } else if y <= prev + 1e-6 && run.continues {
+                y = prev;
+            }
+        }
+        let width = braille::run_width(cells.len(), r);
+        let x0 = match (run.continues, cursor) {
+            (true, Some(c)) => c,
+            _ => run.x_mm - run.anchor * width,
+        };
+        pts.extend(braille::layout(&cells, x0, y, r));
+        cursor = Some(x0 + cells.len() as f64 * braille::CELL_PITCH_MM);
+        prev_baseline = Some(y);
+    }
+    missing.sort_unstable();
+    missing.dedup();
+    (pts, missing)
 }

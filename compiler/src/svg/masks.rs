@@ -3,13 +3,42 @@
 //! (so masks of different shapes sample the same points), cropped to the
 //! samples that are not zero.
 
-use resvg::tiny_skia::{BlendMode, FillRule as SkFillRule, LineCap, LineJoin, Paint, Path, Pixmap, Stroke, Transform};
+use resvg::tiny_skia::{
+    BlendMode, FillRule as SkFillRule, LineCap, LineJoin, Paint, Path, PathBuilder, Pixmap, Stroke, Transform,
+};
 use taxel_format::{MAX_MASK_SIDE, MaskKind, MaskLayer, MaskSamples, Mm};
 
-use super::scene::Item;
-use super::size::Page;
 use crate::diagnostic::Diagnostic;
-use crate::geometry::FillRule;
+use crate::drawing::Page;
+use crate::geometry::{FillRule, Polyline};
+
+/// A tiny-skia path through the polylines (page mm): what the masks rasterise.
+/// `None` when no subpath is left.
+pub(crate) fn to_path(polys: &[Polyline]) -> Option<Path> {
+    let mut pb = PathBuilder::new();
+    for pl in polys {
+        let mut pts = pl.points.iter().map(|&(x, y)| (x as f32, y as f32));
+        let Some((x, y)) = pts.next() else { continue };
+        pb.move_to(x, y);
+        for (x, y) in pts {
+            pb.line_to(x, y);
+        }
+        if pl.closed {
+            pb.close();
+        }
+    }
+    pb.finish()
+}
+
+/// A shape to rasterise: its path in page mm and fill rule.
+pub(crate) type Area<'a> = (&'a Path, FillRule);
+
+fn sk_rule(rule: FillRule) -> SkFillRule {
+    match rule {
+        FillRule::NonZero => SkFillRule::Winding,
+        FillRule::EvenOdd => SkFillRule::EvenOdd,
+    }
+}
 
 /// Largest mask the compiler makes, in samples.
 pub(crate) const MAX_SAMPLES: u64 = 16 << 20;
@@ -29,7 +58,8 @@ pub(crate) enum Coverage<'a> {
 /// Renders one mask; `None` when nothing of it is left on the page.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn render(
-    item: &Item<'_>,
+    shape: Area<'_>,
+    clips: &[Area<'_>],
     coverage: &Coverage<'_>,
     kind: MaskKind,
     amplitude: f32,
@@ -39,7 +69,7 @@ pub(crate) fn render(
     element: &str,
     diags: &mut Vec<Diagnostic>,
 ) -> Option<MaskLayer> {
-    let path = item.path.as_ref()?;
+    let (path, fill_rule) = shape;
     let b = path.compute_tight_bounds()?;
     let grow = match coverage {
         Coverage::Band(w) => *w / 2.0,
@@ -94,11 +124,7 @@ pub(crate) fn render(
     match coverage {
         Coverage::Band(width) => pixmap.stroke_path(path, &paint, &band(*width), ts, None),
         Coverage::Fill { minus_bands } => {
-            let rule = match item.fill_rule {
-                FillRule::NonZero => SkFillRule::Winding,
-                FillRule::EvenOdd => SkFillRule::EvenOdd,
-            };
-            pixmap.fill_path(path, &paint, rule, ts, None);
+            pixmap.fill_path(path, &paint, sk_rule(fill_rule), ts, None);
             let mut cut = paint.clone();
             cut.blend_mode = BlendMode::DestinationOut;
             for (p, wb) in minus_bands {
@@ -107,12 +133,9 @@ pub(crate) fn render(
         }
     }
     let mut alpha: Vec<u8> = pixmap.pixels().iter().map(|p| p.alpha()).collect();
-    let page_ts = Transform::from_scale(page.scale as f32, page.scale as f32);
-    for (clip, group_ts) in &item.clips {
+    for &(clip, rule) in clips {
         let mut cp = Pixmap::new(fw, fh)?;
-        let node = usvg::Node::Group(Box::new(clip.root().clone()));
-        let cts = ts.pre_concat(page_ts).pre_concat(*group_ts).pre_concat(clip.transform());
-        resvg::render_node(&node, cts, &mut cp.as_mut());
+        cp.fill_path(clip, &paint, sk_rule(rule), ts, None);
         for (a, c) in alpha.iter_mut().zip(cp.pixels()) {
             *a = ((*a as u32 * c.alpha() as u32 + 127) / 255) as u8;
         }

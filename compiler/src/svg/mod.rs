@@ -1,11 +1,10 @@
 //! The SVG front end: annotated SVG in, bundle and diagnostics out.
 //!
-//! Stages: `source` reads what usvg does not keep (annotations, labels,
-//! lines) and gives every element an id; usvg resolves the drawing (CSS,
-//! transforms, `use`, clip paths, text); `size` fixes the millimetres;
-//! `scene` finds the tactile shapes; `layers` turns them into masks, dot
-//! tables and strokes; `rules` checks the design rules; the bundle is
-//! assembled last.
+//! Stages: [`crate::drawing::resolve`] turns the SVG into the resolved
+//! drawing (styles, paint, exact geometry in page mm); `prepare` is where
+//! the drawing is adapted before layers are made (automatic style sheet,
+//! `--fit`, `--region`); `layers` turns the drawing into masks, dot tables
+//! and strokes; `rules` checks the design rules; the bundle is assembled last.
 //!
 //! ```
 //! use taxel_compiler::{CompileOptions, svg::compile_svg};
@@ -23,32 +22,17 @@ mod dots;
 mod layers;
 mod masks;
 pub(crate) mod rules;
-mod scene;
-mod size;
-mod source;
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
-use std::sync::{Arc, OnceLock};
 
 use taxel_format::{Bundle, Manifest};
 
 use crate::Compiled;
 use crate::diagnostic::{Diagnostic, has_errors};
+use crate::drawing;
 use crate::options::{CompileOptions, DEFAULT_PX_PER_MM};
 
 pub use braille::{CELL_PITCH_MM, DOT_PITCH_MM, LINE_PITCH_MM, translate as braille_cells};
-
-/// System fonts, loaded once per process (text converted to paths needs them;
-/// braille does not).
-fn fonts() -> Arc<usvg::fontdb::Database> {
-    static DB: OnceLock<Arc<usvg::fontdb::Database>> = OnceLock::new();
-    DB.get_or_init(|| {
-        let mut db = usvg::fontdb::Database::new();
-        db.load_system_fonts();
-        Arc::new(db)
-    })
-    .clone()
-}
 
 /// Compiles an annotated SVG for `opts.profile`. Never panics: a drawing that
 /// cannot be compiled gives error diagnostics and no bundle.
@@ -73,6 +57,7 @@ pub fn compile_svg(svg_text: &str, opts: &CompileOptions) -> Compiled {
     }
 }
 
+/// The pipeline: resolve → prepare → layers → design rules → bundle.
 fn compile(text: &str, opts: &CompileOptions, diags: &mut Vec<Diagnostic>) -> Option<Bundle> {
     let px = match opts.resolution_px_per_mm {
         None => DEFAULT_PX_PER_MM,
@@ -85,33 +70,17 @@ fn compile(text: &str, opts: &CompileOptions, diags: &mut Vec<Diagnostic>) -> Op
             return None;
         }
     };
-    let doc = source::parse_xml(text, diags)?;
-    let src = source::read(text, &doc, opts.style.as_ref(), diags)?;
-    let doc2 = roxmltree::Document::parse_with_options(&src.rewritten, source::xml_options()).ok()?;
-    let mut uopt = usvg::Options { fontdb: fonts(), ..usvg::Options::default() };
-    // The library does no file IO: images that name files are not loaded.
-    uopt.image_href_resolver.resolve_string = Box::new(|_, _| None);
-    let tree = match usvg::Tree::from_xmltree(&doc2, &uopt) {
-        Ok(t) => t,
-        Err(e) => {
-            diags.push(
-                Diagnostic::error("T0200", format!("the SVG could not be read: {e}"))
-                    .with_help("check the root <svg> has a valid width, height or viewBox"),
-            );
-            return None;
-        }
-    };
-    let (w, h) = (tree.size().width(), tree.size().height());
-    let page = size::page(doc.root_element(), w as f64, h as f64, opts.width_mm, &opts.profile, diags);
-    let scene = scene::collect(&tree, &src, opts.style.as_ref(), page);
-    let root_ts = size::root_transform(doc.root_element(), w, h);
-    let built = layers::build(&scene, &src, &doc, opts, page, px, root_ts, diags);
+    let mut drawing = drawing::resolve_into(text, opts, diags)?;
+    // Styles asked of shapes that are not drawn count as asked (for the T0300 message below).
+    let not_drawn = diags.iter().filter(|d| d.code == drawing::NOT_DRAWN).count();
+    crate::prepare::prepare(&mut drawing, opts, diags);
+    let built = layers::build(&drawing, opts, px, diags);
     if built.is_empty() {
         // A malformed annotation already explains why nothing is tactile.
         if has_errors(diags) {
             return None;
         }
-        let any_style = built.styled_elements > 0;
+        let any_style = built.styled_elements + not_drawn > 0;
         let d = if any_style {
             Diagnostic::error("T0300", format!("nothing in this drawing can be rendered on {}", opts.profile.name))
                 .with_help(
@@ -141,12 +110,10 @@ fn compile(text: &str, opts: &CompileOptions, diags: &mut Vec<Diagnostic>) -> Op
 /// page origin at the top-left, for previews. `None` when it cannot be read.
 pub(crate) fn render_page(text: &str, opts: &CompileOptions, px_per_mm: f64) -> Option<resvg::tiny_skia::Pixmap> {
     let mut scratch = Vec::new();
-    let doc = source::parse_xml(text, &mut scratch)?;
-    let mut uopt = usvg::Options { fontdb: fonts(), ..usvg::Options::default() };
-    uopt.image_href_resolver.resolve_string = Box::new(|_, _| None);
-    let tree = usvg::Tree::from_xmltree(&doc, &uopt).ok()?;
+    let doc = drawing::source::parse_xml(text, &mut scratch)?;
+    let tree = usvg::Tree::from_xmltree(&doc, &drawing::usvg_options()).ok()?;
     let (w, h) = (tree.size().width(), tree.size().height());
-    let page = size::page(doc.root_element(), w as f64, h as f64, opts.width_mm, &opts.profile, &mut scratch);
+    let page = drawing::page_size(doc.root_element(), w as f64, h as f64, opts.width_mm, &opts.profile, &mut scratch);
     let k = (page.scale * px_per_mm) as f32;
     let (pw, ph) = ((page.width_mm * px_per_mm).ceil(), (page.height_mm * px_per_mm).ceil());
     if !(pw >= 1.0 && ph >= 1.0 && pw * ph <= 64e6) {

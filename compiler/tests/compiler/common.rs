@@ -8,9 +8,16 @@ pub fn stress2() -> DeviceProfile {
     profiles::builtin("stress2").expect("built-in profile")
 }
 
-/// Compiles `svg` for STRESS² with default options.
+/// Compiles `svg` for STRESS² with default options. An internal error
+/// (T0900, a panic caught) fails the test: no test may pass through one.
 pub fn compile(svg: &str) -> Compiled {
-    compile_svg(svg, &CompileOptions::new(stress2()))
+    no_internal_error(compile_svg(svg, &CompileOptions::new(stress2())))
+}
+
+/// `c`, failing the test if it holds an internal error (T0900).
+pub fn no_internal_error(c: Compiled) -> Compiled {
+    assert!(c.diagnostics.iter().all(|d| d.code != "T0900"), "internal error: {:#?}", c.diagnostics);
+    c
 }
 
 /// Wraps shapes in a 100 x 60 mm page whose user unit is one millimetre.

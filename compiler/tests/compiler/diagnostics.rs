@@ -86,10 +86,13 @@ fn document_problems() {
     let big = r#"<svg xmlns="http://www.w3.org/2000/svg" width="300mm" height="100mm" viewBox="0 0 300 100"><rect x="20" y="20" width="80" height="60" data-tactile="vibrate()"/></svg>"#;
     assert_code(big, "T0202", Severity::Warning);
     let opts = CompileOptions { width_mm: Some(80.0), ..CompileOptions::new(stress2()) };
-    let c = compile_svg(&page(r#"<rect x="20" y="10" width="30" height="30" data-tactile="vibrate()"/>"#), &opts);
+    let c = no_internal_error(compile_svg(
+        &page(r#"<rect x="20" y="10" width="30" height="30" data-tactile="vibrate()"/>"#),
+        &opts,
+    ));
     assert_eq!(with_code(&c, "T0203")[0].severity, Severity::Note);
     let opts = CompileOptions { resolution_px_per_mm: Some(-1.0), ..CompileOptions::new(stress2()) };
-    let c = compile_svg(&page(r#"<rect width="30" height="30" data-tactile="vibrate()"/>"#), &opts);
+    let c = no_internal_error(compile_svg(&page(r#"<rect width="30" height="30" data-tactile="vibrate()"/>"#), &opts));
     assert_eq!(with_code(&c, "T0204")[0].severity, Severity::Error);
 }
 
@@ -227,7 +230,7 @@ fn design_rules_between_elements() {
 fn brush_on_a_grid_profile_goes_to_the_brush_scheduler() {
     let opts = CompileOptions::new(profiles::builtin("brush-4x3").unwrap());
     let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="189mm" height="126mm" viewBox="0 0 189 126"><path d="M 0 0 L 189 0" data-tactile="brush(duration: 1s); vibrate()"/></svg>"#;
-    let c = compile_svg(svg, &opts);
+    let c = no_internal_error(compile_svg(svg, &opts));
     // vibrate is not rendered on a grid; the brush request reached compile_strokes (its diagnostics, if any, follow).
     assert!(c.diagnostics.iter().any(|d| d.code == "T0120"), "{:#?}", c.diagnostics);
     assert!(

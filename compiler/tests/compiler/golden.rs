@@ -104,7 +104,7 @@ fn check(name: &str) {
     if let Ok(sheet) = std::fs::read_to_string(dir().join(format!("{name}.toml"))) {
         opts.style = Some(StyleSheet::parse(&sheet, &format!("{name}.toml")).unwrap());
     }
-    let c = compile_svg(&svg, &opts);
+    let c = no_internal_error(compile_svg(&svg, &opts));
     let b = bundle(&c);
     let mut got = dump(b);
     for d in &c.diagnostics {

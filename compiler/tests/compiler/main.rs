@@ -3,6 +3,7 @@
 mod brush;
 mod common;
 mod diagnostics;
+mod drawing;
 mod golden;
 mod malformed;
 mod mesh;

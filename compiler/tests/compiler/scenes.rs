@@ -160,7 +160,7 @@ fn precedence_inherited_then_style_sheet_then_attribute() {
     let sheet = "[[rule]]\nid = \"a\"\ntactile = \"grating(wavelength: 6mm, angle: 0deg)\"\n\n[[rule]]\nid = \"b\"\ntactile = \"grating()\"\n";
     let opts =
         CompileOptions { style: Some(StyleSheet::parse(sheet, "s.toml").unwrap()), ..CompileOptions::new(stress2()) };
-    let c = compile_svg(&svg, &opts);
+    let c = no_internal_error(compile_svg(&svg, &opts));
     let b = bundle(&c);
     let prov = b.provenance().unwrap();
     let id_of = |s: Option<u32>| prov.entries[s.unwrap() as usize].id.clone();
@@ -179,7 +179,7 @@ fn width_mm_scales_a_drawing_without_size() {
     use taxel_compiler::{CompileOptions, svg::compile_svg};
     let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100"><rect x="50" y="25" width="100" height="50" data-tactile="grating()"/></svg>"#;
     let opts = CompileOptions { width_mm: Some(80.0), ..CompileOptions::new(stress2()) };
-    let c = compile_svg(svg, &opts);
+    let c = no_internal_error(compile_svg(svg, &opts));
     let m = masks(bundle(&c))[0];
     // 200 user units = 80 mm: the rectangle spans 20..60 mm.
     assert!((m.origin_x.0 - 20.0).abs() < 0.05 && (m.width as f32 / m.px_per_mm - 40.0).abs() < 0.15, "{m:?}");

@@ -9,8 +9,14 @@
 //! instead would break wherever usvg drops, splits or clones elements (`use`,
 //! markers, `switch`). The insertion adds no line breaks, so line numbers stay
 //! true; annotations are always read from the original text.
+//!
+//! Elements that come from an `<!ENTITY>` expansion have their source in the
+//! DTD, before the root element: their id goes into the entity's text (so
+//! every expansion of it shares one key, and usvg's inheritance still tells
+//! the copies apart), and their line is that of the entity reference in the
+//! document body, where the reader sees them.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::{BTreeMap, HashMap, HashSet};
 
 use roxmltree::{Document, Node, ParsingOptions};
 
@@ -20,6 +26,8 @@ use crate::stylesheet::{ElementFacts, StyleSheet};
 use crate::text_pos::{line_col, raw_offset};
 
 const INKSCAPE_NS: &str = "http://www.inkscape.org/namespaces/inkscape";
+/// The prefix of an Inkscape layer label that is an annotation, matched in any case.
+const PREFIX: &str = "tactile:";
 /// Largest number of XML nodes taxel reads (bounds memory on hostile input).
 pub(crate) const NODES_LIMIT: u32 = 2_000_000;
 
@@ -50,7 +58,7 @@ pub(crate) struct Element {
     /// Local tag name.
     pub tag: String,
     pub kind: Kind,
-    /// 1-based line of the start tag.
+    /// 1-based line of the start tag (of the entity reference, for an element from an entity).
     pub line: u32,
     /// `<title>`, `inkscape:label` or `aria-label`, whichever comes first.
     pub label: String,
@@ -72,14 +80,34 @@ pub(crate) struct Element {
 /// The original document's elements and the text to give usvg.
 pub(crate) struct Source {
     pub elements: Vec<Element>,
-    pub by_key: HashMap<String, usize>,
+    /// The elements each key names: one, except for the copies of an
+    /// entity's elements (and for ids written twice).
+    pub by_key: HashMap<String, Vec<usize>>,
     pub rewritten: String,
 }
 
 impl Source {
     /// The element usvg calls `key`.
-    pub fn get(&self, key: &str) -> Option<(usize, &Element)> {
-        let &i = self.by_key.get(key)?;
+    ///
+    /// When several elements share the key, the one inside `near` (the element
+    /// of the nearest group usvg kept around the node) is meant; failing that,
+    /// the last one, as a browser's `getElementById` would not say either.
+    pub fn get(&self, key: &str, near: Option<usize>) -> Option<(usize, &Element)> {
+        let all = self.by_key.get(key)?;
+        let inside = |i: usize| {
+            let mut p = self.elements[i].parent;
+            while let Some(k) = p {
+                if Some(k) == near {
+                    return true;
+                }
+                p = self.elements[k].parent;
+            }
+            false
+        };
+        let &i = match all.as_slice() {
+            [one] => one,
+            _ => all.iter().find(|&&i| inside(i)).or(all.last())?,
+        };
         Some((i, &self.elements[i]))
     }
 }
@@ -129,20 +157,27 @@ pub(crate) fn read(
     let css_markers =
         doc.descendants().any(|n| n.tag_name().name() == "style" && n.text().is_some_and(|t| t.contains("marker")));
     let mut elements = Vec::new();
-    let mut by_key = HashMap::new();
-    let mut inserts: Vec<(usize, String)> = Vec::new();
+    let mut by_key: HashMap<String, Vec<usize>> = HashMap::new();
+    // Where ids are inserted, by byte offset; an entity's elements are inserted
+    // once for all of its expansions, so the offset decides the key.
+    let mut inserts: BTreeMap<usize, (String, String)> = BTreeMap::new();
     let mut index_of: HashMap<roxmltree::NodeId, usize> = HashMap::new();
+    let body_start = root.range().start;
+    let mut pos_of: HashMap<roxmltree::NodeId, usize> = HashMap::new();
     for node in root.descendants().filter(|n| n.is_element()) {
         let parent = node.parent_element().and_then(|p| index_of.get(&p.id()).copied());
         let parent_el: Option<&Element> = parent.map(|p| &elements[p]);
         let tag = node.tag_name().name().to_string();
         let id = node.attribute("id").unwrap_or("").to_string();
         let key = if id.is_empty() {
-            let k = format!("{prefix}{}", elements.len());
-            if let Some(at) = tag_name_end(text, node) {
-                inserts.push((at, format!(" id=\"{k}\"")));
+            match tag_name_end(text, node) {
+                Some(at) => {
+                    let k = format!("{prefix}{}", elements.len());
+                    let quote = if at < body_start { entity_quote(text, at) } else { '"' };
+                    inserts.entry(at).or_insert_with(|| (k.clone(), format!(" id={quote}{k}{quote}"))).0.clone()
+                }
+                None => format!("{prefix}{}", elements.len()),
             }
-            k
         } else {
             id.clone()
         };
@@ -162,7 +197,9 @@ pub(crate) fn read(
             "text" => Kind::Text,
             _ => Kind::Other,
         };
-        let line = line_col(text, node.range().start).0;
+        let pos = source_pos(text, node, body_start, &pos_of);
+        pos_of.insert(node.id(), pos);
+        let line = line_col(text, pos).0;
         let ink_label = node.attribute((INKSCAPE_NS, "label"));
         let label = node
             .children()
@@ -187,9 +224,10 @@ pub(crate) fn read(
         {
             let v = attr.value();
             let trimmed = v.trim_start();
-            if trimmed.len() >= 8 && trimmed[..8].eq_ignore_ascii_case("tactile:") {
-                let skip = v.len() - trimmed.len() + 8;
-                own = annotation_at(text, &v[skip..], attr.range_value(), skip, &display, diags);
+            // `get`, not indexing: byte 8 may fall inside a character (`Calque élévation`, `レイヤー 1`).
+            if trimmed.get(..PREFIX.len()).is_some_and(|p| p.eq_ignore_ascii_case(PREFIX)) {
+                let skip = v.len() - trimmed.len() + PREFIX.len();
+                own = annotation_at(text, v.get(skip..).unwrap_or(""), attr.range_value(), skip, &display, diags);
             }
         }
         let classes = node.attribute("class").unwrap_or("").to_string();
@@ -200,7 +238,7 @@ pub(crate) fn read(
         let has_markers = ["marker-start", "marker-mid", "marker-end", "marker"].iter().any(|a| node.has_attribute(*a))
             || node.attribute("style").is_some_and(|s| s.contains("marker"))
             || (css_markers && node.has_attribute("class"));
-        by_key.insert(key.clone(), elements.len());
+        by_key.entry(key.clone()).or_default().push(elements.len());
         index_of.insert(node.id(), elements.len());
         elements.push(Element {
             key,
@@ -222,12 +260,13 @@ pub(crate) fn read(
     }
     let mut rewritten = String::with_capacity(text.len() + inserts.len() * 24);
     let mut last = 0;
-    for (at, s) in &inserts {
-        rewritten.push_str(&text[last..*at]);
+    // In offset order (a BTreeMap), so every slice below runs forwards.
+    for (&at, (_, s)) in &inserts {
+        rewritten.push_str(text.get(last..at).unwrap_or(""));
         rewritten.push_str(s);
-        last = *at;
+        last = at;
     }
-    rewritten.push_str(&text[last..]);
+    rewritten.push_str(text.get(last..).unwrap_or(""));
     Some(Source { elements, by_key, rewritten })
 }
 
@@ -241,6 +280,50 @@ fn tag_name_end(text: &str, node: Node<'_, '_>) -> Option<usize> {
     }
     let len = rest[1..].find(|c: char| c.is_whitespace() || c == '/' || c == '>')?;
     Some(start + 1 + len)
+}
+
+/// The quote that an id inserted at `at`, inside an entity's replacement
+/// text, must use: the one that does not delimit the entity's value.
+fn entity_quote(text: &str, at: usize) -> char {
+    let decl = text.get(..at).and_then(|t| t.rfind("<!ENTITY")).unwrap_or(0);
+    match text.get(decl..at).and_then(|t| t.find(['"', '\''])).map(|i| text.as_bytes()[decl + i]) {
+        Some(b'"') => '\'',
+        _ => '"',
+    }
+}
+
+/// The byte offset a reader would point at for `node`: its start tag, or,
+/// for an element from an entity expansion (whose text is in the DTD, before
+/// `body_start`), the entity reference in the document body.
+fn source_pos(text: &str, node: Node<'_, '_>, body_start: usize, pos_of: &HashMap<roxmltree::NodeId, usize>) -> usize {
+    let start = node.range().start;
+    if start >= body_start {
+        return start;
+    }
+    let Some(parent) = node.parent_element() else { return start };
+    let pr = parent.range();
+    if pr.start < body_start {
+        // Nested in another expansion: the outer reference is the place.
+        return pos_of.get(&parent.id()).copied().unwrap_or(start);
+    }
+    // The entity's name, from its declaration before the node's text.
+    let name = text.get(..start).and_then(|t| t.rfind("<!ENTITY")).and_then(|d| {
+        let rest = text.get(d + "<!ENTITY".len()..start)?.trim_start();
+        let end = rest.find(|c: char| c.is_whitespace())?;
+        Some(rest.get(..end)?.to_string())
+    });
+    // Search after the last element before it whose text is in the body (from
+    // the start of a text node: roxmltree gives the text before a reference
+    // the range of the whole text, reference included).
+    let from = node
+        .prev_siblings()
+        .find(|s| s.range().start >= body_start)
+        .map_or(pr.start, |s| if s.is_element() { s.range().end } else { s.range().start });
+    let found = name.and_then(|n| {
+        let hay = text.get(from..pr.end)?;
+        hay.find(&format!("&{n};")).map(|i| from + i)
+    });
+    found.unwrap_or(pr.start)
 }
 
 /// Parses an annotation found at `value_range` of the source (after skipping

@@ -13,9 +13,9 @@ use taxel_format::DeviceProfile;
 
 use crate::diagnostic::Diagnostic;
 
-/// The page: millimetres per usvg pixel and the page size in millimetres.
+/// The page as usvg sees it: millimetres per usvg pixel and the page size in millimetres.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Page {
+pub(crate) struct Sizing {
     /// Millimetres per usvg pixel.
     pub scale: f64,
     pub width_mm: f64,
@@ -46,7 +46,7 @@ pub(crate) fn page(
     width_mm: Option<f32>,
     profile: &DeviceProfile,
     diags: &mut Vec<Diagnostic>,
-) -> Page {
+) -> Sizing {
     let abs_w = root.attribute("width").and_then(absolute_mm);
     let abs_h = root.attribute("height").and_then(absolute_mm);
     let (sw, sh) = (profile.surface_w_mm as f64, profile.surface_h_mm as f64);
@@ -79,7 +79,7 @@ pub(crate) fn page(
             s
         }
     };
-    let page = Page { scale, width_mm: w * scale, height_mm: h * scale };
+    let page = Sizing { scale, width_mm: w * scale, height_mm: h * scale };
     if page.width_mm > sw + 0.5 || page.height_mm > sh + 0.5 {
         diags.push(
             Diagnostic::warning(

@@ -1,0 +1,192 @@
+//! `<text>` elements read from the XML, so that braille never depends on
+//! fonts: their runs, positioned in page millimetres the way braille lays
+//! them out, and the style in force from the element and its XML ancestors.
+//! Glyph outlines, when usvg could lay the text out, come from the walk.
+
+use resvg::tiny_skia::Transform;
+use roxmltree::{Document, Node};
+
+use super::source::{Kind, Source};
+use super::walk::{Decl, Walked};
+use super::{Element, Paint, Shape, StyledBy, TextRun, TextShape};
+use crate::annotation::Style;
+use crate::diagnostic::Diagnostic;
+
+/// The declaration in force at a `<text>` from the XML alone (own, style
+/// sheet by id/class/layer, then its ancestors', the root `<svg>` included).
+fn xml_decl(src: &Source, elem: usize) -> Option<Decl> {
+    let mut i = Some(elem);
+    while let Some(k) = i {
+        let e = &src.elements[k];
+        if let Some(d) = &e.own {
+            return Some((d.clone(), StyledBy::Annotation));
+        }
+        if let Some(d) = &e.sheet {
+            return Some((d.clone(), StyledBy::StyleSheet));
+        }
+        i = e.parent;
+    }
+    None
+}
+
+/// The drawing elements of every `<text>` outside `<defs>` that is drawn,
+/// with the index of its source element. A text with a braille style that is
+/// not drawn gets a warning.
+pub(crate) fn texts(
+    src: &Source,
+    doc: &Document<'_>,
+    walked: &Walked,
+    mm_per_px: f64,
+    root_ts: Transform,
+    diags: &mut Vec<Diagnostic>,
+) -> Vec<(usize, Element)> {
+    let mut out = Vec::new();
+    for (i, e) in src.elements.iter().enumerate() {
+        if e.kind != Kind::Text || e.in_defs {
+            continue;
+        }
+        let decl = xml_decl(src, i);
+        let braille = decl.as_ref().is_some_and(|(d, _)| d.styles().iter().any(|s| matches!(s, Style::Braille(_))));
+        // The nearest group usvg kept gives the transform; if usvg dropped it, the text is not drawn.
+        let mut parent_ts = Some(root_ts);
+        let mut p = e.parent;
+        while let Some(k) = p {
+            let a = &src.elements[k];
+            if a.kind == Kind::Group && a.parent.is_some() {
+                parent_ts = walked.group_ts.get(&a.key).copied();
+                break;
+            }
+            p = a.parent;
+        }
+        let Some(node) = doc.get_node(e.node) else { continue };
+        let own_ts = node
+            .attribute("transform")
+            .and_then(|t| t.parse::<svgtypes::Transform>().ok())
+            .map_or(Transform::identity(), |t| {
+                Transform::from_row(t.a as f32, t.b as f32, t.c as f32, t.d as f32, t.e as f32, t.f as f32)
+            });
+        let s = mm_per_px as f32;
+        let ts = parent_ts.map(|pts| Transform::from_scale(s, s).pre_concat(pts).pre_concat(own_ts));
+        let Some(ts) =
+            ts.filter(|ts| ts.sx.is_finite() && ts.ty.is_finite() && node.attribute("display") != Some("none"))
+        else {
+            if braille {
+                diags.push(
+                    Diagnostic::warning("T0301", "this text is not drawn; no braille is made for it")
+                        .with_element(&e.name)
+                        .at_line(e.line),
+                );
+            }
+            continue;
+        };
+        let anchor = anchor(node);
+        let (mut ux, mut uy) = (0.0f64, 0.0f64);
+        let mut runs = Vec::new();
+        for run in runs_of(node) {
+            let continues = run.x.is_none() && run.y.is_none() && !runs.is_empty();
+            ux = run.x.unwrap_or(ux);
+            uy = run.y.unwrap_or(uy);
+            let (fx, fy) = (ux as f32, uy as f32);
+            runs.push(TextRun {
+                x_mm: (ts.sx * fx + ts.kx * fy + ts.tx) as f64,
+                y_mm: (ts.ky * fx + ts.sy * fy + ts.ty) as f64,
+                text: run.text,
+                anchor,
+                continues,
+            });
+        }
+        let (paint, font_size_mm) = walked.text_paint.get(&i).copied().unwrap_or((Paint::default(), 16.0 * s as f64));
+        let (styles, styled_by) = match decl {
+            Some((d, by)) => (d.styles().to_vec(), by),
+            None => (Vec::new(), StyledBy::Nothing),
+        };
+        let shape = TextShape {
+            content: runs.iter().map(|r| r.text.as_str()).collect::<Vec<_>>().join(" "),
+            runs,
+            font_size_mm,
+            outline: walked.text_outlines.get(&i).cloned().unwrap_or_default(),
+        };
+        out.push((
+            i,
+            Element {
+                id: e.id.clone(),
+                name: e.name.clone(),
+                line: e.line,
+                label: e.label.clone(),
+                tag: e.tag.clone(),
+                classes: e.classes.clone(),
+                layers: e.layers.clone(),
+                styles,
+                styled_by,
+                visible: true,
+                paint,
+                shape: Shape::Text(shape),
+            },
+        ));
+    }
+    out
+}
+
+/// One positioned run of a `<text>`: a start position (user units, when given) and its text.
+#[derive(Debug, Clone, PartialEq)]
+struct Run {
+    x: Option<f64>,
+    y: Option<f64>,
+    text: String,
+}
+
+/// The runs of a `<text>` element: a new run wherever `x` or `y` is given (on
+/// the text or a `<tspan>`); whitespace collapsed as SVG does by default.
+fn runs_of(text: Node<'_, '_>) -> Vec<Run> {
+    fn first(n: Node<'_, '_>, a: &str) -> Option<f64> {
+        let v = n.attribute(a)?;
+        let tok = v.split(|c: char| c.is_whitespace() || c == ',').find(|t| !t.is_empty())?;
+        let l: svgtypes::Length = tok.parse().ok()?;
+        let per = match l.unit {
+            svgtypes::LengthUnit::Mm => 96.0 / 25.4,
+            svgtypes::LengthUnit::Cm => 96.0 / 2.54,
+            svgtypes::LengthUnit::In => 96.0,
+            svgtypes::LengthUnit::Pt => 96.0 / 72.0,
+            svgtypes::LengthUnit::Pc => 16.0,
+            _ => 1.0,
+        };
+        Some(l.number * per).filter(|v| v.is_finite())
+    }
+    fn walk(n: Node<'_, '_>, runs: &mut Vec<Run>) {
+        for c in n.children() {
+            if c.is_text() {
+                if let Some(t) = runs.last_mut() {
+                    t.text.push_str(c.text().unwrap_or(""));
+                }
+            } else if c.is_element() && matches!(c.tag_name().name(), "tspan" | "a") {
+                let (x, y) = (first(c, "x"), first(c, "y"));
+                if x.is_some() || y.is_some() {
+                    runs.push(Run { x, y, text: String::new() });
+                }
+                walk(c, runs);
+            }
+        }
+    }
+    let mut out = vec![Run { x: first(text, "x"), y: first(text, "y"), text: String::new() }];
+    walk(text, &mut out);
+    for r in &mut out {
+        r.text = r.text.split_whitespace().collect::<Vec<_>>().join(" ");
+    }
+    out.retain(|r| !r.text.is_empty());
+    out
+}
+
+/// The text's `text-anchor` as a fraction of the run's width to shift left (0, ½ or 1).
+fn anchor(text: Node<'_, '_>) -> f64 {
+    let from_style = text.attribute("style").and_then(|s| {
+        s.split(';').find_map(|d| {
+            let (k, v) = d.split_once(':')?;
+            (k.trim() == "text-anchor").then(|| v.trim())
+        })
+    });
+    match from_style.or(text.attribute("text-anchor")) {
+        Some("middle") => 0.5,
+        Some("end") => 1.0,
+        _ => 0.0,
+    }
+}

@@ -1,0 +1,329 @@
+//! Walks usvg's resolved tree and turns every shape and image it draws into
+//! a drawing [`Element`] with its styles, paint and exact geometry in page
+//! millimetres.
+//!
+//! Style resolution (later wins): inherited < style sheet < the element's own
+//! annotation (`data-tactile`, else a `tactile:` label). Inheritance follows
+//! usvg's tree from the root `<svg>` down, so an element reached through
+//! `<use>` inherits from the `<use>`; containers that usvg may flatten away
+//! (`a`, `switch`, `symbol`) pass their annotations on from the XML side.
+
+use std::collections::{HashMap, HashSet};
+
+use resvg::tiny_skia::Transform;
+use usvg::{Group, Node};
+
+use super::source::{Kind, Source};
+use super::{Clip, Element, Paint, PathShape, Rgba, Shape, StyledBy};
+use crate::annotation::Declaration;
+use crate::geometry::{self, FillRule, Polyline};
+use crate::stylesheet::{ElementFacts, StyleSheet};
+
+/// A declaration and where it came from.
+pub(crate) type Decl = (Declaration, StyledBy);
+
+/// What the walk found.
+pub(crate) struct Walked {
+    /// Drawn shapes and images, each with the index of its source element, in tree order.
+    pub elements: Vec<(usize, Element)>,
+    /// Glyph outlines (page mm) of the `<text>` elements usvg laid out, by source element.
+    pub text_outlines: HashMap<usize, Vec<Polyline>>,
+    /// The first span's fill of each laid-out text, and its font size in page mm.
+    pub text_paint: HashMap<usize, (Paint, f64)>,
+    /// Absolute transforms (usvg pixels) of the groups usvg kept, by key.
+    pub group_ts: HashMap<String, Transform>,
+    /// Source elements that usvg rendered.
+    pub seen: HashSet<usize>,
+}
+
+struct Walker<'s> {
+    src: &'s Source,
+    sheet: Option<&'s StyleSheet>,
+    page_ts: Transform,
+    out: Walked,
+}
+
+/// Walks `tree`; `mm_per_px` maps usvg pixels to page millimetres.
+pub(crate) fn walk(tree: &usvg::Tree, src: &Source, sheet: Option<&StyleSheet>, mm_per_px: f64) -> Walked {
+    let s = mm_per_px as f32;
+    let mut w = Walker {
+        src,
+        sheet,
+        page_ts: Transform::from_scale(s, s),
+        out: Walked {
+            elements: Vec::new(),
+            text_outlines: HashMap::new(),
+            text_paint: HashMap::new(),
+            group_ts: HashMap::new(),
+            seen: HashSet::new(),
+        },
+    };
+    // usvg's root group stands for the root `<svg>`, whose annotation applies to the whole drawing.
+    let root = src.elements.first().and_then(|_| w.resolve(0, None, None, None));
+    let here = (!src.elements.is_empty()).then_some(0);
+    w.group(tree.root(), root.as_ref(), None, here, &mut Vec::new());
+    w.out
+}
+
+fn rgba(p: &usvg::Paint, opacity: f32) -> Option<Rgba> {
+    match p {
+        usvg::Paint::Color(c) => Some([c.red, c.green, c.blue, (opacity.clamp(0.0, 1.0) * 255.0).round() as u8]),
+        _ => None,
+    }
+}
+
+fn rgb(p: Option<&usvg::Paint>) -> Option<[u8; 3]> {
+    match p {
+        Some(usvg::Paint::Color(c)) => Some([c.red, c.green, c.blue]),
+        _ => None,
+    }
+}
+
+/// How much a transform scales lengths (the square root of its area scale).
+fn length_scale(ts: Transform) -> f64 {
+    let det = ts.sx as f64 * ts.sy as f64 - ts.kx as f64 * ts.ky as f64;
+    det.abs().sqrt()
+}
+
+/// The paint of a path under `ts` (usvg pixels to page mm).
+pub(crate) fn paint_of(fill: Option<&usvg::Fill>, stroke: Option<&usvg::Stroke>, ts: Transform) -> Paint {
+    Paint {
+        fill: fill.and_then(|f| rgba(f.paint(), f.opacity().get())),
+        filled: fill.is_some(),
+        stroke: stroke.and_then(|s| rgba(s.paint(), s.opacity().get())),
+        stroked: stroke.is_some(),
+        stroke_width_mm: stroke.map_or(0.0, |s| s.width().get() as f64 * length_scale(ts)),
+    }
+}
+
+/// The regions of a clip path (and of the clip path on it), in page mm.
+///
+/// A clip path made of several shapes is their union; it is kept as one
+/// [`Clip`] whose outline holds them all under the first shape's rule, which
+/// is exact for shapes that do not overlap (the common case: one shape).
+fn clip_regions(clip: &usvg::ClipPath, base: Transform, out: &mut Vec<Clip>) {
+    let ts = base.pre_concat(clip.transform());
+    let mut region = Clip::default();
+    let mut first_rule = None;
+    clip_group(clip.root(), ts, &mut region, &mut first_rule);
+    region.fill_rule = first_rule.unwrap_or_default();
+    out.push(region);
+    if let Some(inner) = clip.clip_path() {
+        clip_regions(inner, base, out);
+    }
+}
+
+fn clip_group(g: &Group, ts: Transform, region: &mut Clip, rule: &mut Option<FillRule>) {
+    for c in g.children() {
+        match c {
+            Node::Group(cg) => clip_group(cg, ts.pre_concat(cg.transform()), region, rule),
+            Node::Path(p) => {
+                rule.get_or_insert(fill_rule(p));
+                region.outline.extend(geometry::flatten(p.data(), ts, geometry::FLATTEN_TOLERANCE_MM));
+            }
+            Node::Text(t) => {
+                let fg = t.flattened();
+                clip_group(fg, ts.pre_concat(fg.transform()), region, rule);
+            }
+            Node::Image(_) => {}
+        }
+    }
+}
+
+fn fill_rule(p: &usvg::Path) -> FillRule {
+    match p.fill().map(|f| f.rule()) {
+        Some(usvg::FillRule::EvenOdd) => FillRule::EvenOdd,
+        _ => FillRule::NonZero,
+    }
+}
+
+impl Walker<'_> {
+    /// The declaration in force at a node whose element is `elem`, given what
+    /// its usvg parent has.
+    fn resolve(
+        &self,
+        elem: usize,
+        fill: Option<[u8; 3]>,
+        stroke: Option<[u8; 3]>,
+        inherited: Option<&Decl>,
+    ) -> Option<Decl> {
+        let e = &self.src.elements[elem];
+        if let Some(own) = &e.own {
+            return Some((own.clone(), StyledBy::Annotation));
+        }
+        if let Some(sheet) = self.sheet {
+            let facts = ElementFacts { id: &e.id, classes: &e.classes, layers: &e.layers, fill, stroke };
+            if let Some(r) = sheet.lookup(&facts) {
+                return Some((r.declaration.clone(), StyledBy::StyleSheet));
+            }
+        }
+        // Containers usvg may have flattened away between this element and its usvg parent.
+        let mut p = e.parent;
+        while let Some(i) = p {
+            let a = &self.src.elements[i];
+            if a.kind != Kind::Container {
+                break;
+            }
+            if let Some(d) = &a.own {
+                return Some((d.clone(), StyledBy::Annotation));
+            }
+            if let Some(d) = &a.sheet {
+                return Some((d.clone(), StyledBy::StyleSheet));
+            }
+            p = a.parent;
+        }
+        inherited.cloned()
+    }
+
+    /// A drawing element for source element `elem` with `decl` in force.
+    fn element(&self, elem: usize, decl: Option<Decl>, visible: bool, paint: Paint, shape: Shape) -> Element {
+        let e = &self.src.elements[elem];
+        let (styles, styled_by) = match decl {
+            Some((d, by)) => (d.styles().to_vec(), by),
+            None => (Vec::new(), StyledBy::Nothing),
+        };
+        Element {
+            id: e.id.clone(),
+            name: e.name.clone(),
+            line: e.line,
+            label: e.label.clone(),
+            tag: e.tag.clone(),
+            classes: e.classes.clone(),
+            layers: e.layers.clone(),
+            styles,
+            styled_by,
+            visible,
+            paint,
+            shape,
+        }
+    }
+
+    fn bounds_mm(&self, r: usvg::Rect) -> Option<(f64, f64, f64, f64)> {
+        let s = self.page_ts.sx as f64;
+        let b = (r.left() as f64 * s, r.top() as f64 * s, r.right() as f64 * s, r.bottom() as f64 * s);
+        [b.0, b.1, b.2, b.3].iter().all(|v| v.is_finite()).then_some(b)
+    }
+
+    /// Walks a group. `owner` is the `<use>` whose copy this is, if any: usvg
+    /// clears the ids of the elements it copies, so those belong to the `<use>`.
+    /// `here` is the source element of the nearest group with one.
+    fn group(
+        &mut self,
+        g: &Group,
+        inherited: Option<&Decl>,
+        owner: Option<usize>,
+        here: Option<usize>,
+        clips: &mut Vec<Clip>,
+    ) {
+        let children = g.children();
+        let mut skip_next = false;
+        for (i, child) in children.iter().enumerate() {
+            if std::mem::take(&mut skip_next) {
+                continue;
+            }
+            match child {
+                Node::Group(cg) => {
+                    let own = self.src.get(cg.id(), here).map(|(ei, _)| ei);
+                    let decl = match own {
+                        Some(ei) => {
+                            self.out.seen.insert(ei);
+                            self.out.group_ts.insert(cg.id().to_string(), cg.abs_transform());
+                            self.resolve(ei, None, None, inherited)
+                        }
+                        None => inherited.cloned(),
+                    };
+                    // usvg wraps an <image> in a group that carries its id.
+                    if let Some(ei) = own.filter(|&ei| self.src.elements[ei].tag == "image") {
+                        if let Some(bounds) = self.bounds_mm(cg.abs_bounding_box()) {
+                            let el = self.element(ei, decl, true, Paint::default(), Shape::Image { bounds });
+                            self.out.elements.push((ei, el));
+                        }
+                        continue;
+                    }
+                    let before = clips.len();
+                    if let Some(c) = cg.clip_path() {
+                        clip_regions(c, self.page_ts.pre_concat(cg.abs_transform()), clips);
+                    }
+                    let owner = own.filter(|&ei| self.src.elements[ei].tag == "use").or(owner);
+                    self.group(cg, decl.as_ref(), owner, own.or(here), clips);
+                    clips.truncate(before);
+                }
+                Node::Path(p) => {
+                    let found = if p.id().is_empty() { owner } else { self.src.get(p.id(), here).map(|(ei, _)| ei) };
+                    let Some(ei) = found else { continue };
+                    self.out.seen.insert(ei);
+                    let markers = if self.src.elements[ei].has_markers {
+                        match children.get(i + 1) {
+                            Some(Node::Group(mg)) if mg.id().is_empty() => {
+                                skip_next = true;
+                                mg.children().iter().filter_map(|m| self.centre(m.abs_bounding_box())).collect()
+                            }
+                            _ => Vec::new(),
+                        }
+                    } else {
+                        Vec::new()
+                    };
+                    let decl = self.resolve(
+                        ei,
+                        rgb(p.fill().map(|f| f.paint())),
+                        rgb(p.stroke().map(|s| s.paint())),
+                        inherited,
+                    );
+                    let ts = self.page_ts.pre_concat(p.abs_transform());
+                    let shape = Shape::Path(PathShape {
+                        outline: geometry::flatten(p.data(), ts, geometry::FLATTEN_TOLERANCE_MM),
+                        fill_rule: fill_rule(p),
+                        markers,
+                        clips: clips.clone(),
+                    });
+                    let paint = paint_of(p.fill(), p.stroke(), ts);
+                    let el = self.element(ei, decl, p.is_visible(), paint, shape);
+                    self.out.elements.push((ei, el));
+                }
+                Node::Text(t) => {
+                    let Some((ei, _)) = self.src.get(t.id(), here) else { continue };
+                    self.out.seen.insert(ei);
+                    let mut outline = Vec::new();
+                    text_outline(t.flattened(), self.page_ts, &mut outline);
+                    self.out.text_outlines.insert(ei, outline);
+                    let span = t.chunks().first().and_then(|c| c.spans().first());
+                    if let Some(span) = span {
+                        let ts = self.page_ts.pre_concat(t.abs_transform());
+                        let paint = paint_of(span.fill(), span.stroke(), ts);
+                        self.out.text_paint.insert(ei, (paint, span.font_size().get() as f64 * length_scale(ts)));
+                    }
+                }
+                Node::Image(im) => {
+                    if let Some((ei, _)) = self.src.get(im.id(), here) {
+                        self.out.seen.insert(ei);
+                        if let Some(bounds) = self.bounds_mm(im.abs_bounding_box()) {
+                            let decl = self.resolve(ei, None, None, inherited);
+                            let el = self.element(ei, decl, im.is_visible(), Paint::default(), Shape::Image { bounds });
+                            self.out.elements.push((ei, el));
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    fn centre(&self, r: usvg::Rect) -> Option<(f64, f64)> {
+        let s = self.page_ts.sx as f64;
+        let c = ((r.left() as f64 + r.right() as f64) / 2.0 * s, (r.top() as f64 + r.bottom() as f64) / 2.0 * s);
+        (c.0.is_finite() && c.1.is_finite()).then_some(c)
+    }
+}
+
+/// The glyph outlines of a laid-out text, in page mm.
+fn text_outline(g: &Group, page_ts: Transform, out: &mut Vec<Polyline>) {
+    for c in g.children() {
+        match c {
+            Node::Path(p) => {
+                let ts = page_ts.pre_concat(p.abs_transform());
+                out.extend(geometry::flatten(p.data(), ts, geometry::FLATTEN_TOLERANCE_MM));
+            }
+            Node::Group(g) => text_outline(g, page_ts, out),
+            _ => {}
+        }
+    }
+}

@@ -1,0 +1,14 @@
+//! The hook between the resolved drawing and its layers: where the drawing
+//! is adapted to the device before anything is rasterised. The automatic
+//! style sheet (`auto`), `--region` and `--fit` belong here, so that the
+//! layers and the design rules see the drawing as it will be felt.
+
+use crate::diagnostic::Diagnostic;
+use crate::drawing::Drawing;
+use crate::options::CompileOptions;
+
+/// Prepares `drawing` for `opts` before its layers are built. It changes
+/// nothing yet.
+pub(crate) fn prepare(drawing: &mut Drawing, opts: &CompileOptions, diags: &mut Vec<Diagnostic>) {
+    let _ = (drawing, opts, diags);
+}

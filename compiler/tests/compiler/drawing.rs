@@ -1,0 +1,237 @@
+//! The resolved drawing (`drawing::resolve`): every drawn element with its
+//! styles, paint and geometry in page mm, and the front end's regressions
+//! (root annotations, labels in any script, entity expansion).
+
+use taxel_compiler::drawing::{self, Drawing, Element, Shape, StyledBy};
+use taxel_compiler::{CompileOptions, StyleSheet};
+use taxel_format::{Chunk, DotKind, MaskKind};
+
+use crate::common::*;
+
+fn resolve(svg: &str) -> Drawing {
+    let r = drawing::resolve(svg, &CompileOptions::new(stress2()));
+    r.drawing.unwrap_or_else(|| panic!("no drawing: {:#?}", r.diagnostics))
+}
+
+fn by_id<'a>(d: &'a Drawing, id: &str) -> &'a Element {
+    d.elements.iter().find(|e| e.id == id).unwrap_or_else(|| panic!("no element {id}: {:#?}", d.elements))
+}
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() < 1e-3
+}
+
+fn bounds_close(e: &Element, want: (f64, f64, f64, f64)) {
+    let b = e.bounds().unwrap_or_else(|| panic!("{} has no bounds", e.name));
+    assert!(close(b.0, want.0) && close(b.1, want.1) && close(b.2, want.2) && close(b.3, want.3), "{}: {b:?}", e.name);
+}
+
+/// The 1-based line of the first line of `svg` that contains `needle`.
+fn line_of(svg: &str, needle: &str) -> u32 {
+    svg.lines().position(|l| l.contains(needle)).unwrap_or_else(|| panic!("{needle} not in the drawing")) as u32 + 1
+}
+
+#[test]
+fn every_drawn_element_is_in_the_drawing_with_its_paint_and_geometry() {
+    // 200 x 120 user units on 100 x 60 mm: one unit is half a millimetre.
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="60mm" viewBox="0 0 200 120">
+  <title> Pond map </title>
+  <rect id="bg" width="200" height="120" fill="#ffffff"/>
+  <g transform="translate(20 10)">
+    <circle id="pond" cx="40" cy="40" r="20" fill="#0000ff" fill-opacity="0.5" stroke="#ff0000" stroke-width="4" data-tactile="grating()"/>
+  </g>
+  <path id="road" d="M 10 100 L 190 100" stroke="black" stroke-width="2" fill="none"/>
+  <rect id="gone" width="10" height="10" display="none"/>
+</svg>"##;
+    let d = resolve(svg);
+    assert_eq!(d.title, "Pond map");
+    assert!(close(d.page.width_mm, 100.0) && close(d.page.height_mm, 60.0), "{:?}", d.page);
+    assert!(close(d.page.scale, 0.5), "{:?}", d.page);
+    let ids: Vec<&str> = d.elements.iter().map(|e| e.id.as_str()).collect();
+    assert_eq!(ids, ["bg", "pond", "road"], "display: none is not drawn");
+
+    let bg = by_id(&d, "bg");
+    assert_eq!((bg.styled_by, bg.styles.len()), (StyledBy::Nothing, 0));
+    assert_eq!(bg.paint.fill, Some([255, 255, 255, 255]));
+    assert!(!bg.paint.stroked);
+    bounds_close(bg, (0.0, 0.0, 100.0, 60.0));
+
+    let pond = by_id(&d, "pond");
+    assert_eq!((pond.styled_by, pond.styles.len(), pond.line), (StyledBy::Annotation, 1, 5));
+    assert_eq!(pond.paint.fill, Some([0, 0, 255, 128]), "fill-opacity 0.5 folds into alpha");
+    assert_eq!(pond.paint.stroke, Some([255, 0, 0, 255]));
+    assert!(close(pond.paint.stroke_width_mm, 2.0), "4 units of 0.5 mm: {}", pond.paint.stroke_width_mm);
+    // Centre (20 + 40, 10 + 40) units = (30, 25) mm, radius 10 mm.
+    bounds_close(pond, (20.0, 15.0, 40.0, 35.0));
+    let Shape::Path(p) = &pond.shape else { panic!("the circle is a path") };
+    let worst = p.outline[0].points.iter().map(|&(x, y)| ((x - 30.0).hypot(y - 25.0) - 10.0).abs()).fold(0.0, f64::max);
+    // usvg draws a circle as four cubic arcs, 0.027 % of the radius off the true circle at worst.
+    assert!(worst < 10.0 * 0.00028 + 0.0005, "the outline lies on the circle: {worst}");
+
+    let road = by_id(&d, "road");
+    assert!(close(road.paint.stroke_width_mm, 1.0));
+    bounds_close(road, (5.0, 50.0, 95.0, 50.0));
+}
+
+#[test]
+fn styles_come_from_the_style_sheet_and_are_overridden_by_annotations() {
+    let sheet = StyleSheet::parse("[[rule]]\nclass = \"water\"\ntactile = \"grating()\"\n", "s.toml").unwrap();
+    let svg = page(
+        r#"<g data-tactile="vibrate()"><rect id="a" class="water" width="10" height="10"/><rect id="b" width="10" height="10"/>
+<rect id="c" class="water" width="10" height="10" data-tactile="dots()"/></g>"#,
+    );
+    let mut opts = CompileOptions::new(stress2());
+    opts.style = Some(sheet);
+    let d = drawing::resolve(&svg, &opts).drawing.unwrap();
+    let names = |e: &Element| e.styles.iter().map(|s| s.name()).collect::<Vec<_>>();
+    assert_eq!((by_id(&d, "a").styled_by, names(by_id(&d, "a"))), (StyledBy::StyleSheet, vec!["grating"]));
+    assert_eq!((by_id(&d, "b").styled_by, names(by_id(&d, "b"))), (StyledBy::Annotation, vec!["vibrate"]));
+    assert_eq!((by_id(&d, "c").styled_by, names(by_id(&d, "c"))), (StyledBy::Annotation, vec!["dots"]));
+}
+
+#[test]
+fn text_runs_are_placed_for_braille_in_page_mm() {
+    let svg = page(
+        r#"<text id="t" x="20" y="30" font-size="5" text-anchor="middle" data-tactile="braille()">Ab<tspan x="20" y="45">c</tspan><tspan>d</tspan></text>"#,
+    );
+    let d = resolve(&svg);
+    let Shape::Text(t) = &by_id(&d, "t").shape else { panic!("a text") };
+    let runs: Vec<(&str, bool)> = t.runs.iter().map(|r| (r.text.as_str(), r.continues)).collect();
+    assert_eq!(runs, [("Ab", false), ("cd", false)]);
+    let at: Vec<(f64, f64)> = t.runs.iter().map(|r| (r.x_mm, r.y_mm)).collect();
+    assert!(close(at[0].0, 20.0) && close(at[0].1, 30.0) && close(at[1].0, 20.0) && close(at[1].1, 45.0), "{at:?}");
+    assert!(t.runs.iter().all(|r| r.anchor == 0.5));
+    assert_eq!(t.content, "Ab cd");
+}
+
+#[test]
+fn root_annotation_applies_to_the_whole_drawing() {
+    let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="60mm" viewBox="0 0 100 60" data-tactile="vibrate()">
+  <rect id="r" x="10" y="10" width="30" height="30"/>
+  <g><circle id="c" cx="70" cy="30" r="10"/></g>
+  <text id="t" x="10" y="55" data-tactile="braille()">hi</text>
+</svg>"#;
+    let d = resolve(svg);
+    for id in ["r", "c"] {
+        let e = by_id(&d, id);
+        assert_eq!(
+            (e.styled_by, e.styles.iter().map(|s| s.name()).collect::<Vec<_>>()),
+            (StyledBy::Annotation, vec!["vibrate"])
+        );
+    }
+    let c = compile(svg);
+    let b = bundle(&c);
+    let vibrating = masks(b).iter().filter(|m| matches!(m.kind, MaskKind::Vibration { .. })).count();
+    assert_eq!(vibrating, 2, "{:#?}", c.diagnostics);
+    assert_eq!(dots(b, DotKind::Braille).map(|t| t.dots.len()), Some(3 + 2), "h is dots 125, i is dots 24");
+}
+
+#[test]
+fn root_annotation_none_leaves_the_drawing_out_but_children_may_opt_in() {
+    let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="60mm" viewBox="0 0 100 60" data-tactile="none">
+  <rect x="10" y="10" width="30" height="30"/>
+  <rect x="50" y="10" width="30" height="30" data-tactile="grating()"/>
+</svg>"#;
+    let b = compile(svg).bundle.expect("one grating");
+    assert_eq!(masks(&b).len(), 1);
+}
+
+/// Regression: byte slicing `trimmed[..8]` inside a character panicked on an
+/// Inkscape layer labelled in French or Japanese (caught as T0900 before).
+#[test]
+fn inkscape_layer_labelled_calque_elevation_or_japanese_does_not_panic() {
+    for label in ["Calque élévation", "レイヤー 1", "tactileé", "tactil", "é"] {
+        let svg = page(&format!(
+            r#"<g id="layer1" inkscape:groupmode="layer" inkscape:label="{label}"><rect id="r" width="30" height="30" data-tactile="vibrate()"/></g>"#
+        ));
+        let c = compile(&svg);
+        assert!(c.bundle.is_some(), "{label}: {:#?}", c.diagnostics);
+        let d = resolve(&svg);
+        assert_eq!(by_id(&d, "r").layers, [label]);
+    }
+    // A `tactile:` label still works in any case, after a non-ASCII layer.
+    let svg = page(
+        r#"<g inkscape:groupmode="layer" inkscape:label="レイヤー 1"><g inkscape:groupmode="layer" inkscape:label="  TACTILE: grating()"><rect id="r" width="30" height="30"/></g></g>"#,
+    );
+    let d = resolve(&svg);
+    assert_eq!(by_id(&d, "r").styles.iter().map(|s| s.name()).collect::<Vec<_>>(), ["grating"]);
+}
+
+#[test]
+fn ids_classes_titles_and_annotations_in_any_script_keep_their_positions() {
+    let svg = page(
+        "<rect id=\"湖\" class=\"eau 水\" width=\"30\" height=\"30\" data-tactile=\"grating()\"><title>Lac élevé 湖</title></rect>\n<rect id=\"é\" x=\"50\" width=\"30\" height=\"30\" data-tactile=\"vibrate(width: 2)\"/>",
+    );
+    let d = resolve(&svg);
+    let lake = by_id(&d, "湖");
+    assert_eq!((lake.label.as_str(), lake.classes.as_str(), lake.line), ("Lac élevé 湖", "eau 水", 2));
+    let c = compile(&svg);
+    let err = with_code(&c, "T0104");
+    assert_eq!(err.len(), 1, "{:#?}", c.diagnostics);
+    let line = svg.lines().nth(2).unwrap();
+    // Columns count characters: `é` in the id is one column.
+    let col = line[..line.find("2)").unwrap()].chars().count() as u32 + 1;
+    assert_eq!((err[0].line, err[0].column, err[0].element.as_deref()), (Some(3), Some(col), Some("é")));
+}
+
+/// Regression: an element from an `<!ENTITY>` expansion has its text in the
+/// DTD; inserting its id there was out of order and panicked (T0900).
+#[test]
+fn element_from_entity_expansion_is_drawn_at_its_reference() {
+    let svg = r#"<?xml version="1.0"?>
+<!DOCTYPE svg [
+  <!ENTITY square "<rect x='10' y='10' width='20' height='20'/>">
+  <!ENTITY dot '<circle cx="5" cy="5" r="2"/>'>
+]>
+<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="60mm" viewBox="0 0 100 60">
+  <g id="v" data-tactile="vibrate()">&square;</g>
+  <g id="g" data-tactile="grating()" transform="translate(50 0)">
+    &square;
+  </g>
+  <g id="d" data-tactile="dot()">&dot;</g>
+</svg>"#;
+    let c = compile(svg);
+    let b = bundle(&c);
+    let kinds: Vec<&str> = masks(b)
+        .iter()
+        .map(|m| match m.kind {
+            MaskKind::Vibration { .. } => "vibration",
+            MaskKind::Grating { .. } => "grating",
+        })
+        .collect();
+    assert_eq!(kinds, ["vibration", "grating"], "{:#?}", c.diagnostics);
+    assert_eq!(dots(b, DotKind::Symbol).map(|t| t.dots.len()), Some(1));
+    let d = resolve(svg);
+    let squares: Vec<(u32, (f64, f64, f64, f64))> =
+        d.elements.iter().filter(|e| e.tag == "rect").map(|e| (e.line, e.bounds().unwrap())).collect();
+    assert_eq!(squares.len(), 2, "{:#?}", d.elements);
+    // Each copy is where its reference is: line 7, and line 9 moved 50 mm right.
+    assert_eq!(squares[0].0, line_of(svg, "id=\"v\""));
+    assert_eq!(squares[1].0, line_of(svg, "    &square;"));
+    assert!(close(squares[0].1.0, 10.0) && close(squares[1].1.0, 60.0), "{squares:?}");
+    let prov: Vec<u32> = b
+        .chunks
+        .iter()
+        .find_map(|c| match c {
+            Chunk::Provenance(p) => Some(p.entries.iter().map(|e| e.line).collect()),
+            _ => None,
+        })
+        .unwrap();
+    assert!(prov.contains(&line_of(svg, "id=\"d\"")), "{prov:?}");
+}
+
+#[test]
+fn annotation_inside_an_entity_is_read_and_its_error_points_into_the_entity() {
+    let svg = r#"<!DOCTYPE svg [
+  <!ENTITY bad "<rect width='9' height='9' data-tactile='vibrate(width 2mm)'/>">
+]>
+<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="60mm">
+  &bad;
+</svg>"#;
+    let c = compile(svg);
+    let e = with_code(&c, "T0101");
+    assert_eq!(e.len(), 1, "{:#?}", c.diagnostics);
+    // The characters at fault are in the entity's text on line 2.
+    let col = svg.lines().nth(1).unwrap().find("2mm").unwrap() as u32 + 1;
+    assert_eq!((e[0].line, e[0].column), (Some(2), Some(col)));
+}
