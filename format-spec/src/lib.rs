@@ -40,6 +40,7 @@ mod height;
 mod manifest;
 mod mask;
 mod model;
+mod pins;
 mod profile;
 #[cfg(feature = "std")]
 pub mod profiles;
@@ -58,8 +59,10 @@ pub use height::{CellNodes, FIELD_CONTACT, FIELD_EDGE, HeightField, HeightFieldV
 pub use manifest::{MANIFEST_LEN, Manifest};
 pub use mask::{MAX_MASK_SAMPLES, MAX_MASK_SIDE, MaskKind, MaskLayer, MaskSamples, MaskView};
 pub use model::{Bundle, Chunk, RawChunk};
+pub use pins::{MAX_BLINK_MS, MAX_PIN_IMAGE, MAX_PIN_SIDE, MAX_TEXT_CELLS, Navigation, Pin, PinImage, PinImageView};
 pub use profile::{
-    DeviceProfile, Family, FamilyParams, FingerParams, GridParams, MAX_ACTUATORS, MAX_RATE_HZ, ProfileName,
+    DeviceProfile, Family, FamilyParams, FingerParams, GridParams, MAX_ACTUATORS, MAX_PIN_HEIGHT, MAX_PINS,
+    MAX_RATE_HZ, MAX_TEXT_LINE_CELLS, PinParams, ProfileName,
 };
 pub use provenance::{MAX_PROVENANCE_ENTRIES, Provenance, ProvenanceEntry, ProvenanceView};
 pub use strokes::{
@@ -86,6 +89,8 @@ impl Tag {
     pub const STROKES: Tag = Tag(*b"STRK");
     /// A height and gradient field for the finger device. Required.
     pub const HEIGHT: Tag = Tag(*b"HFLD");
+    /// A pin image for a pin-matrix display. Required, at most once, only for family 4.
+    pub const PINS: Tag = Tag(*b"PINS");
     /// Provenance: SVG ids, titles and labels. Optional, at most once.
     pub const PROVENANCE: Tag = Tag(*b"PROV");
     /// Stands for the header itself in file-level errors.

@@ -5,7 +5,7 @@ use alloc::vec::Vec;
 
 use crate::bytes::{Out, array_at, f32_at, u8_at, u16_at, u32_at};
 use crate::error::FormatError;
-use crate::profile::{DeviceProfile, Family, FamilyParams, FingerParams, GridParams};
+use crate::profile::{DeviceProfile, Family, FamilyParams, FingerParams, GridParams, PinParams};
 use crate::units::FixedStr;
 use crate::{Tag, finite};
 
@@ -68,6 +68,16 @@ impl Manifest {
                     .f32(f.min_move_mm)
                     .zeros(12);
             }
+            FamilyParams::Pins(p) => {
+                w.u8(p.height_levels)
+                    .u8(p.cell_rows)
+                    .u8(p.cell_gap_cols)
+                    .u8(p.line_gap_rows)
+                    .u16(p.blink_step_ms)
+                    .u16(p.text_cells)
+                    .u32(p.refresh_ms)
+                    .zeros(20);
+            }
         }
         out
     }
@@ -80,7 +90,7 @@ impl Manifest {
         let bad = |field, expected| FormatError::InvalidValue { tag, index, field, expected };
         let name_raw = array_at::<32>(d, 0).unwrap_or([0; 32]);
         let name = FixedStr::from_padded(&name_raw).ok_or(bad("profile name", "UTF-8, NUL-padded"))?;
-        let family = Family::from_code(u8_at(d, 32).unwrap_or(0)).ok_or(bad("family", "1, 2 or 3"))?;
+        let family = Family::from_code(u8_at(d, 32).unwrap_or(0)).ok_or(bad("family", "1, 2, 3 or 4"))?;
         let gen_raw = array_at::<16>(d, 96).unwrap_or([0; 16]);
         let generator = FixedStr::from_padded(&gen_raw).ok_or(bad("generator", "UTF-8, NUL-padded"))?;
         let f = |o| f32_at(d, o).unwrap_or(f32::NAN);
@@ -116,6 +126,20 @@ impl Manifest {
                     flat_slope: finite(f(120), tag, index, "flat_slope")?,
                     direction_window: u(124),
                     min_move_mm: finite(f(128), tag, index, "min_move_mm")?,
+                })
+            }
+            Family::Pins => {
+                if d[124..].iter().any(|&b| b != 0) {
+                    return Err(bad("reserved", "zero"));
+                }
+                FamilyParams::Pins(PinParams {
+                    height_levels: u8_at(d, 112).unwrap_or(0),
+                    cell_rows: u8_at(d, 113).unwrap_or(0),
+                    cell_gap_cols: u8_at(d, 114).unwrap_or(0),
+                    line_gap_rows: u8_at(d, 115).unwrap_or(0),
+                    blink_step_ms: u16_at(d, 116).unwrap_or(0),
+                    text_cells: u16_at(d, 118).unwrap_or(0),
+                    refresh_ms: u(120),
                 })
             }
         };

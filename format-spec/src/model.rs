@@ -9,6 +9,7 @@ use crate::error::FormatError;
 use crate::height::HeightField;
 use crate::manifest::Manifest;
 use crate::mask::MaskLayer;
+use crate::pins::PinImage;
 use crate::provenance::Provenance;
 use crate::strokes::StrokeTable;
 use crate::view::{BundleView, ChunkView};
@@ -36,6 +37,8 @@ pub enum Chunk {
     Strokes(StrokeTable),
     /// A height field (`HFLD`).
     Height(HeightField),
+    /// A pin image (`PINS`).
+    Pins(PinImage),
     /// Provenance (`PROV`).
     Provenance(Provenance),
     /// Anything else, kept as it was.
@@ -50,6 +53,7 @@ impl Chunk {
             Chunk::Dots(_) => Tag::DOTS,
             Chunk::Strokes(_) => Tag::STROKES,
             Chunk::Height(_) => Tag::HEIGHT,
+            Chunk::Pins(_) => Tag::PINS,
             Chunk::Provenance(_) => Tag::PROVENANCE,
             Chunk::Raw(r) => r.tag,
         }
@@ -92,6 +96,7 @@ impl Bundle {
                 Chunk::Mask(m) => m.check_shape(index)?,
                 Chunk::Strokes(s) => s.check_shape()?,
                 Chunk::Height(h) => h.check_shape(index)?,
+                Chunk::Pins(p) => p.check_shape(index)?,
                 _ => {}
             }
             encoded.push(match c {
@@ -99,6 +104,7 @@ impl Bundle {
                 Chunk::Dots(d) => Encoded { tag: Tag::DOTS, required: true, data: d.encode() },
                 Chunk::Strokes(s) => Encoded { tag: Tag::STROKES, required: true, data: s.encode() },
                 Chunk::Height(h) => Encoded { tag: Tag::HEIGHT, required: true, data: h.encode() },
+                Chunk::Pins(p) => Encoded { tag: Tag::PINS, required: true, data: p.encode() },
                 Chunk::Provenance(p) => Encoded { tag: Tag::PROVENANCE, required: false, data: p.encode() },
                 Chunk::Raw(r) => Encoded { tag: r.tag, required: r.required, data: r.data.clone() },
             });
@@ -117,6 +123,7 @@ impl Bundle {
                 ChunkView::Dots(d) => Chunk::Dots(DotTable::from_view(&d)),
                 ChunkView::Strokes(s) => Chunk::Strokes(StrokeTable::from_view(&s)),
                 ChunkView::Height(h) => Chunk::Height(HeightField::from_view(&h)),
+                ChunkView::Pins(p) => Chunk::Pins(PinImage::from_view(&p)),
                 ChunkView::Provenance(p) => Chunk::Provenance(Provenance::from_view(&p)),
                 ChunkView::Unknown { tag, required, data } => {
                     Chunk::Raw(RawChunk { tag, required, data: data.to_vec() })
@@ -129,6 +136,14 @@ impl Bundle {
     /// Reads and validates `bytes` into the owned model.
     pub fn from_bytes(bytes: &[u8]) -> Result<Self, FormatError> {
         Ok(Bundle::from_view(&BundleView::parse(bytes)?))
+    }
+
+    /// The pin image, if the bundle has one.
+    pub fn pin_image(&self) -> Option<&PinImage> {
+        self.chunks.iter().find_map(|c| match c {
+            Chunk::Pins(p) => Some(p),
+            _ => None,
+        })
     }
 
     /// The provenance table, if the bundle has one.

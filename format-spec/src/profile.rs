@@ -2,7 +2,8 @@
 //!
 //! A profile is data, not code. It is stored in every bundle's manifest, so a
 //! player needs nothing but the bundle; the `std` feature adds TOML parsing and
-//! the built-in profiles (`stress2`, `brush-4x3`, `finger3`).
+//! the built-in profiles (`stress2`, `brush-4x3`, `finger3`, and the pin
+//! arrays `dotpad`, `monarch`, `graphiti`, `hyperbraille`).
 
 use crate::units::FixedStr;
 
@@ -18,6 +19,8 @@ pub enum Family {
     Grid,
     /// A finger-mounted ring of three actuators (Left, Down, Right) fed by a height field.
     Finger,
+    /// A refreshable pin-matrix display (Dot Pad, Monarch, Graphiti, HyperBraille).
+    Pins,
 }
 
 impl Family {
@@ -27,6 +30,7 @@ impl Family {
             Family::Laterotactile => 1,
             Family::Grid => 2,
             Family::Finger => 3,
+            Family::Pins => 4,
         }
     }
 
@@ -36,6 +40,7 @@ impl Family {
             1 => Some(Family::Laterotactile),
             2 => Some(Family::Grid),
             3 => Some(Family::Finger),
+            4 => Some(Family::Pins),
             _ => None,
         }
     }
@@ -46,6 +51,7 @@ impl Family {
             Family::Laterotactile => "laterotactile",
             Family::Grid => "grid",
             Family::Finger => "finger",
+            Family::Pins => "pins",
         }
     }
 }
@@ -84,6 +90,52 @@ pub struct FingerParams {
     pub min_move_mm: f32,
 }
 
+/// Parameters that only a pin-matrix display has. Columns, rows and pitch are
+/// the profile's common fields; the surface is the pin area
+/// (`cols * pitch_x` by `rows * pitch_y`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PinParams {
+    /// Raised height levels above flush: 1 for a binary display, 4 for the
+    /// Graphiti's heights 0 to 4. At most [`MAX_PIN_HEIGHT`].
+    pub height_levels: u8,
+    /// Step of the device's own blink rate in milliseconds; 0 when pins cannot blink.
+    pub blink_step_ms: u16,
+    /// Rows of the device's braille cell: 3 (six dots, 2 x 3 pins) or 4 (eight dots, 2 x 4 pins).
+    pub cell_rows: u8,
+    /// Blank pin columns between braille cells (0 to 8).
+    pub cell_gap_cols: u8,
+    /// Blank pin rows between braille lines (0 to 8).
+    pub line_gap_rows: u8,
+    /// Cells of the separate braille text line; 0 when the device has none.
+    pub text_cells: u16,
+    /// Time to refresh the whole display in milliseconds; 0 when not published.
+    pub refresh_ms: u32,
+}
+
+/// Largest raised height level of a pin.
+pub const MAX_PIN_HEIGHT: u8 = 15;
+/// Largest number of pins of a pin-matrix profile (`rows * cols`).
+pub const MAX_PINS: u32 = 65_536;
+/// Largest number of cells of a profile's braille text line.
+pub const MAX_TEXT_LINE_CELLS: u16 = 256;
+
+impl PinParams {
+    /// Columns from one braille cell to the next (`2 + cell_gap_cols`).
+    pub fn cell_pitch_cols(&self) -> u32 {
+        2 + self.cell_gap_cols as u32
+    }
+
+    /// Rows from one braille line to the next (`cell_rows + line_gap_rows`).
+    pub fn line_pitch_rows(&self) -> u32 {
+        self.cell_rows as u32 + self.line_gap_rows as u32
+    }
+
+    /// Whether the device can blink pins.
+    pub fn can_blink(&self) -> bool {
+        self.blink_step_ms > 0
+    }
+}
+
 /// What a family needs beyond the common fields.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum FamilyParams {
@@ -93,6 +145,8 @@ pub enum FamilyParams {
     Grid(GridParams),
     /// Finger device parameters.
     Finger(FingerParams),
+    /// Pin-matrix parameters.
+    Pins(PinParams),
 }
 
 impl FamilyParams {
@@ -102,6 +156,7 @@ impl FamilyParams {
             FamilyParams::Laterotactile => Family::Laterotactile,
             FamilyParams::Grid(_) => Family::Grid,
             FamilyParams::Finger(_) => Family::Finger,
+            FamilyParams::Pins(_) => Family::Pins,
         }
     }
 }
@@ -112,7 +167,9 @@ impl FamilyParams {
 /// laterotactile array the actuators are centred on the carrier position:
 /// actuator `(row, col)` sits at `carrier + ((col - (cols-1)/2) * pitch_x,
 /// (row - (rows-1)/2) * pitch_y)`. For a grid, actuator `(row, col)` sits at
-/// page position `(col * pitch_x, row * pitch_y)`.
+/// page position `(col * pitch_x, row * pitch_y)`. For a pin matrix, pin
+/// `(row, col)` of the image sits at page position `((col + 0.5) * pitch_x,
+/// (row + 0.5) * pitch_y)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DeviceProfile {
     /// The profile's name (`stress2`, `brush-4x3`, ...).
@@ -170,7 +227,11 @@ impl DeviceProfile {
         if self.rows == 0 || self.cols == 0 {
             return Err((if self.rows == 0 { "array.rows" } else { "array.cols" }, "at least 1"));
         }
-        if self.rows as u32 * self.cols as u32 > MAX_ACTUATORS {
+        let pins = self.family() == Family::Pins;
+        if pins && self.rows as u32 * self.cols as u32 > MAX_PINS {
+            return Err(("array.rows", "rows * cols at most 65536 pins"));
+        }
+        if !pins && self.rows as u32 * self.cols as u32 > MAX_ACTUATORS {
             return Err(("array.rows", "rows * cols at most 4096 actuators"));
         }
         if !pos(self.pitch_x_mm) || self.pitch_x_mm > 1000.0 {
@@ -231,6 +292,44 @@ impl DeviceProfile {
                 }
                 if !p.min_move_mm.is_finite() || p.min_move_mm < 0.0 || p.min_move_mm > 100.0 {
                     return Err(("finger.min_move_mm", "from 0 to 100 mm"));
+                }
+            }
+            FamilyParams::Pins(p) => {
+                if !matches!(self.output_bits, 1 | 2 | 4 | 8) {
+                    return Err(("output_bits", "1, 2, 4 or 8 bits per pin for a pin matrix"));
+                }
+                if p.height_levels == 0 || p.height_levels > MAX_PIN_HEIGHT {
+                    return Err(("pins.height_levels", "from 1 to 15 raised levels"));
+                }
+                if p.height_levels as u32 > self.max_code() {
+                    return Err(("pins.height_levels", "at most 2^output_bits - 1"));
+                }
+                if !matches!(p.cell_rows, 3 | 4) {
+                    return Err(("pins.cell_rows", "3 (six-dot cells) or 4 (eight-dot cells)"));
+                }
+                if p.cell_gap_cols > 8 {
+                    return Err(("pins.cell_gap_cols", "from 0 to 8 blank pins"));
+                }
+                if p.line_gap_rows > 8 {
+                    return Err(("pins.line_gap_rows", "from 0 to 8 blank pins"));
+                }
+                if p.cell_pitch_cols() > self.cols as u32 || p.line_pitch_rows() > self.rows as u32 {
+                    return Err(("pins.cell_rows", "a braille cell and its gaps that fit on the pin area"));
+                }
+                if p.text_cells > MAX_TEXT_LINE_CELLS {
+                    return Err(("pins.text_cells", "from 0 to 256 cells"));
+                }
+                if p.refresh_ms > 600_000 {
+                    return Err(("pins.refresh_ms", "from 0 (not published) to 600000 ms"));
+                }
+                // The surface is the pin area, so that a drawing fitted to the
+                // surface lands exactly on the pins.
+                let near = |a: f32, b: f32| (a - b).abs() <= 1e-4 * b.max(1.0);
+                if !near(self.surface_w_mm, self.cols as f32 * self.pitch_x_mm) {
+                    return Err(("surface.width_mm", "cols * pitch_x_mm for a pin matrix (the pin area)"));
+                }
+                if !near(self.surface_h_mm, self.rows as f32 * self.pitch_y_mm) {
+                    return Err(("surface.height_mm", "rows * pitch_y_mm for a pin matrix (the pin area)"));
                 }
             }
         }

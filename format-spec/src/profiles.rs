@@ -11,13 +11,17 @@ use std::string::{String, ToString};
 use std::vec::Vec;
 use std::{fmt, format};
 
-use crate::profile::{DeviceProfile, FamilyParams, FingerParams, GridParams, ProfileName};
+use crate::profile::{DeviceProfile, FamilyParams, FingerParams, GridParams, PinParams, ProfileName};
 
 /// The built-in profiles: `(name, TOML source)`.
 pub const BUILTIN: &[(&str, &str)] = &[
     ("stress2", include_str!("../profiles/stress2.toml")),
     ("brush-4x3", include_str!("../profiles/brush-4x3.toml")),
     ("finger3", include_str!("../profiles/finger3.toml")),
+    ("dotpad", include_str!("../profiles/dotpad.toml")),
+    ("monarch", include_str!("../profiles/monarch.toml")),
+    ("graphiti", include_str!("../profiles/graphiti.toml")),
+    ("hyperbraille", include_str!("../profiles/hyperbraille.toml")),
 ];
 
 /// Why a profile file was refused.
@@ -44,11 +48,13 @@ impl std::error::Error for ProfileError {}
 
 /// The keys a profile file may have, per table; everything else is refused
 /// by name, so that a misspelt key cannot be silently ignored.
-const TOP_KEYS: &[&str] = &["name", "family", "rate_hz", "output_bits", "array", "surface", "grid", "finger"];
+const TOP_KEYS: &[&str] = &["name", "family", "rate_hz", "output_bits", "array", "surface", "grid", "finger", "pins"];
 const ARRAY_KEYS: &[&str] = &["rows", "cols", "pitch_x_mm", "pitch_y_mm"];
 const SURFACE_KEYS: &[&str] = &["width_mm", "height_mm"];
 const GRID_KEYS: &[&str] = &["carrier_min_hz", "carrier_max_hz", "audio_rate_hz", "ramp_ms"];
 const FINGER_KEYS: &[&str] = &["rhythm_max", "intensity_max", "flat_slope", "direction_window", "min_move_mm"];
+const PINS_KEYS: &[&str] =
+    &["height_levels", "blink_step_ms", "cell_rows", "cell_gap_cols", "line_gap_rows", "text_cells", "refresh_ms"];
 
 type Table<'i> = toml::de::DeTable<'i>;
 type Value<'i> = toml::de::DeValue<'i>;
@@ -164,18 +170,20 @@ pub fn parse(text: &str, source_name: &str) -> Result<DeviceProfile, ProfileErro
         .ok_or_else(|| top.err("name", None, "expected a name of 1 to 31 bytes without NUL".into()))?;
     let grid = top.table("grid")?;
     let finger = top.table("finger")?;
-    let params = match top.string("family")? {
-        "laterotactile" => {
-            if let Some(k) = [("grid", grid.is_some()), ("finger", finger.is_some())].iter().find(|(_, b)| *b) {
-                return Err(top.err(k.0, None, "a laterotactile profile has no such table".into()));
-            }
-            FamilyParams::Laterotactile
+    let pins = top.table("pins")?;
+    let family = top.string("family")?;
+    // Each family has at most its own table.
+    for (table, present, owner) in
+        [("grid", grid.is_some(), "grid"), ("finger", finger.is_some(), "finger"), ("pins", pins.is_some(), "pins")]
+    {
+        if present && family != owner && matches!(family, "laterotactile" | "grid" | "finger" | "pins") {
+            return Err(top.err(table, None, format!("a {family} profile has no [{table}] table")));
         }
+    }
+    let params = match family {
+        "laterotactile" => FamilyParams::Laterotactile,
         "grid" => {
             let g = grid.ok_or_else(|| top.err("grid", None, "missing table [grid] for family \"grid\"".into()))?;
-            if finger.is_some() {
-                return Err(top.err("finger", None, "a grid profile has no [finger] table".into()));
-            }
             let g = Fields::new(g, "grid", GRID_KEYS, source_name, text)?;
             FamilyParams::Grid(GridParams {
                 carrier_min_hz: g.float("carrier_min_hz")?,
@@ -187,9 +195,6 @@ pub fn parse(text: &str, source_name: &str) -> Result<DeviceProfile, ProfileErro
         "finger" => {
             let f =
                 finger.ok_or_else(|| top.err("finger", None, "missing table [finger] for family \"finger\"".into()))?;
-            if grid.is_some() {
-                return Err(top.err("grid", None, "a finger profile has no [grid] table".into()));
-            }
             let f = Fields::new(f, "finger", FINGER_KEYS, source_name, text)?;
             FamilyParams::Finger(FingerParams {
                 rhythm_max: f.float("rhythm_max")?,
@@ -199,11 +204,26 @@ pub fn parse(text: &str, source_name: &str) -> Result<DeviceProfile, ProfileErro
                 min_move_mm: f.float("min_move_mm")?,
             })
         }
+        "pins" => {
+            let p = pins.ok_or_else(|| top.err("pins", None, "missing table [pins] for family \"pins\"".into()))?;
+            let p = Fields::new(p, "pins", PINS_KEYS, source_name, text)?;
+            FamilyParams::Pins(PinParams {
+                height_levels: p.int("height_levels", u8::MAX as u64)? as u8,
+                blink_step_ms: p.int("blink_step_ms", u16::MAX as u64)? as u16,
+                cell_rows: p.int("cell_rows", u8::MAX as u64)? as u8,
+                cell_gap_cols: p.int("cell_gap_cols", u8::MAX as u64)? as u8,
+                line_gap_rows: p.int("line_gap_rows", u8::MAX as u64)? as u8,
+                text_cells: p.int("text_cells", u16::MAX as u64)? as u16,
+                refresh_ms: p.int("refresh_ms", u32::MAX as u64)? as u32,
+            })
+        }
         other => {
             return Err(top.err(
                 "family",
                 None,
-                format!("unknown family \"{other}\", expected \"laterotactile\", \"grid\" or \"finger\""),
+                format!(
+                    "unknown family \"{other}\", expected \"laterotactile\", \"grid\", \"finger\" or \"pins\""
+                ),
             ));
         }
     };
@@ -266,6 +286,12 @@ pub fn to_toml(p: &DeviceProfile) -> String {
                 f.rhythm_max, f.intensity_max, f.flat_slope, f.direction_window, f.min_move_mm
             )
         }
+        FamilyParams::Pins(p) => {
+            s += &format!(
+                "\n[pins]\nheight_levels = {}\nblink_step_ms = {}\ncell_rows = {}\ncell_gap_cols = {}\nline_gap_rows = {}\ntext_cells = {}\nrefresh_ms = {}\n",
+                p.height_levels, p.blink_step_ms, p.cell_rows, p.cell_gap_cols, p.line_gap_rows, p.text_cells, p.refresh_ms
+            )
+        }
     }
     s
 }
@@ -285,6 +311,81 @@ mod tests {
         assert_eq!((g.carrier_min_hz, g.carrier_max_hz), (150.0, 270.0));
         assert_eq!(builtin("finger3").unwrap().actuator_count(), 3);
         assert!(builtin("nope").is_none());
+    }
+
+    fn pins(name: &str) -> (DeviceProfile, PinParams) {
+        let p = builtin(name).unwrap();
+        let FamilyParams::Pins(q) = p.params else { panic!("{name} is a pin matrix") };
+        (p, q)
+    }
+
+    #[test]
+    fn pin_builtins_have_the_published_sizes() {
+        // reference/pins.md: Dot Pad 60 x 40 + 20-cell line, Monarch 96 x 40,
+        // Graphiti 60 x 40 heights 0-4 blinking in 100 ms steps, HyperBraille 120 x 60.
+        let (d, dq) = pins("dotpad");
+        assert_eq!((d.cols, d.rows, dq.height_levels, dq.text_cells, dq.blink_step_ms), (60, 40, 1, 20, 0));
+        let (m, mq) = pins("monarch");
+        assert_eq!((m.cols, m.rows, mq.height_levels, mq.text_cells, mq.cell_rows), (96, 40, 1, 0, 4));
+        // 8 lines x 32 cells of 8-dot text with a blank pin both ways.
+        assert_eq!((m.cols as u32 / mq.cell_pitch_cols(), m.rows as u32 / mq.line_pitch_rows()), (32, 8));
+        let (g, gq) = pins("graphiti");
+        assert_eq!((g.cols, g.rows, gq.height_levels, gq.blink_step_ms), (60, 40, 4, 100));
+        let (h, hq) = pins("hyperbraille");
+        assert_eq!((h.cols, h.rows, hq.height_levels, hq.blink_step_ms), (120, 60, 1, 0));
+        for p in [d, m, g, h] {
+            assert_eq!((p.pitch_x_mm, p.pitch_y_mm), (2.5, 2.5), "{}: the documented pitch assumption", p.name);
+        }
+    }
+
+    #[test]
+    fn hostile_pin_profiles_are_refused_by_key() {
+        let dotpad = BUILTIN.iter().find(|(n, _)| *n == "dotpad").unwrap().1;
+        let cases = [
+            ("cols = 60", "cols = 0", "array.cols"),
+            ("rows = 40", "rows = 0", "array.rows"),
+            ("rows = 40", "rows = 65535", "array.rows"),
+            ("cols = 60", "cols = 70000", "array.cols"),
+            ("pitch_x_mm = 2.5", "pitch_x_mm = 0", "array.pitch_x_mm"),
+            ("pitch_x_mm = 2.5", "pitch_x_mm = 1e30", "array.pitch_x_mm"),
+            ("height_levels = 1", "height_levels = 0", "pins.height_levels"),
+            ("height_levels = 1", "height_levels = 200", "pins.height_levels"),
+            // One bit per pin cannot carry two raised levels.
+            ("height_levels = 1", "height_levels = 2", "pins.height_levels"),
+            ("cell_rows = 3", "cell_rows = 5", "pins.cell_rows"),
+            ("cell_gap_cols = 1", "cell_gap_cols = 99", "pins.cell_gap_cols"),
+            ("text_cells = 20", "text_cells = 60000", "pins.text_cells"),
+            ("text_cells = 20", "text_cells = 99999999", "pins.text_cells"),
+            ("\nrefresh_ms = 0", "\nrefresh_ms = 99999999", "pins.refresh_ms"),
+            ("output_bits = 1", "output_bits = 3", "output_bits"),
+            ("width_mm = 150", "width_mm = 151", "surface.width_mm"),
+            ("\nrefresh_ms = 0", "\nrefresh_ms = 0\nspeed = 3", "pins.speed"),
+        ];
+        for (from, to, key) in cases {
+            assert!(dotpad.contains(from), "{from}");
+            let e = parse(&dotpad.replace(from, to), "hostile.toml").unwrap_err();
+            assert_eq!(e.key.as_deref(), Some(key), "{to}: {e}");
+            assert!(e.to_string().starts_with("hostile.toml"), "{e}");
+        }
+        // A 300 x 300 display is more pins than any profile may have.
+        let big = dotpad.replace("rows = 40", "rows = 300").replace("cols = 60", "cols = 300");
+        assert_eq!(parse(&big, "p").unwrap_err().key.as_deref(), Some("array.rows"));
+        let no_table = dotpad.split("[pins]").next().unwrap();
+        assert_eq!(parse(no_table, "p").unwrap_err().key.as_deref(), Some("pins"));
+        let wrong_table = BUILTIN[0].1.to_string() + "\n[pins]\nheight_levels = 1\n";
+        assert_eq!(parse(&wrong_table, "p").unwrap_err().key.as_deref(), Some("pins"));
+    }
+
+    #[test]
+    fn a_profile_file_may_change_the_pitch() {
+        let dotpad = BUILTIN.iter().find(|(n, _)| *n == "dotpad").unwrap().1;
+        let text = dotpad
+            .replace("pitch_x_mm = 2.5", "pitch_x_mm = 2.4")
+            .replace("pitch_y_mm = 2.5", "pitch_y_mm = 2.4")
+            .replace("width_mm = 150", "width_mm = 144")
+            .replace("height_mm = 100", "height_mm = 96");
+        let p = parse(&text, "mine.toml").unwrap();
+        assert_eq!((p.pitch_x_mm, p.surface_w_mm), (2.4, 144.0));
     }
 
     #[test]

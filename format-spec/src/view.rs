@@ -7,6 +7,8 @@ use crate::error::FormatError;
 use crate::height::HeightFieldView;
 use crate::manifest::Manifest;
 use crate::mask::MaskView;
+use crate::pins::PinImageView;
+use crate::profile::{DeviceProfile, Family};
 use crate::provenance::ProvenanceView;
 use crate::strokes::StrokeTableView;
 
@@ -36,6 +38,8 @@ pub enum ChunkView<'a> {
     Strokes(StrokeTableView<'a>),
     /// A height field.
     Height(HeightFieldView<'a>),
+    /// A pin image.
+    Pins(PinImageView<'a>),
     /// The provenance table.
     Provenance(ProvenanceView<'a>),
     /// An optional chunk this reader does not know.
@@ -51,7 +55,9 @@ pub enum ChunkView<'a> {
 
 fn known_required(tag: Tag) -> Option<bool> {
     match tag {
-        Tag::MANIFEST | Tag::VIBRATION | Tag::GRATING | Tag::DOTS | Tag::STROKES | Tag::HEIGHT => Some(true),
+        Tag::MANIFEST | Tag::VIBRATION | Tag::GRATING | Tag::DOTS | Tag::STROKES | Tag::HEIGHT | Tag::PINS => {
+            Some(true)
+        }
         Tag::PROVENANCE => Some(false),
         _ => None,
     }
@@ -63,6 +69,7 @@ impl<'a> BundleView<'a> {
         let (major, minor, count) = container::validate(bytes)?;
         let mut manifest = None;
         let mut seen_provenance = false;
+        let mut seen_pins = false;
         for index in 0..count {
             let e = container::entry(bytes, index).ok_or(FormatError::MissingManifest)?;
             let data = &bytes[e.offset..e.offset + e.length];
@@ -98,7 +105,21 @@ impl<'a> BundleView<'a> {
                 }
                 seen_provenance = true;
             }
-            parse_chunk(e.tag, data, index, m.profile.actuator_count(), true)?;
+            // A pin-matrix bundle holds one pin image and no other layer.
+            let pins_family = m.profile.family() == Family::Pins;
+            if e.tag == Tag::PINS {
+                if seen_pins {
+                    return Err(FormatError::ChunkOrder { index, tag: e.tag, rule: "at most one pin image" });
+                }
+                seen_pins = true;
+            } else if pins_family && e.tag != Tag::PROVENANCE {
+                return Err(FormatError::ChunkOrder {
+                    index,
+                    tag: e.tag,
+                    rule: "a pin-matrix bundle holds only a pin image and provenance",
+                });
+            }
+            parse_chunk(e.tag, data, index, &m.profile, true)?;
         }
         let manifest = manifest.ok_or(FormatError::MissingManifest)?;
         Ok(BundleView { bytes, manifest, count, version: (major, minor) })
@@ -135,7 +156,7 @@ impl<'a> BundleView<'a> {
     /// The chunks after the manifest, in file order.
     pub fn chunks(&self) -> impl Iterator<Item = ChunkView<'a>> + 'a {
         let bytes = self.bytes;
-        let actuators = self.manifest.profile.actuator_count();
+        let profile = self.manifest.profile;
         (1..self.count).filter_map(move |index| {
             let e = container::entry(bytes, index)?;
             let data = bytes.get(e.offset..e.offset + e.length)?;
@@ -143,8 +164,16 @@ impl<'a> BundleView<'a> {
                 None => Some(ChunkView::Unknown { tag: e.tag, required: e.required, data }),
                 // Every chunk was validated in full by `parse`, so this cannot
                 // fail; only the O(1) header reads are repeated, not the scans.
-                Some(_) => parse_chunk(e.tag, data, index, actuators, false).ok().flatten(),
+                Some(_) => parse_chunk(e.tag, data, index, &profile, false).ok().flatten(),
             }
+        })
+    }
+
+    /// The pin image, if any.
+    pub fn pin_image(&self) -> Option<PinImageView<'a>> {
+        self.chunks().find_map(|c| match c {
+            ChunkView::Pins(p) => Some(p),
+            _ => None,
         })
     }
 
@@ -157,19 +186,21 @@ impl<'a> BundleView<'a> {
     }
 }
 
-fn parse_chunk(
+fn parse_chunk<'a>(
     tag: Tag,
-    data: &[u8],
+    data: &'a [u8],
     index: u32,
-    actuators: usize,
+    profile: &DeviceProfile,
     full: bool,
-) -> Result<Option<ChunkView<'_>>, FormatError> {
+) -> Result<Option<ChunkView<'a>>, FormatError> {
+    let actuators = profile.actuator_count();
     Ok(Some(match tag {
         Tag::VIBRATION | Tag::GRATING => ChunkView::Mask(MaskView::parse(data, tag, index)?),
         Tag::DOTS => ChunkView::Dots(DotTableView::parse(data, index, full)?),
         Tag::STROKES => ChunkView::Strokes(StrokeTableView::parse(data, index, actuators, full)?),
         Tag::HEIGHT => ChunkView::Height(HeightFieldView::parse(data, index, full)?),
         Tag::PROVENANCE => ChunkView::Provenance(ProvenanceView::parse(data, index, full)?),
+        Tag::PINS => ChunkView::Pins(PinImageView::parse(data, index, profile, full)?),
         _ => return Ok(None),
     }))
 }

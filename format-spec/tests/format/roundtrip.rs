@@ -45,6 +45,7 @@ fn kind(c: &ChunkView<'_>) -> String {
         ChunkView::Dots(d) => format!("dots {}", d.kind.name()),
         ChunkView::Strokes(_) => "strokes".into(),
         ChunkView::Height(_) => "height".into(),
+        ChunkView::Pins(_) => "pins".into(),
         ChunkView::Provenance(_) => "provenance".into(),
         ChunkView::Unknown { tag, .. } => format!("unknown {tag}"),
     }
