@@ -3,6 +3,7 @@
 //! the device simulator.
 //!
 //! - [`latero::LateroPlayer`]: laterotactile arrays (dots, vibration, gratings).
+//! - [`pins::PinsPlayer`]: refreshable pin-matrix displays (bit-packed pin frames).
 //! - [`RuntimeError`]: why a bundle cannot be played.
 //! - With `std`: [`trace`] (exploration traces) and [`sinks`] (frames CSV).
 #![no_std]
@@ -18,6 +19,7 @@ mod error;
 pub mod finger;
 pub mod grid;
 pub mod latero;
+pub mod pins;
 #[cfg(feature = "std")]
 pub mod sinks;
 #[cfg(feature = "std")]

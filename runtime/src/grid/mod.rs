@@ -133,6 +133,9 @@ impl<'a> GridPlayer<'a> {
                 ChunkView::Height(_) => {
                     return Err(RuntimeError::UnexpectedChunk { family: Family::Grid, tag: Tag::HEIGHT });
                 }
+                ChunkView::Pins(_) => {
+                    return Err(RuntimeError::UnexpectedChunk { family: Family::Grid, tag: Tag::PINS });
+                }
             }
         }
         if needed > MAX_TABLES {

@@ -206,6 +206,9 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
                 ChunkView::Height(_) => {
                     return Err(RuntimeError::UnexpectedChunk { family: Family::Laterotactile, tag: Tag::HEIGHT });
                 }
+                ChunkView::Pins(_) => {
+                    return Err(RuntimeError::UnexpectedChunk { family: Family::Laterotactile, tag: Tag::PINS });
+                }
                 // Provenance and unknown optional chunks do not play.
                 ChunkView::Provenance(_) | ChunkView::Unknown { .. } => {}
             }
