@@ -95,6 +95,14 @@ impl Diagnostic {
         self
     }
 
+    /// Sets the source line when it is known (1-based; 0 means unknown and leaves it unset).
+    pub fn on_line(mut self, line: u32) -> Self {
+        if line > 0 {
+            self.line = Some(line);
+        }
+        self
+    }
+
     /// Formats it like a compiler: `file:line:col: warning[T0101]: message (element #id)`
     /// followed by `  help: ...` when there is help.
     pub fn render(&self, file: &str) -> String {

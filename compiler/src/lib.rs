@@ -17,6 +17,7 @@ pub mod drawing;
 pub mod geometry;
 pub mod mesh;
 pub mod options;
+pub mod pins;
 mod prepare;
 pub mod preview;
 pub mod stylesheet;

@@ -301,6 +301,10 @@ fn extent(b: &Bundle) -> (f64, f64, f64, f64) {
 
 /// Draws a bundle, optionally over a faint backdrop rendered at [`PREVIEW_PX_PER_MM`].
 pub fn render_bundle(bundle: &Bundle, backdrop: Option<&Backdrop>) -> Picture {
+    // A pin display is drawn pin by pin, as the reader meets it.
+    if let Some(image) = bundle.pin_image() {
+        return crate::pins::preview::render(image, &bundle.manifest.profile);
+    }
     let (ex0, ey0, ex1, ey1) = extent(bundle);
     let mut k = PREVIEW_PX_PER_MM;
     let (wmm, hmm) = (ex1 - ex0 + 2.0 * MARGIN_MM, ey1 - ey0 + 2.0 * MARGIN_MM);

@@ -1,0 +1,525 @@
+//! Pin-matrix displays (device family 4): a resolved [`Drawing`] legalised
+//! to a pin image, from the same annotations as every other device.
+//!
+//! Each style becomes what a pin array can say (`docs/pins.md`):
+//! - `vibrate` → an outline one pin wide, 8-connected, without L-corners
+//!   (pixel-art rules, [`line`]), blinking where the device can blink and
+//!   solid elsewhere;
+//! - `grating` → a ridge texture that keeps the orientation, its period in
+//!   whole pins, distinct from the drawing's other gratings ([`texture`]),
+//!   one blank pin inside its own outline;
+//! - `dots` → clusters of pins along the path, `dot` → a cluster at each
+//!   point symbol;
+//! - `braille` → cells on the device's own braille grid ([`text`]); the
+//!   drawing's `<title>` goes to the device's text line when it has one.
+//!
+//! On a device with heights, outlines, dots and braille stand at the top
+//! level and textures at half of it, so outlines stand above textures. The
+//! design rules are checked on the pin grid ([`rules`]). The image covers the
+//! whole drawing; when that is larger than the display, the bundle says
+//! whether it is read as pages or panned ([`navigation`]).
+//!
+//! ```
+//! use taxel_compiler::drawing::{Drawing, Element, Page, PathShape, Shape};
+//! use taxel_compiler::annotation::{Style, Vibrate};
+//! use taxel_compiler::geometry::Polyline;
+//! use taxel_format::profiles;
+//!
+//! let square = Polyline { points: vec![(10.0, 10.0), (40.0, 10.0), (40.0, 40.0), (10.0, 40.0)], closed: true };
+//! let drawing = Drawing {
+//!     page: Page { width_mm: 150.0, height_mm: 100.0, scale: 1.0, offset_mm: (0.0, 0.0) },
+//!     elements: vec![Element {
+//!         name: "square".into(),
+//!         visible: true,
+//!         styles: vec![Style::Vibrate(Vibrate { width_mm: 1.5, freq_hz: 50.0, amplitude: 1.0 })],
+//!         shape: Shape::Path(PathShape { outline: vec![square], ..Default::default() }),
+//!         ..Default::default()
+//!     }],
+//!     ..Default::default()
+//! };
+//! let mut diags = Vec::new();
+//! let image = taxel_compiler::pins::legalise(&drawing, &profiles::builtin("dotpad").unwrap(), &mut diags).unwrap();
+//! assert_eq!((image.cols, image.rows), (60, 40));
+//! // A 30 mm square at 2.5 mm pitch: 13 pins a side, 48 pins around.
+//! assert_eq!(image.pins.iter().filter(|p| p.raised()).count(), 48);
+//! ```
+
+pub mod export;
+pub(crate) mod line;
+pub mod preview;
+pub(crate) mod rules;
+pub(crate) mod text;
+pub(crate) mod texture;
+
+use taxel_format::{
+    Bundle, Chunk, DeviceProfile, FamilyParams, MAX_PIN_IMAGE, MAX_PIN_SIDE, Manifest, Navigation, Pin, PinImage,
+    PinParams, Provenance, ProvenanceEntry,
+};
+
+use crate::annotation::Style;
+use crate::diagnostic::Diagnostic;
+use crate::drawing::{Drawing, Element, Shape};
+use crate::geometry::{FillRule, Polyline};
+use line::PinPos;
+use texture::Pattern;
+
+/// Blink half-period for `vibrate` outlines, in milliseconds (rounded up to
+/// the device's blink step). Half a second up, half a second down: slow
+/// enough that a resting finger feels each change, fast enough to notice
+/// within a second. Chosen, not measured: no study of blink rates on pin
+/// arrays was found (`reference/pins.md`).
+pub const BLINK_HALF_PERIOD_MS: u32 = 500;
+
+/// A refresh time (ms) below which a device pans; at or above it, and when
+/// it is not published, a drawing larger than the display is read as pages.
+pub const PAN_REFRESH_MS: u32 = 500;
+
+/// How a drawing larger than `profile`'s display is read, and why.
+///
+/// A pannable surface lets the reader move the picture a pin at a time, but
+/// every move costs a refresh; on a display that refreshes in about 2 s (the
+/// Monarch) or whose refresh time is not published (Dot Pad, Graphiti),
+/// moving a pin at a time would leave the reader waiting with the picture
+/// shifting under the finger, so those get pages, each a whole display,
+/// which is also how Dot Pad's own DTMS files are organised. A display that
+/// refreshes quickly (HyperBraille, about 10 Hz) pans.
+pub fn navigation(p: &PinParams) -> Navigation {
+    if p.refresh_ms > 0 && p.refresh_ms < PAN_REFRESH_MS { Navigation::Pan } else { Navigation::Pages }
+}
+
+/// The heights a profile gives each kind of feature.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Heights {
+    pub outline: u8,
+    pub texture: u8,
+}
+
+impl Heights {
+    fn new(levels: u8) -> Self {
+        Heights { outline: levels.max(1), texture: if levels >= 2 { levels / 2 } else { 1 } }
+    }
+}
+
+/// The pin image being built, with the element that raised each pin (for
+/// the design rules).
+pub(crate) struct Canvas {
+    pub image: PinImage,
+    /// Element index + 1 of the feature that raised each pin, 0 for none.
+    pub owner: Vec<u32>,
+    /// Pairs of distinct elements closer than one blank pin, with a pin where they meet.
+    pub touching: std::collections::BTreeMap<(u32, u32), PinPos>,
+    pub pitch: (f64, f64),
+}
+
+impl Canvas {
+    fn new(cols: u32, rows: u32, pitch: (f64, f64)) -> Self {
+        Canvas {
+            image: PinImage::new(cols, rows),
+            owner: vec![0; cols as usize * rows as usize],
+            touching: Default::default(),
+            pitch,
+        }
+    }
+
+    /// Page millimetres to pin units (pin centres at integers).
+    pub fn to_pins(&self, p: (f64, f64)) -> (f64, f64) {
+        (p.0 / self.pitch.0 - 0.5, p.1 / self.pitch.1 - 0.5)
+    }
+
+    fn index(&self, p: PinPos) -> Option<usize> {
+        let (c, r) = p;
+        (c >= 0 && r >= 0 && (c as u64) < self.image.cols as u64 && (r as u64) < self.image.rows as u64)
+            .then(|| r as usize * self.image.cols as usize + c as usize)
+    }
+
+    pub fn owner_at(&self, p: PinPos) -> u32 {
+        self.index(p).map_or(0, |i| self.owner[i])
+    }
+
+    /// Raises pin `p` for element `elem` (its index) at `height`. Where
+    /// features overlap the higher wins, and a pin blinks only if everything
+    /// on it blinks. Records distinct elements that meet or touch.
+    pub fn raise(&mut self, p: PinPos, elem: usize, height: u8, blink: bool) {
+        let Some(i) = self.index(p) else { return };
+        let me = elem as u32 + 1;
+        for dr in -1..=1 {
+            for dc in -1..=1 {
+                let o = self.owner_at((p.0 + dc, p.1 + dr));
+                if o != 0 && o != me {
+                    self.touching.entry((o.min(me), o.max(me))).or_insert(p);
+                }
+            }
+        }
+        let old = self.image.pins[i];
+        let blink = if old.raised() { old.blinks() && blink } else { blink };
+        self.image.pins[i] = Pin::new(old.height().max(height), blink);
+        self.owner[i] = me;
+    }
+
+    /// Lowers pin `p` (an empty dot of a braille cell placed by `elem`),
+    /// recording the element whose graphics it cut into.
+    pub fn lower(&mut self, p: PinPos, elem: usize) {
+        let Some(i) = self.index(p) else { return };
+        let me = elem as u32 + 1;
+        let o = self.owner[i];
+        if o != 0 && o != me {
+            self.touching.entry((o.min(me), o.max(me))).or_insert(p);
+        }
+        self.image.pins[i] = Pin::FLUSH;
+        self.owner[i] = me;
+    }
+}
+
+/// Legalises `drawing` for the pin-matrix `profile`: the pin image, or
+/// `None` (with an error diagnostic) when the profile is not a pin matrix or
+/// the drawing is too large for any pin image.
+pub fn legalise(drawing: &Drawing, profile: &DeviceProfile, diags: &mut Vec<Diagnostic>) -> Option<PinImage> {
+    let FamilyParams::Pins(params) = profile.params else {
+        diags.push(Diagnostic::error("T0900", format!("internal error: {} is not a pin-matrix profile", profile.name)));
+        return None;
+    };
+    let pitch = (profile.pitch_x_mm as f64, profile.pitch_y_mm as f64);
+    let (dev_cols, dev_rows) = (profile.cols as u32, profile.rows as u32);
+    let want = |mm: f64, p: f64| if mm.is_finite() && mm > 0.0 { (mm / p - 1e-9).ceil().min(1e12) } else { 0.0 };
+    let (w, h) = (want(drawing.page.width_mm, pitch.0), want(drawing.page.height_mm, pitch.1));
+    if w > MAX_PIN_SIDE as f64 || h > MAX_PIN_SIDE as f64 || w * h > MAX_PIN_IMAGE as f64 {
+        diags.push(
+            Diagnostic::error(
+                "T0701",
+                format!(
+                    "the drawing is {} x {} mm, {w} x {h} pins at the {} x {} mm pitch: more than a pin image holds \
+                     ({MAX_PIN_SIDE} pins a side, {MAX_PIN_IMAGE} pins)",
+                    drawing.page.width_mm, drawing.page.height_mm, pitch.0, pitch.1
+                ),
+            )
+            .with_help("use --fit to scale it to the display, or --region to take part of it"),
+        );
+        return None;
+    }
+    let cols = (w as u32).max(dev_cols);
+    let rows = (h as u32).max(dev_rows);
+    let mut canvas = Canvas::new(cols, rows, pitch);
+    canvas.image.navigation = navigation(&params);
+    let heights = Heights::new(params.height_levels);
+    let blink = params.can_blink();
+
+    // Gratings first get their patterns, in document order, so that the
+    // textures of different gratings stay distinguishable.
+    let patterns = assign_patterns(drawing, pitch.0.max(pitch.1), diags);
+    let mut labels = Vec::new();
+    for (i, e) in drawing.elements.iter().enumerate() {
+        if !e.visible {
+            continue;
+        }
+        for style in &e.styles {
+            match (style, &e.shape) {
+                (Style::Vibrate(_), Shape::Path(p)) => {
+                    outline(&mut canvas, &p.outline, i, heights.outline, blink);
+                }
+                (Style::Grating(g), Shape::Path(p)) => {
+                    let pattern = patterns
+                        .iter()
+                        .find(|(k, _)| *k == grating_key(g.wavelength_mm, g.angle_deg))
+                        .map_or(Pattern::wanted(g.wavelength_mm, g.angle_deg, pitch.0), |(_, p)| *p);
+                    texture_fill(&mut canvas, &p.outline, p.fill_rule, pattern, i, heights.texture, e, diags);
+                }
+                (Style::Dots(d), Shape::Path(p)) => {
+                    dotted(&mut canvas, &p.outline, d.radius_mm, d.spacing_mm, i, heights.outline);
+                }
+                (Style::Dot(d), Shape::Path(p)) => {
+                    let centres = if p.markers.is_empty() {
+                        e.bounds().map(|b| vec![((b.0 + b.2) / 2.0, (b.1 + b.3) / 2.0)]).unwrap_or_default()
+                    } else {
+                        p.markers.clone()
+                    };
+                    for c in centres {
+                        cluster(&mut canvas, c, d.radius_mm, i, heights.outline);
+                    }
+                }
+                (Style::Braille(_), Shape::Text(t)) => labels.push((i, t)),
+                (Style::Braille(_), _) => diags.push(
+                    Diagnostic::warning("T0121", "braille() applies to <text> elements; this one is not text")
+                        .with_element(e.name.clone())
+                        .on_line(e.line),
+                ),
+                (Style::Brush(_), _) => diags.push(
+                    Diagnostic::warning(
+                        "T0120",
+                        format!("brush() strokes do not play on the pin-matrix display {}; left out", profile.name),
+                    )
+                    .with_element(e.name.clone())
+                    .with_help("brush() strokes play on vibrotactile grids such as brush-4x3")
+                    .on_line(e.line),
+                ),
+                (_, _) => {}
+            }
+        }
+    }
+    // Labels last, on top of the graphics they name.
+    for (i, t) in labels {
+        text::place(&mut canvas, &params, t, i, heights.outline, &drawing.elements[i], diags);
+    }
+    if params.text_cells > 0 && !drawing.title.is_empty() {
+        canvas.image.text = text::text_line(&drawing.title, diags);
+    }
+    if canvas.image.pins.iter().any(|p| p.blinks()) {
+        let step = params.blink_step_ms as u32;
+        canvas.image.blink_ms = BLINK_HALF_PERIOD_MS.div_ceil(step.max(1)) * step.max(1);
+    }
+    rules::check(&canvas, drawing, diags);
+    if cols > dev_cols || rows > dev_rows {
+        let (across, down) = (cols.div_ceil(dev_cols), rows.div_ceil(dev_rows));
+        let how = match canvas.image.navigation {
+            Navigation::Pages => format!("read as {} pages ({across} across, {down} down)", across * down),
+            Navigation::Pan => "read as a pannable surface".to_string(),
+        };
+        diags.push(
+            Diagnostic::note(
+                "T0702",
+                format!("the drawing is {cols} x {rows} pins, larger than the {dev_cols} x {dev_rows} display: {how}"),
+            )
+            .with_help("use --fit to scale it to one display"),
+        );
+    }
+    Some(canvas.image)
+}
+
+/// A bundle for the pin-matrix `profile` from `drawing`: its manifest and
+/// pin image. `None` when nothing tactile was made (with an error) or the
+/// drawing cannot be legalised.
+pub fn build_bundle(
+    drawing: &Drawing,
+    profile: &DeviceProfile,
+    content_hash: [u8; 32],
+    diags: &mut Vec<Diagnostic>,
+) -> Option<Bundle> {
+    let image = legalise(drawing, profile, diags)?;
+    if !image.pins.iter().any(|p| p.raised()) && image.text.is_empty() {
+        if !crate::diagnostic::has_errors(diags) {
+            diags.push(
+                Diagnostic::error("T0300", format!("nothing in this drawing can be rendered on {}", profile.name))
+                    .with_help(
+                        "mark shapes with data-tactile=\"vibrate()\" (or grating(), dots(), dot(), braille()), \
+                         or map colours with --style FILE (see docs/annotations.md)",
+                    ),
+            );
+        }
+        return None;
+    }
+    let mut bundle = Bundle::new(Manifest { content_hash, ..Manifest::new(*profile) });
+    bundle.chunks.push(Chunk::Pins(image));
+    // Provenance entry 0 of a pin bundle is the drawing itself, so that
+    // exports and hosts can name it (the DTMS title).
+    if !drawing.title.is_empty() {
+        bundle.chunks.push(Chunk::Provenance(Provenance {
+            entries: vec![ProvenanceEntry { id: "svg".into(), label: drawing.title.clone(), line: 0 }],
+        }));
+    }
+    if let Err(e) = bundle.to_bytes() {
+        diags.push(Diagnostic::error("T0900", format!("internal error: the pin bundle does not validate: {e}")));
+        return None;
+    }
+    Some(bundle)
+}
+
+fn grating_key(wavelength: f64, angle: f64) -> (u64, u64) {
+    (wavelength.to_bits(), angle.to_bits())
+}
+
+/// Each distinct grating's pattern, in order of first use.
+fn assign_patterns(drawing: &Drawing, pitch: f64, diags: &mut Vec<Diagnostic>) -> Vec<((u64, u64), Pattern)> {
+    let mut out: Vec<((u64, u64), Pattern)> = Vec::new();
+    for e in drawing.elements.iter().filter(|e| e.visible) {
+        for s in &e.styles {
+            let Style::Grating(g) = s else { continue };
+            let key = grating_key(g.wavelength_mm, g.angle_deg);
+            if out.iter().any(|(k, _)| *k == key) {
+                continue;
+            }
+            let want = Pattern::wanted(g.wavelength_mm, g.angle_deg, pitch);
+            if g.wavelength_mm / pitch < want.period as f64 - 0.5 {
+                diags.push(
+                    Diagnostic::warning(
+                        "T0705",
+                        format!(
+                            "a grating of {} mm is finer than the {pitch} mm pin pitch can carry; \
+                             it becomes ridges every {} pins ({} mm)",
+                            g.wavelength_mm,
+                            want.period,
+                            want.period as f64 * pitch
+                        ),
+                    )
+                    .with_element(e.name.clone())
+                    .on_line(e.line),
+                );
+            }
+            let taken: Vec<Pattern> = out.iter().map(|(_, p)| *p).collect();
+            let got = want.nearest_free(&taken).unwrap_or(want);
+            if got != want {
+                diags.push(
+                    Diagnostic::note(
+                        "T0706",
+                        format!(
+                            "the grating ({} mm, {}°) would feel like another grating of this drawing on pins; \
+                             it becomes ridges at {}° every {} pins instead",
+                            g.wavelength_mm,
+                            g.angle_deg,
+                            got.angle_deg(),
+                            got.period
+                        ),
+                    )
+                    .with_element(e.name.clone())
+                    .on_line(e.line),
+                );
+            }
+            out.push((key, got));
+        }
+    }
+    out
+}
+
+/// The pins of a shape's outline (every subpath, walked).
+pub(crate) fn outline_pins(canvas: &Canvas, polys: &[Polyline]) -> Vec<PinPos> {
+    let mut out = Vec::new();
+    for pl in polys {
+        let pts: Vec<(f64, f64)> = pl.walked().into_iter().map(|p| canvas.to_pins(p)).collect();
+        out.extend(line::walk(&pts, pl.closed));
+    }
+    out
+}
+
+fn outline(canvas: &mut Canvas, polys: &[Polyline], elem: usize, height: u8, blink: bool) {
+    for p in outline_pins(canvas, polys) {
+        canvas.raise(p, elem, height, blink);
+    }
+}
+
+/// Pins whose centres are inside the shape, by scanlines through pin centres.
+pub(crate) fn inside_pins(canvas: &Canvas, polys: &[Polyline], rule: FillRule) -> Vec<PinPos> {
+    let Some((x0, y0, x1, y1)) = crate::geometry::bounds(polys) else { return Vec::new() };
+    let (_, r0) = canvas.to_pins((x0, y0));
+    let (_, r1) = canvas.to_pins((x1, y1));
+    let rows = canvas.image.rows as i64;
+    let cols = canvas.image.cols as i64;
+    let (r0, r1) = ((r0.ceil() as i64).max(0), (r1.floor() as i64).min(rows - 1));
+    let mut out = Vec::new();
+    let mut xs: Vec<(f64, i32)> = Vec::new();
+    for r in r0..=r1 {
+        let y = (r as f64 + 0.5) * canvas.pitch.1;
+        xs.clear();
+        for pl in polys {
+            let n = pl.points.len();
+            for i in 0..n {
+                let (a, b) = (pl.points[i], pl.points[(i + 1) % n]);
+                if (a.1 <= y) != (b.1 <= y) {
+                    xs.push((a.0 + (y - a.1) / (b.1 - a.1) * (b.0 - a.0), if b.1 > a.1 { 1 } else { -1 }));
+                }
+            }
+        }
+        xs.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut winding = 0;
+        for k in 0..xs.len().saturating_sub(1) {
+            winding += xs[k].1;
+            let inside = match rule {
+                FillRule::NonZero => winding != 0,
+                FillRule::EvenOdd => k % 2 == 0,
+            };
+            if !inside {
+                continue;
+            }
+            let (ca, cb) = (xs[k].0 / canvas.pitch.0 - 0.5, xs[k + 1].0 / canvas.pitch.0 - 0.5);
+            let (ca, cb) = ((ca.ceil() as i64).max(0), (cb.floor() as i64).min(cols - 1));
+            out.extend((ca..=cb).map(|c| (c, r)));
+        }
+    }
+    out
+}
+
+#[allow(clippy::too_many_arguments)]
+fn texture_fill(
+    canvas: &mut Canvas,
+    polys: &[Polyline],
+    rule: FillRule,
+    pattern: Pattern,
+    elem: usize,
+    height: u8,
+    e: &Element,
+    diags: &mut Vec<Diagnostic>,
+) {
+    // One blank pin between the texture and the region's own outline, drawn
+    // or not (so neighbouring regions' textures never run into each other).
+    let border: std::collections::HashSet<PinPos> = outline_pins(canvas, polys).into_iter().collect();
+    let near_border = |p: PinPos| (-1..=1).any(|dr| (-1..=1).any(|dc| border.contains(&(p.0 + dc, p.1 + dr))));
+    let mut room = 0;
+    let mut raised = 0;
+    for p in inside_pins(canvas, polys, rule) {
+        if near_border(p) {
+            continue;
+        }
+        room += 1;
+        if pattern.raised(p.0, p.1) {
+            canvas.raise(p, elem, height, false);
+            raised += 1;
+        }
+    }
+    if raised == 0 || room < 2 * pattern.period as usize * pattern.period as usize {
+        diags.push(
+            Diagnostic::warning(
+                "T0707",
+                format!(
+                    "the region is too small for its texture on pins: {room} pins inside its outline's gap, \
+                     {raised} of them ridges every {} pins",
+                    pattern.period
+                ),
+            )
+            .with_element(e.name.clone())
+            .with_help("make the region larger, or give it an outline or dots instead")
+            .on_line(e.line),
+        );
+    }
+}
+
+/// Side of a pin cluster for a dot of `radius_mm`: its diameter in pins, 2 to 4.
+fn cluster_side(radius_mm: f64, pitch: f64) -> i64 {
+    let s = (2.0 * radius_mm / pitch).round();
+    if s.is_finite() { (s as i64).clamp(2, 4) } else { 2 }
+}
+
+fn cluster(canvas: &mut Canvas, centre_mm: (f64, f64), radius_mm: f64, elem: usize, height: u8) {
+    let side = cluster_side(radius_mm, canvas.pitch.0.max(canvas.pitch.1));
+    let (cx, cy) = canvas.to_pins(centre_mm);
+    if !(cx.is_finite() && cy.is_finite()) {
+        return;
+    }
+    // The block's top-left pin, so that the block is centred on the point.
+    let half = (side - 1) as f64 / 2.0;
+    let (c0, r0) = ((cx - half).round().clamp(-1e12, 1e12) as i64, (cy - half).round().clamp(-1e12, 1e12) as i64);
+    for r in r0..r0 + side {
+        for c in c0..c0 + side {
+            canvas.raise((c, r), elem, height, false);
+        }
+    }
+}
+
+fn dotted(canvas: &mut Canvas, polys: &[Polyline], radius_mm: f64, spacing: Option<f64>, elem: usize, height: u8) {
+    let pitch = canvas.pitch.0.max(canvas.pitch.1);
+    let side = cluster_side(radius_mm, pitch);
+    // At least two blank pins between clusters, so they are felt as dots.
+    let step = spacing.unwrap_or(3.0 * radius_mm).max((side + 2) as f64 * pitch);
+    for pl in polys {
+        let len = pl.length();
+        if !(len.is_finite() && len > 0.0) {
+            continue;
+        }
+        let n = ((len / step).floor() as usize).min(100_000);
+        // A closed path's last position would land on its first.
+        let end = if pl.closed { len - step / 2.0 } else { len };
+        let positions: Vec<f64> = (0..=n).map(|k| k as f64 * step).filter(|s| *s <= end).collect();
+        for c in crate::geometry::points_at(pl, &positions) {
+            cluster(canvas, c, radius_mm, elem, height);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

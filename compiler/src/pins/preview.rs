@@ -1,0 +1,121 @@
+//! A picture of a pin image as a reader meets it: every pin a small disc,
+//! flush pins faint, raised pins dark (darker when higher, on a display with
+//! heights), blinking pins ringed in red; the display's pages (or, on a
+//! pannable surface, its first viewport) outlined in blue; the text line's
+//! cells below the image.
+
+use taxel_format::{DeviceProfile, FamilyParams, Navigation, PinImage};
+
+use crate::preview::Picture;
+
+/// Pixels from one pin to the next in a preview.
+pub const PX_PER_PIN: u32 = 10;
+/// Largest preview side in pixels (an image may be large).
+const MAX_SIDE_PX: u64 = 8000;
+
+struct Px {
+    w: u32,
+    h: u32,
+    rgba: Vec<u8>,
+}
+
+impl Px {
+    fn set(&mut self, x: i64, y: i64, c: [u8; 3]) {
+        if x >= 0 && y >= 0 && (x as u32) < self.w && (y as u32) < self.h {
+            let i = (y as usize * self.w as usize + x as usize) * 4;
+            self.rgba[i..i + 3].copy_from_slice(&c);
+        }
+    }
+
+    /// A filled disc (or a ring between `inner` and `r`) centred at `(cx, cy)`.
+    fn disc(&mut self, cx: f64, cy: f64, r: f64, inner: f64, c: [u8; 3]) {
+        let (x0, x1) = ((cx - r).floor() as i64, (cx + r).ceil() as i64);
+        let (y0, y1) = ((cy - r).floor() as i64, (cy + r).ceil() as i64);
+        for y in y0..=y1 {
+            for x in x0..=x1 {
+                let d = ((x as f64 + 0.5 - cx).powi(2) + (y as f64 + 0.5 - cy).powi(2)).sqrt();
+                if d <= r && d >= inner {
+                    self.set(x, y, c);
+                }
+            }
+        }
+    }
+
+    fn rect(&mut self, x0: i64, y0: i64, x1: i64, y1: i64, c: [u8; 3]) {
+        for x in x0..=x1 {
+            self.set(x, y0, c);
+            self.set(x, y1, c);
+        }
+        for y in y0..=y1 {
+            self.set(x0, y, c);
+            self.set(x1, y, c);
+        }
+    }
+}
+
+/// The shade of a raised pin of `height` out of `levels`: from mid grey (lowest) to black (highest).
+pub fn shade(height: u8, levels: u8) -> [u8; 3] {
+    let t = height.min(levels) as f64 / levels.max(1) as f64;
+    let v = (150.0 * (1.0 - t)).round() as u8;
+    [v, v, v]
+}
+
+/// Draws `image` for `profile`.
+pub fn render(image: &PinImage, profile: &DeviceProfile) -> Picture {
+    let levels = match profile.params {
+        FamilyParams::Pins(p) => p.height_levels,
+        _ => 1,
+    };
+    let text_rows = if image.text.is_empty() { 0 } else { 6 };
+    let mut s = PX_PER_PIN as u64;
+    let side = (image.cols.max(image.rows + text_rows) as u64 + 2) * s;
+    if side > MAX_SIDE_PX {
+        s = (MAX_SIDE_PX / (image.cols.max(image.rows + text_rows) as u64 + 2)).max(2);
+    }
+    let (w, h) = ((image.cols as u64 + 2) * s, (image.rows as u64 + 2 + text_rows as u64) * s);
+    let mut px = Px { w: w as u32, h: h as u32, rgba: [250, 250, 246, 255].repeat((w * h) as usize) };
+    let s = s as f64;
+    let centre = |c: u32, r: u32| ((c as f64 + 1.5) * s, (r as f64 + 1.5) * s);
+    for r in 0..image.rows {
+        for c in 0..image.cols {
+            let pin = image.get(c, r);
+            let (x, y) = centre(c, r);
+            if pin.raised() {
+                px.disc(x, y, 0.42 * s, 0.0, shade(pin.height(), levels));
+                if pin.blinks() {
+                    px.disc(x, y, 0.5 * s, 0.36 * s, [220, 30, 30]);
+                }
+            } else {
+                px.disc(x, y, 0.12 * s, 0.0, [205, 205, 200]);
+            }
+        }
+    }
+    // The display's extent on the image: every page, or the first viewport.
+    let (dw, dh) = (profile.cols as u32, profile.rows as u32);
+    let blue = [40, 90, 200];
+    let frame = |px: &mut Px, c0: u32, r0: u32| {
+        let (x0, y0) = ((c0 as f64 + 1.0) * s, (r0 as f64 + 1.0) * s);
+        let (x1, y1) = (((c0 + dw).min(image.cols) as f64 + 1.0) * s, ((r0 + dh).min(image.rows) as f64 + 1.0) * s);
+        px.rect(x0 as i64, y0 as i64, x1 as i64 - 1, y1 as i64 - 1, blue);
+    };
+    match image.navigation {
+        Navigation::Pages => {
+            for (c0, r0) in super::export::pages(image, profile) {
+                frame(&mut px, c0, r0);
+            }
+        }
+        Navigation::Pan => frame(&mut px, 0, 0),
+    }
+    // The text line: its cells as pins, below the image.
+    for (k, &m) in image.text.iter().enumerate() {
+        for (bit, &(dc, dr)) in super::text::DOT_POSITIONS.iter().enumerate() {
+            let (x, y) = centre(k as u32 * 3 + dc, image.rows + 2 + dr);
+            if m & (1 << bit) != 0 {
+                px.disc(x, y, 0.42 * s, 0.0, [0, 0, 0]);
+            } else if dr < 3 {
+                px.disc(x, y, 0.12 * s, 0.0, [205, 205, 200]);
+            }
+        }
+    }
+    Picture { width: px.w, height: px.h, rgba: px.rgba }
+}

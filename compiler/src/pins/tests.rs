@@ -1,0 +1,322 @@
+//! The legaliser on hand-built drawings, asserted through the Unicode braille
+//! art that `taxel export --format unicode` writes (decoded back to pins
+//! where a property is checked).
+
+use std::collections::HashSet;
+
+use taxel_format::{Navigation, PinImage, profiles};
+
+use super::export::unicode;
+use super::*;
+use crate::annotation::{Braille, Dot, Dots, Grating, Style, Vibrate};
+use crate::drawing::{Element, Page, PathShape, TextRun, TextShape};
+
+const VIBRATE: Style = Style::Vibrate(Vibrate { width_mm: 1.5, freq_hz: 50.0, amplitude: 1.0 });
+
+fn grating(wavelength_mm: f64, angle_deg: f64) -> Style {
+    Style::Grating(Grating { wavelength_mm, angle_deg, amplitude: 1.0 })
+}
+
+fn path(name: &str, points: &[(f64, f64)], closed: bool, styles: Vec<Style>) -> Element {
+    Element {
+        name: name.into(),
+        line: 3,
+        visible: true,
+        styles,
+        shape: Shape::Path(PathShape {
+            outline: vec![Polyline { points: points.to_vec(), closed }],
+            ..Default::default()
+        }),
+        ..Default::default()
+    }
+}
+
+fn label(name: &str, text: &str, x: f64, y: f64) -> Element {
+    Element {
+        name: name.into(),
+        visible: true,
+        styles: vec![Style::Braille(Braille { radius_mm: 0.72, amplitude: 1.0 })],
+        shape: Shape::Text(TextShape {
+            content: text.into(),
+            runs: vec![TextRun { text: text.into(), x_mm: x, y_mm: y, anchor: 0.0, continues: false }],
+            font_size_mm: 4.0,
+            outline: vec![],
+        }),
+        ..Default::default()
+    }
+}
+
+fn drawing(w: f64, h: f64, elements: Vec<Element>) -> Drawing {
+    Drawing { page: Page { width_mm: w, height_mm: h, scale: 1.0, offset_mm: (0.0, 0.0) }, title: String::new(), elements }
+}
+
+fn run(profile: &str, d: &Drawing) -> (PinImage, Vec<Diagnostic>) {
+    let mut diags = Vec::new();
+    let image = legalise(d, &profiles::builtin(profile).unwrap(), &mut diags).expect("legalised");
+    (image, diags)
+}
+
+/// Decodes Unicode braille art back to the set of raised pins, from the
+/// dot positions of `reference/pins.md` alone.
+fn decode_art(art: &str) -> HashSet<(i64, i64)> {
+    let pos = [(0, 0), (0, 1), (0, 2), (1, 0), (1, 1), (1, 2), (0, 3), (1, 3)];
+    let mut out = HashSet::new();
+    for (line, text) in art.lines().enumerate() {
+        for (k, ch) in text.chars().enumerate() {
+            let m = (ch as u32).wrapping_sub(0x2800);
+            assert!(m < 256, "not a braille character: {ch:?}");
+            for (bit, (dc, dr)) in pos.iter().enumerate() {
+                if m & (1 << bit) != 0 {
+                    out.insert((k as i64 * 2 + dc, line as i64 * 4 + dr));
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The art's lines from `first` to `last` (inclusive), columns `from..to` (in characters).
+fn crop(art: &str, lines: std::ops::RangeInclusive<usize>, cols: std::ops::Range<usize>) -> String {
+    art.lines()
+        .skip(*lines.start())
+        .take(lines.end() - lines.start() + 1)
+        .map(|l| l.chars().skip(cols.start).take(cols.end - cols.start).collect::<String>() + "\n")
+        .collect()
+}
+
+#[test]
+fn lines_at_every_5_degrees_are_unbroken_one_pin_wide_and_never_doubled() {
+    for step in 0..=36 {
+        let a = (step as f64 * 5.0).to_radians();
+        // A 40 mm line through the middle of the Dot Pad (16 pins long), y down the page.
+        let (cx, cy, half) = (75.0, 50.0, 20.0);
+        let ends = [(cx - half * a.cos(), cy + half * a.sin()), (cx + half * a.cos(), cy - half * a.sin())];
+        let (image, _) = run("dotpad", &drawing(150.0, 100.0, vec![path("l", &ends, false, vec![VIBRATE])]));
+        let pins = decode_art(&unicode(&image));
+        let deg = step * 5;
+        // Unbroken: one 8-connected component.
+        let start = *pins.iter().min().unwrap();
+        let mut seen = HashSet::from([start]);
+        let mut todo = vec![start];
+        while let Some((c, r)) = todo.pop() {
+            for dr in -1..=1 {
+                for dc in -1..=1 {
+                    let q = (c + dc, r + dr);
+                    if pins.contains(&q) && seen.insert(q) {
+                        todo.push(q);
+                    }
+                }
+            }
+        }
+        assert_eq!(seen.len(), pins.len(), "{deg}°: the line breaks");
+        // Never thickened: no 2 x 2 block holds more than two raised pins (no L-corner, no double).
+        for &(c, r) in &pins {
+            let n = [(0, 0), (1, 0), (0, 1), (1, 1)].iter().filter(|(dc, dr)| pins.contains(&(c + dc, r + dr))).count();
+            assert!(n <= 2, "{deg}°: a thick spot at pin ({c}, {r})");
+        }
+        // One pin per step along the line's major axis: exactly max(|dx|, |dy|) + 1 pins.
+        let (cs, rs): (Vec<i64>, Vec<i64>) = pins.iter().copied().unzip();
+        let span = |v: &[i64]| v.iter().max().unwrap() - v.iter().min().unwrap();
+        assert_eq!(pins.len() as i64, span(&cs).max(span(&rs)) + 1, "{deg}°: pins = major-axis span + 1");
+    }
+}
+
+#[test]
+fn lines_read_as_expected_in_braille_art() {
+    let art = |ends: &[(f64, f64)]| {
+        let (image, _) = run("dotpad", &drawing(150.0, 100.0, vec![path("l", ends, false, vec![VIBRATE])]));
+        unicode(&image)
+    };
+    // Horizontal: pins 26..=34 of row 19, the bottom dots (7, 8) of line 4.
+    assert_eq!(crop(&art(&[(65.0, 48.75), (85.0, 48.75)]), 4..=4, 12..18), "⠀⣀⣀⣀⣀⡀\n");
+    // The 45° diagonal from pin (24, 23) to pin (32, 15): one pin per row and column.
+    let diag = art(&[(61.25, 58.75), (81.25, 38.75)]);
+    assert_eq!(crop(&diag, 3..=5, 12..17), "⠀⠀⠀⠀⡀\n⠀⠀⡠⠊⠀\n⡠⠊⠀⠀⠀\n");
+}
+
+#[test]
+fn a_rectangle_keeps_square_corners() {
+    let rect = [(10.0, 10.0), (25.0, 10.0), (25.0, 20.0), (10.0, 20.0)];
+    let (image, _) = run("dotpad", &drawing(150.0, 100.0, vec![path("r", &rect, true, vec![VIBRATE])]));
+    // Pins 4..=10 by 4..=8 (10 / 2.5 - 0.5 = 3.5 rounds to 4).
+    assert_eq!(crop(&unicode(&image), 1..=2, 2..6), "⡏⠉⠉⡇\n⠉⠉⠉⠁\n");
+}
+
+#[test]
+fn gratings_become_ridges_that_keep_their_orientation() {
+    let square = [(10.0, 10.0), (50.0, 10.0), (50.0, 50.0), (10.0, 50.0)];
+    let art = |angle: f64| {
+        let d = drawing(150.0, 100.0, vec![path("g", &square, true, vec![grating(7.5, angle)])]);
+        let (image, diags) = run("dotpad", &d);
+        assert!(diags.iter().all(|d| d.severity < crate::Severity::Warning), "{diags:?}");
+        crop(&unicode(&image), 2..=3, 3..7)
+    };
+    // Period 3 pins (7.5 mm at 2.5 mm), phase from the image origin.
+    assert_eq!(art(0.0), "⠒⠒⠒⠒\n⣉⣉⣉⣉\n", "horizontal ridges every third row");
+    assert_eq!(art(90.0), "⡇⢸⠀⡇\n⡇⢸⠀⡇\n", "vertical ridges every third column");
+    assert_eq!(art(45.0), "⢊⠔⡡⢊\n⡡⢊⠔⡡\n", "ridges rising to the right");
+    assert_eq!(art(135.0), "⠢⡑⢌⠢\n⡑⢌⠢⡑\n", "ridges falling to the right");
+}
+
+#[test]
+fn a_texture_keeps_one_blank_pin_from_its_outline_which_stands_above_it() {
+    let square = [(10.0, 10.0), (40.0, 10.0), (40.0, 40.0), (10.0, 40.0)];
+    let d = drawing(150.0, 100.0, vec![path("g", &square, true, vec![VIBRATE, grating(5.0, 90.0)])]);
+    let (image, _) = run("graphiti", &d);
+    let outline: HashSet<(u32, u32)> = (0..image.rows)
+        .flat_map(|r| (0..image.cols).map(move |c| (c, r)))
+        .filter(|&(c, r)| image.get(c, r).height() == 4)
+        .collect();
+    let texture: Vec<(u32, u32)> = (0..image.rows)
+        .flat_map(|r| (0..image.cols).map(move |c| (c, r)))
+        .filter(|&(c, r)| image.get(c, r).height() == 2)
+        .collect();
+    assert_eq!(outline.len(), 48, "the outline at the top height, 13 pins a side");
+    assert!(!texture.is_empty(), "textures at half height");
+    for &(c, r) in &texture {
+        for dr in -1..=1i64 {
+            for dc in -1..=1i64 {
+                let q = ((c as i64 + dc) as u32, (r as i64 + dr) as u32);
+                assert!(!outline.contains(&q), "texture pin ({c}, {r}) touches the outline");
+            }
+        }
+        assert_eq!(c % 2, 0, "ridges every 2 pins, on even columns");
+    }
+    // Blinking outline on the Graphiti (it blinks), half-period 500 ms.
+    assert!(outline.iter().all(|&(c, r)| image.get(c, r).blinks()));
+    assert_eq!(image.blink_ms, 500);
+    assert!(texture.iter().all(|&(c, r)| !image.get(c, r).blinks()));
+    // On the Dot Pad (no blink) the same outline is solid.
+    let (image, _) = run("dotpad", &d);
+    assert!(image.pins.iter().all(|p| !p.blinks()) && image.blink_ms == 0);
+}
+
+#[test]
+fn gratings_that_would_feel_the_same_get_distinct_textures() {
+    let a = [(10.0, 10.0), (40.0, 10.0), (40.0, 40.0), (10.0, 40.0)];
+    let b = [(60.0, 10.0), (90.0, 10.0), (90.0, 40.0), (60.0, 40.0)];
+    // 6 mm and 7 mm both round to 2 pins at 2.5 mm.
+    let d = drawing(
+        150.0,
+        100.0,
+        vec![path("a", &a, true, vec![grating(6.0, 90.0)]), path("b", &b, true, vec![grating(7.0, 90.0)])],
+    );
+    let (image, diags) = run("dotpad", &d);
+    assert!(diags.iter().any(|d| d.code == "T0706" && d.element.as_deref() == Some("b")), "{diags:?}");
+    let cols_of = |c0: u32, c1: u32| -> Vec<u32> {
+        (c0..c1).filter(|&c| (0..image.rows).any(|r| image.get(c, r).raised())).collect()
+    };
+    let (ca, cb) = (cols_of(0, 20), cols_of(20, 40));
+    assert!(ca.windows(2).all(|w| w[1] - w[0] == 2), "a: every 2 pins: {ca:?}");
+    assert!(cb.windows(2).all(|w| w[1] - w[0] == 4), "b: every 4 pins: {cb:?}");
+}
+
+#[test]
+fn braille_sits_on_the_devices_cell_grid() {
+    // "ab" with its baseline at 21 mm, starting at 16 mm: dotpad cells are
+    // 3 pins apart (2 + 1 blank) on lines 4 pins apart (3 + 1 blank).
+    let d = drawing(150.0, 100.0, vec![label("t", "ab", 16.0, 21.0)]);
+    let (image, _) = run("dotpad", &d);
+    // Start pin 5.9 -> cell 2 (column 6); top row 7.9 - 2 = 5.9 -> line 1 (row 4).
+    let raised: Vec<(u32, u32)> = (0..image.rows)
+        .flat_map(|r| (0..image.cols).map(move |c| (c, r)))
+        .filter(|&(c, r)| image.get(c, r).raised())
+        .collect();
+    // a = dot 1; b = dots 1, 2.
+    assert_eq!(raised, vec![(6, 4), (9, 4), (9, 5)]);
+    // Monarch: eight-dot cells, 3 columns and 5 rows apart.
+    let (image, _) = run("monarch", &d);
+    let raised: Vec<(u32, u32)> = (0..image.rows)
+        .flat_map(|r| (0..image.cols).map(move |c| (c, r)))
+        .filter(|&(c, r)| image.get(c, r).raised())
+        .collect();
+    // Top row 7.9 - 3 = 4.9 -> line 1 (row 5).
+    assert_eq!(raised, vec![(6, 5), (9, 5), (9, 6)]);
+}
+
+#[test]
+fn the_title_goes_to_the_text_line_where_there_is_one() {
+    let mut d = drawing(150.0, 100.0, vec![path("l", &[(10.0, 10.0), (50.0, 10.0)], false, vec![VIBRATE])]);
+    d.title = "Map".into();
+    let (image, _) = run("dotpad", &d);
+    // UEB grade 1: capital sign (dot 6), m (1 3 4), a (1), p (1 2 3 4).
+    assert_eq!(image.text, vec![0x20, 0x0D, 0x01, 0x0F]);
+    assert!(run("graphiti", &d).0.text.is_empty(), "the Graphiti has no text line");
+}
+
+#[test]
+fn labels_over_graphics_and_elements_too_close_are_reported() {
+    let d = drawing(
+        150.0,
+        100.0,
+        vec![
+            path("a", &[(10.0, 10.0), (60.0, 10.0)], false, vec![VIBRATE]),
+            path("b", &[(10.0, 12.5), (60.0, 12.5)], false, vec![VIBRATE]),
+            path("c", &[(10.0, 30.0), (60.0, 30.0)], false, vec![VIBRATE]),
+            label("name", "x", 20.0, 33.0),
+        ],
+    );
+    let (_, diags) = run("dotpad", &d);
+    let codes: Vec<(&str, Option<&str>)> = diags.iter().map(|d| (d.code, d.element.as_deref())).collect();
+    assert!(codes.contains(&("T0703", Some("a"))), "{codes:?}");
+    assert!(codes.contains(&("T0704", Some("name"))), "{codes:?}");
+    assert!(!codes.iter().any(|(c, e)| *c == "T0703" && *e == Some("c")), "c is two pins from b: {codes:?}");
+}
+
+#[test]
+fn a_texture_the_pitch_cannot_carry_is_reported() {
+    let square = [(10.0, 10.0), (40.0, 10.0), (40.0, 40.0), (10.0, 40.0)];
+    let (_, diags) = run("dotpad", &drawing(150.0, 100.0, vec![path("g", &square, true, vec![grating(2.0, 0.0)])]));
+    assert!(diags.iter().any(|d| d.code == "T0705"), "{diags:?}");
+    let tiny = [(10.0, 10.0), (16.0, 10.0), (16.0, 16.0), (10.0, 16.0)];
+    let (_, diags) = run("dotpad", &drawing(150.0, 100.0, vec![path("g", &tiny, true, vec![grating(5.0, 0.0)])]));
+    assert!(diags.iter().any(|d| d.code == "T0707"), "{diags:?}");
+}
+
+#[test]
+fn dots_become_pin_clusters() {
+    let mut sym = path("city", &[(49.0, 49.0), (51.0, 49.0), (51.0, 51.0), (49.0, 51.0)], true, vec![]);
+    sym.styles = vec![Style::Dot(Dot { radius_mm: 2.5, amplitude: 1.0 })];
+    let trail = path(
+        "trail",
+        &[(10.0, 80.0), (110.0, 80.0)],
+        false,
+        vec![Style::Dots(Dots { radius_mm: 1.0, spacing_mm: None, amplitude: 1.0 })],
+    );
+    let (image, _) = run("dotpad", &drawing(150.0, 100.0, vec![sym, trail]));
+    // The city: a 2 x 2 cluster on the pins around (50, 50) mm = pin (19.5, 19.5).
+    let city: Vec<(u32, u32)> = (15..25)
+        .flat_map(|r| (15..25).map(move |c| (c, r)))
+        .filter(|&(c, r)| image.get(c, r).raised())
+        .collect();
+    assert_eq!(city, vec![(19, 19), (20, 19), (19, 20), (20, 20)]);
+    // The trail: 2 x 2 clusters 4 pins apart (two blank pins between).
+    let row: String = (0..image.cols).map(|c| if image.get(c, 31).raised() { '#' } else { '.' }).collect();
+    assert_eq!(&row[..20], "...##..##..##..##..#");
+}
+
+#[test]
+fn a_drawing_larger_than_the_display_is_paged_or_panned() {
+    let d = drawing(300.0, 120.0, vec![path("l", &[(10.0, 10.0), (290.0, 110.0)], false, vec![VIBRATE])]);
+    let (image, diags) = run("dotpad", &d);
+    assert_eq!((image.cols, image.rows, image.navigation), (120, 48, Navigation::Pages));
+    assert!(diags.iter().any(|d| d.code == "T0702" && d.message.contains("4 pages")), "{diags:?}");
+    let (image, _) = run("hyperbraille", &d);
+    assert_eq!((image.cols, image.rows, image.navigation), (120, 60, Navigation::Pan));
+}
+
+#[test]
+fn hostile_drawings_give_errors_not_panics() {
+    let mut diags = Vec::new();
+    let huge = drawing(1e9, 1e9, vec![path("l", &[(0.0, 0.0), (1e9, 1e9)], false, vec![VIBRATE])]);
+    assert!(legalise(&huge, &profiles::builtin("dotpad").unwrap(), &mut diags).is_none());
+    assert!(diags.iter().any(|d| d.code == "T0701" && d.severity == crate::Severity::Error));
+    let wild = drawing(
+        150.0,
+        100.0,
+        vec![path("w", &[(f64::NAN, 1.0), (1e300, -1e300), (f64::INFINITY, 0.0), (5.0, 5.0)], true, vec![VIBRATE, grating(f64::NAN, f64::INFINITY)])],
+    );
+    let (image, _) = run("dotpad", &wild);
+    assert_eq!((image.cols, image.rows), (60, 40));
+    assert!(legalise(&wild, &profiles::builtin("stress2").unwrap(), &mut Vec::new()).is_none());
+}

@@ -1,0 +1,113 @@
+//! Braille on the pin grid: labels placed on the device's own cell grid, and
+//! the drawing's title on the device's text line.
+//!
+//! The cell grid starts at the image's top-left pin: cell *k* of line *l*
+//! has its top-left dot at pin `(k * (2 + cell_gap_cols), l * (cell_rows +
+//! line_gap_rows))`, so on a paged image whose display is a whole number of
+//! cells wide every page starts on the grid too. A label goes to the grid
+//! cell nearest to where its text starts, on the line whose cells stand on
+//! its baseline, and reads left to right from there. Text is uncontracted
+//! UEB (grade 1), six dots; on an eight-dot cell dots 7 and 8 stay down.
+
+use crate::diagnostic::Diagnostic;
+use crate::drawing::{Element, TextShape};
+use taxel_format::PinParams;
+
+use super::Canvas;
+
+/// Dot `k` (0-based bit of a Unicode braille mask) at `(column, row)` within its cell.
+pub const DOT_POSITIONS: [(u32, u32); 8] = [(0, 0), (0, 1), (0, 2), (1, 0), (1, 1), (1, 2), (0, 3), (1, 3)];
+
+/// Translates `text` to cells, warning about characters left out.
+fn cells(text: &str, e: Option<&Element>, diags: &mut Vec<Diagnostic>) -> Vec<u8> {
+    let (cells, missing) = crate::svg::braille_cells(text);
+    if !missing.is_empty() {
+        let list: String = missing.iter().collect();
+        let mut d = Diagnostic::warning(
+            "T0304",
+            format!("no uncontracted UEB braille for {list:?}; left out of the braille"),
+        );
+        if let Some(e) = e {
+            d = d.with_element(e.name.clone()).on_line(e.line);
+        }
+        diags.push(d);
+    }
+    cells
+}
+
+/// Places a label's braille on the cell grid, over whatever graphics are
+/// there (the design rules report the collision).
+pub(crate) fn place(
+    canvas: &mut Canvas,
+    params: &PinParams,
+    t: &TextShape,
+    elem: usize,
+    height: u8,
+    e: &Element,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let (cp, lp) = (params.cell_pitch_cols() as f64, params.line_pitch_rows() as f64);
+    // One braille line per run that starts a line; continuing runs join it.
+    let mut lines: Vec<(f64, f64, f64, String)> = Vec::new();
+    for run in &t.runs {
+        match lines.last_mut() {
+            Some(last) if run.continues => last.3.push_str(&run.text),
+            _ => lines.push((run.x_mm, run.y_mm, run.anchor, run.text.clone())),
+        }
+    }
+    if lines.is_empty() && !t.content.is_empty() {
+        if let Some(b) = e.bounds() {
+            lines.push((b.0, b.3, 0.0, t.content.clone()));
+        }
+    }
+    let mut off_image = false;
+    for (x, y, anchor, text) in lines {
+        let cells = cells(text.trim(), Some(e), diags);
+        if cells.is_empty() {
+            continue;
+        }
+        let width_pins = cells.len() as f64 * cp;
+        let (px, py) = canvas.to_pins((x, y));
+        // The text's start (after its anchor), and the top of cells standing on the baseline.
+        let start = px - anchor * width_pins;
+        let top = py - (params.cell_rows as f64 - 1.0);
+        let (k0, l) = ((start / cp).round(), (top / lp).round());
+        if !(k0.is_finite() && l.is_finite()) {
+            continue;
+        }
+        let (k0, l) = (k0.clamp(-1e9, 1e9) as i64, l.clamp(-1e9, 1e9) as i64);
+        for (k, &cell) in cells.iter().enumerate() {
+            let c0 = (k0 + k as i64) * cp as i64;
+            let r0 = l * lp as i64;
+            if c0 < 0 || r0 < 0 || c0 + 1 >= canvas.image.cols as i64 || r0 + params.cell_rows as i64 > canvas.image.rows as i64
+            {
+                off_image = true;
+                continue;
+            }
+            for (bit, &(dc, dr)) in DOT_POSITIONS.iter().enumerate().take(params.cell_rows as usize * 2) {
+                let p = (c0 + dc as i64, r0 + dr as i64);
+                if cell & (1 << bit) != 0 {
+                    canvas.raise(p, elem, height, false);
+                } else {
+                    // A dot that is down in the cell must read as down, whatever graphics lie under it.
+                    canvas.lower(p, elem);
+                }
+            }
+        }
+    }
+    if off_image {
+        diags.push(
+            Diagnostic::warning("T0708", "braille cells of this label fall off the pin image and are left out")
+                .with_element(e.name.clone())
+                .with_help("move the label inside the drawing, or shorten it")
+                .on_line(e.line),
+        );
+    }
+}
+
+/// The title as text-line cells (six-dot masks).
+pub(crate) fn text_line(title: &str, diags: &mut Vec<Diagnostic>) -> Vec<u8> {
+    let mut c = cells(title.trim(), None, diags);
+    c.truncate(taxel_format::MAX_TEXT_CELLS as usize);
+    c
+}
