@@ -29,6 +29,17 @@ pub enum Format {
     Json,
 }
 
+/// A pin display's own file format (`taxel export`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ExportFormat {
+    /// Dot Inc.'s DTMS page file (JSON) for the Dot Pad: one page per display.
+    Dtms,
+    /// Graphiti full frames: a (height, blink) byte pair per pin, row-major, one frame per page.
+    Graphiti,
+    /// The pin image as Unicode braille text (U+2800 + dot mask), 2 x 4 pins a character.
+    Unicode,
+}
+
 /// Height axis of a mesh (`--up`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Default)]
 pub enum Up {
@@ -146,6 +157,17 @@ pub enum Command {
         out: PathBuf,
         #[command(flatten)]
         opts: CompileOpts,
+    },
+    /// Write a pin-display bundle as the device's own file.
+    Export {
+        /// The bundle (compiled for dotpad, monarch, graphiti, hyperbraille or another pin profile).
+        bundle: PathBuf,
+        /// The file format.
+        #[arg(long, value_enum)]
+        format: ExportFormat,
+        /// The file to write.
+        #[arg(long, short = 'o', required = true)]
+        out: PathBuf,
     },
     /// Play a bundle: frames (CSV) for an exploration trace, or a WAV drive signal.
     Play {

@@ -19,6 +19,7 @@ use taxel_format::{BundleView, Chunk, Family, Mm, Tick};
 use taxel_runtime::finger::FingerPlayer;
 use taxel_runtime::grid::{ActuatorDrive, GridPlayer};
 use taxel_runtime::latero::LateroPlayer;
+use taxel_runtime::pins::PinsPlayer;
 use taxel_runtime::sinks::wav::{SampleBits, write_wav_file};
 
 use crate::batch::output::write_atomic;
@@ -186,6 +187,30 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
                 frames: tr.samples.len(),
                 max_error: Some((max, "mm of height".to_string())),
             })
+        }
+        Family::Pins => {
+            // A pin display shows still pages: the figures are the frame cost
+            // over every page for a second of 1 ms ticks (blinking included),
+            // and the device's own files beside the bundle.
+            let view = BundleView::parse(&bytes).map_err(|e| anyhow::anyhow!("{e}"))?;
+            let player = PinsPlayer::new(&view).map_err(|e| anyhow::anyhow!("{e}"))?;
+            let mut frame = vec![0u8; player.frame_len()];
+            let (across, down) = player.pages();
+            let t0 = Instant::now();
+            let mut frames = 0usize;
+            for page in 0..across * down {
+                let vp = player.page(page).unwrap_or_default();
+                for t in 0..1000 {
+                    player.frame(Tick(t), std::hint::black_box(vp), &mut frame);
+                    frames += 1;
+                }
+            }
+            let frame_us = t0.elapsed().as_secs_f64() * 1e6 / frames.max(1) as f64;
+            if let Some(image) = bundle.pin_image() {
+                let art = taxel_compiler::pins::export::unicode(image);
+                write_atomic(&out.join("frames").join(format!("{}.txt", s.name)), art.as_bytes())?;
+            }
+            Ok(Figures { layers, bundle_bytes: bytes.len(), build_ms, frame_us, frames, max_error: None })
         }
     }
 }

@@ -253,7 +253,8 @@ impl<'a> PinImageView<'a> {
         let rows = u32_at(d, 4).unwrap_or(0);
         let blink_ms = u32_at(d, 8).unwrap_or(0);
         let text_len = u16_at(d, 12).unwrap_or(0) as u32;
-        let navigation = Navigation::from_code(u8_at(d, 14).unwrap_or(0)).ok_or(bad("navigation", "0 pan or 1 pages"))?;
+        let navigation =
+            Navigation::from_code(u8_at(d, 14).unwrap_or(0)).ok_or(bad("navigation", "0 pan or 1 pages"))?;
         if u8_at(d, 15) != Some(0) || d[16..HEADER_LEN].iter().any(|&b| b != 0) {
             return Err(bad("reserved", "zero"));
         }
@@ -270,13 +271,23 @@ impl<'a> PinImageView<'a> {
             return Err(FormatError::Limit { tag, field: "cols * rows", value: n, limit: MAX_PIN_IMAGE as u64 });
         }
         if text_len > MAX_TEXT_CELLS {
-            return Err(FormatError::Limit { tag, field: "text cells", value: text_len as u64, limit: MAX_TEXT_CELLS as u64 });
+            return Err(FormatError::Limit {
+                tag,
+                field: "text cells",
+                value: text_len as u64,
+                limit: MAX_TEXT_CELLS as u64,
+            });
         }
         if text_len > 0 && params.text_cells == 0 {
             return Err(bad("text cells", "none: the profile has no braille text line"));
         }
         if blink_ms > MAX_BLINK_MS {
-            return Err(FormatError::Limit { tag, field: "blink_ms", value: blink_ms as u64, limit: MAX_BLINK_MS as u64 });
+            return Err(FormatError::Limit {
+                tag,
+                field: "blink_ms",
+                value: blink_ms as u64,
+                limit: MAX_BLINK_MS as u64,
+            });
         }
         if blink_ms > 0 && (params.blink_step_ms == 0 || blink_ms % params.blink_step_ms as u32 != 0) {
             return Err(bad("blink_ms", "0, or a multiple of the profile's blink step where it can blink"));
@@ -286,8 +297,7 @@ impl<'a> PinImageView<'a> {
             return Err(FormatError::ChunkLength { tag, index, expected, found: d.len() as u64 });
         }
         let split = HEADER_LEN + n as usize;
-        let view =
-            PinImageView { cols, rows, blink_ms, navigation, pins: &d[HEADER_LEN..split], text: &d[split..] };
+        let view = PinImageView { cols, rows, blink_ms, navigation, pins: &d[HEADER_LEN..split], text: &d[split..] };
         if !full {
             return Ok(view);
         }

@@ -221,9 +221,7 @@ pub fn parse(text: &str, source_name: &str) -> Result<DeviceProfile, ProfileErro
             return Err(top.err(
                 "family",
                 None,
-                format!(
-                    "unknown family \"{other}\", expected \"laterotactile\", \"grid\", \"finger\" or \"pins\""
-                ),
+                format!("unknown family \"{other}\", expected \"laterotactile\", \"grid\", \"finger\" or \"pins\""),
             ));
         }
     };
@@ -289,7 +287,13 @@ pub fn to_toml(p: &DeviceProfile) -> String {
         FamilyParams::Pins(p) => {
             s += &format!(
                 "\n[pins]\nheight_levels = {}\nblink_step_ms = {}\ncell_rows = {}\ncell_gap_cols = {}\nline_gap_rows = {}\ntext_cells = {}\nrefresh_ms = {}\n",
-                p.height_levels, p.blink_step_ms, p.cell_rows, p.cell_gap_cols, p.line_gap_rows, p.text_cells, p.refresh_ms
+                p.height_levels,
+                p.blink_step_ms,
+                p.cell_rows,
+                p.cell_gap_cols,
+                p.line_gap_rows,
+                p.text_cells,
+                p.refresh_ms
             )
         }
     }

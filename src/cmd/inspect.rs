@@ -61,6 +61,11 @@ fn describe(view: &BundleView<'_>) -> Value {
             "rhythm_max": f.rhythm_max, "intensity_max": f.intensity_max, "flat_slope": f.flat_slope,
             "direction_window": f.direction_window, "min_move_mm": f.min_move_mm,
         }),
+        FamilyParams::Pins(q) => json!({
+            "height_levels": q.height_levels, "blink_step_ms": q.blink_step_ms, "cell_rows": q.cell_rows,
+            "cell_gap_cols": q.cell_gap_cols, "line_gap_rows": q.line_gap_rows, "text_cells": q.text_cells,
+            "refresh_ms": q.refresh_ms,
+        }),
     };
     let prov = view.provenance();
     let mut chunks = Vec::new();
@@ -125,6 +130,18 @@ fn describe(view: &BundleView<'_>) -> Value {
                         "origin_mm": [h.origin_x.0, h.origin_y.0],
                         "height_mm": [h.height_min, h.height_max], "max_gradient": h.max_gradient,
                         "gradient_cap": h.gradient_cap })
+            }
+            ChunkView::Pins(v) => {
+                let (mut raised, mut blinking) = (0u64, 0u64);
+                for r in 0..v.rows() {
+                    for &b in v.row(r) {
+                        let pin = taxel_format::Pin::from_byte(b);
+                        raised += pin.raised() as u64;
+                        blinking += pin.blinks() as u64;
+                    }
+                }
+                json!({ "kind": "pins", "cols": v.cols(), "rows": v.rows(), "raised": raised, "blinking": blinking,
+                        "blink_ms": v.blink_ms(), "navigation": v.navigation().name(), "text_cells": v.text().len() })
             }
             ChunkView::Provenance(p) => json!({ "kind": "provenance", "entries": p.len() }),
             ChunkView::Unknown { .. } => json!({ "kind": "unknown" }),

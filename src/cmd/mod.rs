@@ -9,6 +9,7 @@ use crate::cli::{Cli, Command, DeviceCommand};
 mod build;
 mod check;
 mod device;
+mod export;
 mod inspect;
 mod load;
 mod pack;
@@ -29,6 +30,7 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
         Some(Command::Inspect { bundle, format }) => inspect::run(&bundle, format),
         Some(Command::Pack { dir, out }) => pack::run(&dir, &out),
         Some(Command::Unpack { bundle, out }) => unpack::run(&bundle, &out),
+        Some(Command::Export { bundle, format, out }) => export::run(&bundle, format, &out),
         Some(Command::Preview { input, out, opts }) => preview::run(&input, &out, &opts),
         Some(Command::Play { bundle, trace, out }) => play::run(&bundle, trace.as_deref(), out.as_deref()),
         Some(Command::Report { input, opts, plot, format }) => report::run(&input, &opts, plot.as_deref(), format),

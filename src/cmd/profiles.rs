@@ -7,7 +7,7 @@ use taxel_format::{FamilyParams, profiles};
 
 pub fn run() -> Result<ExitCode> {
     println!(
-        "{:<10} {:<14} {:>9} {:>15} {:>8} {:>6} {:>15}  notes",
+        "{:<12} {:<14} {:>9} {:>15} {:>8} {:>6} {:>15}  notes",
         "name", "family", "actuators", "pitch mm", "rate Hz", "bits", "surface mm"
     );
     for name in profiles::builtin_names() {
@@ -22,9 +22,16 @@ pub fn run() -> Result<ExitCode> {
                 "rhythm up to {}, intensity up to {}, direction over {} samples",
                 f.rhythm_max, f.intensity_max, f.direction_window
             ),
+            FamilyParams::Pins(q) => format!(
+                "heights 0-{}, {}, {}-dot cells, {}",
+                q.height_levels,
+                if q.can_blink() { format!("blinks in {} ms steps", q.blink_step_ms) } else { "no blink".into() },
+                q.cell_rows * 2,
+                if q.text_cells > 0 { format!("{}-cell text line", q.text_cells) } else { "no text line".into() }
+            ),
         };
         println!(
-            "{:<10} {:<14} {:>9} {:>15} {:>8} {:>6} {:>15}  {}",
+            "{:<12} {:<14} {:>9} {:>15} {:>8} {:>6} {:>15}  {}",
             name,
             p.family().name(),
             format!("{}x{}", p.cols, p.rows),

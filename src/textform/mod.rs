@@ -22,6 +22,7 @@
 
 pub mod error;
 pub mod folder;
+mod pins;
 mod png;
 mod read;
 mod tables;

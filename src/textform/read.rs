@@ -104,17 +104,18 @@ fn chunk(c: &Table<'_, '_>, read: &dyn Fn(&str) -> Result<Vec<u8>, TextError>) -
         "strokes" | "provenance" => FILE_KEYS,
         "height" => HEIGHT_KEYS,
         "raw" => RAW_KEYS,
+        "pins" => super::pins::PINS_KEYS,
         _ => {
             return Err(c.err(
                 "kind",
                 format!(
-                    "unknown kind \"{kind}\", expected vibration, grating, dots, strokes, height, provenance or raw"
+                    "unknown kind \"{kind}\", expected vibration, grating, dots, strokes, height, pins, provenance or raw"
                 ),
             ));
         }
     };
     // Keys that belong to another kind are refused by name.
-    for k in [MASK_KEYS, DOTS_KEYS, HEIGHT_KEYS, RAW_KEYS].concat() {
+    for k in [MASK_KEYS, DOTS_KEYS, HEIGHT_KEYS, RAW_KEYS, super::pins::PINS_KEYS].concat() {
         if c.has(k) && !allowed.contains(&k) {
             return Err(c.err(k, format!("not a key of a {kind} chunk, expected one of: {}", allowed.join(", "))));
         }
@@ -185,6 +186,7 @@ fn chunk(c: &Table<'_, '_>, read: &dyn Fn(&str) -> Result<Vec<u8>, TextError>) -
             Chunk::Height(h)
         }
         "provenance" => Chunk::Provenance(parse_provenance(file, &data)?),
+        "pins" => Chunk::Pins(super::pins::read(c, file, &data)?),
         _ => {
             let tag = match (c.has("tag"), c.has("tag_hex")) {
                 (true, false) => {

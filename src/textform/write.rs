@@ -101,6 +101,12 @@ pub fn unpack(name: &str, bytes: &[u8]) -> Result<Vec<(String, Vec<u8>)>, TextEr
                 let _ = writeln!(toml, "kind = \"provenance\"\nfile = \"{file}\"");
                 (file, provenance_csv(p))
             }
+            Chunk::Pins(image) => {
+                let file = format!("{stem}-pins.txt");
+                let (entry, data) = super::pins::write(image, &file);
+                toml.push_str(&entry);
+                (file, data)
+            }
             Chunk::Raw(r) => {
                 let file = format!("{stem}-raw.bin");
                 let _ = writeln!(toml, "kind = \"raw\"\nfile = \"{file}\"");

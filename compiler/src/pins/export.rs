@@ -139,12 +139,7 @@ pub const DTMS_TEXT_LINE: usize = 20;
 /// the title in print. `file_title` names the file (the sample uses its
 /// file name), `title` is the drawing's title. `lang` is `english` (the
 /// braille is UEB) and `lang_option` `1`, the value of the sample.
-pub fn dtms(
-    image: &PinImage,
-    profile: &DeviceProfile,
-    file_title: &str,
-    title: &str,
-) -> Result<String, ExportError> {
+pub fn dtms(image: &PinImage, profile: &DeviceProfile, file_title: &str, title: &str) -> Result<String, ExportError> {
     need_60x40(profile, "dtms")?;
     let mut text = String::new();
     let cells = image.text.len().div_ceil(DTMS_TEXT_LINE) * DTMS_TEXT_LINE;
@@ -196,4 +191,111 @@ pub fn graphiti(image: &PinImage, profile: &DeviceProfile) -> Result<Vec<u8>, Ex
         }
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use taxel_format::{Navigation, Pin, profiles};
+
+    use super::*;
+
+    /// A two-page image (120 x 40) with pins chosen to hit every bit of a cell,
+    /// and a title on the text line.
+    fn image() -> PinImage {
+        let mut im = PinImage::new(120, 40);
+        im.navigation = Navigation::Pages;
+        for (c, r) in [(0, 0), (1, 3), (3, 1), (58, 36), (59, 39), (61, 2), (119, 39), (64, 20), (65, 21)] {
+            im.set(c, r, Pin::new(1, false));
+        }
+        im.text = vec![0x20, 0x0D, 0x01, 0x0F];
+        im
+    }
+
+    /// Decodes one DTMS `graphic.data` string into the set of raised pins of
+    /// its page, from the description in `reference/pins.md` alone: 300 bytes
+    /// as 600 hex digits (high nibble first), one byte per 2 x 4 cell, 30 cells
+    /// a line, 10 lines, bit `(y % 4) + (x % 2) * 4`.
+    fn decode_graphic(data: &str) -> Vec<(u32, u32)> {
+        assert_eq!(data.len(), 600);
+        let mut out = Vec::new();
+        for i in 0..300u32 {
+            let byte = u8::from_str_radix(&data[2 * i as usize..2 * i as usize + 2], 16).unwrap();
+            let (cell_x, cell_y) = (i % 30, i / 30);
+            for bit in 0..8u32 {
+                if byte & (1 << bit) != 0 {
+                    out.push((cell_x * 2 + bit / 4, cell_y * 4 + bit % 4));
+                }
+            }
+        }
+        out.sort_by_key(|&(x, y)| (y, x));
+        out
+    }
+
+    #[test]
+    fn dtms_graphic_bytes_decode_to_the_pins_of_each_page() {
+        let dotpad = profiles::builtin("dotpad").unwrap();
+        let im = image();
+        let json = dtms(&im, &dotpad, "map.dtms", "Map").unwrap();
+        let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+        assert_eq!(v["title"], "map.dtms");
+        assert_eq!(v["device"], "dotpad320");
+        let items = v["items"].as_array().unwrap();
+        assert_eq!(items.len(), 2, "one page per 60 x 40 pin area");
+        for (n, item) in items.iter().enumerate() {
+            assert_eq!(item["page"], n + 1);
+            assert_eq!(item["title"], "Map");
+            let c0 = n as u32 * 60;
+            let want: Vec<(u32, u32)> = (0..40)
+                .flat_map(|y| (0..60).map(move |x| (x, y)))
+                .filter(|&(x, y)| im.get(c0 + x, y).raised())
+                .collect();
+            assert_eq!(decode_graphic(item["graphic"]["data"].as_str().unwrap()), want, "page {}", n + 1);
+            // The text line: six-dot cells, bit 0 = dot 1, padded with 00 to 20 cells.
+            let text = item["text"]["data"].as_str().unwrap();
+            assert_eq!(text, format!("200D010F{}", "00".repeat(16)));
+            assert_eq!(item["text"]["plain"], "Map");
+        }
+        // The object keys in the sample's order.
+        assert!(json.starts_with("{\"title\":\"map.dtms\",\"lang\":\"english\",\"lang_option\":\"1\",\"device\":\"dotpad320\",\"items\":[{\"page\":1,"));
+    }
+
+    #[test]
+    fn the_dotpad_byte_follows_the_documented_bit_order() {
+        // Unicode dots 1 2 3 (left column, top three) keep bits 0 1 2; dot 7 (left, bottom) is bit 3;
+        // dots 4 5 6 (right column) move to bits 4 5 6; dot 8 stays bit 7.
+        for (u, g) in [(0x01, 0x01), (0x04, 0x04), (0x40, 0x08), (0x08, 0x10), (0x20, 0x40), (0x80, 0x80), (0xFF, 0xFF)]
+        {
+            assert_eq!(dotpad_byte(u), g, "{u:#04x}");
+        }
+    }
+
+    #[test]
+    fn graphiti_frames_are_height_and_blink_pairs_row_major() {
+        let profile = profiles::builtin("graphiti").unwrap();
+        let mut im = PinImage::new(60, 40);
+        im.set(0, 0, Pin::new(4, false));
+        im.set(59, 0, Pin::new(2, true));
+        im.set(5, 39, Pin::new(1, false));
+        im.blink_ms = 500;
+        let f = graphiti(&im, &profile).unwrap();
+        assert_eq!(f.len(), 4800);
+        let at = |row: usize, col: usize| (f[(row * 60 + col) * 2], f[(row * 60 + col) * 2 + 1]);
+        assert_eq!(at(0, 0), (4, 0));
+        assert_eq!(at(0, 59), (2, 5), "blinks every 5 x 100 ms");
+        assert_eq!(at(39, 5), (1, 0));
+        assert_eq!(f.iter().filter(|&&b| b != 0).count(), 4);
+        // Other displays' bundles are refused with a reason.
+        let e = graphiti(&im, &profiles::builtin("monarch").unwrap()).unwrap_err();
+        assert!(e.to_string().contains("monarch (96 x 40"), "{e}");
+    }
+
+    #[test]
+    fn unicode_art_packs_2_by_4_pins_per_character() {
+        let mut im = PinImage::new(4, 4);
+        for (c, r) in [(0, 0), (1, 1), (0, 3), (3, 3)] {
+            im.set(c, r, Pin::new(1, false));
+        }
+        // Dots 1, 5, 7 = 0x51; dot 8 = 0x80.
+        assert_eq!(unicode(&im), "\u{2851}\u{2880}\n");
+    }
 }

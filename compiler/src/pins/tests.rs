@@ -47,7 +47,11 @@ fn label(name: &str, text: &str, x: f64, y: f64) -> Element {
 }
 
 fn drawing(w: f64, h: f64, elements: Vec<Element>) -> Drawing {
-    Drawing { page: Page { width_mm: w, height_mm: h, scale: 1.0, offset_mm: (0.0, 0.0) }, title: String::new(), elements }
+    Drawing {
+        page: Page { width_mm: w, height_mm: h, scale: 1.0, offset_mm: (0.0, 0.0) },
+        title: String::new(),
+        elements,
+    }
 }
 
 fn run(profile: &str, d: &Drawing) -> (PinImage, Vec<Diagnostic>) {
@@ -285,10 +289,8 @@ fn dots_become_pin_clusters() {
     );
     let (image, _) = run("dotpad", &drawing(150.0, 100.0, vec![sym, trail]));
     // The city: a 2 x 2 cluster on the pins around (50, 50) mm = pin (19.5, 19.5).
-    let city: Vec<(u32, u32)> = (15..25)
-        .flat_map(|r| (15..25).map(move |c| (c, r)))
-        .filter(|&(c, r)| image.get(c, r).raised())
-        .collect();
+    let city: Vec<(u32, u32)> =
+        (15..25).flat_map(|r| (15..25).map(move |c| (c, r))).filter(|&(c, r)| image.get(c, r).raised()).collect();
     assert_eq!(city, vec![(19, 19), (20, 19), (19, 20), (20, 20)]);
     // The trail: 2 x 2 clusters 4 pins apart (two blank pins between).
     let row: String = (0..image.cols).map(|c| if image.get(c, 31).raised() { '#' } else { '.' }).collect();
@@ -314,7 +316,12 @@ fn hostile_drawings_give_errors_not_panics() {
     let wild = drawing(
         150.0,
         100.0,
-        vec![path("w", &[(f64::NAN, 1.0), (1e300, -1e300), (f64::INFINITY, 0.0), (5.0, 5.0)], true, vec![VIBRATE, grating(f64::NAN, f64::INFINITY)])],
+        vec![path(
+            "w",
+            &[(f64::NAN, 1.0), (1e300, -1e300), (f64::INFINITY, 0.0), (5.0, 5.0)],
+            true,
+            vec![VIBRATE, grating(f64::NAN, f64::INFINITY)],
+        )],
     );
     let (image, _) = run("dotpad", &wild);
     assert_eq!((image.cols, image.rows), (60, 40));

@@ -23,10 +23,8 @@ fn cells(text: &str, e: Option<&Element>, diags: &mut Vec<Diagnostic>) -> Vec<u8
     let (cells, missing) = crate::svg::braille_cells(text);
     if !missing.is_empty() {
         let list: String = missing.iter().collect();
-        let mut d = Diagnostic::warning(
-            "T0304",
-            format!("no uncontracted UEB braille for {list:?}; left out of the braille"),
-        );
+        let mut d =
+            Diagnostic::warning("T0304", format!("no uncontracted UEB braille for {list:?}; left out of the braille"));
         if let Some(e) = e {
             d = d.with_element(e.name.clone()).on_line(e.line);
         }
@@ -79,7 +77,10 @@ pub(crate) fn place(
         for (k, &cell) in cells.iter().enumerate() {
             let c0 = (k0 + k as i64) * cp as i64;
             let r0 = l * lp as i64;
-            if c0 < 0 || r0 < 0 || c0 + 1 >= canvas.image.cols as i64 || r0 + params.cell_rows as i64 > canvas.image.rows as i64
+            if c0 < 0
+                || r0 < 0
+                || c0 + 1 >= canvas.image.cols as i64
+                || r0 + params.cell_rows as i64 > canvas.image.rows as i64
             {
                 off_image = true;
                 continue;

@@ -15,7 +15,10 @@ fn every_builtin_matches_the_papers() {
     assert_eq!((b.surface_w_mm, b.surface_h_mm), (189.0, 126.0), "3 x 63 by 2 x 63 mm");
     let f = profiles::builtin("finger3").unwrap();
     assert_eq!(f.actuator_count(), 3);
-    assert_eq!(profiles::builtin_names(), ["stress2", "brush-4x3", "finger3", "dotpad", "monarch", "graphiti", "hyperbraille"]);
+    assert_eq!(
+        profiles::builtin_names(),
+        ["stress2", "brush-4x3", "finger3", "dotpad", "monarch", "graphiti", "hyperbraille"]
+    );
 }
 
 #[test]

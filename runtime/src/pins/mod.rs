@@ -67,7 +67,11 @@ impl<'a> PinsPlayer<'a> {
     pub fn new(view: &BundleView<'a>) -> Result<Self, RuntimeError> {
         let profile = view.manifest().profile;
         let FamilyParams::Pins(p) = profile.params else {
-            return Err(RuntimeError::WrongFamily { expected: Family::Pins, found: profile.family(), profile: profile.name });
+            return Err(RuntimeError::WrongFamily {
+                expected: Family::Pins,
+                found: profile.family(),
+                profile: profile.name,
+            });
         };
         let mut image = None;
         for chunk in view.chunks() {

@@ -30,5 +30,15 @@ pub fn run(bundle: &Path, trace: Option<&Path>, out: Option<&Path>) -> Result<Ex
         Family::Grid => grid::run(bundle, &view, trace, out),
         Family::Laterotactile => latero::run(bundle, &view, trace, out),
         Family::Finger => finger::run(bundle, &view, trace, out),
+        Family::Pins => {
+            // A pin display shows a still image (pages or a pannable surface);
+            // there is nothing to play along a trace.
+            eprintln!(
+                "error: {} is a pin-display bundle: it is not played along a trace; \
+                 write the device's own file with `taxel export` or look at it with `taxel preview`",
+                bundle.display()
+            );
+            Ok(ExitCode::from(2))
+        }
     }
 }

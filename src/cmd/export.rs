@@ -1,0 +1,65 @@
+//! `taxel export BUNDLE --format dtms|graphiti|unicode -o FILE`: a pin-display
+//! bundle as the device's own file (`docs/pins.md`): a Dot Pad DTMS page
+//! file, Graphiti full frames, or Unicode braille art. The bundle is
+//! validated first; the file is written atomically.
+
+use std::path::Path;
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+use taxel_compiler::pins::export;
+use taxel_format::Bundle;
+
+use crate::batch::output::write_atomic;
+use crate::cli::ExportFormat;
+
+pub fn run(bundle: &Path, format: ExportFormat, out: &Path) -> Result<ExitCode> {
+    let shown = bundle.display();
+    let bytes = match std::fs::read(bundle) {
+        Ok(b) => b,
+        Err(e) => {
+            eprintln!("error: cannot read {shown}: {e}");
+            return Ok(ExitCode::from(2));
+        }
+    };
+    let b = match Bundle::from_bytes(&bytes) {
+        Ok(b) => b,
+        Err(e) => {
+            eprintln!("error: {shown}: not a valid taxel bundle: {e}");
+            return Ok(ExitCode::from(1));
+        }
+    };
+    let profile = b.manifest.profile;
+    let Some(image) = b.pin_image() else {
+        eprintln!(
+            "error: {shown}: no pin image: the bundle was compiled for {} ({} family); \
+             export needs a pin-display bundle (build with --profile dotpad, monarch, graphiti or hyperbraille)",
+            profile.name,
+            profile.family()
+        );
+        return Ok(ExitCode::from(1));
+    };
+    // The drawing's title, when the compiler recorded it (provenance entry 0, id `svg`).
+    let title = b
+        .provenance()
+        .and_then(|p| p.entries.first())
+        .filter(|e| e.id == "svg")
+        .map_or(String::new(), |e| e.label.clone());
+    let file_title = out.file_name().and_then(|n| n.to_str()).unwrap_or("drawing.dtms").to_string();
+    let data = match format {
+        ExportFormat::Unicode => Ok(export::unicode(image).into_bytes()),
+        ExportFormat::Dtms => export::dtms(image, &profile, &file_title, &title).map(String::into_bytes),
+        ExportFormat::Graphiti => export::graphiti(image, &profile),
+    };
+    let data = match data {
+        Ok(d) => d,
+        Err(e) => {
+            eprintln!("error: {shown}: {e}");
+            return Ok(ExitCode::from(1));
+        }
+    };
+    write_atomic(out, &data).with_context(|| format!("writing {}", out.display()))?;
+    let pages = export::pages(image, &profile).len();
+    eprintln!("wrote {} ({} bytes, {pages} page{})", out.display(), data.len(), if pages == 1 { "" } else { "s" });
+    Ok(ExitCode::SUCCESS)
+}
