@@ -19,7 +19,8 @@ pub fn scenes() -> Vec<Scene> {
         style: None,
         // T0407: the key's swatches (9 x 8 mm) and line are smaller than 2 cm,
         // which is right for a key: they are textures to match, not shapes.
-        warnings: vec!["T0407"],
+        // T0120: the brushed road is for the Tactile Brush chair.
+        warnings: vec!["T0120", "T0407"],
         source: "STRESS² (seed 000) section 5: \"vibrating political boundaries and regions colored with easily discriminable textures\".".into(),
         description: "A teacher's tactile map drawn in Inkscape with one layer per kind (`tactile: …` labels): vibrating coast and province borders, three provinces with gratings 3 mm apart in wavelength at 0°, 90° and 45°, town dots in cleared circles, and a braille key.".into(),
     };
@@ -32,8 +33,42 @@ pub fn scenes() -> Vec<Scene> {
         description: "The same map drawn in plain colours by someone who never heard of taxel (regions touch their borders, towns sit on the regions), built through the style sheet tala-plain.toml that maps its colours, ids and classes to tactile styles.".into(),
         ..map.clone()
     };
-    vec![map, plain]
+    // One source, more families: the same Inkscape file on the Tactile Brush
+    // chair (its brushed road) and on two pin displays.
+    let same_file = |name: &str, profile: &'static str, warnings: Vec<&'static str>, description: &str| Scene {
+        name: name.into(),
+        profile,
+        external: Some(("map/tala-map.svg".into(), None)),
+        visits: None,
+        warnings,
+        description: description.into(),
+        ..map.clone()
+    };
+    let brush = same_file(
+        "tala-map-brush",
+        "brush-4x3",
+        vec!["T0120"],
+        "The same tala-map.svg on the Tactile Brush chair: only its brushed road plays there (the other layers are for \
+         surfaces and are left out with T0120).",
+    );
+    let dotpad = same_file(
+        "tala-map-dotpad",
+        "dotpad",
+        PINS_WARNINGS.to_vec(),
+        "The same tala-map.svg legalised for the Dot Pad's 60 x 40 binary pins: pixel-art borders, ridge textures, \
+         town clusters, braille on the pad's cell grid and the title on its text line.",
+    );
+    let graphiti = same_file(
+        "tala-map-graphiti",
+        "graphiti",
+        PINS_WARNINGS.to_vec(),
+        "The same tala-map.svg on the Graphiti: blinking borders standing at height 4 above textures at height 2.",
+    );
+    vec![map, plain, brush, dotpad, graphiti]
 }
+
+/// What the map's pin scenes are expected to warn: see examples/README.md.
+const PINS_WARNINGS: &[&str] = &["T0120"];
 
 fn visits() -> Vec<Visit> {
     let coast = vec![
