@@ -12,4 +12,5 @@ mod latero_art;
 mod latero_extreme;
 mod latero_formula;
 mod latero_load;
+mod pins;
 mod support;

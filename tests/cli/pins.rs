@@ -1,0 +1,141 @@
+//! Pin displays end to end: one drawing built for four families, the Dot Pad
+//! and Graphiti files `taxel export` writes (read back by decoders written
+//! here from `reference/pins.md`), the pin preview, `taxel inspect` and
+//! `taxel load`.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use taxel_format::Bundle;
+
+fn taxel(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_taxel")).args(args).output().unwrap()
+}
+
+fn text(o: &Output) -> String {
+    format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
+}
+
+const MAP: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/map/tala-map.svg");
+
+fn build(profile: &str, out: &Path) -> Bundle {
+    let o = taxel(&["build", MAP, "--profile", profile, "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{profile}: {}", text(&o));
+    Bundle::from_bytes(&std::fs::read(out).unwrap()).unwrap()
+}
+
+#[test]
+fn one_source_builds_for_four_families() {
+    let dir = tempfile::tempdir().unwrap();
+    for (profile, family) in
+        [("stress2", "laterotactile"), ("brush-4x3", "grid"), ("dotpad", "pins"), ("graphiti", "pins")]
+    {
+        let b = build(profile, &dir.path().join(format!("{profile}.taxel")));
+        assert_eq!(b.manifest.profile.family().name(), family);
+        assert!(!b.chunks.is_empty(), "{profile}: something tactile was made");
+    }
+}
+
+#[test]
+fn the_dotpad_map_exports_a_dtms_file_with_the_documented_bit_layout() {
+    let dir = tempfile::tempdir().unwrap();
+    let bundle = dir.path().join("map.taxel");
+    let b = build("dotpad", &bundle);
+    let image = b.pin_image().expect("a pin image").clone();
+    assert_eq!((image.cols, image.rows), (60, 40), "the 110 x 60 mm map fits one Dot Pad page");
+    let dtms = dir.path().join("map.dtms");
+    let o = taxel(&["export", bundle.to_str().unwrap(), "--format", "dtms", "-o", dtms.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&dtms).unwrap()).unwrap();
+    // The sample's structure: title, lang, lang_option, device, items.
+    for key in ["title", "lang", "lang_option", "device"] {
+        assert!(v[key].is_string(), "{key}");
+    }
+    assert_eq!(v["device"], "dotpad320");
+    let items = v["items"].as_array().unwrap();
+    assert_eq!(items.len(), 1);
+    let item = &items[0];
+    assert_eq!(item["page"], 1);
+    assert_eq!(item["graphic"]["name"], "1.dtm");
+    assert_eq!(item["text"]["name"], "1.txt");
+    // Graphic: 300 bytes as 600 hex digits, one byte per 2 x 4 cell, 30 per
+    // line, bit (y % 4) + (x % 2) * 4; decoded here independently.
+    let data = item["graphic"]["data"].as_str().unwrap();
+    assert_eq!(data.len(), 600);
+    let mut raised = 0;
+    for cell in 0..300usize {
+        let byte = u8::from_str_radix(&data[2 * cell..2 * cell + 2], 16).unwrap();
+        for bit in 0..8u32 {
+            let x = (cell % 30) as u32 * 2 + bit / 4;
+            let y = (cell / 30) as u32 * 4 + bit % 4;
+            assert_eq!(byte & (1 << bit) != 0, image.get(x, y).raised(), "pin ({x}, {y})");
+            raised += (byte & (1 << bit) != 0) as usize;
+        }
+    }
+    assert!(raised > 100, "the map's borders, textures, towns and key are there: {raised} pins");
+    // The title on the text line: six-dot cells, whole 20-cell lines, and in print.
+    let t = item["text"]["data"].as_str().unwrap();
+    assert!(!t.is_empty() && t.len() % 40 == 0, "{t}");
+    assert!(t.starts_with("20"), "a capital sign first: {t}");
+    assert_eq!(item["text"]["plain"], "Tala island: three provinces, their towns, and a key");
+}
+
+#[test]
+fn graphiti_frames_unicode_art_preview_inspect_and_load() {
+    let dir = tempfile::tempdir().unwrap();
+    let bundle = dir.path().join("map.taxel");
+    let b = build("graphiti", &bundle);
+    let image = b.pin_image().unwrap().clone();
+    assert!(image.pins.iter().any(|p| p.blinks()), "the borders blink on the Graphiti");
+    assert!(image.pins.iter().any(|p| p.height() == 2), "textures at height 2");
+    let path = |n: &str| dir.path().join(n).to_str().unwrap().to_string();
+    let o = taxel(&["export", bundle.to_str().unwrap(), "--format", "graphiti", "-o", &path("map.bin")]);
+    assert!(o.status.success(), "{}", text(&o));
+    let frame = std::fs::read(path("map.bin")).unwrap();
+    assert_eq!(frame.len(), 4800);
+    for r in 0..40u32 {
+        for c in 0..60u32 {
+            let i = ((r * 60 + c) * 2) as usize;
+            let pin = image.get(c, r);
+            assert_eq!(frame[i], pin.height(), "height of ({c}, {r})");
+            assert_eq!(frame[i + 1], if pin.blinks() { 5 } else { 0 }, "blink of ({c}, {r})");
+        }
+    }
+    let o = taxel(&["export", bundle.to_str().unwrap(), "--format", "unicode", "-o", &path("map.txt")]);
+    assert!(o.status.success(), "{}", text(&o));
+    let art = std::fs::read_to_string(path("map.txt")).unwrap();
+    assert_eq!(art.lines().count(), 10);
+    assert!(
+        art.lines().all(|l| l.chars().count() == 30 && l.chars().all(|ch| ('\u{2800}'..='\u{28FF}').contains(&ch)))
+    );
+    // The preview: 10 px a pin with a pin's margin all round.
+    let o = taxel(&["preview", bundle.to_str().unwrap(), "-o", &path("map.png")]);
+    assert!(o.status.success(), "{}", text(&o));
+    let png = image::open(path("map.png")).unwrap();
+    assert_eq!((png.width(), png.height()), (620, 420));
+    let o = taxel(&["inspect", bundle.to_str().unwrap()]);
+    assert!(o.status.success() && text(&o).contains("pins"), "{}", text(&o));
+    // Loading onto a device folder stores it like any bundle.
+    let device = dir.path().join("device");
+    std::fs::create_dir(&device).unwrap();
+    let o = taxel(&["load", bundle.to_str().unwrap(), "--device", device.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert_eq!(std::fs::read(device.join("map.taxel")).unwrap(), std::fs::read(&bundle).unwrap());
+}
+
+#[test]
+fn export_refuses_what_the_format_cannot_hold() {
+    let dir = tempfile::tempdir().unwrap();
+    let latero = dir.path().join("s.taxel");
+    build("stress2", &latero);
+    let out = dir.path().join("x.dtms");
+    let o = taxel(&["export", latero.to_str().unwrap(), "--format", "dtms", "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("no pin image"), "{}", text(&o));
+    let monarch = dir.path().join("m.taxel");
+    build("monarch", &monarch);
+    let o = taxel(&["export", monarch.to_str().unwrap(), "--format", "dtms", "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("60 x 40"), "{}", text(&o));
+    assert!(!out.exists(), "nothing written");
+}
