@@ -138,10 +138,11 @@ impl PinImage {
 
     /// Sets pin `(col, row)`; outside the image nothing happens.
     pub fn set(&mut self, col: u32, row: u32, pin: Pin) {
-        if col < self.cols && row < self.rows {
-            if let Some(p) = self.pins.get_mut(row as usize * self.cols as usize + col as usize) {
-                *p = pin;
-            }
+        if col < self.cols
+            && row < self.rows
+            && let Some(p) = self.pins.get_mut(row as usize * self.cols as usize + col as usize)
+        {
+            *p = pin;
         }
     }
 
@@ -289,7 +290,7 @@ impl<'a> PinImageView<'a> {
                 limit: MAX_BLINK_MS as u64,
             });
         }
-        if blink_ms > 0 && (params.blink_step_ms == 0 || blink_ms % params.blink_step_ms as u32 != 0) {
+        if blink_ms > 0 && (params.blink_step_ms == 0 || !blink_ms.is_multiple_of(params.blink_step_ms as u32)) {
             return Err(bad("blink_ms", "0, or a multiple of the profile's blink step where it can blink"));
         }
         let expected = HEADER_LEN as u64 + n + text_len as u64;

@@ -75,7 +75,7 @@ fn the_dotpad_map_exports_a_dtms_file_with_the_documented_bit_layout() {
     assert!(raised > 100, "the map's borders, textures, towns and key are there: {raised} pins");
     // The title on the text line: six-dot cells, whole 20-cell lines, and in print.
     let t = item["text"]["data"].as_str().unwrap();
-    assert!(!t.is_empty() && t.len() % 40 == 0, "{t}");
+    assert!(!t.is_empty() && t.len().is_multiple_of(40), "{t}");
     assert!(t.starts_with("20"), "a capital sign first: {t}");
     assert_eq!(item["text"]["plain"], "Tala island: three provinces, their towns, and a key");
 }

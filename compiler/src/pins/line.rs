@@ -96,7 +96,7 @@ impl Walk {
             out.pop();
             return;
         }
-        if n >= 2 && is_l(out[n - 2], out[n - 1], p) && !self.kept.last().is_some_and(|k| *k == out[n - 1]) {
+        if n >= 2 && is_l(out[n - 2], out[n - 1], p) && self.kept.last().is_none_or(|k| *k != out[n - 1]) {
             out.pop();
         }
         out.push(p);

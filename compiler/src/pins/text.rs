@@ -53,10 +53,11 @@ pub(crate) fn place(
             _ => lines.push((run.x_mm, run.y_mm, run.anchor, run.text.clone())),
         }
     }
-    if lines.is_empty() && !t.content.is_empty() {
-        if let Some(b) = e.bounds() {
-            lines.push((b.0, b.3, 0.0, t.content.clone()));
-        }
+    if lines.is_empty()
+        && !t.content.is_empty()
+        && let Some(b) = e.bounds()
+    {
+        lines.push((b.0, b.3, 0.0, t.content.clone()));
     }
     let mut off_image = false;
     for (x, y, anchor, text) in lines {

@@ -156,7 +156,7 @@ impl<'a> PinsPlayer<'a> {
         let span = self.rate_hz as u64 * blink_ms;
         // Reducing modulo two half-periods first keeps the product in range for any tick.
         let k = tick.0 % (2 * span);
-        (k * 1000 / span) % 2 == 0
+        (k * 1000 / span).is_multiple_of(2)
     }
 
     /// Writes the frame for `tick` with the display's top-left pin at image
