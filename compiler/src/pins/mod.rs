@@ -221,7 +221,9 @@ pub fn legalise(drawing: &Drawing, profile: &DeviceProfile, diags: &mut Vec<Diag
                         .iter()
                         .find(|(k, _)| *k == grating_key(g.wavelength_mm, g.angle_deg))
                         .map_or(Pattern::wanted(g.wavelength_mm, g.angle_deg, pitch.0), |(_, p)| *p);
-                    texture_fill(&mut canvas, &p.outline, p.fill_rule, pattern, i, heights.texture, e, diags);
+                    let outlined = e.styles.iter().any(|s| matches!(s, Style::Vibrate(_) | Style::Dots(_)));
+                    let fill = Fill { rule: p.fill_rule, pattern, height: heights.texture, outlined };
+                    texture_fill(&mut canvas, &p.outline, fill, i, e, diags);
                 }
                 (Style::Dots(d), Shape::Path(p)) => {
                     dotted(&mut canvas, &p.outline, d.radius_mm, d.spacing_mm, i, heights.outline);
@@ -435,20 +437,30 @@ pub(crate) fn inside_pins(canvas: &Canvas, polys: &[Polyline], rule: FillRule) -
     out
 }
 
-#[allow(clippy::too_many_arguments)]
+/// How a region is textured.
+struct Fill {
+    rule: FillRule,
+    pattern: Pattern,
+    height: u8,
+    /// Whether the element also draws its outline (`vibrate` or `dots`).
+    outlined: bool,
+}
+
 fn texture_fill(
     canvas: &mut Canvas,
     polys: &[Polyline],
-    rule: FillRule,
-    pattern: Pattern,
+    fill: Fill,
     elem: usize,
-    height: u8,
     e: &Element,
     diags: &mut Vec<Diagnostic>,
 ) {
-    // One blank pin between the texture and the region's own outline, drawn
-    // or not (so neighbouring regions' textures never run into each other).
-    let border: std::collections::HashSet<PinPos> = outline_pins(canvas, polys).into_iter().collect();
+    let Fill { rule, pattern, height, outlined } = fill;
+    // One blank pin between the texture and the region's own outline, so that
+    // the outline is felt as a line and not as the texture's first ridge.
+    // Without an outline the texture fills the region (its gap to other
+    // elements is the design rule T0703).
+    let border: std::collections::HashSet<PinPos> =
+        if outlined { outline_pins(canvas, polys).into_iter().collect() } else { Default::default() };
     let near_border = |p: PinPos| (-1..=1).any(|dr| (-1..=1).any(|dc| border.contains(&(p.0 + dc, p.1 + dr))));
     let mut room = 0;
     let mut raised = 0;
@@ -467,7 +479,7 @@ fn texture_fill(
             Diagnostic::warning(
                 "T0707",
                 format!(
-                    "the region is too small for its texture on pins: {room} pins inside its outline's gap, \
+                    "the region is too small for its texture on pins: {room} pins inside it, \
                      {raised} of them ridges every {} pins",
                     pattern.period
                 ),

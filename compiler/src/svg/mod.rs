@@ -74,6 +74,10 @@ fn compile(text: &str, opts: &CompileOptions, diags: &mut Vec<Diagnostic>) -> Op
     // Styles asked of shapes that are not drawn count as asked (for the T0300 message below).
     let not_drawn = diags.iter().filter(|d| d.code == drawing::NOT_DRAWN).count();
     crate::prepare::prepare(&mut drawing, opts, diags);
+    // Pin displays are legalised from the same drawing into one pin image.
+    if opts.profile.family() == taxel_format::Family::Pins {
+        return crate::pins::build_bundle(&drawing, &opts.profile, opts.content_hash, diags);
+    }
     let built = layers::build(&drawing, opts, px, diags);
     if built.is_empty() {
         // A malformed annotation already explains why nothing is tactile.
