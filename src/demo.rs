@@ -282,6 +282,28 @@ pub fn summary(outcomes: &[Outcome]) -> String {
 mod tests {
     use super::*;
 
+    /// The demo on the map's pin scenes writes their bundles, previews (drawn
+    /// pin by pin) and Unicode braille art, and times the pin player.
+    #[test]
+    fn demo_shows_the_pin_scenes_and_their_previews() {
+        let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+        let out = tempfile::tempdir().expect("temp dir");
+        let names = ["tala-map-dotpad", "tala-map-graphiti"];
+        let outcomes = run(&examples, out.path(), Some(&names)).expect("runs");
+        assert_eq!(outcomes.len(), 2);
+        for o in &outcomes {
+            let f = o.result.as_ref().unwrap_or_else(|e| panic!("{}: {e}", o.scene));
+            assert_eq!((f.layers, f.frames), (1, 1000), "{}: one pin image, one page for 1000 ticks", o.scene);
+            assert!(f.frame_us.is_finite() && f.frame_us > 0.0);
+        }
+        for n in names {
+            let png = image::open(out.path().join("previews").join(format!("{n}.png"))).expect("preview");
+            assert_eq!(png.width(), 620, "{n}: 60 pins and a margin, 10 px a pin");
+            let art = std::fs::read_to_string(out.path().join("frames").join(format!("{n}.txt"))).expect("art");
+            assert!(art.chars().any(|c| ('\u{2801}'..='\u{28FF}').contains(&c)), "{n}: raised pins in the art");
+        }
+    }
+
     /// The demo on two scenes (one per device family played) writes the
     /// summary, the bundles, the frames CSV and the WAV, and fails no scene.
     #[test]
