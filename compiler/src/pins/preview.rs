@@ -62,17 +62,22 @@ pub fn shade(height: u8, levels: u8) -> [u8; 3] {
 
 /// Draws `image` for `profile`.
 pub fn render(image: &PinImage, profile: &DeviceProfile) -> Picture {
-    let levels = match profile.params {
-        FamilyParams::Pins(p) => p.height_levels,
-        _ => 1,
+    let (levels, per_line) = match profile.params {
+        FamilyParams::Pins(p) => (p.height_levels, (p.text_cells as usize).max(1)),
+        _ => (1, 1),
     };
-    let text_rows = if image.text.is_empty() { 0 } else { 6 };
+    // The text line as the device shows it, `text_cells` cells at a time,
+    // each stretch under the previous one.
+    let text_lines = image.text.len().div_ceil(per_line) as u32;
+    let text_rows = if image.text.is_empty() { 0 } else { 1 + 5 * text_lines };
     let mut s = PX_PER_PIN as u64;
-    let side = (image.cols.max(image.rows + text_rows) as u64 + 2) * s;
+    let text_cols = if image.text.is_empty() { 0 } else { 3 * per_line.min(image.text.len()) as u32 };
+    let cols = image.cols.max(text_cols);
+    let side = (cols.max(image.rows + text_rows) as u64 + 2) * s;
     if side > MAX_SIDE_PX {
-        s = (MAX_SIDE_PX / (image.cols.max(image.rows + text_rows) as u64 + 2)).max(2);
+        s = (MAX_SIDE_PX / (cols.max(image.rows + text_rows) as u64 + 2)).max(2);
     }
-    let (w, h) = ((image.cols as u64 + 2) * s, (image.rows as u64 + 2 + text_rows as u64) * s);
+    let (w, h) = ((cols as u64 + 2) * s, (image.rows as u64 + 2 + text_rows as u64) * s);
     let mut px = Px { w: w as u32, h: h as u32, rgba: [250, 250, 246, 255].repeat((w * h) as usize) };
     let s = s as f64;
     let centre = |c: u32, r: u32| ((c as f64 + 1.5) * s, (r as f64 + 1.5) * s);
@@ -108,8 +113,9 @@ pub fn render(image: &PinImage, profile: &DeviceProfile) -> Picture {
     }
     // The text line: its cells as pins, below the image.
     for (k, &m) in image.text.iter().enumerate() {
+        let (line, cell) = ((k / per_line) as u32, (k % per_line) as u32);
         for (bit, &(dc, dr)) in super::text::DOT_POSITIONS.iter().enumerate() {
-            let (x, y) = centre(k as u32 * 3 + dc, image.rows + 2 + dr);
+            let (x, y) = centre(cell * 3 + dc, image.rows + 1 + 5 * line + dr);
             if m & (1 << bit) != 0 {
                 px.disc(x, y, 0.42 * s, 0.0, [0, 0, 0]);
             } else if dr < 3 {
