@@ -3,19 +3,19 @@
 //!
 //! Each style becomes what a pin array can say (`docs/pins.md`):
 //! - `vibrate` → an outline one pin wide, 8-connected, without L-corners
-//!   (pixel-art rules, [`line`]), blinking where the device can blink and
+//!   (pixel-art rules, `line.rs`), blinking where the device can blink and
 //!   solid elsewhere;
 //! - `grating` → a ridge texture that keeps the orientation, its period in
-//!   whole pins, distinct from the drawing's other gratings ([`texture`]),
+//!   whole pins, distinct from the drawing's other gratings (`texture.rs`),
 //!   one blank pin inside its own outline;
 //! - `dots` → clusters of pins along the path, `dot` → a cluster at each
 //!   point symbol;
-//! - `braille` → cells on the device's own braille grid ([`text`]); the
+//! - `braille` → cells on the device's own braille grid (`text.rs`); the
 //!   drawing's `<title>` goes to the device's text line when it has one.
 //!
 //! On a device with heights, outlines, dots and braille stand at the top
 //! level and textures at half of it, so outlines stand above textures. The
-//! design rules are checked on the pin grid ([`rules`]). The image covers the
+//! design rules are checked on the pin grid (`rules.rs`). The image covers the
 //! whole drawing; when that is larger than the display, the bundle says
 //! whether it is read as pages or panned ([`navigation`]).
 //!
