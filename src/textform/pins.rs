@@ -103,3 +103,50 @@ pub fn read(c: &Table<'_, '_>, file: &str, data: &[u8]) -> Result<PinImage, Text
     }
     Ok(image)
 }
+
+#[cfg(test)]
+mod tests {
+    use std::collections::BTreeMap;
+
+    use taxel_format::{Bundle, Chunk, Manifest, Navigation, Pin, PinImage, profiles};
+
+    use super::super::{pack, unpack};
+    use super::*;
+
+    fn graphiti_bundle() -> Vec<u8> {
+        let mut im = PinImage::new(5, 3);
+        im.set(0, 0, Pin::new(4, true));
+        im.set(4, 2, Pin::new(2, false));
+        im.blink_ms = 500;
+        im.navigation = Navigation::Pan;
+        let mut b = Bundle::new(Manifest::new(profiles::builtin("graphiti").unwrap()));
+        b.chunks.push(Chunk::Pins(im));
+        b.to_bytes().unwrap()
+    }
+
+    #[test]
+    fn a_pin_image_unpacks_to_readable_grids_and_packs_back_byte_for_byte() {
+        let bytes = graphiti_bundle();
+        let files: BTreeMap<String, Vec<u8>> = unpack("b.taxel", &bytes).unwrap().into_iter().collect();
+        let grid = String::from_utf8(files["01-pins.txt"].clone()).unwrap();
+        assert_eq!(grid, "4....\n.....\n....2\n\n*....\n.....\n.....\n");
+        let read = |name: &str| files.get(name).cloned().ok_or_else(|| TextError::io(name, "missing"));
+        assert_eq!(pack(&read).unwrap(), bytes);
+    }
+
+    #[test]
+    fn mistakes_in_the_grids_name_the_line() {
+        let bytes = graphiti_bundle();
+        let mut files: BTreeMap<String, Vec<u8>> = unpack("b.taxel", &bytes).unwrap().into_iter().collect();
+        for (grid, want) in [
+            ("4....\n..x..\n....2\n\n*....\n.....\n.....\n", "01-pins.txt:2: pin 3: expected `.` or a height 1 to F"),
+            ("4....\n.....\n....2\n\n*....\n.*...\n.....\n", "01-pins.txt:6: pin 2: a flush pin cannot blink"),
+            ("4....\n....\n....2\n\n*....\n.....\n.....\n", "01-pins.txt:2: expected 5 pins on every line"),
+        ] {
+            files.insert("01-pins.txt".into(), grid.as_bytes().to_vec());
+            let read = |name: &str| files.get(name).cloned().ok_or_else(|| TextError::io(name, "missing"));
+            let e = pack(&read).unwrap_err();
+            assert_eq!(e.to_string(), want);
+        }
+    }
+}
