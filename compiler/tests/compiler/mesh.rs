@@ -193,7 +193,7 @@ proptest! {
         let n = 5;
         let m = terrain(n, &heights, |i, j| holes[j * n + i] && (i + j) % 3 == 0);
         prop_assume!(!m.indices.is_empty());
-        let f = match mesh::height_field(&m.to_glb(), &mut no_files, &MeshOptions { nodes_per_mm: Some(per_mm) }) {
+        let f = match mesh::height_field(&m.to_glb(), &mut no_files, &MeshOptions { nodes_per_mm: Some(per_mm), ..MeshOptions::default() }) {
             Ok((f, _)) => f,
             Err(e) => return Err(TestCaseError::fail(e.to_string())),
         };
@@ -232,7 +232,7 @@ proptest! {
 fn holes_in_the_mesh_have_no_contact() {
     let flat = vec![3.0; 36];
     let m = terrain(5, &flat, |i, j| (i, j) == (2, 2));
-    let f = field_with(&m.to_glb(), MeshOptions { nodes_per_mm: Some(2.0) });
+    let f = field_with(&m.to_glb(), MeshOptions { nodes_per_mm: Some(2.0), ..MeshOptions::default() });
     for j in 0..f.rows {
         for i in 0..f.cols {
             let (x, y) = node_xy(&f, i, j);
@@ -262,9 +262,9 @@ fn degenerate_and_sliver_triangles_and_duplicate_vertices_change_nothing_they_sh
     let mut copy = clean.clone();
     copy.indices.truncate(6);
     dirty.append(&copy);
-    let opts = MeshOptions { nodes_per_mm: Some(2.0) };
-    let a = field_with(&clean.to_glb(), opts);
-    let b = field_with(&dirty.to_glb(), opts);
+    let opts = MeshOptions { nodes_per_mm: Some(2.0), ..MeshOptions::default() };
+    let a = field_with(&clean.to_glb(), opts.clone());
+    let b = field_with(&dirty.to_glb(), opts.clone());
     assert_eq!(a.heights, b.heights);
     assert_eq!(a.flags, b.flags);
 
@@ -299,12 +299,21 @@ fn tiny_and_huge_meshes_get_a_bounded_field() {
 #[test]
 fn an_absurd_resolution_is_refused_with_the_limit() {
     let m = HeightMesh::grid(2, 2, |u, v| [10.0 * u, 0.0, 10.0 * v]);
-    let e = mesh::height_field(&m.to_glb(), &mut no_files, &MeshOptions { nodes_per_mm: Some(100.0) }).unwrap_err();
+    let e = mesh::height_field(
+        &m.to_glb(),
+        &mut no_files,
+        &MeshOptions { nodes_per_mm: Some(100.0), ..MeshOptions::default() },
+    )
+    .unwrap_err();
     let msg = e.to_string();
     assert!(matches!(e, MeshError::FieldTooLarge { .. }), "{msg}");
     assert!(msg.contains("16384") && msg.contains("at most"), "{msg}");
     for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
-        let r = mesh::height_field(&m.to_glb(), &mut no_files, &MeshOptions { nodes_per_mm: Some(bad) });
+        let r = mesh::height_field(
+            &m.to_glb(),
+            &mut no_files,
+            &MeshOptions { nodes_per_mm: Some(bad), ..MeshOptions::default() },
+        );
         assert!(r.is_err(), "resolution {bad}");
     }
 }
