@@ -387,7 +387,9 @@ fn triangulate(mut points: Points, mut edges: Vec<[u32; 2]>, snap: &Snap) -> Res
         }
         let mut conflicts: Vec<[u32; 2]> = Vec::new();
         let cdt = Cdt::try_bulk_load_cdt(pos, edges.iter().map(|e| e.map(|i| i as usize)).collect(), |e| {
-            conflicts.push(e.map(|i| i as u32))
+            // The loader may name an edge's ends in either order; the edge list has the lower first.
+            let (a, b) = (e[0].min(e[1]) as u32, e[0].max(e[1]) as u32);
+            conflicts.push([a, b])
         })
         .map_err(|e| MeshError::Triangulation(format!("{e:?}")))?;
         round += 1;
