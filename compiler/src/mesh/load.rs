@@ -97,6 +97,19 @@ fn parse(bytes: &[u8]) -> Result<gltf::Gltf, MeshError> {
             return Err(MeshError::Extension(ext.clone()));
         }
     }
+    // gltf-json's own validation indexes the POSITION accessor without a
+    // bounds check (mesh.rs, primitive_validate_hook): check the indices first.
+    let n = root.accessors.len();
+    for (mi, mesh) in root.meshes.iter().enumerate() {
+        for (pi, prim) in mesh.primitives.iter().enumerate() {
+            let named = prim.attributes.values().chain(prim.indices.as_ref());
+            if let Some(bad) = named.map(|a| a.value()).find(|&a| a >= n) {
+                return Err(MeshError::Parse(format!(
+                    "meshes[{mi}].primitives[{pi}] names accessor {bad}, but the file has {n} accessors"
+                )));
+            }
+        }
+    }
     let mut problems = Vec::new();
     root.validate(root, gltf::json::Path::new, &mut |path, e| {
         let path = path().to_string();

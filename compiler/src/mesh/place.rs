@@ -84,7 +84,14 @@ fn describe(region: &Region) -> String {
 /// The region as `[xmin, ymin, xmax, ymax]` in page mm.
 fn region_rect(soup: &Soup, region: &Region) -> Result<[f64; 4], MeshError> {
     match region {
-        Region::Rect { x, y, w, h } => Ok([x * 1000.0, y * 1000.0, (x + w) * 1000.0, (y + h) * 1000.0]),
+        Region::Rect { x, y, w, h } => {
+            let r = [x * 1000.0, y * 1000.0, (x + w) * 1000.0, (y + h) * 1000.0];
+            if r.iter().all(|v| v.is_finite()) {
+                Ok(r)
+            } else {
+                Err(MeshError::Region(format!("{} is too large to be a part of a model", describe(region))))
+            }
+        }
         Region::Element(name) => {
             let hits: Vec<[f64; 4]> =
                 soup.parts.iter().filter(|p| p.node == *name || p.mesh == *name).map(|p| p.bbox).collect();

@@ -204,7 +204,10 @@ impl Builder {
     pub fn indices(&mut self, i: &[u32]) -> usize {
         let bytes: Vec<u8> = i.iter().flat_map(|c| c.to_le_bytes()).collect();
         let v = self.view(&bytes, None);
-        self.accessor(format!("{{\"bufferView\":{v},\"componentType\":5125,\"count\":{},\"type\":\"SCALAR\"}}", i.len()))
+        self.accessor(format!(
+            "{{\"bufferView\":{v},\"componentType\":5125,\"count\":{},\"type\":\"SCALAR\"}}",
+            i.len()
+        ))
     }
 
     /// Adds a mesh of the given primitive JSON objects; returns its index.

@@ -360,6 +360,9 @@ fn malformed_files_are_errors_that_name_the_mesh_and_primitive() {
         (json.replace("\"mode\":4", "\"mode\":1"), "mode Lines is not supported"),
         (json.replace("\"POSITION\":0", "\"NORMAL\":0"), "meshes[0].primitives[0].attributes[\"POSITION\"]"),
         (json.replace("\"count\":24", "\"count\":25"), "indices accessor"),
+        (json.replace("\"POSITION\":0", "\"POSITION\":9"), "not a valid glTF"),
+        (json.replace("\"indices\":1", "\"indices\":9"), "not a valid glTF"),
+        (json.replace("\"mesh\":0", "\"mesh\":3"), "not a valid glTF"),
         (json.replace("\"nodes\":[0]", "\"nodes\":[]"), "the scene has no triangles"),
         (json.replace("\"mesh\":0", "\"mesh\":0,\"scale\":[1e30,1e30,1e30]"), "more than 100 km"),
         (json.replace("\"mesh\":0", "\"mesh\":0,\"scale\":[1e39,1,1]"), "node 'Terrain' (#0)"),
@@ -441,9 +444,10 @@ fn unit_ramp(n: u32) -> HeightMesh {
 fn quantised_positions_are_read_as_their_normalised_or_integer_values() {
     let m = unit_ramp(8);
     // u16 normalised: value q / 65535; i8 plain: integers 0..=16 scaled by the node.
-    for (ctype, normalized, levels, stride, size) in [(5123u32, true, 65535.0f64, 8usize, 2usize), (5120, false, 16.0, 4, 1)] {
-        let q: Vec<[i64; 3]> =
-            m.positions.iter().map(|p| p.map(|c| (c as f64 * levels).round() as i64)).collect();
+    for (ctype, normalized, levels, stride, size) in
+        [(5123u32, true, 65535.0f64, 8usize, 2usize), (5120, false, 16.0, 4, 1)]
+    {
+        let q: Vec<[i64; 3]> = m.positions.iter().map(|p| p.map(|c| (c as f64 * levels).round() as i64)).collect();
         let mut bytes = Vec::new();
         for p in &q {
             for &c in p {
@@ -462,7 +466,13 @@ fn quantised_positions_are_read_as_their_normalised_or_integer_values() {
         let pos = b.accessor(format!(
             "{{\"bufferView\":{v},\"componentType\":{ctype},\"normalized\":{normalized},\"count\":{},\"type\":\"VEC3\",\
              \"min\":[{},{},{}],\"max\":[{},{},{}]}}",
-            q.len(), lo(0), lo(1), lo(2), hi(0), hi(1), hi(2)
+            q.len(),
+            lo(0),
+            lo(1),
+            lo(2),
+            hi(0),
+            hi(1),
+            hi(2)
         ));
         let idx = b.indices(&m.indices);
         let mesh = b.mesh("quantised", &[format!("{{\"attributes\":{{\"POSITION\":{pos}}},\"indices\":{idx}}}")]);
@@ -615,7 +625,8 @@ fn fifty_touching_and_overlapping_meshes_build_to_their_highest_tops() {
         let mut m = cuboid(w, d, h);
         m.name = format!("block{k}");
         // A rotation of `a` about +Y that turns +X towards +Z: q = (0, sin(-a/2), 0, cos(-a/2)).
-        let extra = format!(",\"translation\":[{x},0,{z}],\"rotation\":[0,{},0,{}]", (-a / 2.0).sin(), (-a / 2.0).cos());
+        let extra =
+            format!(",\"translation\":[{x},0,{z}],\"rotation\":[0,{},0,{}]", (-a / 2.0).sin(), (-a / 2.0).cos());
         roots.push(b.height_mesh(&m, &extra));
     }
     let glb = b.to_glb(&roots);
@@ -723,12 +734,15 @@ fn triangles_on_a_lattice_collinear_crossing_and_touching_build_to_the_exact_top
 #[test]
 fn compressed_meshes_are_refused_with_the_compression_and_the_way_out() {
     let m = unit_ramp(2);
-    for (ext, want) in [("KHR_draco_mesh_compression", "untick \"Compression\""), ("EXT_meshopt_compression", "gltfpack")] {
+    for (ext, want) in
+        [("KHR_draco_mesh_compression", "untick \"Compression\""), ("EXT_meshopt_compression", "gltfpack")]
+    {
         // As the exporters write them: the accessors have no buffer view; the
         // primitive (Draco) or the buffer view (meshopt) carries the extension.
         let mut b = Builder::default();
         let v = b.view(&[0u8; 16], None);
-        let pos = b.accessor("{\"componentType\":5126,\"count\":9,\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[1,1,1]}".into());
+        let pos =
+            b.accessor("{\"componentType\":5126,\"count\":9,\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[1,1,1]}".into());
         let idx = b.accessor(format!("{{\"componentType\":5125,\"count\":{},\"type\":\"SCALAR\"}}", m.indices.len()));
         let mesh = b.mesh(
             "compressed",
@@ -795,7 +809,13 @@ fn a_z_up_terrain_gets_the_up_note_and_fits_the_surface_with_up_z() {
     assert!(y0.abs() < 1e-3 && (y1 - 100.0).abs() < 1e-3, "{y0}..{y1}");
     // Heights keep the slopes (scaled like the footprint) and start at 0: the
     // crest (1440 m at most) is 640 m above the lowest point (800 m).
-    let lo = f.heights.iter().zip(&f.flags).filter(|(_, fl)| **fl & FIELD_CONTACT != 0).map(|(h, _)| *h).fold(f32::MAX, f32::min);
+    let lo = f
+        .heights
+        .iter()
+        .zip(&f.flags)
+        .filter(|(_, fl)| **fl & FIELD_CONTACT != 0)
+        .map(|(h, _)| *h)
+        .fold(f32::MAX, f32::min);
     let hi = f.heights.iter().cloned().fold(f32::MIN, f32::max) as f64;
     assert!(lo.abs() < 1e-3, "lowest {lo}");
     assert!((hi - 640.0 * s).abs() < 0.05, "highest {hi}, expected about {}", 640.0 * s);
@@ -817,14 +837,16 @@ fn regions_keep_part_of_the_model_and_fit_it() {
     tall.name = "tall".into();
     let roots = [b.height_mesh(&low, ""), b.height_mesh(&tall, ",\"translation\":[10,0,0]")];
     let glb = b.to_glb(&roots);
-    let fit = |region: Region| MeshOptions { fit: Some([160.0, 100.0]), region: Some(region), ..MeshOptions::default() };
+    let fit =
+        |region: Region| MeshOptions { fit: Some([160.0, 100.0]), region: Some(region), ..MeshOptions::default() };
     // #tall: its 10 x 10 m footprint fills 100 x 100 mm, centred at x 30..130; heights 0..60 mm.
     let (f, r) = mesh::height_field(&glb, &mut no_files, &fit(Region::Element("tall".into()))).unwrap();
     assert!((r.bbox[0] - 30.0).abs() < 1e-6 && (r.bbox[2] - 130.0).abs() < 1e-6, "{:?}", r.bbox);
     let hi = f.heights.iter().cloned().fold(f32::MIN, f32::max);
     assert!((hi - 60.0).abs() < 1e-3, "{hi}");
     // A rectangle across both, 5..15 m x 0..10 m: half of each block, the step in the middle.
-    let (f, r) = mesh::height_field(&glb, &mut no_files, &fit(Region::Rect { x: 5.0, y: 0.0, w: 10.0, h: 10.0 })).unwrap();
+    let (f, r) =
+        mesh::height_field(&glb, &mut no_files, &fit(Region::Rect { x: 5.0, y: 0.0, w: 10.0, h: 10.0 })).unwrap();
     assert!((r.bbox[0] - 30.0).abs() < 1e-6 && (r.bbox[2] - 130.0).abs() < 1e-6, "{:?}", r.bbox);
     let row = f.rows / 2;
     let at = |x: f64| {
@@ -864,4 +886,50 @@ fn fit_scales_and_centres_a_large_model_and_exaggerate_multiplies_heights() {
     let hi = f.heights.iter().cloned().fold(f32::MIN, f32::max);
     assert!((hi - 40.0).abs() < 1e-3, "{hi}");
     assert!(mesh::height_field(&m.to_glb(), &mut no_files, &MeshOptions { exaggerate: 0.0, ..fit }).is_err());
+}
+
+#[test]
+fn skinned_and_morphed_meshes_are_read_in_their_rest_pose_from_the_default_or_first_scene() {
+    let ramp = unit_ramp(4);
+    let rest = {
+        let mut b = Builder::default();
+        let n = b.height_mesh(&ramp, ",\"scale\":[0.02,0.01,0.01]");
+        field_with(&b.to_glb(&[n]), opts())
+    };
+    // The same mesh with a morph target that would lift it 5 mm at weight 1
+    // and a skin whose joint is a node moved 1 m away: neither is applied.
+    let mut b = Builder::default();
+    let pos = b.positions(&ramp.positions);
+    let lift: Vec<[f32; 3]> = ramp.positions.iter().map(|_| [0.0, 0.5, 0.0]).collect();
+    let delta = b.positions(&lift);
+    let idx = b.indices(&ramp.indices);
+    let mesh = b.mesh(
+        "morphed",
+        &[format!(
+            "{{\"attributes\":{{\"POSITION\":{pos}}},\"indices\":{idx},\"targets\":[{{\"POSITION\":{delta}}}]}}"
+        )],
+    );
+    let joint = b.node("{\"name\":\"joint\",\"translation\":[1,1,1]}".into());
+    let skinned = b.node(format!("{{\"mesh\":{mesh},\"skin\":0,\"scale\":[0.02,0.01,0.01]}}"));
+    let json = b.to_gltf_embedded(&[joint, skinned]).replace(
+        "\"meshes\":[{\"name\":\"morphed\"",
+        "\"skins\":[{\"joints\":[0]}],\"meshes\":[{\"name\":\"morphed\",\"weights\":[1]",
+    );
+    assert!(json.contains("\"skins\"") && json.contains("\"weights\":[1]"), "the test's replacements apply");
+    assert_eq!(field_with(json.as_bytes(), opts()), rest);
+
+    // Two scenes: the default one (1) is read; without "scene", the first (0).
+    let mut b = Builder::default();
+    let far = b.height_mesh(&ramp, ",\"scale\":[0.02,0.01,0.01],\"translation\":[0.5,0,0]");
+    let near = b.height_mesh(&ramp, ",\"scale\":[0.02,0.01,0.01]");
+    let two = |default: &str| {
+        b.to_gltf_embedded(&[far]).replace(
+            "\"scene\":0,\"scenes\":[{\"nodes\":[0]}]",
+            &format!("{default}\"scenes\":[{{\"nodes\":[{far}]}},{{\"nodes\":[{near}]}}]"),
+        )
+    };
+    let (f, _) = mesh::height_field(two("\"scene\":1,").as_bytes(), &mut no_files, &opts()).unwrap();
+    assert_eq!(f, rest, "the default scene, 1");
+    let (f, _) = mesh::height_field(two("").as_bytes(), &mut no_files, &opts()).unwrap();
+    assert_eq!(f.origin_x.0, 500.0, "the first scene, 0, holds the far copy");
 }
