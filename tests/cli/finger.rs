@@ -239,7 +239,7 @@ fn taxel_build_refuses_a_buffer_outside_the_meshs_folder() {
 }
 
 /// A Z-up DEM as a GIS tool exports it: 161 x 161 samples (25,921 vertices)
-/// over 9 km east (X) by 11 km north (Y), heights Z in metres, 800 to 1440 m:
+/// over 9 km east (X) by 11 km north (Y), heights Z in metres, 760 to 1440 m:
 /// a ridge running north-south through the middle, rising and falling gently
 /// along its crest.
 fn dem() -> taxel_compiler::mesh::write::HeightMesh {

@@ -291,7 +291,9 @@ mod tests {
     #[test]
     fn snapping_is_exact_and_merges_near_duplicates() {
         let s = Snap::new([1000.0, -5.0, 1100.0, 20.0]);
-        assert!(s.step() <= 100.0 / SNAP_STEPS && s.step() > 50.0 / SNAP_STEPS);
+        // The smallest power of two that divides the 100 mm extent into at most 2^30 steps.
+        assert!(s.step() >= 100.0 / SNAP_STEPS && s.step() < 200.0 / SNAP_STEPS, "{}", s.step());
+        assert_eq!(s.step(), 2f64.powi(-23));
         let g = s.to_grid(1012.345, 3.25);
         let back = s.to_mm(g);
         assert!((back[0] - 1012.345).abs() <= s.step() / 2.0 && (back[1] - 3.25).abs() <= s.step() / 2.0);

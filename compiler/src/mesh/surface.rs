@@ -191,10 +191,10 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
     let mut map = vec![u32::MAX; soup.vertices.len()];
     for t in &corners {
         for &i in t {
-            if let (Some(slot), Some(&g)) = (map.get_mut(i as usize), grid_of.get(i as usize)) {
-                if *slot == u32::MAX {
-                    *slot = grid_points.add(g);
-                }
+            if let (Some(slot), Some(&g)) = (map.get_mut(i as usize), grid_of.get(i as usize))
+                && *slot == u32::MAX
+            {
+                *slot = grid_points.add(g);
             }
         }
     }
