@@ -120,14 +120,23 @@ impl MeshReport {
     }
 }
 
+/// The triangles a height field is built from: the scene read with
+/// `opts.up`, cut to `opts.region`, fitted and exaggerated, in page mm (the
+/// exact reference `taxel report` measures fields against). Also returns the
+/// page mm per model metre.
+pub fn placed(bytes: &[u8], resolve: &mut Resolver<'_>, opts: &MeshOptions) -> Result<(load::Soup, f64), MeshError> {
+    let mut soup = load::load_with(bytes, resolve, opts.up)?;
+    let mm_per_metre = place::place(&mut soup, opts)?;
+    Ok((soup, mm_per_metre))
+}
+
 /// Builds the height field of a glTF file (`.gltf` or `.glb` bytes).
 pub fn height_field(
     bytes: &[u8],
     resolve: &mut Resolver<'_>,
     opts: &MeshOptions,
 ) -> Result<(HeightField, MeshReport), MeshError> {
-    let mut soup = load::load_with(bytes, resolve, opts.up)?;
-    let mm_per_metre = place::place(&mut soup, opts)?;
+    let (soup, mm_per_metre) = placed(bytes, resolve, opts)?;
     let surf = surface::build(&soup)?;
     let cell = match opts.nodes_per_mm {
         Some(r) if r.is_finite() && r > 0.0 => 1.0 / r,
