@@ -301,3 +301,34 @@ fn a_z_up_terrain_fitted_and_swept_across_its_ridge_plays_right_down_left() {
         }
     }
 }
+
+#[test]
+fn taxel_build_refuses_a_draco_file_in_one_sentence_that_says_what_to_do() {
+    use taxel_compiler::mesh::write::Builder;
+    let dir = tempfile::tempdir().unwrap();
+    // As Blender writes it with "Compression" ticked: accessors without buffer
+    // views, the primitive's extension pointing at the compressed bytes.
+    let mut b = Builder::default();
+    let v = b.view(&[0u8; 16], None);
+    let pos =
+        b.accessor("{\"componentType\":5126,\"count\":3,\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[1,1,1]}".into());
+    let mesh = b.mesh(
+        "Box",
+        &[format!(
+            "{{\"attributes\":{{\"POSITION\":{pos}}},\"extensions\":{{\"KHR_draco_mesh_compression\":\
+             {{\"bufferView\":{v},\"attributes\":{{\"POSITION\":0}}}}}}}}"
+        )],
+    );
+    let node = b.node(format!("{{\"mesh\":{mesh}}}"));
+    b.extensions_used.push("KHR_draco_mesh_compression".into());
+    b.extensions_required.push("KHR_draco_mesh_compression".into());
+    let glb = dir.path().join("box.glb");
+    std::fs::write(&glb, b.to_glb(&[node])).unwrap();
+    let out = dir.path().join("box.taxel");
+    let o = taxel().arg("build").arg(&glb).arg("-o").arg(&out).output().unwrap();
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("box.glb") && err.contains("T0614"), "{err}");
+    assert!(err.contains("KHR_draco_mesh_compression") && err.contains("untick \"Compression\""), "{err}");
+    assert!(!err.contains("Missing data") && !out.exists(), "{err}");
+}
