@@ -91,8 +91,22 @@ fn compile_mesh(path: &Path, opts: &CompileOpts) -> Result<Compiled> {
     let profile = load_profile(opts.profile.as_deref().unwrap_or("finger3"))?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let mut resolve = |uri: &str| read_beside(&dir, uri);
-    let mesh_opts = taxel_compiler::mesh::MeshOptions { nodes_per_mm: opts.resolution.map(f64::from) };
+    let mesh_opts = mesh_options(opts, &profile);
     Ok(taxel_compiler::mesh::compile_gltf(&bytes, &mut resolve, &profile, &mesh_opts))
+}
+
+/// The mesh compiler's options for `opts` on `profile` (`--fit` fits onto its surface).
+pub fn mesh_options(opts: &CompileOpts, profile: &DeviceProfile) -> taxel_compiler::mesh::MeshOptions {
+    taxel_compiler::mesh::MeshOptions {
+        nodes_per_mm: opts.resolution.map(f64::from),
+        up: match opts.up {
+            crate::cli::Up::Y => taxel_compiler::UpAxis::Y,
+            crate::cli::Up::Z => taxel_compiler::UpAxis::Z,
+        },
+        fit: opts.fit.then_some([profile.surface_w_mm as f64, profile.surface_h_mm as f64]),
+        region: opts.region.clone(),
+        exaggerate: opts.exaggerate.unwrap_or(1.0),
+    }
 }
 
 fn load_profile(spec: &str) -> Result<taxel_format::DeviceProfile> {

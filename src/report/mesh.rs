@@ -8,7 +8,6 @@ use std::path::{Component, Path};
 use std::time::Instant;
 
 use anyhow::{Context, Result, anyhow, bail};
-use taxel_compiler::mesh::load;
 use taxel_format::{Bundle, BundleView, Chunk, Mm, Tick};
 use taxel_runtime::finger::{FingerPlayer, Touch, field};
 
@@ -35,6 +34,12 @@ impl MeshRef {
     /// Reads the mesh's triangles with the compiler's loader (the same
     /// frame: page mm, height up); external buffers only from beside the file.
     pub fn read(path: &Path) -> Result<MeshRef> {
+        Self::read_with(path, &taxel_compiler::mesh::MeshOptions::default())
+    }
+
+    /// Reads the mesh as the compiler places it with `mesh` (`--up`,
+    /// `--region`, `--fit`, `--exaggerate`), so the reference is in the field's frame.
+    pub fn read_with(path: &Path, mesh: &taxel_compiler::mesh::MeshOptions) -> Result<MeshRef> {
         crate::compile::check_input_size(path)?;
         let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
@@ -45,7 +50,8 @@ impl MeshRef {
             }
             std::fs::read(dir.join(rel)).map_err(|e| format!("cannot read buffer '{uri}': {e}"))
         };
-        let soup = load::load(&bytes, &mut resolve).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+        let (soup, _) =
+            taxel_compiler::mesh::placed(&bytes, &mut resolve, mesh).map_err(|e| anyhow!("{}: {e}", path.display()))?;
         let mut tris = Vec::with_capacity(soup.triangles.len());
         for t in &soup.triangles {
             let Some(p) = t.iter().map(|&i| soup.vertices.get(i as usize).copied()).collect::<Option<Vec<_>>>() else {
@@ -165,7 +171,8 @@ fn cell_of(b: &Bundle) -> Option<f64> {
 /// The height-field ladder of a mesh scene: per setting a `height` row (mm)
 /// and a `gradient` row (degrees of slope).
 pub fn ladder(input: &Path, opts: &CompileOpts, base: &Bundle, trace: &Trace) -> Result<(Vec<Row>, Vec<String>)> {
-    let exact = MeshRef::read(input)?;
+    let profile = base.manifest.profile;
+    let exact = MeshRef::read_with(input, &crate::compile::mesh_options(opts, &profile))?;
     let default = cell_of(base).map(|c| 1.0 / c);
     let mut settings: Vec<(Option<f64>, f64)> = NODE_LADDER.iter().map(|&r| (Some(r), r)).collect();
     if let Some(d) = default {

@@ -261,7 +261,7 @@ fn build(s: &Scene) -> Compiled {
         let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let mut beside = |uri: &str| std::fs::read(dir.join(uri)).map_err(|e| format!("{uri}: {e}"));
-        let mesh = taxel_compiler::mesh::MeshOptions { nodes_per_mm: None };
+        let mesh = taxel_compiler::mesh::MeshOptions::default();
         return taxel_compiler::mesh::compile_gltf(&bytes, &mut beside, &opts.profile, &mesh);
     }
     let text = std::fs::read_to_string(&path).unwrap_or_default();

@@ -237,3 +237,98 @@ fn taxel_build_refuses_a_buffer_outside_the_meshs_folder() {
     assert!(err.contains("m.gltf") && err.contains("leaves the glTF file's folder"), "{err}");
     assert!(!out.exists());
 }
+
+/// A Z-up DEM as a GIS tool exports it: 161 x 161 samples (25,921 vertices)
+/// over 9 km east (X) by 11 km north (Y), heights Z in metres, 760 to 1440 m:
+/// a ridge running north-south through the middle, rising and falling gently
+/// along its crest.
+fn dem() -> taxel_compiler::mesh::write::HeightMesh {
+    let mut m = taxel_compiler::mesh::write::HeightMesh::grid(160, 160, |u, v| {
+        let (x, y) = (9000.0 * u, 11000.0 * v);
+        let across = (x - 4500.0) / 4500.0;
+        [x, y, 1400.0 - 600.0 * across * across + 40.0 * (y / 1800.0).sin()]
+    });
+    m.name = "dem".into();
+    m
+}
+
+#[test]
+fn a_z_up_terrain_fitted_and_swept_across_its_ridge_plays_right_down_left() {
+    let dir = tempfile::tempdir().unwrap();
+    let glb = dir.path().join("dem.glb");
+    std::fs::write(&glb, dem().to_glb()).unwrap();
+    let bundle = dir.path().join("dem.taxel");
+    let o = taxel()
+        .arg("build")
+        .arg(&glb)
+        .args(["--profile", "finger3", "--fit", "--up", "z", "-o"])
+        .arg(&bundle)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(!err.contains("T0612") && !err.contains("T0616"), "fitted and read Z-up: {err}");
+
+    // 11 km fill the 100 mm height of finger3's surface; 9 km are 81.8 mm,
+    // centred: x 39.1..120.9 mm. The finger slides left to right along the
+    // middle row from beside the terrain (so it has a direction when it
+    // arrives, as in the paper's sweeps) over the crest (x = 80) to the east.
+    let trace = dir.path().join("sweep.csv");
+    let mut text = String::from("t_ms,x_mm,y_mm,contact\n");
+    let xs: Vec<f64> = (0..=180).map(|k| 35.0 + 0.5 * k as f64).collect();
+    for (k, x) in xs.iter().enumerate() {
+        // A hand is not a ruler: the row wobbles by a quarter millimetre.
+        let y = 50.0 + 0.25 * ((k as f64) * 0.7).sin();
+        text += &format!("{},{x},{y:.4},1\n", 10 * k);
+    }
+    text += &format!("{},125,50,0\n", 10 * xs.len());
+    std::fs::write(&trace, text).unwrap();
+    let rows = play(&bundle, &trace, &dir.path().join("motors.csv"));
+    let acts = actuators(&rows);
+    assert_eq!(runs(&acts), "RDL", "{}", acts.iter().collect::<String>());
+    // Down exactly around the crest: the slope across the ridge is
+    // 2 * 600 * (x - 80) / 4500 / (40.9 mm per 4500 m) per mm, within the
+    // profile's flat band of 0.05 for |x - 80| < 7.7 mm.
+    for (a, x) in acts.iter().zip(&xs) {
+        if (x - 80.0).abs() < 6.0 {
+            assert_eq!(*a, 'D', "x = {x}");
+        }
+        if (x - 80.0).abs() > 10.0 && (42.0..118.0).contains(x) {
+            assert_ne!(*a, 'D', "x = {x}");
+        }
+        if !(38.0..122.0).contains(x) {
+            assert_eq!(*a, '-', "x = {x} is beside the terrain");
+        }
+    }
+}
+
+#[test]
+fn taxel_build_refuses_a_draco_file_in_one_sentence_that_says_what_to_do() {
+    use taxel_compiler::mesh::write::Builder;
+    let dir = tempfile::tempdir().unwrap();
+    // As Blender writes it with "Compression" ticked: accessors without buffer
+    // views, the primitive's extension pointing at the compressed bytes.
+    let mut b = Builder::default();
+    let v = b.view(&[0u8; 16], None);
+    let pos =
+        b.accessor("{\"componentType\":5126,\"count\":3,\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[1,1,1]}".into());
+    let mesh = b.mesh(
+        "Box",
+        &[format!(
+            "{{\"attributes\":{{\"POSITION\":{pos}}},\"extensions\":{{\"KHR_draco_mesh_compression\":\
+             {{\"bufferView\":{v},\"attributes\":{{\"POSITION\":0}}}}}}}}"
+        )],
+    );
+    let node = b.node(format!("{{\"mesh\":{mesh}}}"));
+    b.extensions_used.push("KHR_draco_mesh_compression".into());
+    b.extensions_required.push("KHR_draco_mesh_compression".into());
+    let glb = dir.path().join("box.glb");
+    std::fs::write(&glb, b.to_glb(&[node])).unwrap();
+    let out = dir.path().join("box.taxel");
+    let o = taxel().arg("build").arg(&glb).arg("-o").arg(&out).output().unwrap();
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("box.glb") && err.contains("T0614"), "{err}");
+    assert!(err.contains("KHR_draco_mesh_compression") && err.contains("untick \"Compression\""), "{err}");
+    assert!(!err.contains("Missing data") && !out.exists(), "{err}");
+}

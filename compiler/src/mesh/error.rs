@@ -92,6 +92,19 @@ pub enum MeshError {
     BadResolution(f64),
     /// The triangulation failed (a bug, or a mesh spade cannot handle).
     Triangulation(String),
+    /// The file's meshes are compressed (Draco, meshopt).
+    Compressed {
+        /// The extension, as the file names it.
+        extension: String,
+        /// How to export the model without it.
+        help: String,
+    },
+    /// The file requires an extension that changes geometry and that this reader does not know.
+    Extension(String),
+    /// `--region` names nothing, or keeps nothing of the model.
+    Region(String),
+    /// A height factor that is not a positive finite number.
+    BadExaggeration(f64),
 }
 
 impl core::fmt::Display for MeshError {
@@ -127,6 +140,14 @@ impl core::fmt::Display for MeshError {
             ),
             MeshError::BadResolution(r) => write!(f, "resolution {r} is not a positive finite number of nodes per mm"),
             MeshError::Triangulation(m) => write!(f, "triangulating the mesh failed: {m}"),
+            MeshError::Compressed { extension, help } => {
+                write!(f, "the meshes are compressed with {extension}, which taxel cannot decode; {help}")
+            }
+            MeshError::Extension(e) => {
+                write!(f, "the file requires the extension {e}, which taxel cannot read; export the model without it")
+            }
+            MeshError::Region(m) => write!(f, "--region: {m}"),
+            MeshError::BadExaggeration(v) => write!(f, "--exaggerate {v} is not a positive finite factor"),
         }
     }
 }
@@ -137,14 +158,19 @@ impl MeshError {
     /// The diagnostic code (documented in docs/finger.md).
     pub fn code(&self) -> &'static str {
         match self {
-            MeshError::Parse(_) | MeshError::Buffer { .. } => "T0601",
+            MeshError::Parse(_) | MeshError::Buffer { .. } | MeshError::Extension(_) => "T0601",
             MeshError::Graph { .. } | MeshError::EmptyScene => "T0602",
             MeshError::Mode { .. } => "T0603",
             MeshError::NoPositions { .. } | MeshError::Accessor { .. } | MeshError::Index { .. } => "T0604",
             MeshError::NonFinite { .. } | MeshError::Range { .. } => "T0605",
             MeshError::NoArea => "T0606",
-            MeshError::TooBig { .. } | MeshError::FieldTooLarge { .. } | MeshError::BadResolution(_) => "T0607",
+            MeshError::TooBig { .. }
+            | MeshError::FieldTooLarge { .. }
+            | MeshError::BadResolution(_)
+            | MeshError::BadExaggeration(_) => "T0607",
             MeshError::Triangulation(_) => "T0608",
+            MeshError::Compressed { .. } => "T0614",
+            MeshError::Region(_) => "T0615",
         }
     }
 

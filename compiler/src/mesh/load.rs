@@ -3,9 +3,16 @@
 //! The convention of `primitives.md`: glTF is +Y up and in metres, so a
 //! vertex `(X, Y, Z)` (after its node's world transform) becomes page point
 //! `(1000 X, 1000 Z)` mm with height `1000 Y` mm; +Z runs towards the bottom
-//! of the page. Accessors are read here with bounds-checked code rather than
-//! through `gltf`'s reader, whose slicing trusts offsets and counts that a
-//! hostile file controls.
+//! of the page. With [`UpAxis::Z`] (terrains from GIS tools) the height is
+//! `1000 Z` and the page point `(1000 X, −1000 Y)`: north stays up the page.
+//!
+//! Accessors are read here with bounds-checked code rather than through
+//! `gltf`'s reader, whose slicing trusts offsets and counts that a hostile
+//! file controls (its sparse iterator unwraps, and it reads positions as
+//! f32 only). This reader takes every component type, normalised integers
+//! (`KHR_mesh_quantization`) and sparse accessors. Compressed meshes are
+//! recognised from `extensionsUsed`/`extensionsRequired` before any accessor
+//! is read, so their refusal names the compression.
 
 use gltf::Document;
 use gltf::accessor::{DataType, Dimensions};
@@ -13,6 +20,7 @@ use gltf::buffer::Source;
 use gltf::mesh::Mode;
 
 use super::error::MeshError;
+use crate::options::UpAxis;
 
 /// Largest number of triangles one file may contribute.
 pub const MAX_TRIANGLES: usize = 20_000_000;
@@ -32,18 +40,98 @@ pub struct Soup {
     pub mesh_names: Vec<String>,
     /// The scene's name, when it has one.
     pub scene_name: Option<String>,
+    /// Every node with a mesh, with the footprint of its triangles.
+    pub parts: Vec<Part>,
+    /// Extent of the model along its own X, Y and Z axes (metres, after the
+    /// node transforms), for the up-axis note.
+    pub extent: [f64; 3],
 }
+
+/// One node's mesh and where it lies, for `--region #name`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Part {
+    /// The node's name (may be empty).
+    pub node: String,
+    /// The mesh's name (may be empty).
+    pub mesh: String,
+    /// Footprint `[xmin, ymin, xmax, ymax]` in page mm.
+    pub bbox: [f64; 4],
+}
+
+/// Extensions that change how positions are stored, with what to do instead.
+const COMPRESSIONS: [(&str, &str); 2] = [
+    (
+        "KHR_draco_mesh_compression",
+        "export the model again without Draco (Blender: in the glTF 2.0 exporter untick \"Compression\")",
+    ),
+    ("EXT_meshopt_compression", "export the model again without meshopt (gltfpack: leave out -c and -cc)"),
+];
+
+/// Required extensions that do not touch positions (materials, textures,
+/// lights): a relief can be built without understanding them.
+const HARMLESS_PREFIXES: [&str; 6] =
+    ["KHR_materials_", "KHR_texture_", "EXT_texture_", "KHR_lights_", "MSFT_texture_", "KHR_mesh_quantization"];
 
 /// What `resolve` returns for an external buffer URI: its bytes, or a message.
 pub type Resolver<'r> = dyn FnMut(&str) -> Result<Vec<u8>, String> + 'r;
 
-/// Parses `bytes` (`.gltf` JSON or `.glb`) and collects the scene's triangles.
+/// Parses `bytes` (`.gltf` JSON or `.glb`) and collects the scene's triangles, +Y up.
 pub fn load(bytes: &[u8], resolve: &mut Resolver<'_>) -> Result<Soup, MeshError> {
-    let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| MeshError::Parse(e.to_string()))?;
+    load_with(bytes, resolve, UpAxis::Y)
+}
+
+/// Parses the glTF without the gltf crate's validation, refuses compressed
+/// meshes by name, then validates, ignoring only extensions that do not
+/// touch positions.
+fn parse(bytes: &[u8]) -> Result<gltf::Gltf, MeshError> {
+    use gltf::json::validation::{Error as VError, Validate};
+    let gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| MeshError::Parse(e.to_string()))?;
+    let root = gltf.document.as_json();
+    for ext in root.extensions_required.iter().chain(&root.extensions_used) {
+        if let Some((name, help)) = COMPRESSIONS.iter().find(|(n, _)| n == ext) {
+            return Err(MeshError::Compressed { extension: (*name).to_owned(), help: (*help).to_owned() });
+        }
+    }
+    for ext in &root.extensions_required {
+        if !HARMLESS_PREFIXES.iter().any(|p| ext.starts_with(p)) {
+            return Err(MeshError::Extension(ext.clone()));
+        }
+    }
+    // gltf-json's own validation indexes the POSITION accessor without a
+    // bounds check (mesh.rs, primitive_validate_hook): check the indices first.
+    let n = root.accessors.len();
+    for (mi, mesh) in root.meshes.iter().enumerate() {
+        for (pi, prim) in mesh.primitives.iter().enumerate() {
+            let named = prim.attributes.values().chain(prim.indices.as_ref());
+            if let Some(bad) = named.map(|a| a.value()).find(|&a| a >= n) {
+                return Err(MeshError::Parse(format!(
+                    "meshes[{mi}].primitives[{pi}] names accessor {bad}, but the file has {n} accessors"
+                )));
+            }
+        }
+    }
+    let mut problems = Vec::new();
+    root.validate(root, gltf::json::Path::new, &mut |path, e| {
+        let path = path().to_string();
+        if !(e == VError::Unsupported && path.starts_with("extensionsRequired")) {
+            problems.push(format!("{path}: {e}"));
+        }
+    });
+    if !problems.is_empty() {
+        return Err(MeshError::Parse(format!("invalid glTF: {}", problems.join("; "))));
+    }
+    Ok(gltf)
+}
+
+/// Parses `bytes` (`.gltf` JSON or `.glb`) and collects the scene's
+/// triangles with `up` as the height axis.
+pub fn load_with(bytes: &[u8], resolve: &mut Resolver<'_>, up: UpAxis) -> Result<Soup, MeshError> {
+    let gltf = parse(bytes)?;
     let buffers = load_buffers(&gltf.document, gltf.blob.clone(), resolve)?;
     let doc = &gltf.document;
     let scene = doc.default_scene().or_else(|| doc.scenes().next());
     let mut soup = Soup { scene_name: scene.as_ref().and_then(|s| s.name()).map(str::to_owned), ..Soup::default() };
+    let mut model = [[f64::INFINITY; 3], [f64::NEG_INFINITY; 3]];
     // Without a scene, every node that is nobody's child is a root.
     let roots: Vec<gltf::Node<'_>> = match &scene {
         Some(s) => s.nodes().collect(),
@@ -78,7 +166,7 @@ pub fn load(bytes: &[u8], resolve: &mut Resolver<'_>) -> Result<Soup, MeshError>
             return Err(MeshError::NonFinite { node: name, mesh: String::new(), what: "transform" });
         }
         if let Some(mesh) = node.mesh() {
-            add_mesh(&mut soup, &node, &mesh, &world, &buffers)?;
+            add_mesh(&mut soup, &node, &mesh, &world, &buffers, up, &mut model)?;
         }
         for c in node.children().collect::<Vec<_>>().into_iter().rev() {
             stack.push((c, world, depth + 1));
@@ -87,6 +175,7 @@ pub fn load(bytes: &[u8], resolve: &mut Resolver<'_>) -> Result<Soup, MeshError>
     if soup.triangles.is_empty() {
         return Err(MeshError::EmptyScene);
     }
+    soup.extent = [0, 1, 2].map(|k| (model[1][k] - model[0][k]).max(0.0));
     Ok(soup)
 }
 
@@ -124,9 +213,12 @@ fn add_mesh(
     mesh: &gltf::Mesh<'_>,
     world: &[[f64; 4]; 4],
     buffers: &[Vec<u8>],
+    up: UpAxis,
+    model: &mut [[f64; 3]; 2],
 ) -> Result<(), MeshError> {
     let mesh_name = mesh_name(mesh);
     soup.mesh_names.push(mesh.name().unwrap_or("").to_owned());
+    let mut part_box = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
     for prim in mesh.primitives() {
         let at = || Where { node: node_name(node), mesh: mesh_name.clone(), primitive: prim.index() };
         let mode = prim.mode();
@@ -141,14 +233,22 @@ fn add_mesh(
             return Err(MeshError::TooBig { what: "vertices", limit: u32::MAX as usize / 2 });
         }
         for p in &raw {
-            let v = apply(world, [p[0] as f64, p[1] as f64, p[2] as f64]);
+            let v = apply(world, *p);
             if v.iter().any(|c| !c.is_finite()) {
                 return Err(MeshError::NonFinite { node: at().node, mesh: at().mesh, what: "vertex position" });
             }
-            let mm = [v[0] * 1000.0, v[2] * 1000.0, v[1] * 1000.0];
+            let mm = match up {
+                UpAxis::Y => [v[0] * 1000.0, v[2] * 1000.0, v[1] * 1000.0],
+                UpAxis::Z => [v[0] * 1000.0, -v[1] * 1000.0, v[2] * 1000.0],
+            };
             if mm.iter().any(|c| c.abs() > MAX_COORD_MM) {
                 return Err(MeshError::Range { at: at() });
             }
+            for k in 0..3 {
+                model[0][k] = model[0][k].min(v[k]);
+                model[1][k] = model[1][k].max(v[k]);
+            }
+            part_box = [part_box[0].min(mm[0]), part_box[1].min(mm[1]), part_box[2].max(mm[0]), part_box[3].max(mm[1])];
             soup.vertices.push(mm);
         }
         let indices: Vec<u32> = match prim.indices() {
@@ -181,6 +281,13 @@ fn add_mesh(
         if soup.triangles.len() > MAX_TRIANGLES {
             return Err(MeshError::TooBig { what: "triangles", limit: MAX_TRIANGLES });
         }
+    }
+    if part_box.iter().all(|v| v.is_finite()) {
+        soup.parts.push(Part {
+            node: node.name().unwrap_or("").to_owned(),
+            mesh: mesh.name().unwrap_or("").to_owned(),
+            bbox: part_box,
+        });
     }
     Ok(())
 }
@@ -216,88 +323,170 @@ fn mesh_name(m: &gltf::Mesh<'_>) -> String {
     }
 }
 
-/// The bytes of element `k` of an accessor, bounds-checked: `(data, stride, element size)`.
-fn accessor_bytes<'b>(
-    acc: &gltf::Accessor<'_>,
+/// The bytes of `count` elements of `elem` bytes from buffer view `view`
+/// starting at `offset`, bounds-checked: `(data, stride)`.
+fn view_bytes<'b>(
+    view: &gltf::buffer::View<'_>,
     buffers: &'b [Vec<u8>],
+    offset: usize,
+    count: usize,
     elem: usize,
+    stride: Option<usize>,
 ) -> Result<(&'b [u8], usize), String> {
-    if acc.sparse().is_some() {
-        return Err("sparse accessors are not supported".into());
-    }
-    let view = acc.view().ok_or("the accessor has no buffer view")?;
     let buf = buffers.get(view.buffer().index()).ok_or("the buffer view names a missing buffer")?;
     let vstart = view.offset();
     let vend = vstart.checked_add(view.length()).ok_or("buffer view length overflows")?;
     let vdata = buf.get(vstart..vend).ok_or_else(|| {
         format!("buffer view {} (bytes {vstart}..{vend}) lies outside its buffer of {} bytes", view.index(), buf.len())
     })?;
-    let stride = view.stride().unwrap_or(elem);
+    let stride = stride.unwrap_or(elem);
     if stride < elem {
         return Err(format!("byte stride {stride} is smaller than the element size {elem}"));
     }
-    let count = acc.count();
     if count == 0 {
         return Ok((&[], stride));
     }
     let end = (count - 1)
         .checked_mul(stride)
         .and_then(|v| v.checked_add(elem))
-        .and_then(|v| v.checked_add(acc.offset()))
+        .and_then(|v| v.checked_add(offset))
         .ok_or("accessor size overflows")?;
-    let data = vdata.get(acc.offset()..end).ok_or_else(|| {
-        format!("{count} elements at offset {} need {end} bytes but the buffer view has {}", acc.offset(), vdata.len())
+    let data = vdata.get(offset..end).ok_or_else(|| {
+        format!(
+            "{count} elements at offset {offset} need {end} bytes but buffer view {} has {}",
+            view.index(),
+            vdata.len()
+        )
     })?;
     Ok((data, stride))
 }
 
-fn read_vec3(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<[f32; 3]>, String> {
-    if acc.dimensions() != Dimensions::Vec3 || acc.data_type() != DataType::F32 {
-        return Err(format!(
-            "expected 32-bit float VEC3, found {:?} {:?} (quantised meshes are not supported)",
-            acc.data_type(),
-            acc.dimensions()
-        ));
+/// Size in bytes of one component.
+fn component_size(t: DataType) -> usize {
+    match t {
+        DataType::I8 | DataType::U8 => 1,
+        DataType::I16 | DataType::U16 => 2,
+        DataType::U32 | DataType::F32 => 4,
     }
-    let (data, stride) = accessor_bytes(acc, buffers, 12)?;
+}
+
+/// Component `b` (exactly `component_size(t)` bytes) as a number,
+/// normalised to -1..1 or 0..1 when `normalized` (glTF 2.0, 3.11).
+fn component(t: DataType, b: &[u8], normalized: bool) -> f64 {
+    let raw = match (t, b) {
+        (DataType::I8, [x]) => *x as i8 as f64,
+        (DataType::U8, [x]) => *x as f64,
+        (DataType::I16, [x, y]) => i16::from_le_bytes([*x, *y]) as f64,
+        (DataType::U16, [x, y]) => u16::from_le_bytes([*x, *y]) as f64,
+        (DataType::U32, [x, y, z, w]) => u32::from_le_bytes([*x, *y, *z, *w]) as f64,
+        (DataType::F32, [x, y, z, w]) => f32::from_le_bytes([*x, *y, *z, *w]) as f64,
+        _ => f64::NAN,
+    };
+    if !normalized {
+        return raw;
+    }
+    match t {
+        DataType::I8 => (raw / 127.0).max(-1.0),
+        DataType::U8 => raw / 255.0,
+        DataType::I16 => (raw / 32767.0).max(-1.0),
+        DataType::U16 => raw / 65535.0,
+        _ => raw,
+    }
+}
+
+/// Every element of an accessor as `n` numbers each (flattened), sparse
+/// substitutions applied; `n` is the accessor's number of components.
+fn read_accessor(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>], n: usize) -> Result<Vec<f64>, String> {
+    let t = acc.data_type();
+    let cs = component_size(t);
+    let elem = n * cs;
     let count = acc.count();
-    let mut out = Vec::with_capacity(count.min(data.len() / 12 + 1));
-    for k in 0..count {
-        let o = k * stride;
-        let f = |i: usize| {
-            data.get(o + 4 * i..o + 4 * i + 4)
-                .and_then(|b| b.try_into().ok())
-                .map(f32::from_le_bytes)
-                .unwrap_or(f32::NAN)
-        };
-        out.push([f(0), f(1), f(2)]);
+    let norm = acc.normalized();
+    let read = |data: &[u8], stride: usize, k: usize, out: &mut Vec<f64>| -> Result<(), String> {
+        for c in 0..n {
+            let o = k * stride + c * cs;
+            let b = data.get(o..o + cs).ok_or("accessor data ends early")?;
+            out.push(component(t, b, norm));
+        }
+        Ok(())
+    };
+    let mut out = Vec::with_capacity(count.saturating_mul(n).min(1 << 26));
+    match acc.view() {
+        Some(view) => {
+            let (data, stride) = view_bytes(&view, buffers, acc.offset(), count, elem, view.stride())?;
+            for k in 0..count {
+                read(data, stride, k, &mut out)?;
+            }
+        }
+        // Without a buffer view the elements are zeros (a sparse accessor's base).
+        None if acc.sparse().is_some() => {
+            if count > MAX_TRIANGLES.saturating_mul(3) {
+                return Err(format!("{count} elements is more than the {} this reader takes", 3 * MAX_TRIANGLES));
+            }
+            out.resize(count * n, 0.0);
+        }
+        None => return Err("the accessor has no buffer view (a compressed mesh, or an empty accessor)".into()),
     }
-    if out.iter().flatten().any(|v| !v.is_finite()) {
-        return Err("holds a value that is not a finite number".into());
+    if let Some(sparse) = acc.sparse() {
+        let m = sparse.count();
+        if m > count {
+            return Err(format!("the sparse part has {m} elements but the accessor only {count}"));
+        }
+        let iv = sparse.indices();
+        let it = match iv.index_type() {
+            gltf::accessor::sparse::IndexType::U8 => DataType::U8,
+            gltf::accessor::sparse::IndexType::U16 => DataType::U16,
+            gltf::accessor::sparse::IndexType::U32 => DataType::U32,
+        };
+        let isz = component_size(it);
+        let (idata, _) =
+            view_bytes(&iv.view(), buffers, iv.offset(), m, isz, None).map_err(|e| format!("sparse indices: {e}"))?;
+        let vv = sparse.values();
+        let (vdata, _) =
+            view_bytes(&vv.view(), buffers, vv.offset(), m, elem, None).map_err(|e| format!("sparse values: {e}"))?;
+        let mut last: Option<usize> = None;
+        for s in 0..m {
+            let ib = idata.get(s * isz..(s + 1) * isz).ok_or("sparse indices end early")?;
+            let i = component(it, ib, false) as usize;
+            if i >= count || last.is_some_and(|l| i <= l) {
+                return Err(format!(
+                    "sparse index {i} (entry {s}) is out of range or not increasing (the accessor has {count} elements)"
+                ));
+            }
+            last = Some(i);
+            let mut vals = Vec::with_capacity(n);
+            read(vdata, elem, s, &mut vals)?;
+            if let Some(slot) = out.get_mut(i * n..(i + 1) * n) {
+                slot.copy_from_slice(&vals);
+            }
+        }
     }
     Ok(out)
 }
 
-fn read_indices(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<u32>, String> {
-    let size = match (acc.dimensions(), acc.data_type()) {
-        (Dimensions::Scalar, DataType::U8) => 1,
-        (Dimensions::Scalar, DataType::U16) => 2,
-        (Dimensions::Scalar, DataType::U32) => 4,
-        (d, t) => return Err(format!("expected unsigned 8, 16 or 32-bit SCALAR, found {t:?} {d:?}")),
-    };
-    let (data, stride) = accessor_bytes(acc, buffers, size)?;
-    let count = acc.count();
-    let mut out = Vec::with_capacity(count.min(data.len() / size + 1));
-    for k in 0..count {
-        let o = k * stride;
-        let b = data.get(o..o + size).ok_or("index data ends early")?;
-        out.push(match size {
-            1 => b[0] as u32,
-            2 => u16::from_le_bytes([b[0], b[1]]) as u32,
-            _ => u32::from_le_bytes([b[0], b[1], b[2], b[3]]),
-        });
+/// POSITION: VEC3 of floats, or with `KHR_mesh_quantization` of (normalised
+/// or plain) 8 or 16-bit integers.
+fn read_vec3(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<[f64; 3]>, String> {
+    if acc.dimensions() != Dimensions::Vec3 || acc.data_type() == DataType::U32 {
+        return Err(format!(
+            "expected VEC3 of 32-bit floats or (KHR_mesh_quantization) 8 or 16-bit integers, found {:?} {:?}",
+            acc.data_type(),
+            acc.dimensions()
+        ));
     }
-    Ok(out)
+    let flat = read_accessor(acc, buffers, 3)?;
+    if flat.iter().any(|v| !v.is_finite()) {
+        return Err("holds a value that is not a finite number".into());
+    }
+    Ok(flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
+}
+
+fn read_indices(acc: &gltf::Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<u32>, String> {
+    match (acc.dimensions(), acc.data_type()) {
+        (Dimensions::Scalar, DataType::U8 | DataType::U16 | DataType::U32) if !acc.normalized() => {}
+        (d, t) => return Err(format!("expected unsigned 8, 16 or 32-bit SCALAR, found {t:?} {d:?}")),
+    }
+    Ok(read_accessor(acc, buffers, 1)?.into_iter().map(|v| v as u32).collect())
 }
 
 const IDENTITY: [[f64; 4]; 4] =

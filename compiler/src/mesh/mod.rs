@@ -1,10 +1,12 @@
 //! glTF height meshes to height and gradient fields for the finger device
 //! (seed 002, `docs/finger.md`).
 //!
-//! The pipeline has three stages, each in its own file:
+//! The pipeline has four stages, each in its own file:
 //! [`load`] reads every triangle of the scene into page millimetres,
-//! [`surface`] builds the top surface on a spade constrained Delaunay
-//! triangulation, and [`field`] samples it into a
+//! [`place`] keeps the `--region`, fits the model onto the surface and
+//! scales its heights, [`surface`] builds the top surface on a spade
+//! constrained Delaunay triangulation of the edges' exact arrangement
+//! ([`planar`]), and [`field`] samples it into a
 //! [`taxel_format::HeightField`]. The library does no file IO:
 //! external buffers come through a resolver closure.
 //!
@@ -23,6 +25,8 @@
 pub mod error;
 pub mod field;
 pub mod load;
+pub mod place;
+pub mod planar;
 pub mod shapes;
 pub mod surface;
 pub mod write;
@@ -32,13 +36,46 @@ use taxel_format::{Bundle, Chunk, DeviceProfile, Family, HeightField, Manifest, 
 pub use error::MeshError;
 pub use load::Resolver;
 
+use crate::options::{CompileOptions, Region, UpAxis};
 use crate::{Compiled, Diagnostic};
 
 /// Options for compiling a mesh.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct MeshOptions {
     /// Height-field nodes per millimetre; `None` chooses from the mesh (see docs/finger.md).
     pub nodes_per_mm: Option<f64>,
+    /// The model's height axis (`--up`).
+    pub up: UpAxis,
+    /// Scale and centre the footprint (or the region) into a surface of this
+    /// width and height in mm, keeping its aspect ratio, with the lowest
+    /// point at height 0 (`--fit`; [`MeshOptions::from_compile`] takes the profile's surface).
+    pub fit: Option<[f64; 2]>,
+    /// Keep only this part of the footprint (`--region`): a rectangle in
+    /// model units along the page axes, or a node or mesh name.
+    pub region: Option<Region>,
+    /// Factor on heights (`--exaggerate`), above 0.
+    pub exaggerate: f64,
+}
+
+impl Default for MeshOptions {
+    fn default() -> Self {
+        MeshOptions { nodes_per_mm: None, up: UpAxis::Y, fit: None, region: None, exaggerate: 1.0 }
+    }
+}
+
+impl MeshOptions {
+    /// The mesh options of a compilation: `--resolution` as nodes per mm,
+    /// `--fit` onto `options.profile`'s surface, `--region`, `--up`, `--exaggerate`.
+    pub fn from_compile(options: &CompileOptions) -> MeshOptions {
+        let p = &options.profile;
+        MeshOptions {
+            nodes_per_mm: options.resolution_px_per_mm.map(f64::from),
+            up: options.up,
+            fit: options.fit.then_some([p.surface_w_mm as f64, p.surface_h_mm as f64]),
+            region: options.region.clone(),
+            exaggerate: options.exaggerate,
+        }
+    }
 }
 
 /// What the build measured, for notes and reports.
@@ -60,6 +97,37 @@ pub struct MeshReport {
     pub mesh_names: Vec<String>,
     /// The scene's name.
     pub scene_name: Option<String>,
+    /// Extent of the model along its X, Y and Z axes, metres.
+    pub extent: [f64; 3],
+    /// Page mm per model metre after `--fit` (1000 without it).
+    pub mm_per_metre: f64,
+    /// Projected edges left crossing after the arrangement (see [`planar`]).
+    pub unresolved: usize,
+}
+
+impl MeshReport {
+    /// The other height axis, when the model's shape suggests it: a model
+    /// read with +Y up whose Z extent is under a quarter of both its X and
+    /// Y extents lies flat in X/Y, as a terrain exported Z-up does (and the
+    /// other way round).
+    pub fn suggested_up(&self, up: UpAxis) -> Option<UpAxis> {
+        let [x, y, z] = self.extent;
+        match up {
+            UpAxis::Y if z < 0.25 * x.min(y) => Some(UpAxis::Z),
+            UpAxis::Z if y < 0.25 * x.min(z) => Some(UpAxis::Y),
+            _ => None,
+        }
+    }
+}
+
+/// The triangles a height field is built from: the scene read with
+/// `opts.up`, cut to `opts.region`, fitted and exaggerated, in page mm (the
+/// exact reference `taxel report` measures fields against). Also returns the
+/// page mm per model metre.
+pub fn placed(bytes: &[u8], resolve: &mut Resolver<'_>, opts: &MeshOptions) -> Result<(load::Soup, f64), MeshError> {
+    let mut soup = load::load_with(bytes, resolve, opts.up)?;
+    let mm_per_metre = place::place(&mut soup, opts)?;
+    Ok((soup, mm_per_metre))
 }
 
 /// Builds the height field of a glTF file (`.gltf` or `.glb` bytes).
@@ -68,7 +136,7 @@ pub fn height_field(
     resolve: &mut Resolver<'_>,
     opts: &MeshOptions,
 ) -> Result<(HeightField, MeshReport), MeshError> {
-    let soup = load::load(bytes, resolve)?;
+    let (soup, mm_per_metre) = placed(bytes, resolve, opts)?;
     let surf = surface::build(&soup)?;
     let cell = match opts.nodes_per_mm {
         Some(r) if r.is_finite() && r > 0.0 => 1.0 / r,
@@ -86,14 +154,16 @@ pub fn height_field(
         cell: grid.cell as f64,
         mesh_names: soup.mesh_names,
         scene_name: soup.scene_name,
+        extent: soup.extent,
+        mm_per_metre,
+        unresolved: surf.unresolved,
     };
     Ok((hf, report))
 }
 
 /// Compiles a glTF height mesh into a bundle for a finger-family `profile`.
 ///
-/// Never panics on any input: a panic inside a dependency is caught and
-/// reported as an error diagnostic.
+/// Problems in the file are error diagnostics, never panics.
 pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DeviceProfile, opts: &MeshOptions) -> Compiled {
     let mut diagnostics = Vec::new();
     if profile.family() != Family::Finger {
@@ -110,22 +180,26 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
         );
         return Compiled { bundle: None, diagnostics };
     }
-    let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| height_field(bytes, resolve, opts)));
-    let (hf, report) = match run {
-        Ok(Ok(v)) => v,
-        Ok(Err(e)) => {
-            diagnostics.push(Diagnostic::error(e.code(), e.to_string()));
+    let (hf, report) = match height_field(bytes, resolve, opts) {
+        Ok(v) => v,
+        Err(e) => {
+            let d = Diagnostic::error(e.code(), e.to_string());
+            diagnostics.push(match &e {
+                MeshError::Region(_) => d.with_help("a region is X,Y,W,H in model units along the page (x = X, y = Z, or -Y with --up z), or #name of a node or mesh"),
+                _ => d,
+            });
             return Compiled { bundle: None, diagnostics };
         }
-        Err(_) => {
-            diagnostics.push(Diagnostic::error("T0608", "triangulating the mesh failed (internal error)"));
-            return Compiled { bundle: None, diagnostics };
-        }
+    };
+    let scale = if opts.fit.is_some() {
+        format!("; fitted at {:.6} mm per model metre", report.mm_per_metre)
+    } else {
+        String::new()
     };
     diagnostics.push(Diagnostic::note(
         "T0610",
         format!(
-            "height field of {} x {} nodes every {} mm over {:.3} x {:.3} mm from {} triangles ({} steps)",
+            "height field of {} x {} nodes every {} mm over {:.3} x {:.3} mm from {} triangles ({} steps{scale})",
             hf.cols,
             hf.rows,
             report.cell,
@@ -135,6 +209,33 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
             report.steps
         ),
     ));
+    if let Some(other) = report.suggested_up(opts.up) {
+        let [x, y, z] = report.extent;
+        let (flag, now) = match other {
+            UpAxis::Z => ("--up z", "+Y"),
+            UpAxis::Y => ("--up y", "+Z"),
+        };
+        diagnostics.push(
+            Diagnostic::note(
+                "T0616",
+                format!(
+                    "the model spans {x:.6} x {y:.6} x {z:.6} along X, Y, Z: it lies flat across the {now} axis \
+                     taken as up, as a terrain exported with the other axis up does"
+                ),
+            )
+            .with_help(format!("if the heights run along the other axis, build with {flag}")),
+        );
+    }
+    if report.unresolved > 0 {
+        diagnostics.push(Diagnostic::warning(
+            "T0617",
+            format!(
+                "{} projected edges still cross others after the arrangement's rounding; the surface may be \
+                 off near them by one triangulation face",
+                report.unresolved
+            ),
+        ));
+    }
     if report.degenerate > 0 {
         diagnostics.push(Diagnostic::note(
             "T0611",
@@ -146,7 +247,12 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
         ));
     }
     let [x0, y0, x1, y1] = report.bbox;
-    if x0 < 0.0 || y0 < 0.0 || x1 > profile.surface_w_mm as f64 || y1 > profile.surface_h_mm as f64 {
+    // A fitted model lies on the surface by construction (up to rounding).
+    if opts.fit.is_none() && x0 < 0.0
+        || y0 < 0.0
+        || x1 > profile.surface_w_mm as f64
+        || y1 > profile.surface_h_mm as f64
+    {
         diagnostics.push(
             Diagnostic::warning(
                 "T0612",
@@ -155,7 +261,7 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
                     profile.surface_w_mm, profile.surface_h_mm, profile.name
                 ),
             )
-            .with_help("glTF metres become page millimetres (X right, Z down); scale or move the mesh in its file"),
+            .with_help("build with --fit to scale and centre the model onto the surface (glTF metres are page millimetres without it)"),
         );
     }
     let mut bundle = Bundle::new(Manifest::new(*profile));

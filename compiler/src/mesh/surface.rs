@@ -12,13 +12,12 @@
 //! the triangulation (a test checks this). Height jumps across a constraint
 //! edge are recorded as steps.
 
-use std::collections::HashMap;
-
 use spade::handles::{FixedFaceHandle, FixedVertexHandle, InnerTag};
 use spade::{ConstrainedDelaunayTriangulation, Point2, PositionInTriangulation, Triangulation};
 
 use super::error::MeshError;
 use super::load::Soup;
+use super::planar::{self, Points, Snap};
 
 /// Slope (|∇h|) above which a triangle counts as a wall: it still covers its
 /// thin footprint, but it does not raise the gradient cap.
@@ -113,6 +112,9 @@ pub struct Surface {
     pub max_surface_slope: f64,
     /// Triangles with no projected area (vertical walls, degenerate or duplicate corners).
     pub degenerate: usize,
+    /// Projected edges still crossing another after the arrangement's rounds
+    /// (left out of the triangulation's constraints; 0 in every case seen).
+    pub unresolved: usize,
 }
 
 impl Surface {
@@ -135,13 +137,38 @@ type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
 
 /// Builds the top surface of `soup`.
 pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
+    // Every referenced vertex snapped to the arrangement's grid (planar.rs),
+    // so the planes, the inside tests and the triangulation see the same points.
+    let mut foot = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
+    for t in &soup.triangles {
+        for &i in t {
+            if let Some(v) = soup.vertices.get(i as usize) {
+                foot = [foot[0].min(v[0]), foot[1].min(v[1]), foot[2].max(v[0]), foot[3].max(v[1])];
+            }
+        }
+    }
+    if !foot.iter().all(|v| v.is_finite()) {
+        return Err(MeshError::EmptyScene);
+    }
+    let snap = Snap::new(foot);
+    let grid_of: Vec<[i64; 2]> = soup.vertices.iter().map(|v| snap.to_grid(v[0], v[1])).collect();
+    let verts: Vec<[f64; 3]> = soup
+        .vertices
+        .iter()
+        .zip(&grid_of)
+        .map(|(v, &g)| {
+            let m = snap.to_mm(g);
+            [m[0], m[1], v[2]]
+        })
+        .collect();
+
     // Planes of the triangles that cover area; the rest are walls or degenerate.
     let mut planes = Vec::new();
     let mut corners = Vec::new();
     let mut degenerate = 0usize;
     let (mut lo_h, mut hi_h) = (f64::INFINITY, f64::NEG_INFINITY);
     for t in &soup.triangles {
-        let v = t.map(|i| soup.vertices.get(i as usize).copied().unwrap_or([f64::NAN; 3]));
+        let v = t.map(|i| verts.get(i as usize).copied().unwrap_or([f64::NAN; 3]));
         for p in &v {
             lo_h = lo_h.min(p[2]);
             hi_h = hi_h.max(p[2]);
@@ -158,28 +185,22 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
         return Err(MeshError::NoArea);
     }
 
-    // Distinct projected vertices, in first-seen order (spade keeps the order
-    // of a duplicate-free bulk load, so index i is vertex handle i).
-    let mut index: HashMap<(u64, u64), u32> = HashMap::new();
-    let mut points: Vec<Point2<f64>> = Vec::new();
+    // Distinct grid points in first-seen order (spade keeps the order of a
+    // duplicate-free bulk load, so index i is vertex handle i).
+    let mut grid_points = Points::default();
     let mut map = vec![u32::MAX; soup.vertices.len()];
-    let key = |v: f64| (v + 0.0).to_bits();
     for t in &corners {
         for &i in t {
-            let Some(slot) = map.get_mut(i as usize) else { continue };
-            if *slot != u32::MAX {
-                continue;
+            if let (Some(slot), Some(&g)) = (map.get_mut(i as usize), grid_of.get(i as usize))
+                && *slot == u32::MAX
+            {
+                *slot = grid_points.add(g);
             }
-            let v = soup.vertices[i as usize];
-            *slot = *index.entry((key(v[0]), key(v[1]))).or_insert_with(|| {
-                points.push(Point2::new(v[0], v[1]));
-                (points.len() - 1) as u32
-            });
         }
     }
-    let mut edges: Vec<[usize; 2]> = Vec::with_capacity(3 * corners.len());
+    let mut edges: Vec<[u32; 2]> = Vec::with_capacity(3 * corners.len());
     for t in &corners {
-        let m = t.map(|i| map[i as usize] as usize);
+        let m = t.map(|i| map[i as usize]);
         for (a, b) in [(m[0], m[1]), (m[1], m[2]), (m[2], m[0])] {
             if a != b {
                 edges.push([a.min(b), a.max(b)]);
@@ -188,6 +209,14 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
     }
     edges.sort_unstable();
     edges.dedup();
+    let points: Vec<Point2<f64>> = grid_points
+        .at
+        .iter()
+        .map(|&g| {
+            let m = snap.to_mm(g);
+            Point2::new(m[0], m[1])
+        })
+        .collect();
 
     let mut bbox = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
     for p in &points {
@@ -196,12 +225,17 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
     let extent = (bbox[2] - bbox[0]).max(bbox[3] - bbox[1]).max(hi_h - lo_h);
     let step_tol = (extent * 1e-7).max(f64::MIN_POSITIVE);
 
-    let mut lengths: Vec<f64> =
-        edges.iter().map(|&[a, b]| (points[a].x - points[b].x).hypot(points[a].y - points[b].y)).collect();
+    let mut lengths: Vec<f64> = edges
+        .iter()
+        .map(|&[a, b]| {
+            let (a, b) = (points[a as usize], points[b as usize]);
+            (a.x - b.x).hypot(a.y - b.y)
+        })
+        .collect();
     let mid = lengths.len() / 2;
     let median_edge = if lengths.is_empty() { 0.0 } else { *lengths.select_nth_unstable_by(mid, f64::total_cmp).1 };
 
-    let cdt = triangulate(&points, edges)?;
+    let (cdt, unresolved) = triangulate(grid_points, edges, &snap)?;
     // A handle in a bulk load is its input index; check rather than trust.
     for (i, p) in points.iter().enumerate() {
         if i >= cdt.num_vertices() || cdt.vertex(FixedVertexHandle::from_index(i)).position() != *p {
@@ -216,7 +250,7 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
     let mut queue: Vec<FixedFaceHandle<InnerTag>> = Vec::new();
     let mut max_surface_slope: f64 = 0.0;
     for (ti, t) in corners.iter().enumerate() {
-        let v = t.map(|i| soup.vertices[i as usize]);
+        let v = t.map(|i| verts[i as usize]);
         let tri = Tri::new(v);
         if planes[ti].slope() <= WALL_SLOPE {
             max_surface_slope = max_surface_slope.max(planes[ti].slope());
@@ -283,8 +317,18 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
         faces.push(Face { corners: pos.map(|p| [p.x, p.y]), cover: start..cover.len() as u32 });
     }
 
-    let mut surface =
-        Surface { faces, cover, planes, steps: Vec::new(), bbox, median_edge, step_tol, max_surface_slope, degenerate };
+    let mut surface = Surface {
+        faces,
+        cover,
+        planes,
+        steps: Vec::new(),
+        bbox,
+        median_edge,
+        step_tol,
+        max_surface_slope,
+        degenerate,
+        unresolved,
+    };
 
     // Steps: constraint edges with a covered face on each side whose tops differ.
     let mut steps = Vec::new();
@@ -314,24 +358,49 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
     Ok(surface)
 }
 
-/// Builds the triangulation; crossing constraints are split where they cross.
-fn triangulate(points: &[Point2<f64>], edges: Vec<[usize; 2]>) -> Result<Cdt, MeshError> {
-    for p in points {
-        spade::validate_vertex(p).map_err(|e| MeshError::Triangulation(format!("vertex ({}, {}): {e:?}", p.x, p.y)))?;
-    }
-    let mut conflicts = Vec::new();
-    let mut cdt = Cdt::try_bulk_load_cdt(points.to_vec(), edges, |e| conflicts.push(e))
-        .map_err(|e| MeshError::Triangulation(format!("{e:?}")))?;
+/// Rounds of arrangement before giving up on a crossing (each round only
+/// splits what the rounding of the previous one created, a grid step long).
+const MAX_ROUNDS: usize = 6;
+
+/// Builds the triangulation of `points` with every edge a constraint. Edges
+/// that the bulk loader reports as crossing or touching are split in exact
+/// arithmetic (planar.rs) and the triangulation is loaded again. Returns
+/// the number of edges still crossing after [`MAX_ROUNDS`] (not constraints).
+fn triangulate(mut points: Points, mut edges: Vec<[u32; 2]>, snap: &Snap) -> Result<(Cdt, usize), MeshError> {
     // Each crossing adds a vertex; bound them so a hostile mesh of long
     // crossing slivers cannot exhaust memory.
-    let budget = 4 * points.len() + 1_000_000;
-    for [a, b] in conflicts {
-        cdt.add_constraint_and_split(FixedVertexHandle::from_index(a), FixedVertexHandle::from_index(b), |p| p);
-        if cdt.num_vertices() > budget {
+    let budget = 4 * points.at.len() + 1_000_000;
+    let work = 40 * edges.len() + 50_000_000;
+    let mut round = 0;
+    loop {
+        let pos: Vec<Point2<f64>> = points
+            .at
+            .iter()
+            .map(|&g| {
+                let m = snap.to_mm(g);
+                Point2::new(m[0], m[1])
+            })
+            .collect();
+        for p in &pos {
+            spade::validate_vertex(p)
+                .map_err(|e| MeshError::Triangulation(format!("vertex ({}, {}): {e:?}", p.x, p.y)))?;
+        }
+        let mut conflicts: Vec<[u32; 2]> = Vec::new();
+        let cdt = Cdt::try_bulk_load_cdt(pos, edges.iter().map(|e| e.map(|i| i as usize)).collect(), |e| {
+            // The loader may name an edge's ends in either order; the edge list has the lower first.
+            let (a, b) = (e[0].min(e[1]) as u32, e[0].max(e[1]) as u32);
+            conflicts.push([a, b])
+        })
+        .map_err(|e| MeshError::Triangulation(format!("{e:?}")))?;
+        round += 1;
+        if conflicts.is_empty() || round > MAX_ROUNDS {
+            return Ok((cdt, conflicts.len()));
+        }
+        edges = planar::split(&mut points, &edges, &conflicts, work)?;
+        if points.at.len() > budget {
             return Err(MeshError::TooBig { what: "crossings between projected edges", limit: budget });
         }
     }
-    Ok(cdt)
 }
 
 fn face_centroid(cdt: &Cdt, f: FixedFaceHandle<InnerTag>) -> [f64; 2] {

@@ -193,7 +193,7 @@ proptest! {
         let n = 5;
         let m = terrain(n, &heights, |i, j| holes[j * n + i] && (i + j) % 3 == 0);
         prop_assume!(!m.indices.is_empty());
-        let f = match mesh::height_field(&m.to_glb(), &mut no_files, &MeshOptions { nodes_per_mm: Some(per_mm) }) {
+        let f = match mesh::height_field(&m.to_glb(), &mut no_files, &MeshOptions { nodes_per_mm: Some(per_mm), ..MeshOptions::default() }) {
             Ok((f, _)) => f,
             Err(e) => return Err(TestCaseError::fail(e.to_string())),
         };
@@ -232,7 +232,7 @@ proptest! {
 fn holes_in_the_mesh_have_no_contact() {
     let flat = vec![3.0; 36];
     let m = terrain(5, &flat, |i, j| (i, j) == (2, 2));
-    let f = field_with(&m.to_glb(), MeshOptions { nodes_per_mm: Some(2.0) });
+    let f = field_with(&m.to_glb(), MeshOptions { nodes_per_mm: Some(2.0), ..MeshOptions::default() });
     for j in 0..f.rows {
         for i in 0..f.cols {
             let (x, y) = node_xy(&f, i, j);
@@ -262,9 +262,9 @@ fn degenerate_and_sliver_triangles_and_duplicate_vertices_change_nothing_they_sh
     let mut copy = clean.clone();
     copy.indices.truncate(6);
     dirty.append(&copy);
-    let opts = MeshOptions { nodes_per_mm: Some(2.0) };
-    let a = field_with(&clean.to_glb(), opts);
-    let b = field_with(&dirty.to_glb(), opts);
+    let opts = MeshOptions { nodes_per_mm: Some(2.0), ..MeshOptions::default() };
+    let a = field_with(&clean.to_glb(), opts.clone());
+    let b = field_with(&dirty.to_glb(), opts.clone());
     assert_eq!(a.heights, b.heights);
     assert_eq!(a.flags, b.flags);
 
@@ -299,12 +299,21 @@ fn tiny_and_huge_meshes_get_a_bounded_field() {
 #[test]
 fn an_absurd_resolution_is_refused_with_the_limit() {
     let m = HeightMesh::grid(2, 2, |u, v| [10.0 * u, 0.0, 10.0 * v]);
-    let e = mesh::height_field(&m.to_glb(), &mut no_files, &MeshOptions { nodes_per_mm: Some(100.0) }).unwrap_err();
+    let e = mesh::height_field(
+        &m.to_glb(),
+        &mut no_files,
+        &MeshOptions { nodes_per_mm: Some(100.0), ..MeshOptions::default() },
+    )
+    .unwrap_err();
     let msg = e.to_string();
     assert!(matches!(e, MeshError::FieldTooLarge { .. }), "{msg}");
     assert!(msg.contains("16384") && msg.contains("at most"), "{msg}");
     for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
-        let r = mesh::height_field(&m.to_glb(), &mut no_files, &MeshOptions { nodes_per_mm: Some(bad) });
+        let r = mesh::height_field(
+            &m.to_glb(),
+            &mut no_files,
+            &MeshOptions { nodes_per_mm: Some(bad), ..MeshOptions::default() },
+        );
         assert!(r.is_err(), "resolution {bad}");
     }
 }
@@ -351,6 +360,9 @@ fn malformed_files_are_errors_that_name_the_mesh_and_primitive() {
         (json.replace("\"mode\":4", "\"mode\":1"), "mode Lines is not supported"),
         (json.replace("\"POSITION\":0", "\"NORMAL\":0"), "meshes[0].primitives[0].attributes[\"POSITION\"]"),
         (json.replace("\"count\":24", "\"count\":25"), "indices accessor"),
+        (json.replace("\"POSITION\":0", "\"POSITION\":9"), "not a valid glTF"),
+        (json.replace("\"indices\":1", "\"indices\":9"), "not a valid glTF"),
+        (json.replace("\"mesh\":0", "\"mesh\":3"), "not a valid glTF"),
         (json.replace("\"nodes\":[0]", "\"nodes\":[]"), "the scene has no triangles"),
         (json.replace("\"mesh\":0", "\"mesh\":0,\"scale\":[1e30,1e30,1e30]"), "more than 100 km"),
         (json.replace("\"mesh\":0", "\"mesh\":0,\"scale\":[1e39,1,1]"), "node 'Terrain' (#0)"),
@@ -410,4 +422,515 @@ fn a_mesh_needs_a_finger_profile() {
     let out = mesh::compile_gltf(&glb, &mut no_files, &profiles::builtin("finger3").unwrap(), &MeshOptions::default());
     assert!(out.bundle.is_some());
     assert!(out.diagnostics.iter().all(|d| d.severity != taxel_compiler::Severity::Error));
+}
+
+// ---------------------------------------------------------------------------
+// Real models: quantised, sparse and stripped accessors, many touching and
+// overlapping meshes, compressed files, fitting, regions and the up axis.
+
+use taxel_compiler::mesh::write::Builder;
+use taxel_compiler::{Region, UpAxis};
+
+fn opts() -> MeshOptions {
+    MeshOptions { nodes_per_mm: Some(2.0), ..MeshOptions::default() }
+}
+
+/// A ramp over the unit square, in glTF order [X, Y (height), Z].
+fn unit_ramp(n: u32) -> HeightMesh {
+    HeightMesh::grid(n, n, |u, v| [u, 0.25 * u + 0.5 * u * v, v])
+}
+
+#[test]
+fn quantised_positions_are_read_as_their_normalised_or_integer_values() {
+    let m = unit_ramp(8);
+    // u16 normalised: value q / 65535; i8 plain: integers 0..=16 scaled by the node.
+    for (ctype, normalized, levels, stride, size) in
+        [(5123u32, true, 65535.0f64, 8usize, 2usize), (5120, false, 16.0, 4, 1)]
+    {
+        let q: Vec<[i64; 3]> = m.positions.iter().map(|p| p.map(|c| (c as f64 * levels).round() as i64)).collect();
+        let mut bytes = Vec::new();
+        for p in &q {
+            for &c in p {
+                if size == 2 {
+                    bytes.extend_from_slice(&(c as u16).to_le_bytes());
+                } else {
+                    bytes.push(c as i8 as u8);
+                }
+            }
+            bytes.resize(bytes.len() + stride - 3 * size, 0);
+        }
+        let mut b = Builder::default();
+        let v = b.view(&bytes, Some(stride));
+        let lo = |k: usize| q.iter().map(|p| p[k]).min().unwrap();
+        let hi = |k: usize| q.iter().map(|p| p[k]).max().unwrap();
+        let pos = b.accessor(format!(
+            "{{\"bufferView\":{v},\"componentType\":{ctype},\"normalized\":{normalized},\"count\":{},\"type\":\"VEC3\",\
+             \"min\":[{},{},{}],\"max\":[{},{},{}]}}",
+            q.len(),
+            lo(0),
+            lo(1),
+            lo(2),
+            hi(0),
+            hi(1),
+            hi(2)
+        ));
+        let idx = b.indices(&m.indices);
+        let mesh = b.mesh("quantised", &[format!("{{\"attributes\":{{\"POSITION\":{pos}}},\"indices\":{idx}}}")]);
+        // The node scales the unit cube (or the integer grid) to 20 x 8 x 10 mm.
+        let k = if normalized { 1.0 } else { 1.0 / levels };
+        let scale = format!("[{},{},{}]", 0.02 * k, 0.008 * k, 0.01 * k);
+        let node = b.node(format!("{{\"mesh\":{mesh},\"scale\":{scale}}}"));
+        b.extensions_used.push("KHR_mesh_quantization".into());
+        b.extensions_required.push("KHR_mesh_quantization".into());
+        let f = field_with(&b.to_glb(&[node]), opts());
+        // The same positions as floats, dequantised independently.
+        let mut float = m.clone();
+        float.positions = q.iter().map(|p| p.map(|c| (c as f64 / levels) as f32)).collect();
+        float.translation = None;
+        let mut fb = Builder::default();
+        let n2 = fb.height_mesh(&float, ",\"scale\":[0.02,0.008,0.01]");
+        let g = field_with(&fb.to_glb(&[n2]), opts());
+        assert_eq!((f.cols, f.rows, f.flags.clone()), (g.cols, g.rows, g.flags.clone()), "type {ctype}");
+        for (a, b) in f.heights.iter().zip(&g.heights) {
+            assert!((a - b).abs() < 1e-4, "type {ctype}: {a} vs {b}");
+        }
+        // The far corner (u = v = 1) is 0.75 of 8 mm high.
+        let last = *f.heights.last().unwrap();
+        assert!((last - 6.0).abs() < 1e-3, "type {ctype}: corner height {last}");
+    }
+}
+
+#[test]
+fn sparse_positions_replace_their_base_values() {
+    // A flat 4 x 4 grid at 1 mm; the sparse part lifts three inner vertices.
+    let base = HeightMesh::grid(4, 4, |u, v| [0.02 * u, 0.001, 0.02 * v]);
+    let lifted: [(u32, f32); 3] = [(6, 0.004), (12, 0.006), (18, 0.003)];
+    let mut want = base.clone();
+    for &(i, h) in &lifted {
+        want.positions[i as usize][1] = h;
+    }
+    let mut b = Builder::default();
+    let pbytes: Vec<u8> = base.positions.iter().flatten().flat_map(|c| c.to_le_bytes()).collect();
+    let pv = b.view(&pbytes, None);
+    let iv = b.view(&lifted.iter().flat_map(|(i, _)| (*i as u16).to_le_bytes()).collect::<Vec<u8>>(), None);
+    let vv = b.view(
+        &lifted
+            .iter()
+            .flat_map(|&(i, h)| {
+                let p = base.positions[i as usize];
+                [p[0], h, p[2]].into_iter().flat_map(f32::to_le_bytes)
+            })
+            .collect::<Vec<u8>>(),
+        None,
+    );
+    let pos = b.accessor(format!(
+        "{{\"bufferView\":{pv},\"componentType\":5126,\"count\":25,\"type\":\"VEC3\",\"min\":[0,0.001,0],\"max\":[0.02,0.006,0.02],\
+         \"sparse\":{{\"count\":3,\"indices\":{{\"bufferView\":{iv},\"componentType\":5123}},\"values\":{{\"bufferView\":{vv}}}}}}}"
+    ));
+    let idx = b.indices(&base.indices);
+    let mesh = b.mesh("sparse", &[format!("{{\"attributes\":{{\"POSITION\":{pos}}},\"indices\":{idx}}}")]);
+    let node = b.node(format!("{{\"mesh\":{mesh}}}"));
+    let f = field_with(&b.to_glb(&[node]), opts());
+    assert_eq!(f, field_with(&want.to_glb(), opts()));
+    let top = f.heights.iter().cloned().fold(f32::MIN, f32::max);
+    assert_eq!(top, 6.0, "the lifted vertex 12 is the top");
+
+    // Sparse indices out of order are an error that says so.
+    let mut b2 = b.clone();
+    let iv2 = b2.view(&[6u8, 0, 4, 0, 18, 0], None);
+    let pos2 = b2.accessor(format!(
+        "{{\"bufferView\":{pv},\"componentType\":5126,\"count\":25,\"type\":\"VEC3\",\"min\":[0,0.001,0],\"max\":[0.02,0.006,0.02],\
+         \"sparse\":{{\"count\":3,\"indices\":{{\"bufferView\":{iv2},\"componentType\":5123}},\"values\":{{\"bufferView\":{vv}}}}}}}"
+    ));
+    let mesh2 = b2.mesh("bad", &[format!("{{\"attributes\":{{\"POSITION\":{pos2}}},\"indices\":{idx}}}")]);
+    let node2 = b2.node(format!("{{\"mesh\":{mesh2}}}"));
+    let e = error(&b2.to_glb(&[node2])).to_string();
+    assert!(e.contains("sparse index 4") && e.contains("not increasing") && e.contains("POSITION"), "{e}");
+}
+
+#[test]
+fn a_grid_as_one_stitched_strip_gives_the_triangle_lists_surface() {
+    let (nu, nv) = (10u32, 6u32);
+    let m = HeightMesh::grid(nu, nv, |u, v| [0.03 * u, 0.002 + 0.004 * u * (1.0 - v), 0.02 * v]);
+    // Row j of quads as a strip down (j, j+1) columns; rows joined by two
+    // repeated indices (degenerate triangles), as exporters stitch strips.
+    let at = |i: u32, j: u32| j * (nu + 1) + i;
+    let mut strip = Vec::new();
+    for j in 0..nv {
+        if j > 0 {
+            strip.push(*strip.last().unwrap());
+            strip.push(at(0, j + 1));
+        }
+        // Lower row first: the quads split along the grid's own diagonal (i, j)-(i+1, j+1).
+        for i in 0..=nu {
+            strip.push(at(i, j + 1));
+            strip.push(at(i, j));
+        }
+    }
+    let mut b = Builder::default();
+    let pos = b.positions(&m.positions);
+    let idx = b.indices(&strip);
+    let mesh = b.mesh("strip", &[format!("{{\"attributes\":{{\"POSITION\":{pos}}},\"indices\":{idx},\"mode\":5}}")]);
+    let node = b.node(format!("{{\"mesh\":{mesh}}}"));
+    let (f, report) = mesh::height_field(&b.to_glb(&[node]), &mut no_files, &opts()).unwrap();
+    let g = field_with(&m.to_glb(), opts());
+    assert_eq!(f.flags, g.flags);
+    for (a, b) in f.heights.iter().zip(&g.heights) {
+        assert!((a - b).abs() < 1e-5, "{a} vs {b}");
+    }
+    // 2 (nu + 1) - 2 triangles per row and 4 degenerate joins between rows.
+    assert_eq!(report.triangles, (nv * (2 * (nu + 1) - 2) + 4 * (nv - 1)) as usize);
+}
+
+/// A closed box (top, four walls, bottom), `w` x `d` m, `h` m high, in its own frame.
+fn cuboid(w: f64, d: f64, h: f64) -> HeightMesh {
+    let mut m = HeightMesh { name: "block".into(), ..HeightMesh::default() };
+    for y in [0.0, h] {
+        for (u, v) in [(0.0, 0.0), (w, 0.0), (w, d), (0.0, d)] {
+            m.positions.push([u as f32, y as f32, v as f32]);
+        }
+    }
+    m.indices.extend([0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7]);
+    for k in 0..4u32 {
+        let n = (k + 1) % 4;
+        m.indices.extend([k, n, 4 + n, k, 4 + n, 4 + k]);
+    }
+    m
+}
+
+#[test]
+fn fifty_touching_and_overlapping_meshes_build_to_their_highest_tops() {
+    // A city: 40 blocks of 10 x 10 m on a grid turned by 0.3 rad, neighbours
+    // sharing walls exactly (in the same frame) and every other row shifted by
+    // 3.7 m, so walls overlap in part and meet in T-junctions; plus 10 taller
+    // blocks across them at other angles. Each block is its own mesh and node.
+    let mut b = Builder::default();
+    let mut roots = Vec::new();
+    // (centre-free description) origin x, z (m), size w, d, height, angle.
+    let mut blocks: Vec<(f64, f64, f64, f64, f64, f64)> = Vec::new();
+    let turn = 0.3f64;
+    for k in 0..40 {
+        let (gx, gz) = ((k % 8) as f64, (k / 8) as f64);
+        let (u, v) = (gx * 10.0 + if k / 8 % 2 == 1 { 3.7 } else { 0.0 }, gz * 10.0);
+        let (x, z) = (200.0 + u * turn.cos() - v * turn.sin(), 100.0 + u * turn.sin() + v * turn.cos());
+        blocks.push((x, z, 10.0, 10.0, 5.0 + ((k * 7) % 11) as f64, turn));
+    }
+    for k in 0..10 {
+        let a = 0.05 + 0.31 * k as f64;
+        blocks.push((215.0 + 6.0 * k as f64, 120.0 + 3.0 * (k % 4) as f64, 14.0, 6.0, 8.0 + k as f64, a));
+    }
+    for (k, &(x, z, w, d, h, a)) in blocks.iter().enumerate() {
+        let mut m = cuboid(w, d, h);
+        m.name = format!("block{k}");
+        // A rotation of `a` about +Y that turns +X towards +Z: q = (0, sin(-a/2), 0, cos(-a/2)).
+        let extra =
+            format!(",\"translation\":[{x},0,{z}],\"rotation\":[0,{},0,{}]", (-a / 2.0).sin(), (-a / 2.0).cos());
+        roots.push(b.height_mesh(&m, &extra));
+    }
+    let glb = b.to_glb(&roots);
+    let profile = profiles::builtin("finger3").unwrap();
+    let out = mesh::compile_gltf(&glb, &mut no_files, &profile, &MeshOptions::default());
+    assert!(out.bundle.is_some(), "{:?}", out.diagnostics);
+    assert!(out.diagnostics.iter().all(|d| d.code != "T0617"), "{:?}", out.diagnostics);
+    // A node every 0.25 m (the default would take 1024 nodes across the 92 m).
+    let coarse = MeshOptions { nodes_per_mm: Some(1.0 / 250.0), ..MeshOptions::default() };
+    let (f, report) = mesh::height_field(&glb, &mut no_files, &coarse).unwrap();
+    assert_eq!(report.mesh_names.len(), 50);
+    // Reference: the highest block whose footprint holds the point, in mm.
+    let top = |px: f64, py: f64, margin: f64| -> Option<Option<f64>> {
+        let mut best = None;
+        for &(x, z, w, d, h, a) in &blocks {
+            let (dx, dz) = (px / 1000.0 - x, py / 1000.0 - z);
+            let (u, v) = (dx * a.cos() + dz * a.sin(), -dx * a.sin() + dz * a.cos());
+            let m = margin / 1000.0;
+            let near = |s: f64, len: f64| (s.abs() < m) || ((s - len).abs() < m);
+            if (near(u, w) && v > -m && v < d + m) || (near(v, d) && u > -m && u < w + m) {
+                return None;
+            }
+            if u > 0.0 && u < w && v > 0.0 && v < d {
+                best = Some(best.map_or(h, |b: f64| b.max(h)));
+            }
+        }
+        Some(best.map(|b| b * 1000.0))
+    };
+    let mut checked = 0;
+    for j in 0..f.rows {
+        for i in 0..f.cols {
+            let (x, y) = node_xy(&f, i, j);
+            let k = (j * f.cols + i) as usize;
+            // Nodes within two cells of any wall are left out (the step is there).
+            let Some(want) = top(x, y, 2.0 * f.cell.0 as f64) else { continue };
+            match want {
+                Some(h) => assert!((f.heights[k] as f64 - h).abs() < 1e-3, "({x}, {y}): {} vs {h}", f.heights[k]),
+                None => assert_eq!(f.flags[k] & FIELD_CONTACT, 0, "({x}, {y}) is between blocks"),
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked > f.cols as usize * f.rows as usize / 2, "{checked} nodes checked");
+}
+
+/// A point within `d` mm of an edge of a triangle of `m`.
+fn near_an_edge(m: &HeightMesh, x: f64, y: f64, d: f64) -> bool {
+    let p: Vec<[f64; 2]> = m.positions.iter().map(|v| [v[0] as f64 * 1000.0, v[2] as f64 * 1000.0]).collect();
+    m.indices.chunks(3).any(|t| {
+        (0..3).any(|k| {
+            let (a, b) = (p[t[k] as usize], p[t[(k + 1) % 3] as usize]);
+            let (ex, ey) = (b[0] - a[0], b[1] - a[1]);
+            let len2 = ex * ex + ey * ey;
+            let s = if len2 > 0.0 { (((x - a[0]) * ex + (y - a[1]) * ey) / len2).clamp(0.0, 1.0) } else { 0.0 };
+            (a[0] + s * ex - x).hypot(a[1] + s * ey - y) < d
+        })
+    })
+}
+
+#[test]
+fn triangles_on_a_lattice_collinear_crossing_and_touching_build_to_the_exact_top_surface() {
+    // The inputs that made spade's constraint splitting panic (58 in 1000
+    // seeds before the arrangement was made exactly): 20 triangles with corners
+    // on an 8 x 8 lattice of 10 mm, so edges overlap, cross at lattice
+    // fractions and end on one another.
+    for seed0 in 1..=120u64 {
+        let mut seed = seed0.wrapping_mul(2654435761);
+        let mut rnd = |m: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed % m
+        };
+        let mut m = HeightMesh::default();
+        for t in 0..20u32 {
+            for _ in 0..3 {
+                let (x, z, h) = (rnd(8), rnd(8), rnd(5));
+                m.positions.push([x as f32 * 0.01, h as f32 * 0.001, z as f32 * 0.01]);
+            }
+            m.indices.extend([3 * t, 3 * t + 1, 3 * t + 2]);
+        }
+        let f = match mesh::height_field(&m.to_glb(), &mut no_files, &opts()) {
+            Ok((f, _)) => f,
+            Err(MeshError::NoArea) => continue,
+            Err(e) => panic!("seed {seed0}: {e}"),
+        };
+        for j in 0..f.rows {
+            for i in 0..f.cols {
+                let (x, y) = node_xy(&f, i, j);
+                if near_an_edge(&m, x, y, 0.01) {
+                    continue;
+                }
+                let k = (j * f.cols + i) as usize;
+                match reference(&m, x, y) {
+                    Some(z) => assert!(
+                        f.flags[k] & FIELD_CONTACT != 0 && (f.heights[k] as f64 - z).abs() < 1e-3,
+                        "seed {seed0} ({x}, {y}): {} vs {z}",
+                        f.heights[k]
+                    ),
+                    None => assert_eq!(f.flags[k] & FIELD_CONTACT, 0, "seed {seed0} ({x}, {y})"),
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn compressed_meshes_are_refused_with_the_compression_and_the_way_out() {
+    let m = unit_ramp(2);
+    for (ext, want) in
+        [("KHR_draco_mesh_compression", "untick \"Compression\""), ("EXT_meshopt_compression", "gltfpack")]
+    {
+        // As the exporters write them: the accessors have no buffer view; the
+        // primitive (Draco) or the buffer view (meshopt) carries the extension.
+        let mut b = Builder::default();
+        let v = b.view(&[0u8; 16], None);
+        let pos =
+            b.accessor("{\"componentType\":5126,\"count\":9,\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[1,1,1]}".into());
+        let idx = b.accessor(format!("{{\"componentType\":5125,\"count\":{},\"type\":\"SCALAR\"}}", m.indices.len()));
+        let mesh = b.mesh(
+            "compressed",
+            &[format!(
+                "{{\"attributes\":{{\"POSITION\":{pos}}},\"indices\":{idx},\
+                 \"extensions\":{{\"{ext}\":{{\"bufferView\":{v},\"attributes\":{{\"POSITION\":0}}}}}}}}"
+            )],
+        );
+        let node = b.node(format!("{{\"mesh\":{mesh}}}"));
+        b.extensions_used.push(ext.into());
+        b.extensions_required.push(ext.into());
+        let glb = b.to_glb(&[node]);
+        let e = error(&glb);
+        let msg = e.to_string();
+        assert_eq!(e.code(), "T0614", "{msg}");
+        assert!(msg.contains(ext) && msg.contains(want) && msg.contains("cannot decode"), "{msg}");
+        // Listed as used only, it is refused the same way before any accessor is read.
+        b.extensions_required.clear();
+        assert_eq!(error(&b.to_glb(&[node])).code(), "T0614");
+    }
+    // Material and texture extensions do not stop a relief.
+    let mut b = Builder::default();
+    let node = b.height_mesh(&unit_ramp(2), "");
+    b.extensions_used.push("KHR_texture_basisu".into());
+    b.extensions_required.push("KHR_texture_basisu".into());
+    assert!(mesh::height_field(&b.to_glb(&[node]), &mut no_files, &MeshOptions::default()).is_ok());
+    // An unknown required extension may change geometry: refused by name.
+    b.extensions_required = vec!["EXT_mesh_gpu_instancing".into()];
+    let e = error(&b.to_glb(&[node])).to_string();
+    assert!(e.contains("EXT_mesh_gpu_instancing") && e.contains("requires"), "{e}");
+}
+
+/// A Z-up terrain as a GIS tool exports it: X east and Y north over 9 x 11
+/// km, heights Z in metres (760 to 1440 m), a ridge running north-south
+/// through the middle, a gentle rise and fall along it.
+fn dem(n: u32) -> HeightMesh {
+    let mut m = HeightMesh::grid(n, n, |u, v| {
+        let (x, y) = (9000.0 * u, 11000.0 * v);
+        let across = (x - 4500.0) / 4500.0;
+        let z = 1400.0 - 600.0 * across * across + 40.0 * (y / 1800.0).sin();
+        [x, y, z]
+    });
+    m.name = "dem".into();
+    m
+}
+
+#[test]
+fn a_z_up_terrain_gets_the_up_note_and_fits_the_surface_with_up_z() {
+    let profile = profiles::builtin("finger3").unwrap();
+    let glb = dem(60).to_glb();
+    let plain = mesh::compile_gltf(&glb, &mut no_files, &profile, &MeshOptions::default());
+    let note = plain.diagnostics.iter().find(|d| d.code == "T0616").expect("the up note");
+    assert!(note.help.as_deref().unwrap_or("").contains("--up z"), "{note:?}");
+
+    let fit = MeshOptions { up: UpAxis::Z, fit: Some([160.0, 100.0]), ..MeshOptions::default() };
+    let out = mesh::compile_gltf(&glb, &mut no_files, &profile, &fit);
+    assert!(out.diagnostics.iter().all(|d| d.code != "T0616" && d.code != "T0612"), "{:?}", out.diagnostics);
+    let (f, report) = mesh::height_field(&glb, &mut no_files, &fit).unwrap();
+    // 11 km north-south onto 100 mm: 1/110 mm per metre; 9 km is 81.8 mm, centred.
+    let s = 100.0 / 11000.0;
+    assert!((report.mm_per_metre - s).abs() < 1e-9, "{}", report.mm_per_metre);
+    let [x0, y0, x1, y1] = report.bbox;
+    assert!((x0 - (80.0 - 4500.0 * s)).abs() < 1e-3 && (x1 - (80.0 + 4500.0 * s)).abs() < 1e-3, "{x0}..{x1}");
+    assert!(y0.abs() < 1e-3 && (y1 - 100.0).abs() < 1e-3, "{y0}..{y1}");
+    // Heights keep the slopes (scaled like the footprint) and start at 0: the
+    // crest (1440 m at most) is 680 m above the lowest point (760 m, on the
+    // eastern and western edges where the sine along the ridge is -1).
+    let lo = f
+        .heights
+        .iter()
+        .zip(&f.flags)
+        .filter(|(_, fl)| **fl & FIELD_CONTACT != 0)
+        .map(|(h, _)| *h)
+        .fold(f32::MAX, f32::min);
+    let hi = f.heights.iter().cloned().fold(f32::MIN, f32::max) as f64;
+    assert!(lo.abs() < 1e-3, "lowest {lo}");
+    assert!((hi - 680.0 * s).abs() < 0.01, "highest {hi}, expected about {}", 680.0 * s);
+    // North is up the page: the northern (high Y) edge is at the top (small y).
+    let exaggerated = MeshOptions { exaggerate: 3.0, ..fit.clone() };
+    let (g, _) = mesh::height_field(&glb, &mut no_files, &exaggerated).unwrap();
+    for (a, b) in f.heights.iter().zip(&g.heights) {
+        assert!((3.0 * a - b).abs() < 1e-3, "{a} x 3 vs {b}");
+    }
+}
+
+#[test]
+fn regions_keep_part_of_the_model_and_fit_it() {
+    // Two blocks side by side: "low" (0..10 m x 0..10 m, 2 m) and "tall" (10..20 m, 6 m).
+    let mut b = Builder::default();
+    let mut low = cuboid(10.0, 10.0, 2.0);
+    low.name = "low".into();
+    let mut tall = cuboid(10.0, 10.0, 6.0);
+    tall.name = "tall".into();
+    let roots = [b.height_mesh(&low, ""), b.height_mesh(&tall, ",\"translation\":[10,0,0]")];
+    let glb = b.to_glb(&roots);
+    let fit =
+        |region: Region| MeshOptions { fit: Some([160.0, 100.0]), region: Some(region), ..MeshOptions::default() };
+    // #tall: its 10 x 10 m footprint fills 100 x 100 mm, centred at x 30..130; heights 0..60 mm.
+    let (f, r) = mesh::height_field(&glb, &mut no_files, &fit(Region::Element("tall".into()))).unwrap();
+    assert!((r.bbox[0] - 30.0).abs() < 1e-6 && (r.bbox[2] - 130.0).abs() < 1e-6, "{:?}", r.bbox);
+    let hi = f.heights.iter().cloned().fold(f32::MIN, f32::max);
+    assert!((hi - 60.0).abs() < 1e-3, "{hi}");
+    // A rectangle across both, 5..15 m x 0..10 m: half of each block, the step in the middle.
+    let (f, r) =
+        mesh::height_field(&glb, &mut no_files, &fit(Region::Rect { x: 5.0, y: 0.0, w: 10.0, h: 10.0 })).unwrap();
+    assert!((r.bbox[0] - 30.0).abs() < 1e-6 && (r.bbox[2] - 130.0).abs() < 1e-6, "{:?}", r.bbox);
+    let row = f.rows / 2;
+    let at = |x: f64| {
+        let i = ((x - f.origin_x.0 as f64) / f.cell.0 as f64).round() as u32;
+        f.heights[(row * f.cols + i) as usize]
+    };
+    // Fitted: 10 m onto 100 mm; lowest point (the ground, 0 m) stays 0.
+    assert!((at(50.0) - 20.0).abs() < 1e-3 && (at(110.0) - 60.0).abs() < 1e-3, "{} {}", at(50.0), at(110.0));
+    // Nothing there, and a name that is not in the file.
+    let e = error_with(&glb, fit(Region::Rect { x: 50.0, y: 50.0, w: 1.0, h: 1.0 }));
+    assert!(e.contains("keeps nothing") && e.contains("footprint is x 0.000000..20.000000"), "{e}");
+    let e = error_with(&glb, fit(Region::Element("church".into())));
+    assert!(e.contains("'church'") && e.contains("#low") && e.contains("#tall"), "{e}");
+}
+
+fn error_with(bytes: &[u8], opts: MeshOptions) -> String {
+    mesh::height_field(bytes, &mut no_files, &opts).expect_err("an error").to_string()
+}
+
+#[test]
+fn fit_scales_and_centres_a_large_model_and_exaggerate_multiplies_heights() {
+    // A 1.6 x 0.8 m model (a duck's size), 0.2 m high with its base at 0.05 m.
+    let m = HeightMesh::grid(4, 4, |u, v| [1.6 * u, 0.05 + 0.2 * u * v, 0.8 * v]);
+    let profile = profiles::builtin("finger3").unwrap();
+    let plain = mesh::compile_gltf(&m.to_glb(), &mut no_files, &profile, &MeshOptions::default());
+    let warn = plain.diagnostics.iter().find(|d| d.code == "T0612").expect("beyond the surface");
+    assert!(warn.help.as_deref().unwrap_or("").contains("--fit"), "{warn:?}");
+    let fit = MeshOptions { fit: Some([160.0, 100.0]), exaggerate: 2.0, ..MeshOptions::default() };
+    let out = mesh::compile_gltf(&m.to_glb(), &mut no_files, &profile, &fit);
+    assert!(out.bundle.is_some() && out.diagnostics.iter().all(|d| d.code != "T0612"), "{:?}", out.diagnostics);
+    // 1.6 m onto 160 mm: 100 mm per metre; 0.8 m is 80 mm, centred at y 10..90.
+    let (f, r) = mesh::height_field(&m.to_glb(), &mut no_files, &fit).unwrap();
+    assert!((r.mm_per_metre - 100.0).abs() < 1e-5, "{}", r.mm_per_metre);
+    assert!((r.bbox[0]).abs() < 1e-6 && (r.bbox[2] - 160.0).abs() < 1e-6);
+    assert!((r.bbox[1] - 10.0).abs() < 1e-6 && (r.bbox[3] - 90.0).abs() < 1e-6);
+    // Heights from 0 (the base) to 0.2 m x 100 x 2 = 40 mm.
+    let hi = f.heights.iter().cloned().fold(f32::MIN, f32::max);
+    assert!((hi - 40.0).abs() < 1e-3, "{hi}");
+    assert!(mesh::height_field(&m.to_glb(), &mut no_files, &MeshOptions { exaggerate: 0.0, ..fit }).is_err());
+}
+
+#[test]
+fn skinned_and_morphed_meshes_are_read_in_their_rest_pose_from_the_default_or_first_scene() {
+    let ramp = unit_ramp(4);
+    let rest = {
+        let mut b = Builder::default();
+        let n = b.height_mesh(&ramp, ",\"scale\":[0.02,0.01,0.01]");
+        field_with(&b.to_glb(&[n]), opts())
+    };
+    // The same mesh with a morph target that would lift it 5 mm at weight 1
+    // and a skin whose joint is a node moved 1 m away: neither is applied.
+    let mut b = Builder::default();
+    let pos = b.positions(&ramp.positions);
+    let lift: Vec<[f32; 3]> = ramp.positions.iter().map(|_| [0.0, 0.5, 0.0]).collect();
+    let delta = b.positions(&lift);
+    let idx = b.indices(&ramp.indices);
+    let mesh = b.mesh(
+        "morphed",
+        &[format!(
+            "{{\"attributes\":{{\"POSITION\":{pos}}},\"indices\":{idx},\"targets\":[{{\"POSITION\":{delta}}}]}}"
+        )],
+    );
+    let joint = b.node("{\"name\":\"joint\",\"translation\":[1,1,1]}".into());
+    let skinned = b.node(format!("{{\"mesh\":{mesh},\"skin\":0,\"scale\":[0.02,0.01,0.01]}}"));
+    let json = b.to_gltf_embedded(&[joint, skinned]).replace(
+        "\"meshes\":[{\"name\":\"morphed\"",
+        "\"skins\":[{\"joints\":[0]}],\"meshes\":[{\"name\":\"morphed\",\"weights\":[1]",
+    );
+    assert!(json.contains("\"skins\"") && json.contains("\"weights\":[1]"), "the test's replacements apply");
+    assert_eq!(field_with(json.as_bytes(), opts()), rest);
+
+    // Two scenes: the default one (1) is read; without "scene", the first (0).
+    let mut b = Builder::default();
+    let far = b.height_mesh(&ramp, ",\"scale\":[0.02,0.01,0.01],\"translation\":[0.5,0,0]");
+    let near = b.height_mesh(&ramp, ",\"scale\":[0.02,0.01,0.01]");
+    let two = |default: &str| {
+        b.to_gltf_embedded(&[far]).replace(
+            "\"scene\":0,\"scenes\":[{\"nodes\":[0]}]",
+            &format!("{default}\"scenes\":[{{\"nodes\":[{far}]}},{{\"nodes\":[{near}]}}]"),
+        )
+    };
+    let (f, _) = mesh::height_field(two("\"scene\":1,").as_bytes(), &mut no_files, &opts()).unwrap();
+    assert_eq!(f, rest, "the default scene, 1");
+    let (f, _) = mesh::height_field(two("").as_bytes(), &mut no_files, &opts()).unwrap();
+    assert_eq!(f.origin_x.0, 500.0, "the first scene, 0, holds the far copy");
 }
