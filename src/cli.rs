@@ -77,6 +77,9 @@ pub struct CompileOpts {
     /// Meshes: multiply heights by this factor (above 0).
     #[arg(long, value_name = "F", value_parser = parse_exaggerate)]
     pub exaggerate: Option<f64>,
+    /// Lay text out with the fonts in this folder (and its subfolders) instead of the system's.
+    #[arg(long, value_name = "DIR")]
+    pub fonts: Option<PathBuf>,
 }
 
 fn parse_region(s: &str) -> Result<taxel_compiler::Region, String> {

@@ -1,10 +1,12 @@
 //! Compiling one input file, whatever its kind: the CLI's single entry into
 //! the compiler, used by `build`, `check`, `preview`, `report` and the demo.
 
+use std::collections::HashMap;
 use std::path::{Component, Path, PathBuf};
+use std::sync::{Arc, Mutex};
 
 use anyhow::{Context, Result, bail};
-use taxel_compiler::{CompileOptions, Compiled, Diagnostic, StyleSheet};
+use taxel_compiler::{CompileOptions, Compiled, Diagnostic, StyleSheet, fontdb};
 use taxel_format::{DeviceProfile, profiles};
 
 use crate::cli::CompileOpts;
@@ -21,6 +23,31 @@ pub fn resolve_profile(name: Option<&str>) -> Result<DeviceProfile> {
         return Ok(profiles::parse(&text, name)?);
     }
     bail!("--profile {name}: not a built-in profile ({}) nor a profile file", profiles::builtin_names().join(", "))
+}
+
+/// The fonts text is laid out with: those under `--fonts DIR`, or the
+/// system's. Each database is loaded once per process and shared.
+pub fn font_database(dir: Option<&Path>) -> Result<Arc<fontdb::Database>> {
+    static LOADED: Mutex<Option<HashMap<Option<PathBuf>, Arc<fontdb::Database>>>> = Mutex::new(None);
+    if let Some(d) = dir
+        && !d.is_dir()
+    {
+        bail!("--fonts {}: not a folder", d.display());
+    }
+    let mut loaded = LOADED.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    let map = loaded.get_or_insert_with(HashMap::new);
+    let key = dir.map(Path::to_path_buf);
+    if let Some(db) = map.get(&key) {
+        return Ok(db.clone());
+    }
+    let mut db = fontdb::Database::new();
+    match dir {
+        Some(d) => db.load_fonts_dir(d),
+        None => db.load_system_fonts(),
+    }
+    let db = Arc::new(db);
+    map.insert(key, db.clone());
+    Ok(db)
 }
 
 /// The compiler options for `opts`, or the diagnostic that says why the style
@@ -54,6 +81,7 @@ pub fn compile_options(opts: &CompileOpts) -> Result<Result<CompileOptions, Diag
             crate::cli::Up::Z => taxel_compiler::UpAxis::Z,
         },
         exaggerate: opts.exaggerate.unwrap_or(1.0),
+        fonts: Some(font_database(opts.fonts.as_deref())?),
     }))
 }
 

@@ -19,8 +19,8 @@ mod text;
 mod walk;
 
 pub(crate) use page::page as page_size;
+pub use resolve::{FontFace, Resolved, fonts_used, resolve};
 pub(crate) use resolve::{NOT_DRAWN, run as resolve_into, usvg_options};
-pub use resolve::{Resolved, resolve};
 
 use crate::annotation::Style;
 use crate::geometry::{FillRule, Polyline};

@@ -27,6 +27,8 @@ mod text_pos;
 pub use diagnostic::{Diagnostic, Severity, has_errors};
 pub use options::{CompileOptions, DEFAULT_PX_PER_MM, Region, UpAxis};
 pub use stylesheet::{StyleError, StyleSheet};
+/// The font database type of [`CompileOptions::fonts`] (usvg's `fontdb`).
+pub use usvg::fontdb;
 
 use taxel_format::Bundle;
 

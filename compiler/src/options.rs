@@ -1,5 +1,7 @@
 //! What a compilation needs besides the drawing itself.
 
+use std::sync::Arc;
+
 use taxel_format::DeviceProfile;
 
 use crate::stylesheet::StyleSheet;
@@ -83,6 +85,12 @@ pub struct CompileOptions {
     pub up: UpAxis,
     /// Factor on a mesh's heights (`--exaggerate`), above 0; 1 keeps them.
     pub exaggerate: f64,
+    /// The fonts text is laid out with (glyph outlines for styles on text,
+    /// the preview's backdrop). The library loads no fonts itself: `None`
+    /// means no fonts, so text gives no outlines (braille, made from the
+    /// characters, does not need them). The `taxel` binary passes the
+    /// system's fonts, or those of `--fonts DIR`.
+    pub fonts: Option<Arc<usvg::fontdb::Database>>,
 }
 
 impl CompileOptions {
@@ -98,6 +106,7 @@ impl CompileOptions {
             region: None,
             up: UpAxis::Y,
             exaggerate: 1.0,
+            fonts: None,
         }
     }
 }

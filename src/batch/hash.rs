@@ -3,8 +3,10 @@
 //!
 //! BLAKE3 over, each length-prefixed: a domain string; the tool and format
 //! versions; the input's extension and bytes; for a `.gltf`, the bytes of
-//! every relative buffer and image file it names; the style sheet's bytes;
-//! the profile (its name, or its file's bytes); the resolution and width.
+//! every relative buffer and image file it names; for a drawing, the font
+//! faces its text is laid out with (see [`font_faces`]); the style sheet's
+//! bytes; the profile (its name, or its file's bytes); the resolution, width,
+//! fit, region, up axis and exaggeration.
 
 use std::path::Path;
 
@@ -41,6 +43,9 @@ pub fn content_hash(input: &Path, bytes: &[u8], opts: &CompileOpts) -> Result<[u
             h.field(uri.as_bytes()).opt(data.as_deref());
         }
     }
+    if ext == "svg" {
+        font_faces(&mut h, bytes, opts)?;
+    }
     let style = match &opts.style {
         Some(p) => Some(std::fs::read(p).with_context(|| format!("cannot read style sheet {}", p.display()))?),
         None => None,
@@ -62,6 +67,38 @@ pub fn content_hash(input: &Path, bytes: &[u8], opts: &CompileOpts) -> Result<[u
     h.opt(opts.region.as_ref().map(|r| format!("{r:?}")).as_ref().map(|s| s.as_bytes()));
     h.opt(opts.exaggerate.map(|e| e.to_le_bytes()).as_ref().map(|b| &b[..]));
     Ok(*h.0.finalize().as_bytes())
+}
+
+/// Hashes the font faces a drawing's text is laid out with (under `--fonts
+/// DIR` or the system's fonts), so that a bundle is rebuilt when one of them
+/// changes, is removed, or another face takes its place.
+///
+/// A face loaded from a file is hashed by its path, its index in the file,
+/// and the file's size and modification time, not its bytes: reading every
+/// used font (CJK faces weigh 10 to 20 MB) for every input of every
+/// incremental run would cost more than the check saves, and installing or
+/// updating a font changes its size or time. A face held in memory is hashed
+/// by its names.
+fn font_faces(h: &mut Hasher, bytes: &[u8], opts: &CompileOpts) -> Result<()> {
+    let Ok(text) = std::str::from_utf8(bytes) else { return Ok(()) };
+    let db = crate::compile::font_database(opts.fonts.as_deref())?;
+    for face in taxel_compiler::drawing::fonts_used(text, &db) {
+        h.field(b"font").field(&face.index.to_le_bytes());
+        match &face.path {
+            Some(p) => {
+                let meta = std::fs::metadata(p).ok();
+                let since = |t: std::time::SystemTime| t.duration_since(std::time::UNIX_EPOCH).ok();
+                let mtime = meta.as_ref().and_then(|m| m.modified().ok()).and_then(since).map_or(0, |d| d.as_nanos());
+                h.field(p.as_os_str().as_encoded_bytes())
+                    .field(&meta.map_or(u64::MAX, |m| m.len()).to_le_bytes())
+                    .field(&mtime.to_le_bytes());
+            }
+            None => {
+                h.field(face.family.as_bytes()).field(face.post_script_name.as_bytes());
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The relative files (buffers, images) a glTF file names, with their bytes
@@ -150,6 +187,39 @@ mod tests {
         let a = content_hash(&gltf, json, &opts()).unwrap();
         std::fs::write(dir.path().join("m data.bin"), [2]).unwrap();
         assert_ne!(a, content_hash(&gltf, json, &opts()).unwrap());
+    }
+
+    #[test]
+    fn the_fonts_a_drawing_uses_are_part_of_the_hash() {
+        let dir = tempfile::tempdir().unwrap();
+        let fonts = dir.path().join("fonts");
+        std::fs::create_dir(&fonts).unwrap();
+        let tuffy = std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fonts/Tuffy.ttf")).unwrap();
+        // Each state of the folder gets a fresh path, so the process-wide font cache sees it as new.
+        let with = |name: &str, bytes: Option<&[u8]>| {
+            let d = fonts.join(name);
+            std::fs::create_dir(&d).unwrap();
+            if let Some(b) = bytes {
+                std::fs::write(d.join("Tuffy.ttf"), b).unwrap();
+            }
+            CompileOpts { fonts: Some(d), ..opts() }
+        };
+        let svg = Path::new("x.svg");
+        let text: &[u8] = br#"<svg xmlns="http://www.w3.org/2000/svg" width="50mm" height="20mm"><text x="1" y="15" font-family="Tuffy">Hi</text></svg>"#;
+        let shapes: &[u8] =
+            br#"<svg xmlns="http://www.w3.org/2000/svg" width="50mm" height="20mm"><rect width="5" height="5"/></svg>"#;
+        let (a, b) = (with("a", Some(&tuffy)), with("b", Some(&tuffy)));
+        let mut longer = tuffy.clone();
+        longer.extend_from_slice(&[0; 4]);
+        let (changed, none) = (with("c", Some(&longer)), with("d", None));
+        let h = |bytes: &[u8], o: &CompileOpts| content_hash(svg, bytes, o).unwrap();
+        assert_eq!(h(text, &a), h(text, &a), "deterministic");
+        // The same face at another path, a changed face, and no face at all each rebuild.
+        let variants = [h(text, &a), h(text, &b), h(text, &changed), h(text, &none)];
+        let distinct: std::collections::HashSet<_> = variants.iter().collect();
+        assert_eq!(distinct.len(), variants.len());
+        // A drawing without text does not depend on the fonts.
+        assert_eq!(h(shapes, &a), h(shapes, &none));
     }
 
     #[test]

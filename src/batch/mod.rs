@@ -20,7 +20,7 @@ use std::time::Instant;
 
 use anyhow::{Result, bail};
 use rayon::prelude::*;
-use taxel_compiler::{Compiled, Severity};
+use taxel_compiler::{Compiled, Diagnostic, Severity};
 
 use crate::cli::CompileOpts;
 pub use discover::{Input, discover};
@@ -161,7 +161,11 @@ fn build_one(job: &Job, settings: &Settings, compile: &CompileFn) -> (Outcome, S
     let compiled = match catch_unwind(AssertUnwindSafe(|| compile(&job.input.path, &settings.opts))) {
         Ok(Ok(c)) => c,
         Ok(Err(e)) => return failed(format!("{e:#}")),
-        Err(_) => return failed(format!("{shown}: internal error: the compiler panicked (please report this input)")),
+        Err(_) => {
+            let d = Diagnostic::error("T0900", "internal error: the compiler panicked on this input")
+                .with_help("please report it with the input attached; the other inputs are built");
+            return (Outcome::Failed, format!("failed {shown}"), vec![d.render(&shown)]);
+        }
     };
     let messages: Vec<String> =
         compiled.diagnostics.iter().filter(|d| d.severity >= Severity::Warning).map(|d| d.render(&shown)).collect();
@@ -198,7 +202,6 @@ fn plural(n: usize, what: &str) -> String {
 mod tests {
     use super::progress::Counts;
     use super::*;
-    use taxel_compiler::Diagnostic;
     use taxel_format::{Bundle, Manifest, profiles};
 
     /// Stands in for the compiler in these unit tests (the command-line
@@ -239,6 +242,19 @@ mod tests {
         assert_eq!(again.counts, Counts { built: 0, warned: 0, skipped: 2, failed: 2 });
         let forced = run(&jobs, &problems, &settings(true), &fake).unwrap();
         assert_eq!(forced.counts.built, 2);
+    }
+
+    #[test]
+    fn a_panicking_compiler_costs_one_input_and_reports_t0900() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("d.svg");
+        std::fs::write(&p, "panic").unwrap();
+        let (inputs, _) = discover(&[dir.path().to_path_buf()]).unwrap();
+        let jobs = plan(inputs, &Destination::Folder(dir.path().join("out")));
+        let (outcome, _, messages) = build_one(&jobs[0], &settings(true), &fake);
+        assert_eq!(outcome, Outcome::Failed);
+        assert_eq!(messages.len(), 1);
+        assert!(messages[0].starts_with(&format!("{}: error[T0900]: internal error", p.display())), "{messages:?}");
     }
 
     #[test]

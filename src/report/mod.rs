@@ -131,18 +131,9 @@ impl Prepared {
             );
         }
         let svg = std::fs::read_to_string(input).with_context(|| format!("cannot read {}", input.display()))?;
-        let sheet = match &opts.style {
-            Some(p) => {
-                let text = std::fs::read_to_string(p).with_context(|| format!("cannot read {}", p.display()))?;
-                Some(
-                    taxel_compiler::StyleSheet::parse(&text, &p.display().to_string())
-                        .map_err(|e| anyhow::anyhow!("{e}"))?,
-                )
-            }
-            None => None,
-        };
-        let (reference, gaps) = svgref::exact_layers(&svg, base, sheet.as_ref(), opts.width_mm)
-            .map_err(|e| anyhow::anyhow!("{}: {e}", input.display()))?;
+        let options = crate::compile::compile_options(opts)?.map_err(|d| anyhow::anyhow!("{}", d.message))?;
+        let (reference, gaps) =
+            svgref::exact_layers(&svg, base, &options).map_err(|e| anyhow::anyhow!("{}: {e}", input.display()))?;
         let mut notes: Vec<String> = gaps
             .missing
             .iter()

@@ -7,10 +7,9 @@ use std::path::Path;
 use anyhow::{Context, Result, anyhow, bail};
 use taxel_compiler::annotation::Style;
 use taxel_compiler::brush::{BrushRequest, plan_strokes};
-use taxel_compiler::geometry::FLATTEN_TOLERANCE_MM;
 use taxel_format::{Bundle, Chunk};
 
-use super::svgref::{Drawing, resolved_styles};
+use super::svgref::Drawing;
 use crate::cli::CompileOpts;
 
 /// Errors of one bundle's schedule against the unquantised one, in ms.
@@ -30,14 +29,8 @@ pub struct ScheduleError {
 pub fn schedule_error(input: &Path, opts: &CompileOpts, bundle: &Bundle) -> Result<ScheduleError> {
     let svg = std::fs::read_to_string(input).with_context(|| format!("cannot read {}", input.display()))?;
     let profile = bundle.manifest.profile;
-    let sheet = match &opts.style {
-        Some(p) => {
-            let text = std::fs::read_to_string(p).with_context(|| format!("cannot read {}", p.display()))?;
-            Some(taxel_compiler::StyleSheet::parse(&text, &p.display().to_string()).map_err(|e| anyhow!("{e}"))?)
-        }
-        None => None,
-    };
-    let drawing = Drawing::read(&svg, &profile, opts.width_mm).map_err(|e| anyhow!("{}: {e}", input.display()))?;
+    let options = crate::compile::compile_options(opts)?.map_err(|d| anyhow!("{}", d.message))?;
+    let drawing = Drawing::read(&svg, &profile, &options).map_err(|e| anyhow!("{}: {e}", input.display()))?;
     let Some(table) = bundle.chunks.iter().find_map(|c| if let Chunk::Strokes(t) = c { Some(t) } else { None }) else {
         bail!("{}: the bundle has no strokes", input.display());
     };
@@ -52,11 +45,9 @@ pub fn schedule_error(input: &Path, opts: &CompileOpts, bundle: &Bundle) -> Resu
         }
         seen.push(s.source);
         let entry = s.source.and_then(|i| prov.and_then(|p| p.entries.get(i as usize)));
-        let elem =
-            entry.and_then(|e| drawing.element(&e.id, e.line)).context("a stroke's source element was not found")?;
-        let geo = drawing.geometry(elem, FLATTEN_TOLERANCE_MM).context("a stroke's element has no geometry")?;
-        let styles = resolved_styles(elem, sheet.as_ref(), geo.fill, geo.stroke);
-        let Some(br) = styles.iter().find_map(|st| if let Style::Brush(b) = st { Some(*b) } else { None }) else {
+        let geo =
+            entry.and_then(|e| drawing.source(&e.id, e.line)).context("a stroke's source element was not found")?;
+        let Some(br) = geo.styles.iter().find_map(|st| if let Style::Brush(b) = st { Some(*b) } else { None }) else {
             bail!("a stroke's element has no brush() style");
         };
         for pl in &geo.polys {
@@ -119,20 +110,12 @@ pub fn ladder(input: &Path, opts: &CompileOpts, base: &Bundle) -> Result<Vec<sup
         rates.push(default_rate);
         rates.sort_unstable();
     }
-    let sheet = match &opts.style {
-        Some(p) => {
-            let text = std::fs::read_to_string(p).with_context(|| format!("cannot read {}", p.display()))?;
-            Some(taxel_compiler::StyleSheet::parse(&text, &p.display().to_string()).map_err(|e| anyhow!("{e}"))?)
-        }
-        None => None,
-    };
+    let options = crate::compile::compile_options(opts)?.map_err(|d| anyhow!("{}", d.message))?;
     let mut rows = Vec::new();
     for rate in rates {
         let mut profile = base.manifest.profile;
         profile.rate_hz = rate;
-        let mut o = taxel_compiler::CompileOptions::new(profile);
-        o.style = sheet.clone();
-        o.width_mm = opts.width_mm;
+        let o = taxel_compiler::CompileOptions { profile, ..options.clone() };
         let t0 = Instant::now();
         let compiled = taxel_compiler::svg::compile_svg(&svg, &o);
         let compile_ms = t0.elapsed().as_secs_f64() * 1000.0;

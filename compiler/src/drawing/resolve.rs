@@ -2,6 +2,8 @@
 //! lines), usvg's resolved tree, the page size, then every drawn element
 //! with its styles and exact geometry.
 
+use std::collections::BTreeSet;
+use std::path::PathBuf;
 use std::sync::{Arc, OnceLock};
 
 use super::source::{self, Source};
@@ -12,33 +14,91 @@ use crate::options::CompileOptions;
 
 /// What [`resolve`] returns: the drawing (absent when the SVG could not be
 /// read at all; present, though possibly with error diagnostics such as a
-/// malformed annotation, otherwise) and every diagnostic found on the way (malformed annotations,
-/// the page size, shapes that were asked for but are not drawn).
+/// malformed annotation, otherwise), every diagnostic found on the way
+/// (malformed annotations, the page size, shapes that were asked for but are
+/// not drawn), and the font faces its text used.
 #[derive(Debug, Clone)]
 pub struct Resolved {
     /// The drawing, unless an error prevented it.
     pub drawing: Option<Drawing>,
     /// Everything resolution had to say.
     pub diagnostics: Vec<Diagnostic>,
+    /// The font faces of `CompileOptions::fonts` that the text was laid out with, sorted.
+    pub fonts_used: Vec<FontFace>,
 }
 
-/// System fonts, loaded once per process (text converted to paths needs them;
-/// braille does not).
-pub(crate) fn fonts() -> Arc<usvg::fontdb::Database> {
-    static DB: OnceLock<Arc<usvg::fontdb::Database>> = OnceLock::new();
-    DB.get_or_init(|| {
-        let mut db = usvg::fontdb::Database::new();
-        db.load_system_fonts();
-        Arc::new(db)
-    })
-    .clone()
-}
-
-/// usvg's options: the font database, and no file IO (images that name files are not loaded).
-pub(crate) fn usvg_options() -> usvg::Options<'static> {
-    let mut uopt = usvg::Options { fontdb: fonts(), ..usvg::Options::default() };
+/// usvg's options: the caller's fonts (none when it gave none), and no file
+/// IO (images that name files are not loaded).
+pub(crate) fn usvg_options(fonts: Option<&Arc<usvg::fontdb::Database>>) -> usvg::Options<'static> {
+    static NO_FONTS: OnceLock<Arc<usvg::fontdb::Database>> = OnceLock::new();
+    let fontdb =
+        fonts.cloned().unwrap_or_else(|| NO_FONTS.get_or_init(|| Arc::new(usvg::fontdb::Database::new())).clone());
+    let mut uopt = usvg::Options { fontdb, ..usvg::Options::default() };
     uopt.image_href_resolver.resolve_string = Box::new(|_, _| None);
     uopt
+}
+
+/// A font face that a drawing's text was laid out with.
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
+pub struct FontFace {
+    /// The file it was loaded from; `None` for a face loaded from memory.
+    pub path: Option<PathBuf>,
+    /// Its index in a font collection file (0 for a single font).
+    pub index: u32,
+    /// Its first family name.
+    pub family: String,
+    /// Its PostScript name.
+    pub post_script_name: String,
+}
+
+/// The faces of `db` that the text of `tree` uses, sorted, each once.
+fn faces_used(tree: &usvg::Tree) -> Vec<FontFace> {
+    fn visit(g: &usvg::Group, ids: &mut BTreeSet<usvg::fontdb::ID>) {
+        for c in g.children() {
+            match c {
+                usvg::Node::Group(g) => visit(g, ids),
+                usvg::Node::Text(t) => {
+                    ids.extend(t.layouted().iter().flat_map(|s| s.positioned_glyphs.iter().map(|g| g.font)));
+                }
+                _ => {}
+            }
+            // Text in clip paths and masks is laid out too.
+            c.subroots(|g| visit(g, ids));
+        }
+    }
+    let mut ids = BTreeSet::new();
+    visit(tree.root(), &mut ids);
+    let db = tree.fontdb();
+    let mut faces: Vec<FontFace> = ids
+        .into_iter()
+        .filter_map(|id| db.face(id))
+        .map(|f| FontFace {
+            path: match &f.source {
+                usvg::fontdb::Source::File(p) | usvg::fontdb::Source::SharedFile(p, _) => Some(p.clone()),
+                usvg::fontdb::Source::Binary(_) => None,
+            },
+            index: f.index,
+            family: f.families.first().map(|(name, _)| name.clone()).unwrap_or_default(),
+            post_script_name: f.post_script_name.clone(),
+        })
+        .collect();
+    faces.sort();
+    faces.dedup();
+    faces
+}
+
+/// The font faces of `fonts` that the text of `svg_text` is laid out with,
+/// without building the drawing (for a content hash that must cover them;
+/// the same as [`Resolved::fonts_used`]). Empty when the SVG cannot be read
+/// or has no text.
+pub fn fonts_used(svg_text: &str, fonts: &Arc<usvg::fontdb::Database>) -> Vec<FontFace> {
+    if !svg_text.contains("<text") {
+        return Vec::new();
+    }
+    let Ok(doc) = roxmltree::Document::parse_with_options(svg_text, source::xml_options()) else {
+        return Vec::new();
+    };
+    usvg::Tree::from_xmltree(&doc, &usvg_options(Some(fonts))).map_or(Vec::new(), |t| faces_used(&t))
 }
 
 /// Resolves an annotated SVG into a [`Drawing`] for `opts` (its profile
@@ -60,16 +120,22 @@ pub(crate) fn usvg_options() -> usvg::Options<'static> {
 /// ```
 pub fn resolve(svg_text: &str, opts: &CompileOptions) -> Resolved {
     let mut diagnostics = Vec::new();
-    let drawing = run(svg_text, opts, &mut diagnostics);
-    Resolved { drawing, diagnostics }
+    let mut fonts_used = Vec::new();
+    let drawing = run(svg_text, opts, &mut diagnostics, &mut fonts_used);
+    Resolved { drawing, diagnostics, fonts_used }
 }
 
-/// [`resolve`], adding to `diags`.
-pub(crate) fn run(text: &str, opts: &CompileOptions, diags: &mut Vec<Diagnostic>) -> Option<Drawing> {
+/// [`resolve`], adding to `diags` and `fonts_used`.
+pub(crate) fn run(
+    text: &str,
+    opts: &CompileOptions,
+    diags: &mut Vec<Diagnostic>,
+    fonts_used: &mut Vec<FontFace>,
+) -> Option<Drawing> {
     let doc = source::parse_xml(text, diags)?;
     let src = source::read(text, &doc, opts.style.as_ref(), diags)?;
     let doc2 = roxmltree::Document::parse_with_options(&src.rewritten, source::xml_options()).ok()?;
-    let tree = match usvg::Tree::from_xmltree(&doc2, &usvg_options()) {
+    let tree = match usvg::Tree::from_xmltree(&doc2, &usvg_options(opts.fonts.as_ref())) {
         Ok(t) => t,
         Err(e) => {
             diags.push(
@@ -84,6 +150,7 @@ pub(crate) fn run(text: &str, opts: &CompileOptions, diags: &mut Vec<Diagnostic>
     let sizing = page::page(root, w as f64, h as f64, opts.width_mm, &opts.profile, diags);
     let root_ts = page::root_transform(root, w, h);
     let walked = walk::walk(&tree, &src, opts.style.as_ref(), sizing.scale);
+    *fonts_used = faces_used(&tree);
     let texts = text::texts(&src, &doc, &walked, sizing.scale, root_ts, diags);
     not_drawn(&src, &walked, diags);
     let mut elements: Vec<(usize, super::Element)> = walked.elements;

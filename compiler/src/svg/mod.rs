@@ -23,8 +23,6 @@ mod layers;
 mod masks;
 pub(crate) mod rules;
 
-use std::panic::{AssertUnwindSafe, catch_unwind};
-
 use taxel_format::{Bundle, Manifest};
 
 use crate::Compiled;
@@ -34,27 +32,15 @@ use crate::options::{CompileOptions, DEFAULT_PX_PER_MM};
 
 pub use braille::{CELL_PITCH_MM, DOT_PITCH_MM, LINE_PITCH_MM, translate as braille_cells};
 
-/// Compiles an annotated SVG for `opts.profile`. Never panics: a drawing that
-/// cannot be compiled gives error diagnostics and no bundle.
+/// Compiles an annotated SVG for `opts.profile`. A drawing that cannot be
+/// compiled gives error diagnostics and no bundle. No panic is reachable
+/// from the input; one would be a bug, and it is not caught here (the batch
+/// builder catches it at its boundary, so one file cannot stop a batch).
 pub fn compile_svg(svg_text: &str, opts: &CompileOptions) -> Compiled {
-    match catch_unwind(AssertUnwindSafe(|| {
-        let mut diags = Vec::new();
-        let bundle = compile(svg_text, opts, &mut diags);
-        (bundle, diags)
-    })) {
-        Ok((bundle, diagnostics)) => {
-            let bundle = if has_errors(&diagnostics) { None } else { bundle };
-            Compiled { bundle, diagnostics }
-        }
-        // A panic here is a bug in taxel or a dependency; it must still not take the caller down.
-        Err(_) => Compiled {
-            bundle: None,
-            diagnostics: vec![
-                Diagnostic::error("T0900", "internal error while compiling this drawing")
-                    .with_help("please report it with the drawing attached"),
-            ],
-        },
-    }
+    let mut diagnostics = Vec::new();
+    let bundle = compile(svg_text, opts, &mut diagnostics);
+    let bundle = if has_errors(&diagnostics) { None } else { bundle };
+    Compiled { bundle, diagnostics }
 }
 
 /// The pipeline: resolve → prepare → layers → design rules → bundle.
@@ -70,7 +56,7 @@ fn compile(text: &str, opts: &CompileOptions, diags: &mut Vec<Diagnostic>) -> Op
             return None;
         }
     };
-    let mut drawing = drawing::resolve_into(text, opts, diags)?;
+    let mut drawing = drawing::resolve_into(text, opts, diags, &mut Vec::new())?;
     // Styles asked of shapes that are not drawn count as asked (for the T0300 message below).
     let not_drawn = diags.iter().filter(|d| d.code == drawing::NOT_DRAWN).count();
     crate::prepare::prepare(&mut drawing, opts, diags);
@@ -115,7 +101,7 @@ fn compile(text: &str, opts: &CompileOptions, diags: &mut Vec<Diagnostic>) -> Op
 pub(crate) fn render_page(text: &str, opts: &CompileOptions, px_per_mm: f64) -> Option<resvg::tiny_skia::Pixmap> {
     let mut scratch = Vec::new();
     let doc = drawing::source::parse_xml(text, &mut scratch)?;
-    let tree = usvg::Tree::from_xmltree(&doc, &drawing::usvg_options()).ok()?;
+    let tree = usvg::Tree::from_xmltree(&doc, &drawing::usvg_options(opts.fonts.as_ref())).ok()?;
     let (w, h) = (tree.size().width(), tree.size().height());
     let page = drawing::page_size(doc.root_element(), w as f64, h as f64, opts.width_mm, &opts.profile, &mut scratch);
     let k = (page.scale * px_per_mm) as f32;

@@ -235,3 +235,40 @@ fn annotation_inside_an_entity_is_read_and_its_error_points_into_the_entity() {
     let col = svg.lines().nth(1).unwrap().find("2mm").unwrap() as u32 + 1;
     assert_eq!((e[0].line, e[0].column), (Some(2), Some(col)));
 }
+
+/// Tuffy (public domain), loaded from bytes as a caller would hand it over.
+fn tuffy() -> std::sync::Arc<taxel_compiler::fontdb::Database> {
+    let bytes =
+        std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/fonts/Tuffy.ttf")).unwrap();
+    let mut db = taxel_compiler::fontdb::Database::new();
+    db.load_font_data(bytes);
+    std::sync::Arc::new(db)
+}
+
+#[test]
+fn fonts_are_an_input_and_the_faces_used_are_reported() {
+    let svg = page(
+        r#"<text id="t" x="10" y="30" font-family="Tuffy" font-size="10" data-tactile="vibrate(); braille()">Hi</text>"#,
+    );
+    let outline = |r: &drawing::Resolved| match &by_id(r.drawing.as_ref().unwrap(), "t").shape {
+        Shape::Text(t) => t.outline.len(),
+        _ => panic!("a text"),
+    };
+    // Without fonts: no glyph outlines, no faces; braille still comes from the characters.
+    let none = drawing::resolve(&svg, &CompileOptions::new(stress2()));
+    assert_eq!((outline(&none), none.fonts_used.len()), (0, 0));
+    let b = compile(&svg).bundle.expect("braille without fonts");
+    assert!(masks(&b).is_empty() && dots(&b, DotKind::Braille).is_some());
+
+    let opts = CompileOptions { fonts: Some(tuffy()), ..CompileOptions::new(stress2()) };
+    let with = drawing::resolve(&svg, &opts);
+    assert!(outline(&with) >= 2, "H and i have outlines");
+    let faces: Vec<(&str, Option<&std::path::Path>)> =
+        with.fonts_used.iter().map(|f| (f.family.as_str(), f.path.as_deref())).collect();
+    assert_eq!(faces, [("Tuffy", None)]);
+    assert_eq!(drawing::fonts_used(&svg, opts.fonts.as_ref().unwrap()), with.fonts_used);
+    let c = no_internal_error(taxel_compiler::svg::compile_svg(&svg, &opts));
+    assert_eq!(masks(bundle(&c)).len(), 1, "the glyphs vibrate: {:#?}", c.diagnostics);
+    // A drawing without text uses no face.
+    assert!(drawing::fonts_used(&page(r#"<rect width="5" height="5"/>"#), opts.fonts.as_ref().unwrap()).is_empty());
+}
