@@ -11,6 +11,10 @@
 //! automatic conversion can decide from what the drawing shows. Geometry is
 //! exact f64 in page millimetres (origin top-left, y down) after the page
 //! transform, including `--fit` and `--region`.
+//!
+//! [`resolve`] makes a drawing from SVG text; it returns the drawing, the
+//! diagnostics found on the way and the font faces its text used
+//! ([`Resolved`]). `svg::compile_svg` builds its layers from the same stage.
 
 mod page;
 mod resolve;

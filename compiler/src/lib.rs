@@ -12,11 +12,11 @@
 
 pub mod annotation;
 pub mod brush;
-pub mod diagnostic;
+mod diagnostic;
 pub mod drawing;
 pub mod geometry;
 pub mod mesh;
-pub mod options;
+mod options;
 pub mod pins;
 mod prepare;
 pub mod preview;

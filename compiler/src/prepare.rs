@@ -8,7 +8,9 @@ use crate::drawing::Drawing;
 use crate::options::CompileOptions;
 
 /// Prepares `drawing` for `opts` before its layers are built. It changes
-/// nothing yet.
+/// nothing yet. Called by both `svg::compile_svg` and the public
+/// `drawing::resolve`, so that `taxel report`'s reference sees the drawing
+/// the layers were built from.
 pub(crate) fn prepare(drawing: &mut Drawing, opts: &CompileOptions, diags: &mut Vec<Diagnostic>) {
     let _ = (drawing, opts, diags);
 }

@@ -103,7 +103,10 @@ pub fn fonts_used(svg_text: &str, fonts: &Arc<usvg::fontdb::Database>) -> Vec<Fo
 
 /// Resolves an annotated SVG into a [`Drawing`] for `opts` (its profile
 /// decides the page when the drawing has no physical size; its style sheet
-/// takes part in style resolution). Never panics.
+/// takes part in style resolution), prepared as `svg::compile_svg` prepares
+/// it before making layers (automatic styles, `--region`, `--fit`), so the
+/// drawing is the one the bundle's layers are built from. No panic is
+/// reachable from the input.
 ///
 /// ```
 /// use taxel_compiler::{CompileOptions, drawing::{self, Shape}};
@@ -121,7 +124,10 @@ pub fn fonts_used(svg_text: &str, fonts: &Arc<usvg::fontdb::Database>) -> Vec<Fo
 pub fn resolve(svg_text: &str, opts: &CompileOptions) -> Resolved {
     let mut diagnostics = Vec::new();
     let mut fonts_used = Vec::new();
-    let drawing = run(svg_text, opts, &mut diagnostics, &mut fonts_used);
+    let mut drawing = run(svg_text, opts, &mut diagnostics, &mut fonts_used);
+    if let Some(d) = &mut drawing {
+        crate::prepare::prepare(d, opts, &mut diagnostics);
+    }
     Resolved { drawing, diagnostics, fonts_used }
 }
 

@@ -30,8 +30,6 @@ use crate::diagnostic::{Diagnostic, has_errors};
 use crate::drawing;
 use crate::options::{CompileOptions, DEFAULT_PX_PER_MM};
 
-pub use braille::{CELL_PITCH_MM, DOT_PITCH_MM, LINE_PITCH_MM, translate as braille_cells};
-
 /// Compiles an annotated SVG for `opts.profile`. A drawing that cannot be
 /// compiled gives error diagnostics and no bundle. No panic is reachable
 /// from the input; one would be a bug, and it is not caught here (the batch
