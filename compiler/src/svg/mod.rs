@@ -23,6 +23,9 @@ mod layers;
 mod masks;
 pub(crate) mod rules;
 
+/// Braille cells of a text (uncontracted UEB), for the pin arrays' braille too.
+pub(crate) use braille::translate as braille_cells;
+
 use taxel_format::{Bundle, Manifest};
 
 use crate::Compiled;
