@@ -14,6 +14,7 @@
 //!   centre line of any shape of the style (so touching borders of one style
 //!   merge into one border instead of adding up);
 //! - cut bands (vibrating borders crossing a grating): `min(s, d_c − w_c/2)`;
+//! - clip regions: `min(s, ±d_clip)`, signed like a fill;
 //! - the page: `min(s, distance inside the page)`, so nothing beyond the
 //!   surface is felt or stored.
 //!
@@ -41,6 +42,8 @@ pub struct LayerGeometry<'a> {
     pub band: Option<(Vec<&'a [Polyline]>, f64)>,
     /// Vibrating bands `(centre lines, width mm)` cut out of the fills.
     pub cuts: Vec<(&'a [Polyline], f64)>,
+    /// Clip regions: the layer is felt only inside every one of them.
+    pub clips: Vec<(&'a [Polyline], FillRule)>,
 }
 
 /// How to sample a layer.
@@ -119,6 +122,14 @@ pub fn exact_signed_distance(g: &LayerGeometry<'_>, page: (f64, f64, f64, f64), 
             .fold(f64::INFINITY, f64::min);
         s = s.min(d - w / 2.0);
     }
+    for (pls, rule) in &g.clips {
+        let d = pls
+            .iter()
+            .flat_map(closed_segments)
+            .map(|(a, b)| distance_to_segment(p, a, b))
+            .fold(f64::INFINITY, f64::min);
+        s = s.min(if crate::geometry::contains(pls, p, *rule) { d } else { -d });
+    }
     s.min(inside_rect(page, p))
 }
 
@@ -144,6 +155,8 @@ enum Part {
     Band,
     /// Cut band `k`.
     Cut(usize),
+    /// Clip region `k`.
+    Clip(usize),
 }
 
 /// Builds the field of one layer; `None` when nothing of it is felt on the page.
@@ -213,6 +226,11 @@ pub fn build_field(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> 
             segs.extend(pl.segments().map(|s| (s, Part::Cut(k), w / 2.0 + reach)));
         }
     }
+    for (k, (pls, _)) in g.clips.iter().enumerate() {
+        for pl in pls.iter() {
+            segs.extend(closed_segments(pl).map(|s| (s, Part::Clip(k), reach)));
+        }
+    }
     let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); cols * rows];
     for (n, (s, _, m)) in segs.iter().enumerate() {
         let b = seg_bounds(s);
@@ -230,7 +248,9 @@ pub fn build_field(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> 
     }
     // Inside-the-fills bits at every lattice point, one row sweep each.
     let (nx, ny) = (cols * TILE_CELLS + 1, rows * TILE_CELLS + 1);
-    let inside = fill_bits(g, ox, oy, h, nx, ny);
+    let inside = fill_bits(&g.fills, ox, oy, h, nx, ny);
+    let clip_bits: Vec<Vec<bool>> = g.clips.iter().map(|c| fill_bits(&[*c], ox, oy, h, nx, ny)).collect();
+    let in_clips = |k: usize| clip_bits.iter().all(|b| b[k]);
     let page_edge_near = |c: usize, r: usize| {
         let (a, b) = (at(c * TILE_CELLS, r * TILE_CELLS), at((c + 1) * TILE_CELLS, (r + 1) * TILE_CELLS));
         let near = |e: f64, lo: f64, hi: f64| e >= lo - reach && e <= hi + reach;
@@ -246,7 +266,8 @@ pub fn build_field(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> 
             let corner = at(c * TILE_CELLS, r * TILE_CELLS);
             if bucket.is_empty() && !page_edge_near(c, r) {
                 // No edge within the reach: the tile is what its corner is.
-                let felt_here = !g.fills.is_empty() && inside[r * TILE_CELLS * nx + c * TILE_CELLS];
+                let k = r * TILE_CELLS * nx + c * TILE_CELLS;
+                let felt_here = !g.fills.is_empty() && inside[k] && in_clips(k);
                 tiles[r * cols + c] =
                     if felt_here && inside_rect(pg, corner) > 0.0 { TILE_INSIDE } else { TILE_OUTSIDE };
                 continue;
@@ -255,7 +276,9 @@ pub fn build_field(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> 
                 for i in 0..TILE_SIDE {
                     let (gi, gj) = (c * TILE_CELLS + i, r * TILE_CELLS + j);
                     let p = at(gi, gj);
-                    let s = sample(g, &segs, bucket, inside[gj * nx + gi], p, pg).clamp(-cap, cap);
+                    let k = gj * nx + gi;
+                    let clipped: Vec<bool> = clip_bits.iter().map(|b| b[k]).collect();
+                    let s = sample(g, &segs, bucket, inside[k], &clipped, p, pg).clamp(-cap, cap);
                     let code = (s / step).round().clamp(-128.0, 127.0) as i32 + DISTANCE_ZERO as i32;
                     tile_buf[j * TILE_SIDE + i] = code as u8;
                 }
@@ -284,12 +307,14 @@ fn sample(
     segs: &[(Seg, Part, f64)],
     bucket: &[u32],
     inside: bool,
+    in_clip: &[bool],
     p: (f64, f64),
     page: (f64, f64, f64, f64),
 ) -> f64 {
     let mut d_fill = f64::INFINITY;
     let mut d_band = f64::INFINITY;
     let mut d_cut: Vec<f64> = vec![f64::INFINITY; g.cuts.len()];
+    let mut d_clip: Vec<f64> = vec![f64::INFINITY; g.clips.len()];
     for &n in bucket {
         let ((a, b), part, _) = segs[n as usize];
         let d = distance_to_segment(p, a, b);
@@ -297,6 +322,7 @@ fn sample(
             Part::Fill => d_fill = d_fill.min(d),
             Part::Band => d_band = d_band.min(d),
             Part::Cut(k) => d_cut[k] = d_cut[k].min(d),
+            Part::Clip(k) => d_clip[k] = d_clip[k].min(d),
         }
     }
     let mut s = f64::NEG_INFINITY;
@@ -309,20 +335,23 @@ fn sample(
     for (k, (_, w)) in g.cuts.iter().enumerate() {
         s = s.min(d_cut[k] - w / 2.0);
     }
+    for (k, &d) in d_clip.iter().enumerate() {
+        s = s.min(if in_clip.get(k).copied().unwrap_or(false) { d } else { -d });
+    }
     s.min(inside_rect(page, p))
 }
 
 /// Whether each lattice point `(i, j)` (row-major, `nx` wide) is inside the
 /// union of the fills, by sweeping each row's crossings with every fill
 /// outline (the same half-open rule as [`contains`](crate::geometry::contains)).
-fn fill_bits(g: &LayerGeometry<'_>, ox: f64, oy: f64, h: f64, nx: usize, ny: usize) -> Vec<bool> {
+fn fill_bits(fills: &[(&[Polyline], FillRule)], ox: f64, oy: f64, h: f64, nx: usize, ny: usize) -> Vec<bool> {
     let mut bits = vec![false; nx * ny];
-    if g.fills.is_empty() {
+    if fills.is_empty() {
         return bits;
     }
     // Edges bucketed by the lattice rows they span.
     let mut by_row: Vec<Vec<(Seg, usize)>> = vec![Vec::new(); ny];
-    for (shape, (pls, _)) in g.fills.iter().enumerate() {
+    for (shape, (pls, _)) in fills.iter().enumerate() {
         for pl in pls.iter() {
             for s in closed_segments(pl) {
                 let (lo, hi) = (s.0.1.min(s.1.1), s.0.1.max(s.1.1));
@@ -360,7 +389,7 @@ fn fill_bits(g: &LayerGeometry<'_>, ox: f64, oy: f64, h: f64, nx: usize, ny: usi
             let x = ox + i as f64 * h;
             while k < xs.len() && xs[k].0 > x {
                 let (_, shape, dir) = xs[k];
-                let rule = g.fills[shape].1;
+                let rule = fills[shape].1;
                 let e = state.entry(shape).or_insert((0, 0));
                 let was = is_in(*e, rule);
                 e.0 += dir;

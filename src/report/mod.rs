@@ -300,7 +300,8 @@ pub fn kernels_of(b: &Bundle) -> Vec<String> {
 
 fn chunk_kind(c: &Chunk) -> Option<&'static str> {
     match c {
-        Chunk::Mask(m) => Some(match m.kind {
+        Chunk::Mask(taxel_format::MaskLayer { kind, .. })
+        | Chunk::Distance(taxel_format::DistanceLayer { kind, .. }) => Some(match kind {
             taxel_format::MaskKind::Vibration { .. } => "vibration",
             taxel_format::MaskKind::Grating { .. } => "grating",
         }),
@@ -360,6 +361,11 @@ pub fn load_trace(input: &Path, explicit: Option<&Path>, bundle: &Bundle) -> Res
                 let (x0, y0) = (m.origin_x.0 as f64, m.origin_y.0 as f64);
                 let px = m.px_per_mm.max(1e-6) as f64;
                 boxes.push((x0, y0, x0 + m.width as f64 / px, y0 + m.height as f64 / px));
+            }
+            Chunk::Distance(d) => {
+                let (x0, y0) = (d.origin_x.0 as f64, d.origin_y.0 as f64);
+                let span = 8.0 * d.pitch_mm as f64;
+                boxes.push((x0, y0, x0 + d.tile_cols as f64 * span, y0 + d.tile_rows as f64 * span));
             }
             Chunk::Height(h) => {
                 let (x0, y0, c) = (h.origin_x.0 as f64, h.origin_y.0 as f64, h.cell.0 as f64);

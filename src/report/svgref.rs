@@ -130,10 +130,24 @@ pub fn exact_layers(
     // Every vibrating band, to cut out of the gratings (as the compiler does).
     let mut bands: Vec<(Arc<Index>, f64)> = Vec::new();
     let mut pending: Vec<(usize, Geometry, MaskKind, f64, f64)> = Vec::new();
+    // Each element of a vibration or grating layer (a raster mask's one
+    // source, every source of a distance layer), as (source, kind, amplitude).
+    let mut elements: Vec<(Option<u32>, MaskKind, f32)> = Vec::new();
     for chunk in &bundle.chunks {
         match chunk {
-            Chunk::Mask(m) => {
-                let entry = m.source.and_then(|s| prov.and_then(|p| p.entries.get(s as usize)));
+            Chunk::Mask(m) => elements.push((m.source, m.kind, m.amplitude)),
+            Chunk::Distance(d) => elements.extend(d.sources.iter().map(|&s| (Some(s), d.kind, d.amplitude))),
+            Chunk::Dots(d) => layers.push(ExactLayer::Dots(
+                d.dots.iter().map(|d| (d.x.0 as f64, d.y.0 as f64, d.radius.0 as f64, d.amplitude as f64)).collect(),
+            )),
+            _ => {}
+        }
+    }
+    for (source, kind, amplitude) in elements {
+        {
+            {
+                let m = Elem { kind, amplitude };
+                let entry = source.and_then(|s| prov.and_then(|p| p.entries.get(s as usize)));
                 let found = entry.and_then(|e| drawing.element(&e.id, e.line));
                 let Some((elem, geo)) = found.and_then(|el| drawing.geometry(el, TOLERANCE_MM).map(|g| (el, g))) else {
                     gaps.missing.push(entry.map_or("(no provenance)".into(), |e| format!("{} line {}", e.id, e.line)));
@@ -157,10 +171,6 @@ pub fn exact_layers(
                 let band = if matches!(m.kind, MaskKind::Vibration { .. }) { bands.len() - 1 } else { usize::MAX };
                 pending.push((band, geo, m.kind, m.amplitude as f64, width));
             }
-            Chunk::Dots(d) => layers.push(ExactLayer::Dots(
-                d.dots.iter().map(|d| (d.x.0 as f64, d.y.0 as f64, d.radius.0 as f64, d.amplitude as f64)).collect(),
-            )),
-            _ => {}
         }
     }
     for (band, geo, kind, amplitude, width) in pending {
@@ -183,6 +193,12 @@ pub fn exact_layers(
         });
     }
     Ok((layers, gaps))
+}
+
+/// One element's layer parameters.
+struct Elem {
+    kind: MaskKind,
+    amplitude: f32,
 }
 
 /// Millimetres per usvg pixel, decided as the compiler decides the page size:

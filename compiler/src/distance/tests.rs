@@ -188,3 +188,18 @@ proptest! {
         check(&g, params(pitch, 0.0), &grid_points(0.29))?;
     }
 }
+
+#[test]
+fn a_clipped_fill_is_felt_only_inside_its_clip() {
+    let sq = [square(5.0, 5.0, 20.0)];
+    let clip = [square(0.0, 0.0, 15.0)];
+    let g = LayerGeometry {
+        fills: vec![(&sq, FillRule::NonZero)],
+        clips: vec![(&clip, FillRule::NonZero)],
+        ..Default::default()
+    };
+    check(&g, params(0.5, 0.0), &grid_points(0.173)).expect("field within bounds");
+    let f = build_field(&g, params(0.5, 0.0)).expect("a field");
+    assert!(field_distance(&f, 0.5, (10.0, 10.0)).expect("lattice") > 0.0);
+    assert!(field_distance(&f, 0.5, (20.0, 10.0)).is_none_or(|d| d < 0.0));
+}

@@ -20,7 +20,6 @@
 mod braille;
 mod dots;
 mod layers;
-mod masks;
 pub(crate) mod rules;
 
 use std::panic::{AssertUnwindSafe, catch_unwind};

@@ -113,9 +113,8 @@ impl<'a> FieldLayer<'a> {
             let at = 4 * (tile_row + tx);
             let e = self.tiles.get(at..at + 4).map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
             (top[k], bot[k]) = if e >= TILE_FIRST_STORED {
-                let a = (e - TILE_FIRST_STORED) as usize * TILE_SAMPLES
-                    + j
-                    + (ci[k] & (TILE_CELLS as u32 - 1)) as usize;
+                let a =
+                    (e - TILE_FIRST_STORED) as usize * TILE_SAMPLES + j + (ci[k] & (TILE_CELLS as u32 - 1)) as usize;
                 let pair = |a: usize| self.samples.get(a..a + 2).map_or(0, |p| u16::from_le_bytes([p[0], p[1]]));
                 (pair(a), pair(a + TILE_SIDE))
             } else if e == TILE_INSIDE {

@@ -4,8 +4,8 @@
 use std::f64::consts::{PI, TAU};
 
 use taxel_format::{
-    Bundle, DistanceLayer, BundleView, Chunk, DeviceProfile, Dot, DotKind, DotTable, FamilyParams, Manifest, MaskKind, MaskLayer,
-    MaskSamples, MilliHertz, Mm, ProfileName, Tick, profiles,
+    Bundle, BundleView, Chunk, DeviceProfile, DistanceLayer, Dot, DotKind, DotTable, FamilyParams, Manifest, MaskKind,
+    MaskLayer, MaskSamples, MilliHertz, Mm, ProfileName, Tick, profiles,
 };
 use taxel_runtime::latero::LateroPlayer;
 
@@ -199,7 +199,10 @@ pub fn field_code(d: &DistanceLayer, x: f64, y: f64) -> Option<f64> {
         match e {
             0 => 0.0,
             1 => 255.0,
-            e => d.samples[(e as usize - 2) * 81 + (j % 8 + (j / 8 - cj / 8) * 8) * 9 + (i % 8 + (i / 8 - ci / 8) * 8)] as f64,
+            e => {
+                d.samples[(e as usize - 2) * 81 + (j % 8 + (j / 8 - cj / 8) * 8) * 9 + (i % 8 + (i / 8 - ci / 8) * 8)]
+                    as f64
+            }
         }
     };
     let (a, b) = (u - ci as f64, v - cj as f64);
