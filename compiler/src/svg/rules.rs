@@ -262,6 +262,10 @@ fn mask_at(m: &DistanceLayer, x: f64, y: f64) -> f64 {
 /// little above 1 at the seam; a real overlap sums to about 2.
 const SUM_SLACK: f64 = 0.1;
 
+/// How far inside both layers' exact edges a point must lie to count as an
+/// overlap of two distance layers, mm: the edge accuracy the layers promise.
+const OVERLAP_DEPTH_MM: f64 = 0.05;
+
 fn overlap(built: &Built, a: &Feature, b: &Feature, diags: &mut Vec<Diagnostic>) {
     if !overlaps(a.bbox, b.bbox) {
         return;
@@ -283,7 +287,17 @@ fn overlap(built: &Built, a: &Feature, b: &Feature, diags: &mut Vec<Diagnostic>)
             'rows: while y < y1 {
                 let mut x = ((x0 * px).floor() + 0.5) / px;
                 while x < x1 {
-                    if a.amplitude * mask_at(ma, x, y) + b.amplitude * mask_at(mb, x, y) > 1.0 + SUM_SLACK {
+                    // A true overlap: both layers felt more than `OVERLAP_DEPTH_MM`
+                    // inside their edges (where two layers merely meet, each
+                    // one's ramp may sum a little above 1 in a seam a few
+                    // micrometres wide).
+                    let deep = |m: &DistanceLayer| {
+                        m.distance_at(x as f32, y as f32).is_some_and(|d| d as f64 > OVERLAP_DEPTH_MM)
+                    };
+                    if a.amplitude * mask_at(ma, x, y) + b.amplitude * mask_at(mb, x, y) > 1.0 + SUM_SLACK
+                        && deep(ma)
+                        && deep(mb)
+                    {
                         found = true;
                         break 'rows;
                     }

@@ -16,6 +16,32 @@ fn dir() -> PathBuf {
 }
 
 /// One character per 2 x 2 mm cell: ' ' empty, '.' partial, '#' mostly full.
+/// A distance layer's edge profile every 2 mm (at cell centres): `#` above
+/// 0.75, `.` above 0, blank at 0.
+fn ascii_field(d: &taxel_format::DistanceLayer) -> String {
+    let (w, h) = (d.tile_cols as f32 * 8.0 * d.pitch_mm, d.tile_rows as f32 * 8.0 * d.pitch_mm);
+    let mut out = String::new();
+    let mut y = 1.0;
+    while y < h {
+        out.push_str("      |");
+        let mut x = 1.0;
+        while x < w {
+            let v = d.coverage_at(d.origin_x.0 + x, d.origin_y.0 + y);
+            out.push(if v > 0.75 {
+                '#'
+            } else if v > 0.0 {
+                '.'
+            } else {
+                ' '
+            });
+            x += 2.0;
+        }
+        out.push_str("|\n");
+        y += 2.0;
+    }
+    out
+}
+
 fn ascii(m: &MaskLayer) -> String {
     let px = m.px_per_mm as f64;
     let cell = (2.0 * px).round().max(1.0) as usize;
@@ -74,6 +100,23 @@ pub fn dump(b: &Bundle) -> String {
                 )
                 .unwrap();
                 s += &ascii(m);
+            }
+            Chunk::Distance(d) => {
+                let kind = match d.kind {
+                    MaskKind::Vibration { freq } => format!("VDST {} Hz", freq.hz()),
+                    MaskKind::Grating { wavelength, angle_deg } => {
+                        format!("GDST {} mm at {}°", wavelength.0, angle_deg)
+                    }
+                };
+                let stored = d.samples.len() / taxel_format::TILE_SAMPLES;
+                let inside = d.tiles.iter().filter(|&&t| t == taxel_format::TILE_INSIDE).count();
+                writeln!(
+                    s,
+                    "{kind} amplitude {} soft {} sources {:?}: {} x {} tiles every {} mm from ({:.2}, {:.2}) mm, {stored} stored, {inside} inside",
+                    d.amplitude, d.soft_mm, d.sources, d.tile_cols, d.tile_rows, d.pitch_mm, d.origin_x.0, d.origin_y.0
+                )
+                .unwrap();
+                s += &ascii_field(d);
             }
             Chunk::Dots(t) => {
                 writeln!(s, "DOTS {} ({} dots)", t.kind.name(), t.dots.len()).unwrap();
