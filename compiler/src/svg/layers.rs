@@ -303,7 +303,8 @@ pub(crate) fn build(drawing: &Drawing, opts: &CompileOptions, px: f32, diags: &m
             }
         }
     }
-    distance_layers(&mut b, drawing, &pending, px);
+    let surface = (opts.profile.surface_w_mm as f64, opts.profile.surface_h_mm as f64);
+    distance_layers(&mut b, drawing, &pending, px, surface);
     braille_texts(&mut b, drawing, opts, diags);
     if !requests.is_empty() {
         b.strokes = brush::compile_strokes(&requests, &opts.profile, diags);
@@ -376,8 +377,8 @@ fn layer_feature(
 /// outlines as one band of the style (touching borders merge), grated
 /// regions as one fill minus every vibrating band on the page that crosses
 /// them (so an outline is never summed with the grating under it), each
-/// within its clip regions.
-fn distance_layers(b: &mut Built, drawing: &Drawing, pending: &[Pending], px: f32) {
+/// within its clip regions and the part of the page on the device's surface.
+fn distance_layers(b: &mut Built, drawing: &Drawing, pending: &[Pending], px: f32, surface: (f64, f64)) {
     let page = drawing.page;
     let polys = |i: usize| outline(&drawing.elements[i]);
     let bands: Vec<(usize, f64)> = pending
@@ -388,7 +389,8 @@ fn distance_layers(b: &mut Built, drawing: &Drawing, pending: &[Pending], px: f3
         })
         .flatten()
         .collect();
-    let page_rect = (0.0, 0.0, page.width_mm, page.height_mm);
+    // Nothing beyond the page, or the device's surface, is felt or stored.
+    let page_rect = (0.0, 0.0, page.width_mm.min(surface.0), page.height_mm.min(surface.1));
     // One lattice for every layer of the drawing: a grating's cut-out band
     // is then sampled at the same points as the band itself, so the two
     // interpolate to complementary values and never overlap.

@@ -68,3 +68,15 @@ pub fn dots(b: &Bundle, kind: DotKind) -> Option<&DotTable> {
 pub fn sample(m: &DistanceLayer, x: f64, y: f64) -> f64 {
     m.coverage_at(x as f32, y as f32) as f64
 }
+
+/// The page x range `[x0, x1)` of a distance layer's lattice.
+pub fn lattice_x(m: &DistanceLayer) -> (f32, f32) {
+    (m.origin_x.0, m.origin_x.0 + m.tile_cols as f32 * 8.0 * m.pitch_mm)
+}
+
+/// Whether a lattice starting at `x0` and ending at `x1` covers `[lo, hi]`
+/// and starts at most a tile's reach (two pitches) and one pitch before `lo`.
+pub fn covers_tightly(m: &DistanceLayer, lo: f32, hi: f32) -> bool {
+    let (x0, x1) = lattice_x(m);
+    x0 <= lo && x0 >= lo - 3.0 * m.pitch_mm - 1e-3 && x1 >= hi
+}
