@@ -101,29 +101,49 @@ impl<'a> FieldLayer<'a> {
         }
     }
 
-    /// The byte pairs left and right of lattice cell (`i`, row `cj`) for the
-    /// lattice rows above and below it, of each of four lanes.
+    /// For the tile row starting at index entry `tile_row` and four lanes'
+    /// cell columns `ci`: each lane's byte offset of its cell's column in
+    /// its stored tile (0 for a constant tile), and a mask of the lanes in
+    /// stored tiles with the code of the others (0 outside, 255 inside) in
+    /// units of `W`.
     #[inline(always)]
-    fn pairs(&self, tile_row: usize, cj: u32, ci: [u32; LANES]) -> (i16x8, i16x8) {
-        let j = (cj & (TILE_CELLS as u32 - 1)) as usize * TILE_SIDE;
-        let mut top = [0u16; LANES];
-        let mut bot = [0u16; LANES];
+    fn tile_lanes(&self, tile_row: usize, ci: [u32; LANES]) -> ([usize; LANES], i32x4, f32x4) {
+        let mut base = [0usize; LANES];
+        let mut stored = [0i32; LANES];
+        let mut constant = [0f32; LANES];
         for k in 0..LANES {
-            let tx = (ci[k] >> SHIFT) as usize;
-            let at = 4 * (tile_row + tx);
+            let at = 4 * (tile_row + (ci[k] >> SHIFT) as usize);
             let e = self.tiles.get(at..at + 4).map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
-            (top[k], bot[k]) = if e >= TILE_FIRST_STORED {
-                let a =
-                    (e - TILE_FIRST_STORED) as usize * TILE_SAMPLES + j + (ci[k] & (TILE_CELLS as u32 - 1)) as usize;
-                let pair = |a: usize| self.samples.get(a..a + 2).map_or(0, |p| u16::from_le_bytes([p[0], p[1]]));
-                (pair(a), pair(a + TILE_SIDE))
+            if e >= TILE_FIRST_STORED {
+                base[k] = (e - TILE_FIRST_STORED) as usize * TILE_SAMPLES + (ci[k] & (TILE_CELLS as u32 - 1)) as usize;
+                stored[k] = -1;
             } else if e == TILE_INSIDE {
-                (0xffff, 0xffff)
-            } else {
-                (0, 0)
-            };
+                constant[k] = (255 * W) as f32;
+            }
         }
-        let bytes: u8x16 = cast(u16x8::new([top[0], top[1], top[2], top[3], bot[0], bot[1], bot[2], bot[3]]));
+        (base, i32x4::new(stored), f32x4::new(constant))
+    }
+
+    /// The byte pairs at `base + j` (the lattice row above) and `base + j +
+    /// 9` (below) of four lanes, as (left, right) i16 lanes. Every offset is
+    /// clamped to the last pair that fits, so each read is in bounds by
+    /// construction; a stored tile's offsets always fit.
+    #[inline(always)]
+    fn pairs(&self, base: &[usize; LANES], j: usize) -> (i16x8, i16x8) {
+        let s = self.samples;
+        let lim = s.len().saturating_sub(TILE_SIDE + 2);
+        let pair = |a: usize| s.get(a..a + 2).map_or(0, |p| u16::from_le_bytes([p[0], p[1]]));
+        let a = base.map(|b| (b + j).min(lim));
+        let bytes: u8x16 = cast(u16x8::new([
+            pair(a[0]),
+            pair(a[1]),
+            pair(a[2]),
+            pair(a[3]),
+            pair(a[0] + TILE_SIDE),
+            pair(a[1] + TILE_SIDE),
+            pair(a[2] + TILE_SIDE),
+            pair(a[3] + TILE_SIDE),
+        ]));
         (i16x8::from_u8x16_low(bytes), i16x8::from_u8x16_high(bytes))
     }
 
@@ -165,15 +185,24 @@ impl<'a> FieldLayer<'a> {
             let w: i16x8 = cast(((i32x4::splat(W) - wi) | (wi << 16)) & real);
             let ci = cast::<i32x4, [u32; LANES]>(ci);
             let group_phase = f32x4::splat(base + (cols - c_lo) as u32 as f32 * step_col) + lane_phase;
+            // The lanes' tiles change only every eight lattice rows.
+            let mut ty_now = u32::MAX;
+            let (mut bases, mut stored, mut constant) = ([0usize; LANES], i32x4::ZERO, f32x4::ZERO);
             for r in r_lo..r_hi {
                 let fy = ((f.row_y(r) - self.y0) * self.inv_pitch).max(0.0);
-                let cj = (fy as i32).clamp(0, self.rmax);
+                let cj = (fy as i32).clamp(0, self.rmax) as u32;
                 let wy = (fy - cj as f32).min(1.0);
-                let tile_row = (cj as u32 >> SHIFT) as usize * self.tile_cols as usize;
-                let (top, bot) = self.pairs(tile_row, cj as u32, ci);
+                let ty = cj >> SHIFT;
+                if ty != ty_now {
+                    ty_now = ty;
+                    (bases, stored, constant) = self.tile_lanes(ty as usize * self.tile_cols as usize, ci);
+                }
+                let j = (cj & (TILE_CELLS as u32 - 1)) as usize * TILE_SIDE;
+                let (top, bot) = self.pairs(&bases, j);
                 let t = f32x4::from_i32x4(top.dot(w));
                 let b = f32x4::from_i32x4(bot.dot(w));
-                let v = t + (b - t) * wy;
+                // A constant tile's code, in units of `W`, whatever was read.
+                let v = cast::<i32x4, f32x4>(stored).select(t + (b - t) * wy, constant);
                 // Lanes past the run have weights 0: code 0, amplitude 0.
                 let a = (v * slope + offset).fast_max(f32x4::ZERO).fast_min(f32x4::ONE);
                 let a = a & cast::<i32x4, f32x4>(real);
