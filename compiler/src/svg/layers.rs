@@ -162,8 +162,8 @@ struct Pending {
     elements: Vec<usize>,
 }
 
-/// The lattice pitch of distance layers at a resolution of `px` px/mm: ten
-/// pixels (1 mm at the default 10 px/mm), and at most half the narrowest
+/// The lattice pitch of distance layers at a resolution of `px` px/mm: five
+/// pixels (0.5 mm at the default 10 px/mm), and at most half the narrowest
 /// vibrating band's width. A distance is affine across a cell wherever one
 /// straight edge is nearest, so its interpolation is exact there at any
 /// pitch; the pitch bounds how sharp a corner stays and how far a curve of
@@ -171,7 +171,7 @@ struct Pending {
 /// points beside a band's centre line are inside the band, so a narrow band
 /// is never lost between them.
 pub(crate) fn field_pitch(px: f32, band_mm: Option<f64>) -> f64 {
-    let h = 10.0 / px as f64;
+    let h = 5.0 / px as f64;
     match band_mm {
         Some(w) if w > 0.0 => h.min(w / 2.0),
         _ => h,
@@ -203,6 +203,9 @@ pub(crate) fn build(drawing: &Drawing, opts: &CompileOptions, px: f32, diags: &m
     let mut b = Built::default();
     let mut requests: Vec<BrushRequest> = Vec::new();
     let mut pending: Vec<Pending> = Vec::new();
+    // Where layers can be felt: the page, on the device's surface.
+    let felt =
+        (page.width_mm.min(opts.profile.surface_w_mm as f64), page.height_mm.min(opts.profile.surface_h_mm as f64));
     for (index, e) in drawing.elements.iter().enumerate() {
         if e.styles.is_empty() {
             continue;
@@ -258,11 +261,11 @@ pub(crate) fn build(drawing: &Drawing, opts: &CompileOptions, px: f32, diags: &m
             match *style {
                 Style::Vibrate(v) => {
                     let fk = FeatureKind::Vibrate { width_mm: v.width_mm, freq_hz: v.freq_hz };
-                    layer_feature(&mut b, &mut pending, index, e, LayerStyle::Vibrate(v), fk, page, diags);
+                    layer_feature(&mut b, &mut pending, index, e, LayerStyle::Vibrate(v), fk, felt, diags);
                 }
                 Style::Grating(g) => {
                     let fk = FeatureKind::Grating { wavelength_mm: g.wavelength_mm, angle_deg: g.angle_deg };
-                    layer_feature(&mut b, &mut pending, index, e, LayerStyle::Grating(g), fk, page, diags);
+                    layer_feature(&mut b, &mut pending, index, e, LayerStyle::Grating(g), fk, felt, diags);
                 }
                 Style::Dots(d) => {
                     let pts = dots::along(polylines, d.radius_mm, d.spacing_mm, &e.name, diags);
@@ -303,8 +306,7 @@ pub(crate) fn build(drawing: &Drawing, opts: &CompileOptions, px: f32, diags: &m
             }
         }
     }
-    let surface = (opts.profile.surface_w_mm as f64, opts.profile.surface_h_mm as f64);
-    distance_layers(&mut b, drawing, &pending, px, surface);
+    distance_layers(&mut b, drawing, &pending, px, felt);
     braille_texts(&mut b, drawing, opts, diags);
     if !requests.is_empty() {
         b.strokes = brush::compile_strokes(&requests, &opts.profile, diags);
@@ -322,7 +324,7 @@ fn layer_feature(
     e: &Element,
     style: LayerStyle,
     fk: FeatureKind,
-    page: Page,
+    felt: (f64, f64),
     diags: &mut Vec<Diagnostic>,
 ) {
     let (half_band, amplitude) = match style {
@@ -336,7 +338,7 @@ fn layer_feature(
     }
     let on_page = crate::geometry::bounds(outline(e))
         .map(|r| (r.0 - half_band, r.1 - half_band, r.2 + half_band, r.3 + half_band))
-        .map(|r| (r.0.max(0.0), r.1.max(0.0), r.2.min(page.width_mm), r.3.min(page.height_mm)))
+        .map(|r| (r.0.max(0.0), r.1.max(0.0), r.2.min(felt.0), r.3.min(felt.1)))
         .filter(|r| r.2 > r.0 && r.3 > r.1);
     let Some(bbox) = on_page else {
         diags.push(
