@@ -357,11 +357,12 @@ fn fill_bits(fills: &[(&[Polyline], FillRule)], ox: f64, oy: f64, h: f64, nx: us
                 let (lo, hi) = (s.0.1.min(s.1.1), s.0.1.max(s.1.1));
                 let j0 = ((lo - oy) / h).ceil().max(0.0);
                 let j1 = ((hi - oy) / h).floor().min(ny as f64 - 1.0);
-                if !(j0 <= j1) {
+                // NaN bounds (never from finite geometry) give no rows.
+                if j0.is_nan() || j1.is_nan() || j0 > j1 {
                     continue;
                 }
-                for j in j0 as usize..=j1 as usize {
-                    by_row[j].push((s, shape));
+                for row in by_row.iter_mut().take(j1 as usize + 1).skip(j0 as usize) {
+                    row.push((s, shape));
                 }
             }
         }

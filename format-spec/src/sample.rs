@@ -214,21 +214,6 @@ pub fn every_kind() -> Bundle {
     b
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::BundleView;
-
-    #[test]
-    fn samples_are_valid_and_read_back() {
-        for b in [tiny(), every_kind()] {
-            let bytes = b.to_bytes().unwrap();
-            assert_eq!(Bundle::from_bytes(&bytes).unwrap(), b);
-            assert_eq!(Bundle::from_view(&BundleView::parse(&bytes).unwrap()).to_bytes().unwrap(), bytes);
-        }
-    }
-}
-
 /// A small distance layer (a grating style of two elements): 3 x 2 tiles of
 /// 4 mm, one inside, two outside and three stored, with a soft edge.
 pub fn distance_layer() -> DistanceLayer {
@@ -245,5 +230,20 @@ pub fn distance_layer() -> DistanceLayer {
         sources: vec![0, 2],
         tiles: vec![0, 2, 3, 1, 4, 0],
         samples: (0..3 * crate::TILE_SAMPLES).map(|k| (k * 7 % 256) as u8).collect(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::BundleView;
+
+    #[test]
+    fn samples_are_valid_and_read_back() {
+        for b in [tiny(), every_kind()] {
+            let bytes = b.to_bytes().unwrap();
+            assert_eq!(Bundle::from_bytes(&bytes).unwrap(), b);
+            assert_eq!(Bundle::from_view(&BundleView::parse(&bytes).unwrap()).to_bytes().unwrap(), bytes);
+        }
     }
 }

@@ -117,10 +117,10 @@ fn an_inside_tile_is_full_amplitude_and_an_outside_one_rests() {
     // of the lattice, the others in the inside tile; 4..7 (44.6..48.2) outside.
     let row = &frame[8..16];
     assert_eq!(row[0], 0);
-    for c in 1..4 {
+    for (c, &code) in row.iter().enumerate().take(4).skip(1) {
         let x = 39.8 + 1.2 * c as f64;
         let want = (0.9 * eq3(x, 26.5, 2.0, 90.0) * 1023.0).round() as i64;
-        assert!((row[c] as i64 - want).abs() <= 1, "column {c}: {} against {want}", row[c]);
+        assert!((code as i64 - want).abs() <= 1, "column {c}: {code} against {want}");
     }
     assert!(row[4..].iter().all(|&c| c == 0), "{row:?}");
 }
