@@ -109,7 +109,7 @@ fn mistakes_in_a_hand_edited_folder_name_the_file_and_what_was_expected() {
         ),
         (
             "manifest.toml",
-            manifest.replace("format = \"1.0\"", "format = \"2.0\""),
+            manifest.replace("format = \"2.0\"", "format = \"3.0\""),
             "manifest.toml:".into(),
             "key `format`",
         ),
