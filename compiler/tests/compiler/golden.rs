@@ -16,8 +16,8 @@ fn dir() -> PathBuf {
 }
 
 /// One character per 2 x 2 mm cell: ' ' empty, '.' partial, '#' mostly full.
-/// A distance layer's edge profile every 2 mm (at cell centres): `#` above
-/// 0.75, `.` above 0, blank at 0.
+/// A distance layer's edge profile in cells of 2 mm, the largest of 9 x 9
+/// points in each: `#` above 0.75, `.` above 0, blank at 0.
 fn ascii_field(d: &taxel_format::DistanceLayer) -> String {
     let (w, h) = (d.tile_cols as f32 * 8.0 * d.pitch_mm, d.tile_rows as f32 * 8.0 * d.pitch_mm);
     let mut out = String::new();
@@ -26,7 +26,13 @@ fn ascii_field(d: &taxel_format::DistanceLayer) -> String {
         out.push_str("      |");
         let mut x = 1.0;
         while x < w {
-            let v = d.coverage_at(d.origin_x.0 + x, d.origin_y.0 + y);
+            let mut v = 0.0f32;
+            for j in 0..9 {
+                for i in 0..9 {
+                    let (px, py) = (x - 1.0 + i as f32 * 0.25, y - 1.0 + j as f32 * 0.25);
+                    v = v.max(d.coverage_at(d.origin_x.0 + px, d.origin_y.0 + py));
+                }
+            }
             out.push(if v > 0.75 {
                 '#'
             } else if v > 0.0 {
