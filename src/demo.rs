@@ -140,7 +140,7 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
         Family::Laterotactile => {
             let prep = Prepared::new(&input, &opts, &bundle, trace.as_deref(), DEMO_EVAL_FRAMES)?;
             let reference = prep.reference_frames("all");
-            let m = prep.measure(&bundle, &reference)?;
+            let m = prep.measure(&bundle, &reference, "all")?;
             write_frames(&out.join("frames").join(format!("{}.csv", s.name)), &bytes, &prep.positions)?;
             Ok(Figures {
                 layers,

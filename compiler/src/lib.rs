@@ -13,6 +13,7 @@
 pub mod annotation;
 pub mod brush;
 mod diagnostic;
+pub mod distance;
 pub mod drawing;
 pub mod geometry;
 pub mod mesh;

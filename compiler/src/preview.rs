@@ -9,7 +9,9 @@
 //! shows exactly what was compiled.
 
 use resvg::tiny_skia::Pixmap;
-use taxel_format::{Bundle, Chunk, DotKind, DotTable, HeightField, MaskKind, MaskLayer, MaskSamples, StrokeTable};
+use taxel_format::{
+    Bundle, Chunk, DistanceLayer, DotKind, DotTable, HeightField, MaskKind, MaskLayer, MaskSamples, StrokeTable,
+};
 
 use crate::options::CompileOptions;
 use crate::{Compiled, svg};
@@ -122,15 +124,26 @@ fn draw_mask(c: &mut Canvas, m: &MaskLayer) {
     let px = m.px_per_mm as f64;
     let (x0, y0) = (m.origin_x.0 as f64, m.origin_y.0 as f64);
     let (x1, y1) = (x0 + m.width as f64 / px, y0 + m.height as f64 / px);
-    let amp = m.amplitude as f64;
-    for j in c.rows(y0, y1) {
-        for i in c.cols(x0, x1) {
+    draw_layer(c, m.kind, m.amplitude as f64, (x0, y0, x1, y1), |x, y| mask_value(m, x, y));
+}
+
+/// A distance layer: its edge profile at each preview pixel.
+fn draw_distance(c: &mut Canvas, d: &DistanceLayer) {
+    let (x0, y0) = (d.origin_x.0 as f64, d.origin_y.0 as f64);
+    let span = 8.0 * d.pitch_mm as f64;
+    let (x1, y1) = (x0 + d.tile_cols as f64 * span, y0 + d.tile_rows as f64 * span);
+    draw_layer(c, d.kind, d.amplitude as f64, (x0, y0, x1, y1), |x, y| d.coverage_at(x as f32, y as f32) as f64);
+}
+
+fn draw_layer(c: &mut Canvas, kind: MaskKind, amp: f64, b: (f64, f64, f64, f64), value: impl Fn(f64, f64) -> f64) {
+    for j in c.rows(b.1, b.3) {
+        for i in c.cols(b.0, b.2) {
             let (x, y) = c.at(i, j);
-            let v = mask_value(m, x, y) * amp;
+            let v = value(x, y) * amp;
             if v <= 0.0 {
                 continue;
             }
-            match m.kind {
+            match kind {
                 // Seed 000 drew vibration as a noise texture.
                 MaskKind::Vibration { .. } => c.paint(i, j, VIBRATION, v * (0.25 + 0.75 * noise(i, j))),
                 // Eq. 3 with the page's y axis flipped, so angles are counter-clockwise as seen.
@@ -287,6 +300,11 @@ fn extent(b: &Bundle) -> (f64, f64, f64, f64) {
                 let (x, y) = (m.origin_x.0 as f64, m.origin_y.0 as f64);
                 grow(x, y, x + m.width as f64 / px, y + m.height as f64 / px);
             }
+            Chunk::Distance(d) => {
+                let (x, y) = (d.origin_x.0 as f64, d.origin_y.0 as f64);
+                let span = 8.0 * d.pitch_mm as f64;
+                grow(x, y, x + d.tile_cols as f64 * span, y + d.tile_rows as f64 * span);
+            }
             Chunk::Dots(t) => {
                 for d in &t.dots {
                     let r = d.radius.0 as f64;
@@ -337,6 +355,7 @@ pub fn render_bundle(bundle: &Bundle, backdrop: Option<&Backdrop>) -> Picture {
         match ch {
             Chunk::Height(f) => draw_height(&mut c, f),
             Chunk::Mask(m) => draw_mask(&mut c, m),
+            Chunk::Distance(d) => draw_distance(&mut c, d),
             _ => {}
         }
     }

@@ -12,7 +12,7 @@ use crate::error::FormatError;
 /// line-ending conversion.
 pub const MAGIC: [u8; 8] = *b"\x89TXL\r\n\x1a\n";
 /// The major version this crate reads and writes.
-pub const FORMAT_MAJOR: u16 = 1;
+pub const FORMAT_MAJOR: u16 = 2;
 /// The minor version this crate writes.
 pub const FORMAT_MINOR: u16 = 0;
 /// Length of the fixed header.

@@ -153,9 +153,14 @@ impl fmt::Display for FormatError {
             FormatError::BadMagic { found } => {
                 write!(f, "not a taxel bundle: the file starts with {found:02x?} instead of the taxel magic")
             }
+            FormatError::UnsupportedVersion { major, minor } if *major < crate::FORMAT_MAJOR => write!(
+                f,
+                "bundle format version {major}.{minor} is older than this reader's {}.x (layers by style with exact edges); rebuild the bundle from its drawing with `taxel build`",
+                crate::FORMAT_MAJOR
+            ),
             FormatError::UnsupportedVersion { major, minor } => write!(
                 f,
-                "bundle format version {major}.{minor} is not supported: this reader reads major version {}",
+                "bundle format version {major}.{minor} is not supported: this reader reads major version {}; use a newer taxel",
                 crate::FORMAT_MAJOR
             ),
             FormatError::FileLength { header, actual } => {

@@ -1,4 +1,4 @@
-//! The taxel bundle format, version 1.
+//! The taxel bundle format, version 2.
 //!
 //! A bundle is one packed binary file that a tactile device's player reads in
 //! place: a 32-byte header, a table of tagged chunks (each with its length,
@@ -34,6 +34,7 @@ extern crate std;
 
 mod bytes;
 mod container;
+mod distance;
 mod dots;
 mod error;
 mod height;
@@ -52,6 +53,10 @@ mod view;
 
 pub use container::{
     CHUNK_ALIGN, FORMAT_MAJOR, FORMAT_MINOR, HEADER_LEN, MAGIC, MAX_CHUNKS, MAX_FILE_LEN, TABLE_ENTRY_LEN,
+};
+pub use distance::{
+    DISTANCE_ZERO, DistanceLayer, DistanceView, MAX_DISTANCE_TILES, MAX_SOFT_MM, TILE_CELLS, TILE_FIRST_STORED,
+    TILE_INSIDE, TILE_OUTSIDE, TILE_SAMPLES, TILE_SIDE, profile as edge_profile, ramp as edge_ramp,
 };
 pub use dots::{Dot, DotGrid, DotKind, DotRun, DotTable, DotTableView, MAX_DOT_GRID_CELLS, MAX_DOTS};
 pub use error::FormatError;
@@ -83,6 +88,10 @@ impl Tag {
     pub const VIBRATION: Tag = Tag(*b"VIBR");
     /// A grating layer: a mask, a wavelength and an angle. Required.
     pub const GRATING: Tag = Tag(*b"GRAT");
+    /// A vibration layer by style: a signed distance field in sparse tiles and a frequency. Required.
+    pub const VIBRATION_DISTANCE: Tag = Tag(*b"VDST");
+    /// A grating layer by style: a signed distance field, a wavelength and an angle. Required.
+    pub const GRATING_DISTANCE: Tag = Tag(*b"GDST");
     /// A dot table (outline dots, point symbols or braille). Required.
     pub const DOTS: Tag = Tag(*b"DOTS");
     /// A stroke table for a vibrotactile grid. Required.

@@ -4,6 +4,7 @@ use alloc::vec::Vec;
 
 use crate::Tag;
 use crate::container::{self, Encoded};
+use crate::distance::DistanceLayer;
 use crate::dots::DotTable;
 use crate::error::FormatError;
 use crate::height::HeightField;
@@ -31,6 +32,8 @@ pub struct RawChunk {
 pub enum Chunk {
     /// A vibration or grating mask (`VIBR` / `GRAT`).
     Mask(MaskLayer),
+    /// A vibration or grating layer by style, as a distance field (`VDST` / `GDST`).
+    Distance(DistanceLayer),
     /// A dot table (`DOTS`).
     Dots(DotTable),
     /// A stroke table (`STRK`).
@@ -50,6 +53,7 @@ impl Chunk {
     pub fn tag(&self) -> Tag {
         match self {
             Chunk::Mask(m) => m.kind.tag(),
+            Chunk::Distance(d) => d.tag(),
             Chunk::Dots(_) => Tag::DOTS,
             Chunk::Strokes(_) => Tag::STROKES,
             Chunk::Height(_) => Tag::HEIGHT,
@@ -94,6 +98,7 @@ impl Bundle {
             let index = u32::try_from(i + 1).unwrap_or(u32::MAX);
             match c {
                 Chunk::Mask(m) => m.check_shape(index)?,
+                Chunk::Distance(d) => d.check_shape(index)?,
                 Chunk::Strokes(s) => s.check_shape()?,
                 Chunk::Height(h) => h.check_shape(index)?,
                 Chunk::Pins(p) => p.check_shape(index)?,
@@ -101,6 +106,7 @@ impl Bundle {
             }
             encoded.push(match c {
                 Chunk::Mask(m) => Encoded { tag: m.kind.tag(), required: true, data: m.encode() },
+                Chunk::Distance(d) => Encoded { tag: d.tag(), required: true, data: d.encode() },
                 Chunk::Dots(d) => Encoded { tag: Tag::DOTS, required: true, data: d.encode() },
                 Chunk::Strokes(s) => Encoded { tag: Tag::STROKES, required: true, data: s.encode() },
                 Chunk::Height(h) => Encoded { tag: Tag::HEIGHT, required: true, data: h.encode() },
@@ -120,6 +126,7 @@ impl Bundle {
             .chunks()
             .map(|c| match c {
                 ChunkView::Mask(m) => Chunk::Mask(MaskLayer::from_view(&m)),
+                ChunkView::Distance(d) => Chunk::Distance(DistanceLayer::from_view(&d)),
                 ChunkView::Dots(d) => Chunk::Dots(DotTable::from_view(&d)),
                 ChunkView::Strokes(s) => Chunk::Strokes(StrokeTable::from_view(&s)),
                 ChunkView::Height(h) => Chunk::Height(HeightField::from_view(&h)),

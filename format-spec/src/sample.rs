@@ -7,9 +7,9 @@ use alloc::vec;
 use alloc::vec::Vec;
 
 use crate::{
-    ActuatorIndex, Bundle, Chunk, DeviceProfile, Dot, DotKind, DotTable, Drive, FIELD_CONTACT, FIELD_EDGE,
-    FamilyParams, FixedStr, GridParams, HeightField, Manifest, MaskKind, MaskLayer, MaskSamples, MilliHertz, Mm,
-    Provenance, ProvenanceEntry, RawChunk, Stroke, StrokePoint, StrokeTable, Tag, Tick,
+    ActuatorIndex, Bundle, Chunk, DeviceProfile, DistanceLayer, Dot, DotKind, DotTable, Drive, FIELD_CONTACT,
+    FIELD_EDGE, FamilyParams, FixedStr, GridParams, HeightField, Manifest, MaskKind, MaskLayer, MaskSamples,
+    MilliHertz, Mm, Provenance, ProvenanceEntry, RawChunk, Stroke, StrokePoint, StrokeTable, Tag, Tick,
 };
 
 /// The tag of the unknown optional chunk in [`every_kind`].
@@ -104,6 +104,7 @@ pub fn every_kind() -> Bundle {
         height: 3,
         samples: MaskSamples::U16(vec![0, 1, 255, 256, 65_534, 65_535]),
     }));
+    b.chunks.push(Chunk::Distance(distance_layer()));
     let dot = |x: f32, y: f32, radius: f32, amplitude: f32, source| Dot {
         x: Mm(x),
         y: Mm(y),
@@ -211,6 +212,25 @@ pub fn every_kind() -> Bundle {
     }));
     b.chunks.push(Chunk::Raw(RawChunk { tag: EXTRA_TAG, required: false, data: vec![1, 2, 3, 4, 5] }));
     b
+}
+
+/// A small distance layer (a grating style of two elements): 3 x 2 tiles of
+/// 4 mm, one inside, two outside and three stored, with a soft edge.
+pub fn distance_layer() -> DistanceLayer {
+    DistanceLayer {
+        kind: MaskKind::Grating { wavelength: Mm(3.0), angle_deg: 30.0 },
+        amplitude: 0.9,
+        soft_mm: 0.3,
+        step_mm: 0.01,
+        origin_x: Mm(2.0),
+        origin_y: Mm(-1.5),
+        pitch_mm: 0.5,
+        tile_cols: 3,
+        tile_rows: 2,
+        sources: vec![0, 2],
+        tiles: vec![0, 2, 3, 1, 4, 0],
+        samples: (0..3 * crate::TILE_SAMPLES).map(|k| (k * 7 % 256) as u8).collect(),
+    }
 }
 
 #[cfg(test)]

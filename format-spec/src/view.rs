@@ -2,6 +2,7 @@
 
 use crate::Tag;
 use crate::container;
+use crate::distance::DistanceView;
 use crate::dots::DotTableView;
 use crate::error::FormatError;
 use crate::height::HeightFieldView;
@@ -30,8 +31,10 @@ pub struct BundleView<'a> {
 /// One chunk of a validated bundle (the manifest excepted).
 #[derive(Debug, Clone, Copy)]
 pub enum ChunkView<'a> {
-    /// A vibration or grating mask.
+    /// A vibration or grating raster mask (hand-painted masks).
     Mask(MaskView<'a>),
+    /// A vibration or grating layer by style, as a distance field.
+    Distance(DistanceView<'a>),
     /// A dot table.
     Dots(DotTableView<'a>),
     /// A stroke table.
@@ -55,9 +58,15 @@ pub enum ChunkView<'a> {
 
 fn known_required(tag: Tag) -> Option<bool> {
     match tag {
-        Tag::MANIFEST | Tag::VIBRATION | Tag::GRATING | Tag::DOTS | Tag::STROKES | Tag::HEIGHT | Tag::PINS => {
-            Some(true)
-        }
+        Tag::MANIFEST
+        | Tag::VIBRATION
+        | Tag::GRATING
+        | Tag::VIBRATION_DISTANCE
+        | Tag::GRATING_DISTANCE
+        | Tag::DOTS
+        | Tag::STROKES
+        | Tag::HEIGHT
+        | Tag::PINS => Some(true),
         Tag::PROVENANCE => Some(false),
         _ => None,
     }
@@ -196,6 +205,9 @@ fn parse_chunk<'a>(
     let actuators = profile.actuator_count();
     Ok(Some(match tag {
         Tag::VIBRATION | Tag::GRATING => ChunkView::Mask(MaskView::parse(data, tag, index)?),
+        Tag::VIBRATION_DISTANCE | Tag::GRATING_DISTANCE => {
+            ChunkView::Distance(DistanceView::parse(data, tag, index, full)?)
+        }
         Tag::DOTS => ChunkView::Dots(DotTableView::parse(data, index, full)?),
         Tag::STROKES => ChunkView::Strokes(StrokeTableView::parse(data, index, actuators, full)?),
         Tag::HEIGHT => ChunkView::Height(HeightFieldView::parse(data, index, full)?),

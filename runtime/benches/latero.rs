@@ -1,5 +1,7 @@
 //! Cost of one 64-actuator STRESS² frame: all three primitives active at
-//! once, each alone, and dots in a scene of 1 dot against 10,000 dots.
+//! once, each alone, and dots in a scene of 1 dot against 10,000 dots; the
+//! same with distance layers (one per style), and a distance layer of one
+//! region against one of 5,000 regions (every tile of a 300 mm square stored).
 //!
 //! Run briefly with
 //! `cargo bench -p taxel-runtime --bench latero -- --warm-up-time 1 --measurement-time 3`.
@@ -8,8 +10,8 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use taxel_format::{
-    Bundle, BundleView, Chunk, DeviceProfile, Dot, DotKind, DotTable, Manifest, MaskKind, MaskLayer, MaskSamples,
-    MilliHertz, Mm, Tick, profiles,
+    Bundle, BundleView, Chunk, DeviceProfile, DistanceLayer, Dot, DotKind, DotTable, Manifest, MaskKind, MaskLayer,
+    MaskSamples, MilliHertz, Mm, Tick, profiles,
 };
 use taxel_runtime::latero::LateroPlayer;
 
@@ -54,6 +56,44 @@ fn grating(x0: f32, y0: f32, w: u32, h: u32) -> Chunk {
     mask(MaskKind::Grating { wavelength: Mm(3.0), angle_deg: 30.0 }, x0, y0, w, h)
 }
 
+/// A distance layer (pitch 0.5 mm, hard edge) over `[x0, x0 + 4 cols) x
+/// [y0, y0 + 4 rows)` mm whose tiles are all stored when `stored`, else only
+/// the tiles under the carrier: the codes climb across each tile, so that
+/// every actuator reads samples and lands between 0 and full amplitude.
+fn field(kind: MaskKind, x0: f32, y0: f32, cols: u32, rows: u32, stored: bool) -> Chunk {
+    let mut tiles = Vec::new();
+    let mut samples = Vec::new();
+    for r in 0..rows {
+        for c in 0..cols {
+            let (tx, ty) = (x0 + 4.0 * c as f32, y0 + 4.0 * r as f32);
+            let near = (tx - X).abs() < 16.0 && (ty - Y).abs() < 16.0;
+            if stored || near {
+                tiles.push(2 + (samples.len() / 81) as u32);
+                samples.extend((0..81u32).map(|k| (100 + (k % 9) * 7 + (k / 9) * 3) as u8));
+            } else {
+                tiles.push((c + r) % 2);
+            }
+        }
+    }
+    Chunk::Distance(DistanceLayer {
+        kind,
+        amplitude: 0.8,
+        soft_mm: 0.0,
+        step_mm: 0.01,
+        origin_x: Mm(x0),
+        origin_y: Mm(y0),
+        pitch_mm: 0.5,
+        tile_cols: cols,
+        tile_rows: rows,
+        sources: vec![],
+        tiles,
+        samples,
+    })
+}
+
+const VIBRATE: MaskKind = MaskKind::Vibration { freq: MilliHertz(50_000) };
+const GRATE: MaskKind = MaskKind::Grating { wavelength: Mm(3.0), angle_deg: 30.0 };
+
 fn dots(list: impl IntoIterator<Item = (f32, f32)>) -> Chunk {
     let dots = list.into_iter().map(|(x, y)| Dot { x: Mm(x), y: Mm(y), radius: Mm(1.0), amplitude: 1.0, source: None });
     Chunk::Dots(DotTable { kind: DotKind::Outline, dots: dots.collect() })
@@ -90,6 +130,31 @@ fn latero(c: &mut Criterion) {
         "latero frame: vibration + grating + dots",
         vec![vibration(X - 10.0, Y - 10.0, 10, 20), grating(X, Y - 10.0, 10, 20), dots([(X, Y - 2.0), (X, Y + 2.0)])],
     );
+    // The same with distance layers.
+    bench_scene(
+        c,
+        "latero frame (distance): vibration + grating + dots",
+        vec![
+            field(VIBRATE, X - 12.0, Y - 12.0, 3, 6, true),
+            field(GRATE, X, Y - 12.0, 3, 6, true),
+            dots([(X, Y - 2.0), (X, Y + 2.0)]),
+        ],
+    );
+    bench_scene(c, "latero frame (distance): vibration alone", vec![field(VIBRATE, X - 12.0, Y - 12.0, 6, 6, true)]);
+    bench_scene(c, "latero frame (distance): grating alone", vec![field(GRATE, X - 12.0, Y - 12.0, 6, 6, true)]);
+    // Frame-cost independence: the same two styles over one region (the
+    // tiles near the carrier stored, the rest flags) and over 5,000 regions
+    // (all 5,625 tiles of a 300 mm square stored, 456 kB per layer).
+    for (name, stored) in [("1 region", false), ("5,000 regions", true)] {
+        bench_scene(
+            c,
+            &format!("latero frame (distance): vibration + grating, {name}"),
+            vec![
+                field(VIBRATE, X - 150.0, Y - 150.0, 75, 75, stored),
+                field(GRATE, X - 150.0, Y - 150.0, 75, 75, stored),
+            ],
+        );
+    }
     bench_scene(c, "latero frame: vibration alone", vec![vibration(X - 10.0, Y - 10.0, 20, 20)]);
     bench_scene(c, "latero frame: grating alone", vec![grating(X - 10.0, Y - 10.0, 20, 20)]);
     bench_scene(c, "latero frame: 1 dot", vec![dots([(X, Y)])]);

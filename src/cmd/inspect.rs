@@ -97,6 +97,26 @@ fn describe(view: &BundleView<'_>) -> Value {
                 }
                 e
             }
+            ChunkView::Distance(dv) => {
+                sources.extend((0..dv.source_count()).filter_map(|i| dv.source(i)));
+                let span = 8.0 * dv.pitch_mm;
+                let mut e = json!({
+                    "kind": match dv.kind { MaskKind::Vibration { .. } => "vibration-field", MaskKind::Grating { .. } => "grating-field" },
+                    "tiles": [dv.tile_cols, dv.tile_rows], "stored_tiles": dv.stored, "pitch_mm": dv.pitch_mm,
+                    "step_mm": dv.step_mm, "soft_mm": dv.soft_mm,
+                    "origin_mm": [dv.origin_x.0, dv.origin_y.0],
+                    "size_mm": [dv.tile_cols as f32 * span, dv.tile_rows as f32 * span],
+                    "amplitude": dv.amplitude, "elements": dv.source_count(),
+                });
+                match dv.kind {
+                    MaskKind::Vibration { freq } => e["freq_hz"] = json!(freq.hz()),
+                    MaskKind::Grating { wavelength, angle_deg } => {
+                        e["wavelength_mm"] = json!(wavelength.0);
+                        e["angle_deg"] = json!(angle_deg);
+                    }
+                }
+                e
+            }
             ChunkView::Dots(d) => {
                 let (mut rmin, mut rmax) = (f32::INFINITY, 0.0f32);
                 for k in 0..d.len() {
@@ -218,6 +238,28 @@ fn human(path: &Path, r: &Value) -> String {
                     c["height"],
                     c["bits"],
                     num(&c["px_per_mm"]),
+                    pair(&c["size_mm"], " x "),
+                    pair(&c["origin_mm"], ", ")
+                )
+            }
+            k @ ("vibration-field" | "grating-field") => {
+                let prim = if k == "vibration-field" {
+                    format!("vibration {} Hz", num(&c["freq_hz"]))
+                } else {
+                    format!("grating {} mm at {}°", num(&c["wavelength_mm"]), num(&c["angle_deg"]))
+                };
+                let edge = if c["soft_mm"].as_f64() == Some(0.0) {
+                    "hard edge".to_string()
+                } else {
+                    format!("soft edge {} mm", num(&c["soft_mm"]))
+                };
+                format!(
+                    "{prim}, amplitude {}, {edge}; {} element(s); distance field {} tiles ({} stored) every {} mm, {} mm from ({}) mm",
+                    num(&c["amplitude"]),
+                    c["elements"],
+                    pair(&c["tiles"], " x "),
+                    c["stored_tiles"],
+                    num(&c["pitch_mm"]),
                     pair(&c["size_mm"], " x "),
                     pair(&c["origin_mm"], ", ")
                 )

@@ -204,6 +204,7 @@ pub fn ladder(input: &Path, opts: &CompileOpts, base: &Bundle, trace: &Trace) ->
                 frame_us: m.sample_us,
                 max_error: max,
                 rms_error: rms,
+                far_error: None,
                 error_unit: unit.into(),
                 frames: m.compared,
                 run_ms,

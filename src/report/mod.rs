@@ -2,7 +2,8 @@
 //! settings, play each bundle on one reproducible trace, and measure every
 //! output against an exact reference (docs/report.md).
 //!
-//! Laterotactile scenes climb the mask resolution ladder. Each setting gives
+//! Laterotactile scenes climb the ladder of distance-field lattice pitches
+//! (`--resolution` R gives a pitch of 5 / R mm, docs/layers.md). Each setting gives
 //! one row per kernel present (vibration, grating, dots) and one for the whole
 //! composite: a kernel's row plays only that kernel's chunks and compares them
 //! with only that kernel's exact layers, so the plot shows one line per kernel.
@@ -27,8 +28,15 @@ use crate::cli::CompileOpts;
 use exact::ExactLayer;
 use trace::Trace;
 
-/// Mask resolutions (px/mm) on the ladder; the compiler's default is added when missing.
-pub const MASK_LADDER: [f32; 5] = [2.0, 4.0, 8.0, 16.0, 32.0];
+/// Lattice pitches (mm) of the distance layers on the ladder, coarse to
+/// fine; the compiler's default (0.5 mm) is among them. A vibrating band's
+/// lattice is at most half its width whatever the setting.
+pub const PITCH_LADDER: [f32; 4] = [2.0, 1.0, 0.5, 0.25];
+/// Half-width of the band around every exact edge left out of
+/// [`Row::far_error`], mm.
+pub const EDGE_BAND_MM: f64 = 0.05;
+/// Most frames whose actuators are classified as near or far from an edge.
+pub const MAX_FAR_FRAMES: usize = 2_000;
 /// Most frames compared against the reference per row (evenly spaced over the trace).
 pub const MAX_EVAL_FRAMES: usize = 20_000;
 /// Seed of the generated sweep when the scene has no trace.
@@ -55,6 +63,12 @@ pub struct Row {
     pub max_error: f64,
     /// Root-mean-square error, in `error_unit`.
     pub rms_error: f64,
+    /// Largest error at actuators farther than [`EDGE_BAND_MM`] from every
+    /// exact edge of the kernel's vibration and grating layers, in
+    /// `error_unit` (laterotactile scenes; over the first [`MAX_FAR_FRAMES`]
+    /// compared frames).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub far_error: Option<f64>,
     /// Unit of the errors.
     pub error_unit: String,
     /// Frames compared.
@@ -110,6 +124,8 @@ pub struct Measured {
     pub max_error: f64,
     /// RMS error in output steps.
     pub rms_error: f64,
+    /// Largest error in output steps at actuators away from every exact edge.
+    pub far_error: f64,
 }
 
 impl Prepared {
@@ -163,7 +179,7 @@ impl Prepared {
 
     /// Plays `bundle` on the whole trace (timed) and compares it at the
     /// compared ticks with `reference` (from [`Prepared::reference_frames`]).
-    pub fn measure(&self, bundle: &Bundle, reference: &[f64]) -> Result<Measured> {
+    pub fn measure(&self, bundle: &Bundle, reference: &[f64], kernel: &str) -> Result<Measured> {
         let n = self.profile.actuator_count();
         let max_code = ((1u32 << self.profile.output_bits.min(16)) - 1) as f64;
         let bytes = bundle.to_bytes().map_err(|e| anyhow::anyhow!("{e}"))?;
@@ -171,28 +187,63 @@ impl Prepared {
         let player = LateroPlayer::new(&view).map_err(|e| anyhow::anyhow!("{e}"))?;
         let frame_us = time_frames(&player, &self.positions, n);
         let mut out = vec![0u16; n];
-        let (mut max, mut sum2, mut count) = (0.0f64, 0.0f64, 0usize);
+        let (mut max, mut sum2, mut count, mut far) = (0.0f64, 0.0f64, 0usize, 0.0f64);
+        let regions: Vec<&exact::Region> = self
+            .reference
+            .iter()
+            .filter(|l| kernel == "all" || exact_kind(l) == kernel)
+            .filter_map(|l| match l {
+                ExactLayer::Vibration { region, .. } | ExactLayer::Grating { region, .. } => Some(region),
+                ExactLayer::Dots(_) => None,
+            })
+            .collect();
         for (i, &(tick, x, y)) in self.eval.iter().enumerate() {
             player.frame(Tick(tick), Mm(x as f32), Mm(y as f32), &mut out);
-            for (o, r) in out.iter().zip(reference.get(i * n..(i + 1) * n).unwrap_or(&[])) {
+            for (k, (o, r)) in out.iter().zip(reference.get(i * n..(i + 1) * n).unwrap_or(&[])).enumerate() {
                 let e = (*o as f64 - r * max_code).abs();
                 max = max.max(e);
                 sum2 += e * e;
                 count += 1;
+                if i < MAX_FAR_FRAMES && e > far && !near_edge(&regions, actuator(&self.profile, x, y, k)) {
+                    far = e;
+                }
             }
         }
-        Ok(Measured { bytes: bytes.len(), frame_us, max_error: max, rms_error: (sum2 / count.max(1) as f64).sqrt() })
+        Ok(Measured {
+            bytes: bytes.len(),
+            frame_us,
+            max_error: max,
+            rms_error: (sum2 / count.max(1) as f64).sqrt(),
+            far_error: far,
+        })
     }
+}
+
+/// Page position of actuator `k` with the carrier at `(x, y)`.
+fn actuator(p: &taxel_format::DeviceProfile, x: f64, y: f64, k: usize) -> (f64, f64) {
+    let (rows, cols) = (p.rows as f64, p.cols as f64);
+    let (row, col) = ((k / p.cols.max(1) as usize) as f64, (k % p.cols.max(1) as usize) as f64);
+    (x + (col - (cols - 1.0) / 2.0) * p.pitch_x_mm as f64, y + (row - (rows - 1.0) / 2.0) * p.pitch_y_mm as f64)
+}
+
+/// Whether an exact edge of any region passes within [`EDGE_BAND_MM`] of
+/// `p`: coverage at `p` differs from coverage at one of 16 points on the
+/// circle of that radius around it.
+fn near_edge(regions: &[&exact::Region], p: (f64, f64)) -> bool {
+    regions.iter().any(|r| {
+        let here = r.covers(p);
+        (0..16).any(|k| {
+            let a = k as f64 * std::f64::consts::TAU / 16.0;
+            r.covers((p.0 + EDGE_BAND_MM * a.cos(), p.1 + EDGE_BAND_MM * a.sin())) != here
+        })
+    })
 }
 
 /// Runs the report for `input`. `trace` overrides the scene's own trace.
 pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>) -> Result<Report> {
     let default_px = taxel_compiler::DEFAULT_PX_PER_MM;
-    let mut ladder: Vec<f32> = MASK_LADDER.to_vec();
-    if !ladder.contains(&default_px) {
-        ladder.push(default_px);
-        ladder.sort_by(f32::total_cmp);
-    }
+    // Each pitch as the resolution that gives it (5 / pitch px/mm).
+    let ladder: Vec<f32> = PITCH_LADDER.iter().map(|h| 5.0 / h).collect();
     // Compile once at the default for the reference (this also warms fonts and caches).
     let base = compile(input, opts, None)?.0;
     if base.manifest.profile.family() == Family::Grid {
@@ -228,17 +279,18 @@ pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>) -> Result<Rep
     for &px in &ladder {
         let (bundle, compile_ms) = compile(input, opts, Some(px))?;
         for (k, reference) in kernels.iter().zip(&refs) {
-            let m = prep.measure(&only_kernel(&bundle, k), reference)?;
+            let m = prep.measure(&only_kernel(&bundle, k), reference, k)?;
             rows.push(Row {
                 kernel: k.clone(),
-                setting: px as f64,
-                unit: "px/mm".into(),
+                setting: 5.0 / px as f64,
+                unit: "mm lattice pitch of the distance layers (at most half a vibrating band's width)".into(),
                 default: px == default_px,
                 compile_ms,
                 bundle_bytes: m.bytes,
                 frame_us: m.frame_us,
                 max_error: m.max_error,
                 rms_error: m.rms_error,
+                far_error: Some(m.far_error),
                 error_unit: format!("{}-bit steps", prep.profile.output_bits),
                 frames: prep.eval.len(),
                 run_ms: compile_ms + m.frame_us * prep.positions.len() as f64 / 1000.0,
@@ -291,7 +343,8 @@ pub fn kernels_of(b: &Bundle) -> Vec<String> {
 
 fn chunk_kind(c: &Chunk) -> Option<&'static str> {
     match c {
-        Chunk::Mask(m) => Some(match m.kind {
+        Chunk::Mask(taxel_format::MaskLayer { kind, .. })
+        | Chunk::Distance(taxel_format::DistanceLayer { kind, .. }) => Some(match kind {
             taxel_format::MaskKind::Vibration { .. } => "vibration",
             taxel_format::MaskKind::Grating { .. } => "grating",
         }),
@@ -351,6 +404,11 @@ pub fn load_trace(input: &Path, explicit: Option<&Path>, bundle: &Bundle) -> Res
                 let (x0, y0) = (m.origin_x.0 as f64, m.origin_y.0 as f64);
                 let px = m.px_per_mm.max(1e-6) as f64;
                 boxes.push((x0, y0, x0 + m.width as f64 / px, y0 + m.height as f64 / px));
+            }
+            Chunk::Distance(d) => {
+                let (x0, y0) = (d.origin_x.0 as f64, d.origin_y.0 as f64);
+                let span = 8.0 * d.pitch_mm as f64;
+                boxes.push((x0, y0, x0 + d.tile_cols as f64 * span, y0 + d.tile_rows as f64 * span));
             }
             Chunk::Height(h) => {
                 let (x0, y0, c) = (h.origin_x.0 as f64, h.origin_y.0 as f64, h.cell.0 as f64);

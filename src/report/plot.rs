@@ -190,6 +190,7 @@ mod tests {
             frame_us: 0.0,
             max_error: err,
             rms_error: err,
+            far_error: None,
             error_unit: "steps".into(),
             frames: 1,
             run_ms: ms,

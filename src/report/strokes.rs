@@ -146,6 +146,7 @@ pub fn ladder(input: &Path, opts: &CompileOpts, base: &Bundle) -> Result<Vec<sup
             frame_us: best * 1e6 / ticks as f64,
             max_error: err.max_onset_ms.max(err.max_duration_ms),
             rms_error: err.rms_ms,
+            far_error: None,
             error_unit: "ms".into(),
             frames: ticks as usize,
             run_ms: compile_ms + best * 1000.0,

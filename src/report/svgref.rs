@@ -79,7 +79,8 @@ impl Drawing {
     }
 }
 
-/// The exact layers of a compiled drawing: one per mask chunk, plus the dot tables.
+/// The exact layers of a compiled drawing: one per element of each mask or
+/// distance layer, plus the dot tables.
 pub fn exact_layers(svg: &str, bundle: &Bundle, opts: &CompileOptions) -> Result<(Vec<ExactLayer>, Gaps), String> {
     let drawing = Drawing::read(svg, &bundle.manifest.profile, opts)?;
     let prov = bundle.provenance();
@@ -88,37 +89,42 @@ pub fn exact_layers(svg: &str, bundle: &Bundle, opts: &CompileOptions) -> Result
     // Every vibrating band, to cut out of the gratings (as the compiler does).
     let mut bands: Vec<(Arc<Index>, f64)> = Vec::new();
     let mut pending: Vec<(usize, Source, MaskKind, f64, f64)> = Vec::new();
+    // Each element of a vibration or grating layer (a raster mask's one
+    // source, every source of a distance layer), as (source, kind, amplitude).
+    let mut elements: Vec<(Option<u32>, MaskKind, f32)> = Vec::new();
     for chunk in &bundle.chunks {
         match chunk {
-            Chunk::Mask(m) => {
-                let entry = m.source.and_then(|s| prov.and_then(|p| p.entries.get(s as usize)));
-                let Some(geo) = entry.and_then(|e| drawing.source(&e.id, e.line)) else {
-                    gaps.missing.push(entry.map_or("(no provenance)".into(), |e| format!("{} line {}", e.id, e.line)));
-                    continue;
-                };
-                let width = match m.kind {
-                    MaskKind::Vibration { .. } => {
-                        let w = geo
-                            .styles
-                            .iter()
-                            .find_map(|s| match s {
-                                Style::Vibrate(v) => Some(v.width_mm),
-                                _ => None,
-                            })
-                            .unwrap_or(DEFAULT_BAND_MM);
-                        bands.push((Arc::new(Index::new(&geo.polys, false)), w));
-                        w
-                    }
-                    MaskKind::Grating { .. } => 0.0,
-                };
-                let band = if matches!(m.kind, MaskKind::Vibration { .. }) { bands.len() - 1 } else { usize::MAX };
-                pending.push((band, geo, m.kind, m.amplitude as f64, width));
-            }
+            Chunk::Mask(m) => elements.push((m.source, m.kind, m.amplitude)),
+            Chunk::Distance(d) => elements.extend(d.sources.iter().map(|&s| (Some(s), d.kind, d.amplitude))),
             Chunk::Dots(d) => layers.push(ExactLayer::Dots(
                 d.dots.iter().map(|d| (d.x.0 as f64, d.y.0 as f64, d.radius.0 as f64, d.amplitude as f64)).collect(),
             )),
             _ => {}
         }
+    }
+    for (source, kind, amplitude) in elements {
+        let entry = source.and_then(|s| prov.and_then(|p| p.entries.get(s as usize)));
+        let Some(geo) = entry.and_then(|e| drawing.source(&e.id, e.line)) else {
+            gaps.missing.push(entry.map_or("(no provenance)".into(), |e| format!("{} line {}", e.id, e.line)));
+            continue;
+        };
+        let width = match kind {
+            MaskKind::Vibration { .. } => {
+                let w = geo
+                    .styles
+                    .iter()
+                    .find_map(|s| match s {
+                        Style::Vibrate(v) => Some(v.width_mm),
+                        _ => None,
+                    })
+                    .unwrap_or(DEFAULT_BAND_MM);
+                bands.push((Arc::new(Index::new(&geo.polys, false)), w));
+                w
+            }
+            MaskKind::Grating { .. } => 0.0,
+        };
+        let band = if matches!(kind, MaskKind::Vibration { .. }) { bands.len() - 1 } else { usize::MAX };
+        pending.push((band, geo, kind, amplitude as f64, width));
     }
     for (band, geo, kind, amplitude, width) in pending {
         layers.push(match kind {

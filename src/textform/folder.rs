@@ -93,7 +93,21 @@ fn is_unpack_file(name: &str) -> bool {
         return true;
     }
     let Some((num, rest)) = name.split_once('-') else { return false };
-    let kinds = ["vibration.png", "grating.png", "dots.csv", "strokes.toml", "height.csv", "provenance.csv", "raw.bin"];
+    let kinds = [
+        "vibration.png",
+        "grating.png",
+        "vibration-field.png",
+        "grating-field.png",
+        "vibration-field-tiles.csv",
+        "grating-field-tiles.csv",
+        "vibration-field-samples.png",
+        "grating-field-samples.png",
+        "dots.csv",
+        "strokes.toml",
+        "height.csv",
+        "provenance.csv",
+        "raw.bin",
+    ];
     !num.is_empty() && num.bytes().all(|b| b.is_ascii_digit()) && kinds.contains(&rest)
 }
 
@@ -142,7 +156,15 @@ mod tests {
 
     #[test]
     fn only_unpack_files_are_recognised() {
-        for n in ["manifest.toml", "profile.toml", "01-vibration.png", "123-raw.bin", "07-strokes.toml"] {
+        for n in [
+            "manifest.toml",
+            "profile.toml",
+            "01-vibration.png",
+            "123-raw.bin",
+            "07-strokes.toml",
+            "02-grating-field-tiles.csv",
+            "03-vibration-field.png",
+        ] {
             assert!(is_unpack_file(n), "{n}");
         }
         for n in ["notes.txt", "01-vibration.jpg", "-dots.csv", "a1-dots.csv", "01-dots.csv.bak"] {

@@ -85,17 +85,24 @@ mod tests {
                 "profile.toml",
                 "01-vibration.png",
                 "02-grating.png",
-                "03-dots.csv",
+                "03-grating-field-samples.png",
+                "03-grating-field-tiles.csv",
+                "03-grating-field.png",
                 "04-dots.csv",
                 "05-dots.csv",
                 "06-dots.csv",
-                "07-strokes.toml",
-                "08-height.csv",
-                "09-provenance.csv",
-                "10-raw.bin",
+                "07-dots.csv",
+                "08-strokes.toml",
+                "09-height.csv",
+                "10-provenance.csv",
+                "11-raw.bin",
                 "manifest.toml"
             ]
         );
+        // A distance layer: its amplitude as a picture, and the exact data
+        // (tile index and stored tiles) that pack reads.
+        let tiles = &files.iter().find(|(n, _)| n == "03-grating-field-tiles.csv").unwrap().1;
+        assert_eq!(String::from_utf8(tiles.clone()).unwrap(), "0,2,3\n1,4,0\n");
         let manifest = String::from_utf8(files.last().unwrap().1.clone()).unwrap();
         assert!(manifest.starts_with(MANIFEST_HEADER));
         assert!(manifest.contains("kind = \"grating\"\nfile = \"02-grating.png\"\namplitude = 0.1\n"), "{manifest}");

@@ -2,8 +2,8 @@
 //! column) and what was expected.
 
 use taxel_format::{
-    Bundle, Chunk, DotKind, DotTable, FORMAT_MAJOR, FixedStr, FormatError, HeightField, Manifest, MaskKind, MaskLayer,
-    MilliHertz, Mm, RawChunk, Tag, profiles,
+    Bundle, Chunk, DistanceLayer, DotKind, DotTable, FORMAT_MAJOR, FixedStr, FormatError, HeightField, Manifest,
+    MaskKind, MaskLayer, MaskSamples, MilliHertz, Mm, RawChunk, Tag, profiles,
 };
 
 use super::error::TextError;
@@ -20,6 +20,24 @@ const MASK_KEYS: &[&str] = &[
     "origin_x_mm",
     "origin_y_mm",
     "px_per_mm",
+    "freq_mhz",
+    "wavelength_mm",
+    "angle_deg",
+];
+const FIELD_KEYS: &[&str] = &[
+    "kind",
+    "file",
+    "tiles",
+    "samples",
+    "sources",
+    "amplitude",
+    "soft_mm",
+    "step_mm",
+    "origin_x_mm",
+    "origin_y_mm",
+    "pitch_mm",
+    "tile_cols",
+    "tile_rows",
     "freq_mhz",
     "wavelength_mm",
     "angle_deg",
@@ -66,7 +84,8 @@ pub fn pack(read: &dyn Fn(&str) -> Result<Vec<u8>, TextError>) -> Result<Vec<u8>
 
     let mut bundle = Bundle::new(manifest);
     // Every kind's keys are checked once its kind is known.
-    let any_keys: Vec<&str> = [MASK_KEYS, DOTS_KEYS, HEIGHT_KEYS, RAW_KEYS, super::pins::PINS_KEYS].concat();
+    let any_keys: Vec<&str> =
+        [MASK_KEYS, FIELD_KEYS, DOTS_KEYS, HEIGHT_KEYS, RAW_KEYS, super::pins::PINS_KEYS].concat();
     let mut files = Vec::new();
     for c in root.tables("chunk", &any_keys)? {
         bundle.chunks.push(chunk(&c, read)?);
@@ -100,6 +119,7 @@ fn chunk(c: &Table<'_, '_>, read: &dyn Fn(&str) -> Result<Vec<u8>, TextError>) -
     let kind = c.str("kind")?;
     let allowed = match kind {
         "vibration" | "grating" => MASK_KEYS,
+        "vibration-field" | "grating-field" => FIELD_KEYS,
         "dots" => DOTS_KEYS,
         "strokes" | "provenance" => FILE_KEYS,
         "height" => HEIGHT_KEYS,
@@ -109,16 +129,19 @@ fn chunk(c: &Table<'_, '_>, read: &dyn Fn(&str) -> Result<Vec<u8>, TextError>) -
             return Err(c.err(
                 "kind",
                 format!(
-                    "unknown kind \"{kind}\", expected vibration, grating, dots, strokes, height, pins, provenance or raw"
+                    "unknown kind \"{kind}\", expected vibration, grating, vibration-field, grating-field, dots, strokes, height, pins, provenance or raw"
                 ),
             ));
         }
     };
     // Keys that belong to another kind are refused by name.
-    for k in [MASK_KEYS, DOTS_KEYS, HEIGHT_KEYS, RAW_KEYS, super::pins::PINS_KEYS].concat() {
+    for k in [MASK_KEYS, FIELD_KEYS, DOTS_KEYS, HEIGHT_KEYS, RAW_KEYS, super::pins::PINS_KEYS].concat() {
         if c.has(k) && !allowed.contains(&k) {
             return Err(c.err(k, format!("not a key of a {kind} chunk, expected one of: {}", allowed.join(", "))));
         }
+    }
+    if kind.ends_with("-field") {
+        return field_chunk(c, kind, read);
     }
     if kind == "vibration" && (c.has("wavelength_mm") || c.has("angle_deg")) {
         return Err(c.err("wavelength_mm", "a vibration chunk has freq_mhz, not wavelength_mm or angle_deg"));
@@ -227,4 +250,76 @@ fn parse_hex<const N: usize>(s: &str) -> Option<[u8; N]> {
         *o = u8::from_str_radix(&s[2 * i..2 * i + 2], 16).ok()?;
     }
     Some(out)
+}
+
+/// A distance layer from its tile index (CSV, one line per row of tiles)
+/// and its stored tiles' codes (an 8-bit grayscale PNG 9 pixels wide, one
+/// 9 x 9 block per stored tile, top to bottom).
+fn field_chunk(
+    c: &Table<'_, '_>,
+    kind: &str,
+    read: &dyn Fn(&str) -> Result<Vec<u8>, TextError>,
+) -> Result<Chunk, TextError> {
+    let mask_kind = if kind == "vibration-field" {
+        if c.has("wavelength_mm") || c.has("angle_deg") {
+            return Err(c.err("wavelength_mm", "a vibration-field chunk has freq_mhz, not wavelength_mm or angle_deg"));
+        }
+        MaskKind::Vibration { freq: MilliHertz(c.uint("freq_mhz", u32::MAX as u64)? as u32) }
+    } else {
+        if c.has("freq_mhz") {
+            return Err(c.err("freq_mhz", "a grating-field chunk has wavelength_mm and angle_deg, not freq_mhz"));
+        }
+        MaskKind::Grating { wavelength: Mm(c.f32("wavelength_mm")?), angle_deg: c.f32("angle_deg")? }
+    };
+    // The amplitude picture is for people; it must be named but is not read.
+    safe_name(c, "file")?;
+    let tile_cols = c.uint("tile_cols", taxel_format::MAX_DISTANCE_TILES as u64)? as u32;
+    let tile_rows = c.uint("tile_rows", taxel_format::MAX_DISTANCE_TILES as u64)? as u32;
+    let tiles_file = safe_name(c, "tiles")?;
+    let text = read(tiles_file)?;
+    let text = std::str::from_utf8(&text).map_err(|_| TextError::new(tiles_file, "expected UTF-8 text"))?;
+    let mut tiles = Vec::new();
+    for (n, line) in text.lines().enumerate() {
+        let row: Result<Vec<u32>, _> = line.split(',').map(|v| v.trim().parse::<u32>()).collect();
+        let row = row.map_err(|_| {
+            TextError::new(
+                tiles_file,
+                format!("line {}: expected tile index entries (whole numbers) separated by commas", n + 1),
+            )
+        })?;
+        if row.len() != tile_cols as usize {
+            return Err(TextError::new(
+                tiles_file,
+                format!("line {}: expected {tile_cols} entries (tile_cols), found {}", n + 1, row.len()),
+            ));
+        }
+        tiles.extend(row);
+    }
+    if tiles.len() as u64 != tile_cols as u64 * tile_rows as u64 {
+        return Err(TextError::new(tiles_file, format!("expected {tile_rows} lines (tile_rows)")));
+    }
+    let samples = if c.has("samples") {
+        let file = safe_name(c, "samples")?;
+        match png::decode(file, &read(file)?)? {
+            (w, _, MaskSamples::U8(v)) if w as usize == taxel_format::TILE_SIDE => v,
+            _ => return Err(TextError::new(file, "expected an 8-bit grayscale PNG 9 pixels wide")),
+        }
+    } else {
+        Vec::new()
+    };
+    let sources = c.uint_array("sources", u32::MAX as u64 - 1)?.into_iter().map(|v| v as u32).collect();
+    Ok(Chunk::Distance(DistanceLayer {
+        kind: mask_kind,
+        amplitude: c.f32("amplitude")?,
+        soft_mm: c.f32("soft_mm")?,
+        step_mm: c.f32("step_mm")?,
+        origin_x: Mm(c.f32("origin_x_mm")?),
+        origin_y: Mm(c.f32("origin_y_mm")?),
+        pitch_mm: c.f32("pitch_mm")?,
+        tile_cols,
+        tile_rows,
+        sources,
+        tiles,
+        samples,
+    }))
 }

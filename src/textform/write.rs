@@ -2,7 +2,7 @@
 
 use std::fmt::Write as _;
 
-use taxel_format::{Bundle, BundleView, Chunk, MaskKind, Tag, profiles};
+use taxel_format::{Bundle, BundleView, Chunk, DistanceLayer, MaskKind, MaskSamples, Tag, profiles};
 
 use super::error::TextError;
 use super::tables::{dots_csv, height_csv, provenance_csv, quoted, strokes_toml};
@@ -68,6 +68,64 @@ pub fn unpack(name: &str, bytes: &[u8]) -> Result<Vec<(String, Vec<u8>)>, TextEr
                 let data = png::encode(&file, mk.width, mk.height, &mk.samples)?;
                 (file, data)
             }
+            Chunk::Distance(d) => {
+                let kind = match d.kind {
+                    MaskKind::Vibration { .. } => "vibration-field",
+                    MaskKind::Grating { .. } => "grating-field",
+                };
+                let file = format!("{stem}-{kind}.png");
+                let tiles = format!("{stem}-{kind}-tiles.csv");
+                let _ = writeln!(
+                    toml,
+                    "kind = \"{kind}\"\n# {file}: the amplitude this layer produces at 10 px/mm, for people (pack ignores it);\n\
+                     # the exact data are the tile index ({tiles}) and the stored tiles' codes.\nfile = \"{file}\"\ntiles = \"{tiles}\""
+                );
+                if d.stored_tiles() > 0 {
+                    let samples = format!("{stem}-{kind}-samples.png");
+                    let _ = writeln!(toml, "samples = \"{samples}\"");
+                    let png = png::encode(
+                        &samples,
+                        taxel_format::TILE_SIDE as u32,
+                        (taxel_format::TILE_SIDE * d.stored_tiles()) as u32,
+                        &MaskSamples::U8(d.samples.clone()),
+                    )?;
+                    files.push((samples, png));
+                }
+                let sources: Vec<String> = d.sources.iter().map(|s| s.to_string()).collect();
+                let _ = writeln!(
+                    toml,
+                    "sources = [{}]\namplitude = {}\nsoft_mm = {}\nstep_mm = {}\norigin_x_mm = {}\norigin_y_mm = {}\npitch_mm = {}\ntile_cols = {}\ntile_rows = {}",
+                    sources.join(", "),
+                    f32_text(d.amplitude),
+                    f32_text(d.soft_mm),
+                    f32_text(d.step_mm),
+                    f32_text(d.origin_x.0),
+                    f32_text(d.origin_y.0),
+                    f32_text(d.pitch_mm),
+                    d.tile_cols,
+                    d.tile_rows
+                );
+                match d.kind {
+                    MaskKind::Vibration { freq } => {
+                        let _ = writeln!(toml, "freq_mhz = {}", freq.0);
+                    }
+                    MaskKind::Grating { wavelength, angle_deg } => {
+                        let _ = writeln!(
+                            toml,
+                            "wavelength_mm = {}\nangle_deg = {}",
+                            f32_text(wavelength.0),
+                            f32_text(angle_deg)
+                        );
+                    }
+                }
+                let mut csv = String::new();
+                for row in d.tiles.chunks(d.tile_cols.max(1) as usize) {
+                    let line: Vec<String> = row.iter().map(|t| t.to_string()).collect();
+                    let _ = writeln!(csv, "{}", line.join(","));
+                }
+                files.push((tiles, csv.into_bytes()));
+                (file.clone(), amplitude_png(&file, d)?)
+            }
             Chunk::Dots(d) => {
                 let file = format!("{stem}-dots.csv");
                 let _ = writeln!(toml, "kind = \"dots\"\nfile = \"{file}\"\ndot_kind = \"{}\"", d.kind.name());
@@ -128,4 +186,25 @@ fn tag_text(tag: Tag) -> String {
     } else {
         format!("tag_hex = \"{}\"", tag.0.iter().map(|b| format!("{b:02x}")).collect::<String>())
     }
+}
+
+/// Pixels per millimetre of a distance layer's amplitude picture.
+const PICTURE_PX_PER_MM: f32 = 10.0;
+
+/// The amplitude a distance layer produces (edge profile times the layer's
+/// amplitude, before the primitive), as an 8-bit grayscale PNG over its
+/// lattice at [`PICTURE_PX_PER_MM`], sampled at pixel centres.
+fn amplitude_png(file: &str, d: &DistanceLayer) -> Result<Vec<u8>, TextError> {
+    let span = taxel_format::TILE_CELLS as f32 * d.pitch_mm;
+    let w = ((d.tile_cols as f32 * span * PICTURE_PX_PER_MM).ceil() as u32).clamp(1, 16_384);
+    let h = ((d.tile_rows as f32 * span * PICTURE_PX_PER_MM).ceil() as u32).clamp(1, 16_384);
+    let mut v = Vec::with_capacity((w * h) as usize);
+    for j in 0..h {
+        for i in 0..w {
+            let x = d.origin_x.0 + (i as f32 + 0.5) / PICTURE_PX_PER_MM;
+            let y = d.origin_y.0 + (j as f32 + 0.5) / PICTURE_PX_PER_MM;
+            v.push((d.coverage_at(x, y) * d.amplitude * 255.0).round() as u8);
+        }
+    }
+    png::encode(file, w, h, &MaskSamples::U8(v))
 }

@@ -66,8 +66,8 @@ fn an_edited_folder_packs_the_edit() {
     // Halve the grating's amplitude and move a dot, as a person would.
     let m = std::fs::read_to_string(dir.join("manifest.toml")).unwrap();
     std::fs::write(dir.join("manifest.toml"), m.replace("amplitude = 0.1\n", "amplitude = 0.05\n")).unwrap();
-    let d = std::fs::read_to_string(dir.join("04-dots.csv")).unwrap();
-    std::fs::write(dir.join("04-dots.csv"), d.replace("60.0,45.0,", "61.5,45.0,")).unwrap();
+    let d = std::fs::read_to_string(dir.join("05-dots.csv")).unwrap();
+    std::fs::write(dir.join("05-dots.csv"), d.replace("60.0,45.0,", "61.5,45.0,")).unwrap();
     let out = tmp.path().join("edited.taxel");
     let o = taxel(&["pack", p(&dir), "-o", p(&out)]);
     assert!(o.status.success(), "{}", stderr(&o));
@@ -75,7 +75,7 @@ fn an_edited_folder_packs_the_edit() {
     let mut expected = sample::every_kind();
     let taxel_format::Chunk::Mask(g) = &mut expected.chunks[1] else { panic!() };
     g.amplitude = 0.05;
-    let taxel_format::Chunk::Dots(t) = &mut expected.chunks[3] else { panic!() };
+    let taxel_format::Chunk::Dots(t) = &mut expected.chunks[4] else { panic!() };
     t.dots[0].x = taxel_format::Mm(61.5);
     assert_eq!(b, expected);
 }
@@ -109,21 +109,21 @@ fn mistakes_in_a_hand_edited_folder_name_the_file_and_what_was_expected() {
         ),
         (
             "manifest.toml",
-            manifest.replace("format = \"1.0\"", "format = \"2.0\""),
+            manifest.replace("format = \"2.0\"", "format = \"3.0\""),
             "manifest.toml:".into(),
             "key `format`",
         ),
         (
-            "03-dots.csv",
+            "04-dots.csv",
             "x_mm,y_mm,radius_mm,amplitude,source\n1,2,fat,1,\n".into(),
-            "03-dots.csv:2:".into(),
+            "04-dots.csv:2:".into(),
             "column `radius_mm`: expected a number, found `fat`",
         ),
         // Values that parse but that the format refuses name the chunk's file.
         (
-            "03-dots.csv",
+            "04-dots.csv",
             "x_mm,y_mm,radius_mm,amplitude,source\n1,2,1,7,\n".into(),
-            "03-dots.csv:".into(),
+            "04-dots.csv:".into(),
             "dot amplitude must be from 0 to 1",
         ),
         ("profile.toml", "name = \"x\"\n".into(), "profile.toml".into(), "key `array`: missing table [array]"),
@@ -139,10 +139,10 @@ fn mistakes_in_a_hand_edited_folder_name_the_file_and_what_was_expected() {
         assert!(!out.exists(), "no bundle is written when the folder has errors");
         std::fs::write(dir.join(file), original).unwrap();
     }
-    std::fs::remove_file(dir.join("08-height.csv")).unwrap();
+    std::fs::remove_file(dir.join("09-height.csv")).unwrap();
     let o = taxel(&["pack", p(&dir), "-o", p(&out)]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("08-height.csv: cannot read"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("09-height.csv: cannot read"), "{}", stderr(&o));
 }
 
 #[test]
@@ -179,7 +179,7 @@ fn inspect_prints_profile_layers_and_sizes() {
     let o = taxel(&["inspect", p(&bundle)]);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = String::from_utf8(o.stdout).unwrap();
-    assert!(out.contains(&format!("taxel bundle 1.0, {} bytes, 11 chunks", bytes.len())), "{out}");
+    assert!(out.contains(&format!("taxel bundle 2.0, {} bytes, 12 chunks", bytes.len())), "{out}");
     assert!(
         out.contains("profile    brush-4x3 (grid), 4 x 3 actuators, pitch 63 x 63 mm, 1000 Hz, 16-bit output"),
         "{out}"
@@ -187,6 +187,10 @@ fn inspect_prints_profile_layers_and_sizes() {
     assert!(out.contains("surface    189 x 126 mm"), "{out}");
     assert!(out.contains("vibration 50 Hz, amplitude 0.75; mask 3 x 2 8-bit at 4 px/mm"), "{out}");
     assert!(out.contains("grating 6 mm at 45°"), "{out}");
+    assert!(
+        out.contains("grating 3 mm at 30°, amplitude 0.9, soft edge 0.3 mm; 2 element(s); distance field 3 x 2 tiles (3 stored) every 0.5 mm"),
+        "{out}"
+    );
     assert!(out.contains("6 braille dots"), "{out}");
     assert!(out.contains("2 strokes, 4 points, 5 drives"), "{out}");
     assert!(out.contains("from #0 lake \"Lac Léman\" (line 12)"), "{out}");

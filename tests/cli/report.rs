@@ -45,13 +45,20 @@ fn default_resolution_is_on_the_efficient_front() {
             let cheaper = f(r, "bundle_bytes") < f(default, "bundle_bytes");
             assert!(
                 !(cheaper && f(r, "rms_error") < f(default, "rms_error")),
-                "{k}: {} px/mm is cheaper and more accurate than the default",
+                "{k}: a {} mm lattice is cheaper and more accurate than the default",
                 f(r, "setting")
             );
         }
-        // Convergence: the finest mask is at least twice as accurate (RMS) as the coarsest.
+        // Convergence: the finest lattice (0.25 mm) is more accurate (RMS) than the coarsest (2 mm).
+        // (Hard edges: the RMS is made at the few actuators near corners and
+        // curves, and falls more slowly than the pitch; docs/layers.md.)
         let by = |s: f64| mine.iter().find(|r| f(r, "setting") == s).map(|r| f(r, "rms_error")).expect("setting");
-        assert!(by(32.0) * 2.0 < by(2.0), "{k}: {} vs {}", by(32.0), by(2.0));
+        assert!(by(0.25) < by(2.0), "{k}: {} vs {}", by(0.25), by(2.0));
+        // Away from exact edges (more than 0.05 mm) the default is within one
+        // output step, for the vibration and grating kernels.
+        if k != "all" {
+            assert!(f(default, "far_error") <= 1.0, "{k}: far error {}", f(default, "far_error"));
+        }
         assert!(mine.iter().all(|r| f(r, "max_error") <= 1023.0 && f(r, "frame_us") > 0.0));
     }
     let png = std::fs::read(&plot).expect("plot written");

@@ -27,6 +27,8 @@ pub struct Vibrate {
     pub freq_hz: f64,
     /// Amplitude, 0..=1 (default 1).
     pub amplitude: f64,
+    /// Width of the edge's ramp in mm (`soft: 0.3mm`); 0, the default, is a hard edge.
+    pub soft_mm: f64,
 }
 
 /// A grated fill (seed 000 eq. 3).
@@ -38,6 +40,8 @@ pub struct Grating {
     pub angle_deg: f64,
     /// Amplitude, 0..=1 (default 1).
     pub amplitude: f64,
+    /// Width of the edge's ramp in mm (`soft: 0.3mm`); 0, the default, is a hard edge.
+    pub soft_mm: f64,
 }
 
 /// A dotted outline (seed 000 eq. 1).

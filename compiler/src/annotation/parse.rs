@@ -277,10 +277,21 @@ const fn p(name: &'static str, dim: Dimension, min: f64, min_inclusive: bool, ma
 }
 
 const AMP: Param = p("amplitude", Dimension::Ratio, 0.0, true, 1.0);
-const VIBRATE: &[Param] =
-    &[p("width", Dimension::Length, 0.0, false, 1000.0), p("freq", Dimension::Frequency, 0.0, false, 100_000.0), AMP];
-const GRATING: &[Param] =
-    &[p("wavelength", Dimension::Length, 0.0, false, 1000.0), p("angle", Dimension::Angle, -360.0, true, 360.0), AMP];
+/// `soft`: the width of the edge profile's ramp (0, the default, is a hard
+/// edge); at most the format's limit of 16 mm.
+const SOFT: Param = p("soft", Dimension::Length, 0.0, true, 16.0);
+const VIBRATE: &[Param] = &[
+    p("width", Dimension::Length, 0.0, false, 1000.0),
+    p("freq", Dimension::Frequency, 0.0, false, 100_000.0),
+    AMP,
+    SOFT,
+];
+const GRATING: &[Param] = &[
+    p("wavelength", Dimension::Length, 0.0, false, 1000.0),
+    p("angle", Dimension::Angle, -360.0, true, 360.0),
+    AMP,
+    SOFT,
+];
 const DOTS: &[Param] =
     &[p("radius", Dimension::Length, 0.0, false, 100.0), p("spacing", Dimension::Length, 0.0, false, 1000.0), AMP];
 const DOT: &[Param] = &[p("radius", Dimension::Length, 0.0, false, 100.0), AMP];
@@ -371,10 +382,18 @@ fn build(name: &str, at: usize, args: &[Arg<'_>]) -> Result<Style, AnnotationErr
     }
     let get = |i: usize, default: f64| values[i].unwrap_or(default);
     Ok(match name {
-        "vibrate" => Style::Vibrate(Vibrate { width_mm: get(0, 1.5), freq_hz: get(1, 50.0), amplitude: get(2, 1.0) }),
-        "grating" => {
-            Style::Grating(Grating { wavelength_mm: get(0, 2.0), angle_deg: get(1, 90.0), amplitude: get(2, 1.0) })
-        }
+        "vibrate" => Style::Vibrate(Vibrate {
+            width_mm: get(0, 1.5),
+            freq_hz: get(1, 50.0),
+            amplitude: get(2, 1.0),
+            soft_mm: get(3, 0.0),
+        }),
+        "grating" => Style::Grating(Grating {
+            wavelength_mm: get(0, 2.0),
+            angle_deg: get(1, 90.0),
+            amplitude: get(2, 1.0),
+            soft_mm: get(3, 0.0),
+        }),
         "dots" => Style::Dots(Dots { radius_mm: get(0, 1.0), spacing_mm: values[1], amplitude: get(2, 1.0) }),
         "dot" => Style::Dot(Dot { radius_mm: get(0, 1.0), amplitude: get(1, 1.0) }),
         "brush" => Style::Brush(Brush {
@@ -411,10 +430,13 @@ mod tests {
 
     #[test]
     fn defaults_come_from_the_papers() {
-        assert_eq!(styles("vibrate()"), vec![Style::Vibrate(Vibrate { width_mm: 1.5, freq_hz: 50.0, amplitude: 1.0 })]);
+        assert_eq!(
+            styles("vibrate()"),
+            vec![Style::Vibrate(Vibrate { width_mm: 1.5, freq_hz: 50.0, amplitude: 1.0, soft_mm: 0.0 })]
+        );
         assert_eq!(
             styles("grating"),
-            vec![Style::Grating(Grating { wavelength_mm: 2.0, angle_deg: 90.0, amplitude: 1.0 })]
+            vec![Style::Grating(Grating { wavelength_mm: 2.0, angle_deg: 90.0, amplitude: 1.0, soft_mm: 0.0 })]
         );
         assert_eq!(styles("dots()"), vec![Style::Dots(Dots { radius_mm: 1.0, spacing_mm: None, amplitude: 1.0 })]);
         assert_eq!(styles("braille()"), vec![Style::Braille(Braille { radius_mm: 0.72, amplitude: 1.0 })]);
@@ -423,8 +445,15 @@ mod tests {
     #[test]
     fn units_convert_and_several_styles_split_on_semicolons() {
         let s = styles(" vibrate( width : 0.2cm , freq: 0.1kHz, amplitude: 50% ) ;grating(6mm, 0.5turn);");
-        assert_eq!(s[0], Style::Vibrate(Vibrate { width_mm: 2.0, freq_hz: 100.0, amplitude: 0.5 }));
-        assert_eq!(s[1], Style::Grating(Grating { wavelength_mm: 6.0, angle_deg: 180.0, amplitude: 1.0 }));
+        assert_eq!(s[0], Style::Vibrate(Vibrate { width_mm: 2.0, freq_hz: 100.0, amplitude: 0.5, soft_mm: 0.0 }));
+        assert_eq!(
+            s[1],
+            Style::Grating(Grating { wavelength_mm: 6.0, angle_deg: 180.0, amplitude: 1.0, soft_mm: 0.0 })
+        );
+        let soft = styles("vibrate(soft: 0.3mm); grating(6mm, 0deg, 1, 0.5mm)");
+        assert!(matches!(soft[0], Style::Vibrate(v) if v.soft_mm == 0.3 && v.width_mm == 1.5));
+        assert!(matches!(soft[1], Style::Grating(g) if g.soft_mm == 0.5 && g.wavelength_mm == 6.0));
+        assert!(parse("vibrate(soft: 20mm)").is_err(), "soft is at most 16 mm");
         let b = styles("brush(duration: 1.5s, start: 200ms)");
         assert_eq!(
             b[0],

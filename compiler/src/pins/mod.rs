@@ -31,7 +31,7 @@
 //!     elements: vec![Element {
 //!         name: "square".into(),
 //!         visible: true,
-//!         styles: vec![Style::Vibrate(Vibrate { width_mm: 1.5, freq_hz: 50.0, amplitude: 1.0 })],
+//!         styles: vec![Style::Vibrate(Vibrate { width_mm: 1.5, freq_hz: 50.0, amplitude: 1.0, soft_mm: 0.0 })],
 //!         shape: Shape::Path(PathShape { outline: vec![square], ..Default::default() }),
 //!         ..Default::default()
 //!     }],

@@ -11,10 +11,10 @@ use super::*;
 use crate::annotation::{Braille, Dot, Dots, Grating, Style, Vibrate};
 use crate::drawing::{Element, Page, PathShape, TextRun, TextShape};
 
-const VIBRATE: Style = Style::Vibrate(Vibrate { width_mm: 1.5, freq_hz: 50.0, amplitude: 1.0 });
+const VIBRATE: Style = Style::Vibrate(Vibrate { width_mm: 1.5, freq_hz: 50.0, amplitude: 1.0, soft_mm: 0.0 });
 
 fn grating(wavelength_mm: f64, angle_deg: f64) -> Style {
-    Style::Grating(Grating { wavelength_mm, angle_deg, amplitude: 1.0 })
+    Style::Grating(Grating { wavelength_mm, angle_deg, amplitude: 1.0, soft_mm: 0.0 })
 }
 
 fn path(name: &str, points: &[(f64, f64)], closed: bool, styles: Vec<Style>) -> Element {

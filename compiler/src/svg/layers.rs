@@ -1,23 +1,23 @@
-//! From the resolved drawing to layers: one mask per shape and mask style,
-//! dot tables per kind, brush requests for grid devices, provenance, and the
+//! From the resolved drawing to layers: one distance layer per vibration or
+//! grating style (every shape of that style, SPEC.md section 6.2), dot
+//! tables per kind, brush requests for grid devices, provenance, and the
 //! features the design rules look at.
 
 use std::collections::HashMap;
 
-use resvg::tiny_skia::Path;
 use taxel_format::{
-    Chunk, Dot, DotKind, DotTable, Family, MaskKind, MaskLayer, MilliHertz, Mm, Provenance, ProvenanceEntry,
+    Chunk, DistanceLayer, Dot, DotKind, DotTable, Family, MaskKind, MilliHertz, Mm, Provenance, ProvenanceEntry,
     StrokeTable,
 };
 
 use super::braille;
 use super::dots;
-use super::masks::{self, Area, Coverage};
-use crate::annotation::{Braille as BrailleStyle, Style};
+use crate::annotation::{Braille as BrailleStyle, Grating, Style, Vibrate};
 use crate::brush::{self, BrushRequest};
 use crate::diagnostic::Diagnostic;
-use crate::drawing::{Drawing, Element, Page, Shape, TextShape};
-use crate::geometry::{FillRule, Polyline};
+use crate::distance::{FieldParams, LayerGeometry, build_field};
+use crate::drawing::{Clip, Drawing, Element, Page, Shape, TextShape};
+use crate::geometry::Polyline;
 use crate::options::CompileOptions;
 
 /// What a feature is, with the parameters the design rules need.
@@ -47,7 +47,7 @@ pub(crate) struct Feature {
     pub dots: Vec<(f64, f64, f64)>,
     /// Footprint bounds `(x0, y0, x1, y1)`.
     pub bbox: (f64, f64, f64, f64),
-    /// Index of its mask in [`Built::masks`].
+    /// Index of its layer in [`Built::layers`] (shapes of one style share one).
     pub mask: Option<usize>,
     pub amplitude: f64,
 }
@@ -55,7 +55,8 @@ pub(crate) struct Feature {
 /// Everything the layers stage made.
 #[derive(Default)]
 pub(crate) struct Built {
-    pub masks: Vec<MaskLayer>,
+    /// One distance layer per vibration or grating style (and clip).
+    pub layers: Vec<DistanceLayer>,
     pub outline_dots: Vec<Dot>,
     pub symbol_dots: Vec<Dot>,
     pub braille_dots: Vec<Dot>,
@@ -70,17 +71,18 @@ pub(crate) struct Built {
 impl Built {
     /// Whether no layer was made.
     pub fn is_empty(&self) -> bool {
-        self.masks.is_empty()
+        self.layers.is_empty()
             && self.outline_dots.is_empty()
             && self.symbol_dots.is_empty()
             && self.braille_dots.is_empty()
             && self.strokes.as_ref().is_none_or(|s| s.strokes.is_empty())
     }
 
-    /// The chunks, in a fixed order: masks in document order, dot tables
-    /// (outline, symbol, braille), strokes, provenance.
+    /// The chunks, in a fixed order: distance layers in the document order
+    /// of their styles' first shapes, dot tables (outline, symbol, braille),
+    /// strokes, provenance.
     pub fn into_chunks(self) -> Vec<Chunk> {
-        let mut out: Vec<Chunk> = self.masks.into_iter().map(Chunk::Mask).collect();
+        let mut out: Vec<Chunk> = self.layers.into_iter().map(Chunk::Distance).collect();
         for (kind, dots) in [
             (DotKind::Outline, self.outline_dots),
             (DotKind::Symbol, self.symbol_dots),
@@ -145,27 +147,42 @@ fn not_here(style: &Style, e: &str, line: u32, profile: &str) -> Diagnostic {
         .at_line(line)
 }
 
-/// A vibrating band: its outline, width (mm) and bounds (x0, y0, x1, y1).
-type Band<'a> = (&'a Path, f64, (f32, f32, f32, f32));
-
-/// An element's outline as a tiny-skia path (rebuilt from its exact
-/// polylines), and its clip regions as paths; `None` for the whole when a
-/// clip region is empty (nothing of the element is left).
-struct Raster {
-    path: Option<Path>,
-    fill_rule: FillRule,
-    clips: Option<Vec<(Path, FillRule)>>,
+/// The style of one distance layer: kind and every parameter, compared exactly.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum LayerStyle {
+    Vibrate(Vibrate),
+    Grating(Grating),
 }
 
-impl Raster {
-    fn of(e: &Element) -> Raster {
-        let (outline, fill_rule, clips): (&[Polyline], _, &[_]) = match &e.shape {
-            Shape::Path(p) => (&p.outline, p.fill_rule, &p.clips),
-            Shape::Text(t) => (&t.outline, FillRule::NonZero, &[]),
-            Shape::Image { .. } => (&[], FillRule::NonZero, &[]),
-        };
-        let clips = clips.iter().map(|c| masks::to_path(&c.outline).map(|p| (p, c.fill_rule))).collect();
-        Raster { path: masks::to_path(outline), fill_rule, clips }
+/// A distance layer being gathered: its style, the clip regions its shapes
+/// share, and the drawing elements it holds.
+struct Pending {
+    style: LayerStyle,
+    clips: Vec<Clip>,
+    elements: Vec<usize>,
+}
+
+/// The lattice pitch of distance layers at a resolution of `px` px/mm: five
+/// pixels (0.5 mm at the default 10 px/mm), and at most half the narrowest
+/// vibrating band's width. A distance is affine across a cell wherever one
+/// straight edge is nearest, so its interpolation is exact there at any
+/// pitch; the pitch bounds how sharp a corner stays and how far a curve of
+/// radius `r` moves (about h²/8r). Within half the band's width, the lattice
+/// points beside a band's centre line are inside the band, so a narrow band
+/// is never lost between them.
+pub(crate) fn field_pitch(px: f32, band_mm: Option<f64>) -> f64 {
+    let h = 5.0 / px as f64;
+    match band_mm {
+        Some(w) if w > 0.0 => h.min(w / 2.0),
+        _ => h,
+    }
+}
+
+/// The clip regions of an element.
+fn clips_of(e: &Element) -> &[Clip] {
+    match &e.shape {
+        Shape::Path(p) => &p.clips,
+        _ => &[],
     }
 }
 
@@ -185,30 +202,11 @@ pub(crate) fn build(drawing: &Drawing, opts: &CompileOptions, px: f32, diags: &m
     let page = drawing.page;
     let mut b = Built::default();
     let mut requests: Vec<BrushRequest> = Vec::new();
-    let rasters: Vec<Raster> = drawing.elements.iter().map(Raster::of).collect();
-    // Every vibrating band on the page, to cut out of the gratings it crosses.
-    let bands: Vec<Band<'_>> = if family == Family::Laterotactile {
-        drawing
-            .elements
-            .iter()
-            .zip(&rasters)
-            .filter(|(e, _)| e.visible)
-            .flat_map(|(e, r)| {
-                e.styles.iter().filter_map(move |s| match s {
-                    Style::Vibrate(v) => r.path.as_ref().map(|p| (p, v.width_mm)),
-                    _ => None,
-                })
-            })
-            .filter_map(|(p, w)| {
-                let b = p.compute_tight_bounds()?;
-                let g = (w / 2.0) as f32;
-                Some((p, w, (b.left() - g, b.top() - g, b.right() + g, b.bottom() + g)))
-            })
-            .collect()
-    } else {
-        Vec::new()
-    };
-    for (e, r) in drawing.elements.iter().zip(&rasters) {
+    let mut pending: Vec<Pending> = Vec::new();
+    // Where layers can be felt: the page, on the device's surface.
+    let felt =
+        (page.width_mm.min(opts.profile.surface_w_mm as f64), page.height_mm.min(opts.profile.surface_h_mm as f64));
+    for (index, e) in drawing.elements.iter().enumerate() {
         if e.styles.is_empty() {
             continue;
         }
@@ -241,17 +239,16 @@ pub(crate) fn build(drawing: &Drawing, opts: &CompileOptions, px: f32, diags: &m
             );
             continue;
         }
-        let (Some(path), Some(clips)) = (&r.path, &r.clips) else {
-            let what = if r.path.is_none() { "this shape is empty" } else { "this shape is clipped away" };
+        let clipped_away = clips_of(e).iter().any(|c| c.outline.is_empty());
+        if polylines.is_empty() || clipped_away {
+            let what = if clipped_away { "this shape is clipped away" } else { "this shape is empty" };
             diags.push(
                 Diagnostic::warning("T0301", format!("{what}; nothing is rendered for it"))
                     .with_element(&e.name)
                     .at_line(e.line),
             );
             continue;
-        };
-        let clips: Vec<Area<'_>> = clips.iter().map(|(p, rule)| (p, *rule)).collect();
-        let area = (path, r.fill_rule);
+        }
         let markers: &[(f64, f64)] = match &e.shape {
             Shape::Path(p) => &p.markers,
             _ => &[],
@@ -263,28 +260,12 @@ pub(crate) fn build(drawing: &Drawing, opts: &CompileOptions, px: f32, diags: &m
             }
             match *style {
                 Style::Vibrate(v) => {
-                    let Some(freq) = MilliHertz::from_hz(v.freq_hz) else { continue };
-                    let kind = MaskKind::Vibration { freq };
                     let fk = FeatureKind::Vibrate { width_mm: v.width_mm, freq_hz: v.freq_hz };
-                    let m = MaskJob { e, area, clips: &clips, kind, amplitude: v.amplitude, fk };
-                    mask(&mut b, m, Coverage::Band(v.width_mm), page, px, diags);
+                    layer_feature(&mut b, &mut pending, index, e, LayerStyle::Vibrate(v), fk, felt, diags);
                 }
                 Style::Grating(g) => {
-                    let kind =
-                        MaskKind::Grating { wavelength: Mm(g.wavelength_mm as f32), angle_deg: g.angle_deg as f32 };
                     let fk = FeatureKind::Grating { wavelength_mm: g.wavelength_mm, angle_deg: g.angle_deg };
-                    let mine = path.compute_tight_bounds();
-                    let minus_bands = bands
-                        .iter()
-                        .filter(|(_, _, b)| {
-                            mine.is_some_and(|m| {
-                                b.0 <= m.right() && m.left() <= b.2 && b.1 <= m.bottom() && m.top() <= b.3
-                            })
-                        })
-                        .map(|&(p, w, _)| (p, w))
-                        .collect();
-                    let m = MaskJob { e, area, clips: &clips, kind, amplitude: g.amplitude, fk };
-                    mask(&mut b, m, Coverage::Fill { minus_bands }, page, px, diags);
+                    layer_feature(&mut b, &mut pending, index, e, LayerStyle::Grating(g), fk, felt, diags);
                 }
                 Style::Dots(d) => {
                     let pts = dots::along(polylines, d.radius_mm, d.spacing_mm, &e.name, diags);
@@ -325,6 +306,7 @@ pub(crate) fn build(drawing: &Drawing, opts: &CompileOptions, px: f32, diags: &m
             }
         }
     }
+    distance_layers(&mut b, drawing, &pending, px, felt);
     braille_texts(&mut b, drawing, opts, diags);
     if !requests.is_empty() {
         b.strokes = brush::compile_strokes(&requests, &opts.profile, diags);
@@ -332,54 +314,166 @@ pub(crate) fn build(drawing: &Drawing, opts: &CompileOptions, px: f32, diags: &m
     b
 }
 
-/// One mask to render: the element, its area and clips, and what the mask is.
-struct MaskJob<'a> {
-    e: &'a Element,
-    area: Area<'a>,
-    clips: &'a [Area<'a>],
-    kind: MaskKind,
-    amplitude: f64,
+/// Records one element's vibration or grating style: a feature for the
+/// design rules, and the element's place in its style's layer.
+#[allow(clippy::too_many_arguments)]
+fn layer_feature(
+    b: &mut Built,
+    pending: &mut Vec<Pending>,
+    index: usize,
+    e: &Element,
+    style: LayerStyle,
     fk: FeatureKind,
-}
-
-fn mask(b: &mut Built, m: MaskJob<'_>, coverage: Coverage, page: Page, px: f32, diags: &mut Vec<Diagnostic>) {
-    let e = m.e;
-    let source = b.source(e);
-    match masks::render(m.area, m.clips, &coverage, m.kind, m.amplitude as f32, Some(source), page, px, &e.name, diags)
+    felt: (f64, f64),
+    diags: &mut Vec<Diagnostic>,
+) {
+    let (half_band, amplitude) = match style {
+        LayerStyle::Vibrate(v) => (v.width_mm / 2.0, v.amplitude),
+        LayerStyle::Grating(g) => (0.0, g.amplitude),
+    };
+    if let LayerStyle::Vibrate(v) = style
+        && MilliHertz::from_hz(v.freq_hz).is_none()
     {
-        Some(layer) => {
-            let half_band = match &coverage {
-                Coverage::Band(w) => w / 2.0,
-                Coverage::Fill { .. } => 0.0,
-            };
-            let bbox = (
-                layer.origin_x.0 as f64,
-                layer.origin_y.0 as f64,
-                layer.origin_x.0 as f64 + layer.width as f64 / layer.px_per_mm as f64,
-                layer.origin_y.0 as f64 + layer.height as f64 / layer.px_per_mm as f64,
-            );
-            b.features.push(Feature {
-                elem: source as usize,
-                name: e.name.clone(),
-                line: e.line,
-                kind: m.fk,
-                outline: outline(e).to_vec(),
-                half_band,
-                dots: Vec::new(),
-                bbox,
-                mask: Some(b.masks.len()),
-                amplitude: m.amplitude,
-            });
-            b.masks.push(layer);
-        }
-        None => diags.push(
+        return;
+    }
+    let on_page = crate::geometry::bounds(outline(e))
+        .map(|r| (r.0 - half_band, r.1 - half_band, r.2 + half_band, r.3 + half_band))
+        .map(|r| (r.0.max(0.0), r.1.max(0.0), r.2.min(felt.0), r.3.min(felt.1)))
+        .filter(|r| r.2 > r.0 && r.3 > r.1);
+    let Some(bbox) = on_page else {
+        diags.push(
             Diagnostic::warning(
                 "T0301",
                 "nothing of this shape is left on the page (empty, invisible or outside the page)",
             )
             .with_element(&e.name)
             .at_line(e.line),
-        ),
+        );
+        return;
+    };
+    let source = b.source(e);
+    let clips = clips_of(e);
+    let layer = match pending.iter().position(|p| p.style == style && p.clips == clips) {
+        Some(k) => k,
+        None => {
+            pending.push(Pending { style, clips: clips.to_vec(), elements: Vec::new() });
+            pending.len() - 1
+        }
+    };
+    pending[layer].elements.push(index);
+    b.features.push(Feature {
+        elem: source as usize,
+        name: e.name.clone(),
+        line: e.line,
+        kind: fk,
+        outline: outline(e).to_vec(),
+        half_band,
+        dots: Vec::new(),
+        bbox,
+        mask: Some(layer),
+        amplitude,
+    });
+}
+
+/// Builds one distance layer per style (and set of clip regions): vibrating
+/// outlines as one band of the style (touching borders merge), grated
+/// regions as one fill minus every vibrating band on the page that crosses
+/// them (so an outline is never summed with the grating under it), each
+/// within its clip regions and the part of the page on the device's surface.
+fn distance_layers(b: &mut Built, drawing: &Drawing, pending: &[Pending], px: f32, surface: (f64, f64)) {
+    let page = drawing.page;
+    let polys = |i: usize| outline(&drawing.elements[i]);
+    let bands: Vec<(usize, f64)> = pending
+        .iter()
+        .filter_map(|p| match p.style {
+            LayerStyle::Vibrate(v) => Some(p.elements.iter().map(move |&i| (i, v.width_mm))),
+            LayerStyle::Grating(_) => None,
+        })
+        .flatten()
+        .collect();
+    // Nothing beyond the page, or the device's surface, is felt or stored.
+    let page_rect = (0.0, 0.0, page.width_mm.min(surface.0), page.height_mm.min(surface.1));
+    // One lattice for every layer of the drawing: a grating's cut-out band
+    // is then sampled at the same points as the band itself, so the two
+    // interpolate to complementary values and never overlap.
+    let narrowest = bands.iter().map(|&(_, w)| w).reduce(f64::min);
+    let pitch = field_pitch(px, narrowest);
+    let mut built_index = vec![None; pending.len()];
+    for (k, p) in pending.iter().enumerate() {
+        let clips: Vec<_> = p.clips.iter().map(|c| (&c.outline[..], c.fill_rule)).collect();
+        let (geometry, kind, amplitude, soft) = match p.style {
+            LayerStyle::Vibrate(v) => {
+                let Some(freq) = MilliHertz::from_hz(v.freq_hz) else { continue };
+                let band = Some((p.elements.iter().map(|&i| polys(i)).collect(), v.width_mm));
+                (
+                    LayerGeometry { band, clips, ..Default::default() },
+                    MaskKind::Vibration { freq },
+                    v.amplitude,
+                    v.soft_mm,
+                )
+            }
+            LayerStyle::Grating(gr) => {
+                let fills: Vec<_> = p.elements.iter().map(|&i| (polys(i), fill_rule(&drawing.elements[i]))).collect();
+                let reach = gr.soft_mm / 2.0 + 2.0 * pitch;
+                let mine = p
+                    .elements
+                    .iter()
+                    .filter_map(|&i| crate::geometry::bounds(polys(i)))
+                    .reduce(|a, r| (a.0.min(r.0), a.1.min(r.1), a.2.max(r.2), a.3.max(r.3)));
+                let cuts = bands
+                    .iter()
+                    .filter(|(i, w)| {
+                        let m = w / 2.0 + reach;
+                        match (mine, crate::geometry::bounds(polys(*i))) {
+                            (Some(a), Some(r)) => r.0 - m <= a.2 && a.0 <= r.2 + m && r.1 - m <= a.3 && a.1 <= r.3 + m,
+                            _ => false,
+                        }
+                    })
+                    .map(|&(i, w)| (polys(i), w))
+                    .collect();
+                let kind =
+                    MaskKind::Grating { wavelength: Mm(gr.wavelength_mm as f32), angle_deg: gr.angle_deg as f32 };
+                (LayerGeometry { fills, cuts, clips, ..Default::default() }, kind, gr.amplitude, gr.soft_mm)
+            }
+        };
+        let params = FieldParams { pitch_mm: pitch, soft_mm: soft, page: page_rect };
+        let Some(field) = build_field(&geometry, params) else { continue };
+        let mut sources: Vec<u32> = p
+            .elements
+            .iter()
+            .filter_map(|&i| b.prov_index.get(&(drawing.elements[i].name.clone(), drawing.elements[i].line)).copied())
+            .collect();
+        sources.sort_unstable();
+        sources.dedup();
+        built_index[k] = Some(b.layers.len());
+        b.layers.push(DistanceLayer {
+            kind,
+            amplitude: amplitude as f32,
+            soft_mm: soft as f32,
+            step_mm: field.step_mm as f32,
+            origin_x: Mm(field.origin.0 as f32),
+            origin_y: Mm(field.origin.1 as f32),
+            pitch_mm: pitch as f32,
+            tile_cols: field.tile_cols,
+            tile_rows: field.tile_rows,
+            sources,
+            tiles: field.tiles,
+            samples: field.samples,
+        });
+    }
+    // Features name their built layer (a style whose field came out empty has none).
+    for f in &mut b.features {
+        if let Some(k) = f.mask {
+            f.mask = built_index.get(k).copied().flatten();
+        }
+    }
+}
+
+/// An element's fill rule.
+fn fill_rule(e: &Element) -> crate::geometry::FillRule {
+    match &e.shape {
+        Shape::Path(p) => p.fill_rule,
+        _ => crate::geometry::FillRule::NonZero,
     }
 }
 

@@ -20,7 +20,6 @@
 mod braille;
 mod dots;
 mod layers;
-mod masks;
 pub(crate) mod rules;
 
 /// Braille cells of a text (uncontracted UEB), for the pin arrays' braille too.

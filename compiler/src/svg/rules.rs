@@ -3,7 +3,7 @@
 
 use std::collections::HashSet;
 
-use taxel_format::{DeviceProfile, MaskLayer, MaskSamples};
+use taxel_format::{DeviceProfile, DistanceLayer};
 
 use super::layers::{Built, Feature, FeatureKind};
 use crate::diagnostic::Diagnostic;
@@ -252,19 +252,9 @@ fn near_dot_pairs(a: &Feature, b: &Feature, reach: f64, mut f: impl FnMut((f64, 
     }
 }
 
-/// The mask's value (0..=1) at the sample nearest to `(x, y)`, 0 outside.
-fn mask_at(m: &MaskLayer, x: f64, y: f64) -> f64 {
-    let px = m.px_per_mm as f64;
-    let i = ((x - m.origin_x.0 as f64) * px).floor();
-    let j = ((y - m.origin_y.0 as f64) * px).floor();
-    if i < 0.0 || j < 0.0 || i >= m.width as f64 || j >= m.height as f64 {
-        return 0.0;
-    }
-    let k = j as usize * m.width as usize + i as usize;
-    match &m.samples {
-        MaskSamples::U8(v) => v.get(k).map_or(0.0, |&s| s as f64 / 255.0),
-        MaskSamples::U16(v) => v.get(k).map_or(0.0, |&s| s as f64 / 65535.0),
-    }
+/// A distance layer's edge profile (0..=1) at `(x, y)`, 0 outside it.
+fn mask_at(m: &DistanceLayer, x: f64, y: f64) -> f64 {
+    m.coverage_at(x as f32, y as f32) as f64
 }
 
 /// Slack above full deflection before an overlap is reported: anti-aliased
@@ -272,14 +262,22 @@ fn mask_at(m: &MaskLayer, x: f64, y: f64) -> f64 {
 /// little above 1 at the seam; a real overlap sums to about 2.
 const SUM_SLACK: f64 = 0.1;
 
+/// How far inside both layers' exact edges a point must lie to count as an
+/// overlap of two distance layers, mm: the edge accuracy the layers promise.
+const OVERLAP_DEPTH_MM: f64 = 0.05;
+
 fn overlap(built: &Built, a: &Feature, b: &Feature, diags: &mut Vec<Diagnostic>) {
     if !overlaps(a.bbox, b.bbox) {
         return;
     }
     let over = match (a.mask, b.mask) {
+        // Shapes of one style are one layer: where they touch or overlap
+        // they merge into one border or region instead of adding up.
+        (Some(ia), Some(ib)) if ia == ib => false,
         (Some(ia), Some(ib)) => {
-            let (ma, mb) = (&built.masks[ia], &built.masks[ib]);
-            let px = ma.px_per_mm as f64;
+            let (ma, mb) = (&built.layers[ia], &built.layers[ib]);
+            // Sampled every 0.1 mm, as the raster masks were.
+            let px = 10.0;
             let x0 = a.bbox.0.max(b.bbox.0);
             let y0 = a.bbox.1.max(b.bbox.1);
             let x1 = a.bbox.2.min(b.bbox.2);
@@ -289,7 +287,17 @@ fn overlap(built: &Built, a: &Feature, b: &Feature, diags: &mut Vec<Diagnostic>)
             'rows: while y < y1 {
                 let mut x = ((x0 * px).floor() + 0.5) / px;
                 while x < x1 {
-                    if a.amplitude * mask_at(ma, x, y) + b.amplitude * mask_at(mb, x, y) > 1.0 + SUM_SLACK {
+                    // A true overlap: both layers felt more than `OVERLAP_DEPTH_MM`
+                    // inside their edges (where two layers merely meet, each
+                    // one's ramp may sum a little above 1 in a seam a few
+                    // micrometres wide).
+                    let deep = |m: &DistanceLayer| {
+                        m.distance_at(x as f32, y as f32).is_some_and(|d| d as f64 > OVERLAP_DEPTH_MM)
+                    };
+                    if a.amplitude * mask_at(ma, x, y) + b.amplitude * mask_at(mb, x, y) > 1.0 + SUM_SLACK
+                        && deep(ma)
+                        && deep(mb)
+                    {
                         found = true;
                         break 'rows;
                     }
@@ -301,7 +309,7 @@ fn overlap(built: &Built, a: &Feature, b: &Feature, diags: &mut Vec<Diagnostic>)
         }
         (Some(im), None) | (None, Some(im)) => {
             let (m, d) = if a.mask.is_some() { (a, b) } else { (b, a) };
-            let layer = &built.masks[im];
+            let layer = &built.layers[im];
             d.dots.iter().any(|&(x, y, _)| d.amplitude + m.amplitude * mask_at(layer, x, y) > 1.0 + SUM_SLACK)
         }
         (None, None) => {

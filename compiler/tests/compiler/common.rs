@@ -1,7 +1,7 @@
 //! Helpers shared by the compiler tests.
 
 use taxel_compiler::{CompileOptions, Compiled, Diagnostic, Severity, svg::compile_svg};
-use taxel_format::{Bundle, Chunk, DeviceProfile, DotKind, DotTable, MaskLayer, profiles};
+use taxel_format::{Bundle, Chunk, DeviceProfile, DistanceLayer, DotKind, DotTable, profiles};
 
 /// The STRESS² profile.
 pub fn stress2() -> DeviceProfile {
@@ -44,12 +44,12 @@ pub fn has_error(c: &Compiled) -> bool {
     c.diagnostics.iter().any(|d| d.severity == Severity::Error)
 }
 
-/// The mask chunks.
-pub fn masks(b: &Bundle) -> Vec<&MaskLayer> {
+/// The distance layers (one per vibration or grating style).
+pub fn masks(b: &Bundle) -> Vec<&DistanceLayer> {
     b.chunks
         .iter()
         .filter_map(|c| match c {
-            Chunk::Mask(m) => Some(m),
+            Chunk::Distance(m) => Some(m),
             _ => None,
         })
         .collect()
@@ -63,25 +63,20 @@ pub fn dots(b: &Bundle, kind: DotKind) -> Option<&DotTable> {
     })
 }
 
-/// Bilinear mask value (0..=1) at page position `(x, y)`, as a player reads it:
-/// sample centres at `origin + (i + ½) / px`, zero outside.
-pub fn sample(m: &MaskLayer, x: f64, y: f64) -> f64 {
-    let px = m.px_per_mm as f64;
-    let fx = (x - m.origin_x.0 as f64) * px - 0.5;
-    let fy = (y - m.origin_y.0 as f64) * px - 0.5;
-    let (i0, j0) = (fx.floor(), fy.floor());
-    let (tx, ty) = (fx - i0, fy - j0);
-    let get = |i: f64, j: f64| -> f64 {
-        if i < 0.0 || j < 0.0 || i >= m.width as f64 || j >= m.height as f64 {
-            return 0.0;
-        }
-        let k = j as usize * m.width as usize + i as usize;
-        match &m.samples {
-            taxel_format::MaskSamples::U8(v) => v[k] as f64 / 255.0,
-            taxel_format::MaskSamples::U16(v) => v[k] as f64 / 65535.0,
-        }
-    };
-    let a = get(i0, j0) * (1.0 - tx) + get(i0 + 1.0, j0) * tx;
-    let b = get(i0, j0 + 1.0) * (1.0 - tx) + get(i0 + 1.0, j0 + 1.0) * tx;
-    a * (1.0 - ty) + b * ty
+/// A layer's edge profile (0..=1) at page position `(x, y)`, as a player
+/// reads it (SPEC.md section 6.2), zero outside its lattice.
+pub fn sample(m: &DistanceLayer, x: f64, y: f64) -> f64 {
+    m.coverage_at(x as f32, y as f32) as f64
+}
+
+/// The page x range `[x0, x1)` of a distance layer's lattice.
+pub fn lattice_x(m: &DistanceLayer) -> (f32, f32) {
+    (m.origin_x.0, m.origin_x.0 + m.tile_cols as f32 * 8.0 * m.pitch_mm)
+}
+
+/// Whether a lattice starting at `x0` and ending at `x1` covers `[lo, hi]`
+/// and starts at most a tile's reach (two pitches) and one pitch before `lo`.
+pub fn covers_tightly(m: &DistanceLayer, lo: f32, hi: f32) -> bool {
+    let (x0, x1) = lattice_x(m);
+    x0 <= lo && x0 >= lo - 3.0 * m.pitch_mm - 1e-3 && x1 >= hi
 }

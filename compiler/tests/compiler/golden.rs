@@ -16,6 +16,38 @@ fn dir() -> PathBuf {
 }
 
 /// One character per 2 x 2 mm cell: ' ' empty, '.' partial, '#' mostly full.
+/// A distance layer's edge profile in cells of 2 mm, the largest of 9 x 9
+/// points in each: `#` above 0.75, `.` above 0, blank at 0.
+fn ascii_field(d: &taxel_format::DistanceLayer) -> String {
+    let (w, h) = (d.tile_cols as f32 * 8.0 * d.pitch_mm, d.tile_rows as f32 * 8.0 * d.pitch_mm);
+    let mut out = String::new();
+    let mut y = 1.0;
+    while y < h {
+        out.push_str("      |");
+        let mut x = 1.0;
+        while x < w {
+            let mut v = 0.0f32;
+            for j in 0..9 {
+                for i in 0..9 {
+                    let (px, py) = (x - 1.0 + i as f32 * 0.25, y - 1.0 + j as f32 * 0.25);
+                    v = v.max(d.coverage_at(d.origin_x.0 + px, d.origin_y.0 + py));
+                }
+            }
+            out.push(if v > 0.75 {
+                '#'
+            } else if v > 0.0 {
+                '.'
+            } else {
+                ' '
+            });
+            x += 2.0;
+        }
+        out.push_str("|\n");
+        y += 2.0;
+    }
+    out
+}
+
 fn ascii(m: &MaskLayer) -> String {
     let px = m.px_per_mm as f64;
     let cell = (2.0 * px).round().max(1.0) as usize;
@@ -74,6 +106,23 @@ pub fn dump(b: &Bundle) -> String {
                 )
                 .unwrap();
                 s += &ascii(m);
+            }
+            Chunk::Distance(d) => {
+                let kind = match d.kind {
+                    MaskKind::Vibration { freq } => format!("VDST {} Hz", freq.hz()),
+                    MaskKind::Grating { wavelength, angle_deg } => {
+                        format!("GDST {} mm at {}°", wavelength.0, angle_deg)
+                    }
+                };
+                let stored = d.samples.len() / taxel_format::TILE_SAMPLES;
+                let inside = d.tiles.iter().filter(|&&t| t == taxel_format::TILE_INSIDE).count();
+                writeln!(
+                    s,
+                    "{kind} amplitude {} soft {} sources {:?}: {} x {} tiles every {} mm from ({:.2}, {:.2}) mm, {stored} stored, {inside} inside",
+                    d.amplitude, d.soft_mm, d.sources, d.tile_cols, d.tile_rows, d.pitch_mm, d.origin_x.0, d.origin_y.0
+                )
+                .unwrap();
+                s += &ascii_field(d);
             }
             Chunk::Dots(t) => {
                 writeln!(s, "DOTS {} ({} dots)", t.kind.name(), t.dots.len()).unwrap();

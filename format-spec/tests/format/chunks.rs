@@ -74,7 +74,7 @@ fn dot(i: usize) -> usize {
 fn dot_table_fields() {
     let grid = edit_chunk(b"DOTS", |_| {});
     let view = BundleView::parse(&grid).unwrap();
-    let Some(taxel_format::ChunkView::Dots(d)) = view.chunks().nth(2) else { panic!() };
+    let Some(taxel_format::ChunkView::Dots(d)) = view.chunks().nth(3) else { panic!() };
     assert_eq!((d.grid.cols, d.grid.rows), (18, 13), "the offsets below assume this grid");
     invalid(edit_chunk(b"DOTS", |d| d[0] = 4), b"DOTS", "kind");
     invalid(edit_chunk(b"DOTS", |d| d[2] = 4), b"DOTS", "reserved");
@@ -169,4 +169,27 @@ fn provenance_fields() {
     );
     length(edit_chunk(b"PROV", |d| d.truncate(4)), b"PROV");
     length(edit_chunk(b"PROV", |d| put_u32(d, 4, 1000)), b"PROV");
+}
+
+/// Every field of a distance layer (SPEC.md section 6.2) that the reader checks.
+#[test]
+fn distance_layer_fields() {
+    let tag = b"GDST";
+    // Header: sources 2, 3 x 2 tiles, 3 stored.
+    length(edit_chunk(tag, |d| d[12] = 2), tag);
+    invalid(edit_chunk(tag, |d| d[4..8].copy_from_slice(&0u32.to_le_bytes())), tag, "tiles");
+    invalid(edit_chunk(tag, |d| d[24..28].copy_from_slice(&0.0f32.to_le_bytes())), tag, "pitch_mm");
+    invalid(edit_chunk(tag, |d| d[28..32].copy_from_slice(&1.5f32.to_le_bytes())), tag, "amplitude");
+    invalid(edit_chunk(tag, |d| d[40..44].copy_from_slice(&17.0f32.to_le_bytes())), tag, "soft_mm");
+    invalid(edit_chunk(tag, |d| d[44..48].copy_from_slice(&0.0f32.to_le_bytes())), tag, "step_mm");
+    invalid(edit_chunk(tag, |d| d[16..20].copy_from_slice(&f32::NAN.to_le_bytes())), tag, "origin_x_mm");
+    // Sources ascending: 0, 2 -> 2, 0.
+    invalid(edit_chunk(tag, |d| d[48..52].copy_from_slice(&2u32.to_le_bytes())), tag, "sources");
+    // Tile index 0, 2, 3, 1, 4, 0: stored tiles named out of order, or twice.
+    invalid(edit_chunk(tag, |d| d[60..64].copy_from_slice(&3u32.to_le_bytes())), tag, "tile index");
+    invalid(edit_chunk(tag, |d| d[64..68].copy_from_slice(&2u32.to_le_bytes())), tag, "tile index");
+    // One stored tile fewer than the index names.
+    invalid(edit_chunk(tag, |d| d[72..76].copy_from_slice(&0u32.to_le_bytes())), tag, "stored tiles");
+    length(edit_chunk(tag, |d| d.truncate(47)), tag);
+    length(edit_chunk(tag, |d| d.push(0)), tag);
 }

@@ -103,16 +103,22 @@ fn wrong_magic_is_refused_first() {
 #[test]
 fn a_future_major_version_is_refused_and_a_future_minor_is_read() {
     let chunks = decompose(&every_kind_bytes());
-    let err = BundleView::parse(&craft_version(&chunks, 2, 0)).unwrap_err();
-    assert_eq!(err, FormatError::UnsupportedVersion { major: 2, minor: 0 });
-    assert!(err.to_string().contains("2.0"), "{err}");
+    let err = BundleView::parse(&craft_version(&chunks, 3, 0)).unwrap_err();
+    assert_eq!(err, FormatError::UnsupportedVersion { major: 3, minor: 0 });
+    assert!(err.to_string().contains("3.0") && err.to_string().contains("newer taxel"), "{err}");
     assert!(matches!(
         BundleView::parse(&craft_version(&chunks, 0, 9)).unwrap_err(),
         FormatError::UnsupportedVersion { .. }
     ));
-    let newer = craft_version(&chunks, 1, 7);
+    // A 1.x bundle (one raster mask per shape) is refused with the version
+    // and what to do about it.
+    let old = BundleView::parse(&craft_version(&chunks, 1, 0)).unwrap_err();
+    assert_eq!(old, FormatError::UnsupportedVersion { major: 1, minor: 0 });
+    let text = old.to_string();
+    assert!(text.contains("version 1.0") && text.contains("rebuild") && text.contains("taxel build"), "{text}");
+    let newer = craft_version(&chunks, 2, 7);
     let view = BundleView::parse(&newer).unwrap();
-    assert_eq!(view.version(), (1, 7));
+    assert_eq!(view.version(), (2, 7));
     // A rewriting tool keeps the minor version and so every byte.
     assert_eq!(Bundle::from_view(&view).to_bytes_with_minor(7).unwrap(), newer);
 }

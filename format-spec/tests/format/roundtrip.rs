@@ -9,7 +9,7 @@ fn every_chunk_kind_round_trips() {
     let b = sample::every_kind();
     let bytes = b.to_bytes().unwrap();
     let view = BundleView::parse(&bytes).unwrap();
-    assert_eq!(view.version(), (1, 0));
+    assert_eq!(view.version(), (2, 0));
     assert_eq!(view.manifest(), &b.manifest);
     assert_eq!(Bundle::from_view(&view), b);
     let tags: Vec<String> = view.chunks().map(|c| kind(&c)).collect();
@@ -18,6 +18,7 @@ fn every_chunk_kind_round_trips() {
         [
             "mask 8",
             "mask 16",
+            "distance GDST",
             "dots outline",
             "dots symbol",
             "dots braille",
@@ -42,6 +43,7 @@ fn every_chunk_kind_round_trips() {
 fn kind(c: &ChunkView<'_>) -> String {
     match c {
         ChunkView::Mask(m) => format!("mask {}", m.bits),
+        ChunkView::Distance(d) => format!("distance {}", d.tag()),
         ChunkView::Dots(d) => format!("dots {}", d.kind.name()),
         ChunkView::Strokes(_) => "strokes".into(),
         ChunkView::Height(_) => "height".into(),

@@ -52,6 +52,7 @@ fn the_spec_quotes_the_crates_constants() {
         ("MAX_FILE_LEN", taxel_format::MAX_FILE_LEN),
         ("MAX_MASK_SIDE", taxel_format::MAX_MASK_SIDE as u64),
         ("MAX_MASK_SAMPLES", taxel_format::MAX_MASK_SAMPLES),
+        ("MAX_DISTANCE_TILES", taxel_format::MAX_DISTANCE_TILES as u64),
         ("MAX_DOTS", taxel_format::MAX_DOTS as u64),
         ("MAX_DOT_GRID_CELLS", taxel_format::MAX_DOT_GRID_CELLS as u64),
         ("MAX_STROKES", taxel_format::MAX_STROKES as u64),

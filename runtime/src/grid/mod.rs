@@ -127,6 +127,9 @@ impl<'a> GridPlayer<'a> {
                 ChunkView::Mask(m) => {
                     return Err(RuntimeError::UnexpectedChunk { family: Family::Grid, tag: m.kind.tag() });
                 }
+                ChunkView::Distance(m) => {
+                    return Err(RuntimeError::UnexpectedChunk { family: Family::Grid, tag: m.tag() });
+                }
                 ChunkView::Dots(_) => {
                     return Err(RuntimeError::UnexpectedChunk { family: Family::Grid, tag: Tag::DOTS });
                 }

@@ -70,6 +70,7 @@
 //! ```
 
 mod dots;
+mod field;
 mod mask;
 mod osc;
 
@@ -124,6 +125,7 @@ pub struct Layer<'a>(Slot<'a>);
 enum Slot<'a> {
     Empty,
     Mask(MaskLayer<'a>),
+    Field(field::FieldLayer<'a>),
     Dots(dots::DotLayer<'a>),
 }
 
@@ -199,7 +201,7 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
         let mut needed = 0usize;
         for chunk in view.chunks() {
             match chunk {
-                ChunkView::Mask(_) | ChunkView::Dots(_) => needed += 1,
+                ChunkView::Mask(_) | ChunkView::Distance(_) | ChunkView::Dots(_) => needed += 1,
                 ChunkView::Strokes(_) => {
                     return Err(RuntimeError::UnexpectedChunk { family: Family::Laterotactile, tag: Tag::STROKES });
                 }
@@ -221,6 +223,7 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
         for chunk in view.chunks() {
             let slot = match chunk {
                 ChunkView::Mask(m) => Slot::Mask(MaskLayer::new(&m, p.pitch_x_mm, p.pitch_y_mm)),
+                ChunkView::Distance(m) => Slot::Field(field::FieldLayer::new(&m, p.pitch_x_mm, p.pitch_y_mm)),
                 ChunkView::Dots(d) if d.is_empty() => continue,
                 ChunkView::Dots(d) => Slot::Dots(dots::DotLayer::new(d)),
                 _ => continue,
@@ -309,6 +312,7 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
             for layer in layers {
                 match &layer.0 {
                     Slot::Mask(m) => m.accumulate(&f, &mut acc),
+                    Slot::Field(m) => m.accumulate(&f, &mut acc),
                     Slot::Dots(d) => d.accumulate(&f, &mut acc),
                     Slot::Empty => {}
                 }

@@ -80,6 +80,7 @@ impl<'a> PinsPlayer<'a> {
                 ChunkView::Provenance(_) | ChunkView::Unknown { .. } => {}
                 // The reader refuses other layers in a pin bundle; this is the player's own guard.
                 ChunkView::Mask(m) => return Err(unexpected(m.kind.tag())),
+                ChunkView::Distance(d) => return Err(unexpected(d.tag())),
                 ChunkView::Dots(_) => return Err(unexpected(Tag::DOTS)),
                 ChunkView::Strokes(_) => return Err(unexpected(Tag::STROKES)),
                 ChunkView::Height(_) => return Err(unexpected(Tag::HEIGHT)),

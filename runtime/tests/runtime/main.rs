@@ -10,6 +10,7 @@ mod grid;
 mod latero_alloc;
 mod latero_art;
 mod latero_extreme;
+mod latero_field;
 mod latero_formula;
 mod latero_load;
 mod pins;

@@ -4,8 +4,8 @@
 use std::f64::consts::{PI, TAU};
 
 use taxel_format::{
-    Bundle, BundleView, Chunk, DeviceProfile, Dot, DotKind, DotTable, FamilyParams, Manifest, MaskKind, MaskLayer,
-    MaskSamples, MilliHertz, Mm, ProfileName, Tick, profiles,
+    Bundle, BundleView, Chunk, DeviceProfile, DistanceLayer, Dot, DotKind, DotTable, FamilyParams, Manifest, MaskKind,
+    MaskLayer, MaskSamples, MilliHertz, Mm, ProfileName, Tick, profiles,
 };
 use taxel_runtime::latero::LateroPlayer;
 
@@ -171,10 +171,62 @@ pub fn reference(p: &DeviceProfile, chunks: &[Chunk], tick: u64, x: f64, y: f64,
                     sum += dot.amplitude as f64 * eq1(r);
                 }
             }
+            Chunk::Distance(d) => {
+                let a = d.amplitude as f64 * field_value(d, ax, ay);
+                sum += a * match d.kind {
+                    MaskKind::Vibration { freq } => eq2(row, col, freq.0 as f64 / 1000.0, t),
+                    MaskKind::Grating { wavelength, angle_deg } => eq3(ax, ay, wavelength.0 as f64, angle_deg as f64),
+                };
+            }
             _ => {}
         }
     }
     sum
+}
+
+/// The interpolated code (biased, 0..=255) of a distance layer at page
+/// (x, y) in f64, or `None` outside its lattice (SPEC.md section 6.2).
+pub fn field_code(d: &DistanceLayer, x: f64, y: f64) -> Option<f64> {
+    let h = d.pitch_mm as f64;
+    let (u, v) = ((x - d.origin_x.0 as f64) / h, (y - d.origin_y.0 as f64) / h);
+    let (w, ht) = (d.tile_cols as f64 * 8.0, d.tile_rows as f64 * 8.0);
+    if !(u >= 0.0 && v >= 0.0 && u < w && v < ht) {
+        return None;
+    }
+    let (ci, cj) = (u.floor() as usize, v.floor() as usize);
+    let e = d.tiles[(cj / 8) * d.tile_cols as usize + ci / 8];
+    let s = |i: usize, j: usize| -> f64 {
+        match e {
+            0 => 0.0,
+            1 => 255.0,
+            e => {
+                d.samples[(e as usize - 2) * 81 + (j % 8 + (j / 8 - cj / 8) * 8) * 9 + (i % 8 + (i / 8 - ci / 8) * 8)]
+                    as f64
+            }
+        }
+    };
+    let (a, b) = (u - ci as f64, v - cj as f64);
+    Some(
+        (1.0 - a) * (1.0 - b) * s(ci, cj)
+            + a * (1.0 - b) * s(ci + 1, cj)
+            + (1.0 - a) * b * s(ci, cj + 1)
+            + a * b * s(ci + 1, cj + 1),
+    )
+}
+
+/// A distance layer's edge profile (0..1) at page (x, y): ½ + d / ramp, clamped.
+pub fn field_value(d: &DistanceLayer, x: f64, y: f64) -> f64 {
+    match field_code(d, x, y) {
+        None => 0.0,
+        Some(c) => profile_of_code(d, c),
+    }
+}
+
+/// The profile of an interpolated code.
+pub fn profile_of_code(d: &DistanceLayer, code: f64) -> f64 {
+    let step = d.step_mm as f64;
+    let ramp = if d.soft_mm > 0.0 { d.soft_mm as f64 } else { step };
+    (0.5 + (code - 128.0) * step / ramp).clamp(0.0, 1.0)
 }
 
 /// The expected output code (real-valued, before rounding) of a composite δ.

@@ -57,8 +57,12 @@ fn coordinates_at_1e6_mm() {
     if let Some(b) = &out.bundle {
         assert_sane(b);
         for c in &b.chunks {
-            if let Chunk::Mask(m) = c {
-                assert!(m.width as u64 * m.height as u64 <= 16 << 20);
+            // Nothing beyond the 110 x 60 mm surface is stored.
+            if let Chunk::Distance(d) = c {
+                let span = 8.0 * d.pitch_mm;
+                assert!(
+                    d.tile_cols as f32 * span <= 110.0 + 2.0 * span && d.tile_rows as f32 * span <= 60.0 + 2.0 * span
+                );
             }
         }
     }
@@ -75,7 +79,7 @@ fn wavelength_below_the_actuator_pitch() {
     assert!(has(&out.diagnostics, "T0405"), "{:?}", codes(&out.diagnostics));
     let b = out.bundle.expect("a warning, not an error");
     assert_sane(&b);
-    assert!(b.chunks.iter().any(|c| matches!(c, Chunk::Mask(m) if matches!(m.kind, taxel_format::MaskKind::Grating { wavelength, .. } if (wavelength.0 - 0.5).abs() < 1e-6))));
+    assert!(b.chunks.iter().any(|c| matches!(c, Chunk::Distance(m) if matches!(m.kind, taxel_format::MaskKind::Grating { wavelength, .. } if (wavelength.0 - 0.5).abs() < 1e-6))));
 }
 
 /// Two gratings on the same region add past full deflection: T0410 says so;

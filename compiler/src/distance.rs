@@ -1,0 +1,446 @@
+//! Distance layers: one style's shapes as a signed distance field in sparse
+//! tiles (SPEC.md section 6.2), built from exact f64 polylines in page mm.
+//!
+//! This is a pure function of geometry: polylines and fill rules in, a
+//! [`Field`] out, independent of usvg, so that any front end (the SVG scene
+//! or the resolved [`Drawing`](crate::drawing::Drawing)) plugs into it.
+//!
+//! The signed distance `s` of a layer at a point (positive where the style
+//! is felt) combines its parts:
+//! - fills: `+D` inside the union of the fills, `−D` outside, `D` the
+//!   distance to the nearest outline of any fill of the style (so a grating's
+//!   regions of one style are one layer);
+//! - a band (vibrating outlines): `w/2 − d`, `d` the distance to the nearest
+//!   centre line of any shape of the style (so touching borders of one style
+//!   merge into one border instead of adding up);
+//! - cut bands (vibrating borders crossing a grating): `min(s, d_c − w_c/2)`;
+//! - clip regions: `min(s, ±d_clip)`, signed like a fill;
+//! - the page: `min(s, distance inside the page)`, so nothing beyond the
+//!   surface is felt or stored.
+//!
+//! Samples are clamped to `±cap` with `cap = soft/2 + 2h` (+ one step): the
+//! distance is 1-Lipschitz, so in a cell with a clamped corner every point
+//! lies at least `soft/2` from the edge, on the corner's side, and the
+//! profile there is saturated whatever the interpolation gives.
+
+use std::collections::HashMap;
+
+use taxel_format::{DISTANCE_ZERO, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE, TILE_SAMPLES, TILE_SIDE};
+
+use crate::geometry::{FillRule, Polyline, distance_to_segment};
+
+/// Default lattice pitch of a distance layer, mm.
+pub const DEFAULT_PITCH_MM: f64 = 0.5;
+
+/// The geometry of one layer (one style).
+#[derive(Debug, Clone, Default)]
+pub struct LayerGeometry<'a> {
+    /// Filled shapes (a grating's regions), each with its fill rule; each
+    /// shape's subpaths are closed implicitly, as SVG fills are.
+    pub fills: Vec<(&'a [Polyline], FillRule)>,
+    /// Centre lines of a vibrating band, and the band's width in mm.
+    pub band: Option<(Vec<&'a [Polyline]>, f64)>,
+    /// Vibrating bands `(centre lines, width mm)` cut out of the fills.
+    pub cuts: Vec<(&'a [Polyline], f64)>,
+    /// Clip regions: the layer is felt only inside every one of them.
+    pub clips: Vec<(&'a [Polyline], FillRule)>,
+}
+
+/// How to sample a layer.
+#[derive(Debug, Clone, Copy)]
+pub struct FieldParams {
+    /// Lattice pitch `h`, mm.
+    pub pitch_mm: f64,
+    /// Edge profile ramp, mm (0: hard).
+    pub soft_mm: f64,
+    /// The page (surface) rectangle `(x0, y0, x1, y1)` in mm.
+    pub page: (f64, f64, f64, f64),
+}
+
+/// A built field: the tile lattice and its stored tiles (SPEC.md section 6.2).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Field {
+    /// Page position of lattice sample (0, 0).
+    pub origin: (f64, f64),
+    /// Tiles per row and rows of tiles.
+    pub tile_cols: u32,
+    /// Rows of tiles.
+    pub tile_rows: u32,
+    /// Distance of one sample code, mm.
+    pub step_mm: f64,
+    /// Tile index, row-major.
+    pub tiles: Vec<u32>,
+    /// Stored tiles' samples.
+    pub samples: Vec<u8>,
+}
+
+impl Field {
+    /// Number of stored tiles.
+    pub fn stored(&self) -> usize {
+        self.samples.len() / TILE_SAMPLES
+    }
+}
+
+type Seg = ((f64, f64), (f64, f64));
+
+fn closed_segments(pl: &Polyline) -> impl Iterator<Item = Seg> + '_ {
+    let n = pl.points.len();
+    (0..if n > 1 { n } else { 0 }).map(move |i| (pl.points[i], pl.points[(i + 1) % n]))
+}
+
+fn seg_bounds(s: &Seg) -> (f64, f64, f64, f64) {
+    (s.0.0.min(s.1.0), s.0.1.min(s.1.1), s.0.0.max(s.1.0), s.0.1.max(s.1.1))
+}
+
+/// The exact signed distance of a layer at `p`, in f64, before clamping:
+/// the reference the tests and `taxel report` measure fields against.
+pub fn exact_signed_distance(g: &LayerGeometry<'_>, page: (f64, f64, f64, f64), p: (f64, f64)) -> f64 {
+    let mut s = f64::NEG_INFINITY;
+    if !g.fills.is_empty() {
+        let d = g
+            .fills
+            .iter()
+            .flat_map(|(pls, _)| pls.iter().flat_map(closed_segments))
+            .map(|(a, b)| distance_to_segment(p, a, b))
+            .fold(f64::INFINITY, f64::min);
+        let inside = g.fills.iter().any(|(pls, rule)| crate::geometry::contains(pls, p, *rule));
+        s = if inside { d } else { -d };
+    }
+    if let Some((lines, w)) = &g.band {
+        let d = lines
+            .iter()
+            .flat_map(|pls| pls.iter().flat_map(|pl| pl.segments()))
+            .map(|(a, b)| distance_to_segment(p, a, b))
+            .fold(f64::INFINITY, f64::min);
+        s = s.max(w / 2.0 - d);
+    }
+    for (lines, w) in &g.cuts {
+        let d = lines
+            .iter()
+            .flat_map(|pl| pl.segments())
+            .map(|(a, b)| distance_to_segment(p, a, b))
+            .fold(f64::INFINITY, f64::min);
+        s = s.min(d - w / 2.0);
+    }
+    for (pls, rule) in &g.clips {
+        let d = pls
+            .iter()
+            .flat_map(closed_segments)
+            .map(|(a, b)| distance_to_segment(p, a, b))
+            .fold(f64::INFINITY, f64::min);
+        s = s.min(if crate::geometry::contains(pls, p, *rule) { d } else { -d });
+    }
+    s.min(inside_rect(page, p))
+}
+
+/// Signed distance inside a rectangle (positive inside).
+fn inside_rect(r: (f64, f64, f64, f64), p: (f64, f64)) -> f64 {
+    let dx = (p.0 - r.0).min(r.2 - p.0);
+    let dy = (p.1 - r.1).min(r.3 - p.1);
+    if dx >= 0.0 && dy >= 0.0 {
+        dx.min(dy)
+    } else {
+        let ox = (r.0 - p.0).max(p.0 - r.2).max(0.0);
+        let oy = (r.1 - p.1).max(p.1 - r.3).max(0.0);
+        -(ox.hypot(oy))
+    }
+}
+
+/// One kind of segment, for the per-tile buckets.
+#[derive(Clone, Copy)]
+enum Part {
+    /// A fill outline.
+    Fill,
+    /// The layer's band centre line.
+    Band,
+    /// Cut band `k`.
+    Cut(usize),
+    /// Clip region `k`.
+    Clip(usize),
+}
+
+/// Builds the field of one layer; `None` when nothing of it is felt on the page.
+pub fn build_field(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
+    let h = params.pitch_mm;
+    if !(h.is_finite() && h > 0.0) {
+        return None;
+    }
+    let soft = params.soft_mm.max(0.0);
+    // Codes run from −128 to +127 steps; the cap is 127 steps.
+    let reach = soft / 2.0 + 2.0 * h;
+    let step = reach / 126.0;
+    let cap = 127.0 * step;
+    // The felt region's bounds, grown by the reach, within the page grown by it.
+    let mut felt: Option<(f64, f64, f64, f64)> = None;
+    let mut grow = |b: (f64, f64, f64, f64), m: f64| {
+        let b = (b.0 - m, b.1 - m, b.2 + m, b.3 + m);
+        felt = Some(felt.map_or(b, |f| (f.0.min(b.0), f.1.min(b.1), f.2.max(b.2), f.3.max(b.3))));
+    };
+    for (pls, _) in &g.fills {
+        if let Some(b) = crate::geometry::bounds(pls) {
+            grow(b, reach);
+        }
+    }
+    if let Some((lines, w)) = &g.band {
+        for pls in lines {
+            if let Some(b) = crate::geometry::bounds(pls) {
+                grow(b, w / 2.0 + reach);
+            }
+        }
+    }
+    let f = felt?;
+    let pg = params.page;
+    let (x0, y0) = (f.0.max(pg.0 - reach), f.1.max(pg.1 - reach));
+    let (x1, y1) = (f.2.min(pg.2 + reach), f.3.min(pg.3 + reach));
+    if !(x1 > x0 && y1 > y0 && x0.is_finite() && y1.is_finite()) {
+        return None;
+    }
+    // The lattice sits on multiples of h from the page origin, so that
+    // layers of one drawing sample the same points.
+    let tile = TILE_CELLS as f64 * h;
+    let (ox, oy) = ((x0 / h).floor() * h, (y0 / h).floor() * h);
+    let cols = ((x1 - ox) / tile).ceil().max(1.0);
+    let rows = ((y1 - oy) / tile).ceil().max(1.0);
+    if cols * rows > taxel_format::MAX_DISTANCE_TILES as f64 {
+        return None;
+    }
+    let (cols, rows) = (cols as usize, rows as usize);
+    let at = |i: usize, j: usize| (ox + i as f64 * h, oy + j as f64 * h);
+
+    // Segments into per-tile buckets, each grown by how far it acts.
+    let mut segs: Vec<(Seg, Part, f64)> = Vec::new();
+    for (pls, _) in &g.fills {
+        for pl in pls.iter() {
+            segs.extend(closed_segments(pl).map(|s| (s, Part::Fill, reach)));
+        }
+    }
+    if let Some((lines, w)) = &g.band {
+        for pls in lines {
+            for pl in pls.iter() {
+                segs.extend(pl.segments().map(|s| (s, Part::Band, w / 2.0 + reach)));
+            }
+        }
+    }
+    for (k, (lines, w)) in g.cuts.iter().enumerate() {
+        for pl in lines.iter() {
+            segs.extend(pl.segments().map(|s| (s, Part::Cut(k), w / 2.0 + reach)));
+        }
+    }
+    for (k, (pls, _)) in g.clips.iter().enumerate() {
+        for pl in pls.iter() {
+            segs.extend(closed_segments(pl).map(|s| (s, Part::Clip(k), reach)));
+        }
+    }
+    let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); cols * rows];
+    for (n, (s, _, m)) in segs.iter().enumerate() {
+        let b = seg_bounds(s);
+        let tc = |v: f64, o: f64, n: usize| (((v - o) / tile).floor().max(0.0) as usize).min(n);
+        let (c0, c1) = (tc(b.0 - m, ox, cols), tc(b.2 + m, ox, cols));
+        let (r0, r1) = (tc(b.1 - m, oy, rows), tc(b.3 + m, oy, rows));
+        if b.2 + m < ox || b.3 + m < oy || c0 >= cols || r0 >= rows {
+            continue;
+        }
+        for r in r0..=r1.min(rows - 1) {
+            for c in c0..=c1.min(cols - 1) {
+                buckets[r * cols + c].push(n as u32);
+            }
+        }
+    }
+    // Inside-the-fills bits at every lattice point, one row sweep each.
+    let (nx, ny) = (cols * TILE_CELLS + 1, rows * TILE_CELLS + 1);
+    let inside = fill_bits(&g.fills, ox, oy, h, nx, ny);
+    let clip_bits: Vec<Vec<bool>> = g.clips.iter().map(|c| fill_bits(&[*c], ox, oy, h, nx, ny)).collect();
+    let in_clips = |k: usize| clip_bits.iter().all(|b| b[k]);
+    let page_edge_near = |c: usize, r: usize| {
+        let (a, b) = (at(c * TILE_CELLS, r * TILE_CELLS), at((c + 1) * TILE_CELLS, (r + 1) * TILE_CELLS));
+        let near = |e: f64, lo: f64, hi: f64| e >= lo - reach && e <= hi + reach;
+        (near(pg.0, a.0, b.0) || near(pg.2, a.0, b.0)) && b.1 >= pg.1 - reach && a.1 <= pg.3 + reach
+            || (near(pg.1, a.1, b.1) || near(pg.3, a.1, b.1)) && b.0 >= pg.0 - reach && a.0 <= pg.2 + reach
+    };
+    let mut tiles = vec![TILE_OUTSIDE; cols * rows];
+    let mut samples = Vec::new();
+    let mut tile_buf = [0u8; TILE_SAMPLES];
+    for r in 0..rows {
+        for c in 0..cols {
+            let bucket = &buckets[r * cols + c];
+            let corner = at(c * TILE_CELLS, r * TILE_CELLS);
+            if bucket.is_empty() && !page_edge_near(c, r) {
+                // No edge within the reach: the tile is what its corner is.
+                let k = r * TILE_CELLS * nx + c * TILE_CELLS;
+                let felt_here = !g.fills.is_empty() && inside[k] && in_clips(k);
+                tiles[r * cols + c] =
+                    if felt_here && inside_rect(pg, corner) > 0.0 { TILE_INSIDE } else { TILE_OUTSIDE };
+                continue;
+            }
+            for j in 0..TILE_SIDE {
+                for i in 0..TILE_SIDE {
+                    let (gi, gj) = (c * TILE_CELLS + i, r * TILE_CELLS + j);
+                    let p = at(gi, gj);
+                    let k = gj * nx + gi;
+                    let clipped: Vec<bool> = clip_bits.iter().map(|b| b[k]).collect();
+                    let s = sample(g, &segs, bucket, inside[k], &clipped, p, pg).clamp(-cap, cap);
+                    let code = (s / step).round().clamp(-128.0, 127.0) as i32 + DISTANCE_ZERO as i32;
+                    tile_buf[j * TILE_SIDE + i] = code as u8;
+                }
+            }
+            let top = DISTANCE_ZERO + 127;
+            tiles[r * cols + c] = if tile_buf.iter().all(|&v| v == top) {
+                TILE_INSIDE
+            } else if tile_buf.iter().all(|&v| v == 0) {
+                TILE_OUTSIDE
+            } else {
+                let n = (samples.len() / TILE_SAMPLES) as u32;
+                samples.extend_from_slice(&tile_buf);
+                TILE_FIRST_STORED + n
+            };
+        }
+    }
+    if tiles.iter().all(|&t| t == TILE_OUTSIDE) {
+        return None;
+    }
+    Some(Field { origin: (ox, oy), tile_cols: cols as u32, tile_rows: rows as u32, step_mm: step, tiles, samples })
+}
+
+/// The unclamped signed distance at a lattice point from the segments of its tile's bucket.
+fn sample(
+    g: &LayerGeometry<'_>,
+    segs: &[(Seg, Part, f64)],
+    bucket: &[u32],
+    inside: bool,
+    in_clip: &[bool],
+    p: (f64, f64),
+    page: (f64, f64, f64, f64),
+) -> f64 {
+    let mut d_fill = f64::INFINITY;
+    let mut d_band = f64::INFINITY;
+    let mut d_cut: Vec<f64> = vec![f64::INFINITY; g.cuts.len()];
+    let mut d_clip: Vec<f64> = vec![f64::INFINITY; g.clips.len()];
+    for &n in bucket {
+        let ((a, b), part, _) = segs[n as usize];
+        let d = distance_to_segment(p, a, b);
+        match part {
+            Part::Fill => d_fill = d_fill.min(d),
+            Part::Band => d_band = d_band.min(d),
+            Part::Cut(k) => d_cut[k] = d_cut[k].min(d),
+            Part::Clip(k) => d_clip[k] = d_clip[k].min(d),
+        }
+    }
+    let mut s = f64::NEG_INFINITY;
+    if !g.fills.is_empty() {
+        s = if inside { d_fill } else { -d_fill };
+    }
+    if let Some((_, w)) = &g.band {
+        s = s.max(w / 2.0 - d_band);
+    }
+    for (k, (_, w)) in g.cuts.iter().enumerate() {
+        s = s.min(d_cut[k] - w / 2.0);
+    }
+    for (k, &d) in d_clip.iter().enumerate() {
+        s = s.min(if in_clip.get(k).copied().unwrap_or(false) { d } else { -d });
+    }
+    s.min(inside_rect(page, p))
+}
+
+/// Whether each lattice point `(i, j)` (row-major, `nx` wide) is inside the
+/// union of the fills, by sweeping each row's crossings with every fill
+/// outline (the same half-open rule as [`contains`](crate::geometry::contains)).
+fn fill_bits(fills: &[(&[Polyline], FillRule)], ox: f64, oy: f64, h: f64, nx: usize, ny: usize) -> Vec<bool> {
+    let mut bits = vec![false; nx * ny];
+    if fills.is_empty() {
+        return bits;
+    }
+    // Edges bucketed by the lattice rows they span.
+    let mut by_row: Vec<Vec<(Seg, usize)>> = vec![Vec::new(); ny];
+    for (shape, (pls, _)) in fills.iter().enumerate() {
+        for pl in pls.iter() {
+            for s in closed_segments(pl) {
+                let (lo, hi) = (s.0.1.min(s.1.1), s.0.1.max(s.1.1));
+                let j0 = ((lo - oy) / h).ceil().max(0.0);
+                let j1 = ((hi - oy) / h).floor().min(ny as f64 - 1.0);
+                // NaN bounds (never from finite geometry) give no rows.
+                if j0.is_nan() || j1.is_nan() || j0 > j1 {
+                    continue;
+                }
+                for row in by_row.iter_mut().take(j1 as usize + 1).skip(j0 as usize) {
+                    row.push((s, shape));
+                }
+            }
+        }
+    }
+    let mut state: HashMap<usize, (i32, u32)> = HashMap::new();
+    for (j, edges) in by_row.iter().enumerate() {
+        let y = oy + j as f64 * h;
+        // Crossings to the right of a point decide it; sweep from the right.
+        let mut xs: Vec<(f64, usize, i32)> = edges
+            .iter()
+            .filter(|((a, b), _)| (a.1 <= y) != (b.1 <= y))
+            .map(|&((a, b), shape)| {
+                let x = a.0 + (y - a.1) / (b.1 - a.1) * (b.0 - a.0);
+                (x, shape, if b.1 > a.1 { 1 } else { -1 })
+            })
+            .collect();
+        if xs.is_empty() {
+            continue;
+        }
+        xs.sort_by(|a, b| b.0.total_cmp(&a.0));
+        state.clear();
+        let mut inside_count = 0i32;
+        let mut k = 0;
+        for i in (0..nx).rev() {
+            let x = ox + i as f64 * h;
+            while k < xs.len() && xs[k].0 > x {
+                let (_, shape, dir) = xs[k];
+                let rule = fills[shape].1;
+                let e = state.entry(shape).or_insert((0, 0));
+                let was = is_in(*e, rule);
+                e.0 += dir;
+                e.1 += 1;
+                let now = is_in(*e, rule);
+                inside_count += now as i32 - was as i32;
+                k += 1;
+            }
+            bits[j * nx + i] = inside_count > 0;
+        }
+    }
+    bits
+}
+
+fn is_in(s: (i32, u32), rule: FillRule) -> bool {
+    match rule {
+        FillRule::NonZero => s.0 != 0,
+        FillRule::EvenOdd => s.1 % 2 == 1,
+    }
+}
+
+/// The interpolated signed distance of a built field at `p` in mm (SPEC.md
+/// section 6.2), `None` outside its lattice: what a player computes, in f64.
+pub fn field_distance(f: &Field, h: f64, p: (f64, f64)) -> Option<f64> {
+    let fx = (p.0 - f.origin.0) / h;
+    let fy = (p.1 - f.origin.1) / h;
+    let (w, ht) = ((f.tile_cols as usize * TILE_CELLS) as f64, (f.tile_rows as usize * TILE_CELLS) as f64);
+    if !(fx >= 0.0 && fy >= 0.0 && fx < w && fy < ht) {
+        return None;
+    }
+    let (ci, cj) = (fx as usize, fy as usize);
+    let (tx, ty) = (ci / TILE_CELLS, cj / TILE_CELLS);
+    let e = *f.tiles.get(ty * f.tile_cols as usize + tx)?;
+    let step = f.step_mm;
+    match e {
+        TILE_OUTSIDE => Some(-128.0 * step),
+        TILE_INSIDE => Some(127.0 * step),
+        e => {
+            let base = (e - TILE_FIRST_STORED) as usize * TILE_SAMPLES;
+            let (i, j) = (ci - tx * TILE_CELLS, cj - ty * TILE_CELLS);
+            let s = |i: usize, j: usize| {
+                f.samples.get(base + j * TILE_SIDE + i).map_or(0.0, |&v| v as f64 - DISTANCE_ZERO as f64)
+            };
+            let (wx, wy) = (fx - ci as f64, fy - cj as f64);
+            let top = s(i, j) + (s(i + 1, j) - s(i, j)) * wx;
+            let bot = s(i, j + 1) + (s(i + 1, j + 1) - s(i, j + 1)) * wx;
+            Some((top + (bot - top) * wy) * step)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,205 @@
+//! The field against exact f64 geometry: random polygons and polylines with
+//! slivers, holes, self-intersections and collinear points.
+
+use proptest::prelude::*;
+
+use super::*;
+
+const PAGE: (f64, f64, f64, f64) = (0.0, 0.0, 40.0, 30.0);
+
+fn square(x: f64, y: f64, s: f64) -> Polyline {
+    Polyline { points: vec![(x, y), (x + s, y), (x + s, y + s), (x, y + s)], closed: true }
+}
+
+fn params(pitch: f64, soft: f64) -> FieldParams {
+    FieldParams { pitch_mm: pitch, soft_mm: soft, page: PAGE }
+}
+
+/// Checks the field at `points` against the exact signed distance:
+/// - wherever the exact distance is affine over the point's cell (the
+///   bilinear interpolation of the exact corner values gives the exact
+///   value), the field is within half a step of it: only quantisation;
+/// - everywhere in reach, within the Lipschitz bound of bilinear
+///   interpolation (h √2) plus half a step;
+/// - farther than that from any edge, on the right side (the hard profile's
+///   value is exact).
+fn check(g: &LayerGeometry<'_>, p: FieldParams, points: &[(f64, f64)]) -> Result<(), TestCaseError> {
+    let h = p.pitch_mm;
+    let exact = |q: (f64, f64)| exact_signed_distance(g, p.page, q);
+    let Some(f) = build_field(g, p) else {
+        // Nothing felt: every point is outside.
+        for &q in points {
+            prop_assert!(exact(q) <= 1e-9, "no field, but {q:?} is inside by {}", exact(q));
+        }
+        return Ok(());
+    };
+    let reach = p.soft_mm / 2.0 + 2.0 * h;
+    for &q in points {
+        let e = exact(q);
+        let got = field_distance(&f, h, q);
+        let Some(got) = got else {
+            prop_assert!(e <= 1e-9, "{q:?} is outside the lattice but inside by {e}");
+            continue;
+        };
+        // Corners of q's cell, on the lattice.
+        let (ci, cj) = (((q.0 - f.origin.0) / h).floor(), ((q.1 - f.origin.1) / h).floor());
+        let c = |i: f64, j: f64| exact((f.origin.0 + (ci + i) * h, f.origin.1 + (cj + j) * h));
+        let (wx, wy) = ((q.0 - f.origin.0) / h - ci, (q.1 - f.origin.1) / h - cj);
+        let corners = [c(0.0, 0.0), c(1.0, 0.0), c(0.0, 1.0), c(1.0, 1.0)];
+        if corners.iter().any(|v| v.abs() >= reach) {
+            // A clamped cell: saturated on the exact side.
+            if e.abs() > h * 1.5 {
+                prop_assert!(got.signum() == e.signum(), "{q:?}: field {got}, exact {e}");
+            }
+            continue;
+        }
+        let top = corners[0] + (corners[1] - corners[0]) * wx;
+        let bot = corners[2] + (corners[3] - corners[2]) * wx;
+        let bilinear = top + (bot - top) * wy;
+        let tol = f.step_mm * 0.5 + 1e-9;
+        if (bilinear - e).abs() < 1e-9 {
+            prop_assert!((got - e).abs() <= tol, "{q:?}: affine cell, field {got}, exact {e}");
+        }
+        prop_assert!((got - e).abs() <= h * std::f64::consts::SQRT_2 + tol, "{q:?}: field {got}, exact {e}");
+        if e.abs() > h * std::f64::consts::SQRT_2 + tol {
+            prop_assert!(got.signum() == e.signum(), "{q:?}: field {got}, exact {e}");
+        }
+    }
+    Ok(())
+}
+
+fn grid_points(step: f64) -> Vec<(f64, f64)> {
+    let mut v = Vec::new();
+    let mut y = -1.0 + step / 3.0;
+    while y < PAGE.3 + 1.0 {
+        let mut x = -1.0 + step / 7.0;
+        while x < PAGE.2 + 1.0 {
+            v.push((x, y));
+            x += step;
+        }
+        y += step;
+    }
+    v
+}
+
+#[test]
+fn a_square_is_exact_along_its_sides() {
+    let sq = [square(5.0, 5.0, 20.0)];
+    let g = LayerGeometry { fills: vec![(&sq, FillRule::NonZero)], ..Default::default() };
+    let p = params(0.5, 0.0);
+    let f = build_field(&g, p).expect("a field");
+    // Along the sides, away from the corners, the distance is affine in every
+    // cell: the field is exact to half a step, at any offset from the edge.
+    for k in 0..200 {
+        let t = 6.0 + 18.0 * k as f64 / 200.0;
+        for off in [-0.3, -0.05, -0.01, 0.01, 0.05, 0.3] {
+            let d = field_distance(&f, 0.5, (5.0 + off, t)).expect("in the lattice");
+            assert!((d - off).abs() <= f.step_mm * 0.5 + 1e-9, "x offset {off} at y {t}: {d}");
+        }
+    }
+    // Deep inside and far outside are single index entries.
+    assert!(f.tiles.contains(&TILE_INSIDE));
+    assert!(f.stored() > 0 && f.stored() < f.tiles.len());
+}
+
+#[test]
+fn touching_borders_of_one_style_are_one_border() {
+    // Two squares sharing the side x = 15: the band of the union is the
+    // band of the nearest centre line, never more than w/2 inside.
+    let (a, b) = ([square(5.0, 5.0, 10.0)], [square(15.0, 5.0, 10.0)]);
+    let g = LayerGeometry { band: Some((vec![&a[..], &b[..]], 1.5)), ..Default::default() };
+    let f = build_field(&g, params(0.5, 0.0)).expect("a field");
+    for k in 0..50 {
+        let y = 7.0 + 6.0 * k as f64 / 50.0;
+        let d = field_distance(&f, 0.5, (15.0, y)).expect("in the lattice");
+        assert!((d - 0.75).abs() <= 1e-2 + f.step_mm, "on the shared side: {d}");
+    }
+}
+
+#[test]
+fn a_grating_minus_a_band_is_the_fill_outside_the_band() {
+    let sq = [square(5.0, 5.0, 20.0)];
+    let line = [Polyline { points: vec![(15.0, 0.0), (15.0, 30.0)], closed: false }];
+    let g = LayerGeometry { fills: vec![(&sq, FillRule::NonZero)], cuts: vec![(&line, 2.0)], ..Default::default() };
+    let p = params(0.5, 0.0);
+    check(&g, p, &grid_points(0.173)).expect("field within bounds");
+    let f = build_field(&g, p).expect("a field");
+    // 0.5 mm off the band's edge on either side.
+    assert!(field_distance(&f, 0.5, (15.5, 10.0)).expect("lattice") < 0.0);
+    assert!(field_distance(&f, 0.5, (13.5, 10.0)).expect("lattice") > 0.4);
+}
+
+#[test]
+fn soft_edges_reach_half_their_width() {
+    let sq = [square(5.0, 5.0, 20.0)];
+    let g = LayerGeometry { fills: vec![(&sq, FillRule::NonZero)], ..Default::default() };
+    check(&g, params(0.5, 0.3), &grid_points(0.211)).expect("soft field within bounds");
+    check(&g, params(0.25, 2.0), &grid_points(0.311)).expect("wide soft field within bounds");
+}
+
+/// A random outline: a polygon around a centre with random radii (spiky
+/// slivers when the radii jump), optionally self-intersecting (vertices in
+/// random angular order), with collinear midpoints inserted.
+fn outline() -> impl Strategy<Value = Polyline> {
+    (
+        2.0f64..38.0,
+        2.0f64..28.0,
+        prop::collection::vec((0.0f64..std::f64::consts::TAU, 0.05f64..12.0), 3..12),
+        any::<bool>(),
+        any::<bool>(),
+        any::<bool>(),
+    )
+        .prop_map(|(cx, cy, mut polar, sorted, collinear, closed)| {
+            if sorted {
+                polar.sort_by(|a, b| a.0.total_cmp(&b.0));
+            }
+            let mut pts: Vec<(f64, f64)> = polar.iter().map(|&(a, r)| (cx + r * a.cos(), cy + r * a.sin())).collect();
+            if collinear {
+                let mut with = Vec::new();
+                for i in 0..pts.len() {
+                    let (a, b) = (pts[i], pts[(i + 1) % pts.len()]);
+                    with.push(a);
+                    with.push(((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0));
+                }
+                pts = with;
+            }
+            Polyline { points: pts, closed }
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+
+    /// Fills: one or two outlines as one shape (a second one inside the
+    /// first is a hole under even-odd), under either fill rule.
+    #[test]
+    fn fills_match_exact_geometry(a in outline(), b in outline(), two in any::<bool>(), evenodd in any::<bool>(), pitch in prop::sample::select(vec![0.25, 0.5, 1.0])) {
+        let shape = if two { vec![a, b] } else { vec![a] };
+        let rule = if evenodd { FillRule::EvenOdd } else { FillRule::NonZero };
+        let g = LayerGeometry { fills: vec![(&shape, rule)], ..Default::default() };
+        check(&g, params(pitch, 0.0), &grid_points(0.37))?;
+    }
+
+    /// Bands along open or closed polylines of any shape.
+    #[test]
+    fn bands_match_exact_geometry(a in outline(), width in 0.2f64..3.0, pitch in prop::sample::select(vec![0.25, 0.5])) {
+        let lines = [a];
+        let g = LayerGeometry { band: Some((vec![&lines[..]], width)), ..Default::default() };
+        check(&g, params(pitch, 0.0), &grid_points(0.29))?;
+    }
+}
+
+#[test]
+fn a_clipped_fill_is_felt_only_inside_its_clip() {
+    let sq = [square(5.0, 5.0, 20.0)];
+    let clip = [square(0.0, 0.0, 15.0)];
+    let g = LayerGeometry {
+        fills: vec![(&sq, FillRule::NonZero)],
+        clips: vec![(&clip, FillRule::NonZero)],
+        ..Default::default()
+    };
+    check(&g, params(0.5, 0.0), &grid_points(0.173)).expect("field within bounds");
+    let f = build_field(&g, params(0.5, 0.0)).expect("a field");
+    assert!(field_distance(&f, 0.5, (10.0, 10.0)).expect("lattice") > 0.0);
+    assert!(field_distance(&f, 0.5, (20.0, 10.0)).is_none_or(|d| d < 0.0));
+}

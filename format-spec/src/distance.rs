@@ -1,0 +1,400 @@
+//! Distance layers (`VDST`, `GDST`): one layer per style, stored as a signed
+//! distance field in sparse tiles, so that its edge is the drawing's edge and
+//! not a pixel grid's (SPEC.md section 6.2).
+//!
+//! The field holds, at the corners of a square lattice of pitch `h`, the
+//! signed distance to the style's exact outline (positive where the style is
+//! felt) as a biased byte: `d = (v − 128) · step`, with the layer's `step` in
+//! mm. The lattice is cut into tiles of
+//! [`TILE_CELLS`] x [`TILE_CELLS`] cells; a tile wholly inside or wholly
+//! outside is one index entry, the others store their
+//! `(TILE_CELLS + 1)²` corner samples (the shared edge samples repeated, so
+//! that a player interpolates inside one tile). A player interpolates the
+//! distance bilinearly and maps it to amplitude through the edge profile
+//! `clamp(½ + d / soft, 0, 1)`.
+
+use alloc::vec::Vec;
+
+use crate::bytes::{Out, f32_at, u32_at};
+use crate::error::FormatError;
+use crate::mask::MaskKind;
+use crate::units::{MilliHertz, Mm};
+use crate::{NO_SOURCE, Tag, in_range};
+
+/// Length of a distance chunk's fixed header.
+pub(crate) const DISTANCE_HEADER_LEN: usize = 48;
+/// Cells along one side of a tile.
+pub const TILE_CELLS: usize = 8;
+/// Samples along one side of a stored tile (its cells' corners).
+pub const TILE_SIDE: usize = TILE_CELLS + 1;
+/// Samples in one stored tile.
+pub const TILE_SAMPLES: usize = TILE_SIDE * TILE_SIDE;
+/// The sample code of distance 0 (samples are biased bytes).
+pub const DISTANCE_ZERO: u8 = 128;
+/// Largest number of tiles (index entries) in one distance layer.
+pub const MAX_DISTANCE_TILES: u32 = 1 << 22;
+/// Largest soft edge width, in mm.
+pub const MAX_SOFT_MM: f32 = 16.0;
+/// Tile index entry of a tile wholly outside (amplitude 0).
+pub const TILE_OUTSIDE: u32 = 0;
+/// Tile index entry of a tile wholly inside (full amplitude).
+pub const TILE_INSIDE: u32 = 1;
+/// Tile index entries from this value on name stored tile `entry - TILE_FIRST_STORED`.
+pub const TILE_FIRST_STORED: u32 = 2;
+
+/// One distance layer: every shape of one style.
+///
+/// Tile `(tx, ty)` covers the page rectangle from
+/// `(origin_x + 8 tx h, origin_y + 8 ty h)` to `8 h` further on each axis;
+/// its stored sample `(i, j)` (`i, j` in `0..=8`) is the distance at
+/// `(origin_x + (8 tx + i) h, origin_y + (8 ty + j) h)`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DistanceLayer {
+    /// The primitive and its parameters.
+    pub kind: MaskKind,
+    /// Amplitude (0..=1) that scales the whole layer.
+    pub amplitude: f32,
+    /// Width of the edge profile's ramp in mm; 0 is a hard edge (a ramp one `step` wide).
+    pub soft_mm: f32,
+    /// Distance of one sample code, mm: sample `v` is the distance `(v − 128) · step`.
+    pub step_mm: f32,
+    /// Page x of the lattice's first column.
+    pub origin_x: Mm,
+    /// Page y of the lattice's first row.
+    pub origin_y: Mm,
+    /// Lattice pitch `h`, mm.
+    pub pitch_mm: f32,
+    /// Tiles per row.
+    pub tile_cols: u32,
+    /// Rows of tiles.
+    pub tile_rows: u32,
+    /// Provenance entries of the elements this layer holds, ascending.
+    pub sources: Vec<u32>,
+    /// `tile_cols * tile_rows` entries, row-major: [`TILE_OUTSIDE`],
+    /// [`TILE_INSIDE`], or [`TILE_FIRST_STORED`] + the stored tile's number;
+    /// stored tiles are numbered in the order the index first names them.
+    pub tiles: Vec<u32>,
+    /// The stored tiles' samples, [`TILE_SAMPLES`] per tile, row-major within a tile.
+    pub samples: Vec<u8>,
+}
+
+impl DistanceLayer {
+    /// The chunk tag for this layer's kind.
+    pub fn tag(&self) -> Tag {
+        match self.kind {
+            MaskKind::Vibration { .. } => Tag::VIBRATION_DISTANCE,
+            MaskKind::Grating { .. } => Tag::GRATING_DISTANCE,
+        }
+    }
+
+    /// Number of stored tiles.
+    pub fn stored_tiles(&self) -> usize {
+        self.samples.len() / TILE_SAMPLES
+    }
+
+    /// The interpolated signed distance at page `(x, y)` in mm, or `None`
+    /// outside the lattice (where the layer is 0). Reference implementation
+    /// of SPEC.md section 6.2 for tools; players use their own kernels.
+    pub fn distance_at(&self, x: f32, y: f32) -> Option<f32> {
+        let h = self.pitch_mm;
+        let fx = (x - self.origin_x.0) / h;
+        let fy = (y - self.origin_y.0) / h;
+        let (cols, rows) =
+            ((self.tile_cols as usize * TILE_CELLS) as f32, (self.tile_rows as usize * TILE_CELLS) as f32);
+        if !(fx >= 0.0 && fy >= 0.0 && fx < cols && fy < rows) {
+            return None;
+        }
+        let (ci, cj) = (fx as usize, fy as usize);
+        let (tx, ty) = (ci / TILE_CELLS, cj / TILE_CELLS);
+        let entry = *self.tiles.get(ty * self.tile_cols as usize + tx)?;
+        let big = 127.0 * self.step_mm;
+        match entry {
+            TILE_OUTSIDE => Some(-big - self.step_mm),
+            TILE_INSIDE => Some(big),
+            e => {
+                let base = (e - TILE_FIRST_STORED) as usize * TILE_SAMPLES;
+                let (i, j) = (ci - tx * TILE_CELLS, cj - ty * TILE_CELLS);
+                let s =
+                    |i: usize, j: usize| self.samples.get(base + j * TILE_SIDE + i).map_or(0.0, |&v| v as f32 - 128.0);
+                let (wx, wy) = (fx - ci as f32, fy - cj as f32);
+                let top = s(i, j) + (s(i + 1, j) - s(i, j)) * wx;
+                let bot = s(i, j + 1) + (s(i + 1, j + 1) - s(i, j + 1)) * wx;
+                Some((top + (bot - top) * wy) * self.step_mm)
+            }
+        }
+    }
+
+    /// The edge profile's amplitude (0..=1, before the layer's amplitude) at
+    /// page `(x, y)`: `clamp(½ + d / soft, 0, 1)`, with a hard edge's ramp one
+    /// `step` wide.
+    pub fn coverage_at(&self, x: f32, y: f32) -> f32 {
+        match self.distance_at(x, y) {
+            None => 0.0,
+            Some(d) => profile(d, ramp(self.soft_mm, self.step_mm)),
+        }
+    }
+
+    /// Checks the owned model's shape before it is encoded.
+    pub(crate) fn check_shape(&self, index: u32) -> Result<(), FormatError> {
+        let tag = self.tag();
+        let bad = |field, expected| FormatError::InvalidValue { tag, index, field, expected };
+        if self.tiles.len() as u64 != self.tile_cols as u64 * self.tile_rows as u64 {
+            return Err(bad("tiles", "tile_cols * tile_rows index entries"));
+        }
+        if !self.samples.len().is_multiple_of(TILE_SAMPLES) {
+            return Err(bad("samples", "81 samples per stored tile"));
+        }
+        Ok(())
+    }
+
+    pub(crate) fn encode(&self) -> Vec<u8> {
+        let len = DISTANCE_HEADER_LEN + 4 * (self.sources.len() + self.tiles.len()) + self.samples.len();
+        let mut out = Vec::with_capacity(len);
+        let mut w = Out(&mut out);
+        w.u32(self.sources.len() as u32)
+            .u32(self.tile_cols)
+            .u32(self.tile_rows)
+            .u32(self.stored_tiles() as u32)
+            .f32(self.origin_x.0)
+            .f32(self.origin_y.0)
+            .f32(self.pitch_mm)
+            .f32(self.amplitude);
+        match self.kind {
+            MaskKind::Vibration { freq } => w.u32(freq.0).u32(0),
+            MaskKind::Grating { wavelength, angle_deg } => w.f32(wavelength.0).f32(angle_deg),
+        };
+        w.f32(self.soft_mm).f32(self.step_mm);
+        for &s in &self.sources {
+            w.u32(s);
+        }
+        for &t in &self.tiles {
+            w.u32(t);
+        }
+        w.bytes(&self.samples);
+        out
+    }
+
+    pub(crate) fn from_view(v: &DistanceView<'_>) -> Self {
+        DistanceLayer {
+            kind: v.kind,
+            amplitude: v.amplitude,
+            soft_mm: v.soft_mm,
+            step_mm: v.step_mm,
+            origin_x: v.origin_x,
+            origin_y: v.origin_y,
+            pitch_mm: v.pitch_mm,
+            tile_cols: v.tile_cols,
+            tile_rows: v.tile_rows,
+            sources: (0..v.source_count()).filter_map(|i| v.source(i)).collect(),
+            tiles: (0..v.tile_cols * v.tile_rows).map(|i| v.tile_entry(i)).collect(),
+            samples: v.samples.to_vec(),
+        }
+    }
+}
+
+/// The edge profile: amplitude 0..=1 for a signed distance `d` (mm) and a
+/// ramp `width` mm wide: `clamp(½ + d / width, 0, 1)`.
+pub fn profile(d: f32, width: f32) -> f32 {
+    (0.5 + d / width).clamp(0.0, 1.0)
+}
+
+/// The ramp width of a layer's edge profile: `soft`, or for a hard edge
+/// (`soft` = 0) one sample step.
+pub fn ramp(soft_mm: f32, step_mm: f32) -> f32 {
+    if soft_mm > 0.0 { soft_mm } else { step_mm }
+}
+
+/// A validated distance chunk, read in place.
+#[derive(Debug, Clone, Copy)]
+pub struct DistanceView<'a> {
+    /// The primitive and its parameters.
+    pub kind: MaskKind,
+    /// Layer amplitude (0..=1).
+    pub amplitude: f32,
+    /// Edge profile ramp width, mm (0 hard).
+    pub soft_mm: f32,
+    /// Distance of one sample code, mm.
+    pub step_mm: f32,
+    /// Page x of the lattice's first column.
+    pub origin_x: Mm,
+    /// Page y of the lattice's first row.
+    pub origin_y: Mm,
+    /// Lattice pitch, mm.
+    pub pitch_mm: f32,
+    /// Tiles per row.
+    pub tile_cols: u32,
+    /// Rows of tiles.
+    pub tile_rows: u32,
+    /// Stored tiles.
+    pub stored: u32,
+    sources: &'a [u8],
+    tiles: &'a [u8],
+    samples: &'a [u8],
+}
+
+impl<'a> DistanceView<'a> {
+    /// Number of provenance entries the layer names.
+    pub fn source_count(&self) -> u32 {
+        (self.sources.len() / 4) as u32
+    }
+
+    /// The `i`-th provenance entry the layer holds.
+    pub fn source(&self, i: u32) -> Option<u32> {
+        u32_at(self.sources, 4 * i as usize)
+    }
+
+    /// The tile index entry `i` (row-major), or [`TILE_OUTSIDE`] past the end.
+    #[inline]
+    pub fn tile_entry(&self, i: u32) -> u32 {
+        u32_at(self.tiles, 4 * i as usize).unwrap_or(TILE_OUTSIDE)
+    }
+
+    /// Stored sample code `k` (tile `k / 81`, then row-major in the tile),
+    /// or [`DISTANCE_ZERO`] past the end.
+    #[inline]
+    pub fn sample(&self, k: usize) -> u8 {
+        self.samples.get(k).copied().unwrap_or(DISTANCE_ZERO)
+    }
+
+    /// The tile index bytes (u32 little-endian entries).
+    pub fn tile_bytes(&self) -> &'a [u8] {
+        self.tiles
+    }
+
+    /// The stored samples' bytes (biased codes).
+    pub fn sample_bytes(&self) -> &'a [u8] {
+        self.samples
+    }
+
+    /// The chunk's tag.
+    pub fn tag(&self) -> Tag {
+        match self.kind {
+            MaskKind::Vibration { .. } => Tag::VIBRATION_DISTANCE,
+            MaskKind::Grating { .. } => Tag::GRATING_DISTANCE,
+        }
+    }
+
+    pub(crate) fn parse(d: &'a [u8], tag: Tag, index: u32, full: bool) -> Result<Self, FormatError> {
+        if d.len() < DISTANCE_HEADER_LEN {
+            return Err(FormatError::ChunkLength {
+                tag,
+                index,
+                expected: DISTANCE_HEADER_LEN as u64,
+                found: d.len() as u64,
+            });
+        }
+        let bad = |field, expected| FormatError::InvalidValue { tag, index, field, expected };
+        let u = |o| u32_at(d, o).unwrap_or(0);
+        let f = |o| f32_at(d, o).unwrap_or(f32::NAN);
+        let (nsrc, cols, rows, stored) = (u(0), u(4), u(8), u(12));
+        if nsrc > crate::MAX_PROVENANCE_ENTRIES {
+            return Err(FormatError::Limit {
+                tag,
+                field: "sources",
+                value: nsrc as u64,
+                limit: crate::MAX_PROVENANCE_ENTRIES as u64,
+            });
+        }
+        if cols == 0 || rows == 0 {
+            return Err(bad("tiles", "at least one tile column and row"));
+        }
+        let ntiles = cols as u64 * rows as u64;
+        if ntiles > MAX_DISTANCE_TILES as u64 {
+            return Err(FormatError::Limit { tag, field: "tiles", value: ntiles, limit: MAX_DISTANCE_TILES as u64 });
+        }
+        if stored as u64 > ntiles {
+            return Err(bad("stored tiles", "at most tile_cols * tile_rows"));
+        }
+        let expected = DISTANCE_HEADER_LEN as u64 + 4 * (nsrc as u64 + ntiles) + TILE_SAMPLES as u64 * stored as u64;
+        if d.len() as u64 != expected {
+            return Err(FormatError::ChunkLength { tag, index, expected, found: d.len() as u64 });
+        }
+        let origin_x = in_range(f(16), -1e6, 1e6, tag, index, "origin_x_mm", "from -1e6 to 1e6 mm")?;
+        let origin_y = in_range(f(20), -1e6, 1e6, tag, index, "origin_y_mm", "from -1e6 to 1e6 mm")?;
+        let pitch_mm = in_range(f(24), 1e-3, 100.0, tag, index, "pitch_mm", "from 0.001 to 100 mm")?;
+        let amplitude = in_range(f(28), 0.0, 1.0, tag, index, "amplitude", "from 0 to 1")?;
+        let soft_mm = in_range(f(40), 0.0, MAX_SOFT_MM, tag, index, "soft_mm", "from 0 to 16 mm")?;
+        let step_mm = in_range(f(44), 1e-6, 1.0, tag, index, "step_mm", "from 1e-6 to 1 mm")?;
+        let kind = if tag == Tag::VIBRATION_DISTANCE {
+            if u(36) != 0 {
+                return Err(bad("reserved", "zero"));
+            }
+            let freq = u(32);
+            if freq == 0 {
+                return Err(bad("frequency", "above 0 Hz"));
+            }
+            MaskKind::Vibration { freq: MilliHertz(freq) }
+        } else {
+            let wavelength = in_range(f(32), 1e-3, 1e6, tag, index, "wavelength_mm", "from 0.001 to 1e6 mm")?;
+            let angle_deg = in_range(f(36), -360.0, 360.0, tag, index, "angle_deg", "from -360 to 360")?;
+            MaskKind::Grating { wavelength: Mm(wavelength), angle_deg }
+        };
+        let src_end = DISTANCE_HEADER_LEN + 4 * nsrc as usize;
+        let tiles_end = src_end + 4 * ntiles as usize;
+        let view = DistanceView {
+            kind,
+            amplitude,
+            soft_mm,
+            step_mm,
+            origin_x: Mm(origin_x),
+            origin_y: Mm(origin_y),
+            pitch_mm,
+            tile_cols: cols,
+            tile_rows: rows,
+            stored,
+            sources: &d[DISTANCE_HEADER_LEN..src_end],
+            tiles: &d[src_end..tiles_end],
+            samples: &d[tiles_end..],
+        };
+        // The lattice's far corner must be finite in f32, so that a player's
+        // box arithmetic never overflows.
+        let far = |o: f32, n: u32| o as f64 + n as f64 * TILE_CELLS as f64 * pitch_mm as f64;
+        if far(origin_x, cols).abs() > 2e6 || far(origin_y, rows).abs() > 2e6 {
+            return Err(bad("tiles", "a lattice that ends within 2e6 mm of the page origin"));
+        }
+        if full {
+            let mut prev: Option<u32> = None;
+            for i in 0..nsrc {
+                let s = view.source(i).unwrap_or(NO_SOURCE);
+                if s == NO_SOURCE || prev.is_some_and(|p| s <= p) {
+                    return Err(bad("sources", "provenance indices in strictly increasing order"));
+                }
+                prev = Some(s);
+            }
+            let mut next = TILE_FIRST_STORED;
+            for i in 0..ntiles as u32 {
+                match view.tile_entry(i) {
+                    TILE_OUTSIDE | TILE_INSIDE => {}
+                    e if e == next => next += 1,
+                    _ => {
+                        return Err(bad(
+                            "tile index",
+                            "0, 1, or the next stored tile's number (tiles stored in index order)",
+                        ));
+                    }
+                }
+            }
+            if next - TILE_FIRST_STORED != stored {
+                return Err(bad("stored tiles", "the number of stored tiles the index names"));
+            }
+        }
+        Ok(view)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn profile_is_a_ramp_centred_on_the_edge() {
+        assert_eq!(profile(0.0, 0.3), 0.5);
+        assert_eq!(profile(0.15, 0.3), 1.0);
+        assert_eq!(profile(-0.15, 0.3), 0.0);
+        assert!((profile(0.075, 0.3) - 0.75).abs() < 1e-6);
+        // Hard: one step wide.
+        assert_eq!(ramp(0.0, 0.01), 0.01);
+        assert_eq!(ramp(0.3, 0.01), 0.3);
+        assert_eq!(profile(0.005, ramp(0.0, 0.01)), 1.0);
+    }
+}
