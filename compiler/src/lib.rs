@@ -20,6 +20,7 @@ mod options;
 pub mod pins;
 mod prepare;
 pub mod preview;
+pub mod spatial;
 pub mod stylesheet;
 pub mod svg;
 mod text_pos;
