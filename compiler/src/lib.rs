@@ -11,6 +11,7 @@
 #![warn(missing_docs)]
 
 pub mod annotation;
+pub mod auto;
 pub mod brush;
 mod diagnostic;
 pub mod drawing;

@@ -67,6 +67,31 @@ impl BoxIndex {
     }
 }
 
+/// Boxes placed one at a time, each refused when it would meet one already
+/// placed (braille labels that must not run into each other).
+#[derive(Debug, Default)]
+pub struct Occupancy {
+    tree: RTree<Entry>,
+}
+
+impl Occupancy {
+    /// Places `b` unless it meets a placed box; returns whether it was placed.
+    /// A box with non-finite or inverted corners is never placed.
+    pub fn place(&mut self, b: Bbox) -> bool {
+        if !usable(b) || self.tree.locate_in_envelope_intersecting(&envelope(b)).next().is_some() {
+            return false;
+        }
+        let index = self.tree.size();
+        self.tree.insert(Entry { index, bbox: b });
+        true
+    }
+
+    /// Whether `b` meets no placed box.
+    pub fn is_free(&self, b: Bbox) -> bool {
+        usable(b) && self.tree.locate_in_envelope_intersecting(&envelope(b)).next().is_none()
+    }
+}
+
 /// Every pair `(i, j)`, `i < j`, of `boxes` that come within `margin` of each
 /// other (their boxes grown by `margin` meet), sorted.
 ///

@@ -1,0 +1,215 @@
+use super::*;
+use crate::drawing::{Clip, Page, Paint, PathShape, TextRun, TextShape};
+use taxel_format::profiles;
+
+fn stress2() -> DeviceProfile {
+    profiles::builtin("stress2").unwrap()
+}
+
+fn page(w: f64, h: f64) -> Page {
+    Page { width_mm: w, height_mm: h, scale: 1.0, offset_mm: (0.0, 0.0) }
+}
+
+fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<Polyline> {
+    vec![Polyline { points: vec![(x0, y0), (x1, y0), (x1, y1), (x0, y1)], closed: true }]
+}
+
+fn circle(cx: f64, cy: f64, r: f64) -> Vec<Polyline> {
+    let points = (0..64)
+        .map(|k| {
+            let t = k as f64 / 64.0 * std::f64::consts::TAU;
+            (cx + r * t.cos(), cy + r * t.sin())
+        })
+        .collect();
+    vec![Polyline { points, closed: true }]
+}
+
+fn shape(name: &str, outline: Vec<Polyline>, fill: Option<Rgba>, stroke: Option<Rgba>) -> Element {
+    Element {
+        id: name.into(),
+        name: name.into(),
+        tag: "path".into(),
+        visible: true,
+        paint: Paint {
+            fill,
+            filled: fill.is_some(),
+            stroke,
+            stroked: stroke.is_some(),
+            stroke_width_mm: if stroke.is_some() { 0.3 } else { 0.0 },
+        },
+        shape: Shape::Path(PathShape { outline, ..Default::default() }),
+        ..Default::default()
+    }
+}
+
+fn text(name: &str, s: &str, x: f64, y: f64) -> Element {
+    Element {
+        id: name.into(),
+        name: name.into(),
+        tag: "text".into(),
+        visible: true,
+        shape: Shape::Text(TextShape {
+            content: s.into(),
+            runs: vec![TextRun { text: s.into(), x_mm: x, y_mm: y, anchor: 0.0, continues: false }],
+            font_size_mm: 4.0,
+            outline: vec![],
+        }),
+        ..Default::default()
+    }
+}
+
+const BLACK: Option<Rgba> = Some([0, 0, 0, 255]);
+const RED: Option<Rgba> = Some([228, 26, 28, 255]);
+const BLUE: Option<Rgba> = Some([55, 126, 184, 255]);
+const WHITE_FILL: Option<Rgba> = Some([255, 255, 255, 255]);
+
+#[test]
+fn each_kind_of_element_gets_what_the_sheet_promises() {
+    let mut d = Drawing {
+        page: page(200.0, 120.0),
+        elements: vec![
+            shape("background", rect(0.0, 0.0, 200.0, 120.0), Some([235, 225, 200, 255]), None),
+            shape("sea", rect(0.0, 0.0, 199.0, 119.0), BLUE, None), // covers the page: a background too
+            shape("land", rect(10.0, 10.0, 90.0, 90.0), RED, BLACK),
+            shape("road", vec![Polyline { points: vec![(0.0, 100.0), (150.0, 100.0)], closed: false }], None, BLACK),
+            shape("town", circle(50.0, 50.0, 1.5), BLACK, None),
+            shape(
+                "glyph",
+                vec![Polyline {
+                    points: vec![(120.0, 10.0), (120.4, 10.0), (120.4, 14.0), (120.0, 14.0)],
+                    closed: true,
+                }],
+                BLACK,
+                None,
+            ),
+            shape("paper", rect(100.0, 10.0, 140.0, 40.0), WHITE_FILL, None),
+            shape("ghost", rect(100.0, 50.0, 140.0, 60.0), Some([255, 0, 0, 10]), None),
+            text("label", "Tala", 20.0, 30.0),
+            text("too-long", "a label far too long for the page in braille", 150.0, 60.0),
+            shape("off", rect(300.0, 10.0, 320.0, 40.0), RED, None),
+            Element { visible: false, ..shape("hidden", rect(10.0, 10.0, 30.0, 30.0), RED, None) },
+            {
+                let mut e = shape("clipped", rect(10.0, 10.0, 30.0, 30.0), RED, None);
+                if let Shape::Path(p) = &mut e.shape {
+                    p.clips.push(Clip { outline: rect(100.0, 100.0, 110.0, 110.0), ..Default::default() });
+                }
+                e
+            },
+        ],
+        ..Default::default()
+    };
+    let mut diags = Vec::new();
+    let plan = apply(&mut d, &stress2(), &mut diags);
+    let names: Vec<Vec<&str>> = d.elements.iter().map(|e| e.styles.iter().map(Style::name).collect()).collect();
+    let left: Vec<Option<LeftOut>> = plan.decisions.iter().map(|d| d.left_out).collect();
+    assert_eq!(left[0], Some(LeftOut::Background));
+    assert_eq!(left[1], Some(LeftOut::Background));
+    assert_eq!(names[2], ["vibrate", "grating"]);
+    assert_eq!(names[3], ["vibrate"]);
+    assert_eq!(names[4], ["dot"]);
+    assert_eq!(left[5], Some(LeftOut::SmallShape), "a 0.4 x 4 mm sliver is not a mark");
+    assert_eq!(left[6], Some(LeftOut::Unpainted));
+    assert_eq!(left[7], Some(LeftOut::Unpainted));
+    assert_eq!(names[8], ["braille"]);
+    assert_eq!(left[9], Some(LeftOut::TextDoesNotFit));
+    assert_eq!(left[10], Some(LeftOut::OffPage));
+    assert_eq!(left[11], Some(LeftOut::Hidden));
+    assert_eq!(left[12], Some(LeftOut::ClippedAway));
+    assert!(d.elements.iter().all(|e| (e.styled_by == StyledBy::Auto) != e.styles.is_empty()));
+    // One note for the text left out, naming it.
+    let t: Vec<_> = diags.iter().filter(|d| d.code == "T0323").collect();
+    assert_eq!(t.len(), 1);
+    assert!(t[0].message.contains("#too-long"), "{}", t[0].message);
+    let s = summary(&d);
+    assert_eq!(s.message, "13 element(s) (automatic style sheet): 2 vibrate, 1 grating, 1 dot, 1 braille, 9 left out");
+}
+
+#[test]
+fn annotated_elements_are_left_as_they_are() {
+    let mut annotated = shape("a", rect(10.0, 10.0, 50.0, 50.0), RED, None);
+    annotated.styles = vec![Style::Vibrate(outline_style(&stress2()))];
+    annotated.styled_by = StyledBy::Annotation;
+    let mut d = Drawing {
+        page: page(100.0, 60.0),
+        elements: vec![annotated.clone(), shape("b", rect(60.0, 10.0, 90.0, 50.0), BLUE, None)],
+        ..Default::default()
+    };
+    assert!(!unannotated(&d));
+    apply(&mut d, &stress2(), &mut Vec::new());
+    assert_eq!(d.elements[0].styles, annotated.styles);
+    assert_eq!(d.elements[0].styled_by, StyledBy::Annotation);
+    assert_eq!(d.elements[1].styled_by, StyledBy::Auto);
+}
+
+#[test]
+fn braille_labels_that_would_collide_keep_the_first() {
+    let mut d = Drawing {
+        page: page(200.0, 100.0),
+        elements: vec![
+            text("one", "Oslo", 10.0, 50.0),
+            text("two", "Bergen", 12.0, 52.0),
+            text("three", "Moss", 10.0, 80.0),
+        ],
+        ..Default::default()
+    };
+    let plan = apply(&mut d, &stress2(), &mut Vec::new());
+    let b: Vec<bool> = plan.decisions.iter().map(|d| d.braille).collect();
+    assert_eq!(b, [true, false, true]);
+}
+
+#[test]
+fn more_fills_than_textures_reuse_textures_only_between_regions_that_do_not_touch() {
+    // Six colours in a row of touching squares: a path graph needs two
+    // textures, but each distinct fill first takes its own, largest first.
+    let fills: Vec<Rgba> = (0..6).map(|k| [40 * k as u8, 100, 200 - 30 * k as u8, 255]).collect();
+    let elements: Vec<Element> = (0..6)
+        .map(|k| {
+            // Decreasing sizes so the order by area is the order in the row.
+            let x = 30.0 * k as f64;
+            shape(&format!("r{k}"), rect(x, 0.0, x + 30.0, 40.0 - 3.0 * k as f64), Some(fills[k]), None)
+        })
+        .collect();
+    let mut d = Drawing { page: page(200.0, 100.0), elements, ..Default::default() };
+    let mut diags = Vec::new();
+    let plan = apply(&mut d, &stress2(), &mut diags);
+    let tex: Vec<Option<usize>> = plan.fills.iter().map(|f| f.texture).collect();
+    // Greedy lowest colour along a path: 0, 1, 0, 1, 0, 1.
+    assert_eq!(tex, [Some(0), Some(1), Some(0), Some(1), Some(0), Some(1)]);
+    assert!(diags.iter().any(|d| d.code == "T0322"), "{diags:?}");
+    assert!(!diags.iter().any(|d| d.code == "T0321"));
+}
+
+#[test]
+fn the_sheet_for_a_drawing_parses_and_maps_each_fill_to_its_texture() {
+    let d = Drawing {
+        page: page(200.0, 100.0),
+        elements: vec![
+            shape("a", rect(10.0, 10.0, 60.0, 60.0), RED, BLACK),
+            shape("b", rect(60.0, 10.0, 100.0, 60.0), BLUE, None),
+            shape(
+                "line",
+                vec![Polyline { points: vec![(0.0, 80.0), (100.0, 80.0)], closed: false }],
+                None,
+                Some([0, 0, 255, 255]),
+            ),
+        ],
+        ..Default::default()
+    };
+    let plan = plan(&d, &stress2());
+    let toml = sheet_toml(&stress2(), Some((&d, &plan)));
+    let sheet = crate::StyleSheet::parse(&toml, "auto.toml").unwrap_or_else(|e| panic!("{e}\n{toml}"));
+    let facts = |fill: Option<[u8; 3]>, stroke: Option<[u8; 3]>| crate::stylesheet::ElementFacts {
+        fill,
+        stroke,
+        ..Default::default()
+    };
+    let styles = |f| sheet.lookup(&f).map(|r| r.declaration.styles().to_vec()).unwrap_or_default();
+    let t = textures(&stress2());
+    assert_eq!(styles(facts(Some([228, 26, 28]), None)), [Style::Grating(t[0])]);
+    assert_eq!(
+        styles(facts(Some([228, 26, 28]), Some([0, 0, 0]))),
+        [Style::Vibrate(outline_style(&stress2())), Style::Grating(t[0])]
+    );
+    assert_eq!(styles(facts(Some([55, 126, 184]), None)), [Style::Grating(t[1])]);
+    assert_eq!(styles(facts(None, Some([0, 0, 255]))), [Style::Vibrate(outline_style(&stress2()))]);
+}
