@@ -15,6 +15,7 @@ pub mod auto;
 pub mod brush;
 mod diagnostic;
 pub mod drawing;
+pub mod fit;
 pub mod geometry;
 pub mod mesh;
 mod options;

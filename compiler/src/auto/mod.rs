@@ -220,8 +220,10 @@ fn braille_boxes(t: &crate::drawing::TextShape) -> Vec<Bbox> {
 /// Decides, without changing the drawing, what the automatic sheet makes of
 /// each element that no annotation or style sheet styled.
 pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
-    let page: Bbox = (0.0, 0.0, d.page.width_mm, d.page.height_mm);
-    let page_area = d.page.width_mm * d.page.height_mm;
+    // What can be felt: the page, as far as it lies on the device's surface.
+    let (sw, sh) = (profile.surface_w_mm as f64, profile.surface_h_mm as f64);
+    let page: Bbox = (0.0, 0.0, d.page.width_mm.min(sw), d.page.height_mm.min(sh));
+    let page_area = (page.2 * page.3).max(0.0);
     let mut decisions = vec![Decision::default(); d.elements.len()];
     let mut strokes: Vec<Option<[u8; 3]>> = Vec::new();
     let mut classes: BTreeMap<Option<[u8; 3]>, usize> = BTreeMap::new();
