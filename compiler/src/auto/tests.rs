@@ -2,8 +2,11 @@ use super::*;
 use crate::drawing::{Clip, Page, Paint, PathShape, TextRun, TextShape};
 use taxel_format::profiles;
 
+/// stress2 with a surface large enough for the test pages (fitting is not what these test).
 fn stress2() -> DeviceProfile {
-    profiles::builtin("stress2").unwrap()
+    let mut p = profiles::builtin("stress2").unwrap();
+    (p.surface_w_mm, p.surface_h_mm) = (400.0, 300.0);
+    p
 }
 
 fn page(w: f64, h: f64) -> Page {
