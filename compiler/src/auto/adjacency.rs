@@ -35,9 +35,11 @@ pub fn touching(regions: &[Region<'_>], near: f64) -> Vec<(usize, usize)> {
 }
 
 /// Colours the graph of `n` classes with at most `colours` colours, taking the
-/// classes in `order` (most important first) and giving each the lowest
-/// colour none of its already coloured neighbours has. A class whose
-/// neighbours already use every colour gets `None`.
+/// classes in `order` (most important first) and giving each, among the
+/// colours none of its already coloured neighbours has, the one used least so
+/// far (the lowest of those): so up to `colours` classes all differ, and
+/// beyond that colours are shared only between classes that do not touch. A
+/// class whose neighbours already use every colour gets `None`.
 pub fn colour(n: usize, edges: &[(usize, usize)], order: &[usize], colours: usize) -> Vec<Option<usize>> {
     let mut next: Vec<Vec<usize>> = vec![Vec::new(); n];
     for &(a, b) in edges {
@@ -47,14 +49,18 @@ pub fn colour(n: usize, edges: &[(usize, usize)], order: &[usize], colours: usiz
         }
     }
     let mut out: Vec<Option<usize>> = vec![None; n];
+    let mut uses = vec![0usize; colours];
     for &c in order.iter().filter(|&&c| c < n) {
-        let mut used = vec![false; colours];
+        let mut taken = vec![false; colours];
         for &m in &next[c] {
             if let Some(k) = out[m] {
-                used[k] = true;
+                taken[k] = true;
             }
         }
-        out[c] = used.iter().position(|u| !u);
+        out[c] = (0..colours).filter(|&k| !taken[k]).min_by_key(|&k| (uses[k], k));
+        if let Some(k) = out[c] {
+            uses[k] += 1;
+        }
     }
     out
 }
@@ -97,7 +103,8 @@ mod tests {
             assert_ne!(c[a], c[b], "{a} and {b}");
         }
         assert!(c.iter().all(Option::is_some));
-        assert_eq!(c.iter().flatten().max(), Some(&3));
+        // Six classes, five colours: all five are used, the sixth shares with a class it does not touch.
+        assert_eq!(c, [Some(0), Some(1), Some(2), Some(3), Some(4), Some(2)]);
         // With three colours the last ring class cannot be coloured.
         let c = colour(6, &edges, &order, 3);
         assert_eq!(c[5], None);
