@@ -10,7 +10,6 @@ use taxel_compiler::geometry::Polyline;
 use super::common::stress2;
 
 #[path = "../../benches/drawings/mod.rs"]
-#[allow(dead_code)]
 mod drawings;
 
 /// Distance from `p` to the segment `a`-`b`, written out here rather than
