@@ -392,6 +392,34 @@ pub fn apply(d: &mut Drawing, profile: &DeviceProfile, diags: &mut Vec<Diagnosti
     plan
 }
 
+/// The passes between the resolved drawing and its layers that make a
+/// drawing as teachers have it usable: `--region` and `--fit` (and cropping to
+/// the surface, [`crate::fit::apply`]); then the automatic sheet, where
+/// `--style auto` asks for it or where nothing else styles the drawing (no
+/// annotation, no style sheet; with note T0320); then the note saying how many
+/// elements became which style. Returns `false` when an error stops the
+/// compilation (a region that cannot be taken).
+pub fn prepare(d: &mut Drawing, opts: &crate::CompileOptions, diags: &mut Vec<Diagnostic>) -> bool {
+    if !crate::fit::apply(d, &opts.profile, opts.fit, opts.region.as_ref(), diags) {
+        return false;
+    }
+    let implicit = !opts.auto && opts.style.is_none() && unannotated(d);
+    if implicit {
+        diags.push(
+            Diagnostic::note(
+                "T0320",
+                "nothing in the drawing is annotated: the automatic style sheet decided its tactile styles",
+            )
+            .with_help("`taxel style auto INPUT` prints what it decided as a style sheet to start your own from"),
+        );
+    }
+    if opts.auto || implicit {
+        apply(d, &opts.profile, diags);
+    }
+    diags.push(summary(d));
+    true
+}
+
 /// A fill for messages: `#rrggbb`, or `a gradient`.
 pub fn fill_name(f: Option<[u8; 3]>) -> String {
     f.map_or("a gradient or pattern".into(), |c| format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2]))

@@ -215,3 +215,39 @@ fn the_sheet_for_a_drawing_parses_and_maps_each_fill_to_its_texture() {
     assert_eq!(styles(facts(Some([55, 126, 184]), None)), [Style::Grating(t[1])]);
     assert_eq!(styles(facts(None, Some([0, 0, 255]))), [Style::Vibrate(outline_style(&stress2()))]);
 }
+
+#[test]
+fn prepare_uses_the_automatic_sheet_only_when_nothing_else_styles_the_drawing() {
+    let profile = profiles::builtin("stress2").unwrap();
+    let drawing = || Drawing {
+        page: page(100.0, 50.0),
+        elements: vec![shape("a", rect(10.0, 10.0, 40.0, 40.0), RED, None)],
+        ..Default::default()
+    };
+    let codes = |diags: &[Diagnostic]| diags.iter().map(|d| d.code).collect::<Vec<_>>();
+    // Unannotated, no sheet: automatic, with the note.
+    let (mut d, mut diags) = (drawing(), Vec::new());
+    assert!(prepare(&mut d, &crate::CompileOptions::new(profile.clone()), &mut diags));
+    assert_eq!(codes(&diags), ["T0320", "T0330"]);
+    assert_eq!(d.elements[0].styled_by, StyledBy::Auto);
+    // --style auto: automatic, no note needed.
+    let (mut d, mut diags) = (drawing(), Vec::new());
+    let opts = crate::CompileOptions { auto: true, ..crate::CompileOptions::new(profile.clone()) };
+    assert!(prepare(&mut d, &opts, &mut diags));
+    assert_eq!(codes(&diags), ["T0330"]);
+    assert_eq!(d.elements[0].styled_by, StyledBy::Auto);
+    // A style sheet was given: it decides, even if it styled nothing.
+    let (mut d, mut diags) = (drawing(), Vec::new());
+    let sheet = crate::StyleSheet::parse("[[rule]]\nid = \"b\"\ntactile = \"vibrate()\"\n", "s.toml").unwrap();
+    let opts = crate::CompileOptions { style: Some(sheet), ..crate::CompileOptions::new(profile.clone()) };
+    assert!(prepare(&mut d, &opts, &mut diags));
+    assert_eq!(codes(&diags), ["T0330"]);
+    assert_eq!(d.elements[0].styled_by, StyledBy::Nothing);
+    // --fit runs first: the 100 x 50 mm page fills the 110 x 60 mm surface, scale 1.1.
+    let (mut d, mut diags) = (drawing(), Vec::new());
+    let opts = crate::CompileOptions { fit: true, ..crate::CompileOptions::new(profile) };
+    assert!(prepare(&mut d, &opts, &mut diags));
+    assert_eq!(codes(&diags), ["T0211", "T0320", "T0330"]);
+    let b = d.elements[0].bounds().unwrap();
+    assert!((b.0 - 11.0).abs() < 1e-9 && (b.2 - 44.0).abs() < 1e-9, "{b:?}");
+}
