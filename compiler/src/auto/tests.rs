@@ -227,19 +227,19 @@ fn prepare_uses_the_automatic_sheet_only_when_nothing_else_styles_the_drawing() 
     let codes = |diags: &[Diagnostic]| diags.iter().map(|d| d.code).collect::<Vec<_>>();
     // Unannotated, no sheet: automatic, with the note.
     let (mut d, mut diags) = (drawing(), Vec::new());
-    assert!(prepare(&mut d, &crate::CompileOptions::new(profile.clone()), &mut diags));
+    assert!(prepare(&mut d, &crate::CompileOptions::new(profile), &mut diags));
     assert_eq!(codes(&diags), ["T0320", "T0330"]);
     assert_eq!(d.elements[0].styled_by, StyledBy::Auto);
     // --style auto: automatic, no note needed.
     let (mut d, mut diags) = (drawing(), Vec::new());
-    let opts = crate::CompileOptions { auto: true, ..crate::CompileOptions::new(profile.clone()) };
+    let opts = crate::CompileOptions { auto: true, ..crate::CompileOptions::new(profile) };
     assert!(prepare(&mut d, &opts, &mut diags));
     assert_eq!(codes(&diags), ["T0330"]);
     assert_eq!(d.elements[0].styled_by, StyledBy::Auto);
     // A style sheet was given: it decides, even if it styled nothing.
     let (mut d, mut diags) = (drawing(), Vec::new());
     let sheet = crate::StyleSheet::parse("[[rule]]\nid = \"b\"\ntactile = \"vibrate()\"\n", "s.toml").unwrap();
-    let opts = crate::CompileOptions { style: Some(sheet), ..crate::CompileOptions::new(profile.clone()) };
+    let opts = crate::CompileOptions { style: Some(sheet), ..crate::CompileOptions::new(profile) };
     assert!(prepare(&mut d, &opts, &mut diags));
     assert_eq!(codes(&diags), ["T0330"]);
     assert_eq!(d.elements[0].styled_by, StyledBy::Nothing);
