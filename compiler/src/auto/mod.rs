@@ -167,21 +167,23 @@ fn rgb(c: Rgba) -> [u8; 3] {
     [c[0], c[1], c[2]]
 }
 
-/// Area enclosed by `polys` (each closed implicitly, absolute values summed).
+/// Area enclosed by `polys` (each closed implicitly): the signed areas
+/// summed, so a hole drawn the other way round (as fonts and map exporters
+/// draw them) is taken away.
 fn area(polys: &[Polyline]) -> f64 {
-    polys
+    let twice: f64 = polys
         .iter()
         .map(|p| {
             let n = p.points.len();
-            let twice: f64 = (0..n)
+            (0..n)
                 .map(|i| {
                     let (a, b) = (p.points[i], p.points[(i + 1) % n]);
                     a.0 * b.1 - b.0 * a.1
                 })
-                .sum();
-            twice.abs() / 2.0
+                .sum::<f64>()
         })
-        .sum()
+        .sum();
+    twice.abs() / 2.0
 }
 
 /// A small compact mark (circle, square, triangle, diamond) rather than a
@@ -257,10 +259,8 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
                 let boxes = braille_boxes(t);
                 let inside = |q: &Bbox| q.0 >= page.0 && q.1 >= page.1 && q.2 <= page.2 && q.3 <= page.3;
                 // Check every run before placing any, so a label is whole or absent.
-                let mut trial = Occupancy::default();
                 let fits = !boxes.is_empty()
-                    && boxes.iter().all(|q| inside(q) && trial.place(*q))
-                    && boxes.iter().all(|q| braille.is_free(spatial::grow(*q, BRAILLE_CLEARANCE_MM)));
+                    && boxes.iter().all(|q| inside(q) && braille.is_free(spatial::grow(*q, BRAILLE_CLEARANCE_MM)));
                 if fits {
                     for q in &boxes {
                         braille.place(*q);

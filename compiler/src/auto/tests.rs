@@ -251,3 +251,29 @@ fn prepare_uses_the_automatic_sheet_only_when_nothing_else_styles_the_drawing() 
     let b = d.elements[0].bounds().unwrap();
     assert!((b.0 - 11.0).abs() < 1e-9 && (b.2 - 44.0).abs() < 1e-9, "{b:?}");
 }
+
+#[test]
+fn a_ring_glyph_is_not_a_mark_but_a_filled_disc_is() {
+    // A "0" as fonts draw it: outer contour one way, the hole the other; 3 x 4 mm.
+    let ellipse = |rx: f64, ry: f64, reverse: bool| {
+        let mut points: Vec<(f64, f64)> = (0..48)
+            .map(|k| {
+                let t = k as f64 / 48.0 * std::f64::consts::TAU;
+                (50.0 + rx * t.cos(), 50.0 + ry * t.sin())
+            })
+            .collect();
+        if reverse {
+            points.reverse();
+        }
+        Polyline { points, closed: true }
+    };
+    let ring = vec![ellipse(1.5, 2.0, false), ellipse(1.0, 1.5, true)];
+    let mut d = Drawing {
+        page: page(100.0, 100.0),
+        elements: vec![shape("zero", ring, BLACK, None), shape("disc", vec![ellipse(1.5, 2.0, false)], BLACK, None)],
+        ..Default::default()
+    };
+    let plan = apply(&mut d, &stress2(), &mut Vec::new());
+    assert_eq!(plan.decisions[0].left_out, Some(LeftOut::SmallShape));
+    assert!(plan.decisions[1].mark);
+}

@@ -102,3 +102,4 @@ fn auto_never_gives_touching_regions_of_different_fills_one_texture() {
         }
     }
 }
+
