@@ -106,6 +106,51 @@ fn crop(d: &mut Drawing, keep: Bbox) -> usize {
     before - d.elements.len()
 }
 
+/// Where `--region` and `--fit` put a drawing: page mm `p` goes to
+/// `p * scale + shift` on a page the size of the surface.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Placement {
+    /// The part taken (`--region`), in page mm before scaling.
+    pub part: Option<Bbox>,
+    /// The scale factor.
+    pub scale: f64,
+    /// The shift after scaling, mm.
+    pub shift: (f64, f64),
+    /// The surface, mm: the page after placing.
+    pub surface: (f64, f64),
+}
+
+/// The placement `fit` and `region` ask of `d` on `profile`'s surface:
+/// `Ok(None)` when neither is asked (or the surface is degenerate), an error
+/// when the region cannot be taken.
+pub fn placement(
+    d: &Drawing,
+    profile: &DeviceProfile,
+    fit: bool,
+    region: Option<&Region>,
+) -> Result<Option<Placement>, Diagnostic> {
+    let (sw, sh) = (profile.surface_w_mm as f64, profile.surface_h_mm as f64);
+    if !(sw.is_finite() && sh.is_finite() && sw > 0.0 && sh > 0.0) || !(fit || region.is_some()) {
+        return Ok(None);
+    }
+    let part = match region {
+        None => None,
+        Some(r) => match region_box(d, r)? {
+            b if b.2 - b.0 > 0.0 && b.3 - b.1 > 0.0 && b.0.is_finite() && b.3.is_finite() => Some(b),
+            _ => return Err(Diagnostic::error("T0210", "--region: the part to take has no area")),
+        },
+    };
+    let from = part.unwrap_or((0.0, 0.0, d.page.width_mm, d.page.height_mm));
+    let (w, h) = (from.2 - from.0, from.3 - from.1);
+    if !(w > 0.0 && h > 0.0 && w.is_finite() && h.is_finite()) {
+        return Ok(None);
+    }
+    let scale = (sw / w).min(sh / h);
+    // Centred on the surface.
+    let shift = ((sw - w * scale) / 2.0 - from.0 * scale, (sh - h * scale) / 2.0 - from.1 * scale);
+    Ok(Some(Placement { part, scale, shift, surface: (sw, sh) }))
+}
+
 /// Applies `--region` and `--fit` (`region` and `fit`) to `d` for a device of
 /// `profile`'s surface, then leaves out what lies beyond the surface. A region
 /// implies fitting. Without fitting, a page larger than the surface gives one
@@ -122,31 +167,23 @@ pub fn apply(
     if !(sw.is_finite() && sh.is_finite() && sw > 0.0 && sh > 0.0) {
         return true;
     }
-    let page: Bbox = (0.0, 0.0, d.page.width_mm, d.page.height_mm);
-    let part = match region {
-        None => None,
-        Some(r) => match region_box(d, r) {
-            Ok(b) if b.2 - b.0 > 0.0 && b.3 - b.1 > 0.0 && b.0.is_finite() && b.3.is_finite() => Some(b),
-            Ok(_) => {
-                diags.push(Diagnostic::error("T0210", "--region: the part to take has no area"));
-                return false;
-            }
-            Err(e) => {
-                diags.push(e);
-                return false;
-            }
-        },
+    let place = match placement(d, profile, fit, region) {
+        Ok(p) => p,
+        Err(e) => {
+            diags.push(e);
+            return false;
+        }
     };
-    if let Some(b) = part {
-        crop(d, b);
-    }
-    if fit || part.is_some() {
-        let from = part.unwrap_or(page);
+    if let Some(p) = place {
+        if let Some(b) = p.part {
+            crop(d, b);
+        }
+        let page: Bbox = (0.0, 0.0, d.page.width_mm, d.page.height_mm);
+        let from = p.part.unwrap_or(page);
         let (w, h) = (from.2 - from.0, from.3 - from.1);
-        if w > 0.0 && h > 0.0 {
-            let s = (sw / w).min(sh / h);
-            // Centred on the surface.
-            let t = ((sw - w * s) / 2.0 - from.0 * s, (sh - h * s) / 2.0 - from.1 * s);
+        let part = p.part;
+        {
+            let (s, t) = (p.scale, p.shift);
             for e in &mut d.elements {
                 transform(e, s, t);
             }

@@ -219,19 +219,30 @@ fn braille_boxes(t: &crate::drawing::TextShape) -> Vec<Bbox> {
         .collect()
 }
 
+/// Shapes closer than this share a border (a tessellation's neighbours).
+const ABUT_MM: f64 = 0.05;
+
+/// A filled shape waiting for the adjacency to decide what it is.
+struct Filled<'a> {
+    i: usize,
+    region: Region<'a>,
+    area: f64,
+}
+
 /// Decides, without changing the drawing, what the automatic sheet makes of
 /// each element that no annotation or style sheet styled.
 pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
     // What can be felt: the page, as far as it lies on the device's surface.
     let (sw, sh) = (profile.surface_w_mm as f64, profile.surface_h_mm as f64);
     let page: Bbox = (0.0, 0.0, d.page.width_mm.min(sw), d.page.height_mm.min(sh));
-    let page_area = (page.2 * page.3).max(0.0);
+    let backgrounds = backgrounds(d, page);
     let mut decisions = vec![Decision::default(); d.elements.len()];
     let mut strokes: Vec<Option<[u8; 3]>> = Vec::new();
     let mut classes: BTreeMap<Option<[u8; 3]>, usize> = BTreeMap::new();
     let mut fills: Vec<FillClass> = Vec::new();
-    let mut regions: Vec<(usize, Region<'_>)> = Vec::new();
+    let mut shapes: Vec<Filled<'_>> = Vec::new();
     let mut braille = Occupancy::default();
+    let mut texts = Vec::new();
     for (i, e) in d.elements.iter().enumerate() {
         if e.styled_by != StyledBy::Nothing {
             continue;
@@ -255,52 +266,16 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
         }
         match &e.shape {
             Shape::Image { .. } => dec.left_out = Some(LeftOut::Image),
-            Shape::Text(t) => {
-                let boxes = braille_boxes(t);
-                let inside = |q: &Bbox| q.0 >= page.0 && q.1 >= page.1 && q.2 <= page.2 && q.3 <= page.3;
-                // Check every run before placing any, so a label is whole or absent.
-                let fits = !boxes.is_empty()
-                    && boxes.iter().all(|q| inside(q) && braille.is_free(spatial::grow(*q, BRAILLE_CLEARANCE_MM)));
-                if fits {
-                    for q in &boxes {
-                        braille.place(*q);
-                    }
-                    dec.braille = true;
-                } else if boxes.is_empty() {
-                    dec.left_out = Some(LeftOut::Empty);
-                } else {
-                    dec.left_out = Some(LeftOut::TextDoesNotFit);
-                }
-            }
+            // Text is placed once every mark is known, so braille avoids the dots.
+            Shape::Text(t) => texts.push((i, t)),
             Shape::Path(p) => {
                 let paint = e.paint;
                 let filled =
                     paint.filled && paint.fill.is_none_or(|c| visible(c) && !c[..3].iter().all(|&v| v >= WHITE));
                 let stroked = paint.stroked && paint.stroke_width_mm > 0.0 && paint.stroke.is_none_or(visible);
-                let a = area(&p.outline);
-                let (w, h) = (b.2 - b.0, b.3 - b.1);
-                if filled && w * h >= BACKGROUND_SHARE * page_area {
+                if filled && backgrounds.contains(&i) {
                     dec.left_out = Some(LeftOut::Background);
                     continue;
-                }
-                let small = filled && (w.max(h) <= MARK_MM || (w.max(h) <= CIRCLE_MM && round(b, a)));
-                dec.mark = !p.markers.is_empty() || (small && compact(b, a));
-                if filled && !small {
-                    let key = paint.fill.map(rgb);
-                    let k = *classes.entry(key).or_insert_with(|| {
-                        fills.push(FillClass {
-                            fill: key,
-                            area_mm2: 0.0,
-                            regions: 0,
-                            first: e.name.clone(),
-                            texture: None,
-                        });
-                        fills.len() - 1
-                    });
-                    fills[k].area_mm2 += a;
-                    fills[k].regions += 1;
-                    dec.region = Some(k);
-                    regions.push((k, Region { outline: &p.outline, bbox: b }));
                 }
                 if stroked {
                     dec.outline = true;
@@ -309,17 +284,79 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
                         strokes.push(key);
                     }
                 }
-                if !dec.outline && dec.region.is_none() && !dec.mark {
-                    dec.left_out = Some(if small { LeftOut::SmallShape } else { LeftOut::Unpainted });
+                for &(x, y) in &p.markers {
+                    dec.mark = true;
+                    let r = 1.0 + BRAILLE_CLEARANCE_MM;
+                    braille.place((x - r, y - r, x + r, y + r));
+                }
+                if filled {
+                    shapes.push(Filled { i, region: Region { outline: &p.outline, bbox: b }, area: area(&p.outline) });
+                } else if !dec.outline && !dec.mark {
+                    dec.left_out = Some(LeftOut::Unpainted);
                 }
             }
         }
     }
+    // Filled shapes: which touch (or lie in) which, through the R*-tree.
+    let pairs = touching(&shapes.iter().map(|f| f.region).collect::<Vec<_>>(), NEAR_MM);
+    // Shapes that share a border with another filled shape are regions of a
+    // tessellation (a map's small districts), however small they have become.
+    let mut abuts = vec![false; shapes.len()];
+    for &(a, b) in &pairs {
+        let (sa, sb) = (&shapes[a].region, &shapes[b].region);
+        if spatial::min_outline_distance(sa.outline, sb.outline, ABUT_MM, 0.0) <= ABUT_MM {
+            abuts[a] = true;
+            abuts[b] = true;
+        }
+    }
+    let mut class_of = vec![None; shapes.len()];
+    for (k, f) in shapes.iter().enumerate() {
+        let e = &d.elements[f.i];
+        let b = f.region.bbox;
+        let (w, h) = (b.2 - b.0, b.3 - b.1);
+        let small = !abuts[k] && (w.max(h) <= MARK_MM || (w.max(h) <= CIRCLE_MM && round(b, f.area)));
+        let dec = &mut decisions[f.i];
+        if small {
+            if compact(b, f.area) {
+                dec.mark = true;
+                braille.place(spatial::grow(b, BRAILLE_CLEARANCE_MM));
+            } else if !dec.outline && !dec.mark {
+                dec.left_out = Some(LeftOut::SmallShape);
+            }
+            continue;
+        }
+        let key = e.paint.fill.map(rgb);
+        let c = *classes.entry(key).or_insert_with(|| {
+            fills.push(FillClass { fill: key, area_mm2: 0.0, regions: 0, first: e.name.clone(), texture: None });
+            fills.len() - 1
+        });
+        fills[c].area_mm2 += f.area;
+        fills[c].regions += 1;
+        dec.region = Some(c);
+        class_of[k] = Some(c);
+    }
+    let inside = |q: &Bbox| q.0 >= page.0 && q.1 >= page.1 && q.2 <= page.2 && q.3 <= page.3;
+    for (i, t) in texts {
+        let dec = &mut decisions[i];
+        let boxes = braille_boxes(t);
+        // Check every run before placing any, so a label is whole or absent.
+        let fits = !boxes.is_empty()
+            && boxes.iter().all(|q| inside(q) && braille.is_free(spatial::grow(*q, BRAILLE_CLEARANCE_MM)));
+        if fits {
+            for q in &boxes {
+                braille.place(*q);
+            }
+            dec.braille = true;
+        } else if boxes.is_empty() {
+            dec.left_out = Some(LeftOut::Empty);
+        } else {
+            dec.left_out = Some(LeftOut::TextDoesNotFit);
+        }
+    }
     // Colour the fill classes: touching regions of different fills get different textures.
-    let shapes: Vec<Region<'_>> = regions.iter().map(|r| r.1).collect();
-    let mut edges: Vec<(usize, usize)> = touching(&shapes, NEAR_MM)
-        .into_iter()
-        .map(|(i, j)| (regions[i].0, regions[j].0))
+    let mut edges: Vec<(usize, usize)> = pairs
+        .iter()
+        .filter_map(|&(a, b)| Some((class_of[a]?, class_of[b]?)))
         .filter(|(a, b)| a != b)
         .map(|(a, b)| (a.min(b), a.max(b)))
         .collect();
@@ -337,15 +374,59 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
         rank[k] = r;
     }
     let fills: Vec<FillClass> = order.iter().map(|&k| fills[k].clone()).collect();
-    for dec in &mut decisions {
-        if let Some(k) = dec.region {
-            dec.region = Some(rank[k]);
-            if fills[rank[k]].texture.is_none() {
+    for (k, f) in shapes.iter().enumerate() {
+        let dec = &mut decisions[f.i];
+        if let Some(c) = dec.region {
+            dec.region = Some(rank[c]);
+            if fills[rank[c]].texture.is_none() {
+                // Given up: its outline says where it is.
                 dec.outline = true;
+            } else if abuts[k] {
+                // Between textured regions the border is felt as the change of
+                // texture; a stroke on both sides of it would vibrate twice.
+                dec.outline = false;
             }
         }
     }
     Plan { textures: textures(profile), outline: outline_style(profile), fills, strokes, decisions }
+}
+
+/// The page backgrounds among the filled paths: those covering nine tenths of
+/// the page, and those covering nine tenths of what the drawing occupies
+/// when other filled shapes lie on them (a sea under the countries; a lone
+/// country with only labels on it stays a region).
+fn backgrounds(d: &Drawing, page: Bbox) -> Vec<usize> {
+    let area = |b: Bbox| (b.2 - b.0).max(0.0) * (b.3 - b.1).max(0.0);
+    let clip = |b: Bbox| (b.0.max(page.0), b.1.max(page.1), b.2.min(page.2), b.3.min(page.3));
+    let filled = |e: &Element| matches!(e.shape, Shape::Path(_)) && e.visible && e.paint.filled;
+    let boxes: Vec<Option<Bbox>> = d.elements.iter().map(|e| e.bounds().filter(|_| filled(e)).map(clip)).collect();
+    let extent = d
+        .elements
+        .iter()
+        .filter(|e| e.visible)
+        .filter_map(Element::bounds)
+        .map(clip)
+        .reduce(|a, b| (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)));
+    let Some(extent) = extent else { return Vec::new() };
+    let mut out = Vec::new();
+    // Each candidate looks at every other shape once; a drawing has a few
+    // backgrounds, so a flood of page-sized shapes is cut short (never all pairs).
+    let mut candidates = 0;
+    for (i, b) in boxes.iter().enumerate() {
+        let Some(b) = *b else { continue };
+        if area(b) >= BACKGROUND_SHARE * area(page) {
+            out.push(i);
+        } else if area(b) >= BACKGROUND_SHARE * area(extent) && candidates < 8 {
+            candidates += 1;
+            let under = |j: usize, o: Bbox| {
+                j != i && o.0 >= b.0 && o.1 >= b.1 && o.2 <= b.2 && o.3 <= b.3 && (o.2 - o.0).max(o.3 - o.1) > MARK_MM
+            };
+            if boxes.iter().enumerate().any(|(j, o)| o.is_some_and(|o| under(j, o))) {
+                out.push(i);
+            }
+        }
+    }
+    out
 }
 
 /// Whether one of the element's clip regions lies wholly away from it.

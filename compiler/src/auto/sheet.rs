@@ -1,7 +1,6 @@
 //! The automatic style sheet written out as TOML (`taxel style auto [INPUT]`):
 //! a starting point for a teacher's own sheet.
 
-use std::collections::BTreeSet;
 use std::fmt::Write as _;
 
 use taxel_format::DeviceProfile;
@@ -68,14 +67,15 @@ pub fn sheet_toml(profile: &DeviceProfile, input: Option<(&Drawing, &Plan)>) -> 
         s += "#\n# [[rule]]\n# fill = \"#ffffff\"\n# tactile = \"none\"\n";
         return s;
     };
-    // Fills whose regions are stroked, by stroke colour: those regions need both styles.
-    let mut stroked_fills: BTreeSet<(usize, [u8; 3])> = BTreeSet::new();
+    // Fills whose regions are stroked, by stroke colour, and whether the
+    // stroke vibrates (not where the region abuts another): the first seen decides.
+    let mut stroked_fills: Vec<(usize, [u8; 3], bool)> = Vec::new();
     for (dec, e) in plan.decisions.iter().zip(&d.elements) {
         if let (Some(k), Shape::Path(_), Some(c)) = (dec.region, &e.shape, e.paint.stroke)
-            && dec.outline
             && e.paint.stroked
+            && !stroked_fills.iter().any(|&(kk, cc, _)| kk == k && cc[..] == c[..3])
         {
-            stroked_fills.insert((k, [c[0], c[1], c[2]]));
+            stroked_fills.push((k, [c[0], c[1], c[2]], dec.outline));
         }
     }
     let line = vibrate(&plan.outline);
@@ -96,8 +96,8 @@ pub fn sheet_toml(profile: &DeviceProfile, input: Option<(&Drawing, &Plan)>) -> 
             continue;
         };
         let _ = writeln!(s, "\n# {about}\n[[rule]]\nfill = \"{}\"\ntactile = \"{what}\"", fill_name(Some(c)));
-        for &(_, sc) in stroked_fills.iter().filter(|(kk, _)| *kk == k) {
-            let both = if f.texture.is_some() {
+        for &(_, sc, vibrates) in stroked_fills.iter().filter(|(kk, _, _)| *kk == k) {
+            let both = if f.texture.is_some() && vibrates {
                 format!("vibrate(width: {}mm); {what}", plan.outline.width_mm)
             } else {
                 what.clone()

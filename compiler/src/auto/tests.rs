@@ -188,6 +188,7 @@ fn the_sheet_for_a_drawing_parses_and_maps_each_fill_to_its_texture() {
         elements: vec![
             shape("a", rect(10.0, 10.0, 60.0, 60.0), RED, BLACK),
             shape("b", rect(60.0, 10.0, 100.0, 60.0), BLUE, None),
+            shape("c", rect(120.0, 10.0, 160.0, 60.0), Some([77, 175, 74, 255]), BLACK),
             shape(
                 "line",
                 vec![Polyline { points: vec![(0.0, 80.0), (100.0, 80.0)], closed: false }],
@@ -208,9 +209,13 @@ fn the_sheet_for_a_drawing_parses_and_maps_each_fill_to_its_texture() {
     let styles = |f| sheet.lookup(&f).map(|r| r.declaration.styles().to_vec()).unwrap_or_default();
     let t = textures(&stress2());
     assert_eq!(styles(facts(Some([228, 26, 28]), None)), [Style::Grating(t[0])]);
+    // `a` abuts `b`: the border is the change of texture, its stroke does not vibrate.
+    assert_eq!(styles(facts(Some([228, 26, 28]), Some([0, 0, 0]))), [Style::Grating(t[0])]);
+    // `c` stands alone: its stroke vibrates around its texture.
+    let c = plan.fills.iter().find(|f| f.fill == Some([77, 175, 74])).and_then(|f| f.texture).unwrap();
     assert_eq!(
-        styles(facts(Some([228, 26, 28]), Some([0, 0, 0]))),
-        [Style::Vibrate(outline_style(&stress2())), Style::Grating(t[0])]
+        styles(facts(Some([77, 175, 74]), Some([0, 0, 0]))),
+        [Style::Vibrate(outline_style(&stress2())), Style::Grating(t[c])]
     );
     assert_eq!(styles(facts(Some([55, 126, 184]), None)), [Style::Grating(t[1])]);
     assert_eq!(styles(facts(None, Some([0, 0, 255]))), [Style::Vibrate(outline_style(&stress2()))]);
@@ -255,11 +260,11 @@ fn prepare_uses_the_automatic_sheet_only_when_nothing_else_styles_the_drawing() 
 #[test]
 fn a_ring_glyph_is_not_a_mark_but_a_filled_disc_is() {
     // A "0" as fonts draw it: outer contour one way, the hole the other; 3 x 4 mm.
-    let ellipse = |rx: f64, ry: f64, reverse: bool| {
+    let ellipse = |rx: f64, ry: f64, reverse: bool, cx: f64| {
         let mut points: Vec<(f64, f64)> = (0..48)
             .map(|k| {
                 let t = k as f64 / 48.0 * std::f64::consts::TAU;
-                (50.0 + rx * t.cos(), 50.0 + ry * t.sin())
+                (cx + rx * t.cos(), 50.0 + ry * t.sin())
             })
             .collect();
         if reverse {
@@ -267,10 +272,13 @@ fn a_ring_glyph_is_not_a_mark_but_a_filled_disc_is() {
         }
         Polyline { points, closed: true }
     };
-    let ring = vec![ellipse(1.5, 2.0, false), ellipse(1.0, 1.5, true)];
+    let ring = vec![ellipse(1.5, 2.0, false, 30.0), ellipse(1.0, 1.5, true, 30.0)];
     let mut d = Drawing {
         page: page(100.0, 100.0),
-        elements: vec![shape("zero", ring, BLACK, None), shape("disc", vec![ellipse(1.5, 2.0, false)], BLACK, None)],
+        elements: vec![
+            shape("zero", ring, BLACK, None),
+            shape("disc", vec![ellipse(1.5, 2.0, false, 60.0)], BLACK, None),
+        ],
         ..Default::default()
     };
     let plan = apply(&mut d, &stress2(), &mut Vec::new());

@@ -102,4 +102,3 @@ fn auto_never_gives_touching_regions_of_different_fills_one_texture() {
         }
     }
 }
-
