@@ -141,7 +141,27 @@ fn pairs(built: &Built, diags: &mut Vec<Diagnostic>) {
     for (i, j) in spatial::near_pairs(&boxes, ADJACENT_MM) {
         let (a, b) = (&f[i], &f[j]);
         let distinct = a.elem != b.elem;
-        let g = gap(a, b);
+        // The exact gap is needed only for gratings that may be confused (within
+        // ADJACENT_MM) or footprints closer than MIN_GAP_MM: the footprints'
+        // boxes, which contain every band, bound it from below. In a map shrunk
+        // by --fit most neighbours are farther, and their exact gap is skipped.
+        let boxed = {
+            let dx = (b.bbox.0 - a.bbox.2).max(a.bbox.0 - b.bbox.2).max(0.0);
+            let dy = (b.bbox.1 - a.bbox.3).max(a.bbox.1 - b.bbox.3).max(0.0);
+            (dx * dx + dy * dy).sqrt()
+        };
+        let confusable = match (a.kind, b.kind) {
+            (
+                FeatureKind::Grating { wavelength_mm: la, angle_deg: ta },
+                FeatureKind::Grating { wavelength_mm: lb, angle_deg: tb },
+            ) => {
+                let turn = (ta - tb).rem_euclid(180.0);
+                let d = (la - lb).abs();
+                (turn < 1.0 || turn > 179.0) && d > 1e-9 && d < WAVELENGTH_WARN_MM
+            }
+            _ => false,
+        };
+        let g = if confusable || boxed < MIN_GAP_MM { gap(a, b) } else { boxed };
         if let (
             FeatureKind::Grating { wavelength_mm: la, angle_deg: ta },
             FeatureKind::Grating { wavelength_mm: lb, angle_deg: tb },
