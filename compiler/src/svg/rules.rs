@@ -157,7 +157,7 @@ fn pairs(built: &Built, diags: &mut Vec<Diagnostic>) {
             ) => {
                 let turn = (ta - tb).rem_euclid(180.0);
                 let d = (la - lb).abs();
-                (turn < 1.0 || turn > 179.0) && d > 1e-9 && d < WAVELENGTH_WARN_MM
+                !(1.0..=179.0).contains(&turn) && d > 1e-9 && d < WAVELENGTH_WARN_MM
             }
             _ => false,
         };
