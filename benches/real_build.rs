@@ -23,14 +23,14 @@ mod drawings;
 const PX_PER_MM: f32 = 10.0;
 
 fn resvg_png(svg: &str, width_px: u32, out: &Path) {
-    let mut db = usvg::fontdb::Database::new();
+    let mut db = resvg::usvg::fontdb::Database::new();
     db.load_system_fonts();
-    let opt = usvg::Options { fontdb: std::sync::Arc::new(db), ..usvg::Options::default() };
-    let tree = usvg::Tree::from_str(svg, &opt).expect("the map parses");
+    let opt = resvg::usvg::Options { fontdb: std::sync::Arc::new(db), ..resvg::usvg::Options::default() };
+    let tree = resvg::usvg::Tree::from_str(svg, &opt).expect("the map parses");
     let k = width_px as f32 / tree.size().width();
     let h = (tree.size().height() * k).ceil() as u32;
-    let mut pixmap = tiny_skia::Pixmap::new(width_px, h).expect("pixmap");
-    resvg::render(&tree, tiny_skia::Transform::from_scale(k, k), &mut pixmap.as_mut());
+    let mut pixmap = resvg::tiny_skia::Pixmap::new(width_px, h).expect("pixmap");
+    resvg::render(&tree, resvg::tiny_skia::Transform::from_scale(k, k), &mut pixmap.as_mut());
     pixmap.save_png(out).expect("png written");
 }
 

@@ -363,7 +363,7 @@ pub fn preview_svg(svg_text: &str, opts: &CompileOptions) -> (Option<Picture>, C
     let Some(bundle) = compiled.bundle.as_ref() else { return (None, compiled) };
     // Under --fit or --region the backdrop is placed as the drawing was (that needs the resolved drawing).
     let placement = if opts.fit || opts.region.is_some() {
-        crate::drawing::resolve(svg_text, opts)
+        crate::drawing::resolve_as_drawn(svg_text, opts)
             .drawing
             .and_then(|d| crate::fit::placement(&d, &opts.profile, opts.fit, opts.region.as_ref()).ok().flatten())
     } else {

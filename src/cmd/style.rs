@@ -33,7 +33,7 @@ pub fn run(sheet: BuiltinSheet, input: Option<&Path>, opts: &CompileOpts) -> Res
         eprintln!("{shown}: error[T0200]: the file is not UTF-8 text, expected an SVG document");
         return Ok(ExitCode::from(1));
     };
-    let resolved = drawing::resolve(&text, &options);
+    let resolved = drawing::resolve_as_drawn(&text, &options);
     let mut diags = resolved.diagnostics;
     let mut drawing = resolved.drawing.filter(|_| !taxel_compiler::has_errors(&diags));
     let placed = match &mut drawing {
