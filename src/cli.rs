@@ -40,6 +40,13 @@ pub enum ExportFormat {
     Unicode,
 }
 
+/// The built-in style sheets (`taxel style`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum BuiltinSheet {
+    /// The automatic style sheet (`--style auto`).
+    Auto,
+}
+
 /// Height axis of a mesh (`--up`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Default)]
 pub enum Up {
@@ -56,8 +63,9 @@ pub struct CompileOpts {
     /// Device profile: a built-in name (see `taxel profiles`) or a TOML file.
     #[arg(long, short = 'p', value_name = "NAME|FILE")]
     pub profile: Option<String>,
-    /// Style sheet (TOML) mapping ids, classes, layers and colours to tactile styles.
-    #[arg(long, value_name = "FILE")]
+    /// Style sheet (TOML) mapping ids, classes, layers and colours to tactile
+    /// styles, or `auto` for the built-in automatic sheet (`taxel style auto` prints it).
+    #[arg(long, value_name = "FILE|auto")]
     pub style: Option<PathBuf>,
     /// Mask resolution in pixels per millimetre (default: see docs/annotations.md).
     #[arg(long, value_name = "PX_PER_MM")]
@@ -80,6 +88,13 @@ pub struct CompileOpts {
     /// Lay text out with the fonts in this folder (and its subfolders) instead of the system's.
     #[arg(long, value_name = "DIR")]
     pub fonts: Option<PathBuf>,
+}
+
+impl CompileOpts {
+    /// Whether `--style auto` asks for the built-in automatic style sheet.
+    pub fn style_is_auto(&self) -> bool {
+        self.style.as_deref() == Some(std::path::Path::new("auto"))
+    }
 }
 
 fn parse_region(s: &str) -> Result<taxel_compiler::Region, String> {
@@ -115,6 +130,9 @@ pub enum Command {
         /// Rebuild even when the bundle is up to date.
         #[arg(long)]
         force: bool,
+        /// List every diagnostic (by default one line per rule with its count).
+        #[arg(long, short = 'v')]
+        verbose: bool,
     },
     /// Print diagnostics without writing bundles; exit 1 on errors.
     Check {
@@ -123,9 +141,23 @@ pub enum Command {
         inputs: Vec<PathBuf>,
         #[command(flatten)]
         opts: CompileOpts,
-        /// Output format.
+        /// Output format (JSON keeps every diagnostic).
         #[arg(long, value_enum, default_value_t)]
         format: Format,
+        /// List every diagnostic (by default one line per rule with its count).
+        #[arg(long, short = 'v')]
+        verbose: bool,
+    },
+    /// Print a built-in style sheet as TOML, a starting point for your own.
+    Style {
+        /// Which sheet (the automatic one is the only built-in).
+        #[arg(value_enum)]
+        sheet: BuiltinSheet,
+        /// A drawing: print the sheet as decided for it (each fill colour with
+        /// the texture chosen for it, each line colour).
+        input: Option<PathBuf>,
+        #[command(flatten)]
+        opts: CompileOpts,
     },
     /// Describe a bundle: profile, surface, layers and sizes.
     Inspect {

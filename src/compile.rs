@@ -56,6 +56,7 @@ pub fn compile_options(opts: &CompileOpts) -> Result<Result<CompileOptions, Diag
     let profile = resolve_profile(opts.profile.as_deref())?;
     let style = match &opts.style {
         None => None,
+        Some(_) if opts.style_is_auto() => None,
         Some(path) => {
             let text =
                 std::fs::read_to_string(path).with_context(|| format!("reading style sheet {}", path.display()))?;
@@ -82,6 +83,7 @@ pub fn compile_options(opts: &CompileOpts) -> Result<Result<CompileOptions, Diag
         },
         exaggerate: opts.exaggerate.unwrap_or(1.0),
         fonts: Some(font_database(opts.fonts.as_deref())?),
+        auto: opts.style_is_auto(),
     }))
 }
 

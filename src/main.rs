@@ -5,6 +5,7 @@ use std::process::ExitCode;
 
 use clap::Parser;
 
+mod account;
 mod batch;
 mod cli;
 mod cmd;

@@ -11,16 +11,19 @@
 #![warn(missing_docs)]
 
 pub mod annotation;
+pub mod auto;
 pub mod brush;
 mod diagnostic;
 pub mod distance;
 pub mod drawing;
+pub mod fit;
 pub mod geometry;
 pub mod mesh;
 mod options;
 pub mod pins;
 mod prepare;
 pub mod preview;
+pub mod spatial;
 pub mod stylesheet;
 pub mod svg;
 mod text_pos;

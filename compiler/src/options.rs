@@ -91,6 +91,11 @@ pub struct CompileOptions {
     /// characters, does not need them). The `taxel` binary passes the
     /// system's fonts, or those of `--fonts DIR`.
     pub fonts: Option<Arc<usvg::fontdb::Database>>,
+    /// Use the built-in automatic style sheet (`--style auto`, see
+    /// [`crate::auto`]) for every element no annotation styles. Without it the
+    /// automatic sheet is still used, with a note, when the drawing has no
+    /// annotation and no [`CompileOptions::style`].
+    pub auto: bool,
 }
 
 impl CompileOptions {
@@ -107,6 +112,7 @@ impl CompileOptions {
             up: UpAxis::Y,
             exaggerate: 1.0,
             fonts: None,
+            auto: false,
         }
     }
 }

@@ -380,7 +380,15 @@ pub fn render_bundle(bundle: &Bundle, backdrop: Option<&Backdrop>) -> Picture {
 pub fn preview_svg(svg_text: &str, opts: &CompileOptions) -> (Option<Picture>, Compiled) {
     let compiled = svg::compile_svg(svg_text, opts);
     let Some(bundle) = compiled.bundle.as_ref() else { return (None, compiled) };
-    let backdrop = svg::render_page(svg_text, opts, PREVIEW_PX_PER_MM).map(|pixmap| Backdrop { pixmap });
+    // Under --fit or --region the backdrop is placed as the drawing was (that needs the resolved drawing).
+    let placement = if opts.fit || opts.region.is_some() {
+        crate::drawing::resolve_as_drawn(svg_text, opts)
+            .drawing
+            .and_then(|d| crate::fit::placement(&d, &opts.profile, opts.fit, opts.region.as_ref()).ok().flatten())
+    } else {
+        None
+    };
+    let backdrop = svg::render_page(svg_text, opts, PREVIEW_PX_PER_MM, placement).map(|pixmap| Backdrop { pixmap });
     (Some(render_bundle(bundle, backdrop.as_ref())), compiled)
 }
 

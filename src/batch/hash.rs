@@ -47,6 +47,8 @@ pub fn content_hash(input: &Path, bytes: &[u8], opts: &CompileOpts) -> Result<[u
         font_faces(&mut h, bytes, opts)?;
     }
     let style = match &opts.style {
+        // The built-in sheet is part of taxel, which the version above covers.
+        Some(_) if opts.style_is_auto() => Some(b"auto".to_vec()),
         Some(p) => Some(std::fs::read(p).with_context(|| format!("cannot read style sheet {}", p.display()))?),
         None => None,
     };

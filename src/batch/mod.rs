@@ -112,6 +112,8 @@ pub struct Settings {
     pub jobs: Option<usize>,
     /// Show a progress bar (on a terminal) rather than plain lines.
     pub terminal: bool,
+    /// List every diagnostic instead of one line per rule (`-v`).
+    pub verbose: bool,
 }
 
 /// Builds every job in parallel; `problems` (unreadable folder entries) are
@@ -167,8 +169,8 @@ fn build_one(job: &Job, settings: &Settings, compile: &CompileFn) -> (Outcome, S
             return (Outcome::Failed, format!("failed {shown}"), vec![d.render(&shown)]);
         }
     };
-    let messages: Vec<String> =
-        compiled.diagnostics.iter().filter(|d| d.severity >= Severity::Warning).map(|d| d.render(&shown)).collect();
+    let messages = crate::account::lines(&compiled.diagnostics, &shown, Severity::Note, settings.verbose);
+    let styles = crate::account::style_summary(&compiled.diagnostics).map(|s| format!(": {s}")).unwrap_or_default();
     let warnings = compiled.diagnostics.iter().filter(|d| d.severity == Severity::Warning).count();
     let errors = compiled.diagnostics.iter().filter(|d| d.severity == Severity::Error).count();
     let bundle = match compiled.bundle {
@@ -188,8 +190,8 @@ fn build_one(job: &Job, settings: &Settings, compile: &CompileFn) -> (Outcome, S
         return failed(format!("cannot write {out}: {e}"));
     }
     let line = match warnings {
-        0 => format!("built {shown} -> {out}"),
-        n => format!("built {shown} -> {out} ({})", plural(n, "warning")),
+        0 => format!("built {shown} -> {out}{styles}"),
+        n => format!("built {shown} -> {out} ({}){styles}", plural(n, "warning")),
     };
     (Outcome::Built { warnings }, line, messages)
 }
@@ -219,7 +221,7 @@ mod tests {
     }
 
     fn settings(force: bool) -> Settings {
-        Settings { opts: CompileOpts::default(), force, jobs: Some(2), terminal: false }
+        Settings { opts: CompileOpts::default(), force, jobs: Some(2), terminal: false, verbose: false }
     }
 
     #[test]

@@ -25,6 +25,8 @@ pub struct BuildArgs {
     pub shard: Option<String>,
     /// `--force`.
     pub force: bool,
+    /// `-v`: every diagnostic, not one line per rule.
+    pub verbose: bool,
 }
 
 pub fn run(args: BuildArgs) -> Result<ExitCode> {
@@ -46,8 +48,13 @@ pub fn run(args: BuildArgs) -> Result<ExitCode> {
         );
     }
     let jobs = batch::plan(selected, &dest);
-    let settings =
-        Settings { opts: args.opts, force: args.force, jobs: args.jobs, terminal: std::io::stderr().is_terminal() };
+    let settings = Settings {
+        opts: args.opts,
+        force: args.force,
+        jobs: args.jobs,
+        terminal: std::io::stderr().is_terminal(),
+        verbose: args.verbose,
+    };
     let summary = batch::run(&jobs, &problems, &settings, &compile_file)?;
     match shard {
         Some(s) => println!("shard {s} ({} of {found_count} inputs): {summary}", jobs.len()),

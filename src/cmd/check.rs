@@ -20,7 +20,7 @@ struct FileReport<'a> {
     diagnostics: &'a [Diagnostic],
 }
 
-pub fn run(inputs: &[PathBuf], opts: &CompileOpts, format: Format) -> Result<ExitCode> {
+pub fn run(inputs: &[PathBuf], opts: &CompileOpts, format: Format, verbose: bool) -> Result<ExitCode> {
     let (found, problems) = batch::discover(inputs)?;
     let mut failed = !problems.is_empty();
     for p in &problems {
@@ -57,11 +57,12 @@ pub fn run(inputs: &[PathBuf], opts: &CompileOpts, format: Format) -> Result<Exi
         }
         Format::Human => {
             for (file, diags) in &reports {
-                for d in diags {
-                    println!("{}", d.render(file));
+                for line in crate::account::lines(diags, file, Severity::Note, verbose) {
+                    println!("{line}");
                 }
                 let (e, w) = (count(diags, Severity::Error), count(diags, Severity::Warning));
-                println!("{file}: {}, {e} error(s), {w} warning(s)", if e > 0 { "failed" } else { "ok" });
+                let styles = crate::account::style_summary(diags).map(|s| format!("; {s}")).unwrap_or_default();
+                println!("{file}: {}, {e} error(s), {w} warning(s){styles}", if e > 0 { "failed" } else { "ok" });
             }
         }
     }

@@ -17,16 +17,18 @@ pub(crate) mod play;
 pub(crate) mod preview;
 mod profiles;
 mod report;
+mod style;
 mod unpack;
 
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> Result<ExitCode> {
     match cli.command {
         None => crate::demo::main(),
-        Some(Command::Build { inputs, out, opts, jobs, shard, force }) => {
-            build::run(build::BuildArgs { inputs, out, opts, jobs, shard, force })
+        Some(Command::Build { inputs, out, opts, jobs, shard, force, verbose }) => {
+            build::run(build::BuildArgs { inputs, out, opts, jobs, shard, force, verbose })
         }
-        Some(Command::Check { inputs, opts, format }) => check::run(&inputs, &opts, format),
+        Some(Command::Check { inputs, opts, format, verbose }) => check::run(&inputs, &opts, format, verbose),
+        Some(Command::Style { sheet, input, opts }) => style::run(sheet, input.as_deref(), &opts),
         Some(Command::Inspect { bundle, format }) => inspect::run(&bundle, format),
         Some(Command::Pack { dir, out }) => pack::run(&dir, &out),
         Some(Command::Unpack { bundle, out }) => unpack::run(&bundle, &out),

@@ -55,8 +55,8 @@ pub fn run(input: &Path, out: &Path, opts: &CompileOpts) -> Result<ExitCode> {
 }
 
 fn print_diagnostics(file: &str, diags: &[taxel_compiler::Diagnostic]) {
-    for d in diags.iter().filter(|d| d.severity >= Severity::Warning) {
-        eprintln!("{}", d.render(file));
+    for line in crate::account::lines(diags, file, Severity::Warning, false) {
+        eprintln!("{line}");
     }
 }
 

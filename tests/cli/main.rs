@@ -9,5 +9,6 @@ mod finger;
 mod format;
 mod pins;
 mod play;
+mod real;
 mod report;
 mod stability;

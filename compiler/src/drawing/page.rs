@@ -79,20 +79,9 @@ pub(crate) fn page(
             s
         }
     };
-    let page = Sizing { scale, width_mm: w * scale, height_mm: h * scale };
-    if page.width_mm > sw + 0.5 || page.height_mm > sh + 0.5 {
-        diags.push(
-            Diagnostic::warning(
-                "T0202",
-                format!(
-                    "the drawing ({:.1} x {:.1} mm) is larger than the {} surface ({sw} x {sh} mm); parts beyond it cannot be reached",
-                    page.width_mm, page.height_mm, profile.name
-                ),
-            )
-            .with_help("scale the drawing down or split it into several scenes"),
-        );
-    }
-    page
+    // A page larger than the surface is reported once, after `--fit` and
+    // `--region` had their say, by `crate::fit::apply` (T0202).
+    Sizing { scale, width_mm: w * scale, height_mm: h * scale }
 }
 
 /// The transform usvg applies at the root (the root's `transform`, then the

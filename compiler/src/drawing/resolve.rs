@@ -131,6 +131,16 @@ pub fn resolve(svg_text: &str, opts: &CompileOptions) -> Resolved {
     Resolved { drawing, diagnostics, fonts_used }
 }
 
+/// [`resolve`] without the preparation: the drawing as written (no automatic
+/// styles, no `--region` or `--fit`), for what looks at the drawing before
+/// it is prepared (`taxel style auto INPUT`, the placement of the preview's backdrop).
+pub fn resolve_as_drawn(svg_text: &str, opts: &CompileOptions) -> Resolved {
+    let mut diagnostics = Vec::new();
+    let mut fonts_used = Vec::new();
+    let drawing = run(svg_text, opts, &mut diagnostics, &mut fonts_used);
+    Resolved { drawing, diagnostics, fonts_used }
+}
+
 /// [`resolve`], adding to `diags` and `fonts_used`.
 pub(crate) fn run(
     text: &str,

@@ -23,7 +23,7 @@ mod layers;
 pub(crate) mod rules;
 
 /// Braille cells of a text (uncontracted UEB), for the pin arrays' braille too.
-pub(crate) use braille::translate as braille_cells;
+pub(crate) use braille::{CELL_PITCH_MM, DOT_PITCH_MM, translate as braille_cells};
 
 use taxel_format::{Bundle, Manifest};
 
@@ -98,18 +98,29 @@ fn compile(text: &str, opts: &CompileOptions, diags: &mut Vec<Diagnostic>) -> Op
 
 /// Renders the drawing itself (no tactile layers) with resvg at `px_per_mm`,
 /// page origin at the top-left, for previews. `None` when it cannot be read.
-pub(crate) fn render_page(text: &str, opts: &CompileOptions, px_per_mm: f64) -> Option<resvg::tiny_skia::Pixmap> {
+pub(crate) fn render_page(
+    text: &str,
+    opts: &CompileOptions,
+    px_per_mm: f64,
+    placement: Option<crate::fit::Placement>,
+) -> Option<resvg::tiny_skia::Pixmap> {
     let mut scratch = Vec::new();
     let doc = drawing::source::parse_xml(text, &mut scratch)?;
     let tree = usvg::Tree::from_xmltree(&doc, &drawing::usvg_options(opts.fonts.as_ref())).ok()?;
     let (w, h) = (tree.size().width(), tree.size().height());
     let page = drawing::page_size(doc.root_element(), w as f64, h as f64, opts.width_mm, &opts.profile, &mut scratch);
-    let k = (page.scale * px_per_mm) as f32;
-    let (pw, ph) = ((page.width_mm * px_per_mm).ceil(), (page.height_mm * px_per_mm).ceil());
+    // With --fit or --region the page is placed on the surface as the compiler placed the drawing.
+    let (s, t, (page_w, page_h)) = match placement {
+        Some(p) => (p.scale, p.shift, p.surface),
+        None => (1.0, (0.0, 0.0), (page.width_mm, page.height_mm)),
+    };
+    let k = (page.scale * s * px_per_mm) as f32;
+    let (pw, ph) = ((page_w * px_per_mm).ceil(), (page_h * px_per_mm).ceil());
     if !(pw >= 1.0 && ph >= 1.0 && pw * ph <= 64e6) {
         return None;
     }
     let mut pixmap = resvg::tiny_skia::Pixmap::new(pw as u32, ph as u32)?;
-    resvg::render(&tree, resvg::tiny_skia::Transform::from_scale(k, k), &mut pixmap.as_mut());
+    let ts = resvg::tiny_skia::Transform::from_row(k, 0.0, 0.0, k, (t.0 * px_per_mm) as f32, (t.1 * px_per_mm) as f32);
+    resvg::render(&tree, ts, &mut pixmap.as_mut());
     Some(pixmap)
 }

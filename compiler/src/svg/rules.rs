@@ -7,7 +7,8 @@ use taxel_format::{DeviceProfile, DistanceLayer};
 
 use super::layers::{Built, Feature, FeatureKind};
 use crate::diagnostic::Diagnostic;
-use crate::geometry::{FillRule, bounds, contains, dist, distance_to_outline, segment_distance};
+use crate::geometry::{FillRule, bounds, contains, dist, distance_to_outline};
+use crate::spatial;
 
 /// Smallest distance between distinct elements (1/8 in, Hasty).
 pub const MIN_GAP_MM: f64 = 3.2;
@@ -131,56 +132,67 @@ fn counts(built: &Built, diags: &mut Vec<Diagnostic>) {
     }
 }
 
-fn grow(b: (f64, f64, f64, f64), m: f64) -> (f64, f64, f64, f64) {
-    (b.0 - m, b.1 - m, b.2 + m, b.3 + m)
-}
-
-fn overlaps(a: (f64, f64, f64, f64), b: (f64, f64, f64, f64)) -> bool {
-    a.0 <= b.2 && b.0 <= a.2 && a.1 <= b.3 && b.1 <= a.3
-}
-
+/// Pairs of features whose footprints come within [`ADJACENT_MM`] (the
+/// farthest any pair rule looks), found through an R*-tree: the cost grows
+/// with the features and their neighbours, not with all pairs.
 fn pairs(built: &Built, diags: &mut Vec<Diagnostic>) {
     let f = &built.features;
-    for i in 0..f.len() {
-        for j in i + 1..f.len() {
-            let (a, b) = (&f[i], &f[j]);
-            if !overlaps(grow(a.bbox, ADJACENT_MM), b.bbox) {
-                continue;
-            }
-            let distinct = a.elem != b.elem;
-            if let (
+    let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
+    for (i, j) in spatial::near_pairs(&boxes, ADJACENT_MM) {
+        let (a, b) = (&f[i], &f[j]);
+        let distinct = a.elem != b.elem;
+        // The exact gap is needed only for gratings that may be confused (within
+        // ADJACENT_MM) or footprints closer than MIN_GAP_MM: the footprints'
+        // boxes, which contain every band, bound it from below. In a map shrunk
+        // by --fit most neighbours are farther, and their exact gap is skipped.
+        let boxed = {
+            let dx = (b.bbox.0 - a.bbox.2).max(a.bbox.0 - b.bbox.2).max(0.0);
+            let dy = (b.bbox.1 - a.bbox.3).max(a.bbox.1 - b.bbox.3).max(0.0);
+            (dx * dx + dy * dy).sqrt()
+        };
+        let confusable = match (a.kind, b.kind) {
+            (
                 FeatureKind::Grating { wavelength_mm: la, angle_deg: ta },
                 FeatureKind::Grating { wavelength_mm: lb, angle_deg: tb },
-            ) = (a.kind, b.kind)
-            {
-                let same_angle = ((ta - tb).rem_euclid(180.0) < 1.0) || ((ta - tb).rem_euclid(180.0) > 179.0);
+            ) => {
+                let turn = (ta - tb).rem_euclid(180.0);
                 let d = (la - lb).abs();
-                if distinct && same_angle && d > 1e-9 && d < WAVELENGTH_WARN_MM && gap(a, b) <= ADJACENT_MM {
-                    let msg = format!(
-                        "adjacent gratings #{} ({la} mm) and this one ({lb} mm) differ by {d:.2} mm in wavelength",
-                        a.name
-                    );
-                    let diag = if d < WAVELENGTH_ERROR_MM {
-                        Diagnostic::error("T0401", format!("{msg}; readers cannot tell them apart"))
-                    } else {
-                        Diagnostic::warning("T0402", format!("{msg}; readers may confuse them"))
-                    };
-                    diags.push(at(diag.with_help("make neighbouring wavelengths differ by 3 mm or more (2 mm and 6 mm work well), or change the angle"), b));
-                }
+                !(1.0..=179.0).contains(&turn) && d > 1e-9 && d < WAVELENGTH_WARN_MM
             }
-            let g = gap(a, b);
-            if distinct && g > 0.0 && g < MIN_GAP_MM {
-                diags.push(at(
-                    Diagnostic::warning(
-                        "T0408",
-                        format!("this element is {g:.1} mm from #{}, closer than {MIN_GAP_MM} mm", a.name),
-                    )
-                    .with_help("leave at least 3.2 mm (1/8 in) between distinct elements so they are felt apart"),
-                    b,
-                ));
+            _ => false,
+        };
+        let g = if confusable || boxed < MIN_GAP_MM { gap(a, b) } else { boxed };
+        if let (
+            FeatureKind::Grating { wavelength_mm: la, angle_deg: ta },
+            FeatureKind::Grating { wavelength_mm: lb, angle_deg: tb },
+        ) = (a.kind, b.kind)
+        {
+            let same_angle = ((ta - tb).rem_euclid(180.0) < 1.0) || ((ta - tb).rem_euclid(180.0) > 179.0);
+            let d = (la - lb).abs();
+            if distinct && same_angle && d > 1e-9 && d < WAVELENGTH_WARN_MM && g <= ADJACENT_MM {
+                let msg = format!(
+                    "adjacent gratings #{} ({la} mm) and this one ({lb} mm) differ by {d:.2} mm in wavelength",
+                    a.name
+                );
+                let diag = if d < WAVELENGTH_ERROR_MM {
+                    Diagnostic::error("T0401", format!("{msg}; readers cannot tell them apart"))
+                } else {
+                    Diagnostic::warning("T0402", format!("{msg}; readers may confuse them"))
+                };
+                diags.push(at(diag.with_help("make neighbouring wavelengths differ by 3 mm or more (2 mm and 6 mm work well), or change the angle"), b));
             }
-            overlap(built, a, b, diags);
         }
+        if distinct && g > 0.0 && g < MIN_GAP_MM {
+            diags.push(at(
+                Diagnostic::warning(
+                    "T0408",
+                    format!("this element is {g:.1} mm from #{}, closer than {MIN_GAP_MM} mm", a.name),
+                )
+                .with_help("leave at least 3.2 mm (1/8 in) between distinct elements so they are felt apart"),
+                b,
+            ));
+        }
+        overlap(built, a, b, diags);
     }
 }
 
@@ -197,23 +209,10 @@ fn gap(a: &Feature, b: &Feature) -> f64 {
     }
     match (a.dots.is_empty(), b.dots.is_empty()) {
         (true, true) => {
+            // Outlines that touch or cross need no exact distance: every rule treats them alike.
             let reach = MIN_GAP_MM.max(ADJACENT_MM) + a.half_band + b.half_band;
-            let bb = grow(b.bbox, reach);
-            let mut best = f64::INFINITY;
-            for pa in &a.outline {
-                for (p0, p1) in pa.segments() {
-                    let sb = (p0.0.min(p1.0), p0.1.min(p1.1), p0.0.max(p1.0), p0.1.max(p1.1));
-                    if !overlaps(sb, bb) {
-                        continue;
-                    }
-                    for pb in &b.outline {
-                        for (q0, q1) in pb.segments() {
-                            best = best.min(segment_distance(p0, p1, q0, q1));
-                        }
-                    }
-                }
-            }
-            best - a.half_band - b.half_band
+            let stop = a.half_band + b.half_band;
+            spatial::min_outline_distance(&a.outline, &b.outline, reach, stop) - a.half_band - b.half_band
         }
         (false, true) | (true, false) => {
             let (d, m) = if a.dots.is_empty() { (b, a) } else { (a, b) };
@@ -267,7 +266,7 @@ const SUM_SLACK: f64 = 0.1;
 const OVERLAP_DEPTH_MM: f64 = 0.05;
 
 fn overlap(built: &Built, a: &Feature, b: &Feature, diags: &mut Vec<Diagnostic>) {
-    if !overlaps(a.bbox, b.bbox) {
+    if !spatial::meet(a.bbox, b.bbox) {
         return;
     }
     let over = match (a.mask, b.mask) {

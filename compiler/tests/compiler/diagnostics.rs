@@ -98,7 +98,12 @@ fn document_problems() {
 
 #[test]
 fn nothing_tactile_is_an_error_that_says_how_to_annotate() {
+    // Unannotated, the automatic style sheet makes the red square a grating (note T0320) ...
     let c = compile(&page(r#"<rect width="30" height="30" fill="red"/>"#));
+    assert_eq!(with_code(&c, "T0320").len(), 1);
+    assert!(c.bundle.is_some(), "{:?}", c.diagnostics);
+    // ... but finds nothing to feel in white paper.
+    let c = compile(&page(r#"<rect width="30" height="30" fill="white"/>"#));
     let d = with_code(&c, "T0300");
     assert_eq!(d.len(), 1);
     assert!(d[0].message.contains("nothing tactile"));

@@ -7,4 +7,5 @@ mod drawing;
 mod golden;
 mod malformed;
 mod mesh;
+mod realistic;
 mod scenes;

@@ -1,0 +1,113 @@
+//! Which filled regions touch or nearly touch, and a colouring of the
+//! fill classes that keeps touching classes on different textures.
+
+use crate::geometry::{FillRule, Polyline, contains};
+use crate::spatial::{self, Bbox};
+
+/// One filled region: its outline and box.
+#[derive(Debug, Clone, Copy)]
+pub struct Region<'a> {
+    /// Outline in page mm.
+    pub outline: &'a [Polyline],
+    /// Its box.
+    pub bbox: Bbox,
+}
+
+/// Pairs `(i, j)`, `i < j`, of regions whose outlines come within `near` mm of
+/// each other, or one of which lies inside the other (a lake in a country).
+/// Candidates come from an R*-tree over the boxes; exact distances are taken
+/// only for them, so the cost grows as n log n for a map, not n².
+pub fn touching(regions: &[Region<'_>], near: f64) -> Vec<(usize, usize)> {
+    let boxes: Vec<Bbox> = regions.iter().map(|r| r.bbox).collect();
+    spatial::near_pairs(&boxes, near)
+        .into_iter()
+        .filter(|&(i, j)| {
+            let (a, b) = (&regions[i], &regions[j]);
+            let inside = |r: &Region<'_>, o: &Region<'_>| {
+                o.outline
+                    .iter()
+                    .find_map(|p| p.points.first())
+                    .is_some_and(|&p| contains(r.outline, p, FillRule::NonZero))
+            };
+            spatial::min_outline_distance(a.outline, b.outline, near, 0.0) <= near || inside(a, b) || inside(b, a)
+        })
+        .collect()
+}
+
+/// Colours the graph of `n` classes with at most `colours` colours, taking the
+/// classes in `order` (most important first) and giving each, among the
+/// colours none of its already coloured neighbours has, the one used least so
+/// far (the lowest of those): so up to `colours` classes all differ, and
+/// beyond that colours are shared only between classes that do not touch. A
+/// class whose neighbours already use every colour gets `None`.
+pub fn colour(n: usize, edges: &[(usize, usize)], order: &[usize], colours: usize) -> Vec<Option<usize>> {
+    let mut next: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for &(a, b) in edges {
+        if a != b && a < n && b < n {
+            next[a].push(b);
+            next[b].push(a);
+        }
+    }
+    let mut out: Vec<Option<usize>> = vec![None; n];
+    let mut uses = vec![0usize; colours];
+    for &c in order.iter().filter(|&&c| c < n) {
+        let mut taken = vec![false; colours];
+        for &m in &next[c] {
+            if let Some(k) = out[m] {
+                taken[k] = true;
+            }
+        }
+        out[c] = (0..colours).filter(|&k| !taken[k]).min_by_key(|&k| (uses[k], k));
+        if let Some(k) = out[c] {
+            uses[k] += 1;
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<Polyline> {
+        vec![Polyline { points: vec![(x0, y0), (x1, y0), (x1, y1), (x0, y1)], closed: true }]
+    }
+
+    #[test]
+    fn touching_finds_shared_borders_near_misses_and_islands() {
+        let shapes = [
+            rect(0.0, 0.0, 10.0, 10.0),  // 0
+            rect(10.0, 0.0, 20.0, 10.0), // 1 shares a border with 0
+            rect(22.0, 0.0, 30.0, 10.0), // 2 is 2 mm from 1
+            rect(40.0, 0.0, 50.0, 10.0), // 3 is alone
+            rect(42.0, 2.0, 44.0, 4.0),  // 4 lies inside 3
+            rect(0.0, 10.5, 10.0, 20.0), // 5 is 0.5 mm below 0 and 0.5 mm from 1's corner
+        ];
+        let regions: Vec<Region<'_>> =
+            shapes.iter().map(|s| Region { outline: s, bbox: crate::geometry::bounds(s).unwrap() }).collect();
+        assert_eq!(touching(&regions, 1.0), vec![(0, 1), (0, 5), (1, 5), (3, 4)]);
+        assert_eq!(touching(&regions, 3.2), vec![(0, 1), (0, 5), (1, 2), (1, 5), (3, 4)]);
+    }
+
+    #[test]
+    fn colouring_gives_neighbours_different_colours_and_drops_the_last_when_out_of_colours() {
+        // A wheel: hub 0 touching a ring of five (an odd cycle needs three colours, the hub a fourth).
+        let mut edges = vec![];
+        for k in 1..=5 {
+            edges.push((0, k));
+            edges.push((k, if k == 5 { 1 } else { k + 1 }));
+        }
+        let order: Vec<usize> = (0..6).collect();
+        let c = colour(6, &edges, &order, 5);
+        for &(a, b) in &edges {
+            assert_ne!(c[a], c[b], "{a} and {b}");
+        }
+        assert!(c.iter().all(Option::is_some));
+        // Six classes, five colours: all five are used, the sixth shares with a class it does not touch.
+        assert_eq!(c, [Some(0), Some(1), Some(2), Some(3), Some(4), Some(2)]);
+        // With three colours the last ring class cannot be coloured.
+        let c = colour(6, &edges, &order, 3);
+        assert_eq!(c[5], None);
+        assert!(c[..5].iter().all(Option::is_some));
+    }
+}

@@ -1,0 +1,604 @@
+//! The built-in automatic style sheet `auto`: tactile styles decided from what
+//! a drawing shows, for the drawings nobody annotated (a Wikimedia map, an
+//! OpenStreetMap plan, a chart from a plotting library).
+//!
+//! It runs on the resolved [`Drawing`] and gives styles only to elements that
+//! have none from an annotation or a style sheet:
+//! - stroked lines and outlines vibrate;
+//! - filled regions become gratings, one texture per distinct fill colour,
+//!   chosen from [`textures`] (wavelengths 3 mm apart, orientations among 0°,
+//!   45°, 90° and 135°: seed 000 §4.2–4.4) so that fills whose regions touch
+//!   or nearly touch never share one (a colouring of the region-adjacency
+//!   graph, largest area first, at most five textures, BANA 2010); a fill
+//!   that cannot get a texture falls back to its outline, with a note;
+//! - small filled circles, small compact marks and marker instances become
+//!   dot symbols;
+//! - text becomes braille where the braille fits on the page without running
+//!   into other braille, and is left out otherwise, with one note;
+//! - page backgrounds, white or transparent fills, hidden, clipped-away and
+//!   off-page elements, and images are left out.
+//!
+//! [`sheet_toml`] writes the same decisions as a style sheet a teacher can
+//! start from (`taxel style auto [INPUT]`).
+
+mod adjacency;
+mod sheet;
+
+pub use adjacency::{Region, colour, touching};
+pub use sheet::sheet_toml;
+
+use std::collections::BTreeMap;
+
+use taxel_format::DeviceProfile;
+
+use crate::annotation::{Braille, Dot, Grating, Style, Vibrate};
+use crate::diagnostic::Diagnostic;
+use crate::drawing::{Drawing, Element, Rgba, Shape, StyledBy};
+use crate::geometry::Polyline;
+use crate::spatial::{self, Bbox, Occupancy};
+use crate::svg::{CELL_PITCH_MM, DOT_PITCH_MM, braille_cells};
+
+/// Most textures the automatic sheet uses (BANA 2010: about five of each kind).
+pub const MAX_TEXTURES: usize = 5;
+/// Regions closer than this count as touching: they are not felt apart (Hasty's 1/8 in).
+pub const NEAR_MM: f64 = 3.2;
+/// Filled shapes no larger than this both ways are marks (dot symbols), not regions.
+pub const MARK_MM: f64 = 5.0;
+/// Filled circles up to this diameter are point symbols (a town on a map).
+pub const CIRCLE_MM: f64 = 8.0;
+/// A filled element covering this share of the page is its background.
+pub const BACKGROUND_SHARE: f64 = 0.9;
+/// Fills and strokes with less alpha than this (of 255) are not seen, so not felt.
+pub const MIN_ALPHA: u8 = 26;
+/// Fills whose every channel is at least this light are paper, not regions.
+pub const WHITE: u8 = 240;
+/// Radius of the dots of braille the automatic sheet writes (NLS 800: 1.44 mm base).
+const BRAILLE_RADIUS_MM: f64 = 0.72;
+/// Clearance kept between two pieces of braille, so labels are felt apart.
+const BRAILLE_CLEARANCE_MM: f64 = 1.0;
+
+/// The textures, in the order fills receive them (largest area first), for a
+/// device of this pitch. The shortest wavelength is the smallest of 2 mm
+/// (seed 000's default) raised to twice the actuator pitch and rounded up to
+/// half a millimetre, so no texture aliases on the still array; the others
+/// are 3 and 6 mm longer, and two textures of one orientation always differ
+/// by at least 3 mm (seed 000 §4.2: told apart almost always).
+///
+/// ```
+/// use taxel_compiler::auto::textures;
+/// use taxel_format::profiles;
+///
+/// let t = textures(&profiles::builtin("stress2").unwrap());
+/// assert_eq!(t.map(|g| (g.wavelength_mm, g.angle_deg)), [(3.0, 90.0), (6.0, 0.0), (3.0, 45.0), (6.0, 135.0), (9.0, 90.0)]);
+/// ```
+pub fn textures(profile: &DeviceProfile) -> [Grating; MAX_TEXTURES] {
+    let pitch = (profile.pitch_x_mm as f64).max(profile.pitch_y_mm as f64);
+    let base = if pitch.is_finite() && pitch > 0.0 { ((2.0 * pitch).max(2.0) * 2.0).ceil() / 2.0 } else { 2.0 };
+    let g = |wavelength_mm: f64, angle_deg: f64| Grating { wavelength_mm, angle_deg, amplitude: 1.0 };
+    [g(base, 90.0), g(base + 3.0, 0.0), g(base, 45.0), g(base + 3.0, 135.0), g(base + 6.0, 90.0)]
+}
+
+/// The vibrating outline: the STRESS² study's 1.5 mm, widened to the actuator
+/// pitch where the pitch is larger (T0404: thinner outlines alias).
+pub(crate) fn outline_style(profile: &DeviceProfile) -> Vibrate {
+    let pitch = (profile.pitch_x_mm as f64).max(profile.pitch_y_mm as f64);
+    Vibrate { width_mm: if pitch.is_finite() { pitch.max(1.5) } else { 1.5 }, freq_hz: 50.0, amplitude: 1.0 }
+}
+
+/// Why the automatic sheet left an element out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum LeftOut {
+    /// `visibility: hidden`.
+    Hidden,
+    /// No geometry.
+    Empty,
+    /// Entirely off the page.
+    OffPage,
+    /// Entirely outside its clip path.
+    ClippedAway,
+    /// A filled shape covering the page.
+    Background,
+    /// Neither a visible fill (white and transparent fills do not count) nor a visible stroke.
+    Unpainted,
+    /// A small filled shape that is not a mark (a glyph outline, a sliver).
+    SmallShape,
+    /// Text whose braille does not fit.
+    TextDoesNotFit,
+    /// A raster image.
+    Image,
+}
+
+/// What the automatic sheet made of one element.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Decision {
+    /// Its stroke vibrates (also a region that fell back to its outline).
+    pub outline: bool,
+    /// Its fill is a region of this fill class (an index into [`Plan::fills`]).
+    pub region: Option<usize>,
+    /// It is a mark: a dot at its centre or at each marker.
+    pub mark: bool,
+    /// Its text becomes braille.
+    pub braille: bool,
+    /// Why nothing was made of it; `None` when something was, or when an
+    /// annotation or style sheet had already styled it.
+    pub left_out: Option<LeftOut>,
+}
+
+/// The elements of one fill colour that became regions.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FillClass {
+    /// The colour; `None` for gradient and pattern fills.
+    pub fill: Option<[u8; 3]>,
+    /// Their summed area in mm².
+    pub area_mm2: f64,
+    /// How many regions.
+    pub regions: usize,
+    /// The first region's name.
+    pub first: String,
+    /// The texture (index into [`Plan::textures`]); `None` when it fell back to its outline.
+    pub texture: Option<usize>,
+}
+
+/// Everything the automatic sheet decided about a drawing.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plan {
+    /// The textures it chose from.
+    pub textures: [Grating; MAX_TEXTURES],
+    /// The vibrating outline it gives.
+    pub outline: Vibrate,
+    /// The fill classes, largest area first.
+    pub fills: Vec<FillClass>,
+    /// Distinct stroke colours that vibrate, in first-seen order.
+    pub strokes: Vec<Option<[u8; 3]>>,
+    /// One decision per element of the drawing.
+    pub decisions: Vec<Decision>,
+}
+
+/// Whether no element of the drawing was styled by an annotation or a style sheet.
+pub fn unannotated(d: &Drawing) -> bool {
+    d.elements.iter().all(|e| e.styled_by == StyledBy::Nothing)
+}
+
+fn visible(c: Rgba) -> bool {
+    c[3] >= MIN_ALPHA
+}
+
+fn rgb(c: Rgba) -> [u8; 3] {
+    [c[0], c[1], c[2]]
+}
+
+/// Area enclosed by `polys` (each closed implicitly): the signed areas
+/// summed, so a hole drawn the other way round (as fonts and map exporters
+/// draw them) is taken away.
+fn area(polys: &[Polyline]) -> f64 {
+    let twice: f64 = polys
+        .iter()
+        .map(|p| {
+            let n = p.points.len();
+            (0..n)
+                .map(|i| {
+                    let (a, b) = (p.points[i], p.points[(i + 1) % n]);
+                    a.0 * b.1 - b.0 * a.1
+                })
+                .sum::<f64>()
+        })
+        .sum();
+    twice.abs() / 2.0
+}
+
+/// A small compact mark (circle, square, triangle, diamond) rather than a
+/// glyph or a sliver: about as wide as high, and filling about half its box or more.
+fn compact(b: Bbox, a: f64) -> bool {
+    let (w, h) = (b.2 - b.0, b.3 - b.1);
+    w > 0.0 && h > 0.0 && (0.5..=2.0).contains(&(w / h)) && a >= 0.45 * w * h
+}
+
+/// A filled circle (or ellipse near one): its area is that of the inscribed ellipse.
+fn round(b: Bbox, a: f64) -> bool {
+    let (w, h) = (b.2 - b.0, b.3 - b.1);
+    w > 0.0
+        && h > 0.0
+        && (0.8..=1.25).contains(&(w / h))
+        && (a / (std::f64::consts::PI * w * h / 4.0) - 1.0).abs() < 0.1
+}
+
+/// Boxes of the braille an element's text would make: one per run, placed as
+/// the layer builder places it (from the run's start, after its anchor).
+fn braille_boxes(t: &crate::drawing::TextShape) -> Vec<Bbox> {
+    let height = 2.0 * DOT_PITCH_MM + 2.0 * BRAILLE_RADIUS_MM;
+    t.runs
+        .iter()
+        .filter(|r| !r.text.trim().is_empty())
+        .map(|r| {
+            // The run's width from its first dot's left edge to its last's right edge.
+            let cells = braille_cells(&r.text).0.len().max(1);
+            let w = (cells - 1) as f64 * CELL_PITCH_MM + DOT_PITCH_MM + 2.0 * BRAILLE_RADIUS_MM;
+            let x0 = r.x_mm - r.anchor.clamp(0.0, 1.0) * w;
+            (x0, r.y_mm - height, x0 + w, r.y_mm)
+        })
+        .collect()
+}
+
+/// Shapes closer than this share a border (a tessellation's neighbours).
+const ABUT_MM: f64 = 0.05;
+
+/// A filled shape waiting for the adjacency to decide what it is.
+struct Filled<'a> {
+    i: usize,
+    region: Region<'a>,
+    area: f64,
+}
+
+/// Decides, without changing the drawing, what the automatic sheet makes of
+/// each element that no annotation or style sheet styled.
+pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
+    // What can be felt: the page, as far as it lies on the device's surface.
+    let (sw, sh) = (profile.surface_w_mm as f64, profile.surface_h_mm as f64);
+    let page: Bbox = (0.0, 0.0, d.page.width_mm.min(sw), d.page.height_mm.min(sh));
+    let backgrounds = backgrounds(d, page);
+    let mut decisions = vec![Decision::default(); d.elements.len()];
+    let mut strokes: Vec<Option<[u8; 3]>> = Vec::new();
+    let mut classes: BTreeMap<Option<[u8; 3]>, usize> = BTreeMap::new();
+    let mut fills: Vec<FillClass> = Vec::new();
+    let mut shapes: Vec<Filled<'_>> = Vec::new();
+    let mut braille = Occupancy::default();
+    let mut texts = Vec::new();
+    for (i, e) in d.elements.iter().enumerate() {
+        if e.styled_by != StyledBy::Nothing {
+            continue;
+        }
+        let dec = &mut decisions[i];
+        let Some(b) = e.bounds() else {
+            dec.left_out = Some(LeftOut::Empty);
+            continue;
+        };
+        dec.left_out = if !e.visible {
+            Some(LeftOut::Hidden)
+        } else if !spatial::meet(b, page) {
+            Some(LeftOut::OffPage)
+        } else if clipped_away(e, b) {
+            Some(LeftOut::ClippedAway)
+        } else {
+            None
+        };
+        if dec.left_out.is_some() {
+            continue;
+        }
+        match &e.shape {
+            Shape::Image { .. } => dec.left_out = Some(LeftOut::Image),
+            // Text is placed once every mark is known, so braille avoids the dots.
+            Shape::Text(t) => texts.push((i, t)),
+            Shape::Path(p) => {
+                let paint = e.paint;
+                let filled =
+                    paint.filled && paint.fill.is_none_or(|c| visible(c) && !c[..3].iter().all(|&v| v >= WHITE));
+                let stroked = paint.stroked && paint.stroke_width_mm > 0.0 && paint.stroke.is_none_or(visible);
+                if filled && backgrounds.contains(&i) {
+                    dec.left_out = Some(LeftOut::Background);
+                    continue;
+                }
+                if stroked {
+                    dec.outline = true;
+                    let key = paint.stroke.map(rgb);
+                    if !strokes.contains(&key) {
+                        strokes.push(key);
+                    }
+                }
+                for &(x, y) in &p.markers {
+                    dec.mark = true;
+                    let r = 1.0 + BRAILLE_CLEARANCE_MM;
+                    braille.place((x - r, y - r, x + r, y + r));
+                }
+                if filled {
+                    shapes.push(Filled { i, region: Region { outline: &p.outline, bbox: b }, area: area(&p.outline) });
+                } else if !dec.outline && !dec.mark {
+                    dec.left_out = Some(LeftOut::Unpainted);
+                }
+            }
+        }
+    }
+    // Filled shapes: which touch (or lie in) which, through the R*-tree.
+    let pairs = touching(&shapes.iter().map(|f| f.region).collect::<Vec<_>>(), NEAR_MM);
+    // Shapes that share a border with another filled shape are regions of a
+    // tessellation (a map's small districts), however small they have become.
+    let mut abuts = vec![false; shapes.len()];
+    for &(a, b) in &pairs {
+        let (sa, sb) = (&shapes[a].region, &shapes[b].region);
+        if spatial::min_outline_distance(sa.outline, sb.outline, ABUT_MM, 0.0) <= ABUT_MM {
+            abuts[a] = true;
+            abuts[b] = true;
+        }
+    }
+    let mut class_of = vec![None; shapes.len()];
+    for (k, f) in shapes.iter().enumerate() {
+        let e = &d.elements[f.i];
+        let b = f.region.bbox;
+        let (w, h) = (b.2 - b.0, b.3 - b.1);
+        let small = !abuts[k] && (w.max(h) <= MARK_MM || (w.max(h) <= CIRCLE_MM && round(b, f.area)));
+        let dec = &mut decisions[f.i];
+        if small {
+            if compact(b, f.area) {
+                dec.mark = true;
+                braille.place(spatial::grow(b, BRAILLE_CLEARANCE_MM));
+            } else if !dec.outline && !dec.mark {
+                dec.left_out = Some(LeftOut::SmallShape);
+            }
+            continue;
+        }
+        let key = e.paint.fill.map(rgb);
+        let c = *classes.entry(key).or_insert_with(|| {
+            fills.push(FillClass { fill: key, area_mm2: 0.0, regions: 0, first: e.name.clone(), texture: None });
+            fills.len() - 1
+        });
+        fills[c].area_mm2 += f.area;
+        fills[c].regions += 1;
+        dec.region = Some(c);
+        class_of[k] = Some(c);
+    }
+    let inside = |q: &Bbox| q.0 >= page.0 && q.1 >= page.1 && q.2 <= page.2 && q.3 <= page.3;
+    for (i, t) in texts {
+        let dec = &mut decisions[i];
+        let boxes = braille_boxes(t);
+        // Check every run before placing any, so a label is whole or absent.
+        let fits = !boxes.is_empty()
+            && boxes.iter().all(|q| inside(q) && braille.is_free(spatial::grow(*q, BRAILLE_CLEARANCE_MM)));
+        if fits {
+            for q in &boxes {
+                braille.place(*q);
+            }
+            dec.braille = true;
+        } else if boxes.is_empty() {
+            dec.left_out = Some(LeftOut::Empty);
+        } else {
+            dec.left_out = Some(LeftOut::TextDoesNotFit);
+        }
+    }
+    // Colour the fill classes: touching regions of different fills get different textures.
+    let mut edges: Vec<(usize, usize)> = pairs
+        .iter()
+        .filter_map(|&(a, b)| Some((class_of[a]?, class_of[b]?)))
+        .filter(|(a, b)| a != b)
+        .map(|(a, b)| (a.min(b), a.max(b)))
+        .collect();
+    edges.sort_unstable();
+    edges.dedup();
+    let mut order: Vec<usize> = (0..fills.len()).collect();
+    order.sort_by(|&a, &b| fills[b].area_mm2.total_cmp(&fills[a].area_mm2).then(fills[a].fill.cmp(&fills[b].fill)));
+    let colours = colour(fills.len(), &edges, &order, MAX_TEXTURES);
+    for (k, c) in colours.into_iter().enumerate() {
+        fills[k].texture = c;
+    }
+    // Report classes largest first; keep decisions pointing at the right class.
+    let mut rank = vec![0; fills.len()];
+    for (r, &k) in order.iter().enumerate() {
+        rank[k] = r;
+    }
+    let fills: Vec<FillClass> = order.iter().map(|&k| fills[k].clone()).collect();
+    for (k, f) in shapes.iter().enumerate() {
+        let dec = &mut decisions[f.i];
+        if let Some(c) = dec.region {
+            dec.region = Some(rank[c]);
+            if fills[rank[c]].texture.is_none() {
+                // Given up: its outline says where it is.
+                dec.outline = true;
+            } else if abuts[k] {
+                // Between textured regions the border is felt as the change of
+                // texture; a stroke on both sides of it would vibrate twice.
+                dec.outline = false;
+            }
+        }
+    }
+    Plan { textures: textures(profile), outline: outline_style(profile), fills, strokes, decisions }
+}
+
+/// The page backgrounds among the filled paths: those covering nine tenths of
+/// the page, and those covering nine tenths of what the drawing occupies
+/// when other filled shapes lie on them (a sea under the countries; a lone
+/// country with only labels on it stays a region).
+fn backgrounds(d: &Drawing, page: Bbox) -> Vec<usize> {
+    let area = |b: Bbox| (b.2 - b.0).max(0.0) * (b.3 - b.1).max(0.0);
+    let clip = |b: Bbox| (b.0.max(page.0), b.1.max(page.1), b.2.min(page.2), b.3.min(page.3));
+    let filled = |e: &Element| matches!(e.shape, Shape::Path(_)) && e.visible && e.paint.filled;
+    let boxes: Vec<Option<Bbox>> = d.elements.iter().map(|e| e.bounds().filter(|_| filled(e)).map(clip)).collect();
+    let extent = d
+        .elements
+        .iter()
+        .filter(|e| e.visible)
+        .filter_map(Element::bounds)
+        .map(clip)
+        .reduce(|a, b| (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)));
+    let Some(extent) = extent else { return Vec::new() };
+    let mut out = Vec::new();
+    // Each candidate looks at every other shape once; a drawing has a few
+    // backgrounds, so a flood of page-sized shapes is cut short (never all pairs).
+    let mut candidates = 0;
+    for (i, b) in boxes.iter().enumerate() {
+        let Some(b) = *b else { continue };
+        if area(b) >= BACKGROUND_SHARE * area(page) {
+            out.push(i);
+        } else if area(b) >= BACKGROUND_SHARE * area(extent) && candidates < 8 {
+            candidates += 1;
+            let under = |j: usize, o: Bbox| {
+                j != i && o.0 >= b.0 && o.1 >= b.1 && o.2 <= b.2 && o.3 <= b.3 && (o.2 - o.0).max(o.3 - o.1) > MARK_MM
+            };
+            if boxes.iter().enumerate().any(|(j, o)| o.is_some_and(|o| under(j, o))) {
+                out.push(i);
+            }
+        }
+    }
+    out
+}
+
+/// Whether one of the element's clip regions lies wholly away from it.
+fn clipped_away(e: &Element, b: Bbox) -> bool {
+    let Shape::Path(p) = &e.shape else { return false };
+    p.clips.iter().any(|c| crate::geometry::bounds(&c.outline).is_none_or(|cb| !spatial::meet(cb, b)))
+}
+
+impl Plan {
+    /// The styles the plan gives element `i` (empty when it leaves it out or
+    /// did not decide it).
+    pub fn styles(&self, i: usize) -> Vec<Style> {
+        let Some(d) = self.decisions.get(i) else { return Vec::new() };
+        let mut out = Vec::new();
+        if d.outline {
+            out.push(Style::Vibrate(self.outline));
+        }
+        if let Some(t) = d.region.and_then(|k| self.fills.get(k)).and_then(|f| f.texture) {
+            out.push(Style::Grating(self.textures[t]));
+        }
+        if d.mark {
+            out.push(Style::Dot(Dot { radius_mm: 1.0, amplitude: 1.0 }));
+        }
+        if d.braille {
+            out.push(Style::Braille(Braille { radius_mm: BRAILLE_RADIUS_MM, amplitude: 1.0 }));
+        }
+        out
+    }
+}
+
+/// Styles every element no annotation or style sheet styled, as [`plan`]
+/// decides, and adds the notes a reader of the build needs: textures shared
+/// or given up, text left out. Returns the plan.
+pub fn apply(d: &mut Drawing, profile: &DeviceProfile, diags: &mut Vec<Diagnostic>) -> Plan {
+    let plan = plan(d, profile);
+    for (i, e) in d.elements.iter_mut().enumerate() {
+        let styles = plan.styles(i);
+        if !styles.is_empty() {
+            e.styles = styles;
+            e.styled_by = StyledBy::Auto;
+        }
+    }
+    notes(&plan, d, diags);
+    plan
+}
+
+/// The passes between the resolved drawing and its layers that make a
+/// drawing as teachers have it usable: `--region` and `--fit` (and cropping to
+/// the surface, [`crate::fit::apply`]); then the automatic sheet, where
+/// `--style auto` asks for it or where nothing else styles the drawing (no
+/// annotation, no style sheet; with note T0320); then the note saying how many
+/// elements became which style. Returns `false` when an error stops the
+/// compilation (a region that cannot be taken).
+pub fn prepare(d: &mut Drawing, opts: &crate::CompileOptions, diags: &mut Vec<Diagnostic>) -> bool {
+    if !crate::fit::apply(d, &opts.profile, opts.fit, opts.region.as_ref(), diags) {
+        return false;
+    }
+    let implicit = !opts.auto && opts.style.is_none() && unannotated(d);
+    if implicit {
+        diags.push(
+            Diagnostic::note(
+                "T0320",
+                "nothing in the drawing is annotated: the automatic style sheet decided its tactile styles",
+            )
+            .with_help("`taxel style auto INPUT` prints what it decided as a style sheet to start your own from"),
+        );
+    }
+    if opts.auto || implicit {
+        apply(d, &opts.profile, diags);
+    }
+    diags.push(summary(d));
+    true
+}
+
+/// A fill for messages: `#rrggbb`, or `a gradient`.
+pub fn fill_name(f: Option<[u8; 3]>) -> String {
+    f.map_or("a gradient or pattern".into(), |c| format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2]))
+}
+
+/// Up to three names, then how many more.
+fn first_three(names: &[String]) -> String {
+    let mut s = names.iter().take(3).cloned().collect::<Vec<_>>().join(", ");
+    if names.len() > 3 {
+        s += &format!(" and {} more", names.len() - 3);
+    }
+    s
+}
+
+fn notes(plan: &Plan, d: &Drawing, diags: &mut Vec<Diagnostic>) {
+    let dropped: Vec<String> = plan.fills.iter().filter(|f| f.texture.is_none()).map(|f| fill_name(f.fill)).collect();
+    if !dropped.is_empty() {
+        diags.push(
+            Diagnostic::note(
+                "T0321",
+                format!(
+                    "{} fill colour(s) became outlines only, because more than {MAX_TEXTURES} textures would be needed where they touch: {}",
+                    dropped.len(),
+                    first_three(&dropped)
+                ),
+            )
+            .with_help("give them textures in a style sheet (start from `taxel style auto INPUT`), or split the drawing"),
+        );
+    }
+    for (t, g) in plan.textures.iter().enumerate() {
+        let sharing: Vec<String> =
+            plan.fills.iter().filter(|f| f.texture == Some(t)).map(|f| fill_name(f.fill)).collect();
+        if sharing.len() > 1 {
+            diags.push(Diagnostic::note(
+                "T0322",
+                format!(
+                    "fills {} share the texture grating({} mm, {}°): none of their regions touch",
+                    first_three(&sharing),
+                    g.wavelength_mm,
+                    g.angle_deg
+                ),
+            ));
+        }
+    }
+    let text: Vec<String> = plan
+        .decisions
+        .iter()
+        .zip(&d.elements)
+        .filter(|(dec, _)| dec.left_out == Some(LeftOut::TextDoesNotFit))
+        .map(|(_, e)| format!("#{}", e.name))
+        .collect();
+    if !text.is_empty() {
+        diags.push(
+            Diagnostic::note(
+                "T0323",
+                format!(
+                    "{} text element(s) left out: their braille would leave the page or run into other braille ({})",
+                    text.len(),
+                    first_three(&text)
+                ),
+            )
+            .with_help("braille cells are 6.2 mm wide: shorten the labels, or take part of the drawing with --region"),
+        );
+    }
+}
+
+/// One note saying how many elements became which tactile style, for any
+/// drawing (annotated, styled by a sheet, or automatic).
+pub fn summary(d: &Drawing) -> Diagnostic {
+    let mut counts: BTreeMap<&'static str, usize> = BTreeMap::new();
+    let mut none = 0;
+    for e in &d.elements {
+        if e.styles.is_empty() {
+            none += 1;
+        }
+        let mut seen: Vec<&'static str> = e.styles.iter().map(Style::name).collect();
+        seen.sort_unstable();
+        seen.dedup();
+        for n in seen {
+            *counts.entry(n).or_default() += 1;
+        }
+    }
+    let order = ["vibrate", "grating", "dots", "dot", "brush", "braille"];
+    let mut parts: Vec<String> =
+        order.iter().filter_map(|n| counts.get(n).map(|c| format!("{c} {n}"))).collect::<Vec<_>>();
+    if none > 0 {
+        parts.push(format!("{none} left out"));
+    }
+    let by = if d.elements.iter().any(|e| e.styled_by == StyledBy::Auto) { " (automatic style sheet)" } else { "" };
+    Diagnostic::note(
+        "T0330",
+        format!(
+            "{} element(s){by}: {}",
+            d.elements.len(),
+            if parts.is_empty() { "none".into() } else { parts.join(", ") }
+        ),
+    )
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,287 @@
+use super::*;
+use crate::drawing::{Clip, Page, Paint, PathShape, TextRun, TextShape};
+use taxel_format::profiles;
+
+/// stress2 with a surface large enough for the test pages (fitting is not what these test).
+fn stress2() -> DeviceProfile {
+    let mut p = profiles::builtin("stress2").unwrap();
+    (p.surface_w_mm, p.surface_h_mm) = (400.0, 300.0);
+    p
+}
+
+fn page(w: f64, h: f64) -> Page {
+    Page { width_mm: w, height_mm: h, scale: 1.0, offset_mm: (0.0, 0.0) }
+}
+
+fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<Polyline> {
+    vec![Polyline { points: vec![(x0, y0), (x1, y0), (x1, y1), (x0, y1)], closed: true }]
+}
+
+fn circle(cx: f64, cy: f64, r: f64) -> Vec<Polyline> {
+    let points = (0..64)
+        .map(|k| {
+            let t = k as f64 / 64.0 * std::f64::consts::TAU;
+            (cx + r * t.cos(), cy + r * t.sin())
+        })
+        .collect();
+    vec![Polyline { points, closed: true }]
+}
+
+fn shape(name: &str, outline: Vec<Polyline>, fill: Option<Rgba>, stroke: Option<Rgba>) -> Element {
+    Element {
+        id: name.into(),
+        name: name.into(),
+        tag: "path".into(),
+        visible: true,
+        paint: Paint {
+            fill,
+            filled: fill.is_some(),
+            stroke,
+            stroked: stroke.is_some(),
+            stroke_width_mm: if stroke.is_some() { 0.3 } else { 0.0 },
+        },
+        shape: Shape::Path(PathShape { outline, ..Default::default() }),
+        ..Default::default()
+    }
+}
+
+fn text(name: &str, s: &str, x: f64, y: f64) -> Element {
+    Element {
+        id: name.into(),
+        name: name.into(),
+        tag: "text".into(),
+        visible: true,
+        shape: Shape::Text(TextShape {
+            content: s.into(),
+            runs: vec![TextRun { text: s.into(), x_mm: x, y_mm: y, anchor: 0.0, continues: false }],
+            font_size_mm: 4.0,
+            outline: vec![],
+        }),
+        ..Default::default()
+    }
+}
+
+const BLACK: Option<Rgba> = Some([0, 0, 0, 255]);
+const RED: Option<Rgba> = Some([228, 26, 28, 255]);
+const BLUE: Option<Rgba> = Some([55, 126, 184, 255]);
+const WHITE_FILL: Option<Rgba> = Some([255, 255, 255, 255]);
+
+#[test]
+fn each_kind_of_element_gets_what_the_sheet_promises() {
+    let mut d = Drawing {
+        page: page(200.0, 120.0),
+        elements: vec![
+            shape("background", rect(0.0, 0.0, 200.0, 120.0), Some([235, 225, 200, 255]), None),
+            shape("sea", rect(0.0, 0.0, 199.0, 119.0), BLUE, None), // covers the page: a background too
+            shape("land", rect(10.0, 10.0, 90.0, 90.0), RED, BLACK),
+            shape("road", vec![Polyline { points: vec![(0.0, 100.0), (150.0, 100.0)], closed: false }], None, BLACK),
+            shape("town", circle(50.0, 50.0, 1.5), BLACK, None),
+            shape(
+                "glyph",
+                vec![Polyline {
+                    points: vec![(120.0, 10.0), (120.4, 10.0), (120.4, 14.0), (120.0, 14.0)],
+                    closed: true,
+                }],
+                BLACK,
+                None,
+            ),
+            shape("paper", rect(100.0, 10.0, 140.0, 40.0), WHITE_FILL, None),
+            shape("ghost", rect(100.0, 50.0, 140.0, 60.0), Some([255, 0, 0, 10]), None),
+            text("label", "Tala", 20.0, 30.0),
+            text("too-long", "a label far too long for the page in braille", 150.0, 60.0),
+            shape("off", rect(300.0, 10.0, 320.0, 40.0), RED, None),
+            Element { visible: false, ..shape("hidden", rect(10.0, 10.0, 30.0, 30.0), RED, None) },
+            {
+                let mut e = shape("clipped", rect(10.0, 10.0, 30.0, 30.0), RED, None);
+                if let Shape::Path(p) = &mut e.shape {
+                    p.clips.push(Clip { outline: rect(100.0, 100.0, 110.0, 110.0), ..Default::default() });
+                }
+                e
+            },
+        ],
+        ..Default::default()
+    };
+    let mut diags = Vec::new();
+    let plan = apply(&mut d, &stress2(), &mut diags);
+    let names: Vec<Vec<&str>> = d.elements.iter().map(|e| e.styles.iter().map(Style::name).collect()).collect();
+    let left: Vec<Option<LeftOut>> = plan.decisions.iter().map(|d| d.left_out).collect();
+    assert_eq!(left[0], Some(LeftOut::Background));
+    assert_eq!(left[1], Some(LeftOut::Background));
+    assert_eq!(names[2], ["vibrate", "grating"]);
+    assert_eq!(names[3], ["vibrate"]);
+    assert_eq!(names[4], ["dot"]);
+    assert_eq!(left[5], Some(LeftOut::SmallShape), "a 0.4 x 4 mm sliver is not a mark");
+    assert_eq!(left[6], Some(LeftOut::Unpainted));
+    assert_eq!(left[7], Some(LeftOut::Unpainted));
+    assert_eq!(names[8], ["braille"]);
+    assert_eq!(left[9], Some(LeftOut::TextDoesNotFit));
+    assert_eq!(left[10], Some(LeftOut::OffPage));
+    assert_eq!(left[11], Some(LeftOut::Hidden));
+    assert_eq!(left[12], Some(LeftOut::ClippedAway));
+    assert!(d.elements.iter().all(|e| (e.styled_by == StyledBy::Auto) != e.styles.is_empty()));
+    // One note for the text left out, naming it.
+    let t: Vec<_> = diags.iter().filter(|d| d.code == "T0323").collect();
+    assert_eq!(t.len(), 1);
+    assert!(t[0].message.contains("#too-long"), "{}", t[0].message);
+    let s = summary(&d);
+    assert_eq!(s.message, "13 element(s) (automatic style sheet): 2 vibrate, 1 grating, 1 dot, 1 braille, 9 left out");
+}
+
+#[test]
+fn annotated_elements_are_left_as_they_are() {
+    let mut annotated = shape("a", rect(10.0, 10.0, 50.0, 50.0), RED, None);
+    annotated.styles = vec![Style::Vibrate(outline_style(&stress2()))];
+    annotated.styled_by = StyledBy::Annotation;
+    let mut d = Drawing {
+        page: page(100.0, 60.0),
+        elements: vec![annotated.clone(), shape("b", rect(60.0, 10.0, 90.0, 50.0), BLUE, None)],
+        ..Default::default()
+    };
+    assert!(!unannotated(&d));
+    apply(&mut d, &stress2(), &mut Vec::new());
+    assert_eq!(d.elements[0].styles, annotated.styles);
+    assert_eq!(d.elements[0].styled_by, StyledBy::Annotation);
+    assert_eq!(d.elements[1].styled_by, StyledBy::Auto);
+}
+
+#[test]
+fn braille_labels_that_would_collide_keep_the_first() {
+    let mut d = Drawing {
+        page: page(200.0, 100.0),
+        elements: vec![
+            text("one", "Oslo", 10.0, 50.0),
+            text("two", "Bergen", 12.0, 52.0),
+            text("three", "Moss", 10.0, 80.0),
+        ],
+        ..Default::default()
+    };
+    let plan = apply(&mut d, &stress2(), &mut Vec::new());
+    let b: Vec<bool> = plan.decisions.iter().map(|d| d.braille).collect();
+    assert_eq!(b, [true, false, true]);
+}
+
+#[test]
+fn more_fills_than_textures_reuse_textures_only_between_regions_that_do_not_touch() {
+    // Six colours in a row of touching squares: the five largest take a
+    // texture each, the sixth shares the least used one its neighbour lacks.
+    let fills: Vec<Rgba> = (0..6).map(|k| [40 * k as u8, 100, 200 - 30 * k as u8, 255]).collect();
+    let elements: Vec<Element> = (0..6)
+        .map(|k| {
+            // Decreasing sizes so the order by area is the order in the row.
+            let x = 30.0 * k as f64;
+            shape(&format!("r{k}"), rect(x, 0.0, x + 30.0, 40.0 - 3.0 * k as f64), Some(fills[k]), None)
+        })
+        .collect();
+    let mut d = Drawing { page: page(200.0, 100.0), elements, ..Default::default() };
+    let mut diags = Vec::new();
+    let plan = apply(&mut d, &stress2(), &mut diags);
+    let tex: Vec<Option<usize>> = plan.fills.iter().map(|f| f.texture).collect();
+    assert_eq!(tex, [Some(0), Some(1), Some(2), Some(3), Some(4), Some(0)]);
+    assert!(diags.iter().any(|d| d.code == "T0322"), "{diags:?}");
+    assert!(!diags.iter().any(|d| d.code == "T0321"));
+}
+
+#[test]
+fn the_sheet_for_a_drawing_parses_and_maps_each_fill_to_its_texture() {
+    let d = Drawing {
+        page: page(200.0, 100.0),
+        elements: vec![
+            shape("a", rect(10.0, 10.0, 60.0, 60.0), RED, BLACK),
+            shape("b", rect(60.0, 10.0, 100.0, 60.0), BLUE, None),
+            shape("c", rect(120.0, 10.0, 160.0, 60.0), Some([77, 175, 74, 255]), BLACK),
+            shape(
+                "line",
+                vec![Polyline { points: vec![(0.0, 80.0), (100.0, 80.0)], closed: false }],
+                None,
+                Some([0, 0, 255, 255]),
+            ),
+        ],
+        ..Default::default()
+    };
+    let plan = plan(&d, &stress2());
+    let toml = sheet_toml(&stress2(), Some((&d, &plan)));
+    let sheet = crate::StyleSheet::parse(&toml, "auto.toml").unwrap_or_else(|e| panic!("{e}\n{toml}"));
+    let facts = |fill: Option<[u8; 3]>, stroke: Option<[u8; 3]>| crate::stylesheet::ElementFacts {
+        fill,
+        stroke,
+        ..Default::default()
+    };
+    let styles = |f| sheet.lookup(&f).map(|r| r.declaration.styles().to_vec()).unwrap_or_default();
+    let t = textures(&stress2());
+    assert_eq!(styles(facts(Some([228, 26, 28]), None)), [Style::Grating(t[0])]);
+    // `a` abuts `b`: the border is the change of texture, its stroke does not vibrate.
+    assert_eq!(styles(facts(Some([228, 26, 28]), Some([0, 0, 0]))), [Style::Grating(t[0])]);
+    // `c` stands alone: its stroke vibrates around its texture.
+    let c = plan.fills.iter().find(|f| f.fill == Some([77, 175, 74])).and_then(|f| f.texture).unwrap();
+    assert_eq!(
+        styles(facts(Some([77, 175, 74]), Some([0, 0, 0]))),
+        [Style::Vibrate(outline_style(&stress2())), Style::Grating(t[c])]
+    );
+    assert_eq!(styles(facts(Some([55, 126, 184]), None)), [Style::Grating(t[1])]);
+    assert_eq!(styles(facts(None, Some([0, 0, 255]))), [Style::Vibrate(outline_style(&stress2()))]);
+}
+
+#[test]
+fn prepare_uses_the_automatic_sheet_only_when_nothing_else_styles_the_drawing() {
+    let profile = profiles::builtin("stress2").unwrap();
+    let drawing = || Drawing {
+        page: page(100.0, 50.0),
+        elements: vec![shape("a", rect(10.0, 10.0, 40.0, 40.0), RED, None)],
+        ..Default::default()
+    };
+    let codes = |diags: &[Diagnostic]| diags.iter().map(|d| d.code).collect::<Vec<_>>();
+    // Unannotated, no sheet: automatic, with the note.
+    let (mut d, mut diags) = (drawing(), Vec::new());
+    assert!(prepare(&mut d, &crate::CompileOptions::new(profile), &mut diags));
+    assert_eq!(codes(&diags), ["T0320", "T0330"]);
+    assert_eq!(d.elements[0].styled_by, StyledBy::Auto);
+    // --style auto: automatic, no note needed.
+    let (mut d, mut diags) = (drawing(), Vec::new());
+    let opts = crate::CompileOptions { auto: true, ..crate::CompileOptions::new(profile) };
+    assert!(prepare(&mut d, &opts, &mut diags));
+    assert_eq!(codes(&diags), ["T0330"]);
+    assert_eq!(d.elements[0].styled_by, StyledBy::Auto);
+    // A style sheet was given: it decides, even if it styled nothing.
+    let (mut d, mut diags) = (drawing(), Vec::new());
+    let sheet = crate::StyleSheet::parse("[[rule]]\nid = \"b\"\ntactile = \"vibrate()\"\n", "s.toml").unwrap();
+    let opts = crate::CompileOptions { style: Some(sheet), ..crate::CompileOptions::new(profile) };
+    assert!(prepare(&mut d, &opts, &mut diags));
+    assert_eq!(codes(&diags), ["T0330"]);
+    assert_eq!(d.elements[0].styled_by, StyledBy::Nothing);
+    // --fit runs first: the 100 x 50 mm page fills the 110 x 60 mm surface, scale 1.1.
+    let (mut d, mut diags) = (drawing(), Vec::new());
+    let opts = crate::CompileOptions { fit: true, ..crate::CompileOptions::new(profile) };
+    assert!(prepare(&mut d, &opts, &mut diags));
+    assert_eq!(codes(&diags), ["T0211", "T0320", "T0330"]);
+    let b = d.elements[0].bounds().unwrap();
+    assert!((b.0 - 11.0).abs() < 1e-9 && (b.2 - 44.0).abs() < 1e-9, "{b:?}");
+}
+
+#[test]
+fn a_ring_glyph_is_not_a_mark_but_a_filled_disc_is() {
+    // A "0" as fonts draw it: outer contour one way, the hole the other; 3 x 4 mm.
+    let ellipse = |rx: f64, ry: f64, reverse: bool, cx: f64| {
+        let mut points: Vec<(f64, f64)> = (0..48)
+            .map(|k| {
+                let t = k as f64 / 48.0 * std::f64::consts::TAU;
+                (cx + rx * t.cos(), 50.0 + ry * t.sin())
+            })
+            .collect();
+        if reverse {
+            points.reverse();
+        }
+        Polyline { points, closed: true }
+    };
+    let ring = vec![ellipse(1.5, 2.0, false, 30.0), ellipse(1.0, 1.5, true, 30.0)];
+    let mut d = Drawing {
+        page: page(100.0, 100.0),
+        elements: vec![
+            shape("zero", ring, BLACK, None),
+            shape("disc", vec![ellipse(1.5, 2.0, false, 60.0)], BLACK, None),
+        ],
+        ..Default::default()
+    };
+    let plan = apply(&mut d, &stress2(), &mut Vec::new());
+    assert_eq!(plan.decisions[0].left_out, Some(LeftOut::SmallShape));
+    assert!(plan.decisions[1].mark);
+}

@@ -1,0 +1,331 @@
+//! Fitting a resolved drawing to the device: `--region` takes part of it,
+//! `--fit` scales it to fill the profile's surface keeping its aspect ratio,
+//! and in every case what lies beyond the surface is left out, so it is never
+//! stored in a bundle. Runs on the [`Drawing`] before any layer is built, so
+//! the design rules judge the drawing at the size it will be felt.
+
+use taxel_format::DeviceProfile;
+
+use crate::diagnostic::Diagnostic;
+use crate::drawing::{Clip, Drawing, Element, Shape};
+use crate::geometry::{FillRule, Polyline};
+use crate::options::Region;
+use crate::spatial::{Bbox, meet};
+
+/// A page larger than the surface by more than this (mm) is reported.
+const SLACK_MM: f64 = 0.5;
+
+fn rect(b: Bbox) -> Vec<Polyline> {
+    vec![Polyline { points: vec![(b.0, b.1), (b.2, b.1), (b.2, b.3), (b.0, b.3)], closed: true }]
+}
+
+fn inside(b: Bbox, outer: Bbox) -> bool {
+    b.0 >= outer.0 && b.1 >= outer.1 && b.2 <= outer.2 && b.3 <= outer.3
+}
+
+/// The region in page mm, or the error that says why it cannot be taken.
+fn region_box(d: &Drawing, region: &Region) -> Result<Bbox, Diagnostic> {
+    match region {
+        Region::Rect { x, y, w, h } => {
+            let (s, (ox, oy)) = (d.page.scale, d.page.offset_mm);
+            Ok((ox + x * s, oy + y * s, ox + (x + w) * s, oy + (y + h) * s))
+        }
+        Region::Element(id) => {
+            // The element with that id, else every element in the layer (or group) of that label.
+            let of = |pick: &dyn Fn(&Element) -> bool| {
+                d.elements
+                    .iter()
+                    .filter(|e| pick(e))
+                    .filter_map(Element::bounds)
+                    .reduce(|a, b| (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)))
+            };
+            of(&|e| e.id == *id).or_else(|| of(&|e| e.layers.iter().any(|l| l.trim() == id.trim()))).ok_or_else(|| {
+                Diagnostic::error(
+                    "T0210",
+                    format!("--region #{id}: no element has the id `{id}` and no layer is labelled so"),
+                )
+                .with_help(
+                    "give the id of a drawn element or the label of an Inkscape layer, or X,Y,W,H in drawing units",
+                )
+            })
+        }
+    }
+}
+
+/// Moves every coordinate of `e` by `p -> p * s + t`.
+fn transform(e: &mut Element, s: f64, t: (f64, f64)) {
+    let map = |p: &mut (f64, f64)| *p = (p.0 * s + t.0, p.1 * s + t.1);
+    let polys = |v: &mut Vec<Polyline>| v.iter_mut().flat_map(|p| p.points.iter_mut()).for_each(map);
+    e.paint.stroke_width_mm *= s;
+    match &mut e.shape {
+        Shape::Path(p) => {
+            polys(&mut p.outline);
+            p.markers.iter_mut().for_each(map);
+            p.clips.iter_mut().for_each(|c| polys(&mut c.outline));
+        }
+        Shape::Text(t) => {
+            polys(&mut t.outline);
+            t.font_size_mm *= s;
+            for r in &mut t.runs {
+                let mut q = (r.x_mm, r.y_mm);
+                map(&mut q);
+                (r.x_mm, r.y_mm) = q;
+            }
+        }
+        Shape::Image { bounds } => {
+            let (mut a, mut b) = ((bounds.0, bounds.1), (bounds.2, bounds.3));
+            map(&mut a);
+            map(&mut b);
+            *bounds = (a.0, a.1, b.0, b.1);
+        }
+    }
+}
+
+/// Keeps only what lies in `keep`: elements wholly outside are removed, and
+/// paths that cross its edge are clipped to it. Text is kept when its first
+/// run starts inside (braille beyond the edge is cut by the layer builder),
+/// an image when it lies wholly inside. Returns how many were removed.
+fn crop(d: &mut Drawing, keep: Bbox) -> usize {
+    let before = d.elements.len();
+    d.elements.retain_mut(|e| {
+        let Some(b) = e.bounds() else { return true };
+        if !meet(b, keep) {
+            return false;
+        }
+        match &mut e.shape {
+            Shape::Path(p) => {
+                if !inside(b, keep) {
+                    p.clips.push(Clip { outline: rect(keep), fill_rule: FillRule::NonZero });
+                }
+                true
+            }
+            Shape::Text(t) => t.runs.first().is_none_or(|r| inside((r.x_mm, r.y_mm, r.x_mm, r.y_mm), keep)),
+            Shape::Image { .. } => inside(b, keep),
+        }
+    });
+    before - d.elements.len()
+}
+
+/// Where `--region` and `--fit` put a drawing: page mm `p` goes to
+/// `p * scale + shift` on a page the size of the surface.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Placement {
+    /// The part taken (`--region`), in page mm before scaling.
+    pub part: Option<Bbox>,
+    /// The scale factor.
+    pub scale: f64,
+    /// The shift after scaling, mm.
+    pub shift: (f64, f64),
+    /// The surface, mm: the page after placing.
+    pub surface: (f64, f64),
+}
+
+/// The placement `fit` and `region` ask of `d` on `profile`'s surface:
+/// `Ok(None)` when neither is asked (or the surface is degenerate), an error
+/// when the region cannot be taken.
+pub fn placement(
+    d: &Drawing,
+    profile: &DeviceProfile,
+    fit: bool,
+    region: Option<&Region>,
+) -> Result<Option<Placement>, Diagnostic> {
+    let (sw, sh) = (profile.surface_w_mm as f64, profile.surface_h_mm as f64);
+    if !(sw.is_finite() && sh.is_finite() && sw > 0.0 && sh > 0.0) || !(fit || region.is_some()) {
+        return Ok(None);
+    }
+    let part = match region {
+        None => None,
+        Some(r) => match region_box(d, r)? {
+            b if b.2 - b.0 > 0.0 && b.3 - b.1 > 0.0 && b.0.is_finite() && b.3.is_finite() => Some(b),
+            _ => return Err(Diagnostic::error("T0210", "--region: the part to take has no area")),
+        },
+    };
+    let from = part.unwrap_or((0.0, 0.0, d.page.width_mm, d.page.height_mm));
+    let (w, h) = (from.2 - from.0, from.3 - from.1);
+    if !(w > 0.0 && h > 0.0 && w.is_finite() && h.is_finite()) {
+        return Ok(None);
+    }
+    let scale = (sw / w).min(sh / h);
+    // Centred on the surface.
+    let shift = ((sw - w * scale) / 2.0 - from.0 * scale, (sh - h * scale) / 2.0 - from.1 * scale);
+    Ok(Some(Placement { part, scale, shift, surface: (sw, sh) }))
+}
+
+/// Applies `--region` and `--fit` (`region` and `fit`) to `d` for a device of
+/// `profile`'s surface, then leaves out what lies beyond the surface. A region
+/// implies fitting. Without fitting, a page larger than the surface gives one
+/// warning that suggests `--fit`. Returns `false` (with an error) when the
+/// region cannot be taken.
+pub fn apply(
+    d: &mut Drawing,
+    profile: &DeviceProfile,
+    fit: bool,
+    region: Option<&Region>,
+    diags: &mut Vec<Diagnostic>,
+) -> bool {
+    let (sw, sh) = (profile.surface_w_mm as f64, profile.surface_h_mm as f64);
+    if !(sw.is_finite() && sh.is_finite() && sw > 0.0 && sh > 0.0) {
+        return true;
+    }
+    let place = match placement(d, profile, fit, region) {
+        Ok(p) => p,
+        Err(e) => {
+            diags.push(e);
+            return false;
+        }
+    };
+    if let Some(p) = place {
+        if let Some(b) = p.part {
+            crop(d, b);
+        }
+        let page: Bbox = (0.0, 0.0, d.page.width_mm, d.page.height_mm);
+        let from = p.part.unwrap_or(page);
+        let (w, h) = (from.2 - from.0, from.3 - from.1);
+        let part = p.part;
+        {
+            let (s, t) = (p.scale, p.shift);
+            for e in &mut d.elements {
+                transform(e, s, t);
+            }
+            d.page.scale *= s;
+            d.page.offset_mm = (d.page.offset_mm.0 * s + t.0, d.page.offset_mm.1 * s + t.1);
+            d.page.width_mm = sw;
+            d.page.height_mm = sh;
+            diags.push(Diagnostic::note(
+                "T0211",
+                format!(
+                    "{} scaled by {:.3}: {:.1} x {:.1} mm became {:.1} x {:.1} mm on the {} surface ({sw} x {sh} mm)",
+                    if part.is_some() { "the region was" } else { "the drawing was" },
+                    s,
+                    w,
+                    h,
+                    w * s,
+                    h * s,
+                    profile.name
+                ),
+            ));
+        }
+    }
+    let surface: Bbox = (0.0, 0.0, sw, sh);
+    let (pw, ph) = (d.page.width_mm, d.page.height_mm);
+    let dropped = crop(d, surface);
+    if pw > sw + SLACK_MM || ph > sh + SLACK_MM {
+        let left = if dropped > 0 { format!("; {dropped} element(s) beyond it are left out") } else { String::new() };
+        diags.push(Diagnostic::warning(
+            "T0202",
+            format!(
+                "the drawing ({pw:.1} x {ph:.1} mm) is larger than the {} surface ({sw} x {sh} mm){left}; build with --fit to scale it to the surface, or --region to take part of it",
+                profile.name
+            ),
+        ));
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::drawing::{Page, PathShape, TextRun, TextShape};
+    use taxel_format::profiles;
+
+    fn square(id: &str, x: f64, y: f64, s: f64) -> Element {
+        Element {
+            id: id.into(),
+            name: id.into(),
+            visible: true,
+            shape: Shape::Path(PathShape { outline: rect((x, y, x + s, y + s)), ..Default::default() }),
+            ..Default::default()
+        }
+    }
+
+    /// A 500 x 500 mm page whose user unit is 2 mm.
+    fn big() -> Drawing {
+        Drawing {
+            page: Page { width_mm: 500.0, height_mm: 500.0, scale: 2.0, offset_mm: (0.0, 0.0) },
+            elements: vec![
+                square("a", 0.0, 0.0, 100.0),
+                square("b", 400.0, 400.0, 100.0),
+                square("c", 200.0, 0.0, 20.0),
+            ],
+            ..Default::default()
+        }
+    }
+
+    fn points(e: &Element) -> Vec<(f64, f64)> {
+        match &e.shape {
+            Shape::Path(p) => p.outline[0].points.clone(),
+            _ => vec![],
+        }
+    }
+
+    #[test]
+    fn fit_scales_a_large_drawing_into_the_surface_centred() {
+        let p = profiles::builtin("stress2").unwrap(); // 110 x 60 mm
+        let mut d = big();
+        let mut diags = Vec::new();
+        assert!(apply(&mut d, &p, true, None, &mut diags));
+        // 500 mm square into 110 x 60: scale 60 / 500 = 0.12, 60 mm wide, centred: x offset 25 mm.
+        assert_eq!(points(&d.elements[0])[2], (25.0 + 12.0, 12.0));
+        assert_eq!(points(&d.elements[1])[0], (25.0 + 48.0, 48.0));
+        assert!((d.page.scale - 0.24).abs() < 1e-12);
+        assert_eq!((d.page.width_mm, d.page.height_mm), (110.0, 60.0));
+        assert!(!diags.iter().any(|d| d.code == "T0202"));
+        assert!(diags.iter().any(|d| d.code == "T0211"));
+    }
+
+    #[test]
+    fn without_fit_one_warning_suggests_it_and_nothing_beyond_the_surface_is_kept() {
+        let p = profiles::builtin("stress2").unwrap();
+        let mut d = big();
+        let mut diags = Vec::new();
+        assert!(apply(&mut d, &p, false, None, &mut diags));
+        let w: Vec<_> = diags.iter().filter(|d| d.code == "T0202").collect();
+        assert_eq!(w.len(), 1);
+        assert!(w[0].message.contains("--fit") && w[0].message.contains("2 element(s) beyond it"), "{}", w[0].message);
+        // Only `a` (0..100 mm) remains, clipped to the surface.
+        assert_eq!(d.elements.len(), 1);
+        let Shape::Path(pa) = &d.elements[0].shape else { panic!() };
+        assert_eq!(pa.clips.len(), 1);
+        assert_eq!(crate::geometry::bounds(&pa.clips[0].outline), Some((0.0, 0.0, 110.0, 60.0)));
+    }
+
+    #[test]
+    fn a_region_by_rectangle_or_id_is_taken_then_fitted() {
+        let p = profiles::builtin("stress2").unwrap();
+        // Drawing units are 2 mm: 200,200,50,50 is page mm 400..500, the square `b`.
+        for region in [Region::Rect { x: 200.0, y: 200.0, w: 50.0, h: 50.0 }, Region::Element("b".into())] {
+            let mut d = big();
+            assert!(apply(&mut d, &p, false, Some(&region), &mut Vec::new()), "{region:?}");
+            assert_eq!(d.elements.len(), 1, "{region:?}");
+            assert_eq!(d.elements[0].id, "b");
+            // 100 mm into 60 mm high: scale 0.6, centred x offset (110 - 60) / 2.
+            let b = d.elements[0].bounds().unwrap();
+            for (got, want) in [b.0, b.1, b.2, b.3].into_iter().zip([25.0, 0.0, 85.0, 60.0]) {
+                assert!((got - want).abs() < 1e-9, "{region:?}: {b:?}");
+            }
+        }
+        let mut diags = Vec::new();
+        assert!(!apply(&mut big(), &p, false, Some(&Region::Element("nowhere".into())), &mut diags));
+        assert_eq!(diags[0].code, "T0210");
+    }
+
+    #[test]
+    fn text_moves_with_the_drawing() {
+        let p = profiles::builtin("stress2").unwrap();
+        let mut d = big();
+        d.elements.push(Element {
+            id: "t".into(),
+            visible: true,
+            shape: Shape::Text(TextShape {
+                content: "A".into(),
+                runs: vec![TextRun { text: "A".into(), x_mm: 250.0, y_mm: 250.0, anchor: 0.0, continues: false }],
+                font_size_mm: 10.0,
+                outline: vec![],
+            }),
+            ..Default::default()
+        });
+        assert!(apply(&mut d, &p, true, None, &mut Vec::new()));
+        let Shape::Text(t) = &d.elements[3].shape else { panic!() };
+        assert_eq!((t.runs[0].x_mm, t.runs[0].y_mm, t.font_size_mm), (25.0 + 30.0, 30.0, 1.2));
+    }
+}

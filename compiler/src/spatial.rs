@@ -1,0 +1,289 @@
+//! Spatial indexes (R*-trees from `rstar`) for every pass that relates
+//! elements to their neighbours: the design rules' gaps and overlaps, and the
+//! automatic style sheet's region adjacency. Each finds the pairs of boxes
+//! that come within a distance in O(n log n + pairs), never by looking at all
+//! n² pairs, which is what made a 10,000-element map take minutes.
+
+use rstar::{AABB, RTree, RTreeObject};
+
+use crate::geometry::Polyline;
+
+/// An axis-aligned box `(x0, y0, x1, y1)` in page mm.
+pub type Bbox = (f64, f64, f64, f64);
+
+/// Whether a box is finite and not inverted (usable as an index entry).
+fn usable(b: Bbox) -> bool {
+    b.0.is_finite() && b.1.is_finite() && b.2.is_finite() && b.3.is_finite() && b.0 <= b.2 && b.1 <= b.3
+}
+
+/// `b` grown by `m` on every side.
+pub fn grow(b: Bbox, m: f64) -> Bbox {
+    (b.0 - m, b.1 - m, b.2 + m, b.3 + m)
+}
+
+/// Whether two boxes meet (touching edges count).
+pub fn meet(a: Bbox, b: Bbox) -> bool {
+    a.0 <= b.2 && b.0 <= a.2 && a.1 <= b.3 && b.1 <= a.3
+}
+
+fn envelope(b: Bbox) -> AABB<[f64; 2]> {
+    AABB::from_corners([b.0, b.1], [b.2, b.3])
+}
+
+/// One indexed box and the position of what it bounds.
+#[derive(Debug, Clone, Copy)]
+struct Entry {
+    index: usize,
+    bbox: Bbox,
+}
+
+impl RTreeObject for Entry {
+    type Envelope = AABB<[f64; 2]>;
+    fn envelope(&self) -> Self::Envelope {
+        envelope(self.bbox)
+    }
+}
+
+/// An index of boxes, each standing for the item at its position in the
+/// slice it was built from.
+#[derive(Debug)]
+pub struct BoxIndex {
+    tree: RTree<Entry>,
+}
+
+impl BoxIndex {
+    /// Indexes `boxes`; boxes with non-finite or inverted corners are left out
+    /// (they can be near nothing).
+    pub fn new(boxes: &[Bbox]) -> Self {
+        let entries: Vec<Entry> =
+            boxes.iter().enumerate().filter(|(_, b)| usable(**b)).map(|(index, &bbox)| Entry { index, bbox }).collect();
+        BoxIndex { tree: RTree::bulk_load(entries) }
+    }
+
+    /// Positions of the boxes that meet `query`, in no particular order.
+    pub fn meeting(&self, query: Bbox) -> impl Iterator<Item = usize> + '_ {
+        let q = usable(query).then(|| envelope(query));
+        q.into_iter().flat_map(move |q| self.tree.locate_in_envelope_intersecting(&q).map(|e| e.index))
+    }
+}
+
+/// Boxes placed one at a time, each refused when it would meet one already
+/// placed (braille labels that must not run into each other).
+#[derive(Debug, Default)]
+pub struct Occupancy {
+    tree: RTree<Entry>,
+}
+
+impl Occupancy {
+    /// Places `b` unless it meets a placed box; returns whether it was placed.
+    /// A box with non-finite or inverted corners is never placed.
+    pub fn place(&mut self, b: Bbox) -> bool {
+        if !usable(b) || self.tree.locate_in_envelope_intersecting(&envelope(b)).next().is_some() {
+            return false;
+        }
+        let index = self.tree.size();
+        self.tree.insert(Entry { index, bbox: b });
+        true
+    }
+
+    /// Whether `b` meets no placed box.
+    pub fn is_free(&self, b: Bbox) -> bool {
+        usable(b) && self.tree.locate_in_envelope_intersecting(&envelope(b)).next().is_none()
+    }
+}
+
+/// Every pair `(i, j)`, `i < j`, of `boxes` that come within `margin` of each
+/// other (their boxes grown by `margin` meet), sorted.
+///
+/// ```
+/// use taxel_compiler::spatial::near_pairs;
+///
+/// let boxes = [(0.0, 0.0, 1.0, 1.0), (1.5, 0.0, 2.0, 1.0), (9.0, 9.0, 10.0, 10.0)];
+/// assert_eq!(near_pairs(&boxes, 0.5), vec![(0, 1)]);
+/// assert_eq!(near_pairs(&boxes, 0.1), vec![]);
+/// ```
+pub fn near_pairs(boxes: &[Bbox], margin: f64) -> Vec<(usize, usize)> {
+    let index = BoxIndex::new(boxes);
+    let mut out = Vec::new();
+    for (i, &b) in boxes.iter().enumerate() {
+        out.extend(index.meeting(grow(b, margin)).filter(|&j| j > i).map(|j| (i, j)));
+    }
+    out.sort_unstable();
+    out
+}
+
+/// One segment of an outline, for [`min_outline_distance`].
+#[derive(Debug, Clone, Copy)]
+struct Segment(((f64, f64), (f64, f64)));
+
+impl RTreeObject for Segment {
+    type Envelope = AABB<[f64; 2]>;
+    fn envelope(&self) -> Self::Envelope {
+        let ((x0, y0), (x1, y1)) = self.0;
+        AABB::from_corners([x0.min(x1), y0.min(y1)], [x0.max(x1), y0.max(y1)])
+    }
+}
+
+/// Squared distance from `p` to the segment `a`-`b`.
+fn point_segment2(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let len2 = dx * dx + dy * dy;
+    let t = if len2 > 0.0 { (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / len2).clamp(0.0, 1.0) } else { 0.0 };
+    let (ex, ey) = (a.0 + t * dx - p.0, a.1 + t * dy - p.1);
+    ex * ex + ey * ey
+}
+
+/// The distance between two segments (0 when they cross), as
+/// [`crate::geometry::segment_distance`] gives it, but through squared
+/// distances and one square root: this is the inner loop of every gap.
+fn segment_distance(a0: (f64, f64), a1: (f64, f64), b0: (f64, f64), b1: (f64, f64)) -> f64 {
+    let cross = |o: (f64, f64), a: (f64, f64), b: (f64, f64)| (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0);
+    let (d1, d2) = (cross(a0, a1, b0), cross(a0, a1, b1));
+    let (d3, d4) = (cross(b0, b1, a0), cross(b0, b1, a1));
+    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0)) && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0)) {
+        return 0.0;
+    }
+    point_segment2(a0, b0, b1)
+        .min(point_segment2(a1, b0, b1))
+        .min(point_segment2(b0, a0, a1))
+        .min(point_segment2(b1, a0, a1))
+        .sqrt()
+}
+
+fn seg_box(s: ((f64, f64), (f64, f64))) -> Bbox {
+    let ((x0, y0), (x1, y1)) = s;
+    (x0.min(x1), y0.min(y1), x0.max(x1), y0.max(y1))
+}
+
+/// The smallest distance between the outlines `a` and `b` (every segment of
+/// every subpath, closing segments included) when it is at most `reach`;
+/// otherwise some value above `reach` (infinite when nothing is that close).
+///
+/// Stops as soon as it finds a distance at or below `stop_at` (outlines that
+/// touch or cross need no more work). Only segments within `reach` of the
+/// other outline's box are looked at, and when many are, the larger side is
+/// put in an R*-tree, so two long borders cost O(n log n), not O(n²).
+pub fn min_outline_distance(a: &[Polyline], b: &[Polyline], reach: f64, stop_at: f64) -> f64 {
+    let (Some(ba), Some(bb)) = (crate::geometry::bounds(a), crate::geometry::bounds(b)) else {
+        return f64::INFINITY;
+    };
+    let near = |polys: &[Polyline], other: Bbox| -> Vec<((f64, f64), (f64, f64))> {
+        let g = grow(other, reach);
+        polys.iter().flat_map(|p| p.segments()).filter(|&s| meet(seg_box(s), g)).collect()
+    };
+    let (sa, sb) = (near(a, bb), near(b, ba));
+    let (small, large) = if sa.len() <= sb.len() { (sa, sb) } else { (sb, sa) };
+    let mut best = f64::INFINITY;
+    if small.len().saturating_mul(large.len()) <= 4096 {
+        for &(p0, p1) in &small {
+            for &(q0, q1) in &large {
+                best = best.min(segment_distance(p0, p1, q0, q1));
+                if best <= stop_at {
+                    return best;
+                }
+            }
+        }
+        return best;
+    }
+    let tree = RTree::bulk_load(large.into_iter().map(Segment).collect());
+    for &(p0, p1) in &small {
+        let r = best.min(reach);
+        let q = envelope(grow(seg_box((p0, p1)), r));
+        for s in tree.locate_in_envelope_intersecting(&q) {
+            let (q0, q1) = s.0;
+            best = best.min(segment_distance(p0, p1, q0, q1));
+            if best <= stop_at {
+                return best;
+            }
+        }
+    }
+    best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The pairs an all-pairs scan finds, the reference the index must match.
+    fn brute(boxes: &[Bbox], m: f64) -> Vec<(usize, usize)> {
+        let mut out = Vec::new();
+        for i in 0..boxes.len() {
+            for j in i + 1..boxes.len() {
+                if usable(boxes[i]) && usable(boxes[j]) && meet(grow(boxes[i], m), boxes[j]) {
+                    out.push((i, j));
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn near_pairs_match_an_all_pairs_scan() {
+        // A deterministic scatter of boxes of mixed sizes (a linear congruential sequence).
+        let mut s = 12345u64;
+        let mut next = || {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (s >> 33) as f64 / (1u64 << 31) as f64
+        };
+        let boxes: Vec<Bbox> = (0..400)
+            .map(|_| {
+                let (x, y, w, h) = (next() * 200.0, next() * 100.0, next() * 8.0, next() * 8.0);
+                (x, y, x + w, y + h)
+            })
+            .chain([(f64::NAN, 0.0, 1.0, 1.0), (5.0, 5.0, 4.0, 4.0)])
+            .collect();
+        for m in [0.0, 1.0, 3.2, 10.0] {
+            assert_eq!(near_pairs(&boxes, m), brute(&boxes, m), "margin {m}");
+        }
+    }
+
+    fn square(x: f64, y: f64, s: f64, n: usize) -> Vec<Polyline> {
+        // A square with `n` vertices per side, so that the tree path is taken for large n.
+        let mut pts = Vec::new();
+        for k in 0..n {
+            pts.push((x + s * k as f64 / n as f64, y));
+        }
+        for k in 0..n {
+            pts.push((x + s, y + s * k as f64 / n as f64));
+        }
+        for k in 0..n {
+            pts.push((x + s - s * k as f64 / n as f64, y + s));
+        }
+        for k in 0..n {
+            pts.push((x, y + s - s * k as f64 / n as f64));
+        }
+        vec![Polyline { points: pts, closed: true }]
+    }
+
+    #[test]
+    fn the_fast_segment_distance_agrees_with_the_geometry_module() {
+        let mut s = 99u64;
+        let mut next = || {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (s >> 33) as f64 / (1u64 << 31) as f64 * 20.0
+        };
+        for _ in 0..2000 {
+            let (a0, a1, b0, b1) = ((next(), next()), (next(), next()), (next(), next()), (next(), next()));
+            let (fast, slow) = (segment_distance(a0, a1, b0, b1), crate::geometry::segment_distance(a0, a1, b0, b1));
+            assert!((fast - slow).abs() < 1e-9, "{a0:?} {a1:?} {b0:?} {b1:?}: {fast} vs {slow}");
+        }
+    }
+
+    #[test]
+    fn outline_distance_is_exact_with_and_without_the_tree() {
+        for n in [1, 4, 200] {
+            // Two 10 mm squares 2.5 mm apart side by side.
+            let d = min_outline_distance(&square(0.0, 0.0, 10.0, n), &square(12.5, 3.0, 10.0, n), 10.0, 0.0);
+            assert!((d - 2.5).abs() < 1e-9, "n {n}: {d}");
+            // Diagonal: corner (10, 10) to corner (13, 14) is 5 mm.
+            let d = min_outline_distance(&square(0.0, 0.0, 10.0, n), &square(13.0, 14.0, 10.0, n), 10.0, 0.0);
+            assert!((d - 5.0).abs() < 1e-9, "n {n}: {d}");
+            // Sharing a border.
+            let d = min_outline_distance(&square(0.0, 0.0, 10.0, n), &square(10.0, 0.0, 10.0, n), 10.0, 0.0);
+            assert_eq!(d, 0.0);
+            // Beyond reach: above it.
+            let d = min_outline_distance(&square(0.0, 0.0, 10.0, n), &square(40.0, 0.0, 10.0, n), 10.0, 0.0);
+            assert!(d > 10.0);
+        }
+    }
+}
