@@ -8,6 +8,7 @@ mod examples;
 mod finger;
 mod format;
 mod pins;
+mod outputs;
 mod play;
 mod report;
 mod stability;
