@@ -364,6 +364,7 @@ impl Trace {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::vec;
 
     fn parse(s: &str) -> Result<Trace, TraceError> {
         Trace::parse(s.as_bytes())

@@ -96,7 +96,9 @@ pub fn pack_to(dir: &Path, out: &Path) -> Result<usize, TextError> {
     }
     let read = |name: &str| -> Result<Vec<u8>, TextError> {
         let path = dir.join(name);
-        fs::read(&path).map_err(|e| io_err(&path, "cannot read", e))
+        // A folder holds one bundle's worth: its files have the bundle's size limit.
+        crate::io::read_bundle(&path)
+            .map_err(|e| TextError::io(path.display().to_string(), format!("cannot read: {}", e.root_cause())))
     };
     let bytes = pack(&read).map_err(|mut e| {
         // Name files by their path, so the message can be acted on from anywhere.

@@ -202,14 +202,14 @@ pub fn svg(c: &mut Choices<'_>) -> String {
     let mut ids = 0usize;
     let mut budget = 40usize;
     while c.more() && budget > 0 {
-        element(c, &mut s, 0, entities, &mut ids, &mut budget);
+        element(c, &mut s, entities, &mut ids, &mut budget);
     }
     s.push_str("</svg>\n");
     s
 }
 
-/// One element (and its children) at nesting `depth`.
-fn element(c: &mut Choices<'_>, s: &mut String, depth: usize, entities: bool, ids: &mut usize, budget: &mut usize) {
+/// One element and its children, at most `budget` elements in all.
+fn element(c: &mut Choices<'_>, s: &mut String, entities: bool, ids: &mut usize, budget: &mut usize) {
     if *budget == 0 {
         return;
     }
@@ -229,7 +229,7 @@ fn element(c: &mut Choices<'_>, s: &mut String, depth: usize, entities: bool, id
             let _ = write!(s, r#"<g id="e{id}" inkscape:groupmode="layer" inkscape:label="{label}"{tactile}>"#);
             let children = c.below(4);
             for _ in 0..children {
-                element(c, s, depth + 1, entities, ids, budget);
+                element(c, s, entities, ids, budget);
             }
             s.push_str("</g>\n");
         }

@@ -98,5 +98,5 @@ fn extreme_times_saturate_instead_of_overflowing() {
     check(&t);
     let (first, last) = t.tick_range(48_000).unwrap();
     assert_eq!((first.0, last.0), (0, 1 << 62));
-    assert!(Trace::parse(&"\u{feff}\n".as_bytes()[..]).is_err());
+    assert!(Trace::parse("\u{feff}\n".as_bytes()).is_err());
 }
