@@ -4,7 +4,7 @@
 //!
 //! A failing input is reported with its diagnostics and the batch goes on;
 //! nothing is ever written for it. Every bundle is written to a temporary
-//! file and renamed into place ([`output::write_atomic`]), so an interrupted
+//! file and renamed into place ([`crate::io::write_file`]), so an interrupted
 //! batch leaves each output either as it was or complete.
 
 pub mod discover;

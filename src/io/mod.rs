@@ -1,7 +1,7 @@
 //! The binary's one way to touch files: every command and every output goes
 //! through here.
 //!
-//! - [`write`]: atomic writes of files and folders with one permission policy
+//! - [`write`](mod@write): atomic writes of files and folders with one permission policy
 //!   (files 0644 and folders 0755, like any file a person saves), through a
 //!   temporary file or folder beside the target, flushed to disk, then
 //!   renamed into place. A reader (or an interrupted run) sees the old
