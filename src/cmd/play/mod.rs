@@ -25,12 +25,11 @@ pub fn run(bundle: &Path, trace: Option<&Path>, out: Option<&Path>) -> CmdResult
         Family::Pins => {
             // A pin display shows a still image (pages or a pannable surface);
             // there is nothing to play along a trace.
-            eprintln!(
-                "error: {} is a pin-display bundle: it is not played along a trace; \
+            Err(CliError::trouble(anyhow::anyhow!(
+                "{} is a pin-display bundle: it is not played along a trace; \
                  write the device's own file with `taxel export` or look at it with `taxel preview`",
                 bundle.display()
-            );
-            Ok(ExitCode::from(2))
+            )))
         }
     }
 }
