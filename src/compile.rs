@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use std::path::{Component, Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use percent_encoding::percent_decode_str;
 use taxel_compiler::{CompileOptions, Compiled, Diagnostic, fontdb};
 use taxel_format::DeviceProfile;

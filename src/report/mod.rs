@@ -433,11 +433,6 @@ pub fn load_trace(input: &Path, explicit: Option<&Path>, bundle: &Bundle) -> Res
     Explored::sweep(&boxes, row_mm, SWEEP_SEED).context("the generated sweep")
 }
 
-/// The style sheet at `path`; a malformed one stops the report with its diagnostic.
-pub fn style_sheet(path: &Path) -> Result<taxel_compiler::StyleSheet> {
-    crate::io::load::style_sheet(path)?.map_err(|d| anyhow::anyhow!("{}", d.render(&path.display().to_string())))
-}
-
 /// Wall time of one frame over the whole trace, in µs: the best of three
 /// passes, so that a pass disturbed by another process does not count.
 fn time_frames(player: &LateroPlayer<'_>, positions: &[(u64, f64, f64)], n: usize) -> f64 {
