@@ -7,56 +7,27 @@
 //! code is 1 when any scene failed.
 
 use std::fmt::Write as _;
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
 use rayon::prelude::*;
-use serde::Deserialize;
-use taxel_format::{BundleView, Chunk, Family, Mm, Tick};
+use taxel_format::{BundleView, Chunk, Family, Tick};
 use taxel_runtime::finger::FingerPlayer;
 use taxel_runtime::grid::{ActuatorDrive, GridPlayer};
 use taxel_runtime::latero::LateroPlayer;
 use taxel_runtime::pins::PinsPlayer;
-use taxel_runtime::sinks::wav::{SampleBits, write_wav_file};
+use taxel_runtime::sinks::wav::SampleBits;
 
-use crate::batch::output::write_atomic;
 use crate::cli::CompileOpts;
+use crate::error::{CliError, CmdResult};
+use crate::examples::{Scene, read_index};
+use crate::io::{self, stdout};
+use crate::playback;
 use crate::report::{self, Prepared};
 
 /// Frames compared with the reference per scene (evenly spaced over its trace).
 const DEMO_EVAL_FRAMES: usize = 4_000;
-
-/// One `[[scene]]` of the examples index.
-#[derive(Debug, Clone, Deserialize)]
-pub struct Scene {
-    /// Unique name.
-    pub name: String,
-    /// The drawing or mesh, relative to the index's folder.
-    pub input: String,
-    /// Device profile.
-    pub profile: String,
-    /// Exploration trace, relative to the index's folder.
-    pub trace: Option<String>,
-    /// Style sheet, relative to the index's folder.
-    pub style: Option<String>,
-}
-
-#[derive(Deserialize)]
-struct Index {
-    #[serde(default)]
-    scene: Vec<Scene>,
-}
-
-/// Reads an examples index.
-pub fn read_index(path: &Path) -> Result<Vec<Scene>> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-    let index: Index =
-        toml::from_str(&text).with_context(|| format!("{} is not a valid examples index", path.display()))?;
-    Ok(index.scene)
-}
 
 /// One line of the summary.
 #[derive(Debug, Clone)]
@@ -87,17 +58,23 @@ pub struct Figures {
 }
 
 /// The demo entry point: examples next to the current folder, else the source tree's.
-pub fn main() -> Result<ExitCode> {
+pub fn main() -> CmdResult {
     let root = [PathBuf::from("."), PathBuf::from(env!("CARGO_MANIFEST_DIR"))]
         .into_iter()
         .find(|r| r.join("examples/examples.toml").is_file())
         .context("no examples/examples.toml here or in the source tree: run the demo from the taxel repository")?;
     let t0 = Instant::now();
     let outcomes = run(&root.join("examples"), &root.join("target/taxel-demo"), None)?;
-    let text = summary(&outcomes);
-    print!("{text}");
-    println!("wall time {:.1} s; output in {}", t0.elapsed().as_secs_f64(), root.join("target/taxel-demo").display());
-    Ok(if outcomes.iter().any(|o| o.result.is_err()) { ExitCode::from(1) } else { ExitCode::SUCCESS })
+    stdout::print(&summary(&outcomes))?;
+    stdout::outln!(
+        "wall time {:.1} s; output in {}",
+        t0.elapsed().as_secs_f64(),
+        root.join("target/taxel-demo").display()
+    )?;
+    match outcomes.iter().filter(|o| o.result.is_err()).count() {
+        0 => Ok(()),
+        n => Err(CliError::input(anyhow::anyhow!("{n} scenes failed (see the summary)"))),
+    }
 }
 
 /// Builds and plays the scenes of `examples/examples.toml` (only those named
@@ -116,8 +93,7 @@ pub fn run(examples: &Path, out: &Path, only: Option<&[&str]>) -> Result<Vec<Out
             result: scene(examples, out, s).map_err(|e| format!("{e:#}")),
         })
         .collect();
-    write_atomic(&out.join("summary.txt"), summary(&outcomes).as_bytes())
-        .with_context(|| format!("cannot write {}", out.join("summary.txt").display()))?;
+    io::write_file(&out.join("summary.txt"), summary(&outcomes).as_bytes())?;
     Ok(outcomes)
 }
 
@@ -130,10 +106,10 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
     };
     let (bundle, build_ms) = report::compile(&input, &opts, None)?;
     let bytes = bundle.to_bytes().map_err(|e| anyhow::anyhow!("{e}"))?;
-    write_atomic(&out.join("bundles").join(format!("{}.taxel", s.name)), &bytes)?;
+    io::write_file(&out.join("bundles").join(format!("{}.taxel", s.name)), &bytes)?;
     // The preview is drawn from the bundle alone, as `taxel preview B.taxel` does.
     let picture = taxel_compiler::preview::render_bundle(&bundle, None);
-    write_atomic(&out.join("previews").join(format!("{}.png", s.name)), &crate::cmd::preview::encode_png(&picture)?)?;
+    io::write_file(&out.join("previews").join(format!("{}.png", s.name)), &io::png::encode_picture(&picture)?)?;
     let layers = bundle.chunks.iter().filter(|c| !matches!(c, Chunk::Provenance(_) | Chunk::Raw(_))).count();
     let trace = s.trace.as_ref().map(|t| examples.join(t));
     match bundle.manifest.profile.family() {
@@ -156,7 +132,7 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
             let player = GridPlayer::new(&view).map_err(|e| anyhow::anyhow!("{e}"))?;
             let wav = out.join("frames").join(format!("{}.wav", s.name));
             let bits = SampleBits::for_output_bits(bundle.manifest.profile.output_bits);
-            write_wav_file(&wav, &player, bits).map_err(|e| anyhow::anyhow!("{}: {e}", wav.display()))?;
+            playback::write_drive(&wav, &player, bits)?;
             let ticks = player.end().0 + 1;
             let mut drive = vec![ActuatorDrive::default(); player.actuator_count()];
             let t0 = Instant::now();
@@ -177,14 +153,14 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
         Family::Finger => {
             let Some(t) = trace.as_deref() else { anyhow::bail!("a finger scene needs a touch trace") };
             let tr = report::load_trace(&input, Some(t), &bundle)?;
-            let (max, sample_us) = report::mesh::max_height_error(&input, &bundle, &tr)?;
-            write_motors(&out.join("frames").join(format!("{}.csv", s.name)), &bytes, t)?;
+            let (max, sample_us) = report::mesh::max_height_error(&input, &bundle, &tr.trace)?;
+            write_motors(&out.join("frames").join(format!("{}.csv", s.name)), &bytes, &tr.trace)?;
             Ok(Figures {
                 layers,
                 bundle_bytes: bytes.len(),
                 build_ms,
                 frame_us: sample_us,
-                frames: tr.samples.len(),
+                frames: tr.trace.samples().len(),
                 max_error: Some((max, "mm of height".to_string())),
             })
         }
@@ -208,7 +184,7 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
             let frame_us = t0.elapsed().as_secs_f64() * 1e6 / frames.max(1) as f64;
             if let Some(image) = bundle.pin_image() {
                 let art = taxel_compiler::pins::export::unicode(image);
-                write_atomic(&out.join("frames").join(format!("{}.txt", s.name)), art.as_bytes())?;
+                io::write_file(&out.join("frames").join(format!("{}.txt", s.name)), art.as_bytes())?;
             }
             Ok(Figures { layers, bundle_bytes: bytes.len(), build_ms, frame_us, frames, max_error: None })
         }
@@ -219,34 +195,18 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
 fn write_frames(path: &Path, bytes: &[u8], positions: &[(u64, f64, f64)]) -> Result<()> {
     let view = BundleView::parse(bytes).map_err(|e| anyhow::anyhow!("{e}"))?;
     let player = LateroPlayer::new(&view).map_err(|e| anyhow::anyhow!("{e}"))?;
-    let n = player.actuator_count();
-    let mut text = Vec::with_capacity(positions.len() * (n * 4 + 8));
-    write!(text, "tick")?;
-    for i in 0..n {
-        write!(text, ",a{i}")?;
-    }
-    writeln!(text)?;
-    let mut frame = vec![0u16; n];
-    for &(tick, x, y) in positions {
-        player.frame(Tick(tick), Mm(x as f32), Mm(y as f32), &mut frame);
-        write!(text, "{tick}")?;
-        for v in &frame {
-            write!(text, ",{v}")?;
-        }
-        writeln!(text)?;
-    }
-    write_atomic(path, &text).with_context(|| format!("cannot write {}", path.display()))
+    let ticks = positions.iter().map(|&(t, x, y)| (Tick(t), x, y));
+    io::write_with(path, |w| playback::latero_frames(&player, ticks, w))?;
+    Ok(())
 }
 
 /// Motor output CSV (`t_ms,left,down,right,period_ms`, as `taxel play` writes it) along a touch trace.
-fn write_motors(path: &Path, bytes: &[u8], trace: &Path) -> Result<()> {
+fn write_motors(path: &Path, bytes: &[u8], trace: &taxel_runtime::trace::Trace) -> Result<()> {
     let view = BundleView::parse(bytes).map_err(|e| anyhow::anyhow!("{e}"))?;
     let mut player = FingerPlayer::new(&view).map_err(|e| anyhow::anyhow!("{e}"))?;
-    let file = std::fs::File::open(trace).with_context(|| format!("cannot read {}", trace.display()))?;
-    let tr = taxel_runtime::trace::Trace::parse(std::io::BufReader::new(file))
-        .map_err(|e| anyhow::anyhow!("{}: {e}", trace.display()))?;
-    let text = crate::cmd::play::finger::motors_csv(&mut player, &tr, view.manifest().profile.rate_hz);
-    write_atomic(path, text.as_bytes()).with_context(|| format!("cannot write {}", path.display()))
+    let rate = view.manifest().profile.rate_hz;
+    io::write_with(path, |w| playback::finger_motors(&mut player, trace, rate, w))?;
+    Ok(())
 }
 
 /// The summary table.

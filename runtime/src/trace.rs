@@ -257,6 +257,38 @@ impl Trace {
         Ok(Trace { samples, has_contact })
     }
 
+    /// A trace made in code (a generated sweep) rather than read from a
+    /// file, checked like a parsed one: at least one sample, every number
+    /// finite, times not negative and never decreasing. The `line` of an
+    /// error is the sample's line had the trace been written as CSV (the
+    /// first sample is line 2). Contact is taken from the samples; the trace
+    /// counts as having a `contact` column when any sample is lifted.
+    pub fn from_samples(samples: Vec<TraceSample>) -> Result<Trace, TraceError> {
+        if samples.is_empty() {
+            return Err(TraceError::Empty);
+        }
+        let mut previous: Option<f64> = None;
+        for (i, s) in samples.iter().enumerate() {
+            let line = i as u64 + 2;
+            for (column, v) in [("t_ms", s.t_ms), ("x_mm", s.x_mm), ("y_mm", s.y_mm)] {
+                if !v.is_finite() {
+                    return Err(TraceError::NotFinite { line, column, value: v.to_string() });
+                }
+            }
+            if s.t_ms < 0.0 {
+                return Err(TraceError::NegativeTime { line, t_ms: s.t_ms });
+            }
+            if let Some(p) = previous
+                && s.t_ms < p
+            {
+                return Err(TraceError::TimeBackwards { line, t_ms: s.t_ms, previous: p });
+            }
+            previous = Some(s.t_ms);
+        }
+        let has_contact = samples.iter().any(|s| !s.contact);
+        Ok(Trace { samples, has_contact })
+    }
+
     /// The samples, in time order.
     pub fn samples(&self) -> &[TraceSample] {
         &self.samples
@@ -332,6 +364,7 @@ impl Trace {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::vec;
 
     fn parse(s: &str) -> Result<Trace, TraceError> {
         Trace::parse(s.as_bytes())
@@ -397,6 +430,22 @@ mod tests {
         let bad_utf8 = b"t_ms,x_mm,y_mm\n0,1,\xff\n";
         let got = Trace::parse(&bad_utf8[..]).unwrap_err().to_string();
         assert!(got.contains("line 2") && got.contains("UTF-8"), "{got}");
+    }
+
+    #[test]
+    fn made_traces_are_checked_like_parsed_ones() {
+        let at = |t_ms: f64, x_mm: f64| TraceSample { t_ms, x_mm, y_mm: 0.0, contact: true };
+        let t = Trace::from_samples(vec![at(0.0, 0.0), at(10.0, 10.0)]).unwrap();
+        assert_eq!(t, parse("t_ms,x_mm,y_mm\n0,0,0\n10,10,0\n").unwrap());
+        let e = Trace::from_samples(vec![at(0.0, 0.0), at(5.0, f64::NAN)]).unwrap_err();
+        assert_eq!(e.to_string(), "line 3: `x_mm` must be a finite number, found `NaN`");
+        let e = Trace::from_samples(vec![at(5.0, 0.0), at(4.0, 0.0)]).unwrap_err();
+        assert_eq!(e.to_string(), "line 3: time goes backwards, from 5 ms to 4 ms");
+        assert_eq!(
+            Trace::from_samples(vec![at(-1.0, 0.0)]).unwrap_err(),
+            TraceError::NegativeTime { line: 2, t_ms: -1.0 }
+        );
+        assert_eq!(Trace::from_samples(Vec::new()).unwrap_err(), TraceError::Empty);
     }
 
     #[test]

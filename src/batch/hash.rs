@@ -49,14 +49,14 @@ pub fn content_hash(input: &Path, bytes: &[u8], opts: &CompileOpts) -> Result<[u
     let style = match &opts.style {
         // The built-in sheet is part of taxel, which the version above covers.
         Some(_) if opts.style_is_auto() => Some(b"auto".to_vec()),
-        Some(p) => Some(std::fs::read(p).with_context(|| format!("cannot read style sheet {}", p.display()))?),
+        Some(p) => Some(crate::io::read_input(p).with_context(|| format!("cannot read style sheet {}", p.display()))?),
         None => None,
     };
     h.opt(style.as_deref());
     match &opts.profile {
         // A file is hashed by content, so editing it rebuilds; a name by name.
         Some(p) if Path::new(p).is_file() => {
-            let text = std::fs::read(p).with_context(|| format!("cannot read profile {p}"))?;
+            let text = crate::io::read_input(Path::new(p)).with_context(|| format!("cannot read profile {p}"))?;
             h.field(b"file").field(&text)
         }
         Some(p) => h.field(b"name").field(p.as_bytes()),
@@ -117,32 +117,13 @@ fn gltf_resources(input: &Path, bytes: &[u8]) -> Vec<(String, Option<Vec<u8>>)> 
             if uri.starts_with("data:") || uri.contains("://") {
                 continue;
             }
-            let data = std::fs::read(base.join(percent_decode(uri))).ok();
+            // URIs in glTF are percent-encoded (`my%20mesh.bin`).
+            let rel = percent_encoding::percent_decode_str(uri).decode_utf8_lossy();
+            let data = crate::io::read_input(&base.join(&*rel)).ok();
             out.push((uri.to_string(), data));
         }
     }
     out
-}
-
-/// URIs in glTF are percent-encoded (`my%20mesh.bin`).
-fn percent_decode(s: &str) -> String {
-    let b = s.as_bytes();
-    let mut out = Vec::with_capacity(b.len());
-    let mut i = 0;
-    while i < b.len() {
-        let hex = |c: u8| (c as char).to_digit(16);
-        if b[i] == b'%'
-            && i + 2 < b.len()
-            && let (Some(h), Some(l)) = (hex(b[i + 1]), hex(b[i + 2]))
-        {
-            out.push((h * 16 + l) as u8);
-            i += 3;
-            continue;
-        }
-        out.push(b[i]);
-        i += 1;
-    }
-    String::from_utf8_lossy(&out).into_owned()
 }
 
 #[cfg(test)]
@@ -222,11 +203,5 @@ mod tests {
         assert_eq!(distinct.len(), variants.len());
         // A drawing without text does not depend on the fonts.
         assert_eq!(h(shapes, &a), h(shapes, &none));
-    }
-
-    #[test]
-    fn percent_decoding_leaves_malformed_escapes_alone() {
-        assert_eq!(percent_decode("a%20b%2"), "a b%2");
-        assert_eq!(percent_decode("%zz%41"), "%zzA");
     }
 }

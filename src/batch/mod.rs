@@ -4,7 +4,7 @@
 //!
 //! A failing input is reported with its diagnostics and the batch goes on;
 //! nothing is ever written for it. Every bundle is written to a temporary
-//! file and renamed into place ([`output::write_atomic`]), so an interrupted
+//! file and renamed into place ([`crate::io::write_file`]), so an interrupted
 //! batch leaves each output either as it was or complete.
 
 pub mod discover;
@@ -144,12 +144,9 @@ fn build_one(job: &Job, settings: &Settings, compile: &CompileFn) -> (Outcome, S
         return failed(format!("{shown}: {c}"));
     }
     // Refuse an oversized input before reading it whole for the content hash.
-    if let Err(e) = crate::compile::check_input_size(&job.input.path) {
-        return failed(format!("{e:#}"));
-    }
-    let bytes = match std::fs::read(&job.input.path) {
+    let bytes = match crate::io::read_input(&job.input.path) {
         Ok(b) => b,
-        Err(e) => return failed(format!("cannot read {shown}: {e}")),
+        Err(e) => return failed(format!("{e:#}")),
     };
     let hash = match hash::content_hash(&job.input.path, &bytes, &settings.opts) {
         Ok(h) => h,
@@ -186,8 +183,8 @@ fn build_one(job: &Job, settings: &Settings, compile: &CompileFn) -> (Outcome, S
         Ok(b) => b,
         Err(e) => return failed(format!("{shown}: internal error: the compiler made an invalid bundle: {e}")),
     };
-    if let Err(e) = output::write_atomic(&job.output, &bytes) {
-        return failed(format!("cannot write {out}: {e}"));
+    if let Err(e) = crate::io::write_file(&job.output, &bytes) {
+        return failed(e.to_string());
     }
     let line = match warnings {
         0 => format!("built {shown} -> {out}{styles}"),

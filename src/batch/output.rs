@@ -1,8 +1,7 @@
-//! Writing bundles safely: a temporary file in the same folder, flushed to
-//! disk, then renamed over the target, so that a reader (or an interrupted
-//! batch) only ever sees the old bundle or the whole new one.
+//! Whether a bundle already built is up to date. Bundles are written through
+//! [`crate::io::write_file`], so a reader (or an interrupted batch) only ever
+//! sees the old bundle or the whole new one.
 
-use std::io::Write;
 use std::path::Path;
 
 use taxel_format::BundleView;
@@ -21,42 +20,10 @@ pub fn up_to_date(path: &Path, hash: &[u8; 32]) -> bool {
     BundleView::parse(&bytes).is_ok_and(|v| v.manifest().content_hash == *hash)
 }
 
-/// Writes `bytes` to `path` atomically, creating its folder if needed.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    std::fs::create_dir_all(dir)?;
-    let mut tmp = tempfile::Builder::new().prefix(".taxel-tmp-").suffix(".part").tempfile_in(dir)?;
-    tmp.write_all(bytes)?;
-    // Without the flush a crash soon after the rename could leave an empty
-    // file under the final name on some file systems.
-    tmp.as_file().sync_all()?;
-    #[cfg(unix)]
-    {
-        // Temporary files are private (0600); a bundle is an ordinary file.
-        use std::os::unix::fs::PermissionsExt;
-        tmp.as_file().set_permissions(std::fs::Permissions::from_mode(0o644))?;
-    }
-    tmp.persist(path).map_err(|e| e.error)?;
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use taxel_format::{Bundle, Manifest, profiles};
-
-    #[test]
-    fn writes_replaces_and_leaves_no_temporary_file() {
-        let dir = tempfile::tempdir().unwrap();
-        let p = dir.path().join("out/sub/a.taxel");
-        write_atomic(&p, b"one").unwrap();
-        write_atomic(&p, b"two").unwrap();
-        assert_eq!(std::fs::read(&p).unwrap(), b"two");
-        assert_eq!(std::fs::read_dir(p.parent().unwrap()).unwrap().count(), 1);
-    }
 
     #[test]
     fn up_to_date_only_for_a_valid_bundle_with_the_same_hash() {

@@ -3,13 +3,12 @@
 
 use std::io::IsTerminal;
 use std::path::PathBuf;
-use std::process::ExitCode;
-
-use anyhow::{Result, bail};
 
 use crate::batch::{self, Destination, Settings, Shard};
 use crate::cli::CompileOpts;
 use crate::compile::compile_file;
+use crate::error::{CliError, CmdResult};
+use crate::io::stdout::outln;
 
 /// The command line's arguments for `build`.
 pub struct BuildArgs {
@@ -29,10 +28,10 @@ pub struct BuildArgs {
     pub verbose: bool,
 }
 
-pub fn run(args: BuildArgs) -> Result<ExitCode> {
+pub fn run(args: BuildArgs) -> CmdResult {
     let shard = args.shard.as_deref().map(str::parse::<Shard>).transpose().map_err(anyhow::Error::msg)?;
     if args.jobs == Some(0) {
-        bail!("--jobs 0: at least one job is needed");
+        return Err(anyhow::anyhow!("--jobs 0: at least one job is needed").into());
     }
     let (found, problems) = batch::discover(&args.inputs)?;
     let found_count = found.len();
@@ -57,8 +56,12 @@ pub fn run(args: BuildArgs) -> Result<ExitCode> {
     };
     let summary = batch::run(&jobs, &problems, &settings, &compile_file)?;
     match shard {
-        Some(s) => println!("shard {s} ({} of {found_count} inputs): {summary}", jobs.len()),
-        None => println!("{summary}"),
+        Some(s) => outln!("shard {s} ({} of {found_count} inputs): {summary}", jobs.len())?,
+        None => outln!("{summary}")?,
     }
-    Ok(if summary.counts.failed > 0 { ExitCode::from(1) } else { ExitCode::SUCCESS })
+    match summary.counts.failed {
+        0 => Ok(()),
+        1 => Err(CliError::input(anyhow::anyhow!("1 input failed"))),
+        n => Err(CliError::input(anyhow::anyhow!("{n} inputs failed"))),
+    }
 }

@@ -2,15 +2,15 @@
 //! print every diagnostic; exit 1 when any input has errors.
 
 use std::path::PathBuf;
-use std::process::ExitCode;
 
-use anyhow::Result;
 use serde::Serialize;
 use taxel_compiler::{Diagnostic, Severity};
 
 use crate::batch;
 use crate::cli::{CompileOpts, Format};
 use crate::compile::compile_file;
+use crate::error::{CliError, CmdResult};
+use crate::io::stdout::outln;
 
 #[derive(Serialize)]
 struct FileReport<'a> {
@@ -20,7 +20,7 @@ struct FileReport<'a> {
     diagnostics: &'a [Diagnostic],
 }
 
-pub fn run(inputs: &[PathBuf], opts: &CompileOpts, format: Format, verbose: bool) -> Result<ExitCode> {
+pub fn run(inputs: &[PathBuf], opts: &CompileOpts, format: Format, verbose: bool) -> CmdResult {
     let (found, problems) = batch::discover(inputs)?;
     let mut failed = !problems.is_empty();
     for p in &problems {
@@ -53,18 +53,21 @@ pub fn run(inputs: &[PathBuf], opts: &CompileOpts, format: Format, verbose: bool
                     diagnostics: d,
                 })
                 .collect();
-            println!("{}", serde_json::to_string_pretty(&out)?);
+            outln!("{}", serde_json::to_string_pretty(&out).map_err(anyhow::Error::new)?)?;
         }
         Format::Human => {
             for (file, diags) in &reports {
                 for line in crate::account::lines(diags, file, Severity::Note, verbose) {
-                    println!("{line}");
+                    outln!("{line}")?;
                 }
                 let (e, w) = (count(diags, Severity::Error), count(diags, Severity::Warning));
                 let styles = crate::account::style_summary(diags).map(|s| format!("; {s}")).unwrap_or_default();
-                println!("{file}: {}, {e} error(s), {w} warning(s){styles}", if e > 0 { "failed" } else { "ok" });
+                outln!("{file}: {}, {e} error(s), {w} warning(s){styles}", if e > 0 { "failed" } else { "ok" })?;
             }
         }
     }
-    Ok(if failed { ExitCode::from(1) } else { ExitCode::SUCCESS })
+    if failed {
+        return Err(CliError::input(anyhow::anyhow!("the check failed: see the diagnostics above")));
+    }
+    Ok(())
 }

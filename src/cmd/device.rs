@@ -4,16 +4,17 @@
 
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 use std::thread;
 use std::time::Duration;
 
 use anyhow::{Context, Result, bail};
 use serde::Deserialize;
-use taxel_format::profiles;
 use taxel_runtime::device::{
     Client, ClientError, DeviceInfo, Entry, ErrorCode, Refusal, Server, ServerConfig, Store, StoreConfig,
 };
+
+use crate::error::{CliError, CmdResult};
+use crate::io::stdout::outln;
 
 /// The marker file that tells `taxel load` what a mounted device folder accepts.
 pub const MARKER: &str = ".taxel-device.toml";
@@ -121,12 +122,11 @@ impl Device {
 
 fn read_marker(dir: &Path) -> Result<Marker> {
     let path = dir.join(MARKER);
-    let text = match std::fs::read_to_string(&path) {
-        Ok(t) => t,
+    if !path.exists() {
         // No marker: a plain folder that accepts any profile, limited only by its disk.
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Marker { profile: None, capacity: None }),
-        Err(e) => return Err(e).with_context(|| format!("cannot read {}", path.display())),
-    };
+        return Ok(Marker { profile: None, capacity: None });
+    }
+    let text = crate::io::read_input_text(&path)?;
     toml::from_str(&text).map_err(|e| {
         anyhow::anyhow!(
             "{}: {} (expected optional keys `profile = \"NAME\"` and `capacity = BYTES`)",
@@ -153,77 +153,60 @@ fn with_retries<T>(mut f: impl FnMut() -> Result<T, ClientError>) -> Result<T, C
 }
 
 /// `taxel device serve`.
-pub fn serve(store: &Path, listen: &str, capacity: Option<u64>, profile: Option<&str>) -> Result<ExitCode> {
+pub fn serve(store: &Path, listen: &str, capacity: Option<u64>, profile: Option<&str>) -> CmdResult {
     let addr: SocketAddr =
         listen.parse().with_context(|| format!("--listen {listen}: expected an address such as 127.0.0.1:7878"))?;
     if !addr.ip().is_loopback() {
         // The simulator has no authentication: anyone who can reach it can
         // replace or delete bundles.
-        bail!("--listen {listen}: the simulator listens on loopback only (127.0.0.1 or [::1])");
+        return Err(
+            anyhow::anyhow!("--listen {listen}: the simulator listens on loopback only (127.0.0.1 or [::1])").into()
+        );
     }
-    let profile = profile.map(resolve_profile).transpose()?;
+    // The device keeps the profile's name.
+    let profile = profile.map(|p| crate::io::load::profile(p).map(|p| p.name.as_str().to_string())).transpose()?;
     let config = StoreConfig { profile: profile.clone(), capacity, stale_staging: None };
     let store = Store::open(store, config).map_err(anyhow::Error::new)?;
     let server =
         Server::bind(addr, store, ServerConfig::default()).with_context(|| format!("cannot listen on {addr}"))?;
     let bound = server.local_addr()?;
-    println!(
+    outln!(
         "taxel device simulator listening on tcp://{bound} (store {}, profile {}, capacity {})",
         server.store().dir().display(),
         profile.as_deref().unwrap_or("any"),
         capacity.map_or_else(|| "unlimited".to_string(), |c| format!("{c} bytes")),
-    );
-    // Tests and scripts read the address from this line: make sure it leaves now.
-    std::io::Write::flush(&mut std::io::stdout())?;
+    )?;
     server.run();
-    Ok(ExitCode::SUCCESS)
-}
-
-/// A `--profile` value: a built-in name or a profile TOML file; the device keeps its name.
-fn resolve_profile(p: &str) -> Result<String> {
-    if let Some(profile) = profiles::builtin(p) {
-        return Ok(profile.name.as_str().to_string());
-    }
-    let path = Path::new(p);
-    if path.is_file() {
-        let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-        let profile = profiles::parse(&text, &path.display().to_string())?;
-        return Ok(profile.name.as_str().to_string());
-    }
-    bail!("--profile {p}: not a built-in profile ({}) nor a profile file", profiles::builtin_names().join(", "))
+    Ok(())
 }
 
 /// `taxel device ls`.
-pub fn ls(spec: &str) -> Result<ExitCode> {
+pub fn ls(spec: &str) -> CmdResult {
     let mut device = Device::open(spec)?;
     let info = device.info()?;
     let entries = device.list().with_context(|| format!("device {}", device.describe()))?;
     let profile = if info.profile.is_empty() { "any" } else { info.profile.as_str() };
     let free = if info.free == u64::MAX { "unlimited".to_string() } else { format!("{} bytes", info.free) };
-    println!("{}: profile {profile}, {} bundles, free {free}", device.describe(), entries.len());
+    outln!("{}: profile {profile}, {} bundles, free {free}", device.describe(), entries.len())?;
     for e in &entries {
         let sum: String = e.checksum[..8].iter().map(|b| format!("{b:02x}")).collect();
-        println!("{:<40} {:>12} {sum}", e.name, e.size);
+        outln!("{:<40} {:>12} {sum}", e.name, e.size)?;
     }
     device.close();
-    Ok(ExitCode::SUCCESS)
+    Ok(())
 }
 
 /// `taxel device rm`.
-pub fn rm(name: &str, spec: &str) -> Result<ExitCode> {
+pub fn rm(name: &str, spec: &str) -> CmdResult {
     let mut device = Device::open(spec)?;
     let result = device.delete(name);
     let described = device.describe();
     device.close();
     match result {
-        Ok(()) => {
-            println!("deleted {name} from {described}");
-            Ok(ExitCode::SUCCESS)
-        }
+        Ok(()) => outln!("deleted {name} from {described}"),
         Err(ClientError::Refused(Refusal { code: ErrorCode::NotFound | ErrorCode::InvalidName, message })) => {
-            eprintln!("error: {described}: {message}");
-            Ok(ExitCode::from(1))
+            Err(CliError::input(anyhow::anyhow!("{described}: {message}")))
         }
-        Err(e) => Err(anyhow::Error::new(e).context(format!("device {described}"))),
+        Err(e) => Err(CliError::trouble(anyhow::Error::new(e).context(format!("device {described}")))),
     }
 }

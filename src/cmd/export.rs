@@ -4,40 +4,27 @@
 //! validated first; the file is written atomically.
 
 use std::path::Path;
-use std::process::ExitCode;
 
-use anyhow::{Context, Result};
 use taxel_compiler::pins::export;
 use taxel_format::Bundle;
 
-use crate::batch::output::write_atomic;
 use crate::cli::ExportFormat;
+use crate::error::{CliError, CmdResult};
+use crate::io;
 
-pub fn run(bundle: &Path, format: ExportFormat, out: &Path) -> Result<ExitCode> {
+pub fn run(bundle: &Path, format: ExportFormat, out: &Path) -> CmdResult {
     let shown = bundle.display();
-    let bytes = match std::fs::read(bundle) {
-        Ok(b) => b,
-        Err(e) => {
-            eprintln!("error: cannot read {shown}: {e}");
-            return Ok(ExitCode::from(2));
-        }
-    };
-    let b = match Bundle::from_bytes(&bytes) {
-        Ok(b) => b,
-        Err(e) => {
-            eprintln!("error: {shown}: not a valid taxel bundle: {e}");
-            return Ok(ExitCode::from(1));
-        }
-    };
+    let bytes = io::read_bundle(bundle)?;
+    let b = Bundle::from_bytes(&bytes)
+        .map_err(|e| CliError::input(anyhow::anyhow!("{shown}: not a valid taxel bundle: {e}")))?;
     let profile = b.manifest.profile;
     let Some(image) = b.pin_image() else {
-        eprintln!(
-            "error: {shown}: no pin image: the bundle was compiled for {} ({} family); \
+        return Err(CliError::input(anyhow::anyhow!(
+            "{shown}: no pin image: the bundle was compiled for {} ({} family); \
              export needs a pin-display bundle (build with --profile dotpad, monarch, graphiti or hyperbraille)",
             profile.name,
             profile.family()
-        );
-        return Ok(ExitCode::from(1));
+        )));
     };
     // The drawing's title, when the compiler recorded it (provenance entry 0, id `svg`).
     let title = b
@@ -51,15 +38,9 @@ pub fn run(bundle: &Path, format: ExportFormat, out: &Path) -> Result<ExitCode> 
         ExportFormat::Dtms => export::dtms(image, &profile, &file_title, &title).map(String::into_bytes),
         ExportFormat::Graphiti => export::graphiti(image, &profile),
     };
-    let data = match data {
-        Ok(d) => d,
-        Err(e) => {
-            eprintln!("error: {shown}: {e}");
-            return Ok(ExitCode::from(1));
-        }
-    };
-    write_atomic(out, &data).with_context(|| format!("writing {}", out.display()))?;
+    let data = data.map_err(|e| CliError::input(anyhow::anyhow!("{shown}: {e}")))?;
+    io::write_file(out, &data)?;
     let pages = export::pages(image, &profile).len();
     eprintln!("wrote {} ({} bytes, {pages} page{})", out.display(), data.len(), if pages == 1 { "" } else { "s" });
-    Ok(ExitCode::SUCCESS)
+    Ok(())
 }

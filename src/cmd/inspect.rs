@@ -4,35 +4,23 @@
 
 use std::collections::BTreeSet;
 use std::path::Path;
-use std::process::ExitCode;
 
-use anyhow::Result;
 use serde_json::{Value, json};
 use taxel_format::{BundleView, ChunkView, FamilyParams, MaskKind, ProvenanceView};
 
 use crate::cli::Format;
+use crate::error::{CliError, CmdResult};
+use crate::io::read_bundle;
+use crate::io::stdout::{self, outln};
 
-pub fn run(path: &Path, format: Format) -> Result<ExitCode> {
-    let bytes = match std::fs::read(path) {
-        Ok(b) => b,
-        Err(e) => {
-            eprintln!("error: {}: cannot read the bundle: {e}", path.display());
-            return Ok(ExitCode::from(2));
-        }
-    };
-    let view = match BundleView::parse(&bytes) {
-        Ok(v) => v,
-        Err(e) => {
-            eprintln!("error: {}: {e}", path.display());
-            return Ok(ExitCode::from(1));
-        }
-    };
+pub fn run(path: &Path, format: Format) -> CmdResult {
+    let bytes = read_bundle(path)?;
+    let view = BundleView::parse(&bytes).map_err(|e| CliError::input(anyhow::anyhow!("{}: {e}", path.display())))?;
     let report = describe(&view);
     match format {
-        Format::Json => println!("{}", serde_json::to_string_pretty(&report)?),
-        Format::Human => print!("{}", human(path, &report)),
+        Format::Json => outln!("{}", serde_json::to_string_pretty(&report).map_err(anyhow::Error::new)?),
+        Format::Human => stdout::print(&human(path, &report)),
     }
-    Ok(ExitCode::SUCCESS)
 }
 
 /// The names of provenance entries `sources`, as `id "label"`.

@@ -4,14 +4,14 @@
 //! was refused.
 
 use std::path::PathBuf;
-use std::process::ExitCode;
 
-use anyhow::Result;
 use taxel_runtime::device::{ClientError, valid_name};
 
 use super::device::Device;
+use crate::error::{CliError, CmdResult};
+use crate::io::stdout::outln;
 
-pub fn run(bundles: &[PathBuf], spec: &str) -> Result<ExitCode> {
+pub fn run(bundles: &[PathBuf], spec: &str) -> CmdResult {
     let mut device = Device::open(spec)?;
     let target = device.describe();
     let mut refused = 0usize;
@@ -25,27 +25,29 @@ pub fn run(bundles: &[PathBuf], spec: &str) -> Result<ExitCode> {
             refused += 1;
             continue;
         };
-        let bytes = match std::fs::read(path) {
+        let bytes = match crate::io::read_bundle(path) {
             Ok(b) => b,
             Err(e) => {
-                eprintln!("error: cannot read {shown}: {e}");
+                eprintln!("error: {e:#}");
                 refused += 1;
                 continue;
             }
         };
         match device.load(name, &bytes) {
-            Ok(entry) => println!("loaded {shown} onto {target} as {} ({} bytes, verified)", entry.name, entry.size),
+            Ok(entry) => outln!("loaded {shown} onto {target} as {} ({} bytes, verified)", entry.name, entry.size)?,
             Err(ClientError::Refused(r)) => {
                 eprintln!("error: {shown}: refused by {target}: {r}");
                 refused += 1;
             }
             Err(e) => {
                 // The connection is gone: the remaining bundles cannot load either.
-                eprintln!("error: {shown}: {target}: {e}");
-                return Ok(ExitCode::from(2));
+                return Err(CliError::trouble(anyhow::anyhow!("{shown}: {target}: {e}")));
             }
         }
     }
     device.close();
-    Ok(if refused == 0 { ExitCode::SUCCESS } else { ExitCode::from(1) })
+    match refused {
+        0 => Ok(()),
+        n => Err(CliError::input(anyhow::anyhow!("{n} of {} bundles were not loaded", bundles.len()))),
+    }
 }

@@ -1,10 +1,7 @@
 //! One module per command; `run` dispatches.
 
-use std::process::ExitCode;
-
-use anyhow::Result;
-
 use crate::cli::{Cli, Command, DeviceCommand};
+use crate::error::{CliError, CmdResult};
 
 mod build;
 mod check;
@@ -13,15 +10,15 @@ mod export;
 mod inspect;
 mod load;
 mod pack;
-pub(crate) mod play;
-pub(crate) mod preview;
+mod play;
+mod preview;
 mod profiles;
 mod report;
 mod style;
 mod unpack;
 
 /// Runs a parsed command line.
-pub fn run(cli: Cli) -> Result<ExitCode> {
+pub fn run(cli: Cli) -> CmdResult {
     match cli.command {
         None => crate::demo::main(),
         Some(Command::Build { inputs, out, opts, jobs, shard, force, verbose }) => {
@@ -46,9 +43,8 @@ pub fn run(cli: Cli) -> Result<ExitCode> {
     }
 }
 
-/// Reports a problem with a text-form folder or bundle: exit 1 when the input
-/// is wrong, 2 when the file system failed or the command would overwrite data.
-fn bad_input(e: crate::textform::TextError) -> Result<ExitCode> {
-    eprintln!("error: {e}");
-    Ok(ExitCode::from(if e.io { 2 } else { 1 }))
+/// A problem with a text-form folder or bundle: exit 1 when the input is
+/// wrong, 2 when the file system failed or the command would overwrite data.
+fn text_error(e: crate::textform::TextError) -> CliError {
+    if e.io { CliError::trouble(e) } else { CliError::input(e) }
 }

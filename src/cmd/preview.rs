@@ -3,31 +3,31 @@
 //! drawn from the bundle alone.
 
 use std::path::Path;
-use std::process::ExitCode;
 
-use anyhow::{Context, Result};
 use taxel_compiler::Severity;
-use taxel_compiler::preview::{self, Picture};
+use taxel_compiler::preview;
 use taxel_format::Bundle;
 
-use crate::batch::output::write_atomic;
 use crate::cli::CompileOpts;
 use crate::compile::{compile_file, compile_options};
+use crate::error::{CliError, CmdResult};
+use crate::io;
 
-pub fn run(input: &Path, out: &Path, opts: &CompileOpts) -> Result<ExitCode> {
+pub fn run(input: &Path, out: &Path, opts: &CompileOpts) -> CmdResult {
     let ext = input.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).unwrap_or_default();
     let shown = input.display().to_string();
+    let no_picture = || CliError::input(anyhow::anyhow!("{shown}: nothing to preview: the input has errors (above)"));
     let picture = match ext.as_str() {
         "svg" => {
             let options = match compile_options(opts)? {
                 Ok(o) => o,
                 Err(d) => {
                     eprintln!("{}", d.render(&shown));
-                    return Ok(ExitCode::from(1));
+                    return Err(no_picture());
                 }
             };
-            let bytes = std::fs::read(input).with_context(|| format!("reading {shown}"))?;
-            let text = String::from_utf8_lossy(&bytes);
+            // Read like `build` reads it: with the size limit, and UTF-8 or nothing.
+            let text = io::read_input_text(input).map_err(CliError::input)?;
             let (picture, compiled) = preview::preview_svg(&text, &options);
             print_diagnostics(&shown, &compiled.diagnostics);
             picture
@@ -38,31 +38,20 @@ pub fn run(input: &Path, out: &Path, opts: &CompileOpts) -> Result<ExitCode> {
             compiled.bundle.as_ref().map(|b| preview::render_bundle(b, None))
         }
         _ => {
-            let bytes = std::fs::read(input).with_context(|| format!("reading {shown}"))?;
-            match Bundle::from_bytes(&bytes) {
-                Ok(b) => Some(preview::render_bundle(&b, None)),
-                Err(e) => {
-                    eprintln!("error: {shown}: not a valid bundle: {e}");
-                    return Ok(ExitCode::from(1));
-                }
-            }
+            let bytes = io::read_bundle(input)?;
+            let bundle = Bundle::from_bytes(&bytes)
+                .map_err(|e| CliError::input(anyhow::anyhow!("{shown}: not a valid bundle: {e}")))?;
+            Some(preview::render_bundle(&bundle, None))
         }
     };
-    let Some(picture) = picture else { return Ok(ExitCode::from(1)) };
-    write_atomic(out, &encode_png(&picture)?).with_context(|| format!("writing {}", out.display()))?;
+    let picture = picture.ok_or_else(no_picture)?;
+    io::write_file(out, &io::png::encode_picture(&picture)?).map_err(anyhow::Error::new)?;
     eprintln!("wrote {} ({} x {} px)", out.display(), picture.width, picture.height);
-    Ok(ExitCode::SUCCESS)
+    Ok(())
 }
 
 fn print_diagnostics(file: &str, diags: &[taxel_compiler::Diagnostic]) {
     for line in crate::account::lines(diags, file, Severity::Warning, false) {
         eprintln!("{line}");
     }
-}
-
-pub(crate) fn encode_png(p: &Picture) -> Result<Vec<u8>> {
-    let img = image::RgbaImage::from_raw(p.width, p.height, p.rgba.clone()).context("preview has the wrong size")?;
-    let mut out = std::io::Cursor::new(Vec::new());
-    img.write_to(&mut out, image::ImageFormat::Png)?;
-    Ok(out.into_inner())
 }

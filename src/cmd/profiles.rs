@@ -1,15 +1,21 @@
 //! `taxel profiles`: the built-in device profiles and their key figures.
 
-use std::process::ExitCode;
-
-use anyhow::Result;
 use taxel_format::{FamilyParams, profiles};
 
-pub fn run() -> Result<ExitCode> {
-    println!(
+use crate::error::CmdResult;
+use crate::io::stdout::outln;
+
+pub fn run() -> CmdResult {
+    outln!(
         "{:<12} {:<14} {:>9} {:>15} {:>8} {:>6} {:>15}  notes",
-        "name", "family", "actuators", "pitch mm", "rate Hz", "bits", "surface mm"
-    );
+        "name",
+        "family",
+        "actuators",
+        "pitch mm",
+        "rate Hz",
+        "bits",
+        "surface mm"
+    )?;
     for name in profiles::builtin_names() {
         let Some(p) = profiles::builtin(name) else { continue };
         let notes = match p.params {
@@ -30,7 +36,7 @@ pub fn run() -> Result<ExitCode> {
                 if q.text_cells > 0 { format!("{}-cell text line", q.text_cells) } else { "no text line".into() }
             ),
         };
-        println!(
+        outln!(
             "{:<12} {:<14} {:>9} {:>15} {:>8} {:>6} {:>15}  {}",
             name,
             p.family().name(),
@@ -40,10 +46,9 @@ pub fn run() -> Result<ExitCode> {
             p.output_bits,
             format!("{} x {}", p.surface_w_mm, p.surface_h_mm),
             notes
-        );
+        )?;
     }
-    println!(
+    outln!(
         "\nA profile file (TOML, same layout as format-spec/profiles/*.toml) can be given to --profile instead of a name."
-    );
-    Ok(ExitCode::SUCCESS)
+    )
 }

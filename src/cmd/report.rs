@@ -2,30 +2,28 @@
 //! error against run time over a ladder of settings (docs/report.md).
 
 use std::path::Path;
-use std::process::ExitCode;
-
-use anyhow::{Context, Result};
 
 use crate::cli::{CompileOpts, Format};
+use crate::error::CmdResult;
+use crate::io::stdout::{self, outln};
 use crate::report::{self, Report, plot};
 
 /// Runs the report and prints it; writes the plot when asked.
-pub fn run(input: &Path, opts: &CompileOpts, plot_path: Option<&Path>, format: Format) -> Result<ExitCode> {
+pub fn run(input: &Path, opts: &CompileOpts, plot_path: Option<&Path>, format: Format) -> CmdResult {
     let rep = report::run(input, opts, None)?;
-    match format {
-        Format::Human => print!("{}", human(&rep)),
-        Format::Json => println!("{}", serde_json::to_string_pretty(&rep)?),
-    }
     if let Some(p) = plot_path {
         let title = format!(
-            "{} ON {}",
+            "{} on {}",
             input.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default(),
             rep.profile
         );
-        let png = plot::draw(&rep.rows, &title).map_err(anyhow::Error::msg)?;
-        crate::batch::output::write_atomic(p, &png).with_context(|| format!("cannot write {}", p.display()))?;
+        let png = plot::draw(&rep.rows, &title)?;
+        crate::io::write_file(p, &png)?;
     }
-    Ok(ExitCode::SUCCESS)
+    match format {
+        Format::Human => stdout::print(&human(&rep)),
+        Format::Json => outln!("{}", serde_json::to_string_pretty(&rep).map_err(anyhow::Error::new)?),
+    }
 }
 
 /// The report as a table for people.

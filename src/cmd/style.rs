@@ -4,34 +4,30 @@
 //! `--region`, as a build would).
 
 use std::path::Path;
-use std::process::ExitCode;
 
-use anyhow::{Context, Result};
 use taxel_compiler::{Severity, auto, drawing, fit};
 
 use crate::cli::{BuiltinSheet, CompileOpts};
-use crate::compile::{compile_options, resolve_profile};
+use crate::compile::compile_options;
+use crate::error::{CliError, CmdResult};
+use crate::io;
 
-pub fn run(sheet: BuiltinSheet, input: Option<&Path>, opts: &CompileOpts) -> Result<ExitCode> {
+pub fn run(sheet: BuiltinSheet, input: Option<&Path>, opts: &CompileOpts) -> CmdResult {
     let BuiltinSheet::Auto = sheet;
     let Some(path) = input else {
-        let profile = resolve_profile(opts.profile.as_deref())?;
-        print!("{}", auto::sheet_toml(&profile, None));
-        return Ok(ExitCode::SUCCESS);
+        let profile = io::load::profile(opts.profile.as_deref().unwrap_or(io::load::DEFAULT_DRAWING_PROFILE))?;
+        return io::stdout::print(&auto::sheet_toml(&profile, None));
     };
     let shown = path.display().to_string();
-    crate::compile::check_input_size(path)?;
     let options = match compile_options(opts)? {
         Ok(o) => o,
         Err(d) => {
             eprintln!("{}", d.render(&shown));
-            return Ok(ExitCode::from(1));
+            return Err(CliError::input(anyhow::anyhow!("{shown}: the style sheet is malformed")));
         }
     };
-    let bytes = std::fs::read(path).with_context(|| format!("reading {shown}"))?;
-    let Ok(text) = String::from_utf8(bytes) else {
-        eprintln!("{shown}: error[T0200]: the file is not UTF-8 text, expected an SVG document");
-        return Ok(ExitCode::from(1));
+    let Ok(text) = String::from_utf8(io::read_input(path)?) else {
+        return Err(CliError::input(anyhow::anyhow!("{shown}: the file is not UTF-8 text, expected an SVG document")));
     };
     let resolved = drawing::resolve_as_drawn(&text, &options);
     let mut diags = resolved.diagnostics;
@@ -44,9 +40,8 @@ pub fn run(sheet: BuiltinSheet, input: Option<&Path>, opts: &CompileOpts) -> Res
         for line in crate::account::lines(&diags, &shown, Severity::Warning, false) {
             eprintln!("{line}");
         }
-        return Ok(ExitCode::from(1));
+        return Err(CliError::input(anyhow::anyhow!("{shown}: no style sheet can be made for this drawing")));
     };
     let plan = auto::plan(&d, &options.profile);
-    print!("{}", auto::sheet_toml(&options.profile, Some((&d, &plan))));
-    Ok(ExitCode::SUCCESS)
+    io::stdout::print(&auto::sheet_toml(&options.profile, Some((&d, &plan))))
 }

@@ -7,13 +7,13 @@
 use std::path::{Component, Path};
 use std::time::Instant;
 
-use anyhow::{Context, Result, anyhow, bail};
+use anyhow::{Result, anyhow, bail};
 use taxel_format::{Bundle, BundleView, Chunk, Mm, Tick};
 use taxel_runtime::finger::{FingerPlayer, Touch, field};
 
 use super::Row;
-use super::trace::Trace;
 use crate::cli::CompileOpts;
+use taxel_runtime::trace::Trace;
 
 /// Height-field resolutions (nodes per mm) on the ladder; the compiler's own choice is added.
 pub const NODE_LADDER: [f64; 5] = [0.25, 0.5, 1.0, 2.0, 4.0];
@@ -40,15 +40,14 @@ impl MeshRef {
     /// Reads the mesh as the compiler places it with `mesh` (`--up`,
     /// `--region`, `--fit`, `--exaggerate`), so the reference is in the field's frame.
     pub fn read_with(path: &Path, mesh: &taxel_compiler::mesh::MeshOptions) -> Result<MeshRef> {
-        crate::compile::check_input_size(path)?;
-        let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+        let bytes = crate::io::read_input(path)?;
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let mut resolve = |uri: &str| -> Result<Vec<u8>, String> {
             let rel = Path::new(uri);
             if uri.contains(':') || rel.components().any(|c| !matches!(c, Component::Normal(_) | Component::CurDir)) {
                 return Err(format!("buffer URI '{uri}' is not a path beside the file"));
             }
-            std::fs::read(dir.join(rel)).map_err(|e| format!("cannot read buffer '{uri}': {e}"))
+            crate::io::read_input(&dir.join(rel)).map_err(|e| format!("buffer '{uri}': {e:#}"))
         };
         let (soup, _) =
             taxel_compiler::mesh::placed(&bytes, &mut resolve, mesh).map_err(|e| anyhow!("{}: {e}", path.display()))?;
@@ -127,18 +126,19 @@ fn measure(bundle: &Bundle, exact: &MeshRef, trace: &Trace) -> Result<MeshMeasur
     };
     let rate = view.manifest().profile.rate_hz as f64;
     let mut player = FingerPlayer::new(&view).map_err(|e| anyhow!("{e}"))?;
+    let points: Vec<(f64, f64, f64)> = trace.samples().iter().map(|s| (s.t_ms, s.x_mm, s.y_mm)).collect();
     let mut best = f64::INFINITY;
     for _ in 0..3 {
         player.reset();
         let t0 = Instant::now();
-        for &(t, x, y) in &trace.samples {
+        for &(t, x, y) in &points {
             let tick = Tick((t * rate / 1000.0).round() as u64);
             std::hint::black_box(player.sample(Touch { tick, x: Mm(x as f32), y: Mm(y as f32), contact: true }));
         }
         best = best.min(t0.elapsed().as_secs_f64());
     }
     let (mut hm, mut h2, mut sm, mut s2, mut n) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0usize);
-    for &(_, x, y) in &trace.samples {
+    for &(_, x, y) in &points {
         let (Some(s), Some((h, gx, gy))) = (field::sample(&hf, x as f32, y as f32), exact.at(x, y)) else { continue };
         // At a step the exact slope is vertical and the field's is capped by design: not an error.
         if s.edge {
@@ -156,7 +156,7 @@ fn measure(bundle: &Bundle, exact: &MeshRef, trace: &Trace) -> Result<MeshMeasur
     let rms = |v: f64| (v / n.max(1) as f64).sqrt();
     Ok(MeshMeasured {
         bytes: bytes.len(),
-        sample_us: best * 1e6 / trace.samples.len().max(1) as f64,
+        sample_us: best * 1e6 / trace.samples().len().max(1) as f64,
         height: (hm, rms(h2)),
         slope: (sm, rms(s2)),
         compared: n,
@@ -192,7 +192,7 @@ pub fn ladder(input: &Path, opts: &CompileOpts, base: &Bundle, trace: &Trace) ->
             }
         };
         let m = measure(&bundle, &exact, trace)?;
-        let run_ms = compile_ms + m.sample_us * trace.samples.len() as f64 / 1000.0;
+        let run_ms = compile_ms + m.sample_us * trace.samples().len() as f64 / 1000.0;
         for (kernel, (max, rms), unit) in [("height", m.height, "mm"), ("gradient", m.slope, "degrees of slope")] {
             rows.push(Row {
                 kernel: kernel.into(),

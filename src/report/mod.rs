@@ -9,7 +9,6 @@
 //! with only that kernel's exact layers, so the plot shows one line per kernel.
 
 pub mod exact;
-mod font;
 pub mod mesh;
 pub mod plot;
 pub mod strokes;
@@ -26,7 +25,7 @@ use taxel_runtime::latero::LateroPlayer;
 
 use crate::cli::CompileOpts;
 use exact::ExactLayer;
-use trace::Trace;
+use trace::Explored;
 
 /// Lattice pitches (mm) of the distance layers on the ladder, coarse to
 /// fine; the compiler's default (0.5 mm) is among them. A vibrating band's
@@ -104,7 +103,7 @@ pub struct Prepared {
     /// The exact layers.
     pub reference: Vec<ExactLayer>,
     /// The trace.
-    pub trace: Trace,
+    pub trace: Explored,
     /// Carrier position at every tick of the trace.
     pub positions: Vec<(u64, f64, f64)>,
     /// The ticks compared against the reference (evenly spaced, at most `max_eval`).
@@ -146,7 +145,7 @@ impl Prepared {
                 profile.family()
             );
         }
-        let svg = std::fs::read_to_string(input).with_context(|| format!("cannot read {}", input.display()))?;
+        let svg = crate::io::read_input_text(input)?;
         let options = crate::compile::compile_options(opts)?.map_err(|d| anyhow::anyhow!("{}", d.message))?;
         let (reference, gaps) =
             svgref::exact_layers(&svg, base, &options).map_err(|e| anyhow::anyhow!("{}: {e}", input.display()))?;
@@ -261,12 +260,12 @@ pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>) -> Result<Rep
     }
     if base.manifest.profile.family() == Family::Finger {
         let tr = load_trace(input, trace, &base)?;
-        let (mut rows, notes) = mesh::ladder(input, opts, &base, &tr)?;
+        let (mut rows, notes) = mesh::ladder(input, opts, &base, &tr.trace)?;
         mark_front(&mut rows);
         return Ok(Report {
             input: input.display().to_string(),
             profile: base.manifest.profile.name.as_str().to_string(),
-            trace_frames: tr.samples.len(),
+            trace_frames: tr.trace.samples().len(),
             trace: tr.origin,
             rows,
             notes,
@@ -390,11 +389,11 @@ pub fn compile(input: &Path, opts: &CompileOpts, px: Option<f32>) -> Result<(Bun
 }
 
 /// The trace to play: `explicit`, else the scene's own, else a seeded sweep over every layer.
-pub fn load_trace(input: &Path, explicit: Option<&Path>, bundle: &Bundle) -> Result<Trace> {
+pub fn load_trace(input: &Path, explicit: Option<&Path>, bundle: &Bundle) -> Result<Explored> {
     let path: Option<PathBuf> = explicit.map(Path::to_path_buf).or_else(|| trace::own_trace_path(input));
     if let Some(p) = path {
-        let text = std::fs::read_to_string(&p).with_context(|| format!("cannot read {}", p.display()))?;
-        return Trace::parse(&text, &p.display().to_string()).map_err(|e| anyhow::anyhow!(e));
+        let text = crate::io::read_input_text(&p)?;
+        return Explored::parse(&text, &p.display().to_string()).map_err(|e| anyhow::anyhow!(e));
     }
     let p = &bundle.manifest.profile;
     let mut boxes = Vec::new();
@@ -431,7 +430,7 @@ pub fn load_trace(input: &Path, explicit: Option<&Path>, bundle: &Bundle) -> Res
     }
     // Rows half the array's height apart: every point of a box passes under the array twice.
     let row_mm = p.rows as f64 * p.pitch_y_mm as f64 / 2.0;
-    Ok(Trace::sweep(&boxes, row_mm, SWEEP_SEED))
+    Explored::sweep(&boxes, row_mm, SWEEP_SEED).context("the generated sweep")
 }
 
 /// Wall time of one frame over the whole trace, in µs: the best of three

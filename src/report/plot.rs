@@ -1,178 +1,232 @@
 //! The report's plot: RMS error against run time (compile + play of the
 //! trace) on log–log axes, one line per kernel, each point labelled with its
-//! setting and the default ringed. Drawn with tiny-skia and the built-in font.
+//! setting, the default setting ringed, and a legend beside the chart.
+//! Drawn with `plotters` into an RGB buffer and encoded by `image`; the text
+//! is DejaVu Sans, bundled in `assets/fonts/` (its licence is there), so the
+//! plot looks the same on every machine and needs no system font.
 
-use tiny_skia::{Color, FillRule, Paint, PathBuilder, Pixmap, Rect, Stroke, StrokeDash, Transform};
+use std::sync::OnceLock;
+
+use anyhow::{Result, anyhow};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::FontStyle;
 
 use super::Row;
-use super::font;
 
-const W: u32 = 900;
-const H: u32 = 600;
-const LEFT: f32 = 90.0;
-const RIGHT: f32 = 200.0;
-const TOP: f32 = 60.0;
-const BOTTOM: f32 = 70.0;
+/// Plot size in pixels.
+pub const W: u32 = 1000;
+/// Plot height in pixels.
+pub const H: u32 = 640;
+/// Width of the legend panel on the right.
+const LEGEND_W: u32 = 230;
+/// The font family name the bundled font is registered under.
+const FAMILY: &str = "taxel-sans";
+static FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
 
 /// Colour per kernel, fixed so that plots of different scenes compare.
-fn colour(kernel: &str) -> Color {
-    let (r, g, b) = match kernel {
-        "vibration" => (200, 60, 40),
-        "grating" => (40, 110, 200),
-        "dots" => (30, 150, 70),
-        "all" => (60, 60, 60),
-        _ => (150, 90, 180),
-    };
-    Color::from_rgba8(r, g, b, 255)
+pub fn colour(kernel: &str) -> RGBColor {
+    match kernel {
+        "vibration" => RGBColor(200, 60, 40),
+        "grating" => RGBColor(40, 110, 200),
+        "dots" => RGBColor(30, 150, 70),
+        "all" => RGBColor(60, 60, 60),
+        "strokes" => RGBColor(170, 90, 20),
+        _ => RGBColor(150, 90, 180),
+    }
+}
+
+fn register_font() -> Result<()> {
+    static REGISTERED: OnceLock<bool> = OnceLock::new();
+    let ok = *REGISTERED.get_or_init(|| plotters::style::register_font(FAMILY, FontStyle::Normal, FONT).is_ok());
+    if ok { Ok(()) } else { Err(anyhow!("the bundled plot font cannot be read")) }
 }
 
 /// Draws the plot as PNG bytes; `title` goes on top.
-pub fn draw(rows: &[Row], title: &str) -> Result<Vec<u8>, String> {
-    let mut pm = Pixmap::new(W, H).ok_or("cannot allocate the plot")?;
-    pm.fill(Color::WHITE);
-    let pts: Vec<(f64, f64)> = rows.iter().map(|r| (r.run_ms, r.rms_error)).collect();
+pub fn draw(rows: &[Row], title: &str) -> Result<Vec<u8>> {
+    register_font()?;
+    let mut rgb = vec![0u8; (W * H * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, (W, H)).into_drawing_area();
+        chart(&root, rows, title).map_err(|e| anyhow!("cannot draw the plot: {e}"))?;
+        root.present().map_err(|e| anyhow!("cannot draw the plot: {e}"))?;
+    }
+    let img = image::RgbImage::from_raw(W, H, rgb).ok_or_else(|| anyhow!("the plot buffer has the wrong size"))?;
+    crate::io::png::encode(&image::DynamicImage::ImageRgb8(img))
+}
+
+type DrawResult<T> = Result<T, DrawingAreaErrorKind<<BitMapBackend<'static> as DrawingBackend>::ErrorType>>;
+
+/// A rectangle in pixels, for keeping labels apart.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Boxed {
+    x0: i32,
+    y0: i32,
+    x1: i32,
+    y1: i32,
+}
+
+impl Boxed {
+    fn overlaps(&self, o: &Boxed) -> bool {
+        self.x0 < o.x1 && o.x0 < self.x1 && self.y0 < o.y1 && o.y0 < self.y1
+    }
+}
+
+fn chart(root: &DrawingArea<BitMapBackend<'_>, Shift>, rows: &[Row], title: &str) -> DrawResult<()> {
+    root.fill(&WHITE)?;
+    let (left, right) = root.split_horizontally(W - LEGEND_W);
     let pos = |v: f64| v.is_finite() && v > 0.0;
-    let xs: Vec<f64> = pts.iter().map(|p| p.0).filter(|&v| pos(v)).collect();
-    let ys: Vec<f64> = pts.iter().map(|p| p.1).filter(|&v| pos(v)).collect();
-    let (x_lo, x_hi) = decades(&xs);
-    let (y_lo, y_hi) = decades(&ys);
-    let (pw, ph) = (W as f32 - LEFT - RIGHT, H as f32 - TOP - BOTTOM);
-    // Errors of exactly zero sit on the bottom axis.
-    let sx = move |v: f64| LEFT + ((v.max(10f64.powi(x_lo)).log10() - x_lo as f64) / (x_hi - x_lo) as f64) as f32 * pw;
-    let sy =
-        move |v: f64| TOP + ph - ((v.max(10f64.powi(y_lo)).log10() - y_lo as f64) / (y_hi - y_lo) as f64) as f32 * ph;
-    let black = Color::from_rgba8(0, 0, 0, 255);
-    let grey = Color::from_rgba8(220, 220, 220, 255);
-    for e in x_lo..=x_hi {
-        let x = sx(10f64.powi(e));
-        line(&mut pm, (x, TOP), (x, TOP + ph), grey, 1.0, false);
-        let label = decade_label(e);
-        text(&mut pm, &label, x - font::text_width(&label) as f32, TOP + ph + 10.0, 2.0, black);
-    }
-    let light = Color::from_rgba8(240, 240, 240, 255);
-    for e in x_lo..x_hi {
-        for m in [2.0, 5.0] {
-            let x = sx(m * 10f64.powi(e));
-            line(&mut pm, (x, TOP), (x, TOP + ph), light, 1.0, false);
-        }
-    }
-    for e in y_lo..y_hi {
-        for m in [2.0, 5.0] {
-            let y = sy(m * 10f64.powi(e));
-            line(&mut pm, (LEFT, y), (LEFT + pw, y), light, 1.0, false);
-        }
-    }
-    for e in y_lo..=y_hi {
-        let y = sy(10f64.powi(e));
-        line(&mut pm, (LEFT, y), (LEFT + pw, y), grey, 1.0, false);
-        let label = decade_label(e);
-        text(&mut pm, &label, LEFT - 10.0 - 2.0 * font::text_width(&label) as f32, y - 7.0, 2.0, black);
-    }
-    line(&mut pm, (LEFT, TOP + ph), (LEFT + pw, TOP + ph), black, 2.0, false);
-    line(&mut pm, (LEFT, TOP), (LEFT, TOP + ph), black, 2.0, false);
-    let xl = "RUN TIME: COMPILE + PLAY TRACE (MS, LOG)";
-    text(&mut pm, xl, LEFT + pw / 2.0 - font::text_width(xl) as f32, H as f32 - 30.0, 2.0, black);
-    text(&mut pm, title, 10.0, 8.0, 2.0, black);
-    let unit = rows.first().map_or(String::new(), |r| format!("RMS ERROR ({}, LOG)", r.error_unit));
-    text(&mut pm, &unit, 10.0, 28.0, 2.0, black);
+    let (x_lo, x_hi) = decades(rows.iter().map(|r| r.run_ms).filter(|&v| pos(v)));
+    let (y_lo, y_hi) = decades(rows.iter().map(|r| r.rms_error).filter(|&v| pos(v)));
+    // An error of exactly zero (or a time too small to show) sits on the lower axis.
+    let clamp = |v: f64, lo: f64| if pos(v) { v.max(lo) } else { lo };
+    let error_unit = rows.first().map_or("", |r| r.error_unit.as_str());
+    let setting_unit = rows.first().map_or("", |r| r.unit.as_str());
+    let mut chart = ChartBuilder::on(&left)
+        .caption(title, (FAMILY, 22).into_font())
+        .margin(16)
+        .x_label_area_size(52)
+        .y_label_area_size(78)
+        .build_cartesian_2d((x_lo..x_hi).log_scale(), (y_lo..y_hi).log_scale())?;
+    chart
+        .configure_mesh()
+        .x_desc("run time: compile + play the trace (ms, log scale)")
+        .y_desc(format!("RMS error ({error_unit}, log scale)"))
+        .label_style((FAMILY, 15))
+        .axis_desc_style((FAMILY, 16))
+        .x_label_formatter(&|v| number(*v))
+        .y_label_formatter(&|v| number(*v))
+        .light_line_style(RGBColor(238, 238, 238))
+        .bold_line_style(RGBColor(205, 205, 205))
+        .draw()?;
+
     let mut kernels: Vec<&str> = Vec::new();
     for r in rows {
         if !kernels.contains(&r.kernel.as_str()) {
             kernels.push(&r.kernel);
         }
     }
-    for (ki, k) in kernels.iter().enumerate() {
+    // Every point first, so that the labels placed next can keep off them all.
+    let mut taken: Vec<Boxed> = Vec::new();
+    let mut placed: Vec<(String, (i32, i32), RGBColor)> = Vec::new();
+    for k in &kernels {
         let c = colour(k);
-        let mine: Vec<(usize, &Row)> = rows.iter().enumerate().filter(|(_, r)| r.kernel == *k).collect();
-        for w in mine.windows(2) {
-            let (a, b) = (pts[w[0].0], pts[w[1].0]);
-            line(&mut pm, (sx(a.0), sy(a.1)), (sx(b.0), sy(b.1)), c, 2.5, false);
-        }
-        for (i, r) in &mine {
-            let (x, y) = (sx(pts[*i].0), sy(pts[*i].1));
-            dot(&mut pm, x, y, 4.5, c);
-            let label = format!("{}", r.setting);
-            text(&mut pm, &label, x + 7.0, y + 4.0, 1.0, c);
-            if r.default {
-                ring(&mut pm, x, y, 11.0, black);
-                text(&mut pm, "DEFAULT", x + 7.0, y - 16.0, 1.0, black);
+        let pts: Vec<(f64, f64, &Row)> = rows
+            .iter()
+            .filter(|r| r.kernel == *k)
+            .map(|r| (clamp(r.run_ms, x_lo), clamp(r.rms_error, y_lo), r))
+            .collect();
+        chart.draw_series(LineSeries::new(pts.iter().map(|p| (p.0, p.1)), c.stroke_width(2)))?;
+        chart.draw_series(pts.iter().map(|p| Circle::new((p.0, p.1), 4, c.filled())))?;
+        for p in &pts {
+            let (px, py) = chart.backend_coord(&(p.0, p.1));
+            // The default's ring is part of its point.
+            let r = if p.2.default { 12 } else { 5 };
+            taken.push(Boxed { x0: px - r, y0: py - r, x1: px + r, y1: py + r });
+            if p.2.default {
+                chart.draw_series(std::iter::once(Circle::new((p.0, p.1), 10, BLACK.stroke_width(2))))?;
             }
         }
-        let ly = TOP + 10.0 + ki as f32 * 24.0;
-        line(&mut pm, (W as f32 - RIGHT + 15.0, ly + 6.0), (W as f32 - RIGHT + 45.0, ly + 6.0), c, 3.0, false);
-        text(&mut pm, k, W as f32 - RIGHT + 52.0, ly, 2.0, c);
     }
-    let unit = rows.first().map_or("", |r| r.unit.as_str());
-    text(&mut pm, "POINT LABELS:", W as f32 - RIGHT + 15.0, TOP + ph - 60.0, 1.0, black);
-    text(&mut pm, &format!("SETTING ({unit})"), W as f32 - RIGHT + 15.0, TOP + ph - 44.0, 1.0, black);
-    text(&mut pm, "RING: DEFAULT", W as f32 - RIGHT + 15.0, TOP + ph - 28.0, 1.0, black);
-    pm.encode_png().map_err(|e| format!("cannot encode the plot: {e}"))
+    let label_font: TextStyle = (FAMILY, 14).into_font().into();
+    let area = chart.plotting_area().get_pixel_range();
+    for k in &kernels {
+        let c = colour(k);
+        for r in rows.iter().filter(|r| r.kernel == *k) {
+            let text = number(r.setting);
+            let (w, h) = left.estimate_text_size(&text, &label_font)?;
+            let at = chart.backend_coord(&(clamp(r.run_ms, x_lo), clamp(r.rms_error, y_lo)));
+            if let Some(spot) =
+                place(at, (w as i32, h as i32), &taken, (area.0.start, area.1.start, area.0.end, area.1.end))
+            {
+                taken.push(spot);
+                placed.push((text, (spot.x0, spot.y0), c));
+            }
+        }
+    }
+    for (text, at, c) in placed {
+        // A white ground keeps a label readable where a line passes under it.
+        let (w, h) = left.estimate_text_size(&text, &label_font)?;
+        let ground = [(at.0 - 1, at.1), (at.0 + w as i32 + 1, at.1 + h as i32)];
+        left.draw(&Rectangle::new(ground, WHITE.mix(0.85).filled()))?;
+        left.draw(&Text::new(text, at, label_font.color(&c)))?;
+    }
+    legend(&right, &kernels, setting_unit)
 }
 
-/// Whole decades around the positive values (at least one decade wide).
-fn decades(v: &[f64]) -> (i32, i32) {
-    let lo = v.iter().cloned().fold(f64::INFINITY, f64::min);
-    let hi = v.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+/// Where a label of size `(w, h)` for the point at `at` goes: the first of
+/// eight spots around the point (right, left, above, below, then the
+/// corners, each at two distances) that stays inside `area` and clear of
+/// every box in `taken`; `None` when all are taken (the label is left out
+/// rather than drawn over another).
+fn place(at: (i32, i32), (w, h): (i32, i32), taken: &[Boxed], area: (i32, i32, i32, i32)) -> Option<Boxed> {
+    let (x, y) = at;
+    let mut spots = Vec::new();
+    for gap in [8, 20] {
+        spots.extend([
+            (x + gap, y - h / 2),
+            (x - gap - w, y - h / 2),
+            (x - w / 2, y - gap - h),
+            (x - w / 2, y + gap),
+            (x + gap, y - gap - h),
+            (x + gap, y + gap),
+            (x - gap - w, y - gap - h),
+            (x - gap - w, y + gap),
+        ]);
+    }
+    spots.into_iter().map(|(x0, y0)| Boxed { x0, y0, x1: x0 + w, y1: y0 + h }).find(|b| {
+        b.x0 >= area.0 && b.y0 >= area.1 && b.x1 <= area.2 && b.y1 <= area.3 && taken.iter().all(|t| !t.overlaps(b))
+    })
+}
+
+/// The legend panel: one line per kernel, the default's ring, what the point labels are.
+fn legend(area: &DrawingArea<BitMapBackend<'_>, Shift>, kernels: &[&str], setting_unit: &str) -> DrawResult<()> {
+    let font = (FAMILY, 16).into_font();
+    let small = (FAMILY, 14).into_font();
+    let (x, mut y) = (12, 70);
+    area.draw(&Text::new("Kernels", (x, y - 30), font.clone()))?;
+    for k in kernels {
+        let c = colour(k);
+        area.draw(&PathElement::new(vec![(x, y), (x + 34, y)], c.stroke_width(3)))?;
+        area.draw(&Circle::new((x + 17, y), 4, c.filled()))?;
+        area.draw(&Text::new(k.to_string(), (x + 46, y - 9), font.clone()))?;
+        y += 28;
+    }
+    y += 12;
+    area.draw(&Circle::new((x + 17, y), 4, BLACK.filled()))?;
+    area.draw(&Circle::new((x + 17, y), 10, BLACK.stroke_width(2)))?;
+    area.draw(&Text::new("default setting", (x + 46, y - 9), font.clone()))?;
+    y += 40;
+    area.draw(&Text::new("Point labels: the setting", (x, y), small.clone()))?;
+    area.draw(&Text::new(format!("({setting_unit})"), (x, y + 18), small.clone()))?;
+    area.draw(&Text::new("Lower left is better: fast", (x, y + 48), small.clone()))?;
+    area.draw(&Text::new("and accurate.", (x, y + 66), small))?;
+    Ok(())
+}
+
+/// Whole decades around the values (at least one decade wide), as the axis range.
+fn decades(v: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = v.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
     if !(lo.is_finite() && hi.is_finite()) {
-        return (0, 1);
+        return (1.0, 10.0);
     }
-    let (a, b) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
-    (a, b.max(a + 1))
+    let (a, b) = (lo.log10().floor(), hi.log10().ceil());
+    let b = b.max(a + 1.0);
+    (10f64.powf(a), 10f64.powf(b))
 }
 
-fn decade_label(e: i32) -> String {
-    if e >= 0 { format!("{}", 10u64.saturating_pow(e as u32)) } else { format!("{}", 10f64.powi(e)) }
-}
-
-fn line(pm: &mut Pixmap, a: (f32, f32), b: (f32, f32), c: Color, width: f32, dashed: bool) {
-    let mut pb = PathBuilder::new();
-    pb.move_to(a.0, a.1);
-    pb.line_to(b.0, b.1);
-    let Some(path) = pb.finish() else { return };
-    let mut paint = Paint::default();
-    paint.set_color(c);
-    paint.anti_alias = true;
-    let stroke =
-        Stroke { width, dash: if dashed { StrokeDash::new(vec![6.0, 4.0], 0.0) } else { None }, ..Stroke::default() };
-    pm.stroke_path(&path, &paint, &stroke, Transform::identity(), None);
-}
-
-fn dot(pm: &mut Pixmap, x: f32, y: f32, r: f32, c: Color) {
-    let Some(path) = PathBuilder::from_circle(x, y, r) else { return };
-    let mut paint = Paint::default();
-    paint.set_color(c);
-    paint.anti_alias = true;
-    pm.fill_path(&path, &paint, FillRule::Winding, Transform::identity(), None);
-}
-
-fn ring(pm: &mut Pixmap, x: f32, y: f32, r: f32, c: Color) {
-    let Some(path) = PathBuilder::from_circle(x, y, r) else { return };
-    let mut paint = Paint::default();
-    paint.set_color(c);
-    paint.anti_alias = true;
-    pm.stroke_path(&path, &paint, &Stroke { width: 2.0, ..Stroke::default() }, Transform::identity(), None);
-}
-
-/// Draws `s` with its top-left at `(x, y)`, each font pixel `scale` plot pixels wide.
-fn text(pm: &mut Pixmap, s: &str, x: f32, y: f32, scale: f32, c: Color) {
-    let mut paint = Paint::default();
-    paint.set_color(c);
-    let scale = scale.max(1.0) + if scale < 2.0 { 1.0 } else { 0.0 };
-    for (i, ch) in s.chars().enumerate() {
-        let g = font::glyph(ch);
-        let gx = x + i as f32 * (font::GLYPH_W + 1) as f32 * scale;
-        for (row, bits) in g.iter().enumerate().take(font::GLYPH_H as usize) {
-            for col in 0..font::GLYPH_W {
-                if bits & (1 << (font::GLYPH_W - 1 - col)) != 0 {
-                    let px = gx + col as f32 * scale;
-                    let py = y + row as f32 * scale;
-                    if let Some(rect) = Rect::from_xywh(px, py, scale, scale) {
-                        pm.fill_rect(rect, &paint, Transform::identity(), None);
-                    }
-                }
-            }
-        }
+/// A number as a person writes it on an axis: no trailing zeros, no exponent
+/// between 0.001 and 10⁶.
+fn number(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
     }
+    let a = v.abs();
+    if !(1e-3..1e6).contains(&a) {
+        return format!("{v:.0e}");
+    }
+    let s = format!("{v:.3}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
 #[cfg(test)]
@@ -190,8 +244,8 @@ mod tests {
             frame_us: 0.0,
             max_error: err,
             rms_error: err,
+            error_unit: "10-bit steps".into(),
             far_error: None,
-            error_unit: "steps".into(),
             frames: 1,
             run_ms: ms,
             on_front: true,
@@ -201,17 +255,42 @@ mod tests {
     #[test]
     fn plot_is_a_png_with_coloured_lines() {
         let rows = vec![row("grating", 2.0, 1.0, 30.0, false), row("grating", 8.0, 10.0, 3.0, true)];
-        let png = draw(&rows, "TEST").expect("plot");
-        let img = image::load_from_memory(&png).expect("decodes").to_rgba8();
+        let png = draw(&rows, "test.svg on stress2").expect("plot");
+        let img = image::load_from_memory(&png).expect("decodes").to_rgb8();
         assert_eq!(img.dimensions(), (W, H));
-        // Some pixel carries the grating's blue.
-        assert!(img.pixels().any(|p| p.0 == [40, 110, 200, 255]));
+        // Some pixel carries the grating's blue, and the legend (right of the chart) has text.
+        assert!(img.pixels().any(|p| p.0 == [40, 110, 200]));
+        let legend_dark = (W - LEGEND_W..W).flat_map(|x| (0..H).map(move |y| (x, y)));
+        assert!(legend_dark.filter(|&(x, y)| img.get_pixel(x, y).0[0] < 100).count() > 100);
     }
 
     #[test]
     fn decades_cover_the_values() {
-        assert_eq!(decades(&[0.5, 30.0]), (-1, 2));
-        assert_eq!(decades(&[3.0]), (0, 1));
-        assert_eq!(decades(&[]), (0, 1));
+        assert_eq!(decades([0.5, 30.0].into_iter()), (0.1, 100.0));
+        assert_eq!(decades([3.0].into_iter()), (1.0, 10.0));
+        assert_eq!(decades(std::iter::empty()), (1.0, 10.0));
+    }
+
+    #[test]
+    fn axis_numbers_read_like_a_person_wrote_them() {
+        assert_eq!(number(16.0), "16");
+        assert_eq!(number(0.5), "0.5");
+        assert_eq!(number(1000.0), "1000");
+        assert_eq!(number(0.0001), "1e-4");
+    }
+
+    #[test]
+    fn labels_keep_clear_of_each_other_and_of_points() {
+        let area = (0, 0, 500, 500);
+        let point = Boxed { x0: 95, y0: 95, x1: 105, y1: 105 };
+        let first = place((100, 100), (20, 12), &[point], area).expect("room");
+        assert_eq!(first, Boxed { x0: 108, y0: 94, x1: 128, y1: 106 }, "right of the point first");
+        let second = place((100, 100), (20, 12), &[point, first], area).expect("room");
+        assert_eq!(second, Boxed { x0: 72, y0: 94, x1: 92, y1: 106 }, "then left");
+        // A point in a corner of the area cannot put its label outside.
+        let corner = place((2, 2), (20, 12), &[], area).expect("room");
+        assert!(corner.x0 >= 0 && corner.y0 >= 0);
+        // Surrounded on every side: no label rather than an overlap.
+        assert_eq!(place((100, 100), (20, 12), &[Boxed { x0: 0, y0: 0, x1: 500, y1: 500 }], area), None);
     }
 }

@@ -27,7 +27,7 @@ pub struct ScheduleError {
 
 /// Plans the strokes of `input` again in f64 and compares them with `bundle`'s ticks.
 pub fn schedule_error(input: &Path, opts: &CompileOpts, bundle: &Bundle) -> Result<ScheduleError> {
-    let svg = std::fs::read_to_string(input).with_context(|| format!("cannot read {}", input.display()))?;
+    let svg = crate::io::read_input_text(input)?;
     let profile = bundle.manifest.profile;
     let options = crate::compile::compile_options(opts)?.map_err(|d| anyhow!("{}", d.message))?;
     let drawing = Drawing::read(&svg, &profile, &options).map_err(|e| anyhow!("{}: {e}", input.display()))?;
@@ -102,8 +102,7 @@ pub fn ladder(input: &Path, opts: &CompileOpts, base: &Bundle) -> Result<Vec<sup
     use taxel_format::{BundleView, Tick};
     use taxel_runtime::grid::{ActuatorDrive, GridPlayer};
 
-    crate::compile::check_input_size(input)?;
-    let svg = std::fs::read_to_string(input).with_context(|| format!("cannot read {}", input.display()))?;
+    let svg = crate::io::read_input_text(input)?;
     let default_rate = base.manifest.profile.rate_hz;
     let mut rates: Vec<u32> = RATE_LADDER.to_vec();
     if !rates.contains(&default_rate) {

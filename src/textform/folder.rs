@@ -11,7 +11,7 @@
 //!   renames it over the output, so there is never a partial bundle.
 
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use super::error::TextError;
 use super::{MANIFEST, MANIFEST_HEADER, PROFILE, pack, unpack};
@@ -22,36 +22,11 @@ fn io_err(path: &Path, what: &str, e: std::io::Error) -> TextError {
 
 /// Unpacks the bundle file `bundle` into the folder `dir`. Returns the number of files written.
 pub fn unpack_to(bundle: &Path, dir: &Path) -> Result<usize, TextError> {
-    let bytes = fs::read(bundle).map_err(|e| io_err(bundle, "cannot read the bundle", e))?;
+    let bytes =
+        crate::io::read_bundle(bundle).map_err(|e| TextError::io(bundle.display().to_string(), format!("{e:#}")))?;
     let files = unpack(&bundle.display().to_string(), &bytes)?;
     check_replaceable(dir)?;
-    let parent = match dir.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    fs::create_dir_all(&parent).map_err(|e| io_err(&parent, "cannot create the folder", e))?;
-    let fresh = tempfile::Builder::new()
-        .prefix(".taxel-unpack-")
-        .tempdir_in(&parent)
-        .map_err(|e| io_err(&parent, "cannot create a temporary folder", e))?;
-    for (name, data) in &files {
-        let path = fresh.path().join(name);
-        fs::write(&path, data).map_err(|e| io_err(&dir.join(name), "cannot write", e))?;
-    }
-    if dir.exists() {
-        // Move the old folder aside first, so that it is only deleted once the new one is in place.
-        let old = parent.join(format!(".taxel-unpack-old-{}", std::process::id()));
-        fs::rename(dir, &old).map_err(|e| io_err(dir, "cannot replace the folder", e))?;
-        if let Err(e) = fs::rename(fresh.path(), dir) {
-            let _ = fs::rename(&old, dir);
-            return Err(io_err(dir, "cannot replace the folder", e));
-        }
-        let _ = fs::remove_dir_all(&old);
-    } else {
-        fs::rename(fresh.path(), dir).map_err(|e| io_err(dir, "cannot create the folder", e))?;
-    }
-    // The temporary folder was renamed away; keep TempDir from deleting the result.
-    let _ = fresh.keep();
+    crate::io::write_folder(dir, &files).map_err(io_failure)?;
     Ok(files.len())
 }
 
@@ -121,7 +96,9 @@ pub fn pack_to(dir: &Path, out: &Path) -> Result<usize, TextError> {
     }
     let read = |name: &str| -> Result<Vec<u8>, TextError> {
         let path = dir.join(name);
-        fs::read(&path).map_err(|e| io_err(&path, "cannot read", e))
+        // A folder holds one bundle's worth: its files have the bundle's size limit.
+        crate::io::read_bundle(&path)
+            .map_err(|e| TextError::io(path.display().to_string(), format!("cannot read: {}", e.root_cause())))
     };
     let bytes = pack(&read).map_err(|mut e| {
         // Name files by their path, so the message can be acted on from anywhere.
@@ -130,24 +107,13 @@ pub fn pack_to(dir: &Path, out: &Path) -> Result<usize, TextError> {
         }
         e
     })?;
-    write_atomic(out, &bytes)?;
+    crate::io::write_file(out, &bytes).map_err(io_failure)?;
     Ok(bytes.len())
 }
 
-/// Writes `bytes` to `path` through a temporary file in the same folder and a rename.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), TextError> {
-    use std::io::Write as _;
-    let parent = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".taxel-")
-        .tempfile_in(parent)
-        .map_err(|e| io_err(path, "cannot create a temporary file beside it", e))?;
-    tmp.write_all(bytes).and_then(|()| tmp.as_file().sync_all()).map_err(|e| io_err(path, "cannot write", e))?;
-    tmp.persist(path).map_err(|e| io_err(path, "cannot rename the finished file into place", e.error))?;
-    Ok(())
+/// A failed write, as the text form reports it.
+fn io_failure(e: crate::io::IoError) -> TextError {
+    TextError::io(e.path.display().to_string(), format!("{}: {}", e.what, e.source))
 }
 
 #[cfg(test)]

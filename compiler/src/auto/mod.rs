@@ -74,7 +74,7 @@ const BRAILLE_CLEARANCE_MM: f64 = 1.0;
 pub fn textures(profile: &DeviceProfile) -> [Grating; MAX_TEXTURES] {
     let pitch = (profile.pitch_x_mm as f64).max(profile.pitch_y_mm as f64);
     let base = if pitch.is_finite() && pitch > 0.0 { ((2.0 * pitch).max(2.0) * 2.0).ceil() / 2.0 } else { 2.0 };
-    let g = |wavelength_mm: f64, angle_deg: f64| Grating { wavelength_mm, angle_deg, amplitude: 1.0 };
+    let g = |wavelength_mm: f64, angle_deg: f64| Grating { wavelength_mm, angle_deg, amplitude: 1.0, soft_mm: 0.0 };
     [g(base, 90.0), g(base + 3.0, 0.0), g(base, 45.0), g(base + 3.0, 135.0), g(base + 6.0, 90.0)]
 }
 
@@ -82,7 +82,12 @@ pub fn textures(profile: &DeviceProfile) -> [Grating; MAX_TEXTURES] {
 /// pitch where the pitch is larger (T0404: thinner outlines alias).
 pub(crate) fn outline_style(profile: &DeviceProfile) -> Vibrate {
     let pitch = (profile.pitch_x_mm as f64).max(profile.pitch_y_mm as f64);
-    Vibrate { width_mm: if pitch.is_finite() { pitch.max(1.5) } else { 1.5 }, freq_hz: 50.0, amplitude: 1.0 }
+    Vibrate {
+        width_mm: if pitch.is_finite() { pitch.max(1.5) } else { 1.5 },
+        freq_hz: 50.0,
+        amplitude: 1.0,
+        soft_mm: 0.0,
+    }
 }
 
 /// Why the automatic sheet left an element out.

@@ -1,5 +1,6 @@
 //! Frames as CSV: a header `tick,a0,a1,…` and one line per tick with each
-//! actuator's output code (index `cols · row + col`).
+//! actuator's output code (index `cols · row + col`), or its level in 0..=1
+//! for a grid.
 //!
 //! ```
 //! use taxel_format::Tick;
@@ -52,6 +53,20 @@ impl<W: Write> FramesCsv<W> {
         self.out.write_all(&self.line)
     }
 
+    /// Writes one frame of levels in 0..=1 (a grid's amplitudes), each with
+    /// six decimals: the tick and the first `actuators` levels (missing ones
+    /// are written as 0).
+    pub fn levels(&mut self, tick: Tick, levels: &[f32]) -> io::Result<()> {
+        self.line.clear();
+        push_u64(&mut self.line, tick.0);
+        for a in 0..self.actuators {
+            // Writing into a Vec cannot fail.
+            let _ = write!(self.line, ",{:.6}", levels.get(a).copied().unwrap_or(0.0));
+        }
+        self.line.push(b'\n');
+        self.out.write_all(&self.line)
+    }
+
     /// Flushes and returns the writer.
     pub fn finish(mut self) -> io::Result<W> {
         self.out.flush()?;
@@ -86,5 +101,13 @@ mod tests {
         csv.frame(Tick(10), &[9]).unwrap();
         let text = String::from_utf8(csv.finish().unwrap()).unwrap();
         assert_eq!(text, "tick,a0,a1\n18446744073709551615,65535,0\n10,9,0\n");
+    }
+
+    #[test]
+    fn levels_have_six_decimals() {
+        let mut csv = FramesCsv::new(Vec::new(), 3).unwrap();
+        csv.levels(Tick(2), &[0.5, 1.0]).unwrap();
+        let text = String::from_utf8(csv.finish().unwrap()).unwrap();
+        assert_eq!(text, "tick,a0,a1,a2\n2,0.500000,1.000000,0.000000\n");
     }
 }

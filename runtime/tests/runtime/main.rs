@@ -15,3 +15,4 @@ mod latero_formula;
 mod latero_load;
 mod pins;
 mod support;
+mod trace;

@@ -1,31 +1,23 @@
 //! `taxel play BUNDLE [--trace CSV] [--out FRAMES.csv|DRIVE.wav]`: reads and
 //! validates the bundle, then hands it to the player of its device family.
+//! Output files are written through [`crate::io`] (atomic, one permission
+//! policy); without `--out` the frames go to standard output.
 
 use std::path::Path;
-use std::process::ExitCode;
 
-use anyhow::Result;
 use taxel_format::{BundleView, Family};
+use taxel_runtime::trace::Trace;
 
-pub(crate) mod finger;
+use crate::error::{CliError, CmdResult};
+
+mod finger;
 mod grid;
 mod latero;
 
-pub fn run(bundle: &Path, trace: Option<&Path>, out: Option<&Path>) -> Result<ExitCode> {
-    let bytes = match std::fs::read(bundle) {
-        Ok(b) => b,
-        Err(e) => {
-            eprintln!("error: cannot read {}: {e}", bundle.display());
-            return Ok(ExitCode::from(2));
-        }
-    };
-    let view = match BundleView::parse(&bytes) {
-        Ok(v) => v,
-        Err(e) => {
-            eprintln!("error: {}: not a valid taxel bundle: {e}", bundle.display());
-            return Ok(ExitCode::from(1));
-        }
-    };
+pub fn run(bundle: &Path, trace: Option<&Path>, out: Option<&Path>) -> CmdResult {
+    let bytes = crate::io::read_bundle(bundle)?;
+    let view = BundleView::parse(&bytes)
+        .map_err(|e| CliError::input(anyhow::anyhow!("{}: not a valid taxel bundle: {e}", bundle.display())))?;
     match view.manifest().profile.family() {
         Family::Grid => grid::run(bundle, &view, trace, out),
         Family::Laterotactile => latero::run(bundle, &view, trace, out),
@@ -33,12 +25,18 @@ pub fn run(bundle: &Path, trace: Option<&Path>, out: Option<&Path>) -> Result<Ex
         Family::Pins => {
             // A pin display shows a still image (pages or a pannable surface);
             // there is nothing to play along a trace.
-            eprintln!(
-                "error: {} is a pin-display bundle: it is not played along a trace; \
+            Err(CliError::trouble(anyhow::anyhow!(
+                "{} is a pin-display bundle: it is not played along a trace; \
                  write the device's own file with `taxel export` or look at it with `taxel preview`",
                 bundle.display()
-            );
-            Ok(ExitCode::from(2))
+            )))
         }
     }
+}
+
+/// Reads the exploration trace at `path`: a file that cannot be read is exit
+/// 2, a malformed trace exit 1 with its line.
+fn read_trace(path: &Path) -> Result<Trace, CliError> {
+    let bytes = crate::io::read_input(path)?;
+    Trace::parse(&bytes[..]).map_err(|e| CliError::input(anyhow::anyhow!("{}: {e}", path.display())))
 }
