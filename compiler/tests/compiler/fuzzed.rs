@@ -105,3 +105,14 @@ fn generated_drawings_reach_the_layer_builders() {
     }
     assert!(with_layers >= 5 && refused >= 3, "{with_layers} with layers, {refused} refused");
 }
+
+/// Regression: a grated circle of radius 1e12 on a 100 mm page overflowed
+/// the raster mask's anti-aliasing (found by the `svg` fuzz target); the
+/// distance layers that replaced the raster masks must take it too.
+#[test]
+fn a_circle_far_larger_than_the_page_compiles() {
+    let svg = page(r#"<circle cx="50" cy="30" r="1e12" data-tactile="grating()"/>"#);
+    compiles_without_internal_error(&svg);
+    let c = compile(&svg);
+    assert!(c.bundle.is_some(), "{:#?}", c.diagnostics);
+}
