@@ -29,9 +29,6 @@ use taxel_format::{DISTANCE_ZERO, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TI
 
 use crate::geometry::{FillRule, Polyline, distance_to_segment};
 
-/// Default lattice pitch of a distance layer, mm.
-pub const DEFAULT_PITCH_MM: f64 = 0.5;
-
 /// The geometry of one layer (one style).
 #[derive(Debug, Clone, Default)]
 pub struct LayerGeometry<'a> {
@@ -76,6 +73,7 @@ pub struct Field {
 
 impl Field {
     /// Number of stored tiles.
+    #[cfg(test)]
     pub fn stored(&self) -> usize {
         self.samples.len() / TILE_SAMPLES
     }
@@ -93,7 +91,8 @@ fn seg_bounds(s: &Seg) -> (f64, f64, f64, f64) {
 }
 
 /// The exact signed distance of a layer at `p`, in f64, before clamping:
-/// the reference the tests and `taxel report` measure fields against.
+/// the reference the tests measure fields against.
+#[cfg(test)]
 pub fn exact_signed_distance(g: &LayerGeometry<'_>, page: (f64, f64, f64, f64), p: (f64, f64)) -> f64 {
     let mut s = f64::NEG_INFINITY;
     if !g.fills.is_empty() {
@@ -414,6 +413,7 @@ fn is_in(s: (i32, u32), rule: FillRule) -> bool {
 
 /// The interpolated signed distance of a built field at `p` in mm (SPEC.md
 /// section 6.2), `None` outside its lattice: what a player computes, in f64.
+#[cfg(test)]
 pub fn field_distance(f: &Field, h: f64, p: (f64, f64)) -> Option<f64> {
     let fx = (p.0 - f.origin.0) / h;
     let fy = (p.1 - f.origin.1) / h;

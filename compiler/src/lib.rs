@@ -14,7 +14,7 @@ pub mod annotation;
 pub mod auto;
 pub mod brush;
 mod diagnostic;
-pub mod distance;
+pub(crate) mod distance;
 pub mod drawing;
 pub mod fit;
 pub mod geometry;

@@ -75,11 +75,6 @@ const HARMLESS_PREFIXES: [&str; 6] =
 /// What `resolve` returns for an external buffer URI: its bytes, or a message.
 pub type Resolver<'r> = dyn FnMut(&str) -> Result<Vec<u8>, String> + 'r;
 
-/// Parses `bytes` (`.gltf` JSON or `.glb`) and collects the scene's triangles, +Y up.
-pub fn load(bytes: &[u8], resolve: &mut Resolver<'_>) -> Result<Soup, MeshError> {
-    load_with(bytes, resolve, UpAxis::Y)
-}
-
 /// Parses the glTF without the gltf crate's validation, refuses compressed
 /// meshes by name, then validates, ignoring only extensions that do not
 /// touch positions.

@@ -2,11 +2,11 @@
 //! (seed 002, `docs/finger.md`).
 //!
 //! The pipeline has four stages, each in its own file:
-//! [`load`] reads every triangle of the scene into page millimetres,
-//! [`place`] keeps the `--region`, fits the model onto the surface and
-//! scales its heights, [`surface`] builds the top surface on a spade
+//! `load` reads every triangle of the scene into page millimetres,
+//! `place` keeps the `--region`, fits the model onto the surface and
+//! scales its heights, `surface` builds the top surface on a spade
 //! constrained Delaunay triangulation of the edges' exact arrangement
-//! ([`planar`]), and [`field`] samples it into a
+//! (`planar`), and `field` samples it into a
 //! [`taxel_format::HeightField`]. The library does no file IO:
 //! external buffers come through a resolver closure.
 //!
@@ -22,13 +22,13 @@
 //! assert!(out.bundle.is_some());
 //! ```
 
-pub mod error;
-pub mod field;
-pub mod load;
-pub mod place;
-pub mod planar;
+pub(crate) mod error;
+pub(crate) mod field;
+pub(crate) mod load;
+pub(crate) mod place;
+pub(crate) mod planar;
 pub mod shapes;
-pub mod surface;
+pub(crate) mod surface;
 pub mod write;
 
 use taxel_format::{Bundle, Chunk, DeviceProfile, Family, HeightField, Manifest, Provenance, ProvenanceEntry};
@@ -101,7 +101,7 @@ pub struct MeshReport {
     pub extent: [f64; 3],
     /// Page mm per model metre after `--fit` (1000 without it).
     pub mm_per_metre: f64,
-    /// Projected edges left crossing after the arrangement (see [`planar`]).
+    /// Projected edges left crossing after the arrangement (see `planar`).
     pub unresolved: usize,
 }
 

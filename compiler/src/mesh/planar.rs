@@ -45,17 +45,18 @@ impl Snap {
     }
 
     /// The grid step in mm.
+    #[cfg(test)]
     pub fn step(&self) -> f64 {
         self.q
     }
 
     /// The nearest grid point, as integers.
-    pub fn to_grid(&self, x: f64, y: f64) -> [i64; 2] {
+    pub fn to_grid(self, x: f64, y: f64) -> [i64; 2] {
         [((x - self.ox) / self.q).round() as i64, ((y - self.oy) / self.q).round() as i64]
     }
 
     /// A grid point in mm; exact, since the origin is a multiple of the power-of-two step.
-    pub fn to_mm(&self, p: [i64; 2]) -> [f64; 2] {
+    pub fn to_mm(self, p: [i64; 2]) -> [f64; 2] {
         [self.ox + p[0] as f64 * self.q, self.oy + p[1] as f64 * self.q]
     }
 }
