@@ -275,14 +275,7 @@ impl<'a> DistanceView<'a> {
     }
 
     pub(crate) fn parse(d: &'a [u8], tag: Tag, index: u32, full: bool) -> Result<Self, FormatError> {
-        if d.len() < DISTANCE_HEADER_LEN {
-            return Err(FormatError::ChunkLength {
-                tag,
-                index,
-                expected: DISTANCE_HEADER_LEN as u64,
-                found: d.len() as u64,
-            });
-        }
+        FormatError::check_header(d, DISTANCE_HEADER_LEN, tag, index)?;
         let bad = |field, expected| FormatError::InvalidValue { tag, index, field, expected };
         let u = |o| u32_at(d, o).unwrap_or(0);
         let f = |o| f32_at(d, o).unwrap_or(f32::NAN);

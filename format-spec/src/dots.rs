@@ -324,14 +324,7 @@ impl<'a> DotTableView<'a> {
     /// Reads the table; with `full`, also checks the index and every dot.
     pub(crate) fn parse(d: &'a [u8], index: u32, full: bool) -> Result<Self, FormatError> {
         let tag = Tag::DOTS;
-        if d.len() < DOTS_HEADER_LEN {
-            return Err(FormatError::ChunkLength {
-                tag,
-                index,
-                expected: DOTS_HEADER_LEN as u64,
-                found: d.len() as u64,
-            });
-        }
+        FormatError::check_header(d, DOTS_HEADER_LEN, tag, index)?;
         let bad = |field, expected| FormatError::InvalidValue { tag, index, field, expected };
         let kind = DotKind::from_code(u8_at(d, 0).unwrap_or(0)).ok_or(bad("kind", "1, 2 or 3"))?;
         if d[1..4].iter().any(|&b| b != 0) {

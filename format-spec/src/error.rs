@@ -143,6 +143,17 @@ pub enum FormatError {
     },
 }
 
+impl FormatError {
+    /// Refuses chunk `index` (`tag`) when its data `d` is shorter than its
+    /// fixed header of `len` bytes.
+    pub(crate) fn check_header(d: &[u8], len: usize, tag: Tag, index: u32) -> Result<(), FormatError> {
+        if d.len() < len {
+            return Err(FormatError::ChunkLength { tag, index, expected: len as u64, found: d.len() as u64 });
+        }
+        Ok(())
+    }
+}
+
 impl fmt::Display for FormatError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {

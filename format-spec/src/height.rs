@@ -256,9 +256,7 @@ impl<'a> HeightFieldView<'a> {
     /// Reads the field; with `full`, also checks every node and the extremes.
     pub(crate) fn parse(d: &'a [u8], index: u32, full: bool) -> Result<Self, FormatError> {
         let tag = Tag::HEIGHT;
-        if d.len() < HEADER_LEN {
-            return Err(FormatError::ChunkLength { tag, index, expected: HEADER_LEN as u64, found: d.len() as u64 });
-        }
+        FormatError::check_header(d, HEADER_LEN, tag, index)?;
         let bad = |field, expected| FormatError::InvalidValue { tag, index, field, expected };
         let cols = u32_at(d, 4).unwrap_or(0);
         let rows = u32_at(d, 8).unwrap_or(0);

@@ -218,14 +218,7 @@ impl<'a> MaskView<'a> {
     }
 
     pub(crate) fn parse(d: &'a [u8], tag: Tag, index: u32) -> Result<Self, FormatError> {
-        if d.len() < MASK_HEADER_LEN {
-            return Err(FormatError::ChunkLength {
-                tag,
-                index,
-                expected: MASK_HEADER_LEN as u64,
-                found: d.len() as u64,
-            });
-        }
+        FormatError::check_header(d, MASK_HEADER_LEN, tag, index)?;
         let bad = |field, expected| FormatError::InvalidValue { tag, index, field, expected };
         let f = |o| f32_at(d, o).unwrap_or(f32::NAN);
         let width = u32_at(d, 4).unwrap_or(0);

@@ -244,9 +244,7 @@ impl<'a> PinImageView<'a> {
     pub(crate) fn parse(d: &'a [u8], index: u32, profile: &DeviceProfile, full: bool) -> Result<Self, FormatError> {
         let tag = Tag::PINS;
         let bad = |field, expected| FormatError::InvalidValue { tag, index, field, expected };
-        if d.len() < HEADER_LEN {
-            return Err(FormatError::ChunkLength { tag, index, expected: HEADER_LEN as u64, found: d.len() as u64 });
-        }
+        FormatError::check_header(d, HEADER_LEN, tag, index)?;
         let FamilyParams::Pins(params) = profile.params else {
             return Err(bad("chunk", "a pin image only in a bundle for a pin-matrix profile (family 4)"));
         };

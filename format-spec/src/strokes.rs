@@ -241,9 +241,7 @@ impl<'a> StrokeTableView<'a> {
     /// (the reader does that once, in [`crate::BundleView::parse`]).
     pub(crate) fn parse(d: &'a [u8], index: u32, actuators: usize, full: bool) -> Result<Self, FormatError> {
         let tag = Tag::STROKES;
-        if d.len() < HEADER_LEN {
-            return Err(FormatError::ChunkLength { tag, index, expected: HEADER_LEN as u64, found: d.len() as u64 });
-        }
+        FormatError::check_header(d, HEADER_LEN, tag, index)?;
         let bad = |field, expected| FormatError::InvalidValue { tag, index, field, expected };
         let ns = u32_at(d, 0).unwrap_or(0);
         let np = u32_at(d, 4).unwrap_or(0);

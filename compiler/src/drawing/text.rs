@@ -7,7 +7,7 @@ use resvg::tiny_skia::Transform;
 use roxmltree::{Document, Node};
 
 use super::source::{Kind, Source};
-use super::walk::{Decl, Walked};
+use super::walk::{Decl, Walked, element_of};
 use super::{Element, Paint, Shape, StyledBy, TextRun, TextShape};
 use crate::annotation::Style;
 use crate::diagnostic::Diagnostic;
@@ -96,33 +96,13 @@ pub(crate) fn texts(
             });
         }
         let (paint, font_size_mm) = walked.text_paint.get(&i).copied().unwrap_or((Paint::default(), 16.0 * s as f64));
-        let (styles, styled_by) = match decl {
-            Some((d, by)) => (d.styles().to_vec(), by),
-            None => (Vec::new(), StyledBy::Nothing),
-        };
         let shape = TextShape {
             content: runs.iter().map(|r| r.text.as_str()).collect::<Vec<_>>().join(" "),
             runs,
             font_size_mm,
             outline: walked.text_outlines.get(&i).cloned().unwrap_or_default(),
         };
-        out.push((
-            i,
-            Element {
-                id: e.id.clone(),
-                name: e.name.clone(),
-                line: e.line,
-                label: e.label.clone(),
-                tag: e.tag.clone(),
-                classes: e.classes.clone(),
-                layers: e.layers.clone(),
-                styles,
-                styled_by,
-                visible: true,
-                paint,
-                shape: Shape::Text(shape),
-            },
-        ));
+        out.push((i, element_of(e, decl, true, paint, Shape::Text(shape))));
     }
     out
 }

@@ -137,6 +137,34 @@ fn fill_rule(p: &usvg::Path) -> FillRule {
     }
 }
 
+/// The drawing element of source element `e` with `decl` in force.
+pub(crate) fn element_of(
+    e: &super::source::Element,
+    decl: Option<Decl>,
+    visible: bool,
+    paint: Paint,
+    shape: Shape,
+) -> Element {
+    let (styles, styled_by) = match decl {
+        Some((d, by)) => (d.styles().to_vec(), by),
+        None => (Vec::new(), StyledBy::Nothing),
+    };
+    Element {
+        id: e.id.clone(),
+        name: e.name.clone(),
+        line: e.line,
+        label: e.label.clone(),
+        tag: e.tag.clone(),
+        classes: e.classes.clone(),
+        layers: e.layers.clone(),
+        styles,
+        styled_by,
+        visible,
+        paint,
+        shape,
+    }
+}
+
 impl Walker<'_> {
     /// The declaration in force at a node whose element is `elem`, given what
     /// its usvg parent has.
@@ -177,25 +205,7 @@ impl Walker<'_> {
 
     /// A drawing element for source element `elem` with `decl` in force.
     fn element(&self, elem: usize, decl: Option<Decl>, visible: bool, paint: Paint, shape: Shape) -> Element {
-        let e = &self.src.elements[elem];
-        let (styles, styled_by) = match decl {
-            Some((d, by)) => (d.styles().to_vec(), by),
-            None => (Vec::new(), StyledBy::Nothing),
-        };
-        Element {
-            id: e.id.clone(),
-            name: e.name.clone(),
-            line: e.line,
-            label: e.label.clone(),
-            tag: e.tag.clone(),
-            classes: e.classes.clone(),
-            layers: e.layers.clone(),
-            styles,
-            styled_by,
-            visible,
-            paint,
-            shape,
-        }
+        element_of(&self.src.elements[elem], decl, visible, paint, shape)
     }
 
     fn bounds_mm(&self, r: usvg::Rect) -> Option<(f64, f64, f64, f64)> {

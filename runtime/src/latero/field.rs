@@ -13,7 +13,7 @@
 //! actuator per layer is constant: it depends neither on the number of
 //! shapes in the layer nor on where their edges are.
 
-use taxel_format::{DistanceView, MaskKind, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_SAMPLES, TILE_SIDE};
+use taxel_format::{DistanceView, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_SAMPLES, TILE_SIDE};
 use wide::bytemuck::cast;
 use wide::{f32x4, i16x8, i32x4, u8x16, u16x8};
 
@@ -51,21 +51,7 @@ pub(crate) struct FieldLayer<'a> {
 
 impl<'a> FieldLayer<'a> {
     pub(crate) fn new(m: &DistanceView<'a>, pitch_x: f32, pitch_y: f32) -> Self {
-        let primitive = match m.kind {
-            MaskKind::Vibration { freq } => Primitive::Vibration { freq },
-            MaskKind::Grating { wavelength, angle_deg } => {
-                let theta = (angle_deg as f64).to_radians();
-                let lambda = wavelength.0 as f64;
-                let kx = libm::sin(theta) / lambda;
-                let ky = libm::cos(theta) / lambda;
-                Primitive::Grating {
-                    kx,
-                    ky,
-                    step_col: frac64(kx * pitch_x as f64) as f32,
-                    step_row: frac64(ky * pitch_y as f64) as f32,
-                }
-            }
-        };
+        let primitive = Primitive::of(m.kind, pitch_x, pitch_y);
         let h = m.pitch_mm as f64;
         let span = |n: u32| n as f64 * TILE_CELLS as f64 * h;
         // Profile: ½ + (code − 128) · step / ramp (SPEC.md section 6.2).

@@ -48,6 +48,27 @@ pub(crate) enum Primitive {
     },
 }
 
+impl Primitive {
+    /// The primitive of a layer of this kind on an array of this pitch (mm).
+    pub(crate) fn of(kind: MaskKind, pitch_x: f32, pitch_y: f32) -> Self {
+        match kind {
+            MaskKind::Vibration { freq } => Primitive::Vibration { freq },
+            MaskKind::Grating { wavelength, angle_deg } => {
+                let theta = (angle_deg as f64).to_radians();
+                let lambda = wavelength.0 as f64;
+                let kx = libm::sin(theta) / lambda;
+                let ky = libm::cos(theta) / lambda;
+                Primitive::Grating {
+                    kx,
+                    ky,
+                    step_col: frac64(kx * pitch_x as f64) as f32,
+                    step_row: frac64(ky * pitch_y as f64) as f32,
+                }
+            }
+        }
+    }
+}
+
 /// A vibration or grating layer prepared for playback.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct MaskLayer<'a> {
@@ -82,21 +103,7 @@ pub(crate) struct MaskLayer<'a> {
 
 impl<'a> MaskLayer<'a> {
     pub(crate) fn new(m: &MaskView<'a>, pitch_x: f32, pitch_y: f32) -> Self {
-        let primitive = match m.kind {
-            MaskKind::Vibration { freq } => Primitive::Vibration { freq },
-            MaskKind::Grating { wavelength, angle_deg } => {
-                let theta = (angle_deg as f64).to_radians();
-                let lambda = wavelength.0 as f64;
-                let kx = libm::sin(theta) / lambda;
-                let ky = libm::cos(theta) / lambda;
-                Primitive::Grating {
-                    kx,
-                    ky,
-                    step_col: frac64(kx * pitch_x as f64) as f32,
-                    step_row: frac64(ky * pitch_y as f64) as f32,
-                }
-            }
-        };
+        let primitive = Primitive::of(m.kind, pitch_x, pitch_y);
         let ppm = m.px_per_mm;
         let wide = m.bits == 16;
         let bps = if wide { 2 } else { 1 };
