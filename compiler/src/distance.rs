@@ -15,6 +15,9 @@
 //!   merge into one border instead of adding up);
 //! - cut bands (vibrating borders crossing a grating): `min(s, d_c − w_c/2)`;
 //! - clip regions: `min(s, ±d_clip)`, signed like a fill;
+//! - occluders (opaque fills painted above the layer's shapes): `min(s, ∓d_occ)`,
+//!   signed like a fill of their union but negated, so a region is not felt
+//!   where the drawing paints over it;
 //! - the page: `min(s, distance inside the page)`, so nothing beyond the
 //!   surface is felt or stored.
 //!
@@ -41,6 +44,9 @@ pub struct LayerGeometry<'a> {
     pub cuts: Vec<(&'a [Polyline], f64)>,
     /// Clip regions: the layer is felt only inside every one of them.
     pub clips: Vec<(&'a [Polyline], FillRule)>,
+    /// Occluders: opaque fills painted above the layer's shapes; the layer is
+    /// not felt inside their union.
+    pub occluders: Vec<(&'a [Polyline], FillRule)>,
 }
 
 /// How to sample a layer.
@@ -129,6 +135,16 @@ pub fn exact_signed_distance(g: &LayerGeometry<'_>, page: (f64, f64, f64, f64), 
             .fold(f64::INFINITY, f64::min);
         s = s.min(if crate::geometry::contains(pls, p, *rule) { d } else { -d });
     }
+    if !g.occluders.is_empty() {
+        let d = g
+            .occluders
+            .iter()
+            .flat_map(|(pls, _)| pls.iter().flat_map(closed_segments))
+            .map(|(a, b)| distance_to_segment(p, a, b))
+            .fold(f64::INFINITY, f64::min);
+        let inside = g.occluders.iter().any(|(pls, rule)| crate::geometry::contains(pls, p, *rule));
+        s = s.min(if inside { -d } else { d });
+    }
     s.min(inside_rect(page, p))
 }
 
@@ -156,6 +172,8 @@ enum Part {
     Cut(usize),
     /// Clip region `k`.
     Clip(usize),
+    /// An occluder's outline.
+    Occluder,
 }
 
 /// Builds the field of one layer; `None` when nothing of it is felt on the page.
@@ -230,6 +248,11 @@ pub fn build_field(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> 
             segs.extend(closed_segments(pl).map(|s| (s, Part::Clip(k), reach)));
         }
     }
+    for (pls, _) in &g.occluders {
+        for pl in pls.iter() {
+            segs.extend(closed_segments(pl).map(|s| (s, Part::Occluder, reach)));
+        }
+    }
     let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); cols * rows];
     for (n, (s, _, m)) in segs.iter().enumerate() {
         let b = seg_bounds(s);
@@ -250,6 +273,7 @@ pub fn build_field(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> 
     let inside = fill_bits(&g.fills, ox, oy, h, nx, ny);
     let clip_bits: Vec<Vec<bool>> = g.clips.iter().map(|c| fill_bits(&[*c], ox, oy, h, nx, ny)).collect();
     let in_clips = |k: usize| clip_bits.iter().all(|b| b[k]);
+    let occluded = fill_bits(&g.occluders, ox, oy, h, nx, ny);
     let page_edge_near = |c: usize, r: usize| {
         let (a, b) = (at(c * TILE_CELLS, r * TILE_CELLS), at((c + 1) * TILE_CELLS, (r + 1) * TILE_CELLS));
         let near = |e: f64, lo: f64, hi: f64| e >= lo - reach && e <= hi + reach;
@@ -266,7 +290,7 @@ pub fn build_field(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> 
             if bucket.is_empty() && !page_edge_near(c, r) {
                 // No edge within the reach: the tile is what its corner is.
                 let k = r * TILE_CELLS * nx + c * TILE_CELLS;
-                let felt_here = !g.fills.is_empty() && inside[k] && in_clips(k);
+                let felt_here = !g.fills.is_empty() && inside[k] && in_clips(k) && !occluded[k];
                 tiles[r * cols + c] =
                     if felt_here && inside_rect(pg, corner) > 0.0 { TILE_INSIDE } else { TILE_OUTSIDE };
                 continue;
@@ -277,7 +301,7 @@ pub fn build_field(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> 
                     let p = at(gi, gj);
                     let k = gj * nx + gi;
                     let clipped: Vec<bool> = clip_bits.iter().map(|b| b[k]).collect();
-                    let s = sample(g, &segs, bucket, inside[k], &clipped, p, pg).clamp(-cap, cap);
+                    let s = sample(g, &segs, bucket, (inside[k], occluded[k]), &clipped, p, pg).clamp(-cap, cap);
                     let code = (s / step).round().clamp(-128.0, 127.0) as i32 + DISTANCE_ZERO as i32;
                     tile_buf[j * TILE_SIDE + i] = code as u8;
                 }
@@ -300,18 +324,21 @@ pub fn build_field(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> 
     Some(Field { origin: (ox, oy), tile_cols: cols as u32, tile_rows: rows as u32, step_mm: step, tiles, samples })
 }
 
-/// The unclamped signed distance at a lattice point from the segments of its tile's bucket.
+/// The unclamped signed distance at a lattice point from the segments of its
+/// tile's bucket; `inside` says whether the point is inside the fills and
+/// inside the occluders.
 fn sample(
     g: &LayerGeometry<'_>,
     segs: &[(Seg, Part, f64)],
     bucket: &[u32],
-    inside: bool,
+    (inside, occluded): (bool, bool),
     in_clip: &[bool],
     p: (f64, f64),
     page: (f64, f64, f64, f64),
 ) -> f64 {
     let mut d_fill = f64::INFINITY;
     let mut d_band = f64::INFINITY;
+    let mut d_occ = f64::INFINITY;
     let mut d_cut: Vec<f64> = vec![f64::INFINITY; g.cuts.len()];
     let mut d_clip: Vec<f64> = vec![f64::INFINITY; g.clips.len()];
     for &n in bucket {
@@ -322,6 +349,7 @@ fn sample(
             Part::Band => d_band = d_band.min(d),
             Part::Cut(k) => d_cut[k] = d_cut[k].min(d),
             Part::Clip(k) => d_clip[k] = d_clip[k].min(d),
+            Part::Occluder => d_occ = d_occ.min(d),
         }
     }
     let mut s = f64::NEG_INFINITY;
@@ -336,6 +364,9 @@ fn sample(
     }
     for (k, &d) in d_clip.iter().enumerate() {
         s = s.min(if in_clip.get(k).copied().unwrap_or(false) { d } else { -d });
+    }
+    if !g.occluders.is_empty() {
+        s = s.min(if occluded { -d_occ } else { d_occ });
     }
     s.min(inside_rect(page, p))
 }

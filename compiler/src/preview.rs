@@ -159,7 +159,7 @@ fn draw_layer(c: &mut Canvas, kind: MaskKind, amp: f64, b: (f64, f64, f64, f64),
 }
 
 /// Seed 000 eq. 1: the dot's deflection profile, plateau P = 0.25.
-fn dot_profile(r: f64) -> f64 {
+pub(crate) fn dot_profile(r: f64) -> f64 {
     const P: f64 = 0.25;
     if r <= P {
         1.0

@@ -180,6 +180,18 @@ proptest! {
         check(&g, params(pitch, 0.0), &grid_points(0.37))?;
     }
 
+    /// Fills minus the union of occluders of any shape painted over them.
+    #[test]
+    fn occluded_fills_match_exact_geometry(a in outline(), b in outline(), c in outline(), pitch in prop::sample::select(vec![0.25, 0.5])) {
+        let (shape, over) = ([a], [b, c]);
+        let g = LayerGeometry {
+            fills: vec![(&shape, FillRule::NonZero)],
+            occluders: vec![(&over[..1], FillRule::NonZero), (&over[1..], FillRule::EvenOdd)],
+            ..Default::default()
+        };
+        check(&g, params(pitch, 0.0), &grid_points(0.37))?;
+    }
+
     /// Bands along open or closed polylines of any shape.
     #[test]
     fn bands_match_exact_geometry(a in outline(), width in 0.2f64..3.0, pitch in prop::sample::select(vec![0.25, 0.5])) {

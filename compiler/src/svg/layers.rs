@@ -17,8 +17,9 @@ use crate::brush::{self, BrushRequest};
 use crate::diagnostic::Diagnostic;
 use crate::distance::{FieldParams, LayerGeometry, build_field};
 use crate::drawing::{Clip, Drawing, Element, Page, Shape, TextShape};
-use crate::geometry::Polyline;
+use crate::geometry::{FillRule, Polyline};
 use crate::options::CompileOptions;
+use crate::spatial::{Bbox, BoxIndex};
 
 /// What a feature is, with the parameters the design rules need.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -397,6 +398,7 @@ fn distance_layers(b: &mut Built, drawing: &Drawing, pending: &[Pending], px: f3
     // is then sampled at the same points as the band itself, so the two
     // interpolate to complementary values and never overlap.
     let narrowest = bands.iter().map(|&(_, w)| w).reduce(f64::min);
+    let opaque = OpaqueFills::of(drawing);
     let pitch = field_pitch(px, narrowest);
     let mut built_index = vec![None; pending.len()];
     for (k, p) in pending.iter().enumerate() {
@@ -433,7 +435,8 @@ fn distance_layers(b: &mut Built, drawing: &Drawing, pending: &[Pending], px: f3
                     .collect();
                 let kind =
                     MaskKind::Grating { wavelength: Mm(gr.wavelength_mm as f32), angle_deg: gr.angle_deg as f32 };
-                (LayerGeometry { fills, cuts, clips, ..Default::default() }, kind, gr.amplitude, gr.soft_mm)
+                let occluders = opaque.above(drawing, &p.elements);
+                (LayerGeometry { fills, cuts, clips, occluders, ..Default::default() }, kind, gr.amplitude, gr.soft_mm)
             }
         };
         let params = FieldParams { pitch_mm: pitch, soft_mm: soft, page: page_rect };
@@ -470,6 +473,60 @@ fn distance_layers(b: &mut Built, drawing: &Drawing, pending: &[Pending], px: f3
 }
 
 /// An element's fill rule.
+/// The drawing's opaque filled shapes, which hide what is painted under them.
+struct OpaqueFills {
+    /// Element index and bounds of each.
+    shapes: Vec<(usize, Bbox)>,
+    index: BoxIndex,
+}
+
+impl OpaqueFills {
+    fn of(drawing: &Drawing) -> Self {
+        let shapes: Vec<(usize, Bbox)> = drawing
+            .elements
+            .iter()
+            .enumerate()
+            .filter(|(_, e)| {
+                // A solid, opaque, visible, unclipped fill (a gradient's or a
+                // clip's coverage is not known exactly, so it hides nothing).
+                e.visible
+                    && e.paint.fill.is_some_and(|c| c[3] == u8::MAX)
+                    && matches!(&e.shape, Shape::Path(p) if p.clips.is_empty())
+            })
+            .filter_map(|(i, e)| crate::geometry::bounds(outline(e)).map(|b| (i, b)))
+            .collect();
+        let index = BoxIndex::new(&shapes.iter().map(|s| s.1).collect::<Vec<_>>());
+        OpaqueFills { shapes, index }
+    }
+
+    /// The opaque fills painted over some of `elements` (drawing indices, in
+    /// drawing order) and under none of them: a grated layer is not felt
+    /// where they cover it, as it is not seen there. A fill that lies between
+    /// two of the layer's shapes hides nothing (the layer is one union), so
+    /// the overlap stays and the design rules report it.
+    fn above<'d>(&self, drawing: &'d Drawing, elements: &[usize]) -> Vec<(&'d [Polyline], FillRule)> {
+        let boxes: Vec<(usize, Bbox)> = elements
+            .iter()
+            .filter_map(|&i| crate::geometry::bounds(outline(&drawing.elements[i])).map(|b| (i, b)))
+            .collect();
+        let mine = BoxIndex::new(&boxes.iter().map(|b| b.1).collect::<Vec<_>>());
+        let mut seen = std::collections::HashSet::new();
+        let mut out = Vec::new();
+        for &(i, b) in &boxes {
+            for k in self.index.meeting(b) {
+                let Some(&(j, bj)) = self.shapes.get(k) else { continue };
+                if j <= i || !seen.insert(j) {
+                    continue;
+                }
+                if mine.meeting(bj).all(|m| boxes.get(m).is_some_and(|&(e, _)| e < j)) {
+                    out.push((outline(&drawing.elements[j]), fill_rule(&drawing.elements[j])));
+                }
+            }
+        }
+        out
+    }
+}
+
 fn fill_rule(e: &Element) -> crate::geometry::FillRule {
     match &e.shape {
         Shape::Path(p) => p.fill_rule,

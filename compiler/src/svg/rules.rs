@@ -256,6 +256,36 @@ fn mask_at(m: &DistanceLayer, x: f64, y: f64) -> f64 {
     m.coverage_at(x as f32, y as f32) as f64
 }
 
+/// Where a dot is probed for overlaps, in units of its radius: the centre,
+/// then eight directions on rings at a quarter (the plateau's edge), half
+/// and three quarters of the radius.
+const DOT_PROBES: [(f64, f64); 25] = {
+    let mut p = [(0.0, 0.0); 25];
+    let dirs = [
+        (1.0, 0.0),
+        (core::f64::consts::FRAC_1_SQRT_2, core::f64::consts::FRAC_1_SQRT_2),
+        (0.0, 1.0),
+        (-core::f64::consts::FRAC_1_SQRT_2, core::f64::consts::FRAC_1_SQRT_2),
+        (-1.0, 0.0),
+        (-core::f64::consts::FRAC_1_SQRT_2, -core::f64::consts::FRAC_1_SQRT_2),
+        (0.0, -1.0),
+        (core::f64::consts::FRAC_1_SQRT_2, -core::f64::consts::FRAC_1_SQRT_2),
+    ];
+    let rings = [0.25, 0.5, 0.75];
+    let mut k = 1;
+    let mut ri = 0;
+    while ri < 3 {
+        let mut di = 0;
+        while di < 8 {
+            p[k] = (dirs[di].0 * rings[ri], dirs[di].1 * rings[ri]);
+            k += 1;
+            di += 1;
+        }
+        ri += 1;
+    }
+    p
+};
+
 /// Slack above full deflection before an overlap is reported: anti-aliased
 /// edges of shapes that merely meet (two regions sharing a border) can sum a
 /// little above 1 at the seam; a real overlap sums to about 2.
@@ -309,7 +339,16 @@ fn overlap(built: &Built, a: &Feature, b: &Feature, diags: &mut Vec<Diagnostic>)
         (Some(im), None) | (None, Some(im)) => {
             let (m, d) = if a.mask.is_some() { (a, b) } else { (b, a) };
             let layer = &built.layers[im];
-            d.dots.iter().any(|&(x, y, _)| d.amplitude + m.amplitude * mask_at(layer, x, y) > 1.0 + SUM_SLACK)
+            // Eq. 1 at the centre and on rings across the dot's slope: a
+            // layer cut out under the dot (hidden by the painted circle)
+            // may still reach under its edge.
+            d.dots.iter().any(|&(x, y, r)| {
+                DOT_PROBES.iter().any(|&(u, v)| {
+                    let (px, py) = (x + u * r, y + v * r);
+                    let dot = crate::preview::dot_profile(u.hypot(v));
+                    d.amplitude * dot + m.amplitude * mask_at(layer, px, py) > 1.0 + SUM_SLACK
+                })
+            })
         }
         (None, None) => {
             let mut n = 0usize;

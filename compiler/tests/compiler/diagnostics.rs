@@ -232,11 +232,17 @@ fn design_rules_between_elements() {
     assert_code(&page(&six), "T0409", Severity::Warning);
     assert_code(
         &page(
-            r#"<rect x="5" y="5" width="40" height="40" data-tactile="grating(wavelength: 6mm, angle: 0deg)"/><circle cx="25" cy="25" r="1" data-tactile="dot()"/>"#,
+            r#"<rect x="5" y="5" width="40" height="40" data-tactile="grating(wavelength: 6mm, angle: 0deg)"/><circle cx="25" cy="25" r="1" data-tactile="dot(radius: 2mm)"/>"#,
         ),
         "T0410",
         Severity::Warning,
     );
+    // The circle painted over the grating hides it there: a dot no larger
+    // than the circle overlaps nothing.
+    let hidden = codes(&page(
+        r#"<rect x="5" y="5" width="40" height="40" data-tactile="grating(wavelength: 6mm, angle: 0deg)"/><circle cx="25" cy="25" r="1" data-tactile="dot()"/>"#,
+    ));
+    assert!(!hidden.contains(&"T0410"), "{hidden:?}");
 }
 
 #[test]

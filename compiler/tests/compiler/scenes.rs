@@ -53,6 +53,42 @@ fn tactile_icon_keeps_grating_out_of_the_vibrating_band() {
 }
 
 #[test]
+fn a_grated_sea_is_not_felt_under_the_opaque_land_painted_over_it() {
+    // A map as drawn: the sea is one rectangle under everything, the land is painted over it.
+    let c = compile(&page(
+        r##"<rect id="sea" x="5" y="5" width="90" height="50" fill="#a6cee3" data-tactile="grating(wavelength: 3mm, angle: 90deg)"/>
+<rect id="land" x="20" y="15" width="30" height="30" fill="#ccebc5" data-tactile="grating(wavelength: 9mm, angle: 0deg)"/>
+<circle id="isle" cx="75" cy="30" r="8" fill="white"/>"##,
+    ));
+    let m = masks(bundle(&c));
+    let (sea, land) = (m[0], m[1]);
+    let MaskKind::Grating { wavelength, .. } = sea.kind else { panic!("{:?}", sea.kind) };
+    assert_eq!(wavelength.0, 3.0);
+    // The sea is felt on open water, and not under the land nor under the unstyled white isle.
+    assert!(sample(sea, 10.0, 30.0) > 0.99);
+    assert!(sample(sea, 35.0, 30.0) == 0.0 && sample(land, 35.0, 30.0) > 0.99);
+    assert!(sample(sea, 75.0, 30.0) == 0.0);
+    // The cut follows the land's edge: 0.3 mm either side of it.
+    assert!(sample(sea, 19.7, 30.0) > 0.99 && sample(sea, 20.3, 30.0) == 0.0);
+    assert!(sample(sea, 75.0 + 8.3, 30.0) > 0.99 && sample(sea, 75.0 + 7.7, 30.0) == 0.0);
+    assert!(with_code(&c, "T0410").is_empty(), "{:?}", c.diagnostics);
+}
+
+#[test]
+fn a_fill_between_two_shapes_of_one_style_hides_nothing_and_the_overlap_is_reported() {
+    // `mid` is painted over `low` and under `top`, which share a style: the
+    // style is one layer, which cannot be both above and below `mid`.
+    let c = compile(&page(
+        r##"<rect id="low" x="10" y="10" width="30" height="30" fill="#a6cee3" data-tactile="grating(wavelength: 3mm, angle: 90deg)"/>
+<rect id="mid" x="20" y="20" width="30" height="30" fill="#ccebc5" data-tactile="grating(wavelength: 9mm, angle: 0deg)"/>
+<rect id="top" x="45" y="25" width="20" height="20" fill="#a6cee3" data-tactile="grating(wavelength: 3mm, angle: 90deg)"/>"##,
+    ));
+    let m = masks(bundle(&c));
+    assert!(sample(m[0], 30.0, 30.0) > 0.99 && sample(m[1], 30.0, 30.0) > 0.99);
+    assert!(!with_code(&c, "T0410").is_empty(), "{:?}", c.diagnostics);
+}
+
+#[test]
 fn dots_along_a_path_never_overlap() {
     let c = compile(&page(
         r#"<path id="route" d="M 10 30 L 90 30" stroke="black" data-tactile="dots(radius: 1mm, spacing: 4mm)"/>"#,
