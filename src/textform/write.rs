@@ -52,19 +52,7 @@ pub fn unpack(name: &str, bytes: &[u8]) -> Result<Vec<(String, Vec<u8>)>, TextEr
                     f32_text(mk.origin_y.0),
                     f32_text(mk.px_per_mm)
                 );
-                match mk.kind {
-                    MaskKind::Vibration { freq } => {
-                        let _ = writeln!(toml, "freq_mhz = {}", freq.0);
-                    }
-                    MaskKind::Grating { wavelength, angle_deg } => {
-                        let _ = writeln!(
-                            toml,
-                            "wavelength_mm = {}\nangle_deg = {}",
-                            f32_text(wavelength.0),
-                            f32_text(angle_deg)
-                        );
-                    }
-                }
+                kind_params(&mut toml, mk.kind);
                 let data = png::encode(&file, mk.width, mk.height, &mk.samples)?;
                 (file, data)
             }
@@ -105,19 +93,7 @@ pub fn unpack(name: &str, bytes: &[u8]) -> Result<Vec<(String, Vec<u8>)>, TextEr
                     d.tile_cols,
                     d.tile_rows
                 );
-                match d.kind {
-                    MaskKind::Vibration { freq } => {
-                        let _ = writeln!(toml, "freq_mhz = {}", freq.0);
-                    }
-                    MaskKind::Grating { wavelength, angle_deg } => {
-                        let _ = writeln!(
-                            toml,
-                            "wavelength_mm = {}\nangle_deg = {}",
-                            f32_text(wavelength.0),
-                            f32_text(angle_deg)
-                        );
-                    }
-                }
+                kind_params(&mut toml, d.kind);
                 let mut csv = String::new();
                 for row in d.tiles.chunks(d.tile_cols.max(1) as usize) {
                     let line: Vec<String> = row.iter().map(|t| t.to_string()).collect();
@@ -180,6 +156,18 @@ pub fn unpack(name: &str, bytes: &[u8]) -> Result<Vec<(String, Vec<u8>)>, TextEr
 }
 
 /// `tag = "XTRA"` for a printable tag, `tag_hex = "..."` otherwise.
+/// A vibration's or grating's parameters, as TOML lines.
+fn kind_params(toml: &mut String, kind: MaskKind) {
+    match kind {
+        MaskKind::Vibration { freq } => {
+            let _ = writeln!(toml, "freq_mhz = {}", freq.0);
+        }
+        MaskKind::Grating { wavelength, angle_deg } => {
+            let _ = writeln!(toml, "wavelength_mm = {}\nangle_deg = {}", f32_text(wavelength.0), f32_text(angle_deg));
+        }
+    }
+}
+
 fn tag_text(tag: Tag) -> String {
     if tag.0.iter().all(|b| b.is_ascii_graphic() && *b != b'"' && *b != b'\\') {
         format!("tag = \"{tag}\"")
