@@ -26,7 +26,7 @@ pub fn run(cli: Cli) -> CmdResult {
         }
         Some(Command::Check { inputs, opts, format, verbose }) => check::run(&inputs, &opts, format, verbose),
         Some(Command::Style { sheet, input, opts }) => style::run(sheet, input.as_deref(), &opts),
-        Some(Command::Inspect { bundle, format }) => inspect::run(&bundle, format),
+        Some(Command::Inspect { bundle, format, at }) => inspect::run(&bundle, format, at),
         Some(Command::Pack { dir, out }) => pack::run(&dir, &out),
         Some(Command::Unpack { bundle, out }) => unpack::run(&bundle, &out),
         Some(Command::Export { bundle, format, out }) => export::run(&bundle, format, &out),
