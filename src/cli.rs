@@ -227,6 +227,11 @@ pub enum Command {
         /// Output: FRAMES.csv, MOTORS.csv or DRIVE.wav (standard output when omitted).
         #[arg(long, short = 'o')]
         out: Option<PathBuf>,
+        /// Also write what the finger touched along the trace (laterotactile bundles with
+        /// footprints): one row `tick,x_mm,y_mm,element,id,line` each time the element
+        /// under the carrier changes.
+        #[arg(long, value_name = "ELEMENTS.csv")]
+        elements: Option<PathBuf>,
     },
     /// Report error against run time over a ladder of settings.
     Report {

@@ -86,7 +86,7 @@ pub fn pack(read: &dyn Fn(&str) -> Result<Vec<u8>, TextError>) -> Result<Vec<u8>
     let mut bundle = Bundle::new(manifest);
     // Every kind's keys are checked once its kind is known.
     let any_keys: Vec<&str> =
-        [MASK_KEYS, FIELD_KEYS, DOTS_KEYS, HEIGHT_KEYS, RAW_KEYS, super::pins::PINS_KEYS].concat();
+        [MASK_KEYS, FIELD_KEYS, DOTS_KEYS, HEIGHT_KEYS, RAW_KEYS, FOOTPRINT_KEYS, super::pins::PINS_KEYS].concat();
     let mut files = Vec::new();
     for c in root.tables("chunk", &any_keys)? {
         bundle.chunks.push(chunk(&c, read)?);

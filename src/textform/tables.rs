@@ -126,7 +126,8 @@ pub fn parse_footprints(file: &str, bytes: &[u8]) -> Result<Vec<Footprint>, Text
             }
             _ if i == n => shapes.push(Footprint { source, kind, half_width, rings: vec![ring] }),
             _ => {
-                return Err(f.err(0, &format!("{} or {n} (shapes are numbered from 0, in order)", n.saturating_sub(1))));
+                let expected = if n == 0 { "0".to_string() } else { format!("{} or {n}", n - 1) };
+                return Err(f.err(0, &format!("{expected} (shapes are numbered from 0, in order)")));
             }
         }
     }

@@ -6,6 +6,7 @@ mod compile;
 mod device;
 mod examples;
 mod finger;
+mod lookup;
 mod format;
 mod outputs;
 mod pins;

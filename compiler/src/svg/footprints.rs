@@ -62,7 +62,8 @@ impl Pending {
 /// the order they were rendered in), quantised from the smallest corner.
 pub(crate) fn chunk(mut pending: Vec<Pending>) -> Option<Footprints> {
     pending.retain(|p| p.rings.iter().flatten().all(|q| q.0.is_finite() && q.1.is_finite()));
-    pending.sort_by_key(|p| p.order);
+    // Within one element, its fill lies below its outline and dots (SVG paints fill, then stroke).
+    pending.sort_by_key(|p| (p.order, !p.kind.is_area()));
     let pts = || pending.iter().flat_map(|p| p.rings.iter().flatten());
     let (x0, y0) = pts().fold((f64::MAX, f64::MAX), |a, p| (a.0.min(p.0), a.1.min(p.1)));
     let (x1, y1) = pts().fold((f64::MIN, f64::MIN), |a, p| (a.0.max(p.0), a.1.max(p.1)));
