@@ -278,9 +278,11 @@ impl<'a> FootprintView<'a> {
         let u = |o| u32_at(d, o).unwrap_or(0);
         let f = |o| f32_at(d, o).unwrap_or(f32::NAN);
         let (n, r, p) = (u(0), u(4), u(8));
-        for (field, value, limit) in
-            [("shapes", n, MAX_FOOTPRINT_SHAPES), ("rings", r, MAX_FOOTPRINT_RINGS), ("points", p, MAX_FOOTPRINT_POINTS)]
-        {
+        for (field, value, limit) in [
+            ("shapes", n, MAX_FOOTPRINT_SHAPES),
+            ("rings", r, MAX_FOOTPRINT_RINGS),
+            ("points", p, MAX_FOOTPRINT_POINTS),
+        ] {
             if value > limit {
                 return Err(FormatError::Limit { tag, field, value: value as u64, limit: limit as u64 });
             }

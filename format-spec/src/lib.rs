@@ -39,13 +39,13 @@ mod dots;
 mod error;
 mod footprint;
 mod height;
+#[cfg(feature = "std")]
+pub mod lookup;
 mod manifest;
 mod mask;
 mod model;
 mod pins;
 mod profile;
-#[cfg(feature = "std")]
-pub mod lookup;
 #[cfg(feature = "std")]
 pub mod profiles;
 mod provenance;

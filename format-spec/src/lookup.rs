@@ -71,7 +71,11 @@ impl PointLookup {
     }
 
     /// The lookup of a footprint chunk and the provenance it refers to.
-    pub fn from_views(footprints: &FootprintView<'_>, provenance: Option<ProvenanceView<'_>>, tolerance_mm: f64) -> Self {
+    pub fn from_views(
+        footprints: &FootprintView<'_>,
+        provenance: Option<ProvenanceView<'_>>,
+        tolerance_mm: f64,
+    ) -> Self {
         let tolerance = if tolerance_mm.is_finite() { tolerance_mm.max(0.0) } else { 0.0 };
         let mut shapes = Vec::with_capacity(footprints.len() as usize);
         let mut boxes = Vec::new();

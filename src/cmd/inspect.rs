@@ -74,7 +74,12 @@ fn human_under(r: &Value) -> String {
         out += &format!("  line    {line}\n");
     }
     for l in e["layers"].as_array().into_iter().flatten() {
-        out += &format!("  layer   #{} {} ({})\n", l["index"], l["tag"].as_str().unwrap_or("?"), l["kind"].as_str().unwrap_or("?"));
+        out += &format!(
+            "  layer   #{} {} ({})\n",
+            l["index"],
+            l["tag"].as_str().unwrap_or("?"),
+            l["kind"].as_str().unwrap_or("?")
+        );
     }
     out
 }

@@ -137,7 +137,8 @@ fn chunk(c: &Table<'_, '_>, read: &dyn Fn(&str) -> Result<Vec<u8>, TextError>) -
         }
     };
     // Keys that belong to another kind are refused by name.
-    for k in [MASK_KEYS, FIELD_KEYS, DOTS_KEYS, HEIGHT_KEYS, RAW_KEYS, FOOTPRINT_KEYS, super::pins::PINS_KEYS].concat() {
+    for k in [MASK_KEYS, FIELD_KEYS, DOTS_KEYS, HEIGHT_KEYS, RAW_KEYS, FOOTPRINT_KEYS, super::pins::PINS_KEYS].concat()
+    {
         if c.has(k) && !allowed.contains(&k) {
             return Err(c.err(k, format!("not a key of a {kind} chunk, expected one of: {}", allowed.join(", "))));
         }

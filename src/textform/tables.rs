@@ -5,8 +5,8 @@
 use std::fmt::Write as _;
 
 use taxel_format::{
-    ActuatorIndex, Dot, Drive, Footprint, FootprintKind, FIELD_CONTACT, FIELD_EDGE, HeightField, MilliHertz, Mm, Provenance, ProvenanceEntry,
-    Stroke, StrokePoint, StrokeTable, Tick,
+    ActuatorIndex, Dot, Drive, FIELD_CONTACT, FIELD_EDGE, Footprint, FootprintKind, HeightField, MilliHertz, Mm,
+    Provenance, ProvenanceEntry, Stroke, StrokePoint, StrokeTable, Tick,
 };
 
 use super::error::TextError;

@@ -82,7 +82,8 @@ pub(crate) fn chunk(mut pending: Vec<Pending>) -> Option<Footprints> {
                 .rings
                 .iter()
                 .map(|r| {
-                    let mut out: Vec<(u16, u16)> = r.iter().map(|&(x, y)| (quant(x, origin.0), quant(y, origin.1))).collect();
+                    let mut out: Vec<(u16, u16)> =
+                        r.iter().map(|&(x, y)| (quant(x, origin.0), quant(y, origin.1))).collect();
                     out.dedup();
                     out
                 })
@@ -121,7 +122,9 @@ fn simplify(points: &[(f64, f64)], closed: bool) -> Vec<(f64, f64)> {
     if closed {
         // The farthest point from the first splits the ring into two chains.
         let far = (1..points.len())
-            .max_by(|&a, &b| crate::geometry::dist(points[0], points[a]).total_cmp(&crate::geometry::dist(points[0], points[b])))
+            .max_by(|&a, &b| {
+                crate::geometry::dist(points[0], points[a]).total_cmp(&crate::geometry::dist(points[0], points[b]))
+            })
             .unwrap_or(last);
         keep[far] = true;
         stack = vec![(0, far), (far, last)];
@@ -152,8 +155,7 @@ mod tests {
 
     #[test]
     fn simplify_keeps_corners_and_drops_collinear_points() {
-        let square: Vec<(f64, f64)> =
-            vec![(0.0, 0.0), (5.0, 0.0), (10.0, 0.0), (10.0, 10.0), (5.0, 10.0), (0.0, 10.0)];
+        let square: Vec<(f64, f64)> = vec![(0.0, 0.0), (5.0, 0.0), (10.0, 0.0), (10.0, 10.0), (5.0, 10.0), (0.0, 10.0)];
         assert_eq!(simplify(&square, true), vec![(0.0, 0.0), (10.0, 0.0), (10.0, 10.0), (0.0, 10.0)]);
         let line: Vec<(f64, f64)> = (0..=10).map(|i| (i as f64, 0.01 * (i % 2) as f64)).collect();
         assert_eq!(simplify(&line, false), vec![(0.0, 0.0), (10.0, 0.0)]);
