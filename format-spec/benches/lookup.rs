@@ -8,7 +8,9 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use taxel_format::lookup::PointLookup;
-use taxel_format::{Bundle, BundleView, Chunk, Footprint, FootprintKind, Footprints, Provenance, ProvenanceEntry, sample};
+use taxel_format::{
+    Bundle, BundleView, Chunk, Footprint, FootprintKind, Footprints, Provenance, ProvenanceEntry, sample,
+};
 
 /// 2,000 squares of 1 x 1.5 mm (hexagon-like 6-point rings) in a 80 x 25 grid
 /// and a 40-point polyline beside each row of them.
@@ -40,7 +42,8 @@ fn bench(c: &mut Criterion) {
     let bytes = scene();
     let view = BundleView::parse(&bytes).expect("valid");
     let lookup = PointLookup::new(&view, PointLookup::DEFAULT_TOLERANCE_MM).expect("footprints");
-    let probes: Vec<(f64, f64)> = (0..64).map(|k| (1.0 + (k as f64 * 1.7) % 108.0, 1.0 + (k as f64 * 0.9) % 58.0)).collect();
+    let probes: Vec<(f64, f64)> =
+        (0..64).map(|k| (1.0 + (k as f64 * 1.7) % 108.0, 1.0 + (k as f64 * 0.9) % 58.0)).collect();
     let mut g = c.benchmark_group("lookup");
     g.bench_function("build index, 2,025 shapes", |b| {
         b.iter(|| PointLookup::new(black_box(&view), PointLookup::DEFAULT_TOLERANCE_MM))

@@ -1,8 +1,9 @@
 //! The footprints chunk (`FOOT`, SPEC.md section 10.1): where each source
 //! element lies on the surface, for the host's point lookup. Each rendered
 //! style of an element gives one shape: a grated region its fill, a
-//! vibrating outline its centre lines with half the band's width, dots and
-//! braille their discs, a brushed stroke its path. Outlines are simplified
+//! vibrating outline its centre lines with half the band's width, dots
+//! their discs, a braille text the box around its cells, a brushed stroke
+//! its path. Outlines are simplified
 //! (Douglas–Peucker, [`SIMPLIFY_MM`]) and quantised to 16-bit coordinates.
 
 use taxel_format::{Footprint, FootprintKind, Footprints};
@@ -43,6 +44,18 @@ impl Pending {
     pub fn band(order: usize, source: u32, outline: &[Polyline], half_width_mm: f64) -> Option<Self> {
         let rings: Vec<_> = outline.iter().map(|p| simplify(&p.walked(), false)).filter(|r| !r.is_empty()).collect();
         (!rings.is_empty()).then_some(Pending { order, source, kind: FootprintKind::Line, half_width_mm, rings })
+    }
+
+    /// A rectangle `(x0, y0, x1, y1)` as a region (a braille text's box, so
+    /// that a finger between its dots still finds it).
+    pub fn rect(order: usize, source: u32, (x0, y0, x1, y1): (f64, f64, f64, f64)) -> Option<Self> {
+        (x0 < x1 && y0 < y1).then(|| Pending {
+            order,
+            source,
+            kind: FootprintKind::AreaNonZero,
+            half_width_mm: 0.0,
+            rings: vec![vec![(x0, y0), (x1, y0), (x1, y1), (x0, y1)]],
+        })
     }
 
     /// Discs of one radius.

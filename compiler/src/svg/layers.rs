@@ -518,9 +518,12 @@ fn dot_feature(b: &mut Built, job: DotJob<'_>, pts: &[(f64, f64)], page: Page, d
     }
     let source = b.source(e);
     b.push_dots(kind, &pts, radius, amplitude, source);
-    b.footprints.extend(FootPending::discs(order, source, &pts, radius));
     let (x0, y0, x1, y1) = pts.iter().fold((f64::MAX, f64::MAX, f64::MIN, f64::MIN), |a, p| {
         (a.0.min(p.0), a.1.min(p.1), a.2.max(p.0), a.3.max(p.1))
+    });
+    b.footprints.extend(match kind {
+        DotKind::Braille => FootPending::rect(order, source, (x0 - radius, y0 - radius, x1 + radius, y1 + radius)),
+        _ => FootPending::discs(order, source, &pts, radius),
     });
     b.features.push(Feature {
         elem: source as usize,

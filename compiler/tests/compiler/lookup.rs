@@ -63,3 +63,24 @@ fn under_fit_footprints_are_in_surface_millimetres() {
     let got = names(svg, &opts, &[(20.0, 20.0), (50.0, 50.0)]);
     assert_eq!(got, [Some("square".to_string()), None]);
 }
+
+#[test]
+fn a_finger_between_braille_dots_finds_the_text() {
+    let svg = page(r#"<text id="key" x="20" y="30" data-tactile="braille()">key</text>"#);
+    let c = no_internal_error(compile_svg(&svg, &CompileOptions::new(stress2())));
+    let b = bundle(&c);
+    let dots = dots(b, taxel_format::DotKind::Braille).expect("braille dots");
+    let pts: Vec<(f64, f64, f64)> = dots.dots.iter().map(|d| (d.x.0 as f64, d.y.0 as f64, d.radius.0 as f64)).collect();
+    let (x0, x1) = pts.iter().fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.0), a.1.max(p.0)));
+    let (y0, y1) = pts.iter().fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.1), a.1.max(p.1)));
+    // A point inside the dots' box but farther from every dot than its radius plus the tolerance.
+    let far = |x: f64, y: f64| pts.iter().all(|p| (p.0 - x).hypot(p.1 - y) > p.2 + PointLookup::DEFAULT_TOLERANCE_MM);
+    let probe = (0..=40)
+        .flat_map(|i| (0..=40).map(move |j| (x0 + (x1 - x0) * i as f64 / 40.0, y0 + (y1 - y0) * j as f64 / 40.0)))
+        .find(|&(x, y)| far(x, y))
+        .expect("a gap between the dots");
+    let bytes = b.to_bytes().unwrap();
+    let lookup = PointLookup::new(&BundleView::parse(&bytes).unwrap(), PointLookup::DEFAULT_TOLERANCE_MM).unwrap();
+    assert_eq!(lookup.under(probe.0, probe.1).map(|h| h.name()), Some("key".to_string()), "{probe:?}");
+    assert_eq!(lookup.under(x1 + 5.0, y0).map(|h| h.name()), None);
+}
