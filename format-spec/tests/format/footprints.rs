@@ -199,3 +199,22 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn every_truncation_is_refused_and_every_bit_flip_reads_or_is_refused() {
+    let good = foot(0.1, (0.0, 0.0), &scene());
+    for len in 0..good.len() {
+        assert!(BundleView::parse(&bundle_with(good[..len].to_vec(), false)).is_err(), "cut at {len}");
+    }
+    for bit in 0..good.len() * 8 {
+        let mut d = good.clone();
+        d[bit / 8] ^= 1 << (bit % 8);
+        // Resealed, so the chunk's own checks are reached; a flip that still
+        // reads must give a lookup that answers without panicking.
+        if let Ok(view) = BundleView::parse(&bundle_with(d, false)) {
+            let lookup = PointLookup::new(&view, 0.5).unwrap();
+            let _ = lookup.under(15.0, 15.0);
+            assert_eq!(Bundle::from_view(&view).to_bytes().unwrap(), view.bytes());
+        }
+    }
+}
