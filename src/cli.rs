@@ -101,6 +101,16 @@ fn parse_region(s: &str) -> Result<taxel_compiler::Region, String> {
     s.parse()
 }
 
+/// A surface point `X,Y` in mm.
+pub fn parse_point(s: &str) -> Result<(f64, f64), String> {
+    let bad = || format!("`{s}` is not a point X,Y in mm (such as 30,20.5)");
+    let (x, y) = s.split_once(',').ok_or_else(bad)?;
+    match (x.trim().parse::<f64>(), y.trim().parse::<f64>()) {
+        (Ok(x), Ok(y)) if x.is_finite() && y.is_finite() => Ok((x, y)),
+        _ => Err(bad()),
+    }
+}
+
 fn parse_exaggerate(s: &str) -> Result<f64, String> {
     match s.trim().parse::<f64>() {
         Ok(f) if f.is_finite() && f > 0.0 && f <= 1e6 => Ok(f),
@@ -166,6 +176,9 @@ pub enum Command {
         /// Output format.
         #[arg(long, value_enum, default_value_t)]
         format: Format,
+        /// Name the element under this surface point (mm, x right, y down) instead.
+        #[arg(long, value_name = "X,Y", value_parser = parse_point)]
+        at: Option<(f64, f64)>,
     },
     /// Turn an unpacked folder back into a bundle.
     Pack {
@@ -214,6 +227,11 @@ pub enum Command {
         /// Output: FRAMES.csv, MOTORS.csv or DRIVE.wav (standard output when omitted).
         #[arg(long, short = 'o')]
         out: Option<PathBuf>,
+        /// Also write what the finger touched along the trace (laterotactile bundles with
+        /// footprints): one row `tick,x_mm,y_mm,element,id,line` each time the element
+        /// under the carrier changes.
+        #[arg(long, value_name = "ELEMENTS.csv")]
+        elements: Option<PathBuf>,
     },
     /// Report error against run time over a ladder of settings.
     Report {

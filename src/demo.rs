@@ -110,7 +110,11 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
     // The preview is drawn from the bundle alone, as `taxel preview B.taxel` does.
     let picture = taxel_compiler::preview::render_bundle(&bundle, None);
     io::write_file(&out.join("previews").join(format!("{}.png", s.name)), &io::png::encode_picture(&picture)?)?;
-    let layers = bundle.chunks.iter().filter(|c| !matches!(c, Chunk::Provenance(_) | Chunk::Raw(_))).count();
+    let layers = bundle
+        .chunks
+        .iter()
+        .filter(|c| !matches!(c, Chunk::Provenance(_) | Chunk::Footprints(_) | Chunk::Raw(_)))
+        .count();
     let trace = s.trace.as_ref().map(|t| examples.join(t));
     match bundle.manifest.profile.family() {
         Family::Laterotactile => {

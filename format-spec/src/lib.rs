@@ -37,7 +37,10 @@ mod container;
 mod distance;
 mod dots;
 mod error;
+mod footprint;
 mod height;
+#[cfg(feature = "std")]
+pub mod lookup;
 mod manifest;
 mod mask;
 mod model;
@@ -60,6 +63,10 @@ pub use distance::{
 };
 pub use dots::{Dot, DotGrid, DotKind, DotRun, DotTable, DotTableView, MAX_DOT_GRID_CELLS, MAX_DOTS};
 pub use error::FormatError;
+pub use footprint::{
+    Footprint, FootprintKind, FootprintRing, FootprintShape, FootprintView, Footprints, MAX_FOOTPRINT_POINTS,
+    MAX_FOOTPRINT_RINGS, MAX_FOOTPRINT_SHAPES,
+};
 pub use height::{CellNodes, FIELD_CONTACT, FIELD_EDGE, HeightField, HeightFieldView, MAX_FIELD_NODES, MAX_FIELD_SIDE};
 pub use manifest::{MANIFEST_LEN, Manifest};
 pub use mask::{MAX_MASK_SAMPLES, MAX_MASK_SIDE, MaskKind, MaskLayer, MaskSamples, MaskView};
@@ -102,6 +109,8 @@ impl Tag {
     pub const PINS: Tag = Tag(*b"PINS");
     /// Provenance: SVG ids, titles and labels. Optional, at most once.
     pub const PROVENANCE: Tag = Tag(*b"PROV");
+    /// Footprints: where each provenance entry lies, for the point lookup. Optional, at most once (format 2.1).
+    pub const FOOTPRINTS: Tag = Tag(*b"FOOT");
     /// Stands for the header itself in file-level errors.
     pub const HEADER: Tag = Tag(*b"HEAD");
 

@@ -7,6 +7,7 @@ use crate::container::{self, Encoded};
 use crate::distance::DistanceLayer;
 use crate::dots::DotTable;
 use crate::error::FormatError;
+use crate::footprint::Footprints;
 use crate::height::HeightField;
 use crate::manifest::Manifest;
 use crate::mask::MaskLayer;
@@ -44,6 +45,8 @@ pub enum Chunk {
     Pins(PinImage),
     /// Provenance (`PROV`).
     Provenance(Provenance),
+    /// Footprints of the provenance entries (`FOOT`, format 2.1).
+    Footprints(Footprints),
     /// Anything else, kept as it was.
     Raw(RawChunk),
 }
@@ -59,6 +62,7 @@ impl Chunk {
             Chunk::Height(_) => Tag::HEIGHT,
             Chunk::Pins(_) => Tag::PINS,
             Chunk::Provenance(_) => Tag::PROVENANCE,
+            Chunk::Footprints(_) => Tag::FOOTPRINTS,
             Chunk::Raw(r) => r.tag,
         }
     }
@@ -80,11 +84,19 @@ impl Bundle {
     }
 
     /// The canonical encoding, as format version
-    /// [`FORMAT_MAJOR`](crate::FORMAT_MAJOR).[`FORMAT_MINOR`](crate::FORMAT_MINOR).
+    /// [`FORMAT_MAJOR`](crate::FORMAT_MAJOR).*m*, where *m* is the lowest
+    /// minor version that has every chunk of the bundle (SPEC.md section 12):
+    /// 1 with footprints, else 0, so that a bundle without them stays
+    /// byte for byte what 2.0 wrote.
     /// The result is checked with the reader before it is returned, so a
     /// bundle that the writer accepts always reads back.
     pub fn to_bytes(&self) -> Result<Vec<u8>, FormatError> {
-        self.to_bytes_with_minor(crate::FORMAT_MINOR)
+        self.to_bytes_with_minor(self.lowest_minor())
+    }
+
+    /// The lowest minor version that defines every chunk of the bundle.
+    pub fn lowest_minor(&self) -> u16 {
+        if self.chunks.iter().any(|c| matches!(c, Chunk::Footprints(_))) { 1 } else { 0 }
     }
 
     /// The canonical encoding with minor version `minor` in the header: for
@@ -112,6 +124,7 @@ impl Bundle {
                 Chunk::Height(h) => Encoded { tag: Tag::HEIGHT, required: true, data: h.encode() },
                 Chunk::Pins(p) => Encoded { tag: Tag::PINS, required: true, data: p.encode() },
                 Chunk::Provenance(p) => Encoded { tag: Tag::PROVENANCE, required: false, data: p.encode() },
+                Chunk::Footprints(f) => Encoded { tag: Tag::FOOTPRINTS, required: false, data: f.encode() },
                 Chunk::Raw(r) => Encoded { tag: r.tag, required: r.required, data: r.data.clone() },
             });
         }
@@ -132,6 +145,7 @@ impl Bundle {
                 ChunkView::Height(h) => Chunk::Height(HeightField::from_view(&h)),
                 ChunkView::Pins(p) => Chunk::Pins(PinImage::from_view(&p)),
                 ChunkView::Provenance(p) => Chunk::Provenance(Provenance::from_view(&p)),
+                ChunkView::Footprints(f) => Chunk::Footprints(Footprints::from_view(&f)),
                 ChunkView::Unknown { tag, required, data } => {
                     Chunk::Raw(RawChunk { tag, required, data: data.to_vec() })
                 }
@@ -149,6 +163,14 @@ impl Bundle {
     pub fn pin_image(&self) -> Option<&PinImage> {
         self.chunks.iter().find_map(|c| match c {
             Chunk::Pins(p) => Some(p),
+            _ => None,
+        })
+    }
+
+    /// The footprints, if the bundle has them.
+    pub fn footprints(&self) -> Option<&Footprints> {
+        self.chunks.iter().find_map(|c| match c {
+            Chunk::Footprints(f) => Some(f),
             _ => None,
         })
     }

@@ -5,6 +5,7 @@ use crate::container;
 use crate::distance::DistanceView;
 use crate::dots::DotTableView;
 use crate::error::FormatError;
+use crate::footprint::FootprintView;
 use crate::height::HeightFieldView;
 use crate::manifest::Manifest;
 use crate::mask::MaskView;
@@ -45,6 +46,8 @@ pub enum ChunkView<'a> {
     Pins(PinImageView<'a>),
     /// The provenance table.
     Provenance(ProvenanceView<'a>),
+    /// The provenance entries' footprints (format 2.1).
+    Footprints(FootprintView<'a>),
     /// An optional chunk this reader does not know.
     Unknown {
         /// Its tag.
@@ -67,7 +70,7 @@ fn known_required(tag: Tag) -> Option<bool> {
         | Tag::STROKES
         | Tag::HEIGHT
         | Tag::PINS => Some(true),
-        Tag::PROVENANCE => Some(false),
+        Tag::PROVENANCE | Tag::FOOTPRINTS => Some(false),
         _ => None,
     }
 }
@@ -79,6 +82,7 @@ impl<'a> BundleView<'a> {
         let mut manifest = None;
         let mut seen_provenance = false;
         let mut seen_pins = false;
+        let mut seen_footprints = false;
         for index in 0..count {
             let e = container::entry(bytes, index).ok_or(FormatError::MissingManifest)?;
             let data = &bytes[e.offset..e.offset + e.length];
@@ -114,6 +118,12 @@ impl<'a> BundleView<'a> {
                 }
                 seen_provenance = true;
             }
+            if e.tag == Tag::FOOTPRINTS {
+                if seen_footprints {
+                    return Err(FormatError::ChunkOrder { index, tag: e.tag, rule: "at most one footprint chunk" });
+                }
+                seen_footprints = true;
+            }
             // A pin-matrix bundle holds one pin image and no other layer.
             let pins_family = m.profile.family() == Family::Pins;
             if e.tag == Tag::PINS {
@@ -121,11 +131,11 @@ impl<'a> BundleView<'a> {
                     return Err(FormatError::ChunkOrder { index, tag: e.tag, rule: "at most one pin image" });
                 }
                 seen_pins = true;
-            } else if pins_family && e.tag != Tag::PROVENANCE {
+            } else if pins_family && e.tag != Tag::PROVENANCE && e.tag != Tag::FOOTPRINTS {
                 return Err(FormatError::ChunkOrder {
                     index,
                     tag: e.tag,
-                    rule: "a pin-matrix bundle holds only a pin image and provenance",
+                    rule: "a pin-matrix bundle holds only a pin image, provenance and footprints",
                 });
             }
             parse_chunk(e.tag, data, index, &m.profile, true)?;
@@ -186,6 +196,14 @@ impl<'a> BundleView<'a> {
         })
     }
 
+    /// The footprints of the provenance entries, if any (format 2.1).
+    pub fn footprints(&self) -> Option<FootprintView<'a>> {
+        self.chunks().find_map(|c| match c {
+            ChunkView::Footprints(f) => Some(f),
+            _ => None,
+        })
+    }
+
     /// The provenance table, if any.
     pub fn provenance(&self) -> Option<ProvenanceView<'a>> {
         self.chunks().find_map(|c| match c {
@@ -212,6 +230,7 @@ fn parse_chunk<'a>(
         Tag::STROKES => ChunkView::Strokes(StrokeTableView::parse(data, index, actuators, full)?),
         Tag::HEIGHT => ChunkView::Height(HeightFieldView::parse(data, index, full)?),
         Tag::PROVENANCE => ChunkView::Provenance(ProvenanceView::parse(data, index, full)?),
+        Tag::FOOTPRINTS => ChunkView::Footprints(FootprintView::parse(data, index, full)?),
         Tag::PINS => ChunkView::Pins(PinImageView::parse(data, index, profile, full)?),
         _ => return Ok(None),
     }))

@@ -1,11 +1,13 @@
 //! `taxel inspect BUNDLE [--format human|json]`: what a bundle holds —
 //! profile, surface, version, content hash, and each chunk with its kind,
-//! parameters, provenance and size.
+//! parameters, provenance and size. With `--at X,Y`, the element under that
+//! surface point instead (the footprints' point lookup, SPEC.md section 10.1).
 
 use std::collections::BTreeSet;
 use std::path::Path;
 
 use serde_json::{Value, json};
+use taxel_format::lookup::PointLookup;
 use taxel_format::{BundleView, ChunkView, FamilyParams, MaskKind, ProvenanceView};
 
 use crate::cli::Format;
@@ -13,14 +15,73 @@ use crate::error::{CliError, CmdResult};
 use crate::io::read_bundle;
 use crate::io::stdout::{self, outln};
 
-pub fn run(path: &Path, format: Format) -> CmdResult {
+pub fn run(path: &Path, format: Format, at: Option<(f64, f64)>) -> CmdResult {
     let bytes = read_bundle(path)?;
     let view = BundleView::parse(&bytes).map_err(|e| CliError::input(anyhow::anyhow!("{}: {e}", path.display())))?;
     let report = describe(&view);
+    if let Some(point) = at {
+        let found = under(path, &view, &report, point)?;
+        return match format {
+            Format::Json => outln!("{}", serde_json::to_string_pretty(&found).map_err(anyhow::Error::new)?),
+            Format::Human => stdout::print(&human_under(&found)),
+        };
+    }
     match format {
         Format::Json => outln!("{}", serde_json::to_string_pretty(&report).map_err(anyhow::Error::new)?),
         Format::Human => stdout::print(&human(path, &report)),
     }
+}
+
+/// What lies under `(x, y)`: the topmost element, with the chunks (layers) that hold it.
+fn under(path: &Path, view: &BundleView<'_>, report: &Value, (x, y): (f64, f64)) -> Result<Value, CliError> {
+    let lookup = PointLookup::new(view, PointLookup::DEFAULT_TOLERANCE_MM).ok_or_else(|| {
+        CliError::input(anyhow::anyhow!(
+            "{}: this bundle has no footprints (chunk FOOT, format 2.1), so it cannot say what lies under a point; \
+             rebuild it from its drawing with `taxel build`",
+            path.display()
+        ))
+    })?;
+    let Some(hit) = lookup.under(x, y) else {
+        return Ok(json!({ "at_mm": [x, y], "element": null }));
+    };
+    let layers: Vec<Value> = report["chunks"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter(|c| {
+            c["sources"].as_array().is_some_and(|s| s.iter().any(|e| e["index"].as_u64() == Some(hit.source as u64)))
+        })
+        .map(|c| json!({ "index": c["index"], "tag": c["tag"], "kind": c["kind"] }))
+        .collect();
+    let (id, label, line) = hit.entry.map_or(("", "", 0), |e| (e.id.as_str(), e.label.as_str(), e.line));
+    Ok(json!({
+        "at_mm": [x, y],
+        "element": { "name": hit.name(), "index": hit.source, "id": id, "label": label, "line": line, "layers": layers },
+    }))
+}
+
+fn human_under(r: &Value) -> String {
+    let at = pair(&r["at_mm"], ", ");
+    let e = &r["element"];
+    if e.is_null() {
+        return format!("({at}) mm: nothing\n");
+    }
+    let mut out = format!("({at}) mm: {}\n", e["name"].as_str().unwrap_or(""));
+    if let Some(id) = e["id"].as_str().filter(|id| !id.is_empty()) {
+        out += &format!("  id      {id}\n");
+    }
+    if let Some(line) = e["line"].as_u64().filter(|&l| l > 0) {
+        out += &format!("  line    {line}\n");
+    }
+    for l in e["layers"].as_array().into_iter().flatten() {
+        out += &format!(
+            "  layer   #{} {} ({})\n",
+            l["index"],
+            l["tag"].as_str().unwrap_or("?"),
+            l["kind"].as_str().unwrap_or("?")
+        );
+    }
+    out
 }
 
 /// The names of provenance entries `sources`, as `id "label"`.
@@ -152,6 +213,17 @@ fn describe(view: &BundleView<'_>) -> Value {
                         "blink_ms": v.blink_ms(), "navigation": v.navigation().name(), "text_cells": v.text().len() })
             }
             ChunkView::Provenance(p) => json!({ "kind": "provenance", "entries": p.len() }),
+            ChunkView::Footprints(f) => {
+                let (mut rings, mut points) = (0u64, 0u64);
+                for s in f.shapes() {
+                    for r in s.rings() {
+                        rings += 1;
+                        points += r.len() as u64;
+                    }
+                }
+                json!({ "kind": "footprints", "shapes": f.len(), "rings": rings, "points": points,
+                        "quantum_mm": f.quantum_mm() })
+            }
             ChunkView::Unknown { .. } => json!({ "kind": "unknown" }),
         };
         entry["index"] = json!(index);
@@ -279,6 +351,13 @@ fn human(path: &Path, r: &Value) -> String {
                 num(&c["max_gradient"])
             ),
             "provenance" => format!("provenance, {} entries", c["entries"]),
+            "footprints" => format!(
+                "footprints for the point lookup, {} shapes, {} rings, {} points every {} mm",
+                c["shapes"],
+                c["rings"],
+                c["points"],
+                num(&c["quantum_mm"])
+            ),
             _ => "unknown to this taxel (optional, kept as is)".to_string(),
         };
         let flag = if c["required"].as_bool() == Some(true) { "required" } else { "optional" };

@@ -26,12 +26,14 @@ pub fn run(cli: Cli) -> CmdResult {
         }
         Some(Command::Check { inputs, opts, format, verbose }) => check::run(&inputs, &opts, format, verbose),
         Some(Command::Style { sheet, input, opts }) => style::run(sheet, input.as_deref(), &opts),
-        Some(Command::Inspect { bundle, format }) => inspect::run(&bundle, format),
+        Some(Command::Inspect { bundle, format, at }) => inspect::run(&bundle, format, at),
         Some(Command::Pack { dir, out }) => pack::run(&dir, &out),
         Some(Command::Unpack { bundle, out }) => unpack::run(&bundle, &out),
         Some(Command::Export { bundle, format, out }) => export::run(&bundle, format, &out),
         Some(Command::Preview { input, out, opts }) => preview::run(&input, &out, &opts),
-        Some(Command::Play { bundle, trace, out }) => play::run(&bundle, trace.as_deref(), out.as_deref()),
+        Some(Command::Play { bundle, trace, out, elements }) => {
+            play::run(&bundle, trace.as_deref(), out.as_deref(), elements.as_deref())
+        }
         Some(Command::Report { input, opts, plot, format }) => report::run(&input, &opts, plot.as_deref(), format),
         Some(Command::Load { bundles, device }) => load::run(&bundles, &device),
         Some(Command::Device(DeviceCommand::Serve { store, listen, capacity, profile })) => {

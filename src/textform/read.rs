@@ -7,7 +7,7 @@ use taxel_format::{
 };
 
 use super::error::TextError;
-use super::tables::{parse_dots, parse_height, parse_provenance, parse_strokes};
+use super::tables::{parse_dots, parse_footprints, parse_height, parse_provenance, parse_strokes};
 use super::toml_in::{Doc, Table};
 use super::{MANIFEST, png};
 
@@ -46,6 +46,7 @@ const DOTS_KEYS: &[&str] = &["kind", "file", "dot_kind"];
 const FILE_KEYS: &[&str] = &["kind", "file"];
 const HEIGHT_KEYS: &[&str] =
     &["kind", "file", "source", "cols", "rows", "origin_x_mm", "origin_y_mm", "cell_mm", "gradient_cap"];
+const FOOTPRINT_KEYS: &[&str] = &["kind", "file", "origin_x_mm", "origin_y_mm", "quantum_mm"];
 const RAW_KEYS: &[&str] = &["kind", "file", "tag", "tag_hex", "required"];
 
 /// Builds the bundle of an unpacked folder. `read(name)` returns the bytes of
@@ -85,7 +86,7 @@ pub fn pack(read: &dyn Fn(&str) -> Result<Vec<u8>, TextError>) -> Result<Vec<u8>
     let mut bundle = Bundle::new(manifest);
     // Every kind's keys are checked once its kind is known.
     let any_keys: Vec<&str> =
-        [MASK_KEYS, FIELD_KEYS, DOTS_KEYS, HEIGHT_KEYS, RAW_KEYS, super::pins::PINS_KEYS].concat();
+        [MASK_KEYS, FIELD_KEYS, DOTS_KEYS, HEIGHT_KEYS, RAW_KEYS, FOOTPRINT_KEYS, super::pins::PINS_KEYS].concat();
     let mut files = Vec::new();
     for c in root.tables("chunk", &any_keys)? {
         bundle.chunks.push(chunk(&c, read)?);
@@ -124,18 +125,20 @@ fn chunk(c: &Table<'_, '_>, read: &dyn Fn(&str) -> Result<Vec<u8>, TextError>) -
         "strokes" | "provenance" => FILE_KEYS,
         "height" => HEIGHT_KEYS,
         "raw" => RAW_KEYS,
+        "footprints" => FOOTPRINT_KEYS,
         "pins" => super::pins::PINS_KEYS,
         _ => {
             return Err(c.err(
                 "kind",
                 format!(
-                    "unknown kind \"{kind}\", expected vibration, grating, vibration-field, grating-field, dots, strokes, height, pins, provenance or raw"
+                    "unknown kind \"{kind}\", expected vibration, grating, vibration-field, grating-field, dots, strokes, height, pins, provenance, footprints or raw"
                 ),
             ));
         }
     };
     // Keys that belong to another kind are refused by name.
-    for k in [MASK_KEYS, FIELD_KEYS, DOTS_KEYS, HEIGHT_KEYS, RAW_KEYS, super::pins::PINS_KEYS].concat() {
+    for k in [MASK_KEYS, FIELD_KEYS, DOTS_KEYS, HEIGHT_KEYS, RAW_KEYS, FOOTPRINT_KEYS, super::pins::PINS_KEYS].concat()
+    {
         if c.has(k) && !allowed.contains(&k) {
             return Err(c.err(k, format!("not a key of a {kind} chunk, expected one of: {}", allowed.join(", "))));
         }
@@ -209,6 +212,12 @@ fn chunk(c: &Table<'_, '_>, read: &dyn Fn(&str) -> Result<Vec<u8>, TextError>) -
             Chunk::Height(h)
         }
         "provenance" => Chunk::Provenance(parse_provenance(file, &data)?),
+        "footprints" => Chunk::Footprints(taxel_format::Footprints {
+            origin_x: c.f32("origin_x_mm")?,
+            origin_y: c.f32("origin_y_mm")?,
+            quantum_mm: c.f32("quantum_mm")?,
+            shapes: parse_footprints(file, &data)?,
+        }),
         "pins" => Chunk::Pins(super::pins::read(c, file, &data)?),
         _ => {
             let tag = match (c.has("tag"), c.has("tag_hex")) {

@@ -1,12 +1,12 @@
-//! Dot tables, height fields and provenance as CSV; stroke tables as TOML
+//! Dot tables, height fields, provenance and footprints as CSV; stroke tables as TOML
 //! (strokes hold points that hold drives, which a flat table would lose for
 //! a stroke without points).
 
 use std::fmt::Write as _;
 
 use taxel_format::{
-    ActuatorIndex, Dot, Drive, FIELD_CONTACT, FIELD_EDGE, HeightField, MilliHertz, Mm, Provenance, ProvenanceEntry,
-    Stroke, StrokePoint, StrokeTable, Tick,
+    ActuatorIndex, Dot, Drive, FIELD_CONTACT, FIELD_EDGE, Footprint, FootprintKind, HeightField, MilliHertz, Mm,
+    Provenance, ProvenanceEntry, Stroke, StrokePoint, StrokeTable, Tick,
 };
 
 use super::error::TextError;
@@ -15,6 +15,14 @@ use super::toml_in::{Doc, f32_text, toml_string};
 pub const DOTS_HEADER: &[&str] = &["x_mm", "y_mm", "radius_mm", "amplitude", "source"];
 pub const HEIGHT_HEADER: &[&str] = &["col", "row", "height_mm", "grad_x", "grad_y", "contact", "edge"];
 pub const PROVENANCE_HEADER: &[&str] = &["index", "id", "label", "line"];
+pub const FOOTPRINTS_HEADER: &[&str] = &["shape", "source", "kind", "half_width_q", "points_q"];
+
+const FOOTPRINT_KINDS: [(FootprintKind, &str); 4] = [
+    (FootprintKind::AreaNonZero, "area-nonzero"),
+    (FootprintKind::AreaEvenOdd, "area-evenodd"),
+    (FootprintKind::Line, "line"),
+    (FootprintKind::ClosedLine, "closed-line"),
+];
 
 fn opt(v: Option<u32>) -> String {
     v.map_or_else(String::new, |s| s.to_string())
@@ -69,6 +77,61 @@ pub fn provenance_csv(p: &Provenance) -> Vec<u8> {
             .enumerate()
             .map(|(i, e)| vec![i.to_string(), e.id.clone(), e.label.clone(), e.line.to_string()]),
     )
+}
+
+/// The CSV of footprint shapes: one row per ring, its points as `x y`
+/// pairs in quanta separated by `;` (SPEC.md section 10.1).
+pub fn footprints_csv(shapes: &[Footprint]) -> Vec<u8> {
+    csv_bytes(
+        FOOTPRINTS_HEADER,
+        shapes.iter().enumerate().flat_map(|(i, s)| {
+            let kind = FOOTPRINT_KINDS.iter().find(|k| k.0 == s.kind).map_or("line", |k| k.1);
+            s.rings.iter().map(move |r| {
+                let pts: Vec<String> = r.iter().map(|(x, y)| format!("{x} {y}")).collect();
+                vec![i.to_string(), s.source.to_string(), kind.to_string(), s.half_width.to_string(), pts.join(";")]
+            })
+        }),
+    )
+}
+
+/// Parses a footprints CSV: rows of one shape are consecutive, shapes
+/// numbered from 0 in order.
+pub fn parse_footprints(file: &str, bytes: &[u8]) -> Result<Vec<Footprint>, TextError> {
+    let mut shapes: Vec<Footprint> = Vec::new();
+    for (line, rec) in csv_records(file, bytes, FOOTPRINTS_HEADER)? {
+        let f = Field { file, line, rec: &rec, header: FOOTPRINTS_HEADER };
+        let i = f.uint(0, u32::MAX as u64)? as usize;
+        let source = f.uint(1, taxel_format::MAX_PROVENANCE_ENTRIES as u64 - 1)? as u32;
+        let kind = FOOTPRINT_KINDS
+            .iter()
+            .find(|k| k.1 == f.text(2))
+            .map(|k| k.0)
+            .ok_or_else(|| f.err(2, "area-nonzero, area-evenodd, line or closed-line"))?;
+        let half_width = f.uint(3, u16::MAX as u64)? as u16;
+        let mut ring = Vec::new();
+        for pair in f.text(4).split(';') {
+            let mut it = pair.split_whitespace().map(|v| v.parse::<u16>());
+            match (it.next(), it.next(), it.next()) {
+                (Some(Ok(x)), Some(Ok(y)), None) => ring.push((x, y)),
+                _ => return Err(f.err(4, "points `x y` (integers 0 to 65535) separated by `;`")),
+            }
+        }
+        let n = shapes.len();
+        match shapes.last_mut() {
+            Some(last) if i + 1 == n => {
+                if (last.source, last.kind, last.half_width) != (source, kind, half_width) {
+                    return Err(f.err(0, "the same source, kind and half width on every row of one shape"));
+                }
+                last.rings.push(ring);
+            }
+            _ if i == n => shapes.push(Footprint { source, kind, half_width, rings: vec![ring] }),
+            _ => {
+                let expected = if n == 0 { "0".to_string() } else { format!("{} or {n}", n - 1) };
+                return Err(f.err(0, &format!("{expected} (shapes are numbered from 0, in order)")));
+            }
+        }
+    }
+    Ok(shapes)
 }
 
 /// The TOML of a stroke table.

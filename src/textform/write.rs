@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use taxel_format::{Bundle, BundleView, Chunk, DistanceLayer, MaskKind, MaskSamples, Tag, profiles};
 
 use super::error::TextError;
-use super::tables::{dots_csv, height_csv, provenance_csv, quoted, strokes_toml};
+use super::tables::{dots_csv, footprints_csv, height_csv, provenance_csv, quoted, strokes_toml};
 use super::toml_in::f32_text;
 use super::{MANIFEST, MANIFEST_HEADER, PROFILE, png};
 
@@ -134,6 +134,18 @@ pub fn unpack(name: &str, bytes: &[u8]) -> Result<Vec<(String, Vec<u8>)>, TextEr
                 let file = format!("{stem}-provenance.csv");
                 let _ = writeln!(toml, "kind = \"provenance\"\nfile = \"{file}\"");
                 (file, provenance_csv(p))
+            }
+            Chunk::Footprints(fp) => {
+                let file = format!("{stem}-footprints.csv");
+                let _ = writeln!(
+                    toml,
+                    "kind = \"footprints\"\n# {file}: one row per ring; point (x, y) lies at origin + quantum * (x, y) mm.\n\
+                     file = \"{file}\"\norigin_x_mm = {}\norigin_y_mm = {}\nquantum_mm = {}",
+                    f32_text(fp.origin_x),
+                    f32_text(fp.origin_y),
+                    f32_text(fp.quantum_mm)
+                );
+                (file, footprints_csv(&fp.shapes))
             }
             Chunk::Pins(image) => {
                 let file = format!("{stem}-pins.txt");

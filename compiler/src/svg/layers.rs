@@ -12,6 +12,7 @@ use taxel_format::{
 
 use super::braille;
 use super::dots;
+use super::footprints::{self, Pending as FootPending};
 use crate::annotation::{Braille as BrailleStyle, Grating, Style, Vibrate};
 use crate::brush::{self, BrushRequest};
 use crate::diagnostic::Diagnostic;
@@ -63,6 +64,8 @@ pub(crate) struct Built {
     pub braille_dots: Vec<Dot>,
     pub strokes: Option<StrokeTable>,
     pub provenance: Vec<ProvenanceEntry>,
+    /// Where each element's rendered styles lie, for the footprints chunk.
+    pub footprints: Vec<FootPending>,
     pub features: Vec<Feature>,
     /// Elements that asked for any tactile style.
     pub styled_elements: usize,
@@ -81,7 +84,7 @@ impl Built {
 
     /// The chunks, in a fixed order: distance layers in the document order
     /// of their styles' first shapes, dot tables (outline, symbol, braille),
-    /// strokes, provenance.
+    /// strokes, provenance, footprints.
     pub fn into_chunks(self) -> Vec<Chunk> {
         let mut out: Vec<Chunk> = self.layers.into_iter().map(Chunk::Distance).collect();
         for (kind, dots) in [
@@ -98,6 +101,9 @@ impl Built {
         }
         if !self.provenance.is_empty() {
             out.push(Chunk::Provenance(Provenance { entries: self.provenance }));
+            if let Some(f) = footprints::chunk(self.footprints) {
+                out.push(Chunk::Footprints(f));
+            }
         }
         out
     }
@@ -272,13 +278,15 @@ pub(crate) fn build(drawing: &Drawing, opts: &CompileOptions, px: f32, diags: &m
                     let pts = dots::along(polylines, d.radius_mm, d.spacing_mm, &e.name, diags);
                     let spacing = d.spacing_mm.unwrap_or(3.0 * d.radius_mm).max(2.0 * d.radius_mm);
                     let fk = FeatureKind::Dots { radius_mm: d.radius_mm, spacing_mm: spacing };
-                    let job = DotJob { e, kind: DotKind::Outline, radius: d.radius_mm, amplitude: d.amplitude, fk };
+                    let (kind, radius, amplitude) = (DotKind::Outline, d.radius_mm, d.amplitude);
+                    let job = DotJob { e, order: index, kind, radius, amplitude, fk };
                     dot_feature(&mut b, job, &pts, page, diags);
                 }
                 Style::Dot(d) => {
                     let pts = dots::symbol(polylines, markers);
                     let fk = FeatureKind::Dot { radius_mm: d.radius_mm };
-                    let job = DotJob { e, kind: DotKind::Symbol, radius: d.radius_mm, amplitude: d.amplitude, fk };
+                    let (kind, radius, amplitude) = (DotKind::Symbol, d.radius_mm, d.amplitude);
+                    let job = DotJob { e, order: index, kind, radius, amplitude, fk };
                     dot_feature(&mut b, job, &pts, page, diags);
                 }
                 Style::Braille(_) => diags.push(
@@ -291,6 +299,7 @@ pub(crate) fn build(drawing: &Drawing, opts: &CompileOptions, px: f32, diags: &m
                 ),
                 Style::Brush(br) => {
                     let source = b.source(e);
+                    b.footprints.extend(FootPending::band(index, source, polylines, 0.0));
                     for pl in polylines {
                         requests.push(BrushRequest {
                             polyline: pl.walked(),
@@ -353,6 +362,10 @@ fn layer_feature(
         return;
     };
     let source = b.source(e);
+    b.footprints.extend(match style {
+        LayerStyle::Vibrate(_) => FootPending::band(index, source, outline(e), half_band),
+        LayerStyle::Grating(_) => FootPending::area(index, source, outline(e), fill_rule(e)),
+    });
     let clips = clips_of(e);
     let layer = match pending.iter().position(|p| p.style == style && p.clips == clips) {
         Some(k) => k,
@@ -537,6 +550,8 @@ fn fill_rule(e: &Element) -> crate::geometry::FillRule {
 /// Dots to place for one element: what they are and how big.
 struct DotJob<'a> {
     e: &'a Element,
+    /// The element's document order.
+    order: usize,
     kind: DotKind,
     radius: f64,
     amplitude: f64,
@@ -544,7 +559,7 @@ struct DotJob<'a> {
 }
 
 fn dot_feature(b: &mut Built, job: DotJob<'_>, pts: &[(f64, f64)], page: Page, diags: &mut Vec<Diagnostic>) {
-    let DotJob { e, kind, radius, amplitude, fk } = job;
+    let DotJob { e, order, kind, radius, amplitude, fk } = job;
     let pts: Vec<(f64, f64)> = pts
         .iter()
         .copied()
@@ -563,6 +578,10 @@ fn dot_feature(b: &mut Built, job: DotJob<'_>, pts: &[(f64, f64)], page: Page, d
     let (x0, y0, x1, y1) = pts.iter().fold((f64::MAX, f64::MAX, f64::MIN, f64::MIN), |a, p| {
         (a.0.min(p.0), a.1.min(p.1), a.2.max(p.0), a.3.max(p.1))
     });
+    b.footprints.extend(match kind {
+        DotKind::Braille => FootPending::rect(order, source, (x0 - radius, y0 - radius, x1 + radius, y1 + radius)),
+        _ => FootPending::discs(order, source, &pts, radius),
+    });
     b.features.push(Feature {
         elem: source as usize,
         name: e.name.clone(),
@@ -580,7 +599,7 @@ fn dot_feature(b: &mut Built, job: DotJob<'_>, pts: &[(f64, f64)], page: Page, d
 /// Braille for every text with a braille style, in document order, after the other layers.
 fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOptions, diags: &mut Vec<Diagnostic>) {
     let family = opts.profile.family();
-    for e in &drawing.elements {
+    for (order, e) in drawing.elements.iter().enumerate() {
         let Shape::Text(text) = &e.shape else { continue };
         let Some(style) = e.styles.iter().find_map(|s| match s {
             Style::Braille(br) => Some(*br),
@@ -615,6 +634,7 @@ fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOptions, diags:
         }
         let job = DotJob {
             e,
+            order,
             kind: DotKind::Braille,
             radius: style.radius_mm,
             amplitude: style.amplitude,

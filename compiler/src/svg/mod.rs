@@ -19,6 +19,7 @@
 
 mod braille;
 mod dots;
+mod footprints;
 mod layers;
 pub(crate) mod rules;
 

@@ -141,6 +141,15 @@ pub fn dump(b: &Bundle) -> String {
                     writeln!(s, "  #{i} id {:?} label {:?} line {}", e.id, e.label, e.line).unwrap();
                 }
             }
+            Chunk::Footprints(f) => {
+                writeln!(s, "FOOT quantum {} mm from ({}, {}) mm", f.quantum_mm, f.origin_x, f.origin_y).unwrap();
+                for sh in &f.shapes {
+                    let lens: Vec<usize> = sh.rings.iter().map(|r| r.len()).collect();
+                    let hw = sh.half_width as f32 * f.quantum_mm;
+                    writeln!(s, "  source {} {:?} half width {hw:.2} mm, ring points {lens:?}", sh.source, sh.kind)
+                        .unwrap();
+                }
+            }
             other => writeln!(s, "{}", other.tag()).unwrap(),
         }
     }

@@ -6,6 +6,7 @@ mod diagnostics;
 mod drawing;
 mod fuzzed;
 mod golden;
+mod lookup;
 mod malformed;
 mod mesh;
 mod realistic;

@@ -168,7 +168,7 @@ fn every_layer_kind_in_one_scene_gives_one_chunk_per_kind_and_shape() {
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/compiler/golden/every-kind.svg")).unwrap();
     let b = bundle(&compile(&svg)).clone();
     let tags: Vec<String> = b.chunks.iter().map(|c| c.tag().to_string()).collect();
-    assert_eq!(tags, ["VDST", "GDST", "DOTS", "DOTS", "DOTS", "PROV"]);
+    assert_eq!(tags, ["VDST", "GDST", "DOTS", "DOTS", "DOTS", "PROV", "FOOT"]);
     for kind in [DotKind::Outline, DotKind::Symbol, DotKind::Braille] {
         assert!(dots(&b, kind).is_some(), "{kind:?}");
     }
@@ -178,7 +178,7 @@ fn every_layer_kind_in_one_scene_gives_one_chunk_per_kind_and_shape() {
 fn only_what_the_scene_needs() {
     let b = bundle(&compile(&page(r#"<circle cx="30" cy="30" r="12" data-tactile="grating()"/>"#))).clone();
     let tags: Vec<String> = b.chunks.iter().map(|c| c.tag().to_string()).collect();
-    assert_eq!(tags, ["GDST", "PROV"]);
+    assert_eq!(tags, ["GDST", "PROV", "FOOT"]);
 }
 
 #[test]

@@ -8,6 +8,7 @@
 mod chunks;
 mod container;
 mod craft;
+mod footprints;
 mod limits;
 mod profiles;
 mod props;

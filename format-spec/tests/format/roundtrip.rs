@@ -49,6 +49,7 @@ fn kind(c: &ChunkView<'_>) -> String {
         ChunkView::Height(_) => "height".into(),
         ChunkView::Pins(_) => "pins".into(),
         ChunkView::Provenance(_) => "provenance".into(),
+        ChunkView::Footprints(_) => "footprints".into(),
         ChunkView::Unknown { tag, .. } => format!("unknown {tag}"),
     }
 }

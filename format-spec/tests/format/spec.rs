@@ -62,6 +62,9 @@ fn the_spec_quotes_the_crates_constants() {
         ("MAX_FIELD_SIDE", taxel_format::MAX_FIELD_SIDE as u64),
         ("MAX_FIELD_NODES", taxel_format::MAX_FIELD_NODES),
         ("MAX_PROVENANCE_ENTRIES", taxel_format::MAX_PROVENANCE_ENTRIES as u64),
+        ("MAX_FOOTPRINT_SHAPES", taxel_format::MAX_FOOTPRINT_SHAPES as u64),
+        ("MAX_FOOTPRINT_RINGS", taxel_format::MAX_FOOTPRINT_RINGS as u64),
+        ("MAX_FOOTPRINT_POINTS", taxel_format::MAX_FOOTPRINT_POINTS as u64),
         ("MAX_ACTUATORS", taxel_format::MAX_ACTUATORS as u64),
         ("MAX_RATE_HZ", taxel_format::MAX_RATE_HZ as u64),
     ] {

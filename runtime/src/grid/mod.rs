@@ -123,7 +123,7 @@ impl<'a> GridPlayer<'a> {
                         }
                     }
                 }
-                ChunkView::Provenance(_) | ChunkView::Unknown { .. } => {}
+                ChunkView::Provenance(_) | ChunkView::Footprints(_) | ChunkView::Unknown { .. } => {}
                 ChunkView::Mask(m) => {
                     return Err(RuntimeError::UnexpectedChunk { family: Family::Grid, tag: m.kind.tag() });
                 }

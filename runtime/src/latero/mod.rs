@@ -212,7 +212,7 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
                     return Err(RuntimeError::UnexpectedChunk { family: Family::Laterotactile, tag: Tag::PINS });
                 }
                 // Provenance and unknown optional chunks do not play.
-                ChunkView::Provenance(_) | ChunkView::Unknown { .. } => {}
+                ChunkView::Provenance(_) | ChunkView::Footprints(_) | ChunkView::Unknown { .. } => {}
             }
         }
         let slots = storage.as_mut();

@@ -77,7 +77,7 @@ impl<'a> PinsPlayer<'a> {
         for chunk in view.chunks() {
             match chunk {
                 ChunkView::Pins(v) => image = Some(v),
-                ChunkView::Provenance(_) | ChunkView::Unknown { .. } => {}
+                ChunkView::Provenance(_) | ChunkView::Footprints(_) | ChunkView::Unknown { .. } => {}
                 // The reader refuses other layers in a pin bundle; this is the player's own guard.
                 ChunkView::Mask(m) => return Err(unexpected(m.kind.tag())),
                 ChunkView::Distance(d) => return Err(unexpected(d.tag())),

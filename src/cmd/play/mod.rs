@@ -14,13 +14,21 @@ mod finger;
 mod grid;
 mod latero;
 
-pub fn run(bundle: &Path, trace: Option<&Path>, out: Option<&Path>) -> CmdResult {
+pub fn run(bundle: &Path, trace: Option<&Path>, out: Option<&Path>, elements: Option<&Path>) -> CmdResult {
     let bytes = crate::io::read_bundle(bundle)?;
     let view = BundleView::parse(&bytes)
         .map_err(|e| CliError::input(anyhow::anyhow!("{}: not a valid taxel bundle: {e}", bundle.display())))?;
-    match view.manifest().profile.family() {
+    let family = view.manifest().profile.family();
+    if elements.is_some() && family != Family::Laterotactile {
+        return Err(CliError::trouble(anyhow::anyhow!(
+            "--elements follows the carrier of a laterotactile bundle; {} is for a {} device",
+            bundle.display(),
+            family.name()
+        )));
+    }
+    match family {
         Family::Grid => grid::run(bundle, &view, trace, out),
-        Family::Laterotactile => latero::run(bundle, &view, trace, out),
+        Family::Laterotactile => latero::run(bundle, &view, trace, out, elements),
         Family::Finger => finger::run(bundle, &view, trace, out),
         Family::Pins => {
             // A pin display shows a still image (pages or a pannable surface);
