@@ -83,13 +83,14 @@ fn wavelength_below_the_actuator_pitch() {
 }
 
 /// Two gratings on the same region add past full deflection: T0410 says so;
-/// the runtime clamps (tested in `playback`).
+/// the runtime clamps (tested in `playback`). The upper shape is unfilled:
+/// an opaque fill would hide the grating under it (no overlap).
 #[test]
 fn overlapping_layers() {
     let out = compile(
         &page(
             r#"<rect id="a" x="10" y="10" width="40" height="30" data-tactile="grating(wavelength: 2mm)"/>
-               <rect id="b" x="20" y="15" width="40" height="30" data-tactile="grating(wavelength: 6mm, angle: 0deg)"/>"#,
+               <rect id="b" x="20" y="15" width="40" height="30" fill="none" stroke="black" data-tactile="grating(wavelength: 6mm, angle: 0deg)"/>"#,
         ),
         "stress2",
     );
