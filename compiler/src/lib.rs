@@ -14,7 +14,8 @@ pub mod annotation;
 pub mod auto;
 pub mod brush;
 mod diagnostic;
-pub(crate) mod distance;
+#[doc(hidden)]
+pub mod distance;
 pub mod drawing;
 pub mod fit;
 pub mod geometry;
@@ -26,6 +27,8 @@ pub mod preview;
 pub mod spatial;
 pub mod stylesheet;
 pub mod svg;
+#[doc(hidden)]
+pub mod vector;
 mod text_pos;
 
 pub use diagnostic::{Diagnostic, Severity, has_errors};
