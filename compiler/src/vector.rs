@@ -28,26 +28,25 @@
 //! `g`. The amplitude is the edge profile `clamp(½ + s / ramp, 0, 1)` with
 //! `ramp` the layer's `soft` width, or one quantum for a hard edge.
 //!
-//! **The cells.** A square grid of cells of side `c` over the felt part of
-//! the page; each cell lists, in increasing order, the ids of the segments
-//! that lie within `m` of the cell (region segments: `m = ramp/2 + 2q`;
-//! band segments of group `g`: `m = w_g/2 + ramp/2 + 2q`), and one bit: the
-//! region's state at the cell's centre, used when no region segment is
-//! listed. Why this is exact (up to the simplification):
+//! **The cells.** A square grid of cells of side `c` (whole quanta) over
+//! the felt part of the page; each cell lists, in increasing order, the ids
+//! of the segments that lie within `m` of the cell (region segments:
+//! `m = ramp/2 + 2q`; band segments of group `g`: `m = w_g/2 + ramp/2 + 2q`),
+//! and one bit: the region's state at the cell's centre `c'`, displaced by
+//! the infinitesimal `(ε, ε²)` so that it lies on no segment. Why this is
+//! exact (up to the simplification):
 //! - *Distance*: a point `p` of the cell whose nearest segment is within `m`
 //!   of `p` finds it listed; otherwise every listed segment is farther than
 //!   `m`, the profile is saturated, and so is the computed one.
-//! - *Sign*: let `q*` be the nearest point of the listed region segments.
-//!   The straight path from `p` to `q*` lies within `m` of the cell (the
-//!   `m`-neighbourhood of a square is convex), so any contour it crossed
-//!   would be listed and nearer than `q*`: `p` sees `q*`, and the side of its
-//!   segment is `p`'s side. When `q*` is a vertex shared by two segments (equal
-//!   squared distances, bit for bit, because vertices are stored once and
-//!   distances to an end are computed from the end itself), the segment with
-//!   the larger `|cross| / length` decides (the one `p` is most perpendicular
-//!   to; both agree except at numerically degenerate points).
-//! - No region segment listed: the whole cell is farther than `m` from the
-//!   region's outline, on one side: the bit.
+//! - *Side*: every region segment that crosses the segment `c' → p` meets
+//!   the cell, so it is listed; `p` is inside iff the centre's bit differs
+//!   from the parity of those crossings. The crossing test ([`crosses`]) is
+//!   exact (integer coordinates in fixed point, i64 products) and decides
+//!   the degenerate cases by the displacement of `c'` (simulation of
+//!   simplicity): a vertex on the line `c' p` counts on one side, whichever
+//!   edge it belongs to, so a closed contour is counted once. The builder
+//!   finds the centre's bit with the same test, from `c'` to a point left of
+//!   every contour.
 //!
 //! Degenerate input is the overlay's concern (collinear points, touching
 //! contours, zero-area slivers and self-intersections come out as simple
@@ -62,9 +61,53 @@ use i_overlay::i_float::int::point::IntPoint;
 use crate::distance::LayerGeometry;
 use crate::geometry::{FillRule, Polyline};
 
-/// How much farther (relative squared distance) a segment's end counts
-/// than a point inside a segment when the side of the region is decided.
-pub const END_PENALTY: f32 = 1e-4;
+/// Fixed-point sub-units per integer unit for the exact side test.
+pub const FIXED: i64 = 256;
+
+/// `(b − a) × (c − a)`, exact in i64 for coordinates below 2^24.
+#[inline(always)]
+fn orient(a: (i64, i64), b: (i64, i64), c: (i64, i64)) -> i64 {
+    (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0)
+}
+
+/// Whether the segment from `c'` (the cell centre `c` moved by the
+/// infinitesimal `(ε, ε²)`) to `p` crosses the segment `ab`, decided
+/// exactly: a vertex on the line `c'p` counts on the side the displacement
+/// gives it, so each vertex has one side and crossings of a closed contour
+/// count its boundary once. `p` on `ab` counts as on its left.
+#[inline(always)]
+pub fn crosses(a: (i64, i64), b: (i64, i64), c: (i64, i64), p: (i64, i64)) -> bool {
+    // Side of x relative to the directed line c' → p: orient(c, p, x) + (x − p) × (ε, ε²).
+    let side = |x: (i64, i64)| {
+        let o = orient(c, p, x);
+        if o != 0 {
+            o > 0
+        } else if x.1 != p.1 {
+            x.1 < p.1
+        } else {
+            x.0 > p.0
+        }
+    };
+    if side(a) == side(b) {
+        return false;
+    }
+    // Side of c' relative to a → b: orient(a, b, c) + (b − a) × (ε, ε²).
+    let o = orient(a, b, c);
+    let c_left = if o != 0 {
+        o > 0
+    } else if b.1 != a.1 {
+        b.1 < a.1
+    } else {
+        b.0 > a.0
+    };
+    c_left != (orient(a, b, p) >= 0)
+}
+
+/// A stored point in fixed point.
+#[inline(always)]
+fn fixed(p: &[u16; 2]) -> (i64, i64) {
+    (p[0] as i64 * FIXED, p[1] as i64 * FIXED)
+}
 
 /// At most this many band groups (distinct band widths) in one layer.
 pub const MAX_GROUPS: usize = 8;
@@ -383,7 +426,8 @@ pub fn build_vector(g: &LayerGeometry<'_>, p: VectorParams) -> Result<Option<Vec
             }
         };
         // Only the parts of a centre line that can reach the page matter.
-        let m = w / 2.0 + reach + 2.0 * q;
+        // Grid points lie up to `reach` beyond the page and see bands up to `w/2 + reach` away.
+        let m = w / 2.0 + 2.0 * reach + 2.0 * q;
         let grown = (pg.0 - m, pg.1 - m, pg.2 + m, pg.3 + m);
         for pl in lines {
             for piece in clip_path(&pl.walked(), grown) {
@@ -485,20 +529,22 @@ pub fn build_vector(g: &LayerGeometry<'_>, p: VectorParams) -> Result<Option<Vec
             }
         }
     }
-    // Region state at each cell's centre: crossings to the right, row by row.
+    // Region state at each cell's (displaced) centre: crossings of the
+    // segment from it to a point left of everything, which is outside.
     let mut inside = vec![0u8; (cols * rows).div_ceil(8)];
+    let fx = |ip: IntPoint| (ip.x as i64 * FIXED, ip.y as i64 * FIXED);
+    let region_segs: Vec<((i64, i64), (i64, i64))> =
+        segs[..region_end as usize].iter().map(|&s| (fx(pts[s as usize]), fx(pts[s as usize + 1]))).collect();
+    let far_left = region_segs.iter().map(|(a, b)| a.0.min(b.0)).min().unwrap_or(0) - 1024 * FIXED;
+    let half = cell_q as i64 * FIXED / 2;
     for r in 0..rows {
-        let y = y0 + (r as f64 + 0.5) * cell;
-        let mut xs: Vec<f64> = Vec::new();
-        for &s in &segs[..region_end as usize] {
-            let (a, b) = (to_mm(pts[s as usize]), to_mm(pts[s as usize + 1]));
-            if (a.1 <= y) != (b.1 <= y) {
-                xs.push(a.0 + (y - a.1) / (b.1 - a.1) * (b.0 - a.0));
-            }
-        }
+        let cy = (gy as i64 + r as i64 * cell_q as i64) * FIXED + half;
+        // Segments that reach the centre's row (within a unit: the displacement is infinitesimal).
+        let row: Vec<_> = region_segs.iter().filter(|(a, b)| a.1.min(b.1) <= cy + FIXED && a.1.max(b.1) >= cy - FIXED).collect();
         for c in 0..cols {
-            let x = x0 + (c as f64 + 0.5) * cell;
-            if xs.iter().filter(|&&v| v > x).count() % 2 == 1 {
+            let centre = ((gx as i64 + c as i64 * cell_q as i64) * FIXED + half, cy);
+            let z = (far_left, cy);
+            if row.iter().filter(|(a, b)| crosses(*a, *b, centre, z)).count() % 2 == 1 {
                 let k = r * cols + c;
                 inside[k / 8] |= 1 << (k % 8);
             }
@@ -579,7 +625,16 @@ impl VectorLayer {
         let refs = self.refs.get(s0 as usize..s1 as usize).unwrap_or(&[]);
         let inside = self.inside.get(k / 8).is_some_and(|b| b >> (k % 8) & 1 == 1);
         // Region: nearest squared distance, and the signed cross / length of its segment.
-        let (mut best, mut side, mut any, mut dmin) = (f32::INFINITY, 0.0f32, false, f32::INFINITY);
+        let mut dmin = f32::INFINITY;
+        let mut flips = false;
+        // The cell's centre and the point in fixed point (units of q / 256).
+        let (ci, cj) = ((k % self.cols as usize) as i64, (k / self.cols as usize) as i64);
+        let half = self.cell as i64 * FIXED / 2;
+        let centre = (
+            (self.grid.0 as i64 + ci * self.cell as i64) * FIXED + half,
+            (self.grid.1 as i64 + cj * self.cell as i64) * FIXED + half,
+        );
+        let pp = ((u * FIXED as f32).round() as i64, (v * FIXED as f32).round() as i64);
         let mut band = [f32::INFINITY; MAX_GROUPS];
         let mut g = 0usize;
         for &id in refs {
@@ -598,18 +653,9 @@ impl VectorLayer {
                 cross * cross / l2
             };
             if id < self.region_end {
-                any = true;
                 dmin = dmin.min(d2);
-                // Ranking for the side: a segment whose nearest point is an
-                // end ranks a hair behind one whose nearest point is inside
-                // it, so that near-ties at a vertex (f32 rounding) are decided
-                // by the segment the point actually projects onto.
-                let key = if t <= 0.0 || t >= l2 { d2 * (1.0 + END_PENALTY) } else { d2 };
-                let c = cross / l2.sqrt();
-                if key < best || (key == best && c.abs() > side.abs()) {
-                    best = key;
-                    side = c;
-                }
+                let (a, b) = (fixed(a), fixed(b));
+                flips ^= crosses(a, b, centre, pp);
             } else {
                 // Groups follow the region in id order; a cell's ids increase.
                 while g + 1 < self.groups.len() && id >= self.groups[g].0 {
@@ -620,13 +666,9 @@ impl VectorLayer {
                 }
             }
         }
-        let mut s = if any {
-            if side > 0.0 { dmin.sqrt() } else { -dmin.sqrt() }
-        } else if inside {
-            f32::INFINITY
-        } else {
-            f32::NEG_INFINITY
-        };
+        // The side: the centre's state, flipped by each crossing on the way to the point.
+        let s = if inside != flips { dmin.sqrt() } else { -dmin.sqrt() };
+        let mut s = if s.is_nan() { f32::NEG_INFINITY } else { s };
         match self.mode {
             Mode::Vibration => {
                 let mut felt = f32::NEG_INFINITY;
