@@ -75,7 +75,7 @@ struct Exact {
 
 struct Part {
     kind: Kind,
-    segs: Vec<((f64, f64), (f64, f64), usize)>,
+    segs: Vec<(Pt, Pt, usize)>,
     cells: Vec<Vec<u32>>,
     rows: Vec<Vec<u32>>,
     rules: Vec<FillRule>,
@@ -90,6 +90,8 @@ enum Kind {
 }
 
 const CAP: f64 = 1.0;
+
+type Pt = (f64, f64);
 
 impl Exact {
     fn new(g: &LayerGeometry<'_>, page: (f64, f64, f64, f64)) -> Self {
@@ -158,7 +160,11 @@ impl Exact {
         let k = if inside_grid { Some(ri as usize * self.cols + ci as usize) } else { None };
         let dist = |part: &Part| {
             k.map_or(f64::INFINITY, |k| {
-                part.cells[k].iter().map(|&n| part.segs[n as usize]).map(|(a, b, _)| distance_to_segment(p, a, b)).fold(f64::INFINITY, f64::min)
+                part.cells[k]
+                    .iter()
+                    .map(|&n| part.segs[n as usize])
+                    .map(|(a, b, _)| distance_to_segment(p, a, b))
+                    .fold(f64::INFINITY, f64::min)
             })
         };
         let contains = |part: &Part| {
@@ -376,7 +382,9 @@ fn figures() {
         ("country map, 1,000 regions, fitted", drawings::inkscape_map(1000, 8, 7), true, false),
     ];
     println!("\n## Sizes (bytes; layers only, provenance and the rest of the bundle excluded)\n");
-    println!("| scene | layers | (a) distance tiles | (b) vector, 2 mm cells | (b), 1 mm cells | (b), 4 mm cells | PNG 8-bit 10 px/mm |");
+    println!(
+        "| scene | layers | (a) distance tiles | (b) vector, 2 mm cells | (b), 1 mm cells | (b), 4 mm cells | PNG 8-bit 10 px/mm |"
+    );
     println!("| --- | --- | --- | --- | --- | --- | --- |");
     let mut acc_rows = Vec::new();
     for (name, svg, fit, acc) in &scenes {
@@ -416,7 +424,9 @@ fn figures() {
         }
     }
     println!("\n## Accuracy against exact f64 geometry (10-bit steps; mm)\n");
-    println!("| scene | technique | RMS (0.1 mm grid) | max | far (> 0.05 mm) | edge error mm | corners: max | corners: edge mm |");
+    println!(
+        "| scene | technique | RMS (0.1 mm grid) | max | far (> 0.05 mm) | edge error mm | corners: max | corners: edge mm |"
+    );
     println!("| --- | --- | --- | --- | --- | --- | --- | --- |");
     for (name, e) in acc_rows {
         for (k, t) in ["(a) 0.5 mm field", "(b) vector"].iter().enumerate() {
@@ -461,13 +471,24 @@ fn actuators(x: f32, y: f32) -> ([f32; 64], [f32; 64]) {
 }
 
 fn timings(c: &mut Criterion) {
-    let caps = compile(&read("examples/map/tala-map.svg"), false);
+    let map = compile(&drawings::inkscape_map(1000, 8, 7), true);
+    scene_timings(c, "country map 1,000 regions fitted", &map, &[2.0]);
+    let tala = compile(&read("examples/map/tala-map.svg"), false);
+    scene_timings(c, "tala-map", &tala, &[1.0, 2.0, 4.0]);
+}
+
+fn scene_timings(c: &mut Criterion, scene: &str, caps: &[Captured], cells: &[f64]) {
     let vib = caps.iter().find(|c| matches!(c.layer.kind, MaskKind::Vibration { .. })).expect("a vibration layer");
     let gr = caps.iter().find(|c| matches!(c.layer.kind, MaskKind::Grating { .. })).expect("a grating layer");
-    // A trace across the map: 256 carrier positions along a wavy line over its edges.
-    let trace: Vec<(f32, f32)> =
-        (0..256).map(|k| (10.0 + k as f32 * 0.35, 30.0 + 12.0 * (k as f32 * 0.05).sin())).collect();
-    for cell in [1.0, 2.0, 4.0] {
+    // A trace across the page: 256 carrier positions along a wavy line over its edges.
+    let pg = vib.params.page;
+    let (w, h) = ((pg.2 - pg.0) as f32, (pg.3 - pg.1) as f32);
+    let trace: Vec<(f32, f32)> = (0..256)
+        .map(|k| {
+            (pg.0 as f32 + w * (0.1 + 0.8 * k as f32 / 256.0), pg.1 as f32 + h * (0.5 + 0.2 * (k as f32 * 0.05).sin()))
+        })
+        .collect();
+    for &cell in cells {
         let (Some(bv), Some(bg)) = (vector_of(vib, cell), vector_of(gr, cell)) else { continue };
         // Segments per cell where the trace's actuators land.
         let (mut n, mut sum, mut max) = (0usize, 0usize, 0u32);
@@ -488,35 +509,44 @@ fn timings(c: &mut Criterion) {
                 }
             }
         }
-        eprintln!("tala-map, {cell} mm cells: segments listed in the cell of each actuator on the trace: mean {:.2}, max {max}", sum as f64 / n.max(1) as f64);
+        eprintln!(
+            "{scene}, {cell} mm cells: segments listed in the cell of each actuator on the trace: mean {:.2}, max {max}",
+            sum as f64 / n.max(1) as f64
+        );
         let mut k = 0usize;
-        c.bench_function(&format!("coverage 64 x (vibration + grating), tala-map trace: (b) vector, {cell} mm cells"), |b| {
+        c.bench_function(
+            &format!("coverage 64 x (vibration + grating), {scene} trace: (b) vector, {cell} mm cells"),
+            |b| {
+                b.iter(|| {
+                    k = (k + 1) % trace.len();
+                    let (xs, ys) = actuators(black_box(trace[k].0), trace[k].1);
+                    let mut s = 0.0f32;
+                    for i in (0..64).step_by(4) {
+                        let x4 = [xs[i], xs[i + 1], xs[i + 2], xs[i + 3]];
+                        let y4 = [ys[i], ys[i + 1], ys[i + 2], ys[i + 3]];
+                        let (v, g) = (bv.coverage4(x4, y4), bg.coverage4(x4, y4));
+                        s += v[0] + v[1] + v[2] + v[3] + g[0] + g[1] + g[2] + g[3];
+                    }
+                    black_box(s)
+                })
+            },
+        );
+    }
+    let mut k = 0usize;
+    c.bench_function(
+        &format!("coverage 64 x (vibration + grating), {scene} trace: (a) field, SPEC reference coverage_at"),
+        |b| {
             b.iter(|| {
                 k = (k + 1) % trace.len();
                 let (xs, ys) = actuators(black_box(trace[k].0), trace[k].1);
                 let mut s = 0.0f32;
-                for i in (0..64).step_by(4) {
-                    let x4 = [xs[i], xs[i + 1], xs[i + 2], xs[i + 3]];
-                    let y4 = [ys[i], ys[i + 1], ys[i + 2], ys[i + 3]];
-                    let (v, g) = (bv.coverage4(x4, y4), bg.coverage4(x4, y4));
-                    s += v[0] + v[1] + v[2] + v[3] + g[0] + g[1] + g[2] + g[3];
+                for i in 0..64 {
+                    s += vib.layer.coverage_at(xs[i], ys[i]) + gr.layer.coverage_at(xs[i], ys[i]);
                 }
                 black_box(s)
             })
-        });
-    }
-    let mut k = 0usize;
-    c.bench_function("coverage 64 x (vibration + grating), tala-map trace: (a) field, SPEC reference coverage_at", |b| {
-        b.iter(|| {
-            k = (k + 1) % trace.len();
-            let (xs, ys) = actuators(black_box(trace[k].0), trace[k].1);
-            let mut s = 0.0f32;
-            for i in 0..64 {
-                s += vib.layer.coverage_at(xs[i], ys[i]) + gr.layer.coverage_at(xs[i], ys[i]);
-            }
-            black_box(s)
-        })
-    });
+        },
+    );
     // The runtime's production (a) frame of the same two layers.
     let profile = profiles::builtin("stress2").expect("built-in profile");
     let mut bundle = Bundle::new(taxel_format::Manifest::new(profile));
@@ -526,13 +556,16 @@ fn timings(c: &mut Criterion) {
     let player = LateroPlayer::new(&view).expect("player");
     let mut out = [0u16; 64];
     let mut tick = 0u64;
-    c.bench_function("runtime frame 64 x (vibration + grating), tala-map trace: (a) field, production kernel", |b| {
-        b.iter(|| {
-            tick += 1;
-            let (x, y) = trace[tick as usize % trace.len()];
-            black_box(player.frame(Tick(tick), Mm(black_box(x)), Mm(y), &mut out))
-        })
-    });
+    c.bench_function(
+        &format!("runtime frame 64 x (vibration + grating), {scene} trace: (a) field, production kernel"),
+        |b| {
+            b.iter(|| {
+                tick += 1;
+                let (x, y) = trace[tick as usize % trace.len()];
+                black_box(player.frame(Tick(tick), Mm(black_box(x)), Mm(y), &mut out))
+            })
+        },
+    );
 }
 
 criterion_group!(benches, timings);

@@ -27,9 +27,9 @@ pub mod preview;
 pub mod spatial;
 pub mod stylesheet;
 pub mod svg;
+mod text_pos;
 #[doc(hidden)]
 pub mod vector;
-mod text_pos;
 
 pub use diagnostic::{Diagnostic, Severity, has_errors};
 pub use options::{CompileOptions, DEFAULT_PX_PER_MM, Region, UpAxis};

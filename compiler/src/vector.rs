@@ -370,9 +370,8 @@ fn seg_rect_distance(a: P, b: P, r: (f64, f64, f64, f64)) -> f64 {
 /// Builds the vector layer of one style; `Ok(None)` when nothing is felt.
 pub fn build_vector(g: &LayerGeometry<'_>, p: VectorParams) -> Result<Option<VectorLayer>, VectorError> {
     let soft = p.soft_mm.max(0.0);
-    if !(p.tolerance_mm.is_finite() && p.tolerance_mm >= 0.0 && p.cell_mm.is_finite() && p.cell_mm > 0.0)
-        || !soft.is_finite()
-    {
+    let finite = p.tolerance_mm.is_finite() && p.cell_mm.is_finite() && soft.is_finite();
+    if !(finite && p.tolerance_mm >= 0.0 && p.cell_mm > 0.0) {
         return Err(VectorError::BadParams);
     }
     let pg = p.page;
@@ -394,8 +393,9 @@ pub fn build_vector(g: &LayerGeometry<'_>, p: VectorParams) -> Result<Option<Vec
     let tol = p.tolerance_mm;
 
     // The region.
-    let page_shape = vec![vec![vec![f.to_int((pg.0, pg.1)), f.to_int((pg.2, pg.1)), f.to_int((pg.2, pg.3)), f.to_int((pg.0, pg.3))]]];
-    let page_shape = shapes_of(&page_shape[0], OvFill::NonZero);
+    let page_corners =
+        vec![f.to_int((pg.0, pg.1)), f.to_int((pg.2, pg.1)), f.to_int((pg.2, pg.3)), f.to_int((pg.0, pg.3))];
+    let page_shape = shapes_of(&[page_corners], OvFill::NonZero);
     let mut region = if mode == Mode::Grating {
         let mut all: Vec<Vec<Vec<IntPoint>>> = Vec::new();
         for (pls, rule) in &g.fills {
@@ -522,7 +522,12 @@ pub fn build_vector(g: &LayerGeometry<'_>, p: VectorParams) -> Result<Option<Vec
         let (r0, r1) = (cr(a.1.min(b.1) - m, y0, rows), cr(a.1.max(b.1) + m, y0, rows));
         for r in r0..=r1 {
             for c in c0..=c1 {
-                let rect = (x0 + c as f64 * cell, y0 + r as f64 * cell, x0 + (c + 1) as f64 * cell, y0 + (r + 1) as f64 * cell);
+                let rect = (
+                    x0 + c as f64 * cell,
+                    y0 + r as f64 * cell,
+                    x0 + (c + 1) as f64 * cell,
+                    y0 + (r + 1) as f64 * cell,
+                );
                 if seg_rect_distance(a, b, rect) <= m {
                     lists[r * cols + c].push(id as u32);
                 }
@@ -540,7 +545,8 @@ pub fn build_vector(g: &LayerGeometry<'_>, p: VectorParams) -> Result<Option<Vec
     for r in 0..rows {
         let cy = (gy as i64 + r as i64 * cell_q as i64) * FIXED + half;
         // Segments that reach the centre's row (within a unit: the displacement is infinitesimal).
-        let row: Vec<_> = region_segs.iter().filter(|(a, b)| a.1.min(b.1) <= cy + FIXED && a.1.max(b.1) >= cy - FIXED).collect();
+        let row: Vec<_> =
+            region_segs.iter().filter(|(a, b)| a.1.min(b.1) <= cy + FIXED && a.1.max(b.1) >= cy - FIXED).collect();
         for c in 0..cols {
             let centre = ((gx as i64 + c as i64 * cell_q as i64) * FIXED + half, cy);
             let z = (far_left, cy);
@@ -624,6 +630,10 @@ impl VectorLayer {
         let (Some(&s0), Some(&s1)) = (self.starts.get(k), self.starts.get(k + 1)) else { return 0.0 };
         let refs = self.refs.get(s0 as usize..s1 as usize).unwrap_or(&[]);
         let inside = self.inside.get(k / 8).is_some_and(|b| b >> (k % 8) & 1 == 1);
+        if refs.is_empty() {
+            // No edge within reach: the cell is what its centre is.
+            return if inside && self.mode == Mode::Grating { 1.0 } else { 0.0 };
+        }
         // Region: nearest squared distance, and the signed cross / length of its segment.
         let mut dmin = f32::INFINITY;
         let mut flips = false;

@@ -11,6 +11,8 @@ use proptest::prelude::*;
 use super::*;
 use crate::distance::exact_signed_distance;
 
+type P = (f64, f64);
+
 const PAGE: (f64, f64, f64, f64) = (0.0, 0.0, 40.0, 30.0);
 
 /// Simplification (0.004) + quantisation (q / √2 = 0.0028) + half a hard ramp (q / 2 = 0.002), rounded up.
@@ -37,7 +39,7 @@ fn probe_points(g: &LayerGeometry<'_>, step: f64) -> Vec<(f64, f64)> {
         }
         y += step;
     }
-    let mut segs: Vec<((f64, f64), (f64, f64), f64)> = Vec::new();
+    let mut segs: Vec<(P, P, f64)> = Vec::new();
     for (pls, _) in g.fills.iter().chain(&g.clips) {
         for pl in pls.iter() {
             let n = pl.points.len();
@@ -114,12 +116,7 @@ fn touching_and_overlapping_fills_of_one_style_are_one_region() {
     let c = [square(8.0, 8.0, 5.0)];
     let d = [square(15.0, 10.0, 5.0)];
     let g = LayerGeometry {
-        fills: vec![
-            (&a, FillRule::NonZero),
-            (&b, FillRule::EvenOdd),
-            (&c, FillRule::NonZero),
-            (&d, FillRule::NonZero),
-        ],
+        fills: vec![(&a, FillRule::NonZero), (&b, FillRule::EvenOdd), (&c, FillRule::NonZero), (&d, FillRule::NonZero)],
         ..Default::default()
     };
     let l = build_vector(&g, params(0.0, 1.0)).expect("built").expect("felt");
@@ -232,5 +229,3 @@ proptest! {
         check(&g, params(0.0, 2.0), &probe_points(&g, 0.37))?;
     }
 }
-
-
