@@ -21,7 +21,8 @@
 //!    for scale.
 //!
 //! `cargo bench -p taxel-compiler --bench vector -- --warm-up-time 1 --measurement-time 3`
-//! (`TAXEL_VECTOR_FIGURES=0` skips the figures.)
+//! (`TAXEL_VECTOR_FIGURES=0` skips the figures; `TAXEL_VECTOR_TOL=0.001` sets
+//! (b)'s simplification tolerance in mm.)
 
 use std::hint::black_box;
 
@@ -49,7 +50,11 @@ fn compile(svg: &str, fit: bool) -> Vec<Captured> {
 }
 
 fn vector_of(c: &Captured, cell_mm: f64) -> Option<VectorLayer> {
-    let p = VectorParams { cell_mm, ..VectorParams::new(c.params.soft_mm, c.params.page) };
+    let mut p = VectorParams { cell_mm, ..VectorParams::new(c.params.soft_mm, c.params.page) };
+    // `TAXEL_VECTOR_TOL=0` measures (b) without simplification (quantisation only).
+    if let Some(t) = std::env::var("TAXEL_VECTOR_TOL").ok().and_then(|v| v.parse().ok()) {
+        p.tolerance_mm = t;
+    }
     build_vector(&c.geometry.view(), p).expect("vector layer")
 }
 
