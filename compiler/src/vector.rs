@@ -7,17 +7,18 @@
 //! Nothing here is in the bundle format: the builder takes the same
 //! [`LayerGeometry`] as [`build_field`](crate::distance::build_field), and
 //! [`VectorLayer::coverage4`] is the evaluation a player would run, written
-//! as a runtime kernel (no allocation, no panic, bounded loops, `f32`).
+//! as a runtime kernel (no allocation, no panic, bounded loops, `f32`
+//! distances and an exact i64 side test).
 //!
 //! **The layer.** A layer is
 //! - a *region*: closed contours in integer coordinates (a quantum `q` of
 //!   1/256 mm, or coarser for pages over 255 mm), the union of the style's
 //!   fills under their fill rules, intersected with its clip regions and the
 //!   page (for a vibration: the clips and the page only). The union is made by
-//!   `i_overlay`, so the contours are simple, do not cross one another, run
-//!   counter-clockwise around what is inside (positive area) and clockwise
-//!   around holes: the region is inside where a point is to the left of its
-//!   nearest contour segment;
+//!   `i_overlay`, so the contours are simple and do not cross one another:
+//!   a point is inside where it is inside an odd number of them, and the
+//!   distance to the region's outline is the distance to the nearest
+//!   contour segment (no inner edges of overlapping or touching fills);
 //! - *band groups*: centre lines with a half width `w / 2`. A vibration's
 //!   band is felt where `w/2 − d > 0`; a grating's bands (the vibrating
 //!   outlines that cross it) are cut out where `d − w/2 < 0`.
