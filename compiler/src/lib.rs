@@ -14,7 +14,8 @@ pub mod annotation;
 pub mod auto;
 pub mod brush;
 mod diagnostic;
-pub(crate) mod distance;
+#[doc(hidden)]
+pub mod distance;
 pub mod drawing;
 pub mod fit;
 pub mod geometry;
@@ -27,6 +28,8 @@ pub mod spatial;
 pub mod stylesheet;
 pub mod svg;
 mod text_pos;
+#[doc(hidden)]
+pub mod vector;
 
 pub use diagnostic::{Diagnostic, Severity, has_errors};
 pub use options::{CompileOptions, DEFAULT_PX_PER_MM, Region, UpAxis};

@@ -462,7 +462,7 @@ fn distance_layers(b: &mut Built, drawing: &Drawing, pending: &[Pending], px: f3
         sources.sort_unstable();
         sources.dedup();
         built_index[k] = Some(b.layers.len());
-        b.layers.push(DistanceLayer {
+        let layer = DistanceLayer {
             kind,
             amplitude: amplitude as f32,
             soft_mm: soft as f32,
@@ -475,7 +475,12 @@ fn distance_layers(b: &mut Built, drawing: &Drawing, pending: &[Pending], px: f3
             sources,
             tiles: field.tiles,
             samples: field.samples,
-        });
+        };
+        // The vector-layer prototype's figures and benches see what was built.
+        if crate::vector::capture::active() {
+            crate::vector::capture::record(&geometry, params, &layer);
+        }
+        b.layers.push(layer);
     }
     // Features name their built layer (a style whose field came out empty has none).
     for f in &mut b.features {
