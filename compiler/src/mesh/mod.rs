@@ -27,6 +27,7 @@ pub(crate) mod field;
 pub(crate) mod load;
 pub(crate) mod place;
 pub(crate) mod planar;
+pub(crate) mod sheet;
 pub mod shapes;
 pub(crate) mod surface;
 pub mod write;
