@@ -4,9 +4,10 @@
 //! The pipeline has four stages, each in its own file:
 //! `load` reads every triangle of the scene into page millimetres,
 //! `place` keeps the `--region`, fits the model onto the surface and
-//! scales its heights, `surface` builds the top surface on a spade
-//! constrained Delaunay triangulation of the edges' exact arrangement
-//! (`planar`), and `field` samples it into a
+//! scales its heights, `surface` builds the top surface (from the triangles
+//! themselves when they tile the page, `sheet`; otherwise on a spade
+//! constrained Delaunay triangulation of the edges' exact arrangement,
+//! `planar`), and `field` samples it into a
 //! [`taxel_format::HeightField`]. The library does no file IO:
 //! external buffers come through a resolver closure.
 //!

@@ -385,14 +385,22 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
 const MAX_ROUNDS: usize = 6;
 
 /// Builds the triangulation of `points` with every edge a constraint. Edges
-/// that the bulk loader reports as crossing or touching are split in exact
-/// arithmetic (planar.rs) and the triangulation is loaded again. Returns
+/// are split where they cross or touch, in exact arithmetic (planar.rs);
+/// edges that the bulk loader still reports as crossing (the rounding of a
+/// crossing can make new ones) are split again and the triangulation is
+/// loaded again. Returns
 /// the number of edges still crossing after [`MAX_ROUNDS`] (not constraints).
 fn triangulate(mut points: Points, mut edges: Vec<[u32; 2]>, snap: &Snap) -> Result<(Cdt, usize), MeshError> {
     // Each crossing adds a vertex; bound them so a hostile mesh of long
     // crossing slivers cannot exhaust memory.
     let budget = 4 * points.at.len() + 1_000_000;
     let work = 40 * edges.len() + 50_000_000;
+    // The arrangement of all edges first: a bulk load that meets crossing
+    // constraints costs as much as one that does not, and would be repeated.
+    edges = planar::split(&mut points, &edges, &edges, work)?;
+    if points.at.len() > budget {
+        return Err(MeshError::TooBig { what: "crossings between projected edges", limit: budget });
+    }
     let mut round = 0;
     loop {
         let pos = positions(&points, snap);
