@@ -28,8 +28,8 @@ pub(crate) mod field;
 pub(crate) mod load;
 pub(crate) mod place;
 pub(crate) mod planar;
-pub(crate) mod sheet;
 pub mod shapes;
+pub(crate) mod sheet;
 pub(crate) mod surface;
 pub mod write;
 
@@ -138,9 +138,11 @@ pub fn placed(bytes: &[u8], resolve: &mut Resolver<'_>, opts: &MeshOptions) -> R
         let mut part = None;
         for p in &soup.parts {
             let b = p.bbox;
-            footprint = [footprint[0].min(b[0]), footprint[1].min(b[1]), footprint[2].max(b[2]), footprint[3].max(b[3])];
+            footprint =
+                [footprint[0].min(b[0]), footprint[1].min(b[1]), footprint[2].max(b[2]), footprint[3].max(b[3])];
             if part.is_none() && b.iter().any(|c| c.abs() > load::MAX_COORD_MM) {
-                part = Some(if p.node.is_empty() { format!("mesh '{}'", p.mesh) } else { format!("node '{}'", p.node) });
+                part =
+                    Some(if p.node.is_empty() { format!("mesh '{}'", p.mesh) } else { format!("node '{}'", p.node) });
             }
         }
         return Err(MeshError::Far {

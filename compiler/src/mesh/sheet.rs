@@ -67,7 +67,9 @@ pub fn tiling(at: &[[i64; 2]], tris: &[[u32; 3]]) -> Option<Vec<Shared>> {
         }
         match j - i {
             1 => boundary.push(([a, b], x >> 1)),
-            2 if (x ^ uses[i + 1].2) & 1 == 1 => shared.push(Shared { ends: [a, b], tris: [x >> 1, uses[i + 1].2 >> 1] }),
+            2 if (x ^ uses[i + 1].2) & 1 == 1 => {
+                shared.push(Shared { ends: [a, b], tris: [x >> 1, uses[i + 1].2 >> 1] })
+            }
             _ => return None,
         }
         i = j;
@@ -151,7 +153,8 @@ fn touches(a: [i64; 2], b: [i64; 2], t: [[i64; 2]; 3]) -> bool {
         return true;
     }
     [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])].iter().any(|&(c, d)| {
-        orient(a, b, c).signum() * orient(a, b, d).signum() < 0 && orient(c, d, a).signum() * orient(c, d, b).signum() < 0
+        orient(a, b, c).signum() * orient(a, b, d).signum() < 0
+            && orient(c, d, a).signum() * orient(c, d, b).signum() < 0
     })
 }
 

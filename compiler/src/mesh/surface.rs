@@ -11,6 +11,10 @@
 //! for a single-valued mesh is exactly spade's barycentric interpolation on
 //! the triangulation (a test checks this). Height jumps across a constraint
 //! edge are recorded as steps.
+//!
+//! A mesh whose projected triangles already tile the page (`sheet`) skips
+//! the triangulation: its triangles are the faces, and its steps lie on the
+//! edges two triangles share.
 
 use spade::handles::{FixedFaceHandle, FixedVertexHandle, InnerTag};
 use spade::{ConstrainedDelaunayTriangulation, Point2, PositionInTriangulation, Triangulation};
@@ -241,8 +245,7 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
     let mid = lengths.len() / 2;
     let median_edge = if lengths.is_empty() { 0.0 } else { *lengths.select_nth_unstable_by(mid, f64::total_cmp).1 };
 
-    let max_surface_slope =
-        planes.iter().map(Plane::slope).filter(|&m| m <= WALL_SLOPE).fold(0.0, f64::max);
+    let max_surface_slope = planes.iter().map(Plane::slope).filter(|&m| m <= WALL_SLOPE).fold(0.0, f64::max);
     let mut surface = Surface {
         faces: Vec::new(),
         cover: Vec::new(),

@@ -855,7 +855,10 @@ fn a_terrain_at_utm_coordinates_builds_with_fit_and_is_refused_without_it() {
     // Without --fit it cannot go on the page: a clear refusal that suggests --fit.
     let plain = MeshOptions { up: UpAxis::Z, ..MeshOptions::default() };
     let e = error_with(&far.to_glb(), plain.clone());
-    assert!(e.contains("more than 100 km") && e.contains("node 'dem'") && e.contains("x 500000.000..509000.000"), "{e}");
+    assert!(
+        e.contains("more than 100 km") && e.contains("node 'dem'") && e.contains("x 500000.000..509000.000"),
+        "{e}"
+    );
     let profile = profiles::builtin("finger3").unwrap();
     let out = mesh::compile_gltf(&far.to_glb(), &mut no_files, &profile, &plain);
     let d = out.diagnostics.iter().find(|d| d.code == "T0605").expect("the refusal");
