@@ -202,39 +202,6 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
         }
     }
     let max_surface_slope = planes.iter().map(Plane::slope).filter(|&m| m <= WALL_SLOPE).fold(0.0, f64::max);
-    // A triangle with the same projection as another and nowhere above it (a
-    // block's bottom under its top, a repeated triangle) never makes the top
-    // surface: leave it out of the covers.
-    let corner_heights = |t: &[u32; 3]| {
-        let mut c = t.map(|i| (grid_of[i as usize], verts[i as usize][2]));
-        c.sort_unstable_by_key(|x| x.0);
-        c
-    };
-    let mut keep = vec![true; corners.len()];
-    let mut first: HashMap<[[i64; 2]; 3], usize> = HashMap::with_capacity(corners.len());
-    for (k, t) in corners.iter().enumerate() {
-        let c = corner_heights(t);
-        match first.entry(c.map(|x| x.0)) {
-            Entry::Vacant(e) => {
-                e.insert(k);
-            }
-            Entry::Occupied(mut e) => {
-                let o = corner_heights(&corners[*e.get()]);
-                if c.iter().zip(&o).all(|(a, b)| a.1 <= b.1) {
-                    keep[k] = false;
-                } else if c.iter().zip(&o).all(|(a, b)| a.1 >= b.1) {
-                    keep[*e.get()] = false;
-                    e.insert(k);
-                }
-            }
-        }
-    }
-    if keep.contains(&false) {
-        let mut kept = keep.iter();
-        planes.retain(|_| kept.next().copied().unwrap_or(true));
-        let mut kept = keep.iter();
-        corners.retain(|_| kept.next().copied().unwrap_or(true));
-    }
     if planes.is_empty() {
         return Err(MeshError::NoArea);
     }
@@ -317,6 +284,40 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
         return Ok(surface);
     }
 
+    // A triangle with the same projection as another and nowhere above it (a
+    // block's bottom under its top, a repeated triangle) never makes the top
+    // surface: leave it out of the covers. (The tiling test above
+    // refuses such pairs, so this only runs here.)
+    let corner_heights = |t: &[u32; 3]| {
+        let mut c = t.map(|i| (grid_of[i as usize], verts[i as usize][2]));
+        c.sort_unstable_by_key(|x| x.0);
+        c
+    };
+    let mut keep = vec![true; corners.len()];
+    let mut first: HashMap<[[i64; 2]; 3], usize> = HashMap::with_capacity(corners.len());
+    for (k, t) in corners.iter().enumerate() {
+        let c = corner_heights(t);
+        match first.entry(c.map(|x| x.0)) {
+            Entry::Vacant(e) => {
+                e.insert(k);
+            }
+            Entry::Occupied(mut e) => {
+                let o = corner_heights(&corners[*e.get()]);
+                if c.iter().zip(&o).all(|(a, b)| a.1 <= b.1) {
+                    keep[k] = false;
+                } else if c.iter().zip(&o).all(|(a, b)| a.1 >= b.1) {
+                    keep[*e.get()] = false;
+                    e.insert(k);
+                }
+            }
+        }
+    }
+    if keep.contains(&false) {
+        let mut kept = keep.iter();
+        surface.planes.retain(|_| kept.next().copied().unwrap_or(true));
+        let mut kept = keep.iter();
+        corners.retain(|_| kept.next().copied().unwrap_or(true));
+    }
     let (cdt, unresolved) = triangulate(grid_points, edges, &snap)?;
     surface.unresolved = unresolved;
     // A handle in a bulk load is its input index; check rather than trust.
