@@ -61,10 +61,18 @@ pub enum MeshError {
         /// What.
         what: &'static str,
     },
-    /// A vertex lies more than 100 km from the origin.
+    /// A vertex lies more than 10 million km from the origin.
     Range {
         /// Where.
         at: Where,
+    },
+    /// A vertex of the placed model lies more than 100 km from the origin
+    /// (raw UTM coordinates without `--fit`).
+    Far {
+        /// The part it is in, or "the model".
+        part: String,
+        /// The footprint `[xmin, ymin, xmax, ymax]`, in model units (metres).
+        footprint: [f64; 4],
     },
     /// The scene has no triangles.
     EmptyScene,
@@ -125,7 +133,12 @@ impl core::fmt::Display for MeshError {
                 write!(f, "{node}: the {what} is not finite")
             }
             MeshError::NonFinite { node, mesh, what } => write!(f, "{node}, {mesh}: a {what} is not finite"),
-            MeshError::Range { at } => write!(f, "{at}: a vertex lies more than 100 km from the origin"),
+            MeshError::Range { at } => write!(f, "{at}: a vertex lies more than 10 million km from the origin"),
+            MeshError::Far { part, footprint: b } => write!(
+                f,
+                "{part}: a vertex lies more than 100 km from the origin (the footprint is x {:.3}..{:.3}, y {:.3}..{:.3} in model units)",
+                b[0], b[2], b[1], b[3]
+            ),
             MeshError::EmptyScene => write!(f, "the scene has no triangles (no node with a triangle mesh)"),
             MeshError::NoArea => {
                 write!(f, "no triangle covers any area of the page (all are vertical or degenerate seen from +Y)")
@@ -162,7 +175,7 @@ impl MeshError {
             MeshError::Graph { .. } | MeshError::EmptyScene => "T0602",
             MeshError::Mode { .. } => "T0603",
             MeshError::NoPositions { .. } | MeshError::Accessor { .. } | MeshError::Index { .. } => "T0604",
-            MeshError::NonFinite { .. } | MeshError::Range { .. } => "T0605",
+            MeshError::NonFinite { .. } | MeshError::Range { .. } | MeshError::Far { .. } => "T0605",
             MeshError::NoArea => "T0606",
             MeshError::TooBig { .. }
             | MeshError::FieldTooLarge { .. }
@@ -185,6 +198,7 @@ impl MeshError {
             MeshError::Graph { node, .. } => Some(node.clone()),
             MeshError::NonFinite { node, mesh, .. } if mesh.is_empty() => Some(node.clone()),
             MeshError::NonFinite { node, mesh, .. } => Some(format!("{node}, {mesh}")),
+            MeshError::Far { part, .. } => Some(part.clone()),
             _ => None,
         }
     }

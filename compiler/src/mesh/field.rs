@@ -123,7 +123,10 @@ pub fn sample(s: &Surface, g: &Grid, source: Option<u32>) -> HeightField {
                     ties[k] = 1;
                 } else if h >= best[k] - tol && ties[k] < u16::MAX {
                     // Same height from another face (the node is on an edge or
-                    // corner): average the slopes so a ridge on a node is level.
+                    // corner): average the slopes so a ridge on a node is level,
+                    // and keep the higher of the roundings, so the height does
+                    // not depend on the order of the faces.
+                    best[k] = best[k].max(h);
                     grad[k][0] += gx;
                     grad[k][1] += gy;
                     ties[k] += 1;

@@ -24,8 +24,14 @@ use crate::options::UpAxis;
 
 /// Largest number of triangles one file may contribute.
 pub const MAX_TRIANGLES: usize = 20_000_000;
-/// Largest coordinate magnitude after conversion to millimetres (100 km).
+/// Largest coordinate magnitude of the placed model in millimetres (100 km):
+/// what the surface stage takes. Farther models are refused unless `--fit`
+/// recentres them (see `super::placed`).
 pub const MAX_COORD_MM: f64 = 1.0e8;
+/// Largest coordinate magnitude read from a file, in millimetres (10 million
+/// km): beyond any coordinate on Earth (UTM, geocentric), and still with
+/// micrometre steps in f64, so `--fit` can recentre such a model.
+pub const MAX_MODEL_MM: f64 = 1.0e13;
 /// Deepest node nesting that is followed.
 const MAX_DEPTH: usize = 256;
 
@@ -236,7 +242,7 @@ fn add_mesh(
                 UpAxis::Y => [v[0] * 1000.0, v[2] * 1000.0, v[1] * 1000.0],
                 UpAxis::Z => [v[0] * 1000.0, -v[1] * 1000.0, v[2] * 1000.0],
             };
-            if mm.iter().any(|c| c.abs() > MAX_COORD_MM) {
+            if mm.iter().any(|c| c.abs() > MAX_MODEL_MM) {
                 return Err(MeshError::Range { at: at() });
             }
             for k in 0..3 {

@@ -4,9 +4,10 @@
 //! The pipeline has four stages, each in its own file:
 //! `load` reads every triangle of the scene into page millimetres,
 //! `place` keeps the `--region`, fits the model onto the surface and
-//! scales its heights, `surface` builds the top surface on a spade
-//! constrained Delaunay triangulation of the edges' exact arrangement
-//! (`planar`), and `field` samples it into a
+//! scales its heights, `surface` builds the top surface (from the triangles
+//! themselves when they tile the page, `sheet`; otherwise on a spade
+//! constrained Delaunay triangulation of the edges' exact arrangement,
+//! `planar`), and `field` samples it into a
 //! [`taxel_format::HeightField`]. The library does no file IO:
 //! external buffers come through a resolver closure.
 //!
@@ -28,6 +29,7 @@ pub(crate) mod load;
 pub(crate) mod place;
 pub(crate) mod planar;
 pub mod shapes;
+pub(crate) mod sheet;
 pub(crate) mod surface;
 pub mod write;
 
@@ -127,6 +129,27 @@ impl MeshReport {
 pub fn placed(bytes: &[u8], resolve: &mut Resolver<'_>, opts: &MeshOptions) -> Result<(load::Soup, f64), MeshError> {
     let mut soup = load::load_with(bytes, resolve, opts.up)?;
     let mm_per_metre = place::place(&mut soup, opts)?;
+    // Placing works in f64 on coordinates up to `MAX_MODEL_MM`, so `--fit`
+    // recentres a model at UTM coordinates; without it the model must lie
+    // near the origin, as the surface stage and the stored f32 grid need.
+    let far = |v: &[f64; 3]| v.iter().any(|c| c.abs() > load::MAX_COORD_MM);
+    if soup.triangles.iter().flatten().any(|&i| soup.vertices.get(i as usize).is_some_and(far)) {
+        let mut footprint = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
+        let mut part = None;
+        for p in &soup.parts {
+            let b = p.bbox;
+            footprint =
+                [footprint[0].min(b[0]), footprint[1].min(b[1]), footprint[2].max(b[2]), footprint[3].max(b[3])];
+            if part.is_none() && b.iter().any(|c| c.abs() > load::MAX_COORD_MM) {
+                part =
+                    Some(if p.node.is_empty() { format!("mesh '{}'", p.mesh) } else { format!("node '{}'", p.node) });
+            }
+        }
+        return Err(MeshError::Far {
+            part: part.unwrap_or_else(|| "the model".into()),
+            footprint: footprint.map(|v| v / 1000.0),
+        });
+    }
     Ok((soup, mm_per_metre))
 }
 
@@ -186,6 +209,7 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
             let d = Diagnostic::error(e.code(), e.to_string());
             diagnostics.push(match &e {
                 MeshError::Region(_) => d.with_help("a region is X,Y,W,H in model units along the page (x = X, y = Z, or -Y with --up z), or #name of a node or mesh"),
+                MeshError::Far { .. } => d.with_help("build with --fit (and --region for a part) to recentre the model and scale it onto the surface"),
                 _ => d,
             });
             return Compiled { bundle: None, diagnostics };

@@ -62,7 +62,7 @@ impl Snap {
 }
 
 /// Sign of the turn `a -> b -> c`: positive counter-clockwise, exact.
-fn orient(a: [i64; 2], b: [i64; 2], c: [i64; 2]) -> i128 {
+pub(super) fn orient(a: [i64; 2], b: [i64; 2], c: [i64; 2]) -> i128 {
     let (abx, aby) = ((b[0] - a[0]) as i128, (b[1] - a[1]) as i128);
     let (acx, acy) = ((c[0] - a[0]) as i128, (c[1] - a[1]) as i128);
     abx * acy - aby * acx
@@ -70,7 +70,7 @@ fn orient(a: [i64; 2], b: [i64; 2], c: [i64; 2]) -> i128 {
 
 /// Position of `p` along `a -> b` as the dot product with the direction
 /// (0 at `a`, |ab|² at `b`).
-fn along(a: [i64; 2], b: [i64; 2], p: [i64; 2]) -> i128 {
+pub(super) fn along(a: [i64; 2], b: [i64; 2], p: [i64; 2]) -> i128 {
     (b[0] - a[0]) as i128 * (p[0] - a[0]) as i128 + (b[1] - a[1]) as i128 * (p[1] - a[1]) as i128
 }
 

@@ -11,6 +11,13 @@
 //! for a single-valued mesh is exactly spade's barycentric interpolation on
 //! the triangulation (a test checks this). Height jumps across a constraint
 //! edge are recorded as steps.
+//!
+//! A mesh whose projected triangles already tile the page (`sheet`) skips
+//! the triangulation: its triangles are the faces, and its steps lie on the
+//! edges two triangles share.
+
+use std::collections::HashMap;
+use std::collections::hash_map::Entry;
 
 use spade::handles::{FixedFaceHandle, FixedVertexHandle, InnerTag};
 use spade::{ConstrainedDelaunayTriangulation, Point2, PositionInTriangulation, Triangulation};
@@ -18,6 +25,7 @@ use spade::{ConstrainedDelaunayTriangulation, Point2, PositionInTriangulation, T
 use super::error::MeshError;
 use super::load::Soup;
 use super::planar::{self, Points, Snap};
+use super::sheet;
 
 /// Slope (|∇h|) above which a triangle counts as a wall: it still covers its
 /// thin footprint, but it does not raise the gradient cap.
@@ -133,6 +141,18 @@ impl Surface {
     }
 }
 
+impl Surface {
+    /// Whether the tops of faces `f1` and `f2` differ by more than the
+    /// rounding tolerance at either end or the middle of their edge `a`–`b`.
+    fn is_step(&self, f1: &Face, f2: &Face, a: [f64; 2], b: [f64; 2]) -> bool {
+        let m = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
+        [a, m, b].iter().any(|q| match (self.top(f1, q[0], q[1]), self.top(f2, q[0], q[1])) {
+            (Some(h1), Some(h2)) => (h1.0 - h2.0).abs() > self.step_tol,
+            _ => false,
+        })
+    }
+}
+
 type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
 
 /// Builds the top surface of `soup`.
@@ -181,6 +201,7 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
             None => degenerate += 1,
         }
     }
+    let max_surface_slope = planes.iter().map(Plane::slope).filter(|&m| m <= WALL_SLOPE).fold(0.0, f64::max);
     if planes.is_empty() {
         return Err(MeshError::NoArea);
     }
@@ -209,14 +230,7 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
     }
     edges.sort_unstable();
     edges.dedup();
-    let points: Vec<Point2<f64>> = grid_points
-        .at
-        .iter()
-        .map(|&g| {
-            let m = snap.to_mm(g);
-            Point2::new(m[0], m[1])
-        })
-        .collect();
+    let points = positions(&grid_points, &snap);
 
     let mut bbox = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
     for p in &points {
@@ -235,7 +249,77 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
     let mid = lengths.len() / 2;
     let median_edge = if lengths.is_empty() { 0.0 } else { *lengths.select_nth_unstable_by(mid, f64::total_cmp).1 };
 
+    let mut surface = Surface {
+        faces: Vec::new(),
+        cover: Vec::new(),
+        planes,
+        steps: Vec::new(),
+        bbox,
+        median_edge,
+        step_tol,
+        max_surface_slope,
+        degenerate,
+        unresolved: 0,
+    };
+
+    // A mesh whose projection already tiles the page (a terrain) is its own
+    // triangulation: each triangle is a face covered by itself (sheet.rs).
+    let tris: Vec<[u32; 3]> = corners.iter().map(|t| t.map(|i| map[i as usize])).collect();
+    if let Some(shared) = sheet::tiling(&grid_points.at, &tris) {
+        surface.faces = tris
+            .iter()
+            .zip(0u32..)
+            .map(|(t, k)| Face { corners: t.map(|i| [points[i as usize].x, points[i as usize].y]), cover: k..k + 1 })
+            .collect();
+        surface.cover = (0..tris.len() as u32).collect();
+        let steps = shared
+            .iter()
+            .filter_map(|e| {
+                let [a, b] = e.ends.map(|i| [points[i as usize].x, points[i as usize].y]);
+                let [f1, f2] = e.tris.map(|t| &surface.faces[t as usize]);
+                surface.is_step(f1, f2, a, b).then_some(Step { a, b })
+            })
+            .collect();
+        surface.steps = steps;
+        return Ok(surface);
+    }
+
+    // A triangle with the same projection as another and nowhere above it (a
+    // block's bottom under its top, a repeated triangle) never makes the top
+    // surface: leave it out of the covers. (The tiling test above
+    // refuses such pairs, so this only runs here.)
+    let corner_heights = |t: &[u32; 3]| {
+        let mut c = t.map(|i| (grid_of[i as usize], verts[i as usize][2]));
+        c.sort_unstable_by_key(|x| x.0);
+        c
+    };
+    let mut keep = vec![true; corners.len()];
+    let mut first: HashMap<[[i64; 2]; 3], usize> = HashMap::with_capacity(corners.len());
+    for (k, t) in corners.iter().enumerate() {
+        let c = corner_heights(t);
+        match first.entry(c.map(|x| x.0)) {
+            Entry::Vacant(e) => {
+                e.insert(k);
+            }
+            Entry::Occupied(mut e) => {
+                let o = corner_heights(&corners[*e.get()]);
+                if c.iter().zip(&o).all(|(a, b)| a.1 <= b.1) {
+                    keep[k] = false;
+                } else if c.iter().zip(&o).all(|(a, b)| a.1 >= b.1) {
+                    keep[*e.get()] = false;
+                    e.insert(k);
+                }
+            }
+        }
+    }
+    if keep.contains(&false) {
+        let mut kept = keep.iter();
+        surface.planes.retain(|_| kept.next().copied().unwrap_or(true));
+        let mut kept = keep.iter();
+        corners.retain(|_| kept.next().copied().unwrap_or(true));
+    }
     let (cdt, unresolved) = triangulate(grid_points, edges, &snap)?;
+    surface.unresolved = unresolved;
     // A handle in a bulk load is its input index; check rather than trust.
     for (i, p) in points.iter().enumerate() {
         if i >= cdt.num_vertices() || cdt.vertex(FixedVertexHandle::from_index(i)).position() != *p {
@@ -248,13 +332,9 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
     let mut stamp = vec![u32::MAX; cdt.num_all_faces()];
     let mut pairs: Vec<(u32, u32)> = Vec::new();
     let mut queue: Vec<FixedFaceHandle<InnerTag>> = Vec::new();
-    let mut max_surface_slope: f64 = 0.0;
     for (ti, t) in corners.iter().enumerate() {
         let v = t.map(|i| verts[i as usize]);
         let tri = Tri::new(v);
-        if planes[ti].slope() <= WALL_SLOPE {
-            max_surface_slope = max_surface_slope.max(planes[ti].slope());
-        }
         let c = Point2::new((v[0][0] + v[1][0] + v[2][0]) / 3.0, (v[0][1] + v[1][1] + v[2][1]) / 3.0);
         let hint = FixedVertexHandle::from_index(map[t[0] as usize] as usize);
         queue.clear();
@@ -317,18 +397,8 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
         faces.push(Face { corners: pos.map(|p| [p.x, p.y]), cover: start..cover.len() as u32 });
     }
 
-    let mut surface = Surface {
-        faces,
-        cover,
-        planes,
-        steps: Vec::new(),
-        bbox,
-        median_edge,
-        step_tol,
-        max_surface_slope,
-        degenerate,
-        unresolved,
-    };
+    surface.faces = faces;
+    surface.cover = cover;
 
     // Steps: constraint edges with a covered face on each side whose tops differ.
     let mut steps = Vec::new();
@@ -342,15 +412,7 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
         };
         let (Some(f1), Some(f2)) = (side(d.face()), side(d.rev().face())) else { continue };
         let [a, b] = d.positions().map(|p| [p.x, p.y]);
-        let m = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
-        let jump = [a, m, b]
-            .iter()
-            .map(|q| match (surface.top(f1, q[0], q[1]), surface.top(f2, q[0], q[1])) {
-                (Some(h1), Some(h2)) => (h1.0 - h2.0).abs(),
-                _ => 0.0,
-            })
-            .fold(0.0, f64::max);
-        if jump > step_tol {
+        if surface.is_step(f1, f2, a, b) {
             steps.push(Step { a, b });
         }
     }
@@ -363,24 +425,25 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
 const MAX_ROUNDS: usize = 6;
 
 /// Builds the triangulation of `points` with every edge a constraint. Edges
-/// that the bulk loader reports as crossing or touching are split in exact
-/// arithmetic (planar.rs) and the triangulation is loaded again. Returns
+/// are split where they cross or touch, in exact arithmetic (planar.rs);
+/// edges that the bulk loader still reports as crossing (the rounding of a
+/// crossing can make new ones) are split again and the triangulation is
+/// loaded again. Returns
 /// the number of edges still crossing after [`MAX_ROUNDS`] (not constraints).
 fn triangulate(mut points: Points, mut edges: Vec<[u32; 2]>, snap: &Snap) -> Result<(Cdt, usize), MeshError> {
     // Each crossing adds a vertex; bound them so a hostile mesh of long
     // crossing slivers cannot exhaust memory.
     let budget = 4 * points.at.len() + 1_000_000;
     let work = 40 * edges.len() + 50_000_000;
+    // The arrangement of all edges first: a bulk load that meets crossing
+    // constraints costs as much as one that does not, and would be repeated.
+    edges = planar::split(&mut points, &edges, &edges, work)?;
+    if points.at.len() > budget {
+        return Err(MeshError::TooBig { what: "crossings between projected edges", limit: budget });
+    }
     let mut round = 0;
     loop {
-        let pos: Vec<Point2<f64>> = points
-            .at
-            .iter()
-            .map(|&g| {
-                let m = snap.to_mm(g);
-                Point2::new(m[0], m[1])
-            })
-            .collect();
+        let pos = positions(&points, snap);
         for p in &pos {
             spade::validate_vertex(p)
                 .map_err(|e| MeshError::Triangulation(format!("vertex ({}, {}): {e:?}", p.x, p.y)))?;
@@ -401,6 +464,18 @@ fn triangulate(mut points: Points, mut edges: Vec<[u32; 2]>, snap: &Snap) -> Res
             return Err(MeshError::TooBig { what: "crossings between projected edges", limit: budget });
         }
     }
+}
+
+/// The page positions of the grid points, in order.
+fn positions(points: &Points, snap: &Snap) -> Vec<Point2<f64>> {
+    points
+        .at
+        .iter()
+        .map(|&g| {
+            let m = snap.to_mm(g);
+            Point2::new(m[0], m[1])
+        })
+        .collect()
 }
 
 fn face_centroid(cdt: &Cdt, f: FixedFaceHandle<InnerTag>) -> [f64; 2] {

@@ -364,7 +364,7 @@ fn malformed_files_are_errors_that_name_the_mesh_and_primitive() {
         (json.replace("\"indices\":1", "\"indices\":9"), "not a valid glTF"),
         (json.replace("\"mesh\":0", "\"mesh\":3"), "not a valid glTF"),
         (json.replace("\"nodes\":[0]", "\"nodes\":[]"), "the scene has no triangles"),
-        (json.replace("\"mesh\":0", "\"mesh\":0,\"scale\":[1e30,1e30,1e30]"), "more than 100 km"),
+        (json.replace("\"mesh\":0", "\"mesh\":0,\"scale\":[1e30,1e30,1e30]"), "more than 10 million km"),
         (json.replace("\"mesh\":0", "\"mesh\":0,\"scale\":[1e39,1,1]"), "node 'Terrain' (#0)"),
         (json.replace("base64,", "base64,@@"), "buffer 0"),
         ("{\"asset\":{\"version\":\"2.0\"}".to_string(), "not a valid glTF"),
@@ -826,6 +826,43 @@ fn a_z_up_terrain_gets_the_up_note_and_fits_the_surface_with_up_z() {
     for (a, b) in f.heights.iter().zip(&g.heights) {
         assert!((3.0 * a - b).abs() < 1e-3, "{a} x 3 vs {b}");
     }
+}
+
+#[test]
+fn a_terrain_at_utm_coordinates_builds_with_fit_and_is_refused_without_it() {
+    // The DEM moved to UTM-like coordinates (500 km east, 5,000 km north) by
+    // its node, as GIS exports place tiles. The translation is exact in f32,
+    // so the model is the same terrain; --fit recentres it in f64 before any
+    // f32, so the field equals the one of the terrain at the origin.
+    let near = dem(30);
+    let far = HeightMesh { translation: Some([500_000.0, 5_000_000.0, 0.0]), ..dem(30) };
+    let fit = MeshOptions { up: UpAxis::Z, fit: Some([160.0, 100.0]), ..MeshOptions::default() };
+    let same = |a: &HeightField, b: &HeightField| {
+        assert_eq!((a.cols, a.rows, a.origin_x, a.origin_y, a.cell), (b.cols, b.rows, b.origin_x, b.origin_y, b.cell));
+        assert_eq!(a.flags, b.flags);
+        for (x, y) in a.heights.iter().zip(&b.heights) {
+            assert!((x - y).abs() < 1e-4, "{x} vs {y}");
+        }
+    };
+    same(&field_with(&near.to_glb(), fit.clone()), &field_with(&far.to_glb(), fit.clone()));
+    // A region in model units (page y is -Y with --up z): the same 4 km square of both.
+    let region = |dx: f64, dy: f64| MeshOptions {
+        region: Some(Region::Rect { x: 2000.0 + dx, y: -9000.0 - dy, w: 4000.0, h: 4000.0 }),
+        ..fit.clone()
+    };
+    same(&field_with(&near.to_glb(), region(0.0, 0.0)), &field_with(&far.to_glb(), region(500_000.0, 5_000_000.0)));
+
+    // Without --fit it cannot go on the page: a clear refusal that suggests --fit.
+    let plain = MeshOptions { up: UpAxis::Z, ..MeshOptions::default() };
+    let e = error_with(&far.to_glb(), plain.clone());
+    assert!(
+        e.contains("more than 100 km") && e.contains("node 'dem'") && e.contains("x 500000.000..509000.000"),
+        "{e}"
+    );
+    let profile = profiles::builtin("finger3").unwrap();
+    let out = mesh::compile_gltf(&far.to_glb(), &mut no_files, &profile, &plain);
+    let d = out.diagnostics.iter().find(|d| d.code == "T0605").expect("the refusal");
+    assert!(out.bundle.is_none() && d.help.as_deref().unwrap_or("").contains("--fit"), "{d:?}");
 }
 
 #[test]
