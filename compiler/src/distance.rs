@@ -27,7 +27,9 @@ use std::collections::HashMap;
 
 use taxel_format::{DISTANCE_ZERO, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE, TILE_SAMPLES, TILE_SIDE};
 
-use crate::geometry::{FillRule, Polyline, distance_to_segment};
+use crate::geometry::{FillRule, Polyline};
+#[cfg(test)]
+use crate::geometry::distance_to_segment;
 
 /// The geometry of one layer (one style).
 #[derive(Debug, Clone, Default)]
@@ -130,6 +132,16 @@ pub fn exact_signed_distance(g: &LayerGeometry<'_>, page: (f64, f64, f64, f64), 
         s = s.min(if crate::geometry::contains(pls, p, *rule) { d } else { -d });
     }
     s.min(inside_rect(page, p))
+}
+
+/// Squared distance from `p` to the segment `a`-`b` (as
+/// `crate::geometry::distance_to_segment`, without its square root).
+fn distance2_to_segment(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let len2 = dx * dx + dy * dy;
+    let t = if len2 > 0.0 { (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / len2).clamp(0.0, 1.0) } else { 0.0 };
+    let (ex, ey) = (a.0 + t * dx - p.0, a.1 + t * dy - p.1);
+    ex * ex + ey * ey
 }
 
 /// Signed distance inside a rectangle (positive inside).
@@ -314,15 +326,21 @@ fn sample(
     let mut d_band = f64::INFINITY;
     let mut d_cut: Vec<f64> = vec![f64::INFINITY; g.cuts.len()];
     let mut d_clip: Vec<f64> = vec![f64::INFINITY; g.clips.len()];
+    // Squared distances in the loop, one square root per part after it: this
+    // is the innermost loop of every layer.
     for &n in bucket {
         let ((a, b), part, _) = segs[n as usize];
-        let d = distance_to_segment(p, a, b);
+        let d = distance2_to_segment(p, a, b);
         match part {
             Part::Fill => d_fill = d_fill.min(d),
             Part::Band => d_band = d_band.min(d),
             Part::Cut(k) => d_cut[k] = d_cut[k].min(d),
             Part::Clip(k) => d_clip[k] = d_clip[k].min(d),
         }
+    }
+    let (d_fill, d_band) = (d_fill.sqrt(), d_band.sqrt());
+    for d in d_cut.iter_mut().chain(d_clip.iter_mut()) {
+        *d = d.sqrt();
     }
     let mut s = f64::NEG_INFINITY;
     if !g.fills.is_empty() {
