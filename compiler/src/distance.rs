@@ -324,7 +324,10 @@ fn sample(
 ) -> f64 {
     let mut d_fill = f64::INFINITY;
     let mut d_band = f64::INFINITY;
-    let mut d_cut: Vec<f64> = vec![f64::INFINITY; g.cuts.len()];
+    // The cuts as one: the least of (distance - half width) over every cut's
+    // segments, so a sample costs the segments near it, not one entry per cut
+    // in the layer (a map's thousands of borders cut out of each grating).
+    let mut cut = f64::INFINITY;
     let mut d_clip: Vec<f64> = vec![f64::INFINITY; g.clips.len()];
     // Squared distances in the loop, one square root per part after it: this
     // is the innermost loop of every layer.
@@ -334,12 +337,12 @@ fn sample(
         match part {
             Part::Fill => d_fill = d_fill.min(d),
             Part::Band => d_band = d_band.min(d),
-            Part::Cut(k) => d_cut[k] = d_cut[k].min(d),
+            Part::Cut(k) => cut = cut.min(d.sqrt() - g.cuts[k].1 / 2.0),
             Part::Clip(k) => d_clip[k] = d_clip[k].min(d),
         }
     }
     let (d_fill, d_band) = (d_fill.sqrt(), d_band.sqrt());
-    for d in d_cut.iter_mut().chain(d_clip.iter_mut()) {
+    for d in d_clip.iter_mut() {
         *d = d.sqrt();
     }
     let mut s = f64::NEG_INFINITY;
@@ -349,8 +352,8 @@ fn sample(
     if let Some((_, w)) = &g.band {
         s = s.max(w / 2.0 - d_band);
     }
-    for (k, (_, w)) in g.cuts.iter().enumerate() {
-        s = s.min(d_cut[k] - w / 2.0);
+    if !g.cuts.is_empty() {
+        s = s.min(cut);
     }
     for (k, &d) in d_clip.iter().enumerate() {
         s = s.min(if in_clip.get(k).copied().unwrap_or(false) { d } else { -d });

@@ -420,3 +420,102 @@ fn overlap(built: &Built, a: &Feature, b: &Feature, diags: &mut Vec<Diagnostic>)
         ));
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Polyline;
+
+    /// A deterministic sequence in [0, 1) (a linear congruential generator).
+    struct Lcg(u64);
+    impl Lcg {
+        fn next(&mut self) -> f64 {
+            self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (self.0 >> 33) as f64 / (1u64 << 31) as f64
+        }
+    }
+
+    /// A random drawing: vibrating outlines (closed and open), gratings and
+    /// dotted features, some of them parts of one element, packed closely
+    /// enough that many touch, cross or lie inside each other.
+    fn random_features(seed: u64, n: usize) -> Vec<Feature> {
+        let mut r = Lcg(seed);
+        (0..n)
+            .map(|k| {
+                let (cx, cy) = (r.next() * 60.0, r.next() * 40.0);
+                let size = 0.5 + r.next() * 6.0;
+                let sides = 3 + (r.next() * 5.0) as usize;
+                let turn = r.next() * 6.3;
+                let points: Vec<(f64, f64)> = (0..sides)
+                    .map(|s| {
+                        let a = turn + s as f64 * std::f64::consts::TAU / sides as f64;
+                        let rad = size * (0.5 + r.next());
+                        (cx + rad * a.cos(), cy + rad * a.sin())
+                    })
+                    .collect();
+                let (kind, half_band, closed) = match k % 4 {
+                    0 => (FeatureKind::Vibrate { width_mm: 1.5, freq_hz: 40.0 }, 0.75, true),
+                    1 => (FeatureKind::Vibrate { width_mm: 1.0, freq_hz: 40.0 }, 0.5, false),
+                    2 => (FeatureKind::Grating { wavelength_mm: 4.0, angle_deg: 0.0 }, 0.0, true),
+                    _ => (FeatureKind::Dot { radius_mm: 0.6 }, 0.0, false),
+                };
+                let (outline, dots) = if k % 4 == 3 {
+                    (Vec::new(), points.iter().map(|p| (p.0, p.1, 0.6)).collect::<Vec<_>>())
+                } else {
+                    (vec![Polyline { points, closed }], Vec::new())
+                };
+                let bbox = if dots.is_empty() {
+                    let b = crate::geometry::bounds(&outline).unwrap();
+                    spatial::grow(b, half_band)
+                } else {
+                    dots.iter().fold((f64::MAX, f64::MAX, f64::MIN, f64::MIN), |b, d| {
+                        (b.0.min(d.0 - d.2), b.1.min(d.1 - d.2), b.2.max(d.0 + d.2), b.3.max(d.1 + d.2))
+                    })
+                };
+                Feature {
+                    // Every seventh feature is a second style of the element before it.
+                    elem: if k % 7 == 6 { k - 1 } else { k },
+                    name: format!("f{k}"),
+                    line: 1,
+                    kind,
+                    outline,
+                    half_band,
+                    dots,
+                    bbox,
+                    mask: None,
+                    amplitude: 1.0,
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn nearest_gaps_are_those_of_an_all_pairs_scan() {
+        for seed in [1, 2, 3] {
+            let f = random_features(seed, 300);
+            let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
+            let got = nearest_gaps(&f, &spatial::BoxIndex::new(&boxes));
+            let mut reported = 0;
+            for (j, b) in f.iter().enumerate() {
+                // Every other feature, its exact gap with no reach to cut it short.
+                let want = (0..f.len())
+                    .filter(|&i| f[i].elem != b.elem)
+                    .map(|i| gap(&f[i], b, 1e9))
+                    .filter(|&g| g > 0.0 && g < MIN_GAP_MM)
+                    .fold(None, |m: Option<f64>, g| Some(m.map_or(g, |m| m.min(g))));
+                match (got[j], want) {
+                    (None, None) => {}
+                    (Some((i, g)), Some(w)) => {
+                        reported += 1;
+                        assert!((g - w).abs() < 1e-12, "seed {seed}, f{j}: nearest gap {g}, all pairs {w}");
+                        assert!(f[i].elem != b.elem);
+                        assert!((gap(&f[i], b, 1e9) - g).abs() < 1e-12, "seed {seed}, f{j}: #f{i} is not {g} away");
+                    }
+                    (g, w) => panic!("seed {seed}, f{j}: nearest {g:?}, all pairs {w:?}"),
+                }
+            }
+            // The drawing is dense enough that the rule has something to find.
+            assert!(reported > 30, "seed {seed}: only {reported} features have a near neighbour");
+        }
+    }
+}
