@@ -27,9 +27,9 @@ use std::collections::HashMap;
 
 use taxel_format::{DISTANCE_ZERO, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE, TILE_SAMPLES, TILE_SIDE};
 
-use crate::geometry::{FillRule, Polyline};
 #[cfg(test)]
 use crate::geometry::distance_to_segment;
+use crate::geometry::{FillRule, Polyline};
 
 /// The geometry of one layer (one style).
 #[derive(Debug, Clone, Default)]

@@ -17,7 +17,8 @@ pub(crate) struct LineIndex {
 impl LineIndex {
     /// Indexes the line starts of `text`.
     pub(crate) fn new(text: &str) -> Self {
-        let starts = std::iter::once(0).chain(text.bytes().enumerate().filter(|&(_, b)| b == b'\n').map(|(i, _)| i + 1));
+        let starts =
+            std::iter::once(0).chain(text.bytes().enumerate().filter(|&(_, b)| b == b'\n').map(|(i, _)| i + 1));
         LineIndex { starts: starts.collect() }
     }
 

@@ -186,7 +186,10 @@ fn confusable_gratings(f: &[Feature], diags: &mut Vec<Diagnostic>) {
     let mut textures: Vec<((f64, f64), Vec<usize>)> = Vec::new();
     for (i, x) in f.iter().enumerate() {
         if let FeatureKind::Grating { wavelength_mm, angle_deg } = x.kind {
-            match textures.iter_mut().find(|(t, _)| t.0.to_bits() == wavelength_mm.to_bits() && t.1.to_bits() == angle_deg.to_bits()) {
+            match textures
+                .iter_mut()
+                .find(|(t, _)| t.0.to_bits() == wavelength_mm.to_bits() && t.1.to_bits() == angle_deg.to_bits())
+            {
                 Some((_, members)) => members.push(i),
                 None => textures.push(((wavelength_mm, angle_deg), vec![i])),
             }
@@ -215,10 +218,8 @@ fn confusable_gratings(f: &[Feature], diags: &mut Vec<Diagnostic>) {
     }
     found.sort_unstable_by_key(|&(a, b, _)| (a, b));
     for (a, b) in found.into_iter().map(|(a, b, _)| (&f[a], &f[b])) {
-        let (
-            FeatureKind::Grating { wavelength_mm: la, .. },
-            FeatureKind::Grating { wavelength_mm: lb, .. },
-        ) = (a.kind, b.kind)
+        let (FeatureKind::Grating { wavelength_mm: la, .. }, FeatureKind::Grating { wavelength_mm: lb, .. }) =
+            (a.kind, b.kind)
         else {
             continue;
         };
