@@ -10,6 +10,13 @@
 //! once fitted to the surface (the pixels taxel's masks cover), and, for
 //! reference, at the drawing's own 529 mm width.
 //!
+//! A second group builds the largest drawings under the 64 MB input limit
+//! (`src/io/read.rs`), a map and a city plan just under it, whole process,
+//! for the rule that no drawing under the limit takes more than 10 s. Each
+//! build takes long; run it alone with `-- 'input limit'`, or leave it out
+//! with `-- real-size`. With `TAXEL_KEEP_DRAWINGS=DIR` the two drawings are
+//! also written to DIR, to time `taxel build --fit` on them by hand.
+//!
 //! `cargo bench --bench real_build -- --warm-up-time 1 --measurement-time 10`
 
 use std::path::Path;
@@ -70,6 +77,58 @@ fn bench(c: &mut Criterion) {
     g.bench_function("resvg to PNG at 10 px/mm, own size (529 mm)", |b| {
         b.iter(|| resvg_png(&svg, (529.0 * PX_PER_MM) as u32, &png))
     });
+    g.finish();
+    near_the_limit(c, dir.path(), taxel);
+}
+
+/// The input limit of `src/io/read.rs` (a bench cannot import the binary's modules).
+const MAX_INPUT_BYTES: usize = 64 << 20;
+
+/// The largest `n` whose drawing `make(n)` stays under the input limit, by
+/// doubling then bisecting on the generated size (sizes grow with `n`).
+fn largest_under_limit(make: impl Fn(usize) -> String) -> (usize, String) {
+    let mut lo = 1_000usize;
+    let mut hi = lo;
+    while make(hi).len() < MAX_INPUT_BYTES {
+        lo = hi;
+        hi *= 2;
+    }
+    // Size is close to linear in n: 1 % steps are enough.
+    while hi - lo > lo / 100 {
+        let mid = (lo + hi) / 2;
+        if make(mid).len() < MAX_INPUT_BYTES { lo = mid } else { hi = mid }
+    }
+    (lo, make(lo))
+}
+
+fn near_the_limit(c: &mut Criterion, dir: &Path, taxel: &str) {
+    let mut g = c.benchmark_group("input limit (64 MB), taxel build --fit (whole process)");
+    g.sampling_mode(SamplingMode::Flat).sample_size(10);
+    for (name, make) in [
+        ("map regions", (|n| drawings::inkscape_map(n, 16, 11)) as fn(usize) -> String),
+        ("city plan ways", |n| drawings::city_plan(n, 11)),
+    ] {
+        let (n, svg) = largest_under_limit(make);
+        let file = format!("{}.svg", name.replace(' ', "-"));
+        let input = dir.join(&file);
+        std::fs::write(&input, &svg).expect("drawing written");
+        if let Some(keep) = std::env::var_os("TAXEL_KEEP_DRAWINGS") {
+            std::fs::write(Path::new(&keep).join(&file), &svg).expect("kept drawing written");
+        }
+        eprintln!("{name}: {n}, {:.1} MB", svg.len() as f64 / (1 << 20) as f64);
+        let bundle = dir.join("limit.taxel");
+        g.bench_function(format!("{name} ({n})"), |b| {
+            b.iter(|| {
+                let out = Command::new(taxel)
+                    .args(["build", "--fit", "--force", "-o"])
+                    .arg(&bundle)
+                    .arg(&input)
+                    .output()
+                    .expect("taxel runs");
+                assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+            })
+        });
+    }
     g.finish();
 }
 

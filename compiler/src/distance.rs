@@ -30,7 +30,9 @@ use std::collections::HashMap;
 
 use taxel_format::{DISTANCE_ZERO, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE, TILE_SAMPLES, TILE_SIDE};
 
-use crate::geometry::{FillRule, Polyline, distance_to_segment};
+#[cfg(test)]
+use crate::geometry::distance_to_segment;
+use crate::geometry::{FillRule, Polyline};
 
 /// The geometry of one layer (one style).
 #[derive(Debug, Clone, Default)]
@@ -146,6 +148,16 @@ pub fn exact_signed_distance(g: &LayerGeometry<'_>, page: (f64, f64, f64, f64), 
         s = s.min(if inside { -d } else { d });
     }
     s.min(inside_rect(page, p))
+}
+
+/// Squared distance from `p` to the segment `a`-`b` (as
+/// `crate::geometry::distance_to_segment`, without its square root).
+fn distance2_to_segment(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let len2 = dx * dx + dy * dy;
+    let t = if len2 > 0.0 { (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / len2).clamp(0.0, 1.0) } else { 0.0 };
+    let (ex, ey) = (a.0 + t * dx - p.0, a.1 + t * dy - p.1);
+    ex * ex + ey * ey
 }
 
 /// Signed distance inside a rectangle (positive inside).
@@ -339,18 +351,27 @@ fn sample(
     let mut d_fill = f64::INFINITY;
     let mut d_band = f64::INFINITY;
     let mut d_occ = f64::INFINITY;
-    let mut d_cut: Vec<f64> = vec![f64::INFINITY; g.cuts.len()];
+    // The cuts as one: the least of (distance - half width) over every cut's
+    // segments, so a sample costs the segments near it, not one entry per cut
+    // in the layer (a map's thousands of borders cut out of each grating).
+    let mut cut = f64::INFINITY;
     let mut d_clip: Vec<f64> = vec![f64::INFINITY; g.clips.len()];
+    // Squared distances in the loop, one square root per part after it: this
+    // is the innermost loop of every layer.
     for &n in bucket {
         let ((a, b), part, _) = segs[n as usize];
-        let d = distance_to_segment(p, a, b);
+        let d = distance2_to_segment(p, a, b);
         match part {
             Part::Fill => d_fill = d_fill.min(d),
             Part::Band => d_band = d_band.min(d),
-            Part::Cut(k) => d_cut[k] = d_cut[k].min(d),
+            Part::Cut(k) => cut = cut.min(d.sqrt() - g.cuts[k].1 / 2.0),
             Part::Clip(k) => d_clip[k] = d_clip[k].min(d),
             Part::Occluder => d_occ = d_occ.min(d),
         }
+    }
+    let (d_fill, d_band, d_occ) = (d_fill.sqrt(), d_band.sqrt(), d_occ.sqrt());
+    for d in d_clip.iter_mut() {
+        *d = d.sqrt();
     }
     let mut s = f64::NEG_INFINITY;
     if !g.fills.is_empty() {
@@ -359,8 +380,8 @@ fn sample(
     if let Some((_, w)) = &g.band {
         s = s.max(w / 2.0 - d_band);
     }
-    for (k, (_, w)) in g.cuts.iter().enumerate() {
-        s = s.min(d_cut[k] - w / 2.0);
+    if !g.cuts.is_empty() {
+        s = s.min(cut);
     }
     for (k, &d) in d_clip.iter().enumerate() {
         s = s.min(if in_clip.get(k).copied().unwrap_or(false) { d } else { -d });

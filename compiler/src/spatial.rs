@@ -26,6 +26,14 @@ pub fn meet(a: Bbox, b: Bbox) -> bool {
     a.0 <= b.2 && b.0 <= a.2 && a.1 <= b.3 && b.1 <= a.3
 }
 
+/// The distance between two boxes (0 when they meet): a lower bound on the
+/// distance between anything the two contain.
+pub fn box_distance(a: Bbox, b: Bbox) -> f64 {
+    let dx = (b.0 - a.2).max(a.0 - b.2).max(0.0);
+    let dy = (b.1 - a.3).max(a.1 - b.3).max(0.0);
+    (dx * dx + dy * dy).sqrt()
+}
+
 fn envelope(b: Bbox) -> AABB<[f64; 2]> {
     AABB::from_corners([b.0, b.1], [b.2, b.3])
 }

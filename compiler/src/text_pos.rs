@@ -3,15 +3,38 @@
 
 /// The 1-based line and column (counted in characters) of byte `offset` in `text`.
 pub(crate) fn line_col(text: &str, offset: usize) -> (u32, u32) {
-    let mut offset = offset.min(text.len());
-    while !text.is_char_boundary(offset) {
-        offset -= 1;
+    LineIndex::new(text).line_col(text, offset)
+}
+
+/// The byte offsets where the lines of one text start, built once so that
+/// each position costs a binary search, not a scan from the start of the file
+/// (a drawing with thousands of elements asks for thousands of positions).
+#[derive(Debug, Clone)]
+pub(crate) struct LineIndex {
+    starts: Vec<usize>,
+}
+
+impl LineIndex {
+    /// Indexes the line starts of `text`.
+    pub(crate) fn new(text: &str) -> Self {
+        let starts =
+            std::iter::once(0).chain(text.bytes().enumerate().filter(|&(_, b)| b == b'\n').map(|(i, _)| i + 1));
+        LineIndex { starts: starts.collect() }
     }
-    let before = &text[..offset];
-    let line = before.bytes().filter(|&b| b == b'\n').count() + 1;
-    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-    let col = before[line_start..].chars().count() + 1;
-    (line as u32, col as u32)
+
+    /// The 1-based line and column (counted in characters) of byte `offset` in
+    /// `text`, the text this index was built from.
+    pub(crate) fn line_col(&self, text: &str, offset: usize) -> (u32, u32) {
+        let mut offset = offset.min(text.len());
+        while !text.is_char_boundary(offset) {
+            offset -= 1;
+        }
+        // The last line start at or before `offset` (there is always line 1 at 0).
+        let line = self.starts.partition_point(|&s| s <= offset).max(1);
+        let start = self.starts[line - 1].min(offset);
+        let col = text.get(start..offset).map_or(0, |s| s.chars().count()) + 1;
+        (line as u32, col as u32)
+    }
 }
 
 /// Maps a byte offset in the decoded value of an XML attribute to a byte
@@ -66,6 +89,27 @@ mod tests {
         assert_eq!(line_col(t, 0), (1, 1));
         assert_eq!(line_col(t, 3), (2, 1));
         assert_eq!(line_col(t, t.find('d').unwrap()), (2, 4));
+    }
+
+    #[test]
+    fn the_line_index_agrees_with_a_scan_from_the_start() {
+        // The scan the index replaces, as the reference.
+        let scan = |text: &str, offset: usize| {
+            let mut offset = offset.min(text.len());
+            while !text.is_char_boundary(offset) {
+                offset -= 1;
+            }
+            let before = &text[..offset];
+            let line = before.bytes().filter(|&b| b == b'\n').count() + 1;
+            let start = before.rfind('\n').map_or(0, |i| i + 1);
+            (line as u32, before[start..].chars().count() as u32 + 1)
+        };
+        for t in ["", "\n", "a\n\nb", "ab\ncé d\r\nレイヤー 1\n", "x\n\n\nyé"] {
+            let index = LineIndex::new(t);
+            for o in 0..=t.len() + 2 {
+                assert_eq!(index.line_col(t, o), scan(t, o), "{t:?} at {o}");
+            }
+        }
     }
 
     #[test]

@@ -21,17 +21,65 @@ pub fn touching(regions: &[Region<'_>], near: f64) -> Vec<(usize, usize)> {
     let boxes: Vec<Bbox> = regions.iter().map(|r| r.bbox).collect();
     spatial::near_pairs(&boxes, near)
         .into_iter()
-        .filter(|&(i, j)| {
-            let (a, b) = (&regions[i], &regions[j]);
-            let inside = |r: &Region<'_>, o: &Region<'_>| {
-                o.outline
-                    .iter()
-                    .find_map(|p| p.points.first())
-                    .is_some_and(|&p| contains(r.outline, p, FillRule::NonZero))
-            };
-            spatial::min_outline_distance(a.outline, b.outline, near, 0.0) <= near || inside(a, b) || inside(b, a)
-        })
+        .filter(|&(i, j)| near_or_inside(&regions[i], &regions[j], near))
         .collect()
+}
+
+/// Whether each region shares a border with another: their outlines come
+/// within `abut` mm. Only regions whose boxes come that close are looked at
+/// (a tessellation's few neighbours), however dense the drawing.
+pub fn abutting(regions: &[Region<'_>], abut: f64) -> Vec<bool> {
+    let boxes: Vec<Bbox> = regions.iter().map(|r| r.bbox).collect();
+    let index = spatial::BoxIndex::new(&boxes);
+    let mut out = vec![false; regions.len()];
+    for (k, r) in regions.iter().enumerate() {
+        if out[k] {
+            continue;
+        }
+        for j in index.meeting(spatial::grow(r.bbox, abut)) {
+            if j != k && spatial::min_outline_distance(r.outline, regions[j].outline, abut, 0.0) <= abut {
+                out[k] = true;
+                out[j] = true;
+                break;
+            }
+        }
+    }
+    out
+}
+
+/// The pairs `(a, b)`, `a < b`, of classes that touch: some region of class
+/// `a` and some region of class `b` are [`touching`] at `near` mm. The same
+/// edges as classing the pairs [`touching`] returns, but a pair of regions is
+/// measured only while its two classes are not yet known to touch, so a dense
+/// map of a few fills costs a few exact distances per region, not one per
+/// pair of neighbours. `class_of[k]` is the class of region `k` (`None`:
+/// none, never an edge).
+pub fn class_edges(regions: &[Region<'_>], class_of: &[Option<usize>], near: f64) -> Vec<(usize, usize)> {
+    let boxes: Vec<Bbox> = regions.iter().map(|r| r.bbox).collect();
+    let index = spatial::BoxIndex::new(&boxes);
+    let mut edges = std::collections::BTreeSet::new();
+    for (k, a) in regions.iter().enumerate() {
+        let Some(ca) = class_of.get(k).copied().flatten() else { continue };
+        for j in index.meeting(spatial::grow(a.bbox, near)) {
+            let Some(cb) = class_of.get(j).copied().flatten() else { continue };
+            let e = (ca.min(cb), ca.max(cb));
+            if j <= k || ca == cb || edges.contains(&e) {
+                continue;
+            }
+            if near_or_inside(a, &regions[j], near) {
+                edges.insert(e);
+            }
+        }
+    }
+    edges.into_iter().collect()
+}
+
+/// Whether the outlines of `a` and `b` come within `near` mm, or one lies inside the other.
+fn near_or_inside(a: &Region<'_>, b: &Region<'_>, near: f64) -> bool {
+    let inside = |r: &Region<'_>, o: &Region<'_>| {
+        o.outline.iter().find_map(|p| p.points.first()).is_some_and(|&p| contains(r.outline, p, FillRule::NonZero))
+    };
+    spatial::min_outline_distance(a.outline, b.outline, near, 0.0) <= near || inside(a, b) || inside(b, a)
 }
 
 /// Colours the graph of `n` classes with at most `colours` colours, taking the
@@ -87,6 +135,38 @@ mod tests {
             shapes.iter().map(|s| Region { outline: s, bbox: crate::geometry::bounds(s).unwrap() }).collect();
         assert_eq!(touching(&regions, 1.0), vec![(0, 1), (0, 5), (1, 5), (3, 4)]);
         assert_eq!(touching(&regions, 3.2), vec![(0, 1), (0, 5), (1, 2), (1, 5), (3, 4)]);
+        // Only shared borders abut: 0 and 1 (2 is 2 mm off, 5 is 0.5 mm off).
+        assert_eq!(abutting(&regions, 0.05), [true, true, false, false, false, false]);
+    }
+
+    #[test]
+    fn class_edges_are_the_classes_of_the_touching_pairs() {
+        // A deterministic scatter of rectangles in four classes, some unclassed.
+        let mut s = 7u64;
+        let mut next = || {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (s >> 33) as f64 / (1u64 << 31) as f64
+        };
+        let shapes: Vec<Vec<Polyline>> = (0..150)
+            .map(|_| {
+                let (x, y) = (next() * 120.0, next() * 80.0);
+                rect(x, y, x + 1.0 + next() * 9.0, y + 1.0 + next() * 9.0)
+            })
+            .collect();
+        let regions: Vec<Region<'_>> =
+            shapes.iter().map(|s| Region { outline: s, bbox: crate::geometry::bounds(s).unwrap() }).collect();
+        let class_of: Vec<Option<usize>> = (0..regions.len()).map(|k| (k % 5 < 4).then_some(k % 7 % 4)).collect();
+        for near in [0.5, 3.2] {
+            let mut want: Vec<(usize, usize)> = touching(&regions, near)
+                .into_iter()
+                .filter_map(|(a, b)| Some((class_of[a]?, class_of[b]?)))
+                .filter(|(a, b)| a != b)
+                .map(|(a, b)| (a.min(b), a.max(b)))
+                .collect();
+            want.sort_unstable();
+            want.dedup();
+            assert_eq!(class_edges(&regions, &class_of, near), want, "near {near}");
+        }
     }
 
     #[test]

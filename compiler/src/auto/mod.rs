@@ -24,7 +24,7 @@
 mod adjacency;
 mod sheet;
 
-pub use adjacency::{Region, colour, touching};
+pub use adjacency::{Region, abutting, class_edges, colour, touching};
 pub use sheet::sheet_toml;
 
 use std::collections::BTreeMap;
@@ -302,18 +302,10 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
             }
         }
     }
-    // Filled shapes: which touch (or lie in) which, through the R*-tree.
-    let pairs = touching(&shapes.iter().map(|f| f.region).collect::<Vec<_>>(), NEAR_MM);
     // Shapes that share a border with another filled shape are regions of a
     // tessellation (a map's small districts), however small they have become.
-    let mut abuts = vec![false; shapes.len()];
-    for &(a, b) in &pairs {
-        let (sa, sb) = (&shapes[a].region, &shapes[b].region);
-        if spatial::min_outline_distance(sa.outline, sb.outline, ABUT_MM, 0.0) <= ABUT_MM {
-            abuts[a] = true;
-            abuts[b] = true;
-        }
-    }
+    let regions: Vec<Region<'_>> = shapes.iter().map(|f| f.region).collect();
+    let abuts = abutting(&regions, ABUT_MM);
     let mut class_of = vec![None; shapes.len()];
     for (k, f) in shapes.iter().enumerate() {
         let e = &d.elements[f.i];
@@ -359,14 +351,8 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
         }
     }
     // Colour the fill classes: touching regions of different fills get different textures.
-    let mut edges: Vec<(usize, usize)> = pairs
-        .iter()
-        .filter_map(|&(a, b)| Some((class_of[a]?, class_of[b]?)))
-        .filter(|(a, b)| a != b)
-        .map(|(a, b)| (a.min(b), a.max(b)))
-        .collect();
-    edges.sort_unstable();
-    edges.dedup();
+    // Touching (or lying in) each other, through the R*-tree.
+    let edges = class_edges(&regions, &class_of, NEAR_MM);
     let mut order: Vec<usize> = (0..fills.len()).collect();
     order.sort_by(|&a, &b| fills[b].area_mm2.total_cmp(&fills[a].area_mm2).then(fills[a].fill.cmp(&fills[b].fill)));
     let colours = colour(fills.len(), &edges, &order, MAX_TEXTURES);

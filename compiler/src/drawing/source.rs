@@ -23,7 +23,7 @@ use roxmltree::{Document, Node, ParsingOptions};
 use crate::annotation::{self, Declaration};
 use crate::diagnostic::Diagnostic;
 use crate::stylesheet::{ElementFacts, StyleSheet};
-use crate::text_pos::{line_col, raw_offset};
+use crate::text_pos::{LineIndex, line_col, raw_offset};
 
 const INKSCAPE_NS: &str = "http://www.inkscape.org/namespaces/inkscape";
 /// The prefix of an Inkscape layer label that is an annotation, matched in any case.
@@ -164,6 +164,7 @@ pub(crate) fn read(
     let mut index_of: HashMap<roxmltree::NodeId, usize> = HashMap::new();
     let body_start = root.range().start;
     let mut pos_of: HashMap<roxmltree::NodeId, usize> = HashMap::new();
+    let lines = LineIndex::new(text);
     for node in root.descendants().filter(|n| n.is_element()) {
         let parent = node.parent_element().and_then(|p| index_of.get(&p.id()).copied());
         let parent_el: Option<&Element> = parent.map(|p| &elements[p]);
@@ -199,7 +200,7 @@ pub(crate) fn read(
         };
         let pos = source_pos(text, node, body_start, &pos_of);
         pos_of.insert(node.id(), pos);
-        let line = line_col(text, pos).0;
+        let line = lines.line_col(text, pos).0;
         let ink_label = node.attribute((INKSCAPE_NS, "label"));
         let label = node
             .children()

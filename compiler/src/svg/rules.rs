@@ -132,72 +132,155 @@ fn counts(built: &Built, diags: &mut Vec<Diagnostic>) {
     }
 }
 
-/// Pairs of features whose footprints come within [`ADJACENT_MM`] (the
-/// farthest any pair rule looks), found through an R*-tree: the cost grows
-/// with the features and their neighbours, not with all pairs.
+/// The rules between features, each through an R*-tree over the footprints'
+/// boxes, so that the cost grows with the features, not with all pairs nor
+/// with how many neighbours fall within a rule's radius (a map shrunk by
+/// `--fit` packs ever more of them into 10 mm):
+///
+/// - overlaps (T0406, T0410): the pairs whose boxes meet;
+/// - confusable gratings (T0401, T0402): only between textures that can be
+///   confused, each pair of such textures through its own index;
+/// - gaps (T0408): each feature's nearest distinct neighbour that does not
+///   touch it, exact distances taken nearest box first and only while a box
+///   could still hold a nearer one.
 fn pairs(built: &Built, diags: &mut Vec<Diagnostic>) {
     let f = &built.features;
     let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
-    for (i, j) in spatial::near_pairs(&boxes, ADJACENT_MM) {
-        let (a, b) = (&f[i], &f[j]);
-        let distinct = a.elem != b.elem;
-        // The exact gap is needed only for gratings that may be confused (within
-        // ADJACENT_MM) or footprints closer than MIN_GAP_MM: the footprints'
-        // boxes, which contain every band, bound it from below. In a map shrunk
-        // by --fit most neighbours are farther, and their exact gap is skipped.
-        let boxed = {
-            let dx = (b.bbox.0 - a.bbox.2).max(a.bbox.0 - b.bbox.2).max(0.0);
-            let dy = (b.bbox.1 - a.bbox.3).max(a.bbox.1 - b.bbox.3).max(0.0);
-            (dx * dx + dy * dy).sqrt()
-        };
-        let confusable = match (a.kind, b.kind) {
-            (
-                FeatureKind::Grating { wavelength_mm: la, angle_deg: ta },
-                FeatureKind::Grating { wavelength_mm: lb, angle_deg: tb },
-            ) => {
-                let turn = (ta - tb).rem_euclid(180.0);
-                let d = (la - lb).abs();
-                !(1.0..=179.0).contains(&turn) && d > 1e-9 && d < WAVELENGTH_WARN_MM
-            }
-            _ => false,
-        };
-        let g = if confusable || boxed < MIN_GAP_MM { gap(a, b) } else { boxed };
-        if let (
-            FeatureKind::Grating { wavelength_mm: la, angle_deg: ta },
-            FeatureKind::Grating { wavelength_mm: lb, angle_deg: tb },
-        ) = (a.kind, b.kind)
-        {
-            let same_angle = ((ta - tb).rem_euclid(180.0) < 1.0) || ((ta - tb).rem_euclid(180.0) > 179.0);
-            let d = (la - lb).abs();
-            if distinct && same_angle && d > 1e-9 && d < WAVELENGTH_WARN_MM && g <= ADJACENT_MM {
-                let msg = format!(
-                    "adjacent gratings #{} ({la} mm) and this one ({lb} mm) differ by {d:.2} mm in wavelength",
-                    a.name
-                );
-                let diag = if d < WAVELENGTH_ERROR_MM {
-                    Diagnostic::error("T0401", format!("{msg}; readers cannot tell them apart"))
-                } else {
-                    Diagnostic::warning("T0402", format!("{msg}; readers may confuse them"))
-                };
-                diags.push(at(diag.with_help("make neighbouring wavelengths differ by 3 mm or more (2 mm and 6 mm work well), or change the angle"), b));
-            }
+    let index = spatial::BoxIndex::new(&boxes);
+    for (i, a) in f.iter().enumerate() {
+        let mut met: Vec<usize> = index.meeting(a.bbox).filter(|&j| j > i).collect();
+        met.sort_unstable();
+        for j in met {
+            overlap(built, a, &f[j], diags);
         }
-        if distinct && g > 0.0 && g < MIN_GAP_MM {
+    }
+    confusable_gratings(f, diags);
+    for (j, near) in nearest_gaps(f, &index).into_iter().enumerate() {
+        if let Some((i, g)) = near {
             diags.push(at(
                 Diagnostic::warning(
                     "T0408",
-                    format!("this element is {g:.1} mm from #{}, closer than {MIN_GAP_MM} mm", a.name),
+                    format!("this element is {g:.1} mm from #{}, closer than {MIN_GAP_MM} mm", f[i].name),
                 )
                 .with_help("leave at least 3.2 mm (1/8 in) between distinct elements so they are felt apart"),
-                b,
+                &f[j],
             ));
         }
-        overlap(built, a, b, diags);
     }
 }
 
-/// The gap between two features' footprints (≤ 0 when they touch or overlap).
-fn gap(a: &Feature, b: &Feature) -> f64 {
+/// Whether gratings of these (wavelength, angle) could be confused: the same
+/// angle (within 1°) and wavelengths that differ, by less than [`WAVELENGTH_WARN_MM`].
+fn confusable(la: f64, ta: f64, lb: f64, tb: f64) -> bool {
+    let turn = (ta - tb).rem_euclid(180.0);
+    let d = (la - lb).abs();
+    !(1.0..=179.0).contains(&turn) && d > 1e-9 && d < WAVELENGTH_WARN_MM
+}
+
+/// T0401 and T0402: distinct gratings within [`ADJACENT_MM`] of each other
+/// whose textures can be confused, one diagnostic per pair (at the later
+/// feature). Features are grouped by texture, and only groups that can be
+/// confused are searched, so a drawing whose textures all differ well (the
+/// automatic style sheet's) costs one pass over its gratings.
+fn confusable_gratings(f: &[Feature], diags: &mut Vec<Diagnostic>) {
+    let mut textures: Vec<((f64, f64), Vec<usize>)> = Vec::new();
+    for (i, x) in f.iter().enumerate() {
+        if let FeatureKind::Grating { wavelength_mm, angle_deg } = x.kind {
+            match textures
+                .iter_mut()
+                .find(|(t, _)| t.0.to_bits() == wavelength_mm.to_bits() && t.1.to_bits() == angle_deg.to_bits())
+            {
+                Some((_, members)) => members.push(i),
+                None => textures.push(((wavelength_mm, angle_deg), vec![i])),
+            }
+        }
+    }
+    let mut found: Vec<(usize, usize, f64)> = Vec::new();
+    for (p, ((la, ta), ps)) in textures.iter().enumerate() {
+        for ((lb, tb), qs) in &textures[p + 1..] {
+            if !confusable(*la, *ta, *lb, *tb) {
+                continue;
+            }
+            let qboxes: Vec<_> = qs.iter().map(|&q| f[q].bbox).collect();
+            let qindex = spatial::BoxIndex::new(&qboxes);
+            for &i in ps {
+                for k in qindex.meeting(spatial::grow(f[i].bbox, ADJACENT_MM)) {
+                    let (a, b) = (i.min(qs[k]), i.max(qs[k]));
+                    if f[a].elem != f[b].elem {
+                        let g = gap(&f[a], &f[b], ADJACENT_MM);
+                        if g <= ADJACENT_MM {
+                            found.push((a, b, g));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    found.sort_unstable_by_key(|&(a, b, _)| (a, b));
+    for (a, b) in found.into_iter().map(|(a, b, _)| (&f[a], &f[b])) {
+        let (FeatureKind::Grating { wavelength_mm: la, .. }, FeatureKind::Grating { wavelength_mm: lb, .. }) =
+            (a.kind, b.kind)
+        else {
+            continue;
+        };
+        let d = (la - lb).abs();
+        let msg =
+            format!("adjacent gratings #{} ({la} mm) and this one ({lb} mm) differ by {d:.2} mm in wavelength", a.name);
+        let diag = if d < WAVELENGTH_ERROR_MM {
+            Diagnostic::error("T0401", format!("{msg}; readers cannot tell them apart"))
+        } else {
+            Diagnostic::warning("T0402", format!("{msg}; readers may confuse them"))
+        };
+        diags.push(at(
+            diag.with_help(
+                "make neighbouring wavelengths differ by 3 mm or more (2 mm and 6 mm work well), or change the angle",
+            ),
+            b,
+        ));
+    }
+}
+
+/// For each feature, its nearest feature of another element whose footprint
+/// comes closer than [`MIN_GAP_MM`] without touching it (a gap above 0), and
+/// that gap; `None` when there is none.
+///
+/// The candidates are the features whose boxes come within [`MIN_GAP_MM`];
+/// the distance between boxes bounds the gap from below, so exact gaps are
+/// taken nearest box first and only until the next box is farther than the
+/// smallest gap found, each limited to that gap (segments farther away are
+/// not looked at). Touching neighbours are skipped whatever their number.
+fn nearest_gaps(f: &[Feature], index: &spatial::BoxIndex) -> Vec<Option<(usize, f64)>> {
+    let mut out = Vec::with_capacity(f.len());
+    let mut cands: Vec<(f64, usize)> = Vec::new();
+    for b in f {
+        cands.clear();
+        cands.extend(
+            index
+                .meeting(spatial::grow(b.bbox, MIN_GAP_MM))
+                .filter(|&i| f[i].elem != b.elem)
+                .map(|i| (spatial::box_distance(f[i].bbox, b.bbox), i))
+                .filter(|&(d, _)| d < MIN_GAP_MM),
+        );
+        cands.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+        let mut best: Option<(usize, f64)> = None;
+        for &(lower, i) in &cands {
+            let limit = best.map_or(MIN_GAP_MM, |(_, g)| g);
+            if lower >= limit {
+                break;
+            }
+            let g = gap(&f[i], b, limit);
+            if g > 0.0 && (g < limit || (g == limit && best.is_some_and(|(k, _)| i < k))) {
+                best = Some((i, g));
+            }
+        }
+        out.push(best);
+    }
+    out
+}
+
+/// The gap between two features' footprints (≤ 0 when they touch or overlap),
+/// exact when it is at most `reach`; otherwise some value above `reach`.
+fn gap(a: &Feature, b: &Feature, reach: f64) -> f64 {
     // A feature inside a filled region overlaps it, whatever the distance to its outline.
     for (r, o) in [(a, b), (b, a)] {
         if let FeatureKind::Grating { .. } = r.kind {
@@ -210,9 +293,8 @@ fn gap(a: &Feature, b: &Feature) -> f64 {
     match (a.dots.is_empty(), b.dots.is_empty()) {
         (true, true) => {
             // Outlines that touch or cross need no exact distance: every rule treats them alike.
-            let reach = MIN_GAP_MM.max(ADJACENT_MM) + a.half_band + b.half_band;
-            let stop = a.half_band + b.half_band;
-            spatial::min_outline_distance(&a.outline, &b.outline, reach, stop) - a.half_band - b.half_band
+            let bands = a.half_band + b.half_band;
+            spatial::min_outline_distance(&a.outline, &b.outline, reach + bands, bands) - bands
         }
         (false, true) | (true, false) => {
             let (d, m) = if a.dots.is_empty() { (b, a) } else { (a, b) };
@@ -376,5 +458,104 @@ fn overlap(built: &Built, a: &Feature, b: &Feature, diags: &mut Vec<Diagnostic>)
             .with_help("layers add up (seed 000 §3.4); keep active regions apart or lower their amplitudes"),
             b,
         ));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Polyline;
+
+    /// A deterministic sequence in [0, 1) (a linear congruential generator).
+    struct Lcg(u64);
+    impl Lcg {
+        fn next(&mut self) -> f64 {
+            self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (self.0 >> 33) as f64 / (1u64 << 31) as f64
+        }
+    }
+
+    /// A random drawing: vibrating outlines (closed and open), gratings and
+    /// dotted features, some of them parts of one element, packed closely
+    /// enough that many touch, cross or lie inside each other.
+    fn random_features(seed: u64, n: usize) -> Vec<Feature> {
+        let mut r = Lcg(seed);
+        (0..n)
+            .map(|k| {
+                let (cx, cy) = (r.next() * 60.0, r.next() * 40.0);
+                let size = 0.5 + r.next() * 6.0;
+                let sides = 3 + (r.next() * 5.0) as usize;
+                let turn = r.next() * 6.3;
+                let points: Vec<(f64, f64)> = (0..sides)
+                    .map(|s| {
+                        let a = turn + s as f64 * std::f64::consts::TAU / sides as f64;
+                        let rad = size * (0.5 + r.next());
+                        (cx + rad * a.cos(), cy + rad * a.sin())
+                    })
+                    .collect();
+                let (kind, half_band, closed) = match k % 4 {
+                    0 => (FeatureKind::Vibrate { width_mm: 1.5, freq_hz: 40.0 }, 0.75, true),
+                    1 => (FeatureKind::Vibrate { width_mm: 1.0, freq_hz: 40.0 }, 0.5, false),
+                    2 => (FeatureKind::Grating { wavelength_mm: 4.0, angle_deg: 0.0 }, 0.0, true),
+                    _ => (FeatureKind::Dot { radius_mm: 0.6 }, 0.0, false),
+                };
+                let (outline, dots) = if k % 4 == 3 {
+                    (Vec::new(), points.iter().map(|p| (p.0, p.1, 0.6)).collect::<Vec<_>>())
+                } else {
+                    (vec![Polyline { points, closed }], Vec::new())
+                };
+                let bbox = if dots.is_empty() {
+                    let b = crate::geometry::bounds(&outline).unwrap();
+                    spatial::grow(b, half_band)
+                } else {
+                    dots.iter().fold((f64::MAX, f64::MAX, f64::MIN, f64::MIN), |b, d| {
+                        (b.0.min(d.0 - d.2), b.1.min(d.1 - d.2), b.2.max(d.0 + d.2), b.3.max(d.1 + d.2))
+                    })
+                };
+                Feature {
+                    // Every seventh feature is a second style of the element before it.
+                    elem: if k % 7 == 6 { k - 1 } else { k },
+                    name: format!("f{k}"),
+                    line: 1,
+                    kind,
+                    outline,
+                    half_band,
+                    dots,
+                    bbox,
+                    mask: None,
+                    amplitude: 1.0,
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn nearest_gaps_are_those_of_an_all_pairs_scan() {
+        for seed in [1, 2, 3] {
+            let f = random_features(seed, 300);
+            let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
+            let got = nearest_gaps(&f, &spatial::BoxIndex::new(&boxes));
+            let mut reported = 0;
+            for (j, b) in f.iter().enumerate() {
+                // Every other feature, its exact gap with no reach to cut it short.
+                let want = (0..f.len())
+                    .filter(|&i| f[i].elem != b.elem)
+                    .map(|i| gap(&f[i], b, 1e9))
+                    .filter(|&g| g > 0.0 && g < MIN_GAP_MM)
+                    .fold(None, |m: Option<f64>, g| Some(m.map_or(g, |m| m.min(g))));
+                match (got[j], want) {
+                    (None, None) => {}
+                    (Some((i, g)), Some(w)) => {
+                        reported += 1;
+                        assert!((g - w).abs() < 1e-12, "seed {seed}, f{j}: nearest gap {g}, all pairs {w}");
+                        assert!(f[i].elem != b.elem);
+                        assert!((gap(&f[i], b, 1e9) - g).abs() < 1e-12, "seed {seed}, f{j}: #f{i} is not {g} away");
+                    }
+                    (g, w) => panic!("seed {seed}, f{j}: nearest {g:?}, all pairs {w:?}"),
+                }
+            }
+            // The drawing is dense enough that the rule has something to find.
+            assert!(reported > 30, "seed {seed}: only {reported} features have a near neighbour");
+        }
     }
 }
