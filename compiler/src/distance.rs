@@ -295,6 +295,11 @@ pub fn build_field(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> 
     let mut tiles = vec![TILE_OUTSIDE; cols * rows];
     let mut samples = Vec::new();
     let mut tile_buf = [0u8; TILE_SAMPLES];
+    let mut near = Near::new(g.clips.len());
+    // A segment is measured only at the tile's samples within its reach plus
+    // the clamp's margin: farther ones would clamp to the same code anyway
+    // (every part is then beyond ±cap, and min, max and the clamp commute).
+    let margin = cap - reach + step;
     for r in 0..rows {
         for c in 0..cols {
             let bucket = &buckets[r * cols + c];
@@ -307,15 +312,20 @@ pub fn build_field(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> 
                     if felt_here && inside_rect(pg, corner) > 0.0 { TILE_INSIDE } else { TILE_OUTSIDE };
                 continue;
             }
+            near.measure(g, &segs, bucket, corner, h, margin);
+            let mut clipped = vec![false; clip_bits.len()];
             for j in 0..TILE_SIDE {
                 for i in 0..TILE_SIDE {
                     let (gi, gj) = (c * TILE_CELLS + i, r * TILE_CELLS + j);
                     let p = at(gi, gj);
                     let k = gj * nx + gi;
-                    let clipped: Vec<bool> = clip_bits.iter().map(|b| b[k]).collect();
-                    let s = sample(g, &segs, bucket, (inside[k], occluded[k]), &clipped, p, pg).clamp(-cap, cap);
+                    for (c, b) in clipped.iter_mut().zip(&clip_bits) {
+                        *c = b[k];
+                    }
+                    let t = j * TILE_SIDE + i;
+                    let s = near.signed(g, t, (inside[k], occluded[k]), &clipped, p, pg).clamp(-cap, cap);
                     let code = (s / step).round().clamp(-128.0, 127.0) as i32 + DISTANCE_ZERO as i32;
-                    tile_buf[j * TILE_SIDE + i] = code as u8;
+                    tile_buf[t] = code as u8;
                 }
             }
             let top = DISTANCE_ZERO + 127;
@@ -336,60 +346,113 @@ pub fn build_field(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> 
     Some(Field { origin: (ox, oy), tile_cols: cols as u32, tile_rows: rows as u32, step_mm: step, tiles, samples })
 }
 
-/// The unclamped signed distance at a lattice point from the segments of its
-/// tile's bucket; `inside` says whether the point is inside the fills and
-/// inside the occluders.
-fn sample(
-    g: &LayerGeometry<'_>,
-    segs: &[(Seg, Part, f64)],
-    bucket: &[u32],
-    (inside, occluded): (bool, bool),
-    in_clip: &[bool],
-    p: (f64, f64),
-    page: (f64, f64, f64, f64),
-) -> f64 {
-    let mut d_fill = f64::INFINITY;
-    let mut d_band = f64::INFINITY;
-    let mut d_occ = f64::INFINITY;
-    // The cuts as one: the least of (distance - half width) over every cut's
-    // segments, so a sample costs the segments near it, not one entry per cut
-    // in the layer (a map's thousands of borders cut out of each grating).
-    let mut cut = f64::INFINITY;
-    let mut d_clip: Vec<f64> = vec![f64::INFINITY; g.clips.len()];
-    // Squared distances in the loop, one square root per part after it: this
-    // is the innermost loop of every layer.
-    for &n in bucket {
-        let ((a, b), part, _) = segs[n as usize];
-        let d = distance2_to_segment(p, a, b);
-        match part {
-            Part::Fill => d_fill = d_fill.min(d),
-            Part::Band => d_band = d_band.min(d),
-            Part::Cut(k) => cut = cut.min(d.sqrt() - g.cuts[k].1 / 2.0),
-            Part::Clip(k) => d_clip[k] = d_clip[k].min(d),
-            Part::Occluder => d_occ = d_occ.min(d),
+/// The nearest segments of each part at every sample of one tile, as squared
+/// distances (the cuts as one running minimum of distance minus half width).
+struct Near {
+    fill: [f64; TILE_SAMPLES],
+    band: [f64; TILE_SAMPLES],
+    occ: [f64; TILE_SAMPLES],
+    cut: [f64; TILE_SAMPLES],
+    /// `TILE_SAMPLES` per clip region.
+    clip: Vec<f64>,
+}
+
+impl Near {
+    fn new(clips: usize) -> Self {
+        let inf = [f64::INFINITY; TILE_SAMPLES];
+        Near { fill: inf, band: inf, occ: inf, cut: inf, clip: vec![f64::INFINITY; clips * TILE_SAMPLES] }
+    }
+
+    /// Measures each segment of `bucket` at the tile's samples (corner
+    /// `corner`, pitch `h`) within its reach plus `margin`. Squared distances
+    /// in the loop: this is the innermost loop of every layer.
+    fn measure(
+        &mut self,
+        g: &LayerGeometry<'_>,
+        segs: &[(Seg, Part, f64)],
+        bucket: &[u32],
+        corner: (f64, f64),
+        h: f64,
+        margin: f64,
+    ) {
+        self.fill.fill(f64::INFINITY);
+        self.band.fill(f64::INFINITY);
+        self.occ.fill(f64::INFINITY);
+        self.cut.fill(f64::INFINITY);
+        self.clip.fill(f64::INFINITY);
+        let last = TILE_CELLS as f64;
+        // The sample range `lo..=hi` (within the tile) of a span grown by `m`.
+        let range = |lo: f64, hi: f64, o: f64, m: f64| {
+            let a = ((lo - m - o) / h).floor().max(0.0);
+            let b = ((hi + m - o) / h).ceil().min(last);
+            (a as usize, b as usize, a <= b)
+        };
+        for &n in bucket {
+            let Some(&(seg, part, reach)) = segs.get(n as usize) else { continue };
+            let (a, b) = seg;
+            let bb = seg_bounds(&seg);
+            let m = reach + margin;
+            let (i0, i1, some_i) = range(bb.0, bb.2, corner.0, m);
+            let (j0, j1, some_j) = range(bb.1, bb.3, corner.1, m);
+            if !(some_i && some_j) {
+                continue;
+            }
+            for j in j0..=j1 {
+                for i in i0..=i1 {
+                    let p = (corner.0 + i as f64 * h, corner.1 + j as f64 * h);
+                    let d = distance2_to_segment(p, a, b);
+                    let t = j * TILE_SIDE + i;
+                    let slot = match part {
+                        Part::Fill => &mut self.fill[t],
+                        Part::Band => &mut self.band[t],
+                        Part::Occluder => &mut self.occ[t],
+                        Part::Cut(k) => {
+                            let w = g.cuts.get(k).map_or(0.0, |c| c.1);
+                            self.cut[t] = self.cut[t].min(d.sqrt() - w / 2.0);
+                            continue;
+                        }
+                        Part::Clip(k) => match self.clip.get_mut(k * TILE_SAMPLES + t) {
+                            Some(slot) => slot,
+                            None => continue,
+                        },
+                    };
+                    *slot = slot.min(d);
+                }
+            }
         }
     }
-    let (d_fill, d_band, d_occ) = (d_fill.sqrt(), d_band.sqrt(), d_occ.sqrt());
-    for d in d_clip.iter_mut() {
-        *d = d.sqrt();
+
+    /// The unclamped signed distance at sample `t` (page point `p`);
+    /// `inside` says whether it is inside the fills and inside the occluders.
+    fn signed(
+        &self,
+        g: &LayerGeometry<'_>,
+        t: usize,
+        (inside, occluded): (bool, bool),
+        in_clip: &[bool],
+        p: (f64, f64),
+        page: (f64, f64, f64, f64),
+    ) -> f64 {
+        let (d_fill, d_band, d_occ) = (self.fill[t].sqrt(), self.band[t].sqrt(), self.occ[t].sqrt());
+        let mut s = f64::NEG_INFINITY;
+        if !g.fills.is_empty() {
+            s = if inside { d_fill } else { -d_fill };
+        }
+        if let Some((_, w)) = &g.band {
+            s = s.max(w / 2.0 - d_band);
+        }
+        if !g.cuts.is_empty() {
+            s = s.min(self.cut[t]);
+        }
+        for (k, &in_k) in in_clip.iter().enumerate() {
+            let d = self.clip.get(k * TILE_SAMPLES + t).map_or(f64::INFINITY, |d| d.sqrt());
+            s = s.min(if in_k { d } else { -d });
+        }
+        if !g.occluders.is_empty() {
+            s = s.min(if occluded { -d_occ } else { d_occ });
+        }
+        s.min(inside_rect(page, p))
     }
-    let mut s = f64::NEG_INFINITY;
-    if !g.fills.is_empty() {
-        s = if inside { d_fill } else { -d_fill };
-    }
-    if let Some((_, w)) = &g.band {
-        s = s.max(w / 2.0 - d_band);
-    }
-    if !g.cuts.is_empty() {
-        s = s.min(cut);
-    }
-    for (k, &d) in d_clip.iter().enumerate() {
-        s = s.min(if in_clip.get(k).copied().unwrap_or(false) { d } else { -d });
-    }
-    if !g.occluders.is_empty() {
-        s = s.min(if occluded { -d_occ } else { d_occ });
-    }
-    s.min(inside_rect(page, p))
 }
 
 /// Whether each lattice point `(i, j)` (row-major, `nx` wide) is inside the
