@@ -79,27 +79,64 @@ impl Corners {
     }
 }
 
-/// The edge position error of `layer` against the exact `region` of its
-/// style, on a surface `surface` (width, height) mm.
-pub fn edge_error(layer: &DistanceLayer, region: &Region, surface: (f64, f64)) -> EdgeError {
+/// The exact outline of one layer's region, measured once for every rung.
+pub struct Outline {
+    /// The boundary's pieces.
+    pieces: RTree<Line<[f64; 2]>>,
+    /// Their middles.
+    mids: Vec<[f64; 2]>,
+    /// The region's corners: the outlines' own (see [`super::exact::corners`])
+    /// and every point where two pieces of the boundary meet at more than
+    /// [`super::exact::CORNER_TURN_DEG`] (the inner corners of crossing or
+    /// joining bands, a fill's edge meeting a cut band).
+    pub corners: Corners,
+}
+
+impl Outline {
+    /// The outline of `region` clipped to the surface `(width, height)` mm.
+    pub fn new(region: &Region, surface: (f64, f64)) -> Outline {
+        let segs = outline(region, surface, SAMPLE_MM);
+        let lines: Vec<Line<[f64; 2]>> = segs.iter().map(|&(a, b)| Line::new([a.0, a.1], [b.0, b.1])).collect();
+        let pieces = RTree::bulk_load(lines);
+        let sharp = super::exact::CORNER_TURN_DEG.to_radians().sin();
+        let dir = |l: &Line<[f64; 2]>| {
+            let (dx, dy) = (l.to[0] - l.from[0], l.to[1] - l.from[1]);
+            let n = dx.hypot(dy).max(1e-12);
+            (dx / n, dy / n)
+        };
+        let mut corners: Vec<(f64, f64)> = region.corners().to_vec();
+        let mut mids = Vec::with_capacity(segs.len());
+        for &(a, b) in &segs {
+            let m = [(a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0];
+            mids.push(m);
+            let u = dir(&Line::new([a.0, a.1], [b.0, b.1]));
+            let meets = pieces.locate_within_distance(m, 4.0 * SAMPLE_MM * SAMPLE_MM).any(|l| {
+                let v = dir(l);
+                (u.0 * v.1 - u.1 * v.0).abs() > sharp
+            });
+            if meets {
+                corners.push((m[0], m[1]));
+            }
+        }
+        Outline { pieces, mids, corners: Corners::new(corners) }
+    }
+}
+
+/// The edge position error of `layer` against the exact `outline` of its style.
+pub fn edge_error(layer: &DistanceLayer, outline: &Outline) -> EdgeError {
     let contour = contour(layer, SAMPLE_MM);
-    let outline = outline(region, surface, SAMPLE_MM);
-    let corners = Corners::new(region.corners().iter().copied());
     let mut err = EdgeError::default();
     let mut add = |p: [f64; 2], d: f64| {
-        let part = if corners.near(p) { &mut err.corner_mm } else { &mut err.edge_mm };
+        let part = if outline.corners.near(p) { &mut err.corner_mm } else { &mut err.edge_mm };
         *part = max_opt(*part, Some(d));
     };
     // A curve with nothing to compare against is infinitely far from it.
-    let pieces: RTree<Line<[f64; 2]>> =
-        RTree::bulk_load(outline.iter().map(|&(a, b)| Line::new([a.0, a.1], [b.0, b.1])).collect());
     for &p in &contour {
-        let d = pieces.nearest_neighbor(&p).map_or(f64::INFINITY, |l| l.distance_2(&p).sqrt());
+        let d = outline.pieces.nearest_neighbor(&p).map_or(f64::INFINITY, |l| l.distance_2(&p).sqrt());
         add(p, d);
     }
     let points: RTree<[f64; 2]> = RTree::bulk_load(contour);
-    for &(a, b) in &outline {
-        let q = [(a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0];
+    for &q in &outline.mids {
         let d = points.nearest_neighbor(&q).map_or(f64::INFINITY, |c| c.distance_2(&q).sqrt());
         add(q, d);
     }
@@ -206,7 +243,7 @@ pub fn outline(region: &Region, surface: (f64, f64), sample: f64) -> Vec<Seg> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::exact::Index;
+    use crate::report::exact::{Index, corners};
     use taxel_compiler::geometry::{FillRule, Polyline};
     use taxel_format::{MaskKind, Mm, TILE_FIRST_STORED, TILE_SAMPLES, TILE_SIDE};
 
@@ -277,18 +314,24 @@ mod tests {
             minus_bands: Vec::new(),
             corners: c,
         };
-        let e = edge_error(&layer, &corners_at(Vec::new()), (4.0, 4.0));
-        let edge = e.edge_mm.expect("measured");
-        assert!((edge - 0.1).abs() < SAMPLE_MM, "{edge}");
-        assert!(e.corner_mm.is_none());
-        // With the outline's corners named, points within 1 mm of them are reported apart.
-        let with = corners_at(corners(std::slice::from_ref(&shifted), true, None));
-        assert_eq!(with.corners().len(), 4);
-        let e = edge_error(&layer, &with, (4.0, 4.0));
-        assert!((e.corner_mm.expect("corners") - 0.1).abs() < SAMPLE_MM, "{e:?}");
-        // Points of a 2 mm square are at most 1 mm from a corner, so only
-        // the sides' middles (if any) are left for the rest.
-        assert!(e.edge_mm.is_none_or(|d| d <= 0.1 + SAMPLE_MM), "{e:?}");
+        // The outline finds the square's corners where its sides meet, named or not.
+        let named = corners_at(corners(std::slice::from_ref(&shifted), true, None));
+        assert_eq!(named.corners().len(), 4);
+        for region in [corners_at(Vec::new()), named] {
+            let out = Outline::new(&region, (4.0, 4.0));
+            for c in [[1.1, 1.0], [3.1, 1.0], [3.1, 3.0], [1.1, 3.0]] {
+                assert!(out.corners.0.locate_within_distance(c, 4.0 * SAMPLE_MM * SAMPLE_MM).next().is_some(), "{c:?}");
+            }
+            // Nothing but the corners: the middle of each side is no corner.
+            assert!(out.corners.0.locate_within_distance([2.1, 1.0], 0.25).next().is_none());
+            let e = edge_error(&layer, &out);
+            // The sides are 0.1 mm apart, and so are the corners.
+            assert!((e.corner_mm.expect("corners") - 0.1).abs() < SAMPLE_MM, "{e:?}");
+            // Points of a 2 mm square are at most 1 mm from a corner, so
+            // only the sides' middles (if any) are left for the rest.
+            assert!(e.edge_mm.is_none_or(|d| (d - 0.1).abs() < SAMPLE_MM), "{e:?}");
+        }
+        let with = corners_at(Vec::new());
         // The outline is the shifted square: its pieces lie on its sides.
         for (a, _) in outline(&with, (4.0, 4.0), 0.01) {
             let on = (a.0 - 1.1).abs() < 1e-9 || (a.0 - 3.1).abs() < 1e-9 || a.1 == 1.0 || a.1 == 3.0;

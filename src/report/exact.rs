@@ -449,6 +449,40 @@ mod tests {
         assert!((out[0] - 1.0).abs() < 1e-12 && out[1].abs() < 1e-12);
     }
 
+    /// One style's two touching outlines are one region: on the shared side
+    /// the layer is felt once (amplitude · v), not twice and clamped.
+    #[test]
+    fn touching_outlines_of_one_style_are_one_band() {
+        let sq = |x0: f64| Polyline {
+            points: vec![(x0, 20.0), (x0 + 20.0, 20.0), (x0 + 20.0, 40.0), (x0, 40.0)],
+            closed: true,
+        };
+        let band = |x0: f64| (Arc::new(Index::new(&[sq(x0)], false)), 1.5);
+        let layers = [ExactLayer::Vibration {
+            region: Region::Band { bands: vec![band(30.0), band(50.0)], corners: Vec::new() },
+            freq_hz: 50.0,
+            amplitude: 0.6,
+            sources: vec![0, 1],
+        }];
+        let p = stress2();
+        let mut out = [0.0; 64];
+        // Carrier centred on the shared side x = 50: actuator columns 3 and 4
+        // are at x = 50 ∓ 0.6 (within the 0.75 mm half-width of both bands).
+        frame(&layers, &p, 0, 50.0, 30.0, &mut out);
+        for row in 0..8 {
+            for col in [3usize, 4] {
+                let v = if row % 2 != col % 2 { 1.0 } else { 0.0 };
+                assert!((out[row * 8 + col] - 0.6 * v).abs() < 1e-12, "{row} {col}: {}", out[row * 8 + col]);
+            }
+        }
+        // And the union's outline runs round both squares, not along the shared side.
+        let region = match &layers[0] {
+            ExactLayer::Vibration { region, .. } => region,
+            _ => unreachable!(),
+        };
+        assert!(region.covers((50.0, 30.0)) && region.covers((50.7, 30.0)) && !region.covers((50.8, 30.0)));
+    }
+
     #[test]
     fn grating_at_90_degrees_varies_along_x_only() {
         let sq = Polyline { points: vec![(0.0, 0.0), (110.0, 0.0), (110.0, 60.0), (0.0, 60.0)], closed: true };

@@ -122,6 +122,8 @@ pub struct Prepared {
     pub profile: taxel_format::DeviceProfile,
     /// The exact layers.
     pub reference: Vec<ExactLayer>,
+    /// The exact outline of each vibration and grating layer of `reference` (None for dots).
+    pub outlines: Vec<Option<edge::Outline>>,
     /// The trace.
     pub trace: Explored,
     /// Carrier position at every tick of the trace.
@@ -187,7 +189,9 @@ impl Prepared {
         if stride > 1 {
             notes.push(format!("errors are measured on every {stride}th of {} frames", positions.len()));
         }
-        Ok(Prepared { profile, reference, trace, positions, eval, notes })
+        let surface = (profile.surface_w_mm as f64, profile.surface_h_mm as f64);
+        let outlines = reference.iter().map(|l| region_of(l).map(|r| edge::Outline::new(r, surface))).collect();
+        Ok(Prepared { profile, reference, outlines, trace, positions, eval, notes })
     }
 
     /// Reference frames (δ in 0..=1, actuator-major per frame) of `kernel`'s layers at the compared ticks.
@@ -214,10 +218,16 @@ impl Prepared {
         let mut out = vec![0u16; n];
         let (mut max, mut sum2, mut count, mut far) = (0.0f64, 0.0f64, 0usize, 0.0f64);
         let mut corner_error: Option<f64> = None;
-        let layers: Vec<&ExactLayer> =
-            self.reference.iter().filter(|l| kernel == "all" || exact_kind(l) == kernel).collect();
-        let regions: Vec<&exact::Region> = layers.iter().filter_map(|l| region_of(l)).collect();
-        let corners = edge::Corners::new(regions.iter().flat_map(|r| r.corners().iter().copied()));
+        // The kernel's exact layers with their outlines.
+        let layers: Vec<(&ExactLayer, &edge::Outline)> = self
+            .reference
+            .iter()
+            .zip(&self.outlines)
+            .filter(|(l, _)| kernel == "all" || exact_kind(l) == kernel)
+            .filter_map(|(l, o)| Some((l, o.as_ref()?)))
+            .collect();
+        let regions: Vec<&exact::Region> = layers.iter().filter_map(|(l, _)| region_of(l)).collect();
+        let near_corner = |p: [f64; 2]| layers.iter().any(|(_, o)| o.corners.near(p));
         for (i, &(tick, x, y)) in self.eval.iter().enumerate() {
             player.frame(Tick(tick), Mm(x as f32), Mm(y as f32), &mut out);
             for (k, (o, r)) in out.iter().zip(reference.get(i * n..(i + 1) * n).unwrap_or(&[])).enumerate() {
@@ -232,7 +242,7 @@ impl Prepared {
                 if near_edge(&regions, p) {
                     continue;
                 }
-                if corners.near([p.0, p.1]) {
+                if near_corner([p.0, p.1]) {
                     corner_error = edge::max_opt(corner_error, Some(e));
                 } else {
                     far = far.max(e);
@@ -240,14 +250,14 @@ impl Prepared {
             }
         }
         // Each distance layer against the exact layer of the same sources.
-        let surface = (self.profile.surface_w_mm as f64, self.profile.surface_h_mm as f64);
         let (mut edge_error, mut lattice_mm) = (edge::EdgeError::default(), None);
         for c in &bundle.chunks {
             let Chunk::Distance(d) = c else { continue };
             let kind = chunk_kind(c).unwrap_or("");
-            let found = layers.iter().find(|l| exact_kind(l) == kind && sources_of(l) == Some(&d.sources[..]));
-            if let Some(region) = found.and_then(|l| region_of(l)) {
-                edge_error = edge_error.max(edge::edge_error(d, region, surface));
+            if let Some((_, outline)) =
+                layers.iter().find(|(l, _)| exact_kind(l) == kind && sources_of(l) == Some(&d.sources[..]))
+            {
+                edge_error = edge_error.max(edge::edge_error(d, outline));
                 lattice_mm = edge::max_opt(lattice_mm, Some(d.pitch_mm as f64));
             }
         }
