@@ -149,7 +149,7 @@ pub fn edge_error(layer: &DistanceLayer, outline: &Outline) -> EdgeError {
 pub fn contour(layer: &DistanceLayer, sample: f64) -> Vec<[f64; 2]> {
     let h = layer.pitch_mm as f64;
     let mut out = Vec::new();
-    if !(h > 0.0) || !h.is_finite() {
+    if !(h.is_finite() && h > 0.0) {
         return out;
     }
     let lines = ((h / sample).ceil() as usize).max(1);
@@ -196,9 +196,7 @@ pub fn contour(layer: &DistanceLayer, sample: f64) -> Vec<[f64; 2]> {
 fn cell_corners(layer: &DistanceLayer, ci: usize, cj: usize) -> Option<[f64; 4]> {
     let h = layer.pitch_mm;
     let at = |u: f32, v: f32| {
-        layer
-            .distance_at(layer.origin_x.0 + (ci as f32 + u) * h, layer.origin_y.0 + (cj as f32 + v) * h)
-            .map(f64::from)
+        layer.distance_at(layer.origin_x.0 + (ci as f32 + u) * h, layer.origin_y.0 + (cj as f32 + v) * h).map(f64::from)
     };
     let (q1, q3) = (0.25, 0.75);
     let (a, b, c, d) = (at(q1, q1)?, at(q3, q1)?, at(q1, q3)?, at(q3, q3)?);
@@ -220,7 +218,7 @@ pub fn outline(region: &Region, surface: (f64, f64), sample: f64) -> Vec<Seg> {
     for (a, b) in candidates {
         let (dx, dy) = (b.0 - a.0, b.1 - a.1);
         let len = dx.hypot(dy);
-        if !(len > 0.0) || !len.is_finite() {
+        if !(len.is_finite() && len > 0.0) {
             continue;
         }
         let (nx, ny) = (-dy / len * SIDE_MM, dx / len * SIDE_MM);

@@ -108,7 +108,7 @@ pub type Seg = ((f64, f64), (f64, f64));
 
 /// The circle of radius `r` round `c` as a polygon of chords that stay within `sagitta` of it.
 fn circle(c: (f64, f64), r: f64, sagitta: f64, out: &mut Vec<Seg>) {
-    if !(r > 0.0) || !r.is_finite() {
+    if !(r.is_finite() && r > 0.0) {
         return;
     }
     // Sagitta of a chord over the angle 2π/n: r (1 − cos(π/n)) ≈ r π² / (2 n²).

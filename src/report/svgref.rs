@@ -121,7 +121,9 @@ pub fn exact_layers(svg: &str, bundle: &Bundle, opts: &CompileOptions) -> Result
                     }
                     geos.push(geo);
                 }
-                None => gaps.missing.push(entry.map_or("(no provenance)".into(), |e| format!("{} line {}", e.id, e.line))),
+                None => {
+                    gaps.missing.push(entry.map_or("(no provenance)".into(), |e| format!("{} line {}", e.id, e.line)))
+                }
             }
         }
         resolved.push(geos);
