@@ -17,26 +17,30 @@ use taxel_format::DeviceProfile;
 /// reference does not borrow the runtime's constant.
 const PLATEAU: f64 = 0.25;
 
-/// Where a mask layer is on: a region of the page in exact geometry.
+/// Where a layer is on: a region of the page in exact geometry. A distance
+/// layer holds every shape of one style (SPEC.md section 6.2), so its region
+/// is the union of its sources' regions: touching borders of one style are
+/// one border, and do not add up.
 #[derive(Debug, Clone)]
 pub enum Region {
-    /// The inside of closed outlines, minus every vibrating band on the page
-    /// (the compiler keeps gratings out from under vibrating borders, so that
-    /// a tactile icon's or a map region's two layers do not overlap).
+    /// The union of the insides of closed outlines, minus every vibrating
+    /// band on the page (the compiler keeps gratings out from under vibrating
+    /// borders, so that a tactile icon's or a map region's two layers do not
+    /// overlap).
     Fill {
-        /// The outline.
-        polys: Index,
-        /// SVG fill rule.
-        rule: FillRule,
+        /// Each source's outline and SVG fill rule.
+        fills: Vec<(Index, FillRule)>,
         /// Vibrating bands (outline, width in mm) that are left out.
         minus_bands: Vec<(Arc<Index>, f64)>,
+        /// The corners of the outlines and of the cut bands' centre lines (see [`corners`]).
+        corners: Vec<(f64, f64)>,
     },
-    /// The band of this width (mm) centred on the outline, round joins and caps.
+    /// The union of bands of a width (mm) centred on outlines, round joins and caps.
     Band {
-        /// The outline.
-        polys: Arc<Index>,
-        /// Band width in mm.
-        width: f64,
+        /// Each source's outline and band width.
+        bands: Vec<(Arc<Index>, f64)>,
+        /// The corners of the centre lines (see [`corners`]).
+        corners: Vec<(f64, f64)>,
     },
 }
 
@@ -44,12 +48,140 @@ impl Region {
     /// Exact coverage (0 or 1) at page point `p` in mm.
     pub fn covers(&self, p: (f64, f64)) -> bool {
         match self {
-            Region::Fill { polys, rule, minus_bands } => {
-                polys.contains(p, *rule) && !minus_bands.iter().any(|(b, w)| b.within(p, w / 2.0))
+            Region::Fill { fills, minus_bands, .. } => {
+                fills.iter().any(|(f, rule)| f.contains(p, *rule))
+                    && !minus_bands.iter().any(|(b, w)| b.within(p, w / 2.0))
             }
-            Region::Band { polys, width } => polys.within(p, width / 2.0),
+            Region::Band { bands, .. } => bands.iter().any(|(b, w)| b.within(p, w / 2.0)),
         }
     }
+
+    /// The corners of the region's outlines, page mm.
+    pub fn corners(&self) -> &[(f64, f64)] {
+        match self {
+            Region::Fill { corners, .. } | Region::Band { corners, .. } => corners,
+        }
+    }
+
+    /// Segments on which every point of the region's boundary lies (a
+    /// superset of it): the fills' outlines, and each band's two offset
+    /// lines and the circles round its vertices (polygons of chords within
+    /// `sagitta` mm of the circle).
+    pub fn candidate_edges(&self, sagitta: f64) -> Vec<Seg> {
+        let mut out = Vec::new();
+        let band = |idx: &Index, w: f64, out: &mut Vec<Seg>| {
+            let r = w / 2.0;
+            for &(a, b) in &idx.segs {
+                let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+                let len = dx.hypot(dy);
+                if len > 0.0 {
+                    let (nx, ny) = (-dy / len * r, dx / len * r);
+                    out.push(((a.0 + nx, a.1 + ny), (b.0 + nx, b.1 + ny)));
+                    out.push(((a.0 - nx, a.1 - ny), (b.0 - nx, b.1 - ny)));
+                }
+                for c in [a, b] {
+                    circle(c, r, sagitta, out);
+                }
+            }
+        };
+        match self {
+            Region::Fill { fills, minus_bands, .. } => {
+                for (f, _) in fills {
+                    out.extend_from_slice(&f.segs);
+                }
+                for (b, w) in minus_bands {
+                    band(b, *w, &mut out);
+                }
+            }
+            Region::Band { bands, .. } => {
+                for (b, w) in bands {
+                    band(b, *w, &mut out);
+                }
+            }
+        }
+        out
+    }
+}
+
+/// A segment in page mm.
+pub type Seg = ((f64, f64), (f64, f64));
+
+/// The circle of radius `r` round `c` as a polygon of chords that stay within `sagitta` of it.
+fn circle(c: (f64, f64), r: f64, sagitta: f64, out: &mut Vec<Seg>) {
+    if !(r.is_finite() && r > 0.0) {
+        return;
+    }
+    // Sagitta of a chord over the angle 2π/n: r (1 − cos(π/n)) ≈ r π² / (2 n²).
+    let n = (std::f64::consts::PI * (r / (2.0 * sagitta.max(1e-9))).sqrt()).ceil().clamp(16.0, 4096.0) as usize;
+    let at = |k: usize| {
+        let a = std::f64::consts::TAU * k as f64 / n as f64;
+        (c.0 + r * a.cos(), c.1 + r * a.sin())
+    };
+    for k in 0..n {
+        out.push((at(k), at(k + 1)));
+    }
+}
+
+/// Turns sharper than this (degrees) make a vertex a corner.
+pub const CORNER_TURN_DEG: f64 = 30.0;
+
+/// The corners of outlines: vertices where the direction turns by more than
+/// [`CORNER_TURN_DEG`]. Fills close every outline. For the centre line of a
+/// band `band` mm wide also the ends of open outlines (a round cap is as
+/// sharp a feature as a corner) and, at each corner, the inner corner of the
+/// band, where its two offset lines meet (`band / 2 / cos(turn / 2)` from the
+/// vertex along the bisector, at most `5 band`): its round outer join is
+/// within `band / 2` of the vertex.
+pub fn corners(polys: &[Polyline], closed_fill: bool, band: Option<f64>) -> Vec<(f64, f64)> {
+    let mut out = Vec::new();
+    for pl in polys {
+        // Consecutive repeated points make no direction.
+        let mut pts: Vec<(f64, f64)> = Vec::with_capacity(pl.points.len());
+        for &p in &pl.points {
+            if pts.last() != Some(&p) && p.0.is_finite() && p.1.is_finite() {
+                pts.push(p);
+            }
+        }
+        let closed = if closed_fill { pts.len() > 2 } else { pl.closed && pts.len() > 2 };
+        if closed && pts.len() > 1 && pts.first() == pts.last() {
+            pts.pop();
+        }
+        let n = pts.len();
+        if n == 1 {
+            out.push(pts[0]);
+            continue;
+        }
+        for i in 0..n {
+            let (prev, next) = if closed {
+                (pts[(i + n - 1) % n], pts[(i + 1) % n])
+            } else if i == 0 || i == n - 1 {
+                if band.is_some() {
+                    out.push(pts[i]);
+                }
+                continue;
+            } else {
+                (pts[i - 1], pts[i + 1])
+            };
+            let p = pts[i];
+            let (a, b) = (unit(p.0 - prev.0, p.1 - prev.1), unit(next.0 - p.0, next.1 - p.1));
+            let turn = (a.0 * b.1 - a.1 * b.0).atan2(a.0 * b.0 + a.1 * b.1).abs();
+            if turn > CORNER_TURN_DEG.to_radians() {
+                out.push(p);
+                if let Some(w) = band {
+                    let reach = (w / 2.0 / (turn / 2.0).cos()).min(5.0 * w);
+                    let bis = unit(b.0 - a.0, b.1 - a.1);
+                    out.push((p.0 + bis.0 * reach, p.1 + bis.1 * reach));
+                }
+            }
+        }
+    }
+    out
+}
+
+/// `(x, y)` scaled to length 1 (0 stays 0).
+fn unit(x: f64, y: f64) -> (f64, f64) {
+    let l = x.hypot(y);
+    if l > 0.0 { (x / l, y / l) } else { (0.0, 0.0) }
 }
 
 /// One layer of the reference scene.
@@ -63,6 +195,8 @@ pub enum ExactLayer {
         freq_hz: f64,
         /// Amplitude 0..=1.
         amplitude: f64,
+        /// Provenance entries of the elements it holds (of its distance layer).
+        sources: Vec<u32>,
     },
     /// Eq. 3 over a region.
     Grating {
@@ -74,6 +208,8 @@ pub enum ExactLayer {
         angle_deg: f64,
         /// Amplitude 0..=1.
         amplitude: f64,
+        /// Provenance entries of the elements it holds (of its distance layer).
+        sources: Vec<u32>,
     },
     /// Eq. 1 for each dot `(x, y, radius, amplitude)` in mm.
     Dots(Vec<(f64, f64, f64, f64)>),
@@ -112,7 +248,7 @@ pub fn frame(layers: &[ExactLayer], profile: &DeviceProfile, tick: u64, x: f64, 
             let mut d = 0.0;
             for layer in layers {
                 d += match layer {
-                    ExactLayer::Vibration { region, freq_hz, amplitude } => {
+                    ExactLayer::Vibration { region, freq_hz, amplitude, .. } => {
                         if !region.covers((ax, ay)) {
                             continue;
                         }
@@ -120,7 +256,7 @@ pub fn frame(layers: &[ExactLayer], profile: &DeviceProfile, tick: u64, x: f64, 
                         let v = if row % 2 != col % 2 { 0.5 + 0.5 * c } else { 0.5 - 0.5 * c };
                         amplitude * v
                     }
-                    ExactLayer::Grating { region, wavelength_mm, angle_deg, amplitude } => {
+                    ExactLayer::Grating { region, wavelength_mm, angle_deg, amplitude, .. } => {
                         if !region.covers((ax, ay)) {
                             continue;
                         }
@@ -295,9 +431,14 @@ mod tests {
     fn vibration_is_checkerboard_antiphase_at_tick_zero() {
         let sq = Polyline { points: vec![(0.0, 0.0), (110.0, 0.0), (110.0, 60.0), (0.0, 60.0)], closed: true };
         let layers = [ExactLayer::Vibration {
-            region: Region::Fill { polys: Index::new(&[sq], true), rule: FillRule::NonZero, minus_bands: Vec::new() },
+            region: Region::Fill {
+                fills: vec![(Index::new(&[sq], true), FillRule::NonZero)],
+                minus_bands: Vec::new(),
+                corners: Vec::new(),
+            },
             freq_hz: 50.0,
             amplitude: 1.0,
+            sources: Vec::new(),
         }];
         let mut out = [0.0; 64];
         frame(&layers, &stress2(), 0, 50.0, 30.0, &mut out);
@@ -308,14 +449,53 @@ mod tests {
         assert!((out[0] - 1.0).abs() < 1e-12 && out[1].abs() < 1e-12);
     }
 
+    /// One style's two touching outlines are one region: on the shared side
+    /// the layer is felt once (amplitude · v), not twice and clamped.
+    #[test]
+    fn touching_outlines_of_one_style_are_one_band() {
+        let sq = |x0: f64| Polyline {
+            points: vec![(x0, 20.0), (x0 + 20.0, 20.0), (x0 + 20.0, 40.0), (x0, 40.0)],
+            closed: true,
+        };
+        let band = |x0: f64| (Arc::new(Index::new(&[sq(x0)], false)), 1.5);
+        let layers = [ExactLayer::Vibration {
+            region: Region::Band { bands: vec![band(30.0), band(50.0)], corners: Vec::new() },
+            freq_hz: 50.0,
+            amplitude: 0.6,
+            sources: vec![0, 1],
+        }];
+        let p = stress2();
+        let mut out = [0.0; 64];
+        // Carrier centred on the shared side x = 50: actuator columns 3 and 4
+        // are at x = 50 ∓ 0.6 (within the 0.75 mm half-width of both bands).
+        frame(&layers, &p, 0, 50.0, 30.0, &mut out);
+        for row in 0..8 {
+            for col in [3usize, 4] {
+                let v = if row % 2 != col % 2 { 1.0 } else { 0.0 };
+                assert!((out[row * 8 + col] - 0.6 * v).abs() < 1e-12, "{row} {col}: {}", out[row * 8 + col]);
+            }
+        }
+        // And the union's outline runs round both squares, not along the shared side.
+        let region = match &layers[0] {
+            ExactLayer::Vibration { region, .. } => region,
+            _ => unreachable!(),
+        };
+        assert!(region.covers((50.0, 30.0)) && region.covers((50.7, 30.0)) && !region.covers((50.8, 30.0)));
+    }
+
     #[test]
     fn grating_at_90_degrees_varies_along_x_only() {
         let sq = Polyline { points: vec![(0.0, 0.0), (110.0, 0.0), (110.0, 60.0), (0.0, 60.0)], closed: true };
         let layers = [ExactLayer::Grating {
-            region: Region::Fill { polys: Index::new(&[sq], true), rule: FillRule::NonZero, minus_bands: Vec::new() },
+            region: Region::Fill {
+                fills: vec![(Index::new(&[sq], true), FillRule::NonZero)],
+                minus_bands: Vec::new(),
+                corners: Vec::new(),
+            },
             wavelength_mm: 2.4,
             angle_deg: 90.0,
             amplitude: 1.0,
+            sources: Vec::new(),
         }];
         let mut out = [0.0; 64];
         frame(&layers, &stress2(), 0, 50.0, 30.0, &mut out);

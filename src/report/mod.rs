@@ -8,6 +8,7 @@
 //! composite: a kernel's row plays only that kernel's chunks and compares them
 //! with only that kernel's exact layers, so the plot shows one line per kernel.
 
+pub mod edge;
 pub mod exact;
 pub mod mesh;
 pub mod plot;
@@ -63,11 +64,30 @@ pub struct Row {
     /// Root-mean-square error, in `error_unit`.
     pub rms_error: f64,
     /// Largest error at actuators farther than [`EDGE_BAND_MM`] from every
-    /// exact edge of the kernel's vibration and grating layers, in
-    /// `error_unit` (laterotactile scenes; over the first [`MAX_FAR_FRAMES`]
-    /// compared frames).
+    /// exact edge and farther than [`edge::CORNER_RADIUS_MM`] from every
+    /// corner of the kernel's vibration and grating layers, in `error_unit`
+    /// (laterotactile scenes; over the first [`MAX_FAR_FRAMES`] compared
+    /// frames).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub far_error: Option<f64>,
+    /// As [`Row::far_error`], at the actuators within
+    /// [`edge::CORNER_RADIUS_MM`] of a corner (and farther than
+    /// [`EDGE_BAND_MM`] from every edge).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub corner_error: Option<f64>,
+    /// Edge position error away from corners, mm: the Hausdorff distance
+    /// between the half-amplitude contour of the kernel's distance layers and
+    /// the exact outline, at points farther than [`edge::CORNER_RADIUS_MM`]
+    /// from every corner (`edge.rs`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub edge_error_mm: Option<f64>,
+    /// The edge position error within [`edge::CORNER_RADIUS_MM`] of a corner, mm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub corner_edge_error_mm: Option<f64>,
+    /// The coarsest lattice pitch among the kernel's distance layers, mm
+    /// (the setting, or less for a narrow vibrating band).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lattice_mm: Option<f64>,
     /// Unit of the errors.
     pub error_unit: String,
     /// Frames compared.
@@ -102,6 +122,8 @@ pub struct Prepared {
     pub profile: taxel_format::DeviceProfile,
     /// The exact layers.
     pub reference: Vec<ExactLayer>,
+    /// The exact outline of each vibration and grating layer of `reference` (None for dots).
+    pub outlines: Vec<Option<edge::Outline>>,
     /// The trace.
     pub trace: Explored,
     /// Carrier position at every tick of the trace.
@@ -123,8 +145,14 @@ pub struct Measured {
     pub max_error: f64,
     /// RMS error in output steps.
     pub rms_error: f64,
-    /// Largest error in output steps at actuators away from every exact edge.
+    /// Largest error in output steps at actuators away from every exact edge and corner.
     pub far_error: f64,
+    /// Largest error in output steps at actuators near a corner and away from every exact edge.
+    pub corner_error: Option<f64>,
+    /// Edge position error, mm.
+    pub edge: edge::EdgeError,
+    /// The coarsest lattice pitch among the distance layers, mm.
+    pub lattice_mm: Option<f64>,
 }
 
 impl Prepared {
@@ -161,7 +189,9 @@ impl Prepared {
         if stride > 1 {
             notes.push(format!("errors are measured on every {stride}th of {} frames", positions.len()));
         }
-        Ok(Prepared { profile, reference, trace, positions, eval, notes })
+        let surface = (profile.surface_w_mm as f64, profile.surface_h_mm as f64);
+        let outlines = reference.iter().map(|l| region_of(l).map(|r| edge::Outline::new(r, surface))).collect();
+        Ok(Prepared { profile, reference, outlines, trace, positions, eval, notes })
     }
 
     /// Reference frames (δ in 0..=1, actuator-major per frame) of `kernel`'s layers at the compared ticks.
@@ -187,15 +217,17 @@ impl Prepared {
         let frame_us = time_frames(&player, &self.positions, n);
         let mut out = vec![0u16; n];
         let (mut max, mut sum2, mut count, mut far) = (0.0f64, 0.0f64, 0usize, 0.0f64);
-        let regions: Vec<&exact::Region> = self
+        let mut corner_error: Option<f64> = None;
+        // The kernel's exact layers with their outlines.
+        let layers: Vec<(&ExactLayer, &edge::Outline)> = self
             .reference
             .iter()
-            .filter(|l| kernel == "all" || exact_kind(l) == kernel)
-            .filter_map(|l| match l {
-                ExactLayer::Vibration { region, .. } | ExactLayer::Grating { region, .. } => Some(region),
-                ExactLayer::Dots(_) => None,
-            })
+            .zip(&self.outlines)
+            .filter(|(l, _)| kernel == "all" || exact_kind(l) == kernel)
+            .filter_map(|(l, o)| Some((l, o.as_ref()?)))
             .collect();
+        let regions: Vec<&exact::Region> = layers.iter().filter_map(|(l, _)| region_of(l)).collect();
+        let near_corner = |p: [f64; 2]| layers.iter().any(|(_, o)| o.corners.near(p));
         for (i, &(tick, x, y)) in self.eval.iter().enumerate() {
             player.frame(Tick(tick), Mm(x as f32), Mm(y as f32), &mut out);
             for (k, (o, r)) in out.iter().zip(reference.get(i * n..(i + 1) * n).unwrap_or(&[])).enumerate() {
@@ -203,9 +235,30 @@ impl Prepared {
                 max = max.max(e);
                 sum2 += e * e;
                 count += 1;
-                if i < MAX_FAR_FRAMES && e > far && !near_edge(&regions, actuator(&self.profile, x, y, k)) {
-                    far = e;
+                if i >= MAX_FAR_FRAMES {
+                    continue;
                 }
+                let p = actuator(&self.profile, x, y, k);
+                if near_edge(&regions, p) {
+                    continue;
+                }
+                if near_corner([p.0, p.1]) {
+                    corner_error = edge::max_opt(corner_error, Some(e));
+                } else {
+                    far = far.max(e);
+                }
+            }
+        }
+        // Each distance layer against the exact layer of the same sources.
+        let (mut edge_error, mut lattice_mm) = (edge::EdgeError::default(), None);
+        for c in &bundle.chunks {
+            let Chunk::Distance(d) = c else { continue };
+            let kind = chunk_kind(c).unwrap_or("");
+            if let Some((_, outline)) =
+                layers.iter().find(|(l, _)| exact_kind(l) == kind && sources_of(l) == Some(&d.sources[..]))
+            {
+                edge_error = edge_error.max(edge::edge_error(d, outline));
+                lattice_mm = edge::max_opt(lattice_mm, Some(d.pitch_mm as f64));
             }
         }
         Ok(Measured {
@@ -214,7 +267,26 @@ impl Prepared {
             max_error: max,
             rms_error: (sum2 / count.max(1) as f64).sqrt(),
             far_error: far,
+            corner_error,
+            edge: edge_error,
+            lattice_mm,
         })
+    }
+}
+
+/// The region of a vibration or grating layer.
+fn region_of(l: &ExactLayer) -> Option<&exact::Region> {
+    match l {
+        ExactLayer::Vibration { region, .. } | ExactLayer::Grating { region, .. } => Some(region),
+        ExactLayer::Dots(_) => None,
+    }
+}
+
+/// The provenance entries a vibration or grating layer holds.
+fn sources_of(l: &ExactLayer) -> Option<&[u32]> {
+    match l {
+        ExactLayer::Vibration { sources, .. } | ExactLayer::Grating { sources, .. } => Some(sources),
+        ExactLayer::Dots(_) => None,
     }
 }
 
@@ -290,6 +362,10 @@ pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>) -> Result<Rep
                 max_error: m.max_error,
                 rms_error: m.rms_error,
                 far_error: Some(m.far_error),
+                corner_error: m.corner_error,
+                edge_error_mm: m.edge.edge_mm,
+                corner_edge_error_mm: m.edge.corner_mm,
+                lattice_mm: m.lattice_mm,
                 error_unit: format!("{}-bit steps", prep.profile.output_bits),
                 frames: prep.eval.len(),
                 run_ms: compile_ms + m.frame_us * prep.positions.len() as f64 / 1000.0,

@@ -1,6 +1,9 @@
 //! The report's plot: RMS error against run time (compile + play of the
 //! trace) on log–log axes, one line per kernel, each point labelled with its
 //! setting, the default setting ringed, and a legend beside the chart.
+//! When the rows measure an edge position error (distance layers), a second
+//! panel below draws it (the larger of the error at and away from corners,
+//! mm) against the same run time.
 //! Drawn with `plotters` into an RGB buffer and encoded by `image`; the text
 //! is DejaVu Sans, bundled in `assets/fonts/` (its licence is there), so the
 //! plot looks the same on every machine and needs no system font.
@@ -45,14 +48,30 @@ fn register_font() -> Result<()> {
 /// Draws the plot as PNG bytes; `title` goes on top.
 pub fn draw(rows: &[Row], title: &str) -> Result<Vec<u8>> {
     register_font()?;
-    let mut rgb = vec![0u8; (W * H * 3) as usize];
+    let edges = rows.iter().any(|r| edge_mm(r).is_some());
+    let height = if edges { 2 * H } else { H };
+    let mut rgb = vec![0u8; (W * height * 3) as usize];
     {
-        let root = BitMapBackend::with_buffer(&mut rgb, (W, H)).into_drawing_area();
-        chart(&root, rows, title).map_err(|e| anyhow!("cannot draw the plot: {e}"))?;
-        root.present().map_err(|e| anyhow!("cannot draw the plot: {e}"))?;
+        let root = BitMapBackend::with_buffer(&mut rgb, (W, height)).into_drawing_area();
+        let fail = |e: DrawingAreaErrorKind<_>| anyhow!("cannot draw the plot: {e}");
+        let (top, bottom) = root.split_vertically(H);
+        let error_unit = rows.first().map_or("", |r| r.error_unit.as_str());
+        chart(&top, rows, title, &|r| Some(r.rms_error), &format!("RMS error ({error_unit}, log scale)"))
+            .map_err(fail)?;
+        if edges {
+            let title = format!("{title}: edge position error");
+            chart(&bottom, rows, &title, &edge_mm, "edge position error (mm, at or away from corners, log scale)")
+                .map_err(fail)?;
+        }
+        root.present().map_err(fail)?;
     }
-    let img = image::RgbImage::from_raw(W, H, rgb).ok_or_else(|| anyhow!("the plot buffer has the wrong size"))?;
+    let img = image::RgbImage::from_raw(W, height, rgb).ok_or_else(|| anyhow!("the plot buffer has the wrong size"))?;
     crate::io::png::encode(&image::DynamicImage::ImageRgb8(img))
+}
+
+/// The larger of a row's edge position errors at and away from corners, mm.
+fn edge_mm(r: &Row) -> Option<f64> {
+    super::edge::max_opt(r.edge_error_mm, r.corner_edge_error_mm)
 }
 
 type DrawResult<T> = Result<T, DrawingAreaErrorKind<<BitMapBackend<'static> as DrawingBackend>::ErrorType>>;
@@ -72,15 +91,23 @@ impl Boxed {
     }
 }
 
-fn chart(root: &DrawingArea<BitMapBackend<'_>, Shift>, rows: &[Row], title: &str) -> DrawResult<()> {
+fn chart(
+    root: &DrawingArea<BitMapBackend<'_>, Shift>,
+    rows: &[Row],
+    title: &str,
+    value: &dyn Fn(&Row) -> Option<f64>,
+    y_desc: &str,
+) -> DrawResult<()> {
     root.fill(&WHITE)?;
+    // The rows that measured this value, with it as their error.
+    let rows: Vec<Row> = rows.iter().filter_map(|r| value(r).map(|v| Row { rms_error: v, ..r.clone() })).collect();
+    let rows = &rows[..];
     let (left, right) = root.split_horizontally(W - LEGEND_W);
     let pos = |v: f64| v.is_finite() && v > 0.0;
     let (x_lo, x_hi) = decades(rows.iter().map(|r| r.run_ms).filter(|&v| pos(v)));
     let (y_lo, y_hi) = decades(rows.iter().map(|r| r.rms_error).filter(|&v| pos(v)));
     // An error of exactly zero (or a time too small to show) sits on the lower axis.
     let clamp = |v: f64, lo: f64| if pos(v) { v.max(lo) } else { lo };
-    let error_unit = rows.first().map_or("", |r| r.error_unit.as_str());
     let setting_unit = rows.first().map_or("", |r| r.unit.as_str());
     let mut chart = ChartBuilder::on(&left)
         .caption(title, (FAMILY, 22).into_font())
@@ -91,7 +118,7 @@ fn chart(root: &DrawingArea<BitMapBackend<'_>, Shift>, rows: &[Row], title: &str
     chart
         .configure_mesh()
         .x_desc("run time: compile + play the trace (ms, log scale)")
-        .y_desc(format!("RMS error ({error_unit}, log scale)"))
+        .y_desc(y_desc)
         .label_style((FAMILY, 15))
         .axis_desc_style((FAMILY, 16))
         .x_label_formatter(&|v| number(*v))
@@ -246,6 +273,10 @@ mod tests {
             rms_error: err,
             error_unit: "10-bit steps".into(),
             far_error: None,
+            corner_error: None,
+            edge_error_mm: None,
+            corner_edge_error_mm: None,
+            lattice_mm: None,
             frames: 1,
             run_ms: ms,
             on_front: true,
@@ -262,6 +293,19 @@ mod tests {
         assert!(img.pixels().any(|p| p.0 == [40, 110, 200]));
         let legend_dark = (W - LEGEND_W..W).flat_map(|x| (0..H).map(move |y| (x, y)));
         assert!(legend_dark.filter(|&(x, y)| img.get_pixel(x, y).0[0] < 100).count() > 100);
+    }
+
+    #[test]
+    fn edge_errors_get_a_second_panel() {
+        let mut rows = vec![row("grating", 2.0, 1.0, 30.0, false), row("grating", 8.0, 10.0, 3.0, true)];
+        rows[0].edge_error_mm = Some(0.5);
+        rows[1].corner_edge_error_mm = Some(0.05);
+        let png = draw(&rows, "test.svg on stress2").expect("plot");
+        let img = image::load_from_memory(&png).expect("decodes").to_rgb8();
+        assert_eq!(img.dimensions(), (W, 2 * H));
+        // The lower panel has the grating's line too.
+        let lower = (0..W - LEGEND_W).flat_map(|x| (H..2 * H).map(move |y| (x, y)));
+        assert!(lower.filter(|&(x, y)| img.get_pixel(x, y).0 == [40, 110, 200]).count() > 20);
     }
 
     #[test]

@@ -18,7 +18,7 @@ use taxel_compiler::drawing::{self, Shape};
 use taxel_compiler::geometry::{FillRule, Polyline};
 use taxel_format::{Bundle, Chunk, DeviceProfile, MaskKind};
 
-use super::exact::{ExactLayer, Index, Region};
+use super::exact::{ExactLayer, Index, Region, corners};
 
 /// Band width when no style gives one (the documented `vibrate()` default, seed 000 §4.1).
 const DEFAULT_BAND_MM: f64 = 1.5;
@@ -79,71 +79,97 @@ impl Drawing {
     }
 }
 
-/// The exact layers of a compiled drawing: one per element of each mask or
-/// distance layer, plus the dot tables.
+/// The exact layers of a compiled drawing: one per distance layer (the
+/// union of its sources, SPEC.md section 6.2: touching borders of one style
+/// are one border), one per element of a raster mask layer, and the dot
+/// tables. Every vibrating band on the page is cut out of every grating, as
+/// the compiler does.
 pub fn exact_layers(svg: &str, bundle: &Bundle, opts: &CompileOptions) -> Result<(Vec<ExactLayer>, Gaps), String> {
     let drawing = Drawing::read(svg, &bundle.manifest.profile, opts)?;
     let prov = bundle.provenance();
     let mut layers = Vec::new();
     let mut gaps = Gaps::default();
-    // Every vibrating band, to cut out of the gratings (as the compiler does).
-    let mut bands: Vec<(Arc<Index>, f64)> = Vec::new();
-    let mut pending: Vec<(usize, Source, MaskKind, f64, f64)> = Vec::new();
-    // Each element of a vibration or grating layer (a raster mask's one
-    // source, every source of a distance layer), as (source, kind, amplitude).
-    let mut elements: Vec<(Option<u32>, MaskKind, f32)> = Vec::new();
+    // Each vibration or grating layer as (its sources, kind, amplitude): a
+    // distance layer's every source, a raster mask's one source.
+    let mut groups: Vec<(Vec<u32>, MaskKind, f32)> = Vec::new();
     for chunk in &bundle.chunks {
         match chunk {
-            Chunk::Mask(m) => elements.push((m.source, m.kind, m.amplitude)),
-            Chunk::Distance(d) => elements.extend(d.sources.iter().map(|&s| (Some(s), d.kind, d.amplitude))),
+            Chunk::Mask(m) => groups.push((m.source.into_iter().collect(), m.kind, m.amplitude)),
+            Chunk::Distance(d) => groups.push((d.sources.clone(), d.kind, d.amplitude)),
             Chunk::Dots(d) => layers.push(ExactLayer::Dots(
                 d.dots.iter().map(|d| (d.x.0 as f64, d.y.0 as f64, d.radius.0 as f64, d.amplitude as f64)).collect(),
             )),
             _ => {}
         }
     }
-    for (source, kind, amplitude) in elements {
-        let entry = source.and_then(|s| prov.and_then(|p| p.entries.get(s as usize)));
-        let Some(geo) = entry.and_then(|e| drawing.source(&e.id, e.line)) else {
-            gaps.missing.push(entry.map_or("(no provenance)".into(), |e| format!("{} line {}", e.id, e.line)));
-            continue;
-        };
-        let width = match kind {
-            MaskKind::Vibration { .. } => {
-                let w = geo
-                    .styles
-                    .iter()
-                    .find_map(|s| match s {
-                        Style::Vibrate(v) => Some(v.width_mm),
-                        _ => None,
-                    })
-                    .unwrap_or(DEFAULT_BAND_MM);
-                bands.push((Arc::new(Index::new(&geo.polys, false)), w));
-                w
+    // The geometry of every group's sources, and every vibrating band on the page.
+    let mut resolved: Vec<Vec<Source>> = Vec::new();
+    let mut all_bands: Vec<(Arc<Index>, f64)> = Vec::new();
+    let mut band_corners: Vec<(f64, f64)> = Vec::new();
+    for (sources, kind, _) in &groups {
+        let mut geos = Vec::new();
+        if sources.is_empty() {
+            gaps.missing.push("(no provenance)".into());
+        }
+        for &s in sources {
+            let entry = prov.and_then(|p| p.entries.get(s as usize));
+            match entry.and_then(|e| drawing.source(&e.id, e.line)) {
+                Some(geo) => {
+                    if matches!(kind, MaskKind::Vibration { .. }) {
+                        all_bands.push((Arc::new(Index::new(&geo.polys, false)), band_width(&geo)));
+                        band_corners.extend(corners(&geo.polys, false, Some(band_width(&geo))));
+                    }
+                    geos.push(geo);
+                }
+                None => {
+                    gaps.missing.push(entry.map_or("(no provenance)".into(), |e| format!("{} line {}", e.id, e.line)))
+                }
             }
-            MaskKind::Grating { .. } => 0.0,
-        };
-        let band = if matches!(kind, MaskKind::Vibration { .. }) { bands.len() - 1 } else { usize::MAX };
-        pending.push((band, geo, kind, amplitude as f64, width));
+        }
+        resolved.push(geos);
     }
-    for (band, geo, kind, amplitude, width) in pending {
+    for ((sources, kind, amplitude), geos) in groups.into_iter().zip(resolved) {
+        if geos.is_empty() {
+            continue;
+        }
+        let amplitude = amplitude as f64;
         layers.push(match kind {
             MaskKind::Vibration { freq } => ExactLayer::Vibration {
-                region: Region::Band { polys: bands[band].0.clone(), width },
+                region: Region::Band {
+                    bands: geos.iter().map(|g| (Arc::new(Index::new(&g.polys, false)), band_width(g))).collect(),
+                    corners: geos.iter().flat_map(|g| corners(&g.polys, false, Some(band_width(g)))).collect(),
+                },
                 freq_hz: freq.0 as f64 / 1000.0,
                 amplitude,
+                sources,
             },
             MaskKind::Grating { wavelength, angle_deg } => ExactLayer::Grating {
                 region: Region::Fill {
-                    polys: Index::new(&geo.polys, true),
-                    rule: geo.rule,
-                    minus_bands: bands.clone(),
+                    fills: geos.iter().map(|g| (Index::new(&g.polys, true), g.rule)).collect(),
+                    minus_bands: all_bands.clone(),
+                    corners: geos
+                        .iter()
+                        .flat_map(|g| corners(&g.polys, true, None))
+                        .chain(band_corners.iter().copied())
+                        .collect(),
                 },
                 wavelength_mm: wavelength.0 as f64,
                 angle_deg: angle_deg as f64,
                 amplitude,
+                sources,
             },
         });
     }
     Ok((layers, gaps))
+}
+
+/// The vibrating band's width of an element: its `vibrate(width: ...)`, or the default.
+fn band_width(geo: &Source) -> f64 {
+    geo.styles
+        .iter()
+        .find_map(|s| match s {
+            Style::Vibrate(v) => Some(v.width_mm),
+            _ => None,
+        })
+        .unwrap_or(DEFAULT_BAND_MM)
 }

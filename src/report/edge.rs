@@ -1,0 +1,339 @@
+//! Edge position error: how far the half-amplitude contour that a distance
+//! layer produces lies from the exact outline of its style (docs/report.md).
+//!
+//! The measure is the Hausdorff distance between two curves:
+//!
+//! - the **contour**: the zero set of the layer's interpolated signed
+//!   distance (where the edge profile gives ½, hard or soft), evaluated with
+//!   the SPEC reference [`DistanceLayer::distance_at`], which the runtime's
+//!   kernel is property-tested equal to. Inside a lattice cell the distance
+//!   is bilinear, so along any line parallel to an axis it is linear and its
+//!   zero is found exactly: the contour is sampled where it crosses lines
+//!   [`SAMPLE_MM`] apart in both directions (consecutive points at most
+//!   `SAMPLE_MM · √2` apart along it);
+//! - the **outline**: the boundary of the exact region of the layer's style
+//!   (the union of its sources, gratings minus vibrating bands, within the
+//!   device's surface), cut into pieces at most [`SAMPLE_MM`] long; a piece
+//!   of a candidate edge (a fill's outline, a band's offset lines and the
+//!   circles round its vertices) is on the boundary when exact coverage
+//!   differs 1 µm on either side of its middle.
+//!
+//! The error is the larger of the two directed distances: the largest exact
+//! distance from a contour point to the outline's pieces, and the largest
+//! distance from a piece's middle to the nearest contour point. Both are
+//! within about `SAMPLE_MM` of the distance between the continuous curves.
+//! Points within [`CORNER_RADIUS_MM`] of a corner of the outline are
+//! reported apart from the rest.
+
+use rstar::primitives::Line;
+use rstar::{PointDistance, RTree};
+use taxel_format::{DistanceLayer, TILE_CELLS, TILE_INSIDE, TILE_OUTSIDE};
+
+use super::exact::{Region, Seg};
+
+/// Spacing of the sample lines across the contour and longest piece of the outline, mm.
+pub const SAMPLE_MM: f64 = 0.005;
+/// Radius round each corner of an outline within which errors count as the corner's, mm.
+pub const CORNER_RADIUS_MM: f64 = 1.0;
+/// Offset either side of an outline piece at which coverage is compared, mm.
+const SIDE_MM: f64 = 0.001;
+/// Largest gap between a band's round join and the chords standing for it, mm.
+const SAGITTA_MM: f64 = 0.000_25;
+
+/// Edge position errors of one or more layers, mm; `None` where there was nothing to measure.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct EdgeError {
+    /// Away from corners.
+    pub edge_mm: Option<f64>,
+    /// Within [`CORNER_RADIUS_MM`] of a corner.
+    pub corner_mm: Option<f64>,
+}
+
+impl EdgeError {
+    /// The larger of two measurements, part by part.
+    pub fn max(self, o: EdgeError) -> EdgeError {
+        EdgeError { edge_mm: max_opt(self.edge_mm, o.edge_mm), corner_mm: max_opt(self.corner_mm, o.corner_mm) }
+    }
+}
+
+/// The larger of two optional values.
+pub fn max_opt(a: Option<f64>, b: Option<f64>) -> Option<f64> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(a.max(b)),
+        (a, b) => a.or(b),
+    }
+}
+
+/// Corners of outlines, for "is this point near a corner" queries.
+pub struct Corners(RTree<[f64; 2]>);
+
+impl Corners {
+    /// Indexes `points`.
+    pub fn new(points: impl IntoIterator<Item = (f64, f64)>) -> Corners {
+        Corners(RTree::bulk_load(points.into_iter().map(|(x, y)| [x, y]).collect()))
+    }
+
+    /// Whether `p` is within [`CORNER_RADIUS_MM`] of a corner.
+    pub fn near(&self, p: [f64; 2]) -> bool {
+        self.0.locate_within_distance(p, CORNER_RADIUS_MM * CORNER_RADIUS_MM).next().is_some()
+    }
+}
+
+/// The exact outline of one layer's region, measured once for every rung.
+pub struct Outline {
+    /// The boundary's pieces.
+    pieces: RTree<Line<[f64; 2]>>,
+    /// Their middles.
+    mids: Vec<[f64; 2]>,
+    /// The region's corners: the outlines' own (see [`super::exact::corners`])
+    /// and every point where two pieces of the boundary meet at more than
+    /// [`super::exact::CORNER_TURN_DEG`] (the inner corners of crossing or
+    /// joining bands, a fill's edge meeting a cut band).
+    pub corners: Corners,
+}
+
+impl Outline {
+    /// The outline of `region` clipped to the surface `(width, height)` mm.
+    pub fn new(region: &Region, surface: (f64, f64)) -> Outline {
+        let segs = outline(region, surface, SAMPLE_MM);
+        let lines: Vec<Line<[f64; 2]>> = segs.iter().map(|&(a, b)| Line::new([a.0, a.1], [b.0, b.1])).collect();
+        let pieces = RTree::bulk_load(lines);
+        let sharp = super::exact::CORNER_TURN_DEG.to_radians().sin();
+        let dir = |l: &Line<[f64; 2]>| {
+            let (dx, dy) = (l.to[0] - l.from[0], l.to[1] - l.from[1]);
+            let n = dx.hypot(dy).max(1e-12);
+            (dx / n, dy / n)
+        };
+        let mut corners: Vec<(f64, f64)> = region.corners().to_vec();
+        let mut mids = Vec::with_capacity(segs.len());
+        for &(a, b) in &segs {
+            let m = [(a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0];
+            mids.push(m);
+            let u = dir(&Line::new([a.0, a.1], [b.0, b.1]));
+            let meets = pieces.locate_within_distance(m, 4.0 * SAMPLE_MM * SAMPLE_MM).any(|l| {
+                let v = dir(l);
+                (u.0 * v.1 - u.1 * v.0).abs() > sharp
+            });
+            if meets {
+                corners.push((m[0], m[1]));
+            }
+        }
+        Outline { pieces, mids, corners: Corners::new(corners) }
+    }
+}
+
+/// The edge position error of `layer` against the exact `outline` of its style.
+pub fn edge_error(layer: &DistanceLayer, outline: &Outline) -> EdgeError {
+    let contour = contour(layer, SAMPLE_MM);
+    let mut err = EdgeError::default();
+    let mut add = |p: [f64; 2], d: f64| {
+        let part = if outline.corners.near(p) { &mut err.corner_mm } else { &mut err.edge_mm };
+        *part = max_opt(*part, Some(d));
+    };
+    // A curve with nothing to compare against is infinitely far from it.
+    for &p in &contour {
+        let d = outline.pieces.nearest_neighbor(&p).map_or(f64::INFINITY, |l| l.distance_2(&p).sqrt());
+        add(p, d);
+    }
+    let points: RTree<[f64; 2]> = RTree::bulk_load(contour);
+    for &q in &outline.mids {
+        let d = points.nearest_neighbor(&q).map_or(f64::INFINITY, |c| c.distance_2(&q).sqrt());
+        add(q, d);
+    }
+    err
+}
+
+/// Points of the half-amplitude contour of `layer` (the zero set of its
+/// interpolated distance), where it crosses the lines `sample` mm apart in
+/// each lattice cell, in page mm.
+pub fn contour(layer: &DistanceLayer, sample: f64) -> Vec<[f64; 2]> {
+    let h = layer.pitch_mm as f64;
+    let mut out = Vec::new();
+    if !(h.is_finite() && h > 0.0) {
+        return out;
+    }
+    let lines = ((h / sample).ceil() as usize).max(1);
+    let (ox, oy) = (layer.origin_x.0 as f64, layer.origin_y.0 as f64);
+    for ty in 0..layer.tile_rows as usize {
+        for tx in 0..layer.tile_cols as usize {
+            let entry = layer.tiles.get(ty * layer.tile_cols as usize + tx).copied().unwrap_or(TILE_OUTSIDE);
+            if entry == TILE_OUTSIDE || entry == TILE_INSIDE {
+                continue;
+            }
+            for cj in ty * TILE_CELLS..(ty + 1) * TILE_CELLS {
+                for ci in tx * TILE_CELLS..(tx + 1) * TILE_CELLS {
+                    let Some(c) = cell_corners(layer, ci, cj) else { continue };
+                    let inside = c.map(|d| d > 0.0);
+                    if inside.iter().all(|&s| s == inside[0]) {
+                        continue;
+                    }
+                    let (x0, y0) = (ox + ci as f64 * h, oy + cj as f64 * h);
+                    let [c00, c10, c01, c11] = c;
+                    for k in 0..=lines {
+                        let t = k as f64 / lines as f64;
+                        // Along the vertical line u = t, then the horizontal line v = t.
+                        let (a, b) = (c00 + (c10 - c00) * t, c01 + (c11 - c01) * t);
+                        if (a > 0.0) != (b > 0.0) {
+                            out.push([x0 + t * h, y0 + a / (a - b) * h]);
+                        }
+                        let (a, b) = (c00 + (c01 - c00) * t, c10 + (c11 - c10) * t);
+                        if (a > 0.0) != (b > 0.0) {
+                            out.push([x0 + a / (a - b) * h, y0 + t * h]);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The distance at the four corners of lattice cell `(ci, cj)` as its
+/// bilinear interpolation sees them, `[(0,0), (1,0), (0,1), (1,1)]`: read
+/// through [`DistanceLayer::distance_at`] at the cell's quarter points (so
+/// that every read lands in the cell's own tile) and extrapolated, which is
+/// exact for a bilinear function.
+fn cell_corners(layer: &DistanceLayer, ci: usize, cj: usize) -> Option<[f64; 4]> {
+    let h = layer.pitch_mm;
+    let at = |u: f32, v: f32| {
+        layer.distance_at(layer.origin_x.0 + (ci as f32 + u) * h, layer.origin_y.0 + (cj as f32 + v) * h).map(f64::from)
+    };
+    let (q1, q3) = (0.25, 0.75);
+    let (a, b, c, d) = (at(q1, q1)?, at(q3, q1)?, at(q1, q3)?, at(q3, q3)?);
+    // A linear function known at ¼ and ¾ is 1.5 f(¼) − 0.5 f(¾) at 0 and the reverse at 1.
+    let ext = |near: f64, far: f64| 1.5 * near - 0.5 * far;
+    let (l0, l1) = (ext(a, c), ext(c, a)); // column u = ¼ at v = 0 and v = 1
+    let (r0, r1) = (ext(b, d), ext(d, b)); // column u = ¾
+    Some([ext(l0, r0), ext(r0, l0), ext(l1, r1), ext(r1, l1)])
+}
+
+/// The boundary of the exact `region`, clipped to the surface `(width,
+/// height)`, as pieces at most `sample` mm long.
+pub fn outline(region: &Region, surface: (f64, f64), sample: f64) -> Vec<Seg> {
+    let (w, h) = surface;
+    let covers = |p: (f64, f64)| (0.0..=w).contains(&p.0) && (0.0..=h).contains(&p.1) && region.covers(p);
+    let mut candidates = region.candidate_edges(SAGITTA_MM);
+    candidates.extend([((0.0, 0.0), (w, 0.0)), ((w, 0.0), (w, h)), ((w, h), (0.0, h)), ((0.0, h), (0.0, 0.0))]);
+    let mut out = Vec::new();
+    for (a, b) in candidates {
+        let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+        let len = dx.hypot(dy);
+        if !(len.is_finite() && len > 0.0) {
+            continue;
+        }
+        let (nx, ny) = (-dy / len * SIDE_MM, dx / len * SIDE_MM);
+        let n = (len / sample).ceil().max(1.0) as usize;
+        let at = |k: usize| {
+            let t = k as f64 / n as f64;
+            (a.0 + dx * t, a.1 + dy * t)
+        };
+        for k in 0..n {
+            let (p, q) = (at(k), at(k + 1));
+            let m = ((p.0 + q.0) / 2.0, (p.1 + q.1) / 2.0);
+            if covers((m.0 + nx, m.1 + ny)) != covers((m.0 - nx, m.1 - ny)) {
+                out.push((p, q));
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::exact::{Index, corners};
+    use taxel_compiler::geometry::{FillRule, Polyline};
+    use taxel_format::{MaskKind, Mm, TILE_FIRST_STORED, TILE_SAMPLES, TILE_SIDE};
+
+    /// One stored tile of pitch 0.5 mm at the origin whose samples are `f(x, y)` in steps of `step` mm.
+    fn layer(f: impl Fn(f64, f64) -> f64, step: f32) -> DistanceLayer {
+        let h = 0.5f32;
+        let mut samples = vec![0u8; TILE_SAMPLES];
+        for j in 0..TILE_SIDE {
+            for i in 0..TILE_SIDE {
+                let d = f(i as f64 * h as f64, j as f64 * h as f64) / step as f64;
+                samples[j * TILE_SIDE + i] = (128.0 + d.round()).clamp(1.0, 255.0) as u8;
+            }
+        }
+        DistanceLayer {
+            kind: MaskKind::Grating { wavelength: Mm(2.0), angle_deg: 0.0 },
+            amplitude: 1.0,
+            soft_mm: 0.0,
+            step_mm: step,
+            origin_x: Mm(0.0),
+            origin_y: Mm(0.0),
+            pitch_mm: h,
+            tile_cols: 1,
+            tile_rows: 1,
+            sources: vec![0],
+            tiles: vec![TILE_FIRST_STORED],
+            samples,
+        }
+    }
+
+    /// Positive left of x = 2, in steps of 0.05 mm (every node a whole number of steps).
+    fn half_plane() -> DistanceLayer {
+        layer(|x, _| 2.0 - x, 0.05)
+    }
+
+    /// Signed distance to the square [1, 3]², positive inside.
+    fn square(x: f64, y: f64) -> f64 {
+        let (dx, dy) = ((x - 2.0).abs() - 1.0, (y - 2.0).abs() - 1.0);
+        if dx <= 0.0 && dy <= 0.0 { -dx.max(dy) } else { -dx.max(0.0).hypot(dy.max(0.0)) }
+    }
+
+    #[test]
+    fn a_straight_edge_is_found_where_the_samples_put_it() {
+        let pts = contour(&half_plane(), 0.01);
+        for p in &pts {
+            assert!((p[0] - 2.0).abs() < 1e-5, "{p:?}");
+            assert!((0.0..=4.0).contains(&p[1]));
+        }
+        // 51 lines across each of the 8 cells along the edge.
+        assert_eq!(pts.len(), 8 * 51);
+    }
+
+    #[test]
+    fn cell_corners_recover_the_samples() {
+        let c = cell_corners(&half_plane(), 3, 2).expect("inside the lattice");
+        // Cell 3 spans x = 1.5..2.0: distances 0.5 and 0.
+        assert!((c[0] - 0.5).abs() < 1e-5 && (c[2] - 0.5).abs() < 1e-5, "{c:?}");
+        assert!(c[1].abs() < 1e-5 && c[3].abs() < 1e-5, "{c:?}");
+    }
+
+    #[test]
+    fn edge_error_is_the_offset_between_contour_and_outline() {
+        // The field's square is [1, 3]² (nodes on its sides are exact: 0.5 mm
+        // is 125 steps of 0.004 mm); the exact square is 0.1 mm to the right.
+        let layer = layer(square, 0.004);
+        let shifted = Polyline { points: vec![(1.1, 1.0), (3.1, 1.0), (3.1, 3.0), (1.1, 3.0)], closed: true };
+        let corners_at = |c: Vec<(f64, f64)>| Region::Fill {
+            fills: vec![(Index::new(std::slice::from_ref(&shifted), true), FillRule::NonZero)],
+            minus_bands: Vec::new(),
+            corners: c,
+        };
+        // The outline finds the square's corners where its sides meet, named or not.
+        let named = corners_at(corners(std::slice::from_ref(&shifted), true, None));
+        assert_eq!(named.corners().len(), 4);
+        for region in [corners_at(Vec::new()), named] {
+            let out = Outline::new(&region, (4.0, 4.0));
+            for c in [[1.1, 1.0], [3.1, 1.0], [3.1, 3.0], [1.1, 3.0]] {
+                assert!(out.corners.0.locate_within_distance(c, 4.0 * SAMPLE_MM * SAMPLE_MM).next().is_some(), "{c:?}");
+            }
+            // Nothing but the corners: the middle of each side is no corner.
+            assert!(out.corners.0.locate_within_distance([2.1, 1.0], 0.25).next().is_none());
+            let e = edge_error(&layer, &out);
+            // The sides are 0.1 mm apart, and so are the corners.
+            assert!((e.corner_mm.expect("corners") - 0.1).abs() < SAMPLE_MM, "{e:?}");
+            // Points of a 2 mm square are at most 1 mm from a corner, so
+            // only the sides' middles (if any) are left for the rest.
+            assert!(e.edge_mm.is_none_or(|d| (d - 0.1).abs() < SAMPLE_MM), "{e:?}");
+        }
+        let with = corners_at(Vec::new());
+        // The outline is the shifted square: its pieces lie on its sides.
+        for (a, _) in outline(&with, (4.0, 4.0), 0.01) {
+            let on = (a.0 - 1.1).abs() < 1e-9 || (a.0 - 3.1).abs() < 1e-9 || a.1 == 1.0 || a.1 == 3.0;
+            assert!(on, "{a:?}");
+        }
+    }
+}
