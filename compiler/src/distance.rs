@@ -188,8 +188,53 @@ enum Part {
     Occluder,
 }
 
+/// Integer units of the fills' union: 1/65536 mm, so that it moves an edge
+/// by at most 8 nm, far below a sample step.
+const UNION_QUANTUM_MM: f64 = 1.0 / 65_536.0;
+
+/// The union of a layer's fills as one outline, when two of them meet: the
+/// distance is then measured to the union's boundary, not to a side that
+/// two regions of the style share (which lies inside the union and would
+/// play at half amplitude). `None` when no two fills' boxes meet (nothing to
+/// unite) or the fills lie too far out for the union's integer units.
+fn united_fills(fills: &[(&[Polyline], FillRule)]) -> Option<Vec<Polyline>> {
+    if fills.len() < 2 {
+        return None;
+    }
+    let boxes: Vec<_> = fills.iter().filter_map(|(pls, _)| crate::geometry::bounds(pls)).collect();
+    let index = crate::spatial::BoxIndex::new(&boxes);
+    let meet = boxes.iter().enumerate().any(|(i, b)| index.meeting(*b).any(|j| j != i));
+    if !meet {
+        return None;
+    }
+    let all = boxes.iter().copied().reduce(|a, b| (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)))?;
+    // The integer frame keeps coordinates within ±2^28 units.
+    let span = (all.2 - all.0).max(all.3 - all.1);
+    if !(span.is_finite() && span / UNION_QUANTUM_MM < (1u64 << 28) as f64) {
+        return None;
+    }
+    let f = crate::vector::Frame { ox: all.0, oy: all.1, q: UNION_QUANTUM_MM };
+    let mut each: Vec<Vec<i_overlay::i_float::int::point::IntPoint>> = Vec::new();
+    for (pls, rule) in fills {
+        let shapes = crate::vector::shapes_of(&crate::vector::contours(pls, f, 0.0), crate::vector::ov_rule(*rule));
+        each.extend(shapes.into_iter().flatten());
+    }
+    let union = crate::vector::shapes_of(&each, i_overlay::core::fill_rule::FillRule::NonZero);
+    let back = |p: &i_overlay::i_float::int::point::IntPoint| (f.ox + p.x as f64 * f.q, f.oy + p.y as f64 * f.q);
+    Some(union.iter().flatten().map(|c| Polyline { points: c.iter().map(back).collect(), closed: true }).collect())
+}
+
 /// Builds the field of one layer; `None` when nothing of it is felt on the page.
 pub fn build_field(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
+    if let Some(union) = united_fills(&g.fills) {
+        let g = LayerGeometry { fills: vec![(&union[..], FillRule::NonZero)], ..g.clone() };
+        return build_united(&g, params);
+    }
+    build_united(g, params)
+}
+
+/// [`build_field`] once the fills share no side.
+fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
     let h = params.pitch_mm;
     if !(h.is_finite() && h > 0.0) {
         return None;

@@ -225,10 +225,10 @@ fn simplify(pts: &[P], tol: f64) -> Vec<P> {
 
 /// Integer frame: page mm to integer units.
 #[derive(Clone, Copy)]
-struct Frame {
-    ox: f64,
-    oy: f64,
-    q: f64,
+pub(crate) struct Frame {
+    pub(crate) ox: f64,
+    pub(crate) oy: f64,
+    pub(crate) q: f64,
 }
 
 impl Frame {
@@ -239,7 +239,7 @@ impl Frame {
     }
 }
 
-fn ov_rule(r: FillRule) -> OvFill {
+pub(crate) fn ov_rule(r: FillRule) -> OvFill {
     match r {
         FillRule::NonZero => OvFill::NonZero,
         FillRule::EvenOdd => OvFill::EvenOdd,
@@ -247,7 +247,7 @@ fn ov_rule(r: FillRule) -> OvFill {
 }
 
 /// One shape's closed contours, simplified and quantised.
-fn contours(pls: &[Polyline], f: Frame, tol: f64) -> Vec<Vec<IntPoint>> {
+pub(crate) fn contours(pls: &[Polyline], f: Frame, tol: f64) -> Vec<Vec<IntPoint>> {
     pls.iter()
         .filter(|pl| pl.points.len() >= 3)
         .map(|pl| {
@@ -268,7 +268,7 @@ fn opts() -> IntOverlayOptions<u64> {
 }
 
 /// The shapes of one set of contours under a fill rule, as simple contours.
-fn shapes_of(cs: &[Vec<IntPoint>], rule: OvFill) -> Vec<Vec<Vec<IntPoint>>> {
+pub(crate) fn shapes_of(cs: &[Vec<IntPoint>], rule: OvFill) -> Vec<Vec<Vec<IntPoint>>> {
     if cs.is_empty() {
         return Vec::new();
     }

@@ -117,6 +117,32 @@ fn touching_borders_of_one_style_are_one_border() {
 }
 
 #[test]
+fn regions_of_one_style_that_share_a_side_are_one_region() {
+    // Two grated rectangles sharing the side x = 15 (and a third overlapping
+    // the second): inside, the distance is to the union's boundary, never to
+    // the shared side, so no half-amplitude line runs along it.
+    let (a, b) = ([square(5.0, 5.0, 10.0)], [square(15.0, 5.0, 10.0)]);
+    let c = [square(20.0, 10.0, 8.0)];
+    let g = LayerGeometry {
+        fills: vec![(&a[..], FillRule::NonZero), (&b[..], FillRule::EvenOdd), (&c[..], FillRule::NonZero)],
+        ..Default::default()
+    };
+    let f = build_field(&g, params(0.5, 0.0)).expect("a field");
+    for k in 0..=40 {
+        let y = 5.0 + 10.0 * k as f64 / 40.0;
+        let d = field_distance(&f, 0.5, (15.0, y)).expect("in the lattice");
+        // The exact distance from (15, y) to the union's boundary.
+        let exact = (y - 5.0).min(15.0 - y).min(10.0);
+        assert!((d.min(1.0) - exact.min(1.0)).abs() <= 0.5 * f.step_mm + 1e-9, "at y = {y}: {d} against {exact}");
+    }
+    // Where the third square overlaps the second, inside both: deep inside the union.
+    assert!(field_distance(&f, 0.5, (22.0, 12.0)).expect("in the lattice") >= 1.0);
+    // Outside, the union's outline is where the shapes' outlines are.
+    assert!(field_distance(&f, 0.5, (29.0, 14.0)).expect("in the lattice") < 0.0);
+    assert!(field_distance(&f, 0.5, (27.5, 14.0)).expect("in the lattice") > 0.0);
+}
+
+#[test]
 fn a_grating_minus_a_band_is_the_fill_outside_the_band() {
     let sq = [square(5.0, 5.0, 20.0)];
     let line = [Polyline { points: vec![(15.0, 0.0), (15.0, 30.0)], closed: false }];
