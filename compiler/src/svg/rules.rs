@@ -385,6 +385,19 @@ fn overlap(built: &Built, a: &Feature, b: &Feature, diags: &mut Vec<Diagnostic>)
         // Shapes of one style are one layer: where they touch or overlap
         // they merge into one border or region instead of adding up.
         (Some(ia), Some(ib)) if ia == ib => false,
+        // A vibrating band is cut out of every grating whose shapes its box
+        // meets (`layers::distance_layers`): where the band is felt deep
+        // inside, the grating's distance is negative, so the two never
+        // overlap and there is nothing to sample.
+        (Some(_), Some(_))
+            if matches!(
+                (&a.kind, &b.kind),
+                (FeatureKind::Vibrate { .. }, FeatureKind::Grating { .. })
+                    | (FeatureKind::Grating { .. }, FeatureKind::Vibrate { .. })
+            ) =>
+        {
+            false
+        }
         (Some(ia), Some(ib)) => {
             let (ma, mb) = (&built.layers[ia], &built.layers[ib]);
             // Sampled every 0.1 mm, as the raster masks were.
