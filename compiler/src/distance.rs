@@ -603,4 +603,4 @@ pub fn field_distance(f: &Field, h: f64, p: (f64, f64)) -> Option<f64> {
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

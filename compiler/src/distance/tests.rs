@@ -7,7 +7,7 @@ use super::*;
 
 const PAGE: (f64, f64, f64, f64) = (0.0, 0.0, 40.0, 30.0);
 
-fn square(x: f64, y: f64, s: f64) -> Polyline {
+pub(crate) fn square(x: f64, y: f64, s: f64) -> Polyline {
     Polyline { points: vec![(x, y), (x + s, y), (x + s, y + s), (x, y + s)], closed: true }
 }
 
@@ -165,8 +165,9 @@ fn soft_edges_reach_half_their_width() {
 
 /// A random outline: a polygon around a centre with random radii (spiky
 /// slivers when the radii jump), optionally self-intersecting (vertices in
-/// random angular order), with collinear midpoints inserted.
-fn outline() -> impl Strategy<Value = Polyline> {
+/// random angular order), with collinear midpoints inserted. Shared with
+/// the prototype's tests (`vector/tests.rs`).
+pub(crate) fn outline() -> impl Strategy<Value = Polyline> {
     (
         2.0f64..38.0,
         2.0f64..28.0,

@@ -10,6 +10,7 @@ use proptest::prelude::*;
 
 use super::*;
 use crate::distance::exact_signed_distance;
+use crate::distance::tests::{outline, square};
 
 type P = (f64, f64);
 
@@ -17,10 +18,6 @@ const PAGE: (f64, f64, f64, f64) = (0.0, 0.0, 40.0, 30.0);
 
 /// Simplification (0.004) + quantisation (q / √2 = 0.0028) + half a hard ramp (q / 2 = 0.002), rounded up.
 const EDGE_MM: f64 = 0.01;
-
-fn square(x: f64, y: f64, s: f64) -> Polyline {
-    Polyline { points: vec![(x, y), (x + s, y), (x + s, y + s), (x, y + s)], closed: true }
-}
 
 fn params(soft: f64, cell: f64) -> VectorParams {
     VectorParams { cell_mm: cell, ..VectorParams::new(soft, PAGE) }
@@ -162,36 +159,6 @@ fn a_page_too_large_or_too_many_widths_is_an_error_not_a_panic() {
     let cuts = lines.iter().enumerate().map(|(k, l)| (&l[..], 0.1 + k as f64 * 0.1)).collect();
     let g = LayerGeometry { fills: vec![(&sq, FillRule::NonZero)], cuts, ..Default::default() };
     assert_eq!(build_vector(&g, params(0.0, 1.0)).err(), Some(VectorError::TooManyGroups));
-}
-
-/// A random outline: a polygon around a centre with random radii (spiky
-/// slivers when the radii jump), optionally self-intersecting (vertices in
-/// random angular order), with collinear midpoints inserted.
-fn outline() -> impl Strategy<Value = Polyline> {
-    (
-        2.0f64..38.0,
-        2.0f64..28.0,
-        prop::collection::vec((0.0f64..std::f64::consts::TAU, 0.05f64..12.0), 3..12),
-        any::<bool>(),
-        any::<bool>(),
-        any::<bool>(),
-    )
-        .prop_map(|(cx, cy, mut polar, sorted, collinear, closed)| {
-            if sorted {
-                polar.sort_by(|a, b| a.0.total_cmp(&b.0));
-            }
-            let mut pts: Vec<(f64, f64)> = polar.iter().map(|&(a, r)| (cx + r * a.cos(), cy + r * a.sin())).collect();
-            if collinear {
-                let mut with = Vec::new();
-                for i in 0..pts.len() {
-                    let (a, b) = (pts[i], pts[(i + 1) % pts.len()]);
-                    with.push(a);
-                    with.push(((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0));
-                }
-                pts = with;
-            }
-            Polyline { points: pts, closed }
-        })
 }
 
 proptest! {
