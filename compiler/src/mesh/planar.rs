@@ -114,6 +114,41 @@ impl Points {
     }
 }
 
+/// A uniform grid of about two cells per item a side over the integer box
+/// `lo..=hi`, for finding which items' boxes may meet.
+pub(super) struct BoxGrid {
+    lo: [i64; 2],
+    hi: [i64; 2],
+    /// Cells along each side.
+    pub(super) side: i64,
+    cw: i64,
+    ch: i64,
+}
+
+impl BoxGrid {
+    pub(super) fn new(lo: [i64; 2], hi: [i64; 2], items: usize) -> Self {
+        let side = ((items as f64).sqrt() * 2.0).clamp(1.0, 512.0) as i64;
+        let cw = ((hi[0] - lo[0]) / side + 1).max(1);
+        let ch = ((hi[1] - lo[1]) / side + 1).max(1);
+        BoxGrid { lo, hi, side, cw, ch }
+    }
+
+    /// The cells `[x0, y0, x1, y1]` (inclusive) that box `[x0, y0, x1, y1]`
+    /// covers, or `None` when it misses the grid.
+    pub(super) fn cells(&self, b: [i64; 4]) -> Option<[i64; 4]> {
+        let (lo, hi) = (self.lo, self.hi);
+        if b[2] < lo[0] || b[3] < lo[1] || b[0] > hi[0] || b[1] > hi[1] {
+            return None;
+        }
+        Some([
+            (b[0].max(lo[0]) - lo[0]) / self.cw,
+            (b[1].max(lo[1]) - lo[1]) / self.ch,
+            ((b[2].min(hi[0]) - lo[0]) / self.cw).min(self.side - 1),
+            ((b[3].min(hi[1]) - lo[1]) / self.ch).min(self.side - 1),
+        ])
+    }
+}
+
 /// Splits every edge of `edges` that crosses or touches one of `suspects`
 /// (in its interior), and each suspect likewise, at the crossing points
 /// (rounded to the grid, added to `points`) and at the end points that lie
@@ -141,20 +176,8 @@ pub fn split(
     if suspects.is_empty() {
         return Ok(edges.to_vec());
     }
-    let side = ((suspects.len() as f64).sqrt() * 2.0).clamp(1.0, 512.0) as i64;
-    let cw = ((hi[0] - lo[0]) / side + 1).max(1);
-    let ch = ((hi[1] - lo[1]) / side + 1).max(1);
-    let cell_range = |b: [i64; 4]| -> Option<[i64; 4]> {
-        if b[2] < lo[0] || b[3] < lo[1] || b[0] > hi[0] || b[1] > hi[1] {
-            return None;
-        }
-        Some([
-            (b[0].max(lo[0]) - lo[0]) / cw,
-            (b[1].max(lo[1]) - lo[1]) / ch,
-            ((b[2].min(hi[0]) - lo[0]) / cw).min(side - 1),
-            ((b[3].min(hi[1]) - lo[1]) / ch).min(side - 1),
-        ])
-    };
+    let grid = BoxGrid::new(lo, hi, suspects.len());
+    let (side, cell_range) = (grid.side, |b| grid.cells(b));
     let mut cells: Vec<Vec<u32>> = vec![Vec::new(); (side * side) as usize];
     let mut budget = work;
     let mut spend = |n: usize| -> Result<(), MeshError> {

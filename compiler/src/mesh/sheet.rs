@@ -87,22 +87,13 @@ pub fn tiling(at: &[[i64; 2]], tris: &[[u32; 3]]) -> Option<Vec<Shared>> {
             hi = [hi[0].max(q[0]), hi[1].max(q[1])];
         }
     }
-    let side = ((boundary.len() as f64).sqrt() * 2.0).clamp(1.0, 512.0) as i64;
-    let cw = ((hi[0] - lo[0]) / side + 1).max(1);
-    let ch = ((hi[1] - lo[1]) / side + 1).max(1);
+    let grid = super::planar::BoxGrid::new(lo, hi, boundary.len());
+    let side = grid.side;
     let cells_of = |q: &[[i64; 2]]| -> Option<[i64; 4]> {
         let b = q.iter().fold([i64::MAX, i64::MAX, i64::MIN, i64::MIN], |b, v| {
             [b[0].min(v[0]), b[1].min(v[1]), b[2].max(v[0]), b[3].max(v[1])]
         });
-        if b[2] < lo[0] || b[3] < lo[1] || b[0] > hi[0] || b[1] > hi[1] {
-            return None;
-        }
-        Some([
-            (b[0].max(lo[0]) - lo[0]) / cw,
-            (b[1].max(lo[1]) - lo[1]) / ch,
-            ((b[2].min(hi[0]) - lo[0]) / cw).min(side - 1),
-            ((b[3].min(hi[1]) - lo[1]) / ch).min(side - 1),
-        ])
+        grid.cells(b)
     };
     // Past this many cell visits and pair tests the triangulation is cheaper.
     let mut budget = 20 * tris.len() + 100_000;
