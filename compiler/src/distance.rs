@@ -345,6 +345,12 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
     // the clamp's margin: farther ones would clamp to the same code anyway
     // (every part is then beyond ±cap, and min, max and the clamp commute).
     let margin = cap - reach + step;
+    // The codes whose amplitude is saturated (SPEC.md section 6.2): a
+    // stored tile whose codes all lie at or beyond one of them plays exactly
+    // as an inside (outside) tile, since bilinear interpolation never leaves
+    // the range of its corners. So only tiles the edge profile's ramp
+    // crosses are stored.
+    let (full, none) = saturated_codes(soft, step);
     for r in 0..rows {
         for c in 0..cols {
             let bucket = &buckets[r * cols + c];
@@ -373,10 +379,9 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
                     tile_buf[t] = code as u8;
                 }
             }
-            let top = DISTANCE_ZERO + 127;
-            tiles[r * cols + c] = if tile_buf.iter().all(|&v| v == top) {
+            tiles[r * cols + c] = if tile_buf.iter().all(|&v| v >= full) {
                 TILE_INSIDE
-            } else if tile_buf.iter().all(|&v| v == 0) {
+            } else if tile_buf.iter().all(|&v| v <= none) {
                 TILE_OUTSIDE
             } else {
                 let n = (samples.len() / TILE_SAMPLES) as u32;
@@ -389,6 +394,17 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
         return None;
     }
     Some(Field { origin: (ox, oy), tile_cols: cols as u32, tile_rows: rows as u32, step_mm: step, tiles, samples })
+}
+
+/// The lowest code played at full amplitude and the highest played at zero
+/// under the edge profile `clamp(½ + (code − 128) step / ramp, 0, 1)`, each
+/// with a margin of a hundredth of a code for the player's rounding.
+fn saturated_codes(soft: f64, step: f64) -> (u8, u8) {
+    let half = 0.5 * taxel_format::edge_ramp(soft as f32, step as f32) as f64 / step;
+    let zero = DISTANCE_ZERO as f64;
+    let full = (zero + half + 0.01).ceil().clamp(zero + 1.0, 255.0);
+    let none = (zero - half - 0.01).floor().clamp(0.0, zero - 1.0);
+    (full as u8, none as u8)
 }
 
 /// The nearest segments of each part at every sample of one tile, as squared
@@ -599,6 +615,26 @@ pub fn field_distance(f: &Field, h: f64, p: (f64, f64)) -> Option<f64> {
             let bot = s(i, j + 1) + (s(i + 1, j + 1) - s(i, j + 1)) * wx;
             Some((top + (bot - top) * wy) * step)
         }
+    }
+}
+
+/// Whether `p` lies in a constant tile of a built field: `Some(true)` inside,
+/// `Some(false)` outside, `None` in a stored tile or off the lattice.
+#[cfg(test)]
+pub fn constant_tile_at(f: &Field, h: f64, p: (f64, f64)) -> Option<bool> {
+    let fx = (p.0 - f.origin.0) / h;
+    let fy = (p.1 - f.origin.1) / h;
+    if !(fx >= 0.0 && fy >= 0.0) {
+        return None;
+    }
+    let (tx, ty) = (fx as usize / TILE_CELLS, fy as usize / TILE_CELLS);
+    if tx >= f.tile_cols as usize {
+        return None;
+    }
+    match *f.tiles.get(ty * f.tile_cols as usize + tx)? {
+        TILE_OUTSIDE => Some(false),
+        TILE_INSIDE => Some(true),
+        _ => None,
     }
 }
 

@@ -46,6 +46,20 @@ fn check(g: &LayerGeometry<'_>, p: FieldParams, points: &[(f64, f64)]) -> Result
         let c = |i: f64, j: f64| exact((f.origin.0 + (ci + i) * h, f.origin.1 + (cj + j) * h));
         let (wx, wy) = ((q.0 - f.origin.0) / h - ci, (q.1 - f.origin.1) / h - cj);
         let corners = [c(0.0, 0.0), c(1.0, 0.0), c(0.0, 1.0), c(1.0, 1.0)];
+        if let Some(inside) = constant_tile_at(&f, h, q) {
+            // A constant tile stands for samples that all saturate the edge
+            // profile on its side: so do the exact distances at the cell's
+            // corners, within half a step of quantisation.
+            let ramp = taxel_format::edge_ramp(p.soft_mm as f32, f.step_mm as f32) as f64;
+            let sign = if inside { 1.0 } else { -1.0 };
+            for v in corners {
+                prop_assert!(sign * v >= ramp / 2.0 - f.step_mm, "{q:?}: constant tile (inside {inside}), corner {v}");
+            }
+            if e.abs() > h * std::f64::consts::SQRT_2 {
+                prop_assert!(e.signum() == sign, "{q:?}: constant tile (inside {inside}), exact {e}");
+            }
+            continue;
+        }
         if corners.iter().any(|v| v.abs() >= reach) {
             // A clamped cell: saturated on the exact side.
             if e.abs() > h * 1.5 {
