@@ -13,7 +13,7 @@
 //! actuator per layer is constant: it depends neither on the number of
 //! shapes in the layer nor on where their edges are.
 
-use taxel_format::{DistanceView, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_SAMPLES, TILE_SIDE};
+use taxel_format::{DistanceView, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE, TILE_SIDE};
 use wide::bytemuck::cast;
 use wide::{f32x4, i16x8, i32x4, u8x16, u16x8};
 
@@ -26,12 +26,20 @@ const W: i32 = 1 << 14;
 /// Index entries: tile columns are found with a shift.
 const SHIFT: u32 = TILE_CELLS.trailing_zeros();
 
+/// A tile's samples, row by row.
+type Tile = [[u8; TILE_SIDE]; TILE_SIDE];
+/// What a lane in a constant tile reads: the code of every sample of an
+/// outside tile, and of an inside one.
+static OUTSIDE: Tile = [[0; TILE_SIDE]; TILE_SIDE];
+static INSIDE: Tile = [[255; TILE_SIDE]; TILE_SIDE];
+
 /// A distance layer prepared for playback.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct FieldLayer<'a> {
     primitive: Primitive,
     tiles: &'a [u8],
-    samples: &'a [u8],
+    /// The stored tiles' samples, row by row.
+    stored: &'a [Tile],
     tile_cols: u32,
     /// Largest lattice cell index along x and y.
     cmax: i32,
@@ -59,7 +67,7 @@ impl<'a> FieldLayer<'a> {
         FieldLayer {
             primitive,
             tiles: m.tile_bytes(),
-            samples: m.sample_bytes(),
+            stored: m.sample_bytes().as_chunks::<TILE_SIDE>().0.as_chunks::<TILE_SIDE>().0,
             tile_cols: m.tile_cols,
             cmax: (m.tile_cols as usize * TILE_CELLS - 1) as i32,
             rmax: (m.tile_rows as usize * TILE_CELLS - 1) as i32,
@@ -88,47 +96,46 @@ impl<'a> FieldLayer<'a> {
     }
 
     /// For the tile row starting at index entry `tile_row` and four lanes'
-    /// cell columns `ci`: each lane's byte offset of its cell's column in
-    /// its stored tile (0 for a constant tile), and a mask of the lanes in
-    /// stored tiles with the code of the others (0 outside, 255 inside) in
-    /// units of `W`.
+    /// cell columns `ci`: the samples each lane reads until its tile
+    /// changes. A stored tile's lanes read its samples; a constant tile's
+    /// lanes read a tile of that constant code (0 outside, 255 inside),
+    /// whose interpolation is the constant exactly (the weights sum to
+    /// `W`), so the per-row kernel needs no per-lane select. (An index
+    /// entry past the stored tiles, which validation rules out, reads as
+    /// outside.)
     #[inline(always)]
-    fn tile_lanes(&self, tile_row: usize, ci: [u32; LANES]) -> ([usize; LANES], i32x4, f32x4) {
-        let mut base = [0usize; LANES];
-        let mut stored = [0i32; LANES];
-        let mut constant = [0f32; LANES];
-        for k in 0..LANES {
-            let at = 4 * (tile_row + (ci[k] >> SHIFT) as usize);
-            let e = self.tiles.get(at..at + 4).map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
-            if e >= TILE_FIRST_STORED {
-                base[k] = (e - TILE_FIRST_STORED) as usize * TILE_SAMPLES + (ci[k] & (TILE_CELLS as u32 - 1)) as usize;
-                stored[k] = -1;
-            } else if e == TILE_INSIDE {
-                constant[k] = (255 * W) as f32;
+    fn tile_lanes(&self, tile_row: usize, ci: [u32; LANES]) -> [&'a Tile; LANES] {
+        ci.map(|c| {
+            let at = 4 * (tile_row + (c >> SHIFT) as usize);
+            let e = self.tiles.get(at..at + 4).map_or(TILE_OUTSIDE, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+            match e {
+                TILE_INSIDE => &INSIDE,
+                e if e >= TILE_FIRST_STORED => self.stored.get((e - TILE_FIRST_STORED) as usize).unwrap_or(&OUTSIDE),
+                _ => &OUTSIDE,
             }
-        }
-        (base, i32x4::new(stored), f32x4::new(constant))
+        })
     }
 
-    /// The byte pairs at `base + j` (the lattice row above) and `base + j +
-    /// 9` (below) of four lanes, as (left, right) i16 lanes. Every offset is
-    /// clamped to the last pair that fits, so each read is in bounds by
-    /// construction; a stored tile's offsets always fit.
+    /// The byte pairs at row `j` and `j + 1`, columns `c` and `c + 1` of
+    /// each lane's tile (`j` and `c` below [`TILE_CELLS`], so every index
+    /// is in bounds by its type and no read is checked), as (top, bottom)
+    /// rows of (left, right) i16 lanes.
     #[inline(always)]
-    fn pairs(&self, base: &[usize; LANES], j: usize) -> (i16x8, i16x8) {
-        let s = self.samples;
-        let lim = s.len().saturating_sub(TILE_SIDE + 2);
-        let pair = |a: usize| s.get(a..a + 2).map_or(0, |p| u16::from_le_bytes([p[0], p[1]]));
-        let a = base.map(|b| (b + j).min(lim));
+    fn pairs(tiles: &[&Tile; LANES], col: &[usize; LANES], j: usize) -> (i16x8, i16x8) {
+        let j = j & (TILE_CELLS - 1);
+        let pair = |k: usize, j: usize| {
+            let (t, c) = (tiles[k], col[k] & (TILE_CELLS - 1));
+            u16::from_le_bytes([t[j][c], t[j][c + 1]])
+        };
         let bytes: u8x16 = cast(u16x8::new([
-            pair(a[0]),
-            pair(a[1]),
-            pair(a[2]),
-            pair(a[3]),
-            pair(a[0] + TILE_SIDE),
-            pair(a[1] + TILE_SIDE),
-            pair(a[2] + TILE_SIDE),
-            pair(a[3] + TILE_SIDE),
+            pair(0, j),
+            pair(1, j),
+            pair(2, j),
+            pair(3, j),
+            pair(0, j + 1),
+            pair(1, j + 1),
+            pair(2, j + 1),
+            pair(3, j + 1),
         ]));
         (i16x8::from_u8x16_low(bytes), i16x8::from_u8x16_high(bytes))
     }
@@ -170,10 +177,11 @@ impl<'a> FieldLayer<'a> {
             let real = lane_index.simd_lt(i32x4::splat((c_hi - cols) as i32));
             let w: i16x8 = cast(((i32x4::splat(W) - wi) | (wi << 16)) & real);
             let ci = cast::<i32x4, [u32; LANES]>(ci);
+            let col = ci.map(|c| (c & (TILE_CELLS as u32 - 1)) as usize);
             let group_phase = f32x4::splat(base + (cols - c_lo) as u32 as f32 * step_col) + lane_phase;
             // The lanes' tiles change only every eight lattice rows.
             let mut ty_now = u32::MAX;
-            let (mut bases, mut stored, mut constant) = ([0usize; LANES], i32x4::ZERO, f32x4::ZERO);
+            let mut tiles = [&OUTSIDE; LANES];
             for r in r_lo..r_hi {
                 let fy = ((f.row_y(r) - self.y0) * self.inv_pitch).max(0.0);
                 let cj = (fy as i32).clamp(0, self.rmax) as u32;
@@ -181,14 +189,12 @@ impl<'a> FieldLayer<'a> {
                 let ty = cj >> SHIFT;
                 if ty != ty_now {
                     ty_now = ty;
-                    (bases, stored, constant) = self.tile_lanes(ty as usize * self.tile_cols as usize, ci);
+                    tiles = self.tile_lanes(ty as usize * self.tile_cols as usize, ci);
                 }
-                let j = (cj & (TILE_CELLS as u32 - 1)) as usize * TILE_SIDE;
-                let (top, bot) = self.pairs(&bases, j);
+                let (top, bot) = Self::pairs(&tiles, &col, cj as usize);
                 let t = f32x4::from_i32x4(top.dot(w));
                 let b = f32x4::from_i32x4(bot.dot(w));
-                // A constant tile's code, in units of `W`, whatever was read.
-                let v = cast::<i32x4, f32x4>(stored).select(t + (b - t) * wy, constant);
+                let v = t + (b - t) * wy;
                 // Lanes past the run have weights 0: code 0, amplitude 0.
                 let a = (v * slope + offset).fast_max(f32x4::ZERO).fast_min(f32x4::ONE);
                 let a = a & cast::<i32x4, f32x4>(real);
