@@ -13,7 +13,7 @@
 //! actuator per layer is constant: it depends neither on the number of
 //! shapes in the layer nor on where their edges are.
 
-use taxel_format::{DistanceView, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE, TILE_SIDE};
+use taxel_format::{DistanceView, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE, TILE_SAMPLES, TILE_SIDE};
 use wide::bytemuck::cast;
 use wide::{f32x4, i16x8, i32x4, u8x16, u16x8};
 
@@ -27,17 +27,23 @@ const W: i32 = 1 << 14;
 const SHIFT: u32 = TILE_CELLS.trailing_zeros();
 
 /// A tile's samples, row by row.
-type Tile = [[u8; TILE_SIDE]; TILE_SIDE];
+type Tile = [u8; TILE_SAMPLES];
 /// What a lane in a constant tile reads: the code of every sample of an
 /// outside tile, and of an inside one.
-static OUTSIDE: Tile = [[0; TILE_SIDE]; TILE_SIDE];
-static INSIDE: Tile = [[255; TILE_SIDE]; TILE_SIDE];
+static OUTSIDE: Tile = [0; TILE_SAMPLES];
+static INSIDE: Tile = [255; TILE_SAMPLES];
+/// The samples a lane reads from its tile: those from its column on, up to
+/// the pair right of it in the tile's last lattice row.
+const WINDOW: usize = TILE_CELLS * TILE_SIDE + 2;
+type Window = [u8; WINDOW];
+static OUTSIDE_WINDOW: Window = [0; WINDOW];
 
 /// A distance layer prepared for playback.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct FieldLayer<'a> {
     primitive: Primitive,
-    tiles: &'a [u8],
+    /// The tile index, one little-endian `u32` entry per tile.
+    entries: &'a [[u8; 4]],
     /// The stored tiles' samples, row by row.
     stored: &'a [Tile],
     tile_cols: u32,
@@ -66,8 +72,8 @@ impl<'a> FieldLayer<'a> {
         let k = m.step_mm / taxel_format::edge_ramp(m.soft_mm, m.step_mm);
         FieldLayer {
             primitive,
-            tiles: m.tile_bytes(),
-            stored: m.sample_bytes().as_chunks::<TILE_SIDE>().0.as_chunks::<TILE_SIDE>().0,
+            entries: m.tile_bytes().as_chunks::<4>().0,
+            stored: m.sample_bytes().as_chunks::<TILE_SAMPLES>().0,
             tile_cols: m.tile_cols,
             cmax: (m.tile_cols as usize * TILE_CELLS - 1) as i32,
             rmax: (m.tile_rows as usize * TILE_CELLS - 1) as i32,
@@ -97,45 +103,60 @@ impl<'a> FieldLayer<'a> {
 
     /// For the tile row starting at index entry `tile_row` and four lanes'
     /// cell columns `ci`: the samples each lane reads until its tile
-    /// changes. A stored tile's lanes read its samples; a constant tile's
-    /// lanes read a tile of that constant code (0 outside, 255 inside),
-    /// whose interpolation is the constant exactly (the weights sum to
-    /// `W`), so the per-row kernel needs no per-lane select. (An index
-    /// entry past the stored tiles, which validation rules out, reads as
-    /// outside.)
+    /// changes, as the window of its tile that starts at the lane's column.
+    /// A stored tile's lanes read its samples; a constant tile's lanes read
+    /// a tile of that constant code (0 outside, 255 inside), whose
+    /// interpolation is the constant exactly (the weights sum to `W`), so
+    /// the per-row kernel needs no per-lane select. (An index entry past
+    /// the stored tiles, which validation rules out, reads as outside.)
     #[inline(always)]
-    fn tile_lanes(&self, tile_row: usize, ci: [u32; LANES]) -> [&'a Tile; LANES] {
+    fn tile_lanes(&self, tile_row: usize, ci: [u32; LANES]) -> [&'a Window; LANES] {
+        // The lanes' columns grow from lane to lane, so neighbours often
+        // share a tile: each tile is looked up once.
+        let mut tile = self.tile(tile_row + (ci[0] >> SHIFT) as usize);
+        let mut prev = ci[0] >> SHIFT;
         ci.map(|c| {
-            let at = 4 * (tile_row + (c >> SHIFT) as usize);
-            let e = self.tiles.get(at..at + 4).map_or(TILE_OUTSIDE, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
-            match e {
-                TILE_INSIDE => &INSIDE,
-                e if e >= TILE_FIRST_STORED => self.stored.get((e - TILE_FIRST_STORED) as usize).unwrap_or(&OUTSIDE),
-                _ => &OUTSIDE,
+            if c >> SHIFT != prev {
+                prev = c >> SHIFT;
+                tile = self.tile(tile_row + prev as usize);
             }
+            let col = (c & (TILE_CELLS as u32 - 1)) as usize;
+            // A column below TILE_CELLS leaves a whole window: never `None`.
+            tile.get(col..col + WINDOW).and_then(|w| w.try_into().ok()).unwrap_or(&OUTSIDE_WINDOW)
         })
     }
 
-    /// The byte pairs at row `j` and `j + 1`, columns `c` and `c + 1` of
-    /// each lane's tile (`j` and `c` below [`TILE_CELLS`], so every index
-    /// is in bounds by its type and no read is checked), as (top, bottom)
-    /// rows of (left, right) i16 lanes.
+    /// The samples of the tile at index entry `i`.
     #[inline(always)]
-    fn pairs(tiles: &[&Tile; LANES], col: &[usize; LANES], j: usize) -> (i16x8, i16x8) {
-        let j = j & (TILE_CELLS - 1);
-        let pair = |k: usize, j: usize| {
-            let (t, c) = (tiles[k], col[k] & (TILE_CELLS - 1));
-            u16::from_le_bytes([t[j][c], t[j][c + 1]])
-        };
+    fn tile(&self, i: usize) -> &'a Tile {
+        let e = self.entries.get(i).map_or(TILE_OUTSIDE, |b| u32::from_le_bytes(*b));
+        if e >= TILE_FIRST_STORED {
+            self.stored.get((e - TILE_FIRST_STORED) as usize).unwrap_or(&OUTSIDE)
+        } else if e == TILE_INSIDE {
+            &INSIDE
+        } else {
+            &OUTSIDE
+        }
+    }
+
+    /// The byte pairs at offset `j` (the lattice row above, `j` a multiple
+    /// of [`TILE_SIDE`] below `TILE_CELLS · TILE_SIDE`) and `j + TILE_SIDE`
+    /// (below) of each lane's window, as (top, bottom) rows of (left,
+    /// right) i16 lanes. Every index is in bounds by the window's type, so
+    /// no read is checked.
+    #[inline(always)]
+    fn pairs(lanes: &[&Window; LANES], j: usize) -> (i16x8, i16x8) {
+        let j = j.min(WINDOW - TILE_SIDE - 2);
+        let pair = |w: &Window, j: usize| u16::from_le_bytes([w[j], w[j + 1]]);
         let bytes: u8x16 = cast(u16x8::new([
-            pair(0, j),
-            pair(1, j),
-            pair(2, j),
-            pair(3, j),
-            pair(0, j + 1),
-            pair(1, j + 1),
-            pair(2, j + 1),
-            pair(3, j + 1),
+            pair(lanes[0], j),
+            pair(lanes[1], j),
+            pair(lanes[2], j),
+            pair(lanes[3], j),
+            pair(lanes[0], j + TILE_SIDE),
+            pair(lanes[1], j + TILE_SIDE),
+            pair(lanes[2], j + TILE_SIDE),
+            pair(lanes[3], j + TILE_SIDE),
         ]));
         (i16x8::from_u8x16_low(bytes), i16x8::from_u8x16_high(bytes))
     }
@@ -167,6 +188,8 @@ impl<'a> FieldLayer<'a> {
         let lane_phase = lanes * step_col;
         let last_x = f.col_x(c_hi - 1);
         let (slope, offset) = (f32x4::splat(self.slope), f32x4::splat(self.offset));
+        let (y0, inv_pitch, rmax) =
+            (f32x4::splat(self.y0), f32x4::splat(self.inv_pitch), f32x4::splat(self.rmax as f32));
         let mut cols = c_lo;
         while cols < c_hi {
             let first = f32x4::from_i32x4(i32x4::splat(cols as i32) + lane_index);
@@ -177,34 +200,46 @@ impl<'a> FieldLayer<'a> {
             let real = lane_index.simd_lt(i32x4::splat((c_hi - cols) as i32));
             let w: i16x8 = cast(((i32x4::splat(W) - wi) | (wi << 16)) & real);
             let ci = cast::<i32x4, [u32; LANES]>(ci);
-            let col = ci.map(|c| (c & (TILE_CELLS as u32 - 1)) as usize);
+            // Lanes past the run have weights 0, code 0, but a profile's
+            // amplitude at code 0 need not be 0: their factor is.
+            let real = cast::<i32x4, f32x4>(real);
+            let parity = parity.map(|p| p & real);
+            let half_unit = half_unit & real;
             let group_phase = f32x4::splat(base + (cols - c_lo) as u32 as f32 * step_col) + lane_phase;
             // The lanes' tiles change only every eight lattice rows.
             let mut ty_now = u32::MAX;
-            let mut tiles = [&OUTSIDE; LANES];
-            for r in r_lo..r_hi {
-                let fy = ((f.row_y(r) - self.y0) * self.inv_pitch).max(0.0);
-                let cj = (fy as i32).clamp(0, self.rmax) as u32;
-                let wy = (fy - cj as f32).min(1.0);
-                let ty = cj >> SHIFT;
-                if ty != ty_now {
-                    ty_now = ty;
-                    tiles = self.tile_lanes(ty as usize * self.tile_cols as usize, ci);
+            let mut lanes = [&OUTSIDE_WINDOW; LANES];
+            let mut r4 = r_lo;
+            while r4 < r_hi {
+                // Four rows' lattice cells and vertical weights at once, in
+                // the lanes (row_y's arithmetic; fy ≥ 0, where truncation
+                // is the floor).
+                let y = f32x4::splat(f.y_first) + f32x4::from_i32x4(i32x4::splat(r4 as i32) + lane_index) * f.pitch_y;
+                let fy = ((y - y0) * inv_pitch).fast_max(f32x4::ZERO);
+                let cj = fy.fast_min(rmax).fast_trunc_int();
+                let wy = (fy - f32x4::from_i32x4(cj)).fast_min(f32x4::ONE).to_array();
+                let cj = cast::<i32x4, [u32; LANES]>(cj);
+                for k in 0..LANES.min(r_hi - r4) {
+                    let (r, cj, wy) = (r4 + k, cj[k], f32x4::splat(wy[k]));
+                    let ty = cj >> SHIFT;
+                    if ty != ty_now {
+                        ty_now = ty;
+                        lanes = self.tile_lanes(ty as usize * self.tile_cols as usize, ci);
+                    }
+                    let (top, bot) = Self::pairs(&lanes, (cj & (TILE_CELLS as u32 - 1)) as usize * TILE_SIDE);
+                    let t = f32x4::from_i32x4(top.dot(w));
+                    let b = f32x4::from_i32x4(bot.dot(w));
+                    let v = t + (b - t) * wy;
+                    let a = (v * slope + offset).fast_max(f32x4::ZERO).fast_min(f32x4::ONE);
+                    let v = if GRATING {
+                        let phase = f32x4::splat((r - f.r0) as u32 as f32 * step_row) + group_phase;
+                        a * (f32x4::ONE + cos_turns4(phase)) * half_unit
+                    } else {
+                        a * parity[(r + cols) & 1]
+                    };
+                    add_lanes(acc, (r - f.r0) * f.cols + cols, v);
                 }
-                let (top, bot) = Self::pairs(&tiles, &col, cj as usize);
-                let t = f32x4::from_i32x4(top.dot(w));
-                let b = f32x4::from_i32x4(bot.dot(w));
-                let v = t + (b - t) * wy;
-                // Lanes past the run have weights 0: code 0, amplitude 0.
-                let a = (v * slope + offset).fast_max(f32x4::ZERO).fast_min(f32x4::ONE);
-                let a = a & cast::<i32x4, f32x4>(real);
-                let v = if GRATING {
-                    let phase = f32x4::splat((r - f.r0) as u32 as f32 * step_row) + group_phase;
-                    a * (f32x4::ONE + cos_turns4(phase)) * half_unit
-                } else {
-                    a * parity[(r + cols) & 1]
-                };
-                add_lanes(acc, (r - f.r0) * f.cols + cols, v);
+                r4 += LANES;
             }
             cols += LANES;
         }
