@@ -3,13 +3,18 @@
 //! amplitude by the layer's edge profile, times the primitive's deflection
 //! (seed 000 eqs. 2 and 3).
 //!
-//! The memory pattern is the raster mask's (`mask.rs`): per actuator one
-//! read of its tile's index entry and two reads of a byte pair (the samples
-//! left and right of it, in the lattice rows above and below), then the
-//! horizontal interpolation in fixed point (`pmaddwd` on x86-64, weights of
-//! 14 bits) and the vertical one, the profile and the primitive in `f32`
-//! lanes, four actuators at a time. A tile wholly inside or outside reads no
-//! samples: its entry stands for a pair of constant codes. The cost per
+//! The memory pattern is the raster mask's (`mask.rs`): per actuator two
+//! reads of a byte pair (the samples left and right of it, in the lattice
+//! rows above and below), then the horizontal interpolation in fixed point
+//! (`pmaddwd` on x86-64, weights of 14 bits) and the vertical one, the
+//! profile and the primitive in `f32` lanes, four actuators at a time. Four
+//! actuators are a column group walked down the block's rows; a lane reads
+//! the tile index only when the group enters a new row of tiles (every
+//! eight lattice rows), and then keeps a window of its tile's samples
+//! (`tile_lanes`), typed so that the per-row reads need no bounds checks.
+//! A tile wholly inside or outside stores no samples: its lanes read a
+//! static tile of its constant code, which interpolates to that code
+//! exactly, so the per-row kernel has no per-lane select. The cost per
 //! actuator per layer is constant: it depends neither on the number of
 //! shapes in the layer nor on where their edges are.
 
