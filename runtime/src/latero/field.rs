@@ -3,17 +3,22 @@
 //! amplitude by the layer's edge profile, times the primitive's deflection
 //! (seed 000 eqs. 2 and 3).
 //!
-//! The memory pattern is the raster mask's (`mask.rs`): per actuator one
-//! read of its tile's index entry and two reads of a byte pair (the samples
-//! left and right of it, in the lattice rows above and below), then the
-//! horizontal interpolation in fixed point (`pmaddwd` on x86-64, weights of
-//! 14 bits) and the vertical one, the profile and the primitive in `f32`
-//! lanes, four actuators at a time. A tile wholly inside or outside reads no
-//! samples: its entry stands for a pair of constant codes. The cost per
+//! The memory pattern is the raster mask's (`mask.rs`): per actuator two
+//! reads of a byte pair (the samples left and right of it, in the lattice
+//! rows above and below), then the horizontal interpolation in fixed point
+//! (`pmaddwd` on x86-64, weights of 14 bits) and the vertical one, the
+//! profile and the primitive in `f32` lanes, four actuators at a time. Four
+//! actuators are a column group walked down the block's rows; a lane reads
+//! the tile index only when the group enters a new row of tiles (every
+//! eight lattice rows), and then keeps a window of its tile's samples
+//! (`tile_lanes`), typed so that the per-row reads need no bounds checks.
+//! A tile wholly inside or outside stores no samples: its lanes read a
+//! static tile of its constant code, which interpolates to that code
+//! exactly, so the per-row kernel has no per-lane select. The cost per
 //! actuator per layer is constant: it depends neither on the number of
 //! shapes in the layer nor on where their edges are.
 
-use taxel_format::{DistanceView, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_SAMPLES, TILE_SIDE};
+use taxel_format::{DistanceView, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE, TILE_SAMPLES, TILE_SIDE};
 use wide::bytemuck::cast;
 use wide::{f32x4, i16x8, i32x4, u8x16, u16x8};
 
@@ -26,12 +31,26 @@ const W: i32 = 1 << 14;
 /// Index entries: tile columns are found with a shift.
 const SHIFT: u32 = TILE_CELLS.trailing_zeros();
 
+/// A tile's samples, row by row.
+type Tile = [u8; TILE_SAMPLES];
+/// What a lane in a constant tile reads: the code of every sample of an
+/// outside tile, and of an inside one.
+static OUTSIDE: Tile = [0; TILE_SAMPLES];
+static INSIDE: Tile = [255; TILE_SAMPLES];
+/// The samples a lane reads from its tile: those from its column on, up to
+/// the pair right of it in the tile's last lattice row.
+const WINDOW: usize = TILE_CELLS * TILE_SIDE + 2;
+type Window = [u8; WINDOW];
+static OUTSIDE_WINDOW: Window = [0; WINDOW];
+
 /// A distance layer prepared for playback.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct FieldLayer<'a> {
     primitive: Primitive,
-    tiles: &'a [u8],
-    samples: &'a [u8],
+    /// The tile index, one little-endian `u32` entry per tile.
+    entries: &'a [[u8; 4]],
+    /// The stored tiles' samples, row by row.
+    stored: &'a [Tile],
     tile_cols: u32,
     /// Largest lattice cell index along x and y.
     cmax: i32,
@@ -58,8 +77,8 @@ impl<'a> FieldLayer<'a> {
         let k = m.step_mm / taxel_format::edge_ramp(m.soft_mm, m.step_mm);
         FieldLayer {
             primitive,
-            tiles: m.tile_bytes(),
-            samples: m.sample_bytes(),
+            entries: m.tile_bytes().as_chunks::<4>().0,
+            stored: m.sample_bytes().as_chunks::<TILE_SAMPLES>().0,
             tile_cols: m.tile_cols,
             cmax: (m.tile_cols as usize * TILE_CELLS - 1) as i32,
             rmax: (m.tile_rows as usize * TILE_CELLS - 1) as i32,
@@ -88,47 +107,61 @@ impl<'a> FieldLayer<'a> {
     }
 
     /// For the tile row starting at index entry `tile_row` and four lanes'
-    /// cell columns `ci`: each lane's byte offset of its cell's column in
-    /// its stored tile (0 for a constant tile), and a mask of the lanes in
-    /// stored tiles with the code of the others (0 outside, 255 inside) in
-    /// units of `W`.
+    /// cell columns `ci`: the samples each lane reads until its tile
+    /// changes, as the window of its tile that starts at the lane's column.
+    /// A stored tile's lanes read its samples; a constant tile's lanes read
+    /// a tile of that constant code (0 outside, 255 inside), whose
+    /// interpolation is the constant exactly (the weights sum to `W`), so
+    /// the per-row kernel needs no per-lane select. (An index entry past
+    /// the stored tiles, which validation rules out, reads as outside.)
     #[inline(always)]
-    fn tile_lanes(&self, tile_row: usize, ci: [u32; LANES]) -> ([usize; LANES], i32x4, f32x4) {
-        let mut base = [0usize; LANES];
-        let mut stored = [0i32; LANES];
-        let mut constant = [0f32; LANES];
-        for k in 0..LANES {
-            let at = 4 * (tile_row + (ci[k] >> SHIFT) as usize);
-            let e = self.tiles.get(at..at + 4).map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
-            if e >= TILE_FIRST_STORED {
-                base[k] = (e - TILE_FIRST_STORED) as usize * TILE_SAMPLES + (ci[k] & (TILE_CELLS as u32 - 1)) as usize;
-                stored[k] = -1;
-            } else if e == TILE_INSIDE {
-                constant[k] = (255 * W) as f32;
+    fn tile_lanes(&self, tile_row: usize, ci: [u32; LANES]) -> [&'a Window; LANES] {
+        // The lanes' columns grow from lane to lane, so neighbours often
+        // share a tile: each tile is looked up once.
+        let mut tile = self.tile(tile_row + (ci[0] >> SHIFT) as usize);
+        let mut prev = ci[0] >> SHIFT;
+        ci.map(|c| {
+            if c >> SHIFT != prev {
+                prev = c >> SHIFT;
+                tile = self.tile(tile_row + prev as usize);
             }
-        }
-        (base, i32x4::new(stored), f32x4::new(constant))
+            let col = (c & (TILE_CELLS as u32 - 1)) as usize;
+            // A column below TILE_CELLS leaves a whole window: never `None`.
+            tile.get(col..col + WINDOW).and_then(|w| w.try_into().ok()).unwrap_or(&OUTSIDE_WINDOW)
+        })
     }
 
-    /// The byte pairs at `base + j` (the lattice row above) and `base + j +
-    /// 9` (below) of four lanes, as (left, right) i16 lanes. Every offset is
-    /// clamped to the last pair that fits, so each read is in bounds by
-    /// construction; a stored tile's offsets always fit.
+    /// The samples of the tile at index entry `i`.
     #[inline(always)]
-    fn pairs(&self, base: &[usize; LANES], j: usize) -> (i16x8, i16x8) {
-        let s = self.samples;
-        let lim = s.len().saturating_sub(TILE_SIDE + 2);
-        let pair = |a: usize| s.get(a..a + 2).map_or(0, |p| u16::from_le_bytes([p[0], p[1]]));
-        let a = base.map(|b| (b + j).min(lim));
+    fn tile(&self, i: usize) -> &'a Tile {
+        let e = self.entries.get(i).map_or(TILE_OUTSIDE, |b| u32::from_le_bytes(*b));
+        if e >= TILE_FIRST_STORED {
+            self.stored.get((e - TILE_FIRST_STORED) as usize).unwrap_or(&OUTSIDE)
+        } else if e == TILE_INSIDE {
+            &INSIDE
+        } else {
+            &OUTSIDE
+        }
+    }
+
+    /// The byte pairs at offset `j` (the lattice row above, `j` a multiple
+    /// of [`TILE_SIDE`] below `TILE_CELLS · TILE_SIDE`) and `j + TILE_SIDE`
+    /// (below) of each lane's window, as (top, bottom) rows of (left,
+    /// right) i16 lanes. Every index is in bounds by the window's type, so
+    /// no read is checked.
+    #[inline(always)]
+    fn pairs(lanes: &[&Window; LANES], j: usize) -> (i16x8, i16x8) {
+        let j = j.min(WINDOW - TILE_SIDE - 2);
+        let pair = |w: &Window, j: usize| u16::from_le_bytes([w[j], w[j + 1]]);
         let bytes: u8x16 = cast(u16x8::new([
-            pair(a[0]),
-            pair(a[1]),
-            pair(a[2]),
-            pair(a[3]),
-            pair(a[0] + TILE_SIDE),
-            pair(a[1] + TILE_SIDE),
-            pair(a[2] + TILE_SIDE),
-            pair(a[3] + TILE_SIDE),
+            pair(lanes[0], j),
+            pair(lanes[1], j),
+            pair(lanes[2], j),
+            pair(lanes[3], j),
+            pair(lanes[0], j + TILE_SIDE),
+            pair(lanes[1], j + TILE_SIDE),
+            pair(lanes[2], j + TILE_SIDE),
+            pair(lanes[3], j + TILE_SIDE),
         ]));
         (i16x8::from_u8x16_low(bytes), i16x8::from_u8x16_high(bytes))
     }
@@ -160,6 +193,8 @@ impl<'a> FieldLayer<'a> {
         let lane_phase = lanes * step_col;
         let last_x = f.col_x(c_hi - 1);
         let (slope, offset) = (f32x4::splat(self.slope), f32x4::splat(self.offset));
+        let (y0, inv_pitch, rmax) =
+            (f32x4::splat(self.y0), f32x4::splat(self.inv_pitch), f32x4::splat(self.rmax as f32));
         let mut cols = c_lo;
         while cols < c_hi {
             let first = f32x4::from_i32x4(i32x4::splat(cols as i32) + lane_index);
@@ -170,35 +205,46 @@ impl<'a> FieldLayer<'a> {
             let real = lane_index.simd_lt(i32x4::splat((c_hi - cols) as i32));
             let w: i16x8 = cast(((i32x4::splat(W) - wi) | (wi << 16)) & real);
             let ci = cast::<i32x4, [u32; LANES]>(ci);
+            // Lanes past the run have weights 0, code 0, but a profile's
+            // amplitude at code 0 need not be 0: their factor is.
+            let real = cast::<i32x4, f32x4>(real);
+            let parity = parity.map(|p| p & real);
+            let half_unit = half_unit & real;
             let group_phase = f32x4::splat(base + (cols - c_lo) as u32 as f32 * step_col) + lane_phase;
             // The lanes' tiles change only every eight lattice rows.
             let mut ty_now = u32::MAX;
-            let (mut bases, mut stored, mut constant) = ([0usize; LANES], i32x4::ZERO, f32x4::ZERO);
-            for r in r_lo..r_hi {
-                let fy = ((f.row_y(r) - self.y0) * self.inv_pitch).max(0.0);
-                let cj = (fy as i32).clamp(0, self.rmax) as u32;
-                let wy = (fy - cj as f32).min(1.0);
-                let ty = cj >> SHIFT;
-                if ty != ty_now {
-                    ty_now = ty;
-                    (bases, stored, constant) = self.tile_lanes(ty as usize * self.tile_cols as usize, ci);
+            let mut lanes = [&OUTSIDE_WINDOW; LANES];
+            let mut r4 = r_lo;
+            while r4 < r_hi {
+                // Four rows' lattice cells and vertical weights at once, in
+                // the lanes (row_y's arithmetic; fy ≥ 0, where truncation
+                // is the floor).
+                let y = f32x4::splat(f.y_first) + f32x4::from_i32x4(i32x4::splat(r4 as i32) + lane_index) * f.pitch_y;
+                let fy = ((y - y0) * inv_pitch).fast_max(f32x4::ZERO);
+                let cj = fy.fast_min(rmax).fast_trunc_int();
+                let wy = (fy - f32x4::from_i32x4(cj)).fast_min(f32x4::ONE).to_array();
+                let cj = cast::<i32x4, [u32; LANES]>(cj);
+                for k in 0..LANES.min(r_hi - r4) {
+                    let (r, cj, wy) = (r4 + k, cj[k], f32x4::splat(wy[k]));
+                    let ty = cj >> SHIFT;
+                    if ty != ty_now {
+                        ty_now = ty;
+                        lanes = self.tile_lanes(ty as usize * self.tile_cols as usize, ci);
+                    }
+                    let (top, bot) = Self::pairs(&lanes, (cj & (TILE_CELLS as u32 - 1)) as usize * TILE_SIDE);
+                    let t = f32x4::from_i32x4(top.dot(w));
+                    let b = f32x4::from_i32x4(bot.dot(w));
+                    let v = t + (b - t) * wy;
+                    let a = (v * slope + offset).fast_max(f32x4::ZERO).fast_min(f32x4::ONE);
+                    let v = if GRATING {
+                        let phase = f32x4::splat((r - f.r0) as u32 as f32 * step_row) + group_phase;
+                        a * (f32x4::ONE + cos_turns4(phase)) * half_unit
+                    } else {
+                        a * parity[(r + cols) & 1]
+                    };
+                    add_lanes(acc, (r - f.r0) * f.cols + cols, v);
                 }
-                let j = (cj & (TILE_CELLS as u32 - 1)) as usize * TILE_SIDE;
-                let (top, bot) = self.pairs(&bases, j);
-                let t = f32x4::from_i32x4(top.dot(w));
-                let b = f32x4::from_i32x4(bot.dot(w));
-                // A constant tile's code, in units of `W`, whatever was read.
-                let v = cast::<i32x4, f32x4>(stored).select(t + (b - t) * wy, constant);
-                // Lanes past the run have weights 0: code 0, amplitude 0.
-                let a = (v * slope + offset).fast_max(f32x4::ZERO).fast_min(f32x4::ONE);
-                let a = a & cast::<i32x4, f32x4>(real);
-                let v = if GRATING {
-                    let phase = f32x4::splat((r - f.r0) as u32 as f32 * step_row) + group_phase;
-                    a * (f32x4::ONE + cos_turns4(phase)) * half_unit
-                } else {
-                    a * parity[(r + cols) & 1]
-                };
-                add_lanes(acc, (r - f.r0) * f.cols + cols, v);
+                r4 += LANES;
             }
             cols += LANES;
         }
