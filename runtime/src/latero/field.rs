@@ -9,11 +9,15 @@
 //! horizontal interpolation in fixed point (`pmaddwd` on x86-64, weights of
 //! 14 bits) and the vertical one, the profile and the primitive in `f32`
 //! lanes, four actuators at a time. A tile wholly inside or outside reads no
-//! samples: its entry stands for a pair of constant codes. The cost per
-//! actuator per layer is constant: it depends neither on the number of
-//! shapes in the layer nor on where their edges are.
+//! samples: its entry stands for a pair of constant codes. A plane or ridge
+//! tile (format 3.0) reads no samples either: on a tile change each lane
+//! evaluates its record's affine function at its column, so that per row it
+//! costs one multiply-add (and for a ridge an absolute value), and a
+//! constant tile is the plane of gradient 0. The cost per actuator per
+//! layer is constant: it depends neither on the number of shapes in the
+//! layer nor on where their edges are.
 
-use taxel_format::{DistanceView, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_SAMPLES, TILE_SIDE};
+use taxel_format::{DistanceView, PLANE_RECORD_LEN, TILE_CELLS, TILE_SAMPLES, TILE_SIDE, TileEntry};
 use wide::bytemuck::cast;
 use wide::{f32x4, i16x8, i32x4, u8x16, u16x8};
 
@@ -26,11 +30,23 @@ const W: i32 = 1 << 14;
 /// Index entries: tile columns are found with a shift.
 const SHIFT: u32 = TILE_CELLS.trailing_zeros();
 
+/// Four lanes' tiles, as [`FieldLayer::tile_lanes`] reads them.
+#[derive(Debug, Clone, Copy, Default)]
+struct TileLanes {
+    base: [usize; LANES],
+    stored: i32x4,
+    a0: f32x4,
+    gy: f32x4,
+    top: f32x4,
+    ridge: i32x4,
+}
+
 /// A distance layer prepared for playback.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct FieldLayer<'a> {
     primitive: Primitive,
     tiles: &'a [u8],
+    planes: &'a [u8],
     samples: &'a [u8],
     tile_cols: u32,
     /// Largest lattice cell index along x and y.
@@ -59,6 +75,7 @@ impl<'a> FieldLayer<'a> {
         FieldLayer {
             primitive,
             tiles: m.tile_bytes(),
+            planes: m.plane_bytes(),
             samples: m.sample_bytes(),
             tile_cols: m.tile_cols,
             cmax: (m.tile_cols as usize * TILE_CELLS - 1) as i32,
@@ -87,27 +104,49 @@ impl<'a> FieldLayer<'a> {
         }
     }
 
-    /// For the tile row starting at index entry `tile_row` and four lanes'
-    /// cell columns `ci`: each lane's byte offset of its cell's column in
-    /// its stored tile (0 for a constant tile), and a mask of the lanes in
-    /// stored tiles with the code of the others (0 outside, 255 inside) in
-    /// units of `W`.
+    /// For the tile row starting at index entry `tile_row`, four lanes' cell
+    /// columns `ci` and lattice x coordinates within their tiles `u`: each
+    /// lane's byte offset of its cell's column in its stored tile (0 for
+    /// the others), a mask of the lanes in stored tiles, and for the others
+    /// the analytic code `c + gx u + gy w = a0 + gy w` (codes) as `a0` and
+    /// `gy`, the ridge's `top` and a mask of the ridge lanes. A constant tile
+    /// is the plane of code 0 (outside) or 255 (inside).
     #[inline(always)]
-    fn tile_lanes(&self, tile_row: usize, ci: [u32; LANES]) -> ([usize; LANES], i32x4, f32x4) {
-        let mut base = [0usize; LANES];
+    fn tile_lanes(&self, tile_row: usize, ci: [u32; LANES], u: [f32; LANES]) -> TileLanes {
+        let mut t = TileLanes { base: [0usize; LANES], ..TileLanes::default() };
         let mut stored = [0i32; LANES];
-        let mut constant = [0f32; LANES];
+        let mut ridge = [0i32; LANES];
+        let (mut a0, mut gy, mut top) = ([0f32; LANES], [0f32; LANES], [0f32; LANES]);
+        let f = |b: &[u8], o: usize| f32::from_le_bytes([b[o], b[o + 1], b[o + 2], b[o + 3]]);
         for k in 0..LANES {
             let at = 4 * (tile_row + (ci[k] >> SHIFT) as usize);
             let e = self.tiles.get(at..at + 4).map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
-            if e >= TILE_FIRST_STORED {
-                base[k] = (e - TILE_FIRST_STORED) as usize * TILE_SAMPLES + (ci[k] & (TILE_CELLS as u32 - 1)) as usize;
-                stored[k] = -1;
-            } else if e == TILE_INSIDE {
-                constant[k] = (255 * W) as f32;
+            match TileEntry::of(e) {
+                TileEntry::Outside => {}
+                TileEntry::Inside => a0[k] = 255.0,
+                TileEntry::Stored(n) => {
+                    t.base[k] = n as usize * TILE_SAMPLES + (ci[k] & (TILE_CELLS as u32 - 1)) as usize;
+                    stored[k] = -1;
+                }
+                TileEntry::Plane(p) | TileEntry::Ridge(p) => {
+                    let at = p as usize * PLANE_RECORD_LEN;
+                    // The chunk was validated, so the record is there; a
+                    // missing one plays as outside rather than panicking.
+                    if let Some(r) = self.planes.get(at..at + PLANE_RECORD_LEN) {
+                        a0[k] = f(r, 0) + f(r, 4) * u[k];
+                        gy[k] = f(r, 8);
+                        if matches!(TileEntry::of(e), TileEntry::Ridge(_)) {
+                            top[k] = f(r, 12);
+                            ridge[k] = -1;
+                        }
+                    }
+                }
             }
         }
-        (base, i32x4::new(stored), f32x4::new(constant))
+        t.stored = i32x4::new(stored);
+        t.ridge = i32x4::new(ridge);
+        (t.a0, t.gy, t.top) = (f32x4::new(a0), f32x4::new(gy), f32x4::new(top));
+        t
     }
 
     /// The byte pairs at `base + j` (the lattice row above) and `base + j +
@@ -169,11 +208,14 @@ impl<'a> FieldLayer<'a> {
             let wi = ((fx - f32x4::from_i32x4(ci)).fast_min(f32x4::ONE) * W as f32).fast_round_int();
             let real = lane_index.simd_lt(i32x4::splat((c_hi - cols) as i32));
             let w: i16x8 = cast(((i32x4::splat(W) - wi) | (wi << 16)) & real);
+            // Each lane's lattice x within its tile, for plane and ridge tiles.
+            let tile_x = f32x4::from_i32x4((ci >> SHIFT as i32) << SHIFT as i32);
+            let u = cast::<f32x4, [f32; LANES]>((fx - tile_x).fast_min(f32x4::splat(TILE_CELLS as f32)));
             let ci = cast::<i32x4, [u32; LANES]>(ci);
             let group_phase = f32x4::splat(base + (cols - c_lo) as u32 as f32 * step_col) + lane_phase;
             // The lanes' tiles change only every eight lattice rows.
             let mut ty_now = u32::MAX;
-            let (mut bases, mut stored, mut constant) = ([0usize; LANES], i32x4::ZERO, f32x4::ZERO);
+            let mut lanes_now = TileLanes::default();
             for r in r_lo..r_hi {
                 let fy = ((f.row_y(r) - self.y0) * self.inv_pitch).max(0.0);
                 let cj = (fy as i32).clamp(0, self.rmax) as u32;
@@ -181,14 +223,19 @@ impl<'a> FieldLayer<'a> {
                 let ty = cj >> SHIFT;
                 if ty != ty_now {
                     ty_now = ty;
-                    (bases, stored, constant) = self.tile_lanes(ty as usize * self.tile_cols as usize, ci);
+                    lanes_now = self.tile_lanes(ty as usize * self.tile_cols as usize, ci, u);
                 }
+                let tl = &lanes_now;
                 let j = (cj & (TILE_CELLS as u32 - 1)) as usize * TILE_SIDE;
-                let (top, bot) = self.pairs(&bases, j);
+                let (top, bot) = self.pairs(&tl.base, j);
                 let t = f32x4::from_i32x4(top.dot(w));
                 let b = f32x4::from_i32x4(bot.dot(w));
-                // A constant tile's code, in units of `W`, whatever was read.
-                let v = cast::<i32x4, f32x4>(stored).select(t + (b - t) * wy, constant);
+                // The other lanes' code at this row's lattice y within the
+                // tile, converted to units of `W`, whatever was read.
+                let wt = (fy - (ty << SHIFT) as f32).min(TILE_CELLS as f32);
+                let plane = tl.a0 + tl.gy * wt;
+                let code = cast::<i32x4, f32x4>(tl.ridge).select(tl.top - plane.abs(), plane);
+                let v = cast::<i32x4, f32x4>(tl.stored).select(t + (b - t) * wy, code * W as f32);
                 // Lanes past the run have weights 0: code 0, amplitude 0.
                 let a = (v * slope + offset).fast_max(f32x4::ZERO).fast_min(f32x4::ONE);
                 let a = a & cast::<i32x4, f32x4>(real);
