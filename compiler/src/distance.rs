@@ -361,6 +361,8 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
     // the range of its corners. So only tiles the edge profile's ramp
     // crosses are stored.
     let (full, none) = saturated_codes(soft, step);
+    let zero = DISTANCE_ZERO as f64;
+    let sat = planes::Saturation { hi: full as f64 - zero, lo: none as f64 - zero };
     for r in 0..rows {
         for c in 0..cols {
             let bucket = &buckets[r * cols + c];
@@ -394,7 +396,7 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
                 TILE_INSIDE
             } else if tile_buf.iter().all(|&v| v <= none) {
                 TILE_OUTSIDE
-            } else if let Some((entry, rec)) = planes::fit(&exact, ridge_top).filter(|&(e, rec)| {
+            } else if let Some((entry, rec)) = planes::fit(&exact, ridge_top, sat).filter(|&(e, rec)| {
                 let tile = planes::TileCtx {
                     g,
                     segs: &segs,
@@ -405,6 +407,7 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
                     page: pg,
                     cap: cap / step,
                     step,
+                    sat,
                     first: r * TILE_CELLS * nx + c * TILE_CELLS,
                     nx,
                     inside: &inside,

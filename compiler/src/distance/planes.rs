@@ -26,64 +26,80 @@ const TOLERANCE: f64 = 0.5;
 /// The clamp, in codes (the writer clamps distances to ±127 steps).
 const CAP: f64 = 127.0;
 
-/// Whether the code `v` (unbiased) plays the exact distance `e` (codes,
-/// clamped to ±[`CAP`]) within [`TOLERANCE`]: where `e` is clamped, `v` need
-/// only lie beyond the clamp less the tolerance (the edge profile is
-/// saturated there, see `saturated_codes`).
-fn close(v: f64, e: f64) -> bool {
-    if e >= CAP {
-        v >= CAP - TOLERANCE
-    } else if e <= -CAP {
-        v <= -CAP + TOLERANCE
-    } else {
-        (v - e).abs() <= TOLERANCE
+/// The unbiased codes from which on the edge profile is saturated: at or
+/// above `hi` a code plays full amplitude, at or below `lo` none (the
+/// `full` and `none` of `saturated_codes`, less the bias).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Saturation {
+    pub hi: f64,
+    pub lo: f64,
+}
+
+impl Saturation {
+    /// Whether the code `v` (unbiased) plays as the exact distance `e`
+    /// (codes, clamped to ±[`CAP`]): within [`TOLERANCE`], or both saturated
+    /// on the same side, where the amplitude is the same whatever the code.
+    fn close(&self, v: f64, e: f64) -> bool {
+        (v - e).abs() <= TOLERANCE || (e >= self.hi && v >= self.hi) || (e <= self.lo && v <= self.lo)
     }
 }
 
+/// The windows (largest |code| of the samples fitted) tried in turn: all
+/// unclamped samples, then those within about one and a half cells of the
+/// edge, so that a tile where a second feature bends the distance only in
+/// the saturated part still fits its edge's plane.
+const WINDOWS: [f64; 3] = [CAP, 96.0, 48.0];
+
 /// The plane or ridge that plays a tile's samples (`exact`, unquantised
-/// codes clamped to ±127, row-major 9 x 9) within half a code, as its tile
-/// index kind and record; `ridge_top` is a vibration layer's half band width
-/// in codes (the ridge's top), `None` for a grating.
-pub(super) fn fit(exact: &[f64; TILE_SAMPLES], ridge_top: Option<f64>) -> Option<(u32, TilePlane)> {
-    let open = |e: f64| e.abs() < CAP;
+/// codes clamped to ±127, row-major 9 x 9) within half a code, or saturated
+/// on the same side where they are, as its tile index kind and record;
+/// `ridge_top` is a vibration layer's half band width in codes (the ridge's
+/// top), `None` for a grating.
+pub(super) fn fit(exact: &[f64; TILE_SAMPLES], ridge_top: Option<f64>, sat: Saturation) -> Option<(u32, TilePlane)> {
     let at = |t: usize| ((t % TILE_SIDE) as f64, (t / TILE_SIDE) as f64);
     let plays = |kind: u32, rec: &TilePlane| {
         exact.iter().enumerate().all(|(t, &e)| {
             let (u, w) = at(t);
-            close(rec.code(kind, u, w) - DISTANCE_ZERO as f64, e)
+            sat.close(rec.code(kind, u, w) - DISTANCE_ZERO as f64, e)
         })
     };
-    // A plane: least squares in (1, u, w) over the unclamped samples.
-    let mut ls = LeastSquares::<3>::default();
-    for (t, &e) in exact.iter().enumerate().filter(|(_, e)| open(**e)) {
-        let (u, w) = at(t);
-        ls.add([1.0, u, w], e);
-    }
-    if let Some([c, gx, gy]) = ls.solve() {
-        let rec = record(c + DISTANCE_ZERO as f64, gx, gy, 0.0);
-        if let Some(rec) = rec.filter(|r| plays(TILE_PLANE, r)) {
-            return Some((TILE_PLANE, rec));
+    for window in WINDOWS {
+        let open = |e: f64| e.abs() < window;
+        // A plane: least squares in (1, u, w) over the samples in the window.
+        let mut ls = LeastSquares::<3>::default();
+        for (t, &e) in exact.iter().enumerate().filter(|(_, e)| open(**e)) {
+            let (u, w) = at(t);
+            ls.add([1.0, u, w], e);
+        }
+        if let Some([c, gx, gy]) = ls.solve() {
+            let rec = record(c + DISTANCE_ZERO as f64, gx, gy, 0.0);
+            if let Some(rec) = rec.filter(|r| plays(TILE_PLANE, r)) {
+                return Some((TILE_PLANE, rec));
+            }
+        }
+        // A ridge: the squared distance to the centre line,
+        // `(c + gx u + gy w)²` = `(top − e)²`, is a quadratic in (u, w) whose
+        // coefficients give the line.
+        let Some(top) = ridge_top else { continue };
+        let mut ls = LeastSquares::<6>::default();
+        for (t, &e) in exact.iter().enumerate().filter(|(_, e)| open(**e)) {
+            let (u, w) = at(t);
+            let m = top - e;
+            ls.add([u * u, u * w, w * w, u, w, 1.0], m * m);
+        }
+        let Some([a, b, cc, d, e, _]) = ls.solve() else { continue };
+        let gx = a.max(0.0).sqrt();
+        let gy = cc.max(0.0).sqrt() * if b < 0.0 { -1.0 } else { 1.0 };
+        let g2 = gx * gx + gy * gy;
+        if g2 <= 0.0 {
+            continue;
+        }
+        let c = (d * gx + e * gy) / (2.0 * g2);
+        if let Some(rec) = record(c, gx, gy, top + DISTANCE_ZERO as f64).filter(|r| plays(TILE_RIDGE, r)) {
+            return Some((TILE_RIDGE, rec));
         }
     }
-    // A ridge: the squared distance to the centre line, `(c + gx u + gy w)²`
-    // = `top − e` squared, is a quadratic in (u, w) whose coefficients give
-    // the line (least squares over the unclamped samples again).
-    let top = ridge_top?;
-    let mut ls = LeastSquares::<6>::default();
-    for (t, &e) in exact.iter().enumerate().filter(|(_, e)| open(**e)) {
-        let (u, w) = at(t);
-        let m = top - e;
-        ls.add([u * u, u * w, w * w, u, w, 1.0], m * m);
-    }
-    let [a, b, cc, d, e, _] = ls.solve()?;
-    let gx = a.max(0.0).sqrt();
-    let gy = cc.max(0.0).sqrt() * if b < 0.0 { -1.0 } else { 1.0 };
-    let g2 = gx * gx + gy * gy;
-    if g2 <= 0.0 {
-        return None;
-    }
-    let c = (d * gx + e * gy) / (2.0 * g2);
-    record(c, gx, gy, top + DISTANCE_ZERO as f64).filter(|r| plays(TILE_RIDGE, r)).map(|r| (TILE_RIDGE, r))
+    None
 }
 
 /// A record in `f32`, if its values are within the format's bounds.
@@ -162,6 +178,7 @@ pub(super) struct TileCtx<'a, 'g> {
     /// The clamp in codes, and mm per code.
     pub cap: f64,
     pub step: f64,
+    pub sat: Saturation,
     /// Lattice index of the tile's first point, and points per lattice row.
     pub first: usize,
     pub nx: usize,
@@ -218,7 +235,7 @@ impl TileCtx<'_, '_> {
                 let s = centres.signed(self.g, tc, (inside, occluded), &in_clip, p, self.page);
                 let e = (s / self.step).clamp(-self.cap, self.cap);
                 let v = rec.code(kind, i as f64 + 0.5, j as f64 + 0.5) - DISTANCE_ZERO as f64;
-                if !close(v, e) {
+                if !self.sat.close(v, e) {
                     return false;
                 }
             }
@@ -254,6 +271,8 @@ fn centre_side(dc: f64, corners: &[(f64, bool); 4], h: f64) -> Option<bool> {
 mod tests {
     use super::*;
 
+    const SAT: Saturation = Saturation { hi: 1.0, lo: -1.0 };
+
     fn samples(f: impl Fn(f64, f64) -> f64) -> [f64; TILE_SAMPLES] {
         std::array::from_fn(|t| f((t % TILE_SIDE) as f64, (t / TILE_SIDE) as f64).clamp(-CAP, CAP))
     }
@@ -261,7 +280,7 @@ mod tests {
     #[test]
     fn an_affine_tile_fits_a_plane_exactly() {
         let f = |u: f64, w: f64| 3.0 + 12.5 * u - 7.25 * w;
-        let (kind, rec) = fit(&samples(f), None).expect("a plane");
+        let (kind, rec) = fit(&samples(f), None, SAT).expect("a plane");
         assert_eq!(kind, TILE_PLANE);
         for (u, w) in [(0.0, 0.0), (3.5, 2.25), (8.0, 8.0)] {
             assert!((rec.code(kind, u, w) - 128.0 - f(u, w)).abs() < 1e-3);
@@ -273,20 +292,20 @@ mod tests {
         // Distance 30 codes per cell; the line through (4, 0) and (6, 8).
         let (nx, ny) = (8.0 / 68f64.sqrt(), -2.0 / 68f64.sqrt());
         let f = |u: f64, w: f64| 90.0 - 30.0 * (nx * (u - 4.0) + ny * w).abs();
-        let (kind, rec) = fit(&samples(f), Some(90.0)).expect("a ridge");
+        let (kind, rec) = fit(&samples(f), Some(90.0), SAT).expect("a ridge");
         assert_eq!(kind, TILE_RIDGE);
         for (u, w) in [(0.0, 0.0), (4.5, 1.5), (5.0, 4.0), (8.0, 8.0)] {
             assert!((rec.code(kind, u, w) - 128.0 - f(u, w).clamp(-CAP, CAP)).abs() < 1e-2 || f(u, w) < -CAP);
         }
         // Without a band the same samples are no plane.
-        assert_eq!(fit(&samples(f), None), None);
+        assert_eq!(fit(&samples(f), None, SAT), None);
     }
 
     #[test]
     fn a_corner_is_no_plane() {
         // Inside a square corner the distance is the min of two planes.
         let f = |u: f64, w: f64| 10.0 * (u - 4.0).min(w - 4.0);
-        assert_eq!(fit(&samples(f), None), None);
+        assert_eq!(fit(&samples(f), None, SAT), None);
     }
 
     #[test]
@@ -294,8 +313,11 @@ mod tests {
         // An edge along x = 0.3 h: corners at -0.3 and 0.7 (h = 1).
         let c = [(0.3, false), (0.7, true), (0.3, false), (0.7, true)];
         assert_eq!(centre_side(0.2, &c, 1.0), Some(true));
-        let c = [(0.7, true), (0.3, false), (0.7, true), (0.3, false)];
+        // The same edge with the other side inside.
+        let c = [(0.3, true), (0.7, false), (0.3, true), (0.7, false)];
         assert_eq!(centre_side(0.2, &c, 1.0), Some(false));
+        // Corners that cannot tell (all within a hair of the outline).
+        assert_eq!(centre_side(0.2, &[(0.1, true), (0.1, false), (0.1, true), (0.1, false)], 1.0), None);
         assert_eq!(centre_side(f64::INFINITY, &[(f64::INFINITY, true); 4], 1.0), Some(true));
     }
 }
