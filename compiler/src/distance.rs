@@ -351,6 +351,8 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
     // The same at the tile's cell centres, for the plane fits' check.
     let mut near_centres = Near::new(g.clips.len());
     let ridge_top = g.band.as_ref().map(|(_, w)| w / 2.0 / step);
+    // Inside bits at the cell centres, swept when a tile first fits a plane.
+    let mut centre_bits: Option<planes::CentreBits> = None;
     // A segment is measured only at the tile's samples within its reach plus
     // the clamp's margin: farther ones would clamp to the same code anyway
     // (every part is then beyond ±cap, and min, max and the clamp commute).
@@ -396,7 +398,7 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
                 TILE_INSIDE
             } else if tile_buf.iter().all(|&v| v <= none) {
                 TILE_OUTSIDE
-            } else if let Some((entry, rec)) = planes::fit(&exact, ridge_top, sat).filter(|&(e, rec)| {
+            } else if let Some((entry, rec)) = {
                 let tile = planes::TileCtx {
                     g,
                     segs: &segs,
@@ -410,12 +412,21 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
                     sat,
                     first: r * TILE_CELLS * nx + c * TILE_CELLS,
                     nx,
-                    inside: &inside,
-                    occluded: &occluded,
-                    clip_bits: &clip_bits,
+                    centre_bits: centre_bits.get_or_insert_with(|| {
+                        // The same sweeps as the lattice points', half a cell on.
+                        let (cx, cy) = (ox + h / 2.0, oy + h / 2.0);
+                        planes::CentreBits {
+                            inside: fill_bits(&g.fills, cx, cy, h, nx, ny),
+                            occluded: fill_bits(&g.occluders, cx, cy, h, nx, ny),
+                            clips: g.clips.iter().map(|c| fill_bits(&[*c], cx, cy, h, nx, ny)).collect(),
+                        }
+                    }),
                 };
-                tile.centres_fit(&near, &mut near_centres, e, &rec)
-            }) {
+                let lines = planes::nearest_lines(&tile, &exact);
+                planes::fit(&exact, ridge_top, sat, &lines)
+                    .into_iter()
+                    .find(|(e, rec)| tile.centres_fit(&mut near_centres, *e, rec))
+            } {
                 let n = planes.len() as u32;
                 planes.push(rec);
                 entry | n

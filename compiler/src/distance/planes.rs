@@ -12,8 +12,6 @@
 //! not). A sampled tile is within half a code at its samples only, so a
 //! plane tile is never worse than the stored tile it replaces there.
 
-use std::f64::consts::FRAC_1_SQRT_2;
-
 use taxel_format::{
     DISTANCE_ZERO, MAX_PLANE_CODE, MAX_PLANE_GRADIENT, TILE_CELLS, TILE_PLANE, TILE_RIDGE, TILE_SAMPLES, TILE_SIDE,
     TilePlane,
@@ -55,7 +53,12 @@ const WINDOWS: [f64; 3] = [CAP, 96.0, 48.0];
 /// on the same side where they are, as its tile index kind and record;
 /// `ridge_top` is a vibration layer's half band width in codes (the ridge's
 /// top), `None` for a grating.
-pub(super) fn fit(exact: &[f64; TILE_SAMPLES], ridge_top: Option<f64>, sat: Saturation) -> Option<(u32, TilePlane)> {
+pub(super) fn fit(
+    exact: &[f64; TILE_SAMPLES],
+    ridge_top: Option<f64>,
+    sat: Saturation,
+    lines: &[Line],
+) -> Vec<(u32, TilePlane)> {
     let at = |t: usize| ((t % TILE_SIDE) as f64, (t / TILE_SIDE) as f64);
     let plays = |kind: u32, rec: &TilePlane| {
         exact.iter().enumerate().all(|(t, &e)| {
@@ -63,6 +66,22 @@ pub(super) fn fit(exact: &[f64; TILE_SAMPLES], ridge_top: Option<f64>, sat: Satu
             sat.close(rec.code(kind, u, w) - DISTANCE_ZERO as f64, e)
         })
     };
+    let mut found = Vec::new();
+    // From the geometry: the lines of the segments nearest the edge.
+    for l in lines {
+        for s in [1.0, -1.0] {
+            let rec = match l.top {
+                None => {
+                    record(DISTANCE_ZERO as f64 + s * l.c - l.off, s * l.gx, s * l.gy, 0.0).map(|r| (TILE_PLANE, r))
+                }
+                Some(top) if s > 0.0 => record(l.c, l.gx, l.gy, top + DISTANCE_ZERO as f64).map(|r| (TILE_RIDGE, r)),
+                Some(_) => None,
+            };
+            if let Some((kind, rec)) = rec.filter(|(k, r)| plays(*k, r)) {
+                found.push((kind, rec));
+            }
+        }
+    }
     for window in WINDOWS {
         let open = |e: f64| e.abs() < window;
         // A plane: least squares in (1, u, w) over the samples in the window.
@@ -74,7 +93,8 @@ pub(super) fn fit(exact: &[f64; TILE_SAMPLES], ridge_top: Option<f64>, sat: Satu
         if let Some([c, gx, gy]) = ls.solve() {
             let rec = record(c + DISTANCE_ZERO as f64, gx, gy, 0.0);
             if let Some(rec) = rec.filter(|r| plays(TILE_PLANE, r)) {
-                return Some((TILE_PLANE, rec));
+                found.push((TILE_PLANE, rec));
+                return found;
             }
         }
         // A ridge: the squared distance to the centre line,
@@ -96,10 +116,72 @@ pub(super) fn fit(exact: &[f64; TILE_SAMPLES], ridge_top: Option<f64>, sat: Satu
         }
         let c = (d * gx + e * gy) / (2.0 * g2);
         if let Some(rec) = record(c, gx, gy, top + DISTANCE_ZERO as f64).filter(|r| plays(TILE_RIDGE, r)) {
-            return Some((TILE_RIDGE, rec));
+            found.push((TILE_RIDGE, rec));
+            return found;
         }
     }
-    None
+    found
+}
+
+/// A segment's line over a tile, in codes: the signed distance to it is
+/// `c + gx u + gy w` at lattice coordinates `(u, w)` in the tile; a fill's
+/// edge plays it less `off` (a cut band's half width), a band's centre line
+/// as the ridge `top − |…|`.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Line {
+    c: f64,
+    gx: f64,
+    gy: f64,
+    off: f64,
+    top: Option<f64>,
+}
+
+/// The lines of the segments nearest the tile's sample nearest its edge
+/// (and, for a band, nearest its sample on the ridge), at most a few.
+pub(super) fn nearest_lines(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Vec<Line> {
+    let mut out = Vec::new();
+    let pick = |key: &dyn Fn(f64) -> f64| (0..TILE_SAMPLES).min_by(|&a, &b| key(exact[a]).total_cmp(&key(exact[b])));
+    let mut probes = vec![pick(&|e: f64| e.abs())];
+    if let Some((_, w)) = &t.g.band {
+        let top = w / 2.0 / t.step;
+        probes.push(pick(&|e: f64| (e - top).abs()));
+    }
+    for probe in probes.into_iter().flatten() {
+        let p = (t.corner.0 + (probe % TILE_SIDE) as f64 * t.h, t.corner.1 + (probe / TILE_SIDE) as f64 * t.h);
+        let mut near: Vec<(f64, u32)> = t
+            .bucket
+            .iter()
+            .filter_map(|&n| t.segs.get(n as usize).map(|((a, b), _, _)| (super::distance2_to_segment(p, *a, *b), n)))
+            .collect();
+        near.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for &(_, n) in near.iter().take(2) {
+            let Some(&((a, b), part, _)) = t.segs.get(n as usize) else { continue };
+            let len = (b.0 - a.0).hypot(b.1 - a.1);
+            if !(len > 0.0) {
+                continue;
+            }
+            // The unit normal, and the signed distance at the tile's corner.
+            let (nx, ny) = ((a.1 - b.1) / len, (b.0 - a.0) / len);
+            let k = t.h / t.step;
+            let c = (nx * (t.corner.0 - a.0) + ny * (t.corner.1 - a.1)) / t.step;
+            let (off, top) = match part {
+                Part::Cut(kc) => (t.g.cuts.get(kc).map_or(0.0, |c| c.1) / 2.0 / t.step, None),
+                Part::Band => (0.0, t.g.band.as_ref().map(|(_, w)| w / 2.0 / t.step)),
+                _ => (0.0, None),
+            };
+            out.push(Line { c, gx: nx * k, gy: ny * k, off, top });
+            if let Part::Band = part {
+                // A band's edge alone (the other side clamped): a plane.
+                out.push(Line { c, gx: nx * k, gy: ny * k, off: -w_half(t), top: None });
+            }
+        }
+    }
+    out
+}
+
+/// A band layer's half width in codes (0 without a band).
+fn w_half(t: &TileCtx<'_, '_>) -> f64 {
+    t.g.band.as_ref().map_or(0.0, |(_, w)| w / 2.0 / t.step)
 }
 
 /// A record in `f32`, if its values are within the format's bounds.
@@ -179,26 +261,26 @@ pub(super) struct TileCtx<'a, 'g> {
     pub cap: f64,
     pub step: f64,
     pub sat: Saturation,
-    /// Lattice index of the tile's first point, and points per lattice row.
+    /// Index of the tile's first cell centre in `centre_bits`, and centres per row.
     pub first: usize,
     pub nx: usize,
-    /// Inside-the-fills, inside-the-occluders and inside-each-clip bits at every lattice point.
-    pub inside: &'a [bool],
-    pub occluded: &'a [bool],
-    pub clip_bits: &'a [Vec<bool>],
+    pub centre_bits: &'a CentreBits,
+}
+
+/// Inside-the-fills, inside-the-occluders and inside-each-clip bits at
+/// every cell centre of a layer's lattice (row-major, as the lattice points).
+pub(super) struct CentreBits {
+    pub inside: Vec<bool>,
+    pub occluded: Vec<bool>,
+    pub clips: Vec<Vec<bool>>,
 }
 
 impl TileCtx<'_, '_> {
     /// Whether plane record `rec` (tile index kind `kind`) plays the exact
-    /// distance within half a code at the tile's 64 cell centres; `near`
-    /// holds the tile's samples' measures, `centres` is scratch.
+    /// distance within half a code (or saturated on the exact side) at the
+    /// tile's 64 cell centres; `centres` is scratch.
     ///
-    /// Which side of each part's outline a centre lies on follows from its
-    /// corners: a part's signed distance is 1-Lipschitz, so the centre's
-    /// lies within `h / √2` of each corner's, which leaves one sign unless
-    /// the outline passes within a hair of the centre (where the sign does
-    /// not matter) or the corners cannot tell (then the tile stays sampled).
-    pub(super) fn centres_fit(&self, near: &Near, centres: &mut Near, kind: u32, rec: &TilePlane) -> bool {
+    pub(super) fn centres_fit(&self, centres: &mut Near, kind: u32, rec: &TilePlane) -> bool {
         let h = self.h;
         centres.measure(
             self.g,
@@ -208,29 +290,15 @@ impl TileCtx<'_, '_> {
             h,
             self.margin,
         );
-        let mut in_clip = vec![false; self.clip_bits.len()];
+        let mut in_clip = vec![false; self.centre_bits.clips.len()];
         for j in 0..TILE_CELLS {
             for i in 0..TILE_CELLS {
                 let tc = j * TILE_SIDE + i;
-                let quad = [tc, tc + 1, tc + TILE_SIDE, tc + TILE_SIDE + 1];
-                let lattice = |q: usize| self.first + (q / TILE_SIDE) * self.nx + q % TILE_SIDE;
-                let side = |dc2: f64, d2: &dyn Fn(usize) -> f64, bit: &dyn Fn(usize) -> bool| {
-                    let corners = quad.map(|q| (d2(q).sqrt(), bit(lattice(q))));
-                    centre_side(dc2.sqrt(), &corners, h)
-                };
-                let Some(inside) = side(centres.fill[tc], &|q| near.fill[q], &|k| self.inside[k]) else {
-                    return false;
-                };
-                let Some(occluded) = side(centres.occ[tc], &|q| near.occ[q], &|k| self.occluded[k]) else {
-                    return false;
-                };
-                for (kc, slot) in in_clip.iter_mut().enumerate() {
-                    let at = |q: usize| near.clip.get(kc * TILE_SAMPLES + q).copied().unwrap_or(f64::INFINITY);
-                    let dc = centres.clip.get(kc * TILE_SAMPLES + tc).copied().unwrap_or(f64::INFINITY);
-                    let bits = &self.clip_bits[kc];
-                    let Some(b) = side(dc, &at, &|k| bits[k]) else { return false };
-                    *slot = b;
+                let k = self.first + j * self.nx + i;
+                for (slot, bits) in in_clip.iter_mut().zip(&self.centre_bits.clips) {
+                    *slot = bits[k];
                 }
+                let (inside, occluded) = (self.centre_bits.inside[k], self.centre_bits.occluded[k]);
                 let p = (self.corner.0 + (i as f64 + 0.5) * h, self.corner.1 + (j as f64 + 0.5) * h);
                 let s = centres.signed(self.g, tc, (inside, occluded), &in_clip, p, self.page);
                 let e = (s / self.step).clamp(-self.cap, self.cap);
@@ -241,29 +309,6 @@ impl TileCtx<'_, '_> {
             }
         }
         true
-    }
-}
-
-/// The side of a part's outline (`true`: the side its bit calls inside) of
-/// a cell centre at unsigned distance `dc` from it, from the cell's corners'
-/// unsigned distances and sides; `None` when the corners leave both.
-/// Infinite distances are beyond the measured reach: all on one side.
-fn centre_side(dc: f64, corners: &[(f64, bool); 4], h: f64) -> Option<bool> {
-    if !dc.is_finite() {
-        return Some(corners[0].1);
-    }
-    let reach = h * FRAC_1_SQRT_2 * (1.0 + 1e-9);
-    let fits = |side: bool| {
-        let sc = if side { dc } else { -dc };
-        corners
-            .iter()
-            .all(|&(d, b)| if d.is_finite() { (sc - if b { d } else { -d }).abs() <= reach } else { b == side })
-    };
-    match (fits(true), fits(false)) {
-        (true, false) => Some(true),
-        (false, true) => Some(false),
-        (true, true) if dc <= 1e-9 * h => Some(true),
-        _ => None,
     }
 }
 
@@ -280,7 +325,7 @@ mod tests {
     #[test]
     fn an_affine_tile_fits_a_plane_exactly() {
         let f = |u: f64, w: f64| 3.0 + 12.5 * u - 7.25 * w;
-        let (kind, rec) = fit(&samples(f), None, SAT).expect("a plane");
+        let (kind, rec) = fit(&samples(f), None, SAT, &[]).into_iter().next().expect("a plane");
         assert_eq!(kind, TILE_PLANE);
         for (u, w) in [(0.0, 0.0), (3.5, 2.25), (8.0, 8.0)] {
             assert!((rec.code(kind, u, w) - 128.0 - f(u, w)).abs() < 1e-3);
@@ -292,32 +337,19 @@ mod tests {
         // Distance 30 codes per cell; the line through (4, 0) and (6, 8).
         let (nx, ny) = (8.0 / 68f64.sqrt(), -2.0 / 68f64.sqrt());
         let f = |u: f64, w: f64| 90.0 - 30.0 * (nx * (u - 4.0) + ny * w).abs();
-        let (kind, rec) = fit(&samples(f), Some(90.0), SAT).expect("a ridge");
+        let (kind, rec) = fit(&samples(f), Some(90.0), SAT, &[]).into_iter().next().expect("a ridge");
         assert_eq!(kind, TILE_RIDGE);
         for (u, w) in [(0.0, 0.0), (4.5, 1.5), (5.0, 4.0), (8.0, 8.0)] {
             assert!((rec.code(kind, u, w) - 128.0 - f(u, w).clamp(-CAP, CAP)).abs() < 1e-2 || f(u, w) < -CAP);
         }
         // Without a band the same samples are no plane.
-        assert_eq!(fit(&samples(f), None, SAT), None);
+        assert_eq!(fit(&samples(f), None, SAT, &[]), vec![]);
     }
 
     #[test]
     fn a_corner_is_no_plane() {
         // Inside a square corner the distance is the min of two planes.
         let f = |u: f64, w: f64| 10.0 * (u - 4.0).min(w - 4.0);
-        assert_eq!(fit(&samples(f), None, SAT), None);
-    }
-
-    #[test]
-    fn a_centre_takes_the_side_its_corners_allow() {
-        // An edge along x = 0.3 h: corners at -0.3 and 0.7 (h = 1).
-        let c = [(0.3, false), (0.7, true), (0.3, false), (0.7, true)];
-        assert_eq!(centre_side(0.2, &c, 1.0), Some(true));
-        // The same edge with the other side inside.
-        let c = [(0.3, true), (0.7, false), (0.3, true), (0.7, false)];
-        assert_eq!(centre_side(0.2, &c, 1.0), Some(false));
-        // Corners that cannot tell (all within a hair of the outline).
-        assert_eq!(centre_side(0.2, &[(0.1, true), (0.1, false), (0.1, true), (0.1, false)], 1.0), None);
-        assert_eq!(centre_side(f64::INFINITY, &[(f64::INFINITY, true); 4], 1.0), Some(true));
+        assert_eq!(fit(&samples(f), None, SAT, &[]), vec![]);
     }
 }
