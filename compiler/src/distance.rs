@@ -364,7 +364,8 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
     // crosses are stored.
     let (full, none) = saturated_codes(soft, step);
     let zero = DISTANCE_ZERO as f64;
-    let sat = planes::Saturation { hi: full as f64 - zero, lo: none as f64 - zero };
+    let ramp = taxel_format::edge_ramp(soft as f32, step as f32) as f64;
+    let sat = planes::Saturation { hi: full as f64 - zero, lo: none as f64 - zero, near: (ramp / 2.0 + h) / step };
     for r in 0..rows {
         for c in 0..cols {
             let bucket = &buckets[r * cols + c];

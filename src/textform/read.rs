@@ -29,6 +29,7 @@ const FIELD_KEYS: &[&str] = &[
     "file",
     "tiles",
     "samples",
+    "planes",
     "sources",
     "amplitude",
     "soft_mm",

@@ -31,14 +31,21 @@ const CAP: f64 = 127.0;
 pub(super) struct Saturation {
     pub hi: f64,
     pub lo: f64,
+    /// Within this many codes of the edge a code must be within the
+    /// tolerance even where saturated: the profile's half ramp plus one
+    /// lattice pitch, so that every point where the plane's profile is not
+    /// saturated lies within half a pitch of a checked point that pins it.
+    pub near: f64,
 }
 
 impl Saturation {
     /// Whether the code `v` (unbiased) plays as the exact distance `e`
-    /// (codes, clamped to ±[`CAP`]): within [`TOLERANCE`], or both saturated
-    /// on the same side, where the amplitude is the same whatever the code.
+    /// (codes, clamped to ±[`CAP`]): within [`TOLERANCE`], or, farther than
+    /// `near` from the edge, both saturated on the same side, where the
+    /// amplitude is the same whatever the code.
     fn close(&self, v: f64, e: f64) -> bool {
-        (v - e).abs() <= TOLERANCE || (e >= self.hi && v >= self.hi) || (e <= self.lo && v <= self.lo)
+        (v - e).abs() <= TOLERANCE
+            || e.abs() > self.near && ((e >= self.hi && v >= self.hi) || (e <= self.lo && v <= self.lo))
     }
 }
 
@@ -316,7 +323,7 @@ impl TileCtx<'_, '_> {
 mod tests {
     use super::*;
 
-    const SAT: Saturation = Saturation { hi: 1.0, lo: -1.0 };
+    const SAT: Saturation = Saturation { hi: 1.0, lo: -1.0, near: 64.0 };
 
     fn samples(f: impl Fn(f64, f64) -> f64) -> [f64; TILE_SAMPLES] {
         std::array::from_fn(|t| f((t % TILE_SIDE) as f64, (t / TILE_SIDE) as f64).clamp(-CAP, CAP))
