@@ -130,8 +130,8 @@ pub fn every_kind() -> Bundle {
             // bundle reads back equal to this value.
             dot(20.0, 40.0, 0.72, 1.0, Some(1)),
             dot(22.34, 40.0, 0.72, 1.0, Some(1)),
-            dot(26.2, 40.0, 0.72, 1.0, Some(1)),
             dot(20.0, 42.34, 0.72, 1.0, Some(1)),
+            dot(26.2, 40.0, 0.72, 1.0, Some(1)),
             dot(26.2, 42.34, 0.72, 1.0, Some(1)),
             dot(22.34, 44.68, 0.72, 1.0, Some(1)),
         ],

@@ -65,9 +65,10 @@ fn mask_fields() {
     length(edit_chunk(b"GRAT", |d| d.truncate(40)), b"GRAT");
 }
 
-/// Offset of dot `i` in the first (outline) dot table of the sample: 18 x 13 cells.
+/// Offset of dot `i` in the first (outline) dot table of the sample: 2 x 1
+/// cells of 32 mm (at most one cell per dot: 5 dots, SPEC.md section 7).
 fn dot(i: usize) -> usize {
-    32 + 4 * (18 * 13 + 1) + 20 * i
+    32 + 4 * (2 + 1) + 20 * i
 }
 
 #[test]
@@ -75,7 +76,7 @@ fn dot_table_fields() {
     let grid = edit_chunk(b"DOTS", |_| {});
     let view = BundleView::parse(&grid).unwrap();
     let Some(taxel_format::ChunkView::Dots(d)) = view.chunks().nth(3) else { panic!() };
-    assert_eq!((d.grid.cols, d.grid.rows), (18, 13), "the offsets below assume this grid");
+    assert_eq!((d.grid.cols, d.grid.rows, d.grid.cell_mm), (2, 1, 32.0), "the offsets below assume this grid");
     invalid(edit_chunk(b"DOTS", |d| d[0] = 4), b"DOTS", "kind");
     invalid(edit_chunk(b"DOTS", |d| d[2] = 4), b"DOTS", "reserved");
     invalid(edit_chunk(b"DOTS", |d| put_f32(d, 16, f32::NAN)), b"DOTS", "grid origin_x");
@@ -84,13 +85,14 @@ fn dot_table_fields() {
     // A larger max_radius keeps every dot in its cell but is not the canonical grid.
     invalid(edit_chunk(b"DOTS", |d| put_f32(d, 28, 5.0)), b"DOTS", "grid");
     invalid(edit_chunk(b"DOTS", |d| put_u32(d, 32, 1)), b"DOTS", "grid index");
-    // Dot 0 moved two cells to the right but still listed in cell 0.
-    invalid(edit_chunk(b"DOTS", |d| put_f32(d, dot(0), 9.0)), b"DOTS", "grid index");
+    // Dot 0 moved a cell to the right but still listed in cell 0.
+    invalid(edit_chunk(b"DOTS", |d| put_f32(d, dot(0), 39.0)), b"DOTS", "grid index");
     invalid(edit_chunk(b"DOTS", |d| put_f32(d, dot(0) + 8, 0.0)), b"DOTS", "dot radius");
     invalid(edit_chunk(b"DOTS", |d| put_f32(d, dot(1) + 12, 1.01)), b"DOTS", "dot amplitude");
     invalid(edit_chunk(b"DOTS", |d| put_f32(d, dot(4) + 4, f32::NAN)), b"DOTS", "dot y");
-    // Cell starts that decrease: cell 1 claims to start after cell 2.
-    invalid(edit_chunk(b"DOTS", |d| put_u32(d, 36, 3)), b"DOTS", "grid index");
+    // Cell starts that decrease: cell 1 (4 dots in cell 0) claims to start
+    // after the end (5).
+    invalid(edit_chunk(b"DOTS", |d| put_u32(d, 36, 6)), b"DOTS", "grid index");
     length(edit_chunk(b"DOTS", |d| put_u32(d, 4, 6)), b"DOTS");
     limit(edit_chunk(b"DOTS", |d| put_u32(d, 8, 0)), b"DOTS", "grid cells (1 or more)");
 }
