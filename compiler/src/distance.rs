@@ -28,7 +28,9 @@
 
 use std::collections::HashMap;
 
-use taxel_format::{DISTANCE_ZERO, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE, TILE_SAMPLES, TILE_SIDE};
+use taxel_format::{
+    DISTANCE_ZERO, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE, TILE_SAMPLES, TILE_SIDE, TilePlane,
+};
 
 #[cfg(test)]
 use crate::geometry::distance_to_segment;
@@ -75,6 +77,8 @@ pub struct Field {
     pub step_mm: f64,
     /// Tile index, row-major.
     pub tiles: Vec<u32>,
+    /// Plane and ridge tiles' records, in index order.
+    pub planes: Vec<TilePlane>,
     /// Stored tiles' samples.
     pub samples: Vec<u8>,
 }
@@ -340,7 +344,15 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
     let mut tiles = vec![TILE_OUTSIDE; cols * rows];
     let mut samples = Vec::new();
     let mut tile_buf = [0u8; TILE_SAMPLES];
+    // The unquantised distances of the tile's samples, in codes (clamped).
+    let mut exact = [0f64; TILE_SAMPLES];
+    let mut planes = Vec::new();
     let mut near = Near::new(g.clips.len());
+    // The same at the tile's cell centres, for the plane fits' check.
+    let mut near_centres = Near::new(g.clips.len());
+    let ridge_top = g.band.as_ref().map(|(_, w)| w / 2.0 / step);
+    // Inside bits at the cell centres, swept when a tile first fits a plane.
+    let mut centre_bits: Option<planes::CentreBits> = None;
     // A segment is measured only at the tile's samples within its reach plus
     // the clamp's margin: farther ones would clamp to the same code anyway
     // (every part is then beyond ±cap, and min, max and the clamp commute).
@@ -351,6 +363,9 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
     // the range of its corners. So only tiles the edge profile's ramp
     // crosses are stored.
     let (full, none) = saturated_codes(soft, step);
+    let zero = DISTANCE_ZERO as f64;
+    let ramp = taxel_format::edge_ramp(soft as f32, step as f32) as f64;
+    let sat = planes::Saturation { hi: full as f64 - zero, lo: none as f64 - zero, near: (ramp / 2.0 + h) / step };
     for r in 0..rows {
         for c in 0..cols {
             let bucket = &buckets[r * cols + c];
@@ -377,12 +392,45 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
                     let s = near.signed(g, t, (inside[k], occluded[k]), &clipped, p, pg).clamp(-cap, cap);
                     let code = (s / step).round().clamp(-128.0, 127.0) as i32 + DISTANCE_ZERO as i32;
                     tile_buf[t] = code as u8;
+                    exact[t] = s / step;
                 }
             }
             tiles[r * cols + c] = if tile_buf.iter().all(|&v| v >= full) {
                 TILE_INSIDE
             } else if tile_buf.iter().all(|&v| v <= none) {
                 TILE_OUTSIDE
+            } else if let Some((entry, rec)) = {
+                let tile = planes::TileCtx {
+                    g,
+                    segs: &segs,
+                    bucket,
+                    corner,
+                    h,
+                    margin,
+                    page: pg,
+                    cap: cap / step,
+                    step,
+                    sat,
+                    first: r * TILE_CELLS * nx + c * TILE_CELLS,
+                    nx,
+                    centre_bits: centre_bits.get_or_insert_with(|| {
+                        // The same sweeps as the lattice points', half a cell on.
+                        let (cx, cy) = (ox + h / 2.0, oy + h / 2.0);
+                        planes::CentreBits {
+                            inside: fill_bits(&g.fills, cx, cy, h, nx, ny),
+                            occluded: fill_bits(&g.occluders, cx, cy, h, nx, ny),
+                            clips: g.clips.iter().map(|c| fill_bits(&[*c], cx, cy, h, nx, ny)).collect(),
+                        }
+                    }),
+                };
+                let lines = planes::nearest_lines(&tile, &exact);
+                planes::fit(&exact, ridge_top, sat, &lines)
+                    .into_iter()
+                    .find(|(e, rec)| tile.centres_fit(&mut near_centres, *e, rec))
+            } {
+                let n = planes.len() as u32;
+                planes.push(rec);
+                entry | n
             } else {
                 let n = (samples.len() / TILE_SAMPLES) as u32;
                 samples.extend_from_slice(&tile_buf);
@@ -393,7 +441,15 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
     if tiles.iter().all(|&t| t == TILE_OUTSIDE) {
         return None;
     }
-    Some(Field { origin: (ox, oy), tile_cols: cols as u32, tile_rows: rows as u32, step_mm: step, tiles, samples })
+    Some(Field {
+        origin: (ox, oy),
+        tile_cols: cols as u32,
+        tile_rows: rows as u32,
+        step_mm: step,
+        tiles,
+        planes,
+        samples,
+    })
 }
 
 /// The lowest code played at full amplitude and the highest played at zero
@@ -604,6 +660,12 @@ pub fn field_distance(f: &Field, h: f64, p: (f64, f64)) -> Option<f64> {
     match e {
         TILE_OUTSIDE => Some(-128.0 * step),
         TILE_INSIDE => Some(127.0 * step),
+        e if e >= taxel_format::TILE_PLANE => {
+            // A plane or ridge tile: its function at the point itself.
+            let rec = f.planes.get((e & taxel_format::TILE_RECORD_MASK) as usize)?;
+            let (u, w) = (fx - (tx * TILE_CELLS) as f64, fy - (ty * TILE_CELLS) as f64);
+            Some((rec.code(e, u, w) - DISTANCE_ZERO as f64) * step)
+        }
         e => {
             let base = (e - TILE_FIRST_STORED) as usize * TILE_SAMPLES;
             let (i, j) = (ci - tx * TILE_CELLS, cj - ty * TILE_CELLS);
@@ -638,5 +700,6 @@ pub fn constant_tile_at(f: &Field, h: f64, p: (f64, f64)) -> Option<bool> {
     }
 }
 
+mod planes;
 #[cfg(test)]
 pub(crate) mod tests;

@@ -39,8 +39,82 @@ pub const MAX_SOFT_MM: f32 = 16.0;
 pub const TILE_OUTSIDE: u32 = 0;
 /// Tile index entry of a tile wholly inside (full amplitude).
 pub const TILE_INSIDE: u32 = 1;
-/// Tile index entries from this value on name stored tile `entry - TILE_FIRST_STORED`.
+/// Tile index entries from this value up to [`TILE_PLANE`] (exclusive) name
+/// stored tile `entry - TILE_FIRST_STORED`.
 pub const TILE_FIRST_STORED: u32 = 2;
+/// Tile index entry `TILE_PLANE | p`: a **plane** tile, whose code is the
+/// affine function of plane record `p` (format 3.0).
+pub const TILE_PLANE: u32 = 0x8000_0000;
+/// Tile index entry `TILE_RIDGE | p`: a **ridge** tile, whose code is
+/// `top − |affine|` of plane record `p` (format 3.0).
+pub const TILE_RIDGE: u32 = 0xC000_0000;
+/// The bits of a plane or ridge entry that hold its record's number.
+pub const TILE_RECORD_MASK: u32 = 0x3FFF_FFFF;
+/// Bytes of one plane record: `c`, `gx`, `gy`, `top` (f32 each).
+pub const PLANE_RECORD_LEN: usize = 16;
+/// Largest magnitude of a plane record's gradient, codes per lattice cell.
+pub const MAX_PLANE_GRADIENT: f32 = 1024.0;
+/// Largest magnitude of a plane record's `c` and `top`, codes.
+pub const MAX_PLANE_CODE: f32 = 65_536.0;
+
+/// One plane or ridge tile's record (SPEC.md section 6.2), in sample codes:
+/// at lattice coordinates `(u, w)` inside the tile (0 to 8 from its
+/// top-left lattice point) the affine code is `c + gx u + gy w`; a plane
+/// tile plays it, a ridge tile plays `top − |c + gx u + gy w|`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TilePlane {
+    /// The affine function's value at the tile's top-left lattice point.
+    pub c: f32,
+    /// Codes per lattice cell along x.
+    pub gx: f32,
+    /// Codes per lattice cell along y.
+    pub gy: f32,
+    /// A ridge's top code; 0 for a plane.
+    pub top: f32,
+}
+
+impl TilePlane {
+    /// The affine part `c + gx u + gy w`, in f64.
+    pub fn affine(&self, u: f64, w: f64) -> f64 {
+        self.c as f64 + self.gx as f64 * u + self.gy as f64 * w
+    }
+
+    /// The code of a tile with index entry `entry` (a plane or a ridge) at
+    /// lattice coordinates `(u, w)` inside it, in f64: SPEC.md's reference.
+    pub fn code(&self, entry: u32, u: f64, w: f64) -> f64 {
+        let a = self.affine(u, w);
+        if entry & TILE_RIDGE == TILE_RIDGE { self.top as f64 - a.abs() } else { a }
+    }
+}
+
+/// What a tile index entry names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TileEntry {
+    /// Amplitude 0.
+    Outside,
+    /// Full amplitude.
+    Inside,
+    /// Stored tile `k` (81 samples).
+    Stored(u32),
+    /// Plane record `p`, played as a plane.
+    Plane(u32),
+    /// Plane record `p`, played as a ridge.
+    Ridge(u32),
+}
+
+impl TileEntry {
+    /// Decodes an index entry.
+    #[inline]
+    pub fn of(e: u32) -> Self {
+        match e {
+            TILE_OUTSIDE => TileEntry::Outside,
+            TILE_INSIDE => TileEntry::Inside,
+            e if e & TILE_RIDGE == TILE_RIDGE => TileEntry::Ridge(e & TILE_RECORD_MASK),
+            e if e & TILE_PLANE != 0 => TileEntry::Plane(e & TILE_RECORD_MASK),
+            e => TileEntry::Stored(e - TILE_FIRST_STORED),
+        }
+    }
+}
 
 /// One distance layer: every shape of one style.
 ///
@@ -71,9 +145,13 @@ pub struct DistanceLayer {
     /// Provenance entries of the elements this layer holds, ascending.
     pub sources: Vec<u32>,
     /// `tile_cols * tile_rows` entries, row-major: [`TILE_OUTSIDE`],
-    /// [`TILE_INSIDE`], or [`TILE_FIRST_STORED`] + the stored tile's number;
-    /// stored tiles are numbered in the order the index first names them.
+    /// [`TILE_INSIDE`], [`TILE_FIRST_STORED`] + the stored tile's number, or
+    /// [`TILE_PLANE`] or [`TILE_RIDGE`] `|` the plane record's number; stored
+    /// tiles and plane records are each numbered in the order the index
+    /// names them.
     pub tiles: Vec<u32>,
+    /// The plane and ridge tiles' records, numbered in index order (format 3.0).
+    pub planes: Vec<TilePlane>,
     /// The stored tiles' samples, [`TILE_SAMPLES`] per tile, row-major within a tile.
     pub samples: Vec<u8>,
 }
@@ -108,11 +186,16 @@ impl DistanceLayer {
         let (tx, ty) = (ci / TILE_CELLS, cj / TILE_CELLS);
         let entry = *self.tiles.get(ty * self.tile_cols as usize + tx)?;
         let big = 127.0 * self.step_mm;
-        match entry {
-            TILE_OUTSIDE => Some(-big - self.step_mm),
-            TILE_INSIDE => Some(big),
-            e => {
-                let base = (e - TILE_FIRST_STORED) as usize * TILE_SAMPLES;
+        match TileEntry::of(entry) {
+            TileEntry::Outside => Some(-big - self.step_mm),
+            TileEntry::Inside => Some(big),
+            TileEntry::Plane(p) | TileEntry::Ridge(p) => {
+                let rec = self.planes.get(p as usize)?;
+                let (u, w) = (fx as f64 - (tx * TILE_CELLS) as f64, fy as f64 - (ty * TILE_CELLS) as f64);
+                Some(((rec.code(entry, u, w) - DISTANCE_ZERO as f64) * self.step_mm as f64) as f32)
+            }
+            TileEntry::Stored(k) => {
+                let base = k as usize * TILE_SAMPLES;
                 let (i, j) = (ci - tx * TILE_CELLS, cj - ty * TILE_CELLS);
                 let s =
                     |i: usize, j: usize| self.samples.get(base + j * TILE_SIDE + i).map_or(0.0, |&v| v as f32 - 128.0);
@@ -144,11 +227,17 @@ impl DistanceLayer {
         if !self.samples.len().is_multiple_of(TILE_SAMPLES) {
             return Err(bad("samples", "81 samples per stored tile"));
         }
+        if self.planes.len() > MAX_DISTANCE_TILES as usize {
+            return Err(bad("planes", "at most one plane record per tile"));
+        }
         Ok(())
     }
 
     pub(crate) fn encode(&self) -> Vec<u8> {
-        let len = DISTANCE_HEADER_LEN + 4 * (self.sources.len() + self.tiles.len()) + self.samples.len();
+        let len = DISTANCE_HEADER_LEN
+            + 4 * (self.sources.len() + self.tiles.len())
+            + PLANE_RECORD_LEN * self.planes.len()
+            + self.samples.len();
         let mut out = Vec::with_capacity(len);
         let mut w = Out(&mut out);
         w.u32(self.sources.len() as u32)
@@ -170,6 +259,9 @@ impl DistanceLayer {
         for &t in &self.tiles {
             w.u32(t);
         }
+        for p in &self.planes {
+            w.f32(p.c).f32(p.gx).f32(p.gy).f32(p.top);
+        }
         w.bytes(&self.samples);
         out
     }
@@ -187,6 +279,7 @@ impl DistanceLayer {
             tile_rows: v.tile_rows,
             sources: (0..v.source_count()).filter_map(|i| v.source(i)).collect(),
             tiles: (0..v.tile_cols * v.tile_rows).map(|i| v.tile_entry(i)).collect(),
+            planes: (0..v.plane_count()).filter_map(|p| v.plane(p)).collect(),
             samples: v.samples.to_vec(),
         }
     }
@@ -229,6 +322,7 @@ pub struct DistanceView<'a> {
     pub stored: u32,
     sources: &'a [u8],
     tiles: &'a [u8],
+    planes: &'a [u8],
     samples: &'a [u8],
 }
 
@@ -259,6 +353,27 @@ impl<'a> DistanceView<'a> {
     /// The tile index bytes (u32 little-endian entries).
     pub fn tile_bytes(&self) -> &'a [u8] {
         self.tiles
+    }
+
+    /// Number of plane records (plane and ridge tiles).
+    pub fn plane_count(&self) -> u32 {
+        (self.planes.len() / PLANE_RECORD_LEN) as u32
+    }
+
+    /// Plane record `p`, or `None` past the end.
+    pub fn plane(&self, p: u32) -> Option<TilePlane> {
+        let o = PLANE_RECORD_LEN * p as usize;
+        Some(TilePlane {
+            c: f32_at(self.planes, o)?,
+            gx: f32_at(self.planes, o + 4)?,
+            gy: f32_at(self.planes, o + 8)?,
+            top: f32_at(self.planes, o + 12)?,
+        })
+    }
+
+    /// The plane records' bytes (four little-endian f32 each).
+    pub fn plane_bytes(&self) -> &'a [u8] {
+        self.planes
     }
 
     /// The stored samples' bytes (biased codes).
@@ -298,9 +413,18 @@ impl<'a> DistanceView<'a> {
         if stored as u64 > ntiles {
             return Err(bad("stored tiles", "at most tile_cols * tile_rows"));
         }
-        let expected = DISTANCE_HEADER_LEN as u64 + 4 * (nsrc as u64 + ntiles) + TILE_SAMPLES as u64 * stored as u64;
-        if d.len() as u64 != expected {
+        // The plane records' count is what the length leaves after the
+        // other parts; the index check below makes it canonical.
+        let fixed = DISTANCE_HEADER_LEN as u64 + 4 * (nsrc as u64 + ntiles) + TILE_SAMPLES as u64 * stored as u64;
+        let rec = PLANE_RECORD_LEN as u64;
+        let Some(rest) = (d.len() as u64).checked_sub(fixed).filter(|r| r.is_multiple_of(rec)) else {
+            // The nearest length below that a whole number of records fits.
+            let expected = fixed + (d.len() as u64).saturating_sub(fixed) / rec * rec;
             return Err(FormatError::ChunkLength { tag, index, expected, found: d.len() as u64 });
+        };
+        let nplanes = rest / rec;
+        if nplanes > ntiles {
+            return Err(bad("planes", "at most one plane record per tile"));
         }
         let origin_x = in_range(f(16), -1e6, 1e6, tag, index, "origin_x_mm", "from -1e6 to 1e6 mm")?;
         let origin_y = in_range(f(20), -1e6, 1e6, tag, index, "origin_y_mm", "from -1e6 to 1e6 mm")?;
@@ -324,6 +448,7 @@ impl<'a> DistanceView<'a> {
         };
         let src_end = DISTANCE_HEADER_LEN + 4 * nsrc as usize;
         let tiles_end = src_end + 4 * ntiles as usize;
+        let planes_end = tiles_end + PLANE_RECORD_LEN * nplanes as usize;
         let view = DistanceView {
             kind,
             amplitude,
@@ -337,7 +462,8 @@ impl<'a> DistanceView<'a> {
             stored,
             sources: &d[DISTANCE_HEADER_LEN..src_end],
             tiles: &d[src_end..tiles_end],
-            samples: &d[tiles_end..],
+            planes: &d[tiles_end..planes_end],
+            samples: &d[planes_end..],
         };
         // The lattice's far corner must be finite in f32, so that a player's
         // box arithmetic never overflows.
@@ -354,25 +480,51 @@ impl<'a> DistanceView<'a> {
                 }
                 prev = Some(s);
             }
-            let mut next = TILE_FIRST_STORED;
+            let (mut next, mut next_plane) = (0u32, 0u32);
             for i in 0..ntiles as u32 {
-                match view.tile_entry(i) {
-                    TILE_OUTSIDE | TILE_INSIDE => {}
-                    e if e == next => next += 1,
+                let e = view.tile_entry(i);
+                match TileEntry::of(e) {
+                    TileEntry::Outside | TileEntry::Inside => {}
+                    TileEntry::Stored(k) if k == next => next += 1,
+                    TileEntry::Plane(p) | TileEntry::Ridge(p) if p == next_plane => {
+                        let rec = view.plane(p).ok_or(bad("tile index", "a plane record for every plane tile"))?;
+                        check_plane(&rec, e).map_err(|expected| bad("plane record", expected))?;
+                        next_plane += 1;
+                    }
                     _ => {
                         return Err(bad(
                             "tile index",
-                            "0, 1, or the next stored tile's number (tiles stored in index order)",
+                            "0, 1, or the next stored tile's or plane record's number (in index order)",
                         ));
                     }
                 }
             }
-            if next - TILE_FIRST_STORED != stored {
+            if next != stored {
                 return Err(bad("stored tiles", "the number of stored tiles the index names"));
+            }
+            if next_plane as u64 != nplanes {
+                return Err(bad("planes", "the number of plane records the index names"));
             }
         }
         Ok(view)
     }
+}
+
+/// Checks one plane record of a tile with index entry `e`: finite values
+/// within the bounds that keep a player's `f32` arithmetic exact to far
+/// below a code, and a plane's `top` zero (SPEC.md section 6.2).
+fn check_plane(p: &TilePlane, e: u32) -> Result<(), &'static str> {
+    let within = |v: f32, m: f32| v.is_finite() && v.abs() <= m;
+    if !(within(p.gx, MAX_PLANE_GRADIENT) && within(p.gy, MAX_PLANE_GRADIENT)) {
+        return Err("finite gradients of at most 1024 codes per cell");
+    }
+    if !(within(p.c, MAX_PLANE_CODE) && within(p.top, MAX_PLANE_CODE)) {
+        return Err("finite c and top of at most 65536 codes");
+    }
+    if e & TILE_RIDGE != TILE_RIDGE && p.top != 0.0 {
+        return Err("top 0 in a plane tile's record");
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -119,20 +119,23 @@ impl DotGrid {
     /// has exactly one encoding.
     fn derive(dots: impl Iterator<Item = Dot>) -> DotGrid {
         let (mut x0, mut y0, mut x1, mut y1, mut r) = (f32::MAX, f32::MAX, f32::MIN, f32::MIN, 0.0f32);
-        let mut any = false;
+        let mut m = 0u64;
         for d in dots {
-            any = true;
+            m += 1;
             x0 = x0.min(d.x.0);
             y0 = y0.min(d.y.0);
             x1 = x1.max(d.x.0);
             y1 = y1.max(d.y.0);
             r = r.max(d.radius.0);
         }
-        if !any {
+        if m == 0 {
             return DotGrid { origin_x: 0.0, origin_y: 0.0, cell_mm: 1.0, cols: 1, rows: 1, max_radius: 0.0 };
         }
         // A cell of at least two radii means an actuator is reached by dots
-        // of at most 2 x 2 cells; grow the cell until the grid fits the limit.
+        // of at most 2 x 2 cells; grow the cell until the grid has no more
+        // cells than dots (format 3.0: a sparse table's index stays about
+        // as small as its dots, 4 bytes a cell against 20 a dot) and fits
+        // the limit.
         // The span is measured in f64 so that coordinates near f32::MAX
         // cannot overflow it, and the cell counts saturate instead of wrapping.
         let (span_x, span_y) = (x1 as f64 - x0 as f64, y1 as f64 - y0 as f64);
@@ -141,7 +144,8 @@ impl DotGrid {
             let cols = (span_x / cell as f64).min(u32::MAX as f64) as u64 + 1;
             let rows = (span_y / cell as f64).min(u32::MAX as f64) as u64 + 1;
             // The cell stays finite: at f32::MAX the span (below 2^129) gives 3 cells a side.
-            if cols.saturating_mul(rows) <= MAX_DOT_GRID_CELLS as u64 || cell >= f32::MAX / 2.0 {
+            let most = m.min(MAX_DOT_GRID_CELLS as u64);
+            if cols.saturating_mul(rows) <= most || cell >= f32::MAX / 2.0 {
                 return DotGrid {
                     origin_x: x0,
                     origin_y: y0,

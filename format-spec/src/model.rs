@@ -86,8 +86,7 @@ impl Bundle {
     /// The canonical encoding, as format version
     /// [`FORMAT_MAJOR`](crate::FORMAT_MAJOR).*m*, where *m* is the lowest
     /// minor version that has every chunk of the bundle (SPEC.md section 12):
-    /// 1 with footprints, else 0, so that a bundle without them stays
-    /// byte for byte what 2.0 wrote.
+    /// 0 in format 3, which defines every chunk this crate writes.
     /// The result is checked with the reader before it is returned, so a
     /// bundle that the writer accepts always reads back.
     pub fn to_bytes(&self) -> Result<Vec<u8>, FormatError> {
@@ -96,7 +95,7 @@ impl Bundle {
 
     /// The lowest minor version that defines every chunk of the bundle.
     pub fn lowest_minor(&self) -> u16 {
-        if self.chunks.iter().any(|c| matches!(c, Chunk::Footprints(_))) { 1 } else { 0 }
+        0
     }
 
     /// The canonical encoding with minor version `minor` in the header: for

@@ -130,8 +130,8 @@ pub fn every_kind() -> Bundle {
             // bundle reads back equal to this value.
             dot(20.0, 40.0, 0.72, 1.0, Some(1)),
             dot(22.34, 40.0, 0.72, 1.0, Some(1)),
-            dot(26.2, 40.0, 0.72, 1.0, Some(1)),
             dot(20.0, 42.34, 0.72, 1.0, Some(1)),
+            dot(26.2, 40.0, 0.72, 1.0, Some(1)),
             dot(26.2, 42.34, 0.72, 1.0, Some(1)),
             dot(22.34, 44.68, 0.72, 1.0, Some(1)),
         ],
@@ -215,7 +215,8 @@ pub fn every_kind() -> Bundle {
 }
 
 /// A small distance layer (a grating style of two elements): 3 x 2 tiles of
-/// 4 mm, one inside, two outside and three stored, with a soft edge.
+/// 4 mm, one inside, one outside, two stored, one plane and one ridge, with
+/// a soft edge.
 pub fn distance_layer() -> DistanceLayer {
     DistanceLayer {
         kind: MaskKind::Grating { wavelength: Mm(3.0), angle_deg: 30.0 },
@@ -228,8 +229,12 @@ pub fn distance_layer() -> DistanceLayer {
         tile_cols: 3,
         tile_rows: 2,
         sources: vec![0, 2],
-        tiles: vec![0, 2, 3, 1, 4, 0],
-        samples: (0..3 * crate::TILE_SAMPLES).map(|k| (k * 7 % 256) as u8).collect(),
+        tiles: vec![0, 2, crate::TILE_PLANE, 1, 3, crate::TILE_RIDGE | 1],
+        planes: vec![
+            crate::TilePlane { c: 100.0, gx: 4.5, gy: -2.25, top: 0.0 },
+            crate::TilePlane { c: -10.0, gx: 3.0, gy: 1.5, top: 160.0 },
+        ],
+        samples: (0..2 * crate::TILE_SAMPLES).map(|k| (k * 7 % 256) as u8).collect(),
     }
 }
 

@@ -61,13 +61,23 @@ fn grating(x0: f32, y0: f32, w: u32, h: u32) -> Chunk {
 /// the tiles under the carrier: the codes climb across each tile, so that
 /// every actuator reads samples and lands between 0 and full amplitude.
 fn field(kind: MaskKind, x0: f32, y0: f32, cols: u32, rows: u32, stored: bool) -> Chunk {
+    field_of(kind, x0, y0, cols, rows, stored, false)
+}
+
+/// As [`field`], with plane tiles (format 3.0) instead of stored ones under
+/// the carrier when `planes`: the same climbing codes as one record each.
+fn field_of(kind: MaskKind, x0: f32, y0: f32, cols: u32, rows: u32, stored: bool, planes: bool) -> Chunk {
     let mut tiles = Vec::new();
     let mut samples = Vec::new();
+    let mut records = Vec::new();
     for r in 0..rows {
         for c in 0..cols {
             let (tx, ty) = (x0 + 4.0 * c as f32, y0 + 4.0 * r as f32);
             let near = (tx - X).abs() < 16.0 && (ty - Y).abs() < 16.0;
-            if stored || near {
+            if planes && (stored || near) {
+                tiles.push(taxel_format::TILE_PLANE | records.len() as u32);
+                records.push(taxel_format::TilePlane { c: 100.0, gx: 7.0, gy: 3.0, top: 0.0 });
+            } else if stored || near {
                 tiles.push(2 + (samples.len() / 81) as u32);
                 samples.extend((0..81u32).map(|k| (100 + (k % 9) * 7 + (k / 9) * 3) as u8));
             } else {
@@ -87,6 +97,7 @@ fn field(kind: MaskKind, x0: f32, y0: f32, cols: u32, rows: u32, stored: bool) -
         tile_rows: rows,
         sources: vec![],
         tiles,
+        planes: records,
         samples,
     })
 }
@@ -142,6 +153,11 @@ fn latero(c: &mut Criterion) {
     );
     bench_scene(c, "latero frame (distance): vibration alone", vec![field(VIBRATE, X - 12.0, Y - 12.0, 6, 6, true)]);
     bench_scene(c, "latero frame (distance): grating alone", vec![field(GRATE, X - 12.0, Y - 12.0, 6, 6, true)]);
+    bench_scene(
+        c,
+        "latero frame (distance): plane tiles, vibration and grating",
+        vec![field_of(VIBRATE, X - 12.0, Y - 12.0, 3, 6, true, true), field_of(GRATE, X, Y - 12.0, 3, 6, true, true)],
+    );
     // Frame-cost independence: the same two styles over one region (the
     // tiles near the carrier stored, the rest flags) and over 5,000 regions
     // (all 5,625 tiles of a 300 mm square stored, 456 kB per layer).

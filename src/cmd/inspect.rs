@@ -151,7 +151,7 @@ fn describe(view: &BundleView<'_>) -> Value {
                 let span = 8.0 * dv.pitch_mm;
                 let mut e = json!({
                     "kind": match dv.kind { MaskKind::Vibration { .. } => "vibration-field", MaskKind::Grating { .. } => "grating-field" },
-                    "tiles": [dv.tile_cols, dv.tile_rows], "stored_tiles": dv.stored, "pitch_mm": dv.pitch_mm,
+                    "tiles": [dv.tile_cols, dv.tile_rows], "stored_tiles": dv.stored, "plane_tiles": dv.plane_count(), "pitch_mm": dv.pitch_mm,
                     "step_mm": dv.step_mm, "soft_mm": dv.soft_mm,
                     "origin_mm": [dv.origin_x.0, dv.origin_y.0],
                     "size_mm": [dv.tile_cols as f32 * span, dv.tile_rows as f32 * span],
@@ -314,11 +314,12 @@ fn human(path: &Path, r: &Value) -> String {
                     format!("soft edge {} mm", num(&c["soft_mm"]))
                 };
                 format!(
-                    "{prim}, amplitude {}, {edge}; {} element(s); distance field {} tiles ({} stored) every {} mm, {} mm from ({}) mm",
+                    "{prim}, amplitude {}, {edge}; {} element(s); distance field {} tiles ({} stored, {} plane) every {} mm, {} mm from ({}) mm",
                     num(&c["amplitude"]),
                     c["elements"],
                     pair(&c["tiles"], " x "),
                     c["stored_tiles"],
+                    c["plane_tiles"],
                     num(&c["pitch_mm"]),
                     pair(&c["size_mm"], " x "),
                     pair(&c["origin_mm"], ", ")

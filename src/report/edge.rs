@@ -267,6 +267,7 @@ mod tests {
             tile_rows: 1,
             sources: vec![0],
             tiles: vec![TILE_FIRST_STORED],
+            planes: vec![],
             samples,
         }
     }

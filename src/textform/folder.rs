@@ -77,6 +77,8 @@ fn is_unpack_file(name: &str) -> bool {
         "grating-field-tiles.csv",
         "vibration-field-samples.png",
         "grating-field-samples.png",
+        "vibration-field-planes.csv",
+        "grating-field-planes.csv",
         "dots.csv",
         "strokes.toml",
         "height.csv",

@@ -29,6 +29,7 @@ const FIELD_KEYS: &[&str] = &[
     "file",
     "tiles",
     "samples",
+    "planes",
     "sources",
     "amplitude",
     "soft_mm",
@@ -316,6 +317,24 @@ fn field_chunk(
     } else {
         Vec::new()
     };
+    let mut planes = Vec::new();
+    if c.has("planes") {
+        let file = safe_name(c, "planes")?;
+        let text = read(file)?;
+        let text = std::str::from_utf8(&text).map_err(|_| TextError::new(file, "expected UTF-8 text"))?;
+        for (n, line) in text.lines().enumerate() {
+            let v: Result<Vec<f32>, _> = line.split(',').map(|v| v.trim().parse::<f32>()).collect();
+            match v.as_deref() {
+                Ok(&[c, gx, gy, top]) => planes.push(taxel_format::TilePlane { c, gx, gy, top }),
+                _ => {
+                    return Err(TextError::new(
+                        file,
+                        format!("line {}: expected four numbers `c, gx, gy, top` separated by commas", n + 1),
+                    ));
+                }
+            }
+        }
+    }
     let sources = c.uint_array("sources", u32::MAX as u64 - 1)?.into_iter().map(|v| v as u32).collect();
     Ok(Chunk::Distance(DistanceLayer {
         kind: mask_kind,
@@ -329,6 +348,7 @@ fn field_chunk(
         tile_rows,
         sources,
         tiles,
+        planes,
         samples,
     }))
 }

@@ -66,7 +66,8 @@ pub fn unpack(name: &str, bytes: &[u8]) -> Result<Vec<(String, Vec<u8>)>, TextEr
                 let _ = writeln!(
                     toml,
                     "kind = \"{kind}\"\n# {file}: the amplitude this layer produces at 10 px/mm, for people (pack ignores it);\n\
-                     # the exact data are the tile index ({tiles}) and the stored tiles' codes.\nfile = \"{file}\"\ntiles = \"{tiles}\""
+                     # the exact data are the tile index ({tiles}: 0 outside, 1 inside, 2 + k stored tile k,\n\
+                     # 2147483648 + p plane record p, 3221225472 + p ridge record p) and the stored tiles' codes and plane records.\nfile = \"{file}\"\ntiles = \"{tiles}\""
                 );
                 if d.stored_tiles() > 0 {
                     let samples = format!("{stem}-{kind}-samples.png");
@@ -78,6 +79,23 @@ pub fn unpack(name: &str, bytes: &[u8]) -> Result<Vec<(String, Vec<u8>)>, TextEr
                         &MaskSamples::U8(d.samples.clone()),
                     )?;
                     files.push((samples, png));
+                }
+                if !d.planes.is_empty() {
+                    // One record a line, `c, gx, gy, top` in codes (SPEC.md section 6.2).
+                    let planes = format!("{stem}-{kind}-planes.csv");
+                    let _ = writeln!(toml, "planes = \"{planes}\"");
+                    let mut csv = String::new();
+                    for p in &d.planes {
+                        let _ = writeln!(
+                            csv,
+                            "{}, {}, {}, {}",
+                            f32_text(p.c),
+                            f32_text(p.gx),
+                            f32_text(p.gy),
+                            f32_text(p.top)
+                        );
+                    }
+                    files.push((planes, csv.into_bytes()));
                 }
                 let sources: Vec<String> = d.sources.iter().map(|s| s.to_string()).collect();
                 let _ = writeln!(

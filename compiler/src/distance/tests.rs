@@ -22,7 +22,13 @@ fn params(pitch: f64, soft: f64) -> FieldParams {
 /// - everywhere in reach, within the Lipschitz bound of bilinear
 ///   interpolation (h √2) plus half a step;
 /// - farther than that from any edge, on the right side (the hard profile's
-///   value is exact).
+///   value is exact);
+/// - in a plane or ridge tile (which plays its function at the point, not a
+///   bilinear interpolation): at the corners and the centre of the point's
+///   cell (what the writer checks, here against exact geometry), within
+///   half a step, or farther than half the ramp plus `h` from the edge
+///   saturated on the exact side; at the point itself on the exact side
+///   farther than `h √2` plus a step from any edge.
 fn check(g: &LayerGeometry<'_>, p: FieldParams, points: &[(f64, f64)]) -> Result<(), TestCaseError> {
     let h = p.pitch_mm;
     let exact = |q: (f64, f64)| exact_signed_distance(g, p.page, q);
@@ -60,6 +66,30 @@ fn check(g: &LayerGeometry<'_>, p: FieldParams, points: &[(f64, f64)]) -> Result
             }
             continue;
         }
+        if let Some(&e_tile) = plane_tile_at(&f, h, q) {
+            let ramp = taxel_format::edge_ramp(p.soft_mm as f32, f.step_mm as f32) as f64;
+            let (full, none) = saturated_codes(p.soft_mm, f.step_mm);
+            let (hi, lo) = ((full as f64 - 128.0) * f.step_mm, (none as f64 - 128.0) * f.step_mm);
+            let tol = f.step_mm * 0.5 + 1e-9;
+            let cap = 127.0 * f.step_mm;
+            for (i, j) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0), (0.5, 0.5)] {
+                let pt = (f.origin.0 + (ci + i) * h, f.origin.1 + (cj + j) * h);
+                let (Some(v), ex) = (field_distance(&f, h, pt), exact(pt).clamp(-cap, cap)) else { continue };
+                // A corner on the tile's far side belongs to the next tile.
+                if plane_tile_at(&f, h, pt) != Some(&e_tile) {
+                    continue;
+                }
+                let near = ramp / 2.0 + h;
+                prop_assert!(
+                    (v - ex).abs() <= tol || ex.abs() > near - 1e-9 && ((ex >= hi && v >= hi) || (ex <= lo && v <= lo)),
+                    "{pt:?}: plane tile, field {v}, exact {ex} (ramp {ramp})"
+                );
+            }
+            if e.abs() > h * std::f64::consts::SQRT_2 + f.step_mm {
+                prop_assert!(got.signum() == e.signum(), "{q:?}: plane tile, field {got}, exact {e}");
+            }
+            continue;
+        }
         if corners.iter().any(|v| v.abs() >= reach) {
             // A clamped cell: saturated on the exact side.
             if e.abs() > h * 1.5 {
@@ -80,6 +110,19 @@ fn check(g: &LayerGeometry<'_>, p: FieldParams, points: &[(f64, f64)]) -> Result
         }
     }
     Ok(())
+}
+
+/// The index entry of the plane or ridge tile `p` lies in, if it does.
+fn plane_tile_at(f: &Field, h: f64, p: (f64, f64)) -> Option<&u32> {
+    let (fx, fy) = ((p.0 - f.origin.0) / h, (p.1 - f.origin.1) / h);
+    if !(fx >= 0.0 && fy >= 0.0) {
+        return None;
+    }
+    let (tx, ty) = (fx as usize / TILE_CELLS, fy as usize / TILE_CELLS);
+    if tx >= f.tile_cols as usize {
+        return None;
+    }
+    f.tiles.get(ty * f.tile_cols as usize + tx).filter(|&&e| e >= taxel_format::TILE_PLANE)
 }
 
 fn grid_points(step: f64) -> Vec<(f64, f64)> {

@@ -474,6 +474,7 @@ fn distance_layers(b: &mut Built, drawing: &Drawing, pending: &[Pending], px: f3
             tile_rows: field.tile_rows,
             sources,
             tiles: field.tiles,
+            planes: field.planes,
             samples: field.samples,
         };
         // The vector-layer prototype's figures and benches see what was built.

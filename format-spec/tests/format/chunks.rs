@@ -65,9 +65,10 @@ fn mask_fields() {
     length(edit_chunk(b"GRAT", |d| d.truncate(40)), b"GRAT");
 }
 
-/// Offset of dot `i` in the first (outline) dot table of the sample: 18 x 13 cells.
+/// Offset of dot `i` in the first (outline) dot table of the sample: 2 x 1
+/// cells of 32 mm (at most one cell per dot: 5 dots, SPEC.md section 7).
 fn dot(i: usize) -> usize {
-    32 + 4 * (18 * 13 + 1) + 20 * i
+    32 + 4 * (2 + 1) + 20 * i
 }
 
 #[test]
@@ -75,7 +76,7 @@ fn dot_table_fields() {
     let grid = edit_chunk(b"DOTS", |_| {});
     let view = BundleView::parse(&grid).unwrap();
     let Some(taxel_format::ChunkView::Dots(d)) = view.chunks().nth(3) else { panic!() };
-    assert_eq!((d.grid.cols, d.grid.rows), (18, 13), "the offsets below assume this grid");
+    assert_eq!((d.grid.cols, d.grid.rows, d.grid.cell_mm), (2, 1, 32.0), "the offsets below assume this grid");
     invalid(edit_chunk(b"DOTS", |d| d[0] = 4), b"DOTS", "kind");
     invalid(edit_chunk(b"DOTS", |d| d[2] = 4), b"DOTS", "reserved");
     invalid(edit_chunk(b"DOTS", |d| put_f32(d, 16, f32::NAN)), b"DOTS", "grid origin_x");
@@ -84,13 +85,14 @@ fn dot_table_fields() {
     // A larger max_radius keeps every dot in its cell but is not the canonical grid.
     invalid(edit_chunk(b"DOTS", |d| put_f32(d, 28, 5.0)), b"DOTS", "grid");
     invalid(edit_chunk(b"DOTS", |d| put_u32(d, 32, 1)), b"DOTS", "grid index");
-    // Dot 0 moved two cells to the right but still listed in cell 0.
-    invalid(edit_chunk(b"DOTS", |d| put_f32(d, dot(0), 9.0)), b"DOTS", "grid index");
+    // Dot 0 moved a cell to the right but still listed in cell 0.
+    invalid(edit_chunk(b"DOTS", |d| put_f32(d, dot(0), 39.0)), b"DOTS", "grid index");
     invalid(edit_chunk(b"DOTS", |d| put_f32(d, dot(0) + 8, 0.0)), b"DOTS", "dot radius");
     invalid(edit_chunk(b"DOTS", |d| put_f32(d, dot(1) + 12, 1.01)), b"DOTS", "dot amplitude");
     invalid(edit_chunk(b"DOTS", |d| put_f32(d, dot(4) + 4, f32::NAN)), b"DOTS", "dot y");
-    // Cell starts that decrease: cell 1 claims to start after cell 2.
-    invalid(edit_chunk(b"DOTS", |d| put_u32(d, 36, 3)), b"DOTS", "grid index");
+    // Cell starts that decrease: cell 1 (4 dots in cell 0) claims to start
+    // after the end (5).
+    invalid(edit_chunk(b"DOTS", |d| put_u32(d, 36, 6)), b"DOTS", "grid index");
     length(edit_chunk(b"DOTS", |d| put_u32(d, 4, 6)), b"DOTS");
     limit(edit_chunk(b"DOTS", |d| put_u32(d, 8, 0)), b"DOTS", "grid cells (1 or more)");
 }
@@ -175,8 +177,8 @@ fn provenance_fields() {
 #[test]
 fn distance_layer_fields() {
     let tag = b"GDST";
-    // Header: sources 2, 3 x 2 tiles, 3 stored.
-    length(edit_chunk(tag, |d| d[12] = 2), tag);
+    // Header: sources 2, 3 x 2 tiles, 2 stored (and 2 plane records).
+    length(edit_chunk(tag, |d| d[12] = 3), tag);
     invalid(edit_chunk(tag, |d| d[4..8].copy_from_slice(&0u32.to_le_bytes())), tag, "tiles");
     invalid(edit_chunk(tag, |d| d[24..28].copy_from_slice(&0.0f32.to_le_bytes())), tag, "pitch_mm");
     invalid(edit_chunk(tag, |d| d[28..32].copy_from_slice(&1.5f32.to_le_bytes())), tag, "amplitude");
@@ -185,11 +187,29 @@ fn distance_layer_fields() {
     invalid(edit_chunk(tag, |d| d[16..20].copy_from_slice(&f32::NAN.to_le_bytes())), tag, "origin_x_mm");
     // Sources ascending: 0, 2 -> 2, 0.
     invalid(edit_chunk(tag, |d| d[48..52].copy_from_slice(&2u32.to_le_bytes())), tag, "sources");
-    // Tile index 0, 2, 3, 1, 4, 0: stored tiles named out of order, or twice.
+    // Tile index 0, 2, plane 0, 1, 3, ridge 1 at 56..80: stored tiles named
+    // out of order, or twice.
     invalid(edit_chunk(tag, |d| d[60..64].copy_from_slice(&3u32.to_le_bytes())), tag, "tile index");
     invalid(edit_chunk(tag, |d| d[64..68].copy_from_slice(&2u32.to_le_bytes())), tag, "tile index");
     // One stored tile fewer than the index names.
     invalid(edit_chunk(tag, |d| d[72..76].copy_from_slice(&0u32.to_le_bytes())), tag, "stored tiles");
+    // Plane records named out of order, or twice.
+    invalid(edit_chunk(tag, |d| d[76..80].copy_from_slice(&0xC000_0000u32.to_le_bytes())), tag, "tile index");
+    invalid(edit_chunk(tag, |d| d[64..68].copy_from_slice(&0x8000_0001u32.to_le_bytes())), tag, "tile index");
+    // An entry with only bit 30 set is no kind at all.
+    invalid(edit_chunk(tag, |d| d[76..80].copy_from_slice(&0x4000_0001u32.to_le_bytes())), tag, "tile index");
+    // One plane record fewer than the index names (the record's bytes
+    // left as samples would be a length error; a plane entry made outside).
+    invalid(edit_chunk(tag, |d| d[76..80].copy_from_slice(&0u32.to_le_bytes())), tag, "planes");
+    // Plane records at 80..112, (c, gx, gy, top): not finite, too steep, too
+    // far, a plane with a top.
+    invalid(edit_chunk(tag, |d| d[80..84].copy_from_slice(&f32::NAN.to_le_bytes())), tag, "plane record");
+    invalid(edit_chunk(tag, |d| d[84..88].copy_from_slice(&f32::INFINITY.to_le_bytes())), tag, "plane record");
+    invalid(edit_chunk(tag, |d| d[88..92].copy_from_slice(&1025.0f32.to_le_bytes())), tag, "plane record");
+    invalid(edit_chunk(tag, |d| d[108..112].copy_from_slice(&70_000.0f32.to_le_bytes())), tag, "plane record");
+    invalid(edit_chunk(tag, |d| d[92..96].copy_from_slice(&1.0f32.to_le_bytes())), tag, "plane record");
+    // The record table's length follows the index.
+    invalid(edit_chunk(tag, |d| d.extend_from_slice(&[0; 16])), tag, "planes");
     length(edit_chunk(tag, |d| d.truncate(47)), tag);
     length(edit_chunk(tag, |d| d.push(0)), tag);
 }

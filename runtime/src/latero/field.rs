@@ -14,11 +14,16 @@
 //! (`tile_lanes`), typed so that the per-row reads need no bounds checks.
 //! A tile wholly inside or outside stores no samples: its lanes read a
 //! static tile of its constant code, which interpolates to that code
-//! exactly, so the per-row kernel has no per-lane select. The cost per
-//! actuator per layer is constant: it depends neither on the number of
-//! shapes in the layer nor on where their edges are.
+//! exactly, so the per-row kernel has no per-lane select. A plane or ridge
+//! tile (format 3.0) stores no samples either: on a tile change each lane
+//! evaluates its record's affine function at its column, so that per row it
+//! costs one multiply-add (and for a ridge an absolute value) and a select;
+//! rows whose lanes read no plane or ridge tile skip that work (one
+//! predictable branch). The cost per actuator per layer is bounded: it
+//! depends neither on the number of shapes in the layer nor on where their
+//! edges are.
 
-use taxel_format::{DistanceView, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE, TILE_SAMPLES, TILE_SIDE};
+use taxel_format::{DistanceView, PLANE_RECORD_LEN, TILE_CELLS, TILE_SAMPLES, TILE_SIDE, TileEntry};
 use wide::bytemuck::cast;
 use wide::{f32x4, i16x8, i32x4, u8x16, u16x8};
 
@@ -43,6 +48,48 @@ const WINDOW: usize = TILE_CELLS * TILE_SIDE + 2;
 type Window = [u8; WINDOW];
 static OUTSIDE_WINDOW: Window = [0; WINDOW];
 
+/// What four lanes read until their tiles change ([`FieldLayer::tile_lanes`]).
+#[derive(Debug, Clone, Copy)]
+struct TileLanes<'a> {
+    /// Each lane's window of samples (a plane or ridge lane's is the
+    /// outside window, whose code its select replaces).
+    windows: [&'a Window; LANES],
+    /// Whether any lane is in a plane or ridge tile.
+    analytic: bool,
+    /// The lanes in plane or ridge tiles.
+    planar: i32x4,
+    /// The ridge lanes among them.
+    ridge: i32x4,
+    /// A planar lane's affine code at its column, `c + gx u`, and its
+    /// gradient along y, codes per lattice cell.
+    a0: f32x4,
+    gy: f32x4,
+    /// A ridge lane's top code.
+    top: f32x4,
+}
+
+impl Default for TileLanes<'_> {
+    fn default() -> Self {
+        TileLanes {
+            windows: [&OUTSIDE_WINDOW; LANES],
+            analytic: false,
+            planar: i32x4::ZERO,
+            ridge: i32x4::ZERO,
+            a0: f32x4::ZERO,
+            gy: f32x4::ZERO,
+            top: f32x4::ZERO,
+        }
+    }
+}
+
+/// What a tile index entry makes a lane read.
+#[derive(Debug, Clone, Copy)]
+enum Read<'a> {
+    Samples(&'a Tile),
+    /// A plane or ridge record's bytes, and whether it is a ridge.
+    Plane(&'a [u8], bool),
+}
+
 /// A distance layer prepared for playback.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct FieldLayer<'a> {
@@ -51,6 +98,8 @@ pub(crate) struct FieldLayer<'a> {
     entries: &'a [[u8; 4]],
     /// The stored tiles' samples, row by row.
     stored: &'a [Tile],
+    /// The plane and ridge records (format 3.0), four little-endian `f32` each.
+    planes: &'a [u8],
     tile_cols: u32,
     /// Largest lattice cell index along x and y.
     cmax: i32,
@@ -79,6 +128,7 @@ impl<'a> FieldLayer<'a> {
             primitive,
             entries: m.tile_bytes().as_chunks::<4>().0,
             stored: m.sample_bytes().as_chunks::<TILE_SAMPLES>().0,
+            planes: m.plane_bytes(),
             tile_cols: m.tile_cols,
             cmax: (m.tile_cols as usize * TILE_CELLS - 1) as i32,
             rmax: (m.tile_rows as usize * TILE_CELLS - 1) as i32,
@@ -106,41 +156,72 @@ impl<'a> FieldLayer<'a> {
         }
     }
 
-    /// For the tile row starting at index entry `tile_row` and four lanes'
-    /// cell columns `ci`: the samples each lane reads until its tile
-    /// changes, as the window of its tile that starts at the lane's column.
-    /// A stored tile's lanes read its samples; a constant tile's lanes read
-    /// a tile of that constant code (0 outside, 255 inside), whose
-    /// interpolation is the constant exactly (the weights sum to `W`), so
-    /// the per-row kernel needs no per-lane select. (An index entry past
-    /// the stored tiles, which validation rules out, reads as outside.)
+    /// For the tile row starting at index entry `tile_row`, four lanes' cell
+    /// columns `ci` and lattice x within their tiles `u`: what each lane
+    /// reads until its tile changes. A stored tile's lanes read the window
+    /// of its samples that starts at the lane's column; a constant tile's
+    /// lanes read a tile of that constant code (0 outside, 255 inside),
+    /// whose interpolation is the constant exactly (the weights sum to
+    /// `W`), so they need no per-lane select; a plane or ridge tile's lanes
+    /// take its affine code at their column, `c + gx u`, and its gradient
+    /// along y. (An index entry past the stored tiles or records, which
+    /// validation rules out, reads as outside.)
     #[inline(always)]
-    fn tile_lanes(&self, tile_row: usize, ci: [u32; LANES]) -> [&'a Window; LANES] {
+    fn tile_lanes(&self, tile_row: usize, ci: [u32; LANES], u: [f32; LANES]) -> TileLanes<'a> {
+        let mut t = TileLanes::default();
+        let (mut planar, mut ridge) = ([0i32; LANES], [0i32; LANES]);
+        let (mut a0, mut gy, mut top) = ([0f32; LANES], [0f32; LANES], [0f32; LANES]);
         // The lanes' columns grow from lane to lane, so neighbours often
         // share a tile: each tile is looked up once.
-        let mut tile = self.tile(tile_row + (ci[0] >> SHIFT) as usize);
+        let mut read = self.tile(tile_row + (ci[0] >> SHIFT) as usize);
         let mut prev = ci[0] >> SHIFT;
-        ci.map(|c| {
+        for k in 0..LANES {
+            let c = ci[k];
             if c >> SHIFT != prev {
                 prev = c >> SHIFT;
-                tile = self.tile(tile_row + prev as usize);
+                read = self.tile(tile_row + prev as usize);
             }
-            let col = (c & (TILE_CELLS as u32 - 1)) as usize;
-            // A column below TILE_CELLS leaves a whole window: never `None`.
-            tile.get(col..col + WINDOW).and_then(|w| w.try_into().ok()).unwrap_or(&OUTSIDE_WINDOW)
-        })
+            match read {
+                Read::Samples(tile) => {
+                    let col = (c & (TILE_CELLS as u32 - 1)) as usize;
+                    // A column below TILE_CELLS leaves a whole window: never `None`.
+                    t.windows[k] =
+                        tile.get(col..col + WINDOW).and_then(|w| w.try_into().ok()).unwrap_or(&OUTSIDE_WINDOW);
+                }
+                Read::Plane(r, is_ridge) => {
+                    let f = |o: usize| r.get(o..o + 4).map_or(0.0, |b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+                    a0[k] = f(0) + f(4) * u[k];
+                    gy[k] = f(8);
+                    planar[k] = -1;
+                    if is_ridge {
+                        top[k] = f(12);
+                        ridge[k] = -1;
+                    }
+                    t.analytic = true;
+                }
+            }
+        }
+        t.planar = i32x4::new(planar);
+        t.ridge = i32x4::new(ridge);
+        (t.a0, t.gy, t.top) = (f32x4::new(a0), f32x4::new(gy), f32x4::new(top));
+        t
     }
 
-    /// The samples of the tile at index entry `i`.
+    /// What the tile at index entry `i` makes its lanes read.
     #[inline(always)]
-    fn tile(&self, i: usize) -> &'a Tile {
-        let e = self.entries.get(i).map_or(TILE_OUTSIDE, |b| u32::from_le_bytes(*b));
-        if e >= TILE_FIRST_STORED {
-            self.stored.get((e - TILE_FIRST_STORED) as usize).unwrap_or(&OUTSIDE)
-        } else if e == TILE_INSIDE {
-            &INSIDE
-        } else {
-            &OUTSIDE
+    fn tile(&self, i: usize) -> Read<'a> {
+        let e = self.entries.get(i).map_or(0, |b| u32::from_le_bytes(*b));
+        match TileEntry::of(e) {
+            TileEntry::Outside => Read::Samples(&OUTSIDE),
+            TileEntry::Inside => Read::Samples(&INSIDE),
+            TileEntry::Stored(k) => Read::Samples(self.stored.get(k as usize).unwrap_or(&OUTSIDE)),
+            TileEntry::Plane(p) | TileEntry::Ridge(p) => {
+                let at = p as usize * PLANE_RECORD_LEN;
+                match self.planes.get(at..at + PLANE_RECORD_LEN) {
+                    Some(r) => Read::Plane(r, matches!(TileEntry::of(e), TileEntry::Ridge(_))),
+                    None => Read::Samples(&OUTSIDE),
+                }
+            }
         }
     }
 
@@ -204,6 +285,9 @@ impl<'a> FieldLayer<'a> {
             let wi = ((fx - f32x4::from_i32x4(ci)).fast_min(f32x4::ONE) * W as f32).fast_round_int();
             let real = lane_index.simd_lt(i32x4::splat((c_hi - cols) as i32));
             let w: i16x8 = cast(((i32x4::splat(W) - wi) | (wi << 16)) & real);
+            // Each lane's lattice x within its tile, for plane and ridge tiles.
+            let tile_x = f32x4::from_i32x4((ci >> SHIFT as i32) << SHIFT as i32);
+            let u = cast::<f32x4, [f32; LANES]>((fx - tile_x).fast_min(f32x4::splat(TILE_CELLS as f32)));
             let ci = cast::<i32x4, [u32; LANES]>(ci);
             // Lanes past the run have weights 0, code 0, but a profile's
             // amplitude at code 0 need not be 0: their factor is.
@@ -213,7 +297,7 @@ impl<'a> FieldLayer<'a> {
             let group_phase = f32x4::splat(base + (cols - c_lo) as u32 as f32 * step_col) + lane_phase;
             // The lanes' tiles change only every eight lattice rows.
             let mut ty_now = u32::MAX;
-            let mut lanes = [&OUTSIDE_WINDOW; LANES];
+            let mut lanes = TileLanes::default();
             let mut r4 = r_lo;
             while r4 < r_hi {
                 // Four rows' lattice cells and vertical weights at once, in
@@ -224,17 +308,27 @@ impl<'a> FieldLayer<'a> {
                 let cj = fy.fast_min(rmax).fast_trunc_int();
                 let wy = (fy - f32x4::from_i32x4(cj)).fast_min(f32x4::ONE).to_array();
                 let cj = cast::<i32x4, [u32; LANES]>(cj);
+                let fy = fy.to_array();
                 for k in 0..LANES.min(r_hi - r4) {
                     let (r, cj, wy) = (r4 + k, cj[k], f32x4::splat(wy[k]));
                     let ty = cj >> SHIFT;
                     if ty != ty_now {
                         ty_now = ty;
-                        lanes = self.tile_lanes(ty as usize * self.tile_cols as usize, ci);
+                        lanes = self.tile_lanes(ty as usize * self.tile_cols as usize, ci, u);
                     }
-                    let (top, bot) = Self::pairs(&lanes, (cj & (TILE_CELLS as u32 - 1)) as usize * TILE_SIDE);
+                    let (top, bot) =
+                        Self::pairs(&lanes.windows, (cj & (TILE_CELLS as u32 - 1)) as usize * TILE_SIDE);
                     let t = f32x4::from_i32x4(top.dot(w));
                     let b = f32x4::from_i32x4(bot.dot(w));
-                    let v = t + (b - t) * wy;
+                    let mut v = t + (b - t) * wy;
+                    if lanes.analytic {
+                        // The plane and ridge lanes' code at this row's
+                        // lattice y within the tile, in units of `W`.
+                        let wt = (fy[k] - (ty << SHIFT) as f32).min(TILE_CELLS as f32);
+                        let plane = lanes.a0 + lanes.gy * wt;
+                        let code = cast::<i32x4, f32x4>(lanes.ridge).select(lanes.top - plane.abs(), plane);
+                        v = cast::<i32x4, f32x4>(lanes.planar).select(code * W as f32, v);
+                    }
                     let a = (v * slope + offset).fast_max(f32x4::ZERO).fast_min(f32x4::ONE);
                     let v = if GRATING {
                         let phase = f32x4::splat((r - f.r0) as u32 as f32 * step_row) + group_phase;

@@ -1,10 +1,11 @@
 //! Distance layers (`VDST`, `GDST`) against an f64 evaluation of SPEC.md
 //! section 6.2 and the seed-000 equations: random sparse fields (inside,
-//! outside and stored tiles with random codes), hard and soft edges, both
-//! primitives, anywhere on and off the lattice.
+//! outside and stored tiles with random codes, plane and ridge tiles with
+//! random records), hard and soft edges, both primitives, anywhere on and
+//! off the lattice.
 
 use proptest::prelude::*;
-use taxel_format::{Chunk, DistanceLayer, MaskKind, Mm};
+use taxel_format::{Chunk, DistanceLayer, MaskKind, Mm, TILE_PLANE, TILE_RIDGE, TilePlane};
 
 use crate::support::*;
 
@@ -22,11 +23,29 @@ fn field(
 ) -> DistanceLayer {
     let mut tiles = Vec::new();
     let mut samples = Vec::new();
+    let mut planes = Vec::new();
     let mut next = 2;
     for k in 0..(cols * rows) as usize {
-        match entries[k % entries.len()] % 3 {
+        // A record from the codes: c within a few hundred codes of the
+        // bias, gradients up to ±64 codes per cell, a top near the bias.
+        let at = |n: usize| codes[(k * 7 + n) % codes.len()] as f32;
+        let record = |top: f32| TilePlane {
+            c: (at(0) - 128.0) * 2.0 + at(1) / 256.0,
+            gx: (at(2) - 128.0) / 2.0,
+            gy: (at(3) - 128.0) / 2.0,
+            top,
+        };
+        match entries[k % entries.len()] % 5 {
             0 => tiles.push(0),
             1 => tiles.push(1),
+            3 => {
+                tiles.push(TILE_PLANE | planes.len() as u32);
+                planes.push(record(0.0));
+            }
+            4 => {
+                tiles.push(TILE_RIDGE | planes.len() as u32);
+                planes.push(record(at(4) + 64.0));
+            }
             _ => {
                 tiles.push(next);
                 next += 1;
@@ -46,6 +65,7 @@ fn field(
         tile_rows: rows,
         sources: vec![],
         tiles,
+        planes,
         samples,
     }
 }

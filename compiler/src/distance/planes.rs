@@ -1,0 +1,362 @@
+//! Plane and ridge tiles (SPEC.md section 6.2, format 3.0): a tile that one
+//! straight edge crosses holds an affine signed distance, and a tile that
+//! one straight band centre line crosses a ridge `top − |affine|`; either is
+//! one 16-byte record instead of 81 samples, and plays the function at the
+//! point itself, with no bilinear interpolation.
+//!
+//! The writer fits the function to the tile's unquantised samples (least
+//! squares, so that exact affine data gives the exact plane) and keeps it
+//! only if, rounded to the record's `f32`s, it is within half a code of the
+//! exact distance at all 81 samples and at the 64 cell centres, wherever that
+//! distance is within the clamp (and saturated on the same side where it is
+//! not). A sampled tile is within half a code at its samples only, so a
+//! plane tile is never worse than the stored tile it replaces there.
+
+use taxel_format::{
+    DISTANCE_ZERO, MAX_PLANE_CODE, MAX_PLANE_GRADIENT, TILE_CELLS, TILE_PLANE, TILE_RIDGE, TILE_SAMPLES, TILE_SIDE,
+    TilePlane,
+};
+
+use super::{LayerGeometry, Near, Part, Seg};
+
+/// Largest error of a plane or ridge tile against the exact distance, codes.
+const TOLERANCE: f64 = 0.5;
+/// The clamp, in codes (the writer clamps distances to ±127 steps).
+const CAP: f64 = 127.0;
+
+/// The unbiased codes from which on the edge profile is saturated: at or
+/// above `hi` a code plays full amplitude, at or below `lo` none (the
+/// `full` and `none` of `saturated_codes`, less the bias).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Saturation {
+    pub hi: f64,
+    pub lo: f64,
+    /// Within this many codes of the edge a code must be within the
+    /// tolerance even where saturated: the profile's half ramp plus one
+    /// lattice pitch, so that every point where the plane's profile is not
+    /// saturated lies within half a pitch of a checked point that pins it.
+    pub near: f64,
+}
+
+impl Saturation {
+    /// Whether the code `v` (unbiased) plays as the exact distance `e`
+    /// (codes, clamped to ±[`CAP`]): within [`TOLERANCE`], or, farther than
+    /// `near` from the edge, both saturated on the same side, where the
+    /// amplitude is the same whatever the code.
+    fn close(&self, v: f64, e: f64) -> bool {
+        (v - e).abs() <= TOLERANCE
+            || e.abs() > self.near && ((e >= self.hi && v >= self.hi) || (e <= self.lo && v <= self.lo))
+    }
+}
+
+/// The windows (largest |code| of the samples fitted) tried in turn: all
+/// unclamped samples, then those within about one and a half cells of the
+/// edge, so that a tile where a second feature bends the distance only in
+/// the saturated part still fits its edge's plane.
+const WINDOWS: [f64; 3] = [CAP, 96.0, 48.0];
+
+/// The plane or ridge that plays a tile's samples (`exact`, unquantised
+/// codes clamped to ±127, row-major 9 x 9) within half a code, or saturated
+/// on the same side where they are, as its tile index kind and record;
+/// `ridge_top` is a vibration layer's half band width in codes (the ridge's
+/// top), `None` for a grating.
+pub(super) fn fit(
+    exact: &[f64; TILE_SAMPLES],
+    ridge_top: Option<f64>,
+    sat: Saturation,
+    lines: &[Line],
+) -> Vec<(u32, TilePlane)> {
+    let at = |t: usize| ((t % TILE_SIDE) as f64, (t / TILE_SIDE) as f64);
+    let plays = |kind: u32, rec: &TilePlane| {
+        exact.iter().enumerate().all(|(t, &e)| {
+            let (u, w) = at(t);
+            sat.close(rec.code(kind, u, w) - DISTANCE_ZERO as f64, e)
+        })
+    };
+    let mut found = Vec::new();
+    // From the geometry: the lines of the segments nearest the edge.
+    for l in lines {
+        for s in [1.0, -1.0] {
+            let rec = match l.top {
+                None => {
+                    record(DISTANCE_ZERO as f64 + s * l.c - l.off, s * l.gx, s * l.gy, 0.0).map(|r| (TILE_PLANE, r))
+                }
+                Some(top) if s > 0.0 => record(l.c, l.gx, l.gy, top + DISTANCE_ZERO as f64).map(|r| (TILE_RIDGE, r)),
+                Some(_) => None,
+            };
+            if let Some((kind, rec)) = rec.filter(|(k, r)| plays(*k, r)) {
+                found.push((kind, rec));
+            }
+        }
+    }
+    for window in WINDOWS {
+        let open = |e: f64| e.abs() < window;
+        // A plane: least squares in (1, u, w) over the samples in the window.
+        let mut ls = LeastSquares::<3>::default();
+        for (t, &e) in exact.iter().enumerate().filter(|(_, e)| open(**e)) {
+            let (u, w) = at(t);
+            ls.add([1.0, u, w], e);
+        }
+        if let Some([c, gx, gy]) = ls.solve() {
+            let rec = record(c + DISTANCE_ZERO as f64, gx, gy, 0.0);
+            if let Some(rec) = rec.filter(|r| plays(TILE_PLANE, r)) {
+                found.push((TILE_PLANE, rec));
+                return found;
+            }
+        }
+        // A ridge: the squared distance to the centre line,
+        // `(c + gx u + gy w)²` = `(top − e)²`, is a quadratic in (u, w) whose
+        // coefficients give the line.
+        let Some(top) = ridge_top else { continue };
+        let mut ls = LeastSquares::<6>::default();
+        for (t, &e) in exact.iter().enumerate().filter(|(_, e)| open(**e)) {
+            let (u, w) = at(t);
+            let m = top - e;
+            ls.add([u * u, u * w, w * w, u, w, 1.0], m * m);
+        }
+        let Some([a, b, cc, d, e, _]) = ls.solve() else { continue };
+        let gx = a.max(0.0).sqrt();
+        let gy = cc.max(0.0).sqrt() * if b < 0.0 { -1.0 } else { 1.0 };
+        let g2 = gx * gx + gy * gy;
+        if g2 <= 0.0 {
+            continue;
+        }
+        let c = (d * gx + e * gy) / (2.0 * g2);
+        if let Some(rec) = record(c, gx, gy, top + DISTANCE_ZERO as f64).filter(|r| plays(TILE_RIDGE, r)) {
+            found.push((TILE_RIDGE, rec));
+            return found;
+        }
+    }
+    found
+}
+
+/// A segment's line over a tile, in codes: the signed distance to it is
+/// `c + gx u + gy w` at lattice coordinates `(u, w)` in the tile; a fill's
+/// edge plays it less `off` (a cut band's half width), a band's centre line
+/// as the ridge `top − |…|`.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Line {
+    c: f64,
+    gx: f64,
+    gy: f64,
+    off: f64,
+    top: Option<f64>,
+}
+
+/// The lines of the segments nearest the tile's sample nearest its edge
+/// (and, for a band, nearest its sample on the ridge), at most a few.
+pub(super) fn nearest_lines(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Vec<Line> {
+    let mut out = Vec::new();
+    let pick = |key: &dyn Fn(f64) -> f64| (0..TILE_SAMPLES).min_by(|&a, &b| key(exact[a]).total_cmp(&key(exact[b])));
+    let mut probes = vec![pick(&|e: f64| e.abs())];
+    if let Some((_, w)) = &t.g.band {
+        let top = w / 2.0 / t.step;
+        probes.push(pick(&|e: f64| (e - top).abs()));
+    }
+    for probe in probes.into_iter().flatten() {
+        let p = (t.corner.0 + (probe % TILE_SIDE) as f64 * t.h, t.corner.1 + (probe / TILE_SIDE) as f64 * t.h);
+        let mut near: Vec<(f64, u32)> = t
+            .bucket
+            .iter()
+            .filter_map(|&n| t.segs.get(n as usize).map(|((a, b), _, _)| (super::distance2_to_segment(p, *a, *b), n)))
+            .collect();
+        near.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for &(_, n) in near.iter().take(2) {
+            let Some(&((a, b), part, _)) = t.segs.get(n as usize) else { continue };
+            let len = (b.0 - a.0).hypot(b.1 - a.1);
+            if !(len > 0.0) {
+                continue;
+            }
+            // The unit normal, and the signed distance at the tile's corner.
+            let (nx, ny) = ((a.1 - b.1) / len, (b.0 - a.0) / len);
+            let k = t.h / t.step;
+            let c = (nx * (t.corner.0 - a.0) + ny * (t.corner.1 - a.1)) / t.step;
+            let (off, top) = match part {
+                Part::Cut(kc) => (t.g.cuts.get(kc).map_or(0.0, |c| c.1) / 2.0 / t.step, None),
+                Part::Band => (0.0, t.g.band.as_ref().map(|(_, w)| w / 2.0 / t.step)),
+                _ => (0.0, None),
+            };
+            out.push(Line { c, gx: nx * k, gy: ny * k, off, top });
+            if let Part::Band = part {
+                // A band's edge alone (the other side clamped): a plane.
+                out.push(Line { c, gx: nx * k, gy: ny * k, off: -w_half(t), top: None });
+            }
+        }
+    }
+    out
+}
+
+/// A band layer's half width in codes (0 without a band).
+fn w_half(t: &TileCtx<'_, '_>) -> f64 {
+    t.g.band.as_ref().map_or(0.0, |(_, w)| w / 2.0 / t.step)
+}
+
+/// A record in `f32`, if its values are within the format's bounds.
+fn record(c: f64, gx: f64, gy: f64, top: f64) -> Option<TilePlane> {
+    let ok = |v: f64, m: f32| v.is_finite() && v.abs() <= m as f64;
+    (ok(c, MAX_PLANE_CODE) && ok(top, MAX_PLANE_CODE) && ok(gx, MAX_PLANE_GRADIENT) && ok(gy, MAX_PLANE_GRADIENT))
+        .then(|| TilePlane { c: c as f32, gx: gx as f32, gy: gy as f32, top: top as f32 })
+}
+
+/// Normal equations of a linear least-squares fit in `N` unknowns.
+struct LeastSquares<const N: usize> {
+    a: [[f64; N]; N],
+    b: [f64; N],
+    n: usize,
+}
+
+impl<const N: usize> Default for LeastSquares<N> {
+    fn default() -> Self {
+        LeastSquares { a: [[0.0; N]; N], b: [0.0; N], n: 0 }
+    }
+}
+
+impl<const N: usize> LeastSquares<N> {
+    fn add(&mut self, x: [f64; N], y: f64) {
+        for i in 0..N {
+            for j in 0..N {
+                self.a[i][j] += x[i] * x[j];
+            }
+            self.b[i] += x[i] * y;
+        }
+        self.n += 1;
+    }
+
+    /// The solution, by Gaussian elimination with partial pivoting; `None`
+    /// when the samples do not determine it.
+    fn solve(&self) -> Option<[f64; N]> {
+        if self.n < N {
+            return None;
+        }
+        let (mut a, mut b) = (self.a, self.b);
+        let scale = a.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+        for col in 0..N {
+            let piv = (col..N).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
+            if !(a[piv][col].abs() > 1e-12 * scale) {
+                return None;
+            }
+            a.swap(col, piv);
+            b.swap(col, piv);
+            for row in col + 1..N {
+                let f = a[row][col] / a[col][col];
+                for k in col..N {
+                    a[row][k] -= f * a[col][k];
+                }
+                b[row] -= f * b[col];
+            }
+        }
+        let mut x = [0.0; N];
+        for row in (0..N).rev() {
+            let s: f64 = (row + 1..N).map(|k| a[row][k] * x[k]).sum();
+            x[row] = (b[row] - s) / a[row][row];
+        }
+        x.iter().all(|v| v.is_finite()).then_some(x)
+    }
+}
+
+/// One tile of a layer being built: what measuring its cell centres needs.
+pub(super) struct TileCtx<'a, 'g> {
+    pub g: &'a LayerGeometry<'g>,
+    pub segs: &'a [(Seg, Part, f64)],
+    pub bucket: &'a [u32],
+    /// Page position of the tile's first lattice point.
+    pub corner: (f64, f64),
+    pub h: f64,
+    pub margin: f64,
+    pub page: (f64, f64, f64, f64),
+    /// The clamp in codes, and mm per code.
+    pub cap: f64,
+    pub step: f64,
+    pub sat: Saturation,
+    /// Index of the tile's first cell centre in `centre_bits`, and centres per row.
+    pub first: usize,
+    pub nx: usize,
+    pub centre_bits: &'a CentreBits,
+}
+
+/// Inside-the-fills, inside-the-occluders and inside-each-clip bits at
+/// every cell centre of a layer's lattice (row-major, as the lattice points).
+pub(super) struct CentreBits {
+    pub inside: Vec<bool>,
+    pub occluded: Vec<bool>,
+    pub clips: Vec<Vec<bool>>,
+}
+
+impl TileCtx<'_, '_> {
+    /// Whether plane record `rec` (tile index kind `kind`) plays the exact
+    /// distance within half a code (or saturated on the exact side) at the
+    /// tile's 64 cell centres; `centres` is scratch.
+    ///
+    pub(super) fn centres_fit(&self, centres: &mut Near, kind: u32, rec: &TilePlane) -> bool {
+        let h = self.h;
+        centres.measure(
+            self.g,
+            self.segs,
+            self.bucket,
+            (self.corner.0 + h / 2.0, self.corner.1 + h / 2.0),
+            h,
+            self.margin,
+        );
+        let mut in_clip = vec![false; self.centre_bits.clips.len()];
+        for j in 0..TILE_CELLS {
+            for i in 0..TILE_CELLS {
+                let tc = j * TILE_SIDE + i;
+                let k = self.first + j * self.nx + i;
+                for (slot, bits) in in_clip.iter_mut().zip(&self.centre_bits.clips) {
+                    *slot = bits[k];
+                }
+                let (inside, occluded) = (self.centre_bits.inside[k], self.centre_bits.occluded[k]);
+                let p = (self.corner.0 + (i as f64 + 0.5) * h, self.corner.1 + (j as f64 + 0.5) * h);
+                let s = centres.signed(self.g, tc, (inside, occluded), &in_clip, p, self.page);
+                let e = (s / self.step).clamp(-self.cap, self.cap);
+                let v = rec.code(kind, i as f64 + 0.5, j as f64 + 0.5) - DISTANCE_ZERO as f64;
+                if !self.sat.close(v, e) {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SAT: Saturation = Saturation { hi: 1.0, lo: -1.0, near: 64.0 };
+
+    fn samples(f: impl Fn(f64, f64) -> f64) -> [f64; TILE_SAMPLES] {
+        std::array::from_fn(|t| f((t % TILE_SIDE) as f64, (t / TILE_SIDE) as f64).clamp(-CAP, CAP))
+    }
+
+    #[test]
+    fn an_affine_tile_fits_a_plane_exactly() {
+        let f = |u: f64, w: f64| 3.0 + 12.5 * u - 7.25 * w;
+        let (kind, rec) = fit(&samples(f), None, SAT, &[]).into_iter().next().expect("a plane");
+        assert_eq!(kind, TILE_PLANE);
+        for (u, w) in [(0.0, 0.0), (3.5, 2.25), (8.0, 8.0)] {
+            assert!((rec.code(kind, u, w) - 128.0 - f(u, w)).abs() < 1e-3);
+        }
+    }
+
+    #[test]
+    fn a_band_across_a_tile_fits_a_ridge() {
+        // Distance 30 codes per cell; the line through (4, 0) and (6, 8).
+        let (nx, ny) = (8.0 / 68f64.sqrt(), -2.0 / 68f64.sqrt());
+        let f = |u: f64, w: f64| 90.0 - 30.0 * (nx * (u - 4.0) + ny * w).abs();
+        let (kind, rec) = fit(&samples(f), Some(90.0), SAT, &[]).into_iter().next().expect("a ridge");
+        assert_eq!(kind, TILE_RIDGE);
+        for (u, w) in [(0.0, 0.0), (4.5, 1.5), (5.0, 4.0), (8.0, 8.0)] {
+            assert!((rec.code(kind, u, w) - 128.0 - f(u, w).clamp(-CAP, CAP)).abs() < 1e-2 || f(u, w) < -CAP);
+        }
+        // Without a band the same samples are no plane.
+        assert_eq!(fit(&samples(f), None, SAT, &[]), vec![]);
+    }
+
+    #[test]
+    fn a_corner_is_no_plane() {
+        // Inside a square corner the distance is the min of two planes.
+        let f = |u: f64, w: f64| 10.0 * (u - 4.0).min(w - 4.0);
+        assert_eq!(fit(&samples(f), None, SAT, &[]), vec![]);
+    }
+}
