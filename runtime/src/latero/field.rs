@@ -34,6 +34,9 @@ const SHIFT: u32 = TILE_CELLS.trailing_zeros();
 #[derive(Debug, Clone, Copy, Default)]
 struct TileLanes {
     base: [usize; LANES],
+    /// Whether any lane is in a plane or ridge tile: else the others'
+    /// code is the constant `a0` and the row loop skips the plane's algebra.
+    analytic: bool,
     stored: i32x4,
     a0: f32x4,
     gy: f32x4,
@@ -133,6 +136,7 @@ impl<'a> FieldLayer<'a> {
                     // The chunk was validated, so the record is there; a
                     // missing one plays as outside rather than panicking.
                     if let Some(r) = self.planes.get(at..at + PLANE_RECORD_LEN) {
+                        t.analytic = true;
                         a0[k] = f(r, 0) + f(r, 4) * u[k];
                         gy[k] = f(r, 8);
                         if matches!(TileEntry::of(e), TileEntry::Ridge(_)) {
@@ -232,9 +236,13 @@ impl<'a> FieldLayer<'a> {
                 let b = f32x4::from_i32x4(bot.dot(w));
                 // The other lanes' code at this row's lattice y within the
                 // tile, converted to units of `W`, whatever was read.
-                let wt = (fy - (ty << SHIFT) as f32).min(TILE_CELLS as f32);
-                let plane = tl.a0 + tl.gy * wt;
-                let code = cast::<i32x4, f32x4>(tl.ridge).select(tl.top - plane.abs(), plane);
+                let code = if tl.analytic {
+                    let wt = (fy - (ty << SHIFT) as f32).min(TILE_CELLS as f32);
+                    let plane = tl.a0 + tl.gy * wt;
+                    cast::<i32x4, f32x4>(tl.ridge).select(tl.top - plane.abs(), plane)
+                } else {
+                    tl.a0
+                };
                 let v = cast::<i32x4, f32x4>(tl.stored).select(t + (b - t) * wy, code * W as f32);
                 // Lanes past the run have weights 0: code 0, amplitude 0.
                 let a = (v * slope + offset).fast_max(f32x4::ZERO).fast_min(f32x4::ONE);
