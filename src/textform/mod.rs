@@ -86,6 +86,7 @@ mod tests {
                 "01-vibration.png",
                 "02-grating.png",
                 "03-grating-field-samples.png",
+                "03-grating-field-planes.csv",
                 "03-grating-field-tiles.csv",
                 "03-grating-field.png",
                 "04-dots.csv",
