@@ -86,6 +86,7 @@ mod tests {
                 "01-vibration.png",
                 "02-grating.png",
                 "03-grating-field-samples.png",
+                "03-grating-field-planes.csv",
                 "03-grating-field-tiles.csv",
                 "03-grating-field.png",
                 "04-dots.csv",
@@ -100,9 +101,11 @@ mod tests {
             ]
         );
         // A distance layer: its amplitude as a picture, and the exact data
-        // (tile index and stored tiles) that pack reads.
+        // (tile index, stored tiles and plane records) that pack reads.
         let tiles = &files.iter().find(|(n, _)| n == "03-grating-field-tiles.csv").unwrap().1;
-        assert_eq!(String::from_utf8(tiles.clone()).unwrap(), "0,2,3\n1,4,0\n");
+        assert_eq!(String::from_utf8(tiles.clone()).unwrap(), "0,2,2147483648\n1,3,3221225473\n");
+        let planes = &files.iter().find(|(n, _)| n == "03-grating-field-planes.csv").unwrap().1;
+        assert_eq!(String::from_utf8(planes.clone()).unwrap(), "100.0, 4.5, -2.25, 0.0\n-10.0, 3.0, 1.5, 160.0\n");
         let manifest = String::from_utf8(files.last().unwrap().1.clone()).unwrap();
         assert!(manifest.starts_with(MANIFEST_HEADER));
         assert!(manifest.contains("kind = \"grating\"\nfile = \"02-grating.png\"\namplitude = 0.1\n"), "{manifest}");

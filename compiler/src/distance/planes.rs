@@ -164,7 +164,7 @@ pub(super) fn nearest_lines(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) ->
         for &(_, n) in near.iter().take(2) {
             let Some(&((a, b), part, _)) = t.segs.get(n as usize) else { continue };
             let len = (b.0 - a.0).hypot(b.1 - a.1);
-            if !(len > 0.0) {
+            if len.is_nan() || len <= 0.0 {
                 continue;
             }
             // The unit normal, and the signed distance at the tile's corner.
@@ -195,7 +195,7 @@ fn w_half(t: &TileCtx<'_, '_>) -> f64 {
 fn record(c: f64, gx: f64, gy: f64, top: f64) -> Option<TilePlane> {
     let ok = |v: f64, m: f32| v.is_finite() && v.abs() <= m as f64;
     (ok(c, MAX_PLANE_CODE) && ok(top, MAX_PLANE_CODE) && ok(gx, MAX_PLANE_GRADIENT) && ok(gy, MAX_PLANE_GRADIENT))
-        .then(|| TilePlane { c: c as f32, gx: gx as f32, gy: gy as f32, top: top as f32 })
+        .then_some(TilePlane { c: c as f32, gx: gx as f32, gy: gy as f32, top: top as f32 })
 }
 
 /// Normal equations of a linear least-squares fit in `N` unknowns.
@@ -232,17 +232,19 @@ impl<const N: usize> LeastSquares<N> {
         let scale = a.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
         for col in 0..N {
             let piv = (col..N).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
-            if !(a[piv][col].abs() > 1e-12 * scale) {
+            // A pivot that is no pivot (also a NaN one): undetermined.
+            if a[piv][col].abs().partial_cmp(&(1e-12 * scale)) != Some(std::cmp::Ordering::Greater) {
                 return None;
             }
             a.swap(col, piv);
             b.swap(col, piv);
-            for row in col + 1..N {
-                let f = a[row][col] / a[col][col];
-                for k in col..N {
-                    a[row][k] -= f * a[col][k];
+            let (pivot_row, pivot_b) = (a[col], b[col]);
+            for (row, rb) in a.iter_mut().zip(b.iter_mut()).skip(col + 1) {
+                let f = row[col] / pivot_row[col];
+                for (v, p) in row.iter_mut().zip(&pivot_row).skip(col) {
+                    *v -= f * p;
                 }
-                b[row] -= f * b[col];
+                *rb -= f * pivot_b;
             }
         }
         let mut x = [0.0; N];
