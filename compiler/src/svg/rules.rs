@@ -207,7 +207,9 @@ fn confusable_gratings(f: &[Feature], diags: &mut Vec<Diagnostic>) {
                 for k in qindex.meeting(spatial::grow(f[i].bbox, ADJACENT_MM)) {
                     let (a, b) = (i.min(qs[k]), i.max(qs[k]));
                     if f[a].elem != f[b].elem {
-                        let g = gap(&f[a], &f[b], ADJACENT_MM);
+                        let g = gap(&f[a], &f[b], ADJACENT_MM, |r, stop| {
+                            spatial::min_outline_distance(&f[a].outline, &f[b].outline, r, stop)
+                        });
                         if g <= ADJACENT_MM {
                             found.push((a, b, g));
                         }
@@ -250,9 +252,10 @@ fn confusable_gratings(f: &[Feature], diags: &mut Vec<Diagnostic>) {
 /// smallest gap found, each limited to that gap (segments farther away are
 /// not looked at). Touching neighbours are skipped whatever their number.
 fn nearest_gaps(f: &[Feature], index: &spatial::BoxIndex) -> Vec<Option<(usize, f64)>> {
+    let outlines = spatial::OutlineSet::new(f.iter().map(|x| x.outline.as_slice()));
     let mut out = Vec::with_capacity(f.len());
     let mut cands: Vec<(f64, usize)> = Vec::new();
-    for b in f {
+    for (j, b) in f.iter().enumerate() {
         cands.clear();
         cands.extend(
             index
@@ -268,7 +271,7 @@ fn nearest_gaps(f: &[Feature], index: &spatial::BoxIndex) -> Vec<Option<(usize, 
             if lower >= limit {
                 break;
             }
-            let g = gap(&f[i], b, limit);
+            let g = gap(&f[i], b, limit, |r, stop| outlines.distance(i, j, r, stop));
             if g > 0.0 && (g < limit || (g == limit && best.is_some_and(|(k, _)| i < k))) {
                 best = Some((i, g));
             }
@@ -280,7 +283,9 @@ fn nearest_gaps(f: &[Feature], index: &spatial::BoxIndex) -> Vec<Option<(usize, 
 
 /// The gap between two features' footprints (≤ 0 when they touch or overlap),
 /// exact when it is at most `reach`; otherwise some value above `reach`.
-fn gap(a: &Feature, b: &Feature, reach: f64) -> f64 {
+/// `outline_distance(reach, stop_at)` is [`spatial::min_outline_distance`]
+/// between the two outlines (prepared once for all pairs in [`nearest_gaps`]).
+fn gap(a: &Feature, b: &Feature, reach: f64, outline_distance: impl FnOnce(f64, f64) -> f64) -> f64 {
     // A feature inside a filled region overlaps it, whatever the distance to its outline.
     for (r, o) in [(a, b), (b, a)] {
         if let FeatureKind::Grating { .. } = r.kind {
@@ -294,7 +299,7 @@ fn gap(a: &Feature, b: &Feature, reach: f64) -> f64 {
         (true, true) => {
             // Outlines that touch or cross need no exact distance: every rule treats them alike.
             let bands = a.half_band + b.half_band;
-            spatial::min_outline_distance(&a.outline, &b.outline, reach + bands, bands) - bands
+            outline_distance(reach + bands, bands) - bands
         }
         (false, true) | (true, false) => {
             let (d, m) = if a.dots.is_empty() { (b, a) } else { (a, b) };
@@ -542,6 +547,11 @@ mod tests {
             .collect()
     }
 
+    /// The exact gap between two features, every segment pair measured.
+    fn reference_gap(a: &Feature, b: &Feature) -> f64 {
+        gap(a, b, 1e9, |r, stop| spatial::min_outline_distance(&a.outline, &b.outline, r, stop))
+    }
+
     #[test]
     fn nearest_gaps_are_those_of_an_all_pairs_scan() {
         for seed in [1, 2, 3] {
@@ -553,7 +563,7 @@ mod tests {
                 // Every other feature, its exact gap with no reach to cut it short.
                 let want = (0..f.len())
                     .filter(|&i| f[i].elem != b.elem)
-                    .map(|i| gap(&f[i], b, 1e9))
+                    .map(|i| reference_gap(&f[i], b))
                     .filter(|&g| g > 0.0 && g < MIN_GAP_MM)
                     .fold(None, |m: Option<f64>, g| Some(m.map_or(g, |m| m.min(g))));
                 match (got[j], want) {
@@ -562,7 +572,10 @@ mod tests {
                         reported += 1;
                         assert!((g - w).abs() < 1e-12, "seed {seed}, f{j}: nearest gap {g}, all pairs {w}");
                         assert!(f[i].elem != b.elem);
-                        assert!((gap(&f[i], b, 1e9) - g).abs() < 1e-12, "seed {seed}, f{j}: #f{i} is not {g} away");
+                        assert!(
+                            (reference_gap(&f[i], b) - g).abs() < 1e-12,
+                            "seed {seed}, f{j}: #f{i} is not {g} away"
+                        );
                     }
                     (g, w) => panic!("seed {seed}, f{j}: nearest {g:?}, all pairs {w:?}"),
                 }
