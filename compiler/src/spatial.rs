@@ -73,6 +73,13 @@ impl BoxIndex {
         let q = usable(query).then(|| envelope(query));
         q.into_iter().flat_map(move |q| self.tree.locate_in_envelope_intersecting(&q).map(|e| e.index))
     }
+
+    /// Positions and boxes of the boxes that meet `query`, in no particular
+    /// order (the boxes come from the index, so callers need not look them up).
+    pub fn meeting_boxes(&self, query: Bbox) -> impl Iterator<Item = (usize, Bbox)> + '_ {
+        let q = usable(query).then(|| envelope(query));
+        q.into_iter().flat_map(move |q| self.tree.locate_in_envelope_intersecting(&q).map(|e| (e.index, e.bbox)))
+    }
 }
 
 /// Boxes placed one at a time, each refused when it would meet one already
@@ -283,12 +290,31 @@ impl OutlineSet {
             return f64::INFINITY;
         };
         let (gi, gj) = (grow(bj, reach), grow(bi, reach));
+        let near = |k: usize, g: Bbox| self.segments(k).iter().filter(move |s| meet(s.bbox, g));
+        let mut best = f64::INFINITY;
+        if self.trees[i].is_none() && self.trees[j].is_none() {
+            // Short outlines (a street, a small region): every pair of
+            // segments near the other outline's box, skipping pairs whose
+            // boxes are farther apart than the best so far (or the reach).
+            let sj = self.segments(j);
+            for s in near(i, gi) {
+                for t in sj {
+                    let r = best.min(reach);
+                    if box_distance2(s.bbox, t.bbox) > r * r {
+                        continue;
+                    }
+                    best = best.min(segment_distance(s.a, s.b, t.a, t.b));
+                    if best <= stop_at {
+                        return best;
+                    }
+                }
+            }
+            return best;
+        }
         // The side with fewer segments near the other's box is walked; the
         // other is searched, through its tree when it has one.
-        let near = |k: usize, g: Bbox| self.segments(k).iter().filter(move |s| meet(s.bbox, g));
         let (ni, nj) = (near(i, gi).count(), near(j, gj).count());
         let (walk, wg, other, og) = if ni <= nj { (i, gi, j, gj) } else { (j, gj, i, gi) };
-        let mut best = f64::INFINITY;
         match &self.trees[other] {
             Some(tree) if ni.min(nj).saturating_mul(ni.max(nj)) > 4096 => {
                 for s in near(walk, wg) {
@@ -306,8 +332,6 @@ impl OutlineSet {
             _ => {
                 for s in near(walk, wg) {
                     for t in near(other, og) {
-                        // Pairs whose boxes are farther apart than the best
-                        // so far (or the reach) cannot lower it.
                         let r = best.min(reach);
                         if box_distance2(s.bbox, t.bbox) > r * r {
                             continue;
