@@ -426,7 +426,7 @@ mod tests {
             y += (next() - 0.5) * step;
             points.push((x, y));
         }
-        vec![Polyline { points, closed: n % 3 == 0 }]
+        vec![Polyline { points, closed: n.is_multiple_of(3) }]
     }
 
     #[test]
