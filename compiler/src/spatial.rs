@@ -73,6 +73,13 @@ impl BoxIndex {
         let q = usable(query).then(|| envelope(query));
         q.into_iter().flat_map(move |q| self.tree.locate_in_envelope_intersecting(&q).map(|e| e.index))
     }
+
+    /// Positions and boxes of the boxes that meet `query`, in no particular
+    /// order (the boxes come from the index, so callers need not look them up).
+    pub fn meeting_boxes(&self, query: Bbox) -> impl Iterator<Item = (usize, Bbox)> + '_ {
+        let q = usable(query).then(|| envelope(query));
+        q.into_iter().flat_map(move |q| self.tree.locate_in_envelope_intersecting(&q).map(|e| (e.index, e.bbox)))
+    }
 }
 
 /// Boxes placed one at a time, each refused when it would meet one already
@@ -208,6 +215,139 @@ pub fn min_outline_distance(a: &[Polyline], b: &[Polyline], reach: f64, stop_at:
     best
 }
 
+/// Squared distance between two boxes (0 when they meet).
+fn box_distance2(a: Bbox, b: Bbox) -> f64 {
+    let dx = (b.0 - a.2).max(a.0 - b.2).max(0.0);
+    let dy = (b.1 - a.3).max(a.1 - b.3).max(0.0);
+    dx * dx + dy * dy
+}
+
+/// One segment of a prepared outline and its box.
+#[derive(Debug, Clone, Copy)]
+struct Seg {
+    a: (f64, f64),
+    b: (f64, f64),
+    bbox: Bbox,
+}
+
+/// Outlines with more segments than this get their own R*-tree, so that two
+/// long borders cost O(n log n) instead of O(n²) segment pairs.
+const TREE_ABOVE: usize = 64;
+
+/// Many outlines prepared once for [`OutlineSet::distance`] between any two:
+/// each one's segments with their boxes, its box, and for long outlines an
+/// R*-tree of their segments. [`min_outline_distance`] prepares both outlines
+/// on every call (collecting their segments, measuring their boxes, building
+/// a tree), which dominated the gap rule when a dense drawing gives each
+/// element hundreds of candidate neighbours.
+#[derive(Debug)]
+pub struct OutlineSet {
+    segs: Vec<Seg>,
+    /// Outline `k`'s segments are `segs[start[k]..start[k + 1]]`.
+    start: Vec<usize>,
+    bounds: Vec<Option<Bbox>>,
+    trees: Vec<Option<RTree<Segment>>>,
+}
+
+impl OutlineSet {
+    /// Prepares `outlines` (every segment of every subpath, closing segments
+    /// included, as [`min_outline_distance`] measures them).
+    pub fn new<'a>(outlines: impl IntoIterator<Item = &'a [Polyline]>) -> Self {
+        let mut set = OutlineSet { segs: Vec::new(), start: vec![0], bounds: Vec::new(), trees: Vec::new() };
+        for polys in outlines {
+            let first = set.segs.len();
+            set.segs.extend(polys.iter().flat_map(|p| p.segments()).map(|(a, b)| Seg { a, b, bbox: seg_box((a, b)) }));
+            set.start.push(set.segs.len());
+            set.bounds.push(crate::geometry::bounds(polys));
+            let own = &set.segs[first..];
+            set.trees.push(
+                (own.len() > TREE_ABOVE).then(|| RTree::bulk_load(own.iter().map(|s| Segment((s.a, s.b))).collect())),
+            );
+        }
+        set
+    }
+
+    /// How many outlines were prepared.
+    pub fn len(&self) -> usize {
+        self.bounds.len()
+    }
+
+    /// Whether no outline was prepared.
+    pub fn is_empty(&self) -> bool {
+        self.bounds.is_empty()
+    }
+
+    fn segments(&self, k: usize) -> &[Seg] {
+        &self.segs[self.start[k]..self.start[k + 1]]
+    }
+
+    /// [`min_outline_distance`] between outlines `i` and `j`: the smallest
+    /// distance between them when it is at most `reach`, otherwise some value
+    /// above `reach`; some value at or below `stop_at` as soon as one is found.
+    /// Out-of-range positions are as far as can be (infinite).
+    pub fn distance(&self, i: usize, j: usize, reach: f64, stop_at: f64) -> f64 {
+        let (Some(&Some(bi)), Some(&Some(bj))) = (self.bounds.get(i), self.bounds.get(j)) else {
+            return f64::INFINITY;
+        };
+        let (gi, gj) = (grow(bj, reach), grow(bi, reach));
+        let near = |k: usize, g: Bbox| self.segments(k).iter().filter(move |s| meet(s.bbox, g));
+        let mut best = f64::INFINITY;
+        if self.trees[i].is_none() && self.trees[j].is_none() {
+            // Short outlines (a street, a small region): every pair of
+            // segments near the other outline's box, skipping pairs whose
+            // boxes are farther apart than the best so far (or the reach).
+            let sj = self.segments(j);
+            for s in near(i, gi) {
+                for t in sj {
+                    let r = best.min(reach);
+                    if box_distance2(s.bbox, t.bbox) > r * r {
+                        continue;
+                    }
+                    best = best.min(segment_distance(s.a, s.b, t.a, t.b));
+                    if best <= stop_at {
+                        return best;
+                    }
+                }
+            }
+            return best;
+        }
+        // The side with fewer segments near the other's box is walked; the
+        // other is searched, through its tree when it has one.
+        let (ni, nj) = (near(i, gi).count(), near(j, gj).count());
+        let (walk, wg, other, og) = if ni <= nj { (i, gi, j, gj) } else { (j, gj, i, gi) };
+        match &self.trees[other] {
+            Some(tree) if ni.min(nj).saturating_mul(ni.max(nj)) > 4096 => {
+                for s in near(walk, wg) {
+                    let r = best.min(reach);
+                    let q = envelope(grow(s.bbox, r));
+                    for t in tree.locate_in_envelope_intersecting(&q) {
+                        let (q0, q1) = t.0;
+                        best = best.min(segment_distance(s.a, s.b, q0, q1));
+                        if best <= stop_at {
+                            return best;
+                        }
+                    }
+                }
+            }
+            _ => {
+                for s in near(walk, wg) {
+                    for t in near(other, og) {
+                        let r = best.min(reach);
+                        if box_distance2(s.bbox, t.bbox) > r * r {
+                            continue;
+                        }
+                        best = best.min(segment_distance(s.a, s.b, t.a, t.b));
+                        if best <= stop_at {
+                            return best;
+                        }
+                    }
+                }
+            }
+        }
+        best
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -275,6 +415,74 @@ mod tests {
             let (fast, slow) = (segment_distance(a0, a1, b0, b1), crate::geometry::segment_distance(a0, a1, b0, b1));
             assert!((fast - slow).abs() < 1e-9, "{a0:?} {a1:?} {b0:?} {b1:?}: {fast} vs {slow}");
         }
+    }
+
+    /// A random-walk outline of `n` segments from `(x, y)`, closed or open.
+    fn walk(next: &mut impl FnMut() -> f64, x: f64, y: f64, n: usize, step: f64) -> Vec<Polyline> {
+        let (mut x, mut y) = (x, y);
+        let mut points = vec![(x, y)];
+        for _ in 0..n {
+            x += (next() - 0.5) * step;
+            y += (next() - 0.5) * step;
+            points.push((x, y));
+        }
+        vec![Polyline { points, closed: n.is_multiple_of(3) }]
+    }
+
+    #[test]
+    fn prepared_outline_distances_are_those_of_every_segment_pair() {
+        let mut s = 4242u64;
+        let mut next = || {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (s >> 33) as f64 / (1u64 << 31) as f64
+        };
+        // Short ways and long borders (above the tree threshold), packed so that many cross.
+        let outlines: Vec<Vec<Polyline>> = (0..60)
+            .map(|k| {
+                let n = if k % 5 == 0 { 150 + k } else { 1 + k % 17 };
+                let (x, y) = (next() * 30.0, next() * 30.0);
+                walk(&mut next, x, y, n, if n > 100 { 1.5 } else { 4.0 })
+            })
+            .chain([vec![], vec![Polyline { points: vec![(3.0, 3.0)], closed: false }]])
+            .collect();
+        let set = OutlineSet::new(outlines.iter().map(Vec::as_slice));
+        assert_eq!(set.len(), outlines.len());
+        let mut within = 0;
+        for i in 0..outlines.len() {
+            for j in 0..outlines.len() {
+                // The exact distance: every pair of segments.
+                let exact = outlines[i]
+                    .iter()
+                    .flat_map(|p| p.segments())
+                    .flat_map(|a| outlines[j].iter().flat_map(|p| p.segments()).map(move |b| (a, b)))
+                    .map(|(a, b)| segment_distance(a.0, a.1, b.0, b.1))
+                    .fold(f64::INFINITY, f64::min);
+                for reach in [0.5, 3.2, 10.0] {
+                    let d = set.distance(i, j, reach, 0.0);
+                    if exact <= reach {
+                        within += 1;
+                        assert_eq!(d, exact, "{i} {j} reach {reach}");
+                    } else {
+                        assert!(d > reach, "{i} {j} reach {reach}: {d}, exact {exact}");
+                    }
+                    let old = min_outline_distance(&outlines[i], &outlines[j], reach, 0.0);
+                    assert_eq!(old <= reach, d <= reach, "{i} {j} reach {reach}");
+                    if exact <= reach {
+                        assert_eq!(old, d);
+                    }
+                    // Stopping early at 1 mm: some value at or below it when
+                    // the outlines come that close, the exact distance otherwise.
+                    let stop = set.distance(i, j, reach, 1.0);
+                    if exact <= reach.min(1.0) {
+                        assert!(stop <= 1.0, "{i} {j} reach {reach}: {stop}, exact {exact}");
+                    } else if exact > 1.0 {
+                        assert!(stop > 1.0 && (exact > reach || stop == exact), "{i} {j} reach {reach}: {stop}");
+                    }
+                }
+            }
+        }
+        assert!(within > 1000, "only {within} pairs within reach");
+        assert_eq!(set.distance(0, 999, 10.0, 0.0), f64::INFINITY);
     }
 
     #[test]

@@ -19,9 +19,10 @@ pub struct Region<'a> {
 /// only for them, so the cost grows as n log n for a map, not n².
 pub fn touching(regions: &[Region<'_>], near: f64) -> Vec<(usize, usize)> {
     let boxes: Vec<Bbox> = regions.iter().map(|r| r.bbox).collect();
+    let outlines = outlines(regions);
     spatial::near_pairs(&boxes, near)
         .into_iter()
-        .filter(|&(i, j)| near_or_inside(&regions[i], &regions[j], near))
+        .filter(|&(i, j)| near_or_inside(regions, &outlines, i, j, near))
         .collect()
 }
 
@@ -31,13 +32,14 @@ pub fn touching(regions: &[Region<'_>], near: f64) -> Vec<(usize, usize)> {
 pub fn abutting(regions: &[Region<'_>], abut: f64) -> Vec<bool> {
     let boxes: Vec<Bbox> = regions.iter().map(|r| r.bbox).collect();
     let index = spatial::BoxIndex::new(&boxes);
+    let outlines = outlines(regions);
     let mut out = vec![false; regions.len()];
     for (k, r) in regions.iter().enumerate() {
         if out[k] {
             continue;
         }
         for j in index.meeting(spatial::grow(r.bbox, abut)) {
-            if j != k && spatial::min_outline_distance(r.outline, regions[j].outline, abut, 0.0) <= abut {
+            if j != k && outlines.distance(k, j, abut, 0.0) <= abut {
                 out[k] = true;
                 out[j] = true;
                 break;
@@ -57,6 +59,7 @@ pub fn abutting(regions: &[Region<'_>], abut: f64) -> Vec<bool> {
 pub fn class_edges(regions: &[Region<'_>], class_of: &[Option<usize>], near: f64) -> Vec<(usize, usize)> {
     let boxes: Vec<Bbox> = regions.iter().map(|r| r.bbox).collect();
     let index = spatial::BoxIndex::new(&boxes);
+    let outlines = outlines(regions);
     let mut edges = std::collections::BTreeSet::new();
     for (k, a) in regions.iter().enumerate() {
         let Some(ca) = class_of.get(k).copied().flatten() else { continue };
@@ -66,7 +69,7 @@ pub fn class_edges(regions: &[Region<'_>], class_of: &[Option<usize>], near: f64
             if j <= k || ca == cb || edges.contains(&e) {
                 continue;
             }
-            if near_or_inside(a, &regions[j], near) {
+            if near_or_inside(regions, &outlines, k, j, near) {
                 edges.insert(e);
             }
         }
@@ -74,12 +77,18 @@ pub fn class_edges(regions: &[Region<'_>], class_of: &[Option<usize>], near: f64
     edges.into_iter().collect()
 }
 
-/// Whether the outlines of `a` and `b` come within `near` mm, or one lies inside the other.
-fn near_or_inside(a: &Region<'_>, b: &Region<'_>, near: f64) -> bool {
+/// The regions' outlines, prepared once for every pair's distance.
+fn outlines(regions: &[Region<'_>]) -> spatial::OutlineSet {
+    spatial::OutlineSet::new(regions.iter().map(|r| r.outline))
+}
+
+/// Whether the outlines of regions `i` and `j` come within `near` mm, or one lies inside the other.
+fn near_or_inside(regions: &[Region<'_>], outlines: &spatial::OutlineSet, i: usize, j: usize, near: f64) -> bool {
     let inside = |r: &Region<'_>, o: &Region<'_>| {
         o.outline.iter().find_map(|p| p.points.first()).is_some_and(|&p| contains(r.outline, p, FillRule::NonZero))
     };
-    spatial::min_outline_distance(a.outline, b.outline, near, 0.0) <= near || inside(a, b) || inside(b, a)
+    let (a, b) = (&regions[i], &regions[j]);
+    outlines.distance(i, j, near, 0.0) <= near || inside(a, b) || inside(b, a)
 }
 
 /// Colours the graph of `n` classes with at most `colours` colours, taking the

@@ -137,25 +137,22 @@ fn counts(built: &Built, diags: &mut Vec<Diagnostic>) {
 /// with how many neighbours fall within a rule's radius (a map shrunk by
 /// `--fit` packs ever more of them into 10 mm):
 ///
-/// - overlaps (T0406, T0410): the pairs whose boxes meet;
+/// - overlaps (T0406, T0410): the pairs whose boxes meet, found in the same
+///   pass as the gaps' candidates;
 /// - confusable gratings (T0401, T0402): only between textures that can be
 ///   confused, each pair of such textures through its own index;
 /// - gaps (T0408): each feature's nearest distinct neighbour that does not
-///   touch it, exact distances taken nearest box first and only while a box
-///   could still hold a nearer one.
+///   touch it, each pair measured once and only while its boxes could still
+///   hold a nearer gap for one of the two.
 fn pairs(built: &Built, diags: &mut Vec<Diagnostic>) {
     let f = &built.features;
     let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
     let index = spatial::BoxIndex::new(&boxes);
-    for (i, a) in f.iter().enumerate() {
-        let mut met: Vec<usize> = index.meeting(a.bbox).filter(|&j| j > i).collect();
-        met.sort_unstable();
-        for j in met {
-            overlap(built, a, &f[j], diags);
-        }
-    }
+    let mut overlaps = Vec::new();
+    let gaps = nearest_gaps(f, &index, |i, j| overlap(built, &f[i], &f[j], &mut overlaps));
+    diags.append(&mut overlaps);
     confusable_gratings(f, diags);
-    for (j, near) in nearest_gaps(f, &index).into_iter().enumerate() {
+    for (j, near) in gaps.into_iter().enumerate() {
         if let Some((i, g)) = near {
             diags.push(at(
                 Diagnostic::warning(
@@ -207,7 +204,9 @@ fn confusable_gratings(f: &[Feature], diags: &mut Vec<Diagnostic>) {
                 for k in qindex.meeting(spatial::grow(f[i].bbox, ADJACENT_MM)) {
                     let (a, b) = (i.min(qs[k]), i.max(qs[k]));
                     if f[a].elem != f[b].elem {
-                        let g = gap(&f[a], &f[b], ADJACENT_MM);
+                        let g = gap(&f[a], &f[b], ADJACENT_MM, |r, stop| {
+                            spatial::min_outline_distance(&f[a].outline, &f[b].outline, r, stop)
+                        });
                         if g <= ADJACENT_MM {
                             found.push((a, b, g));
                         }
@@ -242,45 +241,85 @@ fn confusable_gratings(f: &[Feature], diags: &mut Vec<Diagnostic>) {
 
 /// For each feature, its nearest feature of another element whose footprint
 /// comes closer than [`MIN_GAP_MM`] without touching it (a gap above 0), and
-/// that gap; `None` when there is none.
+/// that gap; `None` when there is none. Among equal gaps the first feature
+/// is named.
 ///
-/// The candidates are the features whose boxes come within [`MIN_GAP_MM`];
-/// the distance between boxes bounds the gap from below, so exact gaps are
-/// taken nearest box first and only until the next box is farther than the
-/// smallest gap found, each limited to that gap (segments farther away are
-/// not looked at). Touching neighbours are skipped whatever their number.
-fn nearest_gaps(f: &[Feature], index: &spatial::BoxIndex) -> Vec<Option<(usize, f64)>> {
-    let mut out = Vec::with_capacity(f.len());
+/// The candidates are the features whose boxes come within [`MIN_GAP_MM`].
+/// Each pair is measured once, for both of its features (a dense plan gives
+/// every way hundreds of candidates, nearly all touching it, and measuring
+/// them from both sides was half the rule's cost). A pair
+/// is skipped when its boxes are already farther apart than both features'
+/// nearest gaps so far (the distance between boxes bounds the gap from
+/// below), and measured only up to the larger of the two, segments farther
+/// away not looked at. The candidates are not sorted by box distance: in a
+/// dense drawing nearly all boxes meet, so sorting bought no pruning and
+/// cost a few per cent. The outlines are prepared once for all pairs.
+///
+/// The same pass calls `on_meet(i, j)` for every pair `i < j` whose boxes
+/// meet and that are not one layer (whose overlaps need a look), in order of
+/// `i` then `j`.
+fn nearest_gaps(
+    f: &[Feature],
+    index: &spatial::BoxIndex,
+    mut on_meet: impl FnMut(usize, usize),
+) -> Vec<Option<(usize, f64)>> {
+    let outlines = spatial::OutlineSet::new(f.iter().map(|x| x.outline.as_slice()));
+    // What the pass reads of every neighbour, side by side in memory: in a
+    // dense drawing each feature has hundreds of neighbours, and reading
+    // them from the features themselves was a cache miss each.
+    let elems: Vec<usize> = f.iter().map(|x| x.elem).collect();
+    let masks: Vec<Option<usize>> = f.iter().map(|x| x.mask).collect();
+    let mut best: Vec<Option<(usize, f64)>> = vec![None; f.len()];
+    let limit = |b: Option<(usize, f64)>| b.map_or(MIN_GAP_MM, |(_, g)| g);
+    // Whether gap `g` to feature `k` is nearer than `b` (or as near, and `k` first).
+    let nearer = |b: Option<(usize, f64)>, k: usize, g: f64| {
+        g > 0.0 && (g < limit(b) || (g == limit(b) && b.is_some_and(|(m, _)| k < m)))
+    };
+    let mut near: Vec<(usize, spatial::Bbox)> = Vec::new();
+    let mut met: Vec<usize> = Vec::new();
     let mut cands: Vec<(f64, usize)> = Vec::new();
-    for b in f {
+    for (i, a) in f.iter().enumerate() {
+        near.clear();
+        near.extend(index.meeting_boxes(spatial::grow(a.bbox, MIN_GAP_MM)).filter(|&(j, _)| j > i));
+        met.clear();
+        met.extend(
+            near.iter()
+                .filter(|&&(j, bj)| spatial::meet(a.bbox, bj) && !(masks[i].is_some() && masks[i] == masks[j]))
+                .map(|&(j, _)| j),
+        );
+        met.sort_unstable();
+        for &j in &met {
+            on_meet(i, j);
+        }
         cands.clear();
         cands.extend(
-            index
-                .meeting(spatial::grow(b.bbox, MIN_GAP_MM))
-                .filter(|&i| f[i].elem != b.elem)
-                .map(|i| (spatial::box_distance(f[i].bbox, b.bbox), i))
+            near.iter()
+                .filter(|&&(j, _)| elems[j] != elems[i])
+                .map(|&(j, bj)| (spatial::box_distance(bj, a.bbox), j))
                 .filter(|&(d, _)| d < MIN_GAP_MM),
         );
-        cands.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
-        let mut best: Option<(usize, f64)> = None;
-        for &(lower, i) in &cands {
-            let limit = best.map_or(MIN_GAP_MM, |(_, g)| g);
-            if lower >= limit {
-                break;
+        for &(lower, j) in &cands {
+            let reach = limit(best[i]).max(limit(best[j]));
+            if lower >= reach {
+                continue;
             }
-            let g = gap(&f[i], b, limit);
-            if g > 0.0 && (g < limit || (g == limit && best.is_some_and(|(k, _)| i < k))) {
-                best = Some((i, g));
+            let g = gap(a, &f[j], reach, |r, stop| outlines.distance(i, j, r, stop));
+            if nearer(best[i], j, g) {
+                best[i] = Some((j, g));
+            }
+            if nearer(best[j], i, g) {
+                best[j] = Some((i, g));
             }
         }
-        out.push(best);
     }
-    out
+    best
 }
 
 /// The gap between two features' footprints (≤ 0 when they touch or overlap),
 /// exact when it is at most `reach`; otherwise some value above `reach`.
-fn gap(a: &Feature, b: &Feature, reach: f64) -> f64 {
+/// `outline_distance(reach, stop_at)` is [`spatial::min_outline_distance`]
+/// between the two outlines (prepared once for all pairs in [`nearest_gaps`]).
+fn gap(a: &Feature, b: &Feature, reach: f64, outline_distance: impl FnOnce(f64, f64) -> f64) -> f64 {
     // A feature inside a filled region overlaps it, whatever the distance to its outline.
     for (r, o) in [(a, b), (b, a)] {
         if let FeatureKind::Grating { .. } = r.kind {
@@ -294,7 +333,7 @@ fn gap(a: &Feature, b: &Feature, reach: f64) -> f64 {
         (true, true) => {
             // Outlines that touch or cross need no exact distance: every rule treats them alike.
             let bands = a.half_band + b.half_band;
-            spatial::min_outline_distance(&a.outline, &b.outline, reach + bands, bands) - bands
+            outline_distance(reach + bands, bands) - bands
         }
         (false, true) | (true, false) => {
             let (d, m) = if a.dots.is_empty() { (b, a) } else { (a, b) };
@@ -542,18 +581,23 @@ mod tests {
             .collect()
     }
 
+    /// The exact gap between two features, every segment pair measured.
+    fn reference_gap(a: &Feature, b: &Feature) -> f64 {
+        gap(a, b, 1e9, |r, stop| spatial::min_outline_distance(&a.outline, &b.outline, r, stop))
+    }
+
     #[test]
     fn nearest_gaps_are_those_of_an_all_pairs_scan() {
         for seed in [1, 2, 3] {
             let f = random_features(seed, 300);
             let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
-            let got = nearest_gaps(&f, &spatial::BoxIndex::new(&boxes));
+            let got = nearest_gaps(&f, &spatial::BoxIndex::new(&boxes), |_, _| {});
             let mut reported = 0;
             for (j, b) in f.iter().enumerate() {
                 // Every other feature, its exact gap with no reach to cut it short.
                 let want = (0..f.len())
                     .filter(|&i| f[i].elem != b.elem)
-                    .map(|i| gap(&f[i], b, 1e9))
+                    .map(|i| reference_gap(&f[i], b))
                     .filter(|&g| g > 0.0 && g < MIN_GAP_MM)
                     .fold(None, |m: Option<f64>, g| Some(m.map_or(g, |m| m.min(g))));
                 match (got[j], want) {
@@ -562,7 +606,10 @@ mod tests {
                         reported += 1;
                         assert!((g - w).abs() < 1e-12, "seed {seed}, f{j}: nearest gap {g}, all pairs {w}");
                         assert!(f[i].elem != b.elem);
-                        assert!((gap(&f[i], b, 1e9) - g).abs() < 1e-12, "seed {seed}, f{j}: #f{i} is not {g} away");
+                        assert!(
+                            (reference_gap(&f[i], b) - g).abs() < 1e-12,
+                            "seed {seed}, f{j}: #f{i} is not {g} away"
+                        );
                     }
                     (g, w) => panic!("seed {seed}, f{j}: nearest {g:?}, all pairs {w:?}"),
                 }
