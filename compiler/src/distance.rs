@@ -159,7 +159,20 @@ pub fn exact_signed_distance(g: &LayerGeometry<'_>, page: (f64, f64, f64, f64), 
 fn distance2_to_segment(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);
     let len2 = dx * dx + dy * dy;
-    let t = if len2 > 0.0 { (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / len2).clamp(0.0, 1.0) } else { 0.0 };
+    // The division only where the projection falls inside the segment: a
+    // numerator at or below 0 (at or above `len2`) divides to a value the
+    // clamp takes to 0 (1) anyway, since correctly rounded division is
+    // monotone, so the result is the same to the bit and most samples of a
+    // short segment skip the division's latency (an infinite numerator
+    // still divides, as `inf / inf` is NaN).
+    let num = (p.0 - a.0) * dx + (p.1 - a.1) * dy;
+    let t = if !(len2 > 0.0) || num <= 0.0 {
+        0.0
+    } else if num >= len2 && num.is_finite() {
+        1.0
+    } else {
+        (num / len2).clamp(0.0, 1.0)
+    };
     let (ex, ey) = (a.0 + t * dx - p.0, a.1 + t * dy - p.1);
     ex * ex + ey * ey
 }
@@ -184,7 +197,7 @@ enum Part {
     Fill,
     /// The layer's band centre line.
     Band,
-    /// Cut band `k`.
+    /// A cut band of width group `k` (cuts of one width share a running minimum).
     Cut(usize),
     /// Clip region `k`.
     Clip(usize),
@@ -299,9 +312,21 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
             }
         }
     }
-    for (k, (lines, w)) in g.cuts.iter().enumerate() {
+    // Cuts grouped by width: within a group, the minimum of `d - w/2` over
+    // segments is `sqrt(min d²) - w/2` exactly (square root and subtraction
+    // of a constant are monotone under IEEE rounding), so each sample keeps a
+    // squared minimum per width instead of taking a square root per segment.
+    let mut cut_widths: Vec<f64> = Vec::new();
+    for (lines, w) in &g.cuts {
+        let group = match cut_widths.iter().position(|v| v.to_bits() == w.to_bits()) {
+            Some(k) => k,
+            None => {
+                cut_widths.push(*w);
+                cut_widths.len() - 1
+            }
+        };
         for pl in lines.iter() {
-            segs.extend(pl.segments().map(|s| (s, Part::Cut(k), w / 2.0 + reach)));
+            segs.extend(pl.segments().map(|s| (s, Part::Cut(group), w / 2.0 + reach)));
         }
     }
     for (k, (pls, _)) in g.clips.iter().enumerate() {
@@ -347,9 +372,9 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
     // The unquantised distances of the tile's samples, in codes (clamped).
     let mut exact = [0f64; TILE_SAMPLES];
     let mut planes = Vec::new();
-    let mut near = Near::new(g.clips.len());
+    let mut near = Near::new(g.clips.len(), cut_widths.clone());
     // The same at the tile's cell centres, for the plane fits' check.
-    let mut near_centres = Near::new(g.clips.len());
+    let mut near_centres = Near::new(g.clips.len(), cut_widths);
     let ridge_top = g.band.as_ref().map(|(_, w)| w / 2.0 / step);
     // Inside bits at the cell centres, swept when a tile first fits a plane.
     let mut centre_bits: Option<planes::CentreBits> = None;
@@ -378,7 +403,7 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
                     if felt_here && inside_rect(pg, corner) > 0.0 { TILE_INSIDE } else { TILE_OUTSIDE };
                 continue;
             }
-            near.measure(g, &segs, bucket, corner, h, margin);
+            near.measure(&segs, bucket, corner, h, margin);
             let mut clipped = vec![false; clip_bits.len()];
             for j in 0..TILE_SIDE {
                 for i in 0..TILE_SIDE {
@@ -464,34 +489,36 @@ fn saturated_codes(soft: f64, step: f64) -> (u8, u8) {
 }
 
 /// The nearest segments of each part at every sample of one tile, as squared
-/// distances (the cuts as one running minimum of distance minus half width).
+/// distances (the cuts per width group).
 struct Near {
     fill: [f64; TILE_SAMPLES],
     band: [f64; TILE_SAMPLES],
     occ: [f64; TILE_SAMPLES],
-    cut: [f64; TILE_SAMPLES],
+    /// `TILE_SAMPLES` per cut width group.
+    cut: Vec<f64>,
+    /// The width of each cut group, mm.
+    cut_widths: Vec<f64>,
     /// `TILE_SAMPLES` per clip region.
     clip: Vec<f64>,
 }
 
 impl Near {
-    fn new(clips: usize) -> Self {
+    fn new(clips: usize, cut_widths: Vec<f64>) -> Self {
         let inf = [f64::INFINITY; TILE_SAMPLES];
-        Near { fill: inf, band: inf, occ: inf, cut: inf, clip: vec![f64::INFINITY; clips * TILE_SAMPLES] }
+        Near {
+            fill: inf,
+            band: inf,
+            occ: inf,
+            cut: vec![f64::INFINITY; cut_widths.len() * TILE_SAMPLES],
+            cut_widths,
+            clip: vec![f64::INFINITY; clips * TILE_SAMPLES],
+        }
     }
 
     /// Measures each segment of `bucket` at the tile's samples (corner
     /// `corner`, pitch `h`) within its reach plus `margin`. Squared distances
     /// in the loop: this is the innermost loop of every layer.
-    fn measure(
-        &mut self,
-        g: &LayerGeometry<'_>,
-        segs: &[(Seg, Part, f64)],
-        bucket: &[u32],
-        corner: (f64, f64),
-        h: f64,
-        margin: f64,
-    ) {
+    fn measure(&mut self, segs: &[(Seg, Part, f64)], bucket: &[u32], corner: (f64, f64), h: f64, margin: f64) {
         self.fill.fill(f64::INFINITY);
         self.band.fill(f64::INFINITY);
         self.occ.fill(f64::INFINITY);
@@ -523,11 +550,10 @@ impl Near {
                         Part::Fill => &mut self.fill[t],
                         Part::Band => &mut self.band[t],
                         Part::Occluder => &mut self.occ[t],
-                        Part::Cut(k) => {
-                            let w = g.cuts.get(k).map_or(0.0, |c| c.1);
-                            self.cut[t] = self.cut[t].min(d.sqrt() - w / 2.0);
-                            continue;
-                        }
+                        Part::Cut(k) => match self.cut.get_mut(k * TILE_SAMPLES + t) {
+                            Some(slot) => slot,
+                            None => continue,
+                        },
                         Part::Clip(k) => match self.clip.get_mut(k * TILE_SAMPLES + t) {
                             Some(slot) => slot,
                             None => continue,
@@ -558,8 +584,9 @@ impl Near {
         if let Some((_, w)) = &g.band {
             s = s.max(w / 2.0 - d_band);
         }
-        if !g.cuts.is_empty() {
-            s = s.min(self.cut[t]);
+        for (k, w) in self.cut_widths.iter().enumerate() {
+            let d = self.cut.get(k * TILE_SAMPLES + t).map_or(f64::INFINITY, |d| d.sqrt());
+            s = s.min(d - w / 2.0);
         }
         for (k, &in_k) in in_clip.iter().enumerate() {
             let d = self.clip.get(k * TILE_SAMPLES + t).map_or(f64::INFINITY, |d| d.sqrt());

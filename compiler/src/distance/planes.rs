@@ -292,7 +292,6 @@ impl TileCtx<'_, '_> {
     pub(super) fn centres_fit(&self, centres: &mut Near, kind: u32, rec: &TilePlane) -> bool {
         let h = self.h;
         centres.measure(
-            self.g,
             self.segs,
             self.bucket,
             (self.corner.0 + h / 2.0, self.corner.1 + h / 2.0),
