@@ -116,9 +116,14 @@ pub fn dump(b: &Bundle) -> String {
                 };
                 let stored = d.samples.len() / taxel_format::TILE_SAMPLES;
                 let inside = d.tiles.iter().filter(|&&t| t == taxel_format::TILE_INSIDE).count();
+                let count = |f: fn(taxel_format::TileEntry) -> bool| {
+                    d.tiles.iter().filter(|&&t| f(taxel_format::TileEntry::of(t))).count()
+                };
+                let planes = count(|e| matches!(e, taxel_format::TileEntry::Plane(_)));
+                let ridges = count(|e| matches!(e, taxel_format::TileEntry::Ridge(_)));
                 writeln!(
                     s,
-                    "{kind} amplitude {} soft {} sources {:?}: {} x {} tiles every {} mm from ({:.2}, {:.2}) mm, {stored} stored, {inside} inside",
+                    "{kind} amplitude {} soft {} sources {:?}: {} x {} tiles every {} mm from ({:.2}, {:.2}) mm, {stored} stored, {planes} plane, {ridges} ridge, {inside} inside",
                     d.amplitude, d.soft_mm, d.sources, d.tile_cols, d.tile_rows, d.pitch_mm, d.origin_x.0, d.origin_y.0
                 )
                 .unwrap();
