@@ -166,7 +166,7 @@ fn distance2_to_segment(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
     // short segment skip the division's latency (an infinite numerator
     // still divides, as `inf / inf` is NaN).
     let num = (p.0 - a.0) * dx + (p.1 - a.1) * dy;
-    let t = if !(len2 > 0.0) || num <= 0.0 {
+    let t = if len2 <= 0.0 || len2.is_nan() || num <= 0.0 {
         0.0
     } else if num >= len2 && num.is_finite() {
         1.0
