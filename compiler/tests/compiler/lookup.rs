@@ -13,7 +13,7 @@ fn names(svg: &str, opts: &CompileOptions, points: &[(f64, f64)]) -> Vec<Option<
     let c = no_internal_error(compile_svg(svg, opts));
     let bytes = bundle(&c).to_bytes().unwrap();
     let view = BundleView::parse(&bytes).unwrap();
-    assert_eq!(view.version(), (2, 1), "a bundle with footprints is 2.1");
+    assert_eq!(view.version(), (3, 0), "format 3.0 has footprints");
     let lookup = PointLookup::new(&view, PointLookup::DEFAULT_TOLERANCE_MM).expect("footprints");
     points.iter().map(|&(x, y)| lookup.under(x, y).map(|h| h.name())).collect()
 }
