@@ -291,13 +291,7 @@ impl TileCtx<'_, '_> {
     ///
     pub(super) fn centres_fit(&self, centres: &mut Near, kind: u32, rec: &TilePlane) -> bool {
         let h = self.h;
-        centres.measure(
-            self.segs,
-            self.bucket,
-            (self.corner.0 + h / 2.0, self.corner.1 + h / 2.0),
-            h,
-            self.margin,
-        );
+        centres.measure(self.segs, self.bucket, (self.corner.0 + h / 2.0, self.corner.1 + h / 2.0), h, self.margin);
         let mut in_clip = vec![false; self.centre_bits.clips.len()];
         for j in 0..TILE_CELLS {
             for i in 0..TILE_CELLS {

@@ -316,8 +316,7 @@ impl<'a> FieldLayer<'a> {
                         ty_now = ty;
                         lanes = self.tile_lanes(ty as usize * self.tile_cols as usize, ci, u);
                     }
-                    let (top, bot) =
-                        Self::pairs(&lanes.windows, (cj & (TILE_CELLS as u32 - 1)) as usize * TILE_SIDE);
+                    let (top, bot) = Self::pairs(&lanes.windows, (cj & (TILE_CELLS as u32 - 1)) as usize * TILE_SIDE);
                     let t = f32x4::from_i32x4(top.dot(w));
                     let b = f32x4::from_i32x4(bot.dot(w));
                     let mut v = t + (b - t) * wy;
