@@ -297,19 +297,7 @@ impl OutlineSet {
             // segments near the other outline's box, skipping pairs whose
             // boxes are farther apart than the best so far (or the reach).
             let sj = self.segments(j);
-            for s in near(i, gi) {
-                for t in sj {
-                    let r = best.min(reach);
-                    if box_distance2(s.bbox, t.bbox) > r * r {
-                        continue;
-                    }
-                    best = best.min(segment_distance(s.a, s.b, t.a, t.b));
-                    if best <= stop_at {
-                        return best;
-                    }
-                }
-            }
-            return best;
+            return scan_pairs(near(i, gi), || sj.iter(), best, reach, stop_at);
         }
         // The side with fewer segments near the other's box is walked; the
         // other is searched, through its tree when it has one.
@@ -329,23 +317,35 @@ impl OutlineSet {
                     }
                 }
             }
-            _ => {
-                for s in near(walk, wg) {
-                    for t in near(other, og) {
-                        let r = best.min(reach);
-                        if box_distance2(s.bbox, t.bbox) > r * r {
-                            continue;
-                        }
-                        best = best.min(segment_distance(s.a, s.b, t.a, t.b));
-                        if best <= stop_at {
-                            return best;
-                        }
-                    }
-                }
-            }
+            _ => best = scan_pairs(near(walk, wg), || near(other, og), best, reach, stop_at),
         }
         best
     }
+}
+
+/// The smallest distance between a segment of `ss` and one of `ts()`, down
+/// from `best`, skipping pairs whose boxes lie farther apart than the best so
+/// far (or `reach`); some value at or below `stop_at` as soon as one is found.
+fn scan_pairs<'s, T: Iterator<Item = &'s Seg>>(
+    ss: impl Iterator<Item = &'s Seg>,
+    ts: impl Fn() -> T,
+    mut best: f64,
+    reach: f64,
+    stop_at: f64,
+) -> f64 {
+    for s in ss {
+        for t in ts() {
+            let r = best.min(reach);
+            if box_distance2(s.bbox, t.bbox) > r * r {
+                continue;
+            }
+            best = best.min(segment_distance(s.a, s.b, t.a, t.b));
+            if best <= stop_at {
+                return best;
+            }
+        }
+    }
+    best
 }
 
 #[cfg(test)]
