@@ -424,7 +424,8 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
                 TILE_INSIDE
             } else if tile_buf.iter().all(|&v| v <= none) {
                 TILE_OUTSIDE
-            } else if let Some((entry, rec)) = {
+            } else {
+                // A plane or ridge where one plays the tile, else its samples.
                 let tile = planes::TileCtx {
                     g,
                     segs: &segs,
@@ -449,17 +450,21 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
                     }),
                 };
                 let lines = planes::nearest_lines(&tile, &exact);
-                planes::fit(&exact, ridge_top, sat, &lines)
+                let fitted = planes::fit(&exact, ridge_top, sat, &lines)
                     .into_iter()
-                    .find(|(e, rec)| tile.centres_fit(&mut near_centres, *e, rec))
-            } {
-                let n = planes.len() as u32;
-                planes.push(rec);
-                entry | n
-            } else {
-                let n = (samples.len() / TILE_SAMPLES) as u32;
-                samples.extend_from_slice(&tile_buf);
-                TILE_FIRST_STORED + n
+                    .find(|(e, rec)| tile.centres_fit(&mut near_centres, *e, rec));
+                match fitted {
+                    Some((entry, rec)) => {
+                        let n = planes.len() as u32;
+                        planes.push(rec);
+                        entry | n
+                    }
+                    None => {
+                        let n = (samples.len() / TILE_SAMPLES) as u32;
+                        samples.extend_from_slice(&tile_buf);
+                        TILE_FIRST_STORED + n
+                    }
+                }
             };
         }
     }

@@ -149,8 +149,8 @@ pub(super) fn nearest_lines(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) ->
     let mut out = Vec::new();
     let pick = |key: &dyn Fn(f64) -> f64| (0..TILE_SAMPLES).min_by(|&a, &b| key(exact[a]).total_cmp(&key(exact[b])));
     let mut probes = vec![pick(&|e: f64| e.abs())];
-    if let Some((_, w)) = &t.g.band {
-        let top = w / 2.0 / t.step;
+    if t.g.band.is_some() {
+        let top = w_half(t);
         probes.push(pick(&|e: f64| (e - top).abs()));
     }
     for probe in probes.into_iter().flatten() {
@@ -173,7 +173,7 @@ pub(super) fn nearest_lines(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) ->
             let c = (nx * (t.corner.0 - a.0) + ny * (t.corner.1 - a.1)) / t.step;
             let (off, top) = match part {
                 Part::Cut(kc) => (t.g.cuts.get(kc).map_or(0.0, |c| c.1) / 2.0 / t.step, None),
-                Part::Band => (0.0, t.g.band.as_ref().map(|(_, w)| w / 2.0 / t.step)),
+                Part::Band => (0.0, Some(w_half(t))),
                 _ => (0.0, None),
             };
             out.push(Line { c, gx: nx * k, gy: ny * k, off, top });
@@ -288,7 +288,6 @@ impl TileCtx<'_, '_> {
     /// Whether plane record `rec` (tile index kind `kind`) plays the exact
     /// distance within half a code (or saturated on the exact side) at the
     /// tile's 64 cell centres; `centres` is scratch.
-    ///
     pub(super) fn centres_fit(&self, centres: &mut Near, kind: u32, rec: &TilePlane) -> bool {
         let h = self.h;
         centres.measure(self.segs, self.bucket, (self.corner.0 + h / 2.0, self.corner.1 + h / 2.0), h, self.margin);
