@@ -23,7 +23,9 @@
 //! depends neither on the number of shapes in the layer nor on where their
 //! edges are.
 
-use taxel_format::{DistanceView, PLANE_RECORD_LEN, TILE_CELLS, TILE_SAMPLES, TILE_SIDE, TileEntry};
+use taxel_format::{
+    DistanceView, PLANE_RECORD_LEN, TILE_CELLS, TILE_FIRST_STORED, TILE_OUTSIDE, TILE_SAMPLES, TILE_SIDE, TileEntry,
+};
 use wide::bytemuck::cast;
 use wide::{f32x4, i16x8, i32x4, u8x16, u16x8};
 
@@ -169,6 +171,24 @@ impl<'a> FieldLayer<'a> {
     #[inline(always)]
     fn tile_lanes(&self, tile_row: usize, ci: [u32; LANES], u: [f32; LANES]) -> TileLanes<'a> {
         let mut t = TileLanes::default();
+        // The usual case first: the lanes lie in one tile or two
+        // neighbouring ones (four actuators span less than a tile at the
+        // lattice pitches the compiler picks for STRESS²), and those store
+        // samples or are constant. Both are looked up at once and each lane
+        // picks its own without a branch.
+        let (first, last) = (ci[0] >> SHIFT, ci[LANES - 1] >> SHIFT);
+        if last - first <= 1
+            && let (Some(a), Some(b)) =
+                (self.samples(tile_row + first as usize), self.samples(tile_row + last as usize))
+        {
+            for (w, &c) in t.windows.iter_mut().zip(&ci) {
+                let tile = if c >> SHIFT == first { a } else { b };
+                let col = (c & (TILE_CELLS as u32 - 1)) as usize;
+                // A column below TILE_CELLS leaves a whole window: never `None`.
+                *w = tile.get(col..col + WINDOW).and_then(|w| w.try_into().ok()).unwrap_or(&OUTSIDE_WINDOW);
+            }
+            return t;
+        }
         let (mut planar, mut ridge) = ([0i32; LANES], [0i32; LANES]);
         let (mut a0, mut gy, mut top) = ([0f32; LANES], [0f32; LANES], [0f32; LANES]);
         // The lanes' columns grow from lane to lane, so neighbours often
@@ -205,6 +225,26 @@ impl<'a> FieldLayer<'a> {
         t.ridge = i32x4::new(ridge);
         (t.a0, t.gy, t.top) = (f32x4::new(a0), f32x4::new(gy), f32x4::new(top));
         t
+    }
+
+    /// The samples that the tile at index entry `i` makes its lanes read,
+    /// if it is stored or constant; `None` for any other kind, which
+    /// [`tile`](Self::tile) handles. A stored tile (the common kind near
+    /// edges) costs one bounds check: an entry below
+    /// [`TILE_FIRST_STORED`], or of another kind, is no stored tile's
+    /// number once shifted down, and falls to the decoding below.
+    #[inline(always)]
+    fn samples(&self, i: usize) -> Option<&'a Tile> {
+        let e = self.entries.get(i).map_or(TILE_OUTSIDE, |b| u32::from_le_bytes(*b));
+        if let Some(tile) = self.stored.get(e.wrapping_sub(TILE_FIRST_STORED) as usize) {
+            return Some(tile);
+        }
+        match TileEntry::of(e) {
+            TileEntry::Inside => Some(&INSIDE),
+            // An index past the stored tiles, which validation rules out, reads as outside.
+            TileEntry::Outside | TileEntry::Stored(_) => Some(&OUTSIDE),
+            TileEntry::Plane(_) | TileEntry::Ridge(_) => None,
+        }
     }
 
     /// What the tile at index entry `i` makes its lanes read.
