@@ -2,6 +2,7 @@
 
 use taxel_format::DotTableView;
 
+use wide::bytemuck::cast;
 use wide::{f32x4, i32x4};
 
 use super::osc::{ceil_in, cos_turns4_half, floor_in};
@@ -57,12 +58,26 @@ pub(crate) struct DotLayer<'a> {
     /// The reciprocal of the grid's cell size, so the per-tick path
     /// multiplies where it would divide.
     inv_cell: f32,
+    /// The grid's origin and its last cell column and row, in the lanes of
+    /// a query's `[x0, x1, y0, y1]`, so that the query finds its four cell
+    /// bounds at once.
+    origin: f32x4,
+    last: f32x4,
 }
 
 impl<'a> DotLayer<'a> {
     pub(crate) fn new(table: DotTableView<'a>) -> Self {
-        // The format keeps cells positive and finite.
-        DotLayer { table, inv_cell: 1.0 / table.grid.cell_mm }
+        let g = table.grid;
+        // Grids have at least one cell each way (`saturating_sub` only
+        // keeps a malformed view from panicking), at most 2²⁰: exact in f32.
+        let (cols, rows) = (g.cols.saturating_sub(1) as f32, g.rows.saturating_sub(1) as f32);
+        DotLayer {
+            table,
+            // The format keeps cells positive and finite.
+            inv_cell: 1.0 / g.cell_mm,
+            origin: f32x4::new([g.origin_x, g.origin_x, g.origin_y, g.origin_y]),
+            last: f32x4::new([cols, cols, rows, rows]),
+        }
     }
 
     /// Adds every dot that touches an actuator of rows `f.r0..f.r1` to `acc`.
@@ -77,13 +92,14 @@ impl<'a> DotLayer<'a> {
     /// prologue and paid by every frame, even one without this kind of layer.
     #[inline(never)]
     pub(crate) fn accumulate(&self, f: &Frame, acc: &mut Acc) {
-        accumulate_table(&self.table, self.inv_cell, f, acc)
+        accumulate_table(self, f, acc)
     }
 }
 
-/// [`DotLayer::accumulate`] for table `t` with cells of size `1 / inv_cell`.
+/// [`DotLayer::accumulate`].
 #[inline(always)]
-fn accumulate_table(t: &DotTableView<'_>, inv_cell: f32, f: &Frame, acc: &mut Acc) {
+fn accumulate_table(layer: &DotLayer<'_>, f: &Frame, acc: &mut Acc) {
+    let t = &layer.table;
     let (r_lo, r_hi) = (f.r0.max(f.row_lo), f.r1.min(f.row_hi));
     if t.is_empty() || f.col_lo >= f.col_hi || r_lo >= r_hi {
         return;
@@ -97,18 +113,13 @@ fn accumulate_table(t: &DotTableView<'_>, inv_cell: f32, f: &Frame, acc: &mut Ac
     // (A product by the reciprocal may land a hair below a cell boundary
     // that the division would reach; a dot so placed is a full radius away
     // from every actuator the query serves, where eq. 1 gives 0.)
-    // Clamped first (a NaN fails `c > 0` and becomes 0), the index is not
-    // negative, where truncation is the floor: one conversion.
-    let cell = |v: f32, origin: f32, n: u32| {
-        let c = (v - origin) * inv_cell;
-        let c = if c > 0.0 { c } else { 0.0 };
-        let top = (n - 1) as f32;
-        (if c < top { c } else { top }) as u32
-    };
-    let (gc0, gc1) =
-        (cell(f.col_x(f.col_lo) - reach, g.origin_x, g.cols), cell(f.col_x(f.col_hi - 1) + reach, g.origin_x, g.cols));
-    let (gr0, gr1) =
-        (cell(f.row_y(r_lo) - reach, g.origin_y, g.rows), cell(f.row_y(r_hi - 1) + reach, g.origin_y, g.rows));
+    // The four bounds at once, in the lanes. Clamped first, the index is
+    // not negative, where truncation is the floor: one conversion. (The
+    // positions are finite, so no lane is NaN; an overflow to ±∞ clamps.)
+    let bounds = f32x4::new([f.col_x(f.col_lo), f.col_x(f.col_hi - 1), f.row_y(r_lo), f.row_y(r_hi - 1)])
+        + f32x4::new([-reach, reach, -reach, reach]);
+    let cells = ((bounds - layer.origin) * layer.inv_cell).fast_max(f32x4::ZERO).fast_min(layer.last);
+    let [gc0, gc1, gr0, gr1] = cast::<i32x4, [u32; 4]>(cells.fast_trunc_int());
     let (inv_px, inv_py) = (f.inv_pitch_x, f.inv_pitch_y);
     let (col_lo, col_hi) = (f.col_lo as i32, f.col_hi as i32);
     let (row_lo, row_hi) = (r_lo as i32, r_hi as i32);
