@@ -171,24 +171,6 @@ impl<'a> FieldLayer<'a> {
     #[inline(always)]
     fn tile_lanes(&self, tile_row: usize, ci: [u32; LANES], u: [f32; LANES]) -> TileLanes<'a> {
         let mut t = TileLanes::default();
-        // The usual case first: the lanes lie in one tile or two
-        // neighbouring ones (four actuators span less than a tile at the
-        // lattice pitches the compiler picks for STRESS²), and those store
-        // samples or are constant. Both are looked up at once and each lane
-        // picks its own without a branch.
-        let (first, last) = (ci[0] >> SHIFT, ci[LANES - 1] >> SHIFT);
-        if last - first <= 1
-            && let (Some(a), Some(b)) =
-                (self.samples(tile_row + first as usize), self.samples(tile_row + last as usize))
-        {
-            for (w, &c) in t.windows.iter_mut().zip(&ci) {
-                let tile = if c >> SHIFT == first { a } else { b };
-                let col = (c & (TILE_CELLS as u32 - 1)) as usize;
-                // A column below TILE_CELLS leaves a whole window: never `None`.
-                *w = tile.get(col..col + WINDOW).and_then(|w| w.try_into().ok()).unwrap_or(&OUTSIDE_WINDOW);
-            }
-            return t;
-        }
         let (mut planar, mut ridge) = ([0i32; LANES], [0i32; LANES]);
         let (mut a0, mut gy, mut top) = ([0f32; LANES], [0f32; LANES], [0f32; LANES]);
         // The lanes' columns grow from lane to lane, so neighbours often
@@ -227,30 +209,16 @@ impl<'a> FieldLayer<'a> {
         t
     }
 
-    /// The samples that the tile at index entry `i` makes its lanes read,
-    /// if it is stored or constant; `None` for any other kind, which
-    /// [`tile`](Self::tile) handles. A stored tile (the common kind near
-    /// edges) costs one bounds check: an entry below
-    /// [`TILE_FIRST_STORED`], or of another kind, is no stored tile's
-    /// number once shifted down, and falls to the decoding below.
-    #[inline(always)]
-    fn samples(&self, i: usize) -> Option<&'a Tile> {
-        let e = self.entries.get(i).map_or(TILE_OUTSIDE, |b| u32::from_le_bytes(*b));
-        if let Some(tile) = self.stored.get(e.wrapping_sub(TILE_FIRST_STORED) as usize) {
-            return Some(tile);
-        }
-        match TileEntry::of(e) {
-            TileEntry::Inside => Some(&INSIDE),
-            // An index past the stored tiles, which validation rules out, reads as outside.
-            TileEntry::Outside | TileEntry::Stored(_) => Some(&OUTSIDE),
-            TileEntry::Plane(_) | TileEntry::Ridge(_) => None,
-        }
-    }
-
     /// What the tile at index entry `i` makes its lanes read.
     #[inline(always)]
     fn tile(&self, i: usize) -> Read<'a> {
-        let e = self.entries.get(i).map_or(0, |b| u32::from_le_bytes(*b));
+        let e = self.entries.get(i).map_or(TILE_OUTSIDE, |b| u32::from_le_bytes(*b));
+        // Stored tiles first, the common kind near edges: one bounds check
+        // decodes them. Any other entry (below `TILE_FIRST_STORED`, or with
+        // a kind's high bits) is no stored tile's number once shifted down.
+        if let Some(tile) = self.stored.get(e.wrapping_sub(TILE_FIRST_STORED) as usize) {
+            return Read::Samples(tile);
+        }
         match TileEntry::of(e) {
             TileEntry::Outside => Read::Samples(&OUTSIDE),
             TileEntry::Inside => Read::Samples(&INSIDE),
