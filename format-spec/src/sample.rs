@@ -226,13 +226,19 @@ pub fn distance_layer() -> DistanceLayer {
         origin_x: Mm(2.0),
         origin_y: Mm(-1.5),
         pitch_mm: 0.5,
-        tile_cols: 3,
+        tile_cols: 4,
         tile_rows: 2,
         sources: vec![0, 2],
-        tiles: vec![0, 2, crate::TILE_PLANE, 1, 3, crate::TILE_RIDGE | 1],
+        // Every kind of tile: outside, stored, plane, notch (format 4.0),
+        // inside, stored, ridge, corner (format 4.0).
+        tiles: vec![0, 2, crate::TILE_PLANE, crate::TILE_NOTCH | 1, 1, 3, crate::TILE_RIDGE | 3, crate::TILE_CORNER | 4],
         planes: vec![
             crate::TilePlane { c: 100.0, gx: 4.5, gy: -2.25, top: 0.0 },
+            crate::TilePlane { c: 130.0, gx: -16.0, gy: 0.0, top: 0.0 },
+            crate::TilePlane { c: 60.0, gx: 0.0, gy: 16.0, top: 0.0 },
             crate::TilePlane { c: -10.0, gx: 3.0, gy: 1.5, top: 160.0 },
+            crate::TilePlane { c: 200.0, gx: -12.0, gy: -9.0, top: 0.0 },
+            crate::TilePlane { c: 150.0, gx: 9.0, gy: -12.0, top: 0.0 },
         ],
         samples: (0..2 * crate::TILE_SAMPLES).map(|k| (k * 7 % 256) as u8).collect(),
     }
