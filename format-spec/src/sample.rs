@@ -231,7 +231,16 @@ pub fn distance_layer() -> DistanceLayer {
         sources: vec![0, 2],
         // Every kind of tile: outside, stored, plane, notch (format 4.0),
         // inside, stored, ridge, corner (format 4.0).
-        tiles: vec![0, 2, crate::TILE_PLANE, crate::TILE_NOTCH | 1, 1, 3, crate::TILE_RIDGE | 3, crate::TILE_CORNER | 4],
+        tiles: vec![
+            0,
+            2,
+            crate::TILE_PLANE,
+            crate::TILE_NOTCH | 1,
+            1,
+            3,
+            crate::TILE_RIDGE | 3,
+            crate::TILE_CORNER | 4,
+        ],
         planes: vec![
             crate::TilePlane { c: 100.0, gx: 4.5, gy: -2.25, top: 0.0 },
             crate::TilePlane { c: 130.0, gx: -16.0, gy: 0.0, top: 0.0 },

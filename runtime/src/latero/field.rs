@@ -19,7 +19,10 @@
 //! evaluates its record's affine function at its column, so that per row it
 //! costs one multiply-add (and for a ridge an absolute value) and a select;
 //! rows whose lanes read no plane or ridge tile skip that work (one
-//! predictable branch). The cost per actuator per layer is bounded: it
+//! predictable branch). A corner or notch tile (format 4.0) is a plane
+//! lane with a second affine code, of which it plays the lesser (corner)
+//! or the greater (notch): a second multiply-add, a min, a max and two
+//! selects, in rows that hold one (a second predictable branch). The cost per actuator per layer is bounded: it
 //! depends neither on the number of shapes in the layer nor on where their
 //! edges are.
 
@@ -60,6 +63,15 @@ struct TileLanes<'a> {
     planar: i32x4,
     /// The ridge lanes among them.
     ridge: i32x4,
+    /// Whether any lane is in a corner or notch tile (format 4.0).
+    bent: bool,
+    /// The corner and notch lanes, and the notch lanes among them.
+    corner: i32x4,
+    notch: i32x4,
+    /// A corner or notch lane's second affine code at its column and its
+    /// gradient along y.
+    a1: f32x4,
+    gy1: f32x4,
     /// A planar lane's affine code at its column, `c + gx u`, and its
     /// gradient along y, codes per lattice cell.
     a0: f32x4,
@@ -75,6 +87,11 @@ impl Default for TileLanes<'_> {
             analytic: false,
             planar: i32x4::ZERO,
             ridge: i32x4::ZERO,
+            bent: false,
+            corner: i32x4::ZERO,
+            notch: i32x4::ZERO,
+            a1: f32x4::ZERO,
+            gy1: f32x4::ZERO,
             a0: f32x4::ZERO,
             gy: f32x4::ZERO,
             top: f32x4::ZERO,
@@ -86,8 +103,9 @@ impl Default for TileLanes<'_> {
 #[derive(Debug, Clone, Copy)]
 enum Read<'a> {
     Samples(&'a Tile),
-    /// A plane or ridge record's bytes, and whether it is a ridge.
-    Plane(&'a [u8], bool),
+    /// A plane, ridge, corner or notch tile's record bytes (two records
+    /// for a corner or notch), and its kind.
+    Plane(&'a [u8], TileEntry),
 }
 
 /// A distance layer prepared for playback.
@@ -171,6 +189,7 @@ impl<'a> FieldLayer<'a> {
         let mut t = TileLanes::default();
         let (mut planar, mut ridge) = ([0i32; LANES], [0i32; LANES]);
         let (mut a0, mut gy, mut top) = ([0f32; LANES], [0f32; LANES], [0f32; LANES]);
+        let (mut corner, mut notch, mut a1, mut gy1) = ([0i32; LANES], [0i32; LANES], [0f32; LANES], [0f32; LANES]);
         // The lanes' columns grow from lane to lane, so neighbours often
         // share a tile: each tile is looked up once.
         let mut read = self.tile(tile_row + (ci[0] >> SHIFT) as usize);
@@ -188,14 +207,25 @@ impl<'a> FieldLayer<'a> {
                     t.windows[k] =
                         tile.get(col..col + WINDOW).and_then(|w| w.try_into().ok()).unwrap_or(&OUTSIDE_WINDOW);
                 }
-                Read::Plane(r, is_ridge) => {
+                Read::Plane(r, kind) => {
                     let f = |o: usize| r.get(o..o + 4).map_or(0.0, |b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]));
                     a0[k] = f(0) + f(4) * u[k];
                     gy[k] = f(8);
                     planar[k] = -1;
-                    if is_ridge {
-                        top[k] = f(12);
-                        ridge[k] = -1;
+                    match kind {
+                        TileEntry::Ridge(_) => {
+                            top[k] = f(12);
+                            ridge[k] = -1;
+                        }
+                        TileEntry::Corner(_) | TileEntry::Notch(_) => {
+                            let o = PLANE_RECORD_LEN;
+                            a1[k] = f(o) + f(o + 4) * u[k];
+                            gy1[k] = f(o + 8);
+                            corner[k] = -1;
+                            notch[k] = if matches!(kind, TileEntry::Notch(_)) { -1 } else { 0 };
+                            t.bent = true;
+                        }
+                        _ => {}
                     }
                     t.analytic = true;
                 }
@@ -204,6 +234,8 @@ impl<'a> FieldLayer<'a> {
         t.planar = i32x4::new(planar);
         t.ridge = i32x4::new(ridge);
         (t.a0, t.gy, t.top) = (f32x4::new(a0), f32x4::new(gy), f32x4::new(top));
+        (t.corner, t.notch) = (i32x4::new(corner), i32x4::new(notch));
+        (t.a1, t.gy1) = (f32x4::new(a1), f32x4::new(gy1));
         t
     }
 
@@ -215,10 +247,10 @@ impl<'a> FieldLayer<'a> {
             TileEntry::Outside => Read::Samples(&OUTSIDE),
             TileEntry::Inside => Read::Samples(&INSIDE),
             TileEntry::Stored(k) => Read::Samples(self.stored.get(k as usize).unwrap_or(&OUTSIDE)),
-            TileEntry::Plane(p) | TileEntry::Ridge(p) => {
+            kind @ (TileEntry::Plane(p) | TileEntry::Ridge(p) | TileEntry::Corner(p) | TileEntry::Notch(p)) => {
                 let at = p as usize * PLANE_RECORD_LEN;
-                match self.planes.get(at..at + PLANE_RECORD_LEN) {
-                    Some(r) => Read::Plane(r, matches!(TileEntry::of(e), TileEntry::Ridge(_))),
+                match self.planes.get(at..at + kind.records() as usize * PLANE_RECORD_LEN) {
+                    Some(r) => Read::Plane(r, kind),
                     None => Read::Samples(&OUTSIDE),
                 }
             }
@@ -325,7 +357,14 @@ impl<'a> FieldLayer<'a> {
                         // lattice y within the tile, in units of `W`.
                         let wt = (fy[k] - (ty << SHIFT) as f32).min(TILE_CELLS as f32);
                         let plane = lanes.a0 + lanes.gy * wt;
-                        let code = cast::<i32x4, f32x4>(lanes.ridge).select(lanes.top - plane.abs(), plane);
+                        let mut code = cast::<i32x4, f32x4>(lanes.ridge).select(lanes.top - plane.abs(), plane);
+                        if lanes.bent {
+                            // Corner lanes: the lesser of their two planes,
+                            // notch lanes the greater.
+                            let second = lanes.a1 + lanes.gy1 * wt;
+                            let bend = cast::<i32x4, f32x4>(lanes.notch).select(plane.max(second), plane.min(second));
+                            code = cast::<i32x4, f32x4>(lanes.corner).select(bend, code);
+                        }
                         v = cast::<i32x4, f32x4>(lanes.planar).select(code * W as f32, v);
                     }
                     let a = (v * slope + offset).fast_max(f32x4::ZERO).fast_min(f32x4::ONE);
