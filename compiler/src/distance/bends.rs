@@ -34,7 +34,7 @@ use super::{Part, distance2_to_segment};
 /// Largest radius round a corner's vertex within which a corner or notch
 /// tile may play another amplitude than the exact distance, mm: half the
 /// band round every edge that `taxel report` leaves out of the value error.
-pub(super) const SPOT_MM: f64 = 0.025;
+pub(crate) const SPOT_MM: f64 = 0.025;
 /// Most fill segments near a tile whose pairs are tried (the nearest).
 const MAX_SEGMENTS: usize = 16;
 
