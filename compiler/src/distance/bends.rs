@@ -29,7 +29,7 @@
 use taxel_format::{DISTANCE_ZERO, TILE_CORNER, TILE_NOTCH, TILE_SAMPLES, TILE_SIDE, TileEntry, TilePlane};
 
 use super::planes::{Saturation, TOLERANCE, TileCtx, record};
-use super::{Part, distance2_to_segment};
+use super::{Part, Seg, distance2_to_segment};
 
 /// Largest radius round a corner's vertex within which a corner or notch
 /// tile may play another amplitude than the exact distance, mm: half the
@@ -125,11 +125,11 @@ pub(super) fn bends(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES], ramp_mm: f
     }
     let span = TILE_SIDE as f64 - 1.0;
     let centre = (t.corner.0 + span / 2.0 * t.h, t.corner.1 + span / 2.0 * t.h);
-    let mut near: Vec<(f64, (f64, f64), (f64, f64))> = t
+    let mut near: Vec<(f64, Seg)> = t
         .bucket
         .iter()
         .filter_map(|&n| match t.segs.get(n as usize) {
-            Some(&((a, b), Part::Fill, _)) => Some((distance2_to_segment(centre, a, b), a, b)),
+            Some(&((a, b), Part::Fill, _)) => Some((distance2_to_segment(centre, a, b), (a, b))),
             _ => None,
         })
         .collect();
@@ -147,8 +147,8 @@ pub(super) fn bends(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES], ramp_mm: f
     let plays = |bend: &Bend| {
         exact.iter().enumerate().all(|(i, &e)| bend.close((i % TILE_SIDE) as f64, (i / TILE_SIDE) as f64, e, t.sat))
     };
-    for (i, &(_, a1, b1)) in near.iter().enumerate() {
-        for &(_, a2, b2) in &near[i + 1..] {
+    for (i, &(_, (a1, b1))) in near.iter().enumerate() {
+        for &(_, (a2, b2)) in &near[i + 1..] {
             let shares = [a1, b1].iter().any(|p| [a2, b2].iter().any(|q| p.0 == q.0 && p.1 == q.1));
             let (Some(l1), Some(l2)) = (line(a1, b1), line(a2, b2)) else { continue };
             if !shares {
