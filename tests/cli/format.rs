@@ -109,7 +109,7 @@ fn mistakes_in_a_hand_edited_folder_name_the_file_and_what_was_expected() {
         ),
         (
             "manifest.toml",
-            manifest.replace("format = \"3.0\"", "format = \"4.0\""),
+            manifest.replace("format = \"4.0\"", "format = \"5.0\""),
             "manifest.toml:".into(),
             "key `format`",
         ),
@@ -179,7 +179,10 @@ fn inspect_prints_profile_layers_and_sizes() {
     let o = taxel(&["inspect", p(&bundle)]);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = String::from_utf8(o.stdout).unwrap();
-    assert!(out.contains(&format!("taxel bundle 3.0, {} bytes, 12 chunks", bytes.len())), "{out}");
+    assert!(
+        out.contains(&format!("taxel bundle {}.0, {} bytes, 12 chunks", taxel_format::FORMAT_MAJOR, bytes.len())),
+        "{out}"
+    );
     assert!(
         out.contains("profile    brush-4x3 (grid), 4 x 3 actuators, pitch 63 x 63 mm, 1000 Hz, 16-bit output"),
         "{out}"
