@@ -127,11 +127,12 @@ impl TileEntry {
         match e {
             TILE_OUTSIDE => TileEntry::Outside,
             TILE_INSIDE => TileEntry::Inside,
+            // Stored tiles first: players decode an entry on every tile change.
+            e if e < TILE_PLANE => TileEntry::Stored(e - TILE_FIRST_STORED),
             e if e & TILE_KIND_NIBBLE == TILE_CORNER => TileEntry::Corner(e & TILE_CORNER_RECORD_MASK),
             e if e & TILE_KIND_NIBBLE == TILE_NOTCH => TileEntry::Notch(e & TILE_CORNER_RECORD_MASK),
             e if e & TILE_RIDGE == TILE_RIDGE => TileEntry::Ridge(e & TILE_RECORD_MASK),
-            e if e & TILE_PLANE != 0 => TileEntry::Plane(e & TILE_RECORD_MASK),
-            e => TileEntry::Stored(e - TILE_FIRST_STORED),
+            e => TileEntry::Plane(e & TILE_RECORD_MASK),
         }
     }
 
