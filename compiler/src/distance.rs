@@ -460,9 +460,22 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
                         entry | n
                     }
                     None => {
-                        let n = (samples.len() / TILE_SAMPLES) as u32;
-                        samples.extend_from_slice(&tile_buf);
-                        TILE_FIRST_STORED + n
+                        // Two straight edges meeting at a vertex: a corner or a notch.
+                        let bent = bends::bends(&tile, &exact, ramp)
+                            .into_iter()
+                            .find(|b| tile.centres_all(&mut near_centres, |u, w, e| b.close(u, w, e, sat)));
+                        match bent {
+                            Some(b) => {
+                                let n = planes.len() as u32;
+                                planes.extend(b.recs);
+                                b.kind | n
+                            }
+                            None => {
+                                let n = (samples.len() / TILE_SAMPLES) as u32;
+                                samples.extend_from_slice(&tile_buf);
+                                TILE_FIRST_STORED + n
+                            }
+                        }
                     }
                 }
             };
@@ -693,10 +706,10 @@ pub fn field_distance(f: &Field, h: f64, p: (f64, f64)) -> Option<f64> {
         TILE_OUTSIDE => Some(-128.0 * step),
         TILE_INSIDE => Some(127.0 * step),
         e if e >= taxel_format::TILE_PLANE => {
-            // A plane or ridge tile: its function at the point itself.
-            let rec = f.planes.get((e & taxel_format::TILE_RECORD_MASK) as usize)?;
+            // A plane, ridge, corner or notch tile: its function at the point itself.
             let (u, w) = (fx - (tx * TILE_CELLS) as f64, fy - (ty * TILE_CELLS) as f64);
-            Some((rec.code(e, u, w) - DISTANCE_ZERO as f64) * step)
+            let code = taxel_format::TileEntry::of(e).code(&f.planes, u, w)?;
+            Some((code - DISTANCE_ZERO as f64) * step)
         }
         e => {
             let base = (e - TILE_FIRST_STORED) as usize * TILE_SAMPLES;
@@ -732,6 +745,7 @@ pub fn constant_tile_at(f: &Field, h: f64, p: (f64, f64)) -> Option<bool> {
     }
 }
 
+mod bends;
 mod planes;
 #[cfg(test)]
 pub(crate) mod tests;

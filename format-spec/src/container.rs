@@ -12,7 +12,7 @@ use crate::error::FormatError;
 /// line-ending conversion.
 pub const MAGIC: [u8; 8] = *b"\x89TXL\r\n\x1a\n";
 /// The major version this crate reads and writes.
-pub const FORMAT_MAJOR: u16 = 3;
+pub const FORMAT_MAJOR: u16 = 4;
 /// The newest minor version this crate knows; a bundle records the lowest
 /// minor that has all its chunks ([`Bundle::to_bytes`](crate::Bundle::to_bytes)).
 pub const FORMAT_MINOR: u16 = 0;

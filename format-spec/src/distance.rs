@@ -50,6 +50,20 @@ pub const TILE_PLANE: u32 = 0x8000_0000;
 pub const TILE_RIDGE: u32 = 0xC000_0000;
 /// The bits of a plane or ridge entry that hold its record's number.
 pub const TILE_RECORD_MASK: u32 = 0x3FFF_FFFF;
+/// Tile index entry `TILE_CORNER | p`: a **corner** tile, whose code is
+/// the lesser of the affine functions of plane records `p` and `p + 1`, the
+/// exact distance inside a convex corner of the felt region (format 4.0).
+/// A 3.0 reader decodes it as a plane entry naming record `2^29 + p`, which
+/// its index check refuses.
+pub const TILE_CORNER: u32 = 0xA000_0000;
+/// Tile index entry `TILE_NOTCH | p`: a **notch** tile, whose code is the
+/// greater of the affine functions of plane records `p` and `p + 1` (a
+/// concave corner of the felt region, format 4.0).
+pub const TILE_NOTCH: u32 = 0xB000_0000;
+/// The bits of a corner or notch entry that hold its first record's number.
+pub const TILE_CORNER_RECORD_MASK: u32 = 0x0FFF_FFFF;
+/// The bits of an index entry that tell a corner or notch entry from the others.
+const TILE_KIND_NIBBLE: u32 = 0xF000_0000;
 /// Bytes of one plane record: `c`, `gx`, `gy`, `top` (f32 each).
 pub const PLANE_RECORD_LEN: usize = 16;
 /// Largest magnitude of a plane record's gradient, codes per lattice cell.
@@ -100,6 +114,10 @@ pub enum TileEntry {
     Plane(u32),
     /// Plane record `p`, played as a ridge.
     Ridge(u32),
+    /// Plane records `p` and `p + 1`, played as the lesser of the two (format 4.0).
+    Corner(u32),
+    /// Plane records `p` and `p + 1`, played as the greater of the two (format 4.0).
+    Notch(u32),
 }
 
 impl TileEntry {
@@ -109,9 +127,41 @@ impl TileEntry {
         match e {
             TILE_OUTSIDE => TileEntry::Outside,
             TILE_INSIDE => TileEntry::Inside,
+            // Stored tiles first: players decode an entry on every tile change.
+            e if e < TILE_PLANE => TileEntry::Stored(e - TILE_FIRST_STORED),
+            e if e & TILE_KIND_NIBBLE == TILE_CORNER => TileEntry::Corner(e & TILE_CORNER_RECORD_MASK),
+            e if e & TILE_KIND_NIBBLE == TILE_NOTCH => TileEntry::Notch(e & TILE_CORNER_RECORD_MASK),
             e if e & TILE_RIDGE == TILE_RIDGE => TileEntry::Ridge(e & TILE_RECORD_MASK),
-            e if e & TILE_PLANE != 0 => TileEntry::Plane(e & TILE_RECORD_MASK),
-            e => TileEntry::Stored(e - TILE_FIRST_STORED),
+            e => TileEntry::Plane(e & TILE_RECORD_MASK),
+        }
+    }
+
+    /// The number of plane records a tile of this kind plays: one for a
+    /// plane or a ridge, two for a corner or a notch, none for the others.
+    #[inline]
+    pub fn records(self) -> u32 {
+        match self {
+            TileEntry::Plane(_) | TileEntry::Ridge(_) => 1,
+            TileEntry::Corner(_) | TileEntry::Notch(_) => 2,
+            TileEntry::Outside | TileEntry::Inside | TileEntry::Stored(_) => 0,
+        }
+    }
+
+    /// The code of a plane, ridge, corner or notch tile at lattice
+    /// coordinates `(u, w)` inside it, in f64, from the layer's plane
+    /// records: SPEC.md section 6.2's reference. `None` for the other
+    /// kinds, or when a record it names is missing.
+    pub fn code(self, records: &[TilePlane], u: f64, w: f64) -> Option<f64> {
+        let rec = |p: u32| records.get(p as usize);
+        match self {
+            TileEntry::Plane(p) => Some(rec(p)?.affine(u, w)),
+            TileEntry::Ridge(p) => {
+                let r = rec(p)?;
+                Some(r.top as f64 - r.affine(u, w).abs())
+            }
+            TileEntry::Corner(p) => Some(rec(p)?.affine(u, w).min(rec(p.checked_add(1)?)?.affine(u, w))),
+            TileEntry::Notch(p) => Some(rec(p)?.affine(u, w).max(rec(p.checked_add(1)?)?.affine(u, w))),
+            TileEntry::Outside | TileEntry::Inside | TileEntry::Stored(_) => None,
         }
     }
 }
@@ -189,10 +239,10 @@ impl DistanceLayer {
         match TileEntry::of(entry) {
             TileEntry::Outside => Some(-big - self.step_mm),
             TileEntry::Inside => Some(big),
-            TileEntry::Plane(p) | TileEntry::Ridge(p) => {
-                let rec = self.planes.get(p as usize)?;
+            analytic @ (TileEntry::Plane(_) | TileEntry::Ridge(_) | TileEntry::Corner(_) | TileEntry::Notch(_)) => {
                 let (u, w) = (fx as f64 - (tx * TILE_CELLS) as f64, fy as f64 - (ty * TILE_CELLS) as f64);
-                Some(((rec.code(entry, u, w) - DISTANCE_ZERO as f64) * self.step_mm as f64) as f32)
+                let code = analytic.code(&self.planes, u, w)?;
+                Some(((code - DISTANCE_ZERO as f64) * self.step_mm as f64) as f32)
             }
             TileEntry::Stored(k) => {
                 let base = k as usize * TILE_SAMPLES;
@@ -227,8 +277,8 @@ impl DistanceLayer {
         if !self.samples.len().is_multiple_of(TILE_SAMPLES) {
             return Err(bad("samples", "81 samples per stored tile"));
         }
-        if self.planes.len() > MAX_DISTANCE_TILES as usize {
-            return Err(bad("planes", "at most one plane record per tile"));
+        if self.planes.len() > 2 * MAX_DISTANCE_TILES as usize {
+            return Err(bad("planes", "at most two plane records per tile"));
         }
         Ok(())
     }
@@ -423,8 +473,8 @@ impl<'a> DistanceView<'a> {
             return Err(FormatError::ChunkLength { tag, index, expected, found: d.len() as u64 });
         };
         let nplanes = rest / rec;
-        if nplanes > ntiles {
-            return Err(bad("planes", "at most one plane record per tile"));
+        if nplanes > 2 * ntiles {
+            return Err(bad("planes", "at most two plane records per tile"));
         }
         let origin_x = in_range(f(16), -1e6, 1e6, tag, index, "origin_x_mm", "from -1e6 to 1e6 mm")?;
         let origin_y = in_range(f(20), -1e6, 1e6, tag, index, "origin_y_mm", "from -1e6 to 1e6 mm")?;
@@ -491,6 +541,15 @@ impl<'a> DistanceView<'a> {
                         check_plane(&rec, e).map_err(|expected| bad("plane record", expected))?;
                         next_plane += 1;
                     }
+                    TileEntry::Corner(p) | TileEntry::Notch(p) if p == next_plane => {
+                        for q in [p, p + 1] {
+                            let rec = view
+                                .plane(q)
+                                .ok_or(bad("tile index", "two plane records for every corner and notch tile"))?;
+                            check_plane(&rec, e).map_err(|expected| bad("plane record", expected))?;
+                        }
+                        next_plane += 2;
+                    }
                     _ => {
                         return Err(bad(
                             "tile index",
@@ -522,7 +581,7 @@ fn check_plane(p: &TilePlane, e: u32) -> Result<(), &'static str> {
         return Err("finite c and top of at most 65536 codes");
     }
     if e & TILE_RIDGE != TILE_RIDGE && p.top != 0.0 {
-        return Err("top 0 in a plane tile's record");
+        return Err("top 0 in a plane, corner or notch tile's record");
     }
     Ok(())
 }

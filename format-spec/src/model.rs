@@ -86,7 +86,7 @@ impl Bundle {
     /// The canonical encoding, as format version
     /// [`FORMAT_MAJOR`](crate::FORMAT_MAJOR).*m*, where *m* is the lowest
     /// minor version that has every chunk of the bundle (SPEC.md section 12):
-    /// 0 in format 3, which defines every chunk this crate writes.
+    /// 0 in format 4, which defines every chunk this crate writes.
     /// The result is checked with the reader before it is returned, so a
     /// bundle that the writer accepts always reads back.
     pub fn to_bytes(&self) -> Result<Vec<u8>, FormatError> {

@@ -67,6 +67,23 @@ fn field(kind: MaskKind, x0: f32, y0: f32, cols: u32, rows: u32, stored: bool) -
 /// As [`field`], with plane tiles (format 3.0) instead of stored ones under
 /// the carrier when `planes`: the same climbing codes as one record each.
 fn field_of(kind: MaskKind, x0: f32, y0: f32, cols: u32, rows: u32, stored: bool, planes: bool) -> Chunk {
+    field_with(kind, x0, y0, cols, rows, stored, planes, false)
+}
+
+/// As [`field_of`] with plane tiles, as corner tiles (format 4.0) when
+/// `corners`: the lesser of the same climbing plane and a falling one, which
+/// cross inside each tile.
+#[allow(clippy::too_many_arguments)]
+fn field_with(
+    kind: MaskKind,
+    x0: f32,
+    y0: f32,
+    cols: u32,
+    rows: u32,
+    stored: bool,
+    planes: bool,
+    corners: bool,
+) -> Chunk {
     let mut tiles = Vec::new();
     let mut samples = Vec::new();
     let mut records = Vec::new();
@@ -74,7 +91,11 @@ fn field_of(kind: MaskKind, x0: f32, y0: f32, cols: u32, rows: u32, stored: bool
         for c in 0..cols {
             let (tx, ty) = (x0 + 4.0 * c as f32, y0 + 4.0 * r as f32);
             let near = (tx - X).abs() < 16.0 && (ty - Y).abs() < 16.0;
-            if planes && (stored || near) {
+            if corners && (stored || near) {
+                tiles.push(taxel_format::TILE_CORNER | records.len() as u32);
+                records.push(taxel_format::TilePlane { c: 100.0, gx: 7.0, gy: 3.0, top: 0.0 });
+                records.push(taxel_format::TilePlane { c: 160.0, gx: -5.0, gy: 4.0, top: 0.0 });
+            } else if planes && (stored || near) {
                 tiles.push(taxel_format::TILE_PLANE | records.len() as u32);
                 records.push(taxel_format::TilePlane { c: 100.0, gx: 7.0, gy: 3.0, top: 0.0 });
             } else if stored || near {
@@ -157,6 +178,14 @@ fn latero(c: &mut Criterion) {
         c,
         "latero frame (distance): plane tiles, vibration and grating",
         vec![field_of(VIBRATE, X - 12.0, Y - 12.0, 3, 6, true, true), field_of(GRATE, X, Y - 12.0, 3, 6, true, true)],
+    );
+    bench_scene(
+        c,
+        "latero frame (distance): corner tiles, vibration and grating",
+        vec![
+            field_with(VIBRATE, X - 12.0, Y - 12.0, 3, 6, true, true, true),
+            field_with(GRATE, X, Y - 12.0, 3, 6, true, true, true),
+        ],
     );
     // Frame-cost independence: the same two styles over one region (the
     // tiles near the carrier stored, the rest flags) and over 5,000 regions

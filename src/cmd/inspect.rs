@@ -149,9 +149,19 @@ fn describe(view: &BundleView<'_>) -> Value {
             ChunkView::Distance(dv) => {
                 sources.extend((0..dv.source_count()).filter_map(|i| dv.source(i)));
                 let span = 8.0 * dv.pitch_mm;
+                // Plane and ridge tiles play one record, corner and notch tiles two.
+                let (mut planar, mut bent) = (0u32, 0u32);
+                for i in 0..dv.tile_cols * dv.tile_rows {
+                    match taxel_format::TileEntry::of(dv.tile_entry(i)).records() {
+                        1 => planar += 1,
+                        2 => bent += 1,
+                        _ => {}
+                    }
+                }
                 let mut e = json!({
                     "kind": match dv.kind { MaskKind::Vibration { .. } => "vibration-field", MaskKind::Grating { .. } => "grating-field" },
-                    "tiles": [dv.tile_cols, dv.tile_rows], "stored_tiles": dv.stored, "plane_tiles": dv.plane_count(), "pitch_mm": dv.pitch_mm,
+                    "tiles": [dv.tile_cols, dv.tile_rows], "stored_tiles": dv.stored, "plane_tiles": planar,
+                    "corner_tiles": bent, "pitch_mm": dv.pitch_mm,
                     "step_mm": dv.step_mm, "soft_mm": dv.soft_mm,
                     "origin_mm": [dv.origin_x.0, dv.origin_y.0],
                     "size_mm": [dv.tile_cols as f32 * span, dv.tile_rows as f32 * span],
@@ -314,12 +324,13 @@ fn human(path: &Path, r: &Value) -> String {
                     format!("soft edge {} mm", num(&c["soft_mm"]))
                 };
                 format!(
-                    "{prim}, amplitude {}, {edge}; {} element(s); distance field {} tiles ({} stored, {} plane) every {} mm, {} mm from ({}) mm",
+                    "{prim}, amplitude {}, {edge}; {} element(s); distance field {} tiles ({} stored, {} plane, {} corner) every {} mm, {} mm from ({}) mm",
                     num(&c["amplitude"]),
                     c["elements"],
                     pair(&c["tiles"], " x "),
                     c["stored_tiles"],
                     c["plane_tiles"],
+                    c["corner_tiles"],
                     num(&c["pitch_mm"]),
                     pair(&c["size_mm"], " x "),
                     pair(&c["origin_mm"], ", ")

@@ -27,7 +27,7 @@
 
 use rstar::primitives::Line;
 use rstar::{PointDistance, RTree};
-use taxel_format::{DistanceLayer, TILE_CELLS, TILE_INSIDE, TILE_OUTSIDE};
+use taxel_format::{DISTANCE_ZERO, DistanceLayer, TILE_CELLS, TILE_INSIDE, TILE_OUTSIDE, TileEntry};
 
 use super::exact::{Region, Seg};
 
@@ -160,6 +160,11 @@ pub fn contour(layer: &DistanceLayer, sample: f64) -> Vec<[f64; 2]> {
             if entry == TILE_OUTSIDE || entry == TILE_INSIDE {
                 continue;
             }
+            if let bent @ (TileEntry::Corner(p) | TileEntry::Notch(p)) = TileEntry::of(entry) {
+                let corner = (ox + (tx * TILE_CELLS) as f64 * h, oy + (ty * TILE_CELLS) as f64 * h);
+                bent_contour(&layer.planes, bent, p, corner, h, lines * TILE_CELLS, &mut out);
+                continue;
+            }
             for cj in ty * TILE_CELLS..(ty + 1) * TILE_CELLS {
                 for ci in tx * TILE_CELLS..(tx + 1) * TILE_CELLS {
                     let Some(c) = cell_corners(layer, ci, cj) else { continue };
@@ -186,6 +191,51 @@ pub fn contour(layer: &DistanceLayer, sample: f64) -> Vec<[f64; 2]> {
         }
     }
     out
+}
+
+/// Points of the half-amplitude contour of a corner or notch tile (the
+/// lesser or greater of plane records `p` and `p + 1`, SPEC.md section 6.2)
+/// whose first lattice point is at page `corner`, where it crosses `lines +
+/// 1` lines across the tile in each direction. The function is not bilinear
+/// in the cell of the vertex, so the contour is found per record: the zero
+/// of one record's affine code on a line is on the contour where the other
+/// code is not below it (a corner's lesser) or not above it (a notch's
+/// greater).
+fn bent_contour(
+    planes: &[taxel_format::TilePlane],
+    bent: TileEntry,
+    p: u32,
+    corner: (f64, f64),
+    h: f64,
+    lines: usize,
+    out: &mut Vec<[f64; 2]>,
+) {
+    let (Some(r1), Some(r2)) = (planes.get(p as usize), planes.get(p as usize + 1)) else { return };
+    let zero = DISTANCE_ZERO as f64;
+    let span = TILE_CELLS as f64;
+    let on = |u: f64, w: f64, other: &taxel_format::TilePlane| match bent {
+        TileEntry::Notch(_) => other.affine(u, w) <= zero,
+        _ => other.affine(u, w) >= zero,
+    };
+    for k in 0..=lines {
+        let t = k as f64 / lines as f64 * span;
+        for (r, other) in [(r1, r2), (r2, r1)] {
+            let (c, gx, gy) = (r.c as f64 - zero, r.gx as f64, r.gy as f64);
+            // The vertical line u = t, then the horizontal line w = t.
+            if gy != 0.0 {
+                let w = -(c + gx * t) / gy;
+                if (0.0..span).contains(&w) && on(t, w, other) {
+                    out.push([corner.0 + t * h, corner.1 + w * h]);
+                }
+            }
+            if gx != 0.0 {
+                let u = -(c + gy * t) / gx;
+                if (0.0..span).contains(&u) && on(u, t, other) {
+                    out.push([corner.0 + u * h, corner.1 + t * h]);
+                }
+            }
+        }
+    }
 }
 
 /// The distance at the four corners of lattice cell `(ci, cj)` as its

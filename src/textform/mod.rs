@@ -103,9 +103,13 @@ mod tests {
         // A distance layer: its amplitude as a picture, and the exact data
         // (tile index, stored tiles and plane records) that pack reads.
         let tiles = &files.iter().find(|(n, _)| n == "03-grating-field-tiles.csv").unwrap().1;
-        assert_eq!(String::from_utf8(tiles.clone()).unwrap(), "0,2,2147483648\n1,3,3221225473\n");
+        assert_eq!(String::from_utf8(tiles.clone()).unwrap(), "0,2,2147483648,2952790017\n1,3,3221225475,2684354564\n");
         let planes = &files.iter().find(|(n, _)| n == "03-grating-field-planes.csv").unwrap().1;
-        assert_eq!(String::from_utf8(planes.clone()).unwrap(), "100.0, 4.5, -2.25, 0.0\n-10.0, 3.0, 1.5, 160.0\n");
+        assert_eq!(
+            String::from_utf8(planes.clone()).unwrap(),
+            "100.0, 4.5, -2.25, 0.0\n130.0, -16.0, 0.0, 0.0\n60.0, 0.0, 16.0, 0.0\n-10.0, 3.0, 1.5, 160.0\n\
+             200.0, -12.0, -9.0, 0.0\n150.0, 9.0, -12.0, 0.0\n"
+        );
         let manifest = String::from_utf8(files.last().unwrap().1.clone()).unwrap();
         assert!(manifest.starts_with(MANIFEST_HEADER));
         assert!(manifest.contains("kind = \"grating\"\nfile = \"02-grating.png\"\namplitude = 0.1\n"), "{manifest}");

@@ -109,7 +109,7 @@ fn mistakes_in_a_hand_edited_folder_name_the_file_and_what_was_expected() {
         ),
         (
             "manifest.toml",
-            manifest.replace("format = \"3.0\"", "format = \"4.0\""),
+            manifest.replace("format = \"4.0\"", "format = \"5.0\""),
             "manifest.toml:".into(),
             "key `format`",
         ),
@@ -179,7 +179,10 @@ fn inspect_prints_profile_layers_and_sizes() {
     let o = taxel(&["inspect", p(&bundle)]);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = String::from_utf8(o.stdout).unwrap();
-    assert!(out.contains(&format!("taxel bundle 3.0, {} bytes, 12 chunks", bytes.len())), "{out}");
+    assert!(
+        out.contains(&format!("taxel bundle {}.0, {} bytes, 12 chunks", taxel_format::FORMAT_MAJOR, bytes.len())),
+        "{out}"
+    );
     assert!(
         out.contains("profile    brush-4x3 (grid), 4 x 3 actuators, pitch 63 x 63 mm, 1000 Hz, 16-bit output"),
         "{out}"
@@ -188,7 +191,7 @@ fn inspect_prints_profile_layers_and_sizes() {
     assert!(out.contains("vibration 50 Hz, amplitude 0.75; mask 3 x 2 8-bit at 4 px/mm"), "{out}");
     assert!(out.contains("grating 6 mm at 45°"), "{out}");
     assert!(
-        out.contains("grating 3 mm at 30°, amplitude 0.9, soft edge 0.3 mm; 2 element(s); distance field 3 x 2 tiles (2 stored, 2 plane) every 0.5 mm"),
+        out.contains("grating 3 mm at 30°, amplitude 0.9, soft edge 0.3 mm; 2 element(s); distance field 4 x 2 tiles (2 stored, 2 plane, 2 corner) every 0.5 mm"),
         "{out}"
     );
     assert!(out.contains("6 braille dots"), "{out}");

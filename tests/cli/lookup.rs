@@ -74,7 +74,11 @@ fn unpack_shows_the_footprints_and_pack_gives_the_same_bytes() {
     let o = taxel(&["unpack", p(&bundle), "-o", p(&dir)]);
     assert!(o.status.success(), "{}", stderr(&o));
     let manifest = std::fs::read_to_string(dir.join("manifest.toml")).unwrap();
-    assert!(manifest.contains("format = \"3.0\"") && manifest.contains("kind = \"footprints\""), "{manifest}");
+    assert!(
+        manifest.contains(&format!("format = \"{}.0\"", taxel_format::FORMAT_MAJOR))
+            && manifest.contains("kind = \"footprints\""),
+        "{manifest}"
+    );
     let csv = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().path())

@@ -20,7 +20,7 @@ use taxel_format::{
 use super::{LayerGeometry, Near, Part, Seg};
 
 /// Largest error of a plane or ridge tile against the exact distance, codes.
-const TOLERANCE: f64 = 0.5;
+pub(super) const TOLERANCE: f64 = 0.5;
 /// The clamp, in codes (the writer clamps distances to ±127 steps).
 const CAP: f64 = 127.0;
 
@@ -43,7 +43,7 @@ impl Saturation {
     /// (codes, clamped to ±[`CAP`]): within [`TOLERANCE`], or, farther than
     /// `near` from the edge, both saturated on the same side, where the
     /// amplitude is the same whatever the code.
-    fn close(&self, v: f64, e: f64) -> bool {
+    pub(super) fn close(&self, v: f64, e: f64) -> bool {
         (v - e).abs() <= TOLERANCE
             || e.abs() > self.near && ((e >= self.hi && v >= self.hi) || (e <= self.lo && v <= self.lo))
     }
@@ -192,7 +192,7 @@ fn w_half(t: &TileCtx<'_, '_>) -> f64 {
 }
 
 /// A record in `f32`, if its values are within the format's bounds.
-fn record(c: f64, gx: f64, gy: f64, top: f64) -> Option<TilePlane> {
+pub(super) fn record(c: f64, gx: f64, gy: f64, top: f64) -> Option<TilePlane> {
     let ok = |v: f64, m: f32| v.is_finite() && v.abs() <= m as f64;
     (ok(c, MAX_PLANE_CODE) && ok(top, MAX_PLANE_CODE) && ok(gx, MAX_PLANE_GRADIENT) && ok(gy, MAX_PLANE_GRADIENT))
         .then_some(TilePlane { c: c as f32, gx: gx as f32, gy: gy as f32, top: top as f32 })
@@ -289,6 +289,13 @@ impl TileCtx<'_, '_> {
     /// distance within half a code (or saturated on the exact side) at the
     /// tile's 64 cell centres; `centres` is scratch.
     pub(super) fn centres_fit(&self, centres: &mut Near, kind: u32, rec: &TilePlane) -> bool {
+        self.centres_all(centres, |u, w, e| self.sat.close(rec.code(kind, u, w) - DISTANCE_ZERO as f64, e))
+    }
+
+    /// Whether `ok(u, w, e)` holds at each of the tile's 64 cell centres,
+    /// `(u, w)` its lattice coordinates in the tile and `e` the exact
+    /// distance there in codes (clamped); `centres` is scratch.
+    pub(super) fn centres_all(&self, centres: &mut Near, ok: impl Fn(f64, f64, f64) -> bool) -> bool {
         let h = self.h;
         centres.measure(self.segs, self.bucket, (self.corner.0 + h / 2.0, self.corner.1 + h / 2.0), h, self.margin);
         let mut in_clip = vec![false; self.centre_bits.clips.len()];
@@ -303,8 +310,7 @@ impl TileCtx<'_, '_> {
                 let p = (self.corner.0 + (i as f64 + 0.5) * h, self.corner.1 + (j as f64 + 0.5) * h);
                 let s = centres.signed(self.g, tc, (inside, occluded), &in_clip, p, self.page);
                 let e = (s / self.step).clamp(-self.cap, self.cap);
-                let v = rec.code(kind, i as f64 + 0.5, j as f64 + 0.5) - DISTANCE_ZERO as f64;
-                if !self.sat.close(v, e) {
+                if !ok(i as f64 + 0.5, j as f64 + 0.5, e) {
                     return false;
                 }
             }

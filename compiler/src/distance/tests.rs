@@ -66,6 +66,35 @@ fn check(g: &LayerGeometry<'_>, p: FieldParams, points: &[(f64, f64)]) -> Result
             }
             continue;
         }
+        if let Some((e_tile, vertex)) = bend_at(&f, h, q) {
+            // A corner or notch tile: at the corners and the centre of the
+            // point's cell, the code plays the exact distance's amplitude
+            // (both clamped to the profile's saturated range, within half a
+            // step) except within the spot round its vertex; at the point
+            // itself on the exact side farther than `h √2` plus a step from
+            // any edge.
+            let (full, none) = saturated_codes(p.soft_mm, f.step_mm);
+            let (hi, lo) = ((full as f64 - 128.0) * f.step_mm, (none as f64 - 128.0) * f.step_mm);
+            let tol = f.step_mm * 0.5 + 1e-9;
+            for (i, j) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0), (0.5, 0.5)] {
+                let pt = (f.origin.0 + (ci + i) * h, f.origin.1 + (cj + j) * h);
+                let Some(v) = field_distance(&f, h, pt) else { continue };
+                if bend_at(&f, h, pt).map(|b| b.0) != Some(e_tile)
+                    || (pt.0 - vertex.0).hypot(pt.1 - vertex.1) <= bends::SPOT_MM + 1e-9
+                {
+                    continue;
+                }
+                let ex = exact(pt);
+                prop_assert!(
+                    (v.clamp(lo, hi) - ex.clamp(lo, hi)).abs() <= tol,
+                    "{pt:?}: corner tile, field {v}, exact {ex} (vertex {vertex:?})"
+                );
+            }
+            if e.abs() > h * std::f64::consts::SQRT_2 + f.step_mm {
+                prop_assert!(got.signum() == e.signum(), "{q:?}: corner tile, field {got}, exact {e}");
+            }
+            continue;
+        }
         if let Some(&e_tile) = plane_tile_at(&f, h, q) {
             let ramp = taxel_format::edge_ramp(p.soft_mm as f32, f.step_mm as f32) as f64;
             let (full, none) = saturated_codes(p.soft_mm, f.step_mm);
@@ -122,7 +151,34 @@ fn plane_tile_at(f: &Field, h: f64, p: (f64, f64)) -> Option<&u32> {
     if tx >= f.tile_cols as usize {
         return None;
     }
-    f.tiles.get(ty * f.tile_cols as usize + tx).filter(|&&e| e >= taxel_format::TILE_PLANE)
+    f.tiles
+        .get(ty * f.tile_cols as usize + tx)
+        .filter(|&&e| e >= taxel_format::TILE_PLANE && taxel_format::TileEntry::of(e).records() == 1)
+}
+
+/// The index entry of the corner or notch tile `p` lies in, if it does,
+/// and the page point where its two records' lines meet.
+fn bend_at(f: &Field, h: f64, p: (f64, f64)) -> Option<(u32, (f64, f64))> {
+    let (fx, fy) = ((p.0 - f.origin.0) / h, (p.1 - f.origin.1) / h);
+    if !(fx >= 0.0 && fy >= 0.0) {
+        return None;
+    }
+    let (tx, ty) = (fx as usize / TILE_CELLS, fy as usize / TILE_CELLS);
+    if tx >= f.tile_cols as usize {
+        return None;
+    }
+    let e = *f.tiles.get(ty * f.tile_cols as usize + tx)?;
+    let (taxel_format::TileEntry::Corner(r) | taxel_format::TileEntry::Notch(r)) = taxel_format::TileEntry::of(e)
+    else {
+        return None;
+    };
+    let (a, b) = (f.planes.get(r as usize)?, f.planes.get(r as usize + 1)?);
+    let (a1, b1, c1) = (a.gx as f64, a.gy as f64, 128.0 - a.c as f64);
+    let (a2, b2, c2) = (b.gx as f64, b.gy as f64, 128.0 - b.c as f64);
+    let det = a1 * b2 - b1 * a2;
+    let (u, w) = ((c1 * b2 - b1 * c2) / det, (a1 * c2 - c1 * a2) / det);
+    let corner = (f.origin.0 + (tx * TILE_CELLS) as f64 * h, f.origin.1 + (ty * TILE_CELLS) as f64 * h);
+    Some((e, (corner.0 + u * h, corner.1 + w * h)))
 }
 
 fn grid_points(step: f64) -> Vec<(f64, f64)> {
@@ -154,9 +210,62 @@ fn a_square_is_exact_along_its_sides() {
             assert!((d - off).abs() <= f.step_mm * 0.5 + 1e-9, "x offset {off} at y {t}: {d}");
         }
     }
-    // Deep inside and far outside are single index entries.
+    // Deep inside and far outside are single index entries, the sides
+    // plane tiles and the four corners corner tiles: nothing is sampled.
     assert!(f.tiles.contains(&TILE_INSIDE));
-    assert!(f.stored() > 0 && f.stored() < f.tiles.len());
+    let corners =
+        f.tiles.iter().filter(|&&e| matches!(taxel_format::TileEntry::of(e), taxel_format::TileEntry::Corner(_)));
+    assert_eq!(corners.count(), 4);
+    assert_eq!(f.stored(), 0);
+    // Round each corner the amplitude is exact but within the spot at its
+    // vertex: the half-amplitude contour is the square's two sides.
+    for v in [(5.0, 5.0), (25.0, 5.0), (25.0, 25.0), (5.0, 25.0)] {
+        assert_amplitude_exact_round(&g, p, &f, v);
+    }
+}
+
+#[test]
+fn an_inner_corner_is_a_notch_tile() {
+    // An L: five convex corners and one concave one, at (15, 15).
+    let l = [Polyline {
+        points: vec![(5.0, 5.0), (15.0, 5.0), (15.0, 15.0), (25.0, 15.0), (25.0, 25.0), (5.0, 25.0)],
+        closed: true,
+    }];
+    let g = LayerGeometry { fills: vec![(&l, FillRule::NonZero)], ..Default::default() };
+    let p = params(0.5, 0.0);
+    let f = build_field(&g, p).expect("a field");
+    let count = |kind: fn(taxel_format::TileEntry) -> bool| {
+        f.tiles.iter().filter(|&&e| kind(taxel_format::TileEntry::of(e))).count()
+    };
+    assert_eq!(count(|e| matches!(e, taxel_format::TileEntry::Corner(_))), 5);
+    assert_eq!(count(|e| matches!(e, taxel_format::TileEntry::Notch(_))), 1);
+    assert_eq!(f.stored(), 0);
+    for v in [(5.0, 5.0), (15.0, 5.0), (15.0, 15.0), (25.0, 15.0), (25.0, 25.0), (5.0, 25.0)] {
+        assert_amplitude_exact_round(&g, p, &f, v);
+    }
+}
+
+/// The hard edge profile's amplitude of the field is the exact distance's
+/// at points within 0.45 mm of `v` (a grid, and lines a few micrometres
+/// from the axis-parallel sides through `v`, inside the ramp), except
+/// within the spot round it.
+fn assert_amplitude_exact_round(g: &LayerGeometry<'_>, p: FieldParams, f: &Field, v: (f64, f64)) {
+    let ramp = taxel_format::edge_ramp(0.0, f.step_mm as f32) as f64;
+    let grid = (0..400).map(|k| ((k % 20) as f64 * 0.047 - 0.45, (k / 20) as f64 * 0.047 - 0.45));
+    let off = [-0.003, -0.001, 0.0005, 0.002];
+    let along = (0..40).flat_map(|k| off.map(|s| (s, k as f64 * 0.0225 - 0.45))).flat_map(|(s, t)| [(s, t), (t, s)]);
+    for (dx, dy) in grid.chain(along) {
+        let q = (v.0 + dx, v.1 + dy);
+        if dx.hypot(dy) <= bends::SPOT_MM {
+            continue;
+        }
+        let exact = exact_signed_distance(g, p.page, q);
+        let d = field_distance(f, p.pitch_mm, q).expect("in the lattice");
+        let amp = |d: f64| (0.5 + d / ramp).clamp(0.0, 1.0);
+        // The records are f32: a thousandth of the amplitude is a
+        // thousandth of a step of distance at the edge.
+        assert!((amp(d) - amp(exact)).abs() <= 1e-3, "{q:?}: {d} against {exact}");
+    }
 }
 
 #[test]

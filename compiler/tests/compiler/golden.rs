@@ -121,9 +121,11 @@ pub fn dump(b: &Bundle) -> String {
                 };
                 let planes = count(|e| matches!(e, taxel_format::TileEntry::Plane(_)));
                 let ridges = count(|e| matches!(e, taxel_format::TileEntry::Ridge(_)));
+                let corners = count(|e| matches!(e, taxel_format::TileEntry::Corner(_)));
+                let notches = count(|e| matches!(e, taxel_format::TileEntry::Notch(_)));
                 writeln!(
                     s,
-                    "{kind} amplitude {} soft {} sources {:?}: {} x {} tiles every {} mm from ({:.2}, {:.2}) mm, {stored} stored, {planes} plane, {ridges} ridge, {inside} inside",
+                    "{kind} amplitude {} soft {} sources {:?}: {} x {} tiles every {} mm from ({:.2}, {:.2}) mm, {stored} stored, {planes} plane, {ridges} ridge, {corners} corner, {notches} notch, {inside} inside",
                     d.amplitude, d.soft_mm, d.sources, d.tile_cols, d.tile_rows, d.pitch_mm, d.origin_x.0, d.origin_y.0
                 )
                 .unwrap();

@@ -177,7 +177,7 @@ fn provenance_fields() {
 #[test]
 fn distance_layer_fields() {
     let tag = b"GDST";
-    // Header: sources 2, 3 x 2 tiles, 2 stored (and 2 plane records).
+    // Header: sources 2, 4 x 2 tiles, 2 stored (and 6 plane records).
     length(edit_chunk(tag, |d| d[12] = 3), tag);
     invalid(edit_chunk(tag, |d| d[4..8].copy_from_slice(&0u32.to_le_bytes())), tag, "tiles");
     invalid(edit_chunk(tag, |d| d[24..28].copy_from_slice(&0.0f32.to_le_bytes())), tag, "pitch_mm");
@@ -187,27 +187,42 @@ fn distance_layer_fields() {
     invalid(edit_chunk(tag, |d| d[16..20].copy_from_slice(&f32::NAN.to_le_bytes())), tag, "origin_x_mm");
     // Sources ascending: 0, 2 -> 2, 0.
     invalid(edit_chunk(tag, |d| d[48..52].copy_from_slice(&2u32.to_le_bytes())), tag, "sources");
-    // Tile index 0, 2, plane 0, 1, 3, ridge 1 at 56..80: stored tiles named
-    // out of order, or twice.
-    invalid(edit_chunk(tag, |d| d[60..64].copy_from_slice(&3u32.to_le_bytes())), tag, "tile index");
-    invalid(edit_chunk(tag, |d| d[64..68].copy_from_slice(&2u32.to_le_bytes())), tag, "tile index");
+    // Tile index 0, 2, plane 0, notch 1, 1, 3, ridge 3, corner 4 at
+    // 56..88: stored tiles named out of order, or twice.
+    invalid(edit_chunk(tag, |d| put_u32(d, 60, 3)), tag, "tile index");
+    invalid(edit_chunk(tag, |d| put_u32(d, 64, 2)), tag, "tile index");
     // One stored tile fewer than the index names.
-    invalid(edit_chunk(tag, |d| d[72..76].copy_from_slice(&0u32.to_le_bytes())), tag, "stored tiles");
+    invalid(edit_chunk(tag, |d| put_u32(d, 76, 0)), tag, "stored tiles");
     // Plane records named out of order, or twice.
-    invalid(edit_chunk(tag, |d| d[76..80].copy_from_slice(&0xC000_0000u32.to_le_bytes())), tag, "tile index");
-    invalid(edit_chunk(tag, |d| d[64..68].copy_from_slice(&0x8000_0001u32.to_le_bytes())), tag, "tile index");
-    // An entry with only bit 30 set is no kind at all.
-    invalid(edit_chunk(tag, |d| d[76..80].copy_from_slice(&0x4000_0001u32.to_le_bytes())), tag, "tile index");
+    invalid(edit_chunk(tag, |d| put_u32(d, 80, 0xC000_0000)), tag, "tile index");
+    invalid(edit_chunk(tag, |d| put_u32(d, 64, 0x8000_0001)), tag, "tile index");
+    // A corner or notch names the next record and uses two: naming the one
+    // after, or the notch's own second record, is out of order.
+    invalid(edit_chunk(tag, |d| put_u32(d, 84, 0xA000_0005)), tag, "tile index");
+    invalid(edit_chunk(tag, |d| put_u32(d, 68, 0xB000_0000)), tag, "tile index");
+    invalid(edit_chunk(tag, |d| put_u32(d, 80, 0xC000_0002)), tag, "tile index");
+    // An entry with only bit 30 set is no kind at all, nor are the top
+    // nibbles 9, D, E and F.
+    for bad in [0x4000_0003u32, 0x9000_0004, 0xD000_0004, 0xE000_0004, 0xF000_0004] {
+        invalid(edit_chunk(tag, |d| put_u32(d, 84, bad)), tag, "tile index");
+    }
     // One plane record fewer than the index names (the record's bytes
-    // left as samples would be a length error; a plane entry made outside).
-    invalid(edit_chunk(tag, |d| d[76..80].copy_from_slice(&0u32.to_le_bytes())), tag, "planes");
-    // Plane records at 80..112, (c, gx, gy, top): not finite, too steep, too
-    // far, a plane with a top.
-    invalid(edit_chunk(tag, |d| d[80..84].copy_from_slice(&f32::NAN.to_le_bytes())), tag, "plane record");
-    invalid(edit_chunk(tag, |d| d[84..88].copy_from_slice(&f32::INFINITY.to_le_bytes())), tag, "plane record");
-    invalid(edit_chunk(tag, |d| d[88..92].copy_from_slice(&1025.0f32.to_le_bytes())), tag, "plane record");
-    invalid(edit_chunk(tag, |d| d[108..112].copy_from_slice(&70_000.0f32.to_le_bytes())), tag, "plane record");
-    invalid(edit_chunk(tag, |d| d[92..96].copy_from_slice(&1.0f32.to_le_bytes())), tag, "plane record");
+    // left as samples would be a length error; a corner entry made outside
+    // leaves two records unnamed).
+    invalid(edit_chunk(tag, |d| put_u32(d, 84, 0)), tag, "planes");
+    // A corner whose second record is missing.
+    invalid(edit_chunk(tag, |d| drop(d.drain(168..184))), tag, "tile index");
+    // Plane records at 88..184, (c, gx, gy, top): not finite, too steep,
+    // too far, a plane, a notch's second record or a corner's first with a
+    // top; a corner's second record not finite.
+    invalid(edit_chunk(tag, |d| put_f32(d, 88, f32::NAN)), tag, "plane record");
+    invalid(edit_chunk(tag, |d| put_f32(d, 92, f32::INFINITY)), tag, "plane record");
+    invalid(edit_chunk(tag, |d| put_f32(d, 96, 1025.0)), tag, "plane record");
+    invalid(edit_chunk(tag, |d| put_f32(d, 148, 70_000.0)), tag, "plane record");
+    invalid(edit_chunk(tag, |d| put_f32(d, 100, 1.0)), tag, "plane record");
+    invalid(edit_chunk(tag, |d| put_f32(d, 132, 1.0)), tag, "plane record");
+    invalid(edit_chunk(tag, |d| put_f32(d, 164, 1.0)), tag, "plane record");
+    invalid(edit_chunk(tag, |d| put_f32(d, 172, f32::NAN)), tag, "plane record");
     // The record table's length follows the index.
     invalid(edit_chunk(tag, |d| d.extend_from_slice(&[0; 16])), tag, "planes");
     length(edit_chunk(tag, |d| d.truncate(47)), tag);

@@ -23,7 +23,7 @@ fn align8(v: usize) -> usize {
 /// Lays chunks out as SPEC.md says: 32-byte header, 32-byte entries, each
 /// chunk at the next multiple of 8, zero padding, file ending on a multiple of 8.
 pub fn craft(chunks: &[Raw]) -> Vec<u8> {
-    craft_version(chunks, 3, 0)
+    craft_version(chunks, taxel_format::FORMAT_MAJOR, 0)
 }
 
 pub fn craft_version(chunks: &[Raw], major: u16, minor: u16) -> Vec<u8> {

@@ -44,7 +44,7 @@ fn bundle_with(foot_data: Vec<u8>, required: bool) -> Vec<u8> {
     let mani = chunks[find(&chunks, b"MANI")].clone();
     let prov = chunks[find(&chunks, b"PROV")].clone();
     let list: Vec<Raw> = vec![mani, prov, raw(b"FOOT", required, foot_data)];
-    craft_version(&list, 3, 0)
+    craft_version(&list, taxel_format::FORMAT_MAJOR, 0)
 }
 
 fn square(x: u16, y: u16, side: u16) -> Vec<(u16, u16)> {
@@ -65,7 +65,7 @@ fn scene() -> Vec<Shape> {
 fn a_crafted_chunk_reads_back_and_writes_the_same_bytes() {
     let bytes = bundle_with(foot(0.1, (5.0, -2.0), &scene()), false);
     let view = BundleView::parse(&bytes).unwrap();
-    assert_eq!(view.version(), (3, 0));
+    assert_eq!(view.version(), (taxel_format::FORMAT_MAJOR, 0));
     let f = view.footprints().unwrap();
     assert_eq!(f.len(), 4);
     let shapes: Vec<_> = f.shapes().collect();
@@ -168,7 +168,7 @@ fn footprints_are_optional_and_once() {
     assert!(matches!(e, FormatError::RequiredFlag { tag: Tag::FOOTPRINTS, expected: false, .. }));
     let mut chunks = decompose(&bundle_with(data, false));
     chunks.push(chunks[2].clone());
-    let e = BundleView::parse(&craft_version(&chunks, 3, 0)).unwrap_err();
+    let e = BundleView::parse(&craft_version(&chunks, taxel_format::FORMAT_MAJOR, 0)).unwrap_err();
     assert!(matches!(e, FormatError::ChunkOrder { tag: Tag::FOOTPRINTS, .. }));
 }
 

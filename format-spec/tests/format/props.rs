@@ -14,7 +14,7 @@ fn check(bytes: &[u8]) {
             let _ = c;
         }
         let (major, minor) = view.version();
-        assert_eq!(major, 3);
+        assert_eq!(major, taxel_format::FORMAT_MAJOR);
         let again = Bundle::from_view(&view).to_bytes_with_minor(minor).expect("an accepted bundle re-encodes");
         assert_eq!(again, bytes, "an accepted bundle is canonical");
     }

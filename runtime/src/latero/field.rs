@@ -17,9 +17,14 @@
 //! exactly, so the per-row kernel has no per-lane select. A plane or ridge
 //! tile (format 3.0) stores no samples either: on a tile change each lane
 //! evaluates its record's affine function at its column, so that per row it
-//! costs one multiply-add (and for a ridge an absolute value) and a select;
-//! rows whose lanes read no plane or ridge tile skip that work (one
-//! predictable branch). The cost per actuator per layer is bounded: it
+//! costs two multiply-adds, an absolute value, a multiply and a select;
+//! rows whose lanes read no such tile skip that work (one predictable
+//! branch). A corner or notch tile (format 4.0) plays the
+//! lesser or the greater of two affine codes, `min(A1, A2) = T − |A|`
+//! with `T` and `A` their half sum and half difference, so that every
+//! such lane plays `T − sign · |A|` from two affine functions: plane,
+//! ridge, corner and notch lanes share one formula and need no select
+//! among them. The cost per actuator per layer is bounded: it
 //! depends neither on the number of shapes in the layer nor on where their
 //! edges are.
 
@@ -56,18 +61,23 @@ struct TileLanes<'a> {
     /// Each lane's window of samples (a plane or ridge lane's is the
     /// outside window, whose code its select replaces).
     windows: [&'a Window; LANES],
-    /// Whether any lane is in a plane or ridge tile.
+    /// Whether any lane is in a plane, ridge, corner or notch tile.
     analytic: bool,
-    /// The lanes in plane or ridge tiles.
+    /// The lanes in such tiles.
     planar: i32x4,
-    /// The ridge lanes among them.
-    ridge: i32x4,
-    /// A planar lane's affine code at its column, `c + gx u`, and its
-    /// gradient along y, codes per lattice cell.
+    /// Every such lane plays `T − sign · |A|`, with `T` and `A` affine
+    /// along y: `T = t0 + tgy w`, `A = a0 + gy w`. A plane lane has its
+    /// affine code as `T` and sign 0; a ridge lane its top as `T` and its
+    /// affine code as `A`, sign 1; a corner or notch lane, with `A1` and
+    /// `A2` its records' affine codes, `T = (A1 + A2) / 2` and
+    /// `A = (A1 − A2) / 2`, sign 1 (`min(A1, A2)`) or −1 (`max(A1, A2)`).
+    /// `t0` and `a0` are the values at the lane's column, `tgy` and `gy`
+    /// the gradients along y in codes per lattice cell.
+    t0: f32x4,
+    tgy: f32x4,
     a0: f32x4,
     gy: f32x4,
-    /// A ridge lane's top code.
-    top: f32x4,
+    sign: f32x4,
 }
 
 impl Default for TileLanes<'_> {
@@ -76,10 +86,11 @@ impl Default for TileLanes<'_> {
             windows: [&OUTSIDE_WINDOW; LANES],
             analytic: false,
             planar: i32x4::ZERO,
-            ridge: i32x4::ZERO,
+            t0: f32x4::ZERO,
+            tgy: f32x4::ZERO,
             a0: f32x4::ZERO,
             gy: f32x4::ZERO,
-            top: f32x4::ZERO,
+            sign: f32x4::ZERO,
         }
     }
 }
@@ -88,8 +99,9 @@ impl Default for TileLanes<'_> {
 #[derive(Debug, Clone, Copy)]
 enum Read<'a> {
     Samples(&'a Tile),
-    /// A plane or ridge record's bytes, and whether it is a ridge.
-    Plane(&'a [u8], bool),
+    /// A plane, ridge, corner or notch tile's record bytes (two records
+    /// for a corner or notch), and its kind.
+    Plane(&'a [u8], TileEntry),
 }
 
 /// A distance layer prepared for playback.
@@ -171,8 +183,9 @@ impl<'a> FieldLayer<'a> {
     #[inline(always)]
     fn tile_lanes(&self, tile_row: usize, ci: [u32; LANES], u: [f32; LANES]) -> TileLanes<'a> {
         let mut t = TileLanes::default();
-        let (mut planar, mut ridge) = ([0i32; LANES], [0i32; LANES]);
-        let (mut a0, mut gy, mut top) = ([0f32; LANES], [0f32; LANES], [0f32; LANES]);
+        let mut planar = [0i32; LANES];
+        let (mut t0, mut tgy, mut a0, mut gy, mut sign) =
+            ([0f32; LANES], [0f32; LANES], [0f32; LANES], [0f32; LANES], [0f32; LANES]);
         // The lanes' columns grow from lane to lane, so neighbours often
         // share a tile: each tile is looked up once.
         let mut read = self.tile(tile_row + (ci[0] >> SHIFT) as usize);
@@ -190,22 +203,31 @@ impl<'a> FieldLayer<'a> {
                     t.windows[k] =
                         tile.get(col..col + WINDOW).and_then(|w| w.try_into().ok()).unwrap_or(&OUTSIDE_WINDOW);
                 }
-                Read::Plane(r, is_ridge) => {
+                Read::Plane(r, kind) => {
                     let f = |o: usize| r.get(o..o + 4).map_or(0.0, |b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]));
-                    a0[k] = f(0) + f(4) * u[k];
-                    gy[k] = f(8);
-                    planar[k] = -1;
-                    if is_ridge {
-                        top[k] = f(12);
-                        ridge[k] = -1;
+                    // A record's affine code at the lane's column, and its gradient along y.
+                    let affine = |o: usize| (f(o) + f(o + 4) * u[k], f(o + 8));
+                    let (a, g) = affine(0);
+                    match kind {
+                        TileEntry::Ridge(_) => {
+                            (t0[k], a0[k], gy[k], sign[k]) = (f(12), a, g, 1.0);
+                        }
+                        TileEntry::Corner(_) | TileEntry::Notch(_) => {
+                            let (a2, g2) = affine(PLANE_RECORD_LEN);
+                            (t0[k], tgy[k]) = ((a + a2) * 0.5, (g + g2) * 0.5);
+                            (a0[k], gy[k]) = ((a - a2) * 0.5, (g - g2) * 0.5);
+                            sign[k] = if matches!(kind, TileEntry::Notch(_)) { -1.0 } else { 1.0 };
+                        }
+                        _ => (t0[k], tgy[k]) = (a, g),
                     }
+                    planar[k] = -1;
                     t.analytic = true;
                 }
             }
         }
         t.planar = i32x4::new(planar);
-        t.ridge = i32x4::new(ridge);
-        (t.a0, t.gy, t.top) = (f32x4::new(a0), f32x4::new(gy), f32x4::new(top));
+        (t.t0, t.tgy, t.a0, t.gy, t.sign) =
+            (f32x4::new(t0), f32x4::new(tgy), f32x4::new(a0), f32x4::new(gy), f32x4::new(sign));
         t
     }
 
@@ -223,10 +245,10 @@ impl<'a> FieldLayer<'a> {
             TileEntry::Outside => Read::Samples(&OUTSIDE),
             TileEntry::Inside => Read::Samples(&INSIDE),
             TileEntry::Stored(k) => Read::Samples(self.stored.get(k as usize).unwrap_or(&OUTSIDE)),
-            TileEntry::Plane(p) | TileEntry::Ridge(p) => {
+            kind @ (TileEntry::Plane(p) | TileEntry::Ridge(p) | TileEntry::Corner(p) | TileEntry::Notch(p)) => {
                 let at = p as usize * PLANE_RECORD_LEN;
-                match self.planes.get(at..at + PLANE_RECORD_LEN) {
-                    Some(r) => Read::Plane(r, matches!(TileEntry::of(e), TileEntry::Ridge(_))),
+                match self.planes.get(at..at + kind.records() as usize * PLANE_RECORD_LEN) {
+                    Some(r) => Read::Plane(r, kind),
                     None => Read::Samples(&OUTSIDE),
                 }
             }
@@ -329,11 +351,10 @@ impl<'a> FieldLayer<'a> {
                     let b = f32x4::from_i32x4(bot.dot(w));
                     let mut v = t + (b - t) * wy;
                     if lanes.analytic {
-                        // The plane and ridge lanes' code at this row's
+                        // The analytic lanes' code at this row's
                         // lattice y within the tile, in units of `W`.
                         let wt = (fy[k] - (ty << SHIFT) as f32).min(TILE_CELLS as f32);
-                        let plane = lanes.a0 + lanes.gy * wt;
-                        let code = cast::<i32x4, f32x4>(lanes.ridge).select(lanes.top - plane.abs(), plane);
+                        let code = (lanes.t0 + lanes.tgy * wt) - lanes.sign * (lanes.a0 + lanes.gy * wt).abs();
                         v = cast::<i32x4, f32x4>(lanes.planar).select(code * W as f32, v);
                     }
                     let a = (v * slope + offset).fast_max(f32x4::ZERO).fast_min(f32x4::ONE);

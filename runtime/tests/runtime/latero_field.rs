@@ -1,11 +1,11 @@
 //! Distance layers (`VDST`, `GDST`) against an f64 evaluation of SPEC.md
 //! section 6.2 and the seed-000 equations: random sparse fields (inside,
-//! outside and stored tiles with random codes, plane and ridge tiles with
-//! random records), hard and soft edges, both primitives, anywhere on and
-//! off the lattice.
+//! outside and stored tiles with random codes, plane, ridge, corner and
+//! notch tiles with random records), hard and soft edges, both primitives,
+//! anywhere on and off the lattice.
 
 use proptest::prelude::*;
-use taxel_format::{Chunk, DistanceLayer, MaskKind, Mm, TILE_PLANE, TILE_RIDGE, TilePlane};
+use taxel_format::{Chunk, DistanceLayer, MaskKind, Mm, TILE_CORNER, TILE_NOTCH, TILE_PLANE, TILE_RIDGE, TilePlane};
 
 use crate::support::*;
 
@@ -29,22 +29,27 @@ fn field(
         // A record from the codes: c within a few hundred codes of the
         // bias, gradients up to ±64 codes per cell, a top near the bias.
         let at = |n: usize| codes[(k * 7 + n) % codes.len()] as f32;
-        let record = |top: f32| TilePlane {
-            c: (at(0) - 128.0) * 2.0 + at(1) / 256.0,
-            gx: (at(2) - 128.0) / 2.0,
-            gy: (at(3) - 128.0) / 2.0,
+        let record = |top: f32, n: usize| TilePlane {
+            c: (at(n) - 128.0) * 2.0 + at(n + 1) / 256.0,
+            gx: (at(n + 2) - 128.0) / 2.0,
+            gy: (at(n + 3) - 128.0) / 2.0,
             top,
         };
-        match entries[k % entries.len()] % 5 {
+        match entries[k % entries.len()] % 7 {
             0 => tiles.push(0),
             1 => tiles.push(1),
             3 => {
                 tiles.push(TILE_PLANE | planes.len() as u32);
-                planes.push(record(0.0));
+                planes.push(record(0.0, 0));
             }
             4 => {
                 tiles.push(TILE_RIDGE | planes.len() as u32);
-                planes.push(record(at(4) + 64.0));
+                planes.push(record(at(4) + 64.0, 0));
+            }
+            kind @ (5 | 6) => {
+                tiles.push(if kind == 5 { TILE_CORNER } else { TILE_NOTCH } | planes.len() as u32);
+                planes.push(record(0.0, 0));
+                planes.push(record(0.0, 3));
             }
             _ => {
                 tiles.push(next);
@@ -143,4 +148,31 @@ fn an_inside_tile_is_full_amplitude_and_an_outside_one_rests() {
         assert!((code as i64 - want).abs() <= 1, "column {c}: {code} against {want}");
     }
     assert!(row[4..].iter().all(|&c| c == 0), "{row:?}");
+}
+
+#[test]
+fn a_corner_tile_plays_the_lesser_of_its_planes_and_a_notch_the_greater() {
+    // One 4 mm tile at (40, 26), steps of 0.01 mm (50 codes per cell of
+    // 0.5 mm): the planes are the signed distances to x = 42 and y = 28, so
+    // a corner is felt right of and below (42, 28) and a notch right of or below it.
+    let p = stress2();
+    let planes =
+        vec![TilePlane { c: -72.0, gx: 50.0, gy: 0.0, top: 0.0 }, TilePlane { c: -72.0, gx: 0.0, gy: 50.0, top: 0.0 }];
+    let art = |entry: u32| {
+        let layer = DistanceLayer {
+            tiles: vec![entry],
+            planes: planes.clone(),
+            samples: vec![],
+            ..field(grating(3.0, 90.0), 40.0, 26.0, 0.5, 1, 1, &[0], &[128], 0.0)
+        };
+        let frame = play(&bundle_bytes(p, vec![Chunk::Distance(layer)]), 0, 44.0, 30.0);
+        // Actuator rows 1..=3 lie at y 26.5, 27.9, 29.3 and columns 1..=3 at
+        // x 41, 42.2, 43.4: inside the tile.
+        (1..=3)
+            .map(|r| (1..=3).map(|c| if frame[8 * r + c] > 0 { '#' } else { '.' }).collect::<String>())
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    assert_eq!(art(TILE_CORNER), "...\n...\n.##");
+    assert_eq!(art(TILE_NOTCH), ".##\n.##\n###");
 }

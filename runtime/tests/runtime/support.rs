@@ -196,13 +196,22 @@ pub fn field_code(d: &DistanceLayer, x: f64, y: f64) -> Option<f64> {
     let (ci, cj) = (u.floor() as usize, v.floor() as usize);
     let e = d.tiles[(cj / 8) * d.tile_cols as usize + ci / 8];
     if e >= 0x8000_0000 {
-        // A plane (0x8000_0000 | p) or ridge (0xC000_0000 | p) tile: the
-        // record's function at the point, in lattice units from the tile's
-        // first lattice point, no interpolation.
-        let r = d.planes[(e & 0x3FFF_FFFF) as usize];
+        // A plane (0x8000_0000 | p), ridge (0xC000_0000 | p), corner
+        // (0xA000_0000 | p) or notch (0xB000_0000 | p) tile: the record's
+        // function at the point, in lattice units from the tile's first
+        // lattice point, no interpolation; a corner the lesser of records p
+        // and p + 1, a notch the greater.
         let (tu, tw) = (u - (ci / 8 * 8) as f64, v - (cj / 8 * 8) as f64);
-        let affine = r.c as f64 + r.gx as f64 * tu + r.gy as f64 * tw;
-        return Some(if e >= 0xC000_0000 { r.top as f64 - affine.abs() } else { affine });
+        let affine = |p: usize| {
+            let r = d.planes[p];
+            r.c as f64 + r.gx as f64 * tu + r.gy as f64 * tw
+        };
+        return Some(match e >> 28 {
+            0xA => affine((e & 0x0FFF_FFFF) as usize).min(affine((e & 0x0FFF_FFFF) as usize + 1)),
+            0xB => affine((e & 0x0FFF_FFFF) as usize).max(affine((e & 0x0FFF_FFFF) as usize + 1)),
+            0xC => d.planes[(e & 0x3FFF_FFFF) as usize].top as f64 - affine((e & 0x3FFF_FFFF) as usize).abs(),
+            _ => affine((e & 0x3FFF_FFFF) as usize),
+        });
     }
     let s = |i: usize, j: usize| -> f64 {
         match e {

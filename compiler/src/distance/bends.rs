@@ -1,0 +1,170 @@
+//! Corner and notch tiles (SPEC.md section 6.2, format 4.0): a tile that two
+//! straight edges of a fill cross, meeting at a vertex, plays the lesser (a
+//! convex corner of the felt region) or the greater (a concave one) of the
+//! two edges' affine distances: two 16-byte plane records instead of 81
+//! samples, played at the point itself.
+//!
+//! Inside a convex corner the lesser is the exact distance. Outside it, it
+//! is the exact distance too, except in the wedge where the vertex is the
+//! nearest point, where it is the miter `−max(|l1|, |l2|)` instead of the
+//! round `−|p − v|`. Both lie below `−ramp / 2` (no amplitude) except in a
+//! spot round the vertex of radius `(ramp / 2) / sin(θ / 2)`, θ the corner's
+//! angle: so the amplitude the edge profile makes of the record is the
+//! exact distance's everywhere but there, and the half-amplitude contour is
+//! exactly the two edges. (A notch is the same with inside and outside
+//! exchanged.) The writer keeps a bend only where that spot lies within
+//! [`SPOT_MM`] of the vertex, which rules out soft edges and, for a hard
+//! edge at the default pitch (a half ramp of 0.004 mm), corners sharper
+//! than about 18 degrees; and only where the exact distance at the 81
+//! samples and the 64 cell centres is, within half a code (or saturated on
+//! the same side farther than `ramp / 2 + h` from the edge, as for planes),
+//! the signed distance to the two rays from the vertex that the records
+//! stand for, so that the tile's geometry is the corner's and the analysis
+//! holds.
+//!
+//! Vibrating bands stay sampled: at a bend of a band's centre line the
+//! exact distance is round on the outer side (the distance to the vertex),
+//! which no minimum or maximum of planes plays.
+
+use taxel_format::{DISTANCE_ZERO, TILE_CORNER, TILE_NOTCH, TILE_SAMPLES, TILE_SIDE, TileEntry, TilePlane};
+
+use super::planes::{Saturation, TOLERANCE, TileCtx, record};
+use super::{Part, Seg, distance2_to_segment};
+
+/// Largest radius round a corner's vertex within which a corner or notch
+/// tile may play another amplitude than the exact distance, mm: half the
+/// band round every edge that `taxel report` leaves out of the value error.
+pub(crate) const SPOT_MM: f64 = 0.025;
+/// Most fill segments near a tile whose pairs are tried (the nearest).
+const MAX_SEGMENTS: usize = 16;
+
+/// A corner or notch tile's records, with what the writer's check needs.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Bend {
+    /// [`TILE_CORNER`] or [`TILE_NOTCH`].
+    pub kind: u32,
+    /// The two records, in index order.
+    pub recs: [TilePlane; 2],
+    /// The vertex in the tile's lattice coordinates.
+    vertex: (f64, f64),
+    /// Codes per lattice cell of a distance.
+    k: f64,
+    /// Radius of the spot round the vertex where the amplitude may differ, cells.
+    spot: f64,
+}
+
+impl Bend {
+    /// The tile's two records from two affine codes, if they meet at one
+    /// vertex at an angle whose spot is small enough.
+    fn new(kind: u32, recs: [TilePlane; 2], k: f64, half_ramp_mm: f64, h: f64) -> Option<Bend> {
+        let [r1, r2] = recs;
+        let (g1, g2) = ((r1.gx as f64, r1.gy as f64), (r2.gx as f64, r2.gy as f64));
+        let (n1, n2) = (g1.0.hypot(g1.1), g2.0.hypot(g2.1));
+        let det = g1.0 * g2.1 - g1.1 * g2.0;
+        if !(n1 > 0.0 && n2 > 0.0 && det.abs() > 1e-6 * n1 * n2) {
+            return None;
+        }
+        // g1 · v = 128 − c1 and g2 · v = 128 − c2.
+        let (b1, b2) = (DISTANCE_ZERO as f64 - r1.c as f64, DISTANCE_ZERO as f64 - r2.c as f64);
+        let vertex = ((b1 * g2.1 - g1.1 * b2) / det, (g1.0 * b2 - b1 * g2.0) / det);
+        // sin(θ / 2) for the corner's angle θ: the normals' angle is π − θ.
+        let sin_half = ((1.0 + (g1.0 * g2.0 + g1.1 * g2.1) / (n1 * n2)) / 2.0).max(0.0).sqrt();
+        let spot_mm = half_ramp_mm / sin_half;
+        (spot_mm <= SPOT_MM).then_some(Bend { kind, recs, vertex, k, spot: spot_mm / h })
+    }
+
+    /// The code it plays at `(u, w)`, less the bias.
+    fn played(&self, u: f64, w: f64) -> f64 {
+        TileEntry::of(self.kind).code(&self.recs, u, w).unwrap_or(f64::NAN) - DISTANCE_ZERO as f64
+    }
+
+    /// The signed distance in codes at `(u, w)` to the two rays from the
+    /// vertex along which the records' lines bound the felt region (for a
+    /// corner where both codes are positive, for a notch where either is):
+    /// the exact distance of that geometry, round round the vertex.
+    fn wedge(&self, u: f64, w: f64) -> f64 {
+        // A notch is the corner of the region where it is not felt.
+        let s = if self.kind == TILE_NOTCH { -1.0 } else { 1.0 };
+        let a = |r: &TilePlane| s * (r.affine(u, w) - DISTANCE_ZERO as f64);
+        let g = |r: &TilePlane| (s * r.gx as f64, s * r.gy as f64);
+        let [r1, r2] = &self.recs;
+        let (a1, a2, g1, g2) = (a(r1), a(r2), g(r1), g(r2));
+        let (n1, n2) = (g1.0.hypot(g1.1), g2.0.hypot(g2.1));
+        let dot = g1.0 * g2.0 + g1.1 * g2.1;
+        let to_vertex = self.k * (u - self.vertex.0).hypot(w - self.vertex.1);
+        // The foot of the perpendicular on line 1 is on ray 1 where the other
+        // code is not negative there, and the same for line 2.
+        let d1 = if a2 - a1 * dot / (n1 * n1) >= 0.0 { a1.abs() * self.k / n1 } else { to_vertex };
+        let d2 = if a1 - a2 * dot / (n2 * n2) >= 0.0 { a2.abs() * self.k / n2 } else { to_vertex };
+        let d = d1.min(d2);
+        s * if a1 >= 0.0 && a2 >= 0.0 { d } else { -d }
+    }
+
+    /// Whether the bend plays the exact distance `e` (codes, clamped) at
+    /// `(u, w)`: the rays' distance is close to it as a plane's must be, and
+    /// outside the spot the played code is the rays' distance within the
+    /// profile's saturated range.
+    pub(super) fn close(&self, u: f64, w: f64, e: f64, sat: Saturation) -> bool {
+        let d = self.wedge(u, w);
+        if !sat.close(d, e) {
+            return false;
+        }
+        let in_spot = (u - self.vertex.0).hypot(w - self.vertex.1) <= self.spot;
+        let clamp = |v: f64| v.clamp(sat.lo, sat.hi);
+        in_spot || (clamp(self.played(u, w)) - clamp(d)).abs() <= TOLERANCE
+    }
+}
+
+/// The corners and notches that play a tile's samples (`exact`, codes,
+/// row-major 9 x 9): pairs of the fills' segments near the tile that share
+/// an end, each side either way round, as a corner or a notch.
+pub(super) fn bends(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES], ramp_mm: f64) -> Vec<Bend> {
+    let mut out = Vec::new();
+    if t.g.band.is_some() {
+        return out;
+    }
+    let span = TILE_SIDE as f64 - 1.0;
+    let centre = (t.corner.0 + span / 2.0 * t.h, t.corner.1 + span / 2.0 * t.h);
+    let mut near: Vec<(f64, Seg)> = t
+        .bucket
+        .iter()
+        .filter_map(|&n| match t.segs.get(n as usize) {
+            Some(&((a, b), Part::Fill, _)) => Some((distance2_to_segment(centre, a, b), (a, b))),
+            _ => None,
+        })
+        .collect();
+    near.sort_by(|x, y| x.0.total_cmp(&y.0));
+    near.truncate(MAX_SEGMENTS);
+    let k = t.h / t.step;
+    // A segment's line over the tile: signed distance in codes at its first
+    // lattice point, and gradient in codes per cell.
+    let line = |a: (f64, f64), b: (f64, f64)| {
+        let len = (b.0 - a.0).hypot(b.1 - a.1);
+        let (nx, ny) = ((a.1 - b.1) / len, (b.0 - a.0) / len);
+        let c = (nx * (t.corner.0 - a.0) + ny * (t.corner.1 - a.1)) / t.step;
+        (len.is_finite() && len > 0.0).then_some((c, nx * k, ny * k))
+    };
+    let plays = |bend: &Bend| {
+        exact.iter().enumerate().all(|(i, &e)| bend.close((i % TILE_SIDE) as f64, (i / TILE_SIDE) as f64, e, t.sat))
+    };
+    for (i, &(_, (a1, b1))) in near.iter().enumerate() {
+        for &(_, (a2, b2)) in &near[i + 1..] {
+            let shares = [a1, b1].iter().any(|p| [a2, b2].iter().any(|q| p.0 == q.0 && p.1 == q.1));
+            let (Some(l1), Some(l2)) = (line(a1, b1), line(a2, b2)) else { continue };
+            if !shares {
+                continue;
+            }
+            for (s1, s2) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
+                let rec =
+                    |(c, gx, gy): (f64, f64, f64), s: f64| record(DISTANCE_ZERO as f64 + s * c, s * gx, s * gy, 0.0);
+                let (Some(r1), Some(r2)) = (rec(l1, s1), rec(l2, s2)) else { continue };
+                for kind in [TILE_CORNER, TILE_NOTCH] {
+                    if let Some(bend) = Bend::new(kind, [r1, r2], k, ramp_mm / 2.0, t.h).filter(|b| plays(b)) {
+                        out.push(bend);
+                    }
+                }
+            }
+        }
+    }
+    out
+}
