@@ -3,6 +3,8 @@
 
 use std::collections::HashSet;
 
+use rayon::prelude::*;
+
 use taxel_format::{DeviceProfile, DistanceLayer};
 
 use super::layers::{Built, Feature, FeatureKind};
@@ -274,6 +276,10 @@ fn nearest_gaps(
     };
     let masks: Vec<Option<usize>> = f.iter().map(|x| x.mask).collect();
     let mut best: Vec<Option<(usize, f64)>> = vec![None; f.len()];
+    // Each feature's search of the boxes apart from its own writes only its
+    // own result, so the features are searched in parallel: the outcome
+    // does not depend on how they are shared out.
+    best.par_iter_mut().enumerate().for_each_init(Vec::new, |cands, (i, b)| search.apart(i, b, cands));
     let mut met: Vec<usize> = Vec::new();
     for (i, a) in f.iter().enumerate() {
         met.clear();
@@ -289,10 +295,6 @@ fn nearest_gaps(
                 offer(&mut best[j], i, g);
             }
         }
-    }
-    let mut cands = Vec::new();
-    for (i, b) in best.iter_mut().enumerate() {
-        search.apart(i, b, &mut cands);
     }
     best
 }
