@@ -683,4 +683,46 @@ mod tests {
             assert!(reported > 30, "seed {seed}: only {reported} features have a near neighbour");
         }
     }
+
+    /// A filled square of its own element, `(x, y)` its lower corner.
+    fn square(k: usize, x: f64, y: f64, side: f64) -> Feature {
+        let points = vec![(x, y), (x + side, y), (x + side, y + side), (x, y + side)];
+        Feature {
+            elem: k,
+            name: format!("f{k}"),
+            line: 1,
+            kind: FeatureKind::Grating { wavelength_mm: 4.0, angle_deg: 0.0 },
+            outline: vec![Polyline { points, closed: true }],
+            half_band: 0.0,
+            dots: Vec::new(),
+            bbox: (x, y, x + side, y + side),
+            mask: None,
+            amplitude: 1.0,
+        }
+    }
+
+    #[test]
+    fn among_equal_gaps_the_first_feature_is_named_whichever_pass_finds_it() {
+        // Feature 1 has a neighbour 1 mm away on each side: the later one
+        // (2) at the left, the earlier one (0) at the right, both with boxes
+        // apart from its own; and 3, a square 1.5 mm above 1 whose box is
+        // stretched down to meet 1's, 0's and 2's (a box only bounds the
+        // gap from below, and boxes that meet are measured in the other pass).
+        let f = vec![square(0, 13.0, 0.0, 2.0), square(1, 10.0, 0.0, 2.0), square(2, 7.0, 0.0, 2.0), {
+            let mut x = square(3, 9.0, 3.5, 4.0);
+            x.bbox = (9.0, 1.9, 13.0, 7.5);
+            x
+        }];
+        let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
+        let got = nearest_gaps(&f, &spatial::BoxIndex::new(&boxes), |_, _| {});
+        assert_eq!(got[1], Some((0, 1.0)));
+        assert_eq!(got[0], Some((1, 1.0)));
+        assert_eq!(got[2], Some((1, 1.0)));
+        // 3's nearest is 1, found through boxes that meet; 0's corner is as far (1.5 mm), and first.
+        assert_eq!(got[3], Some((0, 1.5)));
+        // With 0 and 2 gone, 1's nearest is 3, through boxes that meet.
+        let f = vec![f[1].clone(), f[3].clone()];
+        let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
+        assert_eq!(nearest_gaps(&f, &spatial::BoxIndex::new(&boxes), |_, _| {})[0], Some((1, 1.5)));
+    }
 }
