@@ -293,11 +293,7 @@ impl OutlineSet {
         let near = |k: usize, g: Bbox| self.segments(k).iter().filter(move |s| meet(s.bbox, g));
         let mut best = f64::INFINITY;
         if self.trees[i].is_none() && self.trees[j].is_none() {
-            // Short outlines (a street, a small region): every pair of
-            // segments near the other outline's box, skipping pairs whose
-            // boxes are farther apart than the best so far (or the reach).
-            let sj = self.segments(j);
-            return scan_pairs(near(i, gi), || sj.iter(), best, reach, stop_at);
+            return self.short_distance(i, gi, j, reach, stop_at);
         }
         // The side with fewer segments near the other's box is walked; the
         // other is searched, through its tree when it has one.
@@ -320,6 +316,55 @@ impl OutlineSet {
             _ => best = scan_pairs(near(walk, wg), || near(other, og), best, reach, stop_at),
         }
         best
+    }
+}
+
+impl OutlineSet {
+    /// [`OutlineSet::distance`] between two short outlines (a street, a
+    /// small region; neither has a tree, so each has at most [`TREE_ABOVE`]
+    /// segments): every pair of a segment of `i` near `j`'s box (`gi`, grown
+    /// by the reach) and a segment of `j` near the box of those, skipping
+    /// pairs whose boxes are farther apart than the best so far (or the
+    /// reach). Narrowing `j`'s side to what is near `i`'s near part, not to
+    /// all of `i`'s box, matters for long ways that cross or pass each other
+    /// at one place: a dense plan's way has hundreds of such neighbours, and
+    /// scanning all of `j` for each near segment of `i` was most of the gap
+    /// rule's time.
+    fn short_distance(&self, i: usize, gi: Bbox, j: usize, reach: f64, stop_at: f64) -> f64 {
+        let (si, sj) = (self.segments(i), self.segments(j));
+        // Positions within the outline; a short outline has at most
+        // `TREE_ABOVE` segments, so they fit in a byte and on the stack.
+        let mut ki = [0u8; TREE_ABOVE];
+        let mut ni = 0;
+        let mut part: Option<Bbox> = None;
+        for (k, s) in si.iter().enumerate().take(TREE_ABOVE) {
+            if meet(s.bbox, gi) {
+                ki[ni] = k as u8;
+                ni += 1;
+                part =
+                    Some(part.map_or(s.bbox, |p| {
+                        (p.0.min(s.bbox.0), p.1.min(s.bbox.1), p.2.max(s.bbox.2), p.3.max(s.bbox.3))
+                    }));
+            }
+        }
+        let Some(part) = part else { return f64::INFINITY };
+        let gj = grow(part, reach);
+        let mut kj = [0u8; TREE_ABOVE];
+        let mut nj = 0;
+        for (k, t) in sj.iter().enumerate().take(TREE_ABOVE) {
+            if meet(t.bbox, gj) {
+                kj[nj] = k as u8;
+                nj += 1;
+            }
+        }
+        let (ki, kj) = (&ki[..ni], &kj[..nj]);
+        scan_pairs(
+            ki.iter().map(|&k| &si[usize::from(k)]),
+            || kj.iter().map(|&k| &sj[usize::from(k)]),
+            f64::INFINITY,
+            reach,
+            stop_at,
+        )
     }
 }
 
