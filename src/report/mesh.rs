@@ -205,6 +205,7 @@ pub fn ladder(input: &Path, opts: &CompileOpts, base: &Bundle, trace: &Trace) ->
                 max_error: max,
                 rms_error: rms,
                 far_error: None,
+                far_rms_error: None,
                 corner_error: None,
                 edge_error_mm: None,
                 corner_edge_error_mm: None,

@@ -70,6 +70,14 @@ pub struct Row {
     /// frames).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub far_error: Option<f64>,
+    /// Root-mean-square error over the same actuators as [`Row::far_error`]
+    /// and [`Row::corner_error`] together (every actuator farther than
+    /// [`EDGE_BAND_MM`] from every exact edge), in `error_unit`. Over all
+    /// actuators, [`Row::rms_error`] also counts actuators on an edge, where
+    /// a hard edge plays half the amplitude and the exact reference, a step,
+    /// 0 or 1 (docs/report.md).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub far_rms_error: Option<f64>,
     /// As [`Row::far_error`], at the actuators within
     /// [`edge::CORNER_RADIUS_MM`] of a corner (and farther than
     /// [`EDGE_BAND_MM`] from every edge).
@@ -147,6 +155,8 @@ pub struct Measured {
     pub rms_error: f64,
     /// Largest error in output steps at actuators away from every exact edge and corner.
     pub far_error: f64,
+    /// RMS error in output steps at actuators away from every exact edge.
+    pub far_rms_error: f64,
     /// Largest error in output steps at actuators near a corner and away from every exact edge.
     pub corner_error: Option<f64>,
     /// Edge position error, mm.
@@ -217,6 +227,7 @@ impl Prepared {
         let frame_us = time_frames(&player, &self.positions, n);
         let mut out = vec![0u16; n];
         let (mut max, mut sum2, mut count, mut far) = (0.0f64, 0.0f64, 0usize, 0.0f64);
+        let (mut far_sum2, mut far_count) = (0.0f64, 0usize);
         let mut corner_error: Option<f64> = None;
         // The kernel's exact layers with their outlines.
         let layers: Vec<(&ExactLayer, &edge::Outline)> = self
@@ -242,6 +253,8 @@ impl Prepared {
                 if near_edge(&regions, p) {
                     continue;
                 }
+                far_sum2 += e * e;
+                far_count += 1;
                 if near_corner([p.0, p.1]) {
                     corner_error = edge::max_opt(corner_error, Some(e));
                 } else {
@@ -267,6 +280,7 @@ impl Prepared {
             max_error: max,
             rms_error: (sum2 / count.max(1) as f64).sqrt(),
             far_error: far,
+            far_rms_error: (far_sum2 / far_count.max(1) as f64).sqrt(),
             corner_error,
             edge: edge_error,
             lattice_mm,
@@ -362,6 +376,7 @@ pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>) -> Result<Rep
                 max_error: m.max_error,
                 rms_error: m.rms_error,
                 far_error: Some(m.far_error),
+                far_rms_error: Some(m.far_rms_error),
                 corner_error: m.corner_error,
                 edge_error_mm: m.edge.edge_mm,
                 corner_edge_error_mm: m.edge.corner_mm,

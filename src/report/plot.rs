@@ -273,6 +273,7 @@ mod tests {
             rms_error: err,
             error_unit: "10-bit steps".into(),
             far_error: None,
+            far_rms_error: None,
             corner_error: None,
             edge_error_mm: None,
             corner_edge_error_mm: None,

@@ -146,6 +146,7 @@ pub fn ladder(input: &Path, opts: &CompileOpts, base: &Bundle) -> Result<Vec<sup
             max_error: err.max_onset_ms.max(err.max_duration_ms),
             rms_error: err.rms_ms,
             far_error: None,
+            far_rms_error: None,
             corner_error: None,
             edge_error_mm: None,
             corner_edge_error_mm: None,
