@@ -35,6 +35,7 @@ use taxel_format::{
 #[cfg(test)]
 use crate::geometry::distance_to_segment;
 use crate::geometry::{FillRule, Polyline};
+use near::Near;
 
 /// The geometry of one layer (one style).
 #[derive(Debug, Clone, Default)]
@@ -403,18 +404,28 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
                     if felt_here && inside_rect(pg, corner) > 0.0 { TILE_INSIDE } else { TILE_OUTSIDE };
                 continue;
             }
-            near.measure(&segs, bucket, corner, h, margin);
+            // What each sample is inside of.
+            let (mut inside_t, mut occluded_t) = ([false; TILE_SAMPLES], [false; TILE_SAMPLES]);
+            let mut in_clip = vec![false; clip_bits.len() * TILE_SAMPLES];
+            for t in 0..TILE_SAMPLES {
+                let k = (r * TILE_CELLS + t / TILE_SIDE) * nx + c * TILE_CELLS + t % TILE_SIDE;
+                (inside_t[t], occluded_t[t]) = (inside[k], occluded[k]);
+                for (q, b) in clip_bits.iter().enumerate() {
+                    in_clip[q * TILE_SAMPLES + t] = b[k];
+                }
+            }
+            let bits = near::TileBits { inside: &inside_t, occluded: &occluded_t, in_clip: &in_clip, cap };
+            near.measure_live(g, &segs, bucket, (corner, h, margin), &bits);
             let mut clipped = vec![false; clip_bits.len()];
             for j in 0..TILE_SIDE {
                 for i in 0..TILE_SIDE {
                     let (gi, gj) = (c * TILE_CELLS + i, r * TILE_CELLS + j);
                     let p = at(gi, gj);
-                    let k = gj * nx + gi;
-                    for (c, b) in clipped.iter_mut().zip(&clip_bits) {
-                        *c = b[k];
-                    }
                     let t = j * TILE_SIDE + i;
-                    let s = near.signed(g, t, (inside[k], occluded[k]), &clipped, p, pg).clamp(-cap, cap);
+                    for (q, v) in clipped.iter_mut().enumerate() {
+                        *v = in_clip[q * TILE_SAMPLES + t];
+                    }
+                    let s = near.signed(g, t, (inside_t[t], occluded_t[t]), &clipped, p, pg).clamp(-cap, cap);
                     let code = (s / step).round().clamp(-128.0, 127.0) as i32 + DISTANCE_ZERO as i32;
                     tile_buf[t] = code as u8;
                     exact[t] = s / step;
@@ -491,117 +502,6 @@ fn saturated_codes(soft: f64, step: f64) -> (u8, u8) {
     let full = (zero + half + 0.01).ceil().clamp(zero + 1.0, 255.0);
     let none = (zero - half - 0.01).floor().clamp(0.0, zero - 1.0);
     (full as u8, none as u8)
-}
-
-/// The nearest segments of each part at every sample of one tile, as squared
-/// distances (the cuts per width group).
-struct Near {
-    fill: [f64; TILE_SAMPLES],
-    band: [f64; TILE_SAMPLES],
-    occ: [f64; TILE_SAMPLES],
-    /// `TILE_SAMPLES` per cut width group.
-    cut: Vec<f64>,
-    /// The width of each cut group, mm.
-    cut_widths: Vec<f64>,
-    /// `TILE_SAMPLES` per clip region.
-    clip: Vec<f64>,
-}
-
-impl Near {
-    fn new(clips: usize, cut_widths: Vec<f64>) -> Self {
-        let inf = [f64::INFINITY; TILE_SAMPLES];
-        Near {
-            fill: inf,
-            band: inf,
-            occ: inf,
-            cut: vec![f64::INFINITY; cut_widths.len() * TILE_SAMPLES],
-            cut_widths,
-            clip: vec![f64::INFINITY; clips * TILE_SAMPLES],
-        }
-    }
-
-    /// Measures each segment of `bucket` at the tile's samples (corner
-    /// `corner`, pitch `h`) within its reach plus `margin`. Squared distances
-    /// in the loop: this is the innermost loop of every layer.
-    fn measure(&mut self, segs: &[(Seg, Part, f64)], bucket: &[u32], corner: (f64, f64), h: f64, margin: f64) {
-        self.fill.fill(f64::INFINITY);
-        self.band.fill(f64::INFINITY);
-        self.occ.fill(f64::INFINITY);
-        self.cut.fill(f64::INFINITY);
-        self.clip.fill(f64::INFINITY);
-        let last = TILE_CELLS as f64;
-        // The sample range `lo..=hi` (within the tile) of a span grown by `m`.
-        let range = |lo: f64, hi: f64, o: f64, m: f64| {
-            let a = ((lo - m - o) / h).floor().max(0.0);
-            let b = ((hi + m - o) / h).ceil().min(last);
-            (a as usize, b as usize, a <= b)
-        };
-        for &n in bucket {
-            let Some(&(seg, part, reach)) = segs.get(n as usize) else { continue };
-            let (a, b) = seg;
-            let bb = seg_bounds(&seg);
-            let m = reach + margin;
-            let (i0, i1, some_i) = range(bb.0, bb.2, corner.0, m);
-            let (j0, j1, some_j) = range(bb.1, bb.3, corner.1, m);
-            if !(some_i && some_j) {
-                continue;
-            }
-            for j in j0..=j1 {
-                for i in i0..=i1 {
-                    let p = (corner.0 + i as f64 * h, corner.1 + j as f64 * h);
-                    let d = distance2_to_segment(p, a, b);
-                    let t = j * TILE_SIDE + i;
-                    let slot = match part {
-                        Part::Fill => &mut self.fill[t],
-                        Part::Band => &mut self.band[t],
-                        Part::Occluder => &mut self.occ[t],
-                        Part::Cut(k) => match self.cut.get_mut(k * TILE_SAMPLES + t) {
-                            Some(slot) => slot,
-                            None => continue,
-                        },
-                        Part::Clip(k) => match self.clip.get_mut(k * TILE_SAMPLES + t) {
-                            Some(slot) => slot,
-                            None => continue,
-                        },
-                    };
-                    *slot = slot.min(d);
-                }
-            }
-        }
-    }
-
-    /// The unclamped signed distance at sample `t` (page point `p`);
-    /// `inside` says whether it is inside the fills and inside the occluders.
-    fn signed(
-        &self,
-        g: &LayerGeometry<'_>,
-        t: usize,
-        (inside, occluded): (bool, bool),
-        in_clip: &[bool],
-        p: (f64, f64),
-        page: (f64, f64, f64, f64),
-    ) -> f64 {
-        let (d_fill, d_band, d_occ) = (self.fill[t].sqrt(), self.band[t].sqrt(), self.occ[t].sqrt());
-        let mut s = f64::NEG_INFINITY;
-        if !g.fills.is_empty() {
-            s = if inside { d_fill } else { -d_fill };
-        }
-        if let Some((_, w)) = &g.band {
-            s = s.max(w / 2.0 - d_band);
-        }
-        for (k, w) in self.cut_widths.iter().enumerate() {
-            let d = self.cut.get(k * TILE_SAMPLES + t).map_or(f64::INFINITY, |d| d.sqrt());
-            s = s.min(d - w / 2.0);
-        }
-        for (k, &in_k) in in_clip.iter().enumerate() {
-            let d = self.clip.get(k * TILE_SAMPLES + t).map_or(f64::INFINITY, |d| d.sqrt());
-            s = s.min(if in_k { d } else { -d });
-        }
-        if !g.occluders.is_empty() {
-            s = s.min(if occluded { -d_occ } else { d_occ });
-        }
-        s.min(inside_rect(page, p))
-    }
 }
 
 /// Whether each lattice point `(i, j)` (row-major, `nx` wide) is inside the
@@ -732,6 +632,7 @@ pub fn constant_tile_at(f: &Field, h: f64, p: (f64, f64)) -> Option<bool> {
     }
 }
 
+mod near;
 mod planes;
 #[cfg(test)]
 pub(crate) mod tests;
