@@ -27,6 +27,9 @@
 //! profile there is saturated whatever the interpolation gives.
 
 use std::collections::HashMap;
+use std::sync::OnceLock;
+
+use rayon::prelude::*;
 
 use taxel_format::{
     DISTANCE_ZERO, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE, TILE_SAMPLES, TILE_SIDE, TilePlane,
@@ -367,18 +370,9 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
         (near(pg.0, a.0, b.0) || near(pg.2, a.0, b.0)) && b.1 >= pg.1 - reach && a.1 <= pg.3 + reach
             || (near(pg.1, a.1, b.1) || near(pg.3, a.1, b.1)) && b.0 >= pg.0 - reach && a.0 <= pg.2 + reach
     };
-    let mut tiles = vec![TILE_OUTSIDE; cols * rows];
-    let mut samples = Vec::new();
-    let mut tile_buf = [0u8; TILE_SAMPLES];
-    // The unquantised distances of the tile's samples, in codes (clamped).
-    let mut exact = [0f64; TILE_SAMPLES];
-    let mut planes = Vec::new();
-    let mut near = Near::new(g.clips.len(), cut_widths.clone());
-    // The same at the tile's cell centres, for the plane fits' check.
-    let mut near_centres = Near::new(g.clips.len(), cut_widths);
     let ridge_top = g.band.as_ref().map(|(_, w)| w / 2.0 / step);
     // Inside bits at the cell centres, swept when a tile first fits a plane.
-    let mut centre_bits: Option<planes::CentreBits> = None;
+    let centre_bits: OnceLock<planes::CentreBits> = OnceLock::new();
     // A segment is measured only at the tile's samples within its reach plus
     // the clamp's margin: farther ones would clamp to the same code anyway
     // (every part is then beyond ±cap, and min, max and the clamp commute).
@@ -392,92 +386,113 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
     let zero = DISTANCE_ZERO as f64;
     let ramp = taxel_format::edge_ramp(soft as f32, step as f32) as f64;
     let sat = planes::Saturation { hi: full as f64 - zero, lo: none as f64 - zero, near: (ramp / 2.0 + h) / step };
-    for r in 0..rows {
-        for c in 0..cols {
-            let bucket = &buckets[r * cols + c];
-            let corner = at(c * TILE_CELLS, r * TILE_CELLS);
-            if bucket.is_empty() && !page_edge_near(c, r) {
-                // No edge within the reach: the tile is what its corner is.
-                let k = r * TILE_CELLS * nx + c * TILE_CELLS;
-                let felt_here = !g.fills.is_empty() && inside[k] && in_clips(k) && !occluded[k];
-                tiles[r * cols + c] =
-                    if felt_here && inside_rect(pg, corner) > 0.0 { TILE_INSIDE } else { TILE_OUTSIDE };
-                continue;
-            }
-            // What each sample is inside of.
-            let (mut inside_t, mut occluded_t) = ([false; TILE_SAMPLES], [false; TILE_SAMPLES]);
-            let mut in_clip = vec![false; clip_bits.len() * TILE_SAMPLES];
-            for t in 0..TILE_SAMPLES {
-                let k = (r * TILE_CELLS + t / TILE_SIDE) * nx + c * TILE_CELLS + t % TILE_SIDE;
-                (inside_t[t], occluded_t[t]) = (inside[k], occluded[k]);
-                for (q, b) in clip_bits.iter().enumerate() {
-                    in_clip[q * TILE_SAMPLES + t] = b[k];
-                }
-            }
-            let bits = near::TileBits { inside: &inside_t, occluded: &occluded_t, in_clip: &in_clip, cap };
-            near.measure_live(g, &segs, bucket, (corner, h, margin), &bits);
-            let mut clipped = vec![false; clip_bits.len()];
-            for j in 0..TILE_SIDE {
-                for i in 0..TILE_SIDE {
-                    let (gi, gj) = (c * TILE_CELLS + i, r * TILE_CELLS + j);
-                    let p = at(gi, gj);
-                    let t = j * TILE_SIDE + i;
-                    for (q, v) in clipped.iter_mut().enumerate() {
-                        *v = in_clip[q * TILE_SAMPLES + t];
-                    }
-                    let s = near.signed(g, t, (inside_t[t], occluded_t[t]), &clipped, p, pg).clamp(-cap, cap);
-                    let code = (s / step).round().clamp(-128.0, 127.0) as i32 + DISTANCE_ZERO as i32;
-                    tile_buf[t] = code as u8;
-                    exact[t] = s / step;
-                }
-            }
-            tiles[r * cols + c] = if tile_buf.iter().all(|&v| v >= full) {
+    // Each tile on its own (in parallel: a tile reads only the layer's
+    // shared geometry, buckets and bits), then numbered in order, so that
+    // the field is the same however the tiles were shared out.
+    let scratch = || Scratch {
+        near: Near::new(g.clips.len(), cut_widths.clone()),
+        centres: Near::new(g.clips.len(), cut_widths.clone()),
+    };
+    let tile_of = |Scratch { near, centres }: &mut Scratch, r: usize, c: usize| -> TileOut {
+        let bucket = &buckets[r * cols + c];
+        let corner = at(c * TILE_CELLS, r * TILE_CELLS);
+        if bucket.is_empty() && !page_edge_near(c, r) {
+            // No edge within the reach: the tile is what its corner is.
+            let k = r * TILE_CELLS * nx + c * TILE_CELLS;
+            let felt_here = !g.fills.is_empty() && inside[k] && in_clips(k) && !occluded[k];
+            return TileOut::Constant(if felt_here && inside_rect(pg, corner) > 0.0 {
                 TILE_INSIDE
-            } else if tile_buf.iter().all(|&v| v <= none) {
-                TILE_OUTSIDE
             } else {
-                // A plane or ridge where one plays the tile, else its samples.
-                let tile = planes::TileCtx {
-                    g,
-                    segs: &segs,
-                    bucket,
-                    corner,
-                    h,
-                    margin,
-                    page: pg,
-                    cap: cap / step,
-                    step,
-                    sat,
-                    first: r * TILE_CELLS * nx + c * TILE_CELLS,
-                    nx,
-                    centre_bits: centre_bits.get_or_insert_with(|| {
-                        // The same sweeps as the lattice points', half a cell on.
-                        let (cx, cy) = (ox + h / 2.0, oy + h / 2.0);
-                        planes::CentreBits {
-                            inside: fill_bits(&g.fills, cx, cy, h, nx, ny),
-                            occluded: fill_bits(&g.occluders, cx, cy, h, nx, ny),
-                            clips: g.clips.iter().map(|c| fill_bits(&[*c], cx, cy, h, nx, ny)).collect(),
-                        }
-                    }),
-                };
-                let lines = planes::nearest_lines(&tile, &exact);
-                let fitted = planes::fit(&exact, ridge_top, sat, &lines)
-                    .into_iter()
-                    .find(|(e, rec)| tile.centres_fit(&mut near_centres, *e, rec));
-                match fitted {
-                    Some((entry, rec)) => {
-                        let n = planes.len() as u32;
-                        planes.push(rec);
-                        entry | n
-                    }
-                    None => {
-                        let n = (samples.len() / TILE_SAMPLES) as u32;
-                        samples.extend_from_slice(&tile_buf);
-                        TILE_FIRST_STORED + n
-                    }
-                }
-            };
+                TILE_OUTSIDE
+            });
         }
+        // What each sample is inside of.
+        let (mut inside_t, mut occluded_t) = ([false; TILE_SAMPLES], [false; TILE_SAMPLES]);
+        let mut in_clip = vec![false; clip_bits.len() * TILE_SAMPLES];
+        for t in 0..TILE_SAMPLES {
+            let k = (r * TILE_CELLS + t / TILE_SIDE) * nx + c * TILE_CELLS + t % TILE_SIDE;
+            (inside_t[t], occluded_t[t]) = (inside[k], occluded[k]);
+            for (q, b) in clip_bits.iter().enumerate() {
+                in_clip[q * TILE_SAMPLES + t] = b[k];
+            }
+        }
+        let bits = near::TileBits { inside: &inside_t, occluded: &occluded_t, in_clip: &in_clip, cap };
+        near.measure_live(g, &segs, bucket, (corner, h, margin), &bits);
+        let mut tile_buf = [0u8; TILE_SAMPLES];
+        // The unquantised distances of the tile's samples, in codes (clamped).
+        let mut exact = [0f64; TILE_SAMPLES];
+        let mut clipped = vec![false; clip_bits.len()];
+        for j in 0..TILE_SIDE {
+            for i in 0..TILE_SIDE {
+                let (gi, gj) = (c * TILE_CELLS + i, r * TILE_CELLS + j);
+                let p = at(gi, gj);
+                let t = j * TILE_SIDE + i;
+                for (q, v) in clipped.iter_mut().enumerate() {
+                    *v = in_clip[q * TILE_SAMPLES + t];
+                }
+                let s = near.signed(g, t, (inside_t[t], occluded_t[t]), &clipped, p, pg).clamp(-cap, cap);
+                let code = (s / step).round().clamp(-128.0, 127.0) as i32 + DISTANCE_ZERO as i32;
+                tile_buf[t] = code as u8;
+                exact[t] = s / step;
+            }
+        }
+        if tile_buf.iter().all(|&v| v >= full) {
+            return TileOut::Constant(TILE_INSIDE);
+        }
+        if tile_buf.iter().all(|&v| v <= none) {
+            return TileOut::Constant(TILE_OUTSIDE);
+        }
+        // A plane or ridge where one plays the tile, else its samples.
+        let tile = planes::TileCtx {
+            g,
+            segs: &segs,
+            bucket,
+            corner,
+            h,
+            margin,
+            page: pg,
+            cap: cap / step,
+            step,
+            sat,
+            first: r * TILE_CELLS * nx + c * TILE_CELLS,
+            nx,
+            centre_bits: centre_bits.get_or_init(|| {
+                // The same sweeps as the lattice points', half a cell on.
+                let (cx, cy) = (ox + h / 2.0, oy + h / 2.0);
+                planes::CentreBits {
+                    inside: fill_bits(&g.fills, cx, cy, h, nx, ny),
+                    occluded: fill_bits(&g.occluders, cx, cy, h, nx, ny),
+                    clips: g.clips.iter().map(|c| fill_bits(&[*c], cx, cy, h, nx, ny)).collect(),
+                }
+            }),
+        };
+        let lines = planes::nearest_lines(&tile, &exact);
+        let fitted =
+            planes::fit(&exact, ridge_top, sat, &lines).into_iter().find(|(e, rec)| tile.centres_fit(centres, *e, rec));
+        match fitted {
+            Some((entry, rec)) => TileOut::Record(entry, rec),
+            None => TileOut::Samples(tile_buf),
+        }
+    };
+    let outs: Vec<TileOut> =
+        (0..rows * cols).into_par_iter().map_init(scratch, |s, k| tile_of(s, k / cols, k % cols)).collect();
+    let mut tiles = vec![TILE_OUTSIDE; cols * rows];
+    let mut samples = Vec::new();
+    let mut planes = Vec::new();
+    for (entry, out) in tiles.iter_mut().zip(outs) {
+        *entry = match out {
+            TileOut::Constant(e) => e,
+            TileOut::Record(kind, rec) => {
+                let n = planes.len() as u32;
+                planes.push(rec);
+                kind | n
+            }
+            TileOut::Samples(buf) => {
+                let n = (samples.len() / TILE_SAMPLES) as u32;
+                samples.extend_from_slice(&buf);
+                TILE_FIRST_STORED + n
+            }
+        };
     }
     if tiles.iter().all(|&t| t == TILE_OUTSIDE) {
         return None;
@@ -491,6 +506,23 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
         planes,
         samples,
     })
+}
+
+/// One tile of a layer as built, before the stored ones are numbered.
+enum TileOut {
+    /// An inside or outside tile (its index entry).
+    Constant(u32),
+    /// A plane or ridge tile: its index kind and record.
+    Record(u32, TilePlane),
+    /// A stored tile's samples.
+    Samples([u8; TILE_SAMPLES]),
+}
+
+/// One worker's scratch for measuring tiles: at the samples and at the cell
+/// centres (the plane fits' check).
+struct Scratch {
+    near: Near,
+    centres: Near,
 }
 
 /// The lowest code played at full amplitude and the highest played at zero
