@@ -27,9 +27,12 @@ use taxel_format::{TILE_CELLS, TILE_SAMPLES, TILE_SIDE};
 
 use super::{LayerGeometry, Part, Seg, distance2_to_segment};
 
-/// From this many segments on a tile, the samples search a grid of them
-/// (below it, building the grid costs more than it saves).
-const GRID_FROM: usize = 48;
+/// From this many segments of a group (the layer's own parts, or the
+/// others) on a tile, the samples search a grid of them: below it, building
+/// the grid costs more than it saves (measured on the generated maps of 1,000
+/// and 10,000 regions: 48, 128 and 400 were within the noise of each other on
+/// the denser map, and 128 the fastest on the sparser).
+const GRID_FROM: usize = 128;
 
 /// Slots of the squared-distance array, `TILE_SAMPLES` each: the fills, the
 /// band and the occluders, then one per cut width group, then one per clip.
@@ -62,10 +65,8 @@ pub(super) struct Near {
     clips: usize,
     /// Whether a slot is still measured at a sample (`TILE_SAMPLES` per slot).
     live: Vec<bool>,
-    /// The grids of the sample-major search: the layer's own parts (fills
-    /// and band) and the rest.
-    own: Grid,
-    rest: Grid,
+    /// The grid of the sample-major search.
+    grid: Grid,
     /// The slot of each bucket entry, and each slot's reach plus margin.
     slot_of: Vec<usize>,
     reach: Vec<f64>,
@@ -170,8 +171,7 @@ impl Near {
             cut_widths,
             clips,
             live: vec![true; slots * TILE_SAMPLES],
-            own: Grid::default(),
-            rest: Grid::default(),
+            grid: Grid::default(),
             slot_of: Vec::new(),
             reach: vec![0.0; slots],
         }
@@ -251,14 +251,24 @@ impl Near {
                 None => self.slot_of.push(usize::MAX),
             }
         }
+        // The layer's own parts first (the others are live only where these
+        // leave the distance within reach of a change), each group the way
+        // its number of segments makes cheaper.
+        let grid = finite && h > 0.0 && self.slots() < 64;
         let own = |s: usize| s == FILL || s == BAND;
-        if finite && bucket.len() >= GRID_FROM && h > 0.0 && self.slots() < 64 {
-            self.search(segs, bucket, corner, h, live);
+        let n_own = self.slot_of.iter().filter(|&&s| s != usize::MAX && own(s)).count();
+        let n_rest = self.slot_of.iter().filter(|&&s| s != usize::MAX && !own(s)).count();
+        if grid && n_own >= GRID_FROM {
+            self.search(segs, bucket, corner, h, true);
         } else {
             self.sweep(segs, bucket, corner, h, margin, &|s| own(s));
-            if let Some((g, bits)) = live {
-                self.mark_live(g, bits, 0..TILE_SAMPLES);
-            }
+        }
+        if let Some((g, bits)) = live {
+            self.mark_live(g, bits, 0..TILE_SAMPLES);
+        }
+        if grid && n_rest >= GRID_FROM {
+            self.search(segs, bucket, corner, h, false);
+        } else {
             self.sweep(segs, bucket, corner, h, margin, &|s| !own(s));
         }
     }
@@ -313,59 +323,38 @@ impl Near {
         }
     }
 
-    /// Sample-major: each sample searches the grids ring by ring.
-    fn search(
-        &mut self,
-        segs: &[(Seg, Part, f64)],
-        bucket: &[u32],
-        corner: (f64, f64),
-        h: f64,
-        live: Option<(&LayerGeometry<'_>, &TileBits<'_>)>,
-    ) {
+    /// Sample-major, for the layer's own parts (`own`) or the others: each
+    /// sample searches a grid of them ring by ring.
+    fn search(&mut self, segs: &[(Seg, Part, f64)], bucket: &[u32], corner: (f64, f64), h: f64, own: bool) {
         let cell = h / SUB as f64;
-        let reach_max = self.reach.iter().copied().fold(0.0, f64::max);
+        let mask = if own { (1u64 << FILL) | (1 << BAND) } else { ((1u64 << self.slots()) - 1) & !0b11 };
+        let in_group = |s: usize| s < 64 && mask & (1 << s) != 0;
+        let reach_max = (0..self.slots()).filter(|&s| in_group(s)).map(|s| self.reach[s]).fold(0.0, f64::max);
         // Rings up to `rings` see every segment within `reach_max`.
         let rings = (reach_max / cell).ceil() as isize + 1;
         let pad = rings + 1;
-        let cells = |k: usize| {
+        let slot_of = std::mem::take(&mut self.slot_of);
+        let mut grid = std::mem::take(&mut self.grid);
+        grid.fill(pad, bucket.len(), |k| {
+            let slot = *slot_of.get(k)?;
             let &(seg, _, _) = bucket.get(k).and_then(|&n| segs.get(n as usize))?;
+            if !in_group(slot) {
+                return None;
+            }
             let bb = super::seg_bounds(&seg);
             let c = |v: f64, o: f64| floor_cell((v - o) / cell);
             Some((c(bb.0, corner.0), c(bb.1, corner.1), c(bb.2, corner.0), c(bb.3, corner.1)))
-        };
-        let slot_of = std::mem::take(&mut self.slot_of);
-        let own_slot = |s: usize| s == FILL || s == BAND;
-        let mut own = std::mem::take(&mut self.own);
-        let mut rest = std::mem::take(&mut self.rest);
-        let of = |k: usize, want_own: bool| match slot_of.get(k) {
-            Some(&s) if s != usize::MAX && own_slot(s) == want_own => cells(k),
-            _ => None,
-        };
-        own.fill(pad, bucket.len(), |k| of(k, true));
-        rest.fill(pad, bucket.len(), |k| of(k, false));
-        let slots = self.slots();
-        let own_mask = (1u64 << FILL) | (1 << BAND);
-        let rest_mask = ((1u64 << slots) - 1) & !own_mask;
+        });
         let search = Search { segs, bucket, slot_of: &slot_of, cell, rings };
         for j in 0..TILE_SIDE {
             for i in 0..TILE_SIDE {
                 let t = j * TILE_SIDE + i;
                 let p = (corner.0 + i as f64 * h, corner.1 + j as f64 * h);
-                let at = (i as isize * SUB, j as isize * SUB, t, p);
-                if !own.items.is_empty() {
-                    self.nearest(&search, &own, at, own_mask);
-                }
-                if let Some((g, bits)) = live {
-                    self.mark_live(g, bits, t..t + 1);
-                }
-                if !rest.items.is_empty() {
-                    self.nearest(&search, &rest, at, rest_mask);
-                }
+                self.nearest(&search, &grid, (i as isize * SUB, j as isize * SUB, t, p), mask);
             }
         }
         self.slot_of = slot_of;
-        self.own = own;
-        self.rest = rest;
+        self.grid = grid;
     }
 
     /// The nearest entries of `grid` to sample `t` (grid point `(x, y)`,
