@@ -34,6 +34,10 @@ use super::{LayerGeometry, Part, Seg, distance2_to_segment};
 /// the denser map, and 128 the fastest on the sparser).
 const GRID_FROM: usize = 128;
 
+/// The most rings of cells a sample's search may need, else the tile is
+/// measured segment by segment.
+const MAX_RINGS: f64 = 64.0;
+
 /// Slots of the squared-distance array, `TILE_SAMPLES` each: the fills, the
 /// band and the occluders, then one per cut width group, then one per clip.
 const FILL: usize = 0;
@@ -254,11 +258,18 @@ impl Near {
         // The layer's own parts first (the others are live only where these
         // leave the distance within reach of a change), each group the way
         // its number of segments makes cheaper.
-        let grid = finite && h > 0.0 && self.slots() < 64;
         let own = |s: usize| s == FILL || s == BAND;
         let n_own = self.slot_of.iter().filter(|&&s| s != usize::MAX && own(s)).count();
         let n_rest = self.slot_of.iter().filter(|&&s| s != usize::MAX && !own(s)).count();
-        if grid && n_own >= GRID_FROM {
+        // A grid only for finite segments, slots that fit the search's
+        // bit mask, and a reach of a bounded number of cells (a band much
+        // wider than the lattice pitch would make the grid large).
+        let fits = |own_group: bool| {
+            let reach = (0..self.slots()).filter(|&s| own(s) == own_group).map(|s| self.reach[s]).fold(0.0, f64::max);
+            finite && h > 0.0 && self.slots() < 64 && reach / (h / SUB as f64) <= MAX_RINGS
+        };
+        let grid = (fits(true), fits(false));
+        if n_own >= GRID_FROM && grid.0 {
             self.search(segs, bucket, corner, h, true);
         } else {
             self.sweep(segs, bucket, corner, h, margin, &|s| own(s));
@@ -266,7 +277,7 @@ impl Near {
         if let Some((g, bits)) = live {
             self.mark_live(g, bits, 0..TILE_SAMPLES);
         }
-        if grid && n_rest >= GRID_FROM {
+        if n_rest >= GRID_FROM && grid.1 {
             self.search(segs, bucket, corner, h, false);
         } else {
             self.sweep(segs, bucket, corner, h, margin, &|s| !own(s));
