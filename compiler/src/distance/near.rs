@@ -210,7 +210,7 @@ impl Near {
         h: f64,
         margin: f64,
     ) {
-        self.run(segs, bucket, corner, h, margin, None);
+        self.run(segs, bucket, (corner, h, margin), None, GRID_FROM);
     }
 
     /// As [`measure`](Self::measure), but the parts that only lower the
@@ -225,17 +225,17 @@ impl Near {
         (corner, h, margin): ((f64, f64), f64, f64),
         bits: &TileBits<'_>,
     ) {
-        self.run(segs, bucket, corner, h, margin, Some((g, bits)));
+        self.run(segs, bucket, (corner, h, margin), Some((g, bits)), GRID_FROM);
     }
 
+    /// Measures, with the grid search for groups of at least `grid_from` segments.
     fn run(
         &mut self,
         segs: &[(Seg, Part, f64)],
         bucket: &[u32],
-        corner: (f64, f64),
-        h: f64,
-        margin: f64,
+        (corner, h, margin): ((f64, f64), f64, f64),
         live: Option<(&LayerGeometry<'_>, &TileBits<'_>)>,
+        grid_from: usize,
     ) {
         self.d.fill(f64::INFINITY);
         self.live.fill(true);
@@ -269,7 +269,7 @@ impl Near {
             finite && h > 0.0 && self.slots() < 64 && reach / (h / SUB as f64) <= MAX_RINGS
         };
         let grid = (fits(true), fits(false));
-        if n_own >= GRID_FROM && grid.0 {
+        if n_own >= grid_from && grid.0 {
             self.search(segs, bucket, corner, h, true);
         } else {
             self.sweep(segs, bucket, corner, h, margin, &|s| own(s));
@@ -277,7 +277,7 @@ impl Near {
         if let Some((g, bits)) = live {
             self.mark_live(g, bits, 0..TILE_SAMPLES);
         }
-        if n_rest >= GRID_FROM && grid.1 {
+        if n_rest >= grid_from && grid.1 {
             self.search(segs, bucket, corner, h, false);
         } else {
             self.sweep(segs, bucket, corner, h, margin, &|s| !own(s));
@@ -503,5 +503,61 @@ impl Near {
             s = s.min(if occluded { -d_occ } else { d_occ });
         }
         s.min(super::inside_rect(page, p))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use proptest::prelude::*;
+
+    use super::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+        /// The grid search and the segment sweep store the same minimum of
+        /// every part at every sample wherever it is within the part's reach
+        /// plus the margin (the exact minimum over all the segments there),
+        /// and both something beyond it elsewhere.
+        #[test]
+        fn the_grid_search_finds_what_the_sweep_finds(
+            segs in prop::collection::vec(((-2.0f64..6.0, -2.0f64..6.0), (-0.6f64..0.6, -0.6f64..0.6), 0u8..5, any::<bool>()), 1..300),
+            h in prop::sample::select(vec![0.25, 0.5]),
+            (reach, margin) in (0.2f64..1.5, 0.0f64..0.1),
+        ) {
+            // Slots: fill, band, occluder, one cut group, one clip.
+            let segs: Vec<(Seg, Part, f64)> = segs
+                .iter()
+                .map(|&((x, y), (dx, dy), kind, long)| {
+                    let k = if long { 5.0 } else { 1.0 };
+                    let part = [Part::Fill, Part::Band, Part::Occluder, Part::Cut(0), Part::Clip(0)][kind as usize];
+                    let r = if matches!(part, Part::Band | Part::Cut(_)) { reach + 0.3 } else { reach };
+                    (((x, y), (x + k * dx, y + k * dy)), part, r)
+                })
+                .collect();
+            let bucket: Vec<u32> = (0..segs.len() as u32).collect();
+            let (mut grid, mut sweep) = (Near::new(1, vec![0.6]), Near::new(1, vec![0.6]));
+            let corner = (0.0, 0.0);
+            grid.run(&segs, &bucket, (corner, h, margin), None, 0);
+            sweep.run(&segs, &bucket, (corner, h, margin), None, usize::MAX);
+            for slot in 0..grid.slots() {
+                let reach = segs.iter().filter(|s| sweep.slot(s.1) == Some(slot)).map(|s| s.2 + margin).fold(0.0, f64::max);
+                for t in 0..TILE_SAMPLES {
+                    let p = (corner.0 + (t % TILE_SIDE) as f64 * h, corner.1 + (t / TILE_SIDE) as f64 * h);
+                    let exact = segs
+                        .iter()
+                        .filter(|s| sweep.slot(s.1) == Some(slot))
+                        .map(|&((a, b), _, _)| distance2_to_segment(p, a, b))
+                        .fold(f64::INFINITY, f64::min);
+                    let (g, s) = (grid.at(slot, t), sweep.at(slot, t));
+                    if exact <= reach * reach {
+                        prop_assert_eq!(g, exact, "grid, slot {} sample {}", slot, t);
+                        prop_assert_eq!(s, exact, "sweep, slot {} sample {}", slot, t);
+                    } else {
+                        prop_assert!(g > reach * reach && s > reach * reach, "slot {slot} sample {t}: {g} {s} beyond {reach}");
+                    }
+                }
+            }
+        }
     }
 }
