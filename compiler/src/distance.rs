@@ -27,6 +27,9 @@
 //! profile there is saturated whatever the interpolation gives.
 
 use std::collections::HashMap;
+use std::sync::OnceLock;
+
+use rayon::prelude::*;
 
 use taxel_format::{
     DISTANCE_ZERO, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE, TILE_SAMPLES, TILE_SIDE, TilePlane,
@@ -35,6 +38,7 @@ use taxel_format::{
 #[cfg(test)]
 use crate::geometry::distance_to_segment;
 use crate::geometry::{FillRule, Polyline};
+use near::Near;
 
 /// The geometry of one layer (one style).
 #[derive(Debug, Clone, Default)]
@@ -366,18 +370,9 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
         (near(pg.0, a.0, b.0) || near(pg.2, a.0, b.0)) && b.1 >= pg.1 - reach && a.1 <= pg.3 + reach
             || (near(pg.1, a.1, b.1) || near(pg.3, a.1, b.1)) && b.0 >= pg.0 - reach && a.0 <= pg.2 + reach
     };
-    let mut tiles = vec![TILE_OUTSIDE; cols * rows];
-    let mut samples = Vec::new();
-    let mut tile_buf = [0u8; TILE_SAMPLES];
-    // The unquantised distances of the tile's samples, in codes (clamped).
-    let mut exact = [0f64; TILE_SAMPLES];
-    let mut planes = Vec::new();
-    let mut near = Near::new(g.clips.len(), cut_widths.clone());
-    // The same at the tile's cell centres, for the plane fits' check.
-    let mut near_centres = Near::new(g.clips.len(), cut_widths);
     let ridge_top = g.band.as_ref().map(|(_, w)| w / 2.0 / step);
     // Inside bits at the cell centres, swept when a tile first fits a plane.
-    let mut centre_bits: Option<planes::CentreBits> = None;
+    let centre_bits: OnceLock<planes::CentreBits> = OnceLock::new();
     // A segment is measured only at the tile's samples within its reach plus
     // the clamp's margin: farther ones would clamp to the same code anyway
     // (every part is then beyond ±cap, and min, max and the clamp commute).
@@ -391,95 +386,133 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
     let zero = DISTANCE_ZERO as f64;
     let ramp = taxel_format::edge_ramp(soft as f32, step as f32) as f64;
     let sat = planes::Saturation { hi: full as f64 - zero, lo: none as f64 - zero, near: (ramp / 2.0 + h) / step };
-    for r in 0..rows {
-        for c in 0..cols {
-            let bucket = &buckets[r * cols + c];
-            let corner = at(c * TILE_CELLS, r * TILE_CELLS);
-            if bucket.is_empty() && !page_edge_near(c, r) {
-                // No edge within the reach: the tile is what its corner is.
-                let k = r * TILE_CELLS * nx + c * TILE_CELLS;
-                let felt_here = !g.fills.is_empty() && inside[k] && in_clips(k) && !occluded[k];
-                tiles[r * cols + c] =
-                    if felt_here && inside_rect(pg, corner) > 0.0 { TILE_INSIDE } else { TILE_OUTSIDE };
-                continue;
-            }
-            near.measure(&segs, bucket, corner, h, margin);
-            let mut clipped = vec![false; clip_bits.len()];
-            for j in 0..TILE_SIDE {
-                for i in 0..TILE_SIDE {
-                    let (gi, gj) = (c * TILE_CELLS + i, r * TILE_CELLS + j);
-                    let p = at(gi, gj);
-                    let k = gj * nx + gi;
-                    for (c, b) in clipped.iter_mut().zip(&clip_bits) {
-                        *c = b[k];
-                    }
-                    let t = j * TILE_SIDE + i;
-                    let s = near.signed(g, t, (inside[k], occluded[k]), &clipped, p, pg).clamp(-cap, cap);
-                    let code = (s / step).round().clamp(-128.0, 127.0) as i32 + DISTANCE_ZERO as i32;
-                    tile_buf[t] = code as u8;
-                    exact[t] = s / step;
-                }
-            }
-            tiles[r * cols + c] = if tile_buf.iter().all(|&v| v >= full) {
+    // Each tile on its own (in parallel: a tile reads only the layer's
+    // shared geometry, buckets and bits), then numbered in order, so that
+    // the field is the same however the tiles were shared out.
+    let scratch = || Scratch {
+        near: Near::new(g.clips.len(), cut_widths.clone()),
+        centres: Near::new(g.clips.len(), cut_widths.clone()),
+    };
+    let tile_of = |Scratch { near, centres }: &mut Scratch, r: usize, c: usize| -> TileOut {
+        let bucket = &buckets[r * cols + c];
+        let corner = at(c * TILE_CELLS, r * TILE_CELLS);
+        if bucket.is_empty() && !page_edge_near(c, r) {
+            // No edge within the reach: the tile is what its corner is.
+            let k = r * TILE_CELLS * nx + c * TILE_CELLS;
+            let felt_here = !g.fills.is_empty() && inside[k] && in_clips(k) && !occluded[k];
+            return TileOut::Constant(if felt_here && inside_rect(pg, corner) > 0.0 {
                 TILE_INSIDE
-            } else if tile_buf.iter().all(|&v| v <= none) {
-                TILE_OUTSIDE
             } else {
-                // A plane or ridge where one plays the tile, else its samples.
-                let tile = planes::TileCtx {
-                    g,
-                    segs: &segs,
-                    bucket,
-                    corner,
-                    h,
-                    margin,
-                    page: pg,
-                    cap: cap / step,
-                    step,
-                    sat,
-                    first: r * TILE_CELLS * nx + c * TILE_CELLS,
-                    nx,
-                    centre_bits: centre_bits.get_or_insert_with(|| {
-                        // The same sweeps as the lattice points', half a cell on.
-                        let (cx, cy) = (ox + h / 2.0, oy + h / 2.0);
-                        planes::CentreBits {
-                            inside: fill_bits(&g.fills, cx, cy, h, nx, ny),
-                            occluded: fill_bits(&g.occluders, cx, cy, h, nx, ny),
-                            clips: g.clips.iter().map(|c| fill_bits(&[*c], cx, cy, h, nx, ny)).collect(),
-                        }
-                    }),
-                };
-                let lines = planes::nearest_lines(&tile, &exact);
-                let fitted = planes::fit(&exact, ridge_top, sat, &lines)
-                    .into_iter()
-                    .find(|(e, rec)| tile.centres_fit(&mut near_centres, *e, rec));
-                match fitted {
-                    Some((entry, rec)) => {
-                        let n = planes.len() as u32;
-                        planes.push(rec);
-                        entry | n
-                    }
-                    None => {
-                        // Two straight edges meeting at a vertex: a corner or a notch.
-                        let bent = bends::bends(&tile, &exact, ramp)
-                            .into_iter()
-                            .find(|b| tile.centres_all(&mut near_centres, |u, w, e| b.close(u, w, e, sat)));
-                        match bent {
-                            Some(b) => {
-                                let n = planes.len() as u32;
-                                planes.extend(b.recs);
-                                b.kind | n
-                            }
-                            None => {
-                                let n = (samples.len() / TILE_SAMPLES) as u32;
-                                samples.extend_from_slice(&tile_buf);
-                                TILE_FIRST_STORED + n
-                            }
-                        }
-                    }
-                }
-            };
+                TILE_OUTSIDE
+            });
         }
+        // What each sample is inside of.
+        let (mut inside_t, mut occluded_t) = ([false; TILE_SAMPLES], [false; TILE_SAMPLES]);
+        let mut in_clip = vec![false; clip_bits.len() * TILE_SAMPLES];
+        for t in 0..TILE_SAMPLES {
+            let k = (r * TILE_CELLS + t / TILE_SIDE) * nx + c * TILE_CELLS + t % TILE_SIDE;
+            (inside_t[t], occluded_t[t]) = (inside[k], occluded[k]);
+            for (q, b) in clip_bits.iter().enumerate() {
+                in_clip[q * TILE_SAMPLES + t] = b[k];
+            }
+        }
+        let bits = near::TileBits { inside: &inside_t, occluded: &occluded_t, in_clip: &in_clip, cap };
+        near.measure_live(g, &segs, bucket, (corner, h, margin), &bits);
+        let mut tile_buf = [0u8; TILE_SAMPLES];
+        // The unquantised distances of the tile's samples, in codes (clamped).
+        let mut exact = [0f64; TILE_SAMPLES];
+        let mut clipped = vec![false; clip_bits.len()];
+        for j in 0..TILE_SIDE {
+            for i in 0..TILE_SIDE {
+                let (gi, gj) = (c * TILE_CELLS + i, r * TILE_CELLS + j);
+                let p = at(gi, gj);
+                let t = j * TILE_SIDE + i;
+                for (q, v) in clipped.iter_mut().enumerate() {
+                    *v = in_clip[q * TILE_SAMPLES + t];
+                }
+                let s = near.signed(g, t, (inside_t[t], occluded_t[t]), &clipped, p, pg).clamp(-cap, cap);
+                let code = (s / step).round().clamp(-128.0, 127.0) as i32 + DISTANCE_ZERO as i32;
+                tile_buf[t] = code as u8;
+                exact[t] = s / step;
+            }
+        }
+        if tile_buf.iter().all(|&v| v >= full) {
+            return TileOut::Constant(TILE_INSIDE);
+        }
+        if tile_buf.iter().all(|&v| v <= none) {
+            return TileOut::Constant(TILE_OUTSIDE);
+        }
+        // A plane or ridge where one plays the tile, else a corner or notch, else its samples.
+        let tile = planes::TileCtx {
+            g,
+            segs: &segs,
+            bucket,
+            corner,
+            h,
+            margin,
+            page: pg,
+            cap: cap / step,
+            step,
+            sat,
+            first: r * TILE_CELLS * nx + c * TILE_CELLS,
+            nx,
+            centre_bits: centre_bits.get_or_init(|| {
+                // The same sweeps as the lattice points', half a cell on.
+                let (cx, cy) = (ox + h / 2.0, oy + h / 2.0);
+                planes::CentreBits {
+                    inside: fill_bits(&g.fills, cx, cy, h, nx, ny),
+                    occluded: fill_bits(&g.occluders, cx, cy, h, nx, ny),
+                    clips: g.clips.iter().map(|c| fill_bits(&[*c], cx, cy, h, nx, ny)).collect(),
+                }
+            }),
+        };
+        let lines = planes::nearest_lines(&tile, &exact);
+        let fitted =
+            planes::fit(&exact, ridge_top, sat, &lines).into_iter().find(|(e, rec)| tile.centres_fit(centres, *e, rec));
+        if let Some((entry, rec)) = fitted {
+            return TileOut::Record(entry, rec);
+        }
+        // Two straight edges meeting at a vertex: a corner or a notch.
+        let bent = bends::bends(&tile, &exact, ramp)
+            .into_iter()
+            .find(|b| tile.centres_all(centres, |u, w, e| b.close(u, w, e, sat)));
+        match bent {
+            Some(b) => TileOut::Bend(b.kind, b.recs),
+            None => TileOut::Samples(tile_buf),
+        }
+    };
+    // A small layer on one thread: handing its tiles out costs more than it
+    // saves, and on a loaded machine a tile stolen by a worker that is not
+    // running holds up the layer until it is.
+    let work: usize = buckets.iter().map(Vec::len).sum();
+    let outs: Vec<TileOut> = if work >= PARALLEL_FROM {
+        (0..rows * cols).into_par_iter().map_init(scratch, |s, k| tile_of(s, k / cols, k % cols)).collect()
+    } else {
+        let mut s = scratch();
+        (0..rows * cols).map(|k| tile_of(&mut s, k / cols, k % cols)).collect()
+    };
+    let mut tiles = vec![TILE_OUTSIDE; cols * rows];
+    let mut samples = Vec::new();
+    let mut planes = Vec::new();
+    for (entry, out) in tiles.iter_mut().zip(outs) {
+        *entry = match out {
+            TileOut::Constant(e) => e,
+            TileOut::Record(kind, rec) => {
+                let n = planes.len() as u32;
+                planes.push(rec);
+                kind | n
+            }
+            TileOut::Bend(kind, recs) => {
+                let n = planes.len() as u32;
+                planes.extend(recs);
+                kind | n
+            }
+            TileOut::Samples(buf) => {
+                let n = (samples.len() / TILE_SAMPLES) as u32;
+                samples.extend_from_slice(&buf);
+                TILE_FIRST_STORED + n
+            }
+        };
     }
     if tiles.iter().all(|&t| t == TILE_OUTSIDE) {
         return None;
@@ -495,6 +528,30 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
     })
 }
 
+/// The segment entries in a layer's tile buckets from which its tiles are
+/// built in parallel (the 1,000-region map's layers hold 100,000 to 300,000;
+/// a diagram's, a few hundred).
+const PARALLEL_FROM: usize = 16_384;
+
+/// One tile of a layer as built, before the stored ones are numbered.
+enum TileOut {
+    /// An inside or outside tile (its index entry).
+    Constant(u32),
+    /// A plane or ridge tile: its index kind and record.
+    Record(u32, TilePlane),
+    /// A corner or notch tile: its index kind and two records.
+    Bend(u32, [TilePlane; 2]),
+    /// A stored tile's samples.
+    Samples([u8; TILE_SAMPLES]),
+}
+
+/// One worker's scratch for measuring tiles: at the samples and at the cell
+/// centres (the plane fits' check).
+struct Scratch {
+    near: Near,
+    centres: Near,
+}
+
 /// The lowest code played at full amplitude and the highest played at zero
 /// under the edge profile `clamp(½ + (code − 128) step / ramp, 0, 1)`, each
 /// with a margin of a hundredth of a code for the player's rounding.
@@ -504,117 +561,6 @@ fn saturated_codes(soft: f64, step: f64) -> (u8, u8) {
     let full = (zero + half + 0.01).ceil().clamp(zero + 1.0, 255.0);
     let none = (zero - half - 0.01).floor().clamp(0.0, zero - 1.0);
     (full as u8, none as u8)
-}
-
-/// The nearest segments of each part at every sample of one tile, as squared
-/// distances (the cuts per width group).
-struct Near {
-    fill: [f64; TILE_SAMPLES],
-    band: [f64; TILE_SAMPLES],
-    occ: [f64; TILE_SAMPLES],
-    /// `TILE_SAMPLES` per cut width group.
-    cut: Vec<f64>,
-    /// The width of each cut group, mm.
-    cut_widths: Vec<f64>,
-    /// `TILE_SAMPLES` per clip region.
-    clip: Vec<f64>,
-}
-
-impl Near {
-    fn new(clips: usize, cut_widths: Vec<f64>) -> Self {
-        let inf = [f64::INFINITY; TILE_SAMPLES];
-        Near {
-            fill: inf,
-            band: inf,
-            occ: inf,
-            cut: vec![f64::INFINITY; cut_widths.len() * TILE_SAMPLES],
-            cut_widths,
-            clip: vec![f64::INFINITY; clips * TILE_SAMPLES],
-        }
-    }
-
-    /// Measures each segment of `bucket` at the tile's samples (corner
-    /// `corner`, pitch `h`) within its reach plus `margin`. Squared distances
-    /// in the loop: this is the innermost loop of every layer.
-    fn measure(&mut self, segs: &[(Seg, Part, f64)], bucket: &[u32], corner: (f64, f64), h: f64, margin: f64) {
-        self.fill.fill(f64::INFINITY);
-        self.band.fill(f64::INFINITY);
-        self.occ.fill(f64::INFINITY);
-        self.cut.fill(f64::INFINITY);
-        self.clip.fill(f64::INFINITY);
-        let last = TILE_CELLS as f64;
-        // The sample range `lo..=hi` (within the tile) of a span grown by `m`.
-        let range = |lo: f64, hi: f64, o: f64, m: f64| {
-            let a = ((lo - m - o) / h).floor().max(0.0);
-            let b = ((hi + m - o) / h).ceil().min(last);
-            (a as usize, b as usize, a <= b)
-        };
-        for &n in bucket {
-            let Some(&(seg, part, reach)) = segs.get(n as usize) else { continue };
-            let (a, b) = seg;
-            let bb = seg_bounds(&seg);
-            let m = reach + margin;
-            let (i0, i1, some_i) = range(bb.0, bb.2, corner.0, m);
-            let (j0, j1, some_j) = range(bb.1, bb.3, corner.1, m);
-            if !(some_i && some_j) {
-                continue;
-            }
-            for j in j0..=j1 {
-                for i in i0..=i1 {
-                    let p = (corner.0 + i as f64 * h, corner.1 + j as f64 * h);
-                    let d = distance2_to_segment(p, a, b);
-                    let t = j * TILE_SIDE + i;
-                    let slot = match part {
-                        Part::Fill => &mut self.fill[t],
-                        Part::Band => &mut self.band[t],
-                        Part::Occluder => &mut self.occ[t],
-                        Part::Cut(k) => match self.cut.get_mut(k * TILE_SAMPLES + t) {
-                            Some(slot) => slot,
-                            None => continue,
-                        },
-                        Part::Clip(k) => match self.clip.get_mut(k * TILE_SAMPLES + t) {
-                            Some(slot) => slot,
-                            None => continue,
-                        },
-                    };
-                    *slot = slot.min(d);
-                }
-            }
-        }
-    }
-
-    /// The unclamped signed distance at sample `t` (page point `p`);
-    /// `inside` says whether it is inside the fills and inside the occluders.
-    fn signed(
-        &self,
-        g: &LayerGeometry<'_>,
-        t: usize,
-        (inside, occluded): (bool, bool),
-        in_clip: &[bool],
-        p: (f64, f64),
-        page: (f64, f64, f64, f64),
-    ) -> f64 {
-        let (d_fill, d_band, d_occ) = (self.fill[t].sqrt(), self.band[t].sqrt(), self.occ[t].sqrt());
-        let mut s = f64::NEG_INFINITY;
-        if !g.fills.is_empty() {
-            s = if inside { d_fill } else { -d_fill };
-        }
-        if let Some((_, w)) = &g.band {
-            s = s.max(w / 2.0 - d_band);
-        }
-        for (k, w) in self.cut_widths.iter().enumerate() {
-            let d = self.cut.get(k * TILE_SAMPLES + t).map_or(f64::INFINITY, |d| d.sqrt());
-            s = s.min(d - w / 2.0);
-        }
-        for (k, &in_k) in in_clip.iter().enumerate() {
-            let d = self.clip.get(k * TILE_SAMPLES + t).map_or(f64::INFINITY, |d| d.sqrt());
-            s = s.min(if in_k { d } else { -d });
-        }
-        if !g.occluders.is_empty() {
-            s = s.min(if occluded { -d_occ } else { d_occ });
-        }
-        s.min(inside_rect(page, p))
-    }
 }
 
 /// Whether each lattice point `(i, j)` (row-major, `nx` wide) is inside the
@@ -746,6 +692,7 @@ pub fn constant_tile_at(f: &Field, h: f64, p: (f64, f64)) -> Option<bool> {
 }
 
 mod bends;
+mod near;
 mod planes;
 #[cfg(test)]
 pub(crate) mod tests;

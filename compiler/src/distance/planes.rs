@@ -17,7 +17,8 @@ use taxel_format::{
     TilePlane,
 };
 
-use super::{LayerGeometry, Near, Part, Seg};
+use super::near::Near;
+use super::{LayerGeometry, Part, Seg};
 
 /// Largest error of a plane or ridge tile against the exact distance, codes.
 pub(super) const TOLERANCE: f64 = 0.5;

@@ -394,6 +394,48 @@ proptest! {
     }
 }
 
+/// A crowded map: 12 x 12 small 16-gons 1 mm apart, each a region of the
+/// layer, an occluder painted over it or a cut band, so that a tile holds
+/// hundreds of segments of each kind (the samples then search a grid of
+/// them instead of measuring each segment).
+fn crowded(radii: &[f64], kinds: &[u8]) -> [Vec<Polyline>; 3] {
+    let mut out: [Vec<Polyline>; 3] = Default::default();
+    for (k, (&r, &kind)) in radii.iter().zip(kinds).enumerate() {
+        let (cx, cy) = (3.0 + (k % 12) as f64, 3.0 + (k / 12) as f64 + 0.1 * (k % 5) as f64);
+        let points = (0..16)
+            .map(|i| {
+                let a = i as f64 * std::f64::consts::TAU / 16.0;
+                let r = r * if i % 2 == 0 { 1.0 } else { 0.8 };
+                (cx + r * a.cos(), cy + r * a.sin())
+            })
+            .collect();
+        out[kind as usize % 3].push(Polyline { points, closed: true });
+    }
+    out
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 6, ..ProptestConfig::default() })]
+
+    /// Crowded fills, occluders and cut bands: the field is as exact as a
+    /// sparse one's.
+    #[test]
+    fn crowded_layers_match_exact_geometry(
+        radii in prop::collection::vec(0.2f64..0.48, 144),
+        kinds in prop::collection::vec(any::<u8>(), 144),
+        width in 0.2f64..0.6,
+    ) {
+        let [fills, over, cuts] = crowded(&radii, &kinds);
+        let g = LayerGeometry {
+            fills: fills.iter().map(|p| (std::slice::from_ref(p), FillRule::NonZero)).collect(),
+            occluders: over.iter().map(|p| (std::slice::from_ref(p), FillRule::NonZero)).collect(),
+            cuts: cuts.iter().map(|p| (std::slice::from_ref(p), width)).collect(),
+            ..Default::default()
+        };
+        check(&g, params(0.5, 0.0), &grid_points(0.41))?;
+    }
+}
+
 #[test]
 fn a_clipped_fill_is_felt_only_inside_its_clip() {
     let sq = [square(5.0, 5.0, 20.0)];

@@ -1,0 +1,563 @@
+//! The nearest segment of each part of a layer at every sample of one tile:
+//! the innermost loop of the field build.
+//!
+//! Two ways to the same minima, chosen per tile by how many segments act on
+//! it. A few segments are measured segment by segment at the samples within
+//! their reach. Many short ones (a map of thousands of small regions puts a
+//! thousand segments on a tile) go into a grid of the tile's cells, and each
+//! sample searches that grid ring by ring outward, stopping once no farther
+//! segment can be nearer than the nearest found or within reach: a sample
+//! then measures the few segments around it instead of every segment whose
+//! reach covers it.
+//!
+//! Both store, for each part, the same minimum wherever it is within the part's
+//! reach plus the clamp's margin (the minimum of one set of values, each
+//! computed by the same function of the same sample point and segment), and a
+//! value beyond it elsewhere, which clamps to the same code. So the field, its
+//! tiles and the bundle do not depend on which way a tile took.
+//!
+//! The parts that only lower a layer's distance (cut bands, clips,
+//! occluders) are measured only at the samples where they can still change
+//! its code, once the layer's own fills and band are known there: outside a
+//! grating's regions (or far from a band) nothing lowers a distance that is
+//! already clamped, and a cut band or an edge that is not crossed cannot lower
+//! a distance below what the regions give.
+
+use taxel_format::{TILE_CELLS, TILE_SAMPLES, TILE_SIDE};
+
+use super::{LayerGeometry, Part, Seg, distance2_to_segment};
+
+/// From this many segments of a group (the layer's own parts, or the
+/// others) on a tile, the samples search a grid of them: below it, building
+/// the grid costs more than it saves (measured on the generated maps of 1,000
+/// and 10,000 regions: 48, 128 and 400 were within the noise of each other on
+/// the denser map, and 128 the fastest on the sparser).
+const GRID_FROM: usize = 128;
+
+/// The most rings of cells a sample's search may need, else the tile is
+/// measured segment by segment.
+const MAX_RINGS: f64 = 64.0;
+
+/// Slots of the squared-distance array, `TILE_SAMPLES` each: the fills, the
+/// band and the occluders, then one per cut width group, then one per clip.
+const FILL: usize = 0;
+const BAND: usize = 1;
+const OCC: usize = 2;
+const FIRST_CUT: usize = 3;
+
+/// What the samples of one tile are inside of, for deciding where the parts
+/// that only lower the distance can change it.
+pub(super) struct TileBits<'a> {
+    /// Inside the fills, per sample.
+    pub inside: &'a [bool; TILE_SAMPLES],
+    /// Inside an occluder, per sample.
+    pub occluded: &'a [bool; TILE_SAMPLES],
+    /// Inside clip `k`, at `k * TILE_SAMPLES + t`.
+    pub in_clip: &'a [bool],
+    /// The clamp, mm.
+    pub cap: f64,
+}
+
+/// The nearest segments of each part at every sample of one tile, as squared
+/// distances (the cuts per width group), and the scratch to find them.
+pub(super) struct Near {
+    /// Squared distances, `TILE_SAMPLES` per slot.
+    d: Vec<f64>,
+    /// The width of each cut group, mm.
+    cut_widths: Vec<f64>,
+    /// Number of clip regions.
+    clips: usize,
+    /// Whether a slot is still measured at a sample (`TILE_SAMPLES` per slot).
+    live: Vec<bool>,
+    /// The grid of the sample-major search.
+    grid: Grid,
+    /// The slot of each bucket entry, and each slot's reach plus margin.
+    slot_of: Vec<usize>,
+    reach: Vec<f64>,
+}
+
+/// Grid cells per lattice cell along each axis: half cells, so that a sample
+/// whose nearest segment is close searches a small square.
+const SUB: isize = 2;
+
+/// Segments by cells of the tile (cell `(x, y)` spans `[x, x + 1) h / SUB`
+/// from the tile's first sample, for `x` in `-pad..TILE_CELLS * SUB + pad`),
+/// each in every cell its bounding box meets, as compressed rows.
+#[derive(Default)]
+struct Grid {
+    pad: isize,
+    side: usize,
+    start: Vec<u32>,
+    items: Vec<u32>,
+    /// Scratch: each entry's cell range, `None` when not in this grid.
+    ranges: Vec<Option<(usize, usize, usize, usize)>>,
+}
+
+/// `floor(v)` as an integer, for `|v|` within ±1e6 (clamped; NaN gives 0)
+/// and without a call into libm.
+fn floor_cell(v: f64) -> isize {
+    let v = v.clamp(-1e6, 1e6);
+    let t = v as isize;
+    if (t as f64) > v { t - 1 } else { t }
+}
+
+impl Grid {
+    /// Fills the grid with the `n` entries whose cell ranges `cells(k)` gives
+    /// (`None`: not in this grid).
+    fn fill(&mut self, pad: isize, n: usize, cells: impl Fn(usize) -> Option<(isize, isize, isize, isize)>) {
+        self.pad = pad;
+        let side = TILE_CELLS as isize * SUB + 2 * pad;
+        self.side = side as usize;
+        self.ranges.clear();
+        self.ranges.extend((0..n).map(|k| {
+            let (x0, y0, x1, y1) = cells(k)?;
+            let (x0, y0, x1, y1) =
+                ((x0 + pad).max(0), (y0 + pad).max(0), (x1 + pad).min(side - 1), (y1 + pad).min(side - 1));
+            (x0 <= x1 && y0 <= y1).then_some((x0 as usize, y0 as usize, x1 as usize, y1 as usize))
+        }));
+        self.start.clear();
+        self.start.resize(self.side * self.side + 1, 0);
+        for &(x0, y0, x1, y1) in self.ranges.iter().flatten() {
+            for y in y0..=y1 {
+                for c in &mut self.start[y * self.side + x0 + 1..=y * self.side + x1 + 1] {
+                    *c += 1;
+                }
+            }
+        }
+        for c in 1..self.start.len() {
+            self.start[c] += self.start[c - 1];
+        }
+        self.items.clear();
+        self.items.resize(self.start.last().map_or(0, |&v| v as usize), 0);
+        // Filled back to front, each cell's end counting down to its start.
+        let mut end: Vec<u32> = self.start[1..].to_vec();
+        for (k, r) in self.ranges.iter().enumerate().rev() {
+            let Some(&(x0, y0, x1, y1)) = r.as_ref() else { continue };
+            for y in y0..=y1 {
+                for x in x0..=x1 {
+                    let e = &mut end[y * self.side + x];
+                    *e -= 1;
+                    self.items[*e as usize] = k as u32;
+                }
+            }
+        }
+    }
+
+    /// The entries in cell `(x, y)` (tile cell coordinates).
+    fn cell(&self, x: isize, y: isize) -> &[u32] {
+        let (x, y) = (x + self.pad, y + self.pad);
+        if x < 0 || y < 0 || x as usize >= self.side || y as usize >= self.side {
+            return &[];
+        }
+        let c = y as usize * self.side + x as usize;
+        match (self.start.get(c), self.start.get(c + 1)) {
+            (Some(&a), Some(&b)) => self.items.get(a as usize..b as usize).unwrap_or(&[]),
+            _ => &[],
+        }
+    }
+}
+
+/// What the sample-major search of one tile reads.
+struct Search<'a> {
+    segs: &'a [(Seg, Part, f64)],
+    bucket: &'a [u32],
+    slot_of: &'a [usize],
+    /// Grid cell side, mm, and the last ring to search.
+    cell: f64,
+    rings: isize,
+}
+
+impl Near {
+    pub(super) fn new(clips: usize, cut_widths: Vec<f64>) -> Self {
+        let slots = FIRST_CUT + cut_widths.len() + clips;
+        Near {
+            d: vec![f64::INFINITY; slots * TILE_SAMPLES],
+            cut_widths,
+            clips,
+            live: vec![true; slots * TILE_SAMPLES],
+            grid: Grid::default(),
+            slot_of: Vec::new(),
+            reach: vec![0.0; slots],
+        }
+    }
+
+    fn slots(&self) -> usize {
+        FIRST_CUT + self.cut_widths.len() + self.clips
+    }
+
+    /// The slot of a part, `None` for a cut group or clip this layer does not have.
+    fn slot(&self, part: Part) -> Option<usize> {
+        match part {
+            Part::Fill => Some(FILL),
+            Part::Band => Some(BAND),
+            Part::Occluder => Some(OCC),
+            Part::Cut(k) => (k < self.cut_widths.len()).then_some(FIRST_CUT + k),
+            Part::Clip(k) => (k < self.clips).then_some(FIRST_CUT + self.cut_widths.len() + k),
+        }
+    }
+
+    fn at(&self, slot: usize, t: usize) -> f64 {
+        self.d.get(slot * TILE_SAMPLES + t).copied().unwrap_or(f64::INFINITY)
+    }
+
+    /// Measures every part at the tile's samples (corner `corner`, pitch
+    /// `h`), each segment within its reach plus `margin`.
+    pub(super) fn measure(
+        &mut self,
+        segs: &[(Seg, Part, f64)],
+        bucket: &[u32],
+        corner: (f64, f64),
+        h: f64,
+        margin: f64,
+    ) {
+        self.run(segs, bucket, (corner, h, margin), None, GRID_FROM);
+    }
+
+    /// As [`measure`](Self::measure), but the parts that only lower the
+    /// distance (cuts, clips, occluders) only where, given the layer's own
+    /// parts and what each sample is inside of (`bits`), they can change the
+    /// clamped distance; elsewhere their slots are left infinite.
+    pub(super) fn measure_live(
+        &mut self,
+        g: &LayerGeometry<'_>,
+        segs: &[(Seg, Part, f64)],
+        bucket: &[u32],
+        (corner, h, margin): ((f64, f64), f64, f64),
+        bits: &TileBits<'_>,
+    ) {
+        self.run(segs, bucket, (corner, h, margin), Some((g, bits)), GRID_FROM);
+    }
+
+    /// Measures, with the grid search for groups of at least `grid_from` segments.
+    fn run(
+        &mut self,
+        segs: &[(Seg, Part, f64)],
+        bucket: &[u32],
+        (corner, h, margin): ((f64, f64), f64, f64),
+        live: Option<(&LayerGeometry<'_>, &TileBits<'_>)>,
+        grid_from: usize,
+    ) {
+        self.d.fill(f64::INFINITY);
+        self.live.fill(true);
+        // Each entry's slot (`usize::MAX`: none) and each slot's reach.
+        self.slot_of.clear();
+        self.reach.clear();
+        self.reach.resize(self.slots(), 0.0);
+        let mut finite = true;
+        for &n in bucket {
+            let found = segs.get(n as usize).and_then(|&(seg, part, reach)| Some((seg, self.slot(part)?, reach)));
+            match found {
+                Some((((ax, ay), (bx, by)), slot, reach)) => {
+                    finite &= [ax, ay, bx, by, reach].iter().all(|v| v.is_finite());
+                    self.reach[slot] = self.reach[slot].max(reach + margin);
+                    self.slot_of.push(slot);
+                }
+                None => self.slot_of.push(usize::MAX),
+            }
+        }
+        // The layer's own parts first (the others are live only where these
+        // leave the distance within reach of a change), each group the way
+        // its number of segments makes cheaper.
+        let own = |s: usize| s == FILL || s == BAND;
+        let n_own = self.slot_of.iter().filter(|&&s| s != usize::MAX && own(s)).count();
+        let n_rest = self.slot_of.iter().filter(|&&s| s != usize::MAX && !own(s)).count();
+        // A grid only for finite segments, slots that fit the search's
+        // bit mask, and a reach of a bounded number of cells (a band much
+        // wider than the lattice pitch would make the grid large).
+        let fits = |own_group: bool| {
+            let reach = (0..self.slots()).filter(|&s| own(s) == own_group).map(|s| self.reach[s]).fold(0.0, f64::max);
+            finite && h > 0.0 && self.slots() < 64 && reach / (h / SUB as f64) <= MAX_RINGS
+        };
+        let grid = (fits(true), fits(false));
+        if n_own >= grid_from && grid.0 {
+            self.search(segs, bucket, corner, h, true);
+        } else {
+            self.sweep(segs, bucket, corner, h, margin, &|s| own(s));
+        }
+        if let Some((g, bits)) = live {
+            self.mark_live(g, bits, 0..TILE_SAMPLES);
+        }
+        if n_rest >= grid_from && grid.1 {
+            self.search(segs, bucket, corner, h, false);
+        } else {
+            self.sweep(segs, bucket, corner, h, margin, &|s| !own(s));
+        }
+    }
+
+    /// Segment-major: each entry of a wanted slot at the tile's samples
+    /// within its reach plus `margin` where its slot is live.
+    fn sweep(
+        &mut self,
+        segs: &[(Seg, Part, f64)],
+        bucket: &[u32],
+        corner: (f64, f64),
+        h: f64,
+        margin: f64,
+        want: &dyn Fn(usize) -> bool,
+    ) {
+        let last = TILE_CELLS as f64;
+        // The sample range `lo..=hi` (within the tile) of a span grown by `m`.
+        let range = |lo: f64, hi: f64, o: f64, m: f64| {
+            let a = ((lo - m - o) / h).floor().max(0.0);
+            let b = ((hi + m - o) / h).ceil().min(last);
+            (a as usize, b as usize, a <= b)
+        };
+        for (k, &n) in bucket.iter().enumerate() {
+            let slot = self.slot_of.get(k).copied().unwrap_or(usize::MAX);
+            if slot == usize::MAX || !want(slot) {
+                continue;
+            }
+            let Some(&(seg, _, reach)) = segs.get(n as usize) else { continue };
+            let (a, b) = seg;
+            let bb = super::seg_bounds(&seg);
+            let m = reach + margin;
+            let (i0, i1, some_i) = range(bb.0, bb.2, corner.0, m);
+            let (j0, j1, some_j) = range(bb.1, bb.3, corner.1, m);
+            if !(some_i && some_j) {
+                continue;
+            }
+            let (Some(out), Some(live)) = (
+                self.d.get_mut(slot * TILE_SAMPLES..(slot + 1) * TILE_SAMPLES),
+                self.live.get(slot * TILE_SAMPLES..(slot + 1) * TILE_SAMPLES),
+            ) else {
+                continue;
+            };
+            for j in j0..=j1 {
+                for i in i0..=i1 {
+                    let t = j * TILE_SIDE + i;
+                    if live[t] {
+                        let p = (corner.0 + i as f64 * h, corner.1 + j as f64 * h);
+                        out[t] = out[t].min(distance2_to_segment(p, a, b));
+                    }
+                }
+            }
+        }
+    }
+
+    /// Sample-major, for the layer's own parts (`own`) or the others: each
+    /// sample searches a grid of them ring by ring.
+    fn search(&mut self, segs: &[(Seg, Part, f64)], bucket: &[u32], corner: (f64, f64), h: f64, own: bool) {
+        let cell = h / SUB as f64;
+        let mask = if own { (1u64 << FILL) | (1 << BAND) } else { ((1u64 << self.slots()) - 1) & !0b11 };
+        let in_group = |s: usize| s < 64 && mask & (1 << s) != 0;
+        let reach_max = (0..self.slots()).filter(|&s| in_group(s)).map(|s| self.reach[s]).fold(0.0, f64::max);
+        // Rings up to `rings` see every segment within `reach_max`.
+        let rings = (reach_max / cell).ceil() as isize + 1;
+        let pad = rings + 1;
+        let slot_of = std::mem::take(&mut self.slot_of);
+        let mut grid = std::mem::take(&mut self.grid);
+        grid.fill(pad, bucket.len(), |k| {
+            let slot = *slot_of.get(k)?;
+            let &(seg, _, _) = bucket.get(k).and_then(|&n| segs.get(n as usize))?;
+            if !in_group(slot) {
+                return None;
+            }
+            let bb = super::seg_bounds(&seg);
+            let c = |v: f64, o: f64| floor_cell((v - o) / cell);
+            Some((c(bb.0, corner.0), c(bb.1, corner.1), c(bb.2, corner.0), c(bb.3, corner.1)))
+        });
+        let search = Search { segs, bucket, slot_of: &slot_of, cell, rings };
+        for j in 0..TILE_SIDE {
+            for i in 0..TILE_SIDE {
+                let t = j * TILE_SIDE + i;
+                let p = (corner.0 + i as f64 * h, corner.1 + j as f64 * h);
+                self.nearest(&search, &grid, (i as isize * SUB, j as isize * SUB, t, p), mask);
+            }
+        }
+        self.slot_of = slot_of;
+        self.grid = grid;
+    }
+
+    /// The nearest entries of `grid` to sample `t` (grid point `(x, y)`,
+    /// page point `p`) in the slots of `mask` live there, searching rings
+    /// of cells outward until every such slot has found a segment nearer
+    /// than the next ring can hold, or the next ring lies beyond the slot's
+    /// reach.
+    fn nearest(&mut self, s: &Search<'_>, grid: &Grid, (x, y, t, p): (isize, isize, usize, (f64, f64)), mask: u64) {
+        let mut active = 0u64;
+        let mut bits = mask;
+        while bits != 0 {
+            let slot = bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            if self.live.get(slot * TILE_SAMPLES + t).copied().unwrap_or(false) {
+                active |= 1 << slot;
+            }
+        }
+        if active == 0 {
+            return;
+        }
+        let d = &mut self.d;
+        let visit = |cx: isize, cy: isize, d: &mut [f64], active: u64| {
+            for &k in grid.cell(cx, cy) {
+                let Some(&slot) = s.slot_of.get(k as usize) else { continue };
+                if slot >= 64 || active & (1 << slot) == 0 {
+                    continue;
+                }
+                let Some(&((a, b), _, _)) = s.bucket.get(k as usize).and_then(|&n| s.segs.get(n as usize)) else {
+                    continue;
+                };
+                if let Some(v) = d.get_mut(slot * TILE_SAMPLES + t) {
+                    *v = v.min(distance2_to_segment(p, a, b));
+                }
+            }
+        };
+        for r in 0..=s.rings {
+            if r == 0 {
+                for (cx, cy) in [(x - 1, y - 1), (x, y - 1), (x - 1, y), (x, y)] {
+                    visit(cx, cy, d, active);
+                }
+            } else {
+                for cx in x - 1 - r..=x + r {
+                    visit(cx, y - 1 - r, d, active);
+                    visit(cx, y + r, d, active);
+                }
+                for cy in y - r..y + r {
+                    visit(x - 1 - r, cy, d, active);
+                    visit(x + r, cy, d, active);
+                }
+            }
+            // Every segment not yet seen lies at least `next` from the
+            // sample (its nearest point is in a cell of a later ring; the
+            // hundredth of a cell covers the rounding of the cell bounds).
+            let next = (r as f64 + 0.99) * s.cell;
+            let mut bits = active;
+            while bits != 0 {
+                let slot = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let best = d.get(slot * TILE_SAMPLES + t).copied().unwrap_or(0.0);
+                if best <= next * next || next > self.reach.get(slot).copied().unwrap_or(0.0) {
+                    active &= !(1 << slot);
+                }
+            }
+            if active == 0 {
+                return;
+            }
+        }
+    }
+
+    /// Marks, at samples `ts`, the slots of the parts that only lower the
+    /// distance as not live where they cannot change the clamped distance
+    /// (the layer's own slots must be measured there already).
+    fn mark_live(&mut self, g: &LayerGeometry<'_>, bits: &TileBits<'_>, ts: std::ops::Range<usize>) {
+        for t in ts {
+            let inside = bits.inside.get(t).copied().unwrap_or(false);
+            let u = self.own(g, t, inside).min(bits.cap);
+            // At or below −cap the distance clamps there whatever is lower.
+            let dead = u <= -bits.cap;
+            // A term `v` at or above `u` changes nothing: `min(s, v) = s`
+            // when `s ≤ cap`, and both clamp to `cap` otherwise.
+            let occluded = bits.occluded.get(t).copied().unwrap_or(false);
+            self.set_live(OCC, t, !(dead || !occluded && u <= 0.0));
+            for k in 0..self.cut_widths.len() {
+                let w = self.cut_widths[k];
+                self.set_live(FIRST_CUT + k, t, !(dead || u + w / 2.0 <= 0.0));
+            }
+            for k in 0..self.clips {
+                let in_k = bits.in_clip.get(k * TILE_SAMPLES + t).copied().unwrap_or(false);
+                self.set_live(FIRST_CUT + self.cut_widths.len() + k, t, !(dead || in_k && u <= 0.0));
+            }
+        }
+    }
+
+    fn set_live(&mut self, slot: usize, t: usize, v: bool) {
+        if let Some(l) = self.live.get_mut(slot * TILE_SAMPLES + t) {
+            *l = v;
+        }
+    }
+
+    /// The layer's own signed distance at sample `t` (its fills and band),
+    /// before the parts that only lower it.
+    fn own(&self, g: &LayerGeometry<'_>, t: usize, inside: bool) -> f64 {
+        let mut s = f64::NEG_INFINITY;
+        if !g.fills.is_empty() {
+            let d_fill = self.at(FILL, t).sqrt();
+            s = if inside { d_fill } else { -d_fill };
+        }
+        if let Some((_, w)) = &g.band {
+            s = s.max(w / 2.0 - self.at(BAND, t).sqrt());
+        }
+        s
+    }
+
+    /// The unclamped signed distance at sample `t` (page point `p`);
+    /// `inside` says whether it is inside the fills and inside the occluders.
+    pub(super) fn signed(
+        &self,
+        g: &LayerGeometry<'_>,
+        t: usize,
+        (inside, occluded): (bool, bool),
+        in_clip: &[bool],
+        p: (f64, f64),
+        page: (f64, f64, f64, f64),
+    ) -> f64 {
+        let mut s = self.own(g, t, inside);
+        for (k, w) in self.cut_widths.iter().enumerate() {
+            s = s.min(self.at(FIRST_CUT + k, t).sqrt() - w / 2.0);
+        }
+        for (k, &in_k) in in_clip.iter().enumerate() {
+            let d = self.at(FIRST_CUT + self.cut_widths.len() + k, t).sqrt();
+            s = s.min(if in_k { d } else { -d });
+        }
+        if !g.occluders.is_empty() {
+            let d_occ = self.at(OCC, t).sqrt();
+            s = s.min(if occluded { -d_occ } else { d_occ });
+        }
+        s.min(super::inside_rect(page, p))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use proptest::prelude::*;
+
+    use super::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+        /// The grid search and the segment sweep store the same minimum of
+        /// every part at every sample wherever it is within the part's reach
+        /// plus the margin (the exact minimum over all the segments there),
+        /// and both something beyond it elsewhere.
+        #[test]
+        fn the_grid_search_finds_what_the_sweep_finds(
+            segs in prop::collection::vec(((-2.0f64..6.0, -2.0f64..6.0), (-0.6f64..0.6, -0.6f64..0.6), 0u8..5, any::<bool>()), 1..300),
+            h in prop::sample::select(vec![0.25, 0.5]),
+            (reach, margin) in (0.2f64..1.5, 0.0f64..0.1),
+        ) {
+            // Slots: fill, band, occluder, one cut group, one clip.
+            let segs: Vec<(Seg, Part, f64)> = segs
+                .iter()
+                .map(|&((x, y), (dx, dy), kind, long)| {
+                    let k = if long { 5.0 } else { 1.0 };
+                    let part = [Part::Fill, Part::Band, Part::Occluder, Part::Cut(0), Part::Clip(0)][kind as usize];
+                    let r = if matches!(part, Part::Band | Part::Cut(_)) { reach + 0.3 } else { reach };
+                    (((x, y), (x + k * dx, y + k * dy)), part, r)
+                })
+                .collect();
+            let bucket: Vec<u32> = (0..segs.len() as u32).collect();
+            let (mut grid, mut sweep) = (Near::new(1, vec![0.6]), Near::new(1, vec![0.6]));
+            let corner = (0.0, 0.0);
+            grid.run(&segs, &bucket, (corner, h, margin), None, 0);
+            sweep.run(&segs, &bucket, (corner, h, margin), None, usize::MAX);
+            for slot in 0..grid.slots() {
+                let reach = segs.iter().filter(|s| sweep.slot(s.1) == Some(slot)).map(|s| s.2 + margin).fold(0.0, f64::max);
+                for t in 0..TILE_SAMPLES {
+                    let p = (corner.0 + (t % TILE_SIDE) as f64 * h, corner.1 + (t / TILE_SIDE) as f64 * h);
+                    let exact = segs
+                        .iter()
+                        .filter(|s| sweep.slot(s.1) == Some(slot))
+                        .map(|&((a, b), _, _)| distance2_to_segment(p, a, b))
+                        .fold(f64::INFINITY, f64::min);
+                    let (g, s) = (grid.at(slot, t), sweep.at(slot, t));
+                    if exact <= reach * reach {
+                        prop_assert_eq!(g, exact, "grid, slot {} sample {}", slot, t);
+                        prop_assert_eq!(s, exact, "sweep, slot {} sample {}", slot, t);
+                    } else {
+                        prop_assert!(g > reach * reach && s > reach * reach, "slot {slot} sample {t}: {g} {s} beyond {reach}");
+                    }
+                }
+            }
+        }
+    }
+}
