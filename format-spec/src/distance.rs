@@ -60,7 +60,17 @@ pub const TILE_CORNER: u32 = 0xA000_0000;
 /// greater of the affine functions of plane records `p` and `p + 1` (a
 /// concave corner of the felt region, format 4.0).
 pub const TILE_NOTCH: u32 = 0xB000_0000;
-/// The bits of a corner or notch entry that hold its first record's number.
+/// Tile index entry `TILE_BEND | p`: a **bend** tile (format 4.0), a
+/// band's centre line bent at a vertex `V` into two rays of unit directions
+/// `d1`, `d2` (`d2 = d1` for a band's end): plane record `p` holds
+/// `(Vx, Vy, d1x, d1y)`, record `p + 1` holds `(d2x, d2y, k, top)`, in the
+/// tile's lattice coordinates, and the code at `q` is
+/// `top − k · min(dist(q, ray 1), dist(q, ray 2))`, with `dist(q, ray) =
+/// |cross(q − V, d)|` where `dot(q − V, d) ≥ 0`, else `|q − V|`. A 3.0
+/// reader decodes it as a plane entry naming record `2^28 + p`, which its
+/// index check refuses.
+pub const TILE_BEND: u32 = 0x9000_0000;
+/// The bits of a corner, notch or bend entry that hold its first record's number.
 pub const TILE_CORNER_RECORD_MASK: u32 = 0x0FFF_FFFF;
 /// The bits of an index entry that tell a corner or notch entry from the others.
 const TILE_KIND_NIBBLE: u32 = 0xF000_0000;
@@ -118,6 +128,9 @@ pub enum TileEntry {
     Corner(u32),
     /// Plane records `p` and `p + 1`, played as the greater of the two (format 4.0).
     Notch(u32),
+    /// Plane records `p` and `p + 1`, played as a band's bent centre line
+    /// ([`TILE_BEND`], format 4.0).
+    Bend(u32),
 }
 
 impl TileEntry {
@@ -131,6 +144,7 @@ impl TileEntry {
             e if e < TILE_PLANE => TileEntry::Stored(e - TILE_FIRST_STORED),
             e if e & TILE_KIND_NIBBLE == TILE_CORNER => TileEntry::Corner(e & TILE_CORNER_RECORD_MASK),
             e if e & TILE_KIND_NIBBLE == TILE_NOTCH => TileEntry::Notch(e & TILE_CORNER_RECORD_MASK),
+            e if e & TILE_KIND_NIBBLE == TILE_BEND => TileEntry::Bend(e & TILE_CORNER_RECORD_MASK),
             e if e & TILE_RIDGE == TILE_RIDGE => TileEntry::Ridge(e & TILE_RECORD_MASK),
             e => TileEntry::Plane(e & TILE_RECORD_MASK),
         }
@@ -142,7 +156,7 @@ impl TileEntry {
     pub fn records(self) -> u32 {
         match self {
             TileEntry::Plane(_) | TileEntry::Ridge(_) => 1,
-            TileEntry::Corner(_) | TileEntry::Notch(_) => 2,
+            TileEntry::Corner(_) | TileEntry::Notch(_) | TileEntry::Bend(_) => 2,
             TileEntry::Outside | TileEntry::Inside | TileEntry::Stored(_) => 0,
         }
     }
@@ -161,6 +175,10 @@ impl TileEntry {
             }
             TileEntry::Corner(p) => Some(rec(p)?.affine(u, w).min(rec(p.checked_add(1)?)?.affine(u, w))),
             TileEntry::Notch(p) => Some(rec(p)?.affine(u, w).max(rec(p.checked_add(1)?)?.affine(u, w))),
+            TileEntry::Bend(p) => {
+                let (a, b) = (rec(p)?, rec(p.checked_add(1)?)?);
+                Some(bend_code([a, b], u, w))
+            }
             TileEntry::Outside | TileEntry::Inside | TileEntry::Stored(_) => None,
         }
     }
@@ -239,7 +257,11 @@ impl DistanceLayer {
         match TileEntry::of(entry) {
             TileEntry::Outside => Some(-big - self.step_mm),
             TileEntry::Inside => Some(big),
-            analytic @ (TileEntry::Plane(_) | TileEntry::Ridge(_) | TileEntry::Corner(_) | TileEntry::Notch(_)) => {
+            analytic @ (TileEntry::Plane(_)
+            | TileEntry::Ridge(_)
+            | TileEntry::Corner(_)
+            | TileEntry::Notch(_)
+            | TileEntry::Bend(_)) => {
                 let (u, w) = (fx as f64 - (tx * TILE_CELLS) as f64, fy as f64 - (ty * TILE_CELLS) as f64);
                 let code = analytic.code(&self.planes, u, w)?;
                 Some(((code - DISTANCE_ZERO as f64) * self.step_mm as f64) as f32)
@@ -550,6 +572,14 @@ impl<'a> DistanceView<'a> {
                         }
                         next_plane += 2;
                     }
+                    TileEntry::Bend(p) if p == next_plane => {
+                        let (a, b) = (view.plane(p), view.plane(p + 1));
+                        let (Some(a), Some(b)) = (a, b) else {
+                            return Err(bad("tile index", "two plane records for every bend tile"));
+                        };
+                        check_bend([a, b]).map_err(|expected| bad("plane record", expected))?;
+                        next_plane += 2;
+                    }
                     _ => {
                         return Err(bad(
                             "tile index",
@@ -582,6 +612,44 @@ fn check_plane(p: &TilePlane, e: u32) -> Result<(), &'static str> {
     }
     if e & TILE_RIDGE != TILE_RIDGE && p.top != 0.0 {
         return Err("top 0 in a plane, corner or notch tile's record");
+    }
+    Ok(())
+}
+
+/// The code of a bend tile with records `r` at lattice coordinates
+/// `(u, w)`, in f64 ([`TILE_BEND`]; SPEC.md section 6.2's reference).
+pub fn bend_code(r: [&TilePlane; 2], u: f64, w: f64) -> f64 {
+    let [a, b] = r;
+    let (vx, vy) = (a.c as f64, a.gx as f64);
+    let (dx, dy) = (u - vx, w - vy);
+    let to_vertex = dx.hypot(dy);
+    let ray = |ex: f64, ey: f64| {
+        if dx * ex + dy * ey >= 0.0 { (dx * ey - dy * ex).abs() } else { to_vertex }
+    };
+    let d = ray(a.gy as f64, a.top as f64).min(ray(b.c as f64, b.gx as f64));
+    b.top as f64 - b.gy as f64 * d
+}
+
+/// Largest distance of a direction's length from 1 in a bend record.
+pub const BEND_UNIT_TOLERANCE: f32 = 1e-3;
+
+/// Checks a bend tile's two records: finite values, the vertex within
+/// [`MAX_PLANE_GRADIENT`] cells of the tile, unit directions (within
+/// [`BEND_UNIT_TOLERANCE`]), `k` from 0 to [`MAX_PLANE_GRADIENT`] codes per
+/// cell and `top` at most [`MAX_PLANE_CODE`] (SPEC.md section 6.2).
+fn check_bend(r: [TilePlane; 2]) -> Result<(), &'static str> {
+    let [a, b] = r;
+    let within = |v: f32, m: f32| v.is_finite() && v.abs() <= m;
+    if !(within(a.c, MAX_PLANE_GRADIENT) && within(a.gx, MAX_PLANE_GRADIENT)) {
+        return Err("a bend's vertex finite and within 1024 cells");
+    }
+    let unit =
+        |x: f32, y: f32| x.is_finite() && y.is_finite() && ((x * x + y * y).sqrt() - 1.0).abs() <= BEND_UNIT_TOLERANCE;
+    if !(unit(a.gy, a.top) && unit(b.c, b.gx)) {
+        return Err("a bend's directions of unit length");
+    }
+    if !(within(b.gy, MAX_PLANE_GRADIENT) && b.gy >= 0.0 && within(b.top, MAX_PLANE_CODE)) {
+        return Err("a bend's k from 0 to 1024 and top of at most 65536 codes");
     }
     Ok(())
 }

@@ -59,9 +59,9 @@ pub use container::{
 };
 pub use distance::{
     DISTANCE_ZERO, DistanceLayer, DistanceView, MAX_DISTANCE_TILES, MAX_PLANE_CODE, MAX_PLANE_GRADIENT, MAX_SOFT_MM,
-    PLANE_RECORD_LEN, TILE_CELLS, TILE_CORNER, TILE_CORNER_RECORD_MASK, TILE_FIRST_STORED, TILE_INSIDE, TILE_NOTCH,
-    TILE_OUTSIDE, TILE_PLANE, TILE_RECORD_MASK, TILE_RIDGE, TILE_SAMPLES, TILE_SIDE, TileEntry, TilePlane,
-    profile as edge_profile, ramp as edge_ramp,
+    PLANE_RECORD_LEN, TILE_BEND, TILE_CELLS, TILE_CORNER, TILE_CORNER_RECORD_MASK, TILE_FIRST_STORED, TILE_INSIDE,
+    TILE_NOTCH, TILE_OUTSIDE, TILE_PLANE, TILE_RECORD_MASK, TILE_RIDGE, TILE_SAMPLES, TILE_SIDE, TileEntry, TilePlane,
+    bend_code, profile as edge_profile, ramp as edge_ramp,
 };
 pub use dots::{Dot, DotGrid, DotKind, DotRun, DotTable, DotTableView, MAX_DOT_GRID_CELLS, MAX_DOTS};
 pub use error::FormatError;

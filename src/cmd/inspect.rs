@@ -150,9 +150,15 @@ fn describe(view: &BundleView<'_>) -> Value {
                 sources.extend((0..dv.source_count()).filter_map(|i| dv.source(i)));
                 let span = 8.0 * dv.pitch_mm;
                 // Plane and ridge tiles play one record, corner and notch tiles two.
-                let (mut planar, mut bent) = (0u32, 0u32);
+                // Bend tiles (two records too) are counted on their own.
+                let (mut planar, mut bent, mut bends) = (0u32, 0u32, 0u32);
                 for i in 0..dv.tile_cols * dv.tile_rows {
-                    match taxel_format::TileEntry::of(dv.tile_entry(i)).records() {
+                    let entry = taxel_format::TileEntry::of(dv.tile_entry(i));
+                    if let taxel_format::TileEntry::Bend(_) = entry {
+                        bends += 1;
+                        continue;
+                    }
+                    match entry.records() {
                         1 => planar += 1,
                         2 => bent += 1,
                         _ => {}
@@ -161,7 +167,7 @@ fn describe(view: &BundleView<'_>) -> Value {
                 let mut e = json!({
                     "kind": match dv.kind { MaskKind::Vibration { .. } => "vibration-field", MaskKind::Grating { .. } => "grating-field" },
                     "tiles": [dv.tile_cols, dv.tile_rows], "stored_tiles": dv.stored, "plane_tiles": planar,
-                    "corner_tiles": bent, "pitch_mm": dv.pitch_mm,
+                    "corner_tiles": bent, "bend_tiles": bends, "pitch_mm": dv.pitch_mm,
                     "step_mm": dv.step_mm, "soft_mm": dv.soft_mm,
                     "origin_mm": [dv.origin_x.0, dv.origin_y.0],
                     "size_mm": [dv.tile_cols as f32 * span, dv.tile_rows as f32 * span],

@@ -165,6 +165,11 @@ pub fn contour(layer: &DistanceLayer, sample: f64) -> Vec<[f64; 2]> {
                 bent_contour(&layer.planes, bent, p, corner, h, lines * TILE_CELLS, &mut out);
                 continue;
             }
+            if let bend @ TileEntry::Bend(_) = TileEntry::of(entry) {
+                let corner = (ox + (tx * TILE_CELLS) as f64 * h, oy + (ty * TILE_CELLS) as f64 * h);
+                bend_contour(&layer.planes, bend, corner, h, lines * TILE_CELLS, &mut out);
+                continue;
+            }
             for cj in ty * TILE_CELLS..(ty + 1) * TILE_CELLS {
                 for ci in tx * TILE_CELLS..(tx + 1) * TILE_CELLS {
                     let Some(c) = cell_corners(layer, ci, cj) else { continue };
@@ -191,6 +196,51 @@ pub fn contour(layer: &DistanceLayer, sample: f64) -> Vec<[f64; 2]> {
         }
     }
     out
+}
+
+/// Points of the half-amplitude contour of a bend tile (SPEC.md section
+/// 6.2) whose first lattice point is at page `corner`, where it crosses
+/// `lines + 1` lines across the tile in each direction: the function is
+/// round round the vertex, so each line is walked in steps of a tenth of
+/// the lines' spacing and each change of sign is bisected.
+fn bend_contour(
+    planes: &[taxel_format::TilePlane],
+    bend: TileEntry,
+    corner: (f64, f64),
+    h: f64,
+    lines: usize,
+    out: &mut Vec<[f64; 2]>,
+) {
+    let zero = DISTANCE_ZERO as f64;
+    let span = TILE_CELLS as f64;
+    let f = |u: f64, w: f64| bend.code(planes, u, w).map_or(f64::NAN, |c| c - zero);
+    let steps = 10 * lines;
+    for k in 0..=lines {
+        let t = k as f64 / lines as f64 * span;
+        // The vertical line u = t, then the horizontal line w = t.
+        for vertical in [true, false] {
+            let along = |s: f64| if vertical { (t, s) } else { (s, t) };
+            let g = |s: f64| {
+                let (u, w) = along(s);
+                f(u, w)
+            };
+            let mut prev = (0.0, g(0.0));
+            for i in 1..=steps {
+                let s = i as f64 / steps as f64 * span;
+                let v = g(s);
+                if (prev.1 > 0.0) != (v > 0.0) && prev.1.is_finite() && v.is_finite() {
+                    let (mut a, mut b) = (prev.0, s);
+                    for _ in 0..40 {
+                        let m = (a + b) / 2.0;
+                        if (g(m) > 0.0) == (prev.1 > 0.0) { a = m } else { b = m }
+                    }
+                    let (u, w) = along((a + b) / 2.0);
+                    out.push([corner.0 + u * h, corner.1 + w * h]);
+                }
+                prev = (s, v);
+            }
+        }
+    }
 }
 
 /// Points of the half-amplitude contour of a corner or notch tile (the

@@ -202,8 +202,8 @@ fn distance_layer_fields() {
     invalid(edit_chunk(tag, |d| put_u32(d, 68, 0xB000_0000)), tag, "tile index");
     invalid(edit_chunk(tag, |d| put_u32(d, 80, 0xC000_0002)), tag, "tile index");
     // An entry with only bit 30 set is no kind at all, nor are the top
-    // nibbles 9, D, E and F.
-    for bad in [0x4000_0003u32, 0x9000_0004, 0xD000_0004, 0xE000_0004, 0xF000_0004] {
+    // nibbles D, E and F.
+    for bad in [0x4000_0003u32, 0xD000_0004, 0xE000_0004, 0xF000_0004] {
         invalid(edit_chunk(tag, |d| put_u32(d, 84, bad)), tag, "tile index");
     }
     // One plane record fewer than the index names (the record's bytes
@@ -223,6 +223,28 @@ fn distance_layer_fields() {
     invalid(edit_chunk(tag, |d| put_f32(d, 132, 1.0)), tag, "plane record");
     invalid(edit_chunk(tag, |d| put_f32(d, 164, 1.0)), tag, "plane record");
     invalid(edit_chunk(tag, |d| put_f32(d, 172, f32::NAN)), tag, "plane record");
+    // The corner at 84 made a bend (records 4 and 5 at 152..184, (Vx, Vy,
+    // d1x, d1y), (d2x, d2y, k, top)): its records as a corner's are no
+    // bend's (directions not unit), a valid bend's are read, and each field
+    // out of bounds is refused.
+    let bend = |d: &mut Vec<u8>, vals: [f32; 8]| {
+        put_u32(d, 84, 0x9000_0004);
+        for (i, v) in vals.into_iter().enumerate() {
+            put_f32(d, 152 + 4 * i, v);
+        }
+    };
+    invalid(edit_chunk(tag, |d| put_u32(d, 84, 0x9000_0004)), tag, "plane record");
+    let good = [4.0, 3.0, 0.6, 0.8, -1.0, 0.0, 16.0, 150.0];
+    let bytes = edit_chunk(tag, |d| bend(d, good));
+    let b = taxel_format::Bundle::from_bytes(&bytes).expect("a valid bend tile reads");
+    assert!(format!("{b:?}").contains("planes"));
+    for (i, bad) in
+        [(0, f32::NAN), (1, 1025.0), (2, 0.5), (3, f32::INFINITY), (4, 1.01), (6, -1.0), (6, 1025.0), (7, 70_000.0)]
+    {
+        let mut vals = good;
+        vals[i] = bad;
+        invalid(edit_chunk(tag, |d| bend(d, vals)), tag, "plane record");
+    }
     // The record table's length follows the index.
     invalid(edit_chunk(tag, |d| d.extend_from_slice(&[0; 16])), tag, "planes");
     length(edit_chunk(tag, |d| d.truncate(47)), tag);

@@ -78,6 +78,20 @@ struct TileLanes<'a> {
     a0: f32x4,
     gy: f32x4,
     sign: f32x4,
+    /// Whether any lane is in a bend tile (format 4.0), and which.
+    bent: bool,
+    bend: i32x4,
+    /// A bend lane's column less its vertex's x, the vertex's y, its rays'
+    /// unit directions, its codes per cell and its top code: it plays
+    /// `top − k · min(dist(q, ray 1), dist(q, ray 2))`.
+    bdx: f32x4,
+    bvy: f32x4,
+    d1x: f32x4,
+    d1y: f32x4,
+    d2x: f32x4,
+    d2y: f32x4,
+    bk: f32x4,
+    btop: f32x4,
 }
 
 impl Default for TileLanes<'_> {
@@ -91,6 +105,16 @@ impl Default for TileLanes<'_> {
             a0: f32x4::ZERO,
             gy: f32x4::ZERO,
             sign: f32x4::ZERO,
+            bent: false,
+            bend: i32x4::ZERO,
+            bdx: f32x4::ZERO,
+            bvy: f32x4::ZERO,
+            d1x: f32x4::ZERO,
+            d1y: f32x4::ZERO,
+            d2x: f32x4::ZERO,
+            d2y: f32x4::ZERO,
+            bk: f32x4::ZERO,
+            btop: f32x4::ZERO,
         }
     }
 }
@@ -184,6 +208,8 @@ impl<'a> FieldLayer<'a> {
     fn tile_lanes(&self, tile_row: usize, ci: [u32; LANES], u: [f32; LANES]) -> TileLanes<'a> {
         let mut t = TileLanes::default();
         let mut planar = [0i32; LANES];
+        let mut bend = [0i32; LANES];
+        let mut b = [[0f32; LANES]; 8];
         let (mut t0, mut tgy, mut a0, mut gy, mut sign) =
             ([0f32; LANES], [0f32; LANES], [0f32; LANES], [0f32; LANES], [0f32; LANES]);
         // The lanes' columns grow from lane to lane, so neighbours often
@@ -218,6 +244,16 @@ impl<'a> FieldLayer<'a> {
                             (a0[k], gy[k]) = ((a - a2) * 0.5, (g - g2) * 0.5);
                             sign[k] = if matches!(kind, TileEntry::Notch(_)) { -1.0 } else { 1.0 };
                         }
+                        TileEntry::Bend(_) => {
+                            // (Vx, Vy, d1x, d1y), (d2x, d2y, k, top).
+                            let v: [f32; 8] = core::array::from_fn(|i| f(4 * i));
+                            b[0][k] = u[k] - v[0];
+                            for i in 1..8 {
+                                b[i][k] = v[i];
+                            }
+                            bend[k] = -1;
+                            t.bent = true;
+                        }
                         _ => (t0[k], tgy[k]) = (a, g),
                     }
                     planar[k] = -1;
@@ -226,9 +262,24 @@ impl<'a> FieldLayer<'a> {
             }
         }
         t.planar = i32x4::new(planar);
+        t.bend = i32x4::new(bend);
+        [t.bdx, t.bvy, t.d1x, t.d1y, t.d2x, t.d2y, t.bk, t.btop] = b.map(f32x4::new);
         (t.t0, t.tgy, t.a0, t.gy, t.sign) =
             (f32x4::new(t0), f32x4::new(tgy), f32x4::new(a0), f32x4::new(gy), f32x4::new(sign));
         t
+    }
+
+    /// The bend lanes' codes at lattice y `wt` within the tile: one square
+    /// root per row for four lanes.
+    #[inline(always)]
+    fn bend(l: &TileLanes<'_>, wt: f32) -> f32x4 {
+        let (dx, dy) = (l.bdx, f32x4::splat(wt) - l.bvy);
+        let r = (dx * dx + dy * dy).sqrt();
+        let ray = |ex: f32x4, ey: f32x4| {
+            let ahead = (dx * ex + dy * ey).simd_ge(f32x4::ZERO);
+            ahead.select((dx * ey - dy * ex).abs(), r)
+        };
+        l.btop - l.bk * ray(l.d1x, l.d1y).fast_min(ray(l.d2x, l.d2y))
     }
 
     /// What the tile at index entry `i` makes its lanes read.
@@ -245,7 +296,11 @@ impl<'a> FieldLayer<'a> {
             TileEntry::Outside => Read::Samples(&OUTSIDE),
             TileEntry::Inside => Read::Samples(&INSIDE),
             TileEntry::Stored(k) => Read::Samples(self.stored.get(k as usize).unwrap_or(&OUTSIDE)),
-            kind @ (TileEntry::Plane(p) | TileEntry::Ridge(p) | TileEntry::Corner(p) | TileEntry::Notch(p)) => {
+            kind @ (TileEntry::Plane(p)
+            | TileEntry::Ridge(p)
+            | TileEntry::Corner(p)
+            | TileEntry::Notch(p)
+            | TileEntry::Bend(p)) => {
                 let at = p as usize * PLANE_RECORD_LEN;
                 match self.planes.get(at..at + kind.records() as usize * PLANE_RECORD_LEN) {
                     Some(r) => Read::Plane(r, kind),
@@ -354,7 +409,10 @@ impl<'a> FieldLayer<'a> {
                         // The analytic lanes' code at this row's
                         // lattice y within the tile, in units of `W`.
                         let wt = (fy[k] - (ty << SHIFT) as f32).min(TILE_CELLS as f32);
-                        let code = (lanes.t0 + lanes.tgy * wt) - lanes.sign * (lanes.a0 + lanes.gy * wt).abs();
+                        let mut code = (lanes.t0 + lanes.tgy * wt) - lanes.sign * (lanes.a0 + lanes.gy * wt).abs();
+                        if lanes.bent {
+                            code = cast::<i32x4, f32x4>(lanes.bend).select(Self::bend(&lanes, wt), code);
+                        }
                         v = cast::<i32x4, f32x4>(lanes.planar).select(code * W as f32, v);
                     }
                     let a = (v * slope + offset).fast_max(f32x4::ZERO).fast_min(f32x4::ONE);

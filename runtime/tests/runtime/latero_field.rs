@@ -1,11 +1,13 @@
 //! Distance layers (`VDST`, `GDST`) against an f64 evaluation of SPEC.md
 //! section 6.2 and the seed-000 equations: random sparse fields (inside,
-//! outside and stored tiles with random codes, plane, ridge, corner and
-//! notch tiles with random records), hard and soft edges, both primitives,
+//! outside and stored tiles with random codes, plane, ridge, corner,
+//! notch and bend tiles with random records), hard and soft edges, both primitives,
 //! anywhere on and off the lattice.
 
 use proptest::prelude::*;
-use taxel_format::{Chunk, DistanceLayer, MaskKind, Mm, TILE_CORNER, TILE_NOTCH, TILE_PLANE, TILE_RIDGE, TilePlane};
+use taxel_format::{
+    Chunk, DistanceLayer, MaskKind, Mm, TILE_BEND, TILE_CORNER, TILE_NOTCH, TILE_PLANE, TILE_RIDGE, TilePlane,
+};
 
 use crate::support::*;
 
@@ -35,7 +37,7 @@ fn field(
             gy: (at(n + 3) - 128.0) / 2.0,
             top,
         };
-        match entries[k % entries.len()] % 7 {
+        match entries[k % entries.len()] % 8 {
             0 => tiles.push(0),
             1 => tiles.push(1),
             3 => {
@@ -50,6 +52,17 @@ fn field(
                 tiles.push(if kind == 5 { TILE_CORNER } else { TILE_NOTCH } | planes.len() as u32);
                 planes.push(record(0.0, 0));
                 planes.push(record(0.0, 3));
+            }
+            7 => {
+                // A bend: a vertex within a few cells of the tile, two
+                // random rays (one in eight a band's end, d2 = d1), k up to
+                // 64 codes per cell.
+                tiles.push(TILE_BEND | planes.len() as u32);
+                let turn = |n: usize| (at(n) / 256.0 * std::f32::consts::TAU).sin_cos();
+                let (s1, c1) = turn(2);
+                let (s2, c2) = if at(5) < 32.0 { (s1, c1) } else { turn(3) };
+                planes.push(TilePlane { c: at(0) / 16.0 - 4.0, gx: at(1) / 16.0 - 4.0, gy: c1, top: s1 });
+                planes.push(TilePlane { c: c2, gx: s2, gy: at(4) / 4.0, top: 128.0 + at(6) });
             }
             _ => {
                 tiles.push(next);

@@ -206,6 +206,19 @@ pub fn field_code(d: &DistanceLayer, x: f64, y: f64) -> Option<f64> {
             let r = d.planes[p];
             r.c as f64 + r.gx as f64 * tu + r.gy as f64 * tw
         };
+        if e >> 28 == 0x9 {
+            // A bend (0x9000_0000 | p): records p = (Vx, Vy, d1x, d1y) and
+            // p + 1 = (d2x, d2y, k, top); top − k · the distance to the
+            // nearer of the two rays from V (to V itself behind a ray).
+            let p = (e & 0x0FFF_FFFF) as usize;
+            let (a, b) = (d.planes[p], d.planes[p + 1]);
+            let (qx, qy) = (tu - a.c as f64, tw - a.gx as f64);
+            let ray = |dx: f32, dy: f32| {
+                let (dx, dy) = (dx as f64, dy as f64);
+                if qx * dx + qy * dy >= 0.0 { (qx * dy - qy * dx).abs() } else { (qx * qx + qy * qy).sqrt() }
+            };
+            return Some(b.top as f64 - b.gy as f64 * ray(a.gy, a.top).min(ray(b.c, b.gx)));
+        }
         return Some(match e >> 28 {
             0xA => affine((e & 0x0FFF_FFFF) as usize).min(affine((e & 0x0FFF_FFFF) as usize + 1)),
             0xB => affine((e & 0x0FFF_FFFF) as usize).max(affine((e & 0x0FFF_FFFF) as usize + 1)),
