@@ -476,8 +476,17 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
         let bent = bends::bends(&tile, &exact, ramp)
             .into_iter()
             .find(|b| tile.centres_all(centres, |u, w, e| b.close(u, w, e, sat)));
-        match bent {
-            Some(b) => TileOut::Bend(b.kind, b.recs),
+        if let Some(b) = bent {
+            return TileOut::Bend(b.kind, b.recs);
+        }
+        // A band's centre line bent at a vertex, or its end.
+        let band_bent = bends::band_bends(&tile, &exact).into_iter().find(|r| {
+            tile.centres_all(centres, |u, w, e| {
+                sat.close(taxel_format::bend_code([&r[0], &r[1]], u, w) - DISTANCE_ZERO as f64, e)
+            })
+        });
+        match band_bent {
+            Some(r) => TileOut::Bend(taxel_format::TILE_BEND, r),
             None => TileOut::Samples(tile_buf),
         }
     };
@@ -539,7 +548,7 @@ enum TileOut {
     Constant(u32),
     /// A plane or ridge tile: its index kind and record.
     Record(u32, TilePlane),
-    /// A corner or notch tile: its index kind and two records.
+    /// A corner, notch or bend tile: its index kind and two records.
     Bend(u32, [TilePlane; 2]),
     /// A stored tile's samples.
     Samples([u8; TILE_SAMPLES]),

@@ -22,11 +22,22 @@
 //! stand for, so that the tile's geometry is the corner's and the analysis
 //! holds.
 //!
-//! Vibrating bands stay sampled: at a bend of a band's centre line the
-//! exact distance is round on the outer side (the distance to the vertex),
-//! which no minimum or maximum of planes plays.
+//! A vibrating band's centre line bent at a vertex is round on the outer
+//! side (the distance to the vertex), which no minimum or maximum of planes
+//! plays: a **bend** tile ([`TILE_BEND`](taxel_format::TILE_BEND)) plays `top − k · min(dist(q, ray
+//! 1), dist(q, ray 2))`, the distance to the two rays from the vertex along
+//! the centre line's two segments, which is the exact distance wherever the
+//! centre line's nearest point lies on them: the band's whole edge in the
+//! tile, inner notch and outer round side. A band's end (a round cap) is a
+//! bend with both rays the same. [`band_bends`] tries the band segments
+//! nearest the tile, kept only where at the 81 samples (and, by the caller,
+//! the 64 cell centres) the played code is within half a code of the exact
+//! distance, or saturated on the same side, as for planes.
 
-use taxel_format::{DISTANCE_ZERO, TILE_CORNER, TILE_NOTCH, TILE_SAMPLES, TILE_SIDE, TileEntry, TilePlane};
+use taxel_format::{
+    DISTANCE_ZERO, MAX_PLANE_CODE, MAX_PLANE_GRADIENT, TILE_CORNER, TILE_NOTCH, TILE_SAMPLES, TILE_SIDE, TileEntry,
+    TilePlane,
+};
 
 use super::planes::{Saturation, TOLERANCE, TileCtx, record};
 use super::{Part, Seg, distance2_to_segment};
@@ -165,6 +176,78 @@ pub(super) fn bends(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES], ramp_mm: f
                 }
             }
         }
+    }
+    out
+}
+
+/// Most band segments near a tile whose pairs and ends are tried as bends.
+const MAX_BAND_SEGMENTS: usize = 8;
+
+/// The bend tiles' records (vertex, directions, `k`, top; SPEC.md section
+/// 6.2) that may play a band layer's tile whose exact codes are `exact`:
+/// two band segments near the tile that share an end, and each band
+/// segment's end alone (a cap), each kept if it plays the 81 samples.
+pub(super) fn band_bends(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Vec<[TilePlane; 2]> {
+    let mut out = Vec::new();
+    let Some((_, width)) = t.g.band.as_ref() else { return out };
+    let top = DISTANCE_ZERO as f64 + width / 2.0 / t.step;
+    let k = t.h / t.step;
+    let span = TILE_SIDE as f64 - 1.0;
+    let centre = (t.corner.0 + span / 2.0 * t.h, t.corner.1 + span / 2.0 * t.h);
+    let mut near: Vec<(f64, Seg)> = t
+        .bucket
+        .iter()
+        .filter_map(|&n| match t.segs.get(n as usize) {
+            Some(&((a, b), Part::Band, _)) => Some((distance2_to_segment(centre, a, b), (a, b))),
+            _ => None,
+        })
+        .collect();
+    near.sort_by(|x, y| x.0.total_cmp(&y.0));
+    near.truncate(MAX_BAND_SEGMENTS);
+    // The unit direction from `v` towards `p`, if they differ.
+    let unit = |v: (f64, f64), p: (f64, f64)| {
+        let len = (p.0 - v.0).hypot(p.1 - v.1);
+        (len.is_finite() && len > 0.0).then(|| ((p.0 - v.0) / len, (p.1 - v.1) / len))
+    };
+    let rec = |v: (f64, f64), d1: (f64, f64), d2: (f64, f64)| {
+        let (vu, vw) = ((v.0 - t.corner.0) / t.h, (v.1 - t.corner.1) / t.h);
+        let ok = |x: f64, m: f32| x.is_finite() && x.abs() <= m as f64;
+        (ok(vu, MAX_PLANE_GRADIENT)
+            && ok(vw, MAX_PLANE_GRADIENT)
+            && ok(k, MAX_PLANE_GRADIENT)
+            && ok(top, MAX_PLANE_CODE))
+        .then_some([
+            TilePlane { c: vu as f32, gx: vw as f32, gy: d1.0 as f32, top: d1.1 as f32 },
+            TilePlane { c: d2.0 as f32, gx: d2.1 as f32, gy: k as f32, top: top as f32 },
+        ])
+    };
+    let plays = |r: &[TilePlane; 2]| {
+        exact.iter().enumerate().all(|(i, &e)| {
+            let code = taxel_format::bend_code([&r[0], &r[1]], (i % TILE_SIDE) as f64, (i / TILE_SIDE) as f64);
+            t.sat.close(code - DISTANCE_ZERO as f64, e)
+        })
+    };
+    let mut try_bend = |v: (f64, f64), p1: (f64, f64), p2: (f64, f64)| {
+        let (Some(d1), Some(d2)) = (unit(v, p1), unit(v, p2)) else { return };
+        if let Some(r) = rec(v, d1, d2).filter(|r| plays(r)) {
+            out.push(r);
+        }
+    };
+    for (i, &(_, (a1, b1))) in near.iter().enumerate() {
+        for &(_, (a2, b2)) in &near[i + 1..] {
+            for (v, p1) in [(a1, b1), (b1, a1)] {
+                for (w, p2) in [(a2, b2), (b2, a2)] {
+                    if v == w {
+                        try_bend(v, p1, p2);
+                    }
+                }
+            }
+        }
+    }
+    // Caps: each segment's end alone.
+    for &(_, (a, b)) in &near {
+        try_bend(a, b, b);
+        try_bend(b, a, a);
     }
     out
 }
