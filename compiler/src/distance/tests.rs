@@ -141,7 +141,9 @@ fn check(g: &LayerGeometry<'_>, p: FieldParams, points: &[(f64, f64)]) -> Result
     Ok(())
 }
 
-/// The index entry of the plane or ridge tile `p` lies in, if it does.
+/// The index entry of the plane, ridge or bend tile `p` lies in, if it
+/// does (each plays its function at the point, checked at the samples and
+/// the cell centres).
 fn plane_tile_at(f: &Field, h: f64, p: (f64, f64)) -> Option<&u32> {
     let (fx, fy) = ((p.0 - f.origin.0) / h, (p.1 - f.origin.1) / h);
     if !(fx >= 0.0 && fy >= 0.0) {
@@ -151,9 +153,10 @@ fn plane_tile_at(f: &Field, h: f64, p: (f64, f64)) -> Option<&u32> {
     if tx >= f.tile_cols as usize {
         return None;
     }
-    f.tiles
-        .get(ty * f.tile_cols as usize + tx)
-        .filter(|&&e| e >= taxel_format::TILE_PLANE && taxel_format::TileEntry::of(e).records() == 1)
+    f.tiles.get(ty * f.tile_cols as usize + tx).filter(|&&e| {
+        let kind = taxel_format::TileEntry::of(e);
+        e >= taxel_format::TILE_PLANE && (kind.records() == 1 || matches!(kind, taxel_format::TileEntry::Bend(_)))
+    })
 }
 
 /// The index entry of the corner or notch tile `p` lies in, if it does,
@@ -242,6 +245,43 @@ fn an_inner_corner_is_a_notch_tile() {
     assert_eq!(f.stored(), 0);
     for v in [(5.0, 5.0), (15.0, 5.0), (15.0, 15.0), (25.0, 15.0), (25.0, 25.0), (5.0, 25.0)] {
         assert_amplitude_exact_round(&g, p, &f, v);
+    }
+}
+
+#[test]
+fn a_bent_band_and_its_ends_are_bend_tiles_exact_round_the_vertex() {
+    // A band bent by 60 degrees at (15, 10), ending at (5, 10) and (20, 10 + 5√3).
+    let end = (20.0, 10.0 + 5.0 * 3f64.sqrt());
+    let lines = [Polyline { points: vec![(5.0, 10.0), (15.0, 10.0), end], closed: false }];
+    let g = LayerGeometry { band: Some((vec![&lines[..]], 1.5)), ..Default::default() };
+    let p = params(0.5, 0.0);
+    let f = build_field(&g, p).expect("a field");
+    let bend_tiles =
+        f.tiles.iter().filter(|&&e| matches!(taxel_format::TileEntry::of(e), taxel_format::TileEntry::Bend(_)));
+    assert!(bend_tiles.count() >= 3, "the bend and both ends");
+    let (full, none) = saturated_codes(0.0, f.step_mm);
+    let (hi, lo) = ((full as f64 - 128.0) * f.step_mm, (none as f64 - 128.0) * f.step_mm);
+    // At any point (not only the lattice's) of a bend tile within 1.2 mm of
+    // the vertex or an end, the field plays the exact distance's amplitude:
+    // within half a step where not saturated.
+    for v in [(15.0, 10.0), (5.0, 10.0), end] {
+        let mut seen = 0;
+        for k in 0..2500 {
+            let q = (v.0 + (k % 50) as f64 * 0.049 - 1.2, v.1 + (k / 50) as f64 * 0.049 - 1.2);
+            let (fx, fy) = ((q.0 - f.origin.0) / 0.5, (q.1 - f.origin.1) / 0.5);
+            let e = f.tiles[(fy as usize / TILE_CELLS) * f.tile_cols as usize + fx as usize / TILE_CELLS];
+            if !matches!(taxel_format::TileEntry::of(e), taxel_format::TileEntry::Bend(_)) {
+                continue;
+            }
+            seen += 1;
+            let got = field_distance(&f, 0.5, q).expect("in the lattice");
+            let ex = exact_signed_distance(&g, p.page, q);
+            assert!(
+                (got.clamp(lo, hi) - ex.clamp(lo, hi)).abs() <= f.step_mm * 0.5 + 1e-6,
+                "{q:?} near {v:?}: field {got}, exact {ex}"
+            );
+        }
+        assert!(seen > 0, "no bend tile near {v:?}");
     }
 }
 
