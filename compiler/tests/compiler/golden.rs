@@ -123,9 +123,10 @@ pub fn dump(b: &Bundle) -> String {
                 let ridges = count(|e| matches!(e, taxel_format::TileEntry::Ridge(_)));
                 let corners = count(|e| matches!(e, taxel_format::TileEntry::Corner(_)));
                 let notches = count(|e| matches!(e, taxel_format::TileEntry::Notch(_)));
+                let bends = count(|e| matches!(e, taxel_format::TileEntry::Bend(_)));
                 writeln!(
                     s,
-                    "{kind} amplitude {} soft {} sources {:?}: {} x {} tiles every {} mm from ({:.2}, {:.2}) mm, {stored} stored, {planes} plane, {ridges} ridge, {corners} corner, {notches} notch, {inside} inside",
+                    "{kind} amplitude {} soft {} sources {:?}: {} x {} tiles every {} mm from ({:.2}, {:.2}) mm, {stored} stored, {planes} plane, {ridges} ridge, {corners} corner, {notches} notch, {bends} bend, {inside} inside",
                     d.amplitude, d.soft_mm, d.sources, d.tile_cols, d.tile_rows, d.pitch_mm, d.origin_x.0, d.origin_y.0
                 )
                 .unwrap();
