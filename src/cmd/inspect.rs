@@ -330,13 +330,14 @@ fn human(path: &Path, r: &Value) -> String {
                     format!("soft edge {} mm", num(&c["soft_mm"]))
                 };
                 format!(
-                    "{prim}, amplitude {}, {edge}; {} element(s); distance field {} tiles ({} stored, {} plane, {} corner) every {} mm, {} mm from ({}) mm",
+                    "{prim}, amplitude {}, {edge}; {} element(s); distance field {} tiles ({} stored, {} plane, {} corner, {} bend) every {} mm, {} mm from ({}) mm",
                     num(&c["amplitude"]),
                     c["elements"],
                     pair(&c["tiles"], " x "),
                     c["stored_tiles"],
                     c["plane_tiles"],
                     c["corner_tiles"],
+                    c["bend_tiles"],
                     num(&c["pitch_mm"]),
                     pair(&c["size_mm"], " x "),
                     pair(&c["origin_mm"], ", ")
