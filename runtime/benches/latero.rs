@@ -67,12 +67,12 @@ fn field(kind: MaskKind, x0: f32, y0: f32, cols: u32, rows: u32, stored: bool) -
 /// As [`field`], with plane tiles (format 3.0) instead of stored ones under
 /// the carrier when `planes`: the same climbing codes as one record each.
 fn field_of(kind: MaskKind, x0: f32, y0: f32, cols: u32, rows: u32, stored: bool, planes: bool) -> Chunk {
-    field_with(kind, x0, y0, cols, rows, stored, planes, false)
+    field_with(kind, x0, y0, cols, rows, stored, planes, false, false)
 }
 
 /// As [`field_of`] with plane tiles, as corner tiles (format 4.0) when
 /// `corners`: the lesser of the same climbing plane and a falling one, which
-/// cross inside each tile.
+/// cross inside each tile; as bend tiles (format 4.0) when `bends`.
 #[allow(clippy::too_many_arguments)]
 fn field_with(
     kind: MaskKind,
@@ -83,6 +83,7 @@ fn field_with(
     stored: bool,
     planes: bool,
     corners: bool,
+    bends: bool,
 ) -> Chunk {
     let mut tiles = Vec::new();
     let mut samples = Vec::new();
@@ -91,7 +92,13 @@ fn field_with(
         for c in 0..cols {
             let (tx, ty) = (x0 + 4.0 * c as f32, y0 + 4.0 * r as f32);
             let near = (tx - X).abs() < 16.0 && (ty - Y).abs() < 16.0;
-            if corners && (stored || near) {
+            if bends && (stored || near) {
+                // A band's centre line bent at the tile's middle.
+                tiles.push(taxel_format::TILE_BEND | records.len() as u32);
+                let (s, c) = 0.6f32.sin_cos();
+                records.push(taxel_format::TilePlane { c: 4.0, gx: 4.0, gy: -1.0, top: 0.0 });
+                records.push(taxel_format::TilePlane { c, gx: s, gy: 50.0, top: 300.0 });
+            } else if corners && (stored || near) {
                 tiles.push(taxel_format::TILE_CORNER | records.len() as u32);
                 records.push(taxel_format::TilePlane { c: 100.0, gx: 7.0, gy: 3.0, top: 0.0 });
                 records.push(taxel_format::TilePlane { c: 160.0, gx: -5.0, gy: 4.0, top: 0.0 });
@@ -183,8 +190,16 @@ fn latero(c: &mut Criterion) {
         c,
         "latero frame (distance): corner tiles, vibration and grating",
         vec![
-            field_with(VIBRATE, X - 12.0, Y - 12.0, 3, 6, true, true, true),
-            field_with(GRATE, X, Y - 12.0, 3, 6, true, true, true),
+            field_with(VIBRATE, X - 12.0, Y - 12.0, 3, 6, true, true, true, false),
+            field_with(GRATE, X, Y - 12.0, 3, 6, true, true, true, false),
+        ],
+    );
+    bench_scene(
+        c,
+        "latero frame (distance): bend tiles, vibration and grating",
+        vec![
+            field_with(VIBRATE, X - 12.0, Y - 12.0, 3, 6, true, true, false, true),
+            field_with(GRATE, X, Y - 12.0, 3, 6, true, true, false, true),
         ],
     );
     // Frame-cost independence: the same two styles over one region (the
