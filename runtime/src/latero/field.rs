@@ -24,7 +24,11 @@
 //! with `T` and `A` their half sum and half difference, so that every
 //! such lane plays `T − sign · |A|` from two affine functions: plane,
 //! ridge, corner and notch lanes share one formula and need no select
-//! among them. The cost per actuator per layer is bounded: it
+//! among them. A bend tile (format 4.0) plays a band's bent centre line,
+//! `top − k · min(dist(q, ray 1), dist(q, ray 2))`, one square root per
+//! row for four lanes, written out of line on a tile change and played only
+//! in rows that have a bend lane (one more predictable branch inside the
+//! analytic one). The cost per actuator per layer is bounded: it
 //! depends neither on the number of shapes in the layer nor on where their
 //! edges are.
 
@@ -78,20 +82,21 @@ struct TileLanes<'a> {
     a0: f32x4,
     gy: f32x4,
     sign: f32x4,
-    /// Whether any lane is in a bend tile (format 4.0), and which.
+    /// Whether any lane is in a bend tile (format 4.0): its other values
+    /// are in a [`BendLanes`], written only then.
     bent: bool,
-    bend: i32x4,
-    /// A bend lane's column less its vertex's x, the vertex's y, its rays'
-    /// unit directions, its codes per cell and its top code: it plays
-    /// `top − k · min(dist(q, ray 1), dist(q, ray 2))`.
-    bdx: f32x4,
-    bvy: f32x4,
-    d1x: f32x4,
-    d1y: f32x4,
-    d2x: f32x4,
-    d2y: f32x4,
-    bk: f32x4,
-    btop: f32x4,
+}
+
+/// The bend lanes (format 4.0) of a [`TileLanes`]: a bend lane plays `top −
+/// k · min(dist(q, ray 1), dist(q, ray 2))` ([`FieldLayer::bend`]); `v`
+/// holds per lane its column less its vertex's x, the vertex's y, its
+/// rays' unit directions (x, y, x, y), its codes per cell and its top
+/// code. Kept apart and written out of line, so that tiles without bends
+/// cost nothing more.
+#[derive(Debug, Clone, Copy, Default)]
+struct BendLanes {
+    bend: [i32; LANES],
+    v: [[f32; LANES]; 8],
 }
 
 impl Default for TileLanes<'_> {
@@ -106,15 +111,6 @@ impl Default for TileLanes<'_> {
             gy: f32x4::ZERO,
             sign: f32x4::ZERO,
             bent: false,
-            bend: i32x4::ZERO,
-            bdx: f32x4::ZERO,
-            bvy: f32x4::ZERO,
-            d1x: f32x4::ZERO,
-            d1y: f32x4::ZERO,
-            d2x: f32x4::ZERO,
-            d2y: f32x4::ZERO,
-            bk: f32x4::ZERO,
-            btop: f32x4::ZERO,
         }
     }
 }
@@ -205,11 +201,10 @@ impl<'a> FieldLayer<'a> {
     /// along y. (An index entry past the stored tiles or records, which
     /// validation rules out, reads as outside.)
     #[inline(always)]
-    fn tile_lanes(&self, tile_row: usize, ci: [u32; LANES], u: [f32; LANES]) -> TileLanes<'a> {
+    fn tile_lanes(&self, tile_row: usize, ci: [u32; LANES], u: [f32; LANES], bl: &mut BendLanes) -> TileLanes<'a> {
         let mut t = TileLanes::default();
         let mut planar = [0i32; LANES];
-        let mut bend = [0i32; LANES];
-        let mut b = [[0f32; LANES]; 8];
+        bl.bend = [0; LANES];
         let (mut t0, mut tgy, mut a0, mut gy, mut sign) =
             ([0f32; LANES], [0f32; LANES], [0f32; LANES], [0f32; LANES], [0f32; LANES]);
         // The lanes' columns grow from lane to lane, so neighbours often
@@ -245,13 +240,7 @@ impl<'a> FieldLayer<'a> {
                             sign[k] = if matches!(kind, TileEntry::Notch(_)) { -1.0 } else { 1.0 };
                         }
                         TileEntry::Bend(_) => {
-                            // (Vx, Vy, d1x, d1y), (d2x, d2y, k, top).
-                            let v: [f32; 8] = core::array::from_fn(|i| f(4 * i));
-                            b[0][k] = u[k] - v[0];
-                            for i in 1..8 {
-                                b[i][k] = v[i];
-                            }
-                            bend[k] = -1;
+                            Self::bend_lane(r, u[k], k, bl);
                             t.bent = true;
                         }
                         _ => (t0[k], tgy[k]) = (a, g),
@@ -262,24 +251,37 @@ impl<'a> FieldLayer<'a> {
             }
         }
         t.planar = i32x4::new(planar);
-        t.bend = i32x4::new(bend);
-        [t.bdx, t.bvy, t.d1x, t.d1y, t.d2x, t.d2y, t.bk, t.btop] = b.map(f32x4::new);
         (t.t0, t.tgy, t.a0, t.gy, t.sign) =
             (f32x4::new(t0), f32x4::new(tgy), f32x4::new(a0), f32x4::new(gy), f32x4::new(sign));
         t
     }
 
     /// The bend lanes' codes at lattice y `wt` within the tile: one square
-    /// root per row for four lanes.
-    #[inline(always)]
-    fn bend(l: &TileLanes<'_>, wt: f32) -> f32x4 {
-        let (dx, dy) = (l.bdx, f32x4::splat(wt) - l.bvy);
+    /// root per row for four lanes. Out of line, so that rows without bend
+    /// lanes keep their registers.
+    #[inline(never)]
+    fn bend(b: &BendLanes, wt: f32) -> f32x4 {
+        let [dx, vy, d1x, d1y, d2x, d2y, k, top] = b.v.map(f32x4::new);
+        let dy = f32x4::splat(wt) - vy;
         let r = (dx * dx + dy * dy).sqrt();
         let ray = |ex: f32x4, ey: f32x4| {
             let ahead = (dx * ex + dy * ey).simd_ge(f32x4::ZERO);
             ahead.select((dx * ey - dy * ex).abs(), r)
         };
-        l.btop - l.bk * ray(l.d1x, l.d1y).fast_min(ray(l.d2x, l.d2y))
+        top - k * ray(d1x, d1y).fast_min(ray(d2x, d2y))
+    }
+
+    /// Lane `k`'s bend values from its tile's two records `r` ((Vx, Vy,
+    /// d1x, d1y), (d2x, d2y, k, top)), at lattice x `u` in the tile.
+    #[cold]
+    #[inline(never)]
+    fn bend_lane(r: &[u8], u: f32, k: usize, bl: &mut BendLanes) {
+        let f = |o: usize| r.get(o..o + 4).map_or(0.0, |b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+        for (i, v) in bl.v.iter_mut().enumerate() {
+            v[k] = f(4 * i);
+        }
+        bl.v[0][k] = u - bl.v[0][k];
+        bl.bend[k] = -1;
     }
 
     /// What the tile at index entry `i` makes its lanes read.
@@ -383,6 +385,7 @@ impl<'a> FieldLayer<'a> {
             // The lanes' tiles change only every eight lattice rows.
             let mut ty_now = u32::MAX;
             let mut lanes = TileLanes::default();
+            let mut bends = BendLanes::default();
             let mut r4 = r_lo;
             while r4 < r_hi {
                 // Four rows' lattice cells and vertical weights at once, in
@@ -399,7 +402,7 @@ impl<'a> FieldLayer<'a> {
                     let ty = cj >> SHIFT;
                     if ty != ty_now {
                         ty_now = ty;
-                        lanes = self.tile_lanes(ty as usize * self.tile_cols as usize, ci, u);
+                        lanes = self.tile_lanes(ty as usize * self.tile_cols as usize, ci, u, &mut bends);
                     }
                     let (top, bot) = Self::pairs(&lanes.windows, (cj & (TILE_CELLS as u32 - 1)) as usize * TILE_SIDE);
                     let t = f32x4::from_i32x4(top.dot(w));
@@ -411,7 +414,7 @@ impl<'a> FieldLayer<'a> {
                         let wt = (fy[k] - (ty << SHIFT) as f32).min(TILE_CELLS as f32);
                         let mut code = (lanes.t0 + lanes.tgy * wt) - lanes.sign * (lanes.a0 + lanes.gy * wt).abs();
                         if lanes.bent {
-                            code = cast::<i32x4, f32x4>(lanes.bend).select(Self::bend(&lanes, wt), code);
+                            code = cast::<i32x4, f32x4>(i32x4::new(bends.bend)).select(Self::bend(&bends, wt), code);
                         }
                         v = cast::<i32x4, f32x4>(lanes.planar).select(code * W as f32, v);
                     }
