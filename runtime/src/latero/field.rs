@@ -204,7 +204,6 @@ impl<'a> FieldLayer<'a> {
     fn tile_lanes(&self, tile_row: usize, ci: [u32; LANES], u: [f32; LANES], bl: &mut BendLanes) -> TileLanes<'a> {
         let mut t = TileLanes::default();
         let mut planar = [0i32; LANES];
-        bl.bend = [0; LANES];
         let (mut t0, mut tgy, mut a0, mut gy, mut sign) =
             ([0f32; LANES], [0f32; LANES], [0f32; LANES], [0f32; LANES], [0f32; LANES]);
         // The lanes' columns grow from lane to lane, so neighbours often
@@ -240,7 +239,8 @@ impl<'a> FieldLayer<'a> {
                             sign[k] = if matches!(kind, TileEntry::Notch(_)) { -1.0 } else { 1.0 };
                         }
                         TileEntry::Bend(_) => {
-                            Self::bend_lane(r, u[k], k, bl);
+                            // The first bend lane of these tiles clears the others'.
+                            Self::bend_lane(r, u[k], k, !t.bent, bl);
                             t.bent = true;
                         }
                         _ => (t0[k], tgy[k]) = (a, g),
@@ -272,10 +272,14 @@ impl<'a> FieldLayer<'a> {
     }
 
     /// Lane `k`'s bend values from its tile's two records `r` ((Vx, Vy,
-    /// d1x, d1y), (d2x, d2y, k, top)), at lattice x `u` in the tile.
+    /// d1x, d1y), (d2x, d2y, k, top)), at lattice x `u` in the tile; the
+    /// `first` bend lane of a tile change clears the other lanes' flags.
     #[cold]
     #[inline(never)]
-    fn bend_lane(r: &[u8], u: f32, k: usize, bl: &mut BendLanes) {
+    fn bend_lane(r: &[u8], u: f32, k: usize, first: bool, bl: &mut BendLanes) {
+        if first {
+            bl.bend = [0; LANES];
+        }
         let f = |o: usize| r.get(o..o + 4).map_or(0.0, |b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]));
         for (i, v) in bl.v.iter_mut().enumerate() {
             v[k] = f(4 * i);
