@@ -149,6 +149,10 @@ pub(crate) struct FieldLayer<'a> {
     offset: f32,
     /// The layer's amplitude.
     amplitude: f32,
+    /// Whether any tile is a bend tile: only then does the kernel carry
+    /// the bend lanes (a second instance of it), so that layers without
+    /// bends play exactly the code they played before bends existed.
+    bends: bool,
 }
 
 impl<'a> FieldLayer<'a> {
@@ -178,15 +182,23 @@ impl<'a> FieldLayer<'a> {
             slope: k / W as f32,
             offset: 0.5 - 128.0 * k,
             amplitude: m.amplitude,
+            bends: m
+                .tile_bytes()
+                .as_chunks::<4>()
+                .0
+                .iter()
+                .any(|e| matches!(TileEntry::of(u32::from_le_bytes(*e)), TileEntry::Bend(_))),
         }
     }
 
     /// Adds this layer's deflection for rows `f.r0..f.r1` to `acc`.
     #[inline(never)]
     pub(crate) fn accumulate(&self, f: &Frame, acc: &mut Acc) {
-        match self.primitive {
-            Primitive::Vibration { .. } => self.rows::<false>(f, acc),
-            Primitive::Grating { .. } => self.rows::<true>(f, acc),
+        match (self.primitive, self.bends) {
+            (Primitive::Vibration { .. }, false) => self.rows::<false, false>(f, acc),
+            (Primitive::Vibration { .. }, true) => self.rows::<false, true>(f, acc),
+            (Primitive::Grating { .. }, false) => self.rows::<true, false>(f, acc),
+            (Primitive::Grating { .. }, true) => self.rows::<true, true>(f, acc),
         }
     }
 
@@ -201,7 +213,13 @@ impl<'a> FieldLayer<'a> {
     /// along y. (An index entry past the stored tiles or records, which
     /// validation rules out, reads as outside.)
     #[inline(always)]
-    fn tile_lanes(&self, tile_row: usize, ci: [u32; LANES], u: [f32; LANES], bl: &mut BendLanes) -> TileLanes<'a> {
+    fn tile_lanes<const BENDS: bool>(
+        &self,
+        tile_row: usize,
+        ci: [u32; LANES],
+        u: [f32; LANES],
+        bl: &mut BendLanes,
+    ) -> TileLanes<'a> {
         let mut t = TileLanes::default();
         let mut planar = [0i32; LANES];
         let (mut t0, mut tgy, mut a0, mut gy, mut sign) =
@@ -238,7 +256,8 @@ impl<'a> FieldLayer<'a> {
                             (a0[k], gy[k]) = ((a - a2) * 0.5, (g - g2) * 0.5);
                             sign[k] = if matches!(kind, TileEntry::Notch(_)) { -1.0 } else { 1.0 };
                         }
-                        TileEntry::Bend(_) => {
+                        // (A layer without bend tiles never reads one: `bends`.)
+                        TileEntry::Bend(_) if BENDS => {
                             // The first bend lane of these tiles clears the others'.
                             Self::bend_lane(r, u[k], k, !t.bent, bl);
                             t.bent = true;
@@ -339,7 +358,7 @@ impl<'a> FieldLayer<'a> {
     }
 
     #[inline(always)]
-    fn rows<const GRATING: bool>(&self, f: &Frame, acc: &mut Acc) {
+    fn rows<const GRATING: bool, const BENDS: bool>(&self, f: &Frame, acc: &mut Acc) {
         let [c_lo, c_hi, r_lo, r_hi] = f.runs(self.bounds);
         if c_lo >= c_hi || r_lo >= r_hi {
             return;
@@ -406,7 +425,7 @@ impl<'a> FieldLayer<'a> {
                     let ty = cj >> SHIFT;
                     if ty != ty_now {
                         ty_now = ty;
-                        lanes = self.tile_lanes(ty as usize * self.tile_cols as usize, ci, u, &mut bends);
+                        lanes = self.tile_lanes::<BENDS>(ty as usize * self.tile_cols as usize, ci, u, &mut bends);
                     }
                     let (top, bot) = Self::pairs(&lanes.windows, (cj & (TILE_CELLS as u32 - 1)) as usize * TILE_SIDE);
                     let t = f32x4::from_i32x4(top.dot(w));
@@ -417,7 +436,7 @@ impl<'a> FieldLayer<'a> {
                         // lattice y within the tile, in units of `W`.
                         let wt = (fy[k] - (ty << SHIFT) as f32).min(TILE_CELLS as f32);
                         let mut code = (lanes.t0 + lanes.tgy * wt) - lanes.sign * (lanes.a0 + lanes.gy * wt).abs();
-                        if lanes.bent {
+                        if BENDS && lanes.bent {
                             code = cast::<i32x4, f32x4>(i32x4::new(bends.bend)).select(Self::bend(&bends, wt), code);
                         }
                         v = cast::<i32x4, f32x4>(lanes.planar).select(code * W as f32, v);
