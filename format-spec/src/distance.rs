@@ -622,7 +622,7 @@ pub fn bend_code(r: [&TilePlane; 2], u: f64, w: f64) -> f64 {
     let [a, b] = r;
     let (vx, vy) = (a.c as f64, a.gx as f64);
     let (dx, dy) = (u - vx, w - vy);
-    let to_vertex = dx.hypot(dy);
+    let to_vertex = libm::hypot(dx, dy);
     let ray = |ex: f64, ey: f64| {
         if dx * ex + dy * ey >= 0.0 { (dx * ey - dy * ex).abs() } else { to_vertex }
     };
@@ -643,8 +643,9 @@ fn check_bend(r: [TilePlane; 2]) -> Result<(), &'static str> {
     if !(within(a.c, MAX_PLANE_GRADIENT) && within(a.gx, MAX_PLANE_GRADIENT)) {
         return Err("a bend's vertex finite and within 1024 cells");
     }
-    let unit =
-        |x: f32, y: f32| x.is_finite() && y.is_finite() && ((x * x + y * y).sqrt() - 1.0).abs() <= BEND_UNIT_TOLERANCE;
+    let unit = |x: f32, y: f32| {
+        x.is_finite() && y.is_finite() && (libm::sqrtf(x * x + y * y) - 1.0).abs() <= BEND_UNIT_TOLERANCE
+    };
     if !(unit(a.gy, a.top) && unit(b.c, b.gx)) {
         return Err("a bend's directions of unit length");
     }
