@@ -126,6 +126,24 @@ impl Bend {
     }
 }
 
+/// The segments of the parts `keep` chooses in the tile's bucket, with their
+/// squared distance to the tile's centre, nearest first, at most `max`.
+fn nearest_segments(t: &TileCtx<'_, '_>, keep: impl Fn(Part) -> bool, max: usize) -> Vec<(f64, Seg)> {
+    let span = TILE_SIDE as f64 - 1.0;
+    let centre = (t.corner.0 + span / 2.0 * t.h, t.corner.1 + span / 2.0 * t.h);
+    let mut near: Vec<(f64, Seg)> = t
+        .bucket
+        .iter()
+        .filter_map(|&n| match t.segs.get(n as usize) {
+            Some(&((a, b), part, _)) if keep(part) => Some((distance2_to_segment(centre, a, b), (a, b))),
+            _ => None,
+        })
+        .collect();
+    near.sort_by(|x, y| x.0.total_cmp(&y.0));
+    near.truncate(max);
+    near
+}
+
 /// The corners and notches that play a tile's samples (`exact`, codes,
 /// row-major 9 x 9): pairs of the fills' segments near the tile that share
 /// an end, each side either way round, as a corner or a notch.
@@ -134,18 +152,7 @@ pub(super) fn bends(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES], ramp_mm: f
     if t.g.band.is_some() {
         return out;
     }
-    let span = TILE_SIDE as f64 - 1.0;
-    let centre = (t.corner.0 + span / 2.0 * t.h, t.corner.1 + span / 2.0 * t.h);
-    let mut near: Vec<(f64, Seg)> = t
-        .bucket
-        .iter()
-        .filter_map(|&n| match t.segs.get(n as usize) {
-            Some(&((a, b), Part::Fill, _)) => Some((distance2_to_segment(centre, a, b), (a, b))),
-            _ => None,
-        })
-        .collect();
-    near.sort_by(|x, y| x.0.total_cmp(&y.0));
-    near.truncate(MAX_SEGMENTS);
+    let near = nearest_segments(t, |p| matches!(p, Part::Fill), MAX_SEGMENTS);
     let k = t.h / t.step;
     // A segment's line over the tile: signed distance in codes at its first
     // lattice point, and gradient in codes per cell.
@@ -192,18 +199,7 @@ pub(super) fn band_bends(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Ve
     let Some((_, width)) = t.g.band.as_ref() else { return out };
     let top = DISTANCE_ZERO as f64 + width / 2.0 / t.step;
     let k = t.h / t.step;
-    let span = TILE_SIDE as f64 - 1.0;
-    let centre = (t.corner.0 + span / 2.0 * t.h, t.corner.1 + span / 2.0 * t.h);
-    let mut near: Vec<(f64, Seg)> = t
-        .bucket
-        .iter()
-        .filter_map(|&n| match t.segs.get(n as usize) {
-            Some(&((a, b), Part::Band, _)) => Some((distance2_to_segment(centre, a, b), (a, b))),
-            _ => None,
-        })
-        .collect();
-    near.sort_by(|x, y| x.0.total_cmp(&y.0));
-    near.truncate(MAX_BAND_SEGMENTS);
+    let near = nearest_segments(t, |p| matches!(p, Part::Band), MAX_BAND_SEGMENTS);
     // The unit direction from `v` towards `p`, if they differ.
     let unit = |v: (f64, f64), p: (f64, f64)| {
         let len = (p.0 - v.0).hypot(p.1 - v.1);
