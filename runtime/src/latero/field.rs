@@ -28,12 +28,17 @@
 //! `top − k · min(dist(q, ray 1), dist(q, ray 2))`, one square root per
 //! row for four lanes, written out of line on a tile change and played only
 //! in rows that have a bend lane (one more predictable branch inside the
-//! analytic one). The cost per actuator per layer is bounded: it
+//! analytic one). Which of these the kernel carries is chosen per layer at
+//! load ([`Tiles`]): a layer whose tiles all store samples or are constant
+//! runs an instance with no analytic lanes at all, whose tile changes only
+//! look up each lane's window; only a layer with bend tiles carries the
+//! bend lanes. The cost per actuator per layer is bounded: it
 //! depends neither on the number of shapes in the layer nor on where their
 //! edges are.
 
 use taxel_format::{
-    DistanceView, PLANE_RECORD_LEN, TILE_CELLS, TILE_FIRST_STORED, TILE_OUTSIDE, TILE_SAMPLES, TILE_SIDE, TileEntry,
+    DistanceView, PLANE_RECORD_LEN, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE, TILE_SAMPLES, TILE_SIDE,
+    TileEntry,
 };
 use wide::bytemuck::cast;
 use wide::{f32x4, i16x8, i32x4, u8x16, u16x8};
@@ -149,10 +154,25 @@ pub(crate) struct FieldLayer<'a> {
     offset: f32,
     /// The layer's amplitude.
     amplitude: f32,
-    /// Whether any tile is a bend tile: only then does the kernel carry
-    /// the bend lanes (a second instance of it), so that layers without
-    /// bends play exactly the code they played before bends existed.
-    bends: bool,
+    /// The kinds of tile the layer holds, which choose the instance of the
+    /// kernel that plays it.
+    tiles: Tiles,
+}
+
+/// The kinds of tile in a layer. Each kind of layer has its own instance
+/// of the kernel, chosen at load: a layer whose tiles all store samples or
+/// are constant carries no analytic lanes at all and finds its lanes'
+/// windows with one lookup per tile; only a layer with bend tiles carries
+/// the bend lanes, so that other layers play the code they played before
+/// bends existed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Tiles {
+    /// Outside, inside and stored tiles only.
+    Sampled,
+    /// Also plane, ridge, corner or notch tiles.
+    Analytic,
+    /// Also bend tiles.
+    Bent,
 }
 
 impl<'a> FieldLayer<'a> {
@@ -182,23 +202,27 @@ impl<'a> FieldLayer<'a> {
             slope: k / W as f32,
             offset: 0.5 - 128.0 * k,
             amplitude: m.amplitude,
-            bends: m
-                .tile_bytes()
-                .as_chunks::<4>()
-                .0
-                .iter()
-                .any(|e| matches!(TileEntry::of(u32::from_le_bytes(*e)), TileEntry::Bend(_))),
+            tiles: m.tile_bytes().as_chunks::<4>().0.iter().fold(Tiles::Sampled, |t, e| {
+                match TileEntry::of(u32::from_le_bytes(*e)) {
+                    TileEntry::Outside | TileEntry::Inside | TileEntry::Stored(_) => t,
+                    TileEntry::Bend(_) => Tiles::Bent,
+                    _ if t == Tiles::Bent => t,
+                    _ => Tiles::Analytic,
+                }
+            }),
         }
     }
 
     /// Adds this layer's deflection for rows `f.r0..f.r1` to `acc`.
     #[inline(never)]
     pub(crate) fn accumulate(&self, f: &Frame, acc: &mut Acc) {
-        match (self.primitive, self.bends) {
-            (Primitive::Vibration { .. }, false) => self.rows::<false, false>(f, acc),
-            (Primitive::Vibration { .. }, true) => self.rows::<false, true>(f, acc),
-            (Primitive::Grating { .. }, false) => self.rows::<true, false>(f, acc),
-            (Primitive::Grating { .. }, true) => self.rows::<true, true>(f, acc),
+        match (self.primitive, self.tiles) {
+            (Primitive::Vibration { .. }, Tiles::Sampled) => self.rows::<false, false, false>(f, acc),
+            (Primitive::Vibration { .. }, Tiles::Analytic) => self.rows::<false, true, false>(f, acc),
+            (Primitive::Vibration { .. }, Tiles::Bent) => self.rows::<false, true, true>(f, acc),
+            (Primitive::Grating { .. }, Tiles::Sampled) => self.rows::<true, false, false>(f, acc),
+            (Primitive::Grating { .. }, Tiles::Analytic) => self.rows::<true, true, false>(f, acc),
+            (Primitive::Grating { .. }, Tiles::Bent) => self.rows::<true, true, true>(f, acc),
         }
     }
 
@@ -357,8 +381,40 @@ impl<'a> FieldLayer<'a> {
         (i16x8::from_u8x16_low(bytes), i16x8::from_u8x16_high(bytes))
     }
 
+    /// [`Self::tile_lanes`] for a layer whose tiles all store samples or
+    /// are constant: each lane's window of samples in the tile row starting
+    /// at index entry `tile_row`, for lanes with cell columns `ci`. (Any
+    /// other entry, which such a layer does not hold, reads as outside.)
     #[inline(always)]
-    fn rows<const GRATING: bool, const BENDS: bool>(&self, f: &Frame, acc: &mut Acc) {
+    fn sample_windows(&self, tile_row: usize, ci: [u32; LANES]) -> [&'a Window; LANES] {
+        let mut windows = [&OUTSIDE_WINDOW; LANES];
+        // Neighbouring lanes often share a tile: each is looked up once.
+        let mut tile = self.sampled(tile_row + (ci[0] >> SHIFT) as usize);
+        for k in 0..LANES {
+            if k > 0 && ci[k] >> SHIFT != ci[k - 1] >> SHIFT {
+                tile = self.sampled(tile_row + (ci[k] >> SHIFT) as usize);
+            }
+            let col = (ci[k] & (TILE_CELLS as u32 - 1)) as usize;
+            // A column below TILE_CELLS leaves a whole window: never `None`.
+            windows[k] = tile.get(col..col + WINDOW).and_then(|w| w.try_into().ok()).unwrap_or(&OUTSIDE_WINDOW);
+        }
+        windows
+    }
+
+    /// The samples of the tile at index entry `i`, as [`Self::tile`] reads
+    /// a stored or constant tile; outside for any other entry.
+    #[inline(always)]
+    fn sampled(&self, i: usize) -> &'a Tile {
+        let e = self.entries.get(i).map_or(TILE_OUTSIDE, |b| u32::from_le_bytes(*b));
+        match self.stored.get(e.wrapping_sub(TILE_FIRST_STORED) as usize) {
+            Some(tile) => tile,
+            None if e == TILE_INSIDE => &INSIDE,
+            None => &OUTSIDE,
+        }
+    }
+
+    #[inline(always)]
+    fn rows<const GRATING: bool, const ANALYTIC: bool, const BENDS: bool>(&self, f: &Frame, acc: &mut Acc) {
         let [c_lo, c_hi, r_lo, r_hi] = f.runs(self.bounds);
         if c_lo >= c_hi || r_lo >= r_hi {
             return;
@@ -425,13 +481,18 @@ impl<'a> FieldLayer<'a> {
                     let ty = cj >> SHIFT;
                     if ty != ty_now {
                         ty_now = ty;
-                        lanes = self.tile_lanes::<BENDS>(ty as usize * self.tile_cols as usize, ci, u, &mut bends);
+                        let row = ty as usize * self.tile_cols as usize;
+                        if ANALYTIC {
+                            lanes = self.tile_lanes::<BENDS>(row, ci, u, &mut bends);
+                        } else {
+                            lanes.windows = self.sample_windows(row, ci);
+                        }
                     }
                     let (top, bot) = Self::pairs(&lanes.windows, (cj & (TILE_CELLS as u32 - 1)) as usize * TILE_SIDE);
                     let t = f32x4::from_i32x4(top.dot(w));
                     let b = f32x4::from_i32x4(bot.dot(w));
                     let mut v = t + (b - t) * wy;
-                    if lanes.analytic {
+                    if ANALYTIC && lanes.analytic {
                         // The analytic lanes' code at this row's
                         // lattice y within the tile, in units of `W`.
                         let wt = (fy[k] - (ty << SHIFT) as f32).min(TILE_CELLS as f32);
