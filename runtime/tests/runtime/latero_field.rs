@@ -137,6 +137,30 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 300, ..ProptestConfig::default() })]
+
+    /// A layer of outside, inside and stored tiles only plays through its
+    /// own instance of the kernel (chosen at load): the same checks.
+    #[test]
+    fn sampled_fields_follow_the_spec_and_the_equations(
+        (x, y) in (6.0f32..104.0, 6.0f32..54.0),
+        (dx, dy) in (-12.0f32..4.0, -12.0f32..4.0),
+        pitch in prop::sample::select(vec![0.25f32, 0.5, 0.7, 1.0]),
+        (cols, rows) in (1u32..5, 1u32..5),
+        entries in prop::collection::vec(0u8..3, 1..20),
+        codes in prop::collection::vec(any::<u8>(), 81..400),
+        soft in prop::sample::select(vec![0.0f32, 0.05, 0.3, 2.0]),
+        grating in any::<bool>(),
+        (lambda, angle) in (0.5f32..10.0, -360.0f32..=360.0),
+        tick in 0u64..10_000_000,
+    ) {
+        let kind = if grating { grating_kind(lambda, angle) } else { vibration(50_000) };
+        // Entries 0, 1 and 2: outside, inside and a stored tile (`field`).
+        assert_close(field(kind, x + dx, y + dy, pitch, cols, rows, &entries, &codes, soft), tick, x, y);
+    }
+}
+
 fn grating_kind(lambda: f32, angle: f32) -> MaskKind {
     grating(lambda, angle)
 }
