@@ -28,17 +28,20 @@
 //! `top − k · min(dist(q, ray 1), dist(q, ray 2))`, one square root per
 //! row for four lanes, written out of line on a tile change and played only
 //! in rows that have a bend lane (one more predictable branch inside the
-//! analytic one). Which of these the kernel carries is chosen per layer at
-//! load ([`Tiles`]): a layer whose tiles all store samples or are constant
-//! runs an instance with no analytic lanes at all, whose tile changes only
-//! look up each lane's window; only a layer with bend tiles carries the
-//! bend lanes. The cost per actuator per layer is bounded: it
+//! analytic one). A tile change first looks up each lane's window as if
+//! every lane's tile stored samples or were constant, the common case
+//! (region interiors and exteriors are constant tiles), and only when a
+//! lane's tile is of another kind reads the lanes' records. Which of these
+//! the kernel carries is chosen per layer at load ([`Tiles`]): a layer whose
+//! tiles all store samples or are constant runs an instance with no analytic
+//! lanes at all; only a layer with bend tiles carries the bend lanes. The
+//! cost per actuator per layer is bounded: it
 //! depends neither on the number of shapes in the layer nor on where their
 //! edges are.
 
 use taxel_format::{
-    DistanceView, PLANE_RECORD_LEN, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE, TILE_SAMPLES, TILE_SIDE,
-    TileEntry,
+    DistanceView, PLANE_RECORD_LEN, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE, TILE_PLANE, TILE_SAMPLES,
+    TILE_SIDE, TileEntry,
 };
 use wide::bytemuck::cast;
 use wide::{f32x4, i16x8, i32x4, u8x16, u16x8};
@@ -381,35 +384,38 @@ impl<'a> FieldLayer<'a> {
         (i16x8::from_u8x16_low(bytes), i16x8::from_u8x16_high(bytes))
     }
 
-    /// [`Self::tile_lanes`] for a layer whose tiles all store samples or
-    /// are constant: each lane's window of samples in the tile row starting
-    /// at index entry `tile_row`, for lanes with cell columns `ci`. (Any
-    /// other entry, which such a layer does not hold, reads as outside.)
+    /// [`Self::tile_lanes`] when every lane's tile stores samples or is
+    /// constant: each lane's window of samples in the tile row starting at
+    /// index entry `tile_row`, for lanes with cell columns `ci`; `None` if
+    /// a lane's tile is of any other kind.
     #[inline(always)]
-    fn sample_windows(&self, tile_row: usize, ci: [u32; LANES]) -> [&'a Window; LANES] {
+    fn sample_windows(&self, tile_row: usize, ci: [u32; LANES]) -> Option<[&'a Window; LANES]> {
         let mut windows = [&OUTSIDE_WINDOW; LANES];
         // Neighbouring lanes often share a tile: each is looked up once.
-        let mut tile = self.sampled(tile_row + (ci[0] >> SHIFT) as usize);
+        let mut tile = self.sampled(tile_row + (ci[0] >> SHIFT) as usize)?;
         for k in 0..LANES {
             if k > 0 && ci[k] >> SHIFT != ci[k - 1] >> SHIFT {
-                tile = self.sampled(tile_row + (ci[k] >> SHIFT) as usize);
+                tile = self.sampled(tile_row + (ci[k] >> SHIFT) as usize)?;
             }
             let col = (ci[k] & (TILE_CELLS as u32 - 1)) as usize;
             // A column below TILE_CELLS leaves a whole window: never `None`.
             windows[k] = tile.get(col..col + WINDOW).and_then(|w| w.try_into().ok()).unwrap_or(&OUTSIDE_WINDOW);
         }
-        windows
+        Some(windows)
     }
 
-    /// The samples of the tile at index entry `i`, as [`Self::tile`] reads
-    /// a stored or constant tile; outside for any other entry.
+    /// The samples of the tile at index entry `i` as [`Self::tile`] reads
+    /// an outside, inside or stored tile; `None` for any other kind.
     #[inline(always)]
-    fn sampled(&self, i: usize) -> &'a Tile {
+    fn sampled(&self, i: usize) -> Option<&'a Tile> {
         let e = self.entries.get(i).map_or(TILE_OUTSIDE, |b| u32::from_le_bytes(*b));
         match self.stored.get(e.wrapping_sub(TILE_FIRST_STORED) as usize) {
-            Some(tile) => tile,
-            None if e == TILE_INSIDE => &INSIDE,
-            None => &OUTSIDE,
+            Some(tile) => Some(tile),
+            None if e == TILE_INSIDE => Some(&INSIDE),
+            // Outside, or a stored tile past the stored ones (which
+            // validation rules out): outside.
+            None if e < TILE_PLANE => Some(&OUTSIDE),
+            None => None,
         }
     }
 
@@ -482,10 +488,13 @@ impl<'a> FieldLayer<'a> {
                     if ty != ty_now {
                         ty_now = ty;
                         let row = ty as usize * self.tile_cols as usize;
-                        if ANALYTIC {
-                            lanes = self.tile_lanes::<BENDS>(row, ci, u, &mut bends);
-                        } else {
-                            lanes.windows = self.sample_windows(row, ci);
+                        // Outside, inside and stored tiles first: their
+                        // lanes need nothing but their windows.
+                        match self.sample_windows(row, ci) {
+                            Some(windows) => (lanes.windows, lanes.analytic, lanes.bent) = (windows, false, false),
+                            // (Never in a layer of such tiles only.)
+                            None if !ANALYTIC => lanes.windows = [&OUTSIDE_WINDOW; LANES],
+                            None => lanes = self.tile_lanes::<BENDS>(row, ci, u, &mut bends),
                         }
                     }
                     let (top, bot) = Self::pairs(&lanes.windows, (cj & (TILE_CELLS as u32 - 1)) as usize * TILE_SIDE);
