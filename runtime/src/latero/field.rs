@@ -5,7 +5,8 @@
 //!
 //! The memory pattern is the raster mask's (`mask.rs`): per actuator two
 //! reads of a byte pair (the samples left and right of it, in the lattice
-//! rows above and below), then the horizontal interpolation in fixed point
+//! rows above and below; on x86-64 each pair goes straight from memory
+//! into its 16-bit lane, `pinsrw`), then the horizontal interpolation in fixed point
 //! (`pmaddwd` on x86-64, weights of 14 bits) and the vertical one, the
 //! profile and the primitive in `f32` lanes, four actuators at a time. Four
 //! actuators are a column group walked down the block's rows; a lane reads
@@ -44,7 +45,9 @@ use taxel_format::{
     TILE_SIDE, TileEntry,
 };
 use wide::bytemuck::cast;
-use wide::{f32x4, i16x8, i32x4, u8x16, u16x8};
+#[cfg(not(target_arch = "x86_64"))]
+use wide::u16x8;
+use wide::{f32x4, i16x8, i32x4, u8x16};
 
 use super::mask::Primitive;
 use super::osc::{cos_turns, cos_turns4, frac64};
@@ -371,6 +374,24 @@ impl<'a> FieldLayer<'a> {
     fn pairs(lanes: &[&Window; LANES], j: usize) -> (i16x8, i16x8) {
         let j = j.min(WINDOW - TILE_SIDE - 2);
         let pair = |w: &Window, j: usize| u16::from_le_bytes([w[j], w[j + 1]]);
+        // On x86-64 the pairs go into place one 16-bit insert each
+        // (`pinsrw` from memory), where building the vector from eight
+        // scalars takes a move into a vector register for each and a tree
+        // of unpacks.
+        #[cfg(target_arch = "x86_64")]
+        let bytes: u8x16 = {
+            use safe_arch::{insert_i16_from_i32_m128i as insert, set_i32_m128i_s};
+            let p = |w: &Window, j: usize| i32::from(pair(w, j));
+            let v = set_i32_m128i_s(p(lanes[0], j));
+            let v = insert::<1>(v, p(lanes[1], j));
+            let v = insert::<2>(v, p(lanes[2], j));
+            let v = insert::<3>(v, p(lanes[3], j));
+            let v = insert::<4>(v, p(lanes[0], j + TILE_SIDE));
+            let v = insert::<5>(v, p(lanes[1], j + TILE_SIDE));
+            let v = insert::<6>(v, p(lanes[2], j + TILE_SIDE));
+            cast(insert::<7>(v, p(lanes[3], j + TILE_SIDE)))
+        };
+        #[cfg(not(target_arch = "x86_64"))]
         let bytes: u8x16 = cast(u16x8::new([
             pair(lanes[0], j),
             pair(lanes[1], j),
