@@ -2,6 +2,7 @@
 //! Every rule, its threshold and its source are listed in docs/diagnostics.md.
 
 use std::collections::HashSet;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use rayon::prelude::*;
 
@@ -9,7 +10,7 @@ use taxel_format::{DeviceProfile, DistanceLayer};
 
 use super::layers::{Built, Feature, FeatureKind};
 use crate::diagnostic::Diagnostic;
-use crate::geometry::{FillRule, bounds, contains, dist, distance_to_outline};
+use crate::geometry::{FillRule, Polyline, bounds, contains, dist, distance_to_outline};
 use crate::spatial;
 
 /// Smallest distance between distinct elements (1/8 in, Hasty).
@@ -150,8 +151,7 @@ fn pairs(built: &Built, diags: &mut Vec<Diagnostic>) {
     let f = &built.features;
     let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
     let index = spatial::BoxIndex::new(&boxes);
-    let mut overlaps = Vec::new();
-    let gaps = nearest_gaps(f, &index, |i, j| overlap(built, &f[i], &f[j], &mut overlaps));
+    let (gaps, mut overlaps) = nearest_gaps(f, &index, |i, j, out| overlap(built, &f[i], &f[j], out));
     diags.append(&mut overlaps);
     confusable_gratings(f, diags);
     for (j, near) in gaps.into_iter().enumerate() {
@@ -260,44 +260,106 @@ fn confusable_gratings(f: &[Feature], diags: &mut Vec<Diagnostic>) {
 /// touching pairs twice. Every pair is measured with its lower position
 /// first, so both sides see the same gap to the bit.
 ///
-/// The first pass calls `on_meet(i, j)` for every pair `i < j` whose boxes
-/// meet and that are not one layer (whose overlaps need a look), in order of
-/// `i` then `j`.
-fn nearest_gaps(
+/// Both passes run in parallel and visit the features along a Hilbert curve
+/// ([`spatial::locality_order`]), whose outlines are laid out in memory in
+/// the same order: a feature's neighbours were mostly read for the feature
+/// before, and in document order each one was a cache miss (most of the
+/// time the gap rule took on a 10,000-way plan). In the first pass, pairs
+/// are shared out by feature (each pair goes with the one that comes first
+/// on the curve), and the nearest gaps found so far are shared between the
+/// threads as bounds that only ever go down: a bound only decides how far a
+/// pair is measured, and a pair is kept only when it is measured exactly
+/// (up to the larger of its features' bounds, which are never below their
+/// final nearest gaps). The kept gaps are then taken in for each feature
+/// as the smallest (the first feature among equal ones), which does not
+/// depend on the order they come in, so neither does the outcome depend on
+/// how the threads share the work.
+///
+/// The first pass calls `on_meet(i, j, out)` for every pair `i < j` whose
+/// boxes meet and that are not one layer (whose overlaps need a look); what
+/// it adds to `out` is returned in order of `i` then `j`.
+fn nearest_gaps<D: Send>(
     f: &[Feature],
     index: &spatial::BoxIndex,
-    mut on_meet: impl FnMut(usize, usize),
-) -> Vec<Option<(usize, f64)>> {
+    on_meet: impl Fn(usize, usize, &mut Vec<D>) + Sync,
+) -> (Vec<Option<(usize, f64)>>, Vec<D>) {
+    let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
+    let order = spatial::locality_order(&boxes);
+    let mut rank = vec![0; f.len()];
+    for (r, &k) in order.iter().enumerate() {
+        rank[k] = r;
+    }
+    let outlines: Vec<&[Polyline]> = f.iter().map(|x| x.outline.as_slice()).collect();
     let search = GapSearch {
         f,
         index,
-        outlines: spatial::OutlineSet::new(f.iter().map(|x| x.outline.as_slice())),
-        elems: f.iter().map(|x| x.elem).collect(),
+        outlines: spatial::OutlineSet::in_order(&outlines, order.iter().copied()),
+        probes: f.iter().map(Probe::of).collect(),
     };
     let masks: Vec<Option<usize>> = f.iter().map(|x| x.mask).collect();
+    // Gaps are above 0, and the bits of positive floats order as the floats do.
+    let bounds: Vec<AtomicU64> = f.iter().map(|_| AtomicU64::new(MIN_GAP_MM.to_bits())).collect();
+    let bound = |k: usize| f64::from_bits(bounds[k].load(Ordering::Relaxed));
+    let found: Vec<(Vec<(usize, usize, f64)>, Vec<(usize, usize, D)>)> = order
+        .par_chunks(MEET_CHUNK)
+        .map_init(
+            || (Vec::new(), Vec::new()),
+            |(met, out), chunk| {
+                let (mut gaps, mut meets) = (Vec::new(), Vec::new());
+                for &i in chunk {
+                    met.clear();
+                    met.extend(index.meeting(f[i].bbox).filter(|&j| rank[j] > rank[i]));
+                    for &j in met.iter() {
+                        let (p, q) = (i.min(j), i.max(j));
+                        if !(masks[p].is_some() && masks[p] == masks[q]) {
+                            on_meet(p, q, out);
+                            meets.extend(out.drain(..).map(|d| (p, q, d)));
+                        }
+                        if search.probes[p].elem != search.probes[q].elem {
+                            let reach = bound(p).max(bound(q));
+                            let g = search.measure(p, q, reach);
+                            if g > 0.0 && g <= reach {
+                                gaps.push((p, q, g));
+                                bounds[p].fetch_min(g.to_bits(), Ordering::Relaxed);
+                                bounds[q].fetch_min(g.to_bits(), Ordering::Relaxed);
+                            }
+                        }
+                    }
+                }
+                (gaps, meets)
+            },
+        )
+        .collect();
     let mut best: Vec<Option<(usize, f64)>> = vec![None; f.len()];
-    // Each feature's search of the boxes apart from its own writes only its
-    // own result, so the features are searched in parallel: the outcome
-    // does not depend on how they are shared out.
-    best.par_iter_mut().enumerate().for_each_init(Vec::new, |cands, (i, b)| search.apart(i, b, cands));
-    let mut met: Vec<usize> = Vec::new();
-    for (i, a) in f.iter().enumerate() {
-        met.clear();
-        met.extend(index.meeting(a.bbox).filter(|&j| j > i));
-        met.sort_unstable();
-        for &j in &met {
-            if !(masks[i].is_some() && masks[i] == masks[j]) {
-                on_meet(i, j);
-            }
-            if search.elems[i] != search.elems[j] {
-                let g = search.measure(i, j, limit(best[i]).max(limit(best[j])));
-                offer(&mut best[i], j, g);
-                offer(&mut best[j], i, g);
-            }
+    let mut meets = Vec::new();
+    for (gaps, m) in found {
+        for (p, q, g) in gaps {
+            offer(&mut best[p], q, g);
+            offer(&mut best[q], p, g);
         }
+        meets.extend(m);
     }
-    best
+    meets.sort_by_key(|&(p, q, _)| (p, q));
+    // Each feature's search of the boxes apart from its own writes only its
+    // own result.
+    let apart: Vec<Option<(usize, f64)>> = order
+        .par_iter()
+        .map_init(Vec::new, |cands, &i| {
+            let mut b = best[i];
+            search.apart(i, &mut b, cands);
+            b
+        })
+        .collect();
+    for (&i, b) in order.iter().zip(apart) {
+        best[i] = b;
+    }
+    (best, meets.into_iter().map(|(_, _, d)| d).collect())
 }
+
+/// Features per piece of work in [`nearest_gaps`]'s first pass: enough that
+/// handing pieces out costs nothing next to measuring them, few enough
+/// that the threads stay busy to the end.
+const MEET_CHUNK: usize = 32;
 
 /// How far a feature's nearest gap so far leaves its search open.
 fn limit(best: Option<(usize, f64)>) -> f64 {
@@ -324,14 +386,31 @@ fn offer(best: &mut Option<(usize, f64)>, k: usize, g: f64) {
 const GAP_RINGS: [f64; 4] = [0.4, 0.8, 1.6, MIN_GAP_MM];
 
 /// What [`nearest_gaps`] searches: the features, an index of their boxes,
-/// their outlines prepared for distances, and their elements side by side
-/// in memory (in a dense drawing each feature has hundreds of neighbours,
-/// and reading them from the features themselves was a cache miss each).
+/// their outlines prepared for distances, and what a gap needs of each
+/// feature side by side in memory (in a dense drawing each feature has
+/// hundreds of neighbours, and reading them from the features themselves
+/// was a cache miss each).
 struct GapSearch<'a> {
     f: &'a [Feature],
     index: &'a spatial::BoxIndex,
     outlines: spatial::OutlineSet,
-    elems: Vec<usize>,
+    probes: Vec<Probe>,
+}
+
+/// What [`GapSearch::measure`] reads of a feature for most pairs.
+#[derive(Debug, Clone, Copy)]
+struct Probe {
+    elem: usize,
+    half_band: f64,
+    /// Outlines only: no dots, and not a grating (whose inside counts).
+    plain: bool,
+}
+
+impl Probe {
+    fn of(f: &Feature) -> Self {
+        let plain = f.dots.is_empty() && !matches!(f.kind, FeatureKind::Grating { .. });
+        Probe { elem: f.elem, half_band: f.half_band, plain }
+    }
 }
 
 impl GapSearch<'_> {
@@ -339,6 +418,12 @@ impl GapSearch<'_> {
     /// position first whichever side asks.
     fn measure(&self, i: usize, j: usize, reach: f64) -> f64 {
         let (p, q) = (i.min(j), i.max(j));
+        let (a, b) = (self.probes[p], self.probes[q]);
+        if a.plain && b.plain {
+            // `gap` for two outlines, without reading the features.
+            let bands = a.half_band + b.half_band;
+            return self.outlines.distance(p, q, reach + bands, bands) - bands;
+        }
         gap(&self.f[p], &self.f[q], reach, |r, stop| self.outlines.distance(p, q, r, stop))
     }
 
@@ -356,7 +441,7 @@ impl GapSearch<'_> {
             cands.extend(
                 self.index
                     .meeting_boxes(spatial::grow(a, ring.min(limit(*best))))
-                    .filter(|&(j, bj)| self.elems[j] != self.elems[i] && !spatial::meet(a, bj))
+                    .filter(|&(j, bj)| self.probes[j].elem != self.probes[i].elem && !spatial::meet(a, bj))
                     .map(|(j, bj)| (spatial::box_distance(bj, a), j))
                     .filter(|&(d, _)| d >= inner && d < ring),
             );
@@ -581,7 +666,6 @@ fn overlap(built: &Built, a: &Feature, b: &Feature, diags: &mut Vec<Diagnostic>)
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::Polyline;
 
     /// A deterministic sequence in [0, 1) (a linear congruential generator).
     struct Lcg(u64);
@@ -656,7 +740,7 @@ mod tests {
         for seed in [1, 2, 3] {
             let f = random_features(seed, 300);
             let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
-            let got = nearest_gaps(&f, &spatial::BoxIndex::new(&boxes), |_, _| {});
+            let got = nearest_gaps(&f, &spatial::BoxIndex::new(&boxes), |_, _, _: &mut Vec<()>| {}).0;
             let mut reported = 0;
             for (j, b) in f.iter().enumerate() {
                 // Every other feature, its exact gap with no reach to cut it short.
@@ -714,7 +798,7 @@ mod tests {
             x
         }];
         let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
-        let got = nearest_gaps(&f, &spatial::BoxIndex::new(&boxes), |_, _| {});
+        let got = nearest_gaps(&f, &spatial::BoxIndex::new(&boxes), |_, _, _: &mut Vec<()>| {}).0;
         assert_eq!(got[1], Some((0, 1.0)));
         assert_eq!(got[0], Some((1, 1.0)));
         assert_eq!(got[2], Some((1, 1.0)));
@@ -723,6 +807,6 @@ mod tests {
         // With 0 and 2 gone, 1's nearest is 3, through boxes that meet.
         let f = vec![f[1].clone(), f[3].clone()];
         let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
-        assert_eq!(nearest_gaps(&f, &spatial::BoxIndex::new(&boxes), |_, _| {})[0], Some((1, 1.5)));
+        assert_eq!(nearest_gaps(&f, &spatial::BoxIndex::new(&boxes), |_, _, _: &mut Vec<()>| {}).0[0], Some((1, 1.5)));
     }
 }
