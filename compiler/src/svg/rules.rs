@@ -300,53 +300,82 @@ fn nearest_gaps<D: Send>(
     // Gaps are above 0, and the bits of positive floats order as the floats do.
     let bounds: Vec<AtomicU64> = f.iter().map(|_| AtomicU64::new(MIN_GAP_MM.to_bits())).collect();
     let bound = |k: usize| f64::from_bits(bounds[k].load(Ordering::Relaxed));
-    let found: Vec<(Vec<(usize, usize, f64)>, Vec<(usize, usize, D)>)> = order
+    let found: Vec<Found<D>> = order
         .par_chunks(MEET_CHUNK)
         .map_init(
             || (Vec::new(), Vec::new()),
             |(met, out), chunk| {
-                let (mut gaps, mut meets) = (Vec::new(), Vec::new());
+                let mut found = Found { gaps: Vec::new(), meets: Vec::new(), near: Vec::new(), covered: Vec::new() };
                 for &i in chunk {
+                    let a = f[i].bbox;
+                    // The boxes apart from this one but nearer than what the
+                    // second pass's first ring would look at come from the
+                    // same query: by now a dense drawing's features mostly
+                    // have a small bound from the neighbours before them.
+                    let covered = GAP_RINGS[0].min(bound(i));
+                    let before = found.near.len();
                     met.clear();
-                    met.extend(index.meeting(f[i].bbox).filter(|&j| rank[j] > rank[i]));
+                    for (j, bj) in index.meeting_boxes(spatial::grow(a, covered)) {
+                        if spatial::meet(a, bj) {
+                            if rank[j] > rank[i] {
+                                met.push(j);
+                            }
+                        } else if search.probes[j].elem != search.probes[i].elem {
+                            let d = spatial::box_distance(bj, a);
+                            if d < covered {
+                                found.near.push((d, j));
+                            }
+                        }
+                    }
+                    found.covered.push((covered, found.near.len() - before));
                     for &j in met.iter() {
                         let (p, q) = (i.min(j), i.max(j));
                         if !(masks[p].is_some() && masks[p] == masks[q]) {
                             on_meet(p, q, out);
-                            meets.extend(out.drain(..).map(|d| (p, q, d)));
+                            found.meets.extend(out.drain(..).map(|d| (p, q, d)));
                         }
                         if search.probes[p].elem != search.probes[q].elem {
                             let reach = bound(p).max(bound(q));
                             let g = search.measure(p, q, reach);
                             if g > 0.0 && g <= reach {
-                                gaps.push((p, q, g));
+                                found.gaps.push((p, q, g));
                                 bounds[p].fetch_min(g.to_bits(), Ordering::Relaxed);
                                 bounds[q].fetch_min(g.to_bits(), Ordering::Relaxed);
                             }
                         }
                     }
                 }
-                (gaps, meets)
+                found
             },
         )
         .collect();
     let mut best: Vec<Option<(usize, f64)>> = vec![None; f.len()];
-    let mut meets = Vec::new();
-    for (gaps, m) in found {
-        for (p, q, g) in gaps {
+    let (mut meets, mut near, mut covered) = (Vec::new(), Vec::new(), Vec::with_capacity(f.len()));
+    for x in found {
+        for (p, q, g) in x.gaps {
             offer(&mut best[p], q, g);
             offer(&mut best[q], p, g);
         }
-        meets.extend(m);
+        meets.extend(x.meets);
+        near.extend(x.near);
+        covered.extend(x.covered);
     }
     meets.sort_by_key(|&(p, q, _)| (p, q));
+    // Where each feature's candidates apart start in `near` (`covered` is in
+    // the order of the curve, as `near` is).
+    let mut start = Vec::with_capacity(f.len() + 1);
+    start.push(0);
+    for &(_, k) in &covered {
+        start.push(start[start.len() - 1] + k);
+    }
     // Each feature's search of the boxes apart from its own writes only its
     // own result.
     let apart: Vec<Option<(usize, f64)>> = order
         .par_iter()
-        .map_init(Vec::new, |cands, &i| {
+        .enumerate()
+        .map_init(Vec::new, |cands, (k, &i)| {
             let mut b = best[i];
-            search.apart(i, &mut b, cands);
+            search.apart(i, &mut b, cands, &near[start[k]..start[k + 1]], covered[k].0);
             b
         })
         .collect();
@@ -354,6 +383,20 @@ fn nearest_gaps<D: Send>(
         best[i] = b;
     }
     (best, meets.into_iter().map(|(_, _, d)| d).collect())
+}
+
+/// What [`nearest_gaps`]'s first pass finds in a piece of the curve.
+struct Found<D> {
+    /// Pairs `(i, j, gap)` measured exactly, `i < j`, with a gap above 0.
+    gaps: Vec<(usize, usize, f64)>,
+    /// What `on_meet` added for the pair `(i, j)`.
+    meets: Vec<(usize, usize, D)>,
+    /// Each feature's candidates for the second pass that the first pass's
+    /// query found: `(box distance, position)`, below what it covered.
+    near: Vec<(f64, usize)>,
+    /// For each feature of the piece, the box distance below which `near`
+    /// holds all its candidates, and how many they are.
+    covered: Vec<(f64, usize)>,
 }
 
 /// Features per piece of work in [`nearest_gaps`]'s first pass: enough that
@@ -429,12 +472,26 @@ impl GapSearch<'_> {
 
     /// Lowers feature `i`'s nearest gap `best` to the nearest among the
     /// features of other elements whose boxes do not meet its own but lie
-    /// within [`MIN_GAP_MM`], ring by ring. `cands` is scratch space, kept by
-    /// the caller across features.
-    fn apart(&self, i: usize, best: &mut Option<(usize, f64)>, cands: &mut Vec<(f64, usize)>) {
+    /// within [`MIN_GAP_MM`], ring by ring. The candidates whose box
+    /// distance is below `covered` are `near` (the first pass found them);
+    /// the rings beyond come from the index. `cands` is scratch space, kept
+    /// by the caller across features.
+    fn apart(
+        &self,
+        i: usize,
+        best: &mut Option<(usize, f64)>,
+        cands: &mut Vec<(f64, usize)>,
+        near: &[(f64, usize)],
+        covered: f64,
+    ) {
         let a = self.f[i].bbox;
-        let mut inner = f64::NEG_INFINITY;
-        for ring in GAP_RINGS {
+        cands.clear();
+        cands.extend_from_slice(near);
+        if !self.nearest_of(i, best, cands) || best.is_some_and(|(_, g)| g < covered) {
+            return;
+        }
+        let mut inner = covered;
+        for ring in GAP_RINGS.into_iter().filter(|&r| r > covered) {
             // The candidates whose box distance lies in [inner, ring), and
             // none beyond the nearest gap so far.
             cands.clear();
@@ -445,23 +502,31 @@ impl GapSearch<'_> {
                     .map(|(j, bj)| (spatial::box_distance(bj, a), j))
                     .filter(|&(d, _)| d >= inner && d < ring),
             );
-            cands.sort_unstable_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)));
-            for &(lower, j) in cands.iter() {
-                if let Some((m, g)) = *best
-                    && (lower > g || (lower == g && j > m))
-                {
-                    // Every later candidate lies farther (or as far and later).
-                    return;
-                }
-                let g = self.measure(i, j, limit(*best));
-                offer(best, j, g);
-            }
             // Every candidate of the rings beyond lies at least `ring` away.
-            if best.is_some_and(|(_, g)| g < ring) {
+            if !self.nearest_of(i, best, cands) || best.is_some_and(|(_, g)| g < ring) {
                 return;
             }
             inner = ring;
         }
+    }
+
+    /// Measures `cands` (`(box distance, position)`) against feature `i`
+    /// nearest box first, lowering `best`, until the next box lies farther
+    /// than the nearest gap; whether the search should go on (every
+    /// candidate was measured).
+    fn nearest_of(&self, i: usize, best: &mut Option<(usize, f64)>, cands: &mut [(f64, usize)]) -> bool {
+        cands.sort_unstable_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)));
+        for &(lower, j) in cands.iter() {
+            if let Some((m, g)) = *best
+                && (lower > g || (lower == g && j > m))
+            {
+                // Every later candidate lies farther (or as far and later).
+                return false;
+            }
+            let g = self.measure(i, j, limit(*best));
+            offer(best, j, g);
+        }
+        true
     }
 }
 
