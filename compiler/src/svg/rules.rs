@@ -10,7 +10,7 @@ use taxel_format::{DeviceProfile, DistanceLayer};
 
 use super::layers::{Built, Feature, FeatureKind};
 use crate::diagnostic::Diagnostic;
-use crate::geometry::{FillRule, Polyline, bounds, contains, dist, distance_to_outline};
+use crate::geometry::{FillRule, Polyline, bounds, contains, dist, distance_to_outline_within};
 use crate::spatial;
 
 /// Smallest distance between distinct elements (1/8 in, Hasty).
@@ -552,9 +552,13 @@ fn gap(a: &Feature, b: &Feature, reach: f64, outline_distance: impl FnOnce(f64, 
         }
         (false, true) | (true, false) => {
             let (d, m) = if a.dots.is_empty() { (b, a) } else { (a, b) };
+            // A dot's gap is at most `reach` when its centre is within
+            // `reach` plus its radius and the band of the outline.
             d.dots
                 .iter()
-                .map(|&(x, y, r)| distance_to_outline(&m.outline, (x, y)) - r - m.half_band)
+                .map(|&(x, y, r)| {
+                    distance_to_outline_within(&m.outline, (x, y), reach + r + m.half_band) - r - m.half_band
+                })
                 .fold(f64::INFINITY, f64::min)
         }
         (false, false) => {
