@@ -837,6 +837,35 @@ mod tests {
         }
     }
 
+    #[test]
+    fn nearest_gaps_do_not_depend_on_how_many_threads_share_the_work() {
+        let f = random_features(4, 600);
+        let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
+        let index = spatial::BoxIndex::new(&boxes);
+        // Every pair whose boxes meet, as the overlap checks see them.
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| nearest_gaps(&f, &index, |i, j, out: &mut Vec<(usize, usize)>| out.push((i, j))))
+        };
+        let (gaps, meets) = run(1);
+        assert!(gaps.iter().filter(|g| g.is_some()).count() > 50);
+        let mut sorted = meets.clone();
+        sorted.sort_unstable();
+        assert_eq!(meets, sorted, "pairs are reported in order");
+        assert_eq!(meets, spatial::near_pairs(&boxes, 0.0), "every pair whose boxes meet, once");
+        for threads in [2, 3, 8] {
+            let (g, m) = run(threads);
+            assert_eq!(m, meets, "{threads} threads");
+            for (k, (a, b)) in g.iter().zip(&gaps).enumerate() {
+                assert_eq!(
+                    a.map(|(i, g)| (i, g.to_bits())),
+                    b.map(|(i, g)| (i, g.to_bits())),
+                    "f{k}, {threads} threads"
+                );
+            }
+        }
+    }
+
     /// A filled square of its own element, `(x, y)` its lower corner.
     fn square(k: usize, x: f64, y: f64, side: f64) -> Feature {
         let points = vec![(x, y), (x + side, y), (x + side, y + side), (x, y + side)];
