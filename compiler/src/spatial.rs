@@ -371,7 +371,7 @@ impl OutlineSet {
     /// out, repeated or out of range is laid out once, after the others, or
     /// skipped). Distances do not depend on the order, only how fast they
     /// are measured.
-    pub fn in_order<'a>(outlines: &[&'a [Polyline]], order: impl IntoIterator<Item = usize>) -> Self {
+    pub fn in_order(outlines: &[&[Polyline]], order: impl IntoIterator<Item = usize>) -> Self {
         let n = outlines.len();
         let mut set = OutlineSet {
             segs: Vec::with_capacity(
