@@ -192,6 +192,28 @@ pub fn distance_to_outline(polys: &[Polyline], p: (f64, f64)) -> f64 {
     polys.iter().flat_map(|pl| pl.segments()).map(|(a, b)| distance_to_segment(p, a, b)).fold(f64::INFINITY, f64::min)
 }
 
+/// [`distance_to_outline`] when it is at most `reach`, to the bit; some
+/// value above `reach` otherwise. Segments whose boxes lie farther from `p`
+/// than the nearest so far (or `reach`) are not measured: a town's dot
+/// beside a region's long border needs the few segments near it, and the
+/// design rules ask this of every dot and outline that come near.
+pub fn distance_to_outline_within(polys: &[Polyline], p: (f64, f64), reach: f64) -> f64 {
+    let mut best = f64::INFINITY;
+    for (a, b) in polys.iter().flat_map(|pl| pl.segments()) {
+        // The box's distance bounds the segment's from below; the margin
+        // keeps rounding from ever skipping a segment that could be nearest.
+        let t = best.min(reach);
+        let t = t + t * 1e-9 + 1e-9;
+        let dx = (a.0.min(b.0) - p.0).max(p.0 - a.0.max(b.0)).max(0.0);
+        let dy = (a.1.min(b.1) - p.1).max(p.1 - a.1.max(b.1)).max(0.0);
+        if dx * dx + dy * dy > t * t {
+            continue;
+        }
+        best = best.min(distance_to_segment(p, a, b));
+    }
+    best
+}
+
 /// Exact coverage of a vibrating outline: whether `p` lies within `width / 2`
 /// of the outline (the band the compiler strokes with round joins and caps).
 pub fn in_outline_band(polys: &[Polyline], p: (f64, f64), width: f64) -> bool {
@@ -288,5 +310,41 @@ mod tests {
         let pl = Polyline { points: vec![(0.0, 0.0), (10.0, 0.0), (10.0, 10.0)], closed: false };
         let p = points_at(&pl, &[0.0, 5.0, 15.0, 20.0]);
         assert_eq!(p, vec![(0.0, 0.0), (5.0, 0.0), (10.0, 5.0), (10.0, 10.0)]);
+    }
+
+    #[test]
+    fn distance_within_a_reach_is_the_full_distance_to_the_bit() {
+        // Random closed and open walks and points around them (a linear congruential sequence).
+        let mut s = 7u64;
+        let mut next = || {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (s >> 33) as f64 / (1u64 << 31) as f64
+        };
+        let mut within = 0;
+        for k in 0..200 {
+            let n = 2 + k % 40;
+            let (mut x, mut y) = (next() * 20.0, next() * 20.0);
+            let points: Vec<_> = (0..n)
+                .map(|_| {
+                    x += (next() - 0.5) * 3.0;
+                    y += (next() - 0.5) * 3.0;
+                    (x, y)
+                })
+                .collect();
+            let polys = vec![Polyline { points, closed: k % 2 == 0 }];
+            let p = (next() * 24.0 - 2.0, next() * 24.0 - 2.0);
+            let full = distance_to_outline(&polys, p);
+            for reach in [0.0, 0.5, 2.0, 8.0, f64::INFINITY] {
+                let d = distance_to_outline_within(&polys, p, reach);
+                if full <= reach {
+                    within += 1;
+                    assert_eq!(d.to_bits(), full.to_bits(), "walk {k}, reach {reach}");
+                } else {
+                    assert!(d > reach, "walk {k}, reach {reach}: {d}, full {full}");
+                }
+            }
+        }
+        assert!(within > 300, "only {within} within reach");
+        assert_eq!(distance_to_outline_within(&[], (0.0, 0.0), 1.0), f64::INFINITY);
     }
 }

@@ -2,6 +2,7 @@
 //! Every rule, its threshold and its source are listed in docs/diagnostics.md.
 
 use std::collections::HashSet;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use rayon::prelude::*;
 
@@ -9,7 +10,7 @@ use taxel_format::{DeviceProfile, DistanceLayer};
 
 use super::layers::{Built, Feature, FeatureKind};
 use crate::diagnostic::Diagnostic;
-use crate::geometry::{FillRule, bounds, contains, dist, distance_to_outline};
+use crate::geometry::{FillRule, Polyline, bounds, contains, dist, distance_to_outline_within};
 use crate::spatial;
 
 /// Smallest distance between distinct elements (1/8 in, Hasty).
@@ -150,8 +151,7 @@ fn pairs(built: &Built, diags: &mut Vec<Diagnostic>) {
     let f = &built.features;
     let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
     let index = spatial::BoxIndex::new(&boxes);
-    let mut overlaps = Vec::new();
-    let gaps = nearest_gaps(f, &index, |i, j| overlap(built, &f[i], &f[j], &mut overlaps));
+    let (gaps, mut overlaps) = nearest_gaps(f, &index, |i, j, out| overlap(built, &f[i], &f[j], out));
     diags.append(&mut overlaps);
     confusable_gratings(f, diags);
     for (j, near) in gaps.into_iter().enumerate() {
@@ -260,44 +260,149 @@ fn confusable_gratings(f: &[Feature], diags: &mut Vec<Diagnostic>) {
 /// touching pairs twice. Every pair is measured with its lower position
 /// first, so both sides see the same gap to the bit.
 ///
-/// The first pass calls `on_meet(i, j)` for every pair `i < j` whose boxes
-/// meet and that are not one layer (whose overlaps need a look), in order of
-/// `i` then `j`.
-fn nearest_gaps(
+/// Both passes run in parallel and visit the features along a Hilbert curve
+/// ([`spatial::locality_order`]), whose outlines are laid out in memory in
+/// the same order: a feature's neighbours were mostly read for the feature
+/// before, and in document order each one was a cache miss (most of the
+/// time the gap rule took on a 10,000-way plan). In the first pass, pairs
+/// are shared out by feature (each pair goes with the one that comes first
+/// on the curve), and the nearest gaps found so far are shared between the
+/// threads as bounds that only ever go down: a bound only decides how far a
+/// pair is measured, and a pair is kept only when it is measured exactly
+/// (up to the larger of its features' bounds, which are never below their
+/// final nearest gaps). The kept gaps are then taken in for each feature
+/// as the smallest (the first feature among equal ones), which does not
+/// depend on the order they come in, so neither does the outcome depend on
+/// how the threads share the work.
+///
+/// The first pass calls `on_meet(i, j, out)` for every pair `i < j` whose
+/// boxes meet and that are not one layer (whose overlaps need a look); what
+/// it adds to `out` is returned in order of `i` then `j`.
+fn nearest_gaps<D: Send>(
     f: &[Feature],
     index: &spatial::BoxIndex,
-    mut on_meet: impl FnMut(usize, usize),
-) -> Vec<Option<(usize, f64)>> {
+    on_meet: impl Fn(usize, usize, &mut Vec<D>) + Sync,
+) -> (Vec<Option<(usize, f64)>>, Vec<D>) {
+    let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
+    let order = spatial::locality_order(&boxes);
+    let mut rank = vec![0; f.len()];
+    for (r, &k) in order.iter().enumerate() {
+        rank[k] = r;
+    }
+    let outlines: Vec<&[Polyline]> = f.iter().map(|x| x.outline.as_slice()).collect();
     let search = GapSearch {
         f,
         index,
-        outlines: spatial::OutlineSet::new(f.iter().map(|x| x.outline.as_slice())),
-        elems: f.iter().map(|x| x.elem).collect(),
+        outlines: spatial::OutlineSet::in_order(&outlines, order.iter().copied()),
+        probes: f.iter().map(Probe::of).collect(),
     };
     let masks: Vec<Option<usize>> = f.iter().map(|x| x.mask).collect();
+    // Gaps are above 0, and the bits of positive floats order as the floats do.
+    let bounds: Vec<AtomicU64> = f.iter().map(|_| AtomicU64::new(MIN_GAP_MM.to_bits())).collect();
+    let bound = |k: usize| f64::from_bits(bounds[k].load(Ordering::Relaxed));
+    let found: Vec<Found<D>> = order
+        .par_chunks(MEET_CHUNK)
+        .map_init(
+            || (Vec::new(), Vec::new()),
+            |(met, out), chunk| {
+                let mut found = Found { gaps: Vec::new(), meets: Vec::new(), near: Vec::new(), covered: Vec::new() };
+                for &i in chunk {
+                    let a = f[i].bbox;
+                    // The boxes apart from this one but nearer than what the
+                    // second pass's first ring would look at come from the
+                    // same query: by now a dense drawing's features mostly
+                    // have a small bound from the neighbours before them.
+                    let covered = GAP_RINGS[0].min(bound(i));
+                    let before = found.near.len();
+                    met.clear();
+                    for (j, bj) in index.meeting_boxes(spatial::grow(a, covered)) {
+                        if spatial::meet(a, bj) {
+                            if rank[j] > rank[i] {
+                                met.push(j);
+                            }
+                        } else if search.probes[j].elem != search.probes[i].elem {
+                            let d = spatial::box_distance(bj, a);
+                            if d < covered {
+                                found.near.push((d, j));
+                            }
+                        }
+                    }
+                    found.covered.push((covered, found.near.len() - before));
+                    for &j in met.iter() {
+                        let (p, q) = (i.min(j), i.max(j));
+                        if !(masks[p].is_some() && masks[p] == masks[q]) {
+                            on_meet(p, q, out);
+                            found.meets.extend(out.drain(..).map(|d| (p, q, d)));
+                        }
+                        if search.probes[p].elem != search.probes[q].elem {
+                            let reach = bound(p).max(bound(q));
+                            let g = search.measure(p, q, reach);
+                            if g > 0.0 && g <= reach {
+                                found.gaps.push((p, q, g));
+                                bounds[p].fetch_min(g.to_bits(), Ordering::Relaxed);
+                                bounds[q].fetch_min(g.to_bits(), Ordering::Relaxed);
+                            }
+                        }
+                    }
+                }
+                found
+            },
+        )
+        .collect();
     let mut best: Vec<Option<(usize, f64)>> = vec![None; f.len()];
-    // Each feature's search of the boxes apart from its own writes only its
-    // own result, so the features are searched in parallel: the outcome
-    // does not depend on how they are shared out.
-    best.par_iter_mut().enumerate().for_each_init(Vec::new, |cands, (i, b)| search.apart(i, b, cands));
-    let mut met: Vec<usize> = Vec::new();
-    for (i, a) in f.iter().enumerate() {
-        met.clear();
-        met.extend(index.meeting(a.bbox).filter(|&j| j > i));
-        met.sort_unstable();
-        for &j in &met {
-            if !(masks[i].is_some() && masks[i] == masks[j]) {
-                on_meet(i, j);
-            }
-            if search.elems[i] != search.elems[j] {
-                let g = search.measure(i, j, limit(best[i]).max(limit(best[j])));
-                offer(&mut best[i], j, g);
-                offer(&mut best[j], i, g);
-            }
+    let (mut meets, mut near, mut covered) = (Vec::new(), Vec::new(), Vec::with_capacity(f.len()));
+    for x in found {
+        for (p, q, g) in x.gaps {
+            offer(&mut best[p], q, g);
+            offer(&mut best[q], p, g);
         }
+        meets.extend(x.meets);
+        near.extend(x.near);
+        covered.extend(x.covered);
     }
-    best
+    meets.sort_by_key(|&(p, q, _)| (p, q));
+    // Where each feature's candidates apart start in `near` (`covered` is in
+    // the order of the curve, as `near` is).
+    let mut start = Vec::with_capacity(f.len() + 1);
+    start.push(0);
+    for &(_, k) in &covered {
+        start.push(start[start.len() - 1] + k);
+    }
+    // Each feature's search of the boxes apart from its own writes only its
+    // own result.
+    let apart: Vec<Option<(usize, f64)>> = order
+        .par_iter()
+        .enumerate()
+        .map_init(Vec::new, |cands, (k, &i)| {
+            let mut b = best[i];
+            search.apart(i, &mut b, cands, &near[start[k]..start[k + 1]], covered[k].0);
+            b
+        })
+        .collect();
+    for (&i, b) in order.iter().zip(apart) {
+        best[i] = b;
+    }
+    (best, meets.into_iter().map(|(_, _, d)| d).collect())
 }
+
+/// What [`nearest_gaps`]'s first pass finds in a piece of the curve.
+struct Found<D> {
+    /// Pairs `(i, j, gap)` measured exactly, `i < j`, with a gap above 0.
+    gaps: Vec<(usize, usize, f64)>,
+    /// What `on_meet` added for the pair `(i, j)`.
+    meets: Vec<(usize, usize, D)>,
+    /// Each feature's candidates for the second pass that the first pass's
+    /// query found: `(box distance, position)`, below what it covered.
+    near: Vec<(f64, usize)>,
+    /// For each feature of the piece, the box distance below which `near`
+    /// holds all its candidates, and how many they are.
+    covered: Vec<(f64, usize)>,
+}
+
+/// Features per piece of work in [`nearest_gaps`]'s first pass: enough that
+/// handing pieces out costs nothing next to measuring them, few enough
+/// that the threads stay busy to the end.
+const MEET_CHUNK: usize = 32;
 
 /// How far a feature's nearest gap so far leaves its search open.
 fn limit(best: Option<(usize, f64)>) -> f64 {
@@ -324,14 +429,31 @@ fn offer(best: &mut Option<(usize, f64)>, k: usize, g: f64) {
 const GAP_RINGS: [f64; 4] = [0.4, 0.8, 1.6, MIN_GAP_MM];
 
 /// What [`nearest_gaps`] searches: the features, an index of their boxes,
-/// their outlines prepared for distances, and their elements side by side
-/// in memory (in a dense drawing each feature has hundreds of neighbours,
-/// and reading them from the features themselves was a cache miss each).
+/// their outlines prepared for distances, and what a gap needs of each
+/// feature side by side in memory (in a dense drawing each feature has
+/// hundreds of neighbours, and reading them from the features themselves
+/// was a cache miss each).
 struct GapSearch<'a> {
     f: &'a [Feature],
     index: &'a spatial::BoxIndex,
     outlines: spatial::OutlineSet,
-    elems: Vec<usize>,
+    probes: Vec<Probe>,
+}
+
+/// What [`GapSearch::measure`] reads of a feature for most pairs.
+#[derive(Debug, Clone, Copy)]
+struct Probe {
+    elem: usize,
+    half_band: f64,
+    /// Outlines only: no dots, and not a grating (whose inside counts).
+    plain: bool,
+}
+
+impl Probe {
+    fn of(f: &Feature) -> Self {
+        let plain = f.dots.is_empty() && !matches!(f.kind, FeatureKind::Grating { .. });
+        Probe { elem: f.elem, half_band: f.half_band, plain }
+    }
 }
 
 impl GapSearch<'_> {
@@ -339,44 +461,72 @@ impl GapSearch<'_> {
     /// position first whichever side asks.
     fn measure(&self, i: usize, j: usize, reach: f64) -> f64 {
         let (p, q) = (i.min(j), i.max(j));
+        let (a, b) = (self.probes[p], self.probes[q]);
+        if a.plain && b.plain {
+            // `gap` for two outlines, without reading the features.
+            let bands = a.half_band + b.half_band;
+            return self.outlines.distance(p, q, reach + bands, bands) - bands;
+        }
         gap(&self.f[p], &self.f[q], reach, |r, stop| self.outlines.distance(p, q, r, stop))
     }
 
     /// Lowers feature `i`'s nearest gap `best` to the nearest among the
     /// features of other elements whose boxes do not meet its own but lie
-    /// within [`MIN_GAP_MM`], ring by ring. `cands` is scratch space, kept by
-    /// the caller across features.
-    fn apart(&self, i: usize, best: &mut Option<(usize, f64)>, cands: &mut Vec<(f64, usize)>) {
+    /// within [`MIN_GAP_MM`], ring by ring. The candidates whose box
+    /// distance is below `covered` are `near` (the first pass found them);
+    /// the rings beyond come from the index. `cands` is scratch space, kept
+    /// by the caller across features.
+    fn apart(
+        &self,
+        i: usize,
+        best: &mut Option<(usize, f64)>,
+        cands: &mut Vec<(f64, usize)>,
+        near: &[(f64, usize)],
+        covered: f64,
+    ) {
         let a = self.f[i].bbox;
-        let mut inner = f64::NEG_INFINITY;
-        for ring in GAP_RINGS {
+        cands.clear();
+        cands.extend_from_slice(near);
+        if !self.nearest_of(i, best, cands) || best.is_some_and(|(_, g)| g < covered) {
+            return;
+        }
+        let mut inner = covered;
+        for ring in GAP_RINGS.into_iter().filter(|&r| r > covered) {
             // The candidates whose box distance lies in [inner, ring), and
             // none beyond the nearest gap so far.
             cands.clear();
             cands.extend(
                 self.index
                     .meeting_boxes(spatial::grow(a, ring.min(limit(*best))))
-                    .filter(|&(j, bj)| self.elems[j] != self.elems[i] && !spatial::meet(a, bj))
+                    .filter(|&(j, bj)| self.probes[j].elem != self.probes[i].elem && !spatial::meet(a, bj))
                     .map(|(j, bj)| (spatial::box_distance(bj, a), j))
                     .filter(|&(d, _)| d >= inner && d < ring),
             );
-            cands.sort_unstable_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)));
-            for &(lower, j) in cands.iter() {
-                if let Some((m, g)) = *best
-                    && (lower > g || (lower == g && j > m))
-                {
-                    // Every later candidate lies farther (or as far and later).
-                    return;
-                }
-                let g = self.measure(i, j, limit(*best));
-                offer(best, j, g);
-            }
             // Every candidate of the rings beyond lies at least `ring` away.
-            if best.is_some_and(|(_, g)| g < ring) {
+            if !self.nearest_of(i, best, cands) || best.is_some_and(|(_, g)| g < ring) {
                 return;
             }
             inner = ring;
         }
+    }
+
+    /// Measures `cands` (`(box distance, position)`) against feature `i`
+    /// nearest box first, lowering `best`, until the next box lies farther
+    /// than the nearest gap; whether the search should go on (every
+    /// candidate was measured).
+    fn nearest_of(&self, i: usize, best: &mut Option<(usize, f64)>, cands: &mut [(f64, usize)]) -> bool {
+        cands.sort_unstable_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)));
+        for &(lower, j) in cands.iter() {
+            if let Some((m, g)) = *best
+                && (lower > g || (lower == g && j > m))
+            {
+                // Every later candidate lies farther (or as far and later).
+                return false;
+            }
+            let g = self.measure(i, j, limit(*best));
+            offer(best, j, g);
+        }
+        true
     }
 }
 
@@ -402,9 +552,13 @@ fn gap(a: &Feature, b: &Feature, reach: f64, outline_distance: impl FnOnce(f64, 
         }
         (false, true) | (true, false) => {
             let (d, m) = if a.dots.is_empty() { (b, a) } else { (a, b) };
+            // A dot's gap is at most `reach` when its centre is within
+            // `reach` plus its radius and the band of the outline.
             d.dots
                 .iter()
-                .map(|&(x, y, r)| distance_to_outline(&m.outline, (x, y)) - r - m.half_band)
+                .map(|&(x, y, r)| {
+                    distance_to_outline_within(&m.outline, (x, y), reach + r + m.half_band) - r - m.half_band
+                })
                 .fold(f64::INFINITY, f64::min)
         }
         (false, false) => {
@@ -581,7 +735,6 @@ fn overlap(built: &Built, a: &Feature, b: &Feature, diags: &mut Vec<Diagnostic>)
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::Polyline;
 
     /// A deterministic sequence in [0, 1) (a linear congruential generator).
     struct Lcg(u64);
@@ -656,7 +809,7 @@ mod tests {
         for seed in [1, 2, 3] {
             let f = random_features(seed, 300);
             let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
-            let got = nearest_gaps(&f, &spatial::BoxIndex::new(&boxes), |_, _| {});
+            let got = nearest_gaps(&f, &spatial::BoxIndex::new(&boxes), |_, _, _: &mut Vec<()>| {}).0;
             let mut reported = 0;
             for (j, b) in f.iter().enumerate() {
                 // Every other feature, its exact gap with no reach to cut it short.
@@ -681,6 +834,35 @@ mod tests {
             }
             // The drawing is dense enough that the rule has something to find.
             assert!(reported > 30, "seed {seed}: only {reported} features have a near neighbour");
+        }
+    }
+
+    #[test]
+    fn nearest_gaps_do_not_depend_on_how_many_threads_share_the_work() {
+        let f = random_features(4, 600);
+        let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
+        let index = spatial::BoxIndex::new(&boxes);
+        // Every pair whose boxes meet, as the overlap checks see them.
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| nearest_gaps(&f, &index, |i, j, out: &mut Vec<(usize, usize)>| out.push((i, j))))
+        };
+        let (gaps, meets) = run(1);
+        assert!(gaps.iter().filter(|g| g.is_some()).count() > 50);
+        let mut sorted = meets.clone();
+        sorted.sort_unstable();
+        assert_eq!(meets, sorted, "pairs are reported in order");
+        assert_eq!(meets, spatial::near_pairs(&boxes, 0.0), "every pair whose boxes meet, once");
+        for threads in [2, 3, 8] {
+            let (g, m) = run(threads);
+            assert_eq!(m, meets, "{threads} threads");
+            for (k, (a, b)) in g.iter().zip(&gaps).enumerate() {
+                assert_eq!(
+                    a.map(|(i, g)| (i, g.to_bits())),
+                    b.map(|(i, g)| (i, g.to_bits())),
+                    "f{k}, {threads} threads"
+                );
+            }
         }
     }
 
@@ -714,7 +896,7 @@ mod tests {
             x
         }];
         let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
-        let got = nearest_gaps(&f, &spatial::BoxIndex::new(&boxes), |_, _| {});
+        let got = nearest_gaps(&f, &spatial::BoxIndex::new(&boxes), |_, _, _: &mut Vec<()>| {}).0;
         assert_eq!(got[1], Some((0, 1.0)));
         assert_eq!(got[0], Some((1, 1.0)));
         assert_eq!(got[2], Some((1, 1.0)));
@@ -723,6 +905,6 @@ mod tests {
         // With 0 and 2 gone, 1's nearest is 3, through boxes that meet.
         let f = vec![f[1].clone(), f[3].clone()];
         let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
-        assert_eq!(nearest_gaps(&f, &spatial::BoxIndex::new(&boxes), |_, _| {})[0], Some((1, 1.5)));
+        assert_eq!(nearest_gaps(&f, &spatial::BoxIndex::new(&boxes), |_, _, _: &mut Vec<()>| {}).0[0], Some((1, 1.5)));
     }
 }
