@@ -84,12 +84,12 @@ fn compile_drawing(path: &Path, opts: &CompileOpts) -> Result<Compiled> {
     let bytes = io::read_input(path)?;
     let options = match compile_options(opts)? {
         Ok(o) => o,
-        Err(d) => return Ok(Compiled { bundle: None, diagnostics: vec![d] }),
+        Err(d) => return Ok(Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new() }),
     };
     let Ok(text) = String::from_utf8(bytes) else {
         let d = Diagnostic::error("T0200", "the file is not UTF-8 text, expected an SVG document")
             .with_help("compressed .svgz files must be unpacked first");
-        return Ok(Compiled { bundle: None, diagnostics: vec![d] });
+        return Ok(Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new() });
     };
     Ok(taxel_compiler::svg::compile_svg(&text, &options))
 }
