@@ -561,6 +561,32 @@ struct Scratch {
     centres: Near,
 }
 
+/// Keeps the `max` entries of `v` with the least keys, nearest first, in
+/// the order a stable sort by key would leave them (equal keys in their
+/// order in `v`), so the fits see the same segments as after sorting all of
+/// `v`; a tile's bucket holds hundreds of segments and the fits want a few.
+fn keep_nearest<T>(v: &mut Vec<(f64, T)>, max: usize) {
+    if v.len() > max {
+        let Some(last) = max.checked_sub(1) else {
+            v.clear();
+            return;
+        };
+        let mut keys: Vec<f64> = v.iter().map(|e| e.0).collect();
+        let (_, &mut cut, _) = keys.select_nth_unstable_by(last, f64::total_cmp);
+        // All keys below the cut are kept, and as many equal to it as fit, first ones first.
+        let mut ties = max - v.iter().filter(|e| e.0.total_cmp(&cut).is_lt()).count();
+        v.retain(|e| match e.0.total_cmp(&cut) {
+            std::cmp::Ordering::Less => true,
+            std::cmp::Ordering::Equal if ties > 0 => {
+                ties -= 1;
+                true
+            }
+            _ => false,
+        });
+    }
+    v.sort_by(|a, b| a.0.total_cmp(&b.0));
+}
+
 /// The lowest code played at full amplitude and the highest played at zero
 /// under the edge profile `clamp(½ + (code − 128) step / ramp, 0, 1)`, each
 /// with a margin of a hundredth of a code for the player's rounding.

@@ -262,7 +262,8 @@ mod tests {
             .unwrap();
         let o = CompileOpts { fonts: Some(fonts), fit: true, ..opts() };
         let text = r#"<svg xmlns="http://www.w3.org/2000/svg" width="50mm" height="20mm"><text x="1" y="15" font-family="Tuffy">Hi</text><rect width="5" height="5"/></svg>"#;
-        let shapes = r#"<svg xmlns="http://www.w3.org/2000/svg" width="50mm" height="20mm"><rect width="5" height="5"/></svg>"#;
+        let shapes =
+            r#"<svg xmlns="http://www.w3.org/2000/svg" width="50mm" height="20mm"><rect width="5" height="5"/></svg>"#;
         for (name, svg) in [("text.svg", text), ("shapes.svg", shapes)] {
             let input = dir.path().join(name);
             std::fs::write(&input, svg).unwrap();

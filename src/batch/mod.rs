@@ -230,11 +230,9 @@ mod tests {
         let bundle = Some(Bundle::new(Manifest::new(profiles::builtin("stress2").unwrap())));
         Ok(match text.trim() {
             "good" => Compiled { bundle, diagnostics: vec![], fonts_used: vec![] },
-            "warn" => Compiled {
-                bundle,
-                diagnostics: vec![Diagnostic::warning("T9", "thin").at(1, 1)],
-                fonts_used: vec![],
-            },
+            "warn" => {
+                Compiled { bundle, diagnostics: vec![Diagnostic::warning("T9", "thin").at(1, 1)], fonts_used: vec![] }
+            }
             "panic" => panic!("fake compiler panic"),
             _ => Compiled {
                 bundle: None,

@@ -139,8 +139,7 @@ fn nearest_segments(t: &TileCtx<'_, '_>, keep: impl Fn(Part) -> bool, max: usize
             _ => None,
         })
         .collect();
-    near.sort_by(|x, y| x.0.total_cmp(&y.0));
-    near.truncate(max);
+    super::keep_nearest(&mut near, max);
     near
 }
 
