@@ -561,30 +561,23 @@ struct Scratch {
     centres: Near,
 }
 
-/// Keeps the `max` entries of `v` with the least keys, nearest first, in
-/// the order a stable sort by key would leave them (equal keys in their
-/// order in `v`), so the fits see the same segments as after sorting all of
-/// `v`; a tile's bucket holds hundreds of segments and the fits want a few.
-fn keep_nearest<T>(v: &mut Vec<(f64, T)>, max: usize) {
-    if v.len() > max {
-        let Some(last) = max.checked_sub(1) else {
-            v.clear();
-            return;
-        };
-        let mut keys: Vec<f64> = v.iter().map(|e| e.0).collect();
-        let (_, &mut cut, _) = keys.select_nth_unstable_by(last, f64::total_cmp);
-        // All keys below the cut are kept, and as many equal to it as fit, first ones first.
-        let mut ties = max - v.iter().filter(|e| e.0.total_cmp(&cut).is_lt()).count();
-        v.retain(|e| match e.0.total_cmp(&cut) {
-            std::cmp::Ordering::Less => true,
-            std::cmp::Ordering::Equal if ties > 0 => {
-                ties -= 1;
-                true
-            }
-            _ => false,
-        });
+/// The `max` entries of `items` with the least keys, nearest first, in the
+/// order a stable sort by key would leave them (equal keys in the order
+/// `items` gives them), so the fits see the same segments as after sorting
+/// every entry; a tile's bucket holds hundreds of segments and the fits want
+/// a few, so each entry is only compared with the last one kept.
+fn nearest_first<T>(items: impl Iterator<Item = (f64, T)>, max: usize) -> Vec<(f64, T)> {
+    let mut kept: Vec<(f64, T)> = Vec::with_capacity(max + 1);
+    for (key, item) in items {
+        if kept.len() == max && kept.last().is_none_or(|l| key.total_cmp(&l.0).is_ge()) {
+            continue;
+        }
+        // After every kept entry whose key is not greater: a stable sort's place.
+        let at = kept.partition_point(|k| k.0.total_cmp(&key).is_le());
+        kept.insert(at, (key, item));
+        kept.truncate(max);
     }
-    v.sort_by(|a, b| a.0.total_cmp(&b.0));
+    kept
 }
 
 /// The lowest code played at full amplitude and the highest played at zero

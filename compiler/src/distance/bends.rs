@@ -131,16 +131,11 @@ impl Bend {
 fn nearest_segments(t: &TileCtx<'_, '_>, keep: impl Fn(Part) -> bool, max: usize) -> Vec<(f64, Seg)> {
     let span = TILE_SIDE as f64 - 1.0;
     let centre = (t.corner.0 + span / 2.0 * t.h, t.corner.1 + span / 2.0 * t.h);
-    let mut near: Vec<(f64, Seg)> = t
-        .bucket
-        .iter()
-        .filter_map(|&n| match t.segs.get(n as usize) {
-            Some(&((a, b), part, _)) if keep(part) => Some((distance2_to_segment(centre, a, b), (a, b))),
-            _ => None,
-        })
-        .collect();
-    super::keep_nearest(&mut near, max);
-    near
+    let near = t.bucket.iter().filter_map(|&n| match t.segs.get(n as usize) {
+        Some(&((a, b), part, _)) if keep(part) => Some((distance2_to_segment(centre, a, b), (a, b))),
+        _ => None,
+    });
+    super::nearest_first(near, max)
 }
 
 /// The corners and notches that play a tile's samples (`exact`, codes,

@@ -492,10 +492,10 @@ fn a_clipped_fill_is_felt_only_inside_its_clip() {
 }
 
 proptest! {
-    /// `keep_nearest` keeps what a stable sort then a truncation keep, ties
+    /// `nearest_first` keeps what a stable sort then a truncation keep, ties
     /// (few distinct keys, so many) and NaN included.
     #[test]
-    fn keep_nearest_is_a_stable_sort_cut_short(
+    fn nearest_first_is_a_stable_sort_cut_short(
         keys in proptest::collection::vec(prop_oneof![0u8..6, Just(255u8)], 0..40),
         max in 0usize..12,
     ) {
@@ -504,8 +504,7 @@ proptest! {
         let mut want = v.clone();
         want.sort_by(|a, b| a.0.total_cmp(&b.0));
         want.truncate(max);
-        let mut got = v;
-        keep_nearest(&mut got, max);
+        let got = nearest_first(v.into_iter(), max);
         let ids = |x: &[(f64, usize)]| x.iter().map(|e| e.1).collect::<Vec<_>>();
         prop_assert_eq!(ids(&got), ids(&want));
     }
