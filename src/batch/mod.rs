@@ -27,8 +27,9 @@ pub use discover::{Input, discover};
 pub use progress::{Outcome, Reporter, Summary};
 pub use shard::Shard;
 
-/// Compiles one file (the real one is [`crate::compile::compile_file`]).
-pub type CompileFn = dyn Fn(&Path, &CompileOpts) -> Result<Compiled> + Sync;
+/// Compiles one file from its bytes, read once by the builder (the real one
+/// is [`crate::compile::compile_bytes`]).
+pub type CompileFn = dyn Fn(&Path, Vec<u8>, &CompileOpts) -> Result<Compiled> + Sync;
 
 /// Where the bundles go.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -143,7 +144,7 @@ fn build_one(job: &Job, settings: &Settings, compile: &CompileFn) -> (Outcome, S
     if let Some(c) = &job.conflict {
         return failed(format!("{shown}: {c}"));
     }
-    // Refuse an oversized input before reading it whole for the content hash.
+    // Refuse an oversized input before reading it whole; it is read once, for the content hash and the compiler.
     let bytes = match crate::io::read_input(&job.input.path) {
         Ok(b) => b,
         Err(e) => return failed(format!("{e:#}")),
@@ -167,9 +168,8 @@ fn build_one(job: &Job, settings: &Settings, compile: &CompileFn) -> (Outcome, S
             Err(e) => return failed(format!("{shown}: {e:#}")),
         }
     };
-    drop(bytes);
     // A panic in the compiler is a bug, but it must cost one input, not the batch.
-    let compiled = match catch_unwind(AssertUnwindSafe(|| compile(&job.input.path, &settings.opts))) {
+    let compiled = match catch_unwind(AssertUnwindSafe(|| compile(&job.input.path, bytes, &settings.opts))) {
         Ok(Ok(c)) => c,
         Ok(Err(e)) => return failed(format!("{e:#}")),
         Err(_) => {
@@ -225,8 +225,8 @@ mod tests {
     /// Stands in for the compiler in these unit tests (the command-line
     /// tests use the real one): "good" builds, "warn" builds with a warning,
     /// "bad" fails, "panic" panics.
-    fn fake(path: &Path, _: &CompileOpts) -> Result<Compiled> {
-        let text = std::fs::read_to_string(path)?;
+    fn fake(_: &Path, bytes: Vec<u8>, _: &CompileOpts) -> Result<Compiled> {
+        let text = String::from_utf8(bytes)?;
         let bundle = Some(Bundle::new(Manifest::new(profiles::builtin("stress2").unwrap())));
         Ok(match text.trim() {
             "good" => Compiled { bundle, diagnostics: vec![], fonts_used: vec![] },
