@@ -26,7 +26,6 @@
 //! lies at least `soft/2` from the edge, on the corner's side, and the
 //! profile there is saturated whatever the interpolation gives.
 
-use std::collections::HashMap;
 use std::sync::OnceLock;
 
 use rayon::prelude::*;
@@ -617,23 +616,25 @@ fn fill_bits(fills: &[(&[Polyline], FillRule)], ox: f64, oy: f64, h: f64, nx: us
             }
         }
     }
-    let mut state: HashMap<usize, (i32, u32)> = HashMap::new();
+    // Each shape's winding number and crossing count so far along the row
+    // (indexed by shape, reset after each row for the shapes it crossed).
+    let mut state: Vec<(i32, u32)> = vec![(0, 0); fills.len()];
+    let mut xs: Vec<(f64, usize, i32)> = Vec::new();
     for (j, edges) in by_row.iter().enumerate() {
         let y = oy + j as f64 * h;
         // Crossings to the right of a point decide it; sweep from the right.
-        let mut xs: Vec<(f64, usize, i32)> = edges
-            .iter()
-            .filter(|((a, b), _)| (a.1 <= y) != (b.1 <= y))
-            .map(|&((a, b), shape)| {
-                let x = a.0 + (y - a.1) / (b.1 - a.1) * (b.0 - a.0);
-                (x, shape, if b.1 > a.1 { 1 } else { -1 })
-            })
-            .collect();
+        xs.clear();
+        xs.extend(edges.iter().filter(|((a, b), _)| (a.1 <= y) != (b.1 <= y)).map(|&((a, b), shape)| {
+            let x = a.0 + (y - a.1) / (b.1 - a.1) * (b.0 - a.0);
+            (x, shape, if b.1 > a.1 { 1 } else { -1 })
+        }));
         if xs.is_empty() {
             continue;
         }
         xs.sort_by(|a, b| b.0.total_cmp(&a.0));
-        state.clear();
+        for &(_, shape, _) in &xs {
+            state[shape] = (0, 0);
+        }
         let mut inside_count = 0i32;
         let mut k = 0;
         for i in (0..nx).rev() {
@@ -641,7 +642,7 @@ fn fill_bits(fills: &[(&[Polyline], FillRule)], ox: f64, oy: f64, h: f64, nx: us
             while k < xs.len() && xs[k].0 > x {
                 let (_, shape, dir) = xs[k];
                 let rule = fills[shape].1;
-                let e = state.entry(shape).or_insert((0, 0));
+                let e = &mut state[shape];
                 let was = is_in(*e, rule);
                 e.0 += dir;
                 e.1 += 1;
