@@ -51,10 +51,11 @@ pub fn lines(diags: &[Diagnostic], file: &str, min: Severity, verbose: bool) -> 
                 out.extend(first.render(file).lines().map(str::to_string));
                 continue;
             }
-            let places: Vec<String> = group.iter().filter_map(|d| place(d)).collect();
-            let mut at = places.iter().take(NAMED).cloned().collect::<Vec<_>>().join(", ");
-            if places.len() > NAMED {
-                at += &format!(" and {} more", places.len() - NAMED);
+            // Only the named places are written out: a dense map has hundreds of thousands.
+            let placed = group.iter().filter(|d| d.element.is_some() || d.line.is_some()).count();
+            let mut at = group.iter().filter_map(|d| place(d)).take(NAMED).collect::<Vec<_>>().join(", ");
+            if placed > NAMED {
+                at += &format!(" and {} more", placed - NAMED);
             }
             let at = if at.is_empty() { String::new() } else { format!(" (at {at})") };
             out.push(format!("{file}: {severity}[{code}] x{}: {}{at}; -v lists each", group.len(), first.message));

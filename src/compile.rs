@@ -71,38 +71,43 @@ pub fn compile_options(opts: &CompileOpts) -> Result<Result<CompileOptions, Diag
 /// Reads and compiles one input (.svg, .gltf, .glb). IO failures are `Err`;
 /// problems in the input are diagnostics in the result.
 pub fn compile_file(path: &Path, opts: &CompileOpts) -> Result<Compiled> {
+    compile_bytes(path, io::read_input(path)?, opts)
+}
+
+/// [`compile_file`] of an input already read (`bytes`, through
+/// [`io::read_input`]): the batch builder reads each input once, for its
+/// content hash and its compilation.
+pub fn compile_bytes(path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> Result<Compiled> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).unwrap_or_default();
     match ext.as_str() {
-        "svg" => compile_drawing(path, opts),
-        "gltf" | "glb" => compile_mesh(path, opts),
+        "svg" => compile_drawing(bytes, opts),
+        "gltf" | "glb" => compile_mesh(path, &bytes, opts),
         _ => bail!("{}: unknown input kind, expected .svg, .gltf or .glb", path.display()),
     }
 }
 
 /// An annotated SVG drawing (docs/annotations.md).
-fn compile_drawing(path: &Path, opts: &CompileOpts) -> Result<Compiled> {
-    let bytes = io::read_input(path)?;
+fn compile_drawing(bytes: Vec<u8>, opts: &CompileOpts) -> Result<Compiled> {
     let options = match compile_options(opts)? {
         Ok(o) => o,
-        Err(d) => return Ok(Compiled { bundle: None, diagnostics: vec![d] }),
+        Err(d) => return Ok(Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new() }),
     };
     let Ok(text) = String::from_utf8(bytes) else {
         let d = Diagnostic::error("T0200", "the file is not UTF-8 text, expected an SVG document")
             .with_help("compressed .svgz files must be unpacked first");
-        return Ok(Compiled { bundle: None, diagnostics: vec![d] });
+        return Ok(Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new() });
     };
     Ok(taxel_compiler::svg::compile_svg(&text, &options))
 }
 
 /// A glTF height mesh for the finger device (docs/finger.md). Without
 /// `--profile` the built-in `finger3` is used: a mesh only plays on a finger device.
-fn compile_mesh(path: &Path, opts: &CompileOpts) -> Result<Compiled> {
-    let bytes = io::read_input(path)?;
+fn compile_mesh(path: &Path, bytes: &[u8], opts: &CompileOpts) -> Result<Compiled> {
     let profile = load::profile(opts.profile.as_deref().unwrap_or(load::DEFAULT_MESH_PROFILE))?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let mut resolve = |uri: &str| read_beside(&dir, uri);
     let mesh_opts = mesh_options(opts, &profile);
-    Ok(taxel_compiler::mesh::compile_gltf(&bytes, &mut resolve, &profile, &mesh_opts))
+    Ok(taxel_compiler::mesh::compile_gltf(bytes, &mut resolve, &profile, &mesh_opts))
 }
 
 /// The mesh compiler's options for `opts` on `profile` (`--fit` fits onto its surface).

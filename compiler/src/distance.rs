@@ -26,7 +26,6 @@
 //! lies at least `soft/2` from the edge, on the corner's side, and the
 //! profile there is saturated whatever the interpolation gives.
 
-use std::collections::HashMap;
 use std::sync::OnceLock;
 
 use rayon::prelude::*;
@@ -561,6 +560,25 @@ struct Scratch {
     centres: Near,
 }
 
+/// The `max` entries of `items` with the least keys, nearest first, in the
+/// order a stable sort by key would leave them (equal keys in the order
+/// `items` gives them), so the fits see the same segments as after sorting
+/// every entry; a tile's bucket holds hundreds of segments and the fits want
+/// a few, so each entry is only compared with the last one kept.
+fn nearest_first<T>(items: impl Iterator<Item = (f64, T)>, max: usize) -> Vec<(f64, T)> {
+    let mut kept: Vec<(f64, T)> = Vec::with_capacity(max + 1);
+    for (key, item) in items {
+        if kept.len() == max && kept.last().is_none_or(|l| key.total_cmp(&l.0).is_ge()) {
+            continue;
+        }
+        // After every kept entry whose key is not greater: a stable sort's place.
+        let at = kept.partition_point(|k| k.0.total_cmp(&key).is_le());
+        kept.insert(at, (key, item));
+        kept.truncate(max);
+    }
+    kept
+}
+
 /// The lowest code played at full amplitude and the highest played at zero
 /// under the edge profile `clamp(½ + (code − 128) step / ramp, 0, 1)`, each
 /// with a margin of a hundredth of a code for the player's rounding.
@@ -598,23 +616,25 @@ fn fill_bits(fills: &[(&[Polyline], FillRule)], ox: f64, oy: f64, h: f64, nx: us
             }
         }
     }
-    let mut state: HashMap<usize, (i32, u32)> = HashMap::new();
+    // Each shape's winding number and crossing count so far along the row
+    // (indexed by shape, reset after each row for the shapes it crossed).
+    let mut state: Vec<(i32, u32)> = vec![(0, 0); fills.len()];
+    let mut xs: Vec<(f64, usize, i32)> = Vec::new();
     for (j, edges) in by_row.iter().enumerate() {
         let y = oy + j as f64 * h;
         // Crossings to the right of a point decide it; sweep from the right.
-        let mut xs: Vec<(f64, usize, i32)> = edges
-            .iter()
-            .filter(|((a, b), _)| (a.1 <= y) != (b.1 <= y))
-            .map(|&((a, b), shape)| {
-                let x = a.0 + (y - a.1) / (b.1 - a.1) * (b.0 - a.0);
-                (x, shape, if b.1 > a.1 { 1 } else { -1 })
-            })
-            .collect();
+        xs.clear();
+        xs.extend(edges.iter().filter(|((a, b), _)| (a.1 <= y) != (b.1 <= y)).map(|&((a, b), shape)| {
+            let x = a.0 + (y - a.1) / (b.1 - a.1) * (b.0 - a.0);
+            (x, shape, if b.1 > a.1 { 1 } else { -1 })
+        }));
         if xs.is_empty() {
             continue;
         }
         xs.sort_by(|a, b| b.0.total_cmp(&a.0));
-        state.clear();
+        for &(_, shape, _) in &xs {
+            state[shape] = (0, 0);
+        }
         let mut inside_count = 0i32;
         let mut k = 0;
         for i in (0..nx).rev() {
@@ -622,7 +642,7 @@ fn fill_bits(fills: &[(&[Polyline], FillRule)], ox: f64, oy: f64, h: f64, nx: us
             while k < xs.len() && xs[k].0 > x {
                 let (_, shape, dir) = xs[k];
                 let rule = fills[shape].1;
-                let e = state.entry(shape).or_insert((0, 0));
+                let e = &mut state[shape];
                 let was = is_in(*e, rule);
                 e.0 += dir;
                 e.1 += 1;

@@ -47,4 +47,8 @@ pub struct Compiled {
     pub bundle: Option<Bundle>,
     /// Everything the compiler had to say, in source order where possible.
     pub diagnostics: Vec<Diagnostic>,
+    /// The font faces a drawing's text was laid out with, sorted (the same
+    /// as [`drawing::fonts_used`] of its text; empty for a mesh), so that a
+    /// content hash that covers them needs no second parse.
+    pub fonts_used: Vec<drawing::FontFace>,
 }

@@ -12,6 +12,8 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 
+use taxel_compiler::drawing::FontFace;
+
 use crate::cli::CompileOpts;
 
 struct Hasher(blake3::Hasher);
@@ -30,45 +32,94 @@ impl Hasher {
     }
 }
 
-/// The content hash of building `input` (whose bytes are `bytes`) with `opts`.
+/// The content hash of building `input` (whose bytes are `bytes`) with
+/// `opts`, finding the font faces by laying the drawing's text out (see
+/// [`Partial::fonts_by_parsing`]). The batch builder uses [`Partial`]'s
+/// steps itself; this is the whole hash at once, for the tests.
+#[cfg(test)]
 pub fn content_hash(input: &Path, bytes: &[u8], opts: &CompileOpts) -> Result<[u8; 32]> {
-    let mut h = Hasher(blake3::Hasher::new());
-    h.field(b"taxel build content hash v1")
-        .field(env!("CARGO_PKG_VERSION").as_bytes())
-        .field(&[taxel_format::FORMAT_MAJOR.to_le_bytes(), taxel_format::FORMAT_MINOR.to_le_bytes()].concat());
-    let ext = input.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
-    h.field(ext.as_bytes()).field(bytes);
-    if ext == "gltf" {
-        for (uri, data) in gltf_resources(input, bytes) {
-            h.field(uri.as_bytes()).opt(data.as_deref());
+    let part = Partial::begin(input, bytes);
+    let fonts = part.fonts_by_parsing(bytes, opts)?;
+    part.finish(&fonts, opts)
+}
+
+/// A content hash up to the input's own bytes (and a glTF's files), with
+/// the rest to come: the font faces, then the options. It lets a build that
+/// rebuilds anyway (`--force`, no bundle yet) drop the input's bytes, compile,
+/// and finish the hash with the faces the compiler itself laid the text out
+/// with ([`taxel_compiler::Compiled::fonts_used`]), instead of parsing the
+/// drawing a second time only to find them. Either way the hash is the same.
+pub struct Partial {
+    h: Hasher,
+    /// Whether the font faces are part of the hash: a drawing (UTF-8 `.svg`)
+    /// whose text mentions `<text`, as [`taxel_compiler::drawing::fonts_used`] decides.
+    fonts_matter: bool,
+}
+
+impl Partial {
+    /// Hashes the domain, the versions, the input's extension and bytes, and a glTF's files.
+    pub fn begin(input: &Path, bytes: &[u8]) -> Partial {
+        let mut h = Hasher(blake3::Hasher::new());
+        h.field(b"taxel build content hash v1")
+            .field(env!("CARGO_PKG_VERSION").as_bytes())
+            .field(&[taxel_format::FORMAT_MAJOR.to_le_bytes(), taxel_format::FORMAT_MINOR.to_le_bytes()].concat());
+        let ext = input.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
+        h.field(ext.as_bytes()).field(bytes);
+        if ext == "gltf" {
+            for (uri, data) in gltf_resources(input, bytes) {
+                h.field(uri.as_bytes()).opt(data.as_deref());
+            }
         }
+        let fonts_matter = ext == "svg" && std::str::from_utf8(bytes).is_ok_and(|t| t.contains("<text"));
+        Partial { h, fonts_matter }
     }
-    if ext == "svg" {
-        font_faces(&mut h, bytes, opts)?;
+
+    /// The font faces the text of `bytes` (the input's, as given to
+    /// [`Partial::begin`]) is laid out with, under `--fonts DIR` or the
+    /// system's fonts: one parse of the drawing. Empty when fonts do not matter.
+    pub fn fonts_by_parsing(&self, bytes: &[u8], opts: &CompileOpts) -> Result<Vec<FontFace>> {
+        let text = match std::str::from_utf8(bytes) {
+            Ok(t) if self.fonts_matter => t,
+            _ => return Ok(Vec::new()),
+        };
+        let db = crate::compile::font_database(opts.fonts.as_deref())?;
+        Ok(taxel_compiler::drawing::fonts_used(text, &db))
     }
-    let style = match &opts.style {
-        // The built-in sheet is part of taxel, which the version above covers.
-        Some(_) if opts.style_is_auto() => Some(b"auto".to_vec()),
-        Some(p) => Some(crate::io::read_input(p).with_context(|| format!("cannot read style sheet {}", p.display()))?),
-        None => None,
-    };
-    h.opt(style.as_deref());
-    match &opts.profile {
-        // A file is hashed by content, so editing it rebuilds; a name by name.
-        Some(p) if Path::new(p).is_file() => {
-            let text = crate::io::read_input(Path::new(p)).with_context(|| format!("cannot read profile {p}"))?;
-            h.field(b"file").field(&text)
+
+    /// The hash, given the faces the text was laid out with (those of
+    /// [`Partial::fonts_by_parsing`] or of the build; ignored when fonts do
+    /// not matter) and the options.
+    pub fn finish(&self, fonts: &[FontFace], opts: &CompileOpts) -> Result<[u8; 32]> {
+        let mut h = Hasher(self.h.0.clone());
+        if self.fonts_matter {
+            font_faces(&mut h, fonts);
         }
-        Some(p) => h.field(b"name").field(p.as_bytes()),
-        None => h.field(b"default"),
-    };
-    h.opt(opts.resolution.map(|r| r.to_le_bytes()).as_ref().map(|b| &b[..]));
-    h.opt(opts.width_mm.map(|w| w.to_le_bytes()).as_ref().map(|b| &b[..]));
-    // Fitting, the region, the up axis and the exaggeration change the bundle too.
-    h.field(&[opts.fit as u8, opts.up as u8]);
-    h.opt(opts.region.as_ref().map(|r| format!("{r:?}")).as_ref().map(|s| s.as_bytes()));
-    h.opt(opts.exaggerate.map(|e| e.to_le_bytes()).as_ref().map(|b| &b[..]));
-    Ok(*h.0.finalize().as_bytes())
+        let style = match &opts.style {
+            // The built-in sheet is part of taxel, which the version above covers.
+            Some(_) if opts.style_is_auto() => Some(b"auto".to_vec()),
+            Some(p) => {
+                Some(crate::io::read_input(p).with_context(|| format!("cannot read style sheet {}", p.display()))?)
+            }
+            None => None,
+        };
+        h.opt(style.as_deref());
+        match &opts.profile {
+            // A file is hashed by content, so editing it rebuilds; a name by name.
+            Some(p) if Path::new(p).is_file() => {
+                let text = crate::io::read_input(Path::new(p)).with_context(|| format!("cannot read profile {p}"))?;
+                h.field(b"file").field(&text)
+            }
+            Some(p) => h.field(b"name").field(p.as_bytes()),
+            None => h.field(b"default"),
+        };
+        h.opt(opts.resolution.map(|r| r.to_le_bytes()).as_ref().map(|b| &b[..]));
+        h.opt(opts.width_mm.map(|w| w.to_le_bytes()).as_ref().map(|b| &b[..]));
+        // Fitting, the region, the up axis and the exaggeration change the bundle too.
+        h.field(&[opts.fit as u8, opts.up as u8]);
+        h.opt(opts.region.as_ref().map(|r| format!("{r:?}")).as_ref().map(|s| s.as_bytes()));
+        h.opt(opts.exaggerate.map(|e| e.to_le_bytes()).as_ref().map(|b| &b[..]));
+        Ok(*h.0.finalize().as_bytes())
+    }
 }
 
 /// Hashes the font faces a drawing's text is laid out with (under `--fonts
@@ -81,10 +132,8 @@ pub fn content_hash(input: &Path, bytes: &[u8], opts: &CompileOpts) -> Result<[u
 /// incremental run would cost more than the check saves, and installing or
 /// updating a font changes its size or time. A face held in memory is hashed
 /// by its names.
-fn font_faces(h: &mut Hasher, bytes: &[u8], opts: &CompileOpts) -> Result<()> {
-    let Ok(text) = std::str::from_utf8(bytes) else { return Ok(()) };
-    let db = crate::compile::font_database(opts.fonts.as_deref())?;
-    for face in taxel_compiler::drawing::fonts_used(text, &db) {
+fn font_faces(h: &mut Hasher, faces: &[FontFace]) {
+    for face in faces {
         h.field(b"font").field(&face.index.to_le_bytes());
         match &face.path {
             Some(p) => {
@@ -100,7 +149,6 @@ fn font_faces(h: &mut Hasher, bytes: &[u8], opts: &CompileOpts) -> Result<()> {
             }
         }
     }
-    Ok(())
 }
 
 /// The relative files (buffers, images) a glTF file names, with their bytes
@@ -203,5 +251,31 @@ mod tests {
         assert_eq!(distinct.len(), variants.len());
         // A drawing without text does not depend on the fonts.
         assert_eq!(h(shapes, &a), h(shapes, &none));
+    }
+
+    #[test]
+    fn the_builds_own_fonts_give_the_hash_a_parse_gives() {
+        let dir = tempfile::tempdir().unwrap();
+        let fonts = dir.path().join("fonts");
+        std::fs::create_dir(&fonts).unwrap();
+        std::fs::copy(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fonts/Tuffy.ttf"), fonts.join("Tuffy.ttf"))
+            .unwrap();
+        let o = CompileOpts { fonts: Some(fonts), fit: true, ..opts() };
+        let text = r#"<svg xmlns="http://www.w3.org/2000/svg" width="50mm" height="20mm"><text x="1" y="15" font-family="Tuffy">Hi</text><rect width="5" height="5"/></svg>"#;
+        let shapes =
+            r#"<svg xmlns="http://www.w3.org/2000/svg" width="50mm" height="20mm"><rect width="5" height="5"/></svg>"#;
+        for (name, svg) in [("text.svg", text), ("shapes.svg", shapes)] {
+            let input = dir.path().join(name);
+            std::fs::write(&input, svg).unwrap();
+            let compiled = crate::compile::compile_file(&input, &o).unwrap();
+            assert_eq!(compiled.fonts_used.is_empty(), name == "shapes.svg", "{name}: {:?}", compiled.fonts_used);
+            let built = Partial::begin(&input, svg.as_bytes()).finish(&compiled.fonts_used, &o).unwrap();
+            assert_eq!(built, content_hash(&input, svg.as_bytes(), &o).unwrap(), "{name}");
+        }
+        // A face the build did not use changes the hash, so the check above can fail.
+        let input = dir.path().join("text.svg");
+        let compiled = crate::compile::compile_file(&input, &o).unwrap();
+        let part = Partial::begin(&input, text.as_bytes());
+        assert_ne!(part.finish(&compiled.fonts_used, &o).unwrap(), part.finish(&[], &o).unwrap());
     }
 }

@@ -27,8 +27,9 @@ pub use discover::{Input, discover};
 pub use progress::{Outcome, Reporter, Summary};
 pub use shard::Shard;
 
-/// Compiles one file (the real one is [`crate::compile::compile_file`]).
-pub type CompileFn = dyn Fn(&Path, &CompileOpts) -> Result<Compiled> + Sync;
+/// Compiles one file from its bytes, read once by the builder (the real one
+/// is [`crate::compile::compile_bytes`]).
+pub type CompileFn = dyn Fn(&Path, Vec<u8>, &CompileOpts) -> Result<Compiled> + Sync;
 
 /// Where the bundles go.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -143,21 +144,32 @@ fn build_one(job: &Job, settings: &Settings, compile: &CompileFn) -> (Outcome, S
     if let Some(c) = &job.conflict {
         return failed(format!("{shown}: {c}"));
     }
-    // Refuse an oversized input before reading it whole for the content hash.
+    // Refuse an oversized input before reading it whole; it is read once, for the content hash and the compiler.
     let bytes = match crate::io::read_input(&job.input.path) {
         Ok(b) => b,
         Err(e) => return failed(format!("{e:#}")),
     };
-    let hash = match hash::content_hash(&job.input.path, &bytes, &settings.opts) {
-        Ok(h) => h,
-        Err(e) => return failed(format!("{shown}: {e:#}")),
+    // When the bundle is rebuilt anyway (forced, or none yet), the hash is
+    // finished after the build with the font faces the build laid the text
+    // out with, rather than parsing the drawing a second time for them.
+    let part = hash::Partial::begin(&job.input.path, &bytes);
+    let checked = if settings.force || !job.output.is_file() {
+        None
+    } else {
+        let hash = match part.fonts_by_parsing(&bytes, &settings.opts) {
+            Ok(fonts) => part.finish(&fonts, &settings.opts),
+            Err(e) => Err(e),
+        };
+        match hash {
+            Ok(h) if output::up_to_date(&job.output, &h) => {
+                return (Outcome::Skipped, format!("skipped {shown} ({out} is up to date)"), Vec::new());
+            }
+            Ok(h) => Some(h),
+            Err(e) => return failed(format!("{shown}: {e:#}")),
+        }
     };
-    drop(bytes);
-    if !settings.force && output::up_to_date(&job.output, &hash) {
-        return (Outcome::Skipped, format!("skipped {shown} ({out} is up to date)"), Vec::new());
-    }
     // A panic in the compiler is a bug, but it must cost one input, not the batch.
-    let compiled = match catch_unwind(AssertUnwindSafe(|| compile(&job.input.path, &settings.opts))) {
+    let compiled = match catch_unwind(AssertUnwindSafe(|| compile(&job.input.path, bytes, &settings.opts))) {
         Ok(Ok(c)) => c,
         Ok(Err(e)) => return failed(format!("{e:#}")),
         Err(_) => {
@@ -176,6 +188,13 @@ fn build_one(job: &Job, settings: &Settings, compile: &CompileFn) -> (Outcome, S
             let why = if errors == 0 { "no bundle".to_string() } else { plural(errors, "error") };
             return (Outcome::Failed, format!("failed {shown} ({why})"), messages);
         }
+    };
+    let hash = match checked {
+        Some(h) => h,
+        None => match part.finish(&compiled.fonts_used, &settings.opts) {
+            Ok(h) => h,
+            Err(e) => return failed(format!("{shown}: {e:#}")),
+        },
     };
     let mut bundle = bundle;
     bundle.manifest.content_hash = hash;
@@ -206,14 +225,20 @@ mod tests {
     /// Stands in for the compiler in these unit tests (the command-line
     /// tests use the real one): "good" builds, "warn" builds with a warning,
     /// "bad" fails, "panic" panics.
-    fn fake(path: &Path, _: &CompileOpts) -> Result<Compiled> {
-        let text = std::fs::read_to_string(path)?;
+    fn fake(_: &Path, bytes: Vec<u8>, _: &CompileOpts) -> Result<Compiled> {
+        let text = String::from_utf8(bytes)?;
         let bundle = Some(Bundle::new(Manifest::new(profiles::builtin("stress2").unwrap())));
         Ok(match text.trim() {
-            "good" => Compiled { bundle, diagnostics: vec![] },
-            "warn" => Compiled { bundle, diagnostics: vec![Diagnostic::warning("T9", "thin").at(1, 1)] },
+            "good" => Compiled { bundle, diagnostics: vec![], fonts_used: vec![] },
+            "warn" => {
+                Compiled { bundle, diagnostics: vec![Diagnostic::warning("T9", "thin").at(1, 1)], fonts_used: vec![] }
+            }
             "panic" => panic!("fake compiler panic"),
-            _ => Compiled { bundle: None, diagnostics: vec![Diagnostic::error("T8", "broken").at(2, 3)] },
+            _ => Compiled {
+                bundle: None,
+                diagnostics: vec![Diagnostic::error("T8", "broken").at(2, 3)],
+                fonts_used: vec![],
+            },
         })
     }
 

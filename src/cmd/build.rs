@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use crate::batch::{self, Destination, Settings, Shard};
 use crate::cli::CompileOpts;
-use crate::compile::compile_file;
+use crate::compile::compile_bytes;
 use crate::error::{CliError, CmdResult};
 use crate::io::stdout::outln;
 
@@ -54,7 +54,7 @@ pub fn run(args: BuildArgs) -> CmdResult {
         terminal: std::io::stderr().is_terminal(),
         verbose: args.verbose,
     };
-    let summary = batch::run(&jobs, &problems, &settings, &compile_file)?;
+    let summary = batch::run(&jobs, &problems, &settings, &compile_bytes)?;
     match shard {
         Some(s) => outln!("shard {s} ({} of {found_count} inputs): {summary}", jobs.len())?,
         None => outln!("{summary}")?,

@@ -24,7 +24,7 @@
 mod adjacency;
 mod sheet;
 
-pub use adjacency::{Region, abutting, class_edges, colour, touching};
+pub use adjacency::{Neighbours, Region, abutting, class_edges, colour, touching};
 pub use sheet::sheet_toml;
 
 use std::collections::BTreeMap;
@@ -305,7 +305,8 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
     // Shapes that share a border with another filled shape are regions of a
     // tessellation (a map's small districts), however small they have become.
     let regions: Vec<Region<'_>> = shapes.iter().map(|f| f.region).collect();
-    let abuts = abutting(&regions, ABUT_MM);
+    let neighbours = Neighbours::of(&regions);
+    let abuts = neighbours.abutting(ABUT_MM);
     let mut class_of = vec![None; shapes.len()];
     for (k, f) in shapes.iter().enumerate() {
         let e = &d.elements[f.i];
@@ -352,7 +353,7 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
     }
     // Colour the fill classes: touching regions of different fills get different textures.
     // Touching (or lying in) each other, through the R*-tree.
-    let edges = class_edges(&regions, &class_of, NEAR_MM);
+    let edges = neighbours.class_edges(&class_of, NEAR_MM);
     let mut order: Vec<usize> = (0..fills.len()).collect();
     order.sort_by(|&a, &b| fills[b].area_mm2.total_cmp(&fills[a].area_mm2).then(fills[a].fill.cmp(&fills[b].fill)));
     let colours = colour(fills.len(), &edges, &order, MAX_TEXTURES);

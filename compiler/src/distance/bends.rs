@@ -62,6 +62,9 @@ pub(super) struct Bend {
     k: f64,
     /// Radius of the spot round the vertex where the amplitude may differ, cells.
     spot: f64,
+    /// The rays' gradient lengths and dot product, as [`Bend::wedge`] uses them
+    /// (the same for every sample, so reckoned once).
+    rays: (f64, f64, f64),
 }
 
 impl Bend {
@@ -81,7 +84,21 @@ impl Bend {
         // sin(θ / 2) for the corner's angle θ: the normals' angle is π − θ.
         let sin_half = ((1.0 + (g1.0 * g2.0 + g1.1 * g2.1) / (n1 * n2)) / 2.0).max(0.0).sqrt();
         let spot_mm = half_ramp_mm / sin_half;
-        (spot_mm <= SPOT_MM).then_some(Bend { kind, recs, vertex, k, spot: spot_mm / h })
+        let rays = Bend::rays(kind, &recs);
+        (spot_mm <= SPOT_MM).then_some(Bend { kind, recs, vertex, k, spot: spot_mm / h, rays })
+    }
+
+    /// The sign of the rays' side (a notch is the corner of the region where it is not felt).
+    fn side(kind: u32) -> f64 {
+        if kind == TILE_NOTCH { -1.0 } else { 1.0 }
+    }
+
+    /// The rays' gradients' lengths and their dot product, each signed as a wedge takes them.
+    fn rays(kind: u32, [r1, r2]: &[TilePlane; 2]) -> (f64, f64, f64) {
+        let s = Bend::side(kind);
+        let g = |r: &TilePlane| (s * r.gx as f64, s * r.gy as f64);
+        let (g1, g2) = (g(r1), g(r2));
+        (g1.0.hypot(g1.1), g2.0.hypot(g2.1), g1.0 * g2.0 + g1.1 * g2.1)
     }
 
     /// The code it plays at `(u, w)`, less the bias.
@@ -93,16 +110,14 @@ impl Bend {
     /// vertex along which the records' lines bound the felt region (for a
     /// corner where both codes are positive, for a notch where either is):
     /// the exact distance of that geometry, round round the vertex.
-    fn wedge(&self, u: f64, w: f64) -> f64 {
-        // A notch is the corner of the region where it is not felt.
-        let s = if self.kind == TILE_NOTCH { -1.0 } else { 1.0 };
+    /// `r` is the distance from `(u, w)` to the vertex, in cells.
+    fn wedge(&self, u: f64, w: f64, r: f64) -> f64 {
+        let s = Bend::side(self.kind);
         let a = |r: &TilePlane| s * (r.affine(u, w) - DISTANCE_ZERO as f64);
-        let g = |r: &TilePlane| (s * r.gx as f64, s * r.gy as f64);
         let [r1, r2] = &self.recs;
-        let (a1, a2, g1, g2) = (a(r1), a(r2), g(r1), g(r2));
-        let (n1, n2) = (g1.0.hypot(g1.1), g2.0.hypot(g2.1));
-        let dot = g1.0 * g2.0 + g1.1 * g2.1;
-        let to_vertex = self.k * (u - self.vertex.0).hypot(w - self.vertex.1);
+        let (a1, a2) = (a(r1), a(r2));
+        let (n1, n2, dot) = self.rays;
+        let to_vertex = self.k * r;
         // The foot of the perpendicular on line 1 is on ray 1 where the other
         // code is not negative there, and the same for line 2.
         let d1 = if a2 - a1 * dot / (n1 * n1) >= 0.0 { a1.abs() * self.k / n1 } else { to_vertex };
@@ -116,11 +131,12 @@ impl Bend {
     /// outside the spot the played code is the rays' distance within the
     /// profile's saturated range.
     pub(super) fn close(&self, u: f64, w: f64, e: f64, sat: Saturation) -> bool {
-        let d = self.wedge(u, w);
+        let r = (u - self.vertex.0).hypot(w - self.vertex.1);
+        let d = self.wedge(u, w, r);
         if !sat.close(d, e) {
             return false;
         }
-        let in_spot = (u - self.vertex.0).hypot(w - self.vertex.1) <= self.spot;
+        let in_spot = r <= self.spot;
         let clamp = |v: f64| v.clamp(sat.lo, sat.hi);
         in_spot || (clamp(self.played(u, w)) - clamp(d)).abs() <= TOLERANCE
     }
@@ -131,17 +147,11 @@ impl Bend {
 fn nearest_segments(t: &TileCtx<'_, '_>, keep: impl Fn(Part) -> bool, max: usize) -> Vec<(f64, Seg)> {
     let span = TILE_SIDE as f64 - 1.0;
     let centre = (t.corner.0 + span / 2.0 * t.h, t.corner.1 + span / 2.0 * t.h);
-    let mut near: Vec<(f64, Seg)> = t
-        .bucket
-        .iter()
-        .filter_map(|&n| match t.segs.get(n as usize) {
-            Some(&((a, b), part, _)) if keep(part) => Some((distance2_to_segment(centre, a, b), (a, b))),
-            _ => None,
-        })
-        .collect();
-    near.sort_by(|x, y| x.0.total_cmp(&y.0));
-    near.truncate(max);
-    near
+    let near = t.bucket.iter().filter_map(|&n| match t.segs.get(n as usize) {
+        Some(&((a, b), part, _)) if keep(part) => Some((distance2_to_segment(centre, a, b), (a, b))),
+        _ => None,
+    });
+    super::nearest_first(near, max)
 }
 
 /// The corners and notches that play a tile's samples (`exact`, codes,

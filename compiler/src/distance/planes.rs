@@ -156,13 +156,13 @@ pub(super) fn nearest_lines(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) ->
     }
     for probe in probes.into_iter().flatten() {
         let p = (t.corner.0 + (probe % TILE_SIDE) as f64 * t.h, t.corner.1 + (probe / TILE_SIDE) as f64 * t.h);
-        let mut near: Vec<(f64, u32)> = t
-            .bucket
-            .iter()
-            .filter_map(|&n| t.segs.get(n as usize).map(|((a, b), _, _)| (super::distance2_to_segment(p, *a, *b), n)))
-            .collect();
-        near.sort_by(|a, b| a.0.total_cmp(&b.0));
-        for &(_, n) in near.iter().take(2) {
+        let near = super::nearest_first(
+            t.bucket.iter().filter_map(|&n| {
+                t.segs.get(n as usize).map(|((a, b), _, _)| (super::distance2_to_segment(p, *a, *b), n))
+            }),
+            2,
+        );
+        for &(_, n) in &near {
             let Some(&((a, b), part, _)) = t.segs.get(n as usize) else { continue };
             let len = (b.0 - a.0).hypot(b.1 - a.1);
             if len.is_nan() || len <= 0.0 {

@@ -490,3 +490,22 @@ fn a_clipped_fill_is_felt_only_inside_its_clip() {
     assert!(field_distance(&f, 0.5, (10.0, 10.0)).expect("lattice") > 0.0);
     assert!(field_distance(&f, 0.5, (20.0, 10.0)).is_none_or(|d| d < 0.0));
 }
+
+proptest! {
+    /// `nearest_first` keeps what a stable sort then a truncation keep, ties
+    /// (few distinct keys, so many) and NaN included.
+    #[test]
+    fn nearest_first_is_a_stable_sort_cut_short(
+        keys in proptest::collection::vec(prop_oneof![0u8..6, Just(255u8)], 0..40),
+        max in 0usize..12,
+    ) {
+        let v: Vec<(f64, usize)> =
+            keys.iter().enumerate().map(|(i, &k)| (if k == 255 { f64::NAN } else { k as f64 }, i)).collect();
+        let mut want = v.clone();
+        want.sort_by(|a, b| a.0.total_cmp(&b.0));
+        want.truncate(max);
+        let got = nearest_first(v.into_iter(), max);
+        let ids = |x: &[(f64, usize)]| x.iter().map(|e| e.1).collect::<Vec<_>>();
+        prop_assert_eq!(ids(&got), ids(&want));
+    }
+}

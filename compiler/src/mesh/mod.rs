@@ -201,7 +201,7 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
             )
             .with_help("build with --profile finger3 (or a profile file of family \"finger\")"),
         );
-        return Compiled { bundle: None, diagnostics };
+        return Compiled { bundle: None, diagnostics, fonts_used: Vec::new() };
     }
     let (hf, report) = match height_field(bytes, resolve, opts) {
         Ok(v) => v,
@@ -212,7 +212,7 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
                 MeshError::Far { .. } => d.with_help("build with --fit (and --region for a part) to recentre the model and scale it onto the surface"),
                 _ => d,
             });
-            return Compiled { bundle: None, diagnostics };
+            return Compiled { bundle: None, diagnostics, fonts_used: Vec::new() };
         }
     };
     let scale = if opts.fit.is_some() {
@@ -301,7 +301,7 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
     // The writer validates its own output; a refusal here is reported, not hidden.
     if let Err(e) = bundle.to_bytes() {
         diagnostics.push(Diagnostic::error("T0613", format!("the height field cannot be stored: {e}")));
-        return Compiled { bundle: None, diagnostics };
+        return Compiled { bundle: None, diagnostics, fonts_used: Vec::new() };
     }
-    Compiled { bundle: Some(bundle), diagnostics }
+    Compiled { bundle: Some(bundle), diagnostics, fonts_used: Vec::new() }
 }

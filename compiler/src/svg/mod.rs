@@ -38,14 +38,19 @@ use crate::options::{CompileOptions, DEFAULT_PX_PER_MM};
 /// from the input; one would be a bug, and it is not caught here (the batch
 /// builder catches it at its boundary, so one file cannot stop a batch).
 pub fn compile_svg(svg_text: &str, opts: &CompileOptions) -> Compiled {
-    let mut diagnostics = Vec::new();
-    let bundle = compile(svg_text, opts, &mut diagnostics);
+    let (mut diagnostics, mut fonts_used) = (Vec::new(), Vec::new());
+    let bundle = compile(svg_text, opts, &mut diagnostics, &mut fonts_used);
     let bundle = if has_errors(&diagnostics) { None } else { bundle };
-    Compiled { bundle, diagnostics }
+    Compiled { bundle, diagnostics, fonts_used }
 }
 
 /// The pipeline: resolve → prepare → layers → design rules → bundle.
-fn compile(text: &str, opts: &CompileOptions, diags: &mut Vec<Diagnostic>) -> Option<Bundle> {
+fn compile(
+    text: &str,
+    opts: &CompileOptions,
+    diags: &mut Vec<Diagnostic>,
+    fonts_used: &mut Vec<drawing::FontFace>,
+) -> Option<Bundle> {
     let px = match opts.resolution_px_per_mm {
         None => DEFAULT_PX_PER_MM,
         Some(r) if r.is_finite() && (0.1..=200.0).contains(&r) => r,
@@ -57,7 +62,7 @@ fn compile(text: &str, opts: &CompileOptions, diags: &mut Vec<Diagnostic>) -> Op
             return None;
         }
     };
-    let mut drawing = drawing::resolve_into(text, opts, diags, &mut Vec::new())?;
+    let mut drawing = drawing::resolve_into(text, opts, diags, fonts_used)?;
     // Styles asked of shapes that are not drawn count as asked (for the T0300 message below).
     let not_drawn = diags.iter().filter(|d| d.code == drawing::NOT_DRAWN).count();
     crate::prepare::prepare(&mut drawing, opts, diags);
