@@ -52,6 +52,8 @@ pub const BACKGROUND_SHARE: f64 = 0.9;
 pub const MIN_ALPHA: u8 = 26;
 /// Fills whose every channel is at least this light are paper, not regions.
 pub const WHITE: u8 = 240;
+/// Fills enclosing no more than this many mm² enclose nothing that can be seen.
+const MIN_FILL_MM2: f64 = 1e-6;
 /// Radius of the dots of braille the automatic sheet writes (NLS 800: 1.44 mm base).
 const BRAILLE_RADIUS_MM: f64 = 0.72;
 /// Clearance kept between two pieces of braille, so labels are felt apart.
@@ -275,8 +277,12 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
             Shape::Text(t) => texts.push((i, t)),
             Shape::Path(p) => {
                 let paint = e.paint;
-                let filled =
-                    paint.filled && paint.fill.is_none_or(|c| visible(c) && !c[..3].iter().all(|&v| v >= WHITE));
+                // A fill that encloses nothing (a `<line>`, which SVG fills by default, or
+                // collinear points) is not seen, so not a region: taken for one, it would
+                // abut the lines it crosses and lose its vibrating stroke (a chart's axes).
+                let filled = paint.filled
+                    && paint.fill.is_none_or(|c| visible(c) && !c[..3].iter().all(|&v| v >= WHITE))
+                    && area(&p.outline) > MIN_FILL_MM2;
                 let stroked = paint.stroked && paint.stroke_width_mm > 0.0 && paint.stroke.is_none_or(visible);
                 if filled && backgrounds.contains(&i) {
                     dec.left_out = Some(LeftOut::Background);

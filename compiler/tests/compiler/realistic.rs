@@ -102,3 +102,39 @@ fn auto_never_gives_touching_regions_of_different_fills_one_texture() {
         }
     }
 }
+
+/// The styles the automatic sheet gives each element of `svg`, by id.
+fn auto_styles(svg: &str) -> Vec<(String, Vec<&'static str>)> {
+    let opts = taxel_compiler::CompileOptions::new(stress2());
+    let r = taxel_compiler::drawing::resolve(svg, &opts);
+    let d = r.drawing.unwrap_or_else(|| panic!("no drawing: {:#?}", r.diagnostics));
+    d.elements.iter().map(|e| (e.id.clone(), e.styles.iter().map(|s| s.name()).collect())).collect()
+}
+
+fn styles_of<'a>(all: &'a [(String, Vec<&'static str>)], id: &str) -> &'a [&'static str] {
+    &all.iter().find(|(i, _)| i == id).unwrap_or_else(|| panic!("no #{id} in {all:?}")).1
+}
+
+/// Regression (PreFigure's tactile diagrams): a `<line>` is filled black by
+/// default but encloses nothing; taken for a filled region, the axes and the
+/// tick marks that cross them abutted as regions of a tessellation and lost
+/// their vibrating strokes, so a chart's axes built into nothing (T0300).
+#[test]
+fn lines_that_cross_keep_their_strokes_and_are_no_regions() {
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="310" height="310" viewBox="0 0 310 310">
+  <g stroke="black" stroke-width="2">
+    <line id="x-axis" x1="5" y1="219.3" x2="305" y2="219.3"/>
+    <line id="tick" x1="176.4" y1="222.3" x2="176.4" y2="216.3"/>
+    <line id="y-axis" x1="90.7" y1="305" x2="90.7" y2="5"/>
+  </g>
+  <line id="unstroked" x1="5" y1="20" x2="305" y2="20"/>
+</svg>"##;
+    let s = auto_styles(svg);
+    for id in ["x-axis", "tick", "y-axis"] {
+        assert_eq!(styles_of(&s, id), ["vibrate"], "#{id}: {s:?}");
+    }
+    assert!(styles_of(&s, "unstroked").is_empty(), "{s:?}");
+    let c = super::common::compile(svg);
+    assert!(super::common::with_code(&c, "T0301").is_empty(), "{:#?}", c.diagnostics);
+    super::common::bundle(&c);
+}
