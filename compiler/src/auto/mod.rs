@@ -409,11 +409,20 @@ fn backgrounds(d: &Drawing, page: Bbox) -> Vec<usize> {
     // Each candidate looks at every other shape once; a drawing has a few
     // backgrounds, so a flood of page-sized shapes is cut short (never all pairs).
     let mut candidates = 0;
+    // What a shape covers is its own area on the page, not its box's: a flag's
+    // cross or a logo's disc spans the page without covering it.
+    let covered = |i: usize| match &d.elements[i].shape {
+        Shape::Path(p) => area_within(&p.outline, page),
+        _ => 0.0,
+    };
     for (i, b) in boxes.iter().enumerate() {
         let Some(b) = *b else { continue };
-        if area(b) >= BACKGROUND_SHARE * area(page) {
+        if area(b) >= BACKGROUND_SHARE * area(page) && covered(i) >= BACKGROUND_SHARE * area(page) {
             out.push(i);
-        } else if area(b) >= BACKGROUND_SHARE * area(extent) && candidates < 8 {
+        } else if area(b) >= BACKGROUND_SHARE * area(extent)
+            && candidates < 8
+            && covered(i) >= BACKGROUND_SHARE * area(extent)
+        {
             candidates += 1;
             let under = |j: usize, o: Bbox| {
                 j != i && o.0 >= b.0 && o.1 >= b.1 && o.2 <= b.2 && o.3 <= b.3 && (o.2 - o.0).max(o.3 - o.1) > MARK_MM
@@ -424,6 +433,39 @@ fn backgrounds(d: &Drawing, page: Bbox) -> Vec<usize> {
         }
     }
     out
+}
+
+/// Area enclosed by `polys` inside the box `b`: each ring clipped to the box
+/// (Sutherland and Hodgman: exact for a convex window), then [`area`].
+fn area_within(polys: &[Polyline], b: Bbox) -> f64 {
+    // The window's four sides as "keep where f(p) >= 0" and the crossing with the side.
+    type Side = (fn((f64, f64), f64) -> f64, f64);
+    let sides: [Side; 4] =
+        [(|p, x0| p.0 - x0, b.0), (|p, y0| p.1 - y0, b.1), (|p, x1| x1 - p.0, b.2), (|p, y1| y1 - p.1, b.3)];
+    let clipped: Vec<Polyline> = polys
+        .iter()
+        .map(|pl| {
+            let mut ring = pl.points.clone();
+            for (f, v) in sides {
+                let n = ring.len();
+                let mut next = Vec::with_capacity(n + 4);
+                for k in 0..n {
+                    let (a, c) = (ring[k], ring[(k + 1) % n]);
+                    let (fa, fc) = (f(a, v), f(c, v));
+                    if fa >= 0.0 {
+                        next.push(a);
+                    }
+                    if (fa >= 0.0) != (fc >= 0.0) {
+                        let t = fa / (fa - fc);
+                        next.push((a.0 + t * (c.0 - a.0), a.1 + t * (c.1 - a.1)));
+                    }
+                }
+                ring = next;
+            }
+            Polyline { points: ring, closed: true }
+        })
+        .collect();
+    area(&clipped)
 }
 
 /// Whether one of the element's clip regions lies wholly away from it.

@@ -115,6 +115,33 @@ fn styles_of<'a>(all: &'a [(String, Vec<&'static str>)], id: &str) -> &'a [&'sta
     &all.iter().find(|(i, _)| i == id).unwrap_or_else(|| panic!("no #{id} in {all:?}")).1
 }
 
+/// Regression (flags and logos): a shape whose box spans the page but which
+/// covers only part of it (a flag's cross, a logo's disc) was taken for the
+/// page background and left out, so a flag or logo built into nothing.
+#[test]
+fn a_shape_spanning_the_page_without_covering_it_is_not_its_background() {
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 640 480">
+  <path id="field" fill="#005293" d="M0 0h640v480H0z"/>
+  <path id="cross" fill="#fecb00" d="M176 0v192H0v96h176v192h96V288h368v-96H272V0z"/>
+</svg>"##;
+    let s = auto_styles(svg);
+    assert!(styles_of(&s, "field").is_empty(), "the field covers the page: {s:?}");
+    assert_eq!(styles_of(&s, "cross"), ["grating"], "{s:?}");
+    // A disc inscribed in the page covers a quarter less than it: a region.
+    let disc = r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 256 256">
+  <circle id="disc" cx="128" cy="128" r="128" fill="#368fb9"/>
+</svg>"##;
+    assert_eq!(styles_of(&auto_styles(disc), "disc"), ["grating"]);
+    // A sea larger than the page still covers it: the background.
+    let sea = r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100">
+  <rect id="sea" x="-50" y="-50" width="300" height="200" fill="#9cc0f9"/>
+  <rect id="land" x="20" y="20" width="60" height="40" fill="#e0c080"/>
+</svg>"##;
+    let s = auto_styles(sea);
+    assert!(styles_of(&s, "sea").is_empty(), "{s:?}");
+    assert_eq!(styles_of(&s, "land"), ["grating"], "{s:?}");
+}
+
 /// Regression (PreFigure's tactile diagrams): a `<line>` is filled black by
 /// default but encloses nothing; taken for a filled region, the axes and the
 /// tick marks that cross them abutted as regions of a tessellation and lost
