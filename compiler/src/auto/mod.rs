@@ -16,7 +16,8 @@
 //! - text becomes braille where the braille fits on the page without running
 //!   into other braille, and is left out otherwise, with one note;
 //! - page backgrounds, white or transparent fills, hidden, clipped-away and
-//!   off-page elements, and images are left out.
+//!   off-page elements, and images are left out (white fills count as regions
+//!   when they are all a coloured background carries: a flag's white cross on red).
 //!
 //! [`sheet_toml`] writes the same decisions as a style sheet a teacher can
 //! start from (`taxel style auto [INPUT]`).
@@ -50,7 +51,8 @@ pub const CIRCLE_MM: f64 = 8.0;
 pub const BACKGROUND_SHARE: f64 = 0.9;
 /// Fills and strokes with less alpha than this (of 255) are not seen, so not felt.
 pub const MIN_ALPHA: u8 = 26;
-/// Fills whose every channel is at least this light are paper, not regions.
+/// Fills whose every channel is at least this light are paper, not regions
+/// (unless they are all that a coloured background carries).
 pub const WHITE: u8 = 240;
 /// Fills enclosing no more than this many mm² enclose nothing that can be seen.
 const MIN_FILL_MM2: f64 = 1e-6;
@@ -243,6 +245,18 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
     let (sw, sh) = (profile.surface_w_mm as f64, profile.surface_h_mm as f64);
     let page: Bbox = (0.0, 0.0, d.page.width_mm.min(sw), d.page.height_mm.min(sh));
     let backgrounds = backgrounds(d, page);
+    // White is the paper, except where a coloured ground carries nothing but
+    // white shapes (a flag's white cross on its red field, an app icon's white
+    // glyph on its tile): there the white shapes are the figure. Where other
+    // colours are drawn too (a map's white label boxes), white stays the paper.
+    let paper = |c: Rgba| c[..3].iter().all(|&v| v >= WHITE);
+    let coloured = |e: &Element| e.paint.filled && e.paint.fill.is_none_or(|c| visible(c) && !paper(c));
+    let coloured_ground = backgrounds.iter().any(|&i| coloured(&d.elements[i]));
+    let white_is_figure =
+        coloured_ground
+            && !d.elements.iter().enumerate().any(|(i, e)| {
+                e.visible && matches!(e.shape, Shape::Path(_)) && coloured(e) && !backgrounds.contains(&i)
+            });
     let mut decisions = vec![Decision::default(); d.elements.len()];
     let mut strokes: Vec<Option<[u8; 3]>> = Vec::new();
     let mut classes: BTreeMap<Option<[u8; 3]>, usize> = BTreeMap::new();
@@ -281,7 +295,7 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
                 // collinear points) is not seen, so not a region: taken for one, it would
                 // abut the lines it crosses and lose its vibrating stroke (a chart's axes).
                 let filled = paint.filled
-                    && paint.fill.is_none_or(|c| visible(c) && !c[..3].iter().all(|&v| v >= WHITE))
+                    && paint.fill.is_none_or(|c| visible(c) && (white_is_figure || !paper(c)))
                     && area(&p.outline) > MIN_FILL_MM2;
                 let stroked = paint.stroked && paint.stroke_width_mm > 0.0 && paint.stroke.is_none_or(visible);
                 if filled && backgrounds.contains(&i) {

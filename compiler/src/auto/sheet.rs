@@ -49,7 +49,8 @@ pub fn sheet_toml(profile: &DeviceProfile, input: Option<(&Drawing, &Plan)>) -> 
     s += "#   - filled circles up to 8 mm and compact marks up to 5 mm, and markers, become dots;\n";
     s += "#   - text becomes braille where it fits on the page without running into other braille;\n";
     s += "#   - page backgrounds, white or transparent fills, hidden, clipped-away and\n";
-    s += "#     off-page elements, and images are left out.\n";
+    s += "#     off-page elements, and images are left out (white fills are regions\n";
+    s += "#     when they are all that a coloured background carries).\n";
     s += "# A style sheet selects by id, class, layer, fill and stroke only; for braille and\n";
     s += "# dots annotate the elements (data-tactile=\"braille()\", data-tactile=\"dot()\").\n";
     s += "#\n";

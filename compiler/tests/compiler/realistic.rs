@@ -165,3 +165,29 @@ fn lines_that_cross_keep_their_strokes_and_are_no_regions() {
     assert!(super::common::with_code(&c, "T0301").is_empty(), "{:#?}", c.diagnostics);
     super::common::bundle(&c);
 }
+
+/// Regression (flags and app icons): white fills were always taken for the
+/// paper, so a white cross on a red field (or a white glyph on an icon's
+/// coloured tile) built into nothing (T0300). When they are all a coloured
+/// background carries they are the figure; on white paper, or beside other
+/// colours (a map's white label boxes), they stay left out.
+#[test]
+fn white_shapes_on_a_coloured_background_are_regions() {
+    let flag = r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 640 480">
+  <path id="field" fill="#d52b1e" d="M0 0h640v480H0z"/>
+  <path id="cross" fill="#fff" d="M170 195h300v90H170z M275 90h90v300h-90z"/>
+</svg>"##;
+    let s = auto_styles(flag);
+    assert!(styles_of(&s, "field").is_empty(), "{s:?}");
+    assert_eq!(styles_of(&s, "cross"), ["grating"], "{s:?}");
+    super::common::bundle(&super::common::compile(flag));
+    // The same cross on white paper is paper.
+    let paper = flag.replace("#d52b1e", "#ffffff");
+    let s = auto_styles(&paper);
+    assert!(styles_of(&s, "cross").is_empty(), "{s:?}");
+    // Beside a coloured shape on the red field, the white cross is paper again.
+    let beside = flag.replace("</svg>", r##"<circle id="seal" cx="80" cy="80" r="60" fill="#1e2bd5"/></svg>"##);
+    let s = auto_styles(&beside);
+    assert!(styles_of(&s, "cross").is_empty(), "{s:?}");
+    assert_eq!(styles_of(&s, "seal"), ["grating"], "{s:?}");
+}
