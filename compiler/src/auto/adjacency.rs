@@ -49,6 +49,31 @@ pub fn abutting(regions: &[Region<'_>], abut: f64) -> Vec<bool> {
     out
 }
 
+/// Whether each region shares a border with another region of its own class
+/// (two districts of one colour): their outlines come within `abut` mm and
+/// `class_of` gives both the same class (`None`: no class, never alike).
+/// Only boxes that come that close are looked at, as in [`abutting`].
+pub fn abutting_alike(regions: &[Region<'_>], class_of: &[Option<usize>], abut: f64) -> Vec<bool> {
+    let boxes: Vec<Bbox> = regions.iter().map(|r| r.bbox).collect();
+    let index = spatial::BoxIndex::new(&boxes);
+    let outlines = outlines(regions);
+    let mut out = vec![false; regions.len()];
+    for (k, r) in regions.iter().enumerate() {
+        let Some(c) = class_of.get(k).copied().flatten() else { continue };
+        if out[k] {
+            continue;
+        }
+        for j in index.meeting(spatial::grow(r.bbox, abut)) {
+            if j != k && class_of.get(j).copied().flatten() == Some(c) && outlines.distance(k, j, abut, 0.0) <= abut {
+                out[k] = true;
+                out[j] = true;
+                break;
+            }
+        }
+    }
+    out
+}
+
 /// The pairs `(a, b)`, `a < b`, of classes that touch: some region of class
 /// `a` and some region of class `b` are [`touching`] at `near` mm. The same
 /// edges as classing the pairs [`touching`] returns, but a pair of regions is

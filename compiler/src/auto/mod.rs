@@ -4,7 +4,9 @@
 //!
 //! It runs on the resolved [`Drawing`] and gives styles only to elements that
 //! have none from an annotation or a style sheet:
-//! - stroked lines and outlines vibrate;
+//! - stroked lines and outlines vibrate, and so do the outlines of regions
+//!   that share a border with a region of their own fill (a map's districts
+//!   drawn in one colour: one texture on both sides, only the border tells them apart);
 //! - filled regions become gratings, one texture per distinct fill colour,
 //!   chosen from [`textures`] (wavelengths 3 mm apart, orientations among 0°,
 //!   45°, 90° and 135°: seed 000 §4.2–4.4) so that fills whose regions touch
@@ -25,7 +27,7 @@
 mod adjacency;
 mod sheet;
 
-pub use adjacency::{Region, abutting, class_edges, colour, touching};
+pub use adjacency::{Region, abutting, abutting_alike, class_edges, colour, touching};
 pub use sheet::sheet_toml;
 
 use std::collections::BTreeMap;
@@ -385,12 +387,15 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
         rank[k] = r;
     }
     let fills: Vec<FillClass> = order.iter().map(|&k| fills[k].clone()).collect();
+    // Regions of one fill that share a border (a map's districts drawn in one
+    // colour) have one texture on both sides: only an outline tells them apart.
+    let alike = abutting_alike(&regions, &class_of, ABUT_MM);
     for (k, f) in shapes.iter().enumerate() {
         let dec = &mut decisions[f.i];
         if let Some(c) = dec.region {
             dec.region = Some(rank[c]);
-            if fills[rank[c]].texture.is_none() {
-                // Given up: its outline says where it is.
+            if fills[rank[c]].texture.is_none() || alike[k] {
+                // Given up, or beside its own texture: its outline says where it is.
                 dec.outline = true;
             } else if abuts[k] {
                 // Between textured regions the border is felt as the change of

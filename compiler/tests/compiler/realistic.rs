@@ -191,3 +191,21 @@ fn white_shapes_on_a_coloured_background_are_regions() {
     assert!(styles_of(&s, "cross").is_empty(), "{s:?}");
     assert_eq!(styles_of(&s, "seal"), ["grating"], "{s:?}");
 }
+
+/// Regression (blank maps, styled by a CSS file the drawing does not carry):
+/// districts of one fill that share borders got one texture and no outline,
+/// so a map of France's regions was felt as one blob. Their borders vibrate;
+/// a district of another colour beside them keeps its border as the change of texture.
+#[test]
+fn districts_of_one_fill_that_share_borders_keep_their_borders() {
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="60mm" viewBox="0 0 100 60">
+  <path id="west" d="M10 10h30v40h-30z"/>
+  <path id="east" d="M40 10h30v40h-30z"/>
+  <path id="island" fill="#d52b1e" d="M70 10h20v40h-20z"/>
+</svg>"##;
+    let s = auto_styles(svg);
+    assert_eq!(styles_of(&s, "west"), ["vibrate", "grating"], "{s:?}");
+    assert_eq!(styles_of(&s, "east"), ["vibrate", "grating"], "{s:?}");
+    assert_eq!(styles_of(&s, "island"), ["grating"], "{s:?}");
+    super::common::bundle(&super::common::compile(svg));
+}
