@@ -1,7 +1,7 @@
 //! Which filled regions touch or nearly touch, and a colouring of the
 //! fill classes that keeps touching classes on different textures.
 
-use crate::geometry::{FillRule, Polyline, contains};
+use crate::geometry::{FillRule, Polyline, contains, distance_to_outline};
 use crate::spatial::{self, Bbox};
 
 /// One filled region: its outline and box.
@@ -64,7 +64,12 @@ pub fn abutting_alike(regions: &[Region<'_>], class_of: &[Option<usize>], abut: 
             continue;
         }
         for j in index.meeting(spatial::grow(r.bbox, abut)) {
-            if j != k && class_of.get(j).copied().flatten() == Some(c) && outlines.distance(k, j, abut, 0.0) <= abut {
+            if j != k
+                && class_of.get(j).copied().flatten() == Some(c)
+                && outlines.distance(k, j, abut, 0.0) <= abut
+                && !overlap(&regions[k], &regions[j], abut)
+                && !overlap(&regions[j], &regions[k], abut)
+            {
                 out[k] = true;
                 out[j] = true;
                 break;
@@ -106,6 +111,24 @@ pub fn class_edges(regions: &[Region<'_>], class_of: &[Option<usize>], near: f64
 fn outlines(regions: &[Region<'_>]) -> spatial::OutlineSet {
     spatial::OutlineSet::new(regions.iter().map(|r| r.outline))
 }
+
+/// Whether `a` reaches into `b`: the midpoint of one of `a`'s sides (at most
+/// [`OVERLAP_SAMPLES`] of them, evenly spread) lies inside `b` farther than
+/// `abut` from its outline. Neighbours of a tessellation only share sides; two
+/// pieces of one figure (the bars of a cross) lie across each other.
+fn overlap(a: &Region<'_>, b: &Region<'_>, abut: f64) -> bool {
+    let mids: Vec<(f64, f64)> =
+        a.outline.iter().flat_map(|p| p.segments()).map(|(p, q)| ((p.0 + q.0) / 2.0, (p.1 + q.1) / 2.0)).collect();
+    let step = mids.len().div_ceil(OVERLAP_SAMPLES).max(1);
+    mids.iter().step_by(step).any(|&m| {
+        spatial::meet((m.0, m.1, m.0, m.1), b.bbox)
+            && contains(b.outline, m, FillRule::NonZero)
+            && distance_to_outline(b.outline, m) > abut
+    })
+}
+
+/// Most sides of a region [`overlap`] looks at.
+const OVERLAP_SAMPLES: usize = 64;
 
 /// Whether the outlines of regions `i` and `j` come within `near` mm, or one lies inside the other.
 fn near_or_inside(regions: &[Region<'_>], outlines: &spatial::OutlineSet, i: usize, j: usize, near: f64) -> bool {

@@ -209,3 +209,17 @@ fn districts_of_one_fill_that_share_borders_keep_their_borders() {
     assert_eq!(styles_of(&s, "island"), ["grating"], "{s:?}");
     super::common::bundle(&super::common::compile(svg));
 }
+
+/// The other side of the rule above: a figure drawn as pieces of one fill
+/// that lie across each other (a flag's cross as two bars) is one figure, not
+/// districts, and gets no borders inside it.
+#[test]
+fn overlapping_pieces_of_one_fill_get_no_borders() {
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="60mm" viewBox="0 0 100 60">
+  <path id="bar" fill="#1e2bd5" d="M20 25h60v10h-60z"/>
+  <path id="post" fill="#1e2bd5" d="M45 5h10v50h-10z"/>
+</svg>"##;
+    let s = auto_styles(svg);
+    assert_eq!(styles_of(&s, "bar"), ["grating"], "{s:?}");
+    assert_eq!(styles_of(&s, "post"), ["grating"], "{s:?}");
+}
