@@ -50,8 +50,12 @@ pub fn abutting(regions: &[Region<'_>], abut: f64) -> Vec<bool> {
 }
 
 /// Whether each region shares a border with another region of its own class
-/// (two districts of one colour): their outlines come within `abut` mm and
-/// `class_of` gives both the same class (`None`: no class, never alike).
+/// (two districts of one colour) and lies across none that it meets: their
+/// outlines come within `abut` mm, `class_of` gives both the same class
+/// (`None`: no class, never alike), and neither [`overlap`]s the other. A
+/// region that lies across one of its class (a piece of a larger figure, a
+/// duplicate) is not looked at further, so a pile of identical shapes costs
+/// one test each.
 /// Only boxes that come that close are looked at, as in [`abutting`].
 pub fn abutting_alike(regions: &[Region<'_>], class_of: &[Option<usize>], abut: f64) -> Vec<bool> {
     let boxes: Vec<Bbox> = regions.iter().map(|r| r.bbox).collect();
@@ -60,20 +64,18 @@ pub fn abutting_alike(regions: &[Region<'_>], class_of: &[Option<usize>], abut: 
     let mut out = vec![false; regions.len()];
     for (k, r) in regions.iter().enumerate() {
         let Some(c) = class_of.get(k).copied().flatten() else { continue };
-        if out[k] {
-            continue;
-        }
         for j in index.meeting(spatial::grow(r.bbox, abut)) {
-            if j != k
-                && class_of.get(j).copied().flatten() == Some(c)
-                && outlines.distance(k, j, abut, 0.0) <= abut
-                && !overlap(&regions[k], &regions[j], abut)
-                && !overlap(&regions[j], &regions[k], abut)
-            {
-                out[k] = true;
-                out[j] = true;
+            if j == k || class_of.get(j).copied().flatten() != Some(c) {
+                continue;
+            }
+            if outlines.distance(k, j, abut, 0.0) > abut {
+                continue;
+            }
+            if overlap(r, &regions[j], abut) || overlap(&regions[j], r, abut) {
+                out[k] = false;
                 break;
             }
+            out[k] = true;
         }
     }
     out
@@ -112,19 +114,25 @@ fn outlines(regions: &[Region<'_>]) -> spatial::OutlineSet {
     spatial::OutlineSet::new(regions.iter().map(|r| r.outline))
 }
 
-/// Whether `a` reaches into `b`: the midpoint of one of `a`'s sides (at most
-/// [`OVERLAP_SAMPLES`] of them, evenly spread) lies inside `b` farther than
-/// `abut` from its outline. Neighbours of a tessellation only share sides; two
+/// Whether `a` reaches into `b`: the centre of `a`'s box, or the midpoint of
+/// one of `a`'s sides (at most [`OVERLAP_SAMPLES`] of them, evenly spread),
+/// lies inside `b` (and the centre inside `a`) farther than `abut` from the outline. Neighbours of a tessellation only share sides; two
 /// pieces of one figure (the bars of a cross) lie across each other.
 fn overlap(a: &Region<'_>, b: &Region<'_>, abut: f64) -> bool {
+    // The centre of `a`'s box, where it lies inside `a`, finds a duplicate (whose sides lie on `b`'s).
+    let c = ((a.bbox.0 + a.bbox.2) / 2.0, (a.bbox.1 + a.bbox.3) / 2.0);
+    let deep = |r: &Region<'_>, m: (f64, f64)| {
+        spatial::meet((m.0, m.1, m.0, m.1), r.bbox)
+            && contains(r.outline, m, FillRule::NonZero)
+            && distance_to_outline(r.outline, m) > abut
+    };
+    if deep(a, c) && deep(b, c) {
+        return true;
+    }
     let mids: Vec<(f64, f64)> =
         a.outline.iter().flat_map(|p| p.segments()).map(|(p, q)| ((p.0 + q.0) / 2.0, (p.1 + q.1) / 2.0)).collect();
     let step = mids.len().div_ceil(OVERLAP_SAMPLES).max(1);
-    mids.iter().step_by(step).any(|&m| {
-        spatial::meet((m.0, m.1, m.0, m.1), b.bbox)
-            && contains(b.outline, m, FillRule::NonZero)
-            && distance_to_outline(b.outline, m) > abut
-    })
+    mids.iter().step_by(step).any(|&m| deep(b, m))
 }
 
 /// Most sides of a region [`overlap`] looks at.
