@@ -55,8 +55,8 @@ pub fn abutting(regions: &[Region<'_>], abut: f64) -> Vec<bool> {
 /// (`None`: no class, never alike), and neither [`overlap`]s the other. A
 /// region that lies across one of its class (a piece of a larger figure, a
 /// duplicate) is not looked at further, so a pile of identical shapes costs
-/// one test each.
-/// Only boxes that come that close are looked at, as in [`abutting`].
+/// one test each. Only boxes that come that close are looked at, as in
+/// [`abutting`].
 pub fn abutting_alike(regions: &[Region<'_>], class_of: &[Option<usize>], abut: f64) -> Vec<bool> {
     let boxes: Vec<Bbox> = regions.iter().map(|r| r.bbox).collect();
     let index = spatial::BoxIndex::new(&boxes);
@@ -116,8 +116,9 @@ fn outlines(regions: &[Region<'_>]) -> spatial::OutlineSet {
 
 /// Whether `a` reaches into `b`: the centre of `a`'s box, or the midpoint of
 /// one of `a`'s sides (at most [`OVERLAP_SAMPLES`] of them, evenly spread),
-/// lies inside `b` (and the centre inside `a`) farther than `abut` from the outline. Neighbours of a tessellation only share sides; two
-/// pieces of one figure (the bars of a cross) lie across each other.
+/// lies inside `b` (and the centre inside `a`) farther than `abut` from the
+/// outline. Neighbours of a tessellation only share sides; two pieces of one
+/// figure (the bars of a cross) lie across each other.
 fn overlap(a: &Region<'_>, b: &Region<'_>, abut: f64) -> bool {
     // The centre of `a`'s box, where it lies inside `a`, finds a duplicate (whose sides lie on `b`'s).
     let c = ((a.bbox.0 + a.bbox.2) / 2.0, (a.bbox.1 + a.bbox.3) / 2.0);
