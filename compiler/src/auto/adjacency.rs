@@ -52,7 +52,7 @@ pub fn abutting(regions: &[Region<'_>], abut: f64) -> Vec<bool> {
 /// Whether each region shares a border with another region of its own class
 /// (two districts of one colour) and lies across none that it meets: their
 /// outlines come within `abut` mm, `class_of` gives both the same class
-/// (`None`: no class, never alike), and neither [`overlap`]s the other. A
+/// (`None`: no class, never alike), and neither lies across the other. A
 /// region that lies across one of its class (a piece of a larger figure, a
 /// duplicate) is not looked at further, so a pile of identical shapes costs
 /// one test each. Only boxes that come that close are looked at, as in
