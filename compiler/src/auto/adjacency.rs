@@ -3,7 +3,7 @@
 
 use std::collections::BTreeSet;
 
-use crate::geometry::{FillRule, Polyline, contains};
+use crate::geometry::{FillRule, Polyline, contains, distance_to_outline};
 use crate::spatial::{self, Bbox};
 
 /// One filled region: its outline and box.
@@ -33,6 +33,18 @@ pub fn touching(regions: &[Region<'_>], near: f64) -> Vec<(usize, usize)> {
 /// (a tessellation's few neighbours), however dense the drawing.
 pub fn abutting(regions: &[Region<'_>], abut: f64) -> Vec<bool> {
     Neighbours::of(regions).abutting(abut)
+}
+
+/// Whether each region shares a border with another region of its own class
+/// (two districts of one colour) and lies across none that it meets: their
+/// outlines come within `abut` mm, `class_of` gives both the same class
+/// (`None`: no class, never alike), and neither lies across the other. A
+/// region that lies across one of its class (a piece of a larger figure, a
+/// duplicate) is not looked at further, so a pile of identical shapes costs
+/// one test each. Only boxes that come that close are looked at, as in
+/// [`abutting`].
+pub fn abutting_alike(regions: &[Region<'_>], class_of: &[Option<usize>], abut: f64) -> Vec<bool> {
+    Neighbours::of(regions).abutting_alike(class_of, abut)
 }
 
 /// The pairs `(a, b)`, `a < b`, of classes that touch: some region of class
@@ -83,6 +95,29 @@ impl<'r, 'a> Neighbours<'r, 'a> {
         out
     }
 
+    /// [`abutting_alike`].
+    pub fn abutting_alike(&self, class_of: &[Option<usize>], abut: f64) -> Vec<bool> {
+        let regions = self.regions;
+        let mut out = vec![false; regions.len()];
+        for (k, r) in regions.iter().enumerate() {
+            let Some(c) = class_of.get(k).copied().flatten() else { continue };
+            for j in self.index.meeting(spatial::grow(r.bbox, abut)) {
+                if j == k || class_of.get(j).copied().flatten() != Some(c) {
+                    continue;
+                }
+                if self.outlines.distance(k, j, abut, 0.0) > abut {
+                    continue;
+                }
+                if overlap(r, &regions[j], abut) || overlap(&regions[j], r, abut) {
+                    out[k] = false;
+                    break;
+                }
+                out[k] = true;
+            }
+        }
+        out
+    }
+
     /// [`class_edges`]. Runs of regions are searched in parallel, each
     /// pruning with the edges it has found itself; the edges are their
     /// union, sorted, so the result does not depend on how the work was shared.
@@ -118,6 +153,31 @@ impl<'r, 'a> Neighbours<'r, 'a> {
 fn outlines(regions: &[Region<'_>]) -> spatial::OutlineSet {
     spatial::OutlineSet::new(regions.iter().map(|r| r.outline))
 }
+
+/// Whether `a` reaches into `b`: the centre of `a`'s box, or the midpoint of
+/// one of `a`'s sides (at most [`OVERLAP_SAMPLES`] of them, evenly spread),
+/// lies inside `b` (and the centre inside `a`) farther than `abut` from the
+/// outline. Neighbours of a tessellation only share sides; two pieces of one
+/// figure (the bars of a cross) lie across each other.
+fn overlap(a: &Region<'_>, b: &Region<'_>, abut: f64) -> bool {
+    // The centre of `a`'s box, where it lies inside `a`, finds a duplicate (whose sides lie on `b`'s).
+    let c = ((a.bbox.0 + a.bbox.2) / 2.0, (a.bbox.1 + a.bbox.3) / 2.0);
+    let deep = |r: &Region<'_>, m: (f64, f64)| {
+        spatial::meet((m.0, m.1, m.0, m.1), r.bbox)
+            && contains(r.outline, m, FillRule::NonZero)
+            && distance_to_outline(r.outline, m) > abut
+    };
+    if deep(a, c) && deep(b, c) {
+        return true;
+    }
+    let mids: Vec<(f64, f64)> =
+        a.outline.iter().flat_map(|p| p.segments()).map(|(p, q)| ((p.0 + q.0) / 2.0, (p.1 + q.1) / 2.0)).collect();
+    let step = mids.len().div_ceil(OVERLAP_SAMPLES).max(1);
+    mids.iter().step_by(step).any(|&m| deep(b, m))
+}
+
+/// Most sides of a region [`overlap`] looks at.
+const OVERLAP_SAMPLES: usize = 64;
 
 /// Whether the outlines of regions `i` and `j` come within `near` mm, or one lies inside the other.
 fn near_or_inside(regions: &[Region<'_>], outlines: &spatial::OutlineSet, i: usize, j: usize, near: f64) -> bool {

@@ -4,7 +4,9 @@
 //!
 //! It runs on the resolved [`Drawing`] and gives styles only to elements that
 //! have none from an annotation or a style sheet:
-//! - stroked lines and outlines vibrate;
+//! - stroked lines and outlines vibrate, and so do the outlines of regions
+//!   that share a border with a region of their own fill (a map's districts
+//!   drawn in one colour: one texture on both sides, only the border tells them apart);
 //! - filled regions become gratings, one texture per distinct fill colour,
 //!   chosen from [`textures`] (wavelengths 3 mm apart, orientations among 0°,
 //!   45°, 90° and 135°: seed 000 §4.2–4.4) so that fills whose regions touch
@@ -16,7 +18,8 @@
 //! - text becomes braille where the braille fits on the page without running
 //!   into other braille, and is left out otherwise, with one note;
 //! - page backgrounds, white or transparent fills, hidden, clipped-away and
-//!   off-page elements, and images are left out.
+//!   off-page elements, and images are left out (white fills count as regions
+//!   when they are all a coloured background carries: a flag's white cross on red).
 //!
 //! [`sheet_toml`] writes the same decisions as a style sheet a teacher can
 //! start from (`taxel style auto [INPUT]`).
@@ -24,7 +27,7 @@
 mod adjacency;
 mod sheet;
 
-pub use adjacency::{Neighbours, Region, abutting, class_edges, colour, touching};
+pub use adjacency::{Neighbours, Region, abutting, abutting_alike, class_edges, colour, touching};
 pub use sheet::sheet_toml;
 
 use std::collections::BTreeMap;
@@ -50,8 +53,11 @@ pub const CIRCLE_MM: f64 = 8.0;
 pub const BACKGROUND_SHARE: f64 = 0.9;
 /// Fills and strokes with less alpha than this (of 255) are not seen, so not felt.
 pub const MIN_ALPHA: u8 = 26;
-/// Fills whose every channel is at least this light are paper, not regions.
+/// Fills whose every channel is at least this light are paper, not regions
+/// (unless they are all that a coloured background carries).
 pub const WHITE: u8 = 240;
+/// Fills enclosing no more than this many mm² enclose nothing that can be seen.
+const MIN_FILL_MM2: f64 = 1e-6;
 /// Radius of the dots of braille the automatic sheet writes (NLS 800: 1.44 mm base).
 const BRAILLE_RADIUS_MM: f64 = 0.72;
 /// Clearance kept between two pieces of braille, so labels are felt apart.
@@ -241,6 +247,18 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
     let (sw, sh) = (profile.surface_w_mm as f64, profile.surface_h_mm as f64);
     let page: Bbox = (0.0, 0.0, d.page.width_mm.min(sw), d.page.height_mm.min(sh));
     let backgrounds = backgrounds(d, page);
+    // White is the paper, except where a coloured ground carries nothing but
+    // white shapes (a flag's white cross on its red field, an app icon's white
+    // glyph on its tile): there the white shapes are the figure. Where other
+    // colours are drawn too (a map's white label boxes), white stays the paper.
+    let paper = |c: Rgba| c[..3].iter().all(|&v| v >= WHITE);
+    let coloured = |e: &Element| e.paint.filled && e.paint.fill.is_none_or(|c| visible(c) && !paper(c));
+    let coloured_ground = backgrounds.iter().any(|&i| coloured(&d.elements[i]));
+    let white_is_figure =
+        coloured_ground
+            && !d.elements.iter().enumerate().any(|(i, e)| {
+                e.visible && matches!(e.shape, Shape::Path(_)) && coloured(e) && !backgrounds.contains(&i)
+            });
     let mut decisions = vec![Decision::default(); d.elements.len()];
     let mut strokes: Vec<Option<[u8; 3]>> = Vec::new();
     let mut classes: BTreeMap<Option<[u8; 3]>, usize> = BTreeMap::new();
@@ -275,8 +293,12 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
             Shape::Text(t) => texts.push((i, t)),
             Shape::Path(p) => {
                 let paint = e.paint;
-                let filled =
-                    paint.filled && paint.fill.is_none_or(|c| visible(c) && !c[..3].iter().all(|&v| v >= WHITE));
+                // A fill that encloses nothing (a `<line>`, which SVG fills by default, or
+                // collinear points) is not seen, so not a region: taken for one, it would
+                // abut the lines it crosses and lose its vibrating stroke (a chart's axes).
+                let filled = paint.filled
+                    && paint.fill.is_none_or(|c| visible(c) && (white_is_figure || !paper(c)))
+                    && area(&p.outline) > MIN_FILL_MM2;
                 let stroked = paint.stroked && paint.stroke_width_mm > 0.0 && paint.stroke.is_none_or(visible);
                 if filled && backgrounds.contains(&i) {
                     dec.left_out = Some(LeftOut::Background);
@@ -366,12 +388,15 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
         rank[k] = r;
     }
     let fills: Vec<FillClass> = order.iter().map(|&k| fills[k].clone()).collect();
+    // Regions of one fill that share a border (a map's districts drawn in one
+    // colour) have one texture on both sides: only an outline tells them apart.
+    let alike = neighbours.abutting_alike(&class_of, ABUT_MM);
     for (k, f) in shapes.iter().enumerate() {
         let dec = &mut decisions[f.i];
         if let Some(c) = dec.region {
             dec.region = Some(rank[c]);
-            if fills[rank[c]].texture.is_none() {
-                // Given up: its outline says where it is.
+            if fills[rank[c]].texture.is_none() || alike[k] {
+                // Given up, or beside its own texture: its outline says where it is.
                 dec.outline = true;
             } else if abuts[k] {
                 // Between textured regions the border is felt as the change of
@@ -404,11 +429,20 @@ fn backgrounds(d: &Drawing, page: Bbox) -> Vec<usize> {
     // Each candidate looks at every other shape once; a drawing has a few
     // backgrounds, so a flood of page-sized shapes is cut short (never all pairs).
     let mut candidates = 0;
+    // What a shape covers is its own area on the page, not its box's: a flag's
+    // cross or a logo's disc spans the page without covering it.
+    let covered = |i: usize| match &d.elements[i].shape {
+        Shape::Path(p) => area_within(&p.outline, page),
+        _ => 0.0,
+    };
     for (i, b) in boxes.iter().enumerate() {
         let Some(b) = *b else { continue };
-        if area(b) >= BACKGROUND_SHARE * area(page) {
+        if area(b) >= BACKGROUND_SHARE * area(page) && covered(i) >= BACKGROUND_SHARE * area(page) {
             out.push(i);
-        } else if area(b) >= BACKGROUND_SHARE * area(extent) && candidates < 8 {
+        } else if area(b) >= BACKGROUND_SHARE * area(extent)
+            && candidates < 8
+            && covered(i) >= BACKGROUND_SHARE * area(extent)
+        {
             candidates += 1;
             let under = |j: usize, o: Bbox| {
                 j != i && o.0 >= b.0 && o.1 >= b.1 && o.2 <= b.2 && o.3 <= b.3 && (o.2 - o.0).max(o.3 - o.1) > MARK_MM
@@ -419,6 +453,39 @@ fn backgrounds(d: &Drawing, page: Bbox) -> Vec<usize> {
         }
     }
     out
+}
+
+/// Area enclosed by `polys` inside the box `b`: each ring clipped to the box
+/// (Sutherland and Hodgman: exact for a convex window), then [`area`].
+fn area_within(polys: &[Polyline], b: Bbox) -> f64 {
+    // The window's four sides as "keep where f(p) >= 0" and the crossing with the side.
+    type Side = (fn((f64, f64), f64) -> f64, f64);
+    let sides: [Side; 4] =
+        [(|p, x0| p.0 - x0, b.0), (|p, y0| p.1 - y0, b.1), (|p, x1| x1 - p.0, b.2), (|p, y1| y1 - p.1, b.3)];
+    let clipped: Vec<Polyline> = polys
+        .iter()
+        .map(|pl| {
+            let mut ring = pl.points.clone();
+            for (f, v) in sides {
+                let n = ring.len();
+                let mut next = Vec::with_capacity(n + 4);
+                for k in 0..n {
+                    let (a, c) = (ring[k], ring[(k + 1) % n]);
+                    let (fa, fc) = (f(a, v), f(c, v));
+                    if fa >= 0.0 {
+                        next.push(a);
+                    }
+                    if (fa >= 0.0) != (fc >= 0.0) {
+                        let t = fa / (fa - fc);
+                        next.push((a.0 + t * (c.0 - a.0), a.1 + t * (c.1 - a.1)));
+                    }
+                }
+                ring = next;
+            }
+            Polyline { points: ring, closed: true }
+        })
+        .collect();
+    area(&clipped)
 }
 
 /// Whether one of the element's clip regions lies wholly away from it.

@@ -42,14 +42,16 @@ pub fn sheet_toml(profile: &DeviceProfile, input: Option<(&Drawing, &Plan)>) -> 
     s += "# sheet: edit the rules, then build with `--style THIS_FILE` (docs/annotations.md).\n";
     s += "#\n";
     s += "# What the automatic sheet decides from the drawing itself:\n";
-    s += "#   - stroked lines and outlines vibrate;\n";
+    s += "#   - stroked lines and outlines vibrate, and so do the borders between regions\n";
+    s += "#     of one fill (a map's districts drawn in one colour);\n";
     s += "#   - each filled colour becomes one of the textures below, largest area first,\n";
     s += "#     so that colours whose regions touch (closer than 3.2 mm) never share one;\n";
     s += "#     at most five textures; a colour that would need a sixth keeps only its outline;\n";
     s += "#   - filled circles up to 8 mm and compact marks up to 5 mm, and markers, become dots;\n";
     s += "#   - text becomes braille where it fits on the page without running into other braille;\n";
     s += "#   - page backgrounds, white or transparent fills, hidden, clipped-away and\n";
-    s += "#     off-page elements, and images are left out.\n";
+    s += "#     off-page elements, and images are left out (white fills are regions\n";
+    s += "#     when they are all that a coloured background carries).\n";
     s += "# A style sheet selects by id, class, layer, fill and stroke only; for braille and\n";
     s += "# dots annotate the elements (data-tactile=\"braille()\", data-tactile=\"dot()\").\n";
     s += "#\n";
@@ -78,9 +80,18 @@ pub fn sheet_toml(profile: &DeviceProfile, input: Option<(&Drawing, &Plan)>) -> 
             stroked_fills.push((k, [c[0], c[1], c[2]], dec.outline));
         }
     }
+    // Fills whose unstroked regions were given an outline (they share borders
+    // with regions of their own fill).
+    let mut outlined = vec![false; plan.fills.len()];
+    for (dec, e) in plan.decisions.iter().zip(&d.elements) {
+        if let Some(k) = dec.region.filter(|&k| k < outlined.len() && dec.outline && !e.paint.stroked) {
+            outlined[k] = true;
+        }
+    }
     let line = vibrate(&plan.outline);
     for (k, f) in plan.fills.iter().enumerate() {
         let what = match f.texture {
+            Some(t) if outlined[k] => format!("{line}; {}", grating(&tex[t])),
             Some(t) => grating(&tex[t]),
             None => line.clone(),
         };
