@@ -178,6 +178,46 @@ pub fn contains(polys: &[Polyline], p: (f64, f64), rule: FillRule) -> bool {
     }
 }
 
+/// Douglas–Peucker simplification: the points of `points` that keep every
+/// dropped point within `tol` of the result (a closed ring is split at its
+/// first point and the point farthest from it).
+pub fn simplify(points: &[(f64, f64)], closed: bool, tol: f64) -> Vec<(f64, f64)> {
+    if points.len() <= 3 {
+        return points.to_vec();
+    }
+    let mut keep = vec![false; points.len()];
+    let last = points.len() - 1;
+    keep[0] = true;
+    keep[last] = true;
+    let mut stack = vec![(0usize, last)];
+    if closed {
+        // The farthest point from the first splits the ring into two chains.
+        let far = (1..points.len())
+            .max_by(|&a, &b| dist(points[0], points[a]).total_cmp(&dist(points[0], points[b])))
+            .unwrap_or(last);
+        keep[far] = true;
+        stack = vec![(0, far), (far, last)];
+    }
+    while let Some((a, b)) = stack.pop() {
+        if b <= a + 1 {
+            continue;
+        }
+        let (mut worst, mut at) = (0.0, a);
+        for i in a + 1..b {
+            let d = distance_to_segment(points[i], points[a], points[b]);
+            if d > worst {
+                (worst, at) = (d, i);
+            }
+        }
+        if worst > tol {
+            keep[at] = true;
+            stack.push((a, at));
+            stack.push((at, b));
+        }
+    }
+    points.iter().zip(keep).filter(|(_, k)| *k).map(|(p, _)| *p).collect()
+}
+
 /// Distance from `p` to the nearest point of a segment.
 pub fn distance_to_segment(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);
@@ -289,6 +329,27 @@ mod tests {
         }
         let exact = 2.0 * core::f64::consts::PI * 10.0;
         assert!((polys[0].length() - exact).abs() / exact < 1e-3);
+    }
+
+    #[test]
+    fn simplify_keeps_every_point_within_tolerance() {
+        // A small circle as the fields flatten it: many more sides than a
+        // 2 um tolerance needs.
+        let path = PathBuilder::from_circle(0.0, 0.0, 0.7).unwrap();
+        let ring = &flatten(&path, Transform::identity(), FLATTEN_TOLERANCE_MM)[0];
+        for tol in [0.002, 0.01, 0.05] {
+            let kept = simplify(&ring.points, true, tol);
+            assert!(kept.len() < ring.points.len(), "tolerance {tol}: nothing dropped");
+            assert!(kept.len() >= 3, "tolerance {tol}: the ring collapsed");
+            let out = Polyline { points: kept, closed: true };
+            for &p in &ring.points {
+                let d = out.segments().map(|(a, b)| distance_to_segment(p, a, b)).fold(f64::INFINITY, f64::min);
+                assert!(d <= tol + 1e-12, "tolerance {tol}: {p:?} is {d} from the simplified ring");
+            }
+        }
+        // Collinear points go, corners stay.
+        let l = [(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (2.0, 1.0), (2.0, 2.0)];
+        assert_eq!(simplify(&l, false, 0.001), vec![(0.0, 0.0), (2.0, 0.0), (2.0, 2.0)]);
     }
 
     #[test]

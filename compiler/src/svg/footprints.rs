@@ -8,7 +8,7 @@
 
 use taxel_format::{Footprint, FootprintKind, Footprints};
 
-use crate::geometry::{FillRule, Polyline, distance_to_segment};
+use crate::geometry::{FillRule, Polyline};
 
 /// How far a simplified outline may stray from the drawing's: far below a
 /// finger's resolution, and it keeps a typical map's chunk a few kilobytes.
@@ -121,45 +121,9 @@ pub(crate) fn chunk(mut pending: Vec<Pending>) -> Option<Footprints> {
     })
 }
 
-/// Douglas–Peucker simplification to [`SIMPLIFY_MM`] (a closed ring is
-/// split at its first point and the point farthest from it).
+/// Douglas–Peucker simplification to [`SIMPLIFY_MM`].
 fn simplify(points: &[(f64, f64)], closed: bool) -> Vec<(f64, f64)> {
-    if points.len() <= 3 {
-        return points.to_vec();
-    }
-    let mut keep = vec![false; points.len()];
-    let last = points.len() - 1;
-    keep[0] = true;
-    keep[last] = true;
-    let mut stack = vec![(0usize, last)];
-    if closed {
-        // The farthest point from the first splits the ring into two chains.
-        let far = (1..points.len())
-            .max_by(|&a, &b| {
-                crate::geometry::dist(points[0], points[a]).total_cmp(&crate::geometry::dist(points[0], points[b]))
-            })
-            .unwrap_or(last);
-        keep[far] = true;
-        stack = vec![(0, far), (far, last)];
-    }
-    while let Some((a, b)) = stack.pop() {
-        if b <= a + 1 {
-            continue;
-        }
-        let (mut worst, mut at) = (0.0, a);
-        for i in a + 1..b {
-            let d = distance_to_segment(points[i], points[a], points[b]);
-            if d > worst {
-                (worst, at) = (d, i);
-            }
-        }
-        if worst > SIMPLIFY_MM {
-            keep[at] = true;
-            stack.push((a, at));
-            stack.push((at, b));
-        }
-    }
-    points.iter().zip(keep).filter(|(_, k)| *k).map(|(p, _)| *p).collect()
+    crate::geometry::simplify(points, closed, SIMPLIFY_MM)
 }
 
 #[cfg(test)]
