@@ -5,9 +5,11 @@
 //! it reads two packed sample pairs, the pair above it and the pair below
 //! it; the eight reads of a group share one window whose bounds are checked
 //! once, and the compiler proves each read in it in bounds, so the reads
-//! themselves carry no check. (An 8-bit pair is read as the first half of a
-//! u32, which loads straight into a vector lane; the lanes' low halves are
-//! then gathered into one vector, see [`quads_to_pairs`].) It interpolates horizontally
+//! themselves carry no check. (On x86-64 each 8-bit pair goes from memory
+//! straight into its 16-bit lane, `pinsrw`; elsewhere it is read as the
+//! first half of a u32, which loads straight into a vector lane, and the
+//! lanes' low halves are then gathered into one vector, see
+//! `quads_to_pairs`.) It interpolates horizontally
 //! in fixed point: the pair's 16-bit lanes are multiplied by the weights
 //! `(W − w, w)` and added in one instruction (`pmaddwd` on x86-64). It then
 //! interpolates vertically, and applies the primitive, in `f32` lanes.
@@ -179,11 +181,11 @@ impl<'a> MaskLayer<'a> {
                 (half(u32x4::new(t.map(|t| pair(b0 + t)))), half(u32x4::new(t.map(|t| pair(b1 + t)))))
             })
         } else {
-            // Each pair is read as the first two bytes of a u32, which goes
-            // straight into a vector lane (a u16 read would pass through a
-            // general register, one lane at a time); `quads_to_pairs`
-            // gathers the eight pairs into one vector, whose bytes then
-            // widen to two i16x8. The reads lie
+            // On x86-64 each pair goes from memory into its 16-bit lane
+            // (`pairs_to_lanes`); elsewhere each is read as the first two
+            // bytes of a u32, which goes straight into a vector lane, and
+            // `quads_to_pairs` gathers the eight into one vector. The
+            // vector's bytes then widen to two i16x8. The reads lie
             // between the first tap of the upper row and the end of the last
             // tap's u32 in the lower row: one check of that window covers
             // all eight (the caller passes b0 ≤ b1 and taps bounded by the
@@ -193,8 +195,23 @@ impl<'a> MaskLayer<'a> {
                 let (b0, b1, last) = (b0 as usize, b1 as usize, t[LANES - 1] as usize);
                 let t = t.map(|t| (t as usize).min(last));
                 let bytes: u8x16 = if let Some(win) = s.get(..b1 + last + 4) {
-                    let quad = |a: usize| win.get(a..a + 4).map_or(0, |p| i32::from_le_bytes([p[0], p[1], p[2], p[3]]));
-                    quads_to_pairs(t.map(|t| quad(b0 + t)), t.map(|t| quad(b1 + t)))
+                    #[cfg(target_arch = "x86_64")]
+                    {
+                        // The first pair as a u32, the others as u16s: see `pairs_to_lanes`.
+                        let pair =
+                            |a: usize| win.get(a..a + 2).map_or(0, |p| i32::from(u16::from_le_bytes([p[0], p[1]])));
+                        let quad =
+                            |a: usize| win.get(a..a + 4).map_or(0, |p| i32::from_le_bytes([p[0], p[1], p[2], p[3]]));
+                        let mut top = t.map(|t| pair(b0 + t));
+                        top[0] = quad(b0 + t[0]);
+                        pairs_to_lanes(top, t.map(|t| pair(b1 + t)))
+                    }
+                    #[cfg(not(target_arch = "x86_64"))]
+                    {
+                        let quad =
+                            |a: usize| win.get(a..a + 4).map_or(0, |p| i32::from_le_bytes([p[0], p[1], p[2], p[3]]));
+                        quads_to_pairs(t.map(|t| quad(b0 + t)), t.map(|t| quad(b1 + t)))
+                    }
                 } else {
                     let Some(win) = s.get(..b1 + last + 2) else {
                         return (i16x8::ZERO, i16x8::ZERO);
@@ -343,35 +360,38 @@ impl<'a> MaskLayer<'a> {
     }
 }
 
-/// The first two bytes of each of four u32 read from the upper row and four
-/// from the lower row, in that order. On x86-64 the 16-bit halves are
-/// interleaved into place (`punpcklwd`, `punpckldq`, `punpcklqdq`);
-/// elsewhere each lane is sign-extended from its low 16 bits and the lanes
-/// narrowed with signed saturation, which keeps those bits exactly.
+/// Four pairs read from the upper row and four from the lower row, each in
+/// the low 16 bits of its `i32`, in that order, on x86-64. The first goes
+/// into the vector whole (`movd`), so it may be the u32 read at the pair
+/// (its high half lands in lane 1, which the next insert replaces); each
+/// other goes into its 16-bit lane with one insert, which LLVM folds with
+/// the pair's read (`pinsrw $k, (mem)`). That is eight instructions for
+/// the eight pairs, where moving each u32 into a vector register and
+/// interleaving their halves (`punpcklwd`, `punpckldq`, `punpcklqdq`) took
+/// fifteen. (Read as u16s, the
+/// first pair too, LLVM rebuilds a tree of moves and unpacks.)
+#[cfg(target_arch = "x86_64")]
 #[inline(always)]
-fn quads_to_pairs(top: [i32; LANES], bot: [i32; LANES]) -> u8x16 {
-    #[cfg(target_arch = "x86_64")]
-    {
-        use safe_arch::{
-            m128i, set_i32_m128i_s, unpack_low_i16_m128i as words, unpack_low_i32_m128i as dwords,
-            unpack_low_i64_m128i as halves,
-        };
-        let row = |q: [i32; LANES]| -> m128i {
-            let v = q.map(set_i32_m128i_s);
-            dwords(words(v[0], v[1]), words(v[2], v[3]))
-        };
-        cast(halves(row(top), row(bot)))
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        quads_to_pairs_portable(top, bot)
-    }
+fn pairs_to_lanes(top: [i32; LANES], bot: [i32; LANES]) -> u8x16 {
+    use safe_arch::{insert_i16_from_i32_m128i as insert, set_i32_m128i_s};
+    let v = set_i32_m128i_s(top[0]);
+    let v = insert::<1>(v, top[1]);
+    let v = insert::<2>(v, top[2]);
+    let v = insert::<3>(v, top[3]);
+    let v = insert::<4>(v, bot[0]);
+    let v = insert::<5>(v, bot[1]);
+    let v = insert::<6>(v, bot[2]);
+    cast(insert::<7>(v, bot[3]))
 }
 
-/// [`quads_to_pairs`] in `wide`'s portable operations.
+/// The first two bytes of each of four u32 read from the upper row and four
+/// from the lower row, in that order (off x86-64, where `pairs_to_lanes`
+/// reads the pairs into place): each lane is sign-extended from its low 16
+/// bits and the lanes narrowed with signed saturation, which keeps those
+/// bits exactly.
 #[cfg(any(test, not(target_arch = "x86_64")))]
 #[inline(always)]
-fn quads_to_pairs_portable(top: [i32; LANES], bot: [i32; LANES]) -> u8x16 {
+fn quads_to_pairs(top: [i32; LANES], bot: [i32; LANES]) -> u8x16 {
     let pairs = |q: [i32; LANES]| (i32x4::new(q) << 16) >> 16;
     cast(i16x8::from_i32x8_saturate(cast([pairs(top), pairs(bot)])))
 }
@@ -396,7 +416,13 @@ mod tests {
                 want[2 * k..2 * k + 2].copy_from_slice(&q.to_le_bytes()[..2]);
             }
             assert_eq!(quads_to_pairs(top, bot).to_array(), want);
-            assert_eq!(quads_to_pairs_portable(top, bot).to_array(), want);
+            // As the x86-64 player reads them: the first whole, the others as pairs.
+            #[cfg(target_arch = "x86_64")]
+            {
+                let pair = |q: i32| q & 0xffff;
+                let top = [top[0], pair(top[1]), pair(top[2]), pair(top[3])];
+                assert_eq!(pairs_to_lanes(top, bot.map(pair)).to_array(), want);
+            }
         }
     }
 }
