@@ -474,7 +474,9 @@ impl<'a> FieldLayer<'a> {
             let first = f32x4::from_i32x4(i32x4::splat(cols as i32) + lane_index);
             let x = (f32x4::splat(f.x_first) + first * f.pitch_x).fast_min(f32x4::splat(last_x));
             let fx = ((x - self.x0) * self.inv_pitch).fast_max(f32x4::ZERO);
-            let ci = fx.fast_trunc_int().min(i32x4::splat(self.cmax)).max(i32x4::ZERO);
+            // Clamped before the truncation, as the rows are (`fx ≥ 0`, and
+            // `cmax` is exact in f32): SSE2 has no 32-bit integer min or max.
+            let ci = fx.fast_min(f32x4::splat(self.cmax as f32)).fast_trunc_int();
             let wi = ((fx - f32x4::from_i32x4(ci)).fast_min(f32x4::ONE) * W as f32).fast_round_int();
             let real = lane_index.simd_lt(i32x4::splat((c_hi - cols) as i32));
             let w: i16x8 = cast(((i32x4::splat(W) - wi) | (wi << 16)) & real);
