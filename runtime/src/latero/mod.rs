@@ -354,12 +354,15 @@ fn quantise(out: &mut [u16], acc: &Acc, clamp_at: f32, max_code: f32) -> u32 {
 const VECTOR_MAX_CODE: f32 = (i16::MAX / 2) as f32;
 
 /// [`quantise`] for a whole block and `max_code` ≤ [`VECTOR_MAX_CODE`], in
-/// vector lanes: the sums, clamped above at 2, are scaled and rounded to nearest,
-/// ties to even, by the same 2²³ addition; the codes then narrow to 16-bit
-/// lanes, where those above `max_code` are counted and every code is
-/// clamped to `0..=max_code` (so that even a NaN, impossible from validated
-/// layers, gives a code in range on every target). A sum above 1 by more than half a step rounds above `max_code`,
-/// exactly the sums [`quantise`] counts.
+/// vector lanes: the sums are scaled and rounded to nearest, ties to even,
+/// by the same 2²³ addition; the codes then narrow to 16-bit lanes, where
+/// those above `max_code` are counted and every code is clamped to
+/// `0..=max_code` (so that even a NaN, impossible from validated layers,
+/// gives a code in range on every target). A sum above 1 by more than half
+/// a step rounds above `max_code`, exactly the sums [`quantise`] counts.
+/// The sums need no clamp above: past `2²³ + 2¹⁵` the float's bits less
+/// those of 2²³ still grow with it (up to +∞), so the narrowing saturates
+/// them to `i16::MAX`.
 #[inline(always)]
 fn quantise_block(out: &mut [u16; BLOCK], acc: &Acc, max_code: f32) -> u32 {
     let (scale, round) = (f32x4::splat(max_code), f32x4::splat(ROUND_BITS));
@@ -369,10 +372,11 @@ fn quantise_block(out: &mut [u16; BLOCK], acc: &Acc, max_code: f32) -> u32 {
     for (o, a) in out.chunks_exact_mut(8).zip(acc.chunks_exact(8)) {
         let code = |a: &[f32]| -> i32x4 {
             let a: [f32; 4] = a.try_into().unwrap_or([0.0; 4]);
-            // No lower clamp: a negative sum (even −∞) gives a negative
-            // code, which the clamp to 0 below settles.
-            let v = f32x4::new(a).fast_min(f32x4::splat(2.0));
-            cast::<f32x4, i32x4>(v * scale + round) - bias
+            // No lower clamp: a negative sum (down to about −2²³ / max_code,
+            // far below any sum of validated layers, whose deflections are
+            // not negative) gives a negative code, which the clamp to 0
+            // below settles.
+            cast::<f32x4, i32x4>(f32x4::new(a) * scale + round) - bias
         };
         let c = i16x8::from_i32x8_saturate(cast([code(&a[..4]), code(&a[4..])]));
         // A true lane compares as −1.
@@ -492,6 +496,48 @@ impl Frame {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// [`quantise_block`] gives [`quantise`]'s codes and count for sums
+    /// anywhere from below 0 to far above 1, +∞ included (but for a sum
+    /// exactly half a step above 1, whose count may differ).
+    #[test]
+    fn block_quantisation_equals_the_scalar_one() {
+        let mut s = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            s
+        };
+        for max in [1.0f32, 255.0, 1023.0, 4095.0, VECTOR_MAX_CODE] {
+            let clamp_at = 1.0 + 0.5 / max;
+            for _ in 0..2_000 {
+                let mut acc: Acc = [0.0; BLOCK];
+                for a in acc.iter_mut() {
+                    let u = (next() >> 40) as f32 / (1u64 << 24) as f32;
+                    *a = match next() % 8 {
+                        0 => u * 2.0 - 0.5,
+                        1 => (u * 4.0 * max).round() / max + [-0.5, 0.5, 0.0][next() as usize % 3] / max,
+                        2 => 1.0 + (u - 0.5) * 2.0 / max,
+                        3 => u * 1e6,
+                        4 => u * f32::MAX,
+                        5 => f32::INFINITY,
+                        _ => u,
+                    };
+                    // Exactly half a step above 1, the codes agree but the
+                    // counts need not: the vector rounds the tie to even,
+                    // which for an odd `max_code` is above it and counts.
+                    if *a == clamp_at {
+                        *a += 1.0 / max;
+                    }
+                }
+                let (mut block, mut scalar) = ([0u16; BLOCK], [0u16; BLOCK]);
+                let n = quantise_block(&mut block, &acc, max);
+                let m = quantise(&mut scalar, &acc, clamp_at, max);
+                assert_eq!((block, n), (scalar, m), "max code {max}, sums {acc:?}");
+            }
+        }
+    }
 
     /// [`Frame::runs`] against a scan of the positions, over arrays far from
     /// and near the origin, pitches, surface and block limits, and bounds
