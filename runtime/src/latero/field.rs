@@ -489,7 +489,7 @@ impl<'a> FieldLayer<'a> {
             let real = cast::<i32x4, f32x4>(real);
             let parity = parity.map(|p| p & real);
             let half_unit = half_unit & real;
-            let group_phase = f32x4::splat(base + (cols - c_lo) as u32 as f32 * step_col) + lane_phase;
+            let group_phase = f32x4::splat(base + (cols - c_lo) as i32 as f32 * step_col) + lane_phase;
             // The lanes' tiles change only every eight lattice rows.
             let mut ty_now = u32::MAX;
             let mut lanes = TileLanes::default();
@@ -536,7 +536,7 @@ impl<'a> FieldLayer<'a> {
                     }
                     let a = (v * slope + offset).fast_max(f32x4::ZERO).fast_min(f32x4::ONE);
                     let v = if GRATING {
-                        let phase = f32x4::splat((r - f.r0) as u32 as f32 * step_row) + group_phase;
+                        let phase = f32x4::splat((r - f.r0) as i32 as f32 * step_row) + group_phase;
                         a * (f32x4::ONE + cos_turns4(phase)) * half_unit
                     } else {
                         a * parity[(r + cols) & 1]

@@ -335,7 +335,7 @@ impl<'a> MaskLayer<'a> {
                 // saying so with a min lets each row check one window.
                 let taps = taps.map(|t| t.min(taps[LANES - 1]));
                 // Eq. 3's phase of the group's columns in row f.r0.
-                let group_phase = f32x4::splat(base + (cols - c_lo) as u32 as f32 * step_col) + lane_phase;
+                let group_phase = f32x4::splat(base + (cols - c_lo) as i32 as f32 * step_col) + lane_phase;
                 for i in 0..m {
                     let (b0, b1, r) = (off0[i].min(off1[i]), off1[i], rs + i);
                     let (top, bot) = pairs(b0, b1, taps);

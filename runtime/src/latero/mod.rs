@@ -452,15 +452,19 @@ impl Frame {
     /// Page x of column `c`.
     #[inline(always)]
     pub(crate) fn col_x(&self, c: usize) -> f32 {
-        // Through u32: an unsigned 64-bit to float conversion is a branchy
-        // sequence on x86-64, a 32-bit one a single instruction.
-        self.x_first + c as u32 as f32 * self.pitch_x
+        // Through i32: an unsigned 64-bit to float conversion is a branchy
+        // sequence on x86-64, a signed 32-bit one a single instruction (an
+        // unsigned one needs a zero-extension first, and four of them in
+        // vector lanes seven instructions: SSE2 converts signed integers
+        // only). Indices are far below 2²⁴, where every conversion is exact.
+        self.x_first + c as i32 as f32 * self.pitch_x
     }
 
     /// Page y of row `r`.
     #[inline(always)]
     pub(crate) fn row_y(&self, r: usize) -> f32 {
-        self.y_first + r as u32 as f32 * self.pitch_y
+        // As in `col_x`.
+        self.y_first + r as i32 as f32 * self.pitch_y
     }
 
     /// The runs of actuators inside the box `[x0, x1) x [y0, y1)` given as
