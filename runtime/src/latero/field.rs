@@ -382,7 +382,11 @@ impl<'a> FieldLayer<'a> {
         let bytes: u8x16 = {
             use safe_arch::{insert_i16_from_i32_m128i as insert, set_i32_m128i_s};
             let p = |w: &Window, j: usize| i32::from(pair(w, j));
-            let v = set_i32_m128i_s(p(lanes[0], j));
+            // The first pair as the low half of a u32 (`movd` from memory;
+            // its high half lands in lane 1, which the next insert
+            // replaces): `j + 3` is inside the window too.
+            let w = lanes[0];
+            let v = set_i32_m128i_s(i32::from_le_bytes([w[j], w[j + 1], w[j + 2], w[j + 3]]));
             let v = insert::<1>(v, p(lanes[1], j));
             let v = insert::<2>(v, p(lanes[2], j));
             let v = insert::<3>(v, p(lanes[3], j));
