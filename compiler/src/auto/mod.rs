@@ -163,6 +163,11 @@ pub struct Plan {
     pub strokes: Vec<Option<[u8; 3]>>,
     /// One decision per element of the drawing.
     pub decisions: Vec<Decision>,
+    /// Regions (element indices) that share a border with a region of their
+    /// own fill, of a fill most of whose such regions are too small for a
+    /// border ([`min_region_mm`]): they get their texture and no outline, so
+    /// they are felt as one texture.
+    pub too_small: Vec<usize>,
 }
 
 /// Whether no element of the drawing was styled by an annotation or a style sheet.
@@ -391,11 +396,33 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
     // Regions of one fill that share a border (a map's districts drawn in one
     // colour) have one texture on both sides: only an outline tells them apart.
     let alike = neighbours.abutting_alike(&class_of, ABUT_MM);
+    let outline = outline_style(profile);
+    let min_region = min_region_mm(outline.width_mm);
+    // A region its own border band would mostly cover is felt as border, not
+    // as a region. The borders of one fill are kept or left out together, so
+    // the reader meets one rule across the map rather than a few outlined
+    // regions adrift in a texture: left out when most of the fill's regions
+    // that share borders with each other are that small (France's 96
+    // departments on a 60 mm map), kept when most are large enough (a map of
+    // states keeps its few small ones' borders).
+    let mut felt = vec![(0usize, 0usize); fills.len()];
+    for (k, f) in shapes.iter().enumerate() {
+        if let (true, Some(c)) = (alike[k], class_of[k]) {
+            felt[rank[c]].0 += usize::from(f.area.sqrt() >= min_region);
+            felt[rank[c]].1 += 1;
+        }
+    }
+    let bordered = |c: usize| 2 * felt[c].0 >= felt[c].1;
+    let mut too_small = Vec::new();
     for (k, f) in shapes.iter().enumerate() {
         let dec = &mut decisions[f.i];
         if let Some(c) = dec.region {
-            dec.region = Some(rank[c]);
-            if fills[rank[c]].texture.is_none() || alike[k] {
+            let c = rank[c];
+            dec.region = Some(c);
+            if alike[k] && !bordered(c) {
+                too_small.push(f.i);
+            }
+            if fills[c].texture.is_none() || (alike[k] && bordered(c)) {
                 // Given up, or beside its own texture: its outline says where it is.
                 dec.outline = true;
             } else if abuts[k] {
@@ -405,7 +432,22 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
             }
         }
     }
-    Plan { textures: textures(profile), outline: outline_style(profile), fills, strokes, decisions }
+    Plan { textures: textures(profile), outline, fills, strokes, decisions, too_small }
+}
+
+/// The size (the side of a square of the same area) below which a region's
+/// own vibrating border, `width` wide and centred on its outline, would cover
+/// more than half of it: the band's inner half takes `width / 2` from each
+/// side, so a square of side `s` keeps `(s - width)²` of its `s²` as texture,
+/// and that is half when `s = width / (1 - 1/√2)`, about 3.4 widths (5.1 mm
+/// for the 1.5 mm outline).
+///
+/// ```
+/// let s = taxel_compiler::auto::min_region_mm(1.5);
+/// assert!(((s - 1.5) * (s - 1.5) / (s * s) - 0.5).abs() < 1e-12);
+/// ```
+pub fn min_region_mm(width: f64) -> f64 {
+    width / (1.0 - std::f64::consts::FRAC_1_SQRT_2)
 }
 
 /// The page backgrounds among the filled paths: those covering nine tenths of
@@ -603,6 +645,22 @@ fn notes(plan: &Plan, d: &Drawing, diags: &mut Vec<Diagnostic>) {
                 ),
             ));
         }
+    }
+    if !plan.too_small.is_empty() {
+        let names: Vec<String> = plan.too_small.iter().map(|&i| format!("#{}", d.elements[i].name)).collect();
+        diags.push(
+            Diagnostic::note(
+                "T0324",
+                format!(
+                    "the borders between {} region(s) of one fill are left out, so they are felt as one texture: most are under {:.1} mm across, where a {} mm border would cover most of each ({})",
+                    names.len(),
+                    min_region_mm(plan.outline.width_mm),
+                    plan.outline.width_mm,
+                    first_three(&names)
+                ),
+            )
+            .with_help("to feel them apart, take part of the drawing with --region so they are larger, or give them colours of their own"),
+        );
     }
     let text: Vec<String> = plan
         .decisions

@@ -43,7 +43,12 @@ pub fn sheet_toml(profile: &DeviceProfile, input: Option<(&Drawing, &Plan)>) -> 
     s += "#\n";
     s += "# What the automatic sheet decides from the drawing itself:\n";
     s += "#   - stroked lines and outlines vibrate, and so do the borders between regions\n";
-    s += "#     of one fill (a map's districts drawn in one colour);\n";
+    s += "#     of one fill (a map's districts drawn in one colour), unless most of them are\n";
+    let _ = writeln!(
+        s,
+        "#     under {:.1} mm across, which their borders would mostly cover (one texture then);",
+        super::min_region_mm(outline_style(profile).width_mm)
+    );
     s += "#   - each filled colour becomes one of the textures below, largest area first,\n";
     s += "#     so that colours whose regions touch (closer than 3.2 mm) never share one;\n";
     s += "#     at most five textures; a colour that would need a sixth keeps only its outline;\n";

@@ -240,3 +240,58 @@ fn identical_shapes_of_one_fill_get_no_borders() {
     assert!(s.iter().any(|(_, st)| st == &["grating"]), "{s:?}");
     assert!(s.iter().all(|(_, st)| !st.contains(&"vibrate")), "{s:?}");
 }
+
+/// Regression (France's 96 departments in one fill, fitted to 63 x 60 mm on
+/// `stress2`): every department's 1.5 mm border vibrated, and at 4-5 mm
+/// across a department was mostly border. A fill's regions keep their
+/// borders among alike neighbours only while most of them keep their
+/// texture over at least half their area (computed here for squares: the
+/// border's inner half takes 0.75 mm from each side); otherwise they are
+/// felt as one texture, and one note says so.
+#[test]
+fn districts_too_small_for_their_borders_are_felt_as_one_texture() {
+    let textured = |s: f64| (s - 1.5f64).powi(2) / (s * s);
+    // One row of four abutting squares per fill; each row's sizes in mm.
+    let rows: [[f64; 4]; 6] = [
+        [4.0; 4],
+        [5.0; 4],
+        [5.2; 4],
+        [10.0; 4],
+        // Mostly too small: the large one loses its borders with them.
+        [4.0, 4.0, 4.0, 10.0],
+        // Mostly large enough: the small one keeps its borders.
+        [4.0, 10.0, 10.0, 10.0],
+    ];
+    let fills = ["#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02"];
+    let mut body = String::new();
+    let mut y = 1.0;
+    for (r, sizes) in rows.iter().enumerate() {
+        let mut x = 2.0;
+        for (c, s) in sizes.iter().enumerate() {
+            body += &format!(r#"<rect id="r{r}c{c}" fill="{}" x="{x}" y="{y}" width="{s}" height="{s}"/>"#, fills[r]);
+            x += s;
+        }
+        y += sizes.iter().fold(0.0f64, |a, &b| a.max(b)) + 4.0;
+    }
+    let svg = format!(
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="60mm" height="{y}mm" viewBox="0 0 60 {y}">{body}</svg>"#
+    );
+    let st = auto_styles(&svg);
+    let mut left = 0;
+    for (r, sizes) in rows.iter().enumerate() {
+        let felt = sizes.iter().filter(|&&s| textured(s) >= 0.5).count();
+        let bordered = 2 * felt >= sizes.len();
+        let want: &[&str] = if bordered { &["vibrate", "grating"] } else { &["grating"] };
+        left += if bordered { 0 } else { sizes.len() };
+        for c in 0..4 {
+            assert_eq!(styles_of(&st, &format!("r{r}c{c}")), want, "row {r} {sizes:?}: {st:?}");
+        }
+    }
+    assert!(left > 0 && left < 24, "the rows test both outcomes");
+    let c = super::common::compile(&svg);
+    super::common::bundle(&c);
+    let notes = super::common::with_code(&c, "T0324");
+    assert_eq!(notes.len(), 1, "{:#?}", c.diagnostics);
+    assert!(notes[0].message.starts_with(&format!("the borders between {left} region(s)")), "{}", notes[0].message);
+    assert!(notes[0].message.contains("#r0c0"), "{}", notes[0].message);
+}
