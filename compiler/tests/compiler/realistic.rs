@@ -295,3 +295,42 @@ fn districts_too_small_for_their_borders_are_felt_as_one_texture() {
     assert!(notes[0].message.starts_with(&format!("the borders between {left} region(s)")), "{}", notes[0].message);
     assert!(notes[0].message.contains("#r0c0"), "{}", notes[0].message);
 }
+
+/// Regression (resvg's `structure/style/attribute-selector.svg`: a CSS rule
+/// fills the page frame, drawn last, over the only other shape): T0300 said
+/// "see the warnings above" with no warning above it. It now says what was
+/// asked and why nothing was kept, naming the hidden shape and what hides it.
+#[test]
+fn nothing_rendered_says_what_hid_it_and_points_at_no_missing_warnings() {
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 200">
+  <style>[x] { fill: green }</style>
+  <rect id="square" x="20" y="20" width="160" height="160"/>
+  <rect id="frame" x="1" y="1" width="198" height="198" fill="none" stroke="black"/>
+</svg>"##;
+    let c = super::common::compile(svg);
+    let e = super::common::with_code(&c, "T0300");
+    assert_eq!(e.len(), 1, "{:#?}", c.diagnostics);
+    assert!(c.diagnostics.iter().all(|d| d.severity != taxel_compiler::Severity::Warning), "{:#?}", c.diagnostics);
+    let (m, help) = (&e[0].message, e[0].help.as_deref().unwrap_or(""));
+    assert!(!m.contains("warning") && !help.contains("warnings above"), "{m} / {help}");
+    assert!(m.contains("grating (#square)") && m.contains("(#frame)"), "{m}");
+    assert!(help.contains("#frame is drawn after them"), "{help}");
+    // Drawn first, the frame hides nothing and the square builds.
+    let first = svg.replace(
+        r#"<rect id="square" x="20" y="20" width="160" height="160"/>
+  <rect id="frame" x="1" y="1" width="198" height="198" fill="none" stroke="black"/>"#,
+        r#"<rect id="frame" x="1" y="1" width="198" height="198" fill="none" stroke="black"/>
+  <rect id="square" x="20" y="20" width="160" height="160"/>"#,
+    );
+    assert_ne!(first, svg);
+    super::common::bundle(&super::common::compile(&first));
+    // With warnings above (a style the device cannot play), it counts them.
+    let brush = r##"<svg xmlns="http://www.w3.org/2000/svg" width="60mm" height="40mm" viewBox="0 0 60 40">
+  <path id="p" d="M10 10 L50 30" stroke="black" data-tactile="brush()"/>
+</svg>"##;
+    let c = super::common::compile(brush);
+    let e = super::common::with_code(&c, "T0300");
+    let warnings = c.diagnostics.iter().filter(|d| d.severity == taxel_compiler::Severity::Warning).count();
+    assert!(warnings > 0, "{:#?}", c.diagnostics);
+    assert!(e[0].message.contains(&format!("see the {warnings} warning(s) above")), "{}", e[0].message);
+}
