@@ -631,20 +631,24 @@ fn notes(plan: &Plan, d: &Drawing, diags: &mut Vec<Diagnostic>) {
             .with_help("give them textures in a style sheet (start from `taxel style auto INPUT`), or split the drawing"),
         );
     }
-    for (t, g) in plan.textures.iter().enumerate() {
-        let sharing: Vec<String> =
-            plan.fills.iter().filter(|f| f.texture == Some(t)).map(|f| fill_name(f.fill)).collect();
-        if sharing.len() > 1 {
-            diags.push(Diagnostic::note(
-                "T0322",
-                format!(
-                    "fills {} share the texture grating({} mm, {}°): none of their regions touch",
-                    first_three(&sharing),
-                    g.wavelength_mm,
-                    g.angle_deg
-                ),
-            ));
-        }
+    // One note for every texture that is shared: a note per texture would be
+    // grouped into one line naming a single texture for all of them.
+    let shared: Vec<String> = plan
+        .textures
+        .iter()
+        .enumerate()
+        .filter_map(|(t, g)| {
+            let sharing: Vec<String> =
+                plan.fills.iter().filter(|f| f.texture == Some(t)).map(|f| fill_name(f.fill)).collect();
+            (sharing.len() > 1)
+                .then(|| format!("{} share grating({} mm, {}°)", first_three(&sharing), g.wavelength_mm, g.angle_deg))
+        })
+        .collect();
+    if !shared.is_empty() {
+        diags.push(Diagnostic::note(
+            "T0322",
+            format!("fills whose regions do not touch share textures: {}", shared.join("; ")),
+        ));
     }
     if !plan.too_small.is_empty() {
         let names: Vec<String> = plan.too_small.iter().map(|&i| format!("#{}", d.elements[i].name)).collect();
