@@ -56,6 +56,14 @@ pub const MIN_ALPHA: u8 = 26;
 /// Fills whose every channel is at least this light are paper, not regions
 /// (unless they are all that a coloured background carries).
 pub const WHITE: u8 = 240;
+/// A grey line is faint (a chart's grid, a light frame) when it is less than
+/// this share as dark as the drawing's darkest line: Vega-Lite's `#ddd` grid
+/// beside its `#888` axes (0.28 against 0.75), matplotlib's `#b0b0b0` grid
+/// beside black axes (0.57 against 1).
+pub const FAINT_SHARE: f64 = 0.6;
+/// Colours whose channels differ by no more than this are grey (no hue): a
+/// light coloured line is data (a yellow series), a light grey one is a guide.
+const GREY_SPREAD: u8 = 24;
 /// Fills enclosing no more than this many mm² enclose nothing that can be seen.
 const MIN_FILL_MM2: f64 = 1e-6;
 /// Radius of the dots of braille the automatic sheet writes (NLS 800: 1.44 mm base).
@@ -117,6 +125,8 @@ pub enum LeftOut {
     TextDoesNotFit,
     /// A raster image.
     Image,
+    /// A faint grey line (a chart's grid): see [`darkness`] and [`FAINT_SHARE`].
+    Faint,
 }
 
 /// What the automatic sheet made of one element.
@@ -130,6 +140,8 @@ pub struct Decision {
     pub mark: bool,
     /// Its text becomes braille.
     pub braille: bool,
+    /// Its stroke is faint (a grid line) and does not vibrate.
+    pub faint: bool,
     /// Why nothing was made of it; `None` when something was, or when an
     /// annotation or style sheet had already styled it.
     pub left_out: Option<LeftOut>,
@@ -161,6 +173,10 @@ pub struct Plan {
     pub fills: Vec<FillClass>,
     /// Distinct stroke colours that vibrate, in first-seen order.
     pub strokes: Vec<Option<[u8; 3]>>,
+    /// Distinct faint stroke colours left out (a chart's grid), in first-seen order.
+    pub faint: Vec<[u8; 3]>,
+    /// The darkest line's colour, beside which the faint ones are faint.
+    pub darkest: Option<[u8; 3]>,
     /// One decision per element of the drawing.
     pub decisions: Vec<Decision>,
     /// Regions (element indices) that share a border with a region of their
@@ -181,6 +197,30 @@ fn visible(c: Rgba) -> bool {
 
 fn rgb(c: Rgba) -> [u8; 3] {
     [c[0], c[1], c[2]]
+}
+
+/// How dark a colour looks on white paper, from 0 (white, or transparent) to
+/// 1 (black): one less the relative luminance (WCAG 2, sRGB linearised) of
+/// the colour laid over white at its alpha.
+///
+/// ```
+/// use taxel_compiler::auto::darkness;
+/// assert_eq!(darkness([0, 0, 0, 255]), 1.0);
+/// assert_eq!(darkness([0, 0, 0, 0]), 0.0);
+/// assert!((darkness([0xdd, 0xdd, 0xdd, 255]) - 0.277).abs() < 0.001);
+/// ```
+pub fn darkness(c: Rgba) -> f64 {
+    let a = c[3] as f64 / 255.0;
+    let lin = |v: u8| {
+        let v = a * (v as f64 / 255.0) + (1.0 - a);
+        if v <= 0.04045 { v / 12.92 } else { ((v + 0.055) / 1.055).powf(2.4) }
+    };
+    1.0 - (0.2126 * lin(c[0]) + 0.7152 * lin(c[1]) + 0.0722 * lin(c[2]))
+}
+
+fn grey(c: Rgba) -> bool {
+    let (lo, hi) = (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]));
+    hi - lo <= GREY_SPREAD
 }
 
 /// Area enclosed by `polys` (each closed implicitly): the signed areas
@@ -271,6 +311,19 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
     let mut shapes: Vec<Filled<'_>> = Vec::new();
     let mut braille = Occupancy::default();
     let mut texts = Vec::new();
+    // The darkest line the sheet would make vibrate: grey lines much lighter
+    // than it are guides (grid lines, light frames) and are left out, so the
+    // axes and the data are felt rather than a lattice of grid lines.
+    let darkest = d
+        .elements
+        .iter()
+        .filter(|e| e.styled_by == StyledBy::Nothing && e.visible && matches!(e.shape, Shape::Path(_)))
+        .filter(|e| e.paint.stroked && e.paint.stroke_width_mm > 0.0)
+        .filter_map(|e| e.paint.stroke.filter(|&c| visible(c)))
+        .max_by(|a, b| darkness(*a).total_cmp(&darkness(*b)));
+    let faint =
+        |c: Option<Rgba>| c.zip(darkest).is_some_and(|(c, top)| grey(c) && darkness(c) < FAINT_SHARE * darkness(top));
+    let mut faint_colours: Vec<[u8; 3]> = Vec::new();
     for (i, e) in d.elements.iter().enumerate() {
         if e.styled_by != StyledBy::Nothing {
             continue;
@@ -309,7 +362,13 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
                     dec.left_out = Some(LeftOut::Background);
                     continue;
                 }
-                if stroked {
+                if stroked && faint(paint.stroke) {
+                    dec.faint = true;
+                    let c = paint.stroke.map(rgb).unwrap_or_default();
+                    if !faint_colours.contains(&c) {
+                        faint_colours.push(c);
+                    }
+                } else if stroked {
                     dec.outline = true;
                     let key = paint.stroke.map(rgb);
                     if !strokes.contains(&key) {
@@ -324,7 +383,7 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
                 if filled {
                     shapes.push(Filled { i, region: Region { outline: &p.outline, bbox: b }, area: area(&p.outline) });
                 } else if !dec.outline && !dec.mark {
-                    dec.left_out = Some(LeftOut::Unpainted);
+                    dec.left_out = Some(if dec.faint { LeftOut::Faint } else { LeftOut::Unpainted });
                 }
             }
         }
@@ -432,7 +491,16 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
             }
         }
     }
-    Plan { textures: textures(profile), outline, fills, strokes, decisions, too_small }
+    Plan {
+        textures: textures(profile),
+        outline,
+        fills,
+        strokes,
+        faint: faint_colours,
+        darkest: darkest.map(rgb),
+        decisions,
+        too_small,
+    }
 }
 
 /// The size (the side of a square of the same area) below which a region's
@@ -664,6 +732,25 @@ fn notes(plan: &Plan, d: &Drawing, diags: &mut Vec<Diagnostic>) {
                 ),
             )
             .with_help("to feel them apart, take part of the drawing with --region so they are larger, or give them colours of their own"),
+        );
+    }
+    let faint = plan.decisions.iter().filter(|dec| dec.faint).count();
+    if faint > 0 {
+        let colours: Vec<String> = plan.faint.iter().map(|&c| fill_name(Some(c))).collect();
+        let first = plan.faint.first().map_or_else(|| "#dddddd".to_string(), |&c| fill_name(Some(c)));
+        diags.push(
+            Diagnostic::note(
+                "T0325",
+                format!(
+                    "{faint} faint grey stroke(s) left out ({}): less than {:.0} % as dark as the darkest lines ({}), as a chart's grid lines are, so the axes and the data are felt rather than the grid",
+                    first_three(&colours),
+                    FAINT_SHARE * 100.0,
+                    fill_name(plan.darkest)
+                ),
+            )
+            .with_help(format!(
+                "to feel them, weaker than the other lines, use a style sheet with a rule `stroke = \"{first}\"`, `tactile = \"vibrate(amplitude: 0.5)\"` (start from `taxel style auto INPUT`)"
+            )),
         );
     }
     let text: Vec<String> = plan

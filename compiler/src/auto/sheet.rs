@@ -42,7 +42,12 @@ pub fn sheet_toml(profile: &DeviceProfile, input: Option<(&Drawing, &Plan)>) -> 
     s += "# sheet: edit the rules, then build with `--style THIS_FILE` (docs/annotations.md).\n";
     s += "#\n";
     s += "# What the automatic sheet decides from the drawing itself:\n";
-    s += "#   - stroked lines and outlines vibrate, and so do the borders between regions\n";
+    let _ = writeln!(
+        s,
+        "#   - stroked lines and outlines vibrate (grey lines less than {:.0} % as dark as the",
+        super::FAINT_SHARE * 100.0
+    );
+    s += "#     darkest lines, as a chart's grid, are left out), and so do the borders between regions\n";
     s += "#     of one fill (a map's districts drawn in one colour), unless most of them are\n";
     let _ = writeln!(
         s,
@@ -138,6 +143,14 @@ pub fn sheet_toml(profile: &DeviceProfile, input: Option<(&Drawing, &Plan)>) -> 
                 );
             }
         }
+    }
+    for c in &plan.faint {
+        let _ = writeln!(
+            s,
+            "\n# Faint grey lines ({}, a chart's grid) were left out; to feel them, weaker:\n# [[rule]]\n# stroke = \"{}\"\n# tactile = \"vibrate(amplitude: 0.5)\"",
+            fill_name(Some(*c)),
+            fill_name(Some(*c))
+        );
     }
     s
 }

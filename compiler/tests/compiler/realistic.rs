@@ -334,3 +334,38 @@ fn nothing_rendered_says_what_hid_it_and_points_at_no_missing_warnings() {
     assert!(warnings > 0, "{:#?}", c.diagnostics);
     assert!(e[0].message.contains(&format!("see the {warnings} warning(s) above")), "{}", e[0].message);
 }
+
+/// Regression (Vega-Lite charts): `#ddd` grid lines vibrated as strongly as
+/// the `#888` axes, in a lattice over the bars that cut their textures into
+/// strips. Grey lines much lighter than the darkest lines are guides and are
+/// left out, with one note; a light line with a hue (a yellow series) is data
+/// and stays, and a drawing of light grey lines only keeps them.
+#[test]
+fn faint_grey_grid_lines_are_left_out_and_the_axes_and_data_stay() {
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="60mm" viewBox="0 0 100 60">
+  <g stroke="#ddd" stroke-width="1"><line id="grid1" x1="10" y1="10" x2="90" y2="10"/><line id="grid2" x1="10" y1="30" x2="90" y2="30"/></g>
+  <path id="frame" d="M10 5h80v45h-80z" fill="none" stroke="#ddd"/>
+  <rect id="bar" x="30" y="20" width="15" height="30" fill="#4c78a8"/>
+  <g stroke="#888" stroke-width="1"><line id="x-axis" x1="10" y1="50" x2="90" y2="50"/><line id="y-axis" x1="10" y1="5" x2="10" y2="50"/></g>
+  <path id="series" d="M50 40 L70 15 L88 25" fill="none" stroke="#ffd92f" stroke-width="2"/>
+</svg>"##;
+    let s = auto_styles(svg);
+    for id in ["grid1", "grid2", "frame"] {
+        assert!(styles_of(&s, id).is_empty(), "#{id}: {s:?}");
+    }
+    for id in ["x-axis", "y-axis", "series"] {
+        assert_eq!(styles_of(&s, id), ["vibrate"], "#{id}: {s:?}");
+    }
+    assert_eq!(styles_of(&s, "bar"), ["grating"], "{s:?}");
+    let c = super::common::compile(svg);
+    let notes = super::common::with_code(&c, "T0325");
+    assert_eq!(notes.len(), 1, "{:#?}", c.diagnostics);
+    assert!(notes[0].message.starts_with("3 faint grey stroke(s) left out (#dddddd)"), "{}", notes[0].message);
+    super::common::bundle(&c);
+    // Without the darker lines, the light grey lines are the drawing.
+    let light = svg.replace("#888", "#ddd").replace("#ffd92f", "#dddddd");
+    let s = auto_styles(&light);
+    for id in ["grid1", "frame", "x-axis", "series"] {
+        assert_eq!(styles_of(&s, id), ["vibrate"], "#{id}: {s:?}");
+    }
+}
