@@ -670,6 +670,49 @@ pub fn prepare(d: &mut Drawing, opts: &crate::CompileOptions, diags: &mut Vec<Di
     true
 }
 
+impl LeftOut {
+    /// What it says in a message.
+    pub fn describe(self) -> &'static str {
+        match self {
+            LeftOut::Hidden => "hidden",
+            LeftOut::Empty => "empty",
+            LeftOut::OffPage => "off the page",
+            LeftOut::ClippedAway => "clipped away",
+            LeftOut::Background => "page background(s)",
+            LeftOut::Unpainted => "with no visible fill or stroke (white, transparent or none)",
+            LeftOut::SmallShape => "small shape(s) (glyph outlines, slivers)",
+            LeftOut::TextDoesNotFit => "text whose braille does not fit",
+            LeftOut::Image => "image(s)",
+            LeftOut::Faint => "faint grey line(s)",
+        }
+    }
+}
+
+/// Why the automatic sheet made nothing of `d`, when it made nothing: how
+/// many elements it left out for which reason, most first (`3 hidden, 2
+/// images`), for the error that says nothing tactile was found. `None` when
+/// it styled something (then the layers say why nothing was made).
+pub fn nothing_made(d: &Drawing, profile: &DeviceProfile) -> Option<String> {
+    let plan = plan(d, profile);
+    if (0..d.elements.len()).any(|i| !plan.styles(i).is_empty()) {
+        return None;
+    }
+    // An element the sheet did not decide was styled by an annotation or a sheet: as nothing.
+    let mut why: BTreeMap<&str, usize> = BTreeMap::new();
+    for dec in &plan.decisions {
+        *why.entry(dec.left_out.map_or("annotated `none`", LeftOut::describe)).or_default() += 1;
+    }
+    let mut why: Vec<(&str, usize)> = why.into_iter().collect();
+    why.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+    Some(match d.elements.len() {
+        0 => "the drawing has no elements that are drawn".into(),
+        n => format!(
+            "the automatic style sheet left out all {n} element(s): {}",
+            why.iter().map(|(w, k)| format!("{k} {w}")).collect::<Vec<_>>().join(", ")
+        ),
+    })
+}
+
 /// A fill for messages: `#rrggbb`, or `a gradient`.
 pub fn fill_name(f: Option<[u8; 3]>) -> String {
     f.map_or("a gradient or pattern".into(), |c| format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2]))

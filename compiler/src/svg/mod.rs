@@ -80,7 +80,14 @@ fn compile(
         let d = if any_style {
             nothing_rendered(&drawing, &built, opts.profile.name.as_str(), diags)
         } else {
-            Diagnostic::error("T0300", "nothing tactile was found in the drawing").with_help(
+            // Converted automatically, the drawing had nothing the sheet could make tactile: say what it had.
+            let auto = opts.auto || diags.iter().any(|d| d.code == "T0320");
+            let why = auto.then(|| crate::auto::nothing_made(&drawing, &opts.profile)).flatten();
+            let message = match why {
+                Some(w) => format!("nothing tactile was found in the drawing: {w}"),
+                None => "nothing tactile was found in the drawing".into(),
+            };
+            Diagnostic::error("T0300", message).with_help(
                 "mark shapes with data-tactile=\"vibrate()\" (or grating(), dots(), dot(), braille()), \
                  put them in an Inkscape layer labelled \"tactile: vibrate()\", or map colours with --style FILE \
                  (see docs/annotations.md)",

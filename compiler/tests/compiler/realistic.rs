@@ -369,3 +369,29 @@ fn faint_grey_grid_lines_are_left_out_and_the_axes_and_data_stay() {
         assert_eq!(styles_of(&s, id), ["vibrate"], "#{id}: {s:?}");
     }
 }
+
+/// Regression (resvg's tests of hidden elements, images, empty drawings): a
+/// drawing the automatic sheet made nothing of was refused with "nothing
+/// tactile was found" alone, as if it had not looked. The error now says
+/// what it found and why it left each kind out.
+#[test]
+fn nothing_found_by_the_automatic_sheet_says_what_it_left_out_and_why() {
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="60mm" viewBox="0 0 100 60">
+  <rect id="hidden1" x="10" y="10" width="30" height="30" fill="#1e2bd5" visibility="hidden"/>
+  <rect id="hidden2" x="50" y="10" width="30" height="30" stroke="black" fill="none" visibility="hidden"/>
+  <rect id="paper" x="20" y="45" width="30" height="10" fill="white"/>
+</svg>"##;
+    let c = super::common::compile(svg);
+    let e = super::common::with_code(&c, "T0300");
+    assert_eq!(e.len(), 1, "{:#?}", c.diagnostics);
+    let m = &e[0].message;
+    assert!(
+        m.contains("left out all 3 element(s)") && m.contains("2 hidden") && m.contains("1 with no visible fill"),
+        "{m}"
+    );
+    // An annotated drawing that asks for nothing is not said to be automatic.
+    let annotated = svg.replace(r#"fill="white"/>"#, r#"fill="white" data-tactile="none"/>"#);
+    let c = super::common::compile(&annotated);
+    let e = super::common::with_code(&c, "T0300");
+    assert_eq!(e[0].message, "nothing tactile was found in the drawing", "{:#?}", c.diagnostics);
+}
