@@ -703,7 +703,7 @@ pub fn nothing_made(d: &Drawing, profile: &DeviceProfile) -> Option<String> {
         *why.entry(dec.left_out.map_or("annotated `none`", LeftOut::describe)).or_default() += 1;
     }
     let mut why: Vec<(&str, usize)> = why.into_iter().collect();
-    why.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+    why.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
     Some(match d.elements.len() {
         0 => "the drawing has no elements that are drawn".into(),
         n => format!(
