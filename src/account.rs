@@ -13,6 +13,10 @@ pub const STYLE_SUMMARY: &str = "T0330";
 /// How many elements a group names before "and N more".
 const NAMED: usize = 3;
 
+/// Longest list of a group's different messages written out; a longer one
+/// gives the first message, said to be the first.
+const LISTED_CHARS: usize = 160;
+
 /// Where an instance is: `#id (line N)`.
 fn place(d: &Diagnostic) -> Option<String> {
     match (&d.element, d.line) {
@@ -101,9 +105,11 @@ fn group_message(group: &[&Diagnostic]) -> (String, Option<String>) {
             break;
         }
     }
+    let listed = kinds.iter().map(|(m, c)| format!("{m} (x{c})")).collect::<Vec<_>>().join(" | ");
     match kinds.len() {
         1 => (kinds[0].0.to_string(), None),
-        n if n <= NAMED => (kinds.iter().map(|(m, c)| format!("{m} (x{c})")).collect::<Vec<_>>().join(" | "), None),
+        // Listed when the list stays a readable line (messages naming long element paths do not).
+        n if n <= NAMED && listed.len() <= LISTED_CHARS => (listed, None),
         _ => {
             let distinct: std::collections::HashSet<&str> = group.iter().map(|d| d.message.as_str()).collect();
             (group[0].message.clone(), Some(format!("the first of {} different messages", distinct.len())))
@@ -166,6 +172,10 @@ mod tests {
                 "{out:?}"
             );
         }
+        // Two long messages that would make an unreadable line: the first, said to be the first.
+        let long = |k: usize| Diagnostic::warning("T0410", format!("this layer overlaps #{}{k}", "g[1]/".repeat(20)));
+        let out = lines(&[long(1), long(2)], "f.svg", Severity::Note, false);
+        assert!(out[0].contains("(the first of 2 different messages)") && out[0].len() < 200, "{out:?}");
         // Many different messages: the first, said to be the first of so many.
         let diags: Vec<Diagnostic> = (1..=42).map(|k| gap(&format!("r{k}"), 10 + k)).collect();
         let mut diags: Vec<Diagnostic> = diags
