@@ -107,7 +107,7 @@ fn compile(
 }
 
 /// T0300 when elements asked for styles and nothing was made of them: what
-/// was asked, and why nothing was kept (the warnings above, or layers that
+/// was asked, and why nothing was kept (the warnings given with it, or layers that
 /// came out empty because opaque fills painted later hide them, or because
 /// they lie off the surface), so the message never points at warnings that
 /// are not there.
@@ -146,7 +146,7 @@ fn nothing_rendered(
     }
     let warnings = diags.iter().filter(|d| d.severity == Severity::Warning).count();
     if warnings > 0 {
-        why.push(format!("see the {warnings} warning(s) above"));
+        why.push(format!("the {warnings} warning(s) given with this error say why"));
         help.push("the styles used may not be rendered on this device, or the shapes may be empty or hidden".into());
     }
     let unstyled: Vec<usize> = (0..drawing.elements.len()).filter(|&i| drawing.elements[i].styles.is_empty()).collect();

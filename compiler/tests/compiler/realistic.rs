@@ -324,7 +324,7 @@ fn nothing_rendered_says_what_hid_it_and_points_at_no_missing_warnings() {
     );
     assert_ne!(first, svg);
     super::common::bundle(&super::common::compile(&first));
-    // With warnings above (a style the device cannot play), it counts them.
+    // With warnings (a style the device cannot play), it counts them.
     let brush = r##"<svg xmlns="http://www.w3.org/2000/svg" width="60mm" height="40mm" viewBox="0 0 60 40">
   <path id="p" d="M10 10 L50 30" stroke="black" data-tactile="brush()"/>
 </svg>"##;
@@ -332,7 +332,11 @@ fn nothing_rendered_says_what_hid_it_and_points_at_no_missing_warnings() {
     let e = super::common::with_code(&c, "T0300");
     let warnings = c.diagnostics.iter().filter(|d| d.severity == taxel_compiler::Severity::Warning).count();
     assert!(warnings > 0, "{:#?}", c.diagnostics);
-    assert!(e[0].message.contains(&format!("see the {warnings} warning(s) above")), "{}", e[0].message);
+    assert!(
+        e[0].message.contains(&format!("the {warnings} warning(s) given with this error say why")),
+        "{}",
+        e[0].message
+    );
 }
 
 /// Regression (Vega-Lite charts): `#ddd` grid lines vibrated as strongly as
@@ -394,4 +398,17 @@ fn nothing_found_by_the_automatic_sheet_says_what_it_left_out_and_why() {
     let c = super::common::compile(&annotated);
     let e = super::common::with_code(&c, "T0300");
     assert_eq!(e[0].message, "nothing tactile was found in the drawing", "{:#?}", c.diagnostics);
+}
+
+/// Regression (two of Vega-Lite's compiled examples are empty files): an
+/// empty drawing was "not well-formed SVG (XML): the document does not have
+/// a root node", with advice to fix the XML; it says the file is empty.
+#[test]
+fn an_empty_file_is_said_to_be_empty() {
+    for text in ["", "  \n"] {
+        let c = super::common::compile(text);
+        let e = super::common::with_code(&c, "T0200");
+        assert_eq!(e.len(), 1, "{:#?}", c.diagnostics);
+        assert!(e[0].message.contains("the file is empty"), "{}", e[0].message);
+    }
 }
