@@ -412,3 +412,24 @@ fn an_empty_file_is_said_to_be_empty() {
         assert!(e[0].message.contains("the file is empty"), "{}", e[0].message);
     }
 }
+
+/// Regression (2,350 of the real drawings): a drawing without a size is
+/// fitted to the surface (T0201), and `--fit` then added "the drawing was
+/// scaled by 1.000: 64.8 x 60.0 mm became 64.8 x 60.0 mm", a line that says
+/// nothing. T0211 is given only when `--fit` changes the size.
+#[test]
+fn fit_says_nothing_when_it_changes_nothing() {
+    let compile = |svg: &str| {
+        let opts = taxel_compiler::CompileOptions { fit: true, ..taxel_compiler::CompileOptions::new(stress2()) };
+        super::common::no_internal_error(taxel_compiler::svg::compile_svg(svg, &opts))
+    };
+    let body = r#"<rect x="10" y="10" width="60" height="40" fill="none" stroke="black"/></svg>"#;
+    let sizeless = format!(r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 60">{body}"#);
+    let c = compile(&sizeless);
+    assert_eq!(super::common::with_code(&c, "T0201").len(), 1, "{:#?}", c.diagnostics);
+    assert!(super::common::with_code(&c, "T0211").is_empty(), "{:#?}", c.diagnostics);
+    let large =
+        format!(r#"<svg xmlns="http://www.w3.org/2000/svg" width="200mm" height="120mm" viewBox="0 0 100 60">{body}"#);
+    let c = compile(&large);
+    assert_eq!(super::common::with_code(&c, "T0211").len(), 1, "{:#?}", c.diagnostics);
+}
