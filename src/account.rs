@@ -13,6 +13,10 @@ pub const STYLE_SUMMARY: &str = "T0330";
 /// How many elements a group names before "and N more".
 const NAMED: usize = 3;
 
+/// Longest list of a group's different messages written out; a longer one
+/// gives the first message, said to be the first.
+const LISTED_CHARS: usize = 160;
+
 /// Where an instance is: `#id (line N)`.
 fn place(d: &Diagnostic) -> Option<String> {
     match (&d.element, d.line) {
@@ -51,20 +55,66 @@ pub fn lines(diags: &[Diagnostic], file: &str, min: Severity, verbose: bool) -> 
                 out.extend(first.render(file).lines().map(str::to_string));
                 continue;
             }
-            // Only the named places are written out: a dense map has hundreds of thousands.
-            let placed = group.iter().filter(|d| d.element.is_some() || d.line.is_some()).count();
-            let mut at = group.iter().filter_map(|d| place(d)).take(NAMED).collect::<Vec<_>>().join(", ");
-            if placed > NAMED {
-                at += &format!(" and {} more", placed - NAMED);
+            // Only the named places are written out: a dense map has hundreds of
+            // thousands. An element met twice (its band and its fill) is named once.
+            let mut places: Vec<String> = Vec::new();
+            let mut more = 0;
+            for p in group.iter().filter_map(|d| place(d)) {
+                if places.contains(&p) {
+                    continue;
+                }
+                if places.len() < NAMED {
+                    places.push(p);
+                } else {
+                    more += 1;
+                }
             }
-            let at = if at.is_empty() { String::new() } else { format!(" (at {at})") };
-            out.push(format!("{file}: {severity}[{code}] x{}: {}{at}; -v lists each", group.len(), first.message));
+            let mut at = places.join(", ");
+            if more > 0 {
+                at += &format!(" and {more} more");
+            }
+            let (text, first_of) = group_message(&group);
+            let at = match (first_of, at.is_empty()) {
+                (Some(f), false) => format!(" ({f}; at {at})"),
+                (Some(f), true) => format!(" ({f})"),
+                (None, false) => format!(" (at {at})"),
+                (None, true) => String::new(),
+            };
+            out.push(format!("{file}: {severity}[{code}] x{}: {text}{at}; -v lists each", group.len()));
             if let Some(h) = &first.help {
                 out.push(format!("  help: {h}"));
             }
         }
     }
     out
+}
+
+/// What one line says for a group of one code: its message when every
+/// instance says the same; each message with its count when they say up to
+/// [`NAMED`] different things (`grating` and `vibrate` not rendered); else
+/// the first, said to be the first, so a line never names one style, size or
+/// distance for a group that holds several.
+fn group_message(group: &[&Diagnostic]) -> (String, Option<String>) {
+    let mut kinds: Vec<(&str, usize)> = Vec::new();
+    for d in group {
+        match kinds.iter().position(|(m, _)| *m == d.message) {
+            Some(k) => kinds[k].1 += 1,
+            None => kinds.push((&d.message, 1)),
+        }
+        if kinds.len() > NAMED {
+            break;
+        }
+    }
+    let listed = kinds.iter().map(|(m, c)| format!("{m} (x{c})")).collect::<Vec<_>>().join(" | ");
+    match kinds.len() {
+        1 => (kinds[0].0.to_string(), None),
+        // Listed when the list stays a readable line (messages naming long element paths do not).
+        n if n <= NAMED && listed.len() <= LISTED_CHARS => (listed, None),
+        _ => {
+            let distinct: std::collections::HashSet<&str> = group.iter().map(|d| d.message.as_str()).collect();
+            (group[0].message.clone(), Some(format!("the first of {} different messages", distinct.len())))
+        }
+    }
 }
 
 /// The style summary note's message (how many elements became which style), if any.
@@ -94,7 +144,7 @@ mod tests {
             out,
             [
                 "map.svg:5:1: error[T0401]: adjacent gratings (element #g)",
-                "map.svg: warning[T0408] x42: this element is 1.0 mm from #r1x, closer than 3.2 mm (at #r1 (line 11), #r2 (line 12), #r3 (line 13) and 39 more); -v lists each",
+                "map.svg: warning[T0408] x42: this element is 1.0 mm from #r1x, closer than 3.2 mm (the first of 42 different messages; at #r1 (line 11), #r2 (line 12), #r3 (line 13) and 39 more); -v lists each",
                 "  help: leave at least 3.2 mm",
                 "map.svg: note[T0320]: no annotation: the automatic style sheet was used",
             ]
@@ -103,5 +153,39 @@ mod tests {
         // -v: every instance, each with its help line.
         assert_eq!(lines(&diags, "map.svg", Severity::Warning, true).len(), 1 + 42 * 2);
         assert_eq!(style_summary(&diags), Some("44 element(s): 44 grating"));
+    }
+
+    /// Regression (real corpora): a group's line gave the first instance's
+    /// message, so three T0120 about `grating`, `grating` and `vibrate` read
+    /// "x3: `grating` is not rendered", and a group of gaps named one distance.
+    #[test]
+    fn a_group_of_different_messages_never_reads_as_one() {
+        let not = |s: &str, e: &str| {
+            Diagnostic::warning("T0120", format!("`{s}` is not rendered on brush-4x3; it is left out")).with_element(e)
+        };
+        let diags = [not("grating", "a"), not("grating", "b"), not("vibrate", "c")];
+        let out = lines(&diags, "f.svg", Severity::Note, false);
+        assert_eq!(out.len(), 1, "{out:?}");
+        for (style, n) in [("grating", 2), ("vibrate", 1)] {
+            assert!(
+                out[0].contains(&format!("`{style}` is not rendered on brush-4x3; it is left out (x{n})")),
+                "{out:?}"
+            );
+        }
+        // Two long messages that would make an unreadable line: the first, said to be the first.
+        let long = |k: usize| Diagnostic::warning("T0410", format!("this layer overlaps #{}{k}", "g[1]/".repeat(20)));
+        let out = lines(&[long(1), long(2)], "f.svg", Severity::Note, false);
+        assert!(out[0].contains("(the first of 2 different messages)") && out[0].len() < 200, "{out:?}");
+        // Many different messages: the first, said to be the first of so many.
+        let diags: Vec<Diagnostic> = (1..=42).map(|k| gap(&format!("r{k}"), 10 + k)).collect();
+        let mut diags: Vec<Diagnostic> = diags
+            .into_iter()
+            .enumerate()
+            .map(|(k, d)| Diagnostic { message: format!("this element is {k}.0 mm from #x, closer than 3.2 mm"), ..d })
+            .collect();
+        // The same element and line twice is named once.
+        diags.insert(1, diags[0].clone());
+        let out = lines(&diags, "f.svg", Severity::Note, false);
+        assert!(out[0].contains("x43: this element is 0.0 mm from #x, closer than 3.2 mm (the first of 42 different messages; at #r1 (line 11), #r2 (line 12), #r3 (line 13) and 39 more)"), "{out:?}");
     }
 }

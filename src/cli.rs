@@ -121,9 +121,9 @@ fn parse_exaggerate(s: &str) -> Result<f64, String> {
 /// The commands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Compile drawings (.svg) and meshes (.gltf, .glb) into bundles.
+    /// Compile drawings (.svg, .svgz) and meshes (.gltf, .glb) into bundles.
     Build {
-        /// Input files or folders (folders are searched for .svg, .gltf and .glb).
+        /// Input files or folders (folders are searched for .svg, .svgz, .gltf and .glb).
         #[arg(required = true)]
         inputs: Vec<PathBuf>,
         /// Output bundle (one input) or folder (several inputs).
@@ -198,7 +198,7 @@ pub enum Command {
     },
     /// Draw a drawing or a bundle the way a reader will feel it.
     Preview {
-        /// A drawing (.svg, .gltf, .glb) or a bundle (.taxel).
+        /// A drawing (.svg, .svgz, .gltf, .glb) or a bundle (.taxel).
         input: PathBuf,
         /// The PNG to write.
         #[arg(long, short = 'o', required = true)]

@@ -80,22 +80,29 @@ pub fn compile_file(path: &Path, opts: &CompileOpts) -> Result<Compiled> {
 pub fn compile_bytes(path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> Result<Compiled> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).unwrap_or_default();
     match ext.as_str() {
-        "svg" => compile_drawing(bytes, opts),
+        "svg" | "svgz" => compile_drawing(path, bytes, opts),
         "gltf" | "glb" => compile_mesh(path, &bytes, opts),
-        _ => bail!("{}: unknown input kind, expected .svg, .gltf or .glb", path.display()),
+        _ => bail!("{}: unknown input kind, expected .svg, .svgz, .gltf or .glb", path.display()),
     }
 }
 
 /// An annotated SVG drawing (docs/annotations.md).
-fn compile_drawing(bytes: Vec<u8>, opts: &CompileOpts) -> Result<Compiled> {
+fn compile_drawing(path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> Result<Compiled> {
     let options = match compile_options(opts)? {
         Ok(o) => o,
         Err(d) => return Ok(Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new() }),
     };
-    let Ok(text) = String::from_utf8(bytes) else {
-        let d = Diagnostic::error("T0200", "the file is not UTF-8 text, expected an SVG document")
-            .with_help("compressed .svgz files must be unpacked first");
-        return Ok(Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new() });
+    // A compressed drawing is unpacked (within the input limit); what is
+    // neither SVG text nor gzip is a problem of the input, said like the others.
+    let text = match io::drawing_text(path, bytes) {
+        Ok(t) => t,
+        Err(e) => {
+            let shown = path.display().to_string();
+            let why = format!("{e:#}");
+            let why = why.strip_prefix(&format!("{shown}: ")).unwrap_or(&why).to_string();
+            let d = Diagnostic::error("T0200", why);
+            return Ok(Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new() });
+        }
     };
     Ok(taxel_compiler::svg::compile_svg(&text, &options))
 }

@@ -191,7 +191,11 @@ pub fn apply(
             d.page.offset_mm = (d.page.offset_mm.0 * s + t.0, d.page.offset_mm.1 * s + t.1);
             d.page.width_mm = sw;
             d.page.height_mm = sh;
-            diags.push(Diagnostic::note(
+            // A drawing without a size was already fitted to the surface (T0201 says so):
+            // "scaled by 1.000" would only repeat it.
+            let unchanged = part.is_none() && (s - 1.0).abs() < 5e-4;
+            if !unchanged {
+                diags.push(Diagnostic::note(
                 "T0211",
                 format!(
                     "{} scaled by {:.3}: {:.1} x {:.1} mm became {:.1} x {:.1} mm on the {} surface ({sw} x {sh} mm)",
@@ -204,6 +208,7 @@ pub fn apply(
                     profile.name
                 ),
             ));
+            }
         }
     }
     let surface: Bbox = (0.0, 0.0, sw, sh);

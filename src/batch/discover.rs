@@ -1,14 +1,15 @@
 //! Finding the inputs of a batch: files named on the command line, and the
-//! drawings and meshes (`.svg`, `.gltf`, `.glb`) in folders, recursively.
+//! drawings and meshes (`.svg`, `.svgz`, `.gltf`, `.glb`, in any case) in
+//! folders, recursively.
 
-use std::collections::HashSet;
+use std::collections::{BTreeMap, HashSet};
 use std::path::{Path, PathBuf};
 
 use anyhow::{Result, bail};
 use walkdir::WalkDir;
 
 /// The extensions found in folders (compared without regard to case).
-pub const EXTENSIONS: [&str; 3] = ["svg", "gltf", "glb"];
+pub const EXTENSIONS: [&str; 4] = ["svg", "svgz", "gltf", "glb"];
 
 /// One input of a batch.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -33,13 +34,57 @@ pub fn is_input(path: &Path) -> bool {
     path.extension().and_then(|e| e.to_str()).is_some_and(|e| EXTENSIONS.iter().any(|x| x.eq_ignore_ascii_case(e)))
 }
 
+/// What a walk over the arguments found.
+#[derive(Debug, Default)]
+pub struct Discovered {
+    /// The inputs, as [`discover`] returns them.
+    pub inputs: Vec<Input>,
+    /// Folder entries that cannot be read.
+    pub problems: Vec<String>,
+    /// Files in the folders that are not inputs, counted by extension
+    /// (lower case, `""` for none), so a build can say what it did not build
+    /// (a teacher's folder holds PDFs and PNGs beside the drawings).
+    pub others: BTreeMap<String, usize>,
+}
+
+impl Discovered {
+    /// One line naming the files in folders that were not built, or `None`.
+    pub fn others_line(&self) -> Option<String> {
+        let total: usize = self.others.values().sum();
+        if total == 0 {
+            return None;
+        }
+        let mut by: Vec<(&String, &usize)> = self.others.iter().collect();
+        by.sort_by(|a, b| b.1.cmp(a.1).then(a.0.cmp(b.0)));
+        let mut kinds: Vec<String> = by
+            .iter()
+            .take(4)
+            .map(|(e, n)| if e.is_empty() { format!("{n} without extension") } else { format!("{n} .{e}") })
+            .collect();
+        if by.len() > 4 {
+            kinds.push(format!("{} of other kinds", by[4..].iter().map(|(_, n)| **n).sum::<usize>()));
+        }
+        Some(format!(
+            "note: {total} other file(s) in the folders are not drawings and were not built ({}); taxel builds .svg, .svgz, .gltf and .glb (export other drawings to SVG)",
+            kinds.join(", ")
+        ))
+    }
+}
+
 /// The inputs named by `args`, in argument order and, within a folder, in
 /// file-name order; each file once however often it is named. A path that
 /// does not exist is an error (a usage mistake, before anything is built);
 /// a folder entry that cannot be read is returned as a problem to report.
 pub fn discover(args: &[PathBuf]) -> Result<(Vec<Input>, Vec<String>)> {
+    let d = discover_all(args)?;
+    Ok((d.inputs, d.problems))
+}
+
+/// [`discover`], with the other files found in the folders counted.
+pub fn discover_all(args: &[PathBuf]) -> Result<Discovered> {
     let mut inputs = Vec::new();
     let mut problems = Vec::new();
+    let mut others: BTreeMap<String, usize> = BTreeMap::new();
     let mut seen = HashSet::new();
     let mut push = |path: PathBuf, rel: PathBuf, inputs: &mut Vec<Input>| {
         let id = std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone());
@@ -69,6 +114,11 @@ pub fn discover(args: &[PathBuf]) -> Result<(Vec<Input>, Vec<String>)> {
                     let rel = e.path().strip_prefix(arg).unwrap_or(e.path()).to_path_buf();
                     push(e.path().to_path_buf(), rel, &mut inputs);
                 }
+                Ok(e) if e.file_type().is_file() => {
+                    let ext =
+                        e.path().extension().map(|x| x.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
+                    *others.entry(ext).or_default() += 1;
+                }
                 Ok(_) => {}
                 Err(e) => {
                     let at = e.path().map_or_else(|| arg.display().to_string(), |p| p.display().to_string());
@@ -80,7 +130,7 @@ pub fn discover(args: &[PathBuf]) -> Result<(Vec<Input>, Vec<String>)> {
             }
         }
     }
-    Ok((inputs, problems))
+    Ok(Discovered { inputs, problems, others })
 }
 
 #[cfg(test)]
@@ -91,7 +141,8 @@ mod tests {
     fn walks_folders_for_drawings_and_meshes_only() {
         let dir = tempfile::tempdir().unwrap();
         let d = dir.path();
-        for f in ["a.svg", "sub/b.SVG", "sub/deeper/c.gltf", "d.glb", "notes.txt", "e.taxel", ".hidden/f.svg"] {
+        for f in ["a.svg", "sub/b.SVG", "sub/deeper/c.gltf", "d.glb", "notes.txt", "e.taxel", ".hidden/f.svg", "g.SVGZ"]
+        {
             let p = d.join(f);
             std::fs::create_dir_all(p.parent().unwrap()).unwrap();
             std::fs::write(p, "x").unwrap();
@@ -99,7 +150,13 @@ mod tests {
         let (inputs, problems) = discover(&[d.to_path_buf(), d.join("a.svg")]).unwrap();
         assert!(problems.is_empty());
         let keys: Vec<String> = inputs.iter().map(Input::key).collect();
-        assert_eq!(keys, ["a.svg", "d.glb", "sub/b.SVG", "sub/deeper/c.gltf"]);
+        assert_eq!(keys, ["a.svg", "d.glb", "g.SVGZ", "sub/b.SVG", "sub/deeper/c.gltf"]);
+        // The files that are not inputs are counted, not silently passed over (hidden folders are not walked).
+        let found = discover_all(&[d.to_path_buf()]).unwrap();
+        let others: Vec<(&str, usize)> = found.others.iter().map(|(e, n)| (e.as_str(), *n)).collect();
+        assert_eq!(others, [("taxel", 1), ("txt", 1)]);
+        let line = found.others_line().unwrap();
+        assert!(line.contains("2 other file(s)") && line.contains("1 .taxel, 1 .txt"), "{line}");
     }
 
     #[test]

@@ -43,6 +43,16 @@ pub fn content_hash(input: &Path, bytes: &[u8], opts: &CompileOpts) -> Result<[u
     part.finish(&fonts, opts)
 }
 
+/// A drawing's text as the build reads it: borrowed when it is plain, unpacked
+/// when it is compressed (`.svgz`); `None` when it is neither.
+fn text_of<'a>(input: &Path, bytes: &'a [u8]) -> Option<std::borrow::Cow<'a, str>> {
+    if crate::io::is_gzip(bytes) {
+        crate::io::drawing_text(input, bytes.to_vec()).ok().map(std::borrow::Cow::Owned)
+    } else {
+        std::str::from_utf8(bytes).ok().map(std::borrow::Cow::Borrowed)
+    }
+}
+
 /// A content hash up to the input's own bytes (and a glTF's files), with
 /// the rest to come: the font faces, then the options. It lets a build that
 /// rebuilds anyway (`--force`, no bundle yet) drop the input's bytes, compile,
@@ -51,9 +61,12 @@ pub fn content_hash(input: &Path, bytes: &[u8], opts: &CompileOpts) -> Result<[u
 /// drawing a second time only to find them. Either way the hash is the same.
 pub struct Partial {
     h: Hasher,
-    /// Whether the font faces are part of the hash: a drawing (UTF-8 `.svg`)
-    /// whose text mentions `<text`, as [`taxel_compiler::drawing::fonts_used`] decides.
+    /// Whether the font faces are part of the hash: a drawing (UTF-8 `.svg`,
+    /// or `.svgz` that unpacks to it) whose text mentions `<text`, as
+    /// [`taxel_compiler::drawing::fonts_used`] decides.
     fonts_matter: bool,
+    /// The input, for unpacking a compressed drawing the same way the build does.
+    input: std::path::PathBuf,
 }
 
 impl Partial {
@@ -70,20 +83,21 @@ impl Partial {
                 h.field(uri.as_bytes()).opt(data.as_deref());
             }
         }
-        let fonts_matter = ext == "svg" && std::str::from_utf8(bytes).is_ok_and(|t| t.contains("<text"));
-        Partial { h, fonts_matter }
+        let fonts_matter =
+            matches!(ext.as_str(), "svg" | "svgz") && text_of(input, bytes).is_some_and(|t| t.contains("<text"));
+        Partial { h, fonts_matter, input: input.to_path_buf() }
     }
 
     /// The font faces the text of `bytes` (the input's, as given to
     /// [`Partial::begin`]) is laid out with, under `--fonts DIR` or the
     /// system's fonts: one parse of the drawing. Empty when fonts do not matter.
     pub fn fonts_by_parsing(&self, bytes: &[u8], opts: &CompileOpts) -> Result<Vec<FontFace>> {
-        let text = match std::str::from_utf8(bytes) {
-            Ok(t) if self.fonts_matter => t,
+        let text = match text_of(&self.input, bytes) {
+            Some(t) if self.fonts_matter => t,
             _ => return Ok(Vec::new()),
         };
         let db = crate::compile::font_database(opts.fonts.as_deref())?;
-        Ok(taxel_compiler::drawing::fonts_used(text, &db))
+        Ok(taxel_compiler::drawing::fonts_used(&text, &db))
     }
 
     /// The hash, given the faces the text was laid out with (those of

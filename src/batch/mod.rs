@@ -23,7 +23,7 @@ use rayon::prelude::*;
 use taxel_compiler::{Compiled, Diagnostic, Severity};
 
 use crate::cli::CompileOpts;
-pub use discover::{Input, discover};
+pub use discover::{Input, discover, discover_all};
 pub use progress::{Outcome, Reporter, Summary};
 pub use shard::Shard;
 

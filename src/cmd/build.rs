@@ -33,7 +33,9 @@ pub fn run(args: BuildArgs) -> CmdResult {
     if args.jobs == Some(0) {
         return Err(anyhow::anyhow!("--jobs 0: at least one job is needed").into());
     }
-    let (found, problems) = batch::discover(&args.inputs)?;
+    let discovered = batch::discover_all(&args.inputs)?;
+    let others = discovered.others_line();
+    let (found, problems) = (discovered.inputs, discovered.problems);
     let found_count = found.len();
     let dest = Destination::choose(args.out.as_deref(), found_count)?;
     let selected: Vec<_> = match shard {
@@ -42,7 +44,7 @@ pub fn run(args: BuildArgs) -> CmdResult {
     };
     if found_count == 0 && problems.is_empty() {
         eprintln!(
-            "warning: no inputs found in {} (folders are searched for .svg, .gltf and .glb)",
+            "warning: no inputs found in {} (folders are searched for .svg, .svgz, .gltf and .glb)",
             args.inputs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
         );
     }
@@ -55,6 +57,9 @@ pub fn run(args: BuildArgs) -> CmdResult {
         verbose: args.verbose,
     };
     let summary = batch::run(&jobs, &problems, &settings, &compile_bytes)?;
+    if let Some(line) = others {
+        eprintln!("{line}");
+    }
     match shard {
         Some(s) => outln!("shard {s} ({} of {found_count} inputs): {summary}", jobs.len())?,
         None => outln!("{summary}")?,

@@ -18,7 +18,7 @@ pub fn run(input: &Path, out: &Path, opts: &CompileOpts) -> CmdResult {
     let shown = input.display().to_string();
     let no_picture = || CliError::input(anyhow::anyhow!("{shown}: nothing to preview: the input has errors (above)"));
     let picture = match ext.as_str() {
-        "svg" => {
+        "svg" | "svgz" => {
             let options = match compile_options(opts)? {
                 Ok(o) => o,
                 Err(d) => {
@@ -27,7 +27,7 @@ pub fn run(input: &Path, out: &Path, opts: &CompileOpts) -> CmdResult {
                 }
             };
             // Read like `build` reads it: with the size limit, and UTF-8 or nothing.
-            let text = io::read_input_text(input).map_err(CliError::input)?;
+            let text = io::read_drawing(input).map_err(CliError::input)?;
             let (picture, compiled) = preview::preview_svg(&text, &options);
             print_diagnostics(&shown, &compiled.diagnostics);
             picture

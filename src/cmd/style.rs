@@ -26,9 +26,7 @@ pub fn run(sheet: BuiltinSheet, input: Option<&Path>, opts: &CompileOpts) -> Cmd
             return Err(CliError::input(anyhow::anyhow!("{shown}: the style sheet is malformed")));
         }
     };
-    let Ok(text) = String::from_utf8(io::read_input(path)?) else {
-        return Err(CliError::input(anyhow::anyhow!("{shown}: the file is not UTF-8 text, expected an SVG document")));
-    };
+    let text = io::read_drawing(path).map_err(CliError::input)?;
     let resolved = drawing::resolve_as_drawn(&text, &options);
     let mut diags = resolved.diagnostics;
     let mut drawing = resolved.drawing.filter(|_| !taxel_compiler::has_errors(&diags));

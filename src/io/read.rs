@@ -35,6 +35,45 @@ pub fn read_input_text(path: &Path) -> Result<String> {
     String::from_utf8(read_input(path)?).map_err(|_| anyhow::anyhow!("{}: the file is not UTF-8 text", path.display()))
 }
 
+/// The two bytes every gzip stream starts with (RFC 1952).
+const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
+
+/// Whether `bytes` are gzip-compressed (a `.svgz` drawing).
+pub fn is_gzip(bytes: &[u8]) -> bool {
+    bytes.starts_with(&GZIP_MAGIC)
+}
+
+/// A drawing's bytes as SVG text: gzip-compressed ones (`.svgz`, or any
+/// drawing that starts with gzip's magic) unpacked first, to at most
+/// [`MAX_INPUT_BYTES`] (a small file may unpack to gigabytes), then UTF-8.
+pub fn drawing_text(path: &Path, bytes: Vec<u8>) -> Result<String> {
+    let bytes = if is_gzip(&bytes) {
+        use std::io::Read as _;
+        let mut out = Vec::new();
+        flate2::read::MultiGzDecoder::new(&bytes[..])
+            .take(MAX_INPUT_BYTES + 1)
+            .read_to_end(&mut out)
+            .with_context(|| format!("{}: the compressed drawing cannot be unpacked", path.display()))?;
+        if out.len() as u64 > MAX_INPUT_BYTES {
+            bail!(
+                "{}: the compressed drawing unpacks to more than the {} MB input limit; split the drawing",
+                path.display(),
+                MAX_INPUT_BYTES >> 20
+            );
+        }
+        out
+    } else {
+        bytes
+    };
+    String::from_utf8(bytes)
+        .map_err(|_| anyhow::anyhow!("{}: the file is not UTF-8 text, expected an SVG document", path.display()))
+}
+
+/// Reads a drawing (`.svg` or `.svgz`) as SVG text, through [`read_input`] and [`drawing_text`].
+pub fn read_drawing(path: &Path) -> Result<String> {
+    drawing_text(path, read_input(path)?)
+}
+
 /// Reads a bundle of at most the format's own limit
 /// ([`taxel_format::MAX_FILE_LEN`]); the reader checks everything else.
 pub fn read_bundle(path: &Path) -> Result<Vec<u8>> {
@@ -57,6 +96,34 @@ mod tests {
         assert!(format!("{e:#}").starts_with(&format!("cannot read {}", missing.display())), "{e:#}");
         std::fs::write(&p, [0xff, 0xfe]).unwrap();
         assert!(format!("{:#}", read_input_text(&p).unwrap_err()).contains("not UTF-8"));
+    }
+
+    fn gzip(data: &[u8]) -> Vec<u8> {
+        use std::io::Write as _;
+        let mut z = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+        z.write_all(data).unwrap();
+        z.finish().unwrap()
+    }
+
+    #[test]
+    fn compressed_drawings_are_unpacked_within_the_limit() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("a.svgz");
+        std::fs::write(&p, gzip(b"<svg/>")).unwrap();
+        assert_eq!(read_drawing(&p).unwrap(), "<svg/>");
+        // A plain drawing is read as it is, whatever its name.
+        std::fs::write(&p, "<svg/>").unwrap();
+        assert_eq!(read_drawing(&p).unwrap(), "<svg/>");
+        // A few hundred kilobytes that unpack past the limit are refused, not unpacked.
+        let bomb = gzip(&vec![b' '; MAX_INPUT_BYTES as usize + 1]);
+        assert!((bomb.len() as u64) < MAX_INPUT_BYTES / 100);
+        let e = format!("{:#}", drawing_text(&p, bomb).unwrap_err());
+        assert!(e.contains("unpacks to more than the 64 MB input limit"), "{e}");
+        // A damaged stream says so.
+        let mut cut = gzip(b"<svg>long enough to be cut</svg>");
+        cut.truncate(cut.len() - 12);
+        let e = format!("{:#}", drawing_text(&p, cut).unwrap_err());
+        assert!(e.contains("cannot be unpacked"), "{e}");
     }
 
     #[test]

@@ -141,3 +141,50 @@ fn style_auto_prints_a_sheet_that_reads_back_with_the_drawings_fills() {
     assert_eq!(out.status.code(), Some(0), "{}", all(&out));
     assert!(!all(&out).contains("T0320"), "a sheet was given: {}", all(&out));
 }
+
+/// Regression: a folder's `.svgz` drawings were skipped without a word, and
+/// one named on the command line was refused as an unknown kind. They are
+/// unpacked and built like `.svg` (in any case of extension, as `.SVG`), and
+/// the files that are not drawings are named in one line.
+#[test]
+fn a_teachers_folder_builds_svgz_and_upper_case_svg_and_names_what_it_did_not_build() {
+    use std::io::Write as _;
+    let dir = tempfile::tempdir().unwrap();
+    let src = dir.path().join("lesson");
+    std::fs::create_dir_all(&src).unwrap();
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="60mm" viewBox="0 0 100 60">
+  <rect x="10" y="10" width="40" height="40" fill="#1e2bd5"/>
+  <path d="M60 10 L90 50" stroke="black" stroke-width="1" fill="none"/>
+</svg>"##;
+    let mut z = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    z.write_all(svg.as_bytes()).unwrap();
+    std::fs::write(src.join("packed.svgz"), z.finish().unwrap()).unwrap();
+    write(&src, "SHOUTED.SVG", svg);
+    write(&src, "worksheet.pdf", "%PDF-1.4");
+    write(&src, "photo.png", "png");
+    write(&src, "photo2.png", "png");
+    let out_dir = dir.path().join("out");
+    let out = taxel(&["build", "--fit", src.to_str().unwrap(), "-o", out_dir.to_str().unwrap()]);
+    let text = all(&out);
+    assert_eq!(out.status.code(), Some(0), "{text}");
+    for b in ["packed.taxel", "SHOUTED.taxel"] {
+        let bytes = bundle_bytes(out_dir.join(b).to_str().unwrap());
+        taxel_format::BundleView::parse(&bytes).expect("the bundle validates");
+    }
+    // The compressed drawing is the same drawing: the same layers.
+    let packed = bundle_bytes(out_dir.join("packed.taxel").to_str().unwrap());
+    let plain = bundle_bytes(out_dir.join("SHOUTED.taxel").to_str().unwrap());
+    let layers = |b: &[u8]| taxel_format::BundleView::parse(b).unwrap().chunks().count();
+    assert_eq!(layers(&packed), layers(&plain));
+    let note = text.lines().find(|l| l.contains("not drawings")).unwrap_or_else(|| panic!("{text}"));
+    assert!(note.contains("3 other file(s)") && note.contains("2 .png, 1 .pdf"), "{note}");
+    // Named directly, and previewed.
+    let one = dir.path().join("one.taxel");
+    let src_z = src.join("packed.svgz");
+    let out = taxel(&["build", "--fit", src_z.to_str().unwrap(), "-o", one.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{}", all(&out));
+    let png = dir.path().join("packed.png");
+    let out = taxel(&["preview", "--fit", src_z.to_str().unwrap(), "-o", png.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{}", all(&out));
+    assert!(png.exists());
+}

@@ -56,6 +56,14 @@ pub const MIN_ALPHA: u8 = 26;
 /// Fills whose every channel is at least this light are paper, not regions
 /// (unless they are all that a coloured background carries).
 pub const WHITE: u8 = 240;
+/// A grey line is faint (a chart's grid, a light frame) when it is less than
+/// this share as dark as the drawing's darkest line: Vega-Lite's `#ddd` grid
+/// beside its `#888` axes (0.28 against 0.75), matplotlib's `#b0b0b0` grid
+/// beside black axes (0.57 against 1).
+pub const FAINT_SHARE: f64 = 0.6;
+/// Colours whose channels differ by no more than this are grey (no hue): a
+/// light coloured line is data (a yellow series), a light grey one is a guide.
+const GREY_SPREAD: u8 = 24;
 /// Fills enclosing no more than this many mm² enclose nothing that can be seen.
 const MIN_FILL_MM2: f64 = 1e-6;
 /// Radius of the dots of braille the automatic sheet writes (NLS 800: 1.44 mm base).
@@ -117,6 +125,8 @@ pub enum LeftOut {
     TextDoesNotFit,
     /// A raster image.
     Image,
+    /// A faint grey line (a chart's grid): see [`darkness`] and [`FAINT_SHARE`].
+    Faint,
 }
 
 /// What the automatic sheet made of one element.
@@ -130,6 +140,8 @@ pub struct Decision {
     pub mark: bool,
     /// Its text becomes braille.
     pub braille: bool,
+    /// Its stroke is faint (a grid line) and does not vibrate.
+    pub faint: bool,
     /// Why nothing was made of it; `None` when something was, or when an
     /// annotation or style sheet had already styled it.
     pub left_out: Option<LeftOut>,
@@ -161,8 +173,17 @@ pub struct Plan {
     pub fills: Vec<FillClass>,
     /// Distinct stroke colours that vibrate, in first-seen order.
     pub strokes: Vec<Option<[u8; 3]>>,
+    /// Distinct faint stroke colours left out (a chart's grid), in first-seen order.
+    pub faint: Vec<[u8; 3]>,
+    /// The darkest line's colour, beside which the faint ones are faint.
+    pub darkest: Option<[u8; 3]>,
     /// One decision per element of the drawing.
     pub decisions: Vec<Decision>,
+    /// Regions (element indices) that share a border with a region of their
+    /// own fill, of a fill most of whose such regions are too small for a
+    /// border ([`min_region_mm`]): they get their texture and no outline, so
+    /// they are felt as one texture.
+    pub too_small: Vec<usize>,
 }
 
 /// Whether no element of the drawing was styled by an annotation or a style sheet.
@@ -176,6 +197,30 @@ fn visible(c: Rgba) -> bool {
 
 fn rgb(c: Rgba) -> [u8; 3] {
     [c[0], c[1], c[2]]
+}
+
+/// How dark a colour looks on white paper, from 0 (white, or transparent) to
+/// 1 (black): one less the relative luminance (WCAG 2, sRGB linearised) of
+/// the colour laid over white at its alpha.
+///
+/// ```
+/// use taxel_compiler::auto::darkness;
+/// assert_eq!(darkness([0, 0, 0, 255]), 1.0);
+/// assert_eq!(darkness([0, 0, 0, 0]), 0.0);
+/// assert!((darkness([0xdd, 0xdd, 0xdd, 255]) - 0.277).abs() < 0.001);
+/// ```
+pub fn darkness(c: Rgba) -> f64 {
+    let a = c[3] as f64 / 255.0;
+    let lin = |v: u8| {
+        let v = a * (v as f64 / 255.0) + (1.0 - a);
+        if v <= 0.04045 { v / 12.92 } else { ((v + 0.055) / 1.055).powf(2.4) }
+    };
+    1.0 - (0.2126 * lin(c[0]) + 0.7152 * lin(c[1]) + 0.0722 * lin(c[2]))
+}
+
+fn grey(c: Rgba) -> bool {
+    let (lo, hi) = (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]));
+    hi - lo <= GREY_SPREAD
 }
 
 /// Area enclosed by `polys` (each closed implicitly): the signed areas
@@ -266,6 +311,19 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
     let mut shapes: Vec<Filled<'_>> = Vec::new();
     let mut braille = Occupancy::default();
     let mut texts = Vec::new();
+    // The darkest line the sheet would make vibrate: grey lines much lighter
+    // than it are guides (grid lines, light frames) and are left out, so the
+    // axes and the data are felt rather than a lattice of grid lines.
+    let darkest = d
+        .elements
+        .iter()
+        .filter(|e| e.styled_by == StyledBy::Nothing && e.visible && matches!(e.shape, Shape::Path(_)))
+        .filter(|e| e.paint.stroked && e.paint.stroke_width_mm > 0.0)
+        .filter_map(|e| e.paint.stroke.filter(|&c| visible(c)))
+        .max_by(|a, b| darkness(*a).total_cmp(&darkness(*b)));
+    let faint =
+        |c: Option<Rgba>| c.zip(darkest).is_some_and(|(c, top)| grey(c) && darkness(c) < FAINT_SHARE * darkness(top));
+    let mut faint_colours: Vec<[u8; 3]> = Vec::new();
     for (i, e) in d.elements.iter().enumerate() {
         if e.styled_by != StyledBy::Nothing {
             continue;
@@ -304,7 +362,13 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
                     dec.left_out = Some(LeftOut::Background);
                     continue;
                 }
-                if stroked {
+                if stroked && faint(paint.stroke) {
+                    dec.faint = true;
+                    let c = paint.stroke.map(rgb).unwrap_or_default();
+                    if !faint_colours.contains(&c) {
+                        faint_colours.push(c);
+                    }
+                } else if stroked {
                     dec.outline = true;
                     let key = paint.stroke.map(rgb);
                     if !strokes.contains(&key) {
@@ -319,7 +383,7 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
                 if filled {
                     shapes.push(Filled { i, region: Region { outline: &p.outline, bbox: b }, area: area(&p.outline) });
                 } else if !dec.outline && !dec.mark {
-                    dec.left_out = Some(LeftOut::Unpainted);
+                    dec.left_out = Some(if dec.faint { LeftOut::Faint } else { LeftOut::Unpainted });
                 }
             }
         }
@@ -391,11 +455,33 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
     // Regions of one fill that share a border (a map's districts drawn in one
     // colour) have one texture on both sides: only an outline tells them apart.
     let alike = neighbours.abutting_alike(&class_of, ABUT_MM);
+    let outline = outline_style(profile);
+    let min_region = min_region_mm(outline.width_mm);
+    // A region its own border band would mostly cover is felt as border, not
+    // as a region. The borders of one fill are kept or left out together, so
+    // the reader meets one rule across the map rather than a few outlined
+    // regions adrift in a texture: left out when most of the fill's regions
+    // that share borders with each other are that small (France's 96
+    // departments on a 60 mm map), kept when most are large enough (a map of
+    // states keeps its few small ones' borders).
+    let mut felt = vec![(0usize, 0usize); fills.len()];
+    for (k, f) in shapes.iter().enumerate() {
+        if let (true, Some(c)) = (alike[k], class_of[k]) {
+            felt[rank[c]].0 += usize::from(f.area.sqrt() >= min_region);
+            felt[rank[c]].1 += 1;
+        }
+    }
+    let bordered = |c: usize| 2 * felt[c].0 >= felt[c].1;
+    let mut too_small = Vec::new();
     for (k, f) in shapes.iter().enumerate() {
         let dec = &mut decisions[f.i];
         if let Some(c) = dec.region {
-            dec.region = Some(rank[c]);
-            if fills[rank[c]].texture.is_none() || alike[k] {
+            let c = rank[c];
+            dec.region = Some(c);
+            if alike[k] && !bordered(c) {
+                too_small.push(f.i);
+            }
+            if fills[c].texture.is_none() || (alike[k] && bordered(c)) {
                 // Given up, or beside its own texture: its outline says where it is.
                 dec.outline = true;
             } else if abuts[k] {
@@ -405,7 +491,31 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
             }
         }
     }
-    Plan { textures: textures(profile), outline: outline_style(profile), fills, strokes, decisions }
+    Plan {
+        textures: textures(profile),
+        outline,
+        fills,
+        strokes,
+        faint: faint_colours,
+        darkest: darkest.map(rgb),
+        decisions,
+        too_small,
+    }
+}
+
+/// The size (the side of a square of the same area) below which a region's
+/// own vibrating border, `width` wide and centred on its outline, would cover
+/// more than half of it: the band's inner half takes `width / 2` from each
+/// side, so a square of side `s` keeps `(s - width)²` of its `s²` as texture,
+/// and that is half when `s = width / (1 - 1/√2)`, about 3.4 widths (5.1 mm
+/// for the 1.5 mm outline).
+///
+/// ```
+/// let s = taxel_compiler::auto::min_region_mm(1.5);
+/// assert!(((s - 1.5) * (s - 1.5) / (s * s) - 0.5).abs() < 1e-12);
+/// ```
+pub fn min_region_mm(width: f64) -> f64 {
+    width / (1.0 - std::f64::consts::FRAC_1_SQRT_2)
 }
 
 /// The page backgrounds among the filled paths: those covering nine tenths of
@@ -560,6 +670,49 @@ pub fn prepare(d: &mut Drawing, opts: &crate::CompileOptions, diags: &mut Vec<Di
     true
 }
 
+impl LeftOut {
+    /// What it says in a message.
+    pub fn describe(self) -> &'static str {
+        match self {
+            LeftOut::Hidden => "hidden",
+            LeftOut::Empty => "empty",
+            LeftOut::OffPage => "off the page",
+            LeftOut::ClippedAway => "clipped away",
+            LeftOut::Background => "page background(s)",
+            LeftOut::Unpainted => "with no visible fill or stroke (white, transparent or none)",
+            LeftOut::SmallShape => "small shape(s) (glyph outlines, slivers)",
+            LeftOut::TextDoesNotFit => "text whose braille does not fit",
+            LeftOut::Image => "image(s)",
+            LeftOut::Faint => "faint grey line(s)",
+        }
+    }
+}
+
+/// Why the automatic sheet made nothing of `d`, when it made nothing: how
+/// many elements it left out for which reason, most first (`3 hidden, 2
+/// images`), for the error that says nothing tactile was found. `None` when
+/// it styled something (then the layers say why nothing was made).
+pub fn nothing_made(d: &Drawing, profile: &DeviceProfile) -> Option<String> {
+    let plan = plan(d, profile);
+    if (0..d.elements.len()).any(|i| !plan.styles(i).is_empty()) {
+        return None;
+    }
+    // An element the sheet did not decide was styled by an annotation or a sheet: as nothing.
+    let mut why: BTreeMap<&str, usize> = BTreeMap::new();
+    for dec in &plan.decisions {
+        *why.entry(dec.left_out.map_or("annotated `none`", LeftOut::describe)).or_default() += 1;
+    }
+    let mut why: Vec<(&str, usize)> = why.into_iter().collect();
+    why.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
+    Some(match d.elements.len() {
+        0 => "the drawing has no elements that are drawn".into(),
+        n => format!(
+            "the automatic style sheet left out all {n} element(s): {}",
+            why.iter().map(|(w, k)| format!("{k} {w}")).collect::<Vec<_>>().join(", ")
+        ),
+    })
+}
+
 /// A fill for messages: `#rrggbb`, or `a gradient`.
 pub fn fill_name(f: Option<[u8; 3]>) -> String {
     f.map_or("a gradient or pattern".into(), |c| format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2]))
@@ -589,20 +742,59 @@ fn notes(plan: &Plan, d: &Drawing, diags: &mut Vec<Diagnostic>) {
             .with_help("give them textures in a style sheet (start from `taxel style auto INPUT`), or split the drawing"),
         );
     }
-    for (t, g) in plan.textures.iter().enumerate() {
-        let sharing: Vec<String> =
-            plan.fills.iter().filter(|f| f.texture == Some(t)).map(|f| fill_name(f.fill)).collect();
-        if sharing.len() > 1 {
-            diags.push(Diagnostic::note(
-                "T0322",
+    // One note for every texture that is shared: a note per texture would be
+    // grouped into one line naming a single texture for all of them.
+    let shared: Vec<String> = plan
+        .textures
+        .iter()
+        .enumerate()
+        .filter_map(|(t, g)| {
+            let sharing: Vec<String> =
+                plan.fills.iter().filter(|f| f.texture == Some(t)).map(|f| fill_name(f.fill)).collect();
+            (sharing.len() > 1)
+                .then(|| format!("{} share grating({} mm, {}°)", first_three(&sharing), g.wavelength_mm, g.angle_deg))
+        })
+        .collect();
+    if !shared.is_empty() {
+        diags.push(Diagnostic::note(
+            "T0322",
+            format!("fills whose regions do not touch share textures: {}", shared.join("; ")),
+        ));
+    }
+    if !plan.too_small.is_empty() {
+        let names: Vec<String> = plan.too_small.iter().map(|&i| format!("#{}", d.elements[i].name)).collect();
+        diags.push(
+            Diagnostic::note(
+                "T0324",
                 format!(
-                    "fills {} share the texture grating({} mm, {}°): none of their regions touch",
-                    first_three(&sharing),
-                    g.wavelength_mm,
-                    g.angle_deg
+                    "the borders between {} region(s) of one fill are left out, so they are felt as one texture: most are under {:.1} mm across, where a {} mm border would cover most of each ({})",
+                    names.len(),
+                    min_region_mm(plan.outline.width_mm),
+                    plan.outline.width_mm,
+                    first_three(&names)
                 ),
-            ));
-        }
+            )
+            .with_help("to feel them apart, take part of the drawing with --region so they are larger, or give them colours of their own"),
+        );
+    }
+    let faint = plan.decisions.iter().filter(|dec| dec.faint).count();
+    if faint > 0 {
+        let colours: Vec<String> = plan.faint.iter().map(|&c| fill_name(Some(c))).collect();
+        let first = plan.faint.first().map_or_else(|| "#dddddd".to_string(), |&c| fill_name(Some(c)));
+        diags.push(
+            Diagnostic::note(
+                "T0325",
+                format!(
+                    "{faint} faint grey stroke(s) left out ({}): less than {:.0} % as dark as the darkest lines ({}), as a chart's grid lines are, so the axes and the data are felt rather than the grid",
+                    first_three(&colours),
+                    FAINT_SHARE * 100.0,
+                    fill_name(plan.darkest)
+                ),
+            )
+            .with_help(format!(
+                "to feel them, weaker than the other lines, use a style sheet with a rule `stroke = \"{first}\"`, `tactile = \"vibrate(amplitude: 0.5)\"` (start from `taxel style auto INPUT`)"
+            )),
+        );
     }
     let text: Vec<String> = plan
         .decisions

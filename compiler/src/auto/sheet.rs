@@ -42,8 +42,18 @@ pub fn sheet_toml(profile: &DeviceProfile, input: Option<(&Drawing, &Plan)>) -> 
     s += "# sheet: edit the rules, then build with `--style THIS_FILE` (docs/annotations.md).\n";
     s += "#\n";
     s += "# What the automatic sheet decides from the drawing itself:\n";
-    s += "#   - stroked lines and outlines vibrate, and so do the borders between regions\n";
-    s += "#     of one fill (a map's districts drawn in one colour);\n";
+    let _ = writeln!(
+        s,
+        "#   - stroked lines and outlines vibrate (grey lines less than {:.0} % as dark as the",
+        super::FAINT_SHARE * 100.0
+    );
+    s += "#     darkest lines, as a chart's grid, are left out), and so do the borders between regions\n";
+    s += "#     of one fill (a map's districts drawn in one colour), unless most of them are\n";
+    let _ = writeln!(
+        s,
+        "#     under {:.1} mm across, which their borders would mostly cover (one texture then);",
+        super::min_region_mm(outline_style(profile).width_mm)
+    );
     s += "#   - each filled colour becomes one of the textures below, largest area first,\n";
     s += "#     so that colours whose regions touch (closer than 3.2 mm) never share one;\n";
     s += "#     at most five textures; a colour that would need a sixth keeps only its outline;\n";
@@ -133,6 +143,14 @@ pub fn sheet_toml(profile: &DeviceProfile, input: Option<(&Drawing, &Plan)>) -> 
                 );
             }
         }
+    }
+    for c in &plan.faint {
+        let _ = writeln!(
+            s,
+            "\n# Faint grey lines ({}, a chart's grid) were left out; to feel them, weaker:\n# [[rule]]\n# stroke = \"{}\"\n# tactile = \"vibrate(amplitude: 0.5)\"",
+            fill_name(Some(*c)),
+            fill_name(Some(*c))
+        );
     }
     s
 }

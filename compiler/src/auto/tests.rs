@@ -181,6 +181,40 @@ fn more_fills_than_textures_reuse_textures_only_between_regions_that_do_not_touc
     assert!(!diags.iter().any(|d| d.code == "T0321"));
 }
 
+/// Regression (logos with many colours, such as Apache Flink's): one T0322
+/// per shared texture was grouped by the account into one line naming the
+/// first texture for all of them. One note names every shared texture.
+#[test]
+fn textures_shared_by_several_groups_of_fills_are_one_note_naming_each() {
+    // Eleven colours in a row, none touching: five textures, the first
+    // shared by three fills, the others by two.
+    let fills: Vec<Rgba> = (0..11u8).map(|k| [20 * k, 200 - 15 * k, 60 + 10 * k, 255]).collect();
+    let elements = (0..11)
+        .map(|k| {
+            let x = 20.0 * k as f64;
+            shape(&format!("r{k}"), rect(x, 0.0, x + 10.0, 40.0 - k as f64), Some(fills[k]), None)
+        })
+        .collect();
+    let mut d = Drawing { page: page(230.0, 100.0), elements, ..Default::default() };
+    let mut diags = Vec::new();
+    let plan = apply(&mut d, &stress2(), &mut diags);
+    let notes: Vec<&Diagnostic> = diags.iter().filter(|d| d.code == "T0322").collect();
+    assert_eq!(notes.len(), 1, "{diags:?}");
+    for (t, g) in plan.textures.iter().enumerate() {
+        let n = plan.fills.iter().filter(|f| f.texture == Some(t)).count();
+        let named = format!("grating({} mm, {}°)", g.wavelength_mm, g.angle_deg);
+        assert_eq!(n > 1, notes[0].message.contains(&named), "{named} x{n}: {}", notes[0].message);
+    }
+    assert!(
+        plan.textures
+            .iter()
+            .enumerate()
+            .filter(|&(t, _)| plan.fills.iter().filter(|f| f.texture == Some(t)).count() > 1)
+            .count()
+            > 1
+    );
+}
+
 #[test]
 fn the_sheet_for_a_drawing_parses_and_maps_each_fill_to_its_texture() {
     let d = Drawing {

@@ -119,6 +119,14 @@ pub(crate) fn xml_options<'a>() -> ParsingOptions<'a> {
 
 /// Parses the XML; `None` (with an error diagnostic) when it is not well-formed.
 pub(crate) fn parse_xml<'a>(text: &'a str, diags: &mut Vec<Diagnostic>) -> Option<Document<'a>> {
+    // An empty file (an export that failed) is not a malformed one: "no root node" would not say so.
+    if text.trim().is_empty() {
+        diags.push(
+            Diagnostic::error("T0200", "the file is empty, expected an SVG document")
+                .with_help("export or save the drawing again: the file that was written holds nothing"),
+        );
+        return None;
+    }
     match Document::parse_with_options(text, xml_options()) {
         Ok(d) => Some(d),
         Err(e) => {

@@ -18,7 +18,7 @@ use crate::brush::{self, BrushRequest};
 use crate::diagnostic::Diagnostic;
 use crate::distance::{FieldParams, LayerGeometry, build_field};
 use crate::drawing::{Clip, Drawing, Element, Page, Shape, TextShape};
-use crate::geometry::{FillRule, Polyline};
+use crate::geometry::Polyline;
 use crate::options::CompileOptions;
 use crate::spatial::{Bbox, BoxIndex};
 
@@ -69,7 +69,21 @@ pub(crate) struct Built {
     pub features: Vec<Feature>,
     /// Elements that asked for any tactile style.
     pub styled_elements: usize,
+    /// Styles whose layer came out empty, so nothing was made for them: what
+    /// they cover is hidden under opaque fills painted later, clipped away or
+    /// off the surface. Said when nothing at all is made (T0300).
+    pub unfelt: Vec<Unfelt>,
     prov_index: HashMap<(String, u32), u32>,
+}
+
+/// A style whose layer came out empty.
+pub(crate) struct Unfelt {
+    /// The style's name (`grating`, `vibrate`).
+    pub style: &'static str,
+    /// The elements (drawing indices) that asked for it.
+    pub elements: Vec<usize>,
+    /// The opaque fills painted over them (drawing indices), which hide them.
+    pub covered_by: Vec<usize>,
 }
 
 impl Built {
@@ -416,6 +430,7 @@ fn distance_layers(b: &mut Built, drawing: &Drawing, pending: &[Pending], px: f3
     let mut built_index = vec![None; pending.len()];
     for (k, p) in pending.iter().enumerate() {
         let clips: Vec<_> = p.clips.iter().map(|c| (&c.outline[..], c.fill_rule)).collect();
+        let mut covered_by = Vec::new();
         let (geometry, kind, amplitude, soft) = match p.style {
             LayerStyle::Vibrate(v) => {
                 let Some(freq) = MilliHertz::from_hz(v.freq_hz) else { continue };
@@ -448,12 +463,23 @@ fn distance_layers(b: &mut Built, drawing: &Drawing, pending: &[Pending], px: f3
                     .collect();
                 let kind =
                     MaskKind::Grating { wavelength: Mm(gr.wavelength_mm as f32), angle_deg: gr.angle_deg as f32 };
-                let occluders = opaque.above(drawing, &p.elements);
+                covered_by = opaque.above(drawing, &p.elements);
+                let occluders = covered_by
+                    .iter()
+                    .map(|&j| (outline(&drawing.elements[j]), fill_rule(&drawing.elements[j])))
+                    .collect();
                 (LayerGeometry { fills, cuts, clips, occluders, ..Default::default() }, kind, gr.amplitude, gr.soft_mm)
             }
         };
         let params = FieldParams { pitch_mm: pitch, soft_mm: soft, page: page_rect };
-        let Some(field) = build_field(&geometry, params) else { continue };
+        let Some(field) = build_field(&geometry, params) else {
+            let style = match p.style {
+                LayerStyle::Vibrate(_) => "vibrate",
+                LayerStyle::Grating(_) => "grating",
+            };
+            b.unfelt.push(Unfelt { style, elements: p.elements.clone(), covered_by });
+            continue;
+        };
         let mut sources: Vec<u32> = p
             .elements
             .iter()
@@ -523,7 +549,7 @@ impl OpaqueFills {
     /// where they cover it, as it is not seen there. A fill that lies between
     /// two of the layer's shapes hides nothing (the layer is one union), so
     /// the overlap stays and the design rules report it.
-    fn above<'d>(&self, drawing: &'d Drawing, elements: &[usize]) -> Vec<(&'d [Polyline], FillRule)> {
+    fn above(&self, drawing: &Drawing, elements: &[usize]) -> Vec<usize> {
         let boxes: Vec<(usize, Bbox)> = elements
             .iter()
             .filter_map(|&i| crate::geometry::bounds(outline(&drawing.elements[i])).map(|b| (i, b)))
@@ -538,7 +564,7 @@ impl OpaqueFills {
                     continue;
                 }
                 if mine.meeting(bj).all(|m| boxes.get(m).is_some_and(|&(e, _)| e < j)) {
-                    out.push((outline(&drawing.elements[j]), fill_rule(&drawing.elements[j])));
+                    out.push(j);
                 }
             }
         }

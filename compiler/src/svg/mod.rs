@@ -29,7 +29,7 @@ pub(crate) use braille::{CELL_PITCH_MM, DOT_PITCH_MM, translate as braille_cells
 use taxel_format::{Bundle, Manifest};
 
 use crate::Compiled;
-use crate::diagnostic::{Diagnostic, has_errors};
+use crate::diagnostic::{Diagnostic, Severity, has_errors};
 use crate::drawing;
 use crate::options::{CompileOptions, DEFAULT_PX_PER_MM};
 
@@ -78,12 +78,16 @@ fn compile(
         }
         let any_style = built.styled_elements + not_drawn > 0;
         let d = if any_style {
-            Diagnostic::error("T0300", format!("nothing in this drawing can be rendered on {}", opts.profile.name))
-                .with_help(
-                    "see the warnings above: the styles used are not rendered on this device, or the shapes are empty",
-                )
+            nothing_rendered(&drawing, &built, opts.profile.name.as_str(), diags)
         } else {
-            Diagnostic::error("T0300", "nothing tactile was found in the drawing").with_help(
+            // Converted automatically, the drawing had nothing the sheet could make tactile: say what it had.
+            let auto = opts.auto || diags.iter().any(|d| d.code == "T0320");
+            let why = auto.then(|| crate::auto::nothing_made(&drawing, &opts.profile)).flatten();
+            let message = match why {
+                Some(w) => format!("nothing tactile was found in the drawing: {w}"),
+                None => "nothing tactile was found in the drawing".into(),
+            };
+            Diagnostic::error("T0300", message).with_help(
                 "mark shapes with data-tactile=\"vibrate()\" (or grating(), dots(), dot(), braille()), \
                  put them in an Inkscape layer labelled \"tactile: vibrate()\", or map colours with --style FILE \
                  (see docs/annotations.md)",
@@ -100,6 +104,64 @@ fn compile(
         return None;
     }
     Some(bundle)
+}
+
+/// T0300 when elements asked for styles and nothing was made of them: what
+/// was asked, and why nothing was kept (the warnings given with it, or layers that
+/// came out empty because opaque fills painted later hide them, or because
+/// they lie off the surface), so the message never points at warnings that
+/// are not there.
+fn nothing_rendered(
+    drawing: &drawing::Drawing,
+    built: &layers::Built,
+    profile: &str,
+    diags: &[Diagnostic],
+) -> Diagnostic {
+    let names = |ix: &[usize]| {
+        let mut s = ix.iter().take(3).map(|&i| format!("#{}", drawing.elements[i].name)).collect::<Vec<_>>().join(", ");
+        if ix.len() > 3 {
+            s += &format!(" and {} more", ix.len() - 3);
+        }
+        s
+    };
+    let mut why = Vec::new();
+    let mut help = Vec::new();
+    for u in &built.unfelt {
+        let n = u.elements.len();
+        if u.covered_by.is_empty() {
+            why.push(format!("{n} element(s) with {} ({}) cover nothing on the surface", u.style, names(&u.elements)));
+        } else {
+            why.push(format!(
+                "{n} element(s) with {} ({}) lie wholly under opaque fills painted over them ({}), which hide them as on paper",
+                u.style,
+                names(&u.elements),
+                names(&u.covered_by)
+            ));
+            help.push(format!(
+                "{} is drawn after them with an opaque fill (from its attributes, `style` or CSS): \
+                 move it before the shapes it covers, or make its fill none or translucent",
+                names(&u.covered_by[..1])
+            ));
+        }
+    }
+    let warnings = diags.iter().filter(|d| d.severity == Severity::Warning).count();
+    if warnings > 0 {
+        why.push(format!("the {warnings} warning(s) given with this error say why"));
+        help.push("the styles used may not be rendered on this device, or the shapes may be empty or hidden".into());
+    }
+    let unstyled: Vec<usize> = (0..drawing.elements.len()).filter(|&i| drawing.elements[i].styles.is_empty()).collect();
+    if !unstyled.is_empty() {
+        why.push(format!("{} other element(s) have no tactile style ({})", unstyled.len(), names(&unstyled)));
+    }
+    if why.is_empty() {
+        why.push("the shapes given styles make nothing on the surface".into());
+    }
+    if drawing.elements.iter().any(|e| e.styled_by == drawing::StyledBy::Auto) {
+        help.push("`taxel style auto INPUT` shows what the automatic style sheet made of each colour".into());
+    }
+    let d =
+        Diagnostic::error("T0300", format!("nothing in this drawing can be rendered on {profile}: {}", why.join("; ")));
+    if help.is_empty() { d } else { d.with_help(help.join("; ")) }
 }
 
 /// Renders the drawing itself (no tactile layers) with resvg at `px_per_mm`,
