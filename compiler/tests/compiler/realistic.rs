@@ -10,7 +10,7 @@ use taxel_compiler::geometry::Polyline;
 use super::common::stress2;
 
 #[path = "../../benches/drawings/mod.rs"]
-mod drawings;
+pub(crate) mod drawings;
 
 /// Distance from `p` to the segment `a`-`b`, written out here rather than
 /// taken from the compiler, so the check does not share its code.
@@ -254,7 +254,7 @@ fn design_rules_are_judged_after_fitting() {
 </svg>"#;
     let profile = stress2();
     let codes = |fit: bool| -> Vec<(&'static str, String)> {
-        let opts = taxel_compiler::CompileOptions { fit, ..taxel_compiler::CompileOptions::new(profile.clone()) };
+        let opts = taxel_compiler::CompileOptions { fit, ..taxel_compiler::CompileOptions::new(profile) };
         let c = taxel_compiler::svg::compile_svg(svg, &opts);
         assert!(c.bundle.is_some(), "{:#?}", c.diagnostics);
         c.diagnostics.iter().map(|d| (d.code, d.message.clone())).collect()

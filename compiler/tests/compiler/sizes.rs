@@ -8,8 +8,7 @@ use taxel_format::Chunk;
 
 use super::common::*;
 
-#[path = "../../benches/drawings/mod.rs"]
-mod drawings;
+use super::realistic::drawings;
 
 /// What issue 16 point 6 allows a 2,000-region scene or a fitted map.
 const ONE_MB: usize = 1 << 20;
