@@ -316,3 +316,26 @@ fn a_sixth_fill_touching_five_others_falls_back_to_its_outline_with_a_note() {
     assert!(notes[0].message.contains(&fill_name(plan.fills[5].fill)), "{}", notes[0].message);
     assert!(!notes[0].message.contains(&fill_name(plan.fills[4].fill)), "{}", notes[0].message);
 }
+
+/// Issue 14 point 2: the textures are ones readers tell apart (seed 000
+/// section 4): for every built-in profile, five distinct gratings, each at
+/// 0°, 45°, 90° or 135°, two of one orientation at least 3 mm apart in
+/// wavelength, and none shorter than twice the actuator pitch (no aliasing).
+#[test]
+fn textures_are_distinguishable_on_every_built_in_profile() {
+    for name in profiles::builtin_names() {
+        let p = profiles::builtin(name).unwrap();
+        let t = textures(&p);
+        let pitch = f64::from(p.pitch_x_mm.max(p.pitch_y_mm));
+        for (i, a) in t.iter().enumerate() {
+            assert!([0.0, 45.0, 90.0, 135.0].contains(&a.angle_deg), "{name}: {a:?}");
+            assert!(a.wavelength_mm >= 2.0 * pitch - 1e-9, "{name}: {a:?} aliases at pitch {pitch} mm");
+            for b in &t[i + 1..] {
+                assert!(a != b, "{name}: {a:?} twice");
+                if a.angle_deg == b.angle_deg {
+                    assert!((a.wavelength_mm - b.wavelength_mm).abs() >= 3.0, "{name}: {a:?} and {b:?}");
+                }
+            }
+        }
+    }
+}
