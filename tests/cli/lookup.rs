@@ -115,3 +115,38 @@ fn play_elements_lists_what_the_carrier_touched() {
     let border = "coast and province borders";
     assert_eq!(touched, ["", border, "", "ash province", "", border, "", "elm province"]);
 }
+
+/// Issue 16 point 3: the text form shows each distance layer as a picture of
+/// the amplitude it produces. On tala-map's vibration layer (coast and
+/// province borders), the border from (30, 2) to (36, 31) mm is felt at full
+/// amplitude halfway along it, and the inside of ash province, 8 mm from any
+/// border, not at all. Points are read off tala-map.svg, pixels placed from
+/// the layer's origin in the manifest at 10 px/mm.
+#[test]
+fn unpack_draws_each_distance_layer_as_the_amplitude_it_plays() {
+    let tmp = tempfile::tempdir().unwrap();
+    let bundle = tala(tmp.path());
+    let dir = tmp.path().join("tala");
+    let o = taxel(&["unpack", p(&bundle), "-o", p(&dir)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let manifest: toml::Value = toml::from_str(&std::fs::read_to_string(dir.join("manifest.toml")).unwrap()).unwrap();
+    let chunks = manifest["chunk"].as_array().unwrap();
+    let vibration: Vec<&toml::Value> =
+        chunks.iter().filter(|c| c["kind"].as_str() == Some("vibration-field")).collect();
+    assert_eq!(vibration.len(), 1, "one vibrating style: {chunks:?}");
+    let v = vibration[0];
+    let img = image::open(dir.join(v["file"].as_str().unwrap())).unwrap().to_luma8();
+    let origin = (v["origin_x_mm"].as_float().unwrap(), v["origin_y_mm"].as_float().unwrap());
+    let px = |x: f64, y: f64| {
+        let (i, j) = (((x - origin.0) * 10.0).floor() as u32, ((y - origin.1) * 10.0).floor() as u32);
+        img.get_pixel(i, j).0[0]
+    };
+    assert!(px(33.0, 16.5) >= 250, "on the border: {}", px(33.0, 16.5));
+    assert_eq!(px(25.0, 15.0), 0, "inside ash province");
+    // The picture is for people: pack ignores it and still gives the same bytes.
+    let again = tmp.path().join("again.taxel");
+    std::fs::write(dir.join(v["file"].as_str().unwrap()), b"not a png").unwrap();
+    let o = taxel(&["pack", p(&dir), "-o", p(&again)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(std::fs::read(&again).unwrap(), std::fs::read(&bundle).unwrap());
+}

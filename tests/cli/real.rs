@@ -188,3 +188,23 @@ fn a_teachers_folder_builds_svgz_and_upper_case_svg_and_names_what_it_did_not_bu
     assert_eq!(out.status.code(), Some(0), "{}", all(&out));
     assert!(png.exists());
 }
+
+/// Issue 14 point 5: `-v` prints every instance the grouped account
+/// counts, as many as `--format json` keeps.
+#[test]
+fn verbose_prints_every_instance_that_json_keeps() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = write(dir.path(), "map.svg", &drawings::inkscape_map(120, 6, 3));
+    let json = taxel(&["check", "--fit", "--format", "json", &map]);
+    let v: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    let diags = v[0]["diagnostics"].as_array().unwrap();
+    let verbose = String::from_utf8_lossy(&taxel(&["check", "--fit", "-v", &map]).stdout).to_string();
+    let mut checked = 0;
+    for code in ["T0407", "T0408", "T0410"] {
+        let n = diags.iter().filter(|d| d["code"] == code).count();
+        let lines = verbose.lines().filter(|l| l.contains(&format!("[{code}]:"))).count();
+        assert_eq!(lines, n, "{code}: -v printed {lines} of {n}:\n{verbose}");
+        checked += usize::from(n > 1);
+    }
+    assert!(checked > 0, "the fitted map has repeated rules:\n{verbose}");
+}

@@ -319,3 +319,57 @@ fn a_ring_glyph_is_not_a_mark_but_a_filled_disc_is() {
     assert_eq!(plan.decisions[0].left_out, Some(LeftOut::SmallShape));
     assert!(plan.decisions[1].mark);
 }
+
+/// Issue 14 point 2: beyond five textures where regions touch, the fill of
+/// least area keeps only its outline, and one note (T0321) names it.
+#[test]
+fn a_sixth_fill_touching_five_others_falls_back_to_its_outline_with_a_note() {
+    // Six thin strips 0.2 mm apart: every pair is closer than NEAR_MM (the
+    // outer two 2.6 mm), so all six fills touch and need six textures.
+    // Shorter strips have less area, so the last is the one given up.
+    let fills: Vec<Rgba> = (0..6).map(|k| [30 + 40 * k as u8, 90, 220 - 35 * k as u8, 255]).collect();
+    let elements: Vec<Element> = (0..6)
+        .map(|k| {
+            let y = 20.0 + 0.6 * k as f64;
+            shape(&format!("s{k}"), rect(10.0, y, 90.0 - 5.0 * k as f64, y + 0.4), Some(fills[k]), None)
+        })
+        .collect();
+    let mut d = Drawing { page: page(200.0, 100.0), elements, ..Default::default() };
+    let mut diags = Vec::new();
+    let plan = apply(&mut d, &stress2(), &mut diags);
+    let tex: Vec<Option<usize>> = plan.fills.iter().map(|f| f.texture).collect();
+    assert_eq!(tex[..5].iter().flatten().collect::<std::collections::BTreeSet<_>>().len(), 5, "{tex:?}");
+    assert_eq!(tex[5], None, "{tex:?}");
+    let last = fills[5];
+    assert_eq!(plan.fills[5].fill, Some([last[0], last[1], last[2]]));
+    // The given-up strip vibrates along its outline and has no grating.
+    assert!(plan.decisions[5].outline);
+    assert_eq!(d.elements[5].styles.iter().map(Style::name).collect::<Vec<_>>(), ["vibrate"]);
+    let notes: Vec<_> = diags.iter().filter(|d| d.code == "T0321").collect();
+    assert_eq!(notes.len(), 1, "{diags:?}");
+    assert!(notes[0].message.contains(&fill_name(plan.fills[5].fill)), "{}", notes[0].message);
+    assert!(!notes[0].message.contains(&fill_name(plan.fills[4].fill)), "{}", notes[0].message);
+}
+
+/// Issue 14 point 2: the textures are ones readers tell apart (seed 000
+/// section 4): for every built-in profile, five distinct gratings, each at
+/// 0°, 45°, 90° or 135°, two of one orientation at least 3 mm apart in
+/// wavelength, and none shorter than twice the actuator pitch (no aliasing).
+#[test]
+fn textures_are_distinguishable_on_every_built_in_profile() {
+    for name in profiles::builtin_names() {
+        let p = profiles::builtin(name).unwrap();
+        let t = textures(&p);
+        let pitch = f64::from(p.pitch_x_mm.max(p.pitch_y_mm));
+        for (i, a) in t.iter().enumerate() {
+            assert!([0.0, 45.0, 90.0, 135.0].contains(&a.angle_deg), "{name}: {a:?}");
+            assert!(a.wavelength_mm >= 2.0 * pitch - 1e-9, "{name}: {a:?} aliases at pitch {pitch} mm");
+            for b in &t[i + 1..] {
+                assert!(a != b, "{name}: {a:?} twice");
+                if a.angle_deg == b.angle_deg {
+                    assert!((a.wavelength_mm - b.wavelength_mm).abs() >= 3.0, "{name}: {a:?} and {b:?}");
+                }
+            }
+        }
+    }
+}

@@ -11,4 +11,5 @@ mod malformed;
 mod mesh;
 mod realistic;
 mod scenes;
+mod sizes;
 mod svggen;

@@ -10,7 +10,7 @@ use taxel_compiler::geometry::Polyline;
 use super::common::stress2;
 
 #[path = "../../benches/drawings/mod.rs"]
-mod drawings;
+pub(crate) mod drawings;
 
 /// Distance from `p` to the segment `a`-`b`, written out here rather than
 /// taken from the compiler, so the check does not share its code.
@@ -432,4 +432,33 @@ fn fit_says_nothing_when_it_changes_nothing() {
         format!(r#"<svg xmlns="http://www.w3.org/2000/svg" width="200mm" height="120mm" viewBox="0 0 100 60">{body}"#);
     let c = compile(&large);
     assert_eq!(super::common::with_code(&c, "T0211").len(), 1, "{:#?}", c.diagnostics);
+}
+
+/// Issue 14 point 3: design rules are judged after `--fit` scales the
+/// drawing. Two 40 mm squares 6 mm apart in the top-left corner of a
+/// 440 x 240 mm page (both on the 110 x 60 mm surface, so nothing is cut):
+/// as drawn they are large and far apart enough; fitted (scale 1/4) they are
+/// 10 mm squares 1.5 mm apart, and the size and gap rules say so.
+#[test]
+fn design_rules_are_judged_after_fitting() {
+    let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="440mm" height="240mm" viewBox="0 0 440 240">
+  <rect id="a" x="10" y="10" width="40" height="40" data-tactile="grating(wavelength: 3mm)"/>
+  <rect id="b" x="56" y="10" width="40" height="40" data-tactile="grating(wavelength: 6mm, angle: 0deg)"/>
+</svg>"#;
+    let profile = stress2();
+    let codes = |fit: bool| -> Vec<(&'static str, String)> {
+        let opts = taxel_compiler::CompileOptions { fit, ..taxel_compiler::CompileOptions::new(profile) };
+        let c = taxel_compiler::svg::compile_svg(svg, &opts);
+        assert!(c.bundle.is_some(), "{:#?}", c.diagnostics);
+        c.diagnostics.iter().map(|d| (d.code, d.message.clone())).collect()
+    };
+    let rule = |all: &[(&str, String)], code: &str| all.iter().filter(|(c, _)| *c == code).count();
+    let drawn = codes(false);
+    assert_eq!((rule(&drawn, "T0407"), rule(&drawn, "T0408")), (0, 0), "{drawn:?}");
+    let fitted = codes(true);
+    assert!(rule(&fitted, "T0211") == 1, "{fitted:?}");
+    assert!(rule(&fitted, "T0407") >= 2, "10 mm squares are smaller than 2 cm: {fitted:?}");
+    let gap = fitted.iter().find(|(c, _)| *c == "T0408").unwrap_or_else(|| panic!("{fitted:?}"));
+    // 6 mm drawn, a quarter of it on the surface.
+    assert!(gap.1.contains("1.5 mm"), "{}", gap.1);
 }

@@ -67,3 +67,47 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 100, ..ProptestConfig::default() })]
+
+    /// The distance layers every build writes (random fields holding every
+    /// kind of tile, anywhere within ±1e6 mm) at hostile carrier positions
+    /// (far away, on the surface's edges, NaN, infinite): no panic, every
+    /// code in range.
+    #[test]
+    fn distance_layer_frames_stay_in_range_whatever_the_position(
+        origins in prop::collection::vec((coordinate(), coordinate()), 1..4),
+        pitch in prop::sample::select(vec![0.25f32, 0.5, 1.0]),
+        (cols, rows) in (1u32..6, 1u32..6),
+        entries in prop::collection::vec(any::<u8>(), 1..20),
+        codes in prop::collection::vec(any::<u8>(), 81..400),
+        soft in prop::sample::select(vec![0.0f32, 0.3, 2.0]),
+        positions in prop::collection::vec((coordinate(), coordinate(), any::<u64>()), 1..8),
+    ) {
+        let chunks: Vec<Chunk> = origins
+            .iter()
+            .enumerate()
+            .map(|(k, &(x, y))| {
+                let kind = if k % 2 == 0 { vibration(50_000) } else { grating(2.0, 30.0) };
+                let (x, y) = (x.clamp(-1e6, 1e6), y.clamp(-1e6, 1e6));
+                Chunk::Distance(crate::latero_field::field(kind, x, y, pitch, cols, rows, &entries, &codes, soft))
+            })
+            .collect();
+        let bytes = bundle_bytes(stress2(), chunks);
+        let view = BundleView::parse(&bytes).unwrap();
+        let player = LateroPlayer::new(&view).unwrap();
+        let mut out = [0u16; 64];
+        let edges = [(0.0, 0.0, 0), (110.0, 60.0, 1), (f32::NAN, 0.0, 2), (0.0, f32::NEG_INFINITY, 3), (f32::INFINITY, f32::NAN, 4)];
+        for (x, y, tick) in positions.into_iter().chain(edges) {
+            player.frame(Tick(tick), Mm(x), Mm(y), &mut out);
+            prop_assert!(out.iter().all(|&c| c <= 1023));
+        }
+        // Carriers on each layer's own tiles, so the kernels run, not only the bounds checks.
+        for &(x, y) in &origins {
+            let (x, y) = (x.clamp(-1e6, 1e6), y.clamp(-1e6, 1e6));
+            player.frame(Tick(7), Mm(x + 1.0), Mm(y + 1.0), &mut out);
+            prop_assert!(out.iter().all(|&c| c <= 1023));
+        }
+    }
+}

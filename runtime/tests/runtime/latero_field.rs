@@ -12,7 +12,7 @@ use taxel_format::{
 use crate::support::*;
 
 #[allow(clippy::too_many_arguments)]
-fn field(
+pub(crate) fn field(
     kind: MaskKind,
     x0: f32,
     y0: f32,
