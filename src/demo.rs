@@ -119,8 +119,8 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
     match bundle.manifest.profile.family() {
         Family::Laterotactile => {
             let prep = Prepared::new(&input, &opts, &bundle, trace.as_deref(), DEMO_EVAL_FRAMES)?;
-            let reference = prep.reference_frames("all");
-            let m = prep.measure(&bundle, &reference, "all")?;
+            let reference = prep.reference_frames_of("all", &bundle);
+            let m = prep.measure(&bundle, &reference, &prep.reference_frames("all"), "all")?;
             write_frames(&out.join("frames").join(format!("{}.csv", s.name)), &bytes, &prep.positions)?;
             Ok(Figures {
                 layers,

@@ -29,7 +29,7 @@ pub fn run(input: &Path, opts: &CompileOpts, plot_path: Option<&Path>, format: F
 /// The report as a table for people.
 pub fn human(rep: &Report) -> String {
     let mut s = format!(
-        "{} on {}: {} frames of {}\n\n{:<10} {:>9} {:>11} {:>10} {:>9} {:>9} {:>10} {:>10} {:>9} {:>9} {:>9} {:>9} {:>9}  {}\n",
+        "{} on {}: {} frames of {}\n\n{:<10} {:>9} {:>11} {:>10} {:>9} {:>9} {:>10} {:>10} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}  {}\n",
         rep.input,
         rep.profile,
         rep.trace_frames,
@@ -42,6 +42,7 @@ pub fn human(rep: &Report) -> String {
         "run ms",
         "max err",
         "rms err",
+        "step rms",
         "far err",
         "far rms",
         "crnr err",
@@ -58,7 +59,7 @@ pub fn human(rep: &Report) -> String {
             note.push("front");
         }
         s += &format!(
-            "{:<10} {:>9} {:>11.2} {:>10} {:>9.3} {:>9.1} {:>10.2} {:>10.3} {:>9} {:>9} {:>9} {:>9} {:>9}  {}\n",
+            "{:<10} {:>9} {:>11.2} {:>10} {:>9.3} {:>9.1} {:>10.2} {:>10.3} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}  {}\n",
             r.kernel,
             r.setting,
             r.compile_ms,
@@ -67,6 +68,7 @@ pub fn human(rep: &Report) -> String {
             r.run_ms,
             r.max_error,
             r.rms_error,
+            r.step_rms_error.map_or("-".to_string(), |e| format!("{e:.3}")),
             r.far_error.map_or("-".to_string(), |e| format!("{e:.2}")),
             r.far_rms_error.map_or("-".to_string(), |e| format!("{e:.2}")),
             r.corner_error.map_or("-".to_string(), |e| format!("{e:.2}")),

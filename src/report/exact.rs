@@ -56,6 +56,84 @@ impl Region {
         }
     }
 
+    /// The exact edge profile at page point `p` for a layer whose edge ramp
+    /// is `ramp` mm wide: SPEC.md section 6.2's `clamp(½ + d / ramp, 0, 1)` of
+    /// the exact signed distance `d` (positive where the region is felt).
+    /// A ramp of 0 is the ideal step: 1 where the region covers `p`, else 0.
+    pub fn edge_profile(&self, p: (f64, f64), ramp: f64) -> f64 {
+        let here = self.covers(p);
+        if ramp > 0.0 {
+            if let Some(d) = self.distance_to_edge_within(p, ramp / 2.0) {
+                let d = if here { d } else { -d };
+                return (0.5 + d / ramp).clamp(0.0, 1.0);
+            }
+        }
+        if here { 1.0 } else { 0.0 }
+    }
+
+    /// The exact distance from `p` to the region's edge when it is less than
+    /// `reach` mm, else `None`. Candidates are the nearest points of every
+    /// outline segment (a fill's side, or the offset of a band's centre line
+    /// at `width / 2`) within reach; a candidate is on the edge when the
+    /// region's coverage differs on its two sides (so a side two fills of one
+    /// style share, or a band's end inside another band, is not an edge).
+    pub fn distance_to_edge_within(&self, p: (f64, f64), reach: f64) -> Option<f64> {
+        if !(reach > 0.0) {
+            return None;
+        }
+        let mut best = f64::INFINITY;
+        let mut consider = |q: (f64, f64), across: (f64, f64)| {
+            let d = (p.0 - q.0).hypot(p.1 - q.1);
+            if d >= reach || d >= best {
+                return;
+            }
+            // Across the edge: away from `p` where `p` is off it, else the side's normal.
+            let u = if d > ON_EDGE_MM { ((p.0 - q.0) / d, (p.1 - q.1) / d) } else { across };
+            let s = ON_EDGE_MM;
+            if self.covers((q.0 + s * u.0, q.1 + s * u.1)) != self.covers((q.0 - s * u.0, q.1 - s * u.1)) {
+                best = d;
+            }
+        };
+        // A band's edge nearest `p` along each centre-line segment: `width / 2`
+        // from the segment's point nearest `p`, on the side of `p`.
+        let band = |b: &Index, w: f64, consider: &mut dyn FnMut((f64, f64), (f64, f64))| {
+            let r = w / 2.0;
+            b.near(p, reach + r, |a, c| {
+                let m = nearest_on_segment(p, a, c);
+                let l = (p.0 - m.0).hypot(p.1 - m.1);
+                if l > ON_EDGE_MM {
+                    let u = ((p.0 - m.0) / l, (p.1 - m.1) / l);
+                    consider((m.0 + u.0 * r, m.1 + u.1 * r), u);
+                } else {
+                    // `p` on the centre line: the edge is `r` away on either side.
+                    let n = unit(a.1 - c.1, c.0 - a.0);
+                    consider((m.0 + n.0 * r, m.1 + n.1 * r), n);
+                    consider((m.0 - n.0 * r, m.1 - n.1 * r), (-n.0, -n.1));
+                }
+                false
+            });
+        };
+        match self {
+            Region::Fill { fills, minus_bands, .. } => {
+                for (f, _) in fills {
+                    f.near(p, reach, |a, c| {
+                        consider(nearest_on_segment(p, a, c), unit(a.1 - c.1, c.0 - a.0));
+                        false
+                    });
+                }
+                for (b, w) in minus_bands {
+                    band(b, *w, &mut consider);
+                }
+            }
+            Region::Band { bands, .. } => {
+                for (b, w) in bands {
+                    band(b, *w, &mut consider);
+                }
+            }
+        }
+        best.is_finite().then_some(best)
+    }
+
     /// The corners of the region's outlines, page mm.
     pub fn corners(&self) -> &[(f64, f64)] {
         match self {
@@ -120,6 +198,22 @@ fn circle(c: (f64, f64), r: f64, sagitta: f64, out: &mut Vec<Seg>) {
     for k in 0..n {
         out.push((at(k), at(k + 1)));
     }
+}
+
+/// How close to an exact edge a point counts as on it, in mm, and the step
+/// across an edge that tells its two sides apart: far below any position a
+/// player is given (an f32 at 100 mm resolves 7.6e-6 mm).
+pub const ON_EDGE_MM: f64 = 1e-7;
+
+/// The point of segment `a`–`b` nearest `p`.
+fn nearest_on_segment(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let len2 = dx * dx + dy * dy;
+    if !(len2 > 0.0) {
+        return a;
+    }
+    let t = (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / len2).clamp(0.0, 1.0);
+    (a.0 + t * dx, a.1 + t * dy)
 }
 
 /// Turns sharper than this (degrees) make a vertex a corner.
@@ -195,6 +289,10 @@ pub enum ExactLayer {
         freq_hz: f64,
         /// Amplitude 0..=1.
         amplitude: f64,
+        /// Width of the edge ramp in mm (the layer's `soft` width, or its
+        /// distance code's `step` for a hard edge; SPEC.md section 6.2); 0 is
+        /// the ideal step.
+        ramp_mm: f64,
         /// Provenance entries of the elements it holds (of its distance layer).
         sources: Vec<u32>,
     },
@@ -208,6 +306,8 @@ pub enum ExactLayer {
         angle_deg: f64,
         /// Amplitude 0..=1.
         amplitude: f64,
+        /// Width of the edge ramp in mm, as for [`ExactLayer::Vibration`].
+        ramp_mm: f64,
         /// Provenance entries of the elements it holds (of its distance layer).
         sources: Vec<u32>,
     },
@@ -248,23 +348,25 @@ pub fn frame(layers: &[ExactLayer], profile: &DeviceProfile, tick: u64, x: f64, 
             let mut d = 0.0;
             for layer in layers {
                 d += match layer {
-                    ExactLayer::Vibration { region, freq_hz, amplitude, .. } => {
-                        if !region.covers((ax, ay)) {
+                    ExactLayer::Vibration { region, freq_hz, amplitude, ramp_mm, .. } => {
+                        let edge = region.edge_profile((ax, ay), *ramp_mm);
+                        if edge == 0.0 {
                             continue;
                         }
                         let c = (std::f64::consts::TAU * freq_hz * t_s).cos();
                         let v = if row % 2 != col % 2 { 0.5 + 0.5 * c } else { 0.5 - 0.5 * c };
-                        amplitude * v
+                        amplitude * edge * v
                     }
-                    ExactLayer::Grating { region, wavelength_mm, angle_deg, amplitude, .. } => {
-                        if !region.covers((ax, ay)) {
+                    ExactLayer::Grating { region, wavelength_mm, angle_deg, amplitude, ramp_mm, .. } => {
+                        let edge = region.edge_profile((ax, ay), *ramp_mm);
+                        if edge == 0.0 {
                             continue;
                         }
                         // Eq. 3 with the page's y axis flipped (primitives.md): the
                         // author's angle is counter-clockwise as seen on the page.
                         let th = angle_deg.to_radians();
                         let dist = (-ay) * th.cos() - ax * th.sin();
-                        amplitude * (0.5 + 0.5 * (std::f64::consts::TAU * dist / wavelength_mm).cos())
+                        amplitude * edge * (0.5 + 0.5 * (std::f64::consts::TAU * dist / wavelength_mm).cos())
                     }
                     ExactLayer::Dots(dots) => dots
                         .iter()
@@ -379,8 +481,10 @@ impl Index {
         }
     }
 
-    /// Whether `p` is within `r` mm of a segment.
-    pub fn within(&self, p: (f64, f64), r: f64) -> bool {
+    /// Calls `f` with the ends of every segment listed in a cell within `r`
+    /// mm of `p` (a segment may come more than once, and some may be farther
+    /// than `r`) until `f` returns true; returns whether it did.
+    pub fn near(&self, p: (f64, f64), r: f64, mut f: impl FnMut((f64, f64), (f64, f64)) -> bool) -> bool {
         if self.rows == 0 || r.is_nan() || r < 0.0 {
             return false;
         }
@@ -397,13 +501,18 @@ impl Index {
             for col in self.col(lo_x)..=self.col(hi_x) {
                 for &k in &self.cells[row * self.cols + col] {
                     let (a, b) = self.segs[k as usize];
-                    if distance_to_segment(p, a, b) <= r {
+                    if f(a, b) {
                         return true;
                     }
                 }
             }
         }
         false
+    }
+
+    /// Whether `p` is within `r` mm of a segment.
+    pub fn within(&self, p: (f64, f64), r: f64) -> bool {
+        self.near(p, r, |a, b| distance_to_segment(p, a, b) <= r)
     }
 }
 
@@ -438,6 +547,7 @@ mod tests {
             },
             freq_hz: 50.0,
             amplitude: 1.0,
+            ramp_mm: 0.0,
             sources: Vec::new(),
         }];
         let mut out = [0.0; 64];
@@ -462,6 +572,7 @@ mod tests {
             region: Region::Band { bands: vec![band(30.0), band(50.0)], corners: Vec::new() },
             freq_hz: 50.0,
             amplitude: 0.6,
+            ramp_mm: 0.0,
             sources: vec![0, 1],
         }];
         let p = stress2();
@@ -483,6 +594,55 @@ mod tests {
         assert!(region.covers((50.0, 30.0)) && region.covers((50.7, 30.0)) && !region.covers((50.8, 30.0)));
     }
 
+    /// SPEC.md 6.2's edge profile of the exact distance: `½ + d / ramp`
+    /// within half a ramp of an edge, saturated beyond, a step for ramp 0;
+    /// a side two fills of one style share is no edge.
+    #[test]
+    fn edge_profile_ramps_across_the_exact_edge_only() {
+        let sq = |x0: f64| Polyline {
+            points: vec![(x0, 20.0), (x0 + 20.0, 20.0), (x0 + 20.0, 40.0), (x0, 40.0)],
+            closed: true,
+        };
+        let fill = Region::Fill {
+            fills: vec![
+                (Index::new(&[sq(30.0)], true), FillRule::NonZero),
+                (Index::new(&[sq(50.0)], true), FillRule::NonZero),
+            ],
+            minus_bands: Vec::new(),
+            corners: Vec::new(),
+        };
+        let ramp = 0.008;
+        let near = |got: f64, want: f64| (got - want).abs() < 1e-6;
+        // The left side x = 30: 0.002 mm inside and outside, on it, far.
+        assert!(near(fill.edge_profile((30.002, 30.0), ramp), 0.75), "{}", fill.edge_profile((30.002, 30.0), ramp));
+        assert!(near(fill.edge_profile((29.998, 30.0), ramp), 0.25));
+        assert!(near(fill.edge_profile((30.0, 30.0), ramp), 0.5));
+        assert!(near(fill.edge_profile((30.01, 30.0), ramp), 1.0) && near(fill.edge_profile((29.99, 30.0), ramp), 0.0));
+        // The shared side x = 50 is inside the union.
+        assert!(
+            near(fill.edge_profile((50.001, 30.0), ramp), 1.0) && near(fill.edge_profile((49.999, 30.0), ramp), 1.0)
+        );
+        // Outside a corner the distance is to the corner itself.
+        let q = (30.0 - 0.002 / 2f64.sqrt(), 20.0 - 0.002 / 2f64.sqrt());
+        assert!(near(fill.edge_profile(q, ramp), 0.25), "{}", fill.edge_profile(q, ramp));
+        // Ramp 0 is the step of `covers`.
+        assert_eq!(fill.edge_profile((30.002, 30.0), 0.0), 1.0);
+        assert_eq!(fill.edge_profile((29.998, 30.0), 0.0), 0.0);
+        // A 1.5 mm band round the left square: its outer edge at x = 29.25.
+        let band = Region::Band { bands: vec![(Arc::new(Index::new(&[sq(30.0)], false)), 1.5)], corners: Vec::new() };
+        assert!(near(band.edge_profile((29.251, 30.0), ramp), 0.625));
+        assert!(near(band.edge_profile((30.749, 30.0), ramp), 0.625));
+        assert!(near(band.edge_profile((30.0, 30.0), ramp), 1.0) && near(band.edge_profile((29.2, 30.0), ramp), 0.0));
+        // A grating cut by that band: its edge is the band's inner offset.
+        let cut = Region::Fill {
+            fills: vec![(Index::new(&[sq(30.0)], true), FillRule::NonZero)],
+            minus_bands: vec![(Arc::new(Index::new(&[sq(30.0)], false)), 1.5)],
+            corners: Vec::new(),
+        };
+        assert!(near(cut.edge_profile((30.751, 30.0), ramp), 0.625));
+        assert!(near(cut.edge_profile((30.0, 30.0), ramp), 0.0));
+    }
+
     #[test]
     fn grating_at_90_degrees_varies_along_x_only() {
         let sq = Polyline { points: vec![(0.0, 0.0), (110.0, 0.0), (110.0, 60.0), (0.0, 60.0)], closed: true };
@@ -495,6 +655,7 @@ mod tests {
             wavelength_mm: 2.4,
             angle_deg: 90.0,
             amplitude: 1.0,
+            ramp_mm: 0.0,
             sources: Vec::new(),
         }];
         let mut out = [0.0; 64];

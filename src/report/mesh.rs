@@ -204,6 +204,7 @@ pub fn ladder(input: &Path, opts: &CompileOpts, base: &Bundle, trace: &Trace) ->
                 frame_us: m.sample_us,
                 max_error: max,
                 rms_error: rms,
+                step_rms_error: None,
                 far_error: None,
                 far_rms_error: None,
                 corner_error: None,

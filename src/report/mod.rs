@@ -61,8 +61,19 @@ pub struct Row {
     pub frame_us: f64,
     /// Largest error, in `error_unit`.
     pub max_error: f64,
-    /// Root-mean-square error, in `error_unit`.
+    /// Root-mean-square error, in `error_unit`. For vibration and grating
+    /// layers the reference maps the exact signed distance to amplitude
+    /// through the layer's own edge profile (SPEC.md section 6.2: a ramp
+    /// `soft` wide, or one distance `step`, 0.008 mm at the default, for a
+    /// hard edge), so this counts what the representation gets wrong, not
+    /// the profile's width.
     pub rms_error: f64,
+    /// Root-mean-square error against ideal step edges (coverage 0 or 1),
+    /// in `error_unit`: [`Row::rms_error`] plus what the edge profile's own
+    /// ramp adds at actuators within half its width of an exact edge
+    /// (laterotactile scenes).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub step_rms_error: Option<f64>,
     /// Largest error at actuators farther than [`EDGE_BAND_MM`] from every
     /// exact edge and farther than [`edge::CORNER_RADIUS_MM`] from every
     /// corner of the kernel's vibration and grating layers, in `error_unit`
@@ -73,9 +84,8 @@ pub struct Row {
     /// Root-mean-square error over the same actuators as [`Row::far_error`]
     /// and [`Row::corner_error`] together (every actuator farther than
     /// [`EDGE_BAND_MM`] from every exact edge), in `error_unit`. Over all
-    /// actuators, [`Row::rms_error`] also counts actuators on an edge, where
-    /// a hard edge plays half the amplitude and the exact reference, a step,
-    /// 0 or 1 (docs/report.md).
+    /// actuators, [`Row::rms_error`] also counts actuators on and near an
+    /// edge (docs/report.md).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub far_rms_error: Option<f64>,
     /// As [`Row::far_error`], at the actuators within
@@ -153,6 +163,8 @@ pub struct Measured {
     pub max_error: f64,
     /// RMS error in output steps.
     pub rms_error: f64,
+    /// RMS error in output steps against ideal step edges.
+    pub step_rms_error: f64,
     /// Largest error in output steps at actuators away from every exact edge and corner.
     pub far_error: f64,
     /// RMS error in output steps at actuators away from every exact edge.
@@ -204,10 +216,44 @@ impl Prepared {
         Ok(Prepared { profile, reference, outlines, trace, positions, eval, notes })
     }
 
-    /// Reference frames (δ in 0..=1, actuator-major per frame) of `kernel`'s layers at the compared ticks.
+    /// Reference frames (δ in 0..=1, actuator-major per frame) of `kernel`'s
+    /// layers at the compared ticks, with ideal step edges.
     pub fn reference_frames(&self, kernel: &str) -> Vec<f64> {
-        let layers: Vec<ExactLayer> =
-            self.reference.iter().filter(|l| kernel == "all" || exact_kind(l) == kernel).cloned().collect();
+        self.frames_of(kernel, None)
+    }
+
+    /// Reference frames of `kernel`'s layers with the edge profile of
+    /// `bundle`'s layers: each exact layer's edge ramps over the `soft`
+    /// width, or the distance code's `step`, of the distance layer with the
+    /// same sources (SPEC.md section 6.2), as the SPEC says a player maps
+    /// the exact distance to amplitude. Layers without one keep a step.
+    pub fn reference_frames_of(&self, kernel: &str, bundle: &Bundle) -> Vec<f64> {
+        self.frames_of(kernel, Some(bundle))
+    }
+
+    fn frames_of(&self, kernel: &str, bundle: Option<&Bundle>) -> Vec<f64> {
+        let ramp = |l: &ExactLayer| {
+            let (kind, sources) = (exact_kind(l), sources_of(l)?);
+            bundle?.chunks.iter().find_map(|c| match c {
+                Chunk::Distance(d) if chunk_kind(c) == Some(kind) && d.sources[..] == *sources => {
+                    Some(if d.soft_mm > 0.0 { d.soft_mm as f64 } else { d.step_mm as f64 })
+                }
+                _ => None,
+            })
+        };
+        let layers: Vec<ExactLayer> = self
+            .reference
+            .iter()
+            .filter(|l| kernel == "all" || exact_kind(l) == kernel)
+            .map(|l| {
+                let mut l = l.clone();
+                let r = ramp(&l).unwrap_or(0.0);
+                if let ExactLayer::Vibration { ramp_mm, .. } | ExactLayer::Grating { ramp_mm, .. } = &mut l {
+                    *ramp_mm = r;
+                }
+                l
+            })
+            .collect();
         let n = self.profile.actuator_count();
         let mut frames = vec![0.0; self.eval.len() * n];
         for (i, &(tick, x, y)) in self.eval.iter().enumerate() {
@@ -217,8 +263,16 @@ impl Prepared {
     }
 
     /// Plays `bundle` on the whole trace (timed) and compares it at the
-    /// compared ticks with `reference` (from [`Prepared::reference_frames`]).
-    pub fn measure(&self, bundle: &Bundle, reference: &[f64], kernel: &str) -> Result<Measured> {
+    /// compared ticks with `reference` (from [`Prepared::reference_frames_of`]
+    /// the same bundle) and, for [`Measured::step_rms_error`], with
+    /// `step_reference` (from [`Prepared::reference_frames`]).
+    pub fn measure(
+        &self,
+        bundle: &Bundle,
+        reference: &[f64],
+        step_reference: &[f64],
+        kernel: &str,
+    ) -> Result<Measured> {
         let n = self.profile.actuator_count();
         let max_code = ((1u32 << self.profile.output_bits.min(16)) - 1) as f64;
         let bytes = bundle.to_bytes().map_err(|e| anyhow::anyhow!("{e}"))?;
@@ -228,6 +282,7 @@ impl Prepared {
         let mut out = vec![0u16; n];
         let (mut max, mut sum2, mut count, mut far) = (0.0f64, 0.0f64, 0usize, 0.0f64);
         let (mut far_sum2, mut far_count) = (0.0f64, 0usize);
+        let mut step_sum2 = 0.0f64;
         let mut corner_error: Option<f64> = None;
         // The kernel's exact layers with their outlines.
         let layers: Vec<(&ExactLayer, &edge::Outline)> = self
@@ -241,6 +296,9 @@ impl Prepared {
         let near_corner = |p: [f64; 2]| layers.iter().any(|(_, o)| o.corners.near(p));
         for (i, &(tick, x, y)) in self.eval.iter().enumerate() {
             player.frame(Tick(tick), Mm(x as f32), Mm(y as f32), &mut out);
+            for (o, r) in out.iter().zip(step_reference.get(i * n..(i + 1) * n).unwrap_or(&[])) {
+                step_sum2 += (*o as f64 - r * max_code).powi(2);
+            }
             for (k, (o, r)) in out.iter().zip(reference.get(i * n..(i + 1) * n).unwrap_or(&[])).enumerate() {
                 let e = (*o as f64 - r * max_code).abs();
                 max = max.max(e);
@@ -279,6 +337,7 @@ impl Prepared {
             frame_us,
             max_error: max,
             rms_error: (sum2 / count.max(1) as f64).sqrt(),
+            step_rms_error: (step_sum2 / count.max(1) as f64).sqrt(),
             far_error: far,
             far_rms_error: (far_sum2 / far_count.max(1) as f64).sqrt(),
             corner_error,
@@ -359,12 +418,13 @@ pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>) -> Result<Rep
     }
     let prep = Prepared::new(input, opts, &base, trace, MAX_EVAL_FRAMES)?;
     let kernels = kernels_of(&base);
-    let refs: Vec<Vec<f64>> = kernels.iter().map(|k| prep.reference_frames(k)).collect();
+    let steps: Vec<Vec<f64>> = kernels.iter().map(|k| prep.reference_frames(k)).collect();
     let mut rows = Vec::new();
     for &px in &ladder {
         let (bundle, compile_ms) = compile(input, opts, Some(px))?;
-        for (k, reference) in kernels.iter().zip(&refs) {
-            let m = prep.measure(&only_kernel(&bundle, k), reference, k)?;
+        for (k, step_reference) in kernels.iter().zip(&steps) {
+            let reference = prep.reference_frames_of(k, &bundle);
+            let m = prep.measure(&only_kernel(&bundle, k), &reference, step_reference, k)?;
             rows.push(Row {
                 kernel: k.clone(),
                 setting: 5.0 / px as f64,
@@ -375,6 +435,7 @@ pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>) -> Result<Rep
                 frame_us: m.frame_us,
                 max_error: m.max_error,
                 rms_error: m.rms_error,
+                step_rms_error: Some(m.step_rms_error),
                 far_error: Some(m.far_error),
                 far_rms_error: Some(m.far_rms_error),
                 corner_error: m.corner_error,

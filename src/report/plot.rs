@@ -271,6 +271,7 @@ mod tests {
             frame_us: 0.0,
             max_error: err,
             rms_error: err,
+            step_rms_error: None,
             error_unit: "10-bit steps".into(),
             far_error: None,
             far_rms_error: None,

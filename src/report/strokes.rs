@@ -145,6 +145,7 @@ pub fn ladder(input: &Path, opts: &CompileOpts, base: &Bundle) -> Result<Vec<sup
             frame_us: best * 1e6 / ticks as f64,
             max_error: err.max_onset_ms.max(err.max_duration_ms),
             rms_error: err.rms_ms,
+            step_rms_error: None,
             far_error: None,
             far_rms_error: None,
             corner_error: None,

@@ -141,6 +141,7 @@ pub fn exact_layers(svg: &str, bundle: &Bundle, opts: &CompileOptions) -> Result
                 },
                 freq_hz: freq.0 as f64 / 1000.0,
                 amplitude,
+                ramp_mm: 0.0,
                 sources,
             },
             MaskKind::Grating { wavelength, angle_deg } => ExactLayer::Grating {
@@ -156,6 +157,7 @@ pub fn exact_layers(svg: &str, bundle: &Bundle, opts: &CompileOptions) -> Result
                 wavelength_mm: wavelength.0 as f64,
                 angle_deg: angle_deg as f64,
                 amplitude,
+                ramp_mm: 0.0,
                 sources,
             },
         });
