@@ -5,6 +5,8 @@
 
 use std::collections::HashMap;
 
+use rayon::prelude::*;
+
 use taxel_format::{
     Chunk, DistanceLayer, Dot, DotKind, DotTable, Family, MaskKind, MilliHertz, Mm, Provenance, ProvenanceEntry,
     StrokeTable,
@@ -427,52 +429,73 @@ fn distance_layers(b: &mut Built, drawing: &Drawing, pending: &[Pending], px: f3
     let narrowest = bands.iter().map(|&(_, w)| w).reduce(f64::min);
     let opaque = OpaqueFills::of(drawing);
     let pitch = field_pitch(px, narrowest);
+    // Every style's field at once: a layer's own setup (its segments'
+    // buckets, the inside bits) runs on one thread, and with the layers one
+    // after another the other core would wait for it at every layer. They
+    // are pushed in style order afterwards, as before.
+    let built: Vec<_> = pending
+        .par_iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let clips: Vec<_> = p.clips.iter().map(|c| (&c.outline[..], c.fill_rule)).collect();
+            let mut covered_by = Vec::new();
+            let (geometry, kind, amplitude, soft) = match p.style {
+                LayerStyle::Vibrate(v) => {
+                    let freq = MilliHertz::from_hz(v.freq_hz)?;
+                    let band = Some((p.elements.iter().map(|&i| polys(i)).collect(), v.width_mm));
+                    (
+                        LayerGeometry { band, clips, ..Default::default() },
+                        MaskKind::Vibration { freq },
+                        v.amplitude,
+                        v.soft_mm,
+                    )
+                }
+                LayerStyle::Grating(gr) => {
+                    let fills: Vec<_> =
+                        p.elements.iter().map(|&i| (polys(i), fill_rule(&drawing.elements[i]))).collect();
+                    let reach = gr.soft_mm / 2.0 + 2.0 * pitch;
+                    let mine = p
+                        .elements
+                        .iter()
+                        .filter_map(|&i| crate::geometry::bounds(polys(i)))
+                        .reduce(|a, r| (a.0.min(r.0), a.1.min(r.1), a.2.max(r.2), a.3.max(r.3)));
+                    let cuts = bands
+                        .iter()
+                        .filter(|(i, w)| {
+                            let m = w / 2.0 + reach;
+                            match (mine, crate::geometry::bounds(polys(*i))) {
+                                (Some(a), Some(r)) => {
+                                    r.0 - m <= a.2 && a.0 <= r.2 + m && r.1 - m <= a.3 && a.1 <= r.3 + m
+                                }
+                                _ => false,
+                            }
+                        })
+                        .map(|&(i, w)| (polys(i), w))
+                        .collect();
+                    let kind =
+                        MaskKind::Grating { wavelength: Mm(gr.wavelength_mm as f32), angle_deg: gr.angle_deg as f32 };
+                    covered_by = opaque.above(drawing, &p.elements);
+                    let occluders = covered_by
+                        .iter()
+                        .map(|&j| (outline(&drawing.elements[j]), fill_rule(&drawing.elements[j])))
+                        .collect();
+                    (
+                        LayerGeometry { fills, cuts, clips, occluders, ..Default::default() },
+                        kind,
+                        gr.amplitude,
+                        gr.soft_mm,
+                    )
+                }
+            };
+            let params = FieldParams { pitch_mm: pitch, soft_mm: soft, page: page_rect };
+            let field = build_field(&geometry, params);
+            Some((k, geometry, params, field, kind, amplitude, soft, covered_by))
+        })
+        .collect();
     let mut built_index = vec![None; pending.len()];
-    for (k, p) in pending.iter().enumerate() {
-        let clips: Vec<_> = p.clips.iter().map(|c| (&c.outline[..], c.fill_rule)).collect();
-        let mut covered_by = Vec::new();
-        let (geometry, kind, amplitude, soft) = match p.style {
-            LayerStyle::Vibrate(v) => {
-                let Some(freq) = MilliHertz::from_hz(v.freq_hz) else { continue };
-                let band = Some((p.elements.iter().map(|&i| polys(i)).collect(), v.width_mm));
-                (
-                    LayerGeometry { band, clips, ..Default::default() },
-                    MaskKind::Vibration { freq },
-                    v.amplitude,
-                    v.soft_mm,
-                )
-            }
-            LayerStyle::Grating(gr) => {
-                let fills: Vec<_> = p.elements.iter().map(|&i| (polys(i), fill_rule(&drawing.elements[i]))).collect();
-                let reach = gr.soft_mm / 2.0 + 2.0 * pitch;
-                let mine = p
-                    .elements
-                    .iter()
-                    .filter_map(|&i| crate::geometry::bounds(polys(i)))
-                    .reduce(|a, r| (a.0.min(r.0), a.1.min(r.1), a.2.max(r.2), a.3.max(r.3)));
-                let cuts = bands
-                    .iter()
-                    .filter(|(i, w)| {
-                        let m = w / 2.0 + reach;
-                        match (mine, crate::geometry::bounds(polys(*i))) {
-                            (Some(a), Some(r)) => r.0 - m <= a.2 && a.0 <= r.2 + m && r.1 - m <= a.3 && a.1 <= r.3 + m,
-                            _ => false,
-                        }
-                    })
-                    .map(|&(i, w)| (polys(i), w))
-                    .collect();
-                let kind =
-                    MaskKind::Grating { wavelength: Mm(gr.wavelength_mm as f32), angle_deg: gr.angle_deg as f32 };
-                covered_by = opaque.above(drawing, &p.elements);
-                let occluders = covered_by
-                    .iter()
-                    .map(|&j| (outline(&drawing.elements[j]), fill_rule(&drawing.elements[j])))
-                    .collect();
-                (LayerGeometry { fills, cuts, clips, occluders, ..Default::default() }, kind, gr.amplitude, gr.soft_mm)
-            }
-        };
-        let params = FieldParams { pitch_mm: pitch, soft_mm: soft, page: page_rect };
-        let Some(field) = build_field(&geometry, params) else {
+    for (k, geometry, params, field, kind, amplitude, soft, covered_by) in built.into_iter().flatten() {
+        let p = &pending[k];
+        let Some(field) = field else {
             let style = match p.style {
                 LayerStyle::Vibrate(_) => "vibrate",
                 LayerStyle::Grating(_) => "grating",
