@@ -216,6 +216,108 @@ fn hilbert(mut x: u32, mut y: u32) -> u64 {
     d
 }
 
+/// Which outlines share a vertex: the same point, to the bit, on both
+/// (a map's neighbouring regions, drawn from one border's coordinates).
+/// Outlines that share a vertex touch, their distance is exactly 0, and a
+/// rule that only needs to know that need not measure them: on a map of
+/// abutting regions almost every neighbouring pair is such a pair, and
+/// settling each one by scanning its segments was most of the gap rule.
+///
+/// Only points on a segment count (a polyline of one point has none).
+/// Points shared by more than [`SharedVertices::MAX_AT_ONE_POINT`] outlines
+/// are left out (a star of lines through one point would otherwise list
+/// every pair of them): for such pairs [`SharedVertices::share`] says
+/// `false`, which only means "not known", so they are measured as before.
+///
+/// ```
+/// use taxel_compiler::geometry::Polyline;
+/// use taxel_compiler::spatial::SharedVertices;
+///
+/// let square = |x: f64| vec![Polyline { points: vec![(x, 0.0), (x + 1.0, 0.0), (x + 1.0, 1.0), (x, 1.0)], closed: true }];
+/// let (a, b, c) = (square(0.0), square(1.0), square(3.0));
+/// let shared = SharedVertices::new(&[a.as_slice(), b.as_slice(), c.as_slice()]);
+/// assert!(shared.share(0, 1) && shared.share(1, 0));
+/// assert!(!shared.share(0, 2) && !shared.share(1, 2) && !shared.share(0, 7));
+/// ```
+#[derive(Debug)]
+pub struct SharedVertices {
+    /// The outlines that share a vertex with outline `k` are
+    /// `with[start[k]..start[k + 1]]`, ascending.
+    start: Vec<usize>,
+    with: Vec<usize>,
+}
+
+impl SharedVertices {
+    /// Most outlines through one point for which the pairs are listed.
+    pub const MAX_AT_ONE_POINT: usize = 16;
+
+    /// Finds the outlines (positions in `outlines`) that share a vertex,
+    /// by sorting every vertex once: O(v log v) in the vertices, whatever
+    /// the number of pairs.
+    pub fn new(outlines: &[&[Polyline]]) -> Self {
+        use rayon::prelude::*;
+        // -0.0 and 0.0 are one point; adding 0.0 makes both 0.0.
+        let key = |v: f64| (v + 0.0).to_bits();
+        let mut at: Vec<(u64, u64, usize)> = outlines
+            .par_iter()
+            .enumerate()
+            .flat_map_iter(|(k, o)| {
+                o.iter()
+                    .filter(|p| p.points.len() >= 2)
+                    .flat_map(|p| p.points.iter())
+                    .filter(|v| v.0.is_finite() && v.1.is_finite())
+                    .map(move |v| (key(v.0), key(v.1), k))
+            })
+            .collect();
+        at.par_sort_unstable();
+        at.dedup();
+        let mut pairs: Vec<(usize, usize)> = Vec::new();
+        for run in at.chunk_by(|a, b| a.0 == b.0 && a.1 == b.1) {
+            if run.len() < 2 || run.len() > Self::MAX_AT_ONE_POINT {
+                continue;
+            }
+            for (n, a) in run.iter().enumerate() {
+                for b in &run[n + 1..] {
+                    pairs.push((a.2, b.2));
+                    pairs.push((b.2, a.2));
+                }
+            }
+        }
+        pairs.par_sort_unstable();
+        pairs.dedup();
+        let mut start = Vec::with_capacity(outlines.len() + 1);
+        let mut next = 0;
+        for k in 0..outlines.len() {
+            start.push(next);
+            while next < pairs.len() && pairs[next].0 == k {
+                next += 1;
+            }
+        }
+        start.push(next);
+        let shared = SharedVertices { start, with: pairs.into_iter().map(|(_, j)| j).collect() };
+        debug_assert!(shared.sanity_check(), "shared vertices: lists not ascending or not symmetric");
+        shared
+    }
+
+    /// Whether outlines `i` and `j` share a vertex (false for positions out
+    /// of range, and for pairs through a point of too many outlines).
+    pub fn share(&self, i: usize, j: usize) -> bool {
+        match (self.start.get(i), self.start.get(i + 1)) {
+            (Some(&a), Some(&b)) => self.with[a..b].binary_search(&j).is_ok(),
+            _ => false,
+        }
+    }
+
+    /// The invariants: each list ascending without repeats and without
+    /// its own outline, and every pair listed from both sides.
+    fn sanity_check(&self) -> bool {
+        (0..self.start.len().saturating_sub(1)).all(|k| {
+            let list = &self.with[self.start[k]..self.start[k + 1]];
+            list.windows(2).all(|w| w[0] < w[1]) && list.iter().all(|&j| j != k && self.share(j, k))
+        })
+    }
+}
+
 /// One segment of an outline, for [`min_outline_distance`].
 #[derive(Debug, Clone, Copy)]
 struct Segment(((f64, f64), (f64, f64)));
@@ -419,6 +521,17 @@ impl OutlineSet {
         let (Some(&Some(bi)), Some(&Some(bj))) = (self.bounds.get(i), self.bounds.get(j)) else {
             return f64::INFINITY;
         };
+        // Outlines within `stop_at` at their first points need no search:
+        // a vibrating band 1.5 mm wide meets its neighbours' bands from
+        // the first points on, and finding the nearest segments first cost
+        // a pass over both outlines for each of its hundreds of neighbours.
+        if let (Some(s), Some(t)) = (self.segments(i).first(), self.segments(j).first()) {
+            let (dx, dy) = (s.a.0 - t.a.0, s.a.1 - t.a.1);
+            let d = (dx * dx + dy * dy).sqrt();
+            if d <= stop_at {
+                return d;
+            }
+        }
         let (gi, gj) = (grow(bj, reach), grow(bi, reach));
         let near = |k: usize, g: Bbox| self.segments(k).iter().filter(move |s| meet(s.bbox(), g));
         let mut best = f64::INFINITY;
