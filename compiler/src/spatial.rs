@@ -598,15 +598,58 @@ impl OutlineSet {
             }
         }
         let (ki, kj) = (&ki[..ni], &kj[..nj]);
-        scan_pairs(
-            ki.iter().map(|&k| &si[usize::from(k)]),
-            || kj.iter().map(|&k| &sj[usize::from(k)]),
-            f64::INFINITY,
-            reach,
-            stop_at,
-        )
+        if ni * nj < RUNS_FROM {
+            return scan_pairs(
+                ki.iter().map(|&k| &si[usize::from(k)]),
+                || kj.iter().map(|&k| &sj[usize::from(k)]),
+                f64::INFINITY,
+                reach,
+                stop_at,
+            );
+        }
+        // Two regions of a map, each of some 64 sides: the box checks of
+        // every segment pair (4,096) were most of the time of a pair that
+        // does not come within the reach. Runs of `RUN` near segments,
+        // each with its box, turn most of them away in one check; a run's
+        // box holds its segments' boxes, so a pair skipped with its run
+        // would have been skipped alone (the same grown-box check).
+        let run_box = |s: &[Seg], ks: &[u8]| {
+            ks.iter()
+                .map(|&k| s[usize::from(k)].bbox())
+                .reduce(|p, b| (p.0.min(b.0), p.1.min(b.1), p.2.max(b.2), p.3.max(b.3)))
+        };
+        let mut best = f64::INFINITY;
+        for run_i in ki.chunks(RUN) {
+            let Some(bi) = run_box(si, run_i) else { continue };
+            for run_j in kj.chunks(RUN) {
+                let Some(bj) = run_box(sj, run_j) else { continue };
+                let r = best.min(reach);
+                if !meet(bj, grow(bi, r + r * 1e-9)) {
+                    continue;
+                }
+                best = scan_pairs(
+                    run_i.iter().map(|&k| &si[usize::from(k)]),
+                    || run_j.iter().map(|&k| &sj[usize::from(k)]),
+                    best,
+                    reach,
+                    stop_at,
+                );
+                if best <= stop_at {
+                    return best;
+                }
+            }
+        }
+        best
     }
 }
+
+/// Segment pairs of two short outlines from which [`OutlineSet::short_distance`]
+/// checks runs of segments before the segments (below it, runs cost more
+/// than they save: a city plan's short ways).
+const RUNS_FROM: usize = 256;
+
+/// Segments per run in [`OutlineSet::short_distance`].
+const RUN: usize = 8;
 
 /// The smallest distance between a segment of `ss` and one of `ts()`, down
 /// from `best`, skipping pairs whose boxes lie farther apart than the best so
@@ -779,6 +822,97 @@ mod tests {
         }
         assert!(within > 1000, "only {within} pairs within reach");
         assert_eq!(set.distance(0, 999, 10.0, 0.0), f64::INFINITY);
+    }
+
+    #[test]
+    fn outlines_of_up_to_64_sides_measured_by_runs_are_exact() {
+        // Random walks of 20 to 64 segments (no tree; most pairs past
+        // `RUNS_FROM`), some short and packed, some spread out.
+        let mut s = 777u64;
+        let mut next = || {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (s >> 33) as f64 / (1u64 << 31) as f64
+        };
+        let outlines: Vec<Vec<Polyline>> = (0..40)
+            .map(|k| {
+                let n = 20 + (k * 7) % 45;
+                let (x, y) = (next() * 12.0, next() * 12.0);
+                walk(&mut next, x, y, n, if k % 2 == 0 { 0.6 } else { 2.0 })
+            })
+            .collect();
+        let set = OutlineSet::new(outlines.iter().map(Vec::as_slice));
+        let (mut runs, mut within) = (0, 0);
+        for i in 0..outlines.len() {
+            for j in 0..outlines.len() {
+                let (ni, nj) = (set.segments(i).len(), set.segments(j).len());
+                assert!(ni <= TREE_ABOVE && nj <= TREE_ABOVE);
+                runs += usize::from(ni * nj >= RUNS_FROM);
+                let exact = outlines[i]
+                    .iter()
+                    .flat_map(|p| p.segments())
+                    .flat_map(|a| outlines[j].iter().flat_map(|p| p.segments()).map(move |b| (a, b)))
+                    .map(|(a, b)| segment_distance(a.0, a.1, b.0, b.1))
+                    .fold(f64::INFINITY, f64::min);
+                for reach in [0.05, 0.5, 3.2] {
+                    let d = set.distance(i, j, reach, 0.0);
+                    if exact <= reach {
+                        within += 1;
+                        assert_eq!(d, exact, "{i} {j} reach {reach}");
+                    } else {
+                        assert!(d > reach, "{i} {j} reach {reach}: {d}, exact {exact}");
+                    }
+                    let stop = set.distance(i, j, reach, 0.3);
+                    if exact <= reach.min(0.3) {
+                        assert!(stop <= 0.3, "{i} {j} reach {reach}: {stop}, exact {exact}");
+                    } else if exact > 0.3 {
+                        assert!(stop > 0.3 && (exact > reach || stop == exact), "{i} {j} reach {reach}: {stop}");
+                    }
+                }
+            }
+        }
+        assert!(runs > 1000 && within > 1000, "{runs} pairs by runs, {within} within reach");
+    }
+
+    #[test]
+    fn shared_vertices_are_those_an_all_pairs_scan_finds_and_touch() {
+        // Squares on a grid of spacing 1 with sides of 1 (sharing corners
+        // and sides with their neighbours) or 0.5 (sharing nothing), plus
+        // an open line and a one-point outline through a grid corner.
+        let mut outlines: Vec<Vec<Polyline>> = Vec::new();
+        for k in 0..36 {
+            let (x, y) = ((k % 6) as f64, (k / 6) as f64);
+            let side = if k % 5 == 0 { 0.5 } else { 1.0 };
+            let points = vec![(x, y), (x + side, y), (x + side, y + side), (x, y + side)];
+            outlines.push(vec![Polyline { points, closed: true }]);
+        }
+        outlines.push(vec![Polyline { points: vec![(-0.0, 0.0), (-3.0, 0.5)], closed: false }]);
+        outlines.push(vec![Polyline { points: vec![(2.0, 2.0)], closed: false }]);
+        let refs: Vec<&[Polyline]> = outlines.iter().map(Vec::as_slice).collect();
+        let shared = SharedVertices::new(&refs);
+        assert!(shared.sanity_check());
+        let on_segments = |o: &[Polyline]| -> Vec<(f64, f64)> {
+            o.iter().filter(|p| p.points.len() >= 2).flat_map(|p| p.points.clone()).collect()
+        };
+        let mut pairs = 0;
+        for i in 0..outlines.len() {
+            for j in 0..outlines.len() {
+                let brute = i != j
+                    && on_segments(&outlines[i]).iter().any(|a| on_segments(&outlines[j]).iter().any(|b| a == b));
+                assert_eq!(shared.share(i, j), brute, "{i} {j}");
+                if brute {
+                    pairs += 1;
+                    assert_eq!(min_outline_distance(&outlines[i], &outlines[j], 1.0, -1.0), 0.0, "{i} {j}");
+                }
+            }
+        }
+        assert!(pairs > 100, "only {pairs} pairs share a vertex");
+        // Through one point of more outlines than are listed: none listed.
+        let star: Vec<Vec<Polyline>> = (0..=SharedVertices::MAX_AT_ONE_POINT)
+            .map(|k| vec![Polyline { points: vec![(0.0, 0.0), (1.0, k as f64)], closed: false }])
+            .collect();
+        let refs: Vec<&[Polyline]> = star.iter().map(Vec::as_slice).collect();
+        assert!(!SharedVertices::new(&refs).share(0, 1));
+        assert!(SharedVertices::new(&refs[..2]).share(0, 1));
     }
 
     #[test]
