@@ -237,7 +237,11 @@ pub fn distance_to_outline(polys: &[Polyline], p: (f64, f64)) -> f64 {
 /// than the nearest so far (or `reach`) are not measured: a town's dot
 /// beside a region's long border needs the few segments near it, and the
 /// design rules ask this of every dot and outline that come near.
-pub fn distance_to_outline_within(polys: &[Polyline], p: (f64, f64), reach: f64) -> f64 {
+///
+/// Stops as soon as it finds a distance at or below `stop_at` and returns
+/// it (a dot that reaches into an outline's band needs no exact distance:
+/// the rules treat every overlap alike); pass `f64::NEG_INFINITY` never to stop.
+pub fn distance_to_outline_within(polys: &[Polyline], p: (f64, f64), reach: f64, stop_at: f64) -> f64 {
     let mut best = f64::INFINITY;
     for (a, b) in polys.iter().flat_map(|pl| pl.segments()) {
         // The box's distance bounds the segment's from below; the margin
@@ -250,6 +254,9 @@ pub fn distance_to_outline_within(polys: &[Polyline], p: (f64, f64), reach: f64)
             continue;
         }
         best = best.min(distance_to_segment(p, a, b));
+        if best <= stop_at {
+            return best;
+        }
     }
     best
 }
@@ -381,7 +388,7 @@ mod tests {
             s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
             (s >> 33) as f64 / (1u64 << 31) as f64
         };
-        let mut within = 0;
+        let (mut within, mut stopped_early) = (0, 0);
         for k in 0..200 {
             let n = 2 + k % 40;
             let (mut x, mut y) = (next() * 20.0, next() * 20.0);
@@ -396,16 +403,29 @@ mod tests {
             let p = (next() * 24.0 - 2.0, next() * 24.0 - 2.0);
             let full = distance_to_outline(&polys, p);
             for reach in [0.0, 0.5, 2.0, 8.0, f64::INFINITY] {
-                let d = distance_to_outline_within(&polys, p, reach);
+                let d = distance_to_outline_within(&polys, p, reach, f64::NEG_INFINITY);
                 if full <= reach {
                     within += 1;
                     assert_eq!(d.to_bits(), full.to_bits(), "walk {k}, reach {reach}");
                 } else {
                     assert!(d > reach, "walk {k}, reach {reach}: {d}, full {full}");
                 }
+                // Stopping at 1 mm: some value at or below it when the
+                // outline comes that close within the reach, the same value
+                // as without stopping when it does not come that close.
+                let stopped = distance_to_outline_within(&polys, p, reach, 1.0);
+                if full <= reach.min(1.0) {
+                    stopped_early += 1;
+                    assert!(stopped <= 1.0, "walk {k}, reach {reach}: {stopped}, full {full}");
+                } else if full > 1.0 {
+                    assert_eq!(stopped.to_bits(), d.to_bits(), "walk {k}, reach {reach}");
+                } else {
+                    assert!(stopped > reach, "walk {k}, reach {reach}: {stopped}, full {full}");
+                }
             }
         }
         assert!(within > 300, "only {within} within reach");
-        assert_eq!(distance_to_outline_within(&[], (0.0, 0.0), 1.0), f64::INFINITY);
+        assert!(stopped_early > 30, "only {stopped_early} stopped early");
+        assert_eq!(distance_to_outline_within(&[], (0.0, 0.0), 1.0, 0.0), f64::INFINITY);
     }
 }

@@ -216,6 +216,108 @@ fn hilbert(mut x: u32, mut y: u32) -> u64 {
     d
 }
 
+/// Which outlines share a vertex: the same point, to the bit, on both
+/// (a map's neighbouring regions, drawn from one border's coordinates).
+/// Outlines that share a vertex touch, their distance is exactly 0, and a
+/// rule that only needs to know that need not measure them: on a map of
+/// abutting regions almost every neighbouring pair is such a pair, and
+/// settling each one by scanning its segments was most of the gap rule.
+///
+/// Only points on a segment count (a polyline of one point has none).
+/// Points shared by more than [`SharedVertices::MAX_AT_ONE_POINT`] outlines
+/// are left out (a star of lines through one point would otherwise list
+/// every pair of them): for such pairs [`SharedVertices::share`] says
+/// `false`, which only means "not known", so they are measured as before.
+///
+/// ```
+/// use taxel_compiler::geometry::Polyline;
+/// use taxel_compiler::spatial::SharedVertices;
+///
+/// let square = |x: f64| vec![Polyline { points: vec![(x, 0.0), (x + 1.0, 0.0), (x + 1.0, 1.0), (x, 1.0)], closed: true }];
+/// let (a, b, c) = (square(0.0), square(1.0), square(3.0));
+/// let shared = SharedVertices::new(&[a.as_slice(), b.as_slice(), c.as_slice()]);
+/// assert!(shared.share(0, 1) && shared.share(1, 0));
+/// assert!(!shared.share(0, 2) && !shared.share(1, 2) && !shared.share(0, 7));
+/// ```
+#[derive(Debug)]
+pub struct SharedVertices {
+    /// The outlines that share a vertex with outline `k` are
+    /// `with[start[k]..start[k + 1]]`, ascending.
+    start: Vec<usize>,
+    with: Vec<usize>,
+}
+
+impl SharedVertices {
+    /// Most outlines through one point for which the pairs are listed.
+    pub const MAX_AT_ONE_POINT: usize = 16;
+
+    /// Finds the outlines (positions in `outlines`) that share a vertex,
+    /// by sorting every vertex once: O(v log v) in the vertices, whatever
+    /// the number of pairs.
+    pub fn new(outlines: &[&[Polyline]]) -> Self {
+        use rayon::prelude::*;
+        // -0.0 and 0.0 are one point; adding 0.0 makes both 0.0.
+        let key = |v: f64| (v + 0.0).to_bits();
+        let mut at: Vec<(u64, u64, usize)> = outlines
+            .par_iter()
+            .enumerate()
+            .flat_map_iter(|(k, o)| {
+                o.iter()
+                    .filter(|p| p.points.len() >= 2)
+                    .flat_map(|p| p.points.iter())
+                    .filter(|v| v.0.is_finite() && v.1.is_finite())
+                    .map(move |v| (key(v.0), key(v.1), k))
+            })
+            .collect();
+        at.par_sort_unstable();
+        at.dedup();
+        let mut pairs: Vec<(usize, usize)> = Vec::new();
+        for run in at.chunk_by(|a, b| a.0 == b.0 && a.1 == b.1) {
+            if run.len() < 2 || run.len() > Self::MAX_AT_ONE_POINT {
+                continue;
+            }
+            for (n, a) in run.iter().enumerate() {
+                for b in &run[n + 1..] {
+                    pairs.push((a.2, b.2));
+                    pairs.push((b.2, a.2));
+                }
+            }
+        }
+        pairs.par_sort_unstable();
+        pairs.dedup();
+        let mut start = Vec::with_capacity(outlines.len() + 1);
+        let mut next = 0;
+        for k in 0..outlines.len() {
+            start.push(next);
+            while next < pairs.len() && pairs[next].0 == k {
+                next += 1;
+            }
+        }
+        start.push(next);
+        let shared = SharedVertices { start, with: pairs.into_iter().map(|(_, j)| j).collect() };
+        debug_assert!(shared.sanity_check(), "shared vertices: lists not ascending or not symmetric");
+        shared
+    }
+
+    /// Whether outlines `i` and `j` share a vertex (false for positions out
+    /// of range, and for pairs through a point of too many outlines).
+    pub fn share(&self, i: usize, j: usize) -> bool {
+        match (self.start.get(i), self.start.get(i + 1)) {
+            (Some(&a), Some(&b)) => self.with[a..b].binary_search(&j).is_ok(),
+            _ => false,
+        }
+    }
+
+    /// The invariants: each list ascending without repeats and without
+    /// its own outline, and every pair listed from both sides.
+    fn sanity_check(&self) -> bool {
+        (0..self.start.len().saturating_sub(1)).all(|k| {
+            let list = &self.with[self.start[k]..self.start[k + 1]];
+            list.windows(2).all(|w| w[0] < w[1]) && list.iter().all(|&j| j != k && self.share(j, k))
+        })
+    }
+}
+
 /// One segment of an outline, for [`min_outline_distance`].
 #[derive(Debug, Clone, Copy)]
 struct Segment(((f64, f64), (f64, f64)));
@@ -419,6 +521,17 @@ impl OutlineSet {
         let (Some(&Some(bi)), Some(&Some(bj))) = (self.bounds.get(i), self.bounds.get(j)) else {
             return f64::INFINITY;
         };
+        // Outlines within `stop_at` at their first points need no search:
+        // a vibrating band 1.5 mm wide meets its neighbours' bands from
+        // the first points on, and finding the nearest segments first cost
+        // a pass over both outlines for each of its hundreds of neighbours.
+        if let (Some(s), Some(t)) = (self.segments(i).first(), self.segments(j).first()) {
+            let (dx, dy) = (s.a.0 - t.a.0, s.a.1 - t.a.1);
+            let d = (dx * dx + dy * dy).sqrt();
+            if d <= stop_at {
+                return d;
+            }
+        }
         let (gi, gj) = (grow(bj, reach), grow(bi, reach));
         let near = |k: usize, g: Bbox| self.segments(k).iter().filter(move |s| meet(s.bbox(), g));
         let mut best = f64::INFINITY;
@@ -485,15 +598,58 @@ impl OutlineSet {
             }
         }
         let (ki, kj) = (&ki[..ni], &kj[..nj]);
-        scan_pairs(
-            ki.iter().map(|&k| &si[usize::from(k)]),
-            || kj.iter().map(|&k| &sj[usize::from(k)]),
-            f64::INFINITY,
-            reach,
-            stop_at,
-        )
+        if ni * nj < RUNS_FROM {
+            return scan_pairs(
+                ki.iter().map(|&k| &si[usize::from(k)]),
+                || kj.iter().map(|&k| &sj[usize::from(k)]),
+                f64::INFINITY,
+                reach,
+                stop_at,
+            );
+        }
+        // Two regions of a map, each of some 64 sides: the box checks of
+        // every segment pair (4,096) were most of the time of a pair that
+        // does not come within the reach. Runs of `RUN` near segments,
+        // each with its box, turn most of them away in one check; a run's
+        // box holds its segments' boxes, so a pair skipped with its run
+        // would have been skipped alone (the same grown-box check).
+        let run_box = |s: &[Seg], ks: &[u8]| {
+            ks.iter()
+                .map(|&k| s[usize::from(k)].bbox())
+                .reduce(|p, b| (p.0.min(b.0), p.1.min(b.1), p.2.max(b.2), p.3.max(b.3)))
+        };
+        let mut best = f64::INFINITY;
+        for run_i in ki.chunks(RUN) {
+            let Some(bi) = run_box(si, run_i) else { continue };
+            for run_j in kj.chunks(RUN) {
+                let Some(bj) = run_box(sj, run_j) else { continue };
+                let r = best.min(reach);
+                if !meet(bj, grow(bi, r + r * 1e-9)) {
+                    continue;
+                }
+                best = scan_pairs(
+                    run_i.iter().map(|&k| &si[usize::from(k)]),
+                    || run_j.iter().map(|&k| &sj[usize::from(k)]),
+                    best,
+                    reach,
+                    stop_at,
+                );
+                if best <= stop_at {
+                    return best;
+                }
+            }
+        }
+        best
     }
 }
+
+/// Segment pairs of two short outlines from which [`OutlineSet::short_distance`]
+/// checks runs of segments before the segments (below it, runs cost more
+/// than they save: a city plan's short ways).
+const RUNS_FROM: usize = 256;
+
+/// Segments per run in [`OutlineSet::short_distance`].
+const RUN: usize = 8;
 
 /// The smallest distance between a segment of `ss` and one of `ts()`, down
 /// from `best`, skipping pairs whose boxes lie farther apart than the best so
@@ -666,6 +822,97 @@ mod tests {
         }
         assert!(within > 1000, "only {within} pairs within reach");
         assert_eq!(set.distance(0, 999, 10.0, 0.0), f64::INFINITY);
+    }
+
+    #[test]
+    fn outlines_of_up_to_64_sides_measured_by_runs_are_exact() {
+        // Random walks of 20 to 64 segments (no tree; most pairs past
+        // `RUNS_FROM`), some short and packed, some spread out.
+        let mut s = 777u64;
+        let mut next = || {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (s >> 33) as f64 / (1u64 << 31) as f64
+        };
+        let outlines: Vec<Vec<Polyline>> = (0..40)
+            .map(|k| {
+                let n = 20 + (k * 7) % 45;
+                let (x, y) = (next() * 12.0, next() * 12.0);
+                walk(&mut next, x, y, n, if k % 2 == 0 { 0.6 } else { 2.0 })
+            })
+            .collect();
+        let set = OutlineSet::new(outlines.iter().map(Vec::as_slice));
+        let (mut runs, mut within) = (0, 0);
+        for i in 0..outlines.len() {
+            for j in 0..outlines.len() {
+                let (ni, nj) = (set.segments(i).len(), set.segments(j).len());
+                assert!(ni <= TREE_ABOVE && nj <= TREE_ABOVE);
+                runs += usize::from(ni * nj >= RUNS_FROM);
+                let exact = outlines[i]
+                    .iter()
+                    .flat_map(|p| p.segments())
+                    .flat_map(|a| outlines[j].iter().flat_map(|p| p.segments()).map(move |b| (a, b)))
+                    .map(|(a, b)| segment_distance(a.0, a.1, b.0, b.1))
+                    .fold(f64::INFINITY, f64::min);
+                for reach in [0.05, 0.5, 3.2] {
+                    let d = set.distance(i, j, reach, 0.0);
+                    if exact <= reach {
+                        within += 1;
+                        assert_eq!(d, exact, "{i} {j} reach {reach}");
+                    } else {
+                        assert!(d > reach, "{i} {j} reach {reach}: {d}, exact {exact}");
+                    }
+                    let stop = set.distance(i, j, reach, 0.3);
+                    if exact <= reach.min(0.3) {
+                        assert!(stop <= 0.3, "{i} {j} reach {reach}: {stop}, exact {exact}");
+                    } else if exact > 0.3 {
+                        assert!(stop > 0.3 && (exact > reach || stop == exact), "{i} {j} reach {reach}: {stop}");
+                    }
+                }
+            }
+        }
+        assert!(runs > 1000 && within > 1000, "{runs} pairs by runs, {within} within reach");
+    }
+
+    #[test]
+    fn shared_vertices_are_those_an_all_pairs_scan_finds_and_touch() {
+        // Squares on a grid of spacing 1 with sides of 1 (sharing corners
+        // and sides with their neighbours) or 0.5 (sharing nothing), plus
+        // an open line and a one-point outline through a grid corner.
+        let mut outlines: Vec<Vec<Polyline>> = Vec::new();
+        for k in 0..36 {
+            let (x, y) = ((k % 6) as f64, (k / 6) as f64);
+            let side = if k % 5 == 0 { 0.5 } else { 1.0 };
+            let points = vec![(x, y), (x + side, y), (x + side, y + side), (x, y + side)];
+            outlines.push(vec![Polyline { points, closed: true }]);
+        }
+        outlines.push(vec![Polyline { points: vec![(-0.0, 0.0), (-3.0, 0.5)], closed: false }]);
+        outlines.push(vec![Polyline { points: vec![(2.0, 2.0)], closed: false }]);
+        let refs: Vec<&[Polyline]> = outlines.iter().map(Vec::as_slice).collect();
+        let shared = SharedVertices::new(&refs);
+        assert!(shared.sanity_check());
+        let on_segments = |o: &[Polyline]| -> Vec<(f64, f64)> {
+            o.iter().filter(|p| p.points.len() >= 2).flat_map(|p| p.points.clone()).collect()
+        };
+        let mut pairs = 0;
+        for i in 0..outlines.len() {
+            for j in 0..outlines.len() {
+                let brute = i != j
+                    && on_segments(&outlines[i]).iter().any(|a| on_segments(&outlines[j]).iter().any(|b| a == b));
+                assert_eq!(shared.share(i, j), brute, "{i} {j}");
+                if brute {
+                    pairs += 1;
+                    assert_eq!(min_outline_distance(&outlines[i], &outlines[j], 1.0, -1.0), 0.0, "{i} {j}");
+                }
+            }
+        }
+        assert!(pairs > 100, "only {pairs} pairs share a vertex");
+        // Through one point of more outlines than are listed: none listed.
+        let star: Vec<Vec<Polyline>> = (0..=SharedVertices::MAX_AT_ONE_POINT)
+            .map(|k| vec![Polyline { points: vec![(0.0, 0.0), (1.0, k as f64)], closed: false }])
+            .collect();
+        let refs: Vec<&[Polyline]> = star.iter().map(Vec::as_slice).collect();
+        assert!(!SharedVertices::new(&refs).share(0, 1));
+        assert!(SharedVertices::new(&refs[..2]).share(0, 1));
     }
 
     #[test]

@@ -123,8 +123,22 @@ impl<'r, 'a> Neighbours<'r, 'a> {
     /// union, sorted, so the result does not depend on how the work was shared.
     pub fn class_edges(&self, class_of: &[Option<usize>], near: f64) -> Vec<(usize, usize)> {
         use rayon::prelude::*;
-        let search = |mut edges: BTreeSet<(usize, usize)>, k: usize| {
-            let Some(ca) = class_of.get(k).copied().flatten() else { return edges };
+        // Once a class is known to touch every other class, its regions
+        // can add no edge, and their neighbours need not even be looked up:
+        // on a dense map of a few fills every class soon touches every
+        // other, and the queries (hundreds of boxes within `near` of each
+        // region of a map fitted to the surface) were most of the cost.
+        let n = class_of.iter().flatten().max().map_or(0, |&c| c + 1);
+        let mut present = vec![false; n];
+        for &c in class_of.iter().flatten() {
+            present[c] = true;
+        }
+        let others = present.iter().filter(|&&p| p).count().saturating_sub(1);
+        let search = |(mut edges, mut touched): (BTreeSet<(usize, usize)>, Vec<usize>), k: usize| {
+            let Some(ca) = class_of.get(k).copied().flatten() else { return (edges, touched) };
+            if touched[ca] == others {
+                return (edges, touched);
+            }
             for j in self.index.meeting(spatial::grow(self.regions[k].bbox, near)) {
                 let Some(cb) = class_of.get(j).copied().flatten() else { continue };
                 let e = (ca.min(cb), ca.max(cb));
@@ -133,14 +147,20 @@ impl<'r, 'a> Neighbours<'r, 'a> {
                 }
                 if near_or_inside(self.regions, &self.outlines, k, j, near) {
                     edges.insert(e);
+                    touched[ca] += 1;
+                    touched[cb] += 1;
+                    if touched[ca] == others {
+                        break;
+                    }
                 }
             }
-            edges
+            (edges, touched)
         };
         let edges: BTreeSet<(usize, usize)> = (0..self.regions.len())
             .into_par_iter()
             .with_min_len(REGIONS_PER_JOB)
-            .fold(BTreeSet::new, search)
+            .fold(|| (BTreeSet::new(), vec![0; n]), search)
+            .map(|(edges, _)| edges)
             .reduce(BTreeSet::new, |mut a, mut b| {
                 a.append(&mut b);
                 a
