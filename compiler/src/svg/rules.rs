@@ -152,6 +152,16 @@ fn counts(built: &Built, diags: &mut Vec<Diagnostic>) {
 /// - gaps (T0408): each feature's nearest distinct neighbour that does not
 ///   touch it, each pair measured once and only while its boxes could still
 ///   hold a nearer gap for one of the two.
+/// `value` (below `limit`) with one decimal, or as many more as it takes (up
+/// to three, then cut rather than rounded) for it not to read as `limit` or
+/// more: "3.19 mm, closer than 3.2 mm", not "3.2 mm, closer than 3.2 mm".
+fn below(value: f64, limit: f64) -> String {
+    (1..=3)
+        .map(|d| format!("{value:.d$}"))
+        .find(|s| s.parse::<f64>().is_ok_and(|v| v < limit))
+        .unwrap_or_else(|| format!("{:.3}", (value * 1000.0).floor() / 1000.0))
+}
+
 fn pairs(built: &Built, diags: &mut Vec<Diagnostic>) {
     let f = &built.features;
     let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
@@ -164,7 +174,11 @@ fn pairs(built: &Built, diags: &mut Vec<Diagnostic>) {
             diags.push(at(
                 Diagnostic::warning(
                     "T0408",
-                    format!("this element is {g:.1} mm from #{}, closer than {MIN_GAP_MM} mm", f[i].name),
+                    format!(
+                        "this element is {} mm from #{}, closer than {MIN_GAP_MM} mm",
+                        below(g, MIN_GAP_MM),
+                        f[i].name
+                    ),
                 )
                 .with_help("leave at least 3.2 mm (1/8 in) between distinct elements so they are felt apart"),
                 &f[j],
@@ -780,6 +794,14 @@ fn overlap(built: &Built, a: &Feature, b: &Feature, diags: &mut Vec<Diagnostic>)
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_gap_below_the_limit_never_reads_as_the_limit() {
+        assert_eq!(below(1.74, MIN_GAP_MM), "1.7");
+        assert_eq!(below(3.17, MIN_GAP_MM), "3.17");
+        assert_eq!(below(3.1999, MIN_GAP_MM), "3.199");
+        assert_eq!(below(3.198, MIN_GAP_MM), "3.198");
+    }
 
     /// A deterministic sequence in [0, 1) (a linear congruential generator).
     struct Lcg(u64);
