@@ -140,6 +140,16 @@ fn counts(built: &Built, diags: &mut Vec<Diagnostic>) {
     }
 }
 
+/// `value` (below `limit`) with one decimal, or as many more as it takes (up
+/// to three, then cut rather than rounded) for it not to read as `limit` or
+/// more: "3.19 mm, closer than 3.2 mm", not "3.2 mm, closer than 3.2 mm".
+fn below(value: f64, limit: f64) -> String {
+    (1..=3)
+        .map(|d| format!("{value:.d$}"))
+        .find(|s| s.parse::<f64>().is_ok_and(|v| v < limit))
+        .unwrap_or_else(|| format!("{:.3}", (value * 1000.0).floor() / 1000.0))
+}
+
 /// The rules between features, each through an R*-tree over the footprints'
 /// boxes, so that the cost grows with the features, not with all pairs nor
 /// with how many neighbours fall within a rule's radius (a map shrunk by
@@ -152,16 +162,6 @@ fn counts(built: &Built, diags: &mut Vec<Diagnostic>) {
 /// - gaps (T0408): each feature's nearest distinct neighbour that does not
 ///   touch it, each pair measured once and only while its boxes could still
 ///   hold a nearer gap for one of the two.
-/// `value` (below `limit`) with one decimal, or as many more as it takes (up
-/// to three, then cut rather than rounded) for it not to read as `limit` or
-/// more: "3.19 mm, closer than 3.2 mm", not "3.2 mm, closer than 3.2 mm".
-fn below(value: f64, limit: f64) -> String {
-    (1..=3)
-        .map(|d| format!("{value:.d$}"))
-        .find(|s| s.parse::<f64>().is_ok_and(|v| v < limit))
-        .unwrap_or_else(|| format!("{:.3}", (value * 1000.0).floor() / 1000.0))
-}
-
 fn pairs(built: &Built, diags: &mut Vec<Diagnostic>) {
     let f = &built.features;
     let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
