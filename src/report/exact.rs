@@ -62,11 +62,11 @@ impl Region {
     /// A ramp of 0 is the ideal step: 1 where the region covers `p`, else 0.
     pub fn edge_profile(&self, p: (f64, f64), ramp: f64) -> f64 {
         let here = self.covers(p);
-        if ramp > 0.0 {
-            if let Some(d) = self.distance_to_edge_within(p, ramp / 2.0) {
-                let d = if here { d } else { -d };
-                return (0.5 + d / ramp).clamp(0.0, 1.0);
-            }
+        if ramp > 0.0
+            && let Some(d) = self.distance_to_edge_within(p, ramp / 2.0)
+        {
+            let d = if here { d } else { -d };
+            return (0.5 + d / ramp).clamp(0.0, 1.0);
         }
         if here { 1.0 } else { 0.0 }
     }
@@ -78,7 +78,7 @@ impl Region {
     /// region's coverage differs on its two sides (so a side two fills of one
     /// style share, or a band's end inside another band, is not an edge).
     pub fn distance_to_edge_within(&self, p: (f64, f64), reach: f64) -> Option<f64> {
-        if !(reach > 0.0) {
+        if reach.is_nan() || reach <= 0.0 {
             return None;
         }
         let mut best = f64::INFINITY;
@@ -209,7 +209,7 @@ pub const ON_EDGE_MM: f64 = 1e-7;
 fn nearest_on_segment(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);
     let len2 = dx * dx + dy * dy;
-    if !(len2 > 0.0) {
+    if len2.is_nan() || len2 <= 0.0 {
         return a;
     }
     let t = (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / len2).clamp(0.0, 1.0);
