@@ -789,13 +789,7 @@ mod tests {
         let mut within = 0;
         for i in 0..outlines.len() {
             for j in 0..outlines.len() {
-                // The exact distance: every pair of segments.
-                let exact = outlines[i]
-                    .iter()
-                    .flat_map(|p| p.segments())
-                    .flat_map(|a| outlines[j].iter().flat_map(|p| p.segments()).map(move |b| (a, b)))
-                    .map(|(a, b)| segment_distance(a.0, a.1, b.0, b.1))
-                    .fold(f64::INFINITY, f64::min);
+                let exact = all_pairs_distance(&outlines[i], &outlines[j]);
                 for reach in [0.5, 3.2, 10.0] {
                     let d = set.distance(i, j, reach, 0.0);
                     if exact <= reach {
@@ -824,6 +818,15 @@ mod tests {
         assert_eq!(set.distance(0, 999, 10.0, 0.0), f64::INFINITY);
     }
 
+    /// The exact distance between two outlines: every pair of segments.
+    fn all_pairs_distance(a: &[Polyline], b: &[Polyline]) -> f64 {
+        a.iter()
+            .flat_map(|p| p.segments())
+            .flat_map(|s| b.iter().flat_map(|p| p.segments()).map(move |t| (s, t)))
+            .map(|(s, t)| segment_distance(s.0, s.1, t.0, t.1))
+            .fold(f64::INFINITY, f64::min)
+    }
+
     #[test]
     fn outlines_of_up_to_64_sides_measured_by_runs_are_exact() {
         // Random walks of 20 to 64 segments (no tree; most pairs past
@@ -847,12 +850,7 @@ mod tests {
                 let (ni, nj) = (set.segments(i).len(), set.segments(j).len());
                 assert!(ni <= TREE_ABOVE && nj <= TREE_ABOVE);
                 runs += usize::from(ni * nj >= RUNS_FROM);
-                let exact = outlines[i]
-                    .iter()
-                    .flat_map(|p| p.segments())
-                    .flat_map(|a| outlines[j].iter().flat_map(|p| p.segments()).map(move |b| (a, b)))
-                    .map(|(a, b)| segment_distance(a.0, a.1, b.0, b.1))
-                    .fold(f64::INFINITY, f64::min);
+                let exact = all_pairs_distance(&outlines[i], &outlines[j]);
                 for reach in [0.05, 0.5, 3.2] {
                     let d = set.distance(i, j, reach, 0.0);
                     if exact <= reach {
