@@ -318,18 +318,6 @@ impl SharedVertices {
     }
 }
 
-/// One segment of an outline, for [`min_outline_distance`].
-#[derive(Debug, Clone, Copy)]
-struct Segment(((f64, f64), (f64, f64)));
-
-impl RTreeObject for Segment {
-    type Envelope = AABB<[f64; 2]>;
-    fn envelope(&self) -> Self::Envelope {
-        let ((x0, y0), (x1, y1)) = self.0;
-        AABB::from_corners([x0.min(x1), y0.min(y1)], [x0.max(x1), y0.max(y1)])
-    }
-}
-
 /// Squared distance from `p` to the segment `a`-`b`.
 fn point_segment2(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);
@@ -391,13 +379,12 @@ pub fn min_outline_distance(a: &[Polyline], b: &[Polyline], reach: f64, stop_at:
         }
         return best;
     }
-    let tree = RTree::bulk_load(large.into_iter().map(Segment).collect());
+    let tree = RTree::bulk_load(large.into_iter().map(|(a, b)| TreeSeg::new(Seg { a, b })).collect());
     for &(p0, p1) in &small {
         let r = best.min(reach);
         let q = envelope(grow(seg_box((p0, p1)), r));
         for s in tree.locate_in_envelope_intersecting(&q) {
-            let (q0, q1) = s.0;
-            best = best.min(segment_distance(p0, p1, q0, q1));
+            best = best.min(segment_distance(p0, p1, s.seg.a, s.seg.b));
             if best <= stop_at {
                 return best;
             }
@@ -429,10 +416,26 @@ impl Seg {
     }
 }
 
-impl RTreeObject for Seg {
+/// A segment in an R*-tree, with its box worked out once: bulk loading asks
+/// for an item's envelope at every comparison of its partitioning, and an
+/// outline of millions of segments (a curve-heavy path far larger than the
+/// page) spent most of its build recomputing them.
+#[derive(Debug, Clone, Copy)]
+struct TreeSeg {
+    seg: Seg,
+    env: AABB<[f64; 2]>,
+}
+
+impl TreeSeg {
+    fn new(seg: Seg) -> Self {
+        TreeSeg { seg, env: envelope(seg.bbox()) }
+    }
+}
+
+impl RTreeObject for TreeSeg {
     type Envelope = AABB<[f64; 2]>;
     fn envelope(&self) -> Self::Envelope {
-        envelope(self.bbox())
+        self.env
     }
 }
 
@@ -457,7 +460,7 @@ pub struct OutlineSet {
     /// Outline `k`'s segments are `segs[span[k].0..span[k].1]`.
     span: Vec<(usize, usize)>,
     bounds: Vec<Option<Bbox>>,
-    trees: Vec<Option<RTree<Seg>>>,
+    trees: Vec<Option<RTree<TreeSeg>>>,
 }
 
 impl OutlineSet {
@@ -493,7 +496,8 @@ impl OutlineSet {
             set.segs.extend(outlines[k].iter().flat_map(|p| p.segments()).map(|(a, b)| Seg { a, b }));
             set.span[k] = (first, set.segs.len());
             let own = &set.segs[first..];
-            set.trees[k] = (own.len() > TREE_ABOVE).then(|| RTree::bulk_load(own.to_vec()));
+            set.trees[k] =
+                (own.len() > TREE_ABOVE).then(|| RTree::bulk_load(own.iter().copied().map(TreeSeg::new).collect()));
         }
         set
     }
@@ -548,7 +552,7 @@ impl OutlineSet {
                     let r = best.min(reach);
                     let q = envelope(grow(s.bbox(), r));
                     for t in tree.locate_in_envelope_intersecting(&q) {
-                        best = best.min(segment_distance(s.a, s.b, t.a, t.b));
+                        best = best.min(segment_distance(s.a, s.b, t.seg.a, t.seg.b));
                         if best <= stop_at {
                             return best;
                         }
