@@ -491,6 +491,18 @@ impl Frame {
         self.run_hi = i32x4::new([self.col_hi as i32, self.col_hi as i32, rhi as i32, rhi as i32]);
     }
 
+    /// `[col_x(col_lo), col_x(col_hi − 1), row_y(r_lo), row_y(r_hi − 1)]`:
+    /// the positions of the first and last columns on the surface and of the
+    /// block's first and last rows on it (`r_lo` and `r_hi` as in
+    /// [`Frame::runs`]; meaningful when neither run is empty).
+    #[inline(always)]
+    pub(crate) fn run_positions(&self) -> f32x4 {
+        let first_last = i32x4::new([0, -1, 0, -1]).simd_eq(i32x4::ZERO);
+        let index = first_last.select(self.run_lo, self.run_hi - i32x4::ONE);
+        // `col_x`'s and `row_y`'s arithmetic, lane by lane.
+        self.run_first + f32x4::from_i32x4(index) * self.run_pitch
+    }
+
     /// Page x of column `c`.
     #[inline(always)]
     pub(crate) fn col_x(&self, c: usize) -> f32 {
