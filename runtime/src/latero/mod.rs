@@ -93,24 +93,25 @@ pub(crate) const BLOCK: usize = 64;
 /// Actuators a mask layer interpolates at once: the width of a 128-bit
 /// vector of `f32`, which every x86-64 and AArch64 core has.
 pub(crate) const LANES: usize = 4;
-/// A block's sums, and room for the lanes of a group that starts in the
-/// block's last [`LANES`] − 1 actuators. Layers add [`LANES`] actuators at a
-/// time through [`add_lanes`]; a group's lanes past its row's last column
-/// add 0, and the sums past the block are never read.
-pub(crate) type Acc = [f32; BLOCK + LANES - 1];
+/// A block's sums. Layers add [`LANES`] actuators at a time through
+/// [`add_lanes`]; a group's lanes past its row's last column add 0.
+pub(crate) type Acc = [f32; BLOCK];
 
-// `add_lanes` finds its start within the block with a mask.
-const _: () = assert!(BLOCK.is_power_of_two());
-
-/// Adds `v` to the sums of actuators `k..k + LANES` of the block, where `k`
-/// is below [`BLOCK`] (every group starts inside the block). Masked to the
-/// block, `k` needs no bounds check: the four sums are always in the
-/// accumulator, and lanes past the block land in its padding.
+/// Adds `v` to the sums of actuators `k..k + LANES` of the block. Lanes
+/// past the block's end carry 0 and are dropped. The block is exactly
+/// [`BLOCK`] sums, so that clearing it takes 16 vector stores. (Measured:
+/// padded by three sums, so that a masked `k` needs no bounds check, it
+/// took a `memset` call of some 70 instructions, more than the checks
+/// saved; with this fallback out of line, the kernels spilled more.)
 #[inline(always)]
 pub(crate) fn add_lanes(acc: &mut Acc, k: usize, v: f32x4) {
-    let k = k & (BLOCK - 1);
-    if let Some(out) = acc.get_mut(k..k + LANES).and_then(|s| <&mut [f32; LANES]>::try_from(s).ok()) {
-        *out = (f32x4::new(*out) + v).to_array();
+    match acc.get_mut(k..k + LANES).and_then(|s| <&mut [f32; LANES]>::try_from(s).ok()) {
+        Some(out) => *out = (f32x4::new(*out) + v).to_array(),
+        None => {
+            for (a, x) in acc.iter_mut().skip(k).zip(v.to_array()) {
+                *a += x;
+            }
+        }
     }
 }
 /// 2²³: an `f32` in [2²³, 2²⁴) has integer spacing, so `v + 2²³` rounds `v`.
@@ -315,7 +316,7 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
         let rows_per_block = self.rows_per_block;
         for (b, block) in out.chunks_mut(rows_per_block * self.cols).enumerate() {
             f.set_block(b * rows_per_block, (b * rows_per_block + rows_per_block).min(self.rows));
-            let mut acc: Acc = [0.0; BLOCK + LANES - 1];
+            let mut acc: Acc = [0.0; BLOCK];
             for layer in layers {
                 match &layer.0 {
                     Slot::Mask(m) => m.accumulate(&f, &mut acc),
@@ -564,7 +565,7 @@ mod tests {
         for max in [1.0f32, 255.0, 1023.0, 4095.0, VECTOR_MAX_CODE] {
             let clamp_at = 1.0 + 0.5 / max;
             for _ in 0..2_000 {
-                let mut acc: Acc = [0.0; BLOCK + LANES - 1];
+                let mut acc: Acc = [0.0; BLOCK];
                 for a in acc.iter_mut() {
                     let u = (next() >> 40) as f32 / (1u64 << 24) as f32;
                     *a = match next() % 8 {
