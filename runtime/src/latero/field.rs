@@ -516,12 +516,21 @@ impl<'a> FieldLayer<'a> {
                         ty_now = ty;
                         let row = ty as usize * self.tile_cols as usize;
                         // Outside, inside and stored tiles first: their
-                        // lanes need nothing but their windows.
-                        match self.sample_windows(row, ci) {
-                            Some(windows) => (lanes.windows, lanes.analytic, lanes.bent) = (windows, false, false),
-                            // (Never in a layer of such tiles only.)
-                            None if !ANALYTIC => lanes.windows = [&OUTSIDE_WINDOW; LANES],
-                            None => lanes = self.tile_lanes::<BENDS>(row, ci, u, &mut bends),
+                        // lanes need nothing but their windows. But lanes
+                        // that met an analytic tile most likely meet one
+                        // again in the next tile row (a straight edge or a
+                        // band crosses rows of tiles): they skip the lookup
+                        // that would fail. (`tile_lanes` reads every kind,
+                        // so a wrong guess costs time, never a frame.)
+                        if ANALYTIC && lanes.analytic {
+                            lanes = self.tile_lanes::<BENDS>(row, ci, u, &mut bends);
+                        } else {
+                            match self.sample_windows(row, ci) {
+                                Some(windows) => (lanes.windows, lanes.analytic, lanes.bent) = (windows, false, false),
+                                // (Never in a layer of such tiles only.)
+                                None if !ANALYTIC => lanes.windows = [&OUTSIDE_WINDOW; LANES],
+                                None => lanes = self.tile_lanes::<BENDS>(row, ci, u, &mut bends),
+                            }
                         }
                     }
                     let (top, bot) = Self::pairs(&lanes.windows, (cj & (TILE_CELLS as u32 - 1)) as usize * TILE_SIDE);
