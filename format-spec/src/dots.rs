@@ -209,31 +209,34 @@ impl DotTable {
 
 /// The dots of a run of cells ([`DotTableView::row_run`]), read in place.
 #[derive(Debug, Clone)]
-pub struct DotRun<'a>(&'a [u8]);
+pub struct DotRun<'a>(&'a [[u8; DOT_LEN]]);
+
+/// The dot stored in `d`. Its fields are at constant offsets of a
+/// fixed-size array: no bounds checks.
+#[inline]
+fn dot_at(d: &[u8; DOT_LEN]) -> Dot {
+    let w = |o: usize| [d[o], d[o + 1], d[o + 2], d[o + 3]];
+    Dot {
+        x: Mm(f32::from_le_bytes(w(0))),
+        y: Mm(f32::from_le_bytes(w(4))),
+        radius: Mm(f32::from_le_bytes(w(8))),
+        amplitude: f32::from_le_bytes(w(12)),
+        source: source_from_raw(u32::from_le_bytes(w(16))),
+    }
+}
 
 impl Iterator for DotRun<'_> {
     type Item = Dot;
 
     #[inline]
     fn next(&mut self) -> Option<Dot> {
-        // The run is whole dots, taken DOT_LEN bytes at a time, so the fields
-        // below are read at constant offsets of a fixed-size array with no
-        // bounds checks (and no division finds the number of dots).
-        let (d, rest) = self.0.split_first_chunk::<DOT_LEN>()?;
+        let (d, rest) = self.0.split_first()?;
         self.0 = rest;
-        let w = |o: usize| [d[o], d[o + 1], d[o + 2], d[o + 3]];
-        Some(Dot {
-            x: Mm(f32::from_le_bytes(w(0))),
-            y: Mm(f32::from_le_bytes(w(4))),
-            radius: Mm(f32::from_le_bytes(w(8))),
-            amplitude: f32::from_le_bytes(w(12)),
-            source: source_from_raw(u32::from_le_bytes(w(16))),
-        })
+        Some(dot_at(d))
     }
 
     fn size_hint(&self) -> (usize, Option<usize>) {
-        let n = self.0.len() / DOT_LEN;
-        (n, Some(n))
+        (self.0.len(), Some(self.0.len()))
     }
 }
 
@@ -247,8 +250,11 @@ pub struct DotTableView<'a> {
     /// The grid index.
     pub grid: DotGrid,
     count: u32,
-    starts: &'a [u8],
-    dots: &'a [u8],
+    /// The cell starts, one little-endian `u32` each, and the dots, as
+    /// arrays: a run of cells is found by index, with no multiplications
+    /// and no offset arithmetic to check.
+    starts: &'a [[u8; 4]],
+    dots: &'a [[u8; DOT_LEN]],
 }
 
 impl<'a> DotTableView<'a> {
@@ -265,14 +271,13 @@ impl<'a> DotTableView<'a> {
     /// Dot `i` in stored order.
     #[inline]
     pub fn dot(&self, i: u32) -> Option<Dot> {
-        let o = i as usize * DOT_LEN;
-        Some(Dot {
-            x: Mm(f32_at(self.dots, o)?),
-            y: Mm(f32_at(self.dots, o + 4)?),
-            radius: Mm(f32_at(self.dots, o + 8)?),
-            amplitude: f32_at(self.dots, o + 12)?,
-            source: source_from_raw(u32_at(self.dots, o + 16)?),
-        })
+        self.dots.get(i as usize).map(dot_at)
+    }
+
+    /// Cell start `c`, if the index has it.
+    #[inline]
+    fn start(&self, c: usize) -> Option<u32> {
+        self.starts.get(c).map(|b| u32::from_le_bytes(*b))
     }
 
     /// The range of dot indices stored in cell `(col, row)`.
@@ -282,8 +287,8 @@ impl<'a> DotTableView<'a> {
             return 0..0;
         }
         let c = row as usize * self.grid.cols as usize + col as usize;
-        let a = u32_at(self.starts, 4 * c).unwrap_or(0);
-        let b = u32_at(self.starts, 4 * c + 4).unwrap_or(a);
+        let a = self.start(c).unwrap_or(0);
+        let b = self.start(c + 1).unwrap_or(a);
         a..b.max(a)
     }
 
@@ -295,17 +300,17 @@ impl<'a> DotTableView<'a> {
     #[inline]
     pub fn row_run(&self, col0: u32, col1: u32, row: u32) -> DotRun<'a> {
         let col1 = col1.min(self.grid.cols.saturating_sub(1));
-        let bytes = if col0 <= col1 && row < self.grid.rows {
+        let dots = if col0 <= col1 && row < self.grid.rows {
             // Cell c's dots are starts[c]..starts[c + 1]; the run of cells
             // col0..=col1 of this row is starts[first]..starts[last + 1].
             let cell = row as usize * self.grid.cols as usize;
-            let first = u32_at(self.starts, 4 * (cell + col0 as usize)).unwrap_or(0) as usize;
-            let end = u32_at(self.starts, 4 * (cell + col1 as usize + 1)).unwrap_or(0) as usize;
-            self.dots.get(first * DOT_LEN..end * DOT_LEN).unwrap_or(&[])
+            let first = self.start(cell + col0 as usize).unwrap_or(0) as usize;
+            let end = self.start(cell + col1 as usize + 1).unwrap_or(0) as usize;
+            self.dots.get(first..end).unwrap_or(&[])
         } else {
             &[]
         };
-        DotRun(bytes)
+        DotRun(dots)
     }
 
     /// Calls `f` for every dot whose disc may contain the point `(x, y)`
@@ -363,20 +368,22 @@ impl<'a> DotTableView<'a> {
         if d.len() as u64 != expected {
             return Err(FormatError::ChunkLength { tag, index, expected, found: d.len() as u64 });
         }
-        let starts = &d[DOTS_HEADER_LEN..DOTS_HEADER_LEN + starts_len];
-        let view = DotTableView { kind, grid, count, starts, dots: &d[DOTS_HEADER_LEN + starts_len..] };
+        // The length check above makes both whole arrays.
+        let starts = d[DOTS_HEADER_LEN..DOTS_HEADER_LEN + starts_len].as_chunks::<4>().0;
+        let dots = d[DOTS_HEADER_LEN + starts_len..].as_chunks::<DOT_LEN>().0;
+        let view = DotTableView { kind, grid, count, starts, dots };
         if !full {
             return Ok(view);
         }
         // The index must partition the dots: starts run from 0 to count without
         // decreasing, and every dot lies in the cell that lists it.
-        if u32_at(starts, 0) != Some(0) || u32_at(starts, 4 * cells as usize) != Some(count) {
+        if view.start(0) != Some(0) || view.start(cells as usize) != Some(count) {
             return Err(bad("grid index", "cell starts from 0 to the dot count"));
         }
         for row in 0..rows {
             for col in 0..cols {
                 let c = row as usize * cols as usize + col as usize;
-                let (a, b) = (u32_at(starts, 4 * c).unwrap_or(0), u32_at(starts, 4 * c + 4).unwrap_or(0));
+                let (a, b) = (view.start(c).unwrap_or(0), view.start(c + 1).unwrap_or(0));
                 if b < a {
                     return Err(bad("grid index", "non-decreasing cell starts"));
                 }

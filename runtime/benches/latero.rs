@@ -130,6 +130,48 @@ fn field_with(
     })
 }
 
+/// A distance layer as the compiler writes one for a region with a straight
+/// vertical edge (pitch 0.5 mm, hard edge) over `[x0, x0 + 4 cols) x [y0, y0
+/// + 4 rows)` mm: the tiles wholly inside or outside are constant, and the
+/// column of tiles `edge` holds the edge at its middle as one plane tile
+/// each, inside to the left (`inside_left`) or to the right.
+fn field_compiled(kind: MaskKind, x0: f32, y0: f32, cols: u32, rows: u32, edge: u32, inside_left: bool) -> Chunk {
+    let mut tiles = Vec::new();
+    let mut records = Vec::new();
+    // 50 codes a lattice cell (0.5 mm over steps of 0.01 mm), code 128 at
+    // the tile's middle (u = 4).
+    let gx = if inside_left { -50.0 } else { 50.0 };
+    for _ in 0..rows {
+        for c in 0..cols {
+            if c == edge {
+                tiles.push(taxel_format::TILE_PLANE | records.len() as u32);
+                records.push(taxel_format::TilePlane { c: 128.0 - 4.0 * gx, gx, gy: 0.0, top: 0.0 });
+            } else {
+                tiles.push(if (c < edge) == inside_left {
+                    taxel_format::TILE_INSIDE
+                } else {
+                    taxel_format::TILE_OUTSIDE
+                });
+            }
+        }
+    }
+    Chunk::Distance(DistanceLayer {
+        kind,
+        amplitude: 0.8,
+        soft_mm: 0.0,
+        step_mm: 0.01,
+        origin_x: Mm(x0),
+        origin_y: Mm(y0),
+        pitch_mm: 0.5,
+        tile_cols: cols,
+        tile_rows: rows,
+        sources: vec![],
+        tiles,
+        planes: records,
+        samples: vec![],
+    })
+}
+
 const VIBRATE: MaskKind = MaskKind::Vibration { freq: MilliHertz(50_000) };
 const GRATE: MaskKind = MaskKind::Grating { wavelength: Mm(3.0), angle_deg: 30.0 };
 
@@ -176,6 +218,18 @@ fn latero(c: &mut Criterion) {
         vec![
             field(VIBRATE, X - 12.0, Y - 12.0, 3, 6, true),
             field(GRATE, X, Y - 12.0, 3, 6, true),
+            dots([(X, Y - 2.0), (X, Y + 2.0)]),
+        ],
+    );
+    // The same regions as the compiler writes them: constant tiles inside
+    // and outside, and plane tiles along the two straight edges under the
+    // array (their layers play the kernel instance with analytic lanes).
+    bench_scene(
+        c,
+        "latero frame (distance, as compiled): vibration + grating + dots",
+        vec![
+            field_compiled(VIBRATE, X - 12.0, Y - 12.0, 3, 6, 2, true),
+            field_compiled(GRATE, X, Y - 12.0, 3, 6, 0, false),
             dots([(X, Y - 2.0), (X, Y + 2.0)]),
         ],
     );

@@ -116,8 +116,7 @@ fn accumulate_table(layer: &DotLayer<'_>, f: &Frame, acc: &mut Acc) {
     // The four bounds at once, in the lanes. Clamped first, the index is
     // not negative, where truncation is the floor: one conversion. (The
     // positions are finite, so no lane is NaN; an overflow to ±∞ clamps.)
-    let bounds = f32x4::new([f.col_x(f.col_lo), f.col_x(f.col_hi - 1), f.row_y(r_lo), f.row_y(r_hi - 1)])
-        + f32x4::new([-reach, reach, -reach, reach]);
+    let bounds = f.run_positions() + f32x4::new([-reach, reach, -reach, reach]);
     let cells = ((bounds - layer.origin) * layer.inv_cell).fast_max(f32x4::ZERO).fast_min(layer.last);
     let [gc0, gc1, gr0, gr1] = cast::<i32x4, [u32; 4]>(cells.fast_trunc_int());
     let (inv_px, inv_py) = (f.inv_pitch_x, f.inv_pitch_y);

@@ -146,9 +146,10 @@ pub(crate) struct FieldLayer<'a> {
     /// The plane and ridge records (format 3.0), four little-endian `f32` each.
     planes: &'a [u8],
     tile_cols: u32,
-    /// Largest lattice cell index along x and y.
-    cmax: i32,
-    rmax: i32,
+    /// Largest lattice cell index along x and y, converted to `f32` here
+    /// rather than per frame: the kernel clamps with them in `f32`.
+    cmax: f32,
+    rmax: f32,
     x0: f32,
     y0: f32,
     inv_pitch: f32,
@@ -194,8 +195,8 @@ impl<'a> FieldLayer<'a> {
             stored: m.sample_bytes().as_chunks::<TILE_SAMPLES>().0,
             planes: m.plane_bytes(),
             tile_cols: m.tile_cols,
-            cmax: (m.tile_cols as usize * TILE_CELLS - 1) as i32,
-            rmax: (m.tile_rows as usize * TILE_CELLS - 1) as i32,
+            cmax: (m.tile_cols as usize * TILE_CELLS - 1) as i32 as f32,
+            rmax: (m.tile_rows as usize * TILE_CELLS - 1) as i32 as f32,
             x0: m.origin_x.0,
             y0: m.origin_y.0,
             inv_pitch: (1.0 / h) as f32,
@@ -471,8 +472,7 @@ impl<'a> FieldLayer<'a> {
         let lane_phase = lanes * step_col;
         let last_x = f.col_x(c_hi - 1);
         let (slope, offset) = (f32x4::splat(self.slope), f32x4::splat(self.offset));
-        let (y0, inv_pitch, rmax) =
-            (f32x4::splat(self.y0), f32x4::splat(self.inv_pitch), f32x4::splat(self.rmax as f32));
+        let (y0, inv_pitch, rmax) = (f32x4::splat(self.y0), f32x4::splat(self.inv_pitch), f32x4::splat(self.rmax));
         let mut cols = c_lo;
         while cols < c_hi {
             let first = f32x4::from_i32x4(i32x4::splat(cols as i32) + lane_index);
@@ -480,7 +480,7 @@ impl<'a> FieldLayer<'a> {
             let fx = ((x - self.x0) * self.inv_pitch).fast_max(f32x4::ZERO);
             // Clamped before the truncation, as the rows are (`fx ≥ 0`, and
             // `cmax` is exact in f32): SSE2 has no 32-bit integer min or max.
-            let ci = fx.fast_min(f32x4::splat(self.cmax as f32)).fast_trunc_int();
+            let ci = fx.fast_min(f32x4::splat(self.cmax)).fast_trunc_int();
             let wi = ((fx - f32x4::from_i32x4(ci)).fast_min(f32x4::ONE) * W as f32).fast_round_int();
             let real = lane_index.simd_lt(i32x4::splat((c_hi - cols) as i32));
             let w: i16x8 = cast(((i32x4::splat(W) - wi) | (wi << 16)) & real);
@@ -516,12 +516,21 @@ impl<'a> FieldLayer<'a> {
                         ty_now = ty;
                         let row = ty as usize * self.tile_cols as usize;
                         // Outside, inside and stored tiles first: their
-                        // lanes need nothing but their windows.
-                        match self.sample_windows(row, ci) {
-                            Some(windows) => (lanes.windows, lanes.analytic, lanes.bent) = (windows, false, false),
-                            // (Never in a layer of such tiles only.)
-                            None if !ANALYTIC => lanes.windows = [&OUTSIDE_WINDOW; LANES],
-                            None => lanes = self.tile_lanes::<BENDS>(row, ci, u, &mut bends),
+                        // lanes need nothing but their windows. But lanes
+                        // that met an analytic tile most likely meet one
+                        // again in the next tile row (a straight edge or a
+                        // band crosses rows of tiles): they skip the lookup
+                        // that would fail. (`tile_lanes` reads every kind,
+                        // so a wrong guess costs time, never a frame.)
+                        if ANALYTIC && lanes.analytic {
+                            lanes = self.tile_lanes::<BENDS>(row, ci, u, &mut bends);
+                        } else {
+                            match self.sample_windows(row, ci) {
+                                Some(windows) => (lanes.windows, lanes.analytic, lanes.bent) = (windows, false, false),
+                                // (Never in a layer of such tiles only.)
+                                None if !ANALYTIC => lanes.windows = [&OUTSIDE_WINDOW; LANES],
+                                None => lanes = self.tile_lanes::<BENDS>(row, ci, u, &mut bends),
+                            }
                         }
                     }
                     let (top, bot) = Self::pairs(&lanes.windows, (cj & (TILE_CELLS as u32 - 1)) as usize * TILE_SIDE);

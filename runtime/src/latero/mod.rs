@@ -98,8 +98,11 @@ pub(crate) const LANES: usize = 4;
 pub(crate) type Acc = [f32; BLOCK];
 
 /// Adds `v` to the sums of actuators `k..k + LANES` of the block. Lanes
-/// past the block's end carry 0 and are dropped (the block is exactly
-/// [`BLOCK`] sums, so that clearing it takes a few vector stores).
+/// past the block's end carry 0 and are dropped. The block is exactly
+/// [`BLOCK`] sums, so that clearing it takes 16 vector stores. (Measured:
+/// padded by three sums, so that a masked `k` needs no bounds check, it
+/// took a `memset` call of some 70 instructions, more than the checks
+/// saved; with this fallback out of line, the kernels spilled more.)
 #[inline(always)]
 pub(crate) fn add_lanes(acc: &mut Acc, k: usize, v: f32x4) {
     match acc.get_mut(k..k + LANES).and_then(|s| <&mut [f32; LANES]>::try_from(s).ok()) {
@@ -299,15 +302,20 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
             row_hi: 0,
             r0: 0,
             r1: 0,
+            run_first: f32x4::ZERO,
+            run_pitch: f32x4::ZERO,
+            run_inv: f32x4::ZERO,
+            run_lo: i32x4::ZERO,
+            run_hi: i32x4::ZERO,
         };
         // Actuators on the surface form one rectangle of columns and rows.
         (f.col_lo, f.col_hi) = inside(self.cols, f.x_first, self.pitch_x, self.surface_w);
         (f.row_lo, f.row_hi) = inside(self.rows, f.y_first, self.pitch_y, self.surface_h);
+        f.prepare_runs();
         let layers = self.layers.as_ref().get(..self.len).unwrap_or(&[]);
         let rows_per_block = self.rows_per_block;
         for (b, block) in out.chunks_mut(rows_per_block * self.cols).enumerate() {
-            f.r0 = b * rows_per_block;
-            f.r1 = (f.r0 + rows_per_block).min(self.rows);
+            f.set_block(b * rows_per_block, (b * rows_per_block + rows_per_block).min(self.rows));
             let mut acc: Acc = [0.0; BLOCK];
             for layer in layers {
                 match &layer.0 {
@@ -331,7 +339,7 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
 /// Clamps each sum to [0, 1], scales it to `max_code` and rounds it to
 /// the nearest code (ties to even) into `out`; returns how many sums
 /// clamping changed (those above `clamp_at`).
-#[inline(always)]
+#[inline(never)]
 fn quantise(out: &mut [u16], acc: &Acc, clamp_at: f32, max_code: f32) -> u32 {
     let mut clamped = 0u32;
     for (o, &a) in out.iter_mut().zip(acc.iter()) {
@@ -363,7 +371,12 @@ const VECTOR_MAX_CODE: f32 = (i16::MAX / 2) as f32;
 /// The sums need no clamp above: past `2²³ + 2¹⁵` the float's bits less
 /// those of 2²³ still grow with it (up to +∞), so the narrowing saturates
 /// them to `i16::MAX`.
-#[inline(always)]
+///
+/// Not inlined: inlined, its constants are hoisted out of the frame's loop
+/// over blocks and live in vector registers across the layers' calls, which
+/// may overwrite them (caller-saved on x86-64), so the frame reloaded all of
+/// them after every layer.
+#[inline(never)]
 fn quantise_block(out: &mut [u16; BLOCK], acc: &Acc, max_code: f32) -> u32 {
     let (scale, round) = (f32x4::splat(max_code), f32x4::splat(ROUND_BITS));
     let bias = i32x4::splat(ROUND_BITS.to_bits() as i32);
@@ -446,9 +459,51 @@ pub(crate) struct Frame {
     /// The block's rows.
     pub(crate) r0: usize,
     pub(crate) r1: usize,
+    /// What [`Frame::runs`] needs of the frame, in the lanes of a box's
+    /// `[x0, x1, y0, y1]`, built once per frame ([`Frame::prepare_runs`])
+    /// and block ([`Frame::set_block`]) rather than by every layer: the
+    /// position of column 0 and row 0, the pitches and their reciprocals,
+    /// and the first and last indices a run may hold (the columns on the
+    /// surface, the block's rows on the surface).
+    run_first: f32x4,
+    run_pitch: f32x4,
+    run_inv: f32x4,
+    run_lo: i32x4,
+    run_hi: i32x4,
 }
 
 impl Frame {
+    /// Sets [`Frame::runs`]'s positions and pitches from the frame's.
+    #[inline(always)]
+    fn prepare_runs(&mut self) {
+        let (xf, yf) = (self.x_first, self.y_first);
+        self.run_first = f32x4::new([xf, xf, yf, yf]);
+        self.run_pitch = f32x4::new([self.pitch_x, self.pitch_x, self.pitch_y, self.pitch_y]);
+        self.run_inv = f32x4::new([self.inv_pitch_x, self.inv_pitch_x, self.inv_pitch_y, self.inv_pitch_y]);
+    }
+
+    /// Makes rows `r0..r1` the block, and sets the index bounds of
+    /// [`Frame::runs`] (after [`Frame::prepare_runs`]'s surface).
+    #[inline(always)]
+    fn set_block(&mut self, r0: usize, r1: usize) {
+        (self.r0, self.r1) = (r0, r1);
+        let (rlo, rhi) = (r0.max(self.row_lo), r1.min(self.row_hi).max(r0.max(self.row_lo)));
+        self.run_lo = i32x4::new([self.col_lo as i32, self.col_lo as i32, rlo as i32, rlo as i32]);
+        self.run_hi = i32x4::new([self.col_hi as i32, self.col_hi as i32, rhi as i32, rhi as i32]);
+    }
+
+    /// `[col_x(col_lo), col_x(col_hi − 1), row_y(r_lo), row_y(r_hi − 1)]`:
+    /// the positions of the first and last columns on the surface and of the
+    /// block's first and last rows on it (`r_lo` and `r_hi` as in
+    /// [`Frame::runs`]; meaningful when neither run is empty).
+    #[inline(always)]
+    pub(crate) fn run_positions(&self) -> f32x4 {
+        let first_last = i32x4::new([0, -1, 0, -1]).simd_eq(i32x4::ZERO);
+        let index = first_last.select(self.run_lo, self.run_hi - i32x4::ONE);
+        // `col_x`'s and `row_y`'s arithmetic, lane by lane.
+        self.run_first + f32x4::from_i32x4(index) * self.run_pitch
+    }
+
     /// Page x of column `c`.
     #[inline(always)]
     pub(crate) fn col_x(&self, c: usize) -> f32 {
@@ -480,13 +535,7 @@ impl Frame {
     /// the rounding of the estimate is far below one pitch.)
     #[inline(always)]
     pub(crate) fn runs(&self, bounds: f32x4) -> [usize; 4] {
-        let (xf, yf) = (self.x_first, self.y_first);
-        let first = f32x4::new([xf, xf, yf, yf]);
-        let pitch = f32x4::new([self.pitch_x, self.pitch_x, self.pitch_y, self.pitch_y]);
-        let inv = f32x4::new([self.inv_pitch_x, self.inv_pitch_x, self.inv_pitch_y, self.inv_pitch_y]);
-        let (rlo, rhi) = (self.r0.max(self.row_lo), self.r1.min(self.row_hi).max(self.r0.max(self.row_lo)));
-        let lo = i32x4::new([self.col_lo as i32, self.col_lo as i32, rlo as i32, rlo as i32]);
-        let hi = i32x4::new([self.col_hi as i32, self.col_hi as i32, rhi as i32, rhi as i32]);
+        let (first, pitch, inv, lo, hi) = (self.run_first, self.run_pitch, self.run_inv, self.run_lo, self.run_hi);
         let pos = |i: i32x4| first + f32x4::from_i32x4(i) * pitch;
         let e = osc::ceil_in4((bounds - first) * inv, lo, hi);
         // One step down if the index before already reaches the bound, one
@@ -565,7 +614,7 @@ mod tests {
             let r0 = next() as usize % rows;
             let r1 = (r0 + 1 + next() as usize % rows).min(rows);
             let clock = osc::PhaseClock::new(1000);
-            let f = Frame {
+            let mut f = Frame {
                 tick_in_second: 0,
                 clock,
                 cols,
@@ -579,9 +628,16 @@ mod tests {
                 col_hi,
                 row_lo,
                 row_hi,
-                r0,
-                r1,
+                r0: 0,
+                r1: 0,
+                run_first: f32x4::ZERO,
+                run_pitch: f32x4::ZERO,
+                run_inv: f32x4::ZERO,
+                run_lo: i32x4::ZERO,
+                run_hi: i32x4::ZERO,
             };
+            f.prepare_runs();
+            f.set_block(r0, r1);
             // A bound on an actuator, between two, or anywhere around the array.
             let mut bound = |first: f32, pitch: f32, n: usize| match next() % 3 {
                 0 => first + (next() as usize % (n + 2)) as u32 as f32 * pitch - pitch,
