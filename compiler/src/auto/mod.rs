@@ -284,33 +284,39 @@ fn braille_boxes(t: &crate::drawing::TextShape) -> Vec<Bbox> {
 const BRAILLE_SHIFTS: [(f64, f64); 9] =
     [(0.0, 0.0), (0.0, 1.5), (0.0, -1.5), (-1.5, 0.0), (1.5, 0.0), (0.0, 3.0), (0.0, -3.0), (-3.0, 0.0), (3.0, 0.0)];
 
-/// The segments of the outlines the sheet makes vibrate, for braille to keep off.
+/// The outlines the sheet makes vibrate, for braille to keep off: their
+/// boxes in an R*-tree, each outline's segments looked at only when its box
+/// meets a label's (a scatter plot's 5,651 stroked circles made an R*-tree
+/// of half a million segments, slower to build than the labels need).
 #[derive(Default)]
-struct Lines {
-    segments: Vec<((f64, f64), (f64, f64))>,
+struct Lines<'d> {
+    outlines: Vec<&'d [Polyline]>,
     index: Option<spatial::BoxIndex>,
 }
 
-impl Lines {
-    fn of(d: &Drawing, decisions: &[Decision]) -> Lines {
-        let mut segments = Vec::new();
+impl<'d> Lines<'d> {
+    fn of(d: &'d Drawing, decisions: &[Decision]) -> Lines<'d> {
+        let mut outlines = Vec::new();
+        let mut boxes = Vec::new();
         for (e, dec) in d.elements.iter().zip(decisions) {
             let (true, Shape::Path(p)) = (dec.outline, &e.shape) else { continue };
-            for l in &p.outline {
-                segments.extend(l.points.windows(2).map(|w| (w[0], w[1])));
-                if l.closed && l.points.len() > 2 {
-                    segments.extend(l.points.last().copied().zip(l.points.first().copied()));
-                }
+            if let Some(b) = crate::geometry::bounds(&p.outline) {
+                outlines.push(p.outline.as_slice());
+                boxes.push(b);
             }
         }
-        let boxes: Vec<Bbox> =
-            segments.iter().map(|&(a, b)| (a.0.min(b.0), a.1.min(b.1), a.0.max(b.0), a.1.max(b.1))).collect();
-        Lines { index: Some(spatial::BoxIndex::new(&boxes)), segments }
+        Lines { index: Some(spatial::BoxIndex::new(&boxes)), outlines }
     }
 
-    /// Whether a segment passes through box `q`.
+    /// Whether a segment of an outline passes through box `q`.
     fn meet(&self, q: Bbox) -> bool {
-        self.index.as_ref().is_some_and(|index| index.meeting(q).any(|k| segment_meets_box(self.segments[k], q)))
+        let Some(index) = &self.index else { return false };
+        index.meeting(q).any(|k| {
+            self.outlines[k].iter().any(|l| {
+                let closing = l.closed.then(|| l.points.last().copied().zip(l.points.first().copied())).flatten();
+                l.points.windows(2).map(|w| (w[0], w[1])).chain(closing).any(|s| segment_meets_box(s, q))
+            })
+        })
     }
 }
 
