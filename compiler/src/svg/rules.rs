@@ -151,7 +151,8 @@ fn one_texture(f: &[Feature]) -> Textures {
             }
         }
     }
-    let mut whole: std::collections::HashMap<usize, (usize, (f64, f64, f64, f64))> = Default::default();
+    // Per texture (its root): how many gratings, and their box.
+    let mut whole: Textures = Default::default();
     for &k in &gratings {
         let r = root(&mut parent, k);
         let b = bounds(&f[k].outline).unwrap_or(f[k].bbox);
@@ -162,8 +163,7 @@ fn one_texture(f: &[Feature]) -> Textures {
     let mut out = std::collections::HashMap::new();
     for &k in &gratings {
         let r = root(&mut parent, k);
-        if let Some(&(n, b)) = whole.get(&r).filter(|(n, _)| *n > 1) {
-            debug_assert!(n > 1);
+        if let Some(&(_, b)) = whole.get(&r).filter(|(n, _)| *n > 1) {
             out.insert(k, (r, b));
         }
     }
