@@ -122,6 +122,88 @@ pub fn style_summary(diags: &[Diagnostic]) -> Option<&str> {
     diags.iter().find(|d| d.code == STYLE_SUMMARY).map(|d| d.message.as_str())
 }
 
+/// The notes of a folder's inputs, counted once for the whole build: the
+/// notes a thousand drawings all get (T0201 "no physical size", T0320 "the
+/// automatic style sheet decided") were three lines per input, most of a
+/// folder's account. Warnings and errors stay with their input; a note given
+/// to one input only is printed as that input's account would have.
+#[derive(Debug, Default)]
+pub struct NoteTally {
+    codes: Vec<Tallied>,
+}
+
+/// One note code across the inputs.
+#[derive(Debug)]
+struct Tallied {
+    code: &'static str,
+    /// Inputs that had it.
+    files: usize,
+    /// The first input's name and its lines for this code.
+    first_file: String,
+    first_lines: Vec<String>,
+    /// The first instance's message and help.
+    message: String,
+    help: Option<String>,
+    /// Whether every instance so far says `message`.
+    same: bool,
+}
+
+impl NoteTally {
+    /// Counts the notes among `diags` of the input shown as `file` (the
+    /// style summary left out: it goes on the input's own line).
+    pub fn add(&mut self, diags: &[Diagnostic], file: &str) {
+        let notes: Vec<&Diagnostic> =
+            diags.iter().filter(|d| d.severity == Severity::Note && d.code != STYLE_SUMMARY).collect();
+        let mut seen: Vec<&str> = Vec::new();
+        for d in &notes {
+            let k = match self.codes.iter().position(|t| t.code == d.code) {
+                Some(k) => k,
+                None => {
+                    let of: Vec<Diagnostic> = notes.iter().filter(|n| n.code == d.code).map(|&n| n.clone()).collect();
+                    self.codes.push(Tallied {
+                        code: d.code,
+                        files: 0,
+                        first_file: file.to_string(),
+                        first_lines: lines(&of, file, Severity::Note, false),
+                        message: d.message.clone(),
+                        help: d.help.clone(),
+                        same: true,
+                    });
+                    self.codes.len() - 1
+                }
+            };
+            let t = &mut self.codes[k];
+            t.same &= t.message == d.message;
+            if !seen.contains(&d.code) {
+                seen.push(d.code);
+                t.files += 1;
+            }
+        }
+    }
+
+    /// The account's lines: each code given to more than one input as one
+    /// line with the number of inputs and its help, in order of first
+    /// appearance; a code of one input as that input's lines.
+    pub fn lines(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        for t in &self.codes {
+            if t.files == 1 {
+                out.extend(t.first_lines.iter().cloned());
+                continue;
+            }
+            let what = if t.same { String::new() } else { format!(", the first ({})", t.first_file) };
+            out.push(format!("note[{}] in {} files{what}: {}", t.code, t.files, t.message));
+            if let Some(h) = &t.help {
+                out.push(format!("  help: {h}"));
+            }
+        }
+        if self.codes.iter().any(|t| t.files > 1) {
+            out.push("notes given to several inputs are counted above, once each; -v gives every input's".to_string());
+        }
+        out
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -187,5 +269,43 @@ mod tests {
         diags.insert(1, diags[0].clone());
         let out = lines(&diags, "f.svg", Severity::Note, false);
         assert!(out[0].contains("x43: this element is 0.0 mm from #x, closer than 3.2 mm (the first of 42 different messages; at #r1 (line 11), #r2 (line 12), #r3 (line 13) and 39 more)"), "{out:?}");
+    }
+
+    /// Issue 14: a folder of 1,802 drawings printed three lines of notes per
+    /// drawing (T0201, T0320 and its help), most of the account.
+    #[test]
+    fn a_folders_repeated_notes_are_one_line_each_and_a_single_ones_stay_whole() {
+        let sized = |mm: u32| {
+            Diagnostic::note("T0201", format!("the drawing has no physical size; fitted at {mm} x 60.0 mm"))
+                .with_help("give the root <svg> a width and height in mm")
+        };
+        let auto = || Diagnostic::note("T0320", "the automatic style sheet decided").with_help("`taxel style auto`");
+        let odd = Diagnostic::note("T0324", "borders left out").with_element("r1").at(4, 2).with_help("use --region");
+        let mut tally = NoteTally::default();
+        let files = 40;
+        for k in 0..files {
+            let mut diags = vec![sized(50 + k), auto(), auto(), Diagnostic::note(STYLE_SUMMARY, "3 element(s)")];
+            if k == 7 {
+                diags.push(odd.clone());
+            }
+            tally.add(&diags, &format!("d{k}.svg"));
+        }
+        let out = tally.lines();
+        let per_file: usize =
+            (0..files).map(|k| lines(&[sized(50 + k), auto()], "x", Severity::Note, false).len()).sum();
+        assert!(out.len() * 10 < per_file, "{out:#?}");
+        // Different messages say which input the one shown is from; the same
+        // message twice in one input counts that input once.
+        assert_eq!(
+            out[0],
+            format!(
+                "note[T0201] in {files} files, the first (d0.svg): the drawing has no physical size; fitted at 50 x 60.0 mm"
+            )
+        );
+        assert_eq!(out[1], "  help: give the root <svg> a width and height in mm");
+        assert_eq!(out[2], format!("note[T0320] in {files} files: the automatic style sheet decided"));
+        // A note of one input is that input's line, as its own account gives it.
+        assert_eq!(out[4..6], lines(&[odd], "d7.svg", Severity::Note, false)[..]);
+        assert!(!out.iter().any(|l| l.contains(STYLE_SUMMARY)), "{out:#?}");
     }
 }

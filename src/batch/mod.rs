@@ -14,14 +14,17 @@ pub mod progress;
 pub mod shard;
 
 use std::collections::HashMap;
+use std::io::Write;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 use std::time::Instant;
 
 use anyhow::{Result, bail};
 use rayon::prelude::*;
 use taxel_compiler::{Compiled, Diagnostic, Severity};
 
+use crate::account::NoteTally;
 use crate::cli::CompileOpts;
 pub use discover::{Input, discover, discover_all};
 pub use progress::{Outcome, Reporter, Summary};
@@ -126,18 +129,34 @@ pub fn run(jobs: &[Job], problems: &[String], settings: &Settings, compile: &Com
     for p in problems {
         reporter.report(&Outcome::Failed, &format!("failed {p}"), &[format!("error: {p}")]);
     }
+    // Several inputs: the notes of those built are counted for the whole
+    // batch and given once at the end (`-v` keeps every one with its input).
+    let notes = (jobs.len() + problems.len() > 1 && !settings.verbose).then(|| Mutex::new(NoteTally::default()));
     let pool = rayon::ThreadPoolBuilder::new().num_threads(settings.jobs.unwrap_or(0)).build()?;
     pool.install(|| {
         jobs.par_iter().for_each(|job| {
-            let (outcome, line, messages) = build_one(job, settings, compile);
+            let (outcome, line, messages) = build_one(job, settings, compile, notes.as_ref());
             reporter.report(&outcome, &line, &messages);
         })
     });
-    Ok(Summary { counts: reporter.finish(), elapsed: started.elapsed() })
+    let counts = reporter.finish();
+    if let Some(notes) = notes {
+        let mut err = std::io::stderr().lock();
+        for l in notes.into_inner().unwrap_or_else(|p| p.into_inner()).lines() {
+            let _ = writeln!(err, "{l}");
+        }
+    }
+    Ok(Summary { counts, elapsed: started.elapsed() })
 }
 
-/// Builds one job: `(outcome, plain line, diagnostics)`.
-fn build_one(job: &Job, settings: &Settings, compile: &CompileFn) -> (Outcome, String, Vec<String>) {
+/// Builds one job: `(outcome, plain line, diagnostics)`. With `notes`, the
+/// notes of a built input are counted there instead of listed with it.
+fn build_one(
+    job: &Job,
+    settings: &Settings,
+    compile: &CompileFn,
+    notes: Option<&Mutex<NoteTally>>,
+) -> (Outcome, String, Vec<String>) {
     let shown = job.input.path.display().to_string();
     let out = job.output.display();
     let failed = |message: String| (Outcome::Failed, format!("failed {shown}"), vec![format!("error: {message}")]);
@@ -205,6 +224,13 @@ fn build_one(job: &Job, settings: &Settings, compile: &CompileFn) -> (Outcome, S
     if let Err(e) = crate::io::write_file(&job.output, &bytes) {
         return failed(e.to_string());
     }
+    let messages = match notes {
+        Some(tally) => {
+            tally.lock().unwrap_or_else(|p| p.into_inner()).add(&compiled.diagnostics, &shown);
+            crate::account::lines(&compiled.diagnostics, &shown, Severity::Warning, settings.verbose)
+        }
+        None => messages,
+    };
     let line = match warnings {
         0 => format!("built {shown} -> {out}{styles}"),
         n => format!("built {shown} -> {out} ({}){styles}", plural(n, "warning")),
@@ -275,7 +301,7 @@ mod tests {
         std::fs::write(&p, "panic").unwrap();
         let (inputs, _) = discover(&[dir.path().to_path_buf()]).unwrap();
         let jobs = plan(inputs, &Destination::Folder(dir.path().join("out")));
-        let (outcome, _, messages) = build_one(&jobs[0], &settings(true), &fake);
+        let (outcome, _, messages) = build_one(&jobs[0], &settings(true), &fake, None);
         assert_eq!(outcome, Outcome::Failed);
         assert_eq!(messages.len(), 1);
         assert!(messages[0].starts_with(&format!("{}: error[T0900]: internal error", p.display())), "{messages:?}");

@@ -208,3 +208,42 @@ fn verbose_prints_every_instance_that_json_keeps() {
     }
     assert!(checked > 0, "the fitted map has repeated rules:\n{verbose}");
 }
+
+/// Issue 14: a folder of drawings nobody annotated gave each one the same
+/// notes (T0201 "no physical size", T0320 "the automatic style sheet") and
+/// their help, three lines a drawing: a folder's notes are now one line per
+/// code with its number of files, while a failing drawing keeps its error
+/// with it, and `-v` still gives every drawing's own.
+#[test]
+fn a_folders_repeated_notes_are_counted_once_and_its_errors_stay_with_their_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = dir.path().join("folder");
+    std::fs::create_dir_all(&src).unwrap();
+    let files = 6;
+    for k in 0..files {
+        let svg = format!(
+            r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {} 60"><rect x="10" y="10" width="40" height="40" fill="#1e2bd5"/></svg>"##,
+            100 + 10 * k
+        );
+        write(&src, &format!("d{k}.svg"), &svg);
+    }
+    write(&src, "broken.svg", "<svg xmlns=\"http://www.w3.org/2000/svg\"><rect");
+    let out_dir = dir.path().join("out");
+    let build = |extra: &[&str]| {
+        let mut args = vec!["build", "--fit", src.to_str().unwrap(), "-o", out_dir.to_str().unwrap(), "--force"];
+        args.extend_from_slice(extra);
+        let out = taxel(&args);
+        assert_eq!(out.status.code(), Some(1), "{}", all(&out));
+        all(&out)
+    };
+    let text = build(&[]);
+    let t0201: Vec<&str> = text.lines().filter(|l| l.contains("[T0201]")).collect();
+    assert_eq!(t0201.len(), 1, "{text}");
+    assert!(t0201[0].starts_with(&format!("note[T0201] in {files} files, the first (")), "{text}");
+    assert_eq!(text.lines().filter(|l| l.contains("[T0320]")).count(), 1, "{text}");
+    let error = text.lines().find(|l| l.contains("error[")).unwrap_or_else(|| panic!("{text}"));
+    assert!(error.contains("broken.svg"), "{text}");
+    let verbose = build(&["-v"]);
+    assert_eq!(verbose.lines().filter(|l| l.contains("[T0201]")).count(), files, "{verbose}");
+    assert!(text.lines().count() + 2 * files <= verbose.lines().count(), "{text}\n---\n{verbose}");
+}

@@ -130,7 +130,7 @@ pub enum LeftOut {
 }
 
 /// What the automatic sheet made of one element.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Decision {
     /// Its stroke vibrates (also a region that fell back to its outline).
     pub outline: bool,
@@ -140,6 +140,9 @@ pub struct Decision {
     pub mark: bool,
     /// Its text becomes braille.
     pub braille: bool,
+    /// How far its braille is moved from the text's place, mm `(x, y)`, so
+    /// that it clears the lines the sheet makes vibrate.
+    pub braille_shift: (f64, f64),
     /// Its stroke is faint (a grid line) and does not vibrate.
     pub faint: bool,
     /// Why nothing was made of it; `None` when something was, or when an
@@ -273,6 +276,72 @@ fn braille_boxes(t: &crate::drawing::TextShape) -> Vec<Bbox> {
             (x0, r.y_mm - height, x0 + w, r.y_mm)
         })
         .collect()
+}
+
+/// Where a label's braille may go, tried in this order, mm: its own place,
+/// then a little below, above, left and right of it (as far as one cell's
+/// clearance, then a cell's height), so it stays beside what it names.
+const BRAILLE_SHIFTS: [(f64, f64); 9] =
+    [(0.0, 0.0), (0.0, 1.5), (0.0, -1.5), (-1.5, 0.0), (1.5, 0.0), (0.0, 3.0), (0.0, -3.0), (-3.0, 0.0), (3.0, 0.0)];
+
+/// The outlines the sheet makes vibrate, for braille to keep off: their
+/// boxes in an R*-tree, each outline's segments looked at only when its box
+/// meets a label's (a scatter plot's 5,651 stroked circles made an R*-tree
+/// of half a million segments, slower to build than the labels need).
+#[derive(Default)]
+struct Lines<'d> {
+    outlines: Vec<&'d [Polyline]>,
+    index: Option<spatial::BoxIndex>,
+}
+
+impl<'d> Lines<'d> {
+    fn of(d: &'d Drawing, decisions: &[Decision]) -> Lines<'d> {
+        let mut outlines = Vec::new();
+        let mut boxes = Vec::new();
+        for (e, dec) in d.elements.iter().zip(decisions) {
+            let (true, Shape::Path(p)) = (dec.outline, &e.shape) else { continue };
+            if let Some(b) = crate::geometry::bounds(&p.outline) {
+                outlines.push(p.outline.as_slice());
+                boxes.push(b);
+            }
+        }
+        Lines { index: Some(spatial::BoxIndex::new(&boxes)), outlines }
+    }
+
+    /// Whether a segment of an outline passes through box `q`.
+    fn meet(&self, q: Bbox) -> bool {
+        let Some(index) = &self.index else { return false };
+        index.meeting(q).any(|k| {
+            self.outlines[k].iter().any(|l| {
+                let closing = l.closed.then(|| l.points.last().copied().zip(l.points.first().copied())).flatten();
+                l.points.windows(2).map(|w| (w[0], w[1])).chain(closing).any(|s| segment_meets_box(s, q))
+            })
+        })
+    }
+}
+
+/// Whether segment `a`-`b` passes through box `q` (Liang-Barsky clipping).
+fn segment_meets_box((a, b): ((f64, f64), (f64, f64)), q: Bbox) -> bool {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (p, r) in [(-dx, a.0 - q.0), (dx, q.2 - a.0), (-dy, a.1 - q.1), (dy, q.3 - a.1)] {
+        if p == 0.0 {
+            if r < 0.0 {
+                return false;
+            }
+        } else {
+            let t = r / p;
+            if p < 0.0 {
+                t0 = t0.max(t);
+            } else {
+                t1 = t1.min(t);
+            }
+            if t0 > t1 {
+                return false;
+            }
+        }
+    }
+    true
 }
 
 /// Shapes closer than this share a border (a tessellation's neighbours).
@@ -419,24 +488,6 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
         dec.region = Some(c);
         class_of[k] = Some(c);
     }
-    let inside = |q: &Bbox| q.0 >= page.0 && q.1 >= page.1 && q.2 <= page.2 && q.3 <= page.3;
-    for (i, t) in texts {
-        let dec = &mut decisions[i];
-        let boxes = braille_boxes(t);
-        // Check every run before placing any, so a label is whole or absent.
-        let fits = !boxes.is_empty()
-            && boxes.iter().all(|q| inside(q) && braille.is_free(spatial::grow(*q, BRAILLE_CLEARANCE_MM)));
-        if fits {
-            for q in &boxes {
-                braille.place(*q);
-            }
-            dec.braille = true;
-        } else if boxes.is_empty() {
-            dec.left_out = Some(LeftOut::Empty);
-        } else {
-            dec.left_out = Some(LeftOut::TextDoesNotFit);
-        }
-    }
     // Colour the fill classes: touching regions of different fills get different textures.
     // Touching (or lying in) each other, through the R*-tree.
     let edges = neighbours.class_edges(&class_of, NEAR_MM);
@@ -489,6 +540,37 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
                 // texture; a stroke on both sides of it would vibrate twice.
                 dec.outline = false;
             }
+        }
+    }
+    // Text last, once every mark and vibrating line is known: braille on a
+    // vibrating line is felt as neither (the two add up, T0410; a chart's
+    // tick labels sat on its axis), so a label is moved off the lines, a
+    // little, or left out.
+    let inside = |q: &Bbox| q.0 >= page.0 && q.1 >= page.1 && q.2 <= page.2 && q.3 <= page.3;
+    let lines = if texts.is_empty() { Lines::default() } else { Lines::of(d, &decisions) };
+    let off_lines = BRAILLE_CLEARANCE_MM + outline.width_mm / 2.0;
+    for (i, t) in texts {
+        let dec = &mut decisions[i];
+        let boxes = braille_boxes(t);
+        // Every run is checked before any is placed, so a label is whole or absent.
+        let fits = |(dx, dy): (f64, f64)| {
+            boxes.iter().all(|q| {
+                let q = (q.0 + dx, q.1 + dy, q.2 + dx, q.3 + dy);
+                inside(&q)
+                    && braille.is_free(spatial::grow(q, BRAILLE_CLEARANCE_MM))
+                    && !lines.meet(spatial::grow(q, off_lines))
+            })
+        };
+        match BRAILLE_SHIFTS.iter().copied().find(|&s| !boxes.is_empty() && fits(s)) {
+            Some((dx, dy)) => {
+                for q in &boxes {
+                    braille.place((q.0 + dx, q.1 + dy, q.2 + dx, q.3 + dy));
+                }
+                dec.braille = true;
+                dec.braille_shift = (dx, dy);
+            }
+            None if boxes.is_empty() => dec.left_out = Some(LeftOut::Empty),
+            None => dec.left_out = Some(LeftOut::TextDoesNotFit),
         }
     }
     Plan {
@@ -636,6 +718,13 @@ pub fn apply(d: &mut Drawing, profile: &DeviceProfile, diags: &mut Vec<Diagnosti
         if !styles.is_empty() {
             e.styles = styles;
             e.styled_by = StyledBy::Auto;
+        }
+        let (dx, dy) = plan.decisions[i].braille_shift;
+        if let (true, Shape::Text(t)) = (plan.decisions[i].braille, &mut e.shape) {
+            for r in &mut t.runs {
+                r.x_mm += dx;
+                r.y_mm += dy;
+            }
         }
     }
     notes(&plan, d, diags);
@@ -808,7 +897,7 @@ fn notes(plan: &Plan, d: &Drawing, diags: &mut Vec<Diagnostic>) {
             Diagnostic::note(
                 "T0323",
                 format!(
-                    "{} text element(s) left out: their braille would leave the page or run into other braille ({})",
+                    "{} text element(s) left out: their braille would leave the page, or run into other braille or a vibrating line ({})",
                     text.len(),
                     first_three(&text)
                 ),

@@ -208,7 +208,7 @@ pub(crate) fn read(
         };
         let pos = source_pos(text, node, body_start, &pos_of);
         pos_of.insert(node.id(), pos);
-        let line = lines.line_col(text, pos).0;
+        let line = lines.line(pos);
         let ink_label = node.attribute((INKSCAPE_NS, "label"));
         let label = node
             .children()

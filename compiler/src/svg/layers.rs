@@ -615,17 +615,21 @@ struct DotJob<'a> {
 
 fn dot_feature(b: &mut Built, job: DotJob<'_>, pts: &[(f64, f64)], page: Page, diags: &mut Vec<Diagnostic>) {
     let DotJob { e, order, kind, radius, amplitude, fk } = job;
+    let placed = pts.len();
     let pts: Vec<(f64, f64)> = pts
         .iter()
         .copied()
         .filter(|&(x, y)| x >= -radius && y >= -radius && x <= page.width_mm + radius && y <= page.height_mm + radius)
         .collect();
     if pts.is_empty() {
-        diags.push(
+        let d = if placed == 0 {
+            Diagnostic::warning("T0301", "no dots could be placed for this element")
+                .with_help("it is too small or too short for one dot; enlarge it or draw it as a point symbol")
+        } else {
             Diagnostic::warning("T0301", "no dots are left on the page for this element")
-                .with_element(&e.name)
-                .at_line(e.line),
-        );
+                .with_help("its dots lie beyond the page (the root <svg>'s viewBox, or --region): move it onto the page, or enlarge the viewBox")
+        };
+        diags.push(d.with_element(&e.name).at_line(e.line));
         return;
     }
     let source = b.source(e);

@@ -44,7 +44,10 @@ fn at(d: Diagnostic, f: &Feature) -> Diagnostic {
 pub(crate) fn check(built: &Built, profile: &DeviceProfile, diags: &mut Vec<Diagnostic>) {
     let (px, py) = (profile.pitch_x_mm as f64, profile.pitch_y_mm as f64);
     let pitch = px.max(py);
-    for f in &built.features {
+    let textures = one_texture(&built.features);
+    // A size or gap is said once per element, not once per style it has (its fill and its border).
+    let mut sized = HashSet::new();
+    for (k, f) in built.features.iter().enumerate() {
         match f.kind {
             FeatureKind::Vibrate { width_mm, .. } if width_mm < pitch => diags.push(at(
                 Diagnostic::warning(
@@ -89,10 +92,16 @@ pub(crate) fn check(built: &Built, profile: &DeviceProfile, diags: &mut Vec<Diag
         if closed
             && matches!(f.kind, FeatureKind::Vibrate { .. } | FeatureKind::Grating { .. } | FeatureKind::Dots { .. })
         {
-            let (x0, y0, x1, y1) = bounds(&f.outline).unwrap_or(f.bbox);
+            // A grating merged with others of its style into one texture is
+            // felt as part of that texture: the shape is theirs, said once.
+            let (x0, y0, x1, y1) = match textures.get(&k) {
+                Some(&(first, _)) if first != k => continue,
+                Some(&(_, whole)) => whole,
+                None => bounds(&f.outline).unwrap_or(f.bbox),
+            };
             let (w, h) = (x1 - x0, y1 - y0);
             // A hair of tolerance: a shape drawn at exactly 2 cm must not be reported.
-            if w.max(h) < MIN_SHAPE_MM - 0.05 {
+            if w.max(h) < MIN_SHAPE_MM - 0.05 && sized.insert(f.elem) {
                 diags.push(at(
                     Diagnostic::warning("T0407", format!("the shape is {w:.1} x {h:.1} mm, smaller than 2 cm"))
                         .with_help("shapes of 2-3 cm were identified reliably; enlarge it or use a point symbol"),
@@ -102,7 +111,63 @@ pub(crate) fn check(built: &Built, profile: &DeviceProfile, diags: &mut Vec<Diag
         }
     }
     counts(built, diags);
-    pairs(built, diags);
+    pairs(built, &textures, diags);
+}
+
+/// Gratings felt as one texture: feature -> (the texture's first feature, its box).
+type Textures = std::collections::HashMap<usize, (usize, (f64, f64, f64, f64))>;
+
+/// The gratings felt as one texture: those of one style (one layer) whose
+/// outlines touch, joined through every such pair (a map's regions of one
+/// fill whose borders were left out, T0324). Each such feature maps to its
+/// texture's first feature and the box of the whole texture; a grating that
+/// touches none of its style is not in the map. Two of one texture are not
+/// two shapes to identify (T0407) nor two elements to feel apart (T0408):
+/// what lies between them is the same texture.
+fn one_texture(f: &[Feature]) -> Textures {
+    let gratings: Vec<usize> =
+        (0..f.len()).filter(|&k| f[k].mask.is_some() && matches!(f[k].kind, FeatureKind::Grating { .. })).collect();
+    let mut parent: Vec<usize> = (0..f.len()).collect();
+    fn root(parent: &mut [usize], mut k: usize) -> usize {
+        while parent[k] != k {
+            parent[k] = parent[parent[k]];
+            k = parent[k];
+        }
+        k
+    }
+    let index = spatial::BoxIndex::new(&gratings.iter().map(|&k| f[k].bbox).collect::<Vec<_>>());
+    for &a in &gratings {
+        for b in index.meeting(f[a].bbox).map(|n| gratings[n]) {
+            if b <= a || f[a].mask != f[b].mask {
+                continue;
+            }
+            let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+            if ra != rb
+                && spatial::min_outline_distance(&f[a].outline, &f[b].outline, GAP_TOLERANCE_MM, GAP_TOLERANCE_MM)
+                    <= GAP_TOLERANCE_MM
+            {
+                // The lower index stays the root: the texture's first feature.
+                parent[ra.max(rb)] = ra.min(rb);
+            }
+        }
+    }
+    // Per texture (its root): how many gratings, and their box.
+    let mut whole: Textures = Default::default();
+    for &k in &gratings {
+        let r = root(&mut parent, k);
+        let b = bounds(&f[k].outline).unwrap_or(f[k].bbox);
+        let e = whole.entry(r).or_insert((0, b));
+        e.0 += 1;
+        e.1 = (e.1.0.min(b.0), e.1.1.min(b.1), e.1.2.max(b.2), e.1.3.max(b.3));
+    }
+    let mut out = std::collections::HashMap::new();
+    for &k in &gratings {
+        let r = root(&mut parent, k);
+        if let Some(&(_, b)) = whole.get(&r).filter(|(n, _)| *n > 1) {
+            out.insert(k, (r, b));
+        }
+    }
+    out
 }
 
 fn counts(built: &Built, diags: &mut Vec<Diagnostic>) {
@@ -162,28 +227,37 @@ fn below(value: f64, limit: f64) -> String {
 /// - gaps (T0408): each feature's nearest distinct neighbour that does not
 ///   touch it, each pair measured once and only while its boxes could still
 ///   hold a nearer gap for one of the two.
-fn pairs(built: &Built, diags: &mut Vec<Diagnostic>) {
+fn pairs(built: &Built, textures: &Textures, diags: &mut Vec<Diagnostic>) {
     let f = &built.features;
     let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
     let index = spatial::BoxIndex::new(&boxes);
     let (gaps, mut overlaps) = nearest_gaps(f, &index, |i, j, out| overlap(built, &f[i], &f[j], out));
     diags.append(&mut overlaps);
     confusable_gratings(f, diags);
+    let texture = |k: usize| textures.get(&k).map(|t| t.0);
+    // Each element's nearest gap over its styles, at its first feature.
+    let mut nearest: std::collections::HashMap<usize, (usize, usize, f64)> = Default::default();
     for (j, near) in gaps.into_iter().enumerate() {
-        if let Some((i, g)) = near {
-            diags.push(at(
-                Diagnostic::warning(
-                    "T0408",
-                    format!(
-                        "this element is {} mm from #{}, closer than {MIN_GAP_MM} mm",
-                        below(g, MIN_GAP_MM),
-                        f[i].name
-                    ),
-                )
-                .with_help("leave at least 3.2 mm (1/8 in) between distinct elements so they are felt apart"),
-                &f[j],
-            ));
+        let Some((i, g)) = near else { continue };
+        if texture(i).is_some() && texture(i) == texture(j) {
+            continue;
         }
+        let e = nearest.entry(f[j].elem).or_insert((j, i, g));
+        if g < e.2 {
+            *e = (e.0, i, g);
+        }
+    }
+    let mut nearest: Vec<(usize, usize, f64)> = nearest.into_values().collect();
+    nearest.sort_unstable_by_key(|&(j, _, _)| j);
+    for (j, i, g) in nearest {
+        diags.push(at(
+            Diagnostic::warning(
+                "T0408",
+                format!("this element is {} mm from #{}, closer than {MIN_GAP_MM} mm", below(g, MIN_GAP_MM), f[i].name),
+            )
+            .with_help("leave at least 3.2 mm (1/8 in) between distinct elements so they are felt apart"),
+            &f[j],
+        ));
     }
 }
 

@@ -200,6 +200,47 @@ fn design_rules_for_single_features() {
     );
 }
 
+/// Issue 14 (France's departments, x192 T0407 and x187 T0408 once their
+/// borders were left out): regions of one grating style that touch are felt
+/// as one texture, so neither the size rule nor the gap rule judges them one
+/// by one. Here `a` and `c` are 1 mm apart across the thin `b` of the same
+/// style, and each is under 2 cm while the three together are 21 mm wide;
+/// `d`, of the same style but touching none of them, is still a shape of its
+/// own 1.5 mm from `c`.
+#[test]
+fn regions_of_one_texture_are_not_judged_apart() {
+    let g = r#"data-tactile="grating(wavelength: 4mm, angle: 0deg)""#;
+    let svg = page(&format!(
+        r#"<rect id="a" x="10" y="10" width="10" height="10" {g}/>
+<rect id="b" x="20" y="10" width="1" height="10" {g}/>
+<rect id="c" x="21" y="10" width="10" height="10" {g}/>
+<rect id="d" x="32.5" y="10" width="10" height="10" {g}/>"#
+    ));
+    let c = compile(&svg);
+    let on = |code: &str| -> Vec<String> {
+        with_code(&c, code).iter().map(|d| d.element.clone().unwrap_or_default()).collect()
+    };
+    assert_eq!(on("T0407"), ["d"], "{:#?}", c.diagnostics);
+    let gaps = with_code(&c, "T0408");
+    assert!(gaps.iter().all(|d| d.message.contains("1.5 mm")), "{gaps:#?}");
+    assert_eq!(on("T0408"), ["d"], "{gaps:#?}");
+}
+
+/// Issue 14: an element with a border and a fill is one shape with one
+/// nearest neighbour, said once, not once per style.
+#[test]
+fn size_and_gap_are_said_once_per_element() {
+    let both = r#"data-tactile="vibrate(); grating(wavelength: 4mm, angle: 0deg)""#;
+    let c = compile(&page(&format!(
+        r#"<rect id="a" x="10" y="10" width="12" height="12" {both}/><rect id="b" x="24" y="10" width="12" height="12" {both}/>"#
+    )));
+    let on = |code: &str| -> Vec<String> {
+        with_code(&c, code).iter().map(|d| d.element.clone().unwrap_or_default()).collect()
+    };
+    assert_eq!(on("T0407"), ["a", "b"], "{:#?}", c.diagnostics);
+    assert_eq!(on("T0408"), ["a", "b"], "{:#?}", c.diagnostics);
+}
+
 #[test]
 fn design_rules_between_elements() {
     assert_code(
@@ -257,4 +298,19 @@ fn brush_on_a_grid_profile_goes_to_the_brush_scheduler() {
         "{:#?}",
         c.diagnostics
     );
+}
+
+/// Issue 14 (a vector field's arrowheads drawn past the page's edge, which
+/// the automatic sheet makes dots): "no dots are left on the page" gave no
+/// help saying why or what to do.
+#[test]
+fn dots_off_the_page_say_where_they_went() {
+    let c = compile(&page(
+        r#"<defs><marker id="m" markerWidth="4" markerHeight="4" refX="2" refY="2"><path d="M0 0L4 2L0 4Z"/></marker></defs>
+<line id="arrow" x1="50" y1="40" x2="50" y2="70" stroke="blue" stroke-width="0.5" marker-end="url(#m)"/>"#,
+    ));
+    let off = with_code(&c, "T0301");
+    assert_eq!(off.len(), 1, "{:#?}", c.diagnostics);
+    assert_eq!(off[0].element.as_deref(), Some("arrow"));
+    assert!(off[0].help.as_deref().is_some_and(|h| h.contains("beyond the page")), "{off:#?}");
 }

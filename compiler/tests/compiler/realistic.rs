@@ -462,3 +462,33 @@ fn design_rules_are_judged_after_fitting() {
     // 6 mm drawn, a quarter of it on the surface.
     assert!(gap.1.contains("1.5 mm"), "{}", gap.1);
 }
+
+/// Issue 14 (Vega-Lite's bar chart): the automatic sheet placed a tick
+/// label's braille on the axis it labels, so dots and the vibrating band
+/// added up (T0410) and neither could be read. A label whose braille would
+/// touch a vibrating line is moved off it (a little: here the label's cell,
+/// taller than its glyph, reaches over the line), or left out with note T0323.
+#[test]
+fn braille_of_an_unannotated_label_keeps_off_the_lines_that_vibrate() {
+    let svg = super::common::page(
+        r#"<line x1="10" y1="30" x2="90" y2="30" stroke="black" stroke-width="0.5"/>
+<text x="40" y="36" font-size="4">5</text>"#,
+    );
+    let c = super::common::compile(&svg);
+    assert!(super::common::with_code(&c, "T0410").is_empty(), "{:#?}", c.diagnostics);
+    let b = super::common::bundle(&c);
+    let braille =
+        super::common::dots(b, taxel_format::DotKind::Braille).unwrap_or_else(|| panic!("{:#?}", c.diagnostics));
+    assert!(!braille.dots.is_empty());
+    // The outline the sheet gives the line (its band's half-width either side of y = 30).
+    let resolved = taxel_compiler::drawing::resolve(&svg, &taxel_compiler::CompileOptions::new(stress2()));
+    let line = &resolved.drawing.expect("a drawing").elements[0];
+    let half = match line.styles.as_slice() {
+        [taxel_compiler::annotation::Style::Vibrate(v)] => v.width_mm / 2.0,
+        other => panic!("the line vibrates: {other:?}"),
+    };
+    for d in &braille.dots {
+        let (y, r) = (d.y.0 as f64, d.radius.0 as f64);
+        assert!((y - 30.0).abs() - r >= half, "a dot at y {y} (radius {r}) touches the band of 30 +- {half}");
+    }
+}
