@@ -138,6 +138,9 @@ struct Tallied {
     code: &'static str,
     /// Inputs that had it.
     files: usize,
+    /// The position in the batch of the first input that had it (inputs
+    /// finish in any order on several threads; the account must not).
+    first_at: usize,
     /// The first input's name and its lines for this code.
     first_file: String,
     first_lines: Vec<String>,
@@ -149,41 +152,57 @@ struct Tallied {
 }
 
 impl NoteTally {
-    /// Counts the notes among `diags` of the input shown as `file` (the
-    /// style summary left out: it goes on the input's own line).
-    pub fn add(&mut self, diags: &[Diagnostic], file: &str) {
+    /// Counts the notes among `diags` of the input shown as `file`, the
+    /// input at position `at` of the batch (the style summary left out: it
+    /// goes on the input's own line). The account names, for each code, the
+    /// input of lowest position that had it, whichever finished first.
+    pub fn add(&mut self, diags: &[Diagnostic], file: &str, at: usize) {
         let notes: Vec<&Diagnostic> =
             diags.iter().filter(|d| d.severity == Severity::Note && d.code != STYLE_SUMMARY).collect();
         let mut seen: Vec<&str> = Vec::new();
         for d in &notes {
-            let k = match self.codes.iter().position(|t| t.code == d.code) {
-                Some(k) => k,
-                None => {
-                    let of: Vec<Diagnostic> = notes.iter().filter(|n| n.code == d.code).map(|&n| n.clone()).collect();
-                    self.codes.push(Tallied {
-                        code: d.code,
-                        files: 0,
-                        first_file: file.to_string(),
-                        first_lines: lines(&of, file, Severity::Note, false),
-                        message: d.message.clone(),
-                        help: d.help.clone(),
-                        same: true,
-                    });
-                    self.codes.len() - 1
+            if seen.contains(&d.code) {
+                let t = self.codes.iter_mut().find(|t| t.code == d.code);
+                if let Some(t) = t {
+                    t.same &= t.message == d.message;
+                }
+                continue;
+            }
+            seen.push(d.code);
+            let first = || {
+                let of: Vec<Diagnostic> = notes.iter().filter(|n| n.code == d.code).map(|&n| n.clone()).collect();
+                Tallied {
+                    code: d.code,
+                    files: 1,
+                    first_at: at,
+                    first_file: file.to_string(),
+                    first_lines: lines(&of, file, Severity::Note, false),
+                    message: d.message.clone(),
+                    help: d.help.clone(),
+                    same: true,
                 }
             };
-            let t = &mut self.codes[k];
-            t.same &= t.message == d.message;
-            if !seen.contains(&d.code) {
-                seen.push(d.code);
-                t.files += 1;
+            match self.codes.iter_mut().find(|t| t.code == d.code) {
+                None => self.codes.push(first()),
+                Some(t) => {
+                    // Whether every instance says one message does not
+                    // depend on which is compared with which.
+                    let same = t.same && t.message == d.message;
+                    let files = t.files + 1;
+                    if at < t.first_at {
+                        *t = first();
+                    }
+                    t.same = same;
+                    t.files = files;
+                }
             }
         }
+        self.codes.sort_by_key(|t| t.first_at);
     }
 
     /// The account's lines: each code given to more than one input as one
-    /// line with the number of inputs and its help, in order of first
-    /// appearance; a code of one input as that input's lines.
+    /// line with the number of inputs and its help, in the order of the
+    /// inputs that first had them; a code of one input as that input's lines.
     pub fn lines(&self) -> Vec<String> {
         let mut out = Vec::new();
         for t in &self.codes {
@@ -281,16 +300,25 @@ mod tests {
         };
         let auto = || Diagnostic::note("T0320", "the automatic style sheet decided").with_help("`taxel style auto`");
         let odd = Diagnostic::note("T0324", "borders left out").with_element("r1").at(4, 2).with_help("use --region");
-        let mut tally = NoteTally::default();
         let files = 40;
-        for k in 0..files {
+        let input = |k: u32| {
             let mut diags = vec![sized(50 + k), auto(), auto(), Diagnostic::note(STYLE_SUMMARY, "3 element(s)")];
             if k == 7 {
                 diags.push(odd.clone());
             }
-            tally.add(&diags, &format!("d{k}.svg"));
+            diags
+        };
+        let mut tally = NoteTally::default();
+        for k in 0..files {
+            tally.add(&input(k), &format!("d{k}.svg"), k as usize);
         }
         let out = tally.lines();
+        // Inputs finish in any order on several threads; the account is the same.
+        let mut backwards = NoteTally::default();
+        for k in (0..files).rev() {
+            backwards.add(&input(k), &format!("d{k}.svg"), k as usize);
+        }
+        assert_eq!(backwards.lines(), out);
         let per_file: usize =
             (0..files).map(|k| lines(&[sized(50 + k), auto()], "x", Severity::Note, false).len()).sum();
         assert!(out.len() * 10 < per_file, "{out:#?}");

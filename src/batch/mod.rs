@@ -134,8 +134,8 @@ pub fn run(jobs: &[Job], problems: &[String], settings: &Settings, compile: &Com
     let notes = (jobs.len() + problems.len() > 1 && !settings.verbose).then(|| Mutex::new(NoteTally::default()));
     let pool = rayon::ThreadPoolBuilder::new().num_threads(settings.jobs.unwrap_or(0)).build()?;
     pool.install(|| {
-        jobs.par_iter().for_each(|job| {
-            let (outcome, line, messages) = build_one(job, settings, compile, notes.as_ref());
+        jobs.par_iter().enumerate().for_each(|(at, job)| {
+            let (outcome, line, messages) = build_one(job, settings, compile, notes.as_ref().map(|n| (n, at)));
             reporter.report(&outcome, &line, &messages);
         })
     });
@@ -155,7 +155,7 @@ fn build_one(
     job: &Job,
     settings: &Settings,
     compile: &CompileFn,
-    notes: Option<&Mutex<NoteTally>>,
+    notes: Option<(&Mutex<NoteTally>, usize)>,
 ) -> (Outcome, String, Vec<String>) {
     let shown = job.input.path.display().to_string();
     let out = job.output.display();
@@ -225,8 +225,8 @@ fn build_one(
         return failed(e.to_string());
     }
     let messages = match notes {
-        Some(tally) => {
-            tally.lock().unwrap_or_else(|p| p.into_inner()).add(&compiled.diagnostics, &shown);
+        Some((tally, at)) => {
+            tally.lock().unwrap_or_else(|p| p.into_inner()).add(&compiled.diagnostics, &shown, at);
             crate::account::lines(&compiled.diagnostics, &shown, Severity::Warning, settings.verbose)
         }
         None => messages,
