@@ -105,16 +105,19 @@ fn seg_bounds(s: &Seg) -> (f64, f64, f64, f64) {
     (s.0.0.min(s.1.0), s.0.1.min(s.1.1), s.0.0.max(s.1.0), s.0.1.max(s.1.1))
 }
 
+/// The span of tiles of a segment that acts on none (empty: `c0 > c1`).
+const NO_TILES: [u32; 4] = [1, 0, 1, 0];
+
 /// The segments acting on each tile (row-major, `cols` by `rows` tiles of
 /// side `tile` from `origin`): those whose bounds grown by their reach meet
 /// the tile, in segment order; and each segment's span of tiles
-/// `[c0, c1, r0, r1]` (inclusive), `None` when it acts on none.
+/// `[c0, c1, r0, r1]` (inclusive; [`NO_TILES`] when it acts on none).
 fn buckets_of(
     segs: &[(Seg, Part, f64)],
     (ox, oy): (f64, f64),
     tile: f64,
     (cols, rows): (usize, usize),
-) -> (Vec<Vec<u32>>, Vec<Option<[u32; 4]>>) {
+) -> (Vec<Vec<u32>>, Vec<[u32; 4]>) {
     let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); cols * rows];
     let mut spans = Vec::with_capacity(segs.len());
     for (n, (s, _, m)) in segs.iter().enumerate() {
@@ -123,7 +126,7 @@ fn buckets_of(
         let (c0, c1) = (tc(b.0 - m, ox, cols), tc(b.2 + m, ox, cols));
         let (r0, r1) = (tc(b.1 - m, oy, rows), tc(b.3 + m, oy, rows));
         if b.2 + m < ox || b.3 + m < oy || c0 >= cols || r0 >= rows {
-            spans.push(None);
+            spans.push(NO_TILES);
             continue;
         }
         let (c1, r1) = (c1.min(cols - 1), r1.min(rows - 1));
@@ -133,7 +136,7 @@ fn buckets_of(
             }
         }
         // Tile counts are bounded by `MAX_DISTANCE_TILES`, so they fit.
-        spans.push(Some([c0 as u32, c1 as u32, r0 as u32, r1 as u32]));
+        spans.push([c0 as u32, c1 as u32, r0 as u32, r1 as u32]);
     }
     (buckets, spans)
 }
@@ -406,13 +409,12 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
     };
     let layer_grid = layer_grid::LayerGrid::new(
         &segs,
-        &spans,
+        spans,
         &lattice,
         |part| near::slot_of(part, cut_widths.len(), g.clips.len()),
         near::GRID_FROM,
         near::MAX_RINGS,
     );
-    drop(spans);
     let in_layer =
         |tile: (usize, usize), shift: isize| layer_grid.as_ref().map(|grid| near::InLayer { grid, tile, shift });
     // The codes whose amplitude is saturated (SPEC.md section 6.2): a

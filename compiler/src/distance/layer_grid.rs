@@ -12,10 +12,11 @@
 //! the span of tiles whose buckets hold it), so it finds the same minima as
 //! the tile's own grid.
 //!
-//! For each cell the grid also keeps the Chebyshev distance, in cells, to
-//! the nearest cell that holds a segment (two raster passes), so a search
-//! starts at the first ring that can hold one: most of the cells a sample
-//! visited were empty (80 % on the 1,000-region map).
+//! (Tried and dropped: a Chebyshev distance transform of the occupied cells,
+//! so that a search starts at the first ring that holds a segment. On the
+//! 1,000-region map its two raster passes over every layer's cells cost
+//! more than the empty cells they skip, and on the map at the input limit
+//! every cell near a sample holds segments.)
 
 use taxel_format::TILE_CELLS;
 
@@ -50,13 +51,11 @@ pub(super) struct TileStats {
     pub slots: u64,
 }
 
-/// One group's segments by cell (compressed rows), and each cell's
-/// distance to the nearest non-empty cell.
+/// One group's segments by cell (compressed rows).
 #[derive(Debug, Default)]
 pub(super) struct Cells {
     start: Vec<u32>,
     items: Vec<u32>,
-    first: Vec<u16>,
 }
 
 /// Every segment of a layer by cells of half the lattice pitch, the two
@@ -96,32 +95,30 @@ pub(super) struct Lattice {
 
 impl LayerGrid {
     /// The grid of a layer's segments, with each segment's span of tiles
-    /// from [`buckets_of`](super::buckets_of); `None` where the per-tile
+    /// (`span`, from [`buckets_of`](super::buckets_of)); `None` where the per-tile
     /// grids do as well or better: no tile crowded enough to search, a
     /// segment that is not finite, a slot whose segments reach differently,
     /// or more cells than the caps allow.
     pub(super) fn new(
         segs: &[(Seg, Part, f64)],
-        spans: &[Option<[u32; 4]>],
+        mut span: Vec<[u32; 4]>,
         lat: &Lattice,
         slot_of: impl Fn(Part) -> Option<usize>,
         grid_from: usize,
         max_rings: f64,
     ) -> Option<LayerGrid> {
         let (cols, rows, h) = (lat.cols, lat.rows, lat.h);
-        if !(h.is_finite() && h > 0.0) || lat.slots >= 64 || spans.len() != segs.len() {
+        if !(h.is_finite() && h > 0.0) || lat.slots >= 64 || span.len() != segs.len() {
             return None;
         }
         let cell = h / SUB as f64;
         let mut stats = vec![TileStats::default(); cols.checked_mul(rows)?];
         let mut reach: Vec<Option<f64>> = vec![None; lat.slots];
         let mut slot = Vec::with_capacity(segs.len());
-        let mut span = Vec::with_capacity(segs.len());
-        for (&((a, b), part, r), sp) in segs.iter().zip(spans) {
-            let s = slot_of(part);
-            let (Some(s), Some(sp)) = (s, *sp) else {
+        for (&((a, b), part, r), sp) in segs.iter().zip(span.iter_mut()) {
+            let Some(s) = slot_of(part).filter(|_| sp[0] <= sp[1] && sp[2] <= sp[3]) else {
                 slot.push(u8::MAX);
-                span.push([1, 0, 1, 0]);
+                *sp = super::NO_TILES;
                 continue;
             };
             if ![a.0, a.1, b.0, b.1, r].iter().all(|v| v.is_finite()) {
@@ -149,7 +146,6 @@ impl LayerGrid {
                 }
             }
             slot.push(s as u8);
-            span.push(sp);
         }
         let reach: Vec<f64> = reach.into_iter().map(|r| r.unwrap_or(0.0)).collect();
         let searched = |own: bool| stats.iter().any(|t| (if own { t.own } else { t.rest }) as usize >= grid_from);
@@ -203,17 +199,18 @@ impl LayerGrid {
     }
 
     /// The segments of one group (`own` or the others) that act on some
-    /// tile, in every cell their bounds meet, in segment order; and the
-    /// cells' distances to the nearest non-empty cell.
+    /// tile, in every cell their bounds meet, in segment order.
     fn bin(&self, segs: &[(Seg, Part, f64)], own: bool) -> Cells {
         let n_cells = self.width * self.height;
         let in_group = |n: usize| self.slot.get(n).is_some_and(|&s| s != u8::MAX && is_own(s as usize) == own);
+        let ranges: Vec<(u32, (usize, usize, usize, usize))> = segs
+            .iter()
+            .enumerate()
+            .filter(|&(n, _)| in_group(n))
+            .map(|(n, (seg, _, _))| (n as u32, self.cells_of(seg)))
+            .collect();
         let mut start = vec![0u32; n_cells + 1];
-        for (n, (seg, _, _)) in segs.iter().enumerate() {
-            if !in_group(n) {
-                continue;
-            }
-            let (x0, y0, x1, y1) = self.cells_of(seg);
+        for &(_, (x0, y0, x1, y1)) in &ranges {
             for y in y0..=y1 {
                 for c in &mut start[y * self.width + x0 + 1..=y * self.width + x1 + 1] {
                     *c += 1;
@@ -225,21 +222,15 @@ impl LayerGrid {
         }
         let mut items = vec![0u32; start[n_cells] as usize];
         let mut next = start[..n_cells].to_vec();
-        for (n, (seg, _, _)) in segs.iter().enumerate() {
-            if !in_group(n) {
-                continue;
-            }
-            let (x0, y0, x1, y1) = self.cells_of(seg);
+        for &(n, (x0, y0, x1, y1)) in &ranges {
             for y in y0..=y1 {
-                for x in x0..=x1 {
-                    let e = &mut next[y * self.width + x];
-                    items[*e as usize] = n as u32;
+                for e in &mut next[y * self.width + x0..=y * self.width + x1] {
+                    items[*e as usize] = n;
                     *e += 1;
                 }
             }
         }
-        let first = chebyshev(&start, self.width, self.height);
-        Cells { start, items, first }
+        Cells { start, items }
     }
 
     /// The stored position of the cell corner `(x, y)` (layer cells from
@@ -248,17 +239,6 @@ impl LayerGrid {
     pub(super) fn corner(&self, (c, r): (usize, usize), (x, y): (isize, isize)) -> (isize, isize) {
         let side = (SUB * TILE_CELLS) as isize;
         (c as isize * side + x + self.pad, r as isize * side + y + self.pad)
-    }
-
-    /// The first ring round the stored cell corner `(x, y)` that holds a
-    /// segment of the group (`u16::MAX` if none does).
-    pub(super) fn first_ring(&self, own: bool, (x, y): (isize, isize)) -> u16 {
-        let cells = &self.groups[usize::from(!own)];
-        [(x - 1, y - 1), (x, y - 1), (x - 1, y), (x, y)]
-            .into_iter()
-            .filter_map(|c| self.index(c).and_then(|k| cells.first.get(k).copied()))
-            .min()
-            .unwrap_or(u16::MAX)
     }
 
     fn index(&self, (x, y): (isize, isize)) -> Option<usize> {
@@ -286,77 +266,5 @@ impl LayerGrid {
     /// Tile `(c, r)`'s counts.
     pub(super) fn tile(&self, (c, r): (usize, usize)) -> TileStats {
         self.stats.get(r * self.cols + c).copied().unwrap_or_default()
-    }
-}
-
-/// Each cell's Chebyshev distance, in cells, to the nearest cell that holds
-/// a segment (`start` the compressed rows' offsets), saturating at
-/// `u16::MAX`: two raster passes over the 8-neighbourhood, which give the
-/// chessboard distance exactly.
-fn chebyshev(start: &[u32], width: usize, height: usize) -> Vec<u16> {
-    let mut d: Vec<u16> = (0..width * height).map(|k| if start[k + 1] > start[k] { 0 } else { u16::MAX }).collect();
-    let at = |d: &[u16], x: isize, y: isize| {
-        if x < 0 || y < 0 || x as usize >= width || y as usize >= height {
-            u16::MAX
-        } else {
-            d[y as usize * width + x as usize]
-        }
-    };
-    for y in 0..height as isize {
-        for x in 0..width as isize {
-            let m = [at(&d, x - 1, y), at(&d, x - 1, y - 1), at(&d, x, y - 1), at(&d, x + 1, y - 1)]
-                .into_iter()
-                .min()
-                .unwrap_or(u16::MAX)
-                .saturating_add(1);
-            let k = y as usize * width + x as usize;
-            d[k] = d[k].min(m);
-        }
-    }
-    for y in (0..height as isize).rev() {
-        for x in (0..width as isize).rev() {
-            let m = [at(&d, x + 1, y), at(&d, x + 1, y + 1), at(&d, x, y + 1), at(&d, x - 1, y + 1)]
-                .into_iter()
-                .min()
-                .unwrap_or(u16::MAX)
-                .saturating_add(1);
-            let k = y as usize * width + x as usize;
-            d[k] = d[k].min(m);
-        }
-    }
-    d
-}
-
-#[cfg(test)]
-mod tests {
-    use proptest::prelude::*;
-
-    use super::*;
-
-    proptest! {
-        /// The two passes give every cell the chessboard distance to the
-        /// nearest occupied cell, as a brute force over all occupied cells.
-        #[test]
-        fn the_first_ring_is_the_chessboard_distance(
-            (w, h, occupied) in (1usize..12, 1usize..12).prop_flat_map(|(w, h)| {
-                (Just(w), Just(h), prop::collection::vec(prop::bool::weighted(0.1), w * h))
-            }),
-        ) {
-            let mut start = vec![0u32];
-            for &o in &occupied {
-                start.push(start.last().copied().unwrap_or(0) + u32::from(o));
-            }
-            let d = chebyshev(&start, w, h);
-            for y in 0..h {
-                for x in 0..w {
-                    let brute = (0..w * h)
-                        .filter(|&k| occupied[k])
-                        .map(|k| (k % w).abs_diff(x).max((k / w).abs_diff(y)) as u16)
-                        .min()
-                        .unwrap_or(u16::MAX);
-                    prop_assert_eq!(d[y * w + x], brute, "cell ({}, {})", x, y);
-                }
-            }
-        }
     }
 }

@@ -416,7 +416,7 @@ impl Near {
 
     /// As [`search`](Self::search), in the layer's grid: the same rings
     /// round the same samples, keeping from each cell the segments of this
-    /// tile's bucket, and starting at the first ring that holds a segment.
+    /// tile's bucket.
     fn search_layer(&mut self, segs: &[(Seg, Part, f64)], at: InLayer<'_>, corner: (f64, f64), h: f64, own: bool) {
         let cell = h / SUB as f64;
         let mask = if own { (1u64 << FILL) | (1 << BAND) } else { ((1u64 << self.slots()) - 1) & !0b11 };
@@ -456,27 +456,6 @@ impl Near {
         if active == 0 {
             return;
         }
-        let first = grid.first_ring(own, (x, y)) as isize;
-        if first > rings {
-            return;
-        }
-        // The rings before the first non-empty one find nothing: a slot the
-        // search would have dropped there for its reach is dropped now (the
-        // test is monotone in the ring), so the minima stay as they were.
-        if first > 0 {
-            let next = (first as f64 - 1.0 + 0.99) * cell;
-            let mut bits = active;
-            while bits != 0 {
-                let slot = bits.trailing_zeros() as usize;
-                bits &= bits - 1;
-                if next > self.reach.get(slot).copied().unwrap_or(0.0) {
-                    active &= !(1 << slot);
-                }
-            }
-            if active == 0 {
-                return;
-            }
-        }
         let d = &mut self.d;
         let visit = |cx: isize, cy: isize, d: &mut [f64], active: u64| {
             for &n in grid.cell(own, (cx, cy)) {
@@ -490,7 +469,7 @@ impl Near {
                 }
             }
         };
-        for r in first..=rings {
+        for r in 0..=rings {
             if r == 0 {
                 for (cx, cy) in [(x - 1, y - 1), (x, y - 1), (x - 1, y), (x, y)] {
                     visit(cx, cy, d, active);
@@ -739,7 +718,7 @@ mod tests {
             let tile = TILE_CELLS as f64 * h;
             let (buckets, spans) = super::super::buckets_of(&segs, origin, tile, (cols, rows));
             let lattice = super::super::layer_grid::Lattice { origin, h, cols, rows, margin, slots: slots(1, 1) };
-            let grid = LayerGrid::new(&segs, &spans, &lattice, |p| slot_of(p, 1, 1), 0, MAX_RINGS);
+            let grid = LayerGrid::new(&segs, spans, &lattice, |p| slot_of(p, 1, 1), 0, MAX_RINGS);
             let grid = grid.expect("a layer grid");
             let (mut by_layer, mut by_tile) = (Near::new(1, vec![0.6]), Near::new(1, vec![0.6]));
             for (k, bucket) in buckets.iter().enumerate() {
