@@ -203,14 +203,17 @@ impl LayerGrid {
     fn bin(&self, segs: &[(Seg, Part, f64)], own: bool) -> Cells {
         let n_cells = self.width * self.height;
         let in_group = |n: usize| self.slot.get(n).is_some_and(|&s| s != u8::MAX && is_own(s as usize) == own);
-        let ranges: Vec<(u32, (usize, usize, usize, usize))> = segs
-            .iter()
-            .enumerate()
-            .filter(|&(n, _)| in_group(n))
-            .map(|(n, (seg, _, _))| (n as u32, self.cells_of(seg)))
-            .collect();
+        // Each segment's cells are reckoned in both passes rather than
+        // kept: on the map at the input limit a list of them would add
+        // some 50 MB per layer being built.
+        let ranges = || {
+            segs.iter()
+                .enumerate()
+                .filter(move |&(n, _)| in_group(n))
+                .map(|(n, (seg, _, _))| (n as u32, self.cells_of(seg)))
+        };
         let mut start = vec![0u32; n_cells + 1];
-        for &(_, (x0, y0, x1, y1)) in &ranges {
+        for (_, (x0, y0, x1, y1)) in ranges() {
             for y in y0..=y1 {
                 for c in &mut start[y * self.width + x0 + 1..=y * self.width + x1 + 1] {
                     *c += 1;
@@ -222,7 +225,7 @@ impl LayerGrid {
         }
         let mut items = vec![0u32; start[n_cells] as usize];
         let mut next = start[..n_cells].to_vec();
-        for &(n, (x0, y0, x1, y1)) in &ranges {
+        for (n, (x0, y0, x1, y1)) in ranges() {
             for y in y0..=y1 {
                 for e in &mut next[y * self.width + x0..=y * self.width + x1] {
                     items[*e as usize] = n;
