@@ -105,6 +105,42 @@ fn seg_bounds(s: &Seg) -> (f64, f64, f64, f64) {
     (s.0.0.min(s.1.0), s.0.1.min(s.1.1), s.0.0.max(s.1.0), s.0.1.max(s.1.1))
 }
 
+/// The span of tiles of a segment that acts on none (empty: `c0 > c1`).
+const NO_TILES: [u32; 4] = [1, 0, 1, 0];
+
+/// The segments acting on each tile (row-major, `cols` by `rows` tiles of
+/// side `tile` from `origin`): those whose bounds grown by their reach meet
+/// the tile, in segment order; and each segment's span of tiles
+/// `[c0, c1, r0, r1]` (inclusive; [`NO_TILES`] when it acts on none).
+fn buckets_of(
+    segs: &[(Seg, Part, f64)],
+    (ox, oy): (f64, f64),
+    tile: f64,
+    (cols, rows): (usize, usize),
+) -> (Vec<Vec<u32>>, Vec<[u32; 4]>) {
+    let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); cols * rows];
+    let mut spans = Vec::with_capacity(segs.len());
+    for (n, (s, _, m)) in segs.iter().enumerate() {
+        let b = seg_bounds(s);
+        let tc = |v: f64, o: f64, n: usize| (((v - o) / tile).floor().max(0.0) as usize).min(n);
+        let (c0, c1) = (tc(b.0 - m, ox, cols), tc(b.2 + m, ox, cols));
+        let (r0, r1) = (tc(b.1 - m, oy, rows), tc(b.3 + m, oy, rows));
+        if b.2 + m < ox || b.3 + m < oy || c0 >= cols || r0 >= rows {
+            spans.push(NO_TILES);
+            continue;
+        }
+        let (c1, r1) = (c1.min(cols - 1), r1.min(rows - 1));
+        for r in r0..=r1 {
+            for c in c0..=c1 {
+                buckets[r * cols + c].push(n as u32);
+            }
+        }
+        // Tile counts are bounded by `MAX_DISTANCE_TILES`, so they fit.
+        spans.push([c0 as u32, c1 as u32, r0 as u32, r1 as u32]);
+    }
+    (buckets, spans)
+}
+
 /// The exact signed distance of a layer at `p`, in f64, before clamping:
 /// the reference the tests measure fields against.
 #[cfg(test)]
@@ -342,21 +378,7 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
             segs.extend(closed_segments(pl).map(|s| (s, Part::Occluder, reach)));
         }
     }
-    let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); cols * rows];
-    for (n, (s, _, m)) in segs.iter().enumerate() {
-        let b = seg_bounds(s);
-        let tc = |v: f64, o: f64, n: usize| (((v - o) / tile).floor().max(0.0) as usize).min(n);
-        let (c0, c1) = (tc(b.0 - m, ox, cols), tc(b.2 + m, ox, cols));
-        let (r0, r1) = (tc(b.1 - m, oy, rows), tc(b.3 + m, oy, rows));
-        if b.2 + m < ox || b.3 + m < oy || c0 >= cols || r0 >= rows {
-            continue;
-        }
-        for r in r0..=r1.min(rows - 1) {
-            for c in c0..=c1.min(cols - 1) {
-                buckets[r * cols + c].push(n as u32);
-            }
-        }
-    }
+    let (buckets, spans) = buckets_of(&segs, (ox, oy), tile, (cols, rows));
     // Inside-the-fills bits at every lattice point, one row sweep each.
     let (nx, ny) = (cols * TILE_CELLS + 1, rows * TILE_CELLS + 1);
     let inside = fill_bits(&g.fills, ox, oy, h, nx, ny);
@@ -376,6 +398,25 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
     // the clamp's margin: farther ones would clamp to the same code anyway
     // (every part is then beyond ±cap, and min, max and the clamp commute).
     let margin = cap - reach + step;
+    // Every segment binned once for all the tiles' searches.
+    let lattice = layer_grid::Lattice {
+        origin: (ox, oy),
+        h,
+        cols,
+        rows,
+        margin,
+        slots: near::slots(cut_widths.len(), g.clips.len()),
+    };
+    let layer_grid = layer_grid::LayerGrid::new(
+        &segs,
+        spans,
+        &lattice,
+        |part| near::slot_of(part, cut_widths.len(), g.clips.len()),
+        near::GRID_FROM,
+        near::MAX_RINGS,
+    );
+    let in_layer =
+        |tile: (usize, usize), shift: isize| layer_grid.as_ref().map(|grid| near::InLayer { grid, tile, shift });
     // The codes whose amplitude is saturated (SPEC.md section 6.2): a
     // stored tile whose codes all lie at or beyond one of them plays exactly
     // as an inside (outside) tile, since bilinear interpolation never leaves
@@ -416,7 +457,7 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
             }
         }
         let bits = near::TileBits { inside: &inside_t, occluded: &occluded_t, in_clip: &in_clip, cap };
-        near.measure_live(g, &segs, bucket, (corner, h, margin), &bits);
+        near.measure_live(g, &segs, bucket, (corner, h, margin), &bits, in_layer((c, r), 0));
         let mut tile_buf = [0u8; TILE_SAMPLES];
         // The unquantised distances of the tile's samples, in codes (clamped).
         let mut exact = [0f64; TILE_SAMPLES];
@@ -455,6 +496,7 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
             sat,
             first: r * TILE_CELLS * nx + c * TILE_CELLS,
             nx,
+            layer: in_layer((c, r), 1),
             centre_bits: centre_bits.get_or_init(|| {
                 // The same sweeps as the lattice points', half a cell on.
                 let (cx, cy) = (ox + h / 2.0, oy + h / 2.0);
@@ -721,6 +763,7 @@ pub fn constant_tile_at(f: &Field, h: f64, p: (f64, f64)) -> Option<bool> {
 }
 
 mod bends;
+mod layer_grid;
 mod near;
 mod planes;
 #[cfg(test)]

@@ -25,6 +25,7 @@
 
 use taxel_format::{TILE_CELLS, TILE_SAMPLES, TILE_SIDE};
 
+use super::layer_grid::LayerGrid;
 use super::{LayerGeometry, Part, Seg, distance2_to_segment};
 
 /// From this many segments of a group (the layer's own parts, or the
@@ -32,16 +33,16 @@ use super::{LayerGeometry, Part, Seg, distance2_to_segment};
 /// the grid costs more than it saves (measured on the generated maps of 1,000
 /// and 10,000 regions: 48, 128 and 400 were within the noise of each other on
 /// the denser map, and 128 the fastest on the sparser).
-const GRID_FROM: usize = 128;
+pub(super) const GRID_FROM: usize = 128;
 
 /// The most rings of cells a sample's search may need, else the tile is
 /// measured segment by segment.
-const MAX_RINGS: f64 = 64.0;
+pub(super) const MAX_RINGS: f64 = 64.0;
 
 /// Slots of the squared-distance array, `TILE_SAMPLES` each: the fills, the
 /// band and the occluders, then one per cut width group, then one per clip.
-const FILL: usize = 0;
-const BAND: usize = 1;
+pub(super) const FILL: usize = 0;
+pub(super) const BAND: usize = 1;
 const OCC: usize = 2;
 const FIRST_CUT: usize = 3;
 
@@ -78,7 +79,7 @@ pub(super) struct Near {
 
 /// Grid cells per lattice cell along each axis: half cells, so that a sample
 /// whose nearest segment is close searches a small square.
-const SUB: isize = 2;
+const SUB: isize = super::layer_grid::SUB as isize;
 
 /// Segments by cells of the tile (cell `(x, y)` spans `[x, x + 1) h / SUB`
 /// from the tile's first sample, for `x` in `-pad..TILE_CELLS * SUB + pad`),
@@ -95,7 +96,7 @@ struct Grid {
 
 /// `floor(v)` as an integer, for `|v|` within ±1e6 (clamped; NaN gives 0)
 /// and without a call into libm.
-fn floor_cell(v: f64) -> isize {
+pub(super) fn floor_cell(v: f64) -> isize {
     let v = v.clamp(-1e6, 1e6);
     let t = v as isize;
     if (t as f64) > v { t - 1 } else { t }
@@ -157,6 +158,16 @@ impl Grid {
     }
 }
 
+/// Where a tile lies in its layer's grid: the grid, the tile `(c, r)`, and
+/// the offset of its samples in grid cells (1 for the cell centres, half a
+/// lattice cell on).
+#[derive(Clone, Copy)]
+pub(super) struct InLayer<'a> {
+    pub grid: &'a LayerGrid,
+    pub tile: (usize, usize),
+    pub shift: isize,
+}
+
 /// What the sample-major search of one tile reads.
 struct Search<'a> {
     segs: &'a [(Seg, Part, f64)],
@@ -165,6 +176,23 @@ struct Search<'a> {
     /// Grid cell side, mm, and the last ring to search.
     cell: f64,
     rings: isize,
+}
+
+/// The slot of a part in a layer of `cuts` cut width groups and `clips`
+/// clip regions, `None` for a group or clip it does not have.
+pub(super) fn slot_of(part: Part, cuts: usize, clips: usize) -> Option<usize> {
+    match part {
+        Part::Fill => Some(FILL),
+        Part::Band => Some(BAND),
+        Part::Occluder => Some(OCC),
+        Part::Cut(k) => (k < cuts).then_some(FIRST_CUT + k),
+        Part::Clip(k) => (k < clips).then_some(FIRST_CUT + cuts + k),
+    }
+}
+
+/// The number of slots of a layer of `cuts` cut width groups and `clips` clip regions.
+pub(super) fn slots(cuts: usize, clips: usize) -> usize {
+    FIRST_CUT + cuts + clips
 }
 
 impl Near {
@@ -187,13 +215,7 @@ impl Near {
 
     /// The slot of a part, `None` for a cut group or clip this layer does not have.
     fn slot(&self, part: Part) -> Option<usize> {
-        match part {
-            Part::Fill => Some(FILL),
-            Part::Band => Some(BAND),
-            Part::Occluder => Some(OCC),
-            Part::Cut(k) => (k < self.cut_widths.len()).then_some(FIRST_CUT + k),
-            Part::Clip(k) => (k < self.clips).then_some(FIRST_CUT + self.cut_widths.len() + k),
-        }
+        slot_of(part, self.cut_widths.len(), self.clips)
     }
 
     fn at(&self, slot: usize, t: usize) -> f64 {
@@ -206,11 +228,10 @@ impl Near {
         &mut self,
         segs: &[(Seg, Part, f64)],
         bucket: &[u32],
-        corner: (f64, f64),
-        h: f64,
-        margin: f64,
+        (corner, h, margin): ((f64, f64), f64, f64),
+        layer: Option<InLayer<'_>>,
     ) {
-        self.run(segs, bucket, (corner, h, margin), None, GRID_FROM);
+        self.run(segs, bucket, (corner, h, margin), None, layer, GRID_FROM);
     }
 
     /// As [`measure`](Self::measure), but the parts that only lower the
@@ -224,17 +245,21 @@ impl Near {
         bucket: &[u32],
         (corner, h, margin): ((f64, f64), f64, f64),
         bits: &TileBits<'_>,
+        layer: Option<InLayer<'_>>,
     ) {
-        self.run(segs, bucket, (corner, h, margin), Some((g, bits)), GRID_FROM);
+        self.run(segs, bucket, (corner, h, margin), Some((g, bits)), layer, GRID_FROM);
     }
 
-    /// Measures, with the grid search for groups of at least `grid_from` segments.
+    /// Measures, with the grid search for groups of at least `grid_from`
+    /// segments: the layer's grid where it has one (`layer`), else the
+    /// tile's own.
     fn run(
         &mut self,
         segs: &[(Seg, Part, f64)],
         bucket: &[u32],
         (corner, h, margin): ((f64, f64), f64, f64),
         live: Option<(&LayerGeometry<'_>, &TileBits<'_>)>,
+        layer: Option<InLayer<'_>>,
         grid_from: usize,
     ) {
         self.d.fill(f64::INFINITY);
@@ -243,24 +268,42 @@ impl Near {
         self.slot_of.clear();
         self.reach.clear();
         self.reach.resize(self.slots(), 0.0);
+        let own = |s: usize| s == FILL || s == BAND;
         let mut finite = true;
-        for &n in bucket {
-            let found = segs.get(n as usize).and_then(|&(seg, part, reach)| Some((seg, self.slot(part)?, reach)));
-            match found {
-                Some((((ax, ay), (bx, by)), slot, reach)) => {
-                    finite &= [ax, ay, bx, by, reach].iter().all(|v| v.is_finite());
-                    self.reach[slot] = self.reach[slot].max(reach + margin);
-                    self.slot_of.push(slot);
+        let (n_own, n_rest) = match layer {
+            // The layer's grid counted the tile's entries and has one reach
+            // per slot (and only finite segments).
+            Some(at) if at.grid.reach.len() == self.slots() => {
+                let t = at.grid.tile(at.tile);
+                for (s, r) in self.reach.iter_mut().enumerate() {
+                    if t.slots & (1 << s) != 0 {
+                        *r = at.grid.reach[s];
+                    }
                 }
-                None => self.slot_of.push(usize::MAX),
+                (t.own as usize, t.rest as usize)
             }
-        }
+            _ => {
+                for &n in bucket {
+                    let found =
+                        segs.get(n as usize).and_then(|&(seg, part, reach)| Some((seg, self.slot(part)?, reach)));
+                    match found {
+                        Some((((ax, ay), (bx, by)), slot, reach)) => {
+                            finite &= [ax, ay, bx, by, reach].iter().all(|v| v.is_finite());
+                            self.reach[slot] = self.reach[slot].max(reach + margin);
+                            self.slot_of.push(slot);
+                        }
+                        None => self.slot_of.push(usize::MAX),
+                    }
+                }
+                let n_own = self.slot_of.iter().filter(|&&s| s != usize::MAX && own(s)).count();
+                let n_rest = self.slot_of.iter().filter(|&&s| s != usize::MAX && !own(s)).count();
+                (n_own, n_rest)
+            }
+        };
+        let layer = layer.filter(|at| at.grid.reach.len() == self.slots());
         // The layer's own parts first (the others are live only where these
         // leave the distance within reach of a change), each group the way
         // its number of segments makes cheaper.
-        let own = |s: usize| s == FILL || s == BAND;
-        let n_own = self.slot_of.iter().filter(|&&s| s != usize::MAX && own(s)).count();
-        let n_rest = self.slot_of.iter().filter(|&&s| s != usize::MAX && !own(s)).count();
         // A grid only for finite segments, slots that fit the search's
         // bit mask, and a reach of a bounded number of cells (a band much
         // wider than the lattice pitch would make the grid large).
@@ -270,7 +313,10 @@ impl Near {
         };
         let grid = (fits(true), fits(false));
         if n_own >= grid_from && grid.0 {
-            self.search(segs, bucket, corner, h, true);
+            match layer {
+                Some(at) => self.search_layer(segs, at, corner, h, true),
+                None => self.search(segs, bucket, corner, h, true),
+            }
         } else {
             self.sweep(segs, bucket, corner, h, margin, &|s| own(s));
         }
@@ -278,7 +324,10 @@ impl Near {
             self.mark_live(g, bits, 0..TILE_SAMPLES);
         }
         if n_rest >= grid_from && grid.1 {
-            self.search(segs, bucket, corner, h, false);
+            match layer {
+                Some(at) => self.search_layer(segs, at, corner, h, false),
+                None => self.search(segs, bucket, corner, h, false),
+            }
         } else {
             self.sweep(segs, bucket, corner, h, margin, &|s| !own(s));
         }
@@ -302,12 +351,9 @@ impl Near {
             let b = ((hi + m - o) / h).ceil().min(last);
             (a as usize, b as usize, a <= b)
         };
-        for (k, &n) in bucket.iter().enumerate() {
-            let slot = self.slot_of.get(k).copied().unwrap_or(usize::MAX);
-            if slot == usize::MAX || !want(slot) {
-                continue;
-            }
-            let Some(&(seg, _, reach)) = segs.get(n as usize) else { continue };
+        for &n in bucket {
+            let Some(&(seg, part, reach)) = segs.get(n as usize) else { continue };
+            let Some(slot) = self.slot(part).filter(|&s| want(s)) else { continue };
             let (a, b) = seg;
             let bb = super::seg_bounds(&seg);
             let m = reach + margin;
@@ -366,6 +412,92 @@ impl Near {
         }
         self.slot_of = slot_of;
         self.grid = grid;
+    }
+
+    /// As [`search`](Self::search), in the layer's grid: the same rings
+    /// round the same samples, keeping from each cell the segments of this
+    /// tile's bucket.
+    fn search_layer(&mut self, segs: &[(Seg, Part, f64)], at: InLayer<'_>, corner: (f64, f64), h: f64, own: bool) {
+        let cell = h / SUB as f64;
+        let mask = if own { (1u64 << FILL) | (1 << BAND) } else { ((1u64 << self.slots()) - 1) & !0b11 };
+        let in_group = |s: usize| s < 64 && mask & (1 << s) != 0;
+        let reach_max = (0..self.slots()).filter(|&s| in_group(s)).map(|s| self.reach[s]).fold(0.0, f64::max);
+        let rings = (reach_max / cell).ceil() as isize + 1;
+        let tile = (at.tile.0 as u32, at.tile.1 as u32);
+        for j in 0..TILE_SIDE {
+            for i in 0..TILE_SIDE {
+                let t = j * TILE_SIDE + i;
+                let p = (corner.0 + i as f64 * h, corner.1 + j as f64 * h);
+                let xy = at.grid.corner(at.tile, (i as isize * SUB + at.shift, j as isize * SUB + at.shift));
+                self.nearest_layer(segs, at.grid, (tile, own, cell, rings), (xy, t, p), mask);
+            }
+        }
+    }
+
+    /// [`nearest`](Self::nearest) in the layer's grid for sample `t` (stored
+    /// cell corner `xy`, page point `p`), keeping only tile `tile`'s entries.
+    fn nearest_layer(
+        &mut self,
+        segs: &[(Seg, Part, f64)],
+        grid: &LayerGrid,
+        (tile, own, cell, rings): ((u32, u32), bool, f64, isize),
+        ((x, y), t, p): ((isize, isize), usize, (f64, f64)),
+        mask: u64,
+    ) {
+        let mut active = 0u64;
+        let mut bits = mask;
+        while bits != 0 {
+            let slot = bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            if self.live.get(slot * TILE_SAMPLES + t).copied().unwrap_or(false) {
+                active |= 1 << slot;
+            }
+        }
+        if active == 0 {
+            return;
+        }
+        let d = &mut self.d;
+        let visit = |cx: isize, cy: isize, d: &mut [f64], active: u64| {
+            for &n in grid.cell(own, (cx, cy)) {
+                let Some(slot) = grid.slot_in(n as usize, tile) else { continue };
+                if slot >= 64 || active & (1 << slot) == 0 {
+                    continue;
+                }
+                let Some(&((a, b), _, _)) = segs.get(n as usize) else { continue };
+                if let Some(v) = d.get_mut(slot * TILE_SAMPLES + t) {
+                    *v = v.min(distance2_to_segment(p, a, b));
+                }
+            }
+        };
+        for r in 0..=rings {
+            if r == 0 {
+                for (cx, cy) in [(x - 1, y - 1), (x, y - 1), (x - 1, y), (x, y)] {
+                    visit(cx, cy, d, active);
+                }
+            } else {
+                for cx in x - 1 - r..=x + r {
+                    visit(cx, y - 1 - r, d, active);
+                    visit(cx, y + r, d, active);
+                }
+                for cy in y - r..y + r {
+                    visit(x - 1 - r, cy, d, active);
+                    visit(x + r, cy, d, active);
+                }
+            }
+            let next = (r as f64 + 0.99) * cell;
+            let mut bits = active;
+            while bits != 0 {
+                let slot = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let best = d.get(slot * TILE_SAMPLES + t).copied().unwrap_or(0.0);
+                if best <= next * next || next > self.reach.get(slot).copied().unwrap_or(0.0) {
+                    active &= !(1 << slot);
+                }
+            }
+            if active == 0 {
+                return;
+            }
+        }
     }
 
     /// The nearest entries of `grid` to sample `t` (grid point `(x, y)`,
@@ -538,8 +670,8 @@ mod tests {
             let bucket: Vec<u32> = (0..segs.len() as u32).collect();
             let (mut grid, mut sweep) = (Near::new(1, vec![0.6]), Near::new(1, vec![0.6]));
             let corner = (0.0, 0.0);
-            grid.run(&segs, &bucket, (corner, h, margin), None, 0);
-            sweep.run(&segs, &bucket, (corner, h, margin), None, usize::MAX);
+            grid.run(&segs, &bucket, (corner, h, margin), None, None, 0);
+            sweep.run(&segs, &bucket, (corner, h, margin), None, None, usize::MAX);
             for slot in 0..grid.slots() {
                 let reach = segs.iter().filter(|s| sweep.slot(s.1) == Some(slot)).map(|s| s.2 + margin).fold(0.0, f64::max);
                 for t in 0..TILE_SAMPLES {
@@ -555,6 +687,66 @@ mod tests {
                         prop_assert_eq!(s, exact, "sweep, slot {} sample {}", slot, t);
                     } else {
                         prop_assert!(g > reach * reach && s > reach * reach, "slot {slot} sample {t}: {g} {s} beyond {reach}");
+                    }
+                }
+            }
+        }
+
+        /// The search in the layer's grid stores at every sample of every
+        /// tile (and at the cell centres, one grid cell on) what the tile's
+        /// own grid stores: the exact minimum over the tile's bucket
+        /// wherever it is within the part's reach plus the margin, and
+        /// something beyond it elsewhere; segments of other tiles' buckets
+        /// in the same cells are not taken.
+        #[test]
+        fn the_layer_grid_finds_what_each_tiles_grid_finds(
+            segs in prop::collection::vec(((-1.5f64..7.5, -1.5f64..7.5), (-0.6f64..0.6, -0.6f64..0.6), 0u8..5, any::<bool>()), 1..400),
+            h in prop::sample::select(vec![0.25, 0.3]),
+            (reach, margin) in (0.2f64..1.0, 0.0f64..0.1),
+            origin in (-0.7f64..0.0, -0.7f64..0.0),
+        ) {
+            let segs: Vec<(Seg, Part, f64)> = segs
+                .iter()
+                .map(|&((x, y), (dx, dy), kind, long)| {
+                    let k = if long { 5.0 } else { 1.0 };
+                    let part = [Part::Fill, Part::Band, Part::Occluder, Part::Cut(0), Part::Clip(0)][kind as usize];
+                    let r = if matches!(part, Part::Band | Part::Cut(_)) { reach + 0.3 } else { reach };
+                    (((x, y), (x + k * dx, y + k * dy)), part, r)
+                })
+                .collect();
+            let (cols, rows) = (3, 3);
+            let tile = TILE_CELLS as f64 * h;
+            let (buckets, spans) = super::super::buckets_of(&segs, origin, tile, (cols, rows));
+            let lattice = super::super::layer_grid::Lattice { origin, h, cols, rows, margin, slots: slots(1, 1) };
+            let grid = LayerGrid::new(&segs, spans, &lattice, |p| slot_of(p, 1, 1), 0, MAX_RINGS);
+            let grid = grid.expect("a layer grid");
+            let (mut by_layer, mut by_tile) = (Near::new(1, vec![0.6]), Near::new(1, vec![0.6]));
+            for (k, bucket) in buckets.iter().enumerate() {
+                let (c, r) = (k % cols, k / cols);
+                for shift in [0, 1] {
+                    let corner = (
+                        origin.0 + (c * TILE_CELLS) as f64 * h + shift as f64 * h / 2.0,
+                        origin.1 + (r * TILE_CELLS) as f64 * h + shift as f64 * h / 2.0,
+                    );
+                    let at = InLayer { grid: &grid, tile: (c, r), shift };
+                    by_layer.run(&segs, bucket, (corner, h, margin), None, Some(at), 0);
+                    by_tile.run(&segs, bucket, (corner, h, margin), None, None, 0);
+                    for slot in 0..by_tile.slots() {
+                        let mine: Vec<&(Seg, Part, f64)> =
+                            bucket.iter().map(|&n| &segs[n as usize]).filter(|s| by_tile.slot(s.1) == Some(slot)).collect();
+                        let reach = mine.iter().map(|s| s.2 + margin).fold(0.0, f64::max);
+                        for t in 0..TILE_SAMPLES {
+                            let p = (corner.0 + (t % TILE_SIDE) as f64 * h, corner.1 + (t / TILE_SIDE) as f64 * h);
+                            let exact =
+                                mine.iter().map(|&&((a, b), _, _)| distance2_to_segment(p, a, b)).fold(f64::INFINITY, f64::min);
+                            let (l, g) = (by_layer.at(slot, t), by_tile.at(slot, t));
+                            if exact <= reach * reach {
+                                prop_assert_eq!(l, exact, "layer, tile {:?} shift {} slot {} sample {}", (c, r), shift, slot, t);
+                                prop_assert_eq!(g, exact, "tile, tile {:?} shift {} slot {} sample {}", (c, r), shift, slot, t);
+                            } else {
+                                prop_assert!(l > reach * reach && g > reach * reach, "slot {slot} sample {t}: {l} {g} beyond {reach}");
+                            }
+                        }
                     }
                 }
             }

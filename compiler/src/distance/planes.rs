@@ -17,7 +17,7 @@ use taxel_format::{
     TilePlane,
 };
 
-use super::near::Near;
+use super::near::{InLayer, Near};
 use super::{LayerGeometry, Part, Seg};
 
 /// Largest error of a plane or ridge tile against the exact distance, codes.
@@ -275,6 +275,9 @@ pub(super) struct TileCtx<'a, 'g> {
     pub first: usize,
     pub nx: usize,
     pub centre_bits: &'a CentreBits,
+    /// The tile in its layer's grid, for the cell centres' search (one
+    /// grid cell on from the samples').
+    pub layer: Option<InLayer<'a>>,
 }
 
 /// Inside-the-fills, inside-the-occluders and inside-each-clip bits at
@@ -298,7 +301,8 @@ impl TileCtx<'_, '_> {
     /// distance there in codes (clamped); `centres` is scratch.
     pub(super) fn centres_all(&self, centres: &mut Near, ok: impl Fn(f64, f64, f64) -> bool) -> bool {
         let h = self.h;
-        centres.measure(self.segs, self.bucket, (self.corner.0 + h / 2.0, self.corner.1 + h / 2.0), h, self.margin);
+        let corner = (self.corner.0 + h / 2.0, self.corner.1 + h / 2.0);
+        centres.measure(self.segs, self.bucket, (corner, h, self.margin), self.layer);
         let mut in_clip = vec![false; self.centre_bits.clips.len()];
         for j in 0..TILE_CELLS {
             for i in 0..TILE_CELLS {

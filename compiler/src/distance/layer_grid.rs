@@ -1,0 +1,273 @@
+//! One grid of a layer's segments for all its tiles' nearest-segment
+//! searches.
+//!
+//! A crowded tile's samples search a grid of segments ring by ring
+//! ([`Near`](super::near::Near)). Built per tile from the tile's bucket,
+//! that grid cost as much as the searches on a dense map: every segment
+//! acting on a tile was sorted into cells, so a segment was binned once for
+//! every tile (and every centre check) its reach meets, and each bucket was
+//! walked several times per tile. Here each segment is binned once, into
+//! cells of half the lattice pitch over the whole layer, and a tile's search
+//! keeps from a cell only the segments of its own bucket (a segment keeps
+//! the span of tiles whose buckets hold it), so it finds the same minima as
+//! the tile's own grid.
+//!
+//! (Tried and dropped: a Chebyshev distance transform of the occupied cells,
+//! so that a search starts at the first ring that holds a segment. On the
+//! 1,000-region map its two raster passes over every layer's cells cost
+//! more than the empty cells they skip, and on the map at the input limit
+//! every cell near a sample holds segments.)
+
+use taxel_format::TILE_CELLS;
+
+use super::{Part, Seg, seg_bounds};
+
+/// Grid cells per lattice cell along each axis (the per-tile grid's `SUB`).
+pub(super) const SUB: usize = 2;
+
+/// The most cells a layer's grid may have per segment it holds (and at
+/// most [`MAX_CELLS`] in all): a sparse layer on a large lattice keeps the
+/// per-tile grids, whose size follows the tile's segments.
+const CELLS_PER_SEGMENT: usize = 16;
+/// A grid of up to this many cells is small whatever its segments.
+const MIN_CELLS: usize = 1 << 16;
+/// The most cells of a layer's grid (two `u32` and a `u16` each, per group).
+const MAX_CELLS: usize = 1 << 22;
+
+/// The part of a layer's slots a group holds: the layer's own fills and
+/// band, or the parts that only lower its distance.
+pub(super) fn is_own(slot: usize) -> bool {
+    slot == super::near::FILL || slot == super::near::BAND
+}
+
+/// What the searches of one tile need to know of its bucket, counted once
+/// per layer instead of per tile.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct TileStats {
+    /// Entries of the layer's own slots, and of the others.
+    pub own: u32,
+    pub rest: u32,
+    /// The slots with at least one entry (slot `s` at bit `s`).
+    pub slots: u64,
+}
+
+/// One group's segments by cell (compressed rows).
+#[derive(Debug, Default)]
+pub(super) struct Cells {
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+/// Every segment of a layer by cells of half the lattice pitch, the two
+/// groups (own, other) apart.
+#[derive(Debug)]
+pub(super) struct LayerGrid {
+    /// The lattice's origin, and the cell side `h / SUB`, mm.
+    pub origin: (f64, f64),
+    pub cell: f64,
+    /// Layer cell `x` (counted from the origin) is stored at column `x + pad`.
+    pad: isize,
+    width: usize,
+    height: usize,
+    cols: usize,
+    /// Each segment's slot, and its bucket's span of tiles `[c0, c1, r0, r1]`.
+    slot: Vec<u8>,
+    span: Vec<[u32; 4]>,
+    /// Per tile, row-major.
+    pub stats: Vec<TileStats>,
+    /// Each slot's reach plus the margin, the same for all its segments.
+    pub reach: Vec<f64>,
+    /// `[own, other]`.
+    groups: [Cells; 2],
+}
+
+/// What [`LayerGrid::new`] needs of a layer besides its segments.
+pub(super) struct Lattice {
+    pub origin: (f64, f64),
+    pub h: f64,
+    pub cols: usize,
+    pub rows: usize,
+    /// The clamp's margin added to every reach, mm.
+    pub margin: f64,
+    /// The layer's slots: the slot of a part, `None` for one it does not have.
+    pub slots: usize,
+}
+
+impl LayerGrid {
+    /// The grid of a layer's segments, with each segment's span of tiles
+    /// (`span`, from [`buckets_of`](super::buckets_of)); `None` where the per-tile
+    /// grids do as well or better: no tile crowded enough to search, a
+    /// segment that is not finite, a slot whose segments reach differently,
+    /// or more cells than the caps allow.
+    pub(super) fn new(
+        segs: &[(Seg, Part, f64)],
+        mut span: Vec<[u32; 4]>,
+        lat: &Lattice,
+        slot_of: impl Fn(Part) -> Option<usize>,
+        grid_from: usize,
+        max_rings: f64,
+    ) -> Option<LayerGrid> {
+        let (cols, rows, h) = (lat.cols, lat.rows, lat.h);
+        if !(h.is_finite() && h > 0.0) || lat.slots >= 64 || span.len() != segs.len() {
+            return None;
+        }
+        let cell = h / SUB as f64;
+        let mut stats = vec![TileStats::default(); cols.checked_mul(rows)?];
+        let mut reach: Vec<Option<f64>> = vec![None; lat.slots];
+        let mut slot = Vec::with_capacity(segs.len());
+        for (&((a, b), part, r), sp) in segs.iter().zip(span.iter_mut()) {
+            let Some(s) = slot_of(part).filter(|_| sp[0] <= sp[1] && sp[2] <= sp[3]) else {
+                slot.push(u8::MAX);
+                *sp = super::NO_TILES;
+                continue;
+            };
+            if ![a.0, a.1, b.0, b.1, r].iter().all(|v| v.is_finite()) {
+                return None;
+            }
+            // One reach per slot: a tile's is then its slots' reaches.
+            let r = r + lat.margin;
+            if !(r > 0.0 && r.is_finite()) {
+                return None;
+            }
+            match reach[s] {
+                Some(v) if v.to_bits() != r.to_bits() => return None,
+                _ => reach[s] = Some(r),
+            }
+            let own = is_own(s);
+            for row in sp[2]..=sp[3] {
+                for col in sp[0]..=sp[1] {
+                    let t = stats.get_mut(row as usize * cols + col as usize)?;
+                    if own {
+                        t.own += 1;
+                    } else {
+                        t.rest += 1;
+                    }
+                    t.slots |= 1 << s;
+                }
+            }
+            slot.push(s as u8);
+        }
+        let reach: Vec<f64> = reach.into_iter().map(|r| r.unwrap_or(0.0)).collect();
+        let searched = |own: bool| stats.iter().any(|t| (if own { t.own } else { t.rest }) as usize >= grid_from);
+        let wanted = [searched(true), searched(false)];
+        if !(wanted[0] || wanted[1]) {
+            return None;
+        }
+        let reach_max = reach.iter().copied().fold(0.0, f64::max);
+        if reach_max / cell > max_rings {
+            return None;
+        }
+        // Samples sit at cell corners 0..=SUB * TILE_CELLS * cols (cell
+        // centres one further), and a search reaches `rings + 1` cells past.
+        let rings = (reach_max / cell).ceil() as isize + 1;
+        let pad = rings + 2;
+        let width = (SUB * TILE_CELLS).checked_mul(cols)? + 2 + 2 * pad as usize;
+        let height = (SUB * TILE_CELLS).checked_mul(rows)? + 2 + 2 * pad as usize;
+        let cells = width.checked_mul(height)?;
+        if cells > MAX_CELLS || cells > CELLS_PER_SEGMENT.saturating_mul(segs.len()).max(MIN_CELLS) {
+            return None;
+        }
+        let mut grid = LayerGrid {
+            origin: lat.origin,
+            cell,
+            pad,
+            width,
+            height,
+            cols,
+            slot,
+            span,
+            stats,
+            reach,
+            groups: [Cells::default(), Cells::default()],
+        };
+        for (g, &want) in wanted.iter().enumerate() {
+            if want {
+                grid.groups[g] = grid.bin(segs, g == 0);
+            }
+        }
+        Some(grid)
+    }
+
+    /// The stored cell range `(x0, y0, x1, y1)` a segment's bounds meet.
+    fn cells_of(&self, seg: &Seg) -> (usize, usize, usize, usize) {
+        let b = seg_bounds(seg);
+        let c = |v: f64, o: f64, n: usize| {
+            (super::near::floor_cell((v - o) / self.cell) + self.pad).clamp(0, n as isize - 1) as usize
+        };
+        let (ox, oy) = self.origin;
+        (c(b.0, ox, self.width), c(b.1, oy, self.height), c(b.2, ox, self.width), c(b.3, oy, self.height))
+    }
+
+    /// The segments of one group (`own` or the others) that act on some
+    /// tile, in every cell their bounds meet, in segment order.
+    fn bin(&self, segs: &[(Seg, Part, f64)], own: bool) -> Cells {
+        let n_cells = self.width * self.height;
+        let in_group = |n: usize| self.slot.get(n).is_some_and(|&s| s != u8::MAX && is_own(s as usize) == own);
+        // Each segment's cells are reckoned in both passes rather than
+        // kept: on the map at the input limit a list of them would add
+        // some 50 MB per layer being built.
+        let ranges = || {
+            segs.iter()
+                .enumerate()
+                .filter(move |&(n, _)| in_group(n))
+                .map(|(n, (seg, _, _))| (n as u32, self.cells_of(seg)))
+        };
+        let mut start = vec![0u32; n_cells + 1];
+        for (_, (x0, y0, x1, y1)) in ranges() {
+            for y in y0..=y1 {
+                for c in &mut start[y * self.width + x0 + 1..=y * self.width + x1 + 1] {
+                    *c += 1;
+                }
+            }
+        }
+        for c in 1..start.len() {
+            start[c] += start[c - 1];
+        }
+        let mut items = vec![0u32; start[n_cells] as usize];
+        let mut next = start[..n_cells].to_vec();
+        for (n, (x0, y0, x1, y1)) in ranges() {
+            for y in y0..=y1 {
+                for e in &mut next[y * self.width + x0..=y * self.width + x1] {
+                    items[*e as usize] = n;
+                    *e += 1;
+                }
+            }
+        }
+        Cells { start, items }
+    }
+
+    /// The stored position of the cell corner `(x, y)` (layer cells from
+    /// the origin) of tile `(c, r)`: its tile-local corner plus the tile's
+    /// offset.
+    pub(super) fn corner(&self, (c, r): (usize, usize), (x, y): (isize, isize)) -> (isize, isize) {
+        let side = (SUB * TILE_CELLS) as isize;
+        (c as isize * side + x + self.pad, r as isize * side + y + self.pad)
+    }
+
+    fn index(&self, (x, y): (isize, isize)) -> Option<usize> {
+        (x >= 0 && y >= 0 && (x as usize) < self.width && (y as usize) < self.height)
+            .then(|| y as usize * self.width + x as usize)
+    }
+
+    /// The segments of the group in stored cell `(x, y)`.
+    pub(super) fn cell(&self, own: bool, xy: (isize, isize)) -> &[u32] {
+        let cells = &self.groups[usize::from(!own)];
+        let Some(k) = self.index(xy) else { return &[] };
+        match (cells.start.get(k), cells.start.get(k + 1)) {
+            (Some(&a), Some(&b)) => cells.items.get(a as usize..b as usize).unwrap_or(&[]),
+            _ => &[],
+        }
+    }
+
+    /// Segment `n`'s slot if tile `(c, r)`'s bucket holds it.
+    pub(super) fn slot_in(&self, n: usize, (c, r): (u32, u32)) -> Option<usize> {
+        let [c0, c1, r0, r1] = *self.span.get(n)?;
+        let s = *self.slot.get(n)?;
+        (c0 <= c && c <= c1 && r0 <= r && r <= r1 && s != u8::MAX).then_some(s as usize)
+    }
+
+    /// Tile `(c, r)`'s counts.
+    pub(super) fn tile(&self, (c, r): (usize, usize)) -> TileStats {
+        self.stats.get(r * self.cols + c).copied().unwrap_or_default()
+    }
+}
