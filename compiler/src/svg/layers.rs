@@ -219,7 +219,16 @@ fn outline(e: &Element) -> &[Polyline] {
 }
 
 /// Builds every layer of `drawing` at `px` samples per mm.
-pub(crate) fn build(drawing: &Drawing, opts: &CompileOptions, px: f32, diags: &mut Vec<Diagnostic>) -> Built {
+///
+/// `beside` is given the features (the design rules' input) and runs
+/// beside the distance fields; its result comes back with what was built.
+pub(crate) fn build<R: Send>(
+    drawing: &Drawing,
+    opts: &CompileOptions,
+    px: f32,
+    diags: &mut Vec<Diagnostic>,
+    beside: impl FnOnce(&[Feature]) -> R + Send,
+) -> (Built, R) {
     let family = opts.profile.family();
     let profile = opts.profile.name.as_str();
     let page = drawing.page;
@@ -332,12 +341,22 @@ pub(crate) fn build(drawing: &Drawing, opts: &CompileOptions, px: f32, diags: &m
             }
         }
     }
-    distance_layers(&mut b, drawing, &pending, px, felt);
+    // Braille adds features and no layer (nor reads any), so it comes before the fields.
     braille_texts(&mut b, drawing, opts, diags);
+    let features = std::mem::take(&mut b.features);
+    let (built_index, beside) =
+        rayon::join(|| distance_layers(&mut b, drawing, &pending, px, felt), || beside(&features));
+    b.features = features;
+    // Features name their built layer (a style whose field came out empty has none).
+    for f in &mut b.features {
+        if let Some(k) = f.mask {
+            f.mask = built_index.get(k).copied().flatten();
+        }
+    }
     if !requests.is_empty() {
         b.strokes = brush::compile_strokes(&requests, &opts.profile, diags);
     }
-    b
+    (b, beside)
 }
 
 /// Records one element's vibration or grating style: a feature for the
@@ -410,7 +429,15 @@ fn layer_feature(
 /// regions as one fill minus every vibrating band on the page that crosses
 /// them (so an outline is never summed with the grating under it), each
 /// within its clip regions and the part of the page on the device's surface.
-fn distance_layers(b: &mut Built, drawing: &Drawing, pending: &[Pending], px: f32, surface: (f64, f64)) {
+/// Builds the styles' distance layers; returns each style's layer index
+/// (`None` for a style whose field came out empty).
+fn distance_layers(
+    b: &mut Built,
+    drawing: &Drawing,
+    pending: &[Pending],
+    px: f32,
+    surface: (f64, f64),
+) -> Vec<Option<usize>> {
     let page = drawing.page;
     let polys = |i: usize| outline(&drawing.elements[i]);
     let bands: Vec<(usize, f64)> = pending
@@ -532,12 +559,7 @@ fn distance_layers(b: &mut Built, drawing: &Drawing, pending: &[Pending], px: f3
         }
         b.layers.push(layer);
     }
-    // Features name their built layer (a style whose field came out empty has none).
-    for f in &mut b.features {
-        if let Some(k) = f.mask {
-            f.mask = built_index.get(k).copied().flatten();
-        }
-    }
+    built_index
 }
 
 /// An element's fill rule.

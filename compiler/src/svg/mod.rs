@@ -70,7 +70,9 @@ fn compile(
     if opts.profile.family() == taxel_format::Family::Pins {
         return crate::pins::build_bundle(&drawing, &opts.profile, opts.content_hash, diags);
     }
-    let built = layers::build(&drawing, opts, px, diags);
+    // The design rules but the overlaps need only the features: they run
+    // beside the distance fields, and add their diagnostics after them.
+    let (built, checked) = layers::build(&drawing, opts, px, diags, |f| rules::check_features(f, &opts.profile));
     if built.is_empty() {
         // A malformed annotation already explains why nothing is tactile.
         if has_errors(diags) {
@@ -96,7 +98,7 @@ fn compile(
         diags.push(d);
         return None;
     }
-    rules::check(&built, &opts.profile, diags);
+    checked.finish(&built, diags);
     let mut bundle = Bundle::new(Manifest { content_hash: opts.content_hash, ..Manifest::new(opts.profile) });
     bundle.chunks = built.into_chunks();
     if let Err(e) = bundle.to_bytes() {

@@ -40,14 +40,34 @@ fn at(d: Diagnostic, f: &Feature) -> Diagnostic {
     Diagnostic { line: Some(f.line), ..d.with_element(&f.name) }
 }
 
-/// Checks every design rule, adding warnings and errors.
-pub(crate) fn check(built: &Built, profile: &DeviceProfile, diags: &mut Vec<Diagnostic>) {
+/// What the design rules find from the features alone, before the layers
+/// are built: everything but the overlaps of layers, which sample them.
+/// `layers::build` runs this beside the distance fields (the gap rule and
+/// the fields are the two large parts of a map's build).
+pub(crate) struct Checked {
+    /// The features' own rules and the counts, which come before the overlaps.
+    head: Vec<Diagnostic>,
+    /// Pairs `(i, j)`, `i < j`, in order, whose boxes meet and that are not
+    /// of one layer: the overlap checks' candidates.
+    meets: Vec<(usize, usize)>,
+    /// Confusable gratings and gaps, which come after the overlaps.
+    tail: Vec<Diagnostic>,
+}
+
+/// The design rules that need only the features (their layers need not be
+/// built: a feature's `mask` may still be its style's place among the
+/// styles, which names one layer for features of one style, as the built
+/// layer's index does). Every design rule is checked by this and
+/// [`Checked::finish`] in turn.
+pub(crate) fn check_features(features: &[Feature], profile: &DeviceProfile) -> Checked {
+    let mut head = Vec::new();
+    let diags = &mut head;
     let (px, py) = (profile.pitch_x_mm as f64, profile.pitch_y_mm as f64);
     let pitch = px.max(py);
-    let textures = one_texture(&built.features);
+    let textures = one_texture(features);
     // A size or gap is said once per element, not once per style it has (its fill and its border).
     let mut sized = HashSet::new();
-    for (k, f) in built.features.iter().enumerate() {
+    for (k, f) in features.iter().enumerate() {
         match f.kind {
             FeatureKind::Vibrate { width_mm, .. } if width_mm < pitch => diags.push(at(
                 Diagnostic::warning(
@@ -110,8 +130,10 @@ pub(crate) fn check(built: &Built, profile: &DeviceProfile, diags: &mut Vec<Diag
             }
         }
     }
-    counts(built, diags);
-    pairs(built, &textures, diags);
+    counts(features, diags);
+    let mut tail = Vec::new();
+    let meets = pairs(features, &textures, &mut tail);
+    Checked { head, meets, tail }
 }
 
 /// Gratings felt as one texture: feature -> (the texture's first feature, its box).
@@ -170,12 +192,32 @@ fn one_texture(f: &[Feature]) -> Textures {
     out
 }
 
-fn counts(built: &Built, diags: &mut Vec<Diagnostic>) {
+impl Checked {
+    /// Adds the rules' diagnostics in their order, the overlaps of the
+    /// built layers among them.
+    pub(crate) fn finish(self, built: &Built, diags: &mut Vec<Diagnostic>) {
+        let f = &built.features;
+        diags.extend(self.head);
+        let overlaps: Vec<Vec<Diagnostic>> = self
+            .meets
+            .par_iter()
+            .map(|&(i, j)| {
+                let mut out = Vec::new();
+                overlap(built, &f[i], &f[j], &mut out);
+                out
+            })
+            .collect();
+        diags.extend(overlaps.into_iter().flatten());
+        diags.extend(self.tail);
+    }
+}
+
+fn counts(features: &[Feature], diags: &mut Vec<Diagnostic>) {
     let key = |v: f64| (v * 100.0).round() as i64;
     let mut textures = HashSet::new();
     let mut lines = HashSet::new();
     let mut symbols = HashSet::new();
-    for f in &built.features {
+    for f in features {
         match f.kind {
             FeatureKind::Grating { wavelength_mm, angle_deg } => {
                 textures.insert((key(wavelength_mm), key(angle_deg.rem_euclid(180.0)), key(f.amplitude)));
@@ -221,18 +263,17 @@ fn below(value: f64, limit: f64) -> String {
 /// `--fit` packs ever more of them into 10 mm):
 ///
 /// - overlaps (T0406, T0410): the pairs whose boxes meet, found in the same
-///   pass as the gaps' candidates;
+///   pass as the gaps' candidates and returned (checked once the layers are
+///   built, by [`Checked::finish`]);
 /// - confusable gratings (T0401, T0402): only between textures that can be
 ///   confused, each pair of such textures through its own index;
 /// - gaps (T0408): each feature's nearest distinct neighbour that does not
 ///   touch it, each pair measured once and only while its boxes could still
 ///   hold a nearer gap for one of the two.
-fn pairs(built: &Built, textures: &Textures, diags: &mut Vec<Diagnostic>) {
-    let f = &built.features;
+fn pairs(f: &[Feature], textures: &Textures, diags: &mut Vec<Diagnostic>) -> Vec<(usize, usize)> {
     let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
     let index = spatial::BoxIndex::new(&boxes);
-    let (gaps, mut overlaps) = nearest_gaps(f, &index, |i, j, out| overlap(built, &f[i], &f[j], out));
-    diags.append(&mut overlaps);
+    let (gaps, meets) = nearest_gaps(f, &index, |i, j, out| out.push((i, j)));
     confusable_gratings(f, diags);
     let texture = |k: usize| textures.get(&k).map(|t| t.0);
     // Each element's nearest gap over its styles, at its first feature.
@@ -259,6 +300,7 @@ fn pairs(built: &Built, textures: &Textures, diags: &mut Vec<Diagnostic>) {
             &f[j],
         ));
     }
+    meets
 }
 
 /// Whether gratings of these (wavelength, angle) could be confused: the same
