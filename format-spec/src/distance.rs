@@ -158,8 +158,15 @@ impl TileEntry {
             e if e & TILE_KIND_NIBBLE == TILE_CORNER => TileEntry::Corner(e & TILE_CORNER_RECORD_MASK),
             e if e & TILE_KIND_NIBBLE == TILE_NOTCH => TileEntry::Notch(e & TILE_CORNER_RECORD_MASK),
             e if e & TILE_KIND_NIBBLE == TILE_BEND => TileEntry::Bend(e & TILE_CORNER_RECORD_MASK),
-            e if e & TILE_KIND_NIBBLE == TILE_ARC => TileEntry::Arc(e & TILE_CORNER_RECORD_MASK),
-            e if e & TILE_RIDGE == TILE_RIDGE => TileEntry::Ridge(e & TILE_RECORD_MASK),
+            // An arc's nibble D has both ridge bits: told apart only there,
+            // so that planes, corners, notches and bends decode as before.
+            e if e & TILE_RIDGE == TILE_RIDGE => {
+                if e & TILE_KIND_NIBBLE == TILE_ARC {
+                    TileEntry::Arc(e & TILE_CORNER_RECORD_MASK)
+                } else {
+                    TileEntry::Ridge(e & TILE_RECORD_MASK)
+                }
+            }
             e => TileEntry::Plane(e & TILE_RECORD_MASK),
         }
     }

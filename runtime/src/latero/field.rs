@@ -98,9 +98,6 @@ struct TileLanes<'a> {
     /// Whether any lane is in a bend tile (format 4.0): its other values
     /// are in a [`BendLanes`], written only then.
     bent: bool,
-    /// Whether any lane is in an arc tile (format 4.1): its values are in
-    /// the [`BendLanes`]' arc part, written only then.
-    arced: bool,
 }
 
 /// The bend lanes (format 4.0) of a [`TileLanes`]: a bend lane plays `top −
@@ -118,6 +115,11 @@ struct BendLanes {
     /// centre's x, the centre's y, the radius, `k` and the top code.
     arc: [i32; LANES],
     c: [[f32; LANES]; 5],
+    /// Whether any lane of the current tiles is in an arc tile. Kept here,
+    /// not in [`TileLanes`], so that kernels without bend lanes are the
+    /// code they were before arcs; reset on every tile change that reads
+    /// records.
+    arced: bool,
 }
 
 impl Default for TileLanes<'_> {
@@ -132,7 +134,6 @@ impl Default for TileLanes<'_> {
             gy: f32x4::ZERO,
             sign: f32x4::ZERO,
             bent: false,
-            arced: false,
         }
     }
 }
@@ -262,6 +263,9 @@ impl<'a> FieldLayer<'a> {
         bl: &mut BendLanes,
     ) -> TileLanes<'a> {
         let mut t = TileLanes::default();
+        if BENDS {
+            bl.arced = false;
+        }
         let mut planar = [0i32; LANES];
         let (mut t0, mut tgy, mut a0, mut gy, mut sign) =
             ([0f32; LANES], [0f32; LANES], [0f32; LANES], [0f32; LANES], [0f32; LANES]);
@@ -304,8 +308,8 @@ impl<'a> FieldLayer<'a> {
                             t.bent = true;
                         }
                         TileEntry::Arc(_) if BENDS => {
-                            Self::arc_lane(r, u[k], k, !t.arced, bl);
-                            t.arced = true;
+                            Self::arc_lane(r, u[k], k, !bl.arced, bl);
+                            bl.arced = true;
                         }
                         _ => (t0[k], tgy[k]) = (a, g),
                     }
@@ -579,7 +583,7 @@ impl<'a> FieldLayer<'a> {
                         if BENDS && lanes.bent {
                             code = cast::<i32x4, f32x4>(i32x4::new(bends.bend)).select(Self::bend(&bends, wt), code);
                         }
-                        if BENDS && lanes.arced {
+                        if BENDS && bends.arced {
                             code = cast::<i32x4, f32x4>(i32x4::new(bends.arc)).select(Self::arc(&bends, wt), code);
                         }
                         v = cast::<i32x4, f32x4>(lanes.planar).select(code * W as f32, v);
