@@ -526,8 +526,18 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
                 sat.close(taxel_format::bend_code([&r[0], &r[1]], u, w) - DISTANCE_ZERO as f64, e)
             })
         });
-        match band_bent {
-            Some(r) => TileOut::Bend(taxel_format::TILE_BEND, r),
+        if let Some(r) = band_bent {
+            return TileOut::Bend(taxel_format::TILE_BEND, r);
+        }
+        // A circular arc: the cone round its centre as a bend tile, else an arc tile.
+        let circle = arcs::circles(&tile, &exact).into_iter().find(|(kind, r)| {
+            let entry = taxel_format::TileEntry::of(*kind);
+            tile.centres_all(centres, |u, w, e| {
+                entry.code(r, u, w).is_some_and(|code| sat.close(code - DISTANCE_ZERO as f64, e))
+            })
+        });
+        match circle {
+            Some((kind, r)) => TileOut::Bend(kind, r),
             None => TileOut::Samples(tile_buf),
         }
     };
@@ -762,6 +772,7 @@ pub fn constant_tile_at(f: &Field, h: f64, p: (f64, f64)) -> Option<bool> {
     }
 }
 
+mod arcs;
 mod bends;
 mod layer_grid;
 mod near;

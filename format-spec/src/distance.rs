@@ -70,6 +70,17 @@ pub const TILE_NOTCH: u32 = 0xB000_0000;
 /// reader decodes it as a plane entry naming record `2^28 + p`, which its
 /// index check refuses.
 pub const TILE_BEND: u32 = 0x9000_0000;
+/// Tile index entry `TILE_ARC | p`: an **arc** tile (format 4.1), a
+/// circle of centre `V` and radius `R`: plane record `p` holds
+/// `(Vx, Vy, R, k)` in the tile's lattice coordinates (`R` in cells),
+/// record `p + 1` holds `(top, 0, 0, 0)`, and the code at `q` is
+/// `top − k · ||q − V| − R|`: a band round the circle (a ring), a filled
+/// disc (`R` = 0, a cone), or a hole (`R` beyond the tile, where the code
+/// grows with `|q − V|`). A 4.0 reader decodes it as a ridge entry naming
+/// record `2^28 + p`, which its index check refuses.
+pub const TILE_ARC: u32 = 0xD000_0000;
+/// Largest radius of an arc record, lattice cells.
+pub const MAX_ARC_RADIUS: f32 = 2048.0;
 /// The bits of a corner, notch or bend entry that hold its first record's number.
 pub const TILE_CORNER_RECORD_MASK: u32 = 0x0FFF_FFFF;
 /// The bits of an index entry that tell a corner or notch entry from the others.
@@ -131,6 +142,8 @@ pub enum TileEntry {
     /// Plane records `p` and `p + 1`, played as a band's bent centre line
     /// ([`TILE_BEND`], format 4.0).
     Bend(u32),
+    /// Plane records `p` and `p + 1`, played as a circle ([`TILE_ARC`], format 4.1).
+    Arc(u32),
 }
 
 impl TileEntry {
@@ -145,7 +158,15 @@ impl TileEntry {
             e if e & TILE_KIND_NIBBLE == TILE_CORNER => TileEntry::Corner(e & TILE_CORNER_RECORD_MASK),
             e if e & TILE_KIND_NIBBLE == TILE_NOTCH => TileEntry::Notch(e & TILE_CORNER_RECORD_MASK),
             e if e & TILE_KIND_NIBBLE == TILE_BEND => TileEntry::Bend(e & TILE_CORNER_RECORD_MASK),
-            e if e & TILE_RIDGE == TILE_RIDGE => TileEntry::Ridge(e & TILE_RECORD_MASK),
+            // An arc's nibble D has both ridge bits: told apart only there,
+            // so that planes, corners, notches and bends decode as before.
+            e if e & TILE_RIDGE == TILE_RIDGE => {
+                if e & TILE_KIND_NIBBLE == TILE_ARC {
+                    TileEntry::Arc(e & TILE_CORNER_RECORD_MASK)
+                } else {
+                    TileEntry::Ridge(e & TILE_RECORD_MASK)
+                }
+            }
             e => TileEntry::Plane(e & TILE_RECORD_MASK),
         }
     }
@@ -156,7 +177,7 @@ impl TileEntry {
     pub fn records(self) -> u32 {
         match self {
             TileEntry::Plane(_) | TileEntry::Ridge(_) => 1,
-            TileEntry::Corner(_) | TileEntry::Notch(_) | TileEntry::Bend(_) => 2,
+            TileEntry::Corner(_) | TileEntry::Notch(_) | TileEntry::Bend(_) | TileEntry::Arc(_) => 2,
             TileEntry::Outside | TileEntry::Inside | TileEntry::Stored(_) => 0,
         }
     }
@@ -178,6 +199,10 @@ impl TileEntry {
             TileEntry::Bend(p) => {
                 let (a, b) = (rec(p)?, rec(p.checked_add(1)?)?);
                 Some(bend_code([a, b], u, w))
+            }
+            TileEntry::Arc(p) => {
+                let (a, b) = (rec(p)?, rec(p.checked_add(1)?)?);
+                Some(arc_code([a, b], u, w))
             }
             TileEntry::Outside | TileEntry::Inside | TileEntry::Stored(_) => None,
         }
@@ -261,7 +286,8 @@ impl DistanceLayer {
             | TileEntry::Ridge(_)
             | TileEntry::Corner(_)
             | TileEntry::Notch(_)
-            | TileEntry::Bend(_)) => {
+            | TileEntry::Bend(_)
+            | TileEntry::Arc(_)) => {
                 let (u, w) = (fx as f64 - (tx * TILE_CELLS) as f64, fy as f64 - (ty * TILE_CELLS) as f64);
                 let code = analytic.code(&self.planes, u, w)?;
                 Some(((code - DISTANCE_ZERO as f64) * self.step_mm as f64) as f32)
@@ -580,6 +606,14 @@ impl<'a> DistanceView<'a> {
                         check_bend([a, b]).map_err(|expected| bad("plane record", expected))?;
                         next_plane += 2;
                     }
+                    TileEntry::Arc(p) if p == next_plane => {
+                        let (a, b) = (view.plane(p), view.plane(p + 1));
+                        let (Some(a), Some(b)) = (a, b) else {
+                            return Err(bad("tile index", "two plane records for every arc tile"));
+                        };
+                        check_arc([a, b]).map_err(|expected| bad("plane record", expected))?;
+                        next_plane += 2;
+                    }
                     _ => {
                         return Err(bad(
                             "tile index",
@@ -628,6 +662,38 @@ pub fn bend_code(r: [&TilePlane; 2], u: f64, w: f64) -> f64 {
     };
     let d = ray(a.gy as f64, a.top as f64).min(ray(b.c as f64, b.gx as f64));
     b.top as f64 - b.gy as f64 * d
+}
+
+/// The code of an arc tile with records `r` at lattice coordinates
+/// `(u, w)`, in f64 ([`TILE_ARC`]; SPEC.md section 6.2's reference):
+/// `top − k · ||q − V| − R|`.
+pub fn arc_code(r: [&TilePlane; 2], u: f64, w: f64) -> f64 {
+    let [a, b] = r;
+    let rho = libm::hypot(u - a.c as f64, w - a.gx as f64);
+    b.c as f64 - a.top as f64 * (rho - a.gy as f64).abs()
+}
+
+/// Checks an arc tile's two records: finite values, the centre within
+/// [`MAX_PLANE_GRADIENT`] cells of the tile, the radius from 0 to
+/// [`MAX_ARC_RADIUS`] cells, `k` from 0 to [`MAX_PLANE_GRADIENT`] codes per
+/// cell, `top` at most [`MAX_PLANE_CODE`] and the second record's other
+/// three values 0 (SPEC.md section 6.2).
+fn check_arc(r: [TilePlane; 2]) -> Result<(), &'static str> {
+    let [a, b] = r;
+    let within = |v: f32, m: f32| v.is_finite() && v.abs() <= m;
+    if !(within(a.c, MAX_PLANE_GRADIENT) && within(a.gx, MAX_PLANE_GRADIENT)) {
+        return Err("an arc's centre finite and within 1024 cells");
+    }
+    if !(within(a.gy, MAX_ARC_RADIUS) && a.gy >= 0.0) {
+        return Err("an arc's radius from 0 to 2048 cells");
+    }
+    if !(within(a.top, MAX_PLANE_GRADIENT) && a.top >= 0.0 && within(b.c, MAX_PLANE_CODE)) {
+        return Err("an arc's k from 0 to 1024 and top of at most 65536 codes");
+    }
+    if !(b.gx == 0.0 && b.gy == 0.0 && b.top == 0.0) {
+        return Err("an arc's second record 0 after its top");
+    }
+    Ok(())
 }
 
 /// Largest distance of a direction's length from 1 in a bend record.

@@ -86,7 +86,7 @@ impl Bundle {
     /// The canonical encoding, as format version
     /// [`FORMAT_MAJOR`](crate::FORMAT_MAJOR).*m*, where *m* is the lowest
     /// minor version that has every chunk of the bundle (SPEC.md section 12):
-    /// 0 in format 4, which defines every chunk this crate writes.
+    /// 1 when a distance layer holds an arc tile (format 4.1), else 0.
     /// The result is checked with the reader before it is returned, so a
     /// bundle that the writer accepts always reads back.
     pub fn to_bytes(&self) -> Result<Vec<u8>, FormatError> {
@@ -95,7 +95,11 @@ impl Bundle {
 
     /// The lowest minor version that defines every chunk of the bundle.
     pub fn lowest_minor(&self) -> u16 {
-        0
+        let arcs = self.chunks.iter().any(|c| match c {
+            Chunk::Distance(d) => d.tiles.iter().any(|&e| matches!(crate::TileEntry::of(e), crate::TileEntry::Arc(_))),
+            _ => false,
+        });
+        u16::from(arcs)
     }
 
     /// The canonical encoding with minor version `minor` in the header: for

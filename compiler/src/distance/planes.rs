@@ -200,7 +200,7 @@ pub(super) fn record(c: f64, gx: f64, gy: f64, top: f64) -> Option<TilePlane> {
 }
 
 /// Normal equations of a linear least-squares fit in `N` unknowns.
-struct LeastSquares<const N: usize> {
+pub(super) struct LeastSquares<const N: usize> {
     a: [[f64; N]; N],
     b: [f64; N],
     n: usize,
@@ -213,7 +213,7 @@ impl<const N: usize> Default for LeastSquares<N> {
 }
 
 impl<const N: usize> LeastSquares<N> {
-    fn add(&mut self, x: [f64; N], y: f64) {
+    pub(super) fn add(&mut self, x: [f64; N], y: f64) {
         for i in 0..N {
             for j in 0..N {
                 self.a[i][j] += x[i] * x[j];
@@ -225,7 +225,7 @@ impl<const N: usize> LeastSquares<N> {
 
     /// The solution, by Gaussian elimination with partial pivoting; `None`
     /// when the samples do not determine it.
-    fn solve(&self) -> Option<[f64; N]> {
+    pub(super) fn solve(&self) -> Option<[f64; N]> {
         if self.n < N {
             return None;
         }

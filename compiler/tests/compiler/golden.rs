@@ -124,9 +124,15 @@ pub fn dump(b: &Bundle) -> String {
                 let corners = count(|e| matches!(e, taxel_format::TileEntry::Corner(_)));
                 let notches = count(|e| matches!(e, taxel_format::TileEntry::Notch(_)));
                 let bends = count(|e| matches!(e, taxel_format::TileEntry::Bend(_)));
+                // Arc tiles (format 4.1) are named only where there are some,
+                // so that the goldens of layers without circles keep their text.
+                let arcs = match count(|e| matches!(e, taxel_format::TileEntry::Arc(_))) {
+                    0 => String::new(),
+                    n => format!(", {n} arc"),
+                };
                 writeln!(
                     s,
-                    "{kind} amplitude {} soft {} sources {:?}: {} x {} tiles every {} mm from ({:.2}, {:.2}) mm, {stored} stored, {planes} plane, {ridges} ridge, {corners} corner, {notches} notch, {bends} bend, {inside} inside",
+                    "{kind} amplitude {} soft {} sources {:?}: {} x {} tiles every {} mm from ({:.2}, {:.2}) mm, {stored} stored, {planes} plane, {ridges} ridge, {corners} corner, {notches} notch, {bends} bend{arcs}, {inside} inside",
                     d.amplitude, d.soft_mm, d.sources, d.tile_cols, d.tile_rows, d.pitch_mm, d.origin_x.0, d.origin_y.0
                 )
                 .unwrap();

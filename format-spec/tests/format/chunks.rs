@@ -202,8 +202,8 @@ fn distance_layer_fields() {
     invalid(edit_chunk(tag, |d| put_u32(d, 68, 0xB000_0000)), tag, "tile index");
     invalid(edit_chunk(tag, |d| put_u32(d, 80, 0xC000_0002)), tag, "tile index");
     // An entry with only bit 30 set is no kind at all, nor are the top
-    // nibbles D, E and F.
-    for bad in [0x4000_0003u32, 0xD000_0004, 0xE000_0004, 0xF000_0004] {
+    // nibbles E and F (D is an arc since format 4.1, below).
+    for bad in [0x4000_0003u32, 0xE000_0004, 0xF000_0004] {
         invalid(edit_chunk(tag, |d| put_u32(d, 84, bad)), tag, "tile index");
     }
     // One plane record fewer than the index names (the record's bytes
@@ -244,6 +244,43 @@ fn distance_layer_fields() {
         let mut vals = good;
         vals[i] = bad;
         invalid(edit_chunk(tag, |d| bend(d, vals)), tag, "plane record");
+    }
+    // The corner at 84 made an arc (format 4.1; records 4 and 5, (Cx, Cy,
+    // R, k), (top, 0, 0, 0)): the corner's records are no arc's (a second
+    // record that is not 0 after its top), a valid arc's are read and
+    // raise the bundle's minor version to 1, and each field out of bounds
+    // is refused.
+    let arc = |d: &mut Vec<u8>, vals: [f32; 8]| {
+        put_u32(d, 84, 0xD000_0004);
+        for (i, v) in vals.into_iter().enumerate() {
+            put_f32(d, 152 + 4 * i, v);
+        }
+    };
+    invalid(edit_chunk(tag, |d| put_u32(d, 84, 0xD000_0004)), tag, "plane record");
+    let good = [4.0, -3.0, 10.5, 16.0, 150.0, 0.0, 0.0, 0.0];
+    let bytes = edit_chunk(tag, |d| arc(d, good));
+    let b = taxel_format::Bundle::from_bytes(&bytes).expect("a valid arc tile reads");
+    assert_eq!(b.lowest_minor(), 1);
+    let Some(taxel_format::Chunk::Distance(layer)) =
+        b.chunks.iter().find(|c| matches!(c, taxel_format::Chunk::Distance(_)))
+    else {
+        panic!("no distance layer");
+    };
+    // The arc tile (the fourth of the second row) plays `top` on its
+    // circle, and `top − k` one cell inside it.
+    let (h, tx, ty) = (layer.pitch_mm as f64, 3.0, 1.0);
+    let corner = (layer.origin_x.0 as f64 + 8.0 * tx * h, layer.origin_y.0 as f64 + 8.0 * ty * h);
+    let on = |u: f64, w: f64| layer.distance_at((corner.0 + u * h) as f32, (corner.1 + w * h) as f32);
+    let step = layer.step_mm as f64;
+    let code = |d: Option<f32>| d.map(|d| d as f64 / step + 128.0);
+    assert!(code(on(4.0, -3.0 + 10.5)).is_some_and(|c| (c - 150.0).abs() < 1e-2));
+    assert!(code(on(4.0, -3.0 + 9.5)).is_some_and(|c| (c - 134.0).abs() < 1e-2));
+    for (i, bad) in
+        [(0, f32::NAN), (1, 1025.0), (2, -1.0), (2, 2049.0), (3, -1.0), (3, 1025.0), (4, 70_000.0), (5, 1.0)]
+    {
+        let mut vals = good;
+        vals[i] = bad;
+        invalid(edit_chunk(tag, |d| arc(d, vals)), tag, "plane record");
     }
     // The record table's length follows the index.
     invalid(edit_chunk(tag, |d| d.extend_from_slice(&[0; 16])), tag, "planes");

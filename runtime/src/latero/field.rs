@@ -29,7 +29,9 @@
 //! `top − k · min(dist(q, ray 1), dist(q, ray 2))`, one square root per
 //! row for four lanes, written out of line on a tile change and played only
 //! in rows that have a bend lane (one more predictable branch inside the
-//! analytic one). A tile change first looks up each lane's window as if
+//! analytic one). An arc tile (format 4.1) plays a circle, `top − k · ||q −
+//! C| − R|`, the same way: its lanes ride with the bend lanes, written out
+//! of line on a tile change and played only in rows that have an arc lane. A tile change first looks up each lane's window as if
 //! every lane's tile stored samples or were constant, the common case
 //! (region interiors and exteriors are constant tiles), and only when a
 //! lane's tile is of another kind reads the lanes' records. Which of these
@@ -108,6 +110,16 @@ struct TileLanes<'a> {
 struct BendLanes {
     bend: [i32; LANES],
     v: [[f32; LANES]; 8],
+    /// The arc lanes (format 4.1): an arc lane plays `top − k · ||q − C| −
+    /// R|` ([`FieldLayer::arc`]); `c` holds per lane its column less its
+    /// centre's x, the centre's y, the radius, `k` and the top code.
+    arc: [i32; LANES],
+    c: [[f32; LANES]; 5],
+    /// Whether any lane of the current tiles is in an arc tile. Kept here,
+    /// not in [`TileLanes`], so that kernels without bend lanes are the
+    /// code they were before arcs; reset on every tile change that reads
+    /// records.
+    arced: bool,
 }
 
 impl Default for TileLanes<'_> {
@@ -170,8 +182,8 @@ pub(crate) struct FieldLayer<'a> {
 /// of the kernel, chosen at load: a layer whose tiles all store samples or
 /// are constant carries no analytic lanes at all and finds its lanes'
 /// windows with one lookup per tile; only a layer with bend tiles carries
-/// the bend lanes, so that other layers play the code they played before
-/// bends existed.
+/// the bend lanes (and the arc lanes, format 4.1, which ride with them), so
+/// that other layers play the code they played before bends existed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Tiles {
     /// Outside, inside and stored tiles only.
@@ -212,7 +224,7 @@ impl<'a> FieldLayer<'a> {
             tiles: m.tile_bytes().as_chunks::<4>().0.iter().fold(Tiles::Sampled, |t, e| {
                 match TileEntry::of(u32::from_le_bytes(*e)) {
                     TileEntry::Outside | TileEntry::Inside | TileEntry::Stored(_) => t,
-                    TileEntry::Bend(_) => Tiles::Bent,
+                    TileEntry::Bend(_) | TileEntry::Arc(_) => Tiles::Bent,
                     _ if t == Tiles::Bent => t,
                     _ => Tiles::Analytic,
                 }
@@ -252,6 +264,9 @@ impl<'a> FieldLayer<'a> {
         bl: &mut BendLanes,
     ) -> TileLanes<'a> {
         let mut t = TileLanes::default();
+        if BENDS {
+            bl.arced = false;
+        }
         let mut planar = [0i32; LANES];
         let (mut t0, mut tgy, mut a0, mut gy, mut sign) =
             ([0f32; LANES], [0f32; LANES], [0f32; LANES], [0f32; LANES], [0f32; LANES]);
@@ -292,6 +307,10 @@ impl<'a> FieldLayer<'a> {
                             // The first bend lane of these tiles clears the others'.
                             Self::bend_lane(r, u[k], k, !t.bent, bl);
                             t.bent = true;
+                        }
+                        TileEntry::Arc(_) if BENDS => {
+                            Self::arc_lane(r, u[k], k, !bl.arced, bl);
+                            bl.arced = true;
                         }
                         _ => (t0[k], tgy[k]) = (a, g),
                     }
@@ -338,6 +357,33 @@ impl<'a> FieldLayer<'a> {
         bl.bend[k] = -1;
     }
 
+    /// The arc lanes' codes at lattice y `wt` within the tile (format 4.1):
+    /// `top − k · ||q − C| − R|`, one square root per row for four lanes,
+    /// out of line as [`Self::bend`].
+    #[inline(never)]
+    fn arc(b: &BendLanes, wt: f32) -> f32x4 {
+        let [dx, cy, radius, k, top] = b.c.map(f32x4::new);
+        let dy = f32x4::splat(wt) - cy;
+        top - k * ((dx * dx + dy * dy).sqrt() - radius).abs()
+    }
+
+    /// Lane `k`'s arc values from its tile's two records `r` ((Cx, Cy, R,
+    /// k), (top, 0, 0, 0)), at lattice x `u` in the tile; the `first` arc
+    /// lane of a tile change clears the other lanes' flags.
+    #[cold]
+    #[inline(never)]
+    fn arc_lane(r: &[u8], u: f32, k: usize, first: bool, bl: &mut BendLanes) {
+        if first {
+            bl.arc = [0; LANES];
+        }
+        let f = |o: usize| r.get(o..o + 4).map_or(0.0, |b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+        for (i, v) in bl.c.iter_mut().enumerate() {
+            v[k] = f(4 * i);
+        }
+        bl.c[0][k] = u - bl.c[0][k];
+        bl.arc[k] = -1;
+    }
+
     /// What the tile at index entry `i` makes its lanes read.
     #[inline(always)]
     fn tile(&self, i: usize) -> Read<'a> {
@@ -356,7 +402,8 @@ impl<'a> FieldLayer<'a> {
             | TileEntry::Ridge(p)
             | TileEntry::Corner(p)
             | TileEntry::Notch(p)
-            | TileEntry::Bend(p)) => {
+            | TileEntry::Bend(p)
+            | TileEntry::Arc(p)) => {
                 let at = p as usize * PLANE_RECORD_LEN;
                 match self.planes.get(at..at + kind.records() as usize * PLANE_RECORD_LEN) {
                     Some(r) => Read::Plane(r, kind),
@@ -544,6 +591,9 @@ impl<'a> FieldLayer<'a> {
                         let mut code = (lanes.t0 + lanes.tgy * wt) - lanes.sign * (lanes.a0 + lanes.gy * wt).abs();
                         if BENDS && lanes.bent {
                             code = cast::<i32x4, f32x4>(i32x4::new(bends.bend)).select(Self::bend(&bends, wt), code);
+                        }
+                        if BENDS && bends.arced {
+                            code = cast::<i32x4, f32x4>(i32x4::new(bends.arc)).select(Self::arc(&bends, wt), code);
                         }
                         v = cast::<i32x4, f32x4>(lanes.planar).select(code * W as f32, v);
                     }

@@ -1,12 +1,12 @@
 //! Distance layers (`VDST`, `GDST`) against an f64 evaluation of SPEC.md
 //! section 6.2 and the seed-000 equations: random sparse fields (inside,
 //! outside and stored tiles with random codes, plane, ridge, corner,
-//! notch and bend tiles with random records), hard and soft edges, both primitives,
+//! notch, bend and arc tiles with random records), hard and soft edges, both primitives,
 //! anywhere on and off the lattice.
 
 use proptest::prelude::*;
 use taxel_format::{
-    Chunk, DistanceLayer, MaskKind, Mm, TILE_BEND, TILE_CORNER, TILE_NOTCH, TILE_PLANE, TILE_RIDGE, TilePlane,
+    Chunk, DistanceLayer, MaskKind, Mm, TILE_ARC, TILE_BEND, TILE_CORNER, TILE_NOTCH, TILE_PLANE, TILE_RIDGE, TilePlane,
 };
 
 use crate::support::*;
@@ -37,7 +37,7 @@ pub(crate) fn field(
             gy: (at(n + 3) - 128.0) / 2.0,
             top,
         };
-        match entries[k % entries.len()] % 8 {
+        match entries[k % entries.len()] % 9 {
             0 => tiles.push(0),
             1 => tiles.push(1),
             3 => {
@@ -63,6 +63,15 @@ pub(crate) fn field(
                 let (s2, c2) = if at(5) < 32.0 { (s1, c1) } else { turn(3) };
                 planes.push(TilePlane { c: at(0) / 16.0 - 4.0, gx: at(1) / 16.0 - 4.0, gy: c1, top: s1 });
                 planes.push(TilePlane { c: c2, gx: s2, gy: at(4) / 4.0, top: 128.0 + at(6) });
+            }
+            8 => {
+                // An arc (format 4.1): a centre within a few cells of the
+                // tile, a radius up to 16 cells (one in eight a cone, 0), k
+                // up to 64 codes per cell.
+                tiles.push(TILE_ARC | planes.len() as u32);
+                let radius = if at(5) < 32.0 { 0.0 } else { at(1) / 16.0 };
+                planes.push(TilePlane { c: at(0) / 16.0 - 4.0, gx: at(2) / 16.0 - 4.0, gy: radius, top: at(4) / 4.0 });
+                planes.push(TilePlane { c: 64.0 + at(6), gx: 0.0, gy: 0.0, top: 0.0 });
             }
             _ => {
                 tiles.push(next);

@@ -219,6 +219,14 @@ pub fn field_code(d: &DistanceLayer, x: f64, y: f64) -> Option<f64> {
             };
             return Some(b.top as f64 - b.gy as f64 * ray(a.gy, a.top).min(ray(b.c, b.gx)));
         }
+        if e >> 28 == 0xD {
+            // An arc (0xD000_0000 | p, format 4.1): records p = (Cx, Cy, R,
+            // k) and p + 1 = (top, 0, 0, 0); top − k · ||q − C| − R|.
+            let p = (e & 0x0FFF_FFFF) as usize;
+            let (a, b) = (d.planes[p], d.planes[p + 1]);
+            let rho = (tu - a.c as f64).hypot(tw - a.gx as f64);
+            return Some(b.c as f64 - a.top as f64 * (rho - a.gy as f64).abs());
+        }
         return Some(match e >> 28 {
             0xA => affine((e & 0x0FFF_FFFF) as usize).min(affine((e & 0x0FFF_FFFF) as usize + 1)),
             0xB => affine((e & 0x0FFF_FFFF) as usize).max(affine((e & 0x0FFF_FFFF) as usize + 1)),
