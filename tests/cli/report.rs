@@ -52,8 +52,14 @@ fn default_resolution_is_on_the_efficient_front() {
         // Convergence: the finest lattice (0.25 mm) is more accurate (RMS) than the coarsest (2 mm).
         // (Hard edges: the RMS is made at the few actuators near corners and
         // curves, and falls more slowly than the pitch; docs/layers.md.)
+        // Since format 4.1 a circle plays as an arc (or cone) tile at every
+        // rung, so where every rung is already within 1.5 steps (the
+        // vibrating ring here) what is left is not the lattice but the SVG
+        // circle's four Béziers, up to about 1 µm off the fitted circle,
+        // which a finer rung's narrower hard ramp weighs a little more
+        // (docs/report.md): there the finest rung must stay within 1.5 steps.
         let by = |s: f64| mine.iter().find(|r| f(r, "setting") == s).map(|r| f(r, "rms_error")).expect("setting");
-        assert!(by(0.25) < by(2.0), "{k}: {} vs {}", by(0.25), by(2.0));
+        assert!(by(0.25) < by(2.0) || by(0.25).max(by(2.0)) <= 1.5, "{k}: {} vs {}", by(0.25), by(2.0));
         // Away from exact edges (more than 0.05 mm) the default is within one
         // output step, for the vibration and grating kernels.
         if k != "all" {
@@ -73,12 +79,16 @@ fn default_resolution_is_on_the_efficient_front() {
 /// Sample spacing of the edge position error (src/report/edge.rs), mm.
 const EDGE_SAMPLE_MM: f64 = 0.005;
 
+/// Largest spacing of consecutive contour samples in the edge measure, mm.
+const CONTOUR_SPACING_MM: f64 = 0.007;
+
 /// The edge position error (away from corners and at corners) is at most
 /// `h √2` plus the measure's own sampling, `h` the rung's coarsest lattice
 /// pitch: the compiler's property tests bound the field's distance error by
 /// `h √2` (docs/layers.md), and a field within `ε` of the exact signed
 /// distance has its zero set within `ε` of the outline, both ways. It
-/// shrinks from the coarsest rung to the finest.
+/// shrinks from the coarsest rung to the finest, unless both are within the
+/// measure's sampling.
 fn edge_error_converges_within_the_lattice_bound(kernel: &str, rows: &[&Value]) {
     let parts = ["edge_error_mm", "corner_edge_error_mm"];
     for r in rows {
@@ -92,7 +102,11 @@ fn edge_error_converges_within_the_lattice_bound(kernel: &str, rows: &[&Value]) 
     let at = |s: f64| rows.iter().find(|r| f(r, "setting") == s).expect("setting");
     let total = |r: &Value| parts.iter().filter_map(|p| r[*p].as_f64()).fold(0.0, f64::max);
     assert!(at(0.25)["edge_error_mm"].is_number() || at(0.25)["corner_edge_error_mm"].is_number(), "{kernel}");
-    assert!(total(at(0.25)) < total(at(2.0)), "{kernel}: {} vs {}", total(at(0.25)), total(at(2.0)));
+    // Within the spacing of the contour's samples (at most 0.007 mm apart,
+    // docs/report.md) two errors cannot be told apart: a circle played as an
+    // arc tile at every rung is there already.
+    let (fine, coarse) = (total(at(0.25)), total(at(2.0)));
+    assert!(fine < coarse || fine.max(coarse) <= CONTOUR_SPACING_MM, "{kernel}: {fine} vs {coarse}");
 }
 
 /// Two squares that share a side, drawn with one vibrating outline style:
