@@ -75,7 +75,8 @@ fn unpack_shows_the_footprints_and_pack_gives_the_same_bytes() {
     assert!(o.status.success(), "{}", stderr(&o));
     let manifest = std::fs::read_to_string(dir.join("manifest.toml")).unwrap();
     assert!(
-        manifest.contains(&format!("format = \"{}.0\"", taxel_format::FORMAT_MAJOR))
+        // The bundle's own minor version (4.1 where a lake is an arc tile).
+        manifest.contains(&format!("format = \"{}.", taxel_format::FORMAT_MAJOR))
             && manifest.contains("kind = \"footprints\""),
         "{manifest}"
     );
