@@ -215,6 +215,19 @@ fn bend_contour(
     let span = TILE_CELLS as f64;
     let f = |u: f64, w: f64| bend.code(planes, u, w).map_or(f64::NAN, |c| c - zero);
     let steps = 10 * lines;
+    // The code changes by at most `slope` codes per lattice cell (a bend's
+    // and an arc's `k`: `k` times a distance), so a point `|v| / slope`
+    // cells from one of value `v` has its sign: the walk skips the steps
+    // that close to it, which cannot hold a change of sign (the same points
+    // as a step-by-step walk; half the bound, for the f32 codes' rounding).
+    let slope = match bend {
+        TileEntry::Bend(p) => planes.get(p as usize + 1).map(|r| r.gy),
+        TileEntry::Arc(p) => planes.get(p as usize).map(|r| r.top),
+        _ => None,
+    }
+    .map(|k| f64::from(k).abs())
+    .filter(|k| k.is_finite() && *k > 0.0);
+    let step = span / steps as f64;
     for k in 0..=lines {
         let t = k as f64 / lines as f64 * span;
         // The vertical line u = t, then the horizontal line w = t.
@@ -225,7 +238,20 @@ fn bend_contour(
                 f(u, w)
             };
             let mut prev = (0.0, g(0.0));
-            for i in 1..=steps {
+            let mut i = 0;
+            while i < steps {
+                let skip = match slope {
+                    Some(k) if prev.1.is_finite() => (0.5 * prev.1.abs() / k / step).floor().min(steps as f64) as usize,
+                    _ => 0,
+                };
+                if skip > 1 {
+                    // Steps `i + 1 ..= i + skip - 1` keep the sign: the last
+                    // of them is where the step-by-step walk would stand.
+                    i = (i + skip - 1).min(steps - 1);
+                    let s = i as f64 / steps as f64 * span;
+                    prev = (s, g(s));
+                }
+                i += 1;
                 let s = i as f64 / steps as f64 * span;
                 let v = g(s);
                 if (prev.1 > 0.0) != (v > 0.0) && prev.1.is_finite() && v.is_finite() {
