@@ -444,15 +444,7 @@ impl Near {
         ((x, y), t, p): ((isize, isize), usize, (f64, f64)),
         mask: u64,
     ) {
-        let mut active = 0u64;
-        let mut bits = mask;
-        while bits != 0 {
-            let slot = bits.trailing_zeros() as usize;
-            bits &= bits - 1;
-            if self.live.get(slot * TILE_SAMPLES + t).copied().unwrap_or(false) {
-                active |= 1 << slot;
-            }
-        }
+        let mut active = self.live_slots(mask, t);
         if active == 0 {
             return;
         }
@@ -500,12 +492,8 @@ impl Near {
         }
     }
 
-    /// The nearest entries of `grid` to sample `t` (grid point `(x, y)`,
-    /// page point `p`) in the slots of `mask` live there, searching rings
-    /// of cells outward until every such slot has found a segment nearer
-    /// than the next ring can hold, or the next ring lies beyond the slot's
-    /// reach.
-    fn nearest(&mut self, s: &Search<'_>, grid: &Grid, (x, y, t, p): (isize, isize, usize, (f64, f64)), mask: u64) {
+    /// The slots of `mask` still live at sample `t`.
+    fn live_slots(&self, mask: u64, t: usize) -> u64 {
         let mut active = 0u64;
         let mut bits = mask;
         while bits != 0 {
@@ -515,6 +503,16 @@ impl Near {
                 active |= 1 << slot;
             }
         }
+        active
+    }
+
+    /// The nearest entries of `grid` to sample `t` (grid point `(x, y)`,
+    /// page point `p`) in the slots of `mask` live there, searching rings
+    /// of cells outward until every such slot has found a segment nearer
+    /// than the next ring can hold, or the next ring lies beyond the slot's
+    /// reach.
+    fn nearest(&mut self, s: &Search<'_>, grid: &Grid, (x, y, t, p): (isize, isize, usize, (f64, f64)), mask: u64) {
+        let mut active = self.live_slots(mask, t);
         if active == 0 {
             return;
         }
