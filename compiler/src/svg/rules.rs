@@ -273,16 +273,12 @@ fn below(value: f64, limit: f64) -> String {
 fn pairs(f: &[Feature], textures: &Textures, diags: &mut Vec<Diagnostic>) -> Vec<(usize, usize)> {
     let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
     let index = spatial::BoxIndex::new(&boxes);
-    let (gaps, meets) = nearest_gaps(f, &index, |i, j, out| out.push((i, j)));
+    let (gaps, meets) = nearest_gaps(f, &index, textures, |i, j, out| out.push((i, j)));
     confusable_gratings(f, diags);
-    let texture = |k: usize| textures.get(&k).map(|t| t.0);
     // Each element's nearest gap over its styles, at its first feature.
     let mut nearest: std::collections::HashMap<usize, (usize, usize, f64)> = Default::default();
     for (j, near) in gaps.into_iter().enumerate() {
         let Some((i, g)) = near else { continue };
-        if texture(i).is_some() && texture(i) == texture(j) {
-            continue;
-        }
         let e = nearest.entry(f[j].elem).or_insert((j, i, g));
         if g < e.2 {
             *e = (e.0, i, g);
@@ -416,6 +412,7 @@ fn confusable_gratings(f: &[Feature], diags: &mut Vec<Diagnostic>) {
 fn nearest_gaps<D: Send>(
     f: &[Feature],
     index: &spatial::BoxIndex,
+    textures: &Textures,
     on_meet: impl Fn(usize, usize, &mut Vec<D>) + Sync,
 ) -> (Vec<Option<(usize, f64)>>, Vec<D>) {
     let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
@@ -442,7 +439,7 @@ fn nearest_gaps<D: Send>(
         index,
         outlines: spatial::OutlineSet::in_order(&outlines, order.iter().copied()),
         shared: spatial::SharedVertices::new(&outlines),
-        probes: f.iter().map(Probe::of).collect(),
+        probes: f.iter().enumerate().map(|(k, x)| Probe::of(x, textures.get(&k).map(|t| t.0))).collect(),
     };
     let masks: Vec<Option<usize>> = f.iter().map(|x| x.mask).collect();
     // Gaps are above 0, and the bits of positive floats order as the floats do.
@@ -468,7 +465,7 @@ fn nearest_gaps<D: Send>(
                             if rank[j] > rank[i] {
                                 met.push(j);
                             }
-                        } else if search.probes[j].elem != search.probes[i].elem {
+                        } else if search.probes[j].distinct(&search.probes[i]) {
                             let d = spatial::box_distance(bj, a);
                             if d < covered {
                                 found.near.push((d, j));
@@ -482,7 +479,7 @@ fn nearest_gaps<D: Send>(
                             on_meet(p, q, out);
                             found.meets.extend(out.drain(..).map(|d| (p, q, d)));
                         }
-                        if search.probes[p].elem != search.probes[q].elem {
+                        if search.probes[p].distinct(&search.probes[q]) {
                             let reach = bound(p).max(bound(q));
                             let g = search.measure(p, q, reach);
                             if g > 0.0 && g <= reach {
@@ -594,6 +591,9 @@ struct GapSearch<'a> {
 #[derive(Debug, Clone, Copy)]
 struct Probe {
     elem: usize,
+    /// The first feature of the texture this grating is part of
+    /// ([`one_texture`]), or `usize::MAX`.
+    texture: usize,
     half_band: f64,
     /// No dots: the gap is between outlines (after a grating's inside).
     dotless: bool,
@@ -602,10 +602,17 @@ struct Probe {
 }
 
 impl Probe {
-    fn of(f: &Feature) -> Self {
+    fn of(f: &Feature, texture: Option<usize>) -> Self {
         let dotless = f.dots.is_empty();
         let plain = dotless && !matches!(f.kind, FeatureKind::Grating { .. });
-        Probe { elem: f.elem, half_band: f.half_band, dotless, plain }
+        Probe { elem: f.elem, texture: texture.unwrap_or(usize::MAX), half_band: f.half_band, dotless, plain }
+    }
+
+    /// Whether a gap between these two is one to feel: they are distinct
+    /// elements, and not two parts of one texture (what lies between those
+    /// is the same texture, so a nearer one must not hide a farther real gap).
+    fn distinct(&self, other: &Probe) -> bool {
+        self.elem != other.elem && (self.texture == usize::MAX || self.texture != other.texture)
     }
 }
 
@@ -661,7 +668,7 @@ impl GapSearch<'_> {
             cands.extend(
                 self.index
                     .meeting_boxes(spatial::grow(a, ring.min(limit(*best))))
-                    .filter(|&(j, bj)| self.probes[j].elem != self.probes[i].elem && !spatial::meet(a, bj))
+                    .filter(|&(j, bj)| self.probes[j].distinct(&self.probes[i]) && !spatial::meet(a, bj))
                     .map(|(j, bj)| (spatial::box_distance(bj, a), j))
                     .filter(|&(d, _)| d >= inner && d < ring),
             );
@@ -989,24 +996,41 @@ mod tests {
 
     #[test]
     fn nearest_gaps_are_those_of_an_all_pairs_scan() {
-        for seed in [1, 2, 3] {
-            let f = random_features(seed, 300);
+        // Without textures, then with every grating one style, so that those
+        // that touch are one texture and a nearer part of one's own texture
+        // must not hide a farther gap to something else.
+        for (seed, one_style) in [(1, false), (2, false), (3, false), (1, true), (2, true), (3, true)] {
+            let mut f = random_features(seed, 300);
+            if one_style {
+                for x in f.iter_mut().filter(|x| matches!(x.kind, FeatureKind::Grating { .. })) {
+                    x.mask = Some(0);
+                }
+            }
+            let textures = one_texture(&f);
+            let texture = |k: usize| textures.get(&k).map(|t| t.0);
+            let one = |i: usize, j: usize| texture(i).is_some() && texture(i) == texture(j);
             let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
-            let got = nearest_gaps(&f, &spatial::BoxIndex::new(&boxes), |_, _, _: &mut Vec<()>| {}).0;
-            let mut reported = 0;
+            let got = nearest_gaps(&f, &spatial::BoxIndex::new(&boxes), &textures, |_, _, _: &mut Vec<()>| {}).0;
+            let (mut reported, mut hidden) = (0, 0);
             for (j, b) in f.iter().enumerate() {
                 // Every other feature, its exact gap with no reach to cut it short.
-                let want = (0..f.len())
-                    .filter(|&i| f[i].elem != b.elem)
-                    .map(|i| reference_gap(&f[i], b))
-                    .filter(|&g| g > 0.0 && g < MIN_GAP_MM)
-                    .fold(None, |m: Option<f64>, g| Some(m.map_or(g, |m| m.min(g))));
+                let nearest = |keep: &dyn Fn(usize) -> bool| {
+                    (0..f.len())
+                        .filter(|&i| f[i].elem != b.elem && keep(i))
+                        .map(|i| (reference_gap(&f[i], b), i))
+                        .filter(|&(g, _)| g > 0.0 && g < MIN_GAP_MM)
+                        .min_by(|p, q| p.0.total_cmp(&q.0))
+                };
+                let want = nearest(&|i| !one(i, j)).map(|(g, _)| g);
+                if nearest(&|_| true).is_some_and(|(_, i)| one(i, j)) {
+                    hidden += 1;
+                }
                 match (got[j], want) {
                     (None, None) => {}
                     (Some((i, g)), Some(w)) => {
                         reported += 1;
                         assert!((g - w).abs() < 1e-12, "seed {seed}, f{j}: nearest gap {g}, all pairs {w}");
-                        assert!(f[i].elem != b.elem);
+                        assert!(f[i].elem != b.elem && !one(i, j));
                         assert!(
                             (reference_gap(&f[i], b) - g).abs() < 1e-12,
                             "seed {seed}, f{j}: #f{i} is not {g} away"
@@ -1015,8 +1039,10 @@ mod tests {
                     (g, w) => panic!("seed {seed}, f{j}: nearest {g:?}, all pairs {w:?}"),
                 }
             }
-            // The drawing is dense enough that the rule has something to find.
+            // The drawing is dense enough that the rule has something to find,
+            // and, with one style, that textures hide nearer gaps.
             assert!(reported > 30, "seed {seed}: only {reported} features have a near neighbour");
+            assert_eq!(hidden > 0, one_style, "seed {seed}: {hidden} nearest gaps within a texture");
         }
     }
 
@@ -1028,7 +1054,9 @@ mod tests {
         // Every pair whose boxes meet, as the overlap checks see them.
         let run = |threads: usize| {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-            pool.install(|| nearest_gaps(&f, &index, |i, j, out: &mut Vec<(usize, usize)>| out.push((i, j))))
+            pool.install(|| {
+                nearest_gaps(&f, &index, &Textures::default(), |i, j, out: &mut Vec<(usize, usize)>| out.push((i, j)))
+            })
         };
         let (gaps, meets) = run(1);
         assert!(gaps.iter().filter(|g| g.is_some()).count() > 50);
@@ -1079,7 +1107,7 @@ mod tests {
             x
         }];
         let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
-        let got = nearest_gaps(&f, &spatial::BoxIndex::new(&boxes), |_, _, _: &mut Vec<()>| {}).0;
+        let got = nearest_gaps(&f, &spatial::BoxIndex::new(&boxes), &Textures::default(), |_, _, _: &mut Vec<()>| {}).0;
         assert_eq!(got[1], Some((0, 1.0)));
         assert_eq!(got[0], Some((1, 1.0)));
         assert_eq!(got[2], Some((1, 1.0)));
@@ -1088,6 +1116,9 @@ mod tests {
         // With 0 and 2 gone, 1's nearest is 3, through boxes that meet.
         let f = vec![f[1].clone(), f[3].clone()];
         let boxes: Vec<_> = f.iter().map(|x| x.bbox).collect();
-        assert_eq!(nearest_gaps(&f, &spatial::BoxIndex::new(&boxes), |_, _, _: &mut Vec<()>| {}).0[0], Some((1, 1.5)));
+        assert_eq!(
+            nearest_gaps(&f, &spatial::BoxIndex::new(&boxes), &Textures::default(), |_, _, _: &mut Vec<()>| {}).0[0],
+            Some((1, 1.5))
+        );
     }
 }
