@@ -80,7 +80,8 @@ struct TileLanes<'a> {
     windows: [&'a Window; LANES],
     /// Whether any lane is in a plane, ridge, corner or notch tile.
     analytic: bool,
-    /// The lanes in such tiles.
+    /// The lanes that play their code below rather than their samples:
+    /// when `analytic`, every lane but a stored tile's.
     planar: i32x4,
     /// Every such lane plays `T − sign · |A|`, with `T` and `A` affine
     /// along y: `T = t0 + tgy w`, `A = a0 + gy w`. A plane lane has its
@@ -98,6 +99,10 @@ struct TileLanes<'a> {
     /// Whether any lane is in a bend tile (format 4.0): its other values
     /// are in a [`BendLanes`], written only then.
     bent: bool,
+    /// Whether any lane reads a stored tile's samples. When lanes are
+    /// analytic, all the others play their code ([`Self::planar`]), and
+    /// rows with no stored tile read no samples.
+    sampled: bool,
 }
 
 /// The bend lanes (format 4.0) of a [`TileLanes`]: a bend lane plays `top −
@@ -134,17 +139,47 @@ impl Default for TileLanes<'_> {
             gy: f32x4::ZERO,
             sign: f32x4::ZERO,
             bent: false,
+            sampled: false,
         }
     }
 }
 
-/// What a tile index entry makes a lane read.
+/// One plane record's bytes: `c`, `gx`, `gy`, `top` (little-endian `f32`).
+type Record = [u8; PLANE_RECORD_LEN];
+/// The record a lane with no record of its own reads: zero everywhere.
+static ZERO_RECORD: Record = [0; PLANE_RECORD_LEN];
+
+/// What a tile index entry makes a lane read, decoded once for the lanes
+/// that share the tile ([`FieldLayer::lane`]).
 #[derive(Debug, Clone, Copy)]
-enum Read<'a> {
+enum Lane<'a> {
+    /// A stored tile's samples.
     Samples(&'a Tile),
-    /// A plane, ridge, corner or notch tile's record bytes (two records
-    /// for a corner or notch), and its kind.
-    Plane(&'a [u8], TileEntry),
+    /// A constant tile (or one whose records are missing, which validation
+    /// rules out: outside): its samples, and the same code as a plane's
+    /// record.
+    Constant(&'a Tile, &'a Record),
+    /// A plane, ridge, corner or notch tile: its two records (a plane's or
+    /// a ridge's twice), whether it is a ridge, and its sign: every such
+    /// lane plays `T − sign · |A|` ([`TileLanes`]).
+    Affine([&'a Record; 2], bool, f32),
+    /// A bend or arc tile: its kind and its two records, played out of line.
+    Curved(TileEntry, [&'a Record; 2]),
+}
+
+/// The constant tiles' codes as plane records (`c` only): a lane in a
+/// constant tile among analytic lanes plays its code as a plane, so that
+/// rows with no stored tile read no samples.
+static OUTSIDE_RECORD: Record = ZERO_RECORD;
+static INSIDE_RECORD: Record = {
+    let c = 255f32.to_le_bytes();
+    [c[0], c[1], c[2], c[3], 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]
+};
+
+/// A record's four values as one vector (one load on little-endian targets).
+#[inline(always)]
+fn record(r: &Record) -> f32x4 {
+    f32x4::new(core::array::from_fn(|i| f32::from_le_bytes([r[4 * i], r[4 * i + 1], r[4 * i + 2], r[4 * i + 3]])))
 }
 
 /// A distance layer prepared for playback.
@@ -155,8 +190,8 @@ pub(crate) struct FieldLayer<'a> {
     entries: &'a [[u8; 4]],
     /// The stored tiles' samples, row by row.
     stored: &'a [Tile],
-    /// The plane and ridge records (format 3.0), four little-endian `f32` each.
-    planes: &'a [u8],
+    /// The plane records (format 3.0 on), four little-endian `f32` each.
+    planes: &'a [Record],
     tile_cols: u32,
     /// Largest lattice cell index along x and y, converted to `f32` here
     /// rather than per frame: the kernel clamps with them in `f32`.
@@ -205,7 +240,7 @@ impl<'a> FieldLayer<'a> {
             primitive,
             entries: m.tile_bytes().as_chunks::<4>().0,
             stored: m.sample_bytes().as_chunks::<TILE_SAMPLES>().0,
-            planes: m.plane_bytes(),
+            planes: m.plane_bytes().as_chunks::<PLANE_RECORD_LEN>().0,
             tile_cols: m.tile_cols,
             cmax: (m.tile_cols as usize * TILE_CELLS - 1) as i32 as f32,
             rmax: (m.tile_rows as usize * TILE_CELLS - 1) as i32 as f32,
@@ -251,78 +286,100 @@ impl<'a> FieldLayer<'a> {
     /// of its samples that starts at the lane's column; a constant tile's
     /// lanes read a tile of that constant code (0 outside, 255 inside),
     /// whose interpolation is the constant exactly (the weights sum to
-    /// `W`), so they need no per-lane select; a plane or ridge tile's lanes
-    /// take its affine code at their column, `c + gx u`, and its gradient
-    /// along y. (An index entry past the stored tiles or records, which
-    /// validation rules out, reads as outside.)
+    /// `W`), and play it as a plane of that code too (the same code, so
+    /// that rows whose lanes read no stored tile read no samples); a plane,
+    /// ridge, corner or notch tile's lanes take their records' affine codes
+    /// at their column, `c + gx u`, and gradients along y. Each tile is
+    /// decoded once for the lanes that share it ([`Self::lane`]); the
+    /// records are read as one vector each and the lanes' values computed
+    /// four at a time. (An index entry past the stored tiles or records,
+    /// which validation rules out, reads as outside.)
     #[inline(always)]
     fn tile_lanes<const BENDS: bool>(
         &self,
         tile_row: usize,
         ci: [u32; LANES],
-        u: [f32; LANES],
+        u: f32x4,
         bl: &mut BendLanes,
     ) -> TileLanes<'a> {
         let mut t = TileLanes::default();
         if BENDS {
             bl.arced = false;
         }
-        let mut planar = [0i32; LANES];
-        let (mut t0, mut tgy, mut a0, mut gy, mut sign) =
-            ([0f32; LANES], [0f32; LANES], [0f32; LANES], [0f32; LANES], [0f32; LANES]);
+        let (mut first, mut second) = ([&ZERO_RECORD; LANES], [&ZERO_RECORD; LANES]);
+        let (mut planar, mut ridge, mut sign) = ([-1i32; LANES], [0i32; LANES], [0f32; LANES]);
         // The lanes' columns grow from lane to lane, so neighbours often
-        // share a tile: each tile is looked up once.
-        let mut read = self.tile(tile_row + (ci[0] >> SHIFT) as usize);
+        // share a tile: each tile is decoded once.
         let mut prev = ci[0] >> SHIFT;
+        let mut lane = self.lane(tile_row + prev as usize);
         for k in 0..LANES {
             let c = ci[k];
             if c >> SHIFT != prev {
                 prev = c >> SHIFT;
-                read = self.tile(tile_row + prev as usize);
+                lane = self.lane(tile_row + prev as usize);
             }
-            match read {
-                Read::Samples(tile) => {
-                    let col = (c & (TILE_CELLS as u32 - 1)) as usize;
-                    // A column below TILE_CELLS leaves a whole window: never `None`.
-                    t.windows[k] =
-                        tile.get(col..col + WINDOW).and_then(|w| w.try_into().ok()).unwrap_or(&OUTSIDE_WINDOW);
+            let col = (c & (TILE_CELLS as u32 - 1)) as usize;
+            // A column below TILE_CELLS leaves a whole window: never `None`.
+            let window = |tile: &'a Tile| -> &'a Window {
+                tile.get(col..col + WINDOW).and_then(|w| w.try_into().ok()).unwrap_or(&OUTSIDE_WINDOW)
+            };
+            match lane {
+                Lane::Samples(tile) => {
+                    t.windows[k] = window(tile);
+                    planar[k] = 0;
                 }
-                Read::Plane(r, kind) => {
-                    let f = |o: usize| r.get(o..o + 4).map_or(0.0, |b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]));
-                    // A record's affine code at the lane's column, and its gradient along y.
-                    let affine = |o: usize| (f(o) + f(o + 4) * u[k], f(o + 8));
-                    let (a, g) = affine(0);
-                    match kind {
-                        TileEntry::Ridge(_) => {
-                            (t0[k], a0[k], gy[k], sign[k]) = (f(12), a, g, 1.0);
-                        }
-                        TileEntry::Corner(_) | TileEntry::Notch(_) => {
-                            let (a2, g2) = affine(PLANE_RECORD_LEN);
-                            (t0[k], tgy[k]) = ((a + a2) * 0.5, (g + g2) * 0.5);
-                            (a0[k], gy[k]) = ((a - a2) * 0.5, (g - g2) * 0.5);
-                            sign[k] = if matches!(kind, TileEntry::Notch(_)) { -1.0 } else { 1.0 };
-                        }
-                        // (A layer without bend tiles never reads one: `bends`.)
-                        TileEntry::Bend(_) if BENDS => {
-                            // The first bend lane of these tiles clears the others'.
-                            Self::bend_lane(r, u[k], k, !t.bent, bl);
-                            t.bent = true;
-                        }
-                        TileEntry::Arc(_) if BENDS => {
-                            Self::arc_lane(r, u[k], k, !bl.arced, bl);
-                            bl.arced = true;
-                        }
-                        _ => (t0[k], tgy[k]) = (a, g),
+                Lane::Constant(tile, r) => {
+                    t.windows[k] = window(tile);
+                    [first[k], second[k]] = [r; 2];
+                }
+                Lane::Affine(r, is_ridge, s) => {
+                    [first[k], second[k]] = r;
+                    (ridge[k], sign[k]) = (-(is_ridge as i32), s);
+                    t.analytic = true;
+                }
+                // (A layer without bend tiles never reads one: `bends`.)
+                Lane::Curved(kind, r) => {
+                    if BENDS {
+                        Self::curved_lane(kind, r, u.to_array()[k], k, &mut t.bent, bl);
                     }
-                    planar[k] = -1;
                     t.analytic = true;
                 }
             }
         }
+        t.sampled = planar.contains(&0);
+        // Every lane but a stored tile's plays its code: `T − sign · |A|`.
+        // With `A1`, `A2` the records' affine codes (a plane's, a ridge's
+        // and a constant's twice), `T = (A1 + A2) / 2` and `A = (A1 − A2)
+        // / 2` (exactly `A1` and 0 for a plane); a ridge's `T` is its top
+        // and its `A` its affine code.
         t.planar = i32x4::new(planar);
-        (t.t0, t.tgy, t.a0, t.gy, t.sign) =
-            (f32x4::new(t0), f32x4::new(tgy), f32x4::new(a0), f32x4::new(gy), f32x4::new(sign));
+        let [c1, gx1, gy1, top1] = f32x4::transpose(first.map(record));
+        let [c2, gx2, gy2, _] = f32x4::transpose(second.map(record));
+        let (a1, a2) = (c1 + gx1 * u, c2 + gx2 * u);
+        let half = f32x4::splat(0.5);
+        let ridge = cast::<i32x4, f32x4>(i32x4::new(ridge));
+        t.t0 = ridge.select(top1, (a1 + a2) * half);
+        t.tgy = ridge.select(f32x4::ZERO, (gy1 + gy2) * half);
+        t.a0 = ridge.select(a1, (a1 - a2) * half);
+        t.gy = ridge.select(gy1, (gy1 - gy2) * half);
+        t.sign = f32x4::new(sign);
         t
+    }
+
+    /// Lane `k`'s values in a bend or arc tile (`kind`) from its records
+    /// `r`, at lattice x `u` in the tile; `bent` tells whether the tiles
+    /// have a bend lane yet.
+    #[cold]
+    #[inline(never)]
+    fn curved_lane(kind: TileEntry, r: [&Record; 2], u: f32, k: usize, bent: &mut bool, bl: &mut BendLanes) {
+        // The first bend (arc) lane of these tiles clears the others' flags.
+        if matches!(kind, TileEntry::Arc(_)) {
+            Self::arc_lane(r, u, k, !bl.arced, bl);
+            bl.arced = true;
+        } else {
+            Self::bend_lane(r, u, k, !*bent, bl);
+            *bent = true;
+        }
     }
 
     /// The bend lanes' codes at lattice y `wt` within the tile: one square
@@ -345,13 +402,13 @@ impl<'a> FieldLayer<'a> {
     /// `first` bend lane of a tile change clears the other lanes' flags.
     #[cold]
     #[inline(never)]
-    fn bend_lane(r: &[u8], u: f32, k: usize, first: bool, bl: &mut BendLanes) {
+    fn bend_lane(r: [&Record; 2], u: f32, k: usize, first: bool, bl: &mut BendLanes) {
         if first {
             bl.bend = [0; LANES];
         }
-        let f = |o: usize| r.get(o..o + 4).map_or(0.0, |b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+        let f = |i: usize| record(r[i / 4]).to_array()[i % 4];
         for (i, v) in bl.v.iter_mut().enumerate() {
-            v[k] = f(4 * i);
+            v[k] = f(i);
         }
         bl.v[0][k] = u - bl.v[0][k];
         bl.bend[k] = -1;
@@ -372,44 +429,48 @@ impl<'a> FieldLayer<'a> {
     /// lane of a tile change clears the other lanes' flags.
     #[cold]
     #[inline(never)]
-    fn arc_lane(r: &[u8], u: f32, k: usize, first: bool, bl: &mut BendLanes) {
+    fn arc_lane(r: [&Record; 2], u: f32, k: usize, first: bool, bl: &mut BendLanes) {
         if first {
             bl.arc = [0; LANES];
         }
-        let f = |o: usize| r.get(o..o + 4).map_or(0.0, |b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+        let f = |i: usize| record(r[i / 4]).to_array()[i % 4];
         for (i, v) in bl.c.iter_mut().enumerate() {
-            v[k] = f(4 * i);
+            v[k] = f(i);
         }
         bl.c[0][k] = u - bl.c[0][k];
         bl.arc[k] = -1;
     }
 
-    /// What the tile at index entry `i` makes its lanes read.
+    /// What the tile at index entry `i` makes its lanes read: one arm per
+    /// kind of [`TileEntry`] (a new kind adds its arm here, and its lanes'
+    /// values in [`Self::tile_lanes`]).
     #[inline(always)]
-    fn tile(&self, i: usize) -> Read<'a> {
+    fn lane(&self, i: usize) -> Lane<'a> {
         let e = self.entries.get(i).map_or(TILE_OUTSIDE, |b| u32::from_le_bytes(*b));
         // Stored tiles first, the common kind near edges: one bounds check
         // decodes them. Any other entry (below `TILE_FIRST_STORED`, or with
         // a kind's high bits) is no stored tile's number once shifted down.
         if let Some(tile) = self.stored.get(e.wrapping_sub(TILE_FIRST_STORED) as usize) {
-            return Read::Samples(tile);
+            return Lane::Samples(tile);
         }
+        let outside = Lane::Constant(&OUTSIDE, &OUTSIDE_RECORD);
+        // A tile's records `p` and `p + second` (its first twice for 0).
+        let records = |p: u32, second: usize| {
+            let p = p as usize;
+            Some([self.planes.get(p)?, self.planes.get(p + second)?])
+        };
+        let affine = |p: u32, second: usize, ridge: bool, sign: f32| {
+            records(p, second).map_or(outside, |r| Lane::Affine(r, ridge, sign))
+        };
         match TileEntry::of(e) {
-            TileEntry::Outside => Read::Samples(&OUTSIDE),
-            TileEntry::Inside => Read::Samples(&INSIDE),
-            TileEntry::Stored(k) => Read::Samples(self.stored.get(k as usize).unwrap_or(&OUTSIDE)),
-            kind @ (TileEntry::Plane(p)
-            | TileEntry::Ridge(p)
-            | TileEntry::Corner(p)
-            | TileEntry::Notch(p)
-            | TileEntry::Bend(p)
-            | TileEntry::Arc(p)) => {
-                let at = p as usize * PLANE_RECORD_LEN;
-                match self.planes.get(at..at + kind.records() as usize * PLANE_RECORD_LEN) {
-                    Some(r) => Read::Plane(r, kind),
-                    None => Read::Samples(&OUTSIDE),
-                }
-            }
+            TileEntry::Plane(p) => affine(p, 0, false, 0.0),
+            TileEntry::Corner(p) => affine(p, 1, false, 1.0),
+            TileEntry::Notch(p) => affine(p, 1, false, -1.0),
+            TileEntry::Ridge(p) => affine(p, 0, true, 1.0),
+            kind @ (TileEntry::Bend(p) | TileEntry::Arc(p)) => records(p, 1).map_or(outside, |r| Lane::Curved(kind, r)),
+            TileEntry::Inside => Lane::Constant(&INSIDE, &INSIDE_RECORD),
+            // Outside, or a stored tile past the stored ones.
+            TileEntry::Outside | TileEntry::Stored(_) => outside,
         }
     }
 
@@ -533,7 +594,7 @@ impl<'a> FieldLayer<'a> {
             let w: i16x8 = cast(((i32x4::splat(W) - wi) | (wi << 16)) & real);
             // Each lane's lattice x within its tile, for plane and ridge tiles.
             let tile_x = f32x4::from_i32x4((ci >> SHIFT as i32) << SHIFT as i32);
-            let u = cast::<f32x4, [f32; LANES]>((fx - tile_x).fast_min(f32x4::splat(TILE_CELLS as f32)));
+            let u = (fx - tile_x).fast_min(f32x4::splat(TILE_CELLS as f32));
             let ci = cast::<i32x4, [u32; LANES]>(ci);
             // Lanes past the run have weights 0, code 0, but a profile's
             // amplitude at code 0 need not be 0: their factor is.
@@ -580,11 +641,15 @@ impl<'a> FieldLayer<'a> {
                             }
                         }
                     }
-                    let (top, bot) = Self::pairs(&lanes.windows, (cj & (TILE_CELLS as u32 - 1)) as usize * TILE_SIDE);
-                    let t = f32x4::from_i32x4(top.dot(w));
-                    let b = f32x4::from_i32x4(bot.dot(w));
-                    let mut v = t + (b - t) * wy;
-                    if ANALYTIC && lanes.analytic {
+                    // The lanes' interpolated samples.
+                    let samples = |lanes: &TileLanes| {
+                        let (top, bot) =
+                            Self::pairs(&lanes.windows, (cj & (TILE_CELLS as u32 - 1)) as usize * TILE_SIDE);
+                        let t = f32x4::from_i32x4(top.dot(w));
+                        let b = f32x4::from_i32x4(bot.dot(w));
+                        t + (b - t) * wy
+                    };
+                    let v = if ANALYTIC && lanes.analytic {
                         // The analytic lanes' code at this row's
                         // lattice y within the tile, in units of `W`.
                         let wt = (fy[k] - (ty << SHIFT) as f32).min(TILE_CELLS as f32);
@@ -595,8 +660,15 @@ impl<'a> FieldLayer<'a> {
                         if BENDS && bends.arced {
                             code = cast::<i32x4, f32x4>(i32x4::new(bends.arc)).select(Self::arc(&bends, wt), code);
                         }
-                        v = cast::<i32x4, f32x4>(lanes.planar).select(code * W as f32, v);
-                    }
+                        // Only lanes in stored tiles read samples.
+                        if lanes.sampled {
+                            cast::<i32x4, f32x4>(lanes.planar).select(code * W as f32, samples(&lanes))
+                        } else {
+                            code * W as f32
+                        }
+                    } else {
+                        samples(&lanes)
+                    };
                     let a = (v * slope + offset).fast_max(f32x4::ZERO).fast_min(f32x4::ONE);
                     let v = if GRATING {
                         let phase = f32x4::splat((r - f.r0) as i32 as f32 * step_row) + group_phase;
