@@ -308,6 +308,9 @@ impl<'a> FieldLayer<'a> {
         }
         let (mut first, mut second) = ([&ZERO_RECORD; LANES], [&ZERO_RECORD; LANES]);
         let (mut planar, mut ridge, mut sign) = ([-1i32; LANES], [0i32; LANES], [0f32; LANES]);
+        // Whether any lane plays a record's code (a constant, plane, ridge,
+        // corner or notch lane).
+        let mut played = false;
         // The lanes' columns grow from lane to lane, so neighbours often
         // share a tile: each tile is decoded once.
         let mut prev = ci[0] >> SHIFT;
@@ -331,11 +334,12 @@ impl<'a> FieldLayer<'a> {
                 Lane::Constant(tile, r) => {
                     t.windows[k] = window(tile);
                     [first[k], second[k]] = [r; 2];
+                    played = true;
                 }
                 Lane::Affine(r, is_ridge, s) => {
                     [first[k], second[k]] = r;
                     (ridge[k], sign[k]) = (-(is_ridge as i32), s);
-                    t.analytic = true;
+                    (t.analytic, played) = (true, true);
                 }
                 // (A layer without bend tiles never reads one: `bends`.)
                 Lane::Curved(kind, r) => {
@@ -353,16 +357,20 @@ impl<'a> FieldLayer<'a> {
         // / 2` (exactly `A1` and 0 for a plane); a ridge's `T` is its top
         // and its `A` its affine code.
         t.planar = i32x4::new(planar);
-        let [c1, gx1, gy1, top1] = f32x4::transpose(first.map(record));
-        let [c2, gx2, gy2, _] = f32x4::transpose(second.map(record));
-        let (a1, a2) = (c1 + gx1 * u, c2 + gx2 * u);
-        let half = f32x4::splat(0.5);
-        let ridge = cast::<i32x4, f32x4>(i32x4::new(ridge));
-        t.t0 = ridge.select(top1, (a1 + a2) * half);
-        t.tgy = ridge.select(f32x4::ZERO, (gy1 + gy2) * half);
-        t.a0 = ridge.select(a1, (a1 - a2) * half);
-        t.gy = ridge.select(gy1, (gy1 - gy2) * half);
-        t.sign = f32x4::new(sign);
+        // (Bend and arc lanes alone need none of it: their code replaces it.
+        // Tested in layers with bend tiles only, where it pays.)
+        if played || !BENDS {
+            let [c1, gx1, gy1, top1] = f32x4::transpose(first.map(record));
+            let [c2, gx2, gy2, _] = f32x4::transpose(second.map(record));
+            let (a1, a2) = (c1 + gx1 * u, c2 + gx2 * u);
+            let half = f32x4::splat(0.5);
+            let ridge = cast::<i32x4, f32x4>(i32x4::new(ridge));
+            t.t0 = ridge.select(top1, (a1 + a2) * half);
+            t.tgy = ridge.select(f32x4::ZERO, (gy1 + gy2) * half);
+            t.a0 = ridge.select(a1, (a1 - a2) * half);
+            t.gy = ridge.select(gy1, (gy1 - gy2) * half);
+            t.sign = f32x4::new(sign);
+        }
         t
     }
 
