@@ -149,22 +149,39 @@ type Record = [u8; PLANE_RECORD_LEN];
 /// The record a lane with no record of its own reads: zero everywhere.
 static ZERO_RECORD: Record = [0; PLANE_RECORD_LEN];
 
-/// What a tile index entry makes a lane read, decoded once for the lanes
-/// that share the tile ([`FieldLayer::lane`]).
+/// What a tile index entry makes its lanes read, decoded once for the
+/// lanes that share the tile ([`FieldLayer::lane`]): the same three fields
+/// for every kind, which a lane copies with no branch.
 #[derive(Debug, Clone, Copy)]
-enum Lane<'a> {
-    /// A stored tile's samples.
-    Samples(&'a Tile),
-    /// A constant tile (or one whose records are missing, which validation
-    /// rules out: outside): its samples, and the same code as a plane's
-    /// record.
-    Constant(&'a Tile, &'a Record),
-    /// A plane, ridge, corner or notch tile: its two records (a plane's or
-    /// a ridge's twice), whether it is a ridge, and its sign: every such
-    /// lane plays `T − sign · |A|` ([`TileLanes`]).
-    Affine([&'a Record; 2], bool, f32),
-    /// A bend or arc tile: its kind and its two records, played out of line.
-    Curved(TileEntry, [&'a Record; 2]),
+struct Lane<'a> {
+    /// The samples a lane reads: a stored tile's, or a constant tile's
+    /// (0 outside, 255 inside); the outside tile's for the other kinds.
+    tile: &'a Tile,
+    /// The records a lane plays `T − sign · |A|` from ([`TileLanes`]): a
+    /// plane's or a ridge's record twice, a corner's or a notch's two, a
+    /// constant tile's code as a plane's `c` twice, a bend's or an arc's
+    /// two (whose code replaces this one); zeros for a stored tile.
+    records: [&'a Record; 2],
+    /// What the lane plays: [`Lane::PLANAR`] and the other flags.
+    kind: u32,
+}
+
+impl Lane<'_> {
+    /// The lane plays its records' code rather than its samples (every kind
+    /// but a stored tile).
+    const PLANAR: u32 = 1;
+    /// ... as a constant, plane, ridge, corner or notch tile.
+    const CODE: u32 = 2;
+    /// A plane, ridge, corner, notch, bend or arc tile.
+    const ANALYTIC: u32 = 4;
+    /// A ridge tile: `T` is its top, `A` its affine code, sign 1.
+    const RIDGE: u32 = 8;
+    /// A corner tile, sign 1, or a notch tile, sign −1.
+    const CORNER: u32 = 16;
+    const NOTCH: u32 = 32;
+    /// A bend or an arc tile (formats 4.0 and 4.1), played out of line.
+    const BEND: u32 = 64;
+    const ARC: u32 = 128;
 }
 
 /// The constant tiles' codes as plane records (`c` only): a lane in a
@@ -307,10 +324,9 @@ impl<'a> FieldLayer<'a> {
             bl.arced = false;
         }
         let (mut first, mut second) = ([&ZERO_RECORD; LANES], [&ZERO_RECORD; LANES]);
-        let (mut planar, mut ridge, mut sign) = ([-1i32; LANES], [0i32; LANES], [0f32; LANES]);
-        // Whether any lane plays a record's code (a constant, plane, ridge,
-        // corner or notch lane).
-        let mut played = false;
+        let mut kind = [0u32; LANES];
+        // The lanes' kinds, or'ed and and'ed.
+        let (mut any, mut all) = (0u32, u32::MAX);
         // The lanes' columns grow from lane to lane, so neighbours often
         // share a tile: each tile is decoded once.
         let mut prev = ci[0] >> SHIFT;
@@ -323,70 +339,67 @@ impl<'a> FieldLayer<'a> {
             }
             let col = (c & (TILE_CELLS as u32 - 1)) as usize;
             // A column below TILE_CELLS leaves a whole window: never `None`.
-            let window = |tile: &'a Tile| -> &'a Window {
-                tile.get(col..col + WINDOW).and_then(|w| w.try_into().ok()).unwrap_or(&OUTSIDE_WINDOW)
-            };
-            match lane {
-                Lane::Samples(tile) => {
-                    t.windows[k] = window(tile);
-                    planar[k] = 0;
-                }
-                Lane::Constant(tile, r) => {
-                    t.windows[k] = window(tile);
-                    [first[k], second[k]] = [r; 2];
-                    played = true;
-                }
-                Lane::Affine(r, is_ridge, s) => {
-                    [first[k], second[k]] = r;
-                    (ridge[k], sign[k]) = (-(is_ridge as i32), s);
-                    (t.analytic, played) = (true, true);
-                }
-                // (A layer without bend tiles never reads one: `bends`.)
-                Lane::Curved(kind, r) => {
-                    if BENDS {
-                        Self::curved_lane(kind, r, u.to_array()[k], k, &mut t.bent, bl);
-                    }
-                    t.analytic = true;
-                }
-            }
+            t.windows[k] = lane.tile.get(col..col + WINDOW).and_then(|w| w.try_into().ok()).unwrap_or(&OUTSIDE_WINDOW);
+            [first[k], second[k]] = lane.records;
+            kind[k] = lane.kind;
+            (any, all) = (any | lane.kind, all & lane.kind);
         }
-        t.sampled = planar.contains(&0);
+        t.analytic = any & Lane::ANALYTIC != 0;
+        t.sampled = all & Lane::PLANAR == 0;
+        // (A layer without bend tiles never reads one: `bends`.)
+        if BENDS && any & (Lane::BEND | Lane::ARC) != 0 {
+            Self::curved_lanes(&kind, &first, &second, u, &mut t.bent, bl);
+        }
+        let kind = i32x4::new(kind.map(|k| k as i32));
+        let has = |flag: u32| (kind & i32x4::splat(flag as i32)).simd_eq(i32x4::splat(flag as i32));
         // Every lane but a stored tile's plays its code: `T − sign · |A|`.
         // With `A1`, `A2` the records' affine codes (a plane's, a ridge's
         // and a constant's twice), `T = (A1 + A2) / 2` and `A = (A1 − A2)
         // / 2` (exactly `A1` and 0 for a plane); a ridge's `T` is its top
         // and its `A` its affine code.
-        t.planar = i32x4::new(planar);
+        t.planar = has(Lane::PLANAR);
         // (Bend and arc lanes alone need none of it: their code replaces it.
         // Tested in layers with bend tiles only, where it pays.)
-        if played || !BENDS {
+        if any & Lane::CODE != 0 || !BENDS {
             let [c1, gx1, gy1, top1] = f32x4::transpose(first.map(record));
             let [c2, gx2, gy2, _] = f32x4::transpose(second.map(record));
             let (a1, a2) = (c1 + gx1 * u, c2 + gx2 * u);
             let half = f32x4::splat(0.5);
-            let ridge = cast::<i32x4, f32x4>(i32x4::new(ridge));
+            let ridge = cast::<i32x4, f32x4>(has(Lane::RIDGE));
             t.t0 = ridge.select(top1, (a1 + a2) * half);
             t.tgy = ridge.select(f32x4::ZERO, (gy1 + gy2) * half);
             t.a0 = ridge.select(a1, (a1 - a2) * half);
             t.gy = ridge.select(gy1, (gy1 - gy2) * half);
-            t.sign = f32x4::new(sign);
+            let one = cast::<i32x4, f32x4>(has(Lane::RIDGE) | has(Lane::CORNER)) & f32x4::ONE;
+            t.sign = one | (cast::<i32x4, f32x4>(has(Lane::NOTCH)) & f32x4::splat(-1.0));
         }
         t
     }
 
-    /// Lane `k`'s values in a bend or arc tile (`kind`) from its records
-    /// `r`, at lattice x `u` in the tile; `bent` tells whether the tiles
-    /// have a bend lane yet.
+    /// The bend and arc lanes' values (lanes of `kind` [`Lane::BEND`] or
+    /// [`Lane::ARC`]) from their records `first` and `second`, at lattice x
+    /// `u` in their tiles; sets `bent` if any lane is a bend lane.
     #[cold]
     #[inline(never)]
-    fn curved_lane(kind: TileEntry, r: [&Record; 2], u: f32, k: usize, bent: &mut bool, bl: &mut BendLanes) {
-        // The first bend (arc) lane of these tiles clears the others' flags.
-        if matches!(kind, TileEntry::Arc(_)) {
-            Self::arc_lane(r, u, k, !bl.arced, bl);
-            bl.arced = true;
-        } else {
-            Self::bend_lane(r, u, k, !*bent, bl);
-            *bent = true;
+    fn curved_lanes(
+        kind: &[u32; LANES],
+        first: &[&Record; LANES],
+        second: &[&Record; LANES],
+        u: f32x4,
+        bent: &mut bool,
+        bl: &mut BendLanes,
+    ) {
+        let u = u.to_array();
+        for k in 0..LANES {
+            let r = [first[k], second[k]];
+            // The first bend (arc) lane of these tiles clears the others' flags.
+            if kind[k] & Lane::ARC != 0 {
+                Self::arc_lane(r, u[k], k, !bl.arced, bl);
+                bl.arced = true;
+            } else if kind[k] & Lane::BEND != 0 {
+                Self::bend_lane(r, u[k], k, !*bent, bl);
+                *bent = true;
+            }
         }
     }
 
@@ -459,26 +472,26 @@ impl<'a> FieldLayer<'a> {
         // decodes them. Any other entry (below `TILE_FIRST_STORED`, or with
         // a kind's high bits) is no stored tile's number once shifted down.
         if let Some(tile) = self.stored.get(e.wrapping_sub(TILE_FIRST_STORED) as usize) {
-            return Lane::Samples(tile);
+            return Lane { tile, records: [&ZERO_RECORD; 2], kind: 0 };
         }
-        let outside = Lane::Constant(&OUTSIDE, &OUTSIDE_RECORD);
-        // A tile's records `p` and `p + second` (its first twice for 0).
-        let records = |p: u32, second: usize| {
-            let p = p as usize;
-            Some([self.planes.get(p)?, self.planes.get(p + second)?])
-        };
-        let affine = |p: u32, second: usize, ridge: bool, sign: f32| {
-            records(p, second).map_or(outside, |r| Lane::Affine(r, ridge, sign))
-        };
-        match TileEntry::of(e) {
-            TileEntry::Plane(p) => affine(p, 0, false, 0.0),
-            TileEntry::Corner(p) => affine(p, 1, false, 1.0),
-            TileEntry::Notch(p) => affine(p, 1, false, -1.0),
-            TileEntry::Ridge(p) => affine(p, 0, true, 1.0),
-            kind @ (TileEntry::Bend(p) | TileEntry::Arc(p)) => records(p, 1).map_or(outside, |r| Lane::Curved(kind, r)),
-            TileEntry::Inside => Lane::Constant(&INSIDE, &INSIDE_RECORD),
+        let constant = |tile, record| Lane { tile, records: [record; 2], kind: Lane::PLANAR | Lane::CODE };
+        let outside = constant(&OUTSIDE, &OUTSIDE_RECORD);
+        // Each kind's first record `p`, its second `p + second` (its first
+        // twice for 0) and its flags.
+        let (p, second, kind) = match TileEntry::of(e) {
+            TileEntry::Plane(p) => (p, 0, Lane::CODE),
+            TileEntry::Corner(p) => (p, 1, Lane::CODE | Lane::CORNER),
+            TileEntry::Notch(p) => (p, 1, Lane::CODE | Lane::NOTCH),
+            TileEntry::Ridge(p) => (p, 0, Lane::CODE | Lane::RIDGE),
+            TileEntry::Bend(p) => (p, 1, Lane::BEND),
+            TileEntry::Arc(p) => (p, 1, Lane::ARC),
+            TileEntry::Inside => return constant(&INSIDE, &INSIDE_RECORD),
             // Outside, or a stored tile past the stored ones.
-            TileEntry::Outside | TileEntry::Stored(_) => outside,
+            TileEntry::Outside | TileEntry::Stored(_) => return outside,
+        };
+        match (self.planes.get(p as usize), self.planes.get(p as usize + second)) {
+            (Some(a), Some(b)) => Lane { tile: &OUTSIDE, records: [a, b], kind: kind | Lane::PLANAR | Lane::ANALYTIC },
+            _ => outside,
         }
     }
 
