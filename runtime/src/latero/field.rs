@@ -362,14 +362,23 @@ impl<'a> FieldLayer<'a> {
         // Tested in layers with bend tiles only, where it pays.)
         if any & Lane::CODE != 0 || !BENDS {
             let [c1, gx1, gy1, top1] = f32x4::transpose(first.map(record));
-            let [c2, gx2, gy2, _] = f32x4::transpose(second.map(record));
-            let (a1, a2) = (c1 + gx1 * u, c2 + gx2 * u);
-            let half = f32x4::splat(0.5);
+            let a1 = c1 + gx1 * u;
             let ridge = cast::<i32x4, f32x4>(has(Lane::RIDGE));
-            t.t0 = ridge.select(top1, (a1 + a2) * half);
-            t.tgy = ridge.select(f32x4::ZERO, (gy1 + gy2) * half);
-            t.a0 = ridge.select(a1, (a1 - a2) * half);
-            t.gy = ridge.select(gy1, (gy1 - gy2) * half);
+            if any & (Lane::CORNER | Lane::NOTCH) != 0 {
+                let [c2, gx2, gy2, _] = f32x4::transpose(second.map(record));
+                let a2 = c2 + gx2 * u;
+                let half = f32x4::splat(0.5);
+                t.t0 = ridge.select(top1, (a1 + a2) * half);
+                t.tgy = ridge.select(f32x4::ZERO, (gy1 + gy2) * half);
+                t.a0 = ridge.select(a1, (a1 - a2) * half);
+                t.gy = ridge.select(gy1, (gy1 - gy2) * half);
+            } else {
+                // Every lane's records are one record twice (a bend's or an
+                // arc's lanes aside, whose code replaces this one): `T =
+                // A1`, `A = 0` exactly.
+                (t.t0, t.tgy) = (ridge.select(top1, a1), ridge.select(f32x4::ZERO, gy1));
+                (t.a0, t.gy) = (ridge & a1, ridge & gy1);
+            }
             let one = cast::<i32x4, f32x4>(has(Lane::RIDGE) | has(Lane::CORNER)) & f32x4::ONE;
             t.sign = one | (cast::<i32x4, f32x4>(has(Lane::NOTCH)) & f32x4::splat(-1.0));
         }
