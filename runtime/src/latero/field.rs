@@ -34,7 +34,18 @@
 //! of line on a tile change and played only in rows that have an arc lane. A tile change first looks up each lane's window as if
 //! every lane's tile stored samples or were constant, the common case
 //! (region interiors and exteriors are constant tiles), and only when a
-//! lane's tile is of another kind reads the lanes' records. Which of these
+//! lane's tile is of another kind reads the lanes' records: each tile is
+//! decoded once for the lanes that share it, by its kind nibble with one
+//! arm per kind ([`FieldLayer::lane`]), into its samples, its two records
+//! and a word of kind flags, which each lane copies with no branch; the
+//! records are read one vector a lane and the lanes' `T`, `A`, gradients,
+//! signs and masks are computed four at a time. Among such lanes a
+//! constant tile's lanes play their constant as a plane (the same code as
+//! its samples' interpolation, exactly), so that rows whose lanes read no
+//! stored tile read no samples at all. (A new kind of tile adds its arm to
+//! `TileEntry::of` and to [`FieldLayer::lane`], with a flag; a kind played
+//! out of line, as bends and arcs are, adds its lane writer to
+//! `curved_lanes` and its row function beside [`FieldLayer::bend`].) Which of these
 //! the kernel carries is chosen per layer at load ([`Tiles`]): a layer whose
 //! tiles all store samples or are constant runs an instance with no analytic
 //! lanes at all; only a layer with bend tiles carries the bend lanes. The
@@ -568,7 +579,7 @@ impl<'a> FieldLayer<'a> {
         Some(windows)
     }
 
-    /// The samples of the tile at index entry `i` as [`Self::tile`] reads
+    /// The samples of the tile at index entry `i` as [`Self::lane`] reads
     /// an outside, inside or stored tile; `None` for any other kind.
     #[inline(always)]
     fn sampled(&self, i: usize) -> Option<&'a Tile> {
