@@ -83,8 +83,6 @@ pub const TILE_ARC: u32 = 0xD000_0000;
 pub const MAX_ARC_RADIUS: f32 = 2048.0;
 /// The bits of a corner, notch or bend entry that hold its first record's number.
 pub const TILE_CORNER_RECORD_MASK: u32 = 0x0FFF_FFFF;
-/// The bits of an index entry that tell a corner or notch entry from the others.
-const TILE_KIND_NIBBLE: u32 = 0xF000_0000;
 /// Bytes of one plane record: `c`, `gx`, `gy`, `top` (f32 each).
 pub const PLANE_RECORD_LEN: usize = 16;
 /// Largest magnitude of a plane record's gradient, codes per lattice cell.
@@ -147,27 +145,26 @@ pub enum TileEntry {
 }
 
 impl TileEntry {
-    /// Decodes an index entry.
+    /// Decodes an index entry by its kind nibble (its top four bits), one
+    /// arm per kind: a player decodes an entry on every tile change, and
+    /// the kinds are told apart with one jump rather than a chain of tests.
     #[inline]
     pub fn of(e: u32) -> Self {
-        match e {
-            TILE_OUTSIDE => TileEntry::Outside,
-            TILE_INSIDE => TileEntry::Inside,
-            // Stored tiles first: players decode an entry on every tile change.
-            e if e < TILE_PLANE => TileEntry::Stored(e - TILE_FIRST_STORED),
-            e if e & TILE_KIND_NIBBLE == TILE_CORNER => TileEntry::Corner(e & TILE_CORNER_RECORD_MASK),
-            e if e & TILE_KIND_NIBBLE == TILE_NOTCH => TileEntry::Notch(e & TILE_CORNER_RECORD_MASK),
-            e if e & TILE_KIND_NIBBLE == TILE_BEND => TileEntry::Bend(e & TILE_CORNER_RECORD_MASK),
-            // An arc's nibble D has both ridge bits: told apart only there,
-            // so that planes, corners, notches and bends decode as before.
-            e if e & TILE_RIDGE == TILE_RIDGE => {
-                if e & TILE_KIND_NIBBLE == TILE_ARC {
-                    TileEntry::Arc(e & TILE_CORNER_RECORD_MASK)
-                } else {
-                    TileEntry::Ridge(e & TILE_RECORD_MASK)
-                }
-            }
-            e => TileEntry::Plane(e & TILE_RECORD_MASK),
+        match e >> 28 {
+            0x8 => TileEntry::Plane(e & TILE_RECORD_MASK),
+            0xA => TileEntry::Corner(e & TILE_CORNER_RECORD_MASK),
+            0xB => TileEntry::Notch(e & TILE_CORNER_RECORD_MASK),
+            0x9 => TileEntry::Bend(e & TILE_CORNER_RECORD_MASK),
+            0xD => TileEntry::Arc(e & TILE_CORNER_RECORD_MASK),
+            // The other nibbles with both ridge bits (an arc's D has them
+            // too; format 3.0's ridges were C to F).
+            0xC | 0xE | 0xF => TileEntry::Ridge(e & TILE_RECORD_MASK),
+            // Below TILE_PLANE.
+            _ => match e {
+                TILE_OUTSIDE => TileEntry::Outside,
+                TILE_INSIDE => TileEntry::Inside,
+                e => TileEntry::Stored(e - TILE_FIRST_STORED),
+            },
         }
     }
 
@@ -735,5 +732,37 @@ mod tests {
         assert_eq!(ramp(0.0, 0.01), 0.01);
         assert_eq!(ramp(0.3, 0.01), 0.3);
         assert_eq!(profile(0.005, ramp(0.0, 0.01)), 1.0);
+    }
+
+    /// The format 4.1 decoding as a chain of tests (stored tiles first,
+    /// then the kinds by their nibble, ridges by their two bits): what
+    /// [`TileEntry::of`]'s one jump must agree with.
+    fn of_by_chain(e: u32) -> TileEntry {
+        const NIBBLE: u32 = 0xF000_0000;
+        match e {
+            TILE_OUTSIDE => TileEntry::Outside,
+            TILE_INSIDE => TileEntry::Inside,
+            e if e < TILE_PLANE => TileEntry::Stored(e - TILE_FIRST_STORED),
+            e if e & NIBBLE == TILE_CORNER => TileEntry::Corner(e & TILE_CORNER_RECORD_MASK),
+            e if e & NIBBLE == TILE_NOTCH => TileEntry::Notch(e & TILE_CORNER_RECORD_MASK),
+            e if e & NIBBLE == TILE_BEND => TileEntry::Bend(e & TILE_CORNER_RECORD_MASK),
+            e if e & NIBBLE == TILE_ARC => TileEntry::Arc(e & TILE_CORNER_RECORD_MASK),
+            e if e & TILE_RIDGE == TILE_RIDGE => TileEntry::Ridge(e & TILE_RECORD_MASK),
+            e => TileEntry::Plane(e & TILE_RECORD_MASK),
+        }
+    }
+
+    #[test]
+    fn entries_decode_by_their_kind_nibble_as_by_the_chain() {
+        // Every nibble with low bits at both ends of their range and between.
+        for nibble in 0..16u32 {
+            for low in [0u32, 1, 2, 3, 0x7F, 0x0FFF_FFFE, 0x0FFF_FFFF, 0x0123_4567] {
+                let e = nibble << 28 | low;
+                assert_eq!(TileEntry::of(e), of_by_chain(e), "entry {e:#010x}");
+            }
+        }
+        assert_eq!(TileEntry::of(TILE_PLANE | 5), TileEntry::Plane(5));
+        assert_eq!(TileEntry::of(TILE_ARC | 5), TileEntry::Arc(5));
+        assert_eq!(TileEntry::of(0xE000_0003), TileEntry::Ridge(0x2000_0003));
     }
 }

@@ -34,7 +34,18 @@
 //! of line on a tile change and played only in rows that have an arc lane. A tile change first looks up each lane's window as if
 //! every lane's tile stored samples or were constant, the common case
 //! (region interiors and exteriors are constant tiles), and only when a
-//! lane's tile is of another kind reads the lanes' records. Which of these
+//! lane's tile is of another kind reads the lanes' records: each tile is
+//! decoded once for the lanes that share it, by its kind nibble with one
+//! arm per kind ([`FieldLayer::lane`]), into its samples, its two records
+//! and a word of kind flags, which each lane copies with no branch; the
+//! records are read one vector a lane and the lanes' `T`, `A`, gradients,
+//! signs and masks are computed four at a time. Among such lanes a
+//! constant tile's lanes play their constant as a plane (the same code as
+//! its samples' interpolation, exactly), so that rows whose lanes read no
+//! stored tile read no samples at all. (A new kind of tile adds its arm to
+//! `TileEntry::of` and to [`FieldLayer::lane`], with a flag; a kind played
+//! out of line, as bends and arcs are, adds its lane writer to
+//! `curved_lanes` and its row function beside [`FieldLayer::bend`].) Which of these
 //! the kernel carries is chosen per layer at load ([`Tiles`]): a layer whose
 //! tiles all store samples or are constant runs an instance with no analytic
 //! lanes at all; only a layer with bend tiles carries the bend lanes. The
@@ -80,7 +91,8 @@ struct TileLanes<'a> {
     windows: [&'a Window; LANES],
     /// Whether any lane is in a plane, ridge, corner or notch tile.
     analytic: bool,
-    /// The lanes in such tiles.
+    /// The lanes that play their code below rather than their samples:
+    /// when `analytic`, every lane but a stored tile's.
     planar: i32x4,
     /// Every such lane plays `T − sign · |A|`, with `T` and `A` affine
     /// along y: `T = t0 + tgy w`, `A = a0 + gy w`. A plane lane has its
@@ -98,6 +110,10 @@ struct TileLanes<'a> {
     /// Whether any lane is in a bend tile (format 4.0): its other values
     /// are in a [`BendLanes`], written only then.
     bent: bool,
+    /// Whether any lane reads a stored tile's samples. When lanes are
+    /// analytic, all the others play their code ([`Self::planar`]), and
+    /// rows with no stored tile read no samples.
+    sampled: bool,
 }
 
 /// The bend lanes (format 4.0) of a [`TileLanes`]: a bend lane plays `top −
@@ -134,17 +150,64 @@ impl Default for TileLanes<'_> {
             gy: f32x4::ZERO,
             sign: f32x4::ZERO,
             bent: false,
+            sampled: false,
         }
     }
 }
 
-/// What a tile index entry makes a lane read.
+/// One plane record's bytes: `c`, `gx`, `gy`, `top` (little-endian `f32`).
+type Record = [u8; PLANE_RECORD_LEN];
+/// The record a lane with no record of its own reads: zero everywhere.
+static ZERO_RECORD: Record = [0; PLANE_RECORD_LEN];
+
+/// What a tile index entry makes its lanes read, decoded once for the
+/// lanes that share the tile ([`FieldLayer::lane`]): the same three fields
+/// for every kind, which a lane copies with no branch.
 #[derive(Debug, Clone, Copy)]
-enum Read<'a> {
-    Samples(&'a Tile),
-    /// A plane, ridge, corner or notch tile's record bytes (two records
-    /// for a corner or notch), and its kind.
-    Plane(&'a [u8], TileEntry),
+struct Lane<'a> {
+    /// The samples a lane reads: a stored tile's, or a constant tile's
+    /// (0 outside, 255 inside); the outside tile's for the other kinds.
+    tile: &'a Tile,
+    /// The records a lane plays `T − sign · |A|` from ([`TileLanes`]): a
+    /// plane's or a ridge's record twice, a corner's or a notch's two, a
+    /// constant tile's code as a plane's `c` twice, a bend's or an arc's
+    /// two (whose code replaces this one); zeros for a stored tile.
+    records: [&'a Record; 2],
+    /// What the lane plays: [`Lane::PLANAR`] and the other flags.
+    kind: u32,
+}
+
+impl Lane<'_> {
+    /// The lane plays its records' code rather than its samples (every kind
+    /// but a stored tile).
+    const PLANAR: u32 = 1;
+    /// ... as a constant, plane, ridge, corner or notch tile.
+    const CODE: u32 = 2;
+    /// A plane, ridge, corner, notch, bend or arc tile.
+    const ANALYTIC: u32 = 4;
+    /// A ridge tile: `T` is its top, `A` its affine code, sign 1.
+    const RIDGE: u32 = 8;
+    /// A corner tile, sign 1, or a notch tile, sign −1.
+    const CORNER: u32 = 16;
+    const NOTCH: u32 = 32;
+    /// A bend or an arc tile (formats 4.0 and 4.1), played out of line.
+    const BEND: u32 = 64;
+    const ARC: u32 = 128;
+}
+
+/// The constant tiles' codes as plane records (`c` only): a lane in a
+/// constant tile among analytic lanes plays its code as a plane, so that
+/// rows with no stored tile read no samples.
+static OUTSIDE_RECORD: Record = ZERO_RECORD;
+static INSIDE_RECORD: Record = {
+    let c = 255f32.to_le_bytes();
+    [c[0], c[1], c[2], c[3], 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]
+};
+
+/// A record's four values as one vector (one load on little-endian targets).
+#[inline(always)]
+fn record(r: &Record) -> f32x4 {
+    f32x4::new(core::array::from_fn(|i| f32::from_le_bytes([r[4 * i], r[4 * i + 1], r[4 * i + 2], r[4 * i + 3]])))
 }
 
 /// A distance layer prepared for playback.
@@ -155,8 +218,8 @@ pub(crate) struct FieldLayer<'a> {
     entries: &'a [[u8; 4]],
     /// The stored tiles' samples, row by row.
     stored: &'a [Tile],
-    /// The plane and ridge records (format 3.0), four little-endian `f32` each.
-    planes: &'a [u8],
+    /// The plane records (format 3.0 on), four little-endian `f32` each.
+    planes: &'a [Record],
     tile_cols: u32,
     /// Largest lattice cell index along x and y, converted to `f32` here
     /// rather than per frame: the kernel clamps with them in `f32`.
@@ -205,7 +268,7 @@ impl<'a> FieldLayer<'a> {
             primitive,
             entries: m.tile_bytes().as_chunks::<4>().0,
             stored: m.sample_bytes().as_chunks::<TILE_SAMPLES>().0,
-            planes: m.plane_bytes(),
+            planes: m.plane_bytes().as_chunks::<PLANE_RECORD_LEN>().0,
             tile_cols: m.tile_cols,
             cmax: (m.tile_cols as usize * TILE_CELLS - 1) as i32 as f32,
             rmax: (m.tile_rows as usize * TILE_CELLS - 1) as i32 as f32,
@@ -251,78 +314,113 @@ impl<'a> FieldLayer<'a> {
     /// of its samples that starts at the lane's column; a constant tile's
     /// lanes read a tile of that constant code (0 outside, 255 inside),
     /// whose interpolation is the constant exactly (the weights sum to
-    /// `W`), so they need no per-lane select; a plane or ridge tile's lanes
-    /// take its affine code at their column, `c + gx u`, and its gradient
-    /// along y. (An index entry past the stored tiles or records, which
-    /// validation rules out, reads as outside.)
+    /// `W`), and play it as a plane of that code too (the same code, so
+    /// that rows whose lanes read no stored tile read no samples); a plane,
+    /// ridge, corner or notch tile's lanes take their records' affine codes
+    /// at their column, `c + gx u`, and gradients along y. Each tile is
+    /// decoded once for the lanes that share it ([`Self::lane`]); the
+    /// records are read as one vector each and the lanes' values computed
+    /// four at a time. (An index entry past the stored tiles or records,
+    /// which validation rules out, reads as outside.)
     #[inline(always)]
     fn tile_lanes<const BENDS: bool>(
         &self,
         tile_row: usize,
         ci: [u32; LANES],
-        u: [f32; LANES],
+        u: f32x4,
         bl: &mut BendLanes,
     ) -> TileLanes<'a> {
         let mut t = TileLanes::default();
         if BENDS {
             bl.arced = false;
         }
-        let mut planar = [0i32; LANES];
-        let (mut t0, mut tgy, mut a0, mut gy, mut sign) =
-            ([0f32; LANES], [0f32; LANES], [0f32; LANES], [0f32; LANES], [0f32; LANES]);
+        let (mut first, mut second) = ([&ZERO_RECORD; LANES], [&ZERO_RECORD; LANES]);
+        let mut kind = [0u32; LANES];
+        // The lanes' kinds, or'ed and and'ed.
+        let (mut any, mut all) = (0u32, u32::MAX);
         // The lanes' columns grow from lane to lane, so neighbours often
-        // share a tile: each tile is looked up once.
-        let mut read = self.tile(tile_row + (ci[0] >> SHIFT) as usize);
+        // share a tile: each tile is decoded once.
         let mut prev = ci[0] >> SHIFT;
+        let mut lane = self.lane(tile_row + prev as usize);
         for k in 0..LANES {
             let c = ci[k];
             if c >> SHIFT != prev {
                 prev = c >> SHIFT;
-                read = self.tile(tile_row + prev as usize);
+                lane = self.lane(tile_row + prev as usize);
             }
-            match read {
-                Read::Samples(tile) => {
-                    let col = (c & (TILE_CELLS as u32 - 1)) as usize;
-                    // A column below TILE_CELLS leaves a whole window: never `None`.
-                    t.windows[k] =
-                        tile.get(col..col + WINDOW).and_then(|w| w.try_into().ok()).unwrap_or(&OUTSIDE_WINDOW);
-                }
-                Read::Plane(r, kind) => {
-                    let f = |o: usize| r.get(o..o + 4).map_or(0.0, |b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]));
-                    // A record's affine code at the lane's column, and its gradient along y.
-                    let affine = |o: usize| (f(o) + f(o + 4) * u[k], f(o + 8));
-                    let (a, g) = affine(0);
-                    match kind {
-                        TileEntry::Ridge(_) => {
-                            (t0[k], a0[k], gy[k], sign[k]) = (f(12), a, g, 1.0);
-                        }
-                        TileEntry::Corner(_) | TileEntry::Notch(_) => {
-                            let (a2, g2) = affine(PLANE_RECORD_LEN);
-                            (t0[k], tgy[k]) = ((a + a2) * 0.5, (g + g2) * 0.5);
-                            (a0[k], gy[k]) = ((a - a2) * 0.5, (g - g2) * 0.5);
-                            sign[k] = if matches!(kind, TileEntry::Notch(_)) { -1.0 } else { 1.0 };
-                        }
-                        // (A layer without bend tiles never reads one: `bends`.)
-                        TileEntry::Bend(_) if BENDS => {
-                            // The first bend lane of these tiles clears the others'.
-                            Self::bend_lane(r, u[k], k, !t.bent, bl);
-                            t.bent = true;
-                        }
-                        TileEntry::Arc(_) if BENDS => {
-                            Self::arc_lane(r, u[k], k, !bl.arced, bl);
-                            bl.arced = true;
-                        }
-                        _ => (t0[k], tgy[k]) = (a, g),
-                    }
-                    planar[k] = -1;
-                    t.analytic = true;
-                }
+            let col = (c & (TILE_CELLS as u32 - 1)) as usize;
+            // A column below TILE_CELLS leaves a whole window: never `None`.
+            t.windows[k] = lane.tile.get(col..col + WINDOW).and_then(|w| w.try_into().ok()).unwrap_or(&OUTSIDE_WINDOW);
+            [first[k], second[k]] = lane.records;
+            kind[k] = lane.kind;
+            (any, all) = (any | lane.kind, all & lane.kind);
+        }
+        t.analytic = any & Lane::ANALYTIC != 0;
+        t.sampled = all & Lane::PLANAR == 0;
+        // (A layer without bend tiles never reads one: `bends`.)
+        if BENDS && any & (Lane::BEND | Lane::ARC) != 0 {
+            Self::curved_lanes(&kind, &first, &second, u, &mut t.bent, bl);
+        }
+        let kind = i32x4::new(kind.map(|k| k as i32));
+        let has = |flag: u32| (kind & i32x4::splat(flag as i32)).simd_eq(i32x4::splat(flag as i32));
+        // Every lane but a stored tile's plays its code: `T − sign · |A|`.
+        // With `A1`, `A2` the records' affine codes (a plane's, a ridge's
+        // and a constant's twice), `T = (A1 + A2) / 2` and `A = (A1 − A2)
+        // / 2` (exactly `A1` and 0 for a plane); a ridge's `T` is its top
+        // and its `A` its affine code.
+        t.planar = has(Lane::PLANAR);
+        // (Bend and arc lanes alone need none of it: their code replaces it.
+        // Tested in layers with bend tiles only, where it pays.)
+        if any & Lane::CODE != 0 || !BENDS {
+            let [c1, gx1, gy1, top1] = f32x4::transpose(first.map(record));
+            let a1 = c1 + gx1 * u;
+            let ridge = cast::<i32x4, f32x4>(has(Lane::RIDGE));
+            if any & (Lane::CORNER | Lane::NOTCH) != 0 {
+                let [c2, gx2, gy2, _] = f32x4::transpose(second.map(record));
+                let a2 = c2 + gx2 * u;
+                let half = f32x4::splat(0.5);
+                t.t0 = ridge.select(top1, (a1 + a2) * half);
+                t.tgy = ridge.select(f32x4::ZERO, (gy1 + gy2) * half);
+                t.a0 = ridge.select(a1, (a1 - a2) * half);
+                t.gy = ridge.select(gy1, (gy1 - gy2) * half);
+            } else {
+                // Every lane's records are one record twice (a bend's or an
+                // arc's lanes aside, whose code replaces this one): `T =
+                // A1`, `A = 0` exactly.
+                (t.t0, t.tgy) = (ridge.select(top1, a1), ridge.select(f32x4::ZERO, gy1));
+                (t.a0, t.gy) = (ridge & a1, ridge & gy1);
+            }
+            let one = cast::<i32x4, f32x4>(has(Lane::RIDGE) | has(Lane::CORNER)) & f32x4::ONE;
+            t.sign = one | (cast::<i32x4, f32x4>(has(Lane::NOTCH)) & f32x4::splat(-1.0));
+        }
+        t
+    }
+
+    /// The bend and arc lanes' values (lanes of `kind` [`Lane::BEND`] or
+    /// [`Lane::ARC`]) from their records `first` and `second`, at lattice x
+    /// `u` in their tiles; sets `bent` if any lane is a bend lane.
+    #[cold]
+    #[inline(never)]
+    fn curved_lanes(
+        kind: &[u32; LANES],
+        first: &[&Record; LANES],
+        second: &[&Record; LANES],
+        u: f32x4,
+        bent: &mut bool,
+        bl: &mut BendLanes,
+    ) {
+        let u = u.to_array();
+        for k in 0..LANES {
+            let r = [first[k], second[k]];
+            // The first bend (arc) lane of these tiles clears the others' flags.
+            if kind[k] & Lane::ARC != 0 {
+                Self::arc_lane(r, u[k], k, !bl.arced, bl);
+                bl.arced = true;
+            } else if kind[k] & Lane::BEND != 0 {
+                Self::bend_lane(r, u[k], k, !*bent, bl);
+                *bent = true;
             }
         }
-        t.planar = i32x4::new(planar);
-        (t.t0, t.tgy, t.a0, t.gy, t.sign) =
-            (f32x4::new(t0), f32x4::new(tgy), f32x4::new(a0), f32x4::new(gy), f32x4::new(sign));
-        t
     }
 
     /// The bend lanes' codes at lattice y `wt` within the tile: one square
@@ -345,13 +443,13 @@ impl<'a> FieldLayer<'a> {
     /// `first` bend lane of a tile change clears the other lanes' flags.
     #[cold]
     #[inline(never)]
-    fn bend_lane(r: &[u8], u: f32, k: usize, first: bool, bl: &mut BendLanes) {
+    fn bend_lane(r: [&Record; 2], u: f32, k: usize, first: bool, bl: &mut BendLanes) {
         if first {
             bl.bend = [0; LANES];
         }
-        let f = |o: usize| r.get(o..o + 4).map_or(0.0, |b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+        let f = |i: usize| record(r[i / 4]).to_array()[i % 4];
         for (i, v) in bl.v.iter_mut().enumerate() {
-            v[k] = f(4 * i);
+            v[k] = f(i);
         }
         bl.v[0][k] = u - bl.v[0][k];
         bl.bend[k] = -1;
@@ -372,44 +470,48 @@ impl<'a> FieldLayer<'a> {
     /// lane of a tile change clears the other lanes' flags.
     #[cold]
     #[inline(never)]
-    fn arc_lane(r: &[u8], u: f32, k: usize, first: bool, bl: &mut BendLanes) {
+    fn arc_lane(r: [&Record; 2], u: f32, k: usize, first: bool, bl: &mut BendLanes) {
         if first {
             bl.arc = [0; LANES];
         }
-        let f = |o: usize| r.get(o..o + 4).map_or(0.0, |b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+        let f = |i: usize| record(r[i / 4]).to_array()[i % 4];
         for (i, v) in bl.c.iter_mut().enumerate() {
-            v[k] = f(4 * i);
+            v[k] = f(i);
         }
         bl.c[0][k] = u - bl.c[0][k];
         bl.arc[k] = -1;
     }
 
-    /// What the tile at index entry `i` makes its lanes read.
+    /// What the tile at index entry `i` makes its lanes read: one arm per
+    /// kind of [`TileEntry`] (a new kind adds its arm here, and its lanes'
+    /// values in [`Self::tile_lanes`]).
     #[inline(always)]
-    fn tile(&self, i: usize) -> Read<'a> {
+    fn lane(&self, i: usize) -> Lane<'a> {
         let e = self.entries.get(i).map_or(TILE_OUTSIDE, |b| u32::from_le_bytes(*b));
         // Stored tiles first, the common kind near edges: one bounds check
         // decodes them. Any other entry (below `TILE_FIRST_STORED`, or with
         // a kind's high bits) is no stored tile's number once shifted down.
         if let Some(tile) = self.stored.get(e.wrapping_sub(TILE_FIRST_STORED) as usize) {
-            return Read::Samples(tile);
+            return Lane { tile, records: [&ZERO_RECORD; 2], kind: 0 };
         }
-        match TileEntry::of(e) {
-            TileEntry::Outside => Read::Samples(&OUTSIDE),
-            TileEntry::Inside => Read::Samples(&INSIDE),
-            TileEntry::Stored(k) => Read::Samples(self.stored.get(k as usize).unwrap_or(&OUTSIDE)),
-            kind @ (TileEntry::Plane(p)
-            | TileEntry::Ridge(p)
-            | TileEntry::Corner(p)
-            | TileEntry::Notch(p)
-            | TileEntry::Bend(p)
-            | TileEntry::Arc(p)) => {
-                let at = p as usize * PLANE_RECORD_LEN;
-                match self.planes.get(at..at + kind.records() as usize * PLANE_RECORD_LEN) {
-                    Some(r) => Read::Plane(r, kind),
-                    None => Read::Samples(&OUTSIDE),
-                }
-            }
+        let constant = |tile, record| Lane { tile, records: [record; 2], kind: Lane::PLANAR | Lane::CODE };
+        let outside = constant(&OUTSIDE, &OUTSIDE_RECORD);
+        // Each kind's first record `p`, its second `p + second` (its first
+        // twice for 0) and its flags.
+        let (p, second, kind) = match TileEntry::of(e) {
+            TileEntry::Plane(p) => (p, 0, Lane::CODE),
+            TileEntry::Corner(p) => (p, 1, Lane::CODE | Lane::CORNER),
+            TileEntry::Notch(p) => (p, 1, Lane::CODE | Lane::NOTCH),
+            TileEntry::Ridge(p) => (p, 0, Lane::CODE | Lane::RIDGE),
+            TileEntry::Bend(p) => (p, 1, Lane::BEND),
+            TileEntry::Arc(p) => (p, 1, Lane::ARC),
+            TileEntry::Inside => return constant(&INSIDE, &INSIDE_RECORD),
+            // Outside, or a stored tile past the stored ones.
+            TileEntry::Outside | TileEntry::Stored(_) => return outside,
+        };
+        match (self.planes.get(p as usize), self.planes.get(p as usize + second)) {
+            (Some(a), Some(b)) => Lane { tile: &OUTSIDE, records: [a, b], kind: kind | Lane::PLANAR | Lane::ANALYTIC },
+            _ => outside,
         }
     }
 
@@ -477,7 +579,7 @@ impl<'a> FieldLayer<'a> {
         Some(windows)
     }
 
-    /// The samples of the tile at index entry `i` as [`Self::tile`] reads
+    /// The samples of the tile at index entry `i` as [`Self::lane`] reads
     /// an outside, inside or stored tile; `None` for any other kind.
     #[inline(always)]
     fn sampled(&self, i: usize) -> Option<&'a Tile> {
@@ -533,7 +635,7 @@ impl<'a> FieldLayer<'a> {
             let w: i16x8 = cast(((i32x4::splat(W) - wi) | (wi << 16)) & real);
             // Each lane's lattice x within its tile, for plane and ridge tiles.
             let tile_x = f32x4::from_i32x4((ci >> SHIFT as i32) << SHIFT as i32);
-            let u = cast::<f32x4, [f32; LANES]>((fx - tile_x).fast_min(f32x4::splat(TILE_CELLS as f32)));
+            let u = (fx - tile_x).fast_min(f32x4::splat(TILE_CELLS as f32));
             let ci = cast::<i32x4, [u32; LANES]>(ci);
             // Lanes past the run have weights 0, code 0, but a profile's
             // amplitude at code 0 need not be 0: their factor is.
@@ -580,11 +682,15 @@ impl<'a> FieldLayer<'a> {
                             }
                         }
                     }
-                    let (top, bot) = Self::pairs(&lanes.windows, (cj & (TILE_CELLS as u32 - 1)) as usize * TILE_SIDE);
-                    let t = f32x4::from_i32x4(top.dot(w));
-                    let b = f32x4::from_i32x4(bot.dot(w));
-                    let mut v = t + (b - t) * wy;
-                    if ANALYTIC && lanes.analytic {
+                    // The lanes' interpolated samples.
+                    let samples = |lanes: &TileLanes| {
+                        let (top, bot) =
+                            Self::pairs(&lanes.windows, (cj & (TILE_CELLS as u32 - 1)) as usize * TILE_SIDE);
+                        let t = f32x4::from_i32x4(top.dot(w));
+                        let b = f32x4::from_i32x4(bot.dot(w));
+                        t + (b - t) * wy
+                    };
+                    let v = if ANALYTIC && lanes.analytic {
                         // The analytic lanes' code at this row's
                         // lattice y within the tile, in units of `W`.
                         let wt = (fy[k] - (ty << SHIFT) as f32).min(TILE_CELLS as f32);
@@ -595,8 +701,15 @@ impl<'a> FieldLayer<'a> {
                         if BENDS && bends.arced {
                             code = cast::<i32x4, f32x4>(i32x4::new(bends.arc)).select(Self::arc(&bends, wt), code);
                         }
-                        v = cast::<i32x4, f32x4>(lanes.planar).select(code * W as f32, v);
-                    }
+                        // Only lanes in stored tiles read samples.
+                        if lanes.sampled {
+                            cast::<i32x4, f32x4>(lanes.planar).select(code * W as f32, samples(&lanes))
+                        } else {
+                            code * W as f32
+                        }
+                    } else {
+                        samples(&lanes)
+                    };
                     let a = (v * slope + offset).fast_max(f32x4::ZERO).fast_min(f32x4::ONE);
                     let v = if GRATING {
                         let phase = f32x4::splat((r - f.r0) as i32 as f32 * step_row) + group_phase;
