@@ -43,8 +43,8 @@
 //! edges are.
 
 use taxel_format::{
-    DistanceView, PLANE_RECORD_LEN, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE, TILE_PLANE, TILE_SAMPLES,
-    TILE_SIDE, TileEntry,
+    DistanceView, PLANE_RECORD_LEN, SEGMENTS_PER_TILE, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE,
+    TILE_PLANE, TILE_SAMPLES, TILE_SIDE, TileEntry,
 };
 use wide::bytemuck::cast;
 #[cfg(not(target_arch = "x86_64"))]
@@ -120,7 +120,21 @@ struct BendLanes {
     /// code they were before arcs; reset on every tile change that reads
     /// records.
     arced: bool,
+    /// The segments lanes (format 4.2): a segments lane plays `top − k ·
+    /// min_i dist(q, segment i)` over three segments
+    /// ([`FieldLayer::segments`]); `s` holds per lane, for each segment, its
+    /// column less the segment's first end's x, that end's y, the segment's
+    /// vector (x, y) and the inverse of its squared length (0 for a point),
+    /// then `k` and the top code.
+    seg: [i32; LANES],
+    s: [[f32; LANES]; SEGMENT_LANE_VALUES],
+    /// Whether any lane of the current tiles is in a segments tile, reset
+    /// as `arced` is.
+    segged: bool,
 }
+
+/// Values per lane of a segments tile: five per segment, `k` and `top`.
+const SEGMENT_LANE_VALUES: usize = 5 * SEGMENTS_PER_TILE + 2;
 
 impl Default for TileLanes<'_> {
     fn default() -> Self {
@@ -224,7 +238,7 @@ impl<'a> FieldLayer<'a> {
             tiles: m.tile_bytes().as_chunks::<4>().0.iter().fold(Tiles::Sampled, |t, e| {
                 match TileEntry::of(u32::from_le_bytes(*e)) {
                     TileEntry::Outside | TileEntry::Inside | TileEntry::Stored(_) => t,
-                    TileEntry::Bend(_) | TileEntry::Arc(_) => Tiles::Bent,
+                    TileEntry::Bend(_) | TileEntry::Arc(_) | TileEntry::Segments(_) => Tiles::Bent,
                     _ if t == Tiles::Bent => t,
                     _ => Tiles::Analytic,
                 }
@@ -266,6 +280,7 @@ impl<'a> FieldLayer<'a> {
         let mut t = TileLanes::default();
         if BENDS {
             bl.arced = false;
+            bl.segged = false;
         }
         let mut planar = [0i32; LANES];
         let (mut t0, mut tgy, mut a0, mut gy, mut sign) =
@@ -311,6 +326,10 @@ impl<'a> FieldLayer<'a> {
                         TileEntry::Arc(_) if BENDS => {
                             Self::arc_lane(r, u[k], k, !bl.arced, bl);
                             bl.arced = true;
+                        }
+                        TileEntry::Segments(_) if BENDS => {
+                            Self::segments_lane(r, u[k], k, !bl.segged, bl);
+                            bl.segged = true;
                         }
                         _ => (t0[k], tgy[k]) = (a, g),
                     }
@@ -384,6 +403,52 @@ impl<'a> FieldLayer<'a> {
         bl.arc[k] = -1;
     }
 
+    /// The segments lanes' codes at lattice y `wt` within the tile (format
+    /// 4.2): `top − k · min_i dist(q, segment i)`, one square root per row
+    /// for four lanes, out of line as [`Self::bend`].
+    #[inline(never)]
+    fn segments(b: &BendLanes, wt: f32) -> f32x4 {
+        let v = b.s.map(f32x4::new);
+        let mut d2 = f32x4::splat(f32::MAX);
+        for i in 0..SEGMENTS_PER_TILE {
+            let [dx, ay, ex, ey, inv] = [v[5 * i], v[5 * i + 1], v[5 * i + 2], v[5 * i + 3], v[5 * i + 4]];
+            let dy = f32x4::splat(wt) - ay;
+            // The nearest point's place along the segment, clamped to it.
+            let t = ((dx * ex + dy * ey) * inv).fast_max(f32x4::ZERO).fast_min(f32x4::ONE);
+            let (px, py) = (dx - t * ex, dy - t * ey);
+            d2 = d2.fast_min(px * px + py * py);
+        }
+        let [k, top] = [v[5 * SEGMENTS_PER_TILE], v[5 * SEGMENTS_PER_TILE + 1]];
+        top - k * d2.sqrt()
+    }
+
+    /// Lane `k`'s segments values from its tile's four records `r` (three
+    /// segments (ax, ay, bx, by), then (k, top, 0, 0)), at lattice x `u` in
+    /// the tile; the `first` segments lane of a tile change clears the other
+    /// lanes' flags.
+    #[cold]
+    #[inline(never)]
+    fn segments_lane(r: &[u8], u: f32, k: usize, first: bool, bl: &mut BendLanes) {
+        if first {
+            bl.seg = [0; LANES];
+        }
+        let f = |o: usize| r.get(o..o + 4).map_or(0.0, |b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+        for i in 0..SEGMENTS_PER_TILE {
+            let o = i * PLANE_RECORD_LEN;
+            let (ax, ay, ex, ey) = (f(o), f(o + 4), f(o + 8) - f(o), f(o + 12) - f(o + 4));
+            let len2 = ex * ex + ey * ey;
+            // A segment shorter than a millionth of a cell plays as its first end.
+            let inv = if len2 > 1e-12 { 1.0 / len2 } else { 0.0 };
+            for (j, x) in [u - ax, ay, ex, ey, inv].into_iter().enumerate() {
+                bl.s[5 * i + j][k] = x;
+            }
+        }
+        let o = SEGMENTS_PER_TILE * PLANE_RECORD_LEN;
+        bl.s[5 * SEGMENTS_PER_TILE][k] = f(o);
+        bl.s[5 * SEGMENTS_PER_TILE + 1][k] = f(o + 4);
+        bl.seg[k] = -1;
+    }
+
     /// What the tile at index entry `i` makes its lanes read.
     #[inline(always)]
     fn tile(&self, i: usize) -> Read<'a> {
@@ -403,7 +468,8 @@ impl<'a> FieldLayer<'a> {
             | TileEntry::Corner(p)
             | TileEntry::Notch(p)
             | TileEntry::Bend(p)
-            | TileEntry::Arc(p)) => {
+            | TileEntry::Arc(p)
+            | TileEntry::Segments(p)) => {
                 let at = p as usize * PLANE_RECORD_LEN;
                 match self.planes.get(at..at + kind.records() as usize * PLANE_RECORD_LEN) {
                     Some(r) => Read::Plane(r, kind),
@@ -594,6 +660,9 @@ impl<'a> FieldLayer<'a> {
                         }
                         if BENDS && bends.arced {
                             code = cast::<i32x4, f32x4>(i32x4::new(bends.arc)).select(Self::arc(&bends, wt), code);
+                        }
+                        if BENDS && bends.segged {
+                            code = cast::<i32x4, f32x4>(i32x4::new(bends.seg)).select(Self::segments(&bends, wt), code);
                         }
                         v = cast::<i32x4, f32x4>(lanes.planar).select(code * W as f32, v);
                     }
