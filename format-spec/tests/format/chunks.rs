@@ -321,11 +321,12 @@ fn distance_layer_fields() {
         // On the first segment, 1.5 cells below it (nearer it than the
         // point), and 1 cell right of the point (nearer the point).
         for ((u, w), d) in [((3.0, 2.0), 0.0), ((6.0, 3.5), 1.5), ((5.0, 6.0), 1.0)] {
-            let want = 150.0 - k * d;
+            let want = 150.0 - k as f64 * d;
             assert!(code(u, w).is_some_and(|c| (c - want).abs() < 0.05), "({u}, {w}): {:?} vs {want}", code(u, w));
         }
     }
-    for (i, bad) in [(0, f32::NAN), (5, 1025.0), (11, f32::INFINITY), (12, -1025.0), (13, 70_000.0), (14, 1.0), (15, 1.0)]
+    for (i, bad) in
+        [(0, f32::NAN), (5, 1025.0), (11, f32::INFINITY), (12, -1025.0), (13, 70_000.0), (14, 1.0), (15, 1.0)]
     {
         let mut vals = good;
         vals[i] = bad;
