@@ -230,7 +230,7 @@ fn inside_rect(r: (f64, f64, f64, f64), p: (f64, f64)) -> f64 {
 }
 
 /// One kind of segment, for the per-tile buckets.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, PartialEq, Eq)]
 enum Part {
     /// A fill outline.
     Fill,
@@ -536,8 +536,18 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
                 entry.code(r, u, w).is_some_and(|code| sat.close(code - DISTANCE_ZERO as f64, e))
             })
         });
-        match circle {
-            Some((kind, r)) => TileOut::Bend(kind, r),
+        if let Some((kind, r)) = circle {
+            return TileOut::Bend(kind, r);
+        }
+        // Where band centre lines meet: the nearest of up to three segments.
+        let joined = junctions::segment_tiles(&tile, &exact).into_iter().find(|r| {
+            let [s0, s1, s2, last] = r;
+            tile.centres_all(centres, |u, w, e| {
+                sat.close(taxel_format::segments_code([s0, s1, s2, last], u, w) - DISTANCE_ZERO as f64, e)
+            })
+        });
+        match joined {
+            Some(r) => TileOut::Segments(r),
             None => TileOut::Samples(tile_buf),
         }
     };
@@ -566,6 +576,11 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
                 let n = planes.len() as u32;
                 planes.extend(recs);
                 kind | n
+            }
+            TileOut::Segments(recs) => {
+                let n = planes.len() as u32;
+                planes.extend(recs);
+                taxel_format::TILE_SEGMENTS | n
             }
             TileOut::Samples(buf) => {
                 let n = (samples.len() / TILE_SAMPLES) as u32;
@@ -601,6 +616,8 @@ enum TileOut {
     Record(u32, TilePlane),
     /// A corner, notch or bend tile: its index kind and two records.
     Bend(u32, [TilePlane; 2]),
+    /// A segments tile's records (format 4.2).
+    Segments([TilePlane; taxel_format::SEGMENT_TILE_RECORDS]),
     /// A stored tile's samples.
     Samples([u8; TILE_SAMPLES]),
 }
@@ -774,6 +791,7 @@ pub fn constant_tile_at(f: &Field, h: f64, p: (f64, f64)) -> Option<bool> {
 
 mod arcs;
 mod bends;
+mod junctions;
 mod layer_grid;
 mod near;
 mod planes;

@@ -79,6 +79,20 @@ pub const TILE_BEND: u32 = 0x9000_0000;
 /// grows with `|q − V|`). A 4.0 reader decodes it as a ridge entry naming
 /// record `2^28 + p`, which its index check refuses.
 pub const TILE_ARC: u32 = 0xD000_0000;
+/// Tile index entry `TILE_SEGMENTS | p`: a **segments** tile (format 4.2),
+/// the union of a band's centre line's pieces near a junction:
+/// [`SEGMENT_TILE_RECORDS`] records from `p`, records `p` to `p + 2` each a
+/// segment `(ax, ay, bx, by)` and record `p + 3` `(k, top, 0, 0)`, in the
+/// tile's lattice coordinates; the code at `q` is
+/// `top − k · min_i dist(q, segment i)` ([`segments_code`]). `k` may be
+/// negative: a vibrating band cut out of a grating plays
+/// `top + |k| · min_i dist(q, segment i)`. A 4.1 reader decodes it as a
+/// ridge entry naming record `2^29 + p`, which its index check refuses.
+pub const TILE_SEGMENTS: u32 = 0xE000_0000;
+/// Segments of one segments tile (unused ones repeat a used one).
+pub const SEGMENTS_PER_TILE: usize = 3;
+/// Plane records of one segments tile: its segments, then `(k, top, 0, 0)`.
+pub const SEGMENT_TILE_RECORDS: usize = SEGMENTS_PER_TILE + 1;
 /// Largest radius of an arc record, lattice cells.
 pub const MAX_ARC_RADIUS: f32 = 2048.0;
 /// The bits of a corner, notch or bend entry that hold its first record's number.
@@ -142,6 +156,9 @@ pub enum TileEntry {
     Bend(u32),
     /// Plane records `p` and `p + 1`, played as a circle ([`TILE_ARC`], format 4.1).
     Arc(u32),
+    /// Plane records `p` to `p + 3`, played as the nearest of three
+    /// segments ([`TILE_SEGMENTS`], format 4.2).
+    Segments(u32),
 }
 
 impl TileEntry {
@@ -156,9 +173,10 @@ impl TileEntry {
             0xB => TileEntry::Notch(e & TILE_CORNER_RECORD_MASK),
             0x9 => TileEntry::Bend(e & TILE_CORNER_RECORD_MASK),
             0xD => TileEntry::Arc(e & TILE_CORNER_RECORD_MASK),
-            // The other nibbles with both ridge bits (an arc's D has them
-            // too; format 3.0's ridges were C to F).
-            0xC | 0xE | 0xF => TileEntry::Ridge(e & TILE_RECORD_MASK),
+            0xE => TileEntry::Segments(e & TILE_CORNER_RECORD_MASK),
+            // The other nibbles with both ridge bits (an arc's D and a
+            // segments tile's E have them too; format 3.0's ridges were C to F).
+            0xC | 0xF => TileEntry::Ridge(e & TILE_RECORD_MASK),
             // Below TILE_PLANE.
             _ => match e {
                 TILE_OUTSIDE => TileEntry::Outside,
@@ -169,12 +187,14 @@ impl TileEntry {
     }
 
     /// The number of plane records a tile of this kind plays: one for a
-    /// plane or a ridge, two for a corner or a notch, none for the others.
+    /// plane or a ridge, two for a corner, a notch, a bend or an arc, four
+    /// for a segments tile, none for the others.
     #[inline]
     pub fn records(self) -> u32 {
         match self {
             TileEntry::Plane(_) | TileEntry::Ridge(_) => 1,
             TileEntry::Corner(_) | TileEntry::Notch(_) | TileEntry::Bend(_) | TileEntry::Arc(_) => 2,
+            TileEntry::Segments(_) => SEGMENT_TILE_RECORDS as u32,
             TileEntry::Outside | TileEntry::Inside | TileEntry::Stored(_) => 0,
         }
     }
@@ -200,6 +220,10 @@ impl TileEntry {
             TileEntry::Arc(p) => {
                 let (a, b) = (rec(p)?, rec(p.checked_add(1)?)?);
                 Some(arc_code([a, b], u, w))
+            }
+            TileEntry::Segments(p) => {
+                let r = records.get(p as usize..p as usize + SEGMENT_TILE_RECORDS)?;
+                Some(segments_code([&r[0], &r[1], &r[2], &r[3]], u, w))
             }
             TileEntry::Outside | TileEntry::Inside | TileEntry::Stored(_) => None,
         }
@@ -284,7 +308,8 @@ impl DistanceLayer {
             | TileEntry::Corner(_)
             | TileEntry::Notch(_)
             | TileEntry::Bend(_)
-            | TileEntry::Arc(_)) => {
+            | TileEntry::Arc(_)
+            | TileEntry::Segments(_)) => {
                 let (u, w) = (fx as f64 - (tx * TILE_CELLS) as f64, fy as f64 - (ty * TILE_CELLS) as f64);
                 let code = analytic.code(&self.planes, u, w)?;
                 Some(((code - DISTANCE_ZERO as f64) * self.step_mm as f64) as f32)
@@ -322,8 +347,8 @@ impl DistanceLayer {
         if !self.samples.len().is_multiple_of(TILE_SAMPLES) {
             return Err(bad("samples", "81 samples per stored tile"));
         }
-        if self.planes.len() > 2 * MAX_DISTANCE_TILES as usize {
-            return Err(bad("planes", "at most two plane records per tile"));
+        if self.planes.len() > SEGMENT_TILE_RECORDS * MAX_DISTANCE_TILES as usize {
+            return Err(bad("planes", "at most four plane records per tile"));
         }
         Ok(())
     }
@@ -518,8 +543,8 @@ impl<'a> DistanceView<'a> {
             return Err(FormatError::ChunkLength { tag, index, expected, found: d.len() as u64 });
         };
         let nplanes = rest / rec;
-        if nplanes > 2 * ntiles {
-            return Err(bad("planes", "at most two plane records per tile"));
+        if nplanes > SEGMENT_TILE_RECORDS as u64 * ntiles {
+            return Err(bad("planes", "at most four plane records per tile"));
         }
         let origin_x = in_range(f(16), -1e6, 1e6, tag, index, "origin_x_mm", "from -1e6 to 1e6 mm")?;
         let origin_y = in_range(f(20), -1e6, 1e6, tag, index, "origin_y_mm", "from -1e6 to 1e6 mm")?;
@@ -611,6 +636,15 @@ impl<'a> DistanceView<'a> {
                         check_arc([a, b]).map_err(|expected| bad("plane record", expected))?;
                         next_plane += 2;
                     }
+                    TileEntry::Segments(p) if p == next_plane => {
+                        let r: [Option<TilePlane>; SEGMENT_TILE_RECORDS] =
+                            core::array::from_fn(|i| view.plane(p + i as u32));
+                        let [Some(a), Some(b), Some(c), Some(d)] = r else {
+                            return Err(bad("tile index", "four plane records for every segments tile"));
+                        };
+                        check_segments([a, b, c, d]).map_err(|expected| bad("plane record", expected))?;
+                        next_plane += SEGMENT_TILE_RECORDS as u32;
+                    }
                     _ => {
                         return Err(bad(
                             "tile index",
@@ -693,6 +727,45 @@ fn check_arc(r: [TilePlane; 2]) -> Result<(), &'static str> {
     Ok(())
 }
 
+/// The code of a segments tile with records `r` at lattice coordinates
+/// `(u, w)`, in f64 ([`TILE_SEGMENTS`]; SPEC.md section 6.2's reference):
+/// `top − k · min_i dist(q, segment i)`, with `dist(q, segment (a, b)) =
+/// |q − (a + t (b − a))|`, `t = clamp(dot(q − a, b − a) / |b − a|², 0, 1)`
+/// (`t = 0` where `a = b`).
+pub fn segments_code(r: [&TilePlane; SEGMENT_TILE_RECORDS], u: f64, w: f64) -> f64 {
+    let [s0, s1, s2, last] = r;
+    let dist = |s: &TilePlane| {
+        let (ax, ay, bx, by) = (s.c as f64, s.gx as f64, s.gy as f64, s.top as f64);
+        let (ex, ey) = (bx - ax, by - ay);
+        let (dx, dy) = (u - ax, w - ay);
+        let len2 = ex * ex + ey * ey;
+        let t = if len2 > 0.0 { ((dx * ex + dy * ey) / len2).clamp(0.0, 1.0) } else { 0.0 };
+        libm::hypot(dx - t * ex, dy - t * ey)
+    };
+    let d = dist(s0).min(dist(s1)).min(dist(s2));
+    last.gx as f64 - last.c as f64 * d
+}
+
+/// Checks a segments tile's four records: finite ends within
+/// [`MAX_PLANE_GRADIENT`] cells of the tile, `|k|` at most
+/// [`MAX_PLANE_GRADIENT`] codes per cell, `|top|` at most
+/// [`MAX_PLANE_CODE`] and the last record's other two values 0 (SPEC.md
+/// section 6.2).
+fn check_segments(r: [TilePlane; SEGMENT_TILE_RECORDS]) -> Result<(), &'static str> {
+    let within = |v: f32, m: f32| v.is_finite() && v.abs() <= m;
+    let [s0, s1, s2, last] = r;
+    if ![s0, s1, s2].iter().all(|s| [s.c, s.gx, s.gy, s.top].iter().all(|&v| within(v, MAX_PLANE_GRADIENT))) {
+        return Err("a segments tile's ends finite and within 1024 cells");
+    }
+    if !(within(last.c, MAX_PLANE_GRADIENT) && within(last.gx, MAX_PLANE_CODE)) {
+        return Err("a segments tile's |k| at most 1024 and |top| at most 65536 codes");
+    }
+    if !(last.gy == 0.0 && last.top == 0.0) {
+        return Err("a segments tile's last record 0 after its top");
+    }
+    Ok(())
+}
+
 /// Largest distance of a direction's length from 1 in a bend record.
 pub const BEND_UNIT_TOLERANCE: f32 = 1e-3;
 
@@ -734,7 +807,7 @@ mod tests {
         assert_eq!(profile(0.005, ramp(0.0, 0.01)), 1.0);
     }
 
-    /// The format 4.1 decoding as a chain of tests (stored tiles first,
+    /// The format 4.2 decoding as a chain of tests (stored tiles first,
     /// then the kinds by their nibble, ridges by their two bits): what
     /// [`TileEntry::of`]'s one jump must agree with.
     fn of_by_chain(e: u32) -> TileEntry {
@@ -747,6 +820,7 @@ mod tests {
             e if e & NIBBLE == TILE_NOTCH => TileEntry::Notch(e & TILE_CORNER_RECORD_MASK),
             e if e & NIBBLE == TILE_BEND => TileEntry::Bend(e & TILE_CORNER_RECORD_MASK),
             e if e & NIBBLE == TILE_ARC => TileEntry::Arc(e & TILE_CORNER_RECORD_MASK),
+            e if e & NIBBLE == TILE_SEGMENTS => TileEntry::Segments(e & TILE_CORNER_RECORD_MASK),
             e if e & TILE_RIDGE == TILE_RIDGE => TileEntry::Ridge(e & TILE_RECORD_MASK),
             e => TileEntry::Plane(e & TILE_RECORD_MASK),
         }
@@ -763,6 +837,7 @@ mod tests {
         }
         assert_eq!(TileEntry::of(TILE_PLANE | 5), TileEntry::Plane(5));
         assert_eq!(TileEntry::of(TILE_ARC | 5), TileEntry::Arc(5));
-        assert_eq!(TileEntry::of(0xE000_0003), TileEntry::Ridge(0x2000_0003));
+        assert_eq!(TileEntry::of(TILE_SEGMENTS | 3), TileEntry::Segments(3));
+        assert_eq!(TileEntry::of(0xF000_0003), TileEntry::Ridge(0x3000_0003));
     }
 }

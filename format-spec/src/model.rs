@@ -86,7 +86,8 @@ impl Bundle {
     /// The canonical encoding, as format version
     /// [`FORMAT_MAJOR`](crate::FORMAT_MAJOR).*m*, where *m* is the lowest
     /// minor version that has every chunk of the bundle (SPEC.md section 12):
-    /// 1 when a distance layer holds an arc tile (format 4.1), else 0.
+    /// 2 when a distance layer holds a segments tile (format 4.2), else 1
+    /// when one holds an arc tile (format 4.1), else 0.
     /// The result is checked with the reader before it is returned, so a
     /// bundle that the writer accepts always reads back.
     pub fn to_bytes(&self) -> Result<Vec<u8>, FormatError> {
@@ -95,11 +96,17 @@ impl Bundle {
 
     /// The lowest minor version that defines every chunk of the bundle.
     pub fn lowest_minor(&self) -> u16 {
-        let arcs = self.chunks.iter().any(|c| match c {
-            Chunk::Distance(d) => d.tiles.iter().any(|&e| matches!(crate::TileEntry::of(e), crate::TileEntry::Arc(_))),
-            _ => false,
-        });
-        u16::from(arcs)
+        let holds = |kind: fn(crate::TileEntry) -> bool| {
+            self.chunks.iter().any(|c| match c {
+                Chunk::Distance(d) => d.tiles.iter().any(|&e| kind(crate::TileEntry::of(e))),
+                _ => false,
+            })
+        };
+        if holds(|e| matches!(e, crate::TileEntry::Segments(_))) {
+            2
+        } else {
+            u16::from(holds(|e| matches!(e, crate::TileEntry::Arc(_))))
+        }
     }
 
     /// The canonical encoding with minor version `minor` in the header: for

@@ -150,11 +150,15 @@ fn describe(view: &BundleView<'_>) -> Value {
                 sources.extend((0..dv.source_count()).filter_map(|i| dv.source(i)));
                 let span = 8.0 * dv.pitch_mm;
                 // Plane and ridge tiles play one record, corner and notch tiles two.
-                // Bend and arc tiles (two records too) are counted on their own.
+                // Bend and arc tiles (two records too) and segments tiles
+                // (four, format 4.2) are counted on their own, as bends.
                 let (mut planar, mut bent, mut bends) = (0u32, 0u32, 0u32);
                 for i in 0..dv.tile_cols * dv.tile_rows {
                     let entry = taxel_format::TileEntry::of(dv.tile_entry(i));
-                    if let taxel_format::TileEntry::Bend(_) | taxel_format::TileEntry::Arc(_) = entry {
+                    if let taxel_format::TileEntry::Bend(_)
+                    | taxel_format::TileEntry::Arc(_)
+                    | taxel_format::TileEntry::Segments(_) = entry
+                    {
                         bends += 1;
                         continue;
                     }

@@ -165,7 +165,7 @@ pub fn contour(layer: &DistanceLayer, sample: f64) -> Vec<[f64; 2]> {
                 bent_contour(&layer.planes, bent, p, corner, h, lines * TILE_CELLS, &mut out);
                 continue;
             }
-            if let bend @ (TileEntry::Bend(_) | TileEntry::Arc(_)) = TileEntry::of(entry) {
+            if let bend @ (TileEntry::Bend(_) | TileEntry::Arc(_) | TileEntry::Segments(_)) = TileEntry::of(entry) {
                 let corner = (ox + (tx * TILE_CELLS) as f64 * h, oy + (ty * TILE_CELLS) as f64 * h);
                 bend_contour(&layer.planes, bend, corner, h, lines * TILE_CELLS, &mut out);
                 continue;
@@ -198,7 +198,7 @@ pub fn contour(layer: &DistanceLayer, sample: f64) -> Vec<[f64; 2]> {
     out
 }
 
-/// Points of the half-amplitude contour of a bend or arc tile (SPEC.md section
+/// Points of the half-amplitude contour of a bend, arc or segments tile (SPEC.md section
 /// 6.2) whose first lattice point is at page `corner`, where it crosses
 /// `lines + 1` lines across the tile in each direction: the function is
 /// round round the vertex, so each line is walked in steps of a tenth of
@@ -223,6 +223,7 @@ fn bend_contour(
     let slope = match bend {
         TileEntry::Bend(p) => planes.get(p as usize + 1).map(|r| r.gy),
         TileEntry::Arc(p) => planes.get(p as usize).map(|r| r.top),
+        TileEntry::Segments(p) => planes.get(p as usize + taxel_format::SEGMENTS_PER_TILE).map(|r| r.c),
         _ => None,
     }
     .map(|k| f64::from(k).abs())

@@ -56,6 +56,22 @@ impl Region {
         }
     }
 
+    /// Whether an edge of the region may pass within `r` of `p`: a fill's
+    /// outline within `r`, or a band's centre line within `r` plus its half
+    /// width. Where not, the coverage is the same over the whole disc of
+    /// radius `r` round `p` (it changes only across those lines); a cheap
+    /// index query, so that callers test the coverage round `p` only where
+    /// it may change.
+    pub fn edge_may_pass_within(&self, p: (f64, f64), r: f64) -> bool {
+        let band_near = |(b, w): &(Arc<Index>, f64)| b.within(p, r + w / 2.0);
+        match self {
+            Region::Fill { fills, minus_bands, .. } => {
+                fills.iter().any(|(f, _)| f.within(p, r)) || minus_bands.iter().any(band_near)
+            }
+            Region::Band { bands, .. } => bands.iter().any(band_near),
+        }
+    }
+
     /// The exact edge profile at page point `p` for a layer whose edge ramp
     /// is `ramp` mm wide: SPEC.md section 6.2's `clamp(½ + d / ramp, 0, 1)` of
     /// the exact signed distance `d` (positive where the region is felt).

@@ -35,8 +35,6 @@ pub const PITCH_LADDER: [f32; 4] = [2.0, 1.0, 0.5, 0.25];
 /// Half-width of the band around every exact edge left out of
 /// [`Row::far_error`], mm.
 pub const EDGE_BAND_MM: f64 = 0.05;
-/// Most frames whose actuators are classified as near or far from an edge.
-pub const MAX_FAR_FRAMES: usize = 2_000;
 /// Most frames compared against the reference per row (evenly spaced over the trace).
 pub const MAX_EVAL_FRAMES: usize = 20_000;
 /// Seed of the generated sweep when the scene has no trace.
@@ -77,8 +75,7 @@ pub struct Row {
     /// Largest error at actuators farther than [`EDGE_BAND_MM`] from every
     /// exact edge and farther than [`edge::CORNER_RADIUS_MM`] from every
     /// corner of the kernel's vibration and grating layers, in `error_unit`
-    /// (laterotactile scenes; over the first [`MAX_FAR_FRAMES`] compared
-    /// frames).
+    /// (laterotactile scenes; over every compared frame).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub far_error: Option<f64>,
     /// Root-mean-square error over the same actuators as [`Row::far_error`]
@@ -304,9 +301,6 @@ impl Prepared {
                 max = max.max(e);
                 sum2 += e * e;
                 count += 1;
-                if i >= MAX_FAR_FRAMES {
-                    continue;
-                }
                 let p = actuator(&self.profile, x, y, k);
                 if near_edge(&regions, p) {
                     continue;
@@ -372,9 +366,15 @@ fn actuator(p: &taxel_format::DeviceProfile, x: f64, y: f64, k: usize) -> (f64, 
 
 /// Whether an exact edge of any region passes within [`EDGE_BAND_MM`] of
 /// `p`: coverage at `p` differs from coverage at one of 16 points on the
-/// circle of that radius around it.
+/// circle of that radius around it. Tested only where an edge may pass
+/// that close ([`exact::Region::edge_may_pass_within`]; elsewhere the
+/// coverage is the same on the whole disc), so that every compared frame's
+/// actuators are classified at the cost of an index query for most.
 fn near_edge(regions: &[&exact::Region], p: (f64, f64)) -> bool {
     regions.iter().any(|r| {
+        if !r.edge_may_pass_within(p, EDGE_BAND_MM) {
+            return false;
+        }
         let here = r.covers(p);
         (0..16).any(|k| {
             let a = k as f64 * std::f64::consts::TAU / 16.0;

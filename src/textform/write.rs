@@ -69,7 +69,7 @@ pub fn unpack(name: &str, bytes: &[u8]) -> Result<Vec<(String, Vec<u8>)>, TextEr
                      # the exact data are the tile index ({tiles}: 0 outside, 1 inside, 2 + k stored tile k,\n\
                      # 2147483648 + p plane record p, 3221225472 + p ridge record p, 2684354560 + p corner of records p\n\
                      # and p + 1, 2952790016 + p notch of records p and p + 1, 2415919104 + p bend of records p and p + 1,\n\
-                     # 3489660928 + p arc of records p and p + 1)\n\
+                     # 3489660928 + p arc of records p and p + 1, 3758096384 + p segments of records p to p + 3)\n\
                      # and the stored tiles' codes and plane records.\nfile = \"{file}\"\ntiles = \"{tiles}\""
                 );
                 if d.stored_tiles() > 0 {

@@ -201,8 +201,9 @@ fn distance_layer_fields() {
     invalid(edit_chunk(tag, |d| put_u32(d, 84, 0xA000_0005)), tag, "tile index");
     invalid(edit_chunk(tag, |d| put_u32(d, 68, 0xB000_0000)), tag, "tile index");
     invalid(edit_chunk(tag, |d| put_u32(d, 80, 0xC000_0002)), tag, "tile index");
-    // An entry with only bit 30 set is no kind at all, nor are the top
-    // nibbles E and F (D is an arc since format 4.1, below).
+    // An entry with only bit 30 set is no kind at all, nor is the top
+    // nibble F (D is an arc since format 4.1, E a segments tile since 4.2,
+    // below: here its four records would run past the table).
     for bad in [0x4000_0003u32, 0xE000_0004, 0xF000_0004] {
         invalid(edit_chunk(tag, |d| put_u32(d, 84, bad)), tag, "tile index");
     }
@@ -281,6 +282,55 @@ fn distance_layer_fields() {
         let mut vals = good;
         vals[i] = bad;
         invalid(edit_chunk(tag, |d| arc(d, vals)), tag, "plane record");
+    }
+    // The corner at 84 made a segments tile (format 4.2; records 4 to 7,
+    // three segments (ax, ay, bx, by), then (k, top, 0, 0): two records
+    // more, inserted before the samples): the corner's records alone are
+    // too few, a valid segments tile is read, plays `top − k · d` and
+    // raises the bundle's minor version to 2, and each field out of bounds
+    // is refused.
+    let segments = |d: &mut Vec<u8>, vals: [f32; 16]| {
+        put_u32(d, 84, 0xE000_0004);
+        d.splice(184..184, [0u8; 32]);
+        for (i, v) in vals.into_iter().enumerate() {
+            put_f32(d, 152 + 4 * i, v);
+        }
+    };
+    invalid(edit_chunk(tag, |d| put_u32(d, 84, 0xE000_0004)), tag, "tile index");
+    // Segments from (0, 2) to (8, 2), a point at (4, 6), the first again;
+    // k = 16 codes per cell, top 150; k may be negative (a cut band).
+    let good = [0.0, 2.0, 8.0, 2.0, 4.0, 6.0, 4.0, 6.0, 0.0, 2.0, 8.0, 2.0, 16.0, 150.0, 0.0, 0.0];
+    for k in [16.0, -16.0] {
+        let mut vals = good;
+        vals[12] = k;
+        let bytes = edit_chunk(tag, |d| segments(d, vals));
+        let b = taxel_format::Bundle::from_bytes(&bytes).expect("a valid segments tile reads");
+        assert_eq!(b.lowest_minor(), 2);
+        let again = b.to_bytes().expect("a segments tile's bundle writes");
+        assert_eq!(u16::from_le_bytes([again[10], again[11]]), 2, "written as 4.2");
+        let Some(taxel_format::Chunk::Distance(layer)) =
+            b.chunks.iter().find(|c| matches!(c, taxel_format::Chunk::Distance(_)))
+        else {
+            panic!("no distance layer");
+        };
+        let (h, step) = (layer.pitch_mm as f64, layer.step_mm as f64);
+        let corner = (layer.origin_x.0 as f64 + 24.0 * h, layer.origin_y.0 as f64 + 8.0 * h);
+        let code = |u: f64, w: f64| {
+            layer.distance_at((corner.0 + u * h) as f32, (corner.1 + w * h) as f32).map(|d| d as f64 / step + 128.0)
+        };
+        // On the first segment, 1.5 cells below it (nearer it than the
+        // point), and 1 cell right of the point (nearer the point).
+        for ((u, w), d) in [((3.0, 2.0), 0.0), ((6.0, 3.5), 1.5), ((5.0, 6.0), 1.0)] {
+            let want = 150.0 - k as f64 * d;
+            assert!(code(u, w).is_some_and(|c| (c - want).abs() < 0.05), "({u}, {w}): {:?} vs {want}", code(u, w));
+        }
+    }
+    for (i, bad) in
+        [(0, f32::NAN), (5, 1025.0), (11, f32::INFINITY), (12, -1025.0), (13, 70_000.0), (14, 1.0), (15, 1.0)]
+    {
+        let mut vals = good;
+        vals[i] = bad;
+        invalid(edit_chunk(tag, |d| segments(d, vals)), tag, "plane record");
     }
     // The record table's length follows the index.
     invalid(edit_chunk(tag, |d| d.extend_from_slice(&[0; 16])), tag, "planes");

@@ -54,8 +54,8 @@
 //! edges are.
 
 use taxel_format::{
-    DistanceView, PLANE_RECORD_LEN, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE, TILE_PLANE, TILE_SAMPLES,
-    TILE_SIDE, TileEntry,
+    DistanceView, PLANE_RECORD_LEN, SEGMENTS_PER_TILE, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE,
+    TILE_PLANE, TILE_SAMPLES, TILE_SIDE, TileEntry,
 };
 use wide::bytemuck::cast;
 #[cfg(not(target_arch = "x86_64"))]
@@ -136,7 +136,21 @@ struct BendLanes {
     /// code they were before arcs; reset on every tile change that reads
     /// records.
     arced: bool,
+    /// The segments lanes (format 4.2): a segments lane plays `top − k ·
+    /// min_i dist(q, segment i)` over three segments
+    /// ([`FieldLayer::segments`]); `s` holds per lane, for each segment, its
+    /// column less the segment's first end's x, that end's y, the segment's
+    /// vector (x, y) and the inverse of its squared length (0 for a point),
+    /// then `k` and the top code.
+    seg: [i32; LANES],
+    s: [[f32; LANES]; SEGMENT_LANE_VALUES],
+    /// Whether any lane of the current tiles is in a segments tile, reset
+    /// as `arced` is.
+    segged: bool,
 }
+
+/// Values per lane of a segments tile: five per segment, `k` and `top`.
+const SEGMENT_LANE_VALUES: usize = 5 * SEGMENTS_PER_TILE + 2;
 
 impl Default for TileLanes<'_> {
     fn default() -> Self {
@@ -193,6 +207,8 @@ impl Lane<'_> {
     /// A bend or an arc tile (formats 4.0 and 4.1), played out of line.
     const BEND: u32 = 64;
     const ARC: u32 = 128;
+    /// A segments tile (format 4.2), played out of line.
+    const SEGMENTS: u32 = 256;
 }
 
 /// The constant tiles' codes as plane records (`c` only): a lane in a
@@ -287,7 +303,7 @@ impl<'a> FieldLayer<'a> {
             tiles: m.tile_bytes().as_chunks::<4>().0.iter().fold(Tiles::Sampled, |t, e| {
                 match TileEntry::of(u32::from_le_bytes(*e)) {
                     TileEntry::Outside | TileEntry::Inside | TileEntry::Stored(_) => t,
-                    TileEntry::Bend(_) | TileEntry::Arc(_) => Tiles::Bent,
+                    TileEntry::Bend(_) | TileEntry::Arc(_) | TileEntry::Segments(_) => Tiles::Bent,
                     _ if t == Tiles::Bent => t,
                     _ => Tiles::Analytic,
                 }
@@ -333,6 +349,7 @@ impl<'a> FieldLayer<'a> {
         let mut t = TileLanes::default();
         if BENDS {
             bl.arced = false;
+            bl.segged = false;
         }
         let (mut first, mut second) = ([&ZERO_RECORD; LANES], [&ZERO_RECORD; LANES]);
         let mut kind = [0u32; LANES];
@@ -358,8 +375,8 @@ impl<'a> FieldLayer<'a> {
         t.analytic = any & Lane::ANALYTIC != 0;
         t.sampled = all & Lane::PLANAR == 0;
         // (A layer without bend tiles never reads one: `bends`.)
-        if BENDS && any & (Lane::BEND | Lane::ARC) != 0 {
-            Self::curved_lanes(&kind, &first, &second, u, &mut t.bent, bl);
+        if BENDS && any & (Lane::BEND | Lane::ARC | Lane::SEGMENTS) != 0 {
+            self.curved_lanes(tile_row, ci, &kind, &first, &second, u, &mut t.bent, bl);
         }
         let kind = i32x4::new(kind.map(|k| k as i32));
         let has = |flag: u32| (kind & i32x4::splat(flag as i32)).simd_eq(i32x4::splat(flag as i32));
@@ -396,12 +413,18 @@ impl<'a> FieldLayer<'a> {
         t
     }
 
-    /// The bend and arc lanes' values (lanes of `kind` [`Lane::BEND`] or
-    /// [`Lane::ARC`]) from their records `first` and `second`, at lattice x
-    /// `u` in their tiles; sets `bent` if any lane is a bend lane.
+    /// The bend, arc and segments lanes' values (lanes of `kind`
+    /// [`Lane::BEND`], [`Lane::ARC`] or [`Lane::SEGMENTS`]) from their
+    /// records `first` and `second` (a segments lane's four records are
+    /// read again from its entry, at `tile_row` and column `ci`), at
+    /// lattice x `u` in their tiles; sets `bent` if any lane is a bend lane.
     #[cold]
     #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
     fn curved_lanes(
+        &self,
+        tile_row: usize,
+        ci: [u32; LANES],
         kind: &[u32; LANES],
         first: &[&Record; LANES],
         second: &[&Record; LANES],
@@ -416,6 +439,18 @@ impl<'a> FieldLayer<'a> {
             if kind[k] & Lane::ARC != 0 {
                 Self::arc_lane(r, u[k], k, !bl.arced, bl);
                 bl.arced = true;
+            } else if kind[k] & Lane::SEGMENTS != 0 {
+                let e = self
+                    .entries
+                    .get(tile_row + (ci[k] >> SHIFT) as usize)
+                    .map_or(TILE_OUTSIDE, |b| u32::from_le_bytes(*b));
+                // (`lane` checked the four records are there.)
+                if let TileEntry::Segments(p) = TileEntry::of(e)
+                    && let Some(r) = self.planes.get(p as usize..p as usize + 4)
+                {
+                    Self::segments_lane(r.as_flattened(), u[k], k, !bl.segged, bl);
+                    bl.segged = true;
+                }
             } else if kind[k] & Lane::BEND != 0 {
                 Self::bend_lane(r, u[k], k, !*bent, bl);
                 *bent = true;
@@ -482,6 +517,52 @@ impl<'a> FieldLayer<'a> {
         bl.arc[k] = -1;
     }
 
+    /// The segments lanes' codes at lattice y `wt` within the tile (format
+    /// 4.2): `top − k · min_i dist(q, segment i)`, one square root per row
+    /// for four lanes, out of line as [`Self::bend`].
+    #[inline(never)]
+    fn segments(b: &BendLanes, wt: f32) -> f32x4 {
+        let v = b.s.map(f32x4::new);
+        let mut d2 = f32x4::splat(f32::MAX);
+        for i in 0..SEGMENTS_PER_TILE {
+            let [dx, ay, ex, ey, inv] = [v[5 * i], v[5 * i + 1], v[5 * i + 2], v[5 * i + 3], v[5 * i + 4]];
+            let dy = f32x4::splat(wt) - ay;
+            // The nearest point's place along the segment, clamped to it.
+            let t = ((dx * ex + dy * ey) * inv).fast_max(f32x4::ZERO).fast_min(f32x4::ONE);
+            let (px, py) = (dx - t * ex, dy - t * ey);
+            d2 = d2.fast_min(px * px + py * py);
+        }
+        let [k, top] = [v[5 * SEGMENTS_PER_TILE], v[5 * SEGMENTS_PER_TILE + 1]];
+        top - k * d2.sqrt()
+    }
+
+    /// Lane `k`'s segments values from its tile's four records `r` (three
+    /// segments (ax, ay, bx, by), then (k, top, 0, 0)), at lattice x `u` in
+    /// the tile; the `first` segments lane of a tile change clears the other
+    /// lanes' flags.
+    #[cold]
+    #[inline(never)]
+    fn segments_lane(r: &[u8], u: f32, k: usize, first: bool, bl: &mut BendLanes) {
+        if first {
+            bl.seg = [0; LANES];
+        }
+        let f = |o: usize| r.get(o..o + 4).map_or(0.0, |b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+        for i in 0..SEGMENTS_PER_TILE {
+            let o = i * PLANE_RECORD_LEN;
+            let (ax, ay, ex, ey) = (f(o), f(o + 4), f(o + 8) - f(o), f(o + 12) - f(o + 4));
+            let len2 = ex * ex + ey * ey;
+            // A segment shorter than a millionth of a cell plays as its first end.
+            let inv = if len2 > 1e-12 { 1.0 / len2 } else { 0.0 };
+            for (j, x) in [u - ax, ay, ex, ey, inv].into_iter().enumerate() {
+                bl.s[5 * i + j][k] = x;
+            }
+        }
+        let o = SEGMENTS_PER_TILE * PLANE_RECORD_LEN;
+        bl.s[5 * SEGMENTS_PER_TILE][k] = f(o);
+        bl.s[5 * SEGMENTS_PER_TILE + 1][k] = f(o + 4);
+        bl.seg[k] = -1;
+    }
+
     /// What the tile at index entry `i` makes its lanes read: one arm per
     /// kind of [`TileEntry`] (a new kind adds its arm here, and its lanes'
     /// values in [`Self::tile_lanes`]).
@@ -505,6 +586,9 @@ impl<'a> FieldLayer<'a> {
             TileEntry::Ridge(p) => (p, 0, Lane::CODE | Lane::RIDGE),
             TileEntry::Bend(p) => (p, 1, Lane::BEND),
             TileEntry::Arc(p) => (p, 1, Lane::ARC),
+            // Its three segments' records are read again from the entry
+            // (`curved_lanes`): here the last is checked.
+            TileEntry::Segments(p) => (p, 3, Lane::SEGMENTS),
             TileEntry::Inside => return constant(&INSIDE, &INSIDE_RECORD),
             // Outside, or a stored tile past the stored ones.
             TileEntry::Outside | TileEntry::Stored(_) => return outside,
@@ -700,6 +784,9 @@ impl<'a> FieldLayer<'a> {
                         }
                         if BENDS && bends.arced {
                             code = cast::<i32x4, f32x4>(i32x4::new(bends.arc)).select(Self::arc(&bends, wt), code);
+                        }
+                        if BENDS && bends.segged {
+                            code = cast::<i32x4, f32x4>(i32x4::new(bends.seg)).select(Self::segments(&bends, wt), code);
                         }
                         // Only lanes in stored tiles read samples.
                         if lanes.sampled {

@@ -1,12 +1,13 @@
 //! Distance layers (`VDST`, `GDST`) against an f64 evaluation of SPEC.md
 //! section 6.2 and the seed-000 equations: random sparse fields (inside,
 //! outside and stored tiles with random codes, plane, ridge, corner,
-//! notch, bend and arc tiles with random records), hard and soft edges, both primitives,
+//! notch, bend, arc and segments tiles with random records), hard and soft edges, both primitives,
 //! anywhere on and off the lattice.
 
 use proptest::prelude::*;
 use taxel_format::{
-    Chunk, DistanceLayer, MaskKind, Mm, TILE_ARC, TILE_BEND, TILE_CORNER, TILE_NOTCH, TILE_PLANE, TILE_RIDGE, TilePlane,
+    Chunk, DistanceLayer, MaskKind, Mm, TILE_ARC, TILE_BEND, TILE_CORNER, TILE_NOTCH, TILE_PLANE, TILE_RIDGE,
+    TILE_SEGMENTS, TilePlane,
 };
 
 use crate::support::*;
@@ -37,7 +38,7 @@ pub(crate) fn field(
             gy: (at(n + 3) - 128.0) / 2.0,
             top,
         };
-        match entries[k % entries.len()] % 9 {
+        match entries[k % entries.len()] % 10 {
             0 => tiles.push(0),
             1 => tiles.push(1),
             3 => {
@@ -72,6 +73,20 @@ pub(crate) fn field(
                 let radius = if at(5) < 32.0 { 0.0 } else { at(1) / 16.0 };
                 planes.push(TilePlane { c: at(0) / 16.0 - 4.0, gx: at(2) / 16.0 - 4.0, gy: radius, top: at(4) / 4.0 });
                 planes.push(TilePlane { c: 64.0 + at(6), gx: 0.0, gy: 0.0, top: 0.0 });
+            }
+            9 => {
+                // Segments (format 4.2): three segments with ends within a
+                // few cells of the tile (one in eight a point, a = b), k up
+                // to ±64 codes per cell (negative for a band cut out of a
+                // grating).
+                tiles.push(TILE_SEGMENTS | planes.len() as u32);
+                for s in 0..3 {
+                    let end = |n: usize| at(n + 2 * s) / 16.0 - 4.0;
+                    let (ax, ay) = (end(0), end(1));
+                    let (bx, by) = if at(7 + s) < 32.0 { (ax, ay) } else { (end(2), end(3)) };
+                    planes.push(TilePlane { c: ax, gx: ay, gy: bx, top: by });
+                }
+                planes.push(TilePlane { c: (at(4) - 128.0) / 2.0, gx: 128.0 + at(6) - at(1), gy: 0.0, top: 0.0 });
             }
             _ => {
                 tiles.push(next);

@@ -227,6 +227,22 @@ pub fn field_code(d: &DistanceLayer, x: f64, y: f64) -> Option<f64> {
             let rho = (tu - a.c as f64).hypot(tw - a.gx as f64);
             return Some(b.c as f64 - a.top as f64 * (rho - a.gy as f64).abs());
         }
+        if e >> 28 == 0xE {
+            // Segments (0xE000_0000 | p, format 4.2): records p to p + 2 =
+            // (ax, ay, bx, by), p + 3 = (k, top, 0, 0); top − k · the
+            // distance to the nearest of the three segments.
+            let p = (e & 0x0FFF_FFFF) as usize;
+            let seg = |s: taxel_format::TilePlane| {
+                let (ax, ay, bx, by) = (s.c as f64, s.gx as f64, s.gy as f64, s.top as f64);
+                let (ex, ey) = (bx - ax, by - ay);
+                let l2 = ex * ex + ey * ey;
+                let t = if l2 > 0.0 { (((tu - ax) * ex + (tw - ay) * ey) / l2).clamp(0.0, 1.0) } else { 0.0 };
+                (tu - ax - t * ex).hypot(tw - ay - t * ey)
+            };
+            let near = seg(d.planes[p]).min(seg(d.planes[p + 1])).min(seg(d.planes[p + 2]));
+            let last = d.planes[p + 3];
+            return Some(last.gx as f64 - last.c as f64 * near);
+        }
         return Some(match e >> 28 {
             0xA => affine((e & 0x0FFF_FFFF) as usize).min(affine((e & 0x0FFF_FFFF) as usize + 1)),
             0xB => affine((e & 0x0FFF_FFFF) as usize).max(affine((e & 0x0FFF_FFFF) as usize + 1)),
