@@ -8,8 +8,8 @@
 //! regions has sharp convex ones): a bilinear sampled tile rounds them by up
 //! to a few hundredths of a mm, which at a hard edge (a ramp of one step,
 //! 0.008 mm at the default pitch) is the full amplitude. That was all of
-//! `tala-map`'s vibration RMS error and 69% of its grating's (`taxel
-//! report`, docs/report.md). No bend plays it (a bend has two rays from one
+//! `tala-map`'s vibration RMS error (`taxel report`, docs/report.md). No
+//! bend plays it (a bend has two rays from one
 //! vertex); the distance to the union of the centre lines does, exactly:
 //! a band of width `w` is `w / 2 − d` and a band cut out of a grating is
 //! `d − w / 2`, `d` the distance to the nearest centre line, so a segments
