@@ -206,7 +206,8 @@ fn design_rules_for_single_features() {
 /// by one. Here `a` and `c` are 1 mm apart across the thin `b` of the same
 /// style, and each is under 2 cm while the three together are 21 mm wide;
 /// `d`, of the same style but touching none of them, is still a shape of its
-/// own 1.5 mm from `c`.
+/// own 1.5 mm from `c`: both are told so, as any two elements that close
+/// are, though `c`'s nearest neighbour is `a` of its own texture (1 mm).
 #[test]
 fn regions_of_one_texture_are_not_judged_apart() {
     let g = r#"data-tactile="grating(wavelength: 4mm, angle: 0deg)""#;
@@ -223,7 +224,7 @@ fn regions_of_one_texture_are_not_judged_apart() {
     assert_eq!(on("T0407"), ["d"], "{:#?}", c.diagnostics);
     let gaps = with_code(&c, "T0408");
     assert!(gaps.iter().all(|d| d.message.contains("1.5 mm")), "{gaps:#?}");
-    assert_eq!(on("T0408"), ["d"], "{gaps:#?}");
+    assert_eq!(on("T0408"), ["c", "d"], "{gaps:#?}");
 }
 
 /// Issue 14: an element with a border and a fill is one shape with one
