@@ -258,17 +258,25 @@ impl SharedVertices {
         use rayon::prelude::*;
         // -0.0 and 0.0 are one point; adding 0.0 makes both 0.0.
         let key = |v: f64| (v + 0.0).to_bits();
-        let mut at: Vec<(u64, u64, usize)> = outlines
-            .par_iter()
-            .enumerate()
-            .flat_map_iter(|(k, o)| {
-                o.iter()
-                    .filter(|p| p.points.len() >= 2)
+        // Laid out once at its final size: collected in parallel, the
+        // vertices were gathered in pieces and then copied into one list,
+        // twice their size at once (some 24 bytes a vertex, millions of
+        // vertices on the map at the input limit, where this was the
+        // build's peak of memory). The order does not matter: they are
+        // sorted next.
+        fn lines<'a>(o: &'a [Polyline]) -> impl Iterator<Item = &'a Polyline> {
+            o.iter().filter(|p| p.points.len() >= 2)
+        }
+        let mut at: Vec<(u64, u64, usize)> =
+            Vec::with_capacity(outlines.iter().flat_map(|o| lines(o)).map(|p| p.points.len()).sum());
+        for (k, o) in outlines.iter().enumerate() {
+            at.extend(
+                lines(o)
                     .flat_map(|p| p.points.iter())
                     .filter(|v| v.0.is_finite() && v.1.is_finite())
-                    .map(move |v| (key(v.0), key(v.1), k))
-            })
-            .collect();
+                    .map(|v| (key(v.0), key(v.1), k)),
+            );
+        }
         at.par_sort_unstable();
         at.dedup();
         let mut pairs: Vec<(usize, usize)> = Vec::new();
@@ -283,6 +291,7 @@ impl SharedVertices {
                 }
             }
         }
+        drop(at);
         pairs.par_sort_unstable();
         pairs.dedup();
         let mut start = Vec::with_capacity(outlines.len() + 1);
