@@ -264,7 +264,7 @@ impl SharedVertices {
         // vertices on the map at the input limit, where this was the
         // build's peak of memory). The order does not matter: they are
         // sorted next.
-        fn lines<'a>(o: &'a [Polyline]) -> impl Iterator<Item = &'a Polyline> {
+        fn lines(o: &[Polyline]) -> impl Iterator<Item = &Polyline> {
             o.iter().filter(|p| p.points.len() >= 2)
         }
         let mut at: Vec<(u64, u64, usize)> =
