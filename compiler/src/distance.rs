@@ -124,56 +124,29 @@ fn buckets_of(
     tile: f64,
     (cols, rows): (usize, usize),
 ) -> (Vec<Vec<u32>>, Vec<[u16; 4]>) {
-    // The tiles `(c0, c1, r0, r1)` a segment acts on, if any.
-    let tiles_of = |(s, _, m): &(Seg, Part, f64)| {
+    let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); cols * rows];
+    let narrow = cols <= usize::from(u16::MAX) && rows <= usize::from(u16::MAX);
+    let mut spans = Vec::with_capacity(if narrow { segs.len() } else { 0 });
+    for (n, (s, _, m)) in segs.iter().enumerate() {
         let b = seg_bounds(s);
         let tc = |v: f64, o: f64, n: usize| (((v - o) / tile).floor().max(0.0) as usize).min(n);
         let (c0, c1) = (tc(b.0 - m, ox, cols), tc(b.2 + m, ox, cols));
         let (r0, r1) = (tc(b.1 - m, oy, rows), tc(b.3 + m, oy, rows));
         if b.2 + m < ox || b.3 + m < oy || c0 >= cols || r0 >= rows {
-            return None;
+            if narrow {
+                spans.push(NO_TILES);
+            }
+            continue;
         }
         let (c1, r1) = (c1.min(cols - 1), r1.min(rows - 1));
-        // An empty span (a negative reach) acts on no tile, as before.
-        (c0 <= c1 && r0 <= r1).then_some((c0, c1, r0, r1))
-    };
-    let narrow = cols <= usize::from(u16::MAX) && rows <= usize::from(u16::MAX);
-    if !narrow {
-        let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); cols * rows];
-        for (n, seg) in segs.iter().enumerate() {
-            let Some((c0, c1, r0, r1)) = tiles_of(seg) else { continue };
-            for r in r0..=r1 {
-                for c in c0..=c1 {
-                    buckets[r * cols + c].push(n as u32);
-                }
+        for r in r0..=r1 {
+            for c in c0..=c1 {
+                buckets[r * cols + c].push(n as u32);
             }
         }
-        return (buckets, Vec::new());
-    }
-    // The spans first, and the buckets at their final sizes from them:
-    // grown one push at a time, the buckets of the map at the input limit
-    // (some 25,000 entries a tile) were copied as they grew and held up to
-    // twice their size.
-    let spans: Vec<[u16; 4]> = segs
-        .iter()
-        // Below `cols` and `rows`, so they fit in a narrow lattice.
-        .map(|seg| tiles_of(seg).map_or(NO_TILES, |(c0, c1, r0, r1)| [c0 as u16, c1 as u16, r0 as u16, r1 as u16]))
-        .collect();
-    let each = || spans.iter().enumerate().map(|(n, sp)| (n, sp.map(usize::from)));
-    let mut sizes = vec![0usize; cols * rows];
-    for (_, [c0, c1, r0, r1]) in each() {
-        for r in r0..=r1 {
-            for n in &mut sizes[r * cols + c0..=r * cols + c1] {
-                *n += 1;
-            }
-        }
-    }
-    let mut buckets: Vec<Vec<u32>> = sizes.into_iter().map(Vec::with_capacity).collect();
-    for (n, [c0, c1, r0, r1]) in each() {
-        for r in r0..=r1 {
-            for b in &mut buckets[r * cols + c0..=r * cols + c1] {
-                b.push(n as u32);
-            }
+        // Below `cols` and `rows`, so they fit when the lattice is narrow.
+        if narrow {
+            spans.push([c0 as u16, c1 as u16, r0 as u16, r1 as u16]);
         }
     }
     (buckets, spans)
