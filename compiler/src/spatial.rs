@@ -260,10 +260,10 @@ impl SharedVertices {
         let key = |v: f64| (v + 0.0).to_bits();
         // Laid out once at its final size: collected in parallel, the
         // vertices were gathered in pieces and then copied into one list,
-        // twice their size at once (some 24 bytes a vertex, millions of
-        // vertices on the map at the input limit, where this was the
-        // build's peak of memory). The order does not matter: they are
-        // sorted next.
+        // twice their size at once (24 bytes a vertex, millions of
+        // vertices on the map at the input limit, where this list is made
+        // at the build's peak of memory). The order does not matter: they
+        // are sorted next.
         fn lines(o: &[Polyline]) -> impl Iterator<Item = &Polyline> {
             o.iter().filter(|p| p.points.len() >= 2)
         }
