@@ -258,17 +258,25 @@ impl SharedVertices {
         use rayon::prelude::*;
         // -0.0 and 0.0 are one point; adding 0.0 makes both 0.0.
         let key = |v: f64| (v + 0.0).to_bits();
-        let mut at: Vec<(u64, u64, usize)> = outlines
-            .par_iter()
-            .enumerate()
-            .flat_map_iter(|(k, o)| {
-                o.iter()
-                    .filter(|p| p.points.len() >= 2)
+        // Laid out once at its final size: collected in parallel, the
+        // vertices were gathered in pieces and then copied into one list,
+        // twice their size at once (24 bytes a vertex, millions of
+        // vertices on the map at the input limit, where this list is made
+        // at the build's peak of memory). The order does not matter: they
+        // are sorted next.
+        fn lines(o: &[Polyline]) -> impl Iterator<Item = &Polyline> {
+            o.iter().filter(|p| p.points.len() >= 2)
+        }
+        let mut at: Vec<(u64, u64, usize)> =
+            Vec::with_capacity(outlines.iter().flat_map(|o| lines(o)).map(|p| p.points.len()).sum());
+        for (k, o) in outlines.iter().enumerate() {
+            at.extend(
+                lines(o)
                     .flat_map(|p| p.points.iter())
                     .filter(|v| v.0.is_finite() && v.1.is_finite())
-                    .map(move |v| (key(v.0), key(v.1), k))
-            })
-            .collect();
+                    .map(|v| (key(v.0), key(v.1), k)),
+            );
+        }
         at.par_sort_unstable();
         at.dedup();
         let mut pairs: Vec<(usize, usize)> = Vec::new();
@@ -283,6 +291,7 @@ impl SharedVertices {
                 }
             }
         }
+        drop(at);
         pairs.par_sort_unstable();
         pairs.dedup();
         let mut start = Vec::with_capacity(outlines.len() + 1);
@@ -578,15 +587,22 @@ impl OutlineSet {
     /// rule's time.
     fn short_distance(&self, i: usize, gi: Bbox, j: usize, reach: f64, stop_at: f64) -> f64 {
         let (si, sj) = (self.segments(i), self.segments(j));
-        // Positions within the outline; a short outline has at most
-        // `TREE_ABOVE` segments, so they fit in a byte and on the stack.
+        // Positions within the outline and the boxes of the segments near
+        // the other side; a short outline has at most `TREE_ABOVE`
+        // segments, so they fit in a byte and on the stack. The boxes are
+        // worked out once here: the pair scans below check every box of
+        // `j`'s side once per segment of `i`'s, and working them out there
+        // again was most of the gap rule's time on the map at the input
+        // limit.
         let mut ki = [0u8; TREE_ABOVE];
+        let mut bi = [(0.0, 0.0, 0.0, 0.0); TREE_ABOVE];
         let mut ni = 0;
         let mut part: Option<Bbox> = None;
         for (k, s) in si.iter().enumerate().take(TREE_ABOVE) {
             let b = s.bbox();
             if meet(b, gi) {
                 ki[ni] = k as u8;
+                bi[ni] = b;
                 ni += 1;
                 part = Some(part.map_or(b, |p| (p.0.min(b.0), p.1.min(b.1), p.2.max(b.2), p.3.max(b.3))));
             }
@@ -594,22 +610,20 @@ impl OutlineSet {
         let Some(part) = part else { return f64::INFINITY };
         let gj = grow(part, reach);
         let mut kj = [0u8; TREE_ABOVE];
+        let mut bj = [(0.0, 0.0, 0.0, 0.0); TREE_ABOVE];
         let mut nj = 0;
         for (k, t) in sj.iter().enumerate().take(TREE_ABOVE) {
-            if meet(t.bbox(), gj) {
+            let b = t.bbox();
+            if meet(b, gj) {
                 kj[nj] = k as u8;
+                bj[nj] = b;
                 nj += 1;
             }
         }
-        let (ki, kj) = (&ki[..ni], &kj[..nj]);
+        let side_i = Side { segs: si, at: &ki[..ni], boxes: &bi[..ni] };
+        let side_j = Side { segs: sj, at: &kj[..nj], boxes: &bj[..nj] };
         if ni * nj < RUNS_FROM {
-            return scan_pairs(
-                ki.iter().map(|&k| &si[usize::from(k)]),
-                || kj.iter().map(|&k| &sj[usize::from(k)]),
-                f64::INFINITY,
-                reach,
-                stop_at,
-            );
+            return scan_sides(side_i, side_j, f64::INFINITY, reach, stop_at);
         }
         // Two regions of a map, each of some 64 sides: the box checks of
         // every segment pair (4,096) were most of the time of a pair that
@@ -617,23 +631,20 @@ impl OutlineSet {
         // each with its box, turn most of them away in one check; a run's
         // box holds its segments' boxes, so a pair skipped with its run
         // would have been skipped alone (the same grown-box check).
-        let run_box = |s: &[Seg], ks: &[u8]| {
-            ks.iter()
-                .map(|&k| s[usize::from(k)].bbox())
-                .reduce(|p, b| (p.0.min(b.0), p.1.min(b.1), p.2.max(b.2), p.3.max(b.3)))
-        };
+        let run_box =
+            |bs: &[Bbox]| bs.iter().copied().reduce(|p, b| (p.0.min(b.0), p.1.min(b.1), p.2.max(b.2), p.3.max(b.3)));
         let mut best = f64::INFINITY;
-        for run_i in ki.chunks(RUN) {
-            let Some(bi) = run_box(si, run_i) else { continue };
-            for run_j in kj.chunks(RUN) {
-                let Some(bj) = run_box(sj, run_j) else { continue };
+        for (run_i, boxes_i) in side_i.at.chunks(RUN).zip(side_i.boxes.chunks(RUN)) {
+            let Some(ri) = run_box(boxes_i) else { continue };
+            for (run_j, boxes_j) in side_j.at.chunks(RUN).zip(side_j.boxes.chunks(RUN)) {
+                let Some(rj) = run_box(boxes_j) else { continue };
                 let r = best.min(reach);
-                if !meet(bj, grow(bi, r + r * 1e-9)) {
+                if !meet(rj, grow(ri, r + r * 1e-9)) {
                     continue;
                 }
-                best = scan_pairs(
-                    run_i.iter().map(|&k| &si[usize::from(k)]),
-                    || run_j.iter().map(|&k| &sj[usize::from(k)]),
+                best = scan_sides(
+                    Side { segs: si, at: run_i, boxes: boxes_i },
+                    Side { segs: sj, at: run_j, boxes: boxes_j },
                     best,
                     reach,
                     stop_at,
@@ -645,6 +656,40 @@ impl OutlineSet {
         }
         best
     }
+}
+
+/// Some segments of a short outline (`segs[at[k]]`, each with its box
+/// `boxes[k]`) for [`scan_sides`].
+#[derive(Clone, Copy)]
+struct Side<'a> {
+    segs: &'a [Seg],
+    at: &'a [u8],
+    boxes: &'a [Bbox],
+}
+
+/// [`scan_pairs`] between two sides whose boxes are worked out: the same
+/// pairs in the same order, so the same distance to the bit.
+fn scan_sides(ss: Side<'_>, ts: Side<'_>, mut best: f64, reach: f64, stop_at: f64) -> f64 {
+    for (&k, &sb) in ss.at.iter().zip(ss.boxes) {
+        let Some(s) = ss.segs.get(usize::from(k)) else { continue };
+        let r = best.min(reach);
+        let grown = grow(sb, r + r * 1e-9);
+        for (&l, &tb) in ts.at.iter().zip(ts.boxes) {
+            if !meet(tb, grown) {
+                continue;
+            }
+            let r = best.min(reach);
+            if box_distance2(sb, tb) > r * r {
+                continue;
+            }
+            let Some(t) = ts.segs.get(usize::from(l)) else { continue };
+            best = best.min(segment_distance(s.a, s.b, t.a, t.b));
+            if best <= stop_at {
+                return best;
+            }
+        }
+    }
+    best
 }
 
 /// Segment pairs of two short outlines from which [`OutlineSet::short_distance`]

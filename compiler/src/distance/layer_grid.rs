@@ -72,7 +72,7 @@ pub(super) struct LayerGrid {
     cols: usize,
     /// Each segment's slot, and its bucket's span of tiles `[c0, c1, r0, r1]`.
     slot: Vec<u8>,
-    span: Vec<[u32; 4]>,
+    span: Vec<[u16; 4]>,
     /// Per tile, row-major.
     pub stats: Vec<TileStats>,
     /// Each slot's reach plus the margin, the same for all its segments.
@@ -98,10 +98,11 @@ impl LayerGrid {
     /// (`span`, from [`buckets_of`](super::buckets_of)); `None` where the per-tile
     /// grids do as well or better: no tile crowded enough to search, a
     /// segment that is not finite, a slot whose segments reach differently,
-    /// or more cells than the caps allow.
+    /// no spans (a lattice too wide for them), or more cells than the caps
+    /// allow.
     pub(super) fn new(
         segs: &[(Seg, Part, f64)],
-        mut span: Vec<[u32; 4]>,
+        mut span: Vec<[u16; 4]>,
         lat: &Lattice,
         slot_of: impl Fn(Part) -> Option<usize>,
         grid_from: usize,
@@ -261,7 +262,7 @@ impl LayerGrid {
 
     /// Segment `n`'s slot if tile `(c, r)`'s bucket holds it.
     pub(super) fn slot_in(&self, n: usize, (c, r): (u32, u32)) -> Option<usize> {
-        let [c0, c1, r0, r1] = *self.span.get(n)?;
+        let [c0, c1, r0, r1] = self.span.get(n)?.map(u32::from);
         let s = *self.slot.get(n)?;
         (c0 <= c && c <= c1 && r0 <= r && r <= r1 && s != u8::MAX).then_some(s as usize)
     }

@@ -634,3 +634,69 @@ fn three_bands_meeting_at_a_point_play_their_exact_distance_round_the_junction()
         assert!(checked > 500, "{checked} points in segments tiles");
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    /// Each tile's bucket holds, in segment order, exactly the segments
+    /// whose bounds grown by their reach meet the tile (checked tile by
+    /// tile, with the same rounding of bounds to tiles), and each
+    /// segment's span is the range of the tiles whose buckets hold it.
+    /// A negative reach (a span that comes out empty) acts on no tile and
+    /// never panics; an infinite one acts on every tile.
+    #[test]
+    fn buckets_hold_the_segments_that_reach_each_tile(
+        segs in prop::collection::vec(
+            ((-3.0f64..12.0, -3.0f64..12.0), (-4.0f64..4.0, -4.0f64..4.0), prop_oneof![
+                8 => 0.0f64..2.0,
+                1 => -3.0f64..0.0,
+                1 => Just(f64::INFINITY),
+            ]),
+            0..60,
+        ),
+        (cols, rows) in (1usize..5, 1usize..5),
+        tile in 0.5f64..3.0,
+        origin in (-1.0f64..1.0, -1.0f64..1.0),
+    ) {
+        let segs: Vec<(Seg, Part, f64)> =
+            segs.iter().map(|&((x, y), (dx, dy), m)| (((x, y), (x + dx, y + dy)), Part::Fill, m)).collect();
+        let (buckets, spans) = buckets_of(&segs, origin, tile, (cols, rows));
+        prop_assert_eq!(buckets.len(), cols * rows);
+        prop_assert_eq!(spans.len(), segs.len());
+        // The tile index of a coordinate (unbounded: the lattice's first and
+        // last tiles take what lies beyond them).
+        let index = |v: f64, o: f64| ((v - o) / tile).floor();
+        for r in 0..rows {
+            for c in 0..cols {
+                let expected: Vec<u32> = segs
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, (s, _, m))| {
+                        let b = seg_bounds(s);
+                        let (lo_c, hi_c) = (index(b.0 - m, origin.0), index(b.2 + m, origin.0));
+                        let (lo_r, hi_r) = (index(b.1 - m, origin.1), index(b.3 + m, origin.1));
+                        let covers = |lo: f64, hi: f64, k: usize| lo <= k as f64 && k as f64 <= hi;
+                        b.2 + m >= origin.0
+                            && b.3 + m >= origin.1
+                            && lo_c < cols as f64
+                            && lo_r < rows as f64
+                            && covers(lo_c, hi_c, c)
+                            && covers(lo_r, hi_r, r)
+                    })
+                    .map(|(n, _)| n as u32)
+                    .collect();
+                prop_assert_eq!(&buckets[r * cols + c], &expected, "tile ({}, {})", c, r);
+            }
+        }
+        for (n, sp) in spans.iter().enumerate() {
+            let held: Vec<(usize, usize)> = (0..rows)
+                .flat_map(|r| (0..cols).map(move |c| (c, r)))
+                .filter(|&(c, r)| buckets[r * cols + c].contains(&(n as u32)))
+                .collect();
+            let [c0, c1, r0, r1] = sp.map(usize::from);
+            let in_span: Vec<(usize, usize)> =
+                (0..rows).flat_map(|r| (0..cols).map(move |c| (c, r))).filter(|&(c, r)| c0 <= c && c <= c1 && r0 <= r && r <= r1).collect();
+            prop_assert_eq!(held, in_span, "segment {}", n);
+        }
+    }
+}

@@ -198,16 +198,21 @@ impl Checked {
     pub(crate) fn finish(self, built: &Built, diags: &mut Vec<Diagnostic>) {
         let f = &built.features;
         diags.extend(self.head);
-        let overlaps: Vec<Vec<Diagnostic>> = self
+        // Flattened as they are found (rayon keeps the pairs' order): a
+        // list with one entry (24 bytes) per meeting pair, nearly all
+        // empty, was freshly paged in on one thread on the map at the
+        // input limit.
+        let overlaps: Vec<Diagnostic> = self
             .meets
             .par_iter()
-            .map(|&(i, j)| {
+            .flat_map_iter(|&(i, j)| {
                 let mut out = Vec::new();
                 overlap(built, &f[i], &f[j], &mut out);
                 out
             })
             .collect();
-        diags.extend(overlaps.into_iter().flatten());
+        drop(self.meets);
+        diags.extend(overlaps);
         diags.extend(self.tail);
     }
 }
