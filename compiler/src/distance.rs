@@ -557,8 +557,17 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
                 sat.close(taxel_format::segments_code([s0, s1, s2, last], u, w) - DISTANCE_ZERO as f64, e)
             })
         });
-        match joined {
-            Some(r) => TileOut::Segments(r),
+        if let Some(r) = joined {
+            return TileOut::Segments(r);
+        }
+        // A fill's straight side and a circular hole in it: a cut arc (format 4.3).
+        let cut = cut_arcs::cut_arcs(&tile, &exact).into_iter().find(|r| {
+            tile.centres_all(centres, |u, w, e| {
+                sat.close(taxel_format::arc_code([&r[0], &r[1]], u, w) - DISTANCE_ZERO as f64, e)
+            })
+        });
+        match cut {
+            Some(r) => TileOut::Bend(taxel_format::TILE_ARC, r),
             None => TileOut::Samples(tile_buf),
         }
     };
@@ -802,6 +811,7 @@ pub fn constant_tile_at(f: &Field, h: f64, p: (f64, f64)) -> Option<bool> {
 
 mod arcs;
 mod bends;
+mod cut_arcs;
 mod junctions;
 mod layer_grid;
 mod near;

@@ -77,7 +77,11 @@ pub const TILE_BEND: u32 = 0x9000_0000;
 /// `top − k · ||q − V| − R|`: a band round the circle (a ring), a filled
 /// disc (`R` = 0, a cone), or a hole (`R` beyond the tile, where the code
 /// grows with `|q − V|`). A 4.0 reader decodes it as a ridge entry naming
-/// record `2^28 + p`, which its index check refuses.
+/// record `2^28 + p`, which its index check refuses. Where record `p + 1`
+/// is `(top, c, gx, gy)` with its plane `(c, gx, gy)` not all 0, a **cut
+/// arc** (format 4.3), the code is the lesser of that and
+/// `c + gx u + gy w` ([`arc_code`]); a 4.1 or 4.2 reader refuses the
+/// record, so it never misplays one.
 pub const TILE_ARC: u32 = 0xD000_0000;
 /// Tile index entry `TILE_SEGMENTS | p`: a **segments** tile (format 4.2),
 /// the union of a band's centre line's pieces near a junction:
@@ -698,17 +702,35 @@ pub fn bend_code(r: [&TilePlane; 2], u: f64, w: f64) -> f64 {
 /// The code of an arc tile with records `r` at lattice coordinates
 /// `(u, w)`, in f64 ([`TILE_ARC`]; SPEC.md section 6.2's reference):
 /// `top − k · ||q − V| − R|`.
+///
+/// Where the second record's last three values `(c, gx, gy)` are not all 0
+/// (a **cut arc**, format 4.3), the code is the lesser of that and the
+/// affine `c + gx u + gy w`: a fill's straight side and a circular hole in
+/// it (or a circle) within one tile.
 pub fn arc_code(r: [&TilePlane; 2], u: f64, w: f64) -> f64 {
     let [a, b] = r;
     let rho = libm::hypot(u - a.c as f64, w - a.gx as f64);
-    b.c as f64 - a.top as f64 * (rho - a.gy as f64).abs()
+    let arc = b.c as f64 - a.top as f64 * (rho - a.gy as f64).abs();
+    if is_cut_arc(b) { arc.min(b.gx as f64 + b.gy as f64 * u + b.top as f64 * w) } else { arc }
+}
+
+/// Whether an arc tile's second record (`top`, `c`, `gx`, `gy`) holds a
+/// plane, whose affine code the tile's code is the lesser of (a **cut
+/// arc**, format 4.3): any of its last three values not 0. (A plane of
+/// all-zero values plays code 0 everywhere, which saturates the profile at
+/// 0; a writer writes such a tile as outside, so the encoding loses
+/// nothing.)
+#[inline]
+pub fn is_cut_arc(second: &TilePlane) -> bool {
+    second.gx != 0.0 || second.gy != 0.0 || second.top != 0.0
 }
 
 /// Checks an arc tile's two records: finite values, the centre within
 /// [`MAX_PLANE_GRADIENT`] cells of the tile, the radius from 0 to
 /// [`MAX_ARC_RADIUS`] cells, `k` from 0 to [`MAX_PLANE_GRADIENT`] codes per
-/// cell, `top` at most [`MAX_PLANE_CODE`] and the second record's other
-/// three values 0 (SPEC.md section 6.2).
+/// cell, `top` at most [`MAX_PLANE_CODE`], and the second record's other
+/// three values a plane's `c`, `gx` and `gy` within a plane record's bounds
+/// (all 0 for an arc alone; SPEC.md section 6.2).
 fn check_arc(r: [TilePlane; 2]) -> Result<(), &'static str> {
     let [a, b] = r;
     let within = |v: f32, m: f32| v.is_finite() && v.abs() <= m;
@@ -721,8 +743,9 @@ fn check_arc(r: [TilePlane; 2]) -> Result<(), &'static str> {
     if !(within(a.top, MAX_PLANE_GRADIENT) && a.top >= 0.0 && within(b.c, MAX_PLANE_CODE)) {
         return Err("an arc's k from 0 to 1024 and top of at most 65536 codes");
     }
-    if !(b.gx == 0.0 && b.gy == 0.0 && b.top == 0.0) {
-        return Err("an arc's second record 0 after its top");
+    // A cut arc's plane (format 4.3), bounded as a plane record's.
+    if !(within(b.gx, MAX_PLANE_CODE) && within(b.gy, MAX_PLANE_GRADIENT) && within(b.top, MAX_PLANE_GRADIENT)) {
+        return Err("a cut arc's plane finite, with |c| at most 65536 and gradients of at most 1024 codes per cell");
     }
     Ok(())
 }

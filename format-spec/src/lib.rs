@@ -62,7 +62,7 @@ pub use distance::{
     MAX_SOFT_MM, PLANE_RECORD_LEN, SEGMENT_TILE_RECORDS, SEGMENTS_PER_TILE, TILE_ARC, TILE_BEND, TILE_CELLS,
     TILE_CORNER, TILE_CORNER_RECORD_MASK, TILE_FIRST_STORED, TILE_INSIDE, TILE_NOTCH, TILE_OUTSIDE, TILE_PLANE,
     TILE_RECORD_MASK, TILE_RIDGE, TILE_SAMPLES, TILE_SEGMENTS, TILE_SIDE, TileEntry, TilePlane, arc_code, bend_code,
-    profile as edge_profile, ramp as edge_ramp, segments_code,
+    is_cut_arc, profile as edge_profile, ramp as edge_ramp, segments_code,
 };
 pub use dots::{Dot, DotGrid, DotKind, DotRun, DotTable, DotTableView, MAX_DOT_GRID_CELLS, MAX_DOTS};
 pub use error::FormatError;

@@ -86,7 +86,8 @@ impl Bundle {
     /// The canonical encoding, as format version
     /// [`FORMAT_MAJOR`](crate::FORMAT_MAJOR).*m*, where *m* is the lowest
     /// minor version that has every chunk of the bundle (SPEC.md section 12):
-    /// 2 when a distance layer holds a segments tile (format 4.2), else 1
+    /// 3 when a distance layer holds a cut arc (format 4.3), else 2 when one
+    /// holds a segments tile (format 4.2), else 1
     /// when one holds an arc tile (format 4.1), else 0.
     /// The result is checked with the reader before it is returned, so a
     /// bundle that the writer accepts always reads back.
@@ -102,7 +103,17 @@ impl Bundle {
                 _ => false,
             })
         };
-        if holds(|e| matches!(e, crate::TileEntry::Segments(_))) {
+        // A cut arc (format 4.3): an arc tile whose second record holds a plane.
+        let cut_arc = self.chunks.iter().any(|c| match c {
+            Chunk::Distance(d) => d.tiles.iter().any(|&e| match crate::TileEntry::of(e) {
+                crate::TileEntry::Arc(p) => d.planes.get(p as usize + 1).is_some_and(crate::is_cut_arc),
+                _ => false,
+            }),
+            _ => false,
+        });
+        if cut_arc {
+            3
+        } else if holds(|e| matches!(e, crate::TileEntry::Segments(_))) {
             2
         } else {
             u16::from(holds(|e| matches!(e, crate::TileEntry::Arc(_))))

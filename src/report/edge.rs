@@ -222,7 +222,12 @@ fn bend_contour(
     // as a step-by-step walk; half the bound, for the f32 codes' rounding).
     let slope = match bend {
         TileEntry::Bend(p) => planes.get(p as usize + 1).map(|r| r.gy),
-        TileEntry::Arc(p) => planes.get(p as usize).map(|r| r.top),
+        // A cut arc (format 4.3) is the lesser of its arc and a plane: its
+        // slope is at most the greater of theirs.
+        TileEntry::Arc(p) => planes.get(p as usize).map(|r| {
+            let plane = planes.get(p as usize + 1).map_or(0.0, |s| s.gy.hypot(s.top));
+            r.top.abs().max(plane)
+        }),
         TileEntry::Segments(p) => planes.get(p as usize + taxel_format::SEGMENTS_PER_TILE).map(|r| r.c),
         _ => None,
     }

@@ -48,7 +48,7 @@ use super::{Part, Seg, distance2_to_segment};
 /// compiler as four cubic Béziers, which stray from the circle by up to
 /// 0.027% of its radius (4 µm on a 15 mm circle); over one tile they stay
 /// this close to a circle, the one the fit finds.
-const ON_CIRCLE_MM: f64 = crate::geometry::FLATTEN_TOLERANCE_MM;
+pub(super) const ON_CIRCLE_MM: f64 = crate::geometry::FLATTEN_TOLERANCE_MM;
 /// The numbers of nearest segments whose vertices are fitted (besides the
 /// vertices over the tile); the first is also the most segments looked at.
 const FIT_SEGMENTS: [usize; 4] = [48, 24, 8, 3];
@@ -116,7 +116,10 @@ pub(super) fn circles(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Vec<(
 /// The circle through `points` (least squares), if every point lies on it
 /// within [`ON_CIRCLE_MM`]; `near` is a point near them, the origin of the
 /// fit's coordinates (for its conditioning).
-fn circle_through(points: impl Iterator<Item = (f64, f64)> + Clone, near: (f64, f64)) -> Option<((f64, f64), f64)> {
+pub(super) fn circle_through(
+    points: impl Iterator<Item = (f64, f64)> + Clone,
+    near: (f64, f64),
+) -> Option<((f64, f64), f64)> {
     // x² + y² + D x + E y + F = 0, linear in (D, E, F).
     let mut ls = LeastSquares::<3>::default();
     let mut distinct = 0usize;
@@ -175,7 +178,7 @@ fn cone(t: &TileCtx<'_, '_>, c: (f64, f64), radius: f64) -> Option<[TilePlane; 2
 /// `top` the half width in codes); for a fill, the disc's cone (`R` = 0,
 /// `top` the radius in codes) and the hole round it, whose distance grows
 /// with `ρ`: `top − k (R − ρ)` with `R` beyond every point of the tile.
-fn arcs(t: &TileCtx<'_, '_>, c: (f64, f64), radius: f64, half: Option<f64>) -> Vec<[TilePlane; 2]> {
+pub(super) fn arcs(t: &TileCtx<'_, '_>, c: (f64, f64), radius: f64, half: Option<f64>) -> Vec<[TilePlane; 2]> {
     let (vu, vw) = ((c.0 - t.corner.0) / t.h, (c.1 - t.corner.1) / t.h);
     let k = t.h / t.step;
     let zero = DISTANCE_ZERO as f64;

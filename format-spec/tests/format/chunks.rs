@@ -276,12 +276,44 @@ fn distance_layer_fields() {
     let code = |d: Option<f32>| d.map(|d| d as f64 / step + 128.0);
     assert!(code(on(4.0, -3.0 + 10.5)).is_some_and(|c| (c - 150.0).abs() < 1e-2));
     assert!(code(on(4.0, -3.0 + 9.5)).is_some_and(|c| (c - 134.0).abs() < 1e-2));
-    for (i, bad) in
-        [(0, f32::NAN), (1, 1025.0), (2, -1.0), (2, 2049.0), (3, -1.0), (3, 1025.0), (4, 70_000.0), (5, 1.0)]
-    {
+    for (i, bad) in [
+        (0, f32::NAN),
+        (1, 1025.0),
+        (2, -1.0),
+        (2, 2049.0),
+        (3, -1.0),
+        (3, 1025.0),
+        (4, 70_000.0),
+        (5, 70_000.0),
+        (5, f32::NAN),
+        (6, 1025.0),
+        (7, f32::INFINITY),
+    ] {
         let mut vals = good;
         vals[i] = bad;
         invalid(edit_chunk(tag, |d| arc(d, vals)), tag, "plane record");
+    }
+    // A cut arc (format 4.3): the arc with a plane `c + gx u + gy w` in its
+    // second record's last three values reads, raises the minor version to
+    // 3, writes as 4.3, and plays the lesser of the two codes: the plane
+    // `200 − 8 u` is below the arc right of u = 6.25 on the circle (where
+    // the arc plays 150) and above it left of there.
+    let cut = [4.0, -3.0, 10.5, 16.0, 150.0, 200.0, -8.0, 0.0];
+    let bytes = edit_chunk(tag, |d| arc(d, cut));
+    let b = taxel_format::Bundle::from_bytes(&bytes).expect("a valid cut arc reads");
+    assert_eq!(b.lowest_minor(), 3);
+    let again = b.to_bytes().expect("a cut arc's bundle writes");
+    assert_eq!(u16::from_le_bytes([again[10], again[11]]), 3, "written as 4.3");
+    let Some(taxel_format::Chunk::Distance(layer)) =
+        b.chunks.iter().find(|c| matches!(c, taxel_format::Chunk::Distance(_)))
+    else {
+        panic!("no distance layer");
+    };
+    let on = |u: f64, w: f64| layer.distance_at((corner.0 + u * h) as f32, (corner.1 + w * h) as f32);
+    for (u, w) in [(4.0, 7.5), (4.0, 6.5), (7.0, 2.0), (1.0, 5.0), (7.5, 7.0)] {
+        let arc = 150.0 - 16.0 * (((u - 4.0f64).hypot(w + 3.0) - 10.5).abs());
+        let want = arc.min(200.0 - 8.0 * u);
+        assert!(code(on(u, w)).is_some_and(|c| (c - want).abs() < 1e-2), "({u}, {w}): {:?} vs {want}", code(on(u, w)));
     }
     // The corner at 84 made a segments tile (format 4.2; records 4 to 7,
     // three segments (ax, ay, bx, by), then (k, top, 0, 0): two records

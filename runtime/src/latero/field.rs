@@ -31,7 +31,11 @@
 //! in rows that have a bend lane (one more predictable branch inside the
 //! analytic one). An arc tile (format 4.1) plays a circle, `top − k · ||q −
 //! C| − R|`, the same way: its lanes ride with the bend lanes, written out
-//! of line on a tile change and played only in rows that have an arc lane. A tile change first looks up each lane's window as if
+//! of line on a tile change and played only in rows that have an arc lane;
+//! a cut arc (format 4.3, an arc tile whose second record holds a plane)
+//! plays the lesser of that and the plane's affine code in the same lanes
+//! (a plain arc's plane is `f32::MAX`), so it needs no flag of its own and
+//! the other kinds' code is unchanged. A tile change first looks up each lane's window as if
 //! every lane's tile stored samples or were constant, the common case
 //! (region interiors and exteriors are constant tiles), and only when a
 //! lane's tile is of another kind reads the lanes' records: each tile is
@@ -128,9 +132,11 @@ struct BendLanes {
     v: [[f32; LANES]; 8],
     /// The arc lanes (format 4.1): an arc lane plays `top − k · ||q − C| −
     /// R|` ([`FieldLayer::arc`]); `c` holds per lane its column less its
-    /// centre's x, the centre's y, the radius, `k` and the top code.
+    /// centre's x, the centre's y, the radius, `k` and the top code, then a
+    /// cut arc's plane (format 4.3) at its column and its gradient along y
+    /// (`f32::MAX` and 0 for an arc alone, so that the lesser is the arc's).
     arc: [i32; LANES],
-    c: [[f32; LANES]; 5],
+    c: [[f32; LANES]; 7],
     /// Whether any lane of the current tiles is in an arc tile. Kept here,
     /// not in [`TileLanes`], so that kernels without bend lanes are the
     /// code they were before arcs; reset on every tile change that reads
@@ -495,25 +501,33 @@ impl<'a> FieldLayer<'a> {
     /// out of line as [`Self::bend`].
     #[inline(never)]
     fn arc(b: &BendLanes, wt: f32) -> f32x4 {
-        let [dx, cy, radius, k, top] = b.c.map(f32x4::new);
-        let dy = f32x4::splat(wt) - cy;
-        top - k * ((dx * dx + dy * dy).sqrt() - radius).abs()
+        let [dx, cy, radius, k, top, p0, pgy] = b.c.map(f32x4::new);
+        let wt = f32x4::splat(wt);
+        let dy = wt - cy;
+        let arc = top - k * ((dx * dx + dy * dy).sqrt() - radius).abs();
+        // A cut arc's plane `(c + gx u') + gy w'` (format 4.3).
+        arc.fast_min(p0 + pgy * wt)
     }
 
     /// Lane `k`'s arc values from its tile's two records `r` ((Cx, Cy, R,
-    /// k), (top, 0, 0, 0)), at lattice x `u` in the tile; the `first` arc
-    /// lane of a tile change clears the other lanes' flags.
+    /// k), (top, c, gx, gy)), at lattice x `u` in the tile; the `first` arc
+    /// lane of a tile change clears the other lanes' flags. A second record
+    /// whose plane `(c, gx, gy)` is not all 0 is a cut arc (format 4.3):
+    /// its plane's value at the column and its `gy` are kept; for an arc
+    /// alone, `f32::MAX` and 0, which the lesser never picks.
     #[cold]
     #[inline(never)]
     fn arc_lane(r: [&Record; 2], u: f32, k: usize, first: bool, bl: &mut BendLanes) {
         if first {
             bl.arc = [0; LANES];
         }
-        let f = |i: usize| record(r[i / 4]).to_array()[i % 4];
-        for (i, v) in bl.c.iter_mut().enumerate() {
-            v[k] = f(i);
+        let [cx, cy, radius, kk] = record(r[0]).to_array();
+        let [top, c, gx, gy] = record(r[1]).to_array();
+        let cut = c != 0.0 || gx != 0.0 || gy != 0.0;
+        let (p0, pgy) = if cut { (c + gx * u, gy) } else { (f32::MAX, 0.0) };
+        for (v, x) in bl.c.iter_mut().zip([u - cx, cy, radius, kk, top, p0, pgy]) {
+            v[k] = x;
         }
-        bl.c[0][k] = u - bl.c[0][k];
         bl.arc[k] = -1;
     }
 

@@ -1,7 +1,7 @@
 //! Distance layers (`VDST`, `GDST`) against an f64 evaluation of SPEC.md
 //! section 6.2 and the seed-000 equations: random sparse fields (inside,
 //! outside and stored tiles with random codes, plane, ridge, corner,
-//! notch, bend, arc and segments tiles with random records), hard and soft edges, both primitives,
+//! notch, bend, arc (plain and cut) and segments tiles with random records), hard and soft edges, both primitives,
 //! anywhere on and off the lattice.
 
 use proptest::prelude::*;
@@ -72,7 +72,11 @@ pub(crate) fn field(
                 tiles.push(TILE_ARC | planes.len() as u32);
                 let radius = if at(5) < 32.0 { 0.0 } else { at(1) / 16.0 };
                 planes.push(TilePlane { c: at(0) / 16.0 - 4.0, gx: at(2) / 16.0 - 4.0, gy: radius, top: at(4) / 4.0 });
-                planes.push(TilePlane { c: 64.0 + at(6), gx: 0.0, gy: 0.0, top: 0.0 });
+                // One in two a cut arc (format 4.3): the lesser of that and
+                // a random plane.
+                let cut =
+                    if at(3) >= 128.0 { record(0.0, 1) } else { TilePlane { c: 0.0, gx: 0.0, gy: 0.0, top: 0.0 } };
+                planes.push(TilePlane { c: 64.0 + at(6), gx: cut.c, gy: cut.gx, top: cut.gy });
             }
             9 => {
                 // Segments (format 4.2): three segments with ends within a

@@ -221,11 +221,17 @@ pub fn field_code(d: &DistanceLayer, x: f64, y: f64) -> Option<f64> {
         }
         if e >> 28 == 0xD {
             // An arc (0xD000_0000 | p, format 4.1): records p = (Cx, Cy, R,
-            // k) and p + 1 = (top, 0, 0, 0); top − k · ||q − C| − R|.
+            // k) and p + 1 = (top, 0, 0, 0); top − k · ||q − C| − R|. A cut
+            // arc (format 4.3): p + 1 = (top, c, gx, gy), not all of the
+            // last three 0; the lesser of that and c + gx u' + gy w'.
             let p = (e & 0x0FFF_FFFF) as usize;
             let (a, b) = (d.planes[p], d.planes[p + 1]);
             let rho = (tu - a.c as f64).hypot(tw - a.gx as f64);
-            return Some(b.c as f64 - a.top as f64 * (rho - a.gy as f64).abs());
+            let arc = b.c as f64 - a.top as f64 * (rho - a.gy as f64).abs();
+            if (b.gx, b.gy, b.top) == (0.0, 0.0, 0.0) {
+                return Some(arc);
+            }
+            return Some(arc.min(b.gx as f64 + b.gy as f64 * tu + b.top as f64 * tw));
         }
         if e >> 28 == 0xE {
             // Segments (0xE000_0000 | p, format 4.2): records p to p + 2 =
