@@ -97,10 +97,15 @@ fn sides(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES], near: &[Seg]) -> Vec<
             continue;
         }
         let p = (t.corner.0 + (i % TILE_SIDE) as f64 * t.h, t.corner.1 + (i / TILE_SIDE) as f64 * t.h);
-        let nearest = (0..near.len()).min_by(|&a, &b| {
-            distance2_to_segment(p, near[a].0, near[a].1).total_cmp(&distance2_to_segment(p, near[b].0, near[b].1))
-        });
-        let Some(n) = nearest else { continue };
+        // Each segment's distance once; the first of the nearest, as `min_by` keeps.
+        let mut nearest: Option<(usize, f64)> = None;
+        for (k, s) in near.iter().enumerate() {
+            let d = distance2_to_segment(p, s.0, s.1);
+            if nearest.is_none_or(|(_, m)| d.total_cmp(&m).is_lt()) {
+                nearest = Some((k, d));
+            }
+        }
+        let Some((n, _)) = nearest else { continue };
         match count.iter_mut().find(|(k, _)| *k == n) {
             Some((_, c)) => *c += 1,
             None => count.push((n, 1)),

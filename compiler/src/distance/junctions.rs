@@ -109,6 +109,10 @@ fn segments_of(
             .map(|(_, i)| i)?;
         if !chosen.contains(&nearest) {
             chosen.push(nearest);
+            // More than a tile holds: none plays it (most crowded tiles stop here).
+            if chosen.len() > SEGMENTS_PER_TILE {
+                return None;
+            }
         }
     }
     if chosen.is_empty() || chosen.len() > SEGMENTS_PER_TILE {
