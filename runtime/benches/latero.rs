@@ -113,21 +113,7 @@ fn field_with(
             }
         }
     }
-    Chunk::Distance(DistanceLayer {
-        kind,
-        amplitude: 0.8,
-        soft_mm: 0.0,
-        step_mm: 0.01,
-        origin_x: Mm(x0),
-        origin_y: Mm(y0),
-        pitch_mm: 0.5,
-        tile_cols: cols,
-        tile_rows: rows,
-        sources: vec![],
-        tiles,
-        planes: records,
-        samples,
-    })
+    distance_layer(kind, (x0, y0), (cols, rows), tiles, records, samples)
 }
 
 /// A distance layer as the compiler writes one for a region with a straight
@@ -155,6 +141,19 @@ fn field_compiled(kind: MaskKind, x0: f32, y0: f32, cols: u32, rows: u32, edge: 
             }
         }
     }
+    distance_layer(kind, (x0, y0), (cols, rows), tiles, records, vec![])
+}
+
+/// The benches' distance layers: pitch 0.5 mm, steps of 0.01 mm, a hard
+/// edge, amplitude 0.8, with these tiles, records and samples.
+fn distance_layer(
+    kind: MaskKind,
+    (x0, y0): (f32, f32),
+    (cols, rows): (u32, u32),
+    tiles: Vec<u32>,
+    planes: Vec<taxel_format::TilePlane>,
+    samples: Vec<u8>,
+) -> Chunk {
     Chunk::Distance(DistanceLayer {
         kind,
         amplitude: 0.8,
@@ -167,8 +166,8 @@ fn field_compiled(kind: MaskKind, x0: f32, y0: f32, cols: u32, rows: u32, edge: 
         tile_rows: rows,
         sources: vec![],
         tiles,
-        planes: records,
-        samples: vec![],
+        planes,
+        samples,
     })
 }
 
