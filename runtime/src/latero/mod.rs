@@ -135,6 +135,17 @@ enum Slot<'a> {
 impl Layer<'_> {
     /// An unused slot, to fill storage with.
     pub const EMPTY: Self = Layer(Slot::Empty);
+
+    /// Adds this layer's deflection for the block of `f` to `acc`.
+    #[inline(always)]
+    fn accumulate(&self, f: &Frame, acc: &mut Acc) {
+        match &self.0 {
+            Slot::Mask(m) => m.accumulate(f, acc),
+            Slot::Field(m) => m.accumulate(f, acc),
+            Slot::Dots(d) => d.accumulate(f, acc),
+            Slot::Empty => {}
+        }
+    }
 }
 
 /// What happened while computing one frame.
@@ -170,6 +181,9 @@ pub struct LateroPlayer<'a, S = [Layer<'a>; DEFAULT_LAYERS]> {
     rows_per_block: usize,
     /// A sum counts as clamped above this: clamping changed its code.
     clamp_at: f32,
+    /// Whether the array is exactly one block ([`BLOCK`] actuators) and
+    /// its codes fit [`quantise_block`]: then a frame is one block.
+    whole_block: bool,
     _bundle: core::marker::PhantomData<&'a [u8]>,
 }
 
@@ -254,6 +268,7 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
             half_span_y: (p.rows as usize).saturating_sub(1) as f32 * 0.5 * p.pitch_y_mm,
             rows_per_block: (BLOCK / (p.cols as usize).max(1)).max(1),
             clamp_at: 1.0 + 0.5 / p.max_code() as f32,
+            whole_block: p.rows as usize * p.cols as usize == BLOCK && p.max_code() as f32 <= VECTOR_MAX_CODE,
             _bundle: core::marker::PhantomData,
         })
     }
@@ -313,17 +328,26 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
         (f.row_lo, f.row_hi) = inside(self.rows, f.y_first, self.pitch_y, self.surface_h);
         f.prepare_runs();
         let layers = self.layers.as_ref().get(..self.len).unwrap_or(&[]);
+        // The common case: the whole array is one block of [`BLOCK`]
+        // actuators, quantised in vector lanes (every 64-actuator profile
+        // of up to 14 bits).
+        if self.whole_block
+            && let Ok(block) = <&mut [u16; BLOCK]>::try_from(&mut *out)
+        {
+            f.set_block(0, self.rows);
+            let mut acc: Acc = [0.0; BLOCK];
+            for layer in layers {
+                layer.accumulate(&f, &mut acc);
+            }
+            stats.clamped = quantise_block(block, &acc, self.max_code);
+            return stats;
+        }
         let rows_per_block = self.rows_per_block;
         for (b, block) in out.chunks_mut(rows_per_block * self.cols).enumerate() {
             f.set_block(b * rows_per_block, (b * rows_per_block + rows_per_block).min(self.rows));
             let mut acc: Acc = [0.0; BLOCK];
             for layer in layers {
-                match &layer.0 {
-                    Slot::Mask(m) => m.accumulate(&f, &mut acc),
-                    Slot::Field(m) => m.accumulate(&f, &mut acc),
-                    Slot::Dots(d) => d.accumulate(&f, &mut acc),
-                    Slot::Empty => {}
-                }
+                layer.accumulate(&f, &mut acc);
             }
             stats.clamped += match <&mut [u16; BLOCK]>::try_from(&mut *block) {
                 // A whole block (every 64-actuator array) at up to 14 bits:
