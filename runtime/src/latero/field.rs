@@ -72,6 +72,8 @@ use super::{Acc, Frame, LANES, add_lanes};
 
 /// The fixed-point unit of the horizontal weights (as in `mask.rs`).
 const W: i32 = 1 << 14;
+/// Rows whose lattice cells are computed at once ([`FieldLayer::rows`]).
+const ROWS: usize = 2 * LANES;
 /// Index entries: tile columns are found with a shift.
 const SHIFT: u32 = TILE_CELLS.trailing_zeros();
 
@@ -720,44 +722,57 @@ impl<'a> FieldLayer<'a> {
         let last_x = f.col_x(c_hi - 1);
         let (slope, offset) = (f32x4::splat(self.slope), f32x4::splat(self.offset));
         let (y0, inv_pitch, rmax) = (f32x4::splat(self.y0), f32x4::splat(self.inv_pitch), f32x4::splat(self.rmax));
-        let mut cols = c_lo;
-        while cols < c_hi {
-            let first = f32x4::from_i32x4(i32x4::splat(cols as i32) + lane_index);
-            let x = (f32x4::splat(f.x_first) + first * f.pitch_x).fast_min(f32x4::splat(last_x));
-            let fx = ((x - self.x0) * self.inv_pitch).fast_max(f32x4::ZERO);
-            // Clamped before the truncation, as the rows are (`fx ≥ 0`, and
-            // `cmax` is exact in f32): SSE2 has no 32-bit integer min or max.
-            let ci = fx.fast_min(f32x4::splat(self.cmax)).fast_trunc_int();
-            let wi = ((fx - f32x4::from_i32x4(ci)).fast_min(f32x4::ONE) * W as f32).fast_round_int();
-            let real = lane_index.simd_lt(i32x4::splat((c_hi - cols) as i32));
-            let w: i16x8 = cast(((i32x4::splat(W) - wi) | (wi << 16)) & real);
-            // Each lane's lattice x within its tile, for plane and ridge tiles.
-            let tile_x = f32x4::from_i32x4((ci >> SHIFT as i32) << SHIFT as i32);
-            let u = (fx - tile_x).fast_min(f32x4::splat(TILE_CELLS as f32));
-            let ci = cast::<i32x4, [u32; LANES]>(ci);
-            // Lanes past the run have weights 0, code 0, but a profile's
-            // amplitude at code 0 need not be 0: their factor is.
-            let real = cast::<i32x4, f32x4>(real);
-            let parity = parity.map(|p| p & real);
-            let half_unit = half_unit & real;
-            let group_phase = f32x4::splat(base + (cols - c_lo) as i32 as f32 * step_col) + lane_phase;
-            // The lanes' tiles change only every eight lattice rows.
-            let mut ty_now = u32::MAX;
-            let mut lanes = TileLanes::default();
-            let mut bends = BendLanes::default();
-            let mut r4 = r_lo;
-            while r4 < r_hi {
-                // Four rows' lattice cells and vertical weights at once, in
-                // the lanes (row_y's arithmetic; fy ≥ 0, where truncation
-                // is the floor).
-                let y = f32x4::splat(f.y_first) + f32x4::from_i32x4(i32x4::splat(r4 as i32) + lane_index) * f.pitch_y;
-                let fy = ((y - y0) * inv_pitch).fast_max(f32x4::ZERO);
-                let cj = fy.fast_min(rmax).fast_trunc_int();
-                let wy = (fy - f32x4::from_i32x4(cj)).fast_min(f32x4::ONE).to_array();
-                let cj = cast::<i32x4, [u32; LANES]>(cj);
-                let fy = fy.to_array();
-                for k in 0..LANES.min(r_hi - r4) {
-                    let (r, cj, wy) = (r4 + k, cj[k], f32x4::splat(wy[k]));
+        // Up to eight rows at a time: their lattice cells and vertical
+        // weights, computed once for all column groups (every row of a
+        // 64-actuator array at once), four rows in the lanes (row_y's
+        // arithmetic; fy ≥ 0, where truncation is the floor). Rows past
+        // `r_hi` are computed and not played.
+        let lattice = |r: usize| {
+            let y = f32x4::splat(f.y_first) + f32x4::from_i32x4(i32x4::splat(r as i32) + lane_index) * f.pitch_y;
+            let fy = ((y - y0) * inv_pitch).fast_max(f32x4::ZERO);
+            let cj = fy.fast_min(rmax).fast_trunc_int();
+            let wy = (fy - f32x4::from_i32x4(cj)).fast_min(f32x4::ONE).to_array();
+            (cast::<i32x4, [u32; LANES]>(cj), wy, fy.to_array())
+        };
+        let mut r8 = r_lo;
+        while r8 < r_hi {
+            let ((cj0, wy0, fy0), (cj1, wy1, fy1)) = (lattice(r8), lattice(r8 + LANES));
+            let pick = |a: [u32; LANES], b: [u32; LANES]| -> [u32; ROWS] {
+                core::array::from_fn(|i| if i < LANES { a[i % LANES] } else { b[i % LANES] })
+            };
+            let pickf = |a: [f32; LANES], b: [f32; LANES]| -> [f32; ROWS] {
+                core::array::from_fn(|i| if i < LANES { a[i % LANES] } else { b[i % LANES] })
+            };
+            let (cjs, wys, fys) = (pick(cj0, cj1), pickf(wy0, wy1), pickf(fy0, fy1));
+            let rows = ROWS.min(r_hi - r8);
+            let mut cols = c_lo;
+            while cols < c_hi {
+                let first = f32x4::from_i32x4(i32x4::splat(cols as i32) + lane_index);
+                let x = (f32x4::splat(f.x_first) + first * f.pitch_x).fast_min(f32x4::splat(last_x));
+                let fx = ((x - self.x0) * self.inv_pitch).fast_max(f32x4::ZERO);
+                // Clamped before the truncation, as the rows are (`fx ≥ 0`, and
+                // `cmax` is exact in f32): SSE2 has no 32-bit integer min or max.
+                let ci = fx.fast_min(f32x4::splat(self.cmax)).fast_trunc_int();
+                let wi = ((fx - f32x4::from_i32x4(ci)).fast_min(f32x4::ONE) * W as f32).fast_round_int();
+                let real = lane_index.simd_lt(i32x4::splat((c_hi - cols) as i32));
+                let w: i16x8 = cast(((i32x4::splat(W) - wi) | (wi << 16)) & real);
+                // Each lane's lattice x within its tile, for plane and ridge tiles.
+                let tile_x = f32x4::from_i32x4((ci >> SHIFT as i32) << SHIFT as i32);
+                let u = (fx - tile_x).fast_min(f32x4::splat(TILE_CELLS as f32));
+                let ci = cast::<i32x4, [u32; LANES]>(ci);
+                // Lanes past the run have weights 0, code 0, but a profile's
+                // amplitude at code 0 need not be 0: their factor is.
+                let real = cast::<i32x4, f32x4>(real);
+                let parity = parity.map(|p| p & real);
+                let half_unit = half_unit & real;
+                let group_phase = f32x4::splat(base + (cols - c_lo) as i32 as f32 * step_col) + lane_phase;
+                // The lanes' tiles change only every eight lattice rows.
+                let mut ty_now = u32::MAX;
+                let mut lanes = TileLanes::default();
+                let mut bends = BendLanes::default();
+                for k in 0..rows {
+                    let (r, cj, wy) = (r8 + k, cjs[k], f32x4::splat(wys[k]));
+                    let fy = &fys;
                     let ty = cj >> SHIFT;
                     if ty != ty_now {
                         ty_now = ty;
@@ -820,9 +835,9 @@ impl<'a> FieldLayer<'a> {
                     };
                     add_lanes(acc, (r - f.r0) * f.cols + cols, v);
                 }
-                r4 += LANES;
+                cols += LANES;
             }
-            cols += LANES;
+            r8 += ROWS;
         }
     }
 }
