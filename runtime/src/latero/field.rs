@@ -120,6 +120,10 @@ struct TileLanes<'a> {
     /// analytic, all the others play their code ([`Self::planar`]), and
     /// rows with no stored tile read no samples.
     sampled: bool,
+    /// Whether no lane is a ridge, corner or notch lane: then `sign`, `a0`
+    /// and `gy` are 0 and every lane's code is `T` alone (the rows skip
+    /// `− sign · |A|`, which is exactly 0 there).
+    flat: bool,
 }
 
 /// The bend lanes (format 4.0) of a [`TileLanes`]: a bend lane plays `top −
@@ -173,6 +177,7 @@ impl Default for TileLanes<'_> {
             sign: f32x4::ZERO,
             bent: false,
             sampled: false,
+            flat: false,
         }
     }
 }
@@ -382,6 +387,7 @@ impl<'a> FieldLayer<'a> {
         }
         t.analytic = any & Lane::ANALYTIC != 0;
         t.sampled = all & Lane::PLANAR == 0;
+        t.flat = any & (Lane::RIDGE | Lane::CORNER | Lane::NOTCH) == 0;
         // (A layer without bend tiles never reads one: `bends`.)
         if BENDS && any & (Lane::BEND | Lane::ARC | Lane::SEGMENTS) != 0 {
             self.curved_lanes(tile_row, ci, &kind, &first, &second, u, &mut t.bent, bl);
@@ -408,6 +414,12 @@ impl<'a> FieldLayer<'a> {
                 t.tgy = ridge.select(f32x4::ZERO, (gy1 + gy2) * half);
                 t.a0 = ridge.select(a1, (a1 - a2) * half);
                 t.gy = ridge.select(gy1, (gy1 - gy2) * half);
+            } else if t.flat {
+                // Plane and constant lanes only (a bend's or an arc's aside,
+                // whose code replaces this one): `T = A1`; `A` and the sign
+                // keep their 0.
+                (t.t0, t.tgy) = (a1, gy1);
+                return t;
             } else {
                 // Every lane's records are one record twice (a bend's or an
                 // arc's lanes aside, whose code replaces this one): `T =
@@ -807,7 +819,10 @@ impl<'a> FieldLayer<'a> {
                         // The analytic lanes' code at this row's
                         // lattice y within the tile, in units of `W`.
                         let wt = (fy[k] - (ty << SHIFT) as f32).min(TILE_CELLS as f32);
-                        let mut code = (lanes.t0 + lanes.tgy * wt) - lanes.sign * (lanes.a0 + lanes.gy * wt).abs();
+                        let mut code = lanes.t0 + lanes.tgy * wt;
+                        if !lanes.flat {
+                            code = code - lanes.sign * (lanes.a0 + lanes.gy * wt).abs();
+                        }
                         if BENDS && lanes.bent {
                             code = cast::<i32x4, f32x4>(i32x4::new(bends.bend)).select(Self::bend(&bends, wt), code);
                         }
