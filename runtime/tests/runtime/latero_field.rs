@@ -6,8 +6,8 @@
 
 use proptest::prelude::*;
 use taxel_format::{
-    Chunk, DistanceLayer, MaskKind, Mm, TILE_ARC, TILE_BEND, TILE_CORNER, TILE_NOTCH, TILE_PLANE, TILE_RIDGE,
-    TILE_SEGMENTS, TilePlane,
+    Chunk, DeviceProfile, DistanceLayer, MaskKind, Mm, TILE_ARC, TILE_BEND, TILE_CORNER, TILE_NOTCH, TILE_PLANE,
+    TILE_RIDGE, TILE_SEGMENTS, TilePlane,
 };
 
 use crate::support::*;
@@ -121,12 +121,17 @@ pub(crate) fn field(
 /// more than half a step when the interpolated code moves by 0.02: there the
 /// 14-bit interpolation weights decide, a few micrometres from the edge.
 fn assert_close(layer: DistanceLayer, tick: u64, x: f32, y: f32) {
-    let p = stress2();
+    assert_close_on(stress2(), layer, tick, x, y);
+}
+
+/// [`assert_close`] on the array of profile `p`.
+fn assert_close_on(p: DeviceProfile, layer: DistanceLayer, tick: u64, x: f32, y: f32) {
     let chunks = vec![Chunk::Distance(layer.clone())];
-    let bytes = bundle_bytes(p, chunks.clone());
+    let bytes = bundle_bytes(p.clone(), chunks.clone());
     let got = play(&bytes, tick, x, y);
-    for row in 0..8 {
-        for col in 0..8 {
+    let cols = p.cols as usize;
+    for row in 0..p.rows as usize {
+        for col in 0..cols {
             let (ax, ay) = actuator_pos(&p, x as f64, y as f64, row, col);
             if let Some(c) = field_code(&layer, ax, ay) {
                 let steep = (profile_of_code(&layer, c + 0.02) - profile_of_code(&layer, c - 0.02)).abs();
@@ -135,7 +140,7 @@ fn assert_close(layer: DistanceLayer, tick: u64, x: f32, y: f32) {
                 }
             }
             let want = expected_code(&p, reference(&p, &chunks, tick, x as f64, y as f64, row, col));
-            let code = got[8 * row + col];
+            let code = got[cols * row + col];
             assert!(
                 (code as f64 - want).abs() <= 1.0,
                 "actuator ({row}, {col}) at ({ax:.4}, {ay:.4}), tick {tick}: got {code}, want {want:.3}"
@@ -186,6 +191,36 @@ proptest! {
         let kind = if grating { grating_kind(lambda, angle) } else { vibration(50_000) };
         // Entries 0, 1 and 2: outside, inside and a stored tile (`field`).
         assert_close(field(kind, x + dx, y + dy, pitch, cols, rows, &entries, &codes, soft), tick, x, y);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+
+    /// Arrays of more than eight rows, in one block (3 x 20, 1 x 40) or
+    /// several (5 x 30: blocks of 12 rows): a layer plays its rows eight
+    /// at a time, so every actuator of the later eights is checked too.
+    #[test]
+    fn tall_arrays_follow_the_spec_and_the_equations(
+        (cols, rows) in prop::sample::select(vec![(3u16, 20u16), (1, 40), (5, 30)]),
+        (x, fy) in (6.0f32..104.0, 0.0f32..1.0),
+        (dx, dy) in (-12.0f32..4.0, -12.0f32..4.0),
+        pitch in prop::sample::select(vec![0.25f32, 0.5, 0.7, 1.0]),
+        (tile_cols, tile_rows) in (1u32..5, 1u32..8),
+        entries in prop::collection::vec(any::<u8>(), 1..20),
+        codes in prop::collection::vec(any::<u8>(), 81..400),
+        soft in prop::sample::select(vec![0.0f32, 0.3]),
+        grating in any::<bool>(),
+        tick in 0u64..10_000_000,
+    ) {
+        let p = DeviceProfile { cols, rows, ..stress2() };
+        // The carrier anywhere the whole array stays on the 60 mm tall surface.
+        let half = (rows as f32 - 1.0) / 2.0 * p.pitch_y_mm + 1.0;
+        let y = half + fy * (p.surface_h_mm - 2.0 * half);
+        let kind = if grating { grating_kind(3.0, 30.0) } else { vibration(50_000) };
+        // The layer reaches from above the array's top to below its bottom.
+        let layer = field(kind, x + dx, y - half + dy, pitch, tile_cols, tile_rows, &entries, &codes, soft);
+        assert_close_on(p, layer, tick, x, y);
     }
 }
 
