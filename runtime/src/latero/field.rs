@@ -821,7 +821,7 @@ impl<'a> FieldLayer<'a> {
                         let wt = (fy[k] - (ty << SHIFT) as f32).min(TILE_CELLS as f32);
                         let mut code = lanes.t0 + lanes.tgy * wt;
                         if !lanes.flat {
-                            code = code - lanes.sign * (lanes.a0 + lanes.gy * wt).abs();
+                            code -= lanes.sign * (lanes.a0 + lanes.gy * wt).abs();
                         }
                         if BENDS && lanes.bent {
                             code = cast::<i32x4, f32x4>(i32x4::new(bends.bend)).select(Self::bend(&bends, wt), code);

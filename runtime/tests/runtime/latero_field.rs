@@ -127,7 +127,7 @@ fn assert_close(layer: DistanceLayer, tick: u64, x: f32, y: f32) {
 /// [`assert_close`] on the array of profile `p`.
 fn assert_close_on(p: DeviceProfile, layer: DistanceLayer, tick: u64, x: f32, y: f32) {
     let chunks = vec![Chunk::Distance(layer.clone())];
-    let bytes = bundle_bytes(p.clone(), chunks.clone());
+    let bytes = bundle_bytes(p, chunks.clone());
     let got = play(&bytes, tick, x, y);
     let cols = p.cols as usize;
     for row in 0..p.rows as usize {
