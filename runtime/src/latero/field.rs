@@ -13,6 +13,9 @@
 //! the tile index only when the group enters a new row of tiles (every
 //! eight lattice rows), and then keeps a window of its tile's samples
 //! (`tile_lanes`), typed so that the per-row reads need no bounds checks.
+//! The rows' lattice cells and vertical weights do not depend on the
+//! column group: a layer computes them once, eight rows at a time, for all
+//! its groups.
 //! A tile wholly inside or outside stores no samples: its lanes read a
 //! static tile of its constant code, which interpolates to that code
 //! exactly, so the per-row kernel has no per-lane select. A plane or ridge
@@ -43,7 +46,9 @@
 //! arm per kind ([`FieldLayer::lane`]), into its samples, its two records
 //! and a word of kind flags, which each lane copies with no branch; the
 //! records are read one vector a lane and the lanes' `T`, `A`, gradients,
-//! signs and masks are computed four at a time. Among such lanes a
+//! signs and masks are computed four at a time. When no lane of a tile
+//! change is a ridge, corner or notch lane, `A` and the sign are 0 and the
+//! rows play `T` alone. Among such lanes a
 //! constant tile's lanes play their constant as a plane (the same code as
 //! its samples' interpolation, exactly), so that rows whose lanes read no
 //! stored tile read no samples at all. (A new kind of tile adds its arm to
