@@ -46,12 +46,12 @@
 //! arm per kind ([`FieldLayer::lane`]), into its samples, its two records
 //! and a word of kind flags, which each lane copies with no branch; the
 //! records are read one vector a lane and the lanes' `T`, `A`, gradients,
-//! signs and masks are computed four at a time. When no lane of a tile
-//! change is a ridge, corner or notch lane, `A` and the sign are 0 and the
-//! rows play `T` alone. Among such lanes a
+//! signs and masks are computed four at a time. Among such lanes a
 //! constant tile's lanes play their constant as a plane (the same code as
 //! its samples' interpolation, exactly), so that rows whose lanes read no
-//! stored tile read no samples at all. (A new kind of tile adds its arm to
+//! stored tile read no samples at all. When no lane of a tile change is a
+//! ridge, corner or notch lane, `A` and the sign are 0 and the rows play
+//! `T` alone. (A new kind of tile adds its arm to
 //! `TileEntry::of` and to [`FieldLayer::lane`], with a flag; a kind played
 //! out of line, as bends and arcs are, adds its lane writer to
 //! `curved_lanes` and its row function beside [`FieldLayer::bend`].) Which of these
