@@ -761,6 +761,11 @@ impl<'a> FieldLayer<'a> {
                 core::array::from_fn(|i| if i < LANES { a[i % LANES] } else { b[i % LANES] })
             };
             let (cjs, wys, fys) = (pick(cj0, cj1), pickf(wy0, wy1), pickf(fy0, fy1));
+            // A grating's phase from row `f.r0` to each of these rows (the
+            // product each row took, in lanes).
+            let row_phase =
+                |r: usize| (f32x4::from_i32x4(i32x4::splat((r - f.r0) as i32) + lane_index) * step_row).to_array();
+            let phases = if GRATING { pickf(row_phase(r8), row_phase(r8 + LANES)) } else { [0.0; ROWS] };
             let rows = ROWS.min(r_hi - r8);
             let mut cols = c_lo;
             while cols < c_hi {
@@ -848,7 +853,7 @@ impl<'a> FieldLayer<'a> {
                     };
                     let a = (v * slope + offset).fast_max(f32x4::ZERO).fast_min(f32x4::ONE);
                     let v = if GRATING {
-                        let phase = f32x4::splat((r - f.r0) as i32 as f32 * step_row) + group_phase;
+                        let phase = f32x4::splat(phases[k]) + group_phase;
                         a * (f32x4::ONE + cos_turns4(phase)) * half_unit
                     } else {
                         a * parity[(r + cols) & 1]
