@@ -39,8 +39,8 @@ use taxel_format::{
     TILE_SIDE, TileEntry, TilePlane,
 };
 
+use super::Part;
 use super::planes::{LeastSquares, TileCtx};
-use super::{Part, Seg, distance2_to_segment};
 
 /// How far a vertex may lie from the circle fitted through its
 /// neighbours and still count as on it, mm: the flattening's own tolerance
@@ -66,16 +66,8 @@ pub(super) fn circles(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Vec<(
         None => (false, 0.0),
     };
     let span = TILE_CELLS as f64 * t.h;
-    let middle = (t.corner.0 + span / 2.0, t.corner.1 + span / 2.0);
-    let near: Vec<(f64, Seg)> = super::nearest_first(
-        t.bucket.iter().filter_map(|&n| match t.segs.get(n as usize) {
-            Some(&((a, b), p, _)) if matches!((p, band), (Part::Band, true) | (Part::Fill, false)) => {
-                Some((distance2_to_segment(middle, a, b), (a, b)))
-            }
-            _ => None,
-        }),
-        FIT_SEGMENTS[0],
-    );
+    let middle = t.middle();
+    let near = t.nearest(if band { Part::Band } else { Part::Fill }, FIT_SEGMENTS[0]);
     // The outline's vertices over the tile (grown by a cell): where the
     // circle must follow the outline, since the tile's edge is there.
     let m = t.h;

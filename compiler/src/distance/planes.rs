@@ -278,6 +278,110 @@ pub(super) struct TileCtx<'a, 'g> {
     /// The tile in its layer's grid, for the cell centres' search (one
     /// grid cell on from the samples').
     pub layer: Option<InLayer<'a>>,
+    /// The segments nearest the tile's middle, by part, found once for all
+    /// the writers that ask ([`TileCtx::nearest`]).
+    pub nearest: NearestSegments,
+}
+
+/// Most segments of one part kept nearest a tile's middle: as many as the
+/// writer that wants the most (the circles' and cut arcs' 48) asks for.
+pub(super) const NEAREST_KEPT: usize = 48;
+
+/// The segments of each part that a tile's writers asked for, nearest its
+/// middle first, as [`nearest_first`](super::nearest_first) keeps them (at
+/// most [`NEAREST_KEPT`]), each part's found once.
+///
+/// Before, each writer tried on a tile that would otherwise be stored
+/// (corners, circles, segments tiles, cut arcs) measured every segment of
+/// the tile's bucket (hundreds) again to find its few nearest; and
+/// `nearest_first`'s `max` entries are the first `max` of a stable sort by
+/// the key, so the first `max` of one list of [`NEAREST_KEPT`] are what a
+/// writer asking for `max <= NEAREST_KEPT` would have found itself.
+#[derive(Default)]
+pub(super) struct NearestSegments {
+    lists: std::cell::RefCell<Vec<(Part, std::rc::Rc<[(f64, Seg)]>)>>,
+}
+
+/// What [`nearest_first`](super::nearest_first) keeps of the `part`
+/// segments of `bucket` by their squared distance to `middle`.
+///
+/// Once `max` are kept, a segment whose bounding box lies farther from
+/// `middle` than the last kept (by more than a margin far above the
+/// rounding of either) is passed over unmeasured: it lies at least as far
+/// as its box, so `nearest_first` would pass over it too (it keeps only a
+/// key below the last kept one).
+pub(super) fn nearest_in_bucket(
+    segs: &[(Seg, Part, f64)],
+    bucket: &[u32],
+    part: Part,
+    middle: (f64, f64),
+    max: usize,
+) -> Vec<(f64, Seg)> {
+    // Rounding is some 1e-16 of the coordinates' size, squared in the keys.
+    let size = 1.0 + middle.0.abs() + middle.1.abs();
+    let slack = 1e-9 * size * size;
+    let mut kept: Vec<(f64, Seg)> = Vec::with_capacity(max + 1);
+    for &n in bucket {
+        let Some(&((a, b), p, _)) = segs.get(n as usize) else { continue };
+        if p != part {
+            continue;
+        }
+        if kept.len() == max
+            && let Some(&(last, _)) = kept.last()
+        {
+            let dx = (a.0.min(b.0) - middle.0).max(middle.0 - a.0.max(b.0)).max(0.0);
+            let dy = (a.1.min(b.1) - middle.1).max(middle.1 - a.1.max(b.1)).max(0.0);
+            if dx * dx + dy * dy > last * (1.0 + 1e-9) + slack {
+                continue;
+            }
+        }
+        super::keep_nearest(&mut kept, (super::distance2_to_segment(middle, a, b), (a, b)), max);
+    }
+    kept
+}
+
+/// The first entries of a shared list of nearest segments.
+pub(super) struct Nearest {
+    list: std::rc::Rc<[(f64, Seg)]>,
+    len: usize,
+}
+
+impl std::ops::Deref for Nearest {
+    type Target = [(f64, Seg)];
+
+    fn deref(&self) -> &Self::Target {
+        &self.list[..self.len]
+    }
+}
+
+impl TileCtx<'_, '_> {
+    /// The tile's middle, page mm (the fourth lattice point along each side).
+    pub(super) fn middle(&self) -> (f64, f64) {
+        let half = TILE_CELLS as f64 * self.h / 2.0;
+        (self.corner.0 + half, self.corner.1 + half)
+    }
+
+    /// The `part` segments of the tile's bucket nearest its middle, with
+    /// their squared distances to it, nearest first (ties in bucket order),
+    /// at most `max`: `nearest_first` over the bucket, shared by the writers.
+    pub(super) fn nearest(&self, part: Part, max: usize) -> Nearest {
+        if max > NEAREST_KEPT {
+            let list: std::rc::Rc<[(f64, Seg)]> = self.nearest_uncached(part, max).into();
+            return Nearest { len: list.len(), list };
+        }
+        let found = self.nearest.lists.borrow().iter().find(|(p, _)| *p == part).map(|(_, l)| l.clone());
+        let list = found.unwrap_or_else(|| {
+            let list: std::rc::Rc<[(f64, Seg)]> = self.nearest_uncached(part, NEAREST_KEPT).into();
+            self.nearest.lists.borrow_mut().push((part, list.clone()));
+            list
+        });
+        Nearest { len: list.len().min(max), list }
+    }
+
+    /// [`TileCtx::nearest`] without the shared lists.
+    pub(super) fn nearest_uncached(&self, part: Part, max: usize) -> Vec<(f64, Seg)> {
+        nearest_in_bucket(self.segs, self.bucket, part, self.middle(), max)
+    }
 }
 
 /// Inside-the-fills, inside-the-occluders and inside-each-clip bits at
