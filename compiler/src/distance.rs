@@ -539,6 +539,7 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
             nx,
             layer: in_layer((c, r), 1),
             nearest: planes::NearestSegments::default(),
+            order: std::cell::OnceCell::new(),
             centre_bits: centre_bits.get_or_init(|| {
                 // The same sweeps as the lattice points', half a cell on.
                 let (cx, cy) = (ox + h / 2.0, oy + h / 2.0);

@@ -160,8 +160,12 @@ pub(super) fn bends(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES], ramp_mm: f
         let c = (nx * (t.corner.0 - a.0) + ny * (t.corner.1 - a.1)) / t.step;
         (len.is_finite() && len > 0.0).then_some((c, nx * k, ny * k))
     };
+    let order = t.order(exact);
     let plays = |bend: &Bend| {
-        exact.iter().enumerate().all(|(i, &e)| bend.close((i % TILE_SIDE) as f64, (i / TILE_SIDE) as f64, e, t.sat))
+        order
+            .iter()
+            .map(|&i| i as usize)
+            .all(|i| bend.close((i % TILE_SIDE) as f64, (i / TILE_SIDE) as f64, exact[i], t.sat))
     };
     // Each segment's line once (a segment is in up to two pairs that share an end).
     let lines: Vec<_> = near.iter().map(|&(_, (a, b))| line(a, b)).collect();
@@ -218,10 +222,11 @@ pub(super) fn band_bends(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Ve
             TilePlane { c: d2.0 as f32, gx: d2.1 as f32, gy: k as f32, top: top as f32 },
         ])
     };
+    let order = t.order(exact);
     let plays = |r: &[TilePlane; 2]| {
-        exact.iter().enumerate().all(|(i, &e)| {
+        order.iter().map(|&i| i as usize).all(|i| {
             let code = taxel_format::bend_code([&r[0], &r[1]], (i % TILE_SIDE) as f64, (i / TILE_SIDE) as f64);
-            t.sat.close(code - DISTANCE_ZERO as f64, e)
+            t.sat.close(code - DISTANCE_ZERO as f64, exact[i])
         })
     };
     let mut try_bend = |v: (f64, f64), p1: (f64, f64), p2: (f64, f64)| {

@@ -47,6 +47,7 @@ pub(super) fn cut_arcs(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Vec<
     let nearest = t.nearest(Part::Fill, NEAR_SEGMENTS);
     let near: Vec<Seg> = nearest.iter().map(|&(_, s)| s).collect();
     let mut out: Vec<[TilePlane; 2]> = Vec::new();
+    let order = t.order(exact);
     for side in sides(t, exact, &nearest) {
         let Some(line) = Line::of(t, side) else { continue };
         // The circle's vertices: the other segments' ends off the side's line.
@@ -69,7 +70,7 @@ pub(super) fn cut_arcs(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Vec<
             for arc in super::arcs::arcs(t, c, r, None) {
                 for sign in [1.0, -1.0] {
                     let Some(rec) = line.cut(arc, sign) else { continue };
-                    if plays(t, &rec, exact) && !out.contains(&rec) {
+                    if plays(t, &rec, exact, order) && !out.contains(&rec) {
                         out.push(rec);
                     }
                 }
@@ -148,10 +149,11 @@ impl Line {
 }
 
 /// Whether a cut arc's records play the tile's 81 exact codes as a plane must.
-fn plays(t: &TileCtx<'_, '_>, r: &[TilePlane; 2], exact: &[f64; TILE_SAMPLES]) -> bool {
+/// `order` is [`edge_first`](super::planes::edge_first)'s.
+fn plays(t: &TileCtx<'_, '_>, r: &[TilePlane; 2], exact: &[f64; TILE_SAMPLES], order: &[u8; TILE_SAMPLES]) -> bool {
     let entry = TileEntry::of(TILE_ARC);
-    exact.iter().enumerate().all(|(i, &e)| {
+    order.iter().map(|&i| i as usize).all(|i| {
         let code = entry.code(r, (i % TILE_SIDE) as f64, (i / TILE_SIDE) as f64);
-        code.is_some_and(|code| t.sat.close(code - DISTANCE_ZERO as f64, e))
+        code.is_some_and(|code| t.sat.close(code - DISTANCE_ZERO as f64, exact[i]))
     })
 }

@@ -750,19 +750,17 @@ fn clustered_segments() -> impl Strategy<Value = Vec<(Seg, Part, f64)>> {
 }
 
 proptest! {
-    /// The writers' shared nearest segments ([`planes::nearest_in_bucket`],
-    /// which passes over segments whose box is beyond the last kept) keep
-    /// exactly what `nearest_first` over every segment of the part keeps,
-    /// and its first `max` what `nearest_first` with `max` keeps; fails if
-    /// the box test passed over one segment too many.
+    /// The writers' shared nearest segments: the first `max` of the
+    /// [`planes::NEAREST_KEPT`] nearest (what [`TileCtx::nearest`](planes::TileCtx::nearest)
+    /// hands a writer asking for `max`) are what `nearest_first` with `max`
+    /// keeps, bit for bit, ties (shared ends, overlapping segments) included.
     #[test]
     fn the_shared_nearest_segments_are_nearest_firsts(
         segs in clustered_segments(),
         middle in (9.0f64..13.0, 9.0f64..13.0),
-        max in 0usize..20,
+        max in 0usize..=planes::NEAREST_KEPT,
         part in prop_oneof![Just(Part::Fill), Just(Part::Band), Just(Part::Cut(0))],
     ) {
-        let bucket: Vec<u32> = (0..segs.len() as u32).collect();
         let all = |max: usize| {
             nearest_first(
                 segs.iter().filter(|s| s.1 == part).map(|&((a, b), _, _)| (distance2_to_segment(middle, a, b), (a, b))),
@@ -772,10 +770,7 @@ proptest! {
         let bits = |v: &[(f64, Seg)]| {
             v.iter().map(|(k, (a, b))| [k.to_bits(), a.0.to_bits(), a.1.to_bits(), b.0.to_bits(), b.1.to_bits()]).collect::<Vec<_>>()
         };
-        let shared = planes::nearest_in_bucket(&segs, &bucket, part, middle, planes::NEAREST_KEPT);
-        prop_assert_eq!(bits(&shared), bits(&all(planes::NEAREST_KEPT)));
-        let few = planes::nearest_in_bucket(&segs, &bucket, part, middle, max);
-        prop_assert_eq!(bits(&few), bits(&all(max)));
+        let shared = all(planes::NEAREST_KEPT);
         prop_assert_eq!(bits(&shared[..max.min(shared.len())]), bits(&all(max)));
     }
 
@@ -814,5 +809,27 @@ proptest! {
         let same = |a: f64, b: f64| a == b || (a.is_nan() && b.is_nan());
         prop_assert!(same(floor_f64(v), v.floor()), "floor {v}: {} vs {}", floor_f64(v), v.floor());
         prop_assert!(same(ceil_f64(v), v.ceil()), "ceil {v}: {} vs {}", ceil_f64(v), v.ceil());
+    }
+}
+
+proptest! {
+    /// The order in which the writers check candidates at a tile's samples
+    /// holds every sample once (so a check over it is a check over all 81),
+    /// those nearest the edge first; fails if a sample were left out or
+    /// taken twice.
+    #[test]
+    fn the_writers_check_every_sample_edge_first(
+        exact in proptest::collection::vec(prop_oneof![-127.0f64..127.0, -3.0f64..3.0, Just(f64::NAN), Just(0.0)], TILE_SAMPLES),
+        near in prop_oneof![0.0f64..40.0, Just(f64::NAN)],
+    ) {
+        let exact: [f64; TILE_SAMPLES] = exact.try_into().expect("81 samples");
+        let order = planes::edge_first(&exact, near);
+        let mut seen = [false; TILE_SAMPLES];
+        for &i in &order {
+            prop_assert!(!seen[i as usize], "sample {} twice", i);
+            seen[i as usize] = true;
+        }
+        let first_far = order.iter().position(|&i| !(exact[i as usize].abs() <= 2.0)).unwrap_or(TILE_SAMPLES);
+        prop_assert!(order[first_far..].iter().all(|&i| !(exact[i as usize].abs() <= 2.0)));
     }
 }
