@@ -301,12 +301,15 @@ pub(super) const NEAREST_KEPT: usize = 48;
 /// writer asking for `max <= NEAREST_KEPT` would have found itself.
 #[derive(Default)]
 pub(super) struct NearestSegments {
-    lists: std::cell::RefCell<Vec<(Part, std::rc::Rc<[(f64, Seg)]>)>>,
+    lists: std::cell::RefCell<Vec<(Part, SharedList)>>,
 }
+
+/// One part's segments nearest a tile's middle, with their squared distances.
+type SharedList = std::rc::Rc<[(f64, Seg)]>;
 
 /// The first entries of a shared list of nearest segments.
 pub(super) struct Nearest {
-    list: std::rc::Rc<[(f64, Seg)]>,
+    list: SharedList,
     len: usize,
 }
 
@@ -368,12 +371,12 @@ impl TileCtx<'_, '_> {
     /// at most `max`: `nearest_first` over the bucket, shared by the writers.
     pub(super) fn nearest(&self, part: Part, max: usize) -> Nearest {
         if max > NEAREST_KEPT {
-            let list: std::rc::Rc<[(f64, Seg)]> = self.nearest_uncached(part, max).into();
+            let list: SharedList = self.nearest_uncached(part, max).into();
             return Nearest { len: list.len(), list };
         }
         let found = self.nearest.lists.borrow().iter().find(|(p, _)| *p == part).map(|(_, l)| l.clone());
         let list = found.unwrap_or_else(|| {
-            let list: std::rc::Rc<[(f64, Seg)]> = self.nearest_uncached(part, NEAREST_KEPT).into();
+            let list: SharedList = self.nearest_uncached(part, NEAREST_KEPT).into();
             self.nearest.lists.borrow_mut().push((part, list.clone()));
             list
         });

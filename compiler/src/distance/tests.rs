@@ -829,7 +829,8 @@ proptest! {
             prop_assert!(!seen[i as usize], "sample {} twice", i);
             seen[i as usize] = true;
         }
-        let first_far = order.iter().position(|&i| !(exact[i as usize].abs() <= 2.0)).unwrap_or(TILE_SAMPLES);
-        prop_assert!(order[first_far..].iter().all(|&i| !(exact[i as usize].abs() <= 2.0)));
+        let close = |i: u8| exact[i as usize].abs() <= 2.0;
+        let first_far = order.iter().position(|&i| !close(i)).unwrap_or(TILE_SAMPLES);
+        prop_assert!(order[first_far..].iter().all(|&i| !close(i)));
     }
 }
