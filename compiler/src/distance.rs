@@ -129,7 +129,7 @@ fn buckets_of(
     let mut spans = Vec::with_capacity(if narrow { segs.len() } else { 0 });
     for (n, (s, _, m)) in segs.iter().enumerate() {
         let b = seg_bounds(s);
-        let tc = |v: f64, o: f64, n: usize| (((v - o) / tile).floor().max(0.0) as usize).min(n);
+        let tc = |v: f64, o: f64, n: usize| (floor_f64((v - o) / tile).max(0.0) as usize).min(n);
         let (c0, c1) = (tc(b.0 - m, ox, cols), tc(b.2 + m, ox, cols));
         let (r0, r1) = (tc(b.1 - m, oy, rows), tc(b.3 + m, oy, rows));
         if b.2 + m < ox || b.3 + m < oy || c0 >= cols || r0 >= rows {
@@ -227,6 +227,36 @@ fn distance2_to_segment(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
     ex * ex + ey * ey
 }
 
+/// Above this every `f64` is a whole number (2^52).
+const WHOLE_FROM: f64 = 4_503_599_627_370_496.0;
+
+/// `v.floor()`, equal to it (`==`) for every `v`, without the call into
+/// libm that `f64::floor` is on a target without SSE4.1's rounding
+/// instruction (the release build's): a layer's setup floors four bounds
+/// of each of its segments, and each tile's search each of its bucket's,
+/// some 1.5 million calls on the 1,000-region map. Only the sign of a zero
+/// may differ (`-0.5` floors to `-1`, `-0.0` to `0.0`), which every caller
+/// clamps or casts away.
+fn floor_f64(v: f64) -> f64 {
+    // Beyond 2^52 (and for infinities) `v` is whole; NaN fails the test and stays NaN.
+    if v.abs() < WHOLE_FROM {
+        let t = v as i64 as f64;
+        if t > v { t - 1.0 } else { t }
+    } else {
+        v
+    }
+}
+
+/// `v.ceil()`, as [`floor_f64`] is `v.floor()`.
+fn ceil_f64(v: f64) -> f64 {
+    if v.abs() < WHOLE_FROM {
+        let t = v as i64 as f64;
+        if t < v { t + 1.0 } else { t }
+    } else {
+        v
+    }
+}
+
 /// Signed distance inside a rectangle (positive inside).
 fn inside_rect(r: (f64, f64, f64, f64), p: (f64, f64)) -> f64 {
     let dx = (p.0 - r.0).min(r.2 - p.0);
@@ -241,7 +271,7 @@ fn inside_rect(r: (f64, f64, f64, f64), p: (f64, f64)) -> f64 {
 }
 
 /// One kind of segment, for the per-tile buckets.
-#[derive(Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Part {
     /// A fill outline.
     Fill,
@@ -508,6 +538,8 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
             first: r * TILE_CELLS * nx + c * TILE_CELLS,
             nx,
             layer: in_layer((c, r), 1),
+            nearest: planes::NearestSegments::default(),
+            order: std::cell::OnceCell::new(),
             centre_bits: centre_bits.get_or_init(|| {
                 // The same sweeps as the lattice points', half a cell on.
                 let (cx, cy) = (ox + h / 2.0, oy + h / 2.0);
@@ -656,16 +688,57 @@ struct Scratch {
 /// a few, so each entry is only compared with the last one kept.
 fn nearest_first<T>(items: impl Iterator<Item = (f64, T)>, max: usize) -> Vec<(f64, T)> {
     let mut kept: Vec<(f64, T)> = Vec::with_capacity(max + 1);
-    for (key, item) in items {
-        if kept.len() == max && kept.last().is_none_or(|l| key.total_cmp(&l.0).is_ge()) {
-            continue;
-        }
-        // After every kept entry whose key is not greater: a stable sort's place.
-        let at = kept.partition_point(|k| k.0.total_cmp(&key).is_le());
-        kept.insert(at, (key, item));
-        kept.truncate(max);
+    for entry in items {
+        keep_nearest(&mut kept, entry, max);
     }
     kept
+}
+
+/// One step of [`nearest_first`]: `entry` into `kept` (at most `max`
+/// entries, least keys first) if its key is below the last kept one's or
+/// fewer than `max` are kept.
+#[inline]
+fn keep_nearest<T>(kept: &mut Vec<(f64, T)>, (key, item): (f64, T), max: usize) {
+    if kept.len() == max && kept.last().is_none_or(|l| key.total_cmp(&l.0).is_ge()) {
+        return;
+    }
+    // After every kept entry whose key is not greater: a stable sort's place.
+    let at = kept.partition_point(|k| k.0.total_cmp(&key).is_le());
+    kept.insert(at, (key, item));
+    kept.truncate(max);
+}
+
+/// The index and squared distance of the first of `near`'s segments nearest
+/// `p`: what scanning all of them and keeping each strictly nearer one
+/// (by `total_cmp`) finds. `near` holds segments with their squared
+/// distances to `middle`, nearest first, as [`nearest_first`] leaves them.
+///
+/// The scan stops at the first segment whose distance to `middle`, less
+/// `|p − middle|`, exceeds the best distance so far (by more than a margin
+/// far above the rounding of either): by the triangle inequality it and
+/// every later one (not nearer `middle`) lies farther from `p` than the
+/// best, so none of them would be kept. The writers ask this at each of a
+/// tile's points over the 24 to 48 segments nearest its middle, most of
+/// which lie beyond the tile.
+fn nearest_of(near: &[(f64, Seg)], middle: (f64, f64), p: (f64, f64)) -> Option<(usize, f64)> {
+    let r = (p.0 - middle.0).hypot(p.1 - middle.1);
+    // Distances are some millimetres, their rounding some 1e-16 of the
+    // coordinates: a nanometre is far above it, and far below any gap that
+    // decides which segment is nearest.
+    let slack = 1e-9 * (1.0 + p.0.abs() + p.1.abs() + middle.0.abs() + middle.1.abs());
+    let mut best: Option<(usize, f64)> = None;
+    for (k, &(key, (a, b))) in near.iter().enumerate() {
+        if let Some((_, d)) = best
+            && key.sqrt() - r > d.sqrt() + slack * (1.0 + key.sqrt())
+        {
+            break;
+        }
+        let d = distance2_to_segment(p, a, b);
+        if best.is_none_or(|(_, m)| d.total_cmp(&m).is_lt()) {
+            best = Some((k, d));
+        }
+    }
+    best
 }
 
 /// The lowest code played at full amplitude and the highest played at zero
@@ -693,8 +766,8 @@ fn fill_bits(fills: &[(&[Polyline], FillRule)], ox: f64, oy: f64, h: f64, nx: us
         for pl in pls.iter() {
             for s in closed_segments(pl) {
                 let (lo, hi) = (s.0.1.min(s.1.1), s.0.1.max(s.1.1));
-                let j0 = ((lo - oy) / h).ceil().max(0.0);
-                let j1 = ((hi - oy) / h).floor().min(ny as f64 - 1.0);
+                let j0 = ceil_f64((lo - oy) / h).max(0.0);
+                let j1 = floor_f64((hi - oy) / h).min(ny as f64 - 1.0);
                 // NaN bounds (never from finite geometry) give no rows.
                 if j0.is_nan() || j1.is_nan() || j0 > j1 {
                     continue;

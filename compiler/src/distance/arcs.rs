@@ -39,8 +39,8 @@ use taxel_format::{
     TILE_SIDE, TileEntry, TilePlane,
 };
 
+use super::Part;
 use super::planes::{LeastSquares, TileCtx};
-use super::{Part, Seg, distance2_to_segment};
 
 /// How far a vertex may lie from the circle fitted through its
 /// neighbours and still count as on it, mm: the flattening's own tolerance
@@ -66,16 +66,8 @@ pub(super) fn circles(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Vec<(
         None => (false, 0.0),
     };
     let span = TILE_CELLS as f64 * t.h;
-    let middle = (t.corner.0 + span / 2.0, t.corner.1 + span / 2.0);
-    let near: Vec<(f64, Seg)> = super::nearest_first(
-        t.bucket.iter().filter_map(|&n| match t.segs.get(n as usize) {
-            Some(&((a, b), p, _)) if matches!((p, band), (Part::Band, true) | (Part::Fill, false)) => {
-                Some((distance2_to_segment(middle, a, b), (a, b)))
-            }
-            _ => None,
-        }),
-        FIT_SEGMENTS[0],
-    );
+    let middle = t.middle();
+    let near = t.nearest(if band { Part::Band } else { Part::Fill }, FIT_SEGMENTS[0]);
     // The outline's vertices over the tile (grown by a cell): where the
     // circle must follow the outline, since the tile's edge is there.
     let m = t.h;
@@ -101,11 +93,12 @@ pub(super) fn circles(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Vec<(
     }
     fits.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut out: Vec<(u32, [TilePlane; 2])> = Vec::new();
+    let order = t.order(exact);
     for (_, c, r) in fits {
         let bend = cone(t, c, r + offset).map(|rec| (TILE_BEND, rec));
         let ring = arcs(t, c, r, band.then_some(offset)).into_iter().map(|rec| (TILE_ARC, rec));
         for rec in bend.into_iter().chain(ring) {
-            if plays(t, &rec, exact) && !out.contains(&rec) {
+            if plays(t, &rec, exact, order) && !out.contains(&rec) {
                 out.push(rec);
             }
         }
@@ -209,9 +202,15 @@ pub(super) fn arcs(t: &TileCtx<'_, '_>, c: (f64, f64), radius: f64, half: Option
 }
 
 /// Whether a circle's records play the tile's 81 exact codes as a plane must.
-fn plays(t: &TileCtx<'_, '_>, (kind, r): &(u32, [TilePlane; 2]), exact: &[f64; TILE_SAMPLES]) -> bool {
-    exact.iter().enumerate().all(|(i, &e)| {
+/// `order` is [`edge_first`](super::planes::edge_first)'s.
+fn plays(
+    t: &TileCtx<'_, '_>,
+    (kind, r): &(u32, [TilePlane; 2]),
+    exact: &[f64; TILE_SAMPLES],
+    order: &[u8; TILE_SAMPLES],
+) -> bool {
+    order.iter().map(|&i| i as usize).all(|i| {
         let code = TileEntry::of(*kind).code(r, (i % TILE_SIDE) as f64, (i / TILE_SIDE) as f64);
-        code.is_some_and(|code| t.sat.close(code - DISTANCE_ZERO as f64, e))
+        code.is_some_and(|code| t.sat.close(code - DISTANCE_ZERO as f64, exact[i]))
     })
 }

@@ -39,8 +39,8 @@ use taxel_format::{
     TilePlane,
 };
 
+use super::Part;
 use super::planes::{Saturation, TOLERANCE, TileCtx, record};
-use super::{Part, Seg, distance2_to_segment};
 
 /// Largest radius round a corner's vertex within which a corner or notch
 /// tile may play another amplitude than the exact distance, mm: half the
@@ -142,18 +142,6 @@ impl Bend {
     }
 }
 
-/// The segments of the parts `keep` chooses in the tile's bucket, with their
-/// squared distance to the tile's centre, nearest first, at most `max`.
-fn nearest_segments(t: &TileCtx<'_, '_>, keep: impl Fn(Part) -> bool, max: usize) -> Vec<(f64, Seg)> {
-    let span = TILE_SIDE as f64 - 1.0;
-    let centre = (t.corner.0 + span / 2.0 * t.h, t.corner.1 + span / 2.0 * t.h);
-    let near = t.bucket.iter().filter_map(|&n| match t.segs.get(n as usize) {
-        Some(&((a, b), part, _)) if keep(part) => Some((distance2_to_segment(centre, a, b), (a, b))),
-        _ => None,
-    });
-    super::nearest_first(near, max)
-}
-
 /// The corners and notches that play a tile's samples (`exact`, codes,
 /// row-major 9 x 9): pairs of the fills' segments near the tile that share
 /// an end, each side either way round, as a corner or a notch.
@@ -162,7 +150,7 @@ pub(super) fn bends(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES], ramp_mm: f
     if t.g.band.is_some() {
         return out;
     }
-    let near = nearest_segments(t, |p| matches!(p, Part::Fill), MAX_SEGMENTS);
+    let near = t.nearest(Part::Fill, MAX_SEGMENTS);
     let k = t.h / t.step;
     // A segment's line over the tile: signed distance in codes at its first
     // lattice point, and gradient in codes per cell.
@@ -172,16 +160,23 @@ pub(super) fn bends(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES], ramp_mm: f
         let c = (nx * (t.corner.0 - a.0) + ny * (t.corner.1 - a.1)) / t.step;
         (len.is_finite() && len > 0.0).then_some((c, nx * k, ny * k))
     };
+    let order = t.order(exact);
     let plays = |bend: &Bend| {
-        exact.iter().enumerate().all(|(i, &e)| bend.close((i % TILE_SIDE) as f64, (i / TILE_SIDE) as f64, e, t.sat))
+        order
+            .iter()
+            .map(|&i| i as usize)
+            .all(|i| bend.close((i % TILE_SIDE) as f64, (i / TILE_SIDE) as f64, exact[i], t.sat))
     };
+    // Each segment's line once (a segment is in up to two pairs that share an end).
+    let lines: Vec<_> = near.iter().map(|&(_, (a, b))| line(a, b)).collect();
     for (i, &(_, (a1, b1))) in near.iter().enumerate() {
-        for &(_, (a2, b2)) in &near[i + 1..] {
+        for (j, &(_, (a2, b2))) in near.iter().enumerate().skip(i + 1) {
+            // Whether they share an end first: most pairs do not.
             let shares = [a1, b1].iter().any(|p| [a2, b2].iter().any(|q| p.0 == q.0 && p.1 == q.1));
-            let (Some(l1), Some(l2)) = (line(a1, b1), line(a2, b2)) else { continue };
             if !shares {
                 continue;
             }
+            let (Some(l1), Some(l2)) = (lines[i], lines[j]) else { continue };
             for (s1, s2) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
                 let rec =
                     |(c, gx, gy): (f64, f64, f64), s: f64| record(DISTANCE_ZERO as f64 + s * c, s * gx, s * gy, 0.0);
@@ -209,7 +204,7 @@ pub(super) fn band_bends(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Ve
     let Some((_, width)) = t.g.band.as_ref() else { return out };
     let top = DISTANCE_ZERO as f64 + width / 2.0 / t.step;
     let k = t.h / t.step;
-    let near = nearest_segments(t, |p| matches!(p, Part::Band), MAX_BAND_SEGMENTS);
+    let near = t.nearest(Part::Band, MAX_BAND_SEGMENTS);
     // The unit direction from `v` towards `p`, if they differ.
     let unit = |v: (f64, f64), p: (f64, f64)| {
         let len = (p.0 - v.0).hypot(p.1 - v.1);
@@ -227,10 +222,11 @@ pub(super) fn band_bends(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Ve
             TilePlane { c: d2.0 as f32, gx: d2.1 as f32, gy: k as f32, top: top as f32 },
         ])
     };
+    let order = t.order(exact);
     let plays = |r: &[TilePlane; 2]| {
-        exact.iter().enumerate().all(|(i, &e)| {
+        order.iter().map(|&i| i as usize).all(|i| {
             let code = taxel_format::bend_code([&r[0], &r[1]], (i % TILE_SIDE) as f64, (i / TILE_SIDE) as f64);
-            t.sat.close(code - DISTANCE_ZERO as f64, e)
+            t.sat.close(code - DISTANCE_ZERO as f64, exact[i])
         })
     };
     let mut try_bend = |v: (f64, f64), p1: (f64, f64), p2: (f64, f64)| {
@@ -251,7 +247,7 @@ pub(super) fn band_bends(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Ve
         }
     }
     // Caps: each segment's end alone.
-    for &(_, (a, b)) in &near {
+    for &(_, (a, b)) in near.iter() {
         try_bend(a, b, b);
         try_bend(b, a, a);
     }

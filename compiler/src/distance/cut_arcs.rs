@@ -22,7 +22,7 @@ use taxel_format::{DISTANCE_ZERO, MAX_PLANE_CODE, MAX_PLANE_GRADIENT, TILE_ARC, 
 use taxel_format::{TileEntry, TilePlane};
 
 use super::planes::TileCtx;
-use super::{Part, Seg, distance2_to_segment};
+use super::{Part, Seg};
 
 /// Fill segments near the tile among which its side and its circle's
 /// vertices are looked for.
@@ -43,19 +43,12 @@ pub(super) fn cut_arcs(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Vec<
         return Vec::new();
     }
     let span = TILE_CELLS as f64 * t.h;
-    let middle = (t.corner.0 + span / 2.0, t.corner.1 + span / 2.0);
-    let near: Vec<Seg> = super::nearest_first(
-        t.bucket.iter().filter_map(|&n| match t.segs.get(n as usize) {
-            Some(&((a, b), Part::Fill, _)) => Some((distance2_to_segment(middle, a, b), (a, b))),
-            _ => None,
-        }),
-        NEAR_SEGMENTS,
-    )
-    .into_iter()
-    .map(|(_, s)| s)
-    .collect();
+    let middle = t.middle();
+    let nearest = t.nearest(Part::Fill, NEAR_SEGMENTS);
+    let near: Vec<Seg> = nearest.iter().map(|&(_, s)| s).collect();
     let mut out: Vec<[TilePlane; 2]> = Vec::new();
-    for side in sides(t, exact, &near) {
+    let order = t.order(exact);
+    for side in sides(t, exact, &nearest) {
         let Some(line) = Line::of(t, side) else { continue };
         // The circle's vertices: the other segments' ends off the side's line.
         let off = |p: &(f64, f64)| line.distance_mm(*p).abs() > super::arcs::ON_CIRCLE_MM;
@@ -77,7 +70,7 @@ pub(super) fn cut_arcs(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Vec<
             for arc in super::arcs::arcs(t, c, r, None) {
                 for sign in [1.0, -1.0] {
                     let Some(rec) = line.cut(arc, sign) else { continue };
-                    if plays(t, &rec, exact) && !out.contains(&rec) {
+                    if plays(t, &rec, exact, order) && !out.contains(&rec) {
                         out.push(rec);
                     }
                 }
@@ -90,29 +83,23 @@ pub(super) fn cut_arcs(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Vec<
 /// The candidate sides: among `near`, the segments nearest the most lattice
 /// points whose exact code is within the clamp (where the code matters),
 /// at most [`MAX_SIDES`], most points first.
-fn sides(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES], near: &[Seg]) -> Vec<Seg> {
+fn sides(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES], near: &[(f64, Seg)]) -> Vec<Seg> {
+    let middle = t.middle();
     let mut count: Vec<(usize, usize)> = Vec::new();
     for (i, &e) in exact.iter().enumerate() {
         if e.abs() >= t.cap {
             continue;
         }
         let p = (t.corner.0 + (i % TILE_SIDE) as f64 * t.h, t.corner.1 + (i / TILE_SIDE) as f64 * t.h);
-        // Each segment's distance once; the first of the nearest, as `min_by` keeps.
-        let mut nearest: Option<(usize, f64)> = None;
-        for (k, s) in near.iter().enumerate() {
-            let d = distance2_to_segment(p, s.0, s.1);
-            if nearest.is_none_or(|(_, m)| d.total_cmp(&m).is_lt()) {
-                nearest = Some((k, d));
-            }
-        }
-        let Some((n, _)) = nearest else { continue };
+        // The first of the nearest, as `min_by` keeps.
+        let Some((n, _)) = super::nearest_of(near, middle, p) else { continue };
         match count.iter_mut().find(|(k, _)| *k == n) {
             Some((_, c)) => *c += 1,
             None => count.push((n, 1)),
         }
     }
     count.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
-    count.into_iter().take(MAX_SIDES).map(|(n, _)| near[n]).collect()
+    count.into_iter().take(MAX_SIDES).map(|(n, _)| near[n].1).collect()
 }
 
 /// A side's line over the tile: the signed distance to it, in codes, is
@@ -162,10 +149,11 @@ impl Line {
 }
 
 /// Whether a cut arc's records play the tile's 81 exact codes as a plane must.
-fn plays(t: &TileCtx<'_, '_>, r: &[TilePlane; 2], exact: &[f64; TILE_SAMPLES]) -> bool {
+/// `order` is [`edge_first`](super::planes::edge_first)'s.
+fn plays(t: &TileCtx<'_, '_>, r: &[TilePlane; 2], exact: &[f64; TILE_SAMPLES], order: &[u8; TILE_SAMPLES]) -> bool {
     let entry = TileEntry::of(TILE_ARC);
-    exact.iter().enumerate().all(|(i, &e)| {
+    order.iter().map(|&i| i as usize).all(|i| {
         let code = entry.code(r, (i % TILE_SIDE) as f64, (i / TILE_SIDE) as f64);
-        code.is_some_and(|code| t.sat.close(code - DISTANCE_ZERO as f64, e))
+        code.is_some_and(|code| t.sat.close(code - DISTANCE_ZERO as f64, exact[i]))
     })
 }

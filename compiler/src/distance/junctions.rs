@@ -25,8 +25,8 @@ use taxel_format::{
     TILE_SAMPLES, TILE_SIDE, TilePlane, segments_code,
 };
 
+use super::Part;
 use super::planes::TileCtx;
-use super::{Part, Seg, distance2_to_segment};
 
 /// Most centre-line segments near a tile among which the nearest to its
 /// points are looked for.
@@ -75,15 +75,8 @@ fn segments_of(
     k: f64,
     top: f64,
 ) -> Option<[TilePlane; SEGMENT_TILE_RECORDS]> {
-    let span = TILE_CELLS as f64 * t.h;
-    let middle = (t.corner.0 + span / 2.0, t.corner.1 + span / 2.0);
-    let near: Vec<(f64, Seg)> = super::nearest_first(
-        t.bucket.iter().filter_map(|&n| match t.segs.get(n as usize) {
-            Some(&((a, b), p, _)) if p == part => Some((distance2_to_segment(middle, a, b), (a, b))),
-            _ => None,
-        }),
-        MAX_CANDIDATES,
-    );
+    let near = t.nearest(part, MAX_CANDIDATES);
+    let middle = t.middle();
     if near.is_empty() {
         return None;
     }
@@ -101,12 +94,7 @@ fn segments_of(
             continue;
         }
         let p = (t.corner.0 + u * t.h, t.corner.1 + w * t.h);
-        let nearest = near
-            .iter()
-            .enumerate()
-            .map(|(i, (_, (a, b)))| (distance2_to_segment(p, *a, *b), i))
-            .min_by(|x, y| x.0.total_cmp(&y.0))
-            .map(|(_, i)| i)?;
+        let (nearest, _) = super::nearest_of(&near, middle, p)?;
         if !chosen.contains(&nearest) {
             chosen.push(nearest);
             // More than a tile holds: none plays it (most crowded tiles stop here).

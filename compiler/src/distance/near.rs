@@ -347,8 +347,8 @@ impl Near {
         let last = TILE_CELLS as f64;
         // The sample range `lo..=hi` (within the tile) of a span grown by `m`.
         let range = |lo: f64, hi: f64, o: f64, m: f64| {
-            let a = ((lo - m - o) / h).floor().max(0.0);
-            let b = ((hi + m - o) / h).ceil().min(last);
+            let a = super::floor_f64((lo - m - o) / h).max(0.0);
+            let b = super::ceil_f64((hi + m - o) / h).min(last);
             (a as usize, b as usize, a <= b)
         };
         for &n in bucket {

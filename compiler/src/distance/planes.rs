@@ -278,6 +278,122 @@ pub(super) struct TileCtx<'a, 'g> {
     /// The tile in its layer's grid, for the cell centres' search (one
     /// grid cell on from the samples').
     pub layer: Option<InLayer<'a>>,
+    /// The segments nearest the tile's middle, by part, found once for all
+    /// the writers that ask ([`TileCtx::nearest`]).
+    pub nearest: NearestSegments,
+    /// [`edge_first`] of the tile's samples, once a writer asks.
+    pub order: std::cell::OnceCell<[u8; TILE_SAMPLES]>,
+}
+
+/// Most segments of one part kept nearest a tile's middle: as many as the
+/// writer that wants the most (the circles' and cut arcs' 48) asks for.
+pub(super) const NEAREST_KEPT: usize = 48;
+
+/// The segments of each part that a tile's writers asked for, nearest its
+/// middle first, as [`nearest_first`](super::nearest_first) keeps them (at
+/// most [`NEAREST_KEPT`]), each part's found once.
+///
+/// Before, each writer tried on a tile that would otherwise be stored
+/// (corners, circles, segments tiles, cut arcs) measured every segment of
+/// the tile's bucket (hundreds) again to find its few nearest; and
+/// `nearest_first`'s `max` entries are the first `max` of a stable sort by
+/// the key, so the first `max` of one list of [`NEAREST_KEPT`] are what a
+/// writer asking for `max <= NEAREST_KEPT` would have found itself.
+#[derive(Default)]
+pub(super) struct NearestSegments {
+    lists: std::cell::RefCell<Vec<(Part, SharedList)>>,
+}
+
+/// One part's segments nearest a tile's middle, with their squared distances.
+type SharedList = std::rc::Rc<[(f64, Seg)]>;
+
+/// The first entries of a shared list of nearest segments.
+pub(super) struct Nearest {
+    list: SharedList,
+    len: usize,
+}
+
+impl std::ops::Deref for Nearest {
+    type Target = [(f64, Seg)];
+
+    fn deref(&self) -> &Self::Target {
+        &self.list[..self.len]
+    }
+}
+
+/// The tile's sample indices in the order the writers check a candidate
+/// at them: those whose exact code is within two codes of the edge first,
+/// then those within `near` (where a code must be within the tolerance even
+/// if saturated), then the rest, each in index order. A wrong candidate
+/// misses most often near the edge, and a check over all 81 samples (an
+/// `all`, whose outcome does not depend on the order) stops at the first
+/// miss; three passes, not a sort, which would cost more than it saves.
+pub(super) fn edge_first(exact: &[f64; TILE_SAMPLES], near: f64) -> [u8; TILE_SAMPLES] {
+    let mut order = [0u8; TILE_SAMPLES];
+    let mut n = 0;
+    let class = |e: f64| {
+        if e.abs() <= 2.0 {
+            0
+        } else if e.abs() <= near {
+            1
+        } else {
+            2
+        }
+    };
+    for pass in 0..3 {
+        for (i, &e) in exact.iter().enumerate() {
+            if class(e) == pass {
+                order[n] = i as u8;
+                n += 1;
+            }
+        }
+    }
+    // Every sample is in exactly one class (a NaN code in the last).
+    debug_assert_eq!(n, TILE_SAMPLES);
+    order
+}
+
+impl TileCtx<'_, '_> {
+    /// The order in which the writers check a candidate at the tile's
+    /// samples ([`edge_first`]); `exact` must be the tile's exact codes.
+    pub(super) fn order(&self, exact: &[f64; TILE_SAMPLES]) -> &[u8; TILE_SAMPLES] {
+        self.order.get_or_init(|| edge_first(exact, self.sat.near))
+    }
+
+    /// The tile's middle, page mm (the fourth lattice point along each side).
+    pub(super) fn middle(&self) -> (f64, f64) {
+        let half = TILE_CELLS as f64 * self.h / 2.0;
+        (self.corner.0 + half, self.corner.1 + half)
+    }
+
+    /// The `part` segments of the tile's bucket nearest its middle, with
+    /// their squared distances to it, nearest first (ties in bucket order),
+    /// at most `max`: `nearest_first` over the bucket, shared by the writers.
+    pub(super) fn nearest(&self, part: Part, max: usize) -> Nearest {
+        if max > NEAREST_KEPT {
+            let list: SharedList = self.nearest_uncached(part, max).into();
+            return Nearest { len: list.len(), list };
+        }
+        let found = self.nearest.lists.borrow().iter().find(|(p, _)| *p == part).map(|(_, l)| l.clone());
+        let list = found.unwrap_or_else(|| {
+            let list: SharedList = self.nearest_uncached(part, NEAREST_KEPT).into();
+            self.nearest.lists.borrow_mut().push((part, list.clone()));
+            list
+        });
+        Nearest { len: list.len().min(max), list }
+    }
+
+    /// [`TileCtx::nearest`] without the shared lists.
+    pub(super) fn nearest_uncached(&self, part: Part, max: usize) -> Vec<(f64, Seg)> {
+        let middle = self.middle();
+        super::nearest_first(
+            self.bucket.iter().filter_map(|&n| match self.segs.get(n as usize) {
+                Some(&((a, b), p, _)) if p == part => Some((super::distance2_to_segment(middle, a, b), (a, b))),
+                _ => None,
+            }),
+            max,
+        )
+    }
 }
 
 /// Inside-the-fills, inside-the-occluders and inside-each-clip bits at

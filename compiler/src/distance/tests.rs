@@ -739,3 +739,98 @@ fn a_side_and_a_hole_within_a_millimetre_play_their_exact_distance_as_cut_arcs()
     }
     assert!(checked > 100, "{checked} points in cut arcs");
 }
+
+/// Segments for the nearest-segment searches: short ones clustered round a
+/// tile, many sharing ends or lying on one another (equal keys), some far.
+fn clustered_segments() -> impl Strategy<Value = Vec<(Seg, Part, f64)>> {
+    let coord = prop_oneof![4 => 8.0f64..14.0, 1 => -20.0f64..40.0, 1 => (0u8..8).prop_map(|k| 9.0 + k as f64 * 0.5)];
+    let part = prop_oneof![Just(Part::Fill), Just(Part::Band), Just(Part::Cut(0)), Just(Part::Cut(1))];
+    proptest::collection::vec((coord.clone(), coord.clone(), coord.clone(), coord, part), 0..160)
+        .prop_map(|v| v.into_iter().map(|(ax, ay, bx, by, p)| (((ax, ay), (bx, by)), p, 1.0)).collect())
+}
+
+proptest! {
+    /// The writers' shared nearest segments: the first `max` of the
+    /// [`planes::NEAREST_KEPT`] nearest (what [`TileCtx::nearest`](planes::TileCtx::nearest)
+    /// hands a writer asking for `max`) are what `nearest_first` with `max`
+    /// keeps, bit for bit, ties (shared ends, overlapping segments) included.
+    #[test]
+    fn the_shared_nearest_segments_are_nearest_firsts(
+        segs in clustered_segments(),
+        middle in (9.0f64..13.0, 9.0f64..13.0),
+        max in 0usize..=planes::NEAREST_KEPT,
+        part in prop_oneof![Just(Part::Fill), Just(Part::Band), Just(Part::Cut(0))],
+    ) {
+        let all = |max: usize| {
+            nearest_first(
+                segs.iter().filter(|s| s.1 == part).map(|&((a, b), _, _)| (distance2_to_segment(middle, a, b), (a, b))),
+                max,
+            )
+        };
+        let bits = |v: &[(f64, Seg)]| {
+            v.iter().map(|(k, (a, b))| [k.to_bits(), a.0.to_bits(), a.1.to_bits(), b.0.to_bits(), b.1.to_bits()]).collect::<Vec<_>>()
+        };
+        let shared = all(planes::NEAREST_KEPT);
+        prop_assert_eq!(bits(&shared[..max.min(shared.len())]), bits(&all(max)));
+    }
+
+    /// `nearest_of` (which stops at the first segment too far from the
+    /// tile's middle to be nearer the point) finds the same segment and
+    /// distance as a scan of them all keeping the first least; fails if it
+    /// stopped one segment too early.
+    #[test]
+    fn nearest_of_is_the_first_least_of_a_full_scan(
+        segs in clustered_segments(),
+        middle in (9.0f64..13.0, 9.0f64..13.0),
+        p in prop_oneof![(8.0f64..14.0, 8.0f64..14.0), (0u8..9, 0u8..9).prop_map(|(i, j)| (9.0 + i as f64 * 0.5, 9.0 + j as f64 * 0.5))],
+        max in 1usize..48,
+    ) {
+        let near = nearest_first(segs.iter().map(|&((a, b), _, _)| (distance2_to_segment(middle, a, b), (a, b))), max);
+        let want = near
+            .iter()
+            .enumerate()
+            .map(|(k, (_, (a, b)))| (distance2_to_segment(p, *a, *b), k))
+            .min_by(|x, y| x.0.total_cmp(&y.0))
+            .map(|(d, k)| (k, d.to_bits()));
+        prop_assert_eq!(nearest_of(&near, middle, p).map(|(k, d)| (k, d.to_bits())), want);
+    }
+
+    /// `floor_f64` and `ceil_f64` equal `f64::floor` and `f64::ceil`
+    /// (whole values, halves, tiny and huge magnitudes, both signs).
+    #[test]
+    fn the_inline_floor_and_ceil_are_libms(
+        v in prop_oneof![
+            -1e7f64..1e7,
+            (-1000i64..1000).prop_map(|k| k as f64 * 0.5),
+            any::<f64>(),
+            prop_oneof![Just(-0.0), Just(0.0), Just(f64::INFINITY), Just(f64::NEG_INFINITY), Just(4_503_599_627_370_495.5), Just(-4_503_599_627_370_495.5)],
+        ],
+    ) {
+        let same = |a: f64, b: f64| a == b || (a.is_nan() && b.is_nan());
+        prop_assert!(same(floor_f64(v), v.floor()), "floor {v}: {} vs {}", floor_f64(v), v.floor());
+        prop_assert!(same(ceil_f64(v), v.ceil()), "ceil {v}: {} vs {}", ceil_f64(v), v.ceil());
+    }
+}
+
+proptest! {
+    /// The order in which the writers check candidates at a tile's samples
+    /// holds every sample once (so a check over it is a check over all 81),
+    /// those nearest the edge first; fails if a sample were left out or
+    /// taken twice.
+    #[test]
+    fn the_writers_check_every_sample_edge_first(
+        exact in proptest::collection::vec(prop_oneof![-127.0f64..127.0, -3.0f64..3.0, Just(f64::NAN), Just(0.0)], TILE_SAMPLES),
+        near in prop_oneof![0.0f64..40.0, Just(f64::NAN)],
+    ) {
+        let exact: [f64; TILE_SAMPLES] = exact.try_into().expect("81 samples");
+        let order = planes::edge_first(&exact, near);
+        let mut seen = [false; TILE_SAMPLES];
+        for &i in &order {
+            prop_assert!(!seen[i as usize], "sample {} twice", i);
+            seen[i as usize] = true;
+        }
+        let close = |i: u8| exact[i as usize].abs() <= 2.0;
+        let first_far = order.iter().position(|&i| !close(i)).unwrap_or(TILE_SAMPLES);
+        prop_assert!(order[first_far..].iter().all(|&i| !close(i)));
+    }
+}
