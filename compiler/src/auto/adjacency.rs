@@ -71,8 +71,12 @@ const REGIONS_PER_JOB: usize = 512;
 impl<'r, 'a> Neighbours<'r, 'a> {
     /// Prepares `regions`.
     pub fn of(regions: &'r [Region<'a>]) -> Self {
-        let boxes: Vec<Bbox> = regions.iter().map(|r| r.bbox).collect();
-        Neighbours { regions, index: spatial::BoxIndex::new(&boxes), outlines: outlines(regions) }
+        // The index and the outlines are made at once, each on a thread.
+        let (index, outlines) = rayon::join(
+            || spatial::BoxIndex::new(&regions.iter().map(|r| r.bbox).collect::<Vec<Bbox>>()),
+            || outlines(regions),
+        );
+        Neighbours { regions, index, outlines }
     }
 
     /// [`abutting`]. Regions are looked at in parallel; a region found to
