@@ -119,9 +119,8 @@ fn group_message(group: &[&Diagnostic]) -> (String, Option<String>) {
         _ => {
             // A fast hasher: SipHash over the half a million messages of the
             // map at the input limit was a tenth of a second on one thread.
-            let mut distinct: std::collections::HashSet<&str, foldhash::fast::RandomState> =
-                std::collections::HashSet::with_capacity_and_hasher(group.len(), Default::default());
-            distinct.extend(group.iter().map(|d| d.message.as_str()));
+            let distinct: std::collections::HashSet<&str, foldhash::fast::RandomState> =
+                group.iter().map(|d| d.message.as_str()).collect();
             (group[0].message.clone(), Some(format!("the first of {} different messages", distinct.len())))
         }
     }

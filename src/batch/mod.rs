@@ -216,9 +216,9 @@ fn build_one(
             .map_err(|e| format!("{shown}: internal error: the compiler made an invalid bundle: {e}"))?;
         crate::io::write_file(&job.output, &bytes).map_err(|e| e.to_string())
     };
-    let (messages, written) = rayon::join(
-        || crate::account::lines(&diagnostics, &shown, Severity::Note, settings.verbose),
+    let (written, messages) = rayon::join(
         || bundle.filter(|_| errors == 0).map(write),
+        || crate::account::lines(&diagnostics, &shown, Severity::Note, settings.verbose),
     );
     match written {
         None => {

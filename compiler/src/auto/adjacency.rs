@@ -71,10 +71,11 @@ const REGIONS_PER_JOB: usize = 512;
 impl<'r, 'a> Neighbours<'r, 'a> {
     /// Prepares `regions`.
     pub fn of(regions: &'r [Region<'a>]) -> Self {
-        // The index and the outlines are made at once, each on a thread.
-        let (index, outlines) = rayon::join(
-            || spatial::BoxIndex::new(&regions.iter().map(|r| r.bbox).collect::<Vec<Bbox>>()),
+        // The index and the outlines are made at once, each on a thread;
+        // the outlines, much the larger, on this one.
+        let (outlines, index) = rayon::join(
             || outlines(regions),
+            || spatial::BoxIndex::new(&regions.iter().map(|r| r.bbox).collect::<Vec<Bbox>>()),
         );
         Neighbours { regions, index, outlines }
     }

@@ -102,14 +102,15 @@ fn compile(
     // the bundle is put together (on the map at the input limit, freeing its
     // hundred thousand elements took a tenth of a second on the one thread
     // left working).
-    let ((), bundle) = rayon::join(
-        move || drop(drawing),
+    // (The bundle is made on this thread, the one that goes on with it.)
+    let (bundle, ()) = rayon::join(
         || {
             checked.finish(&built, diags);
             let mut bundle = Bundle::new(Manifest { content_hash: opts.content_hash, ..Manifest::new(opts.profile) });
             bundle.chunks = built.into_chunks();
             bundle
         },
+        move || drop(drawing),
     );
     if let Err(e) = bundle.to_bytes() {
         diags.push(Diagnostic::error("T0900", format!("internal error: the bundle does not validate: {e}")));
