@@ -197,37 +197,41 @@ fn build_one(
             return (Outcome::Failed, format!("failed {shown}"), vec![d.render(&shown)]);
         }
     };
-    let messages = crate::account::lines(&compiled.diagnostics, &shown, Severity::Note, settings.verbose);
-    let styles = crate::account::style_summary(&compiled.diagnostics).map(|s| format!(": {s}")).unwrap_or_default();
-    let warnings = compiled.diagnostics.iter().filter(|d| d.severity == Severity::Warning).count();
-    let errors = compiled.diagnostics.iter().filter(|d| d.severity == Severity::Error).count();
-    let bundle = match compiled.bundle {
-        Some(b) if errors == 0 => b,
-        _ => {
+    let Compiled { bundle, diagnostics, fonts_used } = compiled;
+    let styles = crate::account::style_summary(&diagnostics).map(|s| format!(": {s}")).unwrap_or_default();
+    let warnings = diagnostics.iter().filter(|d| d.severity == Severity::Warning).count();
+    let errors = diagnostics.iter().filter(|d| d.severity == Severity::Error).count();
+    // The account is written while the bundle is encoded and written: on
+    // the map at the input limit each took a few tenths of a second, one
+    // after the other on one thread, at the end of the build.
+    let write = |bundle: taxel_format::Bundle| -> Result<(), String> {
+        let hash = match checked {
+            Some(h) => h,
+            None => part.finish(&fonts_used, &settings.opts).map_err(|e| format!("{shown}: {e:#}"))?,
+        };
+        let mut bundle = bundle;
+        bundle.manifest.content_hash = hash;
+        let bytes = bundle
+            .to_bytes()
+            .map_err(|e| format!("{shown}: internal error: the compiler made an invalid bundle: {e}"))?;
+        crate::io::write_file(&job.output, &bytes).map_err(|e| e.to_string())
+    };
+    let (written, messages) = rayon::join(
+        || bundle.filter(|_| errors == 0).map(write),
+        || crate::account::lines(&diagnostics, &shown, Severity::Note, settings.verbose),
+    );
+    match written {
+        None => {
             let why = if errors == 0 { "no bundle".to_string() } else { plural(errors, "error") };
             return (Outcome::Failed, format!("failed {shown} ({why})"), messages);
         }
-    };
-    let hash = match checked {
-        Some(h) => h,
-        None => match part.finish(&compiled.fonts_used, &settings.opts) {
-            Ok(h) => h,
-            Err(e) => return failed(format!("{shown}: {e:#}")),
-        },
-    };
-    let mut bundle = bundle;
-    bundle.manifest.content_hash = hash;
-    let bytes = match bundle.to_bytes() {
-        Ok(b) => b,
-        Err(e) => return failed(format!("{shown}: internal error: the compiler made an invalid bundle: {e}")),
-    };
-    if let Err(e) = crate::io::write_file(&job.output, &bytes) {
-        return failed(e.to_string());
+        Some(Err(e)) => return failed(e),
+        Some(Ok(())) => {}
     }
     let messages = match notes {
         Some((tally, at)) => {
-            tally.lock().unwrap_or_else(|p| p.into_inner()).add(&compiled.diagnostics, &shown, at);
-            crate::account::lines(&compiled.diagnostics, &shown, Severity::Warning, settings.verbose)
+            tally.lock().unwrap_or_else(|p| p.into_inner()).add(&diagnostics, &shown, at);
+            crate::account::lines(&diagnostics, &shown, Severity::Warning, settings.verbose)
         }
         None => messages,
     };

@@ -1,8 +1,6 @@
 //! Which filled regions touch or nearly touch, and a colouring of the
 //! fill classes that keeps touching classes on different textures.
 
-use std::collections::BTreeSet;
-
 use crate::geometry::{FillRule, Polyline, contains, distance_to_outline};
 use crate::spatial::{self, Bbox};
 
@@ -73,34 +71,48 @@ const REGIONS_PER_JOB: usize = 512;
 impl<'r, 'a> Neighbours<'r, 'a> {
     /// Prepares `regions`.
     pub fn of(regions: &'r [Region<'a>]) -> Self {
-        let boxes: Vec<Bbox> = regions.iter().map(|r| r.bbox).collect();
-        Neighbours { regions, index: spatial::BoxIndex::new(&boxes), outlines: outlines(regions) }
+        // The index and the outlines are made at once, each on a thread;
+        // the outlines, much the larger, on this one.
+        let (outlines, index) = rayon::join(
+            || outlines(regions),
+            || spatial::BoxIndex::new(&regions.iter().map(|r| r.bbox).collect::<Vec<Bbox>>()),
+        );
+        Neighbours { regions, index, outlines }
     }
 
-    /// [`abutting`].
+    /// [`abutting`]. Regions are looked at in parallel; a region found to
+    /// abut marks its neighbour too, so the neighbour is not searched again.
+    /// The marks do not depend on the order the threads take: a region is
+    /// marked exactly when some region within `abut` of it exists (the
+    /// distance between two outlines is the same both ways round).
     pub fn abutting(&self, abut: f64) -> Vec<bool> {
-        let mut out = vec![false; self.regions.len()];
-        for (k, r) in self.regions.iter().enumerate() {
-            if out[k] {
-                continue;
+        use rayon::prelude::*;
+        use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
+        let out: Vec<AtomicBool> = (0..self.regions.len()).map(|_| AtomicBool::new(false)).collect();
+        self.regions.par_iter().enumerate().with_min_len(REGIONS_PER_JOB).for_each(|(k, r)| {
+            if out[k].load(Relaxed) {
+                return;
             }
             for j in self.index.meeting(spatial::grow(r.bbox, abut)) {
                 if j != k && self.outlines.distance(k, j, abut, abut) <= abut {
-                    out[k] = true;
-                    out[j] = true;
+                    out[k].store(true, Relaxed);
+                    if let Some(o) = out.get(j) {
+                        o.store(true, Relaxed);
+                    }
                     break;
                 }
             }
-        }
-        out
+        });
+        out.into_iter().map(AtomicBool::into_inner).collect()
     }
 
-    /// [`abutting_alike`].
+    /// [`abutting_alike`]: each region is decided on its own, so in parallel.
     pub fn abutting_alike(&self, class_of: &[Option<usize>], abut: f64) -> Vec<bool> {
+        use rayon::prelude::*;
         let regions = self.regions;
-        let mut out = vec![false; regions.len()];
-        for (k, r) in regions.iter().enumerate() {
-            let Some(c) = class_of.get(k).copied().flatten() else { continue };
+        let alike = |(k, r): (usize, &Region<'_>)| {
+            let Some(c) = class_of.get(k).copied().flatten() else { return false };
+            let mut out = false;
             for j in self.index.meeting(spatial::grow(r.bbox, abut)) {
                 if j == k || class_of.get(j).copied().flatten() != Some(c) {
                     continue;
@@ -109,63 +121,163 @@ impl<'r, 'a> Neighbours<'r, 'a> {
                     continue;
                 }
                 if overlap(r, &regions[j], abut) || overlap(&regions[j], r, abut) {
-                    out[k] = false;
-                    break;
+                    return false;
                 }
-                out[k] = true;
+                out = true;
             }
-        }
-        out
+            out
+        };
+        regions.par_iter().enumerate().with_min_len(REGIONS_PER_JOB).map(alike).collect()
     }
 
-    /// [`class_edges`]. Runs of regions are searched in parallel, each
-    /// pruning with the edges it has found itself; the edges are their
-    /// union, sorted, so the result does not depend on how the work was shared.
+    /// [`class_edges`]. Runs of regions are searched in parallel, each run
+    /// keeping, for each class, the sorted classes it has found it touches
+    /// and pruning with them; the edges are their union, sorted, so the
+    /// result does not depend on how the work was shared.
+    ///
+    /// A region is searched only for the classes its own is not yet known
+    /// to touch. When there are a few classes (a map's fills) and only a
+    /// few are still unknown, only their regions are looked up, each class
+    /// in an R*-tree of its own: a map whose fills all touch but one rare
+    /// class (a few large dots) had every region look at its hundreds of
+    /// neighbours for the one edge that never comes, and those queries
+    /// were most of the automatic sheet's time on the map at the input limit.
+    /// When the unknown classes are common, one query over all the
+    /// neighbours is cheaper, and is made instead.
     pub fn class_edges(&self, class_of: &[Option<usize>], near: f64) -> Vec<(usize, usize)> {
         use rayon::prelude::*;
-        // Once a class is known to touch every other class, its regions
-        // can add no edge, and their neighbours need not even be looked up:
-        // on a dense map of a few fills every class soon touches every
-        // other, and the queries (hundreds of boxes within `near` of each
-        // region of a map fitted to the surface) were most of the cost.
         let n = class_of.iter().flatten().max().map_or(0, |&c| c + 1);
-        let mut present = vec![false; n];
-        for &c in class_of.iter().flatten() {
-            present[c] = true;
-        }
-        let others = present.iter().filter(|&&p| p).count().saturating_sub(1);
-        let search = |(mut edges, mut touched): (BTreeSet<(usize, usize)>, Vec<usize>), k: usize| {
-            let Some(ca) = class_of.get(k).copied().flatten() else { return (edges, touched) };
-            if touched[ca] == others {
-                return (edges, touched);
+        let mut members: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for (k, c) in class_of.iter().enumerate().take(self.regions.len()) {
+            if let Some(c) = *c {
+                members[c].push(k);
             }
-            for j in self.index.meeting(spatial::grow(self.regions[k].bbox, near)) {
+        }
+        let present: Vec<usize> = (0..n).filter(|&c| !members[c].is_empty()).collect();
+        let others = present.len().saturating_sub(1);
+        // Each class's own index, for the few-classes search.
+        let by_class: Vec<spatial::BoxIndex> = if present.len() <= FEW_CLASSES {
+            members
+                .par_iter()
+                .map(|m| spatial::BoxIndex::new(&m.iter().map(|&k| self.regions[k].bbox).collect::<Vec<_>>()))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let search = |mut known: Known, k: usize| {
+            let Some(ca) = class_of.get(k).copied().flatten() else { return known };
+            if known.of(ca).len() >= others {
+                return known;
+            }
+            let query = spatial::grow(self.regions[k].bbox, near);
+            let near_to = |j: usize| j > k && near_or_inside(self.regions, &self.outlines, k, j, near);
+            // The few classes still unknown, looked up one by one when they are
+            // rare: a query per class costs more than one over all the
+            // neighbours unless it skips most of them (on the generated map of
+            // 10,000 regions, per-class lookups whatever the classes cost
+            // 370 M instructions more, 3 % of the build, than the one query).
+            let unknown = || present.iter().copied().filter(|&cb| cb != ca && !known.has(ca, cb));
+            let rare = || unknown().map(|cb| members[cb].len()).sum::<usize>() * RARE_SHARE <= self.regions.len();
+            if !by_class.is_empty() && others - known.of(ca).len() <= UNKNOWN_CLASSES && rare() {
+                for &cb in &present {
+                    if cb == ca || known.has(ca, cb) {
+                        continue;
+                    }
+                    let found = by_class[cb].meeting(query).filter_map(|p| members[cb].get(p).copied()).any(near_to);
+                    if found {
+                        known.add(ca, cb);
+                    }
+                }
+                return known;
+            }
+            for j in self.index.meeting(query) {
                 let Some(cb) = class_of.get(j).copied().flatten() else { continue };
-                let e = (ca.min(cb), ca.max(cb));
-                if j <= k || ca == cb || edges.contains(&e) {
+                if j <= k || ca == cb || known.has(ca, cb) {
                     continue;
                 }
-                if near_or_inside(self.regions, &self.outlines, k, j, near) {
-                    edges.insert(e);
-                    touched[ca] += 1;
-                    touched[cb] += 1;
-                    if touched[ca] == others {
+                if near_to(j) {
+                    known.add(ca, cb);
+                    if known.of(ca).len() >= others {
                         break;
                     }
                 }
             }
-            (edges, touched)
+            known
         };
-        let edges: BTreeSet<(usize, usize)> = (0..self.regions.len())
+        let known = (0..self.regions.len())
             .into_par_iter()
             .with_min_len(REGIONS_PER_JOB)
-            .fold(|| (BTreeSet::new(), vec![0; n]), search)
-            .map(|(edges, _)| edges)
-            .reduce(BTreeSet::new, |mut a, mut b| {
-                a.append(&mut b);
-                a
-            });
-        edges.into_iter().collect()
+            .fold(|| Known::new(n), search)
+            .reduce(|| Known::new(n), Known::union);
+        known.edges()
+    }
+}
+
+/// Most classes present for [`Neighbours::class_edges`] to give each its
+/// own R*-tree.
+const FEW_CLASSES: usize = 64;
+
+/// Most classes a region's class may still not be known to touch for
+/// [`Neighbours::class_edges`] to look them up one by one rather than
+/// look at all the region's neighbours.
+const UNKNOWN_CLASSES: usize = 4;
+
+/// The regions of the classes still unknown must be at most one in this
+/// many for [`Neighbours::class_edges`] to look them up class by class.
+const RARE_SHARE: usize = 4;
+
+/// For each class, the classes it is known to touch, sorted.
+struct Known {
+    touches: Vec<Vec<usize>>,
+}
+
+impl Known {
+    fn new(n: usize) -> Self {
+        Known { touches: vec![Vec::new(); n] }
+    }
+
+    fn of(&self, a: usize) -> &[usize] {
+        self.touches.get(a).map_or(&[], Vec::as_slice)
+    }
+
+    fn has(&self, a: usize, b: usize) -> bool {
+        self.of(a).binary_search(&b).is_ok()
+    }
+
+    /// Records that `a` and `b` touch.
+    fn add(&mut self, a: usize, b: usize) {
+        for (x, y) in [(a, b), (b, a)] {
+            if let Some(t) = self.touches.get_mut(x)
+                && let Err(at) = t.binary_search(&y)
+            {
+                t.insert(at, y);
+            }
+        }
+    }
+
+    /// What either knows.
+    fn union(mut self, other: Known) -> Known {
+        if self.touches.len() < other.touches.len() {
+            return other.union(self);
+        }
+        for (mine, theirs) in self.touches.iter_mut().zip(other.touches) {
+            if theirs.is_empty() {
+                continue;
+            }
+            mine.extend(theirs);
+            mine.sort_unstable();
+            mine.dedup();
+        }
+        self
+    }
+
+    /// The pairs `(a, b)`, `a < b`, sorted.
+    fn edges(&self) -> Vec<(usize, usize)> {
+        self.touches
+            .iter()
+            .enumerate()
+            .flat_map(|(a, t)| t.iter().filter(move |&&b| b > a).map(move |&b| (a, b)))
+            .collect()
     }
 }
 
@@ -298,6 +410,96 @@ mod tests {
             assert_eq!(class_edges(&regions, &class_of, near), want, "near {near}");
         }
     }
+
+    /// All pairs, each measured over every pair of segments with the
+    /// geometry module's own distance (not the R*-tree or `OutlineSet`).
+    fn all_pairs(regions: &[Region<'_>], near: f64) -> Vec<(usize, usize)> {
+        let inside = |a: &[Polyline], b: &[Polyline]| contains(a, b[0].points[0], FillRule::NonZero);
+        let mut out = Vec::new();
+        for i in 0..regions.len() {
+            for j in i + 1..regions.len() {
+                let (a, b) = (regions[i].outline, regions[j].outline);
+                if min_outline_distance(&regions[i], &regions[j]) <= near || inside(a, b) || inside(b, a) {
+                    out.push((i, j));
+                }
+            }
+        }
+        out
+    }
+
+    proptest::proptest! {
+        /// The parallel searches against an all-pairs answer: class edges
+        /// with few classes (each looked up in its own tree), with more than
+        /// [`FEW_CLASSES`] (all neighbours looked at), and in between; which
+        /// regions abut, and which abut one of their own class.
+        #[test]
+        fn class_edges_and_abutting_agree_with_all_pairs(
+            cells in proptest::collection::vec((0u8..24, 0u8..16, 1u8..5, 1u8..5, 0usize..200), 1..140),
+            classes in proptest::sample::select(vec![1usize, 2, 3, 5, 7, 12, 80, 150]),
+            near in proptest::sample::select(vec![0.05, 0.5, 3.2]),
+        ) {
+            // Rectangles on a half-millimetre grid, so that many share sides exactly.
+            let shapes: Vec<Vec<Polyline>> = cells
+                .iter()
+                .map(|&(x, y, w, h, _)| {
+                    let (x, y) = (f64::from(x) * 0.5, f64::from(y) * 0.5);
+                    rect(x, y, x + f64::from(w) * 0.5, y + f64::from(h) * 0.5)
+                })
+                .collect();
+            let regions: Vec<Region<'_>> =
+                shapes.iter().map(|s| Region { outline: s, bbox: crate::geometry::bounds(s).unwrap() }).collect();
+            // Every fifth region has no class.
+            let class_of: Vec<Option<usize>> =
+                cells.iter().enumerate().map(|(k, c)| (k % 5 != 4).then_some(c.4 % classes)).collect();
+            let pairs = all_pairs(&regions, near);
+            let mut want: Vec<(usize, usize)> = pairs
+                .iter()
+                .filter_map(|&(a, b)| Some((class_of[a]?, class_of[b]?)))
+                .filter(|(a, b)| a != b)
+                .map(|(a, b)| (a.min(b), a.max(b)))
+                .collect();
+            want.sort_unstable();
+            want.dedup();
+            let neighbours = Neighbours::of(&regions);
+            proptest::prop_assert_eq!(neighbours.class_edges(&class_of, near), want);
+            let abut = all_pairs(&regions, ABUT);
+            let mut abuts = vec![false; regions.len()];
+            for &(a, b) in &abut {
+                // `all_pairs` also counts a region inside another; abutting is the outlines alone.
+                if min_outline_distance(&regions[a], &regions[b]) <= ABUT {
+                    abuts[a] = true;
+                    abuts[b] = true;
+                }
+            }
+            proptest::prop_assert_eq!(neighbours.abutting(ABUT), abuts);
+            let alike: Vec<bool> = (0..regions.len())
+                .map(|k| {
+                    let mates: Vec<usize> = (0..regions.len())
+                        .filter(|&j| j != k && class_of[k].is_some() && class_of[j] == class_of[k])
+                        .filter(|&j| min_outline_distance(&regions[k], &regions[j]) <= ABUT)
+                        .collect();
+                    let across = mates.iter().any(|&j| {
+                        overlap(&regions[k], &regions[j], ABUT) || overlap(&regions[j], &regions[k], ABUT)
+                    });
+                    !mates.is_empty() && !across
+                })
+                .collect();
+            proptest::prop_assert_eq!(neighbours.abutting_alike(&class_of, ABUT), alike);
+        }
+    }
+
+    /// The outlines' distance over every pair of segments.
+    fn min_outline_distance(a: &Region<'_>, b: &Region<'_>) -> f64 {
+        let mut best = f64::INFINITY;
+        for (p, q) in a.outline.iter().flat_map(|l| l.segments()) {
+            for (r, s) in b.outline.iter().flat_map(|l| l.segments()) {
+                best = best.min(crate::geometry::segment_distance(p, q, r, s));
+            }
+        }
+        best
+    }
+
+    const ABUT: f64 = 0.05;
 
     #[test]
     fn colouring_gives_neighbours_different_colours_and_drops_the_last_when_out_of_colours() {

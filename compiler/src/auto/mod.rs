@@ -608,12 +608,19 @@ fn backgrounds(d: &Drawing, page: Bbox) -> Vec<usize> {
     let area = |b: Bbox| (b.2 - b.0).max(0.0) * (b.3 - b.1).max(0.0);
     let clip = |b: Bbox| (b.0.max(page.0), b.1.max(page.1), b.2.min(page.2), b.3.min(page.3));
     let filled = |e: &Element| matches!(e.shape, Shape::Path(_)) && e.visible && e.paint.filled;
-    let boxes: Vec<Option<Bbox>> = d.elements.iter().map(|e| e.bounds().filter(|_| filled(e)).map(clip)).collect();
+    // Every element's box, worked out once and in parallel (each is a pass over its outline).
+    let bounds: Vec<Option<Bbox>> = {
+        use rayon::prelude::*;
+        d.elements.par_iter().map(Element::bounds).collect()
+    };
+    let boxes: Vec<Option<Bbox>> =
+        d.elements.iter().zip(&bounds).map(|(e, b)| b.filter(|_| filled(e)).map(clip)).collect();
     let extent = d
         .elements
         .iter()
-        .filter(|e| e.visible)
-        .filter_map(Element::bounds)
+        .zip(&bounds)
+        .filter(|(e, _)| e.visible)
+        .filter_map(|(_, b)| *b)
         .map(clip)
         .reduce(|a, b| (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)));
     let Some(extent) = extent else { return Vec::new() };

@@ -197,22 +197,21 @@ impl Checked {
     /// built layers among them.
     pub(crate) fn finish(self, built: &Built, diags: &mut Vec<Diagnostic>) {
         let f = &built.features;
+        // Room for the rules' own diagnostics at once: on the map at the
+        // input limit there are half a million, and growing the list as
+        // they came copied it again at each doubling, on one thread.
+        diags.reserve(self.head.len() + self.tail.len());
         diags.extend(self.head);
-        // Flattened as they are found (rayon keeps the pairs' order): a
-        // list with one entry (24 bytes) per meeting pair, nearly all
-        // empty, was freshly paged in on one thread on the map at the
-        // input limit.
-        let overlaps: Vec<Diagnostic> = self
-            .meets
-            .par_iter()
-            .flat_map_iter(|&(i, j)| {
-                let mut out = Vec::new();
-                overlap(built, &f[i], &f[j], &mut out);
-                out
-            })
-            .collect();
+        // Flattened as they are found, straight into the list (rayon keeps
+        // the pairs' order): a list with one entry (24 bytes) per meeting
+        // pair, nearly all empty, was freshly paged in on one thread on the
+        // map at the input limit.
+        diags.par_extend(self.meets.par_iter().flat_map_iter(|&(i, j)| {
+            let mut out = Vec::new();
+            overlap(built, &f[i], &f[j], &mut out);
+            out
+        }));
         drop(self.meets);
-        diags.extend(overlaps);
         diags.extend(self.tail);
     }
 }
