@@ -55,7 +55,7 @@ pub(super) fn segment_tiles(
 
 /// The distinct widths of a grating's cut bands, in the order of their
 /// groups ([`Part::Cut`]: the first band of each width names its group).
-fn cut_widths(t: &TileCtx<'_, '_>) -> Vec<f64> {
+pub(super) fn cut_widths(t: &TileCtx<'_, '_>) -> Vec<f64> {
     let mut widths: Vec<f64> = Vec::new();
     for (_, w) in &t.g.cuts {
         if !widths.iter().any(|v| v.to_bits() == w.to_bits()) {

@@ -173,7 +173,8 @@ pub(super) fn nearest_lines(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) ->
             let k = t.h / t.step;
             let c = (nx * (t.corner.0 - a.0) + ny * (t.corner.1 - a.1)) / t.step;
             let (off, top) = match part {
-                Part::Cut(kc) => (t.g.cuts.get(kc).map_or(0.0, |c| c.1) / 2.0 / t.step, None),
+                // `kc` is the cut's width group, not its place among the cuts.
+                Part::Cut(kc) => (super::junctions::cut_widths(t).get(kc).map_or(0.0, |w| w / 2.0 / t.step), None),
                 Part::Band => (0.0, Some(w_half(t))),
                 _ => (0.0, None),
             };

@@ -363,6 +363,31 @@ fn a_grating_minus_a_band_is_the_fill_outside_the_band() {
     assert!(field_distance(&f, 0.5, (13.5, 10.0)).expect("lattice") > 0.4);
 }
 
+/// Cut bands of two widths, the wide one listed after two narrow ones (its
+/// width group, 1, is not its place among the cuts, 2): the field is exact
+/// and the tiles along the wide band's straight edges are plane tiles.
+#[test]
+fn a_wide_cut_after_narrow_ones_has_plane_tiles_at_its_own_edges() {
+    let sq = [square(2.0, 2.0, 26.0)];
+    let vertical = |x: f64| [Polyline { points: vec![(x, 0.0), (x, 30.0)], closed: false }];
+    let (a, b, c) = (vertical(6.0), vertical(9.0), vertical(18.0));
+    let g = LayerGeometry {
+        fills: vec![(&sq, FillRule::NonZero)],
+        cuts: vec![(&a, 1.0), (&b, 1.0), (&c, 8.0)],
+        ..Default::default()
+    };
+    let p = params(0.5, 0.0);
+    check(&g, p, &grid_points(0.173)).expect("field within bounds");
+    let f = build_field(&g, p).expect("a field");
+    // The wide band's edges are at 14 and 22 mm, 4 mm from anything else.
+    for y in [8.0, 12.0, 16.0, 20.0] {
+        for x in [14.0, 22.0] {
+            let e = plane_tile_at(&f, 0.5, (x, y)).expect("a plane tile along the wide cut's edge");
+            assert_eq!(taxel_format::TileEntry::of(*e).records(), 1, "({x}, {y}): {e:#x}");
+        }
+    }
+}
+
 #[test]
 fn soft_edges_reach_half_their_width() {
     let sq = [square(5.0, 5.0, 20.0)];
