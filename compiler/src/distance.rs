@@ -540,6 +540,7 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
             layer: in_layer((c, r), 1),
             nearest: planes::NearestSegments::default(),
             order: std::cell::OnceCell::new(),
+            measured: near,
             centre_bits: centre_bits.get_or_init(|| {
                 // The same sweeps as the lattice points', half a cell on.
                 let (cx, cy) = (ox + h / 2.0, oy + h / 2.0);
@@ -720,7 +721,12 @@ fn keep_nearest<T>(kept: &mut Vec<(f64, T)>, (key, item): (f64, T), max: usize) 
 /// best, so none of them would be kept. The writers ask this at each of a
 /// tile's points over the 24 to 48 segments nearest its middle, most of
 /// which lie beyond the tile.
-fn nearest_of(near: &[(f64, Seg)], middle: (f64, f64), p: (f64, f64)) -> Option<(usize, f64)> {
+///
+/// `least`, when given, is the least squared distance from `p` to a set of
+/// segments that holds all of `near`, as [`distance2_to_segment`] gives it
+/// (what the samples' search measured there): no segment of `near` is then
+/// nearer, so the scan also stops at the first segment that distance away.
+fn nearest_of(near: &[(f64, Seg)], middle: (f64, f64), p: (f64, f64), least: Option<f64>) -> Option<(usize, f64)> {
     let r = (p.0 - middle.0).hypot(p.1 - middle.1);
     // Distances are some millimetres, their rounding some 1e-16 of the
     // coordinates: a nanometre is far above it, and far below any gap that
@@ -736,6 +742,10 @@ fn nearest_of(near: &[(f64, Seg)], middle: (f64, f64), p: (f64, f64)) -> Option<
         let d = distance2_to_segment(p, a, b);
         if best.is_none_or(|(_, m)| d.total_cmp(&m).is_lt()) {
             best = Some((k, d));
+            // None later is strictly nearer, so none would replace it.
+            if least.is_some_and(|l| d.total_cmp(&l).is_le()) {
+                break;
+            }
         }
     }
     best

@@ -92,7 +92,7 @@ fn sides(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES], near: &[(f64, Seg)]) 
         }
         let p = (t.corner.0 + (i % TILE_SIDE) as f64 * t.h, t.corner.1 + (i / TILE_SIDE) as f64 * t.h);
         // The first of the nearest, as `min_by` keeps.
-        let Some((n, _)) = super::nearest_of(near, middle, p) else { continue };
+        let Some((n, _)) = super::nearest_of(near, middle, p, t.measured.least(Part::Fill, i)) else { continue };
         match count.iter_mut().find(|(k, _)| *k == n) {
             Some((_, c)) => *c += 1,
             None => count.push((n, 1)),

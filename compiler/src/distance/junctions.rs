@@ -84,17 +84,20 @@ fn segments_of(
     // to which a farther segment moves the code (a band's outside, a cut's
     // inside): leaving a segment out only lengthens the distance there.
     let matters = |e: f64| e.abs() <= t.sat.near || if k > 0.0 { e > t.sat.lo } else { e < t.sat.hi };
-    let lattice = (0..TILE_SAMPLES).map(|i| ((i % TILE_SIDE) as f64, (i / TILE_SIDE) as f64, Some(exact[i])));
+    // (point, its exact code and the least distance the samples' measure
+    // found there; neither is at hand at a cell centre)
+    let lattice = (0..TILE_SAMPLES)
+        .map(|i| ((i % TILE_SIDE) as f64, (i / TILE_SIDE) as f64, Some(exact[i]), t.measured.least(part, i)));
     let centres = (0..TILE_CELLS * TILE_CELLS)
-        .map(|i| ((i % TILE_CELLS) as f64 + 0.5, (i / TILE_CELLS) as f64 + 0.5, None::<f64>));
+        .map(|i| ((i % TILE_CELLS) as f64 + 0.5, (i / TILE_CELLS) as f64 + 0.5, None::<f64>, None));
     let mut chosen: Vec<usize> = Vec::new();
-    for (u, w, e) in lattice.chain(centres) {
+    for (u, w, e, least) in lattice.chain(centres) {
         // A cell centre's exact code is not at hand: every centre counts.
         if e.is_some_and(|e| !matters(e)) {
             continue;
         }
         let p = (t.corner.0 + u * t.h, t.corner.1 + w * t.h);
-        let (nearest, _) = super::nearest_of(&near, middle, p)?;
+        let (nearest, _) = super::nearest_of(&near, middle, p, least)?;
         if !chosen.contains(&nearest) {
             chosen.push(nearest);
             // More than a tile holds: none plays it (most crowded tiles stop here).

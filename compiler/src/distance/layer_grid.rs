@@ -189,14 +189,14 @@ impl LayerGrid {
         Some(grid)
     }
 
-    /// The stored cell range `(x0, y0, x1, y1)` a segment's bounds meet.
-    fn cells_of(&self, seg: &Seg) -> (usize, usize, usize, usize) {
+    /// The stored cell range `[x0, y0, x1, y1]` a segment's bounds meet.
+    fn cells_of(&self, seg: &Seg) -> [usize; 4] {
         let b = seg_bounds(seg);
         let c = |v: f64, o: f64, n: usize| {
             (super::near::floor_cell((v - o) / self.cell) + self.pad).clamp(0, n as isize - 1) as usize
         };
         let (ox, oy) = self.origin;
-        (c(b.0, ox, self.width), c(b.1, oy, self.height), c(b.2, ox, self.width), c(b.3, oy, self.height))
+        [c(b.0, ox, self.width), c(b.1, oy, self.height), c(b.2, ox, self.width), c(b.3, oy, self.height)]
     }
 
     /// The segments of one group (`own` or the others) that act on some
@@ -204,17 +204,26 @@ impl LayerGrid {
     fn bin(&self, segs: &[(Seg, Part, f64)], own: bool) -> Cells {
         let n_cells = self.width * self.height;
         let in_group = |n: usize| self.slot.get(n).is_some_and(|&s| s != u8::MAX && is_own(s as usize) == own);
-        // Each segment's cells are reckoned in both passes rather than
-        // kept: on the map at the input limit a list of them would add
-        // some 50 MB per layer being built.
+        let members = || segs.iter().enumerate().filter(move |&(n, _)| in_group(n));
+        // Each segment's cells are reckoned once and kept for the second
+        // pass, in 16 bits (8 bytes a segment of the group, some 20 MB on
+        // the map at the input limit while one layer is binned): reckoning
+        // them again cost as much as the rest of the binning. A grid wider
+        // or taller than 16 bits reckons them twice.
+        let narrow = self.width <= 1 << 16 && self.height <= 1 << 16;
+        let kept: Vec<[u16; 4]> = if narrow {
+            members().map(|(_, (seg, _, _))| self.cells_of(seg).map(|v| v as u16)).collect()
+        } else {
+            Vec::new()
+        };
         let ranges = || {
-            segs.iter()
-                .enumerate()
-                .filter(move |&(n, _)| in_group(n))
-                .map(|(n, (seg, _, _))| (n as u32, self.cells_of(seg)))
+            let again = members().map(|(n, (seg, _, _))| (n as u32, self.cells_of(seg)));
+            let once = members().zip(&kept).map(|((n, _), c)| (n as u32, c.map(usize::from)));
+            // One of the two is empty: `kept` holds every member or none.
+            again.take(if narrow { 0 } else { usize::MAX }).chain(once)
         };
         let mut start = vec![0u32; n_cells + 1];
-        for (_, (x0, y0, x1, y1)) in ranges() {
+        for (_, [x0, y0, x1, y1]) in ranges() {
             for y in y0..=y1 {
                 for c in &mut start[y * self.width + x0 + 1..=y * self.width + x1 + 1] {
                     *c += 1;
@@ -226,7 +235,7 @@ impl LayerGrid {
         }
         let mut items = vec![0u32; start[n_cells] as usize];
         let mut next = start[..n_cells].to_vec();
-        for (n, (x0, y0, x1, y1)) in ranges() {
+        for (n, [x0, y0, x1, y1]) in ranges() {
             for y in y0..=y1 {
                 for e in &mut next[y * self.width + x0..=y * self.width + x1] {
                     items[*e as usize] = n;
@@ -255,6 +264,22 @@ impl LayerGrid {
         let cells = &self.groups[usize::from(!own)];
         let Some(k) = self.index(xy) else { return &[] };
         match (cells.start.get(k), cells.start.get(k + 1)) {
+            (Some(&a), Some(&b)) => cells.items.get(a as usize..b as usize).unwrap_or(&[]),
+            _ => &[],
+        }
+    }
+
+    /// The segments of the group in stored cells `x0..=x1` of row `y`, cell
+    /// after cell: one slice, as the cells of a row lie together (the cells
+    /// of the range off the grid hold nothing).
+    pub(super) fn row(&self, own: bool, y: isize, x0: isize, x1: isize) -> &[u32] {
+        let cells = &self.groups[usize::from(!own)];
+        let (x0, x1) = (x0.max(0), x1.min(self.width as isize - 1));
+        if y < 0 || y as usize >= self.height || x0 > x1 {
+            return &[];
+        }
+        let k = y as usize * self.width;
+        match (cells.start.get(k + x0 as usize), cells.start.get(k + x1 as usize + 1)) {
             (Some(&a), Some(&b)) => cells.items.get(a as usize..b as usize).unwrap_or(&[]),
             _ => &[],
         }

@@ -222,6 +222,18 @@ impl Near {
         self.d.get(slot * TILE_SAMPLES + t).copied().unwrap_or(f64::INFINITY)
     }
 
+    /// The least squared distance from sample `t` to the `part` segments
+    /// of the tile's bucket, where the last measure is sure of it: where
+    /// the value stored is within the part's reach plus the margin (less a
+    /// millionth, far above the rounding of the search's bounds), it is that
+    /// minimum; elsewhere (beyond the reach, or where the part was not
+    /// measured) `None`.
+    pub(super) fn least(&self, part: Part, t: usize) -> Option<f64> {
+        let slot = self.slot(part)?;
+        let (d, r) = (self.at(slot, t), *self.reach.get(slot)?);
+        (d <= r * r * (1.0 - 1e-6)).then_some(d)
+    }
+
     /// Measures every part at the tile's samples (corner `corner`, pitch
     /// `h`), each segment within its reach plus `margin`.
     pub(super) fn measure(
@@ -449,8 +461,8 @@ impl Near {
             return;
         }
         let d = &mut self.d;
-        let visit = |cx: isize, cy: isize, d: &mut [f64], active: u64| {
-            for &n in grid.cell(own, (cx, cy)) {
+        let visit = |items: &[u32], d: &mut [f64], active: u64| {
+            for &n in items {
                 let Some(slot) = grid.slot_in(n as usize, tile) else { continue };
                 if slot >= 64 || active & (1 << slot) == 0 {
                     continue;
@@ -461,20 +473,15 @@ impl Near {
                 }
             }
         };
+        // The same cells as `nearest`'s rings, a ring's top and bottom rows
+        // each as one slice of the grid (the order of the segments does
+        // not change a minimum).
         for r in 0..=rings {
-            if r == 0 {
-                for (cx, cy) in [(x - 1, y - 1), (x, y - 1), (x - 1, y), (x, y)] {
-                    visit(cx, cy, d, active);
-                }
-            } else {
-                for cx in x - 1 - r..=x + r {
-                    visit(cx, y - 1 - r, d, active);
-                    visit(cx, y + r, d, active);
-                }
-                for cy in y - r..y + r {
-                    visit(x - 1 - r, cy, d, active);
-                    visit(x + r, cy, d, active);
-                }
+            visit(grid.row(own, y - 1 - r, x - 1 - r, x + r), d, active);
+            visit(grid.row(own, y + r, x - 1 - r, x + r), d, active);
+            for cy in y - r..y + r {
+                visit(grid.cell(own, (x - 1 - r, cy)), d, active);
+                visit(grid.cell(own, (x + r, cy)), d, active);
             }
             let next = (r as f64 + 0.99) * cell;
             let mut bits = active;

@@ -282,6 +282,9 @@ pub(super) struct TileCtx<'a, 'g> {
     /// The segments nearest the tile's middle, by part, found once for all
     /// the writers that ask ([`TileCtx::nearest`]).
     pub nearest: NearestSegments,
+    /// The nearest-segment measure of the tile's samples
+    /// ([`Near::least`] there).
+    pub measured: &'a Near,
     /// [`edge_first`] of the tile's samples, once a writer asks.
     pub order: std::cell::OnceCell<[u8; TILE_SAMPLES]>,
 }

@@ -817,7 +817,7 @@ proptest! {
             .map(|(k, (_, (a, b)))| (distance2_to_segment(p, *a, *b), k))
             .min_by(|x, y| x.0.total_cmp(&y.0))
             .map(|(d, k)| (k, d.to_bits()));
-        prop_assert_eq!(nearest_of(&near, middle, p).map(|(k, d)| (k, d.to_bits())), want);
+        prop_assert_eq!(nearest_of(&near, middle, p, None).map(|(k, d)| (k, d.to_bits())), want);
     }
 
     /// `floor_f64` and `ceil_f64` equal `f64::floor` and `f64::ceil`
