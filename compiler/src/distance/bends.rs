@@ -69,11 +69,18 @@ pub(super) struct Bend {
 
 impl Bend {
     /// The tile's two records from two affine codes, if they meet at one
-    /// vertex at an angle whose spot is small enough.
-    fn new(kind: u32, recs: [TilePlane; 2], k: f64, half_ramp_mm: f64, h: f64) -> Option<Bend> {
+    /// vertex at an angle whose spot is small enough; `norms` are the
+    /// lengths of the records' gradients ([`gradient_norm`]).
+    fn with_norms(
+        kind: u32,
+        recs: [TilePlane; 2],
+        k: f64,
+        half_ramp_mm: f64,
+        h: f64,
+        (n1, n2): (f64, f64),
+    ) -> Option<Bend> {
         let [r1, r2] = recs;
         let (g1, g2) = ((r1.gx as f64, r1.gy as f64), (r2.gx as f64, r2.gy as f64));
-        let (n1, n2) = (g1.0.hypot(g1.1), g2.0.hypot(g2.1));
         let det = g1.0 * g2.1 - g1.1 * g2.0;
         if !(n1 > 0.0 && n2 > 0.0 && det.abs() > 1e-6 * n1 * n2) {
             return None;
@@ -84,8 +91,11 @@ impl Bend {
         // sin(θ / 2) for the corner's angle θ: the normals' angle is π − θ.
         let sin_half = ((1.0 + (g1.0 * g2.0 + g1.1 * g2.1) / (n1 * n2)) / 2.0).max(0.0).sqrt();
         let spot_mm = half_ramp_mm / sin_half;
-        let rays = Bend::rays(kind, &recs);
-        (spot_mm <= SPOT_MM).then_some(Bend { kind, recs, vertex, k, spot: spot_mm / h, rays })
+        if spot_mm > SPOT_MM {
+            return None;
+        }
+        let rays = Bend::rays(kind, &recs, (n1, n2));
+        Some(Bend { kind, recs, vertex, k, spot: spot_mm / h, rays })
     }
 
     /// The sign of the rays' side (a notch is the corner of the region where it is not felt).
@@ -93,12 +103,14 @@ impl Bend {
         if kind == TILE_NOTCH { -1.0 } else { 1.0 }
     }
 
-    /// The rays' gradients' lengths and their dot product, each signed as a wedge takes them.
-    fn rays(kind: u32, [r1, r2]: &[TilePlane; 2]) -> (f64, f64, f64) {
+    /// The rays' gradients' lengths (`norms`, the records' gradients'
+    /// lengths: a sign does not change them) and their dot product, each
+    /// signed as a wedge takes them.
+    fn rays(kind: u32, [r1, r2]: &[TilePlane; 2], (n1, n2): (f64, f64)) -> (f64, f64, f64) {
         let s = Bend::side(kind);
         let g = |r: &TilePlane| (s * r.gx as f64, s * r.gy as f64);
         let (g1, g2) = (g(r1), g(r2));
-        (g1.0.hypot(g1.1), g2.0.hypot(g2.1), g1.0 * g2.0 + g1.1 * g2.1)
+        (n1, n2, g1.0 * g2.0 + g1.1 * g2.1)
     }
 
     /// The code it plays at `(u, w)`, less the bias.
@@ -167,8 +179,10 @@ pub(super) fn bends(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES], ramp_mm: f
             .map(|&i| i as usize)
             .all(|i| bend.close((i % TILE_SIDE) as f64, (i / TILE_SIDE) as f64, exact[i], t.sat))
     };
-    // Each segment's line once (a segment is in up to two pairs that share an end).
-    let lines: Vec<_> = near.iter().map(|&(_, (a, b))| line(a, b)).collect();
+    // Each segment's line once (a segment is in up to two pairs that share
+    // an end), with the length of its record's gradient (either sign).
+    let lines: Vec<_> =
+        near.iter().map(|&(_, (a, b))| line(a, b).map(|(c, gx, gy)| (c, gx, gy, gradient_norm(gx, gy)))).collect();
     for (i, &(_, (a1, b1))) in near.iter().enumerate() {
         for (j, &(_, (a2, b2))) in near.iter().enumerate().skip(i + 1) {
             // Whether they share an end first: most pairs do not.
@@ -177,12 +191,15 @@ pub(super) fn bends(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES], ramp_mm: f
                 continue;
             }
             let (Some(l1), Some(l2)) = (lines[i], lines[j]) else { continue };
+            let norms = (l1.3, l2.3);
             for (s1, s2) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
-                let rec =
-                    |(c, gx, gy): (f64, f64, f64), s: f64| record(DISTANCE_ZERO as f64 + s * c, s * gx, s * gy, 0.0);
+                let rec = |(c, gx, gy, _): (f64, f64, f64, f64), s: f64| {
+                    record(DISTANCE_ZERO as f64 + s * c, s * gx, s * gy, 0.0)
+                };
                 let (Some(r1), Some(r2)) = (rec(l1, s1), rec(l2, s2)) else { continue };
                 for kind in [TILE_CORNER, TILE_NOTCH] {
-                    if let Some(bend) = Bend::new(kind, [r1, r2], k, ramp_mm / 2.0, t.h).filter(|b| plays(b)) {
+                    let bend = Bend::with_norms(kind, [r1, r2], k, ramp_mm / 2.0, t.h, norms);
+                    if let Some(bend) = bend.filter(|b| plays(b)) {
                         out.push(bend);
                     }
                 }
@@ -190,6 +207,14 @@ pub(super) fn bends(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES], ramp_mm: f
         }
     }
     out
+}
+
+/// The length of the gradient of a plane record made from `(±gx, ±gy)`,
+/// `(r.gx as f64).hypot(r.gy as f64)`, the same for either sign (`hypot`
+/// takes magnitudes, and rounding to `f32` is symmetric): a segment's is
+/// reckoned once, not once per sign, kind and pair it is tried in.
+pub(super) fn gradient_norm(gx: f64, gy: f64) -> f64 {
+    (gx as f32 as f64).hypot(gy as f32 as f64)
 }
 
 /// Most band segments near a tile whose pairs and ends are tried as bends.

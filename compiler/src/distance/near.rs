@@ -697,6 +697,42 @@ mod tests {
             }
         }
 
+        /// Where [`Near::least`] gives a part's least distance at a sample
+        /// (after the grid search or the sweep), it is the exact minimum
+        /// over the part's segments; fails if it were trusted farther than
+        /// the part's reach plus the margin.
+        #[test]
+        fn the_least_distance_given_is_the_exact_minimum(
+            segs in prop::collection::vec(((-2.0f64..6.0, -2.0f64..6.0), (-0.6f64..0.6, -0.6f64..0.6), 0u8..5), 1..300),
+            h in prop::sample::select(vec![0.25, 0.5]),
+            (reach, margin) in (0.2f64..1.5, 0.0f64..0.1),
+            grid_from in prop::sample::select(vec![0, usize::MAX]),
+        ) {
+            let parts = [Part::Fill, Part::Band, Part::Occluder, Part::Cut(0), Part::Clip(0)];
+            let segs: Vec<(Seg, Part, f64)> = segs
+                .iter()
+                .map(|&((x, y), (dx, dy), kind)| (((x, y), (x + dx, y + dy)), parts[kind as usize], reach))
+                .collect();
+            let bucket: Vec<u32> = (0..segs.len() as u32).collect();
+            let mut near = Near::new(1, vec![0.6]);
+            near.run(&segs, &bucket, ((0.0, 0.0), h, margin), None, None, grid_from);
+            for part in parts {
+                for t in 0..TILE_SAMPLES {
+                    let p = ((t % TILE_SIDE) as f64 * h, (t / TILE_SIDE) as f64 * h);
+                    let exact = segs
+                        .iter()
+                        .filter(|s| s.1 == part)
+                        .map(|&((a, b), _, _)| distance2_to_segment(p, a, b))
+                        .fold(f64::INFINITY, f64::min);
+                    match near.least(part, t) {
+                        Some(v) => prop_assert_eq!(v.to_bits(), exact.to_bits(), "{:?} sample {}", part, t),
+                        // Well within the reach it is given.
+                        None => prop_assert!(exact > (reach + margin).powi(2) / 2.0, "{:?} sample {}: none", part, t),
+                    }
+                }
+            }
+        }
+
         /// The search in the layer's grid stores at every sample of every
         /// tile (and at the cell centres, one grid cell on) what the tile's
         /// own grid stores: the exact minimum over the tile's bucket

@@ -820,6 +820,39 @@ proptest! {
         prop_assert_eq!(nearest_of(&near, middle, p, None).map(|(k, d)| (k, d.to_bits())), want);
     }
 
+    /// `nearest_of` told the least distance over a set of segments that
+    /// holds its list (all the segments, of which the list keeps the
+    /// nearest to the middle) finds what it finds untold; fails if it
+    /// stopped at a segment merely close to that least distance.
+    #[test]
+    fn nearest_of_told_the_least_finds_what_it_finds_untold(
+        segs in clustered_segments(),
+        middle in (9.0f64..13.0, 9.0f64..13.0),
+        p in prop_oneof![(8.0f64..14.0, 8.0f64..14.0), (0u8..9, 0u8..9).prop_map(|(i, j)| (9.0 + i as f64 * 0.5, 9.0 + j as f64 * 0.5))],
+        max in 1usize..48,
+    ) {
+        let near = nearest_first(segs.iter().map(|&((a, b), _, _)| (distance2_to_segment(middle, a, b), (a, b))), max);
+        let least = segs.iter().map(|&((a, b), _, _)| distance2_to_segment(p, a, b)).min_by(f64::total_cmp);
+        let bits = |v: Option<(usize, f64)>| v.map(|(k, d)| (k, d.to_bits()));
+        prop_assert_eq!(bits(nearest_of(&near, middle, p, least)), bits(nearest_of(&near, middle, p, None)));
+    }
+
+    /// The gradient length the corner writer reckons once per segment is
+    /// that of the record it makes, for either sign, bit for bit; fails if
+    /// it were taken from the unrounded gradient.
+    #[test]
+    fn a_segments_gradient_length_is_its_records(
+        gx in prop_oneof![-300.0f64..300.0, -1e-3f64..1e-3, (-1000i32..1000).prop_map(|k| k as f64 / 7.0)],
+        gy in prop_oneof![-300.0f64..300.0, -1e-3f64..1e-3, (-1000i32..1000).prop_map(|k| k as f64 / 3.0)],
+        c in -200.0f64..200.0,
+    ) {
+        for s in [1.0, -1.0] {
+            if let Some(r) = planes::record(128.0 + s * c, s * gx, s * gy, 0.0) {
+                prop_assert_eq!(bends::gradient_norm(gx, gy).to_bits(), (r.gx as f64).hypot(r.gy as f64).to_bits());
+            }
+        }
+    }
+
     /// `floor_f64` and `ceil_f64` equal `f64::floor` and `f64::ceil`
     /// (whole values, halves, tiny and huge magnitudes, both signs).
     #[test]
