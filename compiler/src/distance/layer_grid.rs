@@ -203,46 +203,56 @@ impl LayerGrid {
     /// tile, in every cell their bounds meet, in segment order.
     fn bin(&self, segs: &[(Seg, Part, f64)], own: bool) -> Cells {
         let n_cells = self.width * self.height;
-        let in_group = |n: usize| self.slot.get(n).is_some_and(|&s| s != u8::MAX && is_own(s as usize) == own);
-        let members = || segs.iter().enumerate().filter(move |&(n, _)| in_group(n));
-        // Each segment's cells are reckoned once and kept for the second
-        // pass, in 16 bits (8 bytes a segment of the group, some 20 MB on
-        // the map at the input limit while one layer is binned): reckoning
-        // them again cost as much as the rest of the binning. A grid wider
-        // or taller than 16 bits reckons them twice.
+        let in_group = |s: u8| s != u8::MAX && is_own(s as usize) == own;
+        // Each member's cells are reckoned once and kept for the second
+        // pass, in 16 bits (12 bytes a member, some 30 MB on the map at the
+        // input limit while one layer is binned): reckoning them again cost
+        // as much as the rest of the binning. A grid wider or taller than
+        // 16 bits reckons them in each pass.
         let narrow = self.width <= 1 << 16 && self.height <= 1 << 16;
-        let kept: Vec<[u16; 4]> = if narrow {
-            members().map(|(_, (seg, _, _))| self.cells_of(seg).map(|v| v as u16)).collect()
-        } else {
-            Vec::new()
-        };
-        let ranges = || {
-            let again = members().map(|(n, (seg, _, _))| (n as u32, self.cells_of(seg)));
-            let once = members().zip(&kept).map(|((n, _), c)| (n as u32, c.map(usize::from)));
-            // One of the two is empty: `kept` holds every member or none.
-            again.take(if narrow { 0 } else { usize::MAX }).chain(once)
+        let mut kept: Vec<(u32, [u16; 4])> = Vec::new();
+        if narrow {
+            kept.reserve_exact(self.slot.iter().filter(|&&s| in_group(s)).count());
+            for (n, ((seg, _, _), &s)) in segs.iter().zip(&self.slot).enumerate() {
+                if in_group(s) {
+                    kept.push((n as u32, self.cells_of(seg).map(|v| v as u16)));
+                }
+            }
+        }
+        let each = |f: &mut dyn FnMut(u32, [usize; 4])| {
+            if narrow {
+                for &(n, c) in &kept {
+                    f(n, c.map(usize::from));
+                }
+            } else {
+                for (n, ((seg, _, _), &s)) in segs.iter().zip(&self.slot).enumerate() {
+                    if in_group(s) {
+                        f(n as u32, self.cells_of(seg));
+                    }
+                }
+            }
         };
         let mut start = vec![0u32; n_cells + 1];
-        for (_, [x0, y0, x1, y1]) in ranges() {
+        each(&mut |_, [x0, y0, x1, y1]| {
             for y in y0..=y1 {
                 for c in &mut start[y * self.width + x0 + 1..=y * self.width + x1 + 1] {
                     *c += 1;
                 }
             }
-        }
+        });
         for c in 1..start.len() {
             start[c] += start[c - 1];
         }
         let mut items = vec![0u32; start[n_cells] as usize];
         let mut next = start[..n_cells].to_vec();
-        for (n, [x0, y0, x1, y1]) in ranges() {
+        each(&mut |n, [x0, y0, x1, y1]| {
             for y in y0..=y1 {
                 for e in &mut next[y * self.width + x0..=y * self.width + x1] {
                     items[*e as usize] = n;
                     *e += 1;
                 }
             }
-        }
+        });
         Cells { start, items }
     }
 
