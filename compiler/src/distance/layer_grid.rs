@@ -302,6 +302,89 @@ impl LayerGrid {
         (c0 <= c && c <= c1 && r0 <= r && r <= r1 && s != u8::MAX).then_some(s as usize)
     }
 
+    /// Whether the group's segments were binned (only a group some tile's
+    /// search wants is).
+    pub(super) fn holds(&self, own: bool) -> bool {
+        !self.groups[usize::from(!own)].start.is_empty()
+    }
+
+    /// The first `max` of tile `tile`'s bucket entries whose slot `want`
+    /// takes, in the groups `groups` (`[own, other]`), by squared distance
+    /// to page point `p` (at stored cell corner `xy`, a lattice point of
+    /// the tile) and then by segment number: what
+    /// [`nearest_first`](super::nearest_first) keeps of them in bucket
+    /// order, since a bucket lists its segments by number. `None` when a
+    /// group asked for was not binned.
+    ///
+    /// Found by searching rings of cells round `xy` rather than measuring
+    /// every entry of the bucket: the search stops once it holds `max`
+    /// segments all nearer than any cell of the next ring (the segments not
+    /// yet seen lie beyond the rings searched, so strictly farther), or
+    /// once the rings cover the tile grown by every reach (every entry of
+    /// the bucket is binned in a cell there).
+    pub(super) fn nearest_to(
+        &self,
+        segs: &[(Seg, Part, f64)],
+        (tile, xy, p): ((usize, usize), (isize, isize), (f64, f64)),
+        groups: [bool; 2],
+        want: impl Fn(usize) -> bool,
+        max: usize,
+    ) -> Option<Vec<(f64, u32)>> {
+        if (groups[0] && !self.holds(true)) || (groups[1] && !self.holds(false)) {
+            return None;
+        }
+        let mut found: Vec<(f64, u32)> = Vec::new();
+        if max == 0 {
+            return Some(found);
+        }
+        let tile_u32 = (tile.0 as u32, tile.1 as u32);
+        let reach = self.reach.iter().copied().fold(0.0, f64::max);
+        // From a point of the tile, ring `last` lies beyond the tile grown by every reach.
+        let last = (SUB * TILE_CELLS) as isize + (reach / self.cell).ceil() as isize + 2;
+        let (x, y) = xy;
+        let visit = |items: &[u32], found: &mut Vec<(f64, u32)>| {
+            for &n in items {
+                let Some(slot) = self.slot_in(n as usize, tile_u32) else { continue };
+                if !want(slot) {
+                    continue;
+                }
+                if let Some(&((a, b), _, _)) = segs.get(n as usize) {
+                    found.push((super::distance2_to_segment(p, a, b), n));
+                }
+            }
+        };
+        let order = |v: &mut Vec<(f64, u32)>| {
+            v.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            // A segment binned in several cells is seen once per cell.
+            v.dedup_by_key(|e| e.1);
+        };
+        for r in 0..=last {
+            for own in [true, false] {
+                if !groups[usize::from(!own)] {
+                    continue;
+                }
+                visit(self.row(own, y - 1 - r, x - 1 - r, x + r), &mut found);
+                visit(self.row(own, y + r, x - 1 - r, x + r), &mut found);
+                for cy in y - r..y + r {
+                    visit(self.cell(own, (x - 1 - r, cy)), &mut found);
+                    visit(self.cell(own, (x + r, cy)), &mut found);
+                }
+            }
+            if found.len() >= max && r < last {
+                order(&mut found);
+                // Not seen yet: at least `next` away (a hundredth of a cell
+                // for the rounding of the cell bounds).
+                let next = (r as f64 + 0.99) * self.cell;
+                if found.len() >= max && found[max - 1].0 < next * next {
+                    break;
+                }
+            }
+        }
+        order(&mut found);
+        found.truncate(max);
+        Some(found)
+    }
+
     /// Tile `(c, r)`'s counts.
     pub(super) fn tile(&self, (c, r): (usize, usize)) -> TileStats {
         self.stats.get(r * self.cols + c).copied().unwrap_or_default()

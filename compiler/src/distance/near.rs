@@ -190,6 +190,11 @@ pub(super) fn slot_of(part: Part, cuts: usize, clips: usize) -> Option<usize> {
     }
 }
 
+/// The slot of a part in a layer of `slots` slots and `clips` clip regions.
+pub(super) fn slot_in_layer(part: Part, slots: usize, clips: usize) -> Option<usize> {
+    slot_of(part, slots.checked_sub(FIRST_CUT + clips)?, clips)
+}
+
 /// The number of slots of a layer of `cuts` cut width groups and `clips` clip regions.
 pub(super) fn slots(cuts: usize, clips: usize) -> usize {
     FIRST_CUT + cuts + clips

@@ -155,13 +155,17 @@ pub(super) fn nearest_lines(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) ->
         probes.push(pick(&|e: f64| (e - top).abs()));
     }
     for probe in probes.into_iter().flatten() {
-        let p = (t.corner.0 + (probe % TILE_SIDE) as f64 * t.h, t.corner.1 + (probe / TILE_SIDE) as f64 * t.h);
-        let near = super::nearest_first(
-            t.bucket.iter().filter_map(|&n| {
-                t.segs.get(n as usize).map(|((a, b), _, _)| (super::distance2_to_segment(p, *a, *b), n))
-            }),
-            2,
-        );
+        let (i, j) = (probe % TILE_SIDE, probe / TILE_SIDE);
+        let p = (t.corner.0 + i as f64 * t.h, t.corner.1 + j as f64 * t.h);
+        let sub = super::layer_grid::SUB as isize;
+        let near = t.in_grid(None, p, (i as isize * sub, j as isize * sub), 2).unwrap_or_else(|| {
+            super::nearest_first(
+                t.bucket.iter().filter_map(|&n| {
+                    t.segs.get(n as usize).map(|((a, b), _, _)| (super::distance2_to_segment(p, *a, *b), n))
+                }),
+                2,
+            )
+        });
         for &(_, n) in &near {
             let Some(&((a, b), part, _)) = t.segs.get(n as usize) else { continue };
             let len = (b.0 - a.0).hypot(b.1 - a.1);
@@ -390,6 +394,19 @@ impl TileCtx<'_, '_> {
     /// [`TileCtx::nearest`] without the shared lists.
     pub(super) fn nearest_uncached(&self, part: Part, max: usize) -> Vec<(f64, Seg)> {
         let middle = self.middle();
+        let half = (super::layer_grid::SUB * TILE_CELLS / 2) as isize;
+        if let Some(found) = self.in_grid(Some(part), middle, (half, half), max) {
+            return found
+                .into_iter()
+                .filter_map(|(d, n)| self.segs.get(n as usize).map(|&(seg, _, _)| (d, seg)))
+                .collect();
+        }
+        self.nearest_scanned(part, max)
+    }
+
+    /// [`TileCtx::nearest_uncached`] by measuring every entry of the bucket.
+    pub(super) fn nearest_scanned(&self, part: Part, max: usize) -> Vec<(f64, Seg)> {
+        let middle = self.middle();
         super::nearest_first(
             self.bucket.iter().filter_map(|&n| match self.segs.get(n as usize) {
                 Some(&((a, b), p, _)) if p == part => Some((super::distance2_to_segment(middle, a, b), (a, b))),
@@ -397,6 +414,44 @@ impl TileCtx<'_, '_> {
             }),
             max,
         )
+    }
+}
+
+impl TileCtx<'_, '_> {
+    /// What `nearest_first` keeps of the bucket's `part` segments (all
+    /// parts for `None`) by squared distance to `p`, at most `max`, as
+    /// (squared distance, segment number), found
+    /// in the layer's grid ([`LayerGrid::nearest_to`](super::layer_grid::LayerGrid::nearest_to)):
+    /// `p` lies at grid cell corner `xy` of the tile (half a lattice pitch
+    /// a cell). `None` where the tile's bucket holds too few of the groups
+    /// searched for a search to pay, or the layer has no grid of them.
+    pub(super) fn in_grid(
+        &self,
+        part: Option<Part>,
+        p: (f64, f64),
+        xy: (isize, isize),
+        max: usize,
+    ) -> Option<Vec<(f64, u32)>> {
+        let at = self.layer?;
+        let grid = at.grid;
+        let slot = match part {
+            Some(part) => Some(super::near::slot_in_layer(part, grid.reach.len(), self.g.clips.len())?),
+            None => None,
+        };
+        let stats = grid.tile(at.tile);
+        let groups = match slot {
+            Some(s) => {
+                let own = super::layer_grid::is_own(s);
+                [own, !own]
+            }
+            None => [stats.own > 0, stats.rest > 0],
+        };
+        let count = if groups[0] { stats.own } else { 0 } + if groups[1] { stats.rest } else { 0 };
+        if (count as usize) < super::near::GRID_FROM {
+            return None;
+        }
+        let xy = grid.corner(at.tile, xy);
+        grid.nearest_to(self.segs, (at.tile, xy, p), groups, |s| slot.is_none_or(|w| w == s), max)
     }
 }
 
