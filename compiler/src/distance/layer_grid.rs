@@ -370,11 +370,12 @@ impl LayerGrid {
                     visit(self.cell(own, (x + r, cy)), &mut found);
                 }
             }
-            if found.len() >= max && r < last {
+            // Not seen yet: at least `next` away (a hundredth of a cell for
+            // the rounding of the cell bounds). Sorted only once `max` seen
+            // (counted with repeats) lie nearer.
+            let next = (r as f64 + 0.99) * self.cell;
+            if r < last && found.iter().filter(|e| e.0 < next * next).count() >= max {
                 order(&mut found);
-                // Not seen yet: at least `next` away (a hundredth of a cell
-                // for the rounding of the cell bounds).
-                let next = (r as f64 + 0.99) * self.cell;
                 if found.len() >= max && found[max - 1].0 < next * next {
                     break;
                 }
