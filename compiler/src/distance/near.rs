@@ -738,6 +738,65 @@ mod tests {
             }
         }
 
+        /// The nearest segments to a lattice point that the rings of the
+        /// layer's grid find are what `nearest_first` keeps of the tile's
+        /// bucket (one part's, or every part's), bit for bit and in the
+        /// same order (ties by segment number, shared ends included); fails
+        /// if the search stopped a ring early.
+        #[test]
+        fn the_nearest_in_the_layer_grid_are_nearest_firsts(
+            segs in prop::collection::vec(((-1.5f64..7.5, -1.5f64..7.5), (-0.6f64..0.6, -0.6f64..0.6), 0u8..5, any::<bool>()), 1..400),
+            h in prop::sample::select(vec![0.25, 0.3]),
+            (reach, margin) in (0.2f64..1.0, 0.0f64..0.1),
+            max in prop::sample::select(vec![0usize, 1, 2, 5, 24, 48]),
+            (pi, pj) in (0usize..TILE_SIDE, 0usize..TILE_SIDE),
+            part in prop::sample::select(vec![None, Some(Part::Fill), Some(Part::Band), Some(Part::Cut(0)), Some(Part::Clip(0))]),
+        ) {
+            // Chained segments: every other one starts where the last ended (shared ends, equal distances).
+            let mut last = (0.0, 0.0);
+            let segs: Vec<(Seg, Part, f64)> = segs
+                .iter()
+                .enumerate()
+                .map(|(n, &((x, y), (dx, dy), kind, long))| {
+                    let k = if long { 5.0 } else { 1.0 };
+                    let part = [Part::Fill, Part::Band, Part::Occluder, Part::Cut(0), Part::Clip(0)][kind as usize];
+                    let r = if matches!(part, Part::Band | Part::Cut(_)) { reach + 0.3 } else { reach };
+                    let a = if n % 2 == 1 { last } else { (x, y) };
+                    last = (a.0 + k * dx, a.1 + k * dy);
+                    ((a, last), part, r)
+                })
+                .collect();
+            let origin = (0.0, 0.0);
+            let (cols, rows) = (3, 3);
+            let tile = TILE_CELLS as f64 * h;
+            let (buckets, spans) = super::super::buckets_of(&segs, origin, tile, (cols, rows));
+            let lattice = super::super::layer_grid::Lattice { origin, h, cols, rows, margin, slots: slots(1, 1) };
+            let grid = LayerGrid::new(&segs, spans, &lattice, |p| slot_of(p, 1, 1), 0, MAX_RINGS);
+            let grid = grid.expect("a layer grid");
+            let want_slot = part.map(|p| slot_of(p, 1, 1).expect("a slot"));
+            for (k, bucket) in buckets.iter().enumerate() {
+                let (c, r) = (k % cols, k / cols);
+                let p = ((c * TILE_CELLS + pi) as f64 * h, (r * TILE_CELLS + pj) as f64 * h);
+                let sub = SUB;
+                let xy = grid.corner((c, r), (pi as isize * sub, pj as isize * sub));
+                let taken = |s: usize| want_slot.is_none_or(|w| w == s);
+                let groups = match want_slot {
+                    Some(s) => [super::super::layer_grid::is_own(s), !super::super::layer_grid::is_own(s)],
+                    None => [true, true],
+                };
+                let found = grid.nearest_to(&segs, ((c, r), xy, p), groups, taken, max).expect("both groups binned");
+                let want = super::super::nearest_first(
+                    bucket
+                        .iter()
+                        .filter(|&&n| part.is_none_or(|q| segs[n as usize].1 == q))
+                        .map(|&n| (distance2_to_segment(p, segs[n as usize].0.0, segs[n as usize].0.1), n)),
+                    max,
+                );
+                let bits = |v: &[(f64, u32)]| v.iter().map(|&(d, n)| (d.to_bits(), n)).collect::<Vec<_>>();
+                prop_assert_eq!(bits(&found), bits(&want), "tile {:?} point {:?}", (c, r), (pi, pj));
+            }
+        }
+
         /// The search in the layer's grid stores at every sample of every
         /// tile (and at the cell centres, one grid cell on) what the tile's
         /// own grid stores: the exact minimum over the tile's bucket
