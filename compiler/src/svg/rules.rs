@@ -6,12 +6,14 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use rayon::prelude::*;
 
-use taxel_format::{DeviceProfile, DistanceLayer};
+use taxel_format::{
+    DeviceProfile, DistanceLayer, TILE_CELLS, TILE_OUTSIDE, edge_profile as profile, edge_ramp as ramp,
+};
 
 use super::layers::{Built, Feature, FeatureKind};
 use crate::diagnostic::Diagnostic;
 use crate::geometry::{FillRule, Polyline, bounds, contains, dist, distance_to_outline_within, simplify};
-use crate::spatial;
+use crate::spatial::{self, Bbox};
 
 /// Smallest distance between distinct elements (1/8 in, Hasty).
 pub const MIN_GAP_MM: f64 = 3.2;
@@ -821,6 +823,97 @@ const SUM_SLACK: f64 = 0.1;
 /// overlap of two distance layers, mm: the edge accuracy the layers promise.
 const OVERLAP_DEPTH_MM: f64 = 0.05;
 
+/// Where two distance layers (each with the amplitude of its feature)
+/// overlap within the box `(x0, y0, x1, y1)`: a point of the box's 0.1 mm
+/// lattice (as the raster masks were sampled) felt more than
+/// [`OVERLAP_DEPTH_MM`] inside both layers' edges, where their amplitudes
+/// sum above full deflection (where two layers merely meet, each one's ramp
+/// may sum a little above 1 in a seam a few micrometres wide).
+///
+/// Each point reads one layer's distance first and the other's only when
+/// the first is deep there, and the profile comes from that same distance
+/// ([`DistanceLayer::coverage_at`] is the profile of
+/// [`DistanceLayer::distance_at`]): every condition is a pure function of
+/// the point, so the answer is that of reading both layers' coverage and
+/// depth at every point. Two bordering regions' box overlap is mostly
+/// outside one of them (and a grating under a map's regions, the sea, is
+/// cut out under each), so most points cost one read instead of two
+/// coverages and two depths. The layer that turned the last point away is
+/// read first.
+fn layers_overlap((ma, amp_a): (&DistanceLayer, f64), (mb, amp_b): (&DistanceLayer, f64), common: Bbox) -> bool {
+    let (x0, y0, x1, y1) = common;
+    let deep = |m: &DistanceLayer, x: f32, y: f32| m.distance_at(x, y).filter(|&d| d as f64 > OVERLAP_DEPTH_MM);
+    let coverage = |m: &DistanceLayer, d: f32| profile(d, ramp(m.soft_mm, m.step_mm)) as f64;
+    // Sampled every 0.1 mm, as the raster masks were.
+    let px = 10.0;
+    let (first_x, first_y) = (((x0 * px).floor() + 0.5) / px, ((y0 * px).floor() + 0.5) / px);
+    // Every point sampled lies in this box.
+    let points = (first_x, first_y, x1, y1);
+    if outside_over(ma, points) || outside_over(mb, points) {
+        return false;
+    }
+    let mut b_first = false;
+    let mut y = first_y;
+    while y < y1 {
+        let mut x = first_x;
+        while x < x1 {
+            let (xf, yf) = (x as f32, y as f32);
+            x += 1.0 / px;
+            let (first, second) = if b_first { (mb, ma) } else { (ma, mb) };
+            let Some(d1) = deep(first, xf, yf) else { continue };
+            let Some(d2) = deep(second, xf, yf) else {
+                b_first = !b_first;
+                continue;
+            };
+            let (da, db) = if b_first { (d2, d1) } else { (d1, d2) };
+            if amp_a * coverage(ma, da) + amp_b * coverage(mb, db) > 1.0 + SUM_SLACK {
+                return true;
+            }
+        }
+        y += 1.0 / px;
+    }
+    false
+}
+
+/// Whether every point of the box `(x0, y0, x1, y1)` lies where layer `m`
+/// is never more than [`OVERLAP_DEPTH_MM`] inside: in its tiles wholly
+/// outside (whose distance is below 0 for any step at or above 0) or off
+/// its lattice. The tiles are taken one more on each side than the box's
+/// corners fall in, so that rounding (a corner on a tile's edge, the
+/// points' f32 coordinates) can only make it look at more of them; false
+/// whenever that cannot be told (a box or layer not finite, or far from
+/// the page).
+///
+/// A map's regions are opaque fills painted over a grating (the sea),
+/// whose layer is cut out under them: the overlap of its box with each
+/// region's lies wholly in its outside tiles, and reading it at every point
+/// of every region was most of the overlap checks' time.
+fn outside_over(m: &DistanceLayer, (x0, y0, x1, y1): Bbox) -> bool {
+    let tile = m.pitch_mm as f64 * TILE_CELLS as f64;
+    let sane = |v: f64| v.is_finite() && v.abs() < 1e6;
+    let (ox, oy) = (m.origin_x.0 as f64, m.origin_y.0 as f64);
+    if !(m.step_mm >= 0.0 && tile > 1e-6 && [x0, y0, x1, y1, ox, oy, tile].into_iter().all(sane)) {
+        return false;
+    }
+    // Tiles `lo..=hi` along one axis of `n`, clamped to the lattice (empty
+    // when the box lies wholly beyond it).
+    let span = |a: f64, b: f64, o: f64, n: u32| {
+        let lo = ((a - o) / tile).floor() - 1.0;
+        let hi = ((b - o) / tile).floor() + 1.0;
+        (lo.max(0.0) as usize, hi.min(n as f64 - 1.0))
+    };
+    let (cx, cx_hi) = span(x0, x1, ox, m.tile_cols);
+    let (cy, cy_hi) = span(y0, y1, oy, m.tile_rows);
+    if cx_hi < cx as f64 || cy_hi < cy as f64 {
+        return true;
+    }
+    let (cx_hi, cy_hi) = (cx_hi as usize, cy_hi as usize);
+    let cols = m.tile_cols as usize;
+    (cy..=cy_hi).all(|ty| {
+        m.tiles.get(ty * cols + cx..=ty * cols + cx_hi).is_some_and(|row| row.iter().all(|&e| e == TILE_OUTSIDE))
+    })
+}
+
 fn overlap(built: &Built, a: &Feature, b: &Feature, diags: &mut Vec<Diagnostic>) {
     if !spatial::meet(a.bbox, b.bbox) {
         return;
@@ -843,37 +936,9 @@ fn overlap(built: &Built, a: &Feature, b: &Feature, diags: &mut Vec<Diagnostic>)
             false
         }
         (Some(ia), Some(ib)) => {
-            let (ma, mb) = (&built.layers[ia], &built.layers[ib]);
-            // Sampled every 0.1 mm, as the raster masks were.
-            let px = 10.0;
-            let x0 = a.bbox.0.max(b.bbox.0);
-            let y0 = a.bbox.1.max(b.bbox.1);
-            let x1 = a.bbox.2.min(b.bbox.2);
-            let y1 = a.bbox.3.min(b.bbox.3);
-            let mut found = false;
-            let mut y = ((y0 * px).floor() + 0.5) / px;
-            'rows: while y < y1 {
-                let mut x = ((x0 * px).floor() + 0.5) / px;
-                while x < x1 {
-                    // A true overlap: both layers felt more than `OVERLAP_DEPTH_MM`
-                    // inside their edges (where two layers merely meet, each
-                    // one's ramp may sum a little above 1 in a seam a few
-                    // micrometres wide).
-                    let deep = |m: &DistanceLayer| {
-                        m.distance_at(x as f32, y as f32).is_some_and(|d| d as f64 > OVERLAP_DEPTH_MM)
-                    };
-                    if a.amplitude * mask_at(ma, x, y) + b.amplitude * mask_at(mb, x, y) > 1.0 + SUM_SLACK
-                        && deep(ma)
-                        && deep(mb)
-                    {
-                        found = true;
-                        break 'rows;
-                    }
-                    x += 1.0 / px;
-                }
-                y += 1.0 / px;
-            }
-            found
+            let common =
+                (a.bbox.0.max(b.bbox.0), a.bbox.1.max(b.bbox.1), a.bbox.2.min(b.bbox.2), a.bbox.3.min(b.bbox.3));
+            layers_overlap((&built.layers[ia], a.amplitude), (&built.layers[ib], b.amplitude), common)
         }
         (Some(im), None) | (None, Some(im)) => {
             let (m, d) = if a.mask.is_some() { (a, b) } else { (b, a) };
