@@ -615,6 +615,56 @@ mod tests {
         }
     }
 
+    /// Offsets `(a, b)` whose squares order them one way and whose `hypot`
+    /// the other (`a`'s square above `b`'s, `a` nearer): a few ulps apart.
+    fn squares_and_hypot_disagree() -> Vec<((f64, f64), (f64, f64))> {
+        let mut state = 0x853c_49e6_748f_ea9bu64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let ulps = |v: f64, k: i64| f64::from_bits((v.to_bits() as i64 + k) as u64);
+        let mut out = Vec::new();
+        while out.len() < 40 {
+            let base = (0.5 + 3.0 * next(), 0.5 + 3.0 * next());
+            let near: Vec<(f64, f64)> =
+                (0..144).map(|k| (ulps(base.0, k % 12 - 6), ulps(base.1, 6 - k / 12))).collect();
+            for &a in &near {
+                if let Some(&b) = near
+                    .iter()
+                    .find(|b| a.0 * a.0 + a.1 * a.1 > b.0 * b.0 + b.1 * b.1 && a.0.hypot(a.1) < b.0.hypot(b.1))
+                {
+                    out.push((a, b));
+                    break;
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn simplify_measures_where_squares_and_hypot_disagree() {
+        for (a, b) in squares_and_hypot_disagree() {
+            // A ring split at the point farthest from its first: `b`, though
+            // `a`'s square is larger (offsets from (0, 0) are exact).
+            let ring = [(0.0, 0.0), (-a.0, -a.1), (1e-3, 0.0), (-b.0, -b.1), (2e-3, 0.0)];
+            // An open path back to its start: each point's offset from the
+            // chord is the point itself. `b` lies farther than `a`'s distance.
+            let there_and_back = [(0.0, 0.0), b, (1e-9, 0.0), (0.0, 0.0)];
+            for (pts, closed, tol) in
+                [(&ring[..], true, 1e9), (&ring[..], true, 0.0), (&there_and_back[..], false, a.0.hypot(a.1))]
+            {
+                assert_eq!(
+                    simplify(pts, closed, tol),
+                    simplify_measuring_every_point(pts, closed, tol),
+                    "{a:?} {b:?}, closed {closed}, tolerance {tol}"
+                );
+            }
+        }
+    }
+
     #[test]
     fn even_odd_and_nonzero_differ_for_a_doubled_square() {
         let sq = Polyline { points: vec![(0.0, 0.0), (4.0, 0.0), (4.0, 4.0), (0.0, 4.0)], closed: true };

@@ -662,11 +662,16 @@ impl OutlineSet {
         // would have been skipped alone (the same grown-box check).
         let run_box =
             |bs: &[Bbox]| bs.iter().copied().reduce(|p, b| (p.0.min(b.0), p.1.min(b.1), p.2.max(b.2), p.3.max(b.3)));
+        // `j`'s run boxes once, not once per run of `i` (at most
+        // `TREE_ABOVE / RUN` of them, on the stack).
+        let mut runs_j = [(0.0, 0.0, 0.0, 0.0); TREE_ABOVE.div_ceil(RUN)];
+        for (rj, boxes_j) in runs_j.iter_mut().zip(side_j.boxes.chunks(RUN)) {
+            *rj = run_box(boxes_j).unwrap_or(*rj);
+        }
         let mut best = f64::INFINITY;
         for (run_i, boxes_i) in side_i.at.chunks(RUN).zip(side_i.boxes.chunks(RUN)) {
             let Some(ri) = run_box(boxes_i) else { continue };
-            for (run_j, boxes_j) in side_j.at.chunks(RUN).zip(side_j.boxes.chunks(RUN)) {
-                let Some(rj) = run_box(boxes_j) else { continue };
+            for ((run_j, boxes_j), &rj) in side_j.at.chunks(RUN).zip(side_j.boxes.chunks(RUN)).zip(&runs_j) {
                 let r = best.min(reach);
                 if !meet(rj, grow(ri, r + r * 1e-9)) {
                     continue;

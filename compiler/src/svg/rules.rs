@@ -6,14 +6,14 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use rayon::prelude::*;
 
-use taxel_format::{
-    DeviceProfile, DistanceLayer, TILE_CELLS, TILE_OUTSIDE, edge_profile as profile, edge_ramp as ramp,
-};
+use taxel_format::DeviceProfile;
 
 use super::layers::{Built, Feature, FeatureKind};
 use crate::diagnostic::Diagnostic;
 use crate::geometry::{FillRule, Polyline, bounds, contains, dist, distance_to_outline_within, simplify};
-use crate::spatial::{self, Bbox};
+use crate::spatial;
+
+mod overlap;
 
 /// Smallest distance between distinct elements (1/8 in, Hasty).
 pub const MIN_GAP_MM: f64 = 3.2;
@@ -210,7 +210,7 @@ impl Checked {
         // map at the input limit.
         diags.par_extend(self.meets.par_iter().flat_map_iter(|&(i, j)| {
             let mut out = Vec::new();
-            overlap(built, &f[i], &f[j], &mut out);
+            overlap::overlap(built, &f[i], &f[j], &mut out);
             out
         }));
         drop(self.meets);
@@ -776,210 +776,6 @@ fn near_dot_pairs(a: &Feature, b: &Feature, reach: f64, mut f: impl FnMut((f64, 
                 }
             }
         }
-    }
-}
-
-/// A distance layer's edge profile (0..=1) at `(x, y)`, 0 outside it.
-fn mask_at(m: &DistanceLayer, x: f64, y: f64) -> f64 {
-    m.coverage_at(x as f32, y as f32) as f64
-}
-
-/// Where a dot is probed for overlaps, in units of its radius: the centre,
-/// then eight directions on rings at a quarter (the plateau's edge), half
-/// and three quarters of the radius.
-const DOT_PROBES: [(f64, f64); 25] = {
-    let mut p = [(0.0, 0.0); 25];
-    let dirs = [
-        (1.0, 0.0),
-        (core::f64::consts::FRAC_1_SQRT_2, core::f64::consts::FRAC_1_SQRT_2),
-        (0.0, 1.0),
-        (-core::f64::consts::FRAC_1_SQRT_2, core::f64::consts::FRAC_1_SQRT_2),
-        (-1.0, 0.0),
-        (-core::f64::consts::FRAC_1_SQRT_2, -core::f64::consts::FRAC_1_SQRT_2),
-        (0.0, -1.0),
-        (core::f64::consts::FRAC_1_SQRT_2, -core::f64::consts::FRAC_1_SQRT_2),
-    ];
-    let rings = [0.25, 0.5, 0.75];
-    let mut k = 1;
-    let mut ri = 0;
-    while ri < 3 {
-        let mut di = 0;
-        while di < 8 {
-            p[k] = (dirs[di].0 * rings[ri], dirs[di].1 * rings[ri]);
-            k += 1;
-            di += 1;
-        }
-        ri += 1;
-    }
-    p
-};
-
-/// Slack above full deflection before an overlap is reported: anti-aliased
-/// edges of shapes that merely meet (two regions sharing a border) can sum a
-/// little above 1 at the seam; a real overlap sums to about 2.
-const SUM_SLACK: f64 = 0.1;
-
-/// How far inside both layers' exact edges a point must lie to count as an
-/// overlap of two distance layers, mm: the edge accuracy the layers promise.
-const OVERLAP_DEPTH_MM: f64 = 0.05;
-
-/// Where two distance layers (each with the amplitude of its feature)
-/// overlap within the box `(x0, y0, x1, y1)`: a point of the box's 0.1 mm
-/// lattice (as the raster masks were sampled) felt more than
-/// [`OVERLAP_DEPTH_MM`] inside both layers' edges, where their amplitudes
-/// sum above full deflection (where two layers merely meet, each one's ramp
-/// may sum a little above 1 in a seam a few micrometres wide).
-///
-/// Each point reads one layer's distance first and the other's only when
-/// the first is deep there, and the profile comes from that same distance
-/// ([`DistanceLayer::coverage_at`] is the profile of
-/// [`DistanceLayer::distance_at`]): every condition is a pure function of
-/// the point, so the answer is that of reading both layers' coverage and
-/// depth at every point. Two bordering regions' box overlap is mostly
-/// outside one of them (and a grating under a map's regions, the sea, is
-/// cut out under each), so most points cost one read instead of two
-/// coverages and two depths. The layer that turned the last point away is
-/// read first.
-fn layers_overlap((ma, amp_a): (&DistanceLayer, f64), (mb, amp_b): (&DistanceLayer, f64), common: Bbox) -> bool {
-    let (x0, y0, x1, y1) = common;
-    let deep = |m: &DistanceLayer, x: f32, y: f32| m.distance_at(x, y).filter(|&d| d as f64 > OVERLAP_DEPTH_MM);
-    let coverage = |m: &DistanceLayer, d: f32| profile(d, ramp(m.soft_mm, m.step_mm)) as f64;
-    // Sampled every 0.1 mm, as the raster masks were.
-    let px = 10.0;
-    let (first_x, first_y) = (((x0 * px).floor() + 0.5) / px, ((y0 * px).floor() + 0.5) / px);
-    // Every point sampled lies in this box.
-    let points = (first_x, first_y, x1, y1);
-    if outside_over(ma, points) || outside_over(mb, points) {
-        return false;
-    }
-    let mut b_first = false;
-    let mut y = first_y;
-    while y < y1 {
-        let mut x = first_x;
-        while x < x1 {
-            let (xf, yf) = (x as f32, y as f32);
-            x += 1.0 / px;
-            let (first, second) = if b_first { (mb, ma) } else { (ma, mb) };
-            let Some(d1) = deep(first, xf, yf) else { continue };
-            let Some(d2) = deep(second, xf, yf) else {
-                b_first = !b_first;
-                continue;
-            };
-            let (da, db) = if b_first { (d2, d1) } else { (d1, d2) };
-            if amp_a * coverage(ma, da) + amp_b * coverage(mb, db) > 1.0 + SUM_SLACK {
-                return true;
-            }
-        }
-        y += 1.0 / px;
-    }
-    false
-}
-
-/// Whether every point of the box `(x0, y0, x1, y1)` lies where layer `m`
-/// is never more than [`OVERLAP_DEPTH_MM`] inside: in its tiles wholly
-/// outside (whose distance is below 0 for any step at or above 0) or off
-/// its lattice. The tiles are taken one more on each side than the box's
-/// corners fall in, so that rounding (a corner on a tile's edge, the
-/// points' f32 coordinates) can only make it look at more of them; false
-/// whenever that cannot be told (a box or layer not finite, or far from
-/// the page).
-///
-/// A map's regions are opaque fills painted over a grating (the sea),
-/// whose layer is cut out under them: the overlap of its box with each
-/// region's lies wholly in its outside tiles, and reading it at every point
-/// of every region was most of the overlap checks' time.
-fn outside_over(m: &DistanceLayer, (x0, y0, x1, y1): Bbox) -> bool {
-    let tile = m.pitch_mm as f64 * TILE_CELLS as f64;
-    let sane = |v: f64| v.is_finite() && v.abs() < 1e6;
-    let (ox, oy) = (m.origin_x.0 as f64, m.origin_y.0 as f64);
-    if !(m.step_mm >= 0.0 && tile > 1e-6 && [x0, y0, x1, y1, ox, oy, tile].into_iter().all(sane)) {
-        return false;
-    }
-    // Tiles `lo..=hi` along one axis of `n`, clamped to the lattice (empty
-    // when the box lies wholly beyond it).
-    let span = |a: f64, b: f64, o: f64, n: u32| {
-        let lo = ((a - o) / tile).floor() - 1.0;
-        let hi = ((b - o) / tile).floor() + 1.0;
-        (lo.max(0.0) as usize, hi.min(n as f64 - 1.0))
-    };
-    let (cx, cx_hi) = span(x0, x1, ox, m.tile_cols);
-    let (cy, cy_hi) = span(y0, y1, oy, m.tile_rows);
-    if cx_hi < cx as f64 || cy_hi < cy as f64 {
-        return true;
-    }
-    let (cx_hi, cy_hi) = (cx_hi as usize, cy_hi as usize);
-    let cols = m.tile_cols as usize;
-    (cy..=cy_hi).all(|ty| {
-        m.tiles.get(ty * cols + cx..=ty * cols + cx_hi).is_some_and(|row| row.iter().all(|&e| e == TILE_OUTSIDE))
-    })
-}
-
-fn overlap(built: &Built, a: &Feature, b: &Feature, diags: &mut Vec<Diagnostic>) {
-    if !spatial::meet(a.bbox, b.bbox) {
-        return;
-    }
-    let over = match (a.mask, b.mask) {
-        // Shapes of one style are one layer: where they touch or overlap
-        // they merge into one border or region instead of adding up.
-        (Some(ia), Some(ib)) if ia == ib => false,
-        // A vibrating band is cut out of every grating whose shapes its box
-        // meets (`layers::distance_layers`): where the band is felt deep
-        // inside, the grating's distance is negative, so the two never
-        // overlap and there is nothing to sample.
-        (Some(_), Some(_))
-            if matches!(
-                (&a.kind, &b.kind),
-                (FeatureKind::Vibrate { .. }, FeatureKind::Grating { .. })
-                    | (FeatureKind::Grating { .. }, FeatureKind::Vibrate { .. })
-            ) =>
-        {
-            false
-        }
-        (Some(ia), Some(ib)) => {
-            let common =
-                (a.bbox.0.max(b.bbox.0), a.bbox.1.max(b.bbox.1), a.bbox.2.min(b.bbox.2), a.bbox.3.min(b.bbox.3));
-            layers_overlap((&built.layers[ia], a.amplitude), (&built.layers[ib], b.amplitude), common)
-        }
-        (Some(im), None) | (None, Some(im)) => {
-            let (m, d) = if a.mask.is_some() { (a, b) } else { (b, a) };
-            let layer = &built.layers[im];
-            // Eq. 1 at the centre and on rings across the dot's slope: a
-            // layer cut out under the dot (hidden by the painted circle)
-            // may still reach under its edge.
-            d.dots.iter().any(|&(x, y, r)| {
-                DOT_PROBES.iter().any(|&(u, v)| {
-                    let (px, py) = (x + u * r, y + v * r);
-                    let dot = crate::preview::dot_profile(u.hypot(v));
-                    d.amplitude * dot + m.amplitude * mask_at(layer, px, py) > 1.0 + SUM_SLACK
-                })
-            })
-        }
-        (None, None) => {
-            let mut n = 0usize;
-            near_dot_pairs(a, b, 0.0, |p, q| {
-                if dist((p.0, p.1), (q.0, q.1)) < (p.2 + q.2) * (1.0 - 1e-4) {
-                    n += 1;
-                }
-            });
-            if n > 0 {
-                diags.push(at(
-                    Diagnostic::warning("T0406", format!("{n} dot(s) of this element overlap dots of #{}", a.name))
-                        .with_help("dots must not overlap (seed 000 eq. 1); move the elements apart"),
-                    b,
-                ));
-            }
-            false
-        }
-    };
-    if over {
-        diags.push(at(
-            Diagnostic::warning(
-                "T0410",
-                format!("this layer overlaps #{} and together they exceed full deflection", a.name),
-            )
-            .with_help("layers add up (seed 000 §3.4); keep active regions apart or lower their amplitudes"),
-            b,
-        ));
     }
 }
 
