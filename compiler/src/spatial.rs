@@ -316,7 +316,7 @@ impl SharedVertices {
             let first = with.len();
             for p in at.by_ref().take(n) {
                 let n = count[*p as usize] as usize;
-                if n < 2 || n > Self::MAX_AT_ONE_POINT {
+                if !(2..=Self::MAX_AT_ONE_POINT).contains(&n) {
                     continue;
                 }
                 let mut e = head[*p as usize];

@@ -142,7 +142,7 @@ impl<'a> Row<'a> {
     fn new(m: &'a DistanceLayer, y: f32) -> Self {
         let fy = (y - m.origin_y.0) / m.pitch_mm;
         let rows = (m.tile_rows as usize * TILE_CELLS) as f32;
-        let tiles = (fy >= 0.0 && fy < rows).then(|| fy as usize / TILE_CELLS);
+        let tiles = (fy >= 0.0 && fy < rows).then_some(fy as usize / TILE_CELLS);
         // Empty until the first point is looked up.
         Row { m, tiles, lo: f32::INFINITY, hi: f32::NEG_INFINITY, outside: false }
     }
@@ -170,9 +170,7 @@ impl<'a> Row<'a> {
         // Where `distance_at` finds no tile, there is no distance.
         (self.lo, self.hi, self.outside) = match self.tiles {
             None => (f32::NEG_INFINITY, f32::INFINITY, true),
-            Some(_) if !(fx >= 0.0) => (f32::NEG_INFINITY, 0.0, true),
-            Some(_) if !(fx < cols) => (cols, f32::INFINITY, true),
-            Some(row) => {
+            Some(row) if fx >= 0.0 && fx < cols => {
                 let t = fx as usize / TILE_CELLS;
                 let entry = m.tiles.get(row * m.tile_cols as usize + t);
                 let outside = entry.is_none_or(|&e| e == TILE_OUTSIDE && m.step_mm >= 0.0);
@@ -181,6 +179,9 @@ impl<'a> Row<'a> {
                 let (lo, hi) = (t * TILE_CELLS, (t + 1) * TILE_CELLS);
                 if hi <= 1 << f32::MANTISSA_DIGITS { (lo as f32, hi as f32, outside) } else { (fx, fx, outside) }
             }
+            Some(_) if fx >= cols => (cols, f32::INFINITY, true),
+            // Below 0, or not a number (which no run holds).
+            Some(_) => (f32::NEG_INFINITY, 0.0, true),
         };
     }
 }
