@@ -186,6 +186,8 @@ pub fn simplify(points: &[(f64, f64)], closed: bool, tol: f64) -> Vec<(f64, f64)
         return points.to_vec();
     }
     let mut keep = vec![false; points.len()];
+    // Scratch for [`farthest`]: each point's squared offset.
+    let mut squares = vec![0.0; points.len()];
     let last = points.len() - 1;
     keep[0] = true;
     keep[last] = true;
@@ -194,11 +196,8 @@ pub fn simplify(points: &[(f64, f64)], closed: bool, tol: f64) -> Vec<(f64, f64)
         // The farthest point from the first splits the ring into two chains
         // (the last of equal ones, as `max_by` takes it).
         let p0 = points[0];
-        let mut far = Farthest::new();
-        for (i, &p) in points.iter().enumerate().skip(1) {
-            far.offer(i, (p0.0 - p.0, p0.1 - p.1), |_| true, |d, worst| d.total_cmp(&worst).is_ge());
-        }
-        let far = far.at.unwrap_or(last);
+        let far = farthest(1..points.len(), |i| (p0.0 - points[i].0, p0.1 - points[i].1), &mut squares, Ties::Last)
+            .map_or(last, |f| f.at);
         keep[far] = true;
         stack = vec![(0, far), (far, last)];
     }
@@ -207,19 +206,135 @@ pub fn simplify(points: &[(f64, f64)], closed: bool, tol: f64) -> Vec<(f64, f64)
             continue;
         }
         // The first of equal farthest points, if any is off the chord.
-        let mut far = Farthest::new();
-        for i in a + 1..b {
-            far.offer(i, offset_to_segment(points[i], points[a], points[b]), |d| d > 0.0, |d, worst| d > worst);
-        }
-        if let Some(at) = far.at
-            && far.worst > tol
+        let (pa, pb) = (points[a], points[b]);
+        let far = farthest(a + 1..b, |i| offset_to_segment(points[i], pa, pb), &mut squares, Ties::First);
+        if let Some(f) = far
+            && f.beyond(tol)
         {
-            keep[at] = true;
-            stack.push((a, at));
-            stack.push((at, b));
+            keep[f.at] = true;
+            stack.push((a, f.at));
+            stack.push((f.at, b));
         }
     }
     points.iter().zip(keep).filter(|(_, k)| *k).map(|(p, _)| *p).collect()
+}
+
+/// Which of equally far points [`farthest`] names.
+#[derive(Clone, Copy, PartialEq)]
+enum Ties {
+    /// The first of them, and none when all lie at distance 0.
+    First,
+    /// The last of them.
+    Last,
+}
+
+/// The point of `range` whose offset (`offset(i)`) is the farthest by its
+/// `hypot`, as [`dist`] measures it, to the bit: the first or last of equal
+/// ones (`ties`). `squares` is scratch space, at least as long as the
+/// range's end.
+///
+/// `hypot` (a fifth of a 3.2 M-segment outline's simplification, and on
+/// real-size drawings a third of it) is computed only for the points whose
+/// squared offset comes within a relative 1e-12 of the largest square, and
+/// not at all when one point alone does. The square's rounding (three
+/// roundings of 2^-53) and `hypot`'s (under one ulp) are far inside that
+/// margin, so a point left out could not have been as far. When the largest
+/// square is too small or too large to hold its value (below 1e-280, or
+/// infinite), or some square is NaN, every point is measured ([`Farthest`]).
+fn farthest(
+    range: std::ops::Range<usize>,
+    offset: impl Fn(usize) -> (f64, f64),
+    squares: &mut [f64],
+    ties: Ties,
+) -> Option<Far> {
+    let mut top = 0.0f64;
+    let mut nan = false;
+    for i in range.clone() {
+        let e = offset(i);
+        let s = e.0 * e.0 + e.1 * e.1;
+        squares[i] = s;
+        nan |= s.is_nan();
+        if s > top {
+            top = s;
+        }
+    }
+    if nan || !(top > 1e-280 && top.is_finite()) {
+        return measure_every_point(range, offset, ties);
+    }
+    let near = top * (1.0 - 1e-12);
+    let mut found: Option<Far> = None;
+    let mut alone = true;
+    for i in range.clone() {
+        if squares[i] < near {
+            continue;
+        }
+        if found.is_some() {
+            alone = false;
+            break;
+        }
+        found = Some(Far { at: i, offset: offset(i), square: squares[i], distance: None });
+    }
+    if alone {
+        return found;
+    }
+    // Several points come within the margin: their `hypot` decides.
+    let mut best: Option<Far> = None;
+    for i in range {
+        if squares[i] < near {
+            continue;
+        }
+        let e = offset(i);
+        let d = e.0.hypot(e.1);
+        let take = match (&best, ties) {
+            (None, _) => true,
+            (Some(b), Ties::First) => d > b.distance.unwrap_or(f64::INFINITY),
+            (Some(b), Ties::Last) => d.total_cmp(&b.distance.unwrap_or(f64::NEG_INFINITY)).is_ge(),
+        };
+        if take {
+            best = Some(Far { at: i, offset: e, square: squares[i], distance: Some(d) });
+        }
+    }
+    best
+}
+
+/// [`farthest`] by measuring every point's `hypot` (with [`Farthest`]'s
+/// shortcut), for ranges whose squares cannot be trusted.
+fn measure_every_point(range: std::ops::Range<usize>, offset: impl Fn(usize) -> (f64, f64), ties: Ties) -> Option<Far> {
+    let mut far = Farthest::new();
+    for i in range {
+        match ties {
+            Ties::First => far.offer(i, offset(i), |d| d > 0.0, |d, worst| d > worst),
+            Ties::Last => far.offer(i, offset(i), |_| true, |d, worst| d.total_cmp(&worst).is_ge()),
+        }
+    }
+    far.at.map(|at| Far { at, offset: (far.worst, 0.0), square: far.worst * far.worst, distance: Some(far.worst) })
+}
+
+/// The farthest point [`farthest`] found: its position, its offset and
+/// squared offset, and its distance when it was measured.
+struct Far {
+    at: usize,
+    offset: (f64, f64),
+    square: f64,
+    distance: Option<f64>,
+}
+
+impl Far {
+    /// Whether the point lies farther than `tol` (its `hypot` above `tol`):
+    /// from the squares when they differ by more than a relative 1e-12
+    /// (as in [`farthest`]), else measured.
+    fn beyond(&self, tol: f64) -> bool {
+        let tt = tol * tol;
+        if self.distance.is_none() && tt > 1e-280 && tt.is_finite() {
+            if self.square > tt * (1.0 + 1e-12) {
+                return true;
+            }
+            if self.square < tt * (1.0 - 1e-12) {
+                return false;
+            }
+        }
+        self.distance.unwrap_or_else(|| self.offset.0.hypot(self.offset.1)) > tol
+    }
 }
 
 /// The farthest of offsets offered one by one, by their `hypot` as
@@ -496,6 +611,56 @@ mod tests {
                         "case {k}, closed {closed}, tolerance {tol}"
                     );
                 }
+            }
+        }
+    }
+
+    /// Offsets `(a, b)` whose squares order them one way and whose `hypot`
+    /// the other (`a`'s square above `b`'s, `a` nearer): a few ulps apart.
+    fn squares_and_hypot_disagree() -> Vec<((f64, f64), (f64, f64))> {
+        let mut state = 0x853c_49e6_748f_ea9bu64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let ulps = |v: f64, k: i64| f64::from_bits((v.to_bits() as i64 + k) as u64);
+        let mut out = Vec::new();
+        while out.len() < 40 {
+            let base = (0.5 + 3.0 * next(), 0.5 + 3.0 * next());
+            let near: Vec<(f64, f64)> =
+                (0..144).map(|k| (ulps(base.0, k % 12 - 6), ulps(base.1, 6 - k / 12))).collect();
+            for &a in &near {
+                if let Some(&b) = near
+                    .iter()
+                    .find(|b| a.0 * a.0 + a.1 * a.1 > b.0 * b.0 + b.1 * b.1 && a.0.hypot(a.1) < b.0.hypot(b.1))
+                {
+                    out.push((a, b));
+                    break;
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn simplify_measures_where_squares_and_hypot_disagree() {
+        for (a, b) in squares_and_hypot_disagree() {
+            // A ring split at the point farthest from its first: `b`, though
+            // `a`'s square is larger (offsets from (0, 0) are exact).
+            let ring = [(0.0, 0.0), (-a.0, -a.1), (1e-3, 0.0), (-b.0, -b.1), (2e-3, 0.0)];
+            // An open path back to its start: each point's offset from the
+            // chord is the point itself. `b` lies farther than `a`'s distance.
+            let there_and_back = [(0.0, 0.0), b, (1e-9, 0.0), (0.0, 0.0)];
+            for (pts, closed, tol) in
+                [(&ring[..], true, 1e9), (&ring[..], true, 0.0), (&there_and_back[..], false, a.0.hypot(a.1))]
+            {
+                assert_eq!(
+                    simplify(pts, closed, tol),
+                    simplify_measuring_every_point(pts, closed, tol),
+                    "{a:?} {b:?}, closed {closed}, tolerance {tol}"
+                );
             }
         }
     }

@@ -6,12 +6,14 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use rayon::prelude::*;
 
-use taxel_format::{DeviceProfile, DistanceLayer};
+use taxel_format::DeviceProfile;
 
 use super::layers::{Built, Feature, FeatureKind};
 use crate::diagnostic::Diagnostic;
 use crate::geometry::{FillRule, Polyline, bounds, contains, dist, distance_to_outline_within, simplify};
 use crate::spatial;
+
+mod overlap;
 
 /// Smallest distance between distinct elements (1/8 in, Hasty).
 pub const MIN_GAP_MM: f64 = 3.2;
@@ -208,7 +210,7 @@ impl Checked {
         // map at the input limit.
         diags.par_extend(self.meets.par_iter().flat_map_iter(|&(i, j)| {
             let mut out = Vec::new();
-            overlap(built, &f[i], &f[j], &mut out);
+            overlap::overlap(built, &f[i], &f[j], &mut out);
             out
         }));
         drop(self.meets);
@@ -774,147 +776,6 @@ fn near_dot_pairs(a: &Feature, b: &Feature, reach: f64, mut f: impl FnMut((f64, 
                 }
             }
         }
-    }
-}
-
-/// A distance layer's edge profile (0..=1) at `(x, y)`, 0 outside it.
-fn mask_at(m: &DistanceLayer, x: f64, y: f64) -> f64 {
-    m.coverage_at(x as f32, y as f32) as f64
-}
-
-/// Where a dot is probed for overlaps, in units of its radius: the centre,
-/// then eight directions on rings at a quarter (the plateau's edge), half
-/// and three quarters of the radius.
-const DOT_PROBES: [(f64, f64); 25] = {
-    let mut p = [(0.0, 0.0); 25];
-    let dirs = [
-        (1.0, 0.0),
-        (core::f64::consts::FRAC_1_SQRT_2, core::f64::consts::FRAC_1_SQRT_2),
-        (0.0, 1.0),
-        (-core::f64::consts::FRAC_1_SQRT_2, core::f64::consts::FRAC_1_SQRT_2),
-        (-1.0, 0.0),
-        (-core::f64::consts::FRAC_1_SQRT_2, -core::f64::consts::FRAC_1_SQRT_2),
-        (0.0, -1.0),
-        (core::f64::consts::FRAC_1_SQRT_2, -core::f64::consts::FRAC_1_SQRT_2),
-    ];
-    let rings = [0.25, 0.5, 0.75];
-    let mut k = 1;
-    let mut ri = 0;
-    while ri < 3 {
-        let mut di = 0;
-        while di < 8 {
-            p[k] = (dirs[di].0 * rings[ri], dirs[di].1 * rings[ri]);
-            k += 1;
-            di += 1;
-        }
-        ri += 1;
-    }
-    p
-};
-
-/// Slack above full deflection before an overlap is reported: anti-aliased
-/// edges of shapes that merely meet (two regions sharing a border) can sum a
-/// little above 1 at the seam; a real overlap sums to about 2.
-const SUM_SLACK: f64 = 0.1;
-
-/// How far inside both layers' exact edges a point must lie to count as an
-/// overlap of two distance layers, mm: the edge accuracy the layers promise.
-const OVERLAP_DEPTH_MM: f64 = 0.05;
-
-fn overlap(built: &Built, a: &Feature, b: &Feature, diags: &mut Vec<Diagnostic>) {
-    if !spatial::meet(a.bbox, b.bbox) {
-        return;
-    }
-    let over = match (a.mask, b.mask) {
-        // Shapes of one style are one layer: where they touch or overlap
-        // they merge into one border or region instead of adding up.
-        (Some(ia), Some(ib)) if ia == ib => false,
-        // A vibrating band is cut out of every grating whose shapes its box
-        // meets (`layers::distance_layers`): where the band is felt deep
-        // inside, the grating's distance is negative, so the two never
-        // overlap and there is nothing to sample.
-        (Some(_), Some(_))
-            if matches!(
-                (&a.kind, &b.kind),
-                (FeatureKind::Vibrate { .. }, FeatureKind::Grating { .. })
-                    | (FeatureKind::Grating { .. }, FeatureKind::Vibrate { .. })
-            ) =>
-        {
-            false
-        }
-        (Some(ia), Some(ib)) => {
-            let (ma, mb) = (&built.layers[ia], &built.layers[ib]);
-            // Sampled every 0.1 mm, as the raster masks were.
-            let px = 10.0;
-            let x0 = a.bbox.0.max(b.bbox.0);
-            let y0 = a.bbox.1.max(b.bbox.1);
-            let x1 = a.bbox.2.min(b.bbox.2);
-            let y1 = a.bbox.3.min(b.bbox.3);
-            let mut found = false;
-            let mut y = ((y0 * px).floor() + 0.5) / px;
-            'rows: while y < y1 {
-                let mut x = ((x0 * px).floor() + 0.5) / px;
-                while x < x1 {
-                    // A true overlap: both layers felt more than `OVERLAP_DEPTH_MM`
-                    // inside their edges (where two layers merely meet, each
-                    // one's ramp may sum a little above 1 in a seam a few
-                    // micrometres wide).
-                    let deep = |m: &DistanceLayer| {
-                        m.distance_at(x as f32, y as f32).is_some_and(|d| d as f64 > OVERLAP_DEPTH_MM)
-                    };
-                    if a.amplitude * mask_at(ma, x, y) + b.amplitude * mask_at(mb, x, y) > 1.0 + SUM_SLACK
-                        && deep(ma)
-                        && deep(mb)
-                    {
-                        found = true;
-                        break 'rows;
-                    }
-                    x += 1.0 / px;
-                }
-                y += 1.0 / px;
-            }
-            found
-        }
-        (Some(im), None) | (None, Some(im)) => {
-            let (m, d) = if a.mask.is_some() { (a, b) } else { (b, a) };
-            let layer = &built.layers[im];
-            // Eq. 1 at the centre and on rings across the dot's slope: a
-            // layer cut out under the dot (hidden by the painted circle)
-            // may still reach under its edge.
-            d.dots.iter().any(|&(x, y, r)| {
-                DOT_PROBES.iter().any(|&(u, v)| {
-                    let (px, py) = (x + u * r, y + v * r);
-                    let dot = crate::preview::dot_profile(u.hypot(v));
-                    d.amplitude * dot + m.amplitude * mask_at(layer, px, py) > 1.0 + SUM_SLACK
-                })
-            })
-        }
-        (None, None) => {
-            let mut n = 0usize;
-            near_dot_pairs(a, b, 0.0, |p, q| {
-                if dist((p.0, p.1), (q.0, q.1)) < (p.2 + q.2) * (1.0 - 1e-4) {
-                    n += 1;
-                }
-            });
-            if n > 0 {
-                diags.push(at(
-                    Diagnostic::warning("T0406", format!("{n} dot(s) of this element overlap dots of #{}", a.name))
-                        .with_help("dots must not overlap (seed 000 eq. 1); move the elements apart"),
-                    b,
-                ));
-            }
-            false
-        }
-    };
-    if over {
-        diags.push(at(
-            Diagnostic::warning(
-                "T0410",
-                format!("this layer overlaps #{} and together they exceed full deflection", a.name),
-            )
-            .with_help("layers add up (seed 000 §3.4); keep active regions apart or lower their amplitudes"),
-            b,
-        ));
     }
 }
 
