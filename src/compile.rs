@@ -38,6 +38,17 @@ pub fn font_database(dir: Option<&Path>) -> Result<Arc<fontdb::Database>> {
     Ok(db)
 }
 
+/// Loads the fonts a drawing at `path` will be laid out with into
+/// [`font_database`]'s cache, so that another thread can do it while this
+/// one reads the input. Nothing for other inputs; a failure is left for the
+/// build to report when it asks for the fonts itself.
+pub fn warm_up_fonts(path: &Path, opts: &CompileOpts) {
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).unwrap_or_default();
+    if matches!(ext.as_str(), "svg" | "svgz") {
+        let _ = font_database(opts.fonts.as_deref());
+    }
+}
+
 /// The compiler options for `opts`, or the diagnostic that says why the style
 /// sheet cannot be used (an input problem, reported like the drawing's own).
 pub fn compile_options(opts: &CompileOpts) -> Result<Result<CompileOptions, Diagnostic>> {

@@ -83,7 +83,6 @@ pub(crate) struct Source {
     /// The elements each key names: one, except for the copies of an
     /// entity's elements (and for ids written twice).
     pub by_key: HashMap<String, Vec<usize>>,
-    pub rewritten: String,
 }
 
 impl Source {
@@ -141,13 +140,21 @@ pub(crate) fn parse_xml<'a>(text: &'a str, diags: &mut Vec<Diagnostic>) -> Optio
     }
 }
 
-/// Reads the elements of a parsed document; `None` (with an error diagnostic) when it is not SVG.
-pub(crate) fn read(
-    text: &str,
-    doc: &Document<'_>,
-    sheet: Option<&StyleSheet>,
-    diags: &mut Vec<Diagnostic>,
-) -> Option<Source> {
+/// The ids usvg sees, from a light first pass over the parsed document: the
+/// key of every element (in the order of [`read`]) and the text with an id
+/// inserted where an element had none. It is all that usvg's pass needs, so
+/// usvg can convert the drawing while [`read`] does the rest of the XML side.
+pub(crate) struct Keys {
+    /// One per element of the document, in document order: the id as
+    /// written, or the one inserted (`{prefix}{index}`).
+    pub keys: Vec<String>,
+    /// The text to give usvg.
+    pub rewritten: String,
+}
+
+/// The first pass: [`Keys`] of a parsed document; `None` (with an error
+/// diagnostic) when it is not SVG.
+pub(crate) fn keys(text: &str, doc: &Document<'_>, diags: &mut Vec<Diagnostic>) -> Option<Keys> {
     let root = doc.root_element();
     if root.tag_name().name() != "svg" {
         diags.push(
@@ -161,35 +168,67 @@ pub(crate) fn read(
     while existing.iter().any(|id| id.starts_with(&prefix)) {
         prefix.push('x');
     }
-    // Markers set from a `<style>` sheet through a class.
-    let css_markers =
-        doc.descendants().any(|n| n.tag_name().name() == "style" && n.text().is_some_and(|t| t.contains("marker")));
-    let mut elements = Vec::new();
-    let mut by_key: HashMap<String, Vec<usize>> = HashMap::new();
     // Where ids are inserted, by byte offset; an entity's elements are inserted
     // once for all of its expansions, so the offset decides the key.
     let mut inserts: BTreeMap<usize, (String, String)> = BTreeMap::new();
+    let body_start = root.range().start;
+    let mut keys = Vec::new();
+    for node in root.descendants().filter(|n| n.is_element()) {
+        let id = node.attribute("id").unwrap_or("");
+        let key = if id.is_empty() {
+            match tag_name_end(text, node) {
+                Some(at) => {
+                    let k = format!("{prefix}{}", keys.len());
+                    let quote = if at < body_start { entity_quote(text, at) } else { '"' };
+                    inserts.entry(at).or_insert_with(|| (k.clone(), format!(" id={quote}{k}{quote}"))).0.clone()
+                }
+                None => format!("{prefix}{}", keys.len()),
+            }
+        } else {
+            id.to_string()
+        };
+        keys.push(key);
+    }
+    let mut rewritten = String::with_capacity(text.len() + inserts.len() * 24);
+    let mut last = 0;
+    // In offset order (a BTreeMap), so every slice below runs forwards.
+    for (&at, (_, s)) in &inserts {
+        rewritten.push_str(text.get(last..at).unwrap_or(""));
+        rewritten.push_str(s);
+        last = at;
+    }
+    rewritten.push_str(text.get(last..).unwrap_or(""));
+    Some(Keys { keys, rewritten })
+}
+
+/// The second pass: the elements of a parsed document whose [`Keys::keys`]
+/// are `keys`, with their annotations (malformed ones as diagnostics),
+/// labels, layers, style sheet rules and lines.
+pub(crate) fn read(
+    text: &str,
+    doc: &Document<'_>,
+    keys: Vec<String>,
+    sheet: Option<&StyleSheet>,
+    diags: &mut Vec<Diagnostic>,
+) -> Source {
+    let root = doc.root_element();
+    // Markers set from a `<style>` sheet through a class.
+    let css_markers =
+        doc.descendants().any(|n| n.tag_name().name() == "style" && n.text().is_some_and(|t| t.contains("marker")));
+    let mut elements = Vec::with_capacity(keys.len());
+    let mut by_key: HashMap<String, Vec<usize>> = HashMap::new();
     let mut index_of: HashMap<roxmltree::NodeId, usize> = HashMap::new();
     let body_start = root.range().start;
     let mut pos_of: HashMap<roxmltree::NodeId, usize> = HashMap::new();
     let lines = LineIndex::new(text);
+    let mut keys = keys.into_iter();
     for node in root.descendants().filter(|n| n.is_element()) {
+        // Both passes walk the same elements of the same document, so there is a key for each.
+        let key = keys.next().unwrap_or_default();
         let parent = node.parent_element().and_then(|p| index_of.get(&p.id()).copied());
         let parent_el: Option<&Element> = parent.map(|p| &elements[p]);
         let tag = node.tag_name().name().to_string();
         let id = node.attribute("id").unwrap_or("").to_string();
-        let key = if id.is_empty() {
-            match tag_name_end(text, node) {
-                Some(at) => {
-                    let k = format!("{prefix}{}", elements.len());
-                    let quote = if at < body_start { entity_quote(text, at) } else { '"' };
-                    inserts.entry(at).or_insert_with(|| (k.clone(), format!(" id={quote}{k}{quote}"))).0.clone()
-                }
-                None => format!("{prefix}{}", elements.len()),
-            }
-        } else {
-            id.clone()
-        };
         let name = match parent_el {
             _ if !id.is_empty() => id.clone(),
             None => tag.clone(),
@@ -267,16 +306,7 @@ pub(crate) fn read(
             node: node.id(),
         });
     }
-    let mut rewritten = String::with_capacity(text.len() + inserts.len() * 24);
-    let mut last = 0;
-    // In offset order (a BTreeMap), so every slice below runs forwards.
-    for (&at, (_, s)) in &inserts {
-        rewritten.push_str(text.get(last..at).unwrap_or(""));
-        rewritten.push_str(s);
-        last = at;
-    }
-    rewritten.push_str(text.get(last..).unwrap_or(""));
-    Some(Source { elements, by_key, rewritten })
+    Source { elements, by_key }
 }
 
 /// The byte offset just after an element's tag name in its start tag, when
