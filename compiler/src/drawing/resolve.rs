@@ -178,13 +178,16 @@ pub(crate) fn run(
     let root = doc.root_element();
     let sizing = page::page(root, w as f64, h as f64, opts.width_mm, &opts.profile, diags);
     let root_ts = page::root_transform(root, w, h);
-    let walked = walk::walk(&tree, &src, opts.style.as_ref(), sizing.scale);
+    let mut walked = walk::walk(&tree, &src, opts.style.as_ref(), sizing.scale);
+    let outlines = std::mem::take(&mut walked.text_outlines);
     *fonts_used = faces_used(&tree);
     // usvg's tree and the second parse are freed on another thread while
     // the text is placed: on the map at the input limit, freeing them
     // one after the other was a tenth of a second of the one thread working.
-    let (texts, ()) =
-        rayon::join(|| text::texts(&src, &doc, &walked, sizing.scale, root_ts, diags), move || drop((tree, doc2)));
+    let (texts, ()) = rayon::join(
+        || text::texts(&src, &doc, &walked, outlines, sizing.scale, root_ts, diags),
+        move || drop((tree, doc2)),
+    );
     not_drawn(&src, &walked, diags);
     let mut elements: Vec<(usize, super::Element)> = walked.elements;
     elements.extend(texts);
