@@ -164,24 +164,17 @@ fn build_one(
         return failed(format!("{shown}: {c}"));
     }
     // Refuse an oversized input before reading it whole; it is read once, for the content hash and the compiler.
-    // A drawing's fonts are loaded on the other core meanwhile (the system's
-    // took about 5 ms, with the one core in use): the compiler asks for them
-    // next, from the same cache.
-    let (read, ()) = rayon::join(
-        || {
-            let bytes = crate::io::read_input(&job.input.path)?;
-            // When the bundle is rebuilt anyway (forced, or none yet), the hash is
-            // finished after the build with the font faces the build laid the text
-            // out with, rather than parsing the drawing a second time for them.
-            let part = hash::Partial::begin(&job.input.path, &bytes);
-            anyhow::Ok((bytes, part))
-        },
-        || crate::compile::warm_up_fonts(&job.input.path, &settings.opts),
-    );
-    let (bytes, part) = match read {
+    // A drawing's fonts are loaded on the other core while it is read and
+    // parsed (the system's took about 5 ms, with one core in use).
+    crate::compile::warm_up_fonts(&job.input.path, &settings.opts);
+    let bytes = match crate::io::read_input(&job.input.path) {
         Ok(b) => b,
         Err(e) => return failed(format!("{e:#}")),
     };
+    // When the bundle is rebuilt anyway (forced, or none yet), the hash is
+    // finished after the build with the font faces the build laid the text
+    // out with, rather than parsing the drawing a second time for them.
+    let part = hash::Partial::begin(&job.input.path, &bytes);
     let checked = if settings.force || !job.output.is_file() {
         None
     } else {

@@ -27,6 +27,11 @@ pub struct Resolved {
     pub fonts_used: Vec<FontFace>,
 }
 
+/// Where the fonts come from: called once, on usvg's side, when usvg is
+/// about to need them (so a caller can load them while the XML is parsed and
+/// read); `None` for no fonts.
+pub type Fonts<'a> = &'a (dyn Fn() -> Option<Arc<usvg::fontdb::Database>> + Sync);
+
 /// usvg's options: the caller's fonts (none when it gave none), and no file
 /// IO (images that name files are not loaded).
 pub(crate) fn usvg_options(fonts: Option<&Arc<usvg::fontdb::Database>>) -> usvg::Options<'static> {
@@ -124,7 +129,7 @@ pub fn fonts_used(svg_text: &str, fonts: &Arc<usvg::fontdb::Database>) -> Vec<Fo
 pub fn resolve(svg_text: &str, opts: &CompileOptions) -> Resolved {
     let mut diagnostics = Vec::new();
     let mut fonts_used = Vec::new();
-    let mut drawing = run(svg_text, opts, &mut diagnostics, &mut fonts_used);
+    let mut drawing = run(svg_text, opts, &|| opts.fonts.clone(), &mut diagnostics, &mut fonts_used);
     if let Some(d) = &mut drawing {
         crate::prepare::prepare(d, opts, &mut diagnostics);
     }
@@ -137,14 +142,16 @@ pub fn resolve(svg_text: &str, opts: &CompileOptions) -> Resolved {
 pub fn resolve_as_drawn(svg_text: &str, opts: &CompileOptions) -> Resolved {
     let mut diagnostics = Vec::new();
     let mut fonts_used = Vec::new();
-    let drawing = run(svg_text, opts, &mut diagnostics, &mut fonts_used);
+    let drawing = run(svg_text, opts, &|| opts.fonts.clone(), &mut diagnostics, &mut fonts_used);
     Resolved { drawing, diagnostics, fonts_used }
 }
 
-/// [`resolve`], adding to `diags` and `fonts_used`.
+/// [`resolve`], adding to `diags` and `fonts_used`, with the fonts of
+/// `fonts` (not `opts.fonts`).
 pub(crate) fn run(
     text: &str,
     opts: &CompileOptions,
+    fonts: Fonts<'_>,
     diags: &mut Vec<Diagnostic>,
     fonts_used: &mut Vec<FontFace>,
 ) -> Option<Drawing> {
@@ -158,7 +165,7 @@ pub(crate) fn run(
     let (converted, src) = rayon::join(
         || {
             let doc2 = roxmltree::Document::parse_with_options(&rewritten, source::xml_options()).ok()?;
-            let tree = usvg::Tree::from_xmltree(&doc2, &usvg_options(opts.fonts.as_ref()));
+            let tree = usvg::Tree::from_xmltree(&doc2, &usvg_options(fonts().as_ref()));
             Some((doc2, tree))
         },
         || source::read(text, &doc, keys, opts.style.as_ref(), diags),
