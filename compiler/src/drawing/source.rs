@@ -393,3 +393,119 @@ fn annotation_at(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Drawings whose ids the first pass must get right: elements without
+    /// ids, ids that already use the inserted prefix, entity expansions
+    /// (used twice, quoted either way, nested in a group), Inkscape layers
+    /// with labels in other scripts, self-closing and empty elements.
+    const DRAWINGS: [&str; 4] = [
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="10mm" height="10mm"><rect width="2" height="2"/><g id="a"><circle r="1"/><path d="M0 0L1 1"/></g><g/></svg>"#,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" id="taxel-auto-3">
+  <rect width="2" height="2"/><rect id="taxel-auto-x1" width="1" height="1"/>
+  <rect width="3" height="3"></rect>
+</svg>"#,
+        r#"<?xml version="1.0"?>
+<!DOCTYPE svg [
+  <!ENTITY square "<rect x='10' y='10' width='20' height='20'/>">
+  <!ENTITY dot '<g><circle cx="5" cy="5" r="2"/></g>'>
+]>
+<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="60mm" viewBox="0 0 100 60">
+  <g id="v">&square;</g>
+  <g>&square;&dot;</g>
+  <text x="1" y="2">é &amp; ü</text>
+</svg>"#,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape" width="10mm" height="10mm">
+  <g inkscape:groupmode="layer" inkscape:label="Calque élévation"><path d="M0 0H5V5Z"/>
+    <g inkscape:groupmode="layer" inkscape:label="レイヤー 1"><rect width="1" height="1"/></g>
+  </g>
+  <g inkscape:groupmode="layer" inkscape:label="tactile: vibrate()" id="l"><rect width="4" height="4"/></g>
+</svg>"#,
+    ];
+
+    fn parse(text: &str) -> Document<'_> {
+        Document::parse_with_options(text, xml_options()).unwrap()
+    }
+
+    #[test]
+    fn the_first_pass_inserts_exactly_the_keys_usvg_then_reads() {
+        for text in DRAWINGS {
+            let doc = parse(text);
+            let Keys { keys, rewritten } = keys(text, &doc, &mut Vec::new()).unwrap();
+            let elements: Vec<Node<'_, '_>> = doc.root_element().descendants().filter(|n| n.is_element()).collect();
+            assert_eq!(keys.len(), elements.len(), "{text}");
+            // What usvg parses: the same elements, in the same order, each carrying its key as its id.
+            let doc2 = parse(&rewritten);
+            let seen: Vec<&str> = doc2
+                .root_element()
+                .descendants()
+                .filter(|n| n.is_element())
+                .map(|n| n.attribute("id").unwrap_or("(none)"))
+                .collect();
+            assert_eq!(seen, keys, "{rewritten}");
+            // Outside entities, the key is the id as written, or the prefix and
+            // the element's position in document order; the prefix is one no
+            // id of the drawing starts with.
+            let ids: Vec<&str> = elements.iter().filter_map(|n| n.attribute("id")).collect();
+            let prefix = (0..)
+                .map(|x| format!("taxel-auto-{}", "x".repeat(x)))
+                .find(|p| !ids.iter().any(|i| i.starts_with(p.as_str())))
+                .unwrap();
+            let body = doc.root_element().range().start;
+            for (n, (e, k)) in elements.iter().zip(&keys).enumerate() {
+                match e.attribute("id") {
+                    Some(id) => assert_eq!(k, id),
+                    None if e.range().start >= body => assert_eq!(*k, format!("{prefix}{n}")),
+                    None => assert!(k.starts_with(&prefix), "{k}"),
+                }
+            }
+            // Taking the inserted ids out again gives the text back, line for line.
+            let mut back = rewritten.clone();
+            // (Each once: the copies of an entity's element share the one inserted in the entity.)
+            let inserted: HashSet<&String> = keys.iter().filter(|k| !ids.contains(&k.as_str())).collect();
+            for k in inserted {
+                let at = back.find(&format!(" id=\"{k}\"")).or_else(|| back.find(&format!(" id='{k}'"))).unwrap();
+                back.replace_range(at..at + k.len() + 6, "");
+            }
+            assert_eq!(back, text);
+        }
+    }
+
+    #[test]
+    fn the_second_pass_reads_each_element_under_its_key() {
+        for text in DRAWINGS {
+            let doc = parse(text);
+            let first = keys(text, &doc, &mut Vec::new()).unwrap();
+            let src = read(text, &doc, first.keys.clone(), None, &mut Vec::new());
+            let elements: Vec<Node<'_, '_>> = doc.root_element().descendants().filter(|n| n.is_element()).collect();
+            assert_eq!(src.elements.len(), elements.len());
+            for (i, (e, node)) in src.elements.iter().zip(&elements).enumerate() {
+                assert_eq!(e.key, first.keys[i]);
+                assert_eq!(e.node, node.id());
+                assert_eq!(e.tag, node.tag_name().name());
+                assert!(src.by_key[&e.key].contains(&i));
+                assert_eq!(src.get(&e.key, e.parent).map(|(_, f)| f.key.as_str()), Some(e.key.as_str()));
+            }
+        }
+        // Layers, labels and annotations still come from the original text.
+        let text = DRAWINGS[3];
+        let doc = parse(text);
+        let src = read(text, &doc, keys(text, &doc, &mut Vec::new()).unwrap().keys, None, &mut Vec::new());
+        let rect = src.elements.iter().find(|e| e.layers.len() == 2).unwrap();
+        assert_eq!(rect.layers, ["Calque élévation", "レイヤー 1"]);
+        assert_eq!(rect.line, 3);
+        assert!(src.elements.iter().any(|e| e.id == "l" && e.own.is_some()));
+    }
+
+    #[test]
+    fn a_root_that_is_not_svg_is_refused_by_the_first_pass() {
+        let text = "<html><svg/></html>";
+        let mut diags = Vec::new();
+        assert!(keys(text, &parse(text), &mut diags).is_none());
+        assert_eq!(diags.len(), 1);
+        assert_eq!(diags[0].code, "T0200");
+    }
+}
