@@ -3,6 +3,7 @@
 
 use std::collections::HashMap;
 use std::path::{Component, Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
 use anyhow::{Result, bail};
@@ -17,11 +18,7 @@ use crate::io::{self, load};
 /// system's. Each database is loaded once per process and shared.
 pub fn font_database(dir: Option<&Path>) -> Result<Arc<fontdb::Database>> {
     static LOADED: Mutex<Option<HashMap<Option<PathBuf>, Arc<fontdb::Database>>>> = Mutex::new(None);
-    if let Some(d) = dir
-        && !d.is_dir()
-    {
-        bail!("--fonts {}: not a folder", d.display());
-    }
+    fonts_dir(dir)?;
     let mut loaded = LOADED.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
     let map = loaded.get_or_insert_with(HashMap::new);
     let key = dir.map(Path::to_path_buf);
@@ -38,9 +35,39 @@ pub fn font_database(dir: Option<&Path>) -> Result<Arc<fontdb::Database>> {
     Ok(db)
 }
 
+/// Starts loading the fonts a drawing at `path` will be laid out with into
+/// [`font_database`]'s cache, on a thread of its own, once per process, so
+/// that they are loaded while the input is read and parsed (the compiler
+/// asks for them when usvg lays the text out; until then it does not wait).
+/// Nothing for other inputs; a failure is left for the build to report.
+pub fn warm_up_fonts(path: &Path, opts: &CompileOpts) {
+    static STARTED: AtomicBool = AtomicBool::new(false);
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).unwrap_or_default();
+    if matches!(ext.as_str(), "svg" | "svgz") && !STARTED.swap(true, Ordering::Relaxed) {
+        let dir = opts.fonts.clone();
+        std::thread::spawn(move || font_database(dir.as_deref()).is_ok());
+    }
+}
+
+/// Checks that `--fonts DIR` names a folder.
+fn fonts_dir(dir: Option<&Path>) -> Result<()> {
+    if let Some(d) = dir
+        && !d.is_dir()
+    {
+        bail!("--fonts {}: not a folder", d.display());
+    }
+    Ok(())
+}
+
 /// The compiler options for `opts`, or the diagnostic that says why the style
 /// sheet cannot be used (an input problem, reported like the drawing's own).
 pub fn compile_options(opts: &CompileOpts) -> Result<Result<CompileOptions, Diagnostic>> {
+    options_with_fonts(opts, true)
+}
+
+/// [`compile_options`]; without `fonts` the options hold none, and
+/// `--fonts DIR` is only checked (the caller gives them to the compiler late).
+fn options_with_fonts(opts: &CompileOpts, fonts: bool) -> Result<Result<CompileOptions, Diagnostic>> {
     let profile = load::profile(opts.profile.as_deref().unwrap_or(load::DEFAULT_DRAWING_PROFILE))?;
     let style = match &opts.style {
         None => None,
@@ -63,7 +90,13 @@ pub fn compile_options(opts: &CompileOpts) -> Result<Result<CompileOptions, Diag
             crate::cli::Up::Z => taxel_compiler::UpAxis::Z,
         },
         exaggerate: opts.exaggerate.unwrap_or(1.0),
-        fonts: Some(font_database(opts.fonts.as_deref())?),
+        fonts: match fonts {
+            true => Some(font_database(opts.fonts.as_deref())?),
+            false => {
+                fonts_dir(opts.fonts.as_deref())?;
+                None
+            }
+        },
         auto: opts.style_is_auto(),
     }))
 }
@@ -71,6 +104,7 @@ pub fn compile_options(opts: &CompileOpts) -> Result<Result<CompileOptions, Diag
 /// Reads and compiles one input (.svg, .gltf, .glb). IO failures are `Err`;
 /// problems in the input are diagnostics in the result.
 pub fn compile_file(path: &Path, opts: &CompileOpts) -> Result<Compiled> {
+    warm_up_fonts(path, opts);
     compile_bytes(path, io::read_input(path)?, opts)
 }
 
@@ -88,7 +122,10 @@ pub fn compile_bytes(path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> Result<
 
 /// An annotated SVG drawing (docs/annotations.md).
 fn compile_drawing(path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> Result<Compiled> {
-    let options = match compile_options(opts)? {
+    // The fonts are given to the compiler late: it asks for them once the
+    // XML is parsed, and they may be loading on another thread meanwhile
+    // ([`warm_up_fonts`]).
+    let options = match options_with_fonts(opts, false)? {
         Ok(o) => o,
         Err(d) => return Ok(Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new() }),
     };
@@ -104,7 +141,8 @@ fn compile_drawing(path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> Result<Co
             return Ok(Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new() });
         }
     };
-    Ok(taxel_compiler::svg::compile_svg(&text, &options))
+    let fonts = || font_database(opts.fonts.as_deref()).ok();
+    Ok(taxel_compiler::svg::compile_svg_with_fonts(&text, &options, &fonts))
 }
 
 /// A glTF height mesh for the finger device (docs/finger.md). Without

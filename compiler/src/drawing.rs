@@ -23,7 +23,7 @@ mod text;
 mod walk;
 
 pub(crate) use page::page as page_size;
-pub use resolve::{FontFace, Resolved, fonts_used, resolve, resolve_as_drawn};
+pub use resolve::{FontFace, Fonts, Resolved, fonts_used, resolve, resolve_as_drawn};
 pub(crate) use resolve::{NOT_DRAWN, run as resolve_into, usvg_options};
 
 use crate::annotation::Style;

@@ -4,6 +4,7 @@
 //! stored in a bundle. Runs on the [`Drawing`] before any layer is built, so
 //! the design rules judge the drawing at the size it will be felt.
 
+use rayon::prelude::*;
 use taxel_format::DeviceProfile;
 
 use crate::diagnostic::Diagnostic;
@@ -87,22 +88,30 @@ fn transform(e: &mut Element, s: f64, t: (f64, f64)) {
 /// an image when it lies wholly inside. Returns how many were removed.
 fn crop(d: &mut Drawing, keep: Bbox) -> usize {
     let before = d.elements.len();
-    d.elements.retain_mut(|e| {
-        let Some(b) = e.bounds() else { return true };
-        if !meet(b, keep) {
-            return false;
-        }
-        match &mut e.shape {
-            Shape::Path(p) => {
-                if !inside(b, keep) {
-                    p.clips.push(Clip { outline: rect(keep), fill_rule: FillRule::NonZero });
-                }
-                true
+    // Each element is decided alone, so in parallel (its bounds are a pass
+    // over all its points); the ones left out are removed in order after.
+    let kept: Vec<bool> = d
+        .elements
+        .par_iter_mut()
+        .map(|e| {
+            let Some(b) = e.bounds() else { return true };
+            if !meet(b, keep) {
+                return false;
             }
-            Shape::Text(t) => t.runs.first().is_none_or(|r| inside((r.x_mm, r.y_mm, r.x_mm, r.y_mm), keep)),
-            Shape::Image { .. } => inside(b, keep),
-        }
-    });
+            match &mut e.shape {
+                Shape::Path(p) => {
+                    if !inside(b, keep) {
+                        p.clips.push(Clip { outline: rect(keep), fill_rule: FillRule::NonZero });
+                    }
+                    true
+                }
+                Shape::Text(t) => t.runs.first().is_none_or(|r| inside((r.x_mm, r.y_mm, r.x_mm, r.y_mm), keep)),
+                Shape::Image { .. } => inside(b, keep),
+            }
+        })
+        .collect();
+    let mut kept = kept.into_iter();
+    d.elements.retain(|_| kept.next().unwrap_or(true));
     before - d.elements.len()
 }
 
@@ -184,9 +193,7 @@ pub fn apply(
         let part = p.part;
         {
             let (s, t) = (p.scale, p.shift);
-            for e in &mut d.elements {
-                transform(e, s, t);
-            }
+            d.elements.par_iter_mut().for_each(|e| transform(e, s, t));
             d.page.scale *= s;
             d.page.offset_mm = (d.page.offset_mm.0 * s + t.0, d.page.offset_mm.1 * s + t.1);
             d.page.width_mm = sw;

@@ -164,6 +164,9 @@ fn build_one(
         return failed(format!("{shown}: {c}"));
     }
     // Refuse an oversized input before reading it whole; it is read once, for the content hash and the compiler.
+    // A drawing's fonts are loaded on the other core while it is read and
+    // parsed (the system's took about 5 ms, with one core in use).
+    crate::compile::warm_up_fonts(&job.input.path, &settings.opts);
     let bytes = match crate::io::read_input(&job.input.path) {
         Ok(b) => b,
         Err(e) => return failed(format!("{e:#}")),

@@ -27,6 +27,11 @@ pub struct Resolved {
     pub fonts_used: Vec<FontFace>,
 }
 
+/// Where the fonts come from: called once, on usvg's side, when usvg is
+/// about to need them (so a caller can load them while the XML is parsed and
+/// read); `None` for no fonts.
+pub type Fonts<'a> = &'a (dyn Fn() -> Option<Arc<usvg::fontdb::Database>> + Sync);
+
 /// usvg's options: the caller's fonts (none when it gave none), and no file
 /// IO (images that name files are not loaded).
 pub(crate) fn usvg_options(fonts: Option<&Arc<usvg::fontdb::Database>>) -> usvg::Options<'static> {
@@ -124,7 +129,7 @@ pub fn fonts_used(svg_text: &str, fonts: &Arc<usvg::fontdb::Database>) -> Vec<Fo
 pub fn resolve(svg_text: &str, opts: &CompileOptions) -> Resolved {
     let mut diagnostics = Vec::new();
     let mut fonts_used = Vec::new();
-    let mut drawing = run(svg_text, opts, &mut diagnostics, &mut fonts_used);
+    let mut drawing = run(svg_text, opts, &|| opts.fonts.clone(), &mut diagnostics, &mut fonts_used);
     if let Some(d) = &mut drawing {
         crate::prepare::prepare(d, opts, &mut diagnostics);
     }
@@ -137,21 +142,36 @@ pub fn resolve(svg_text: &str, opts: &CompileOptions) -> Resolved {
 pub fn resolve_as_drawn(svg_text: &str, opts: &CompileOptions) -> Resolved {
     let mut diagnostics = Vec::new();
     let mut fonts_used = Vec::new();
-    let drawing = run(svg_text, opts, &mut diagnostics, &mut fonts_used);
+    let drawing = run(svg_text, opts, &|| opts.fonts.clone(), &mut diagnostics, &mut fonts_used);
     Resolved { drawing, diagnostics, fonts_used }
 }
 
-/// [`resolve`], adding to `diags` and `fonts_used`.
+/// [`resolve`], adding to `diags` and `fonts_used`, with the fonts of
+/// `fonts` (not `opts.fonts`).
 pub(crate) fn run(
     text: &str,
     opts: &CompileOptions,
+    fonts: Fonts<'_>,
     diags: &mut Vec<Diagnostic>,
     fonts_used: &mut Vec<FontFace>,
 ) -> Option<Drawing> {
     let doc = source::parse_xml(text, diags)?;
-    let src = source::read(text, &doc, opts.style.as_ref(), diags)?;
-    let doc2 = roxmltree::Document::parse_with_options(&src.rewritten, source::xml_options()).ok()?;
-    let tree = match usvg::Tree::from_xmltree(&doc2, &usvg_options(opts.fonts.as_ref())) {
+    let source::Keys { keys, rewritten } = source::keys(text, &doc, diags)?;
+    // usvg needs only the rewritten text: it parses and converts the drawing
+    // on this thread while the rest of the XML side (annotations, labels,
+    // layers, style sheet rules, lines) is read on the other (on the
+    // 1,000-region map, a third of the time before the layers used one core).
+    // usvg's side, which allocates the most, stays on the calling thread.
+    let (converted, src) = rayon::join(
+        || {
+            let doc2 = roxmltree::Document::parse_with_options(&rewritten, source::xml_options()).ok()?;
+            let tree = usvg::Tree::from_xmltree(&doc2, &usvg_options(fonts().as_ref()));
+            Some((doc2, tree))
+        },
+        || source::read(text, &doc, keys, opts.style.as_ref(), diags),
+    );
+    let (doc2, tree) = converted?;
+    let tree = match tree {
         Ok(t) => t,
         Err(e) => {
             diags.push(
@@ -165,13 +185,16 @@ pub(crate) fn run(
     let root = doc.root_element();
     let sizing = page::page(root, w as f64, h as f64, opts.width_mm, &opts.profile, diags);
     let root_ts = page::root_transform(root, w, h);
-    let walked = walk::walk(&tree, &src, opts.style.as_ref(), sizing.scale);
+    let mut walked = walk::walk(&tree, &src, opts.style.as_ref(), sizing.scale);
+    let outlines = std::mem::take(&mut walked.text_outlines);
     *fonts_used = faces_used(&tree);
     // usvg's tree and the second parse are freed on another thread while
     // the text is placed: on the map at the input limit, freeing them
     // one after the other was a tenth of a second of the one thread working.
-    let (texts, ()) =
-        rayon::join(|| text::texts(&src, &doc, &walked, sizing.scale, root_ts, diags), move || drop((tree, doc2)));
+    let (texts, ()) = rayon::join(
+        || text::texts(&src, &doc, &walked, outlines, sizing.scale, root_ts, diags),
+        move || drop((tree, doc2)),
+    );
     not_drawn(&src, &walked, diags);
     let mut elements: Vec<(usize, super::Element)> = walked.elements;
     elements.extend(texts);

@@ -83,7 +83,6 @@ pub(crate) struct Source {
     /// The elements each key names: one, except for the copies of an
     /// entity's elements (and for ids written twice).
     pub by_key: HashMap<String, Vec<usize>>,
-    pub rewritten: String,
 }
 
 impl Source {
@@ -141,13 +140,21 @@ pub(crate) fn parse_xml<'a>(text: &'a str, diags: &mut Vec<Diagnostic>) -> Optio
     }
 }
 
-/// Reads the elements of a parsed document; `None` (with an error diagnostic) when it is not SVG.
-pub(crate) fn read(
-    text: &str,
-    doc: &Document<'_>,
-    sheet: Option<&StyleSheet>,
-    diags: &mut Vec<Diagnostic>,
-) -> Option<Source> {
+/// The ids usvg sees, from a light first pass over the parsed document: the
+/// key of every element (in the order of [`read`]) and the text with an id
+/// inserted where an element had none. It is all that usvg's pass needs, so
+/// usvg can convert the drawing while [`read`] does the rest of the XML side.
+pub(crate) struct Keys {
+    /// One per element of the document, in document order: the id as
+    /// written, or the one inserted (`{prefix}{index}`).
+    pub keys: Vec<String>,
+    /// The text to give usvg.
+    pub rewritten: String,
+}
+
+/// The first pass: [`Keys`] of a parsed document; `None` (with an error
+/// diagnostic) when it is not SVG.
+pub(crate) fn keys(text: &str, doc: &Document<'_>, diags: &mut Vec<Diagnostic>) -> Option<Keys> {
     let root = doc.root_element();
     if root.tag_name().name() != "svg" {
         diags.push(
@@ -161,35 +168,67 @@ pub(crate) fn read(
     while existing.iter().any(|id| id.starts_with(&prefix)) {
         prefix.push('x');
     }
-    // Markers set from a `<style>` sheet through a class.
-    let css_markers =
-        doc.descendants().any(|n| n.tag_name().name() == "style" && n.text().is_some_and(|t| t.contains("marker")));
-    let mut elements = Vec::new();
-    let mut by_key: HashMap<String, Vec<usize>> = HashMap::new();
     // Where ids are inserted, by byte offset; an entity's elements are inserted
     // once for all of its expansions, so the offset decides the key.
     let mut inserts: BTreeMap<usize, (String, String)> = BTreeMap::new();
+    let body_start = root.range().start;
+    let mut keys = Vec::new();
+    for node in root.descendants().filter(|n| n.is_element()) {
+        let id = node.attribute("id").unwrap_or("");
+        let key = if id.is_empty() {
+            match tag_name_end(text, node) {
+                Some(at) => {
+                    let k = format!("{prefix}{}", keys.len());
+                    let quote = if at < body_start { entity_quote(text, at) } else { '"' };
+                    inserts.entry(at).or_insert_with(|| (k.clone(), format!(" id={quote}{k}{quote}"))).0.clone()
+                }
+                None => format!("{prefix}{}", keys.len()),
+            }
+        } else {
+            id.to_string()
+        };
+        keys.push(key);
+    }
+    let mut rewritten = String::with_capacity(text.len() + inserts.len() * 24);
+    let mut last = 0;
+    // In offset order (a BTreeMap), so every slice below runs forwards.
+    for (&at, (_, s)) in &inserts {
+        rewritten.push_str(text.get(last..at).unwrap_or(""));
+        rewritten.push_str(s);
+        last = at;
+    }
+    rewritten.push_str(text.get(last..).unwrap_or(""));
+    Some(Keys { keys, rewritten })
+}
+
+/// The second pass: the elements of a parsed document whose [`Keys::keys`]
+/// are `keys`, with their annotations (malformed ones as diagnostics),
+/// labels, layers, style sheet rules and lines.
+pub(crate) fn read(
+    text: &str,
+    doc: &Document<'_>,
+    keys: Vec<String>,
+    sheet: Option<&StyleSheet>,
+    diags: &mut Vec<Diagnostic>,
+) -> Source {
+    let root = doc.root_element();
+    // Markers set from a `<style>` sheet through a class.
+    let css_markers =
+        doc.descendants().any(|n| n.tag_name().name() == "style" && n.text().is_some_and(|t| t.contains("marker")));
+    let mut elements = Vec::with_capacity(keys.len());
+    let mut by_key: HashMap<String, Vec<usize>> = HashMap::new();
     let mut index_of: HashMap<roxmltree::NodeId, usize> = HashMap::new();
     let body_start = root.range().start;
     let mut pos_of: HashMap<roxmltree::NodeId, usize> = HashMap::new();
     let lines = LineIndex::new(text);
+    let mut keys = keys.into_iter();
     for node in root.descendants().filter(|n| n.is_element()) {
+        // Both passes walk the same elements of the same document, so there is a key for each.
+        let key = keys.next().unwrap_or_default();
         let parent = node.parent_element().and_then(|p| index_of.get(&p.id()).copied());
         let parent_el: Option<&Element> = parent.map(|p| &elements[p]);
         let tag = node.tag_name().name().to_string();
         let id = node.attribute("id").unwrap_or("").to_string();
-        let key = if id.is_empty() {
-            match tag_name_end(text, node) {
-                Some(at) => {
-                    let k = format!("{prefix}{}", elements.len());
-                    let quote = if at < body_start { entity_quote(text, at) } else { '"' };
-                    inserts.entry(at).or_insert_with(|| (k.clone(), format!(" id={quote}{k}{quote}"))).0.clone()
-                }
-                None => format!("{prefix}{}", elements.len()),
-            }
-        } else {
-            id.clone()
-        };
         let name = match parent_el {
             _ if !id.is_empty() => id.clone(),
             None => tag.clone(),
@@ -267,16 +306,7 @@ pub(crate) fn read(
             node: node.id(),
         });
     }
-    let mut rewritten = String::with_capacity(text.len() + inserts.len() * 24);
-    let mut last = 0;
-    // In offset order (a BTreeMap), so every slice below runs forwards.
-    for (&at, (_, s)) in &inserts {
-        rewritten.push_str(text.get(last..at).unwrap_or(""));
-        rewritten.push_str(s);
-        last = at;
-    }
-    rewritten.push_str(text.get(last..).unwrap_or(""));
-    Some(Source { elements, by_key, rewritten })
+    Source { elements, by_key }
 }
 
 /// The byte offset just after an element's tag name in its start tag, when
@@ -361,5 +391,121 @@ fn annotation_at(
             diags.push(d);
             None
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Drawings whose ids the first pass must get right: elements without
+    /// ids, ids that already use the inserted prefix, entity expansions
+    /// (used twice, quoted either way, nested in a group), Inkscape layers
+    /// with labels in other scripts, self-closing and empty elements.
+    const DRAWINGS: [&str; 4] = [
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="10mm" height="10mm"><rect width="2" height="2"/><g id="a"><circle r="1"/><path d="M0 0L1 1"/></g><g/></svg>"#,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" id="taxel-auto-3">
+  <rect width="2" height="2"/><rect id="taxel-auto-x1" width="1" height="1"/>
+  <rect width="3" height="3"></rect>
+</svg>"#,
+        r#"<?xml version="1.0"?>
+<!DOCTYPE svg [
+  <!ENTITY square "<rect x='10' y='10' width='20' height='20'/>">
+  <!ENTITY dot '<g><circle cx="5" cy="5" r="2"/></g>'>
+]>
+<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="60mm" viewBox="0 0 100 60">
+  <g id="v">&square;</g>
+  <g>&square;&dot;</g>
+  <text x="1" y="2">é &amp; ü</text>
+</svg>"#,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape" width="10mm" height="10mm">
+  <g inkscape:groupmode="layer" inkscape:label="Calque élévation"><path d="M0 0H5V5Z"/>
+    <g inkscape:groupmode="layer" inkscape:label="レイヤー 1"><rect width="1" height="1"/></g>
+  </g>
+  <g inkscape:groupmode="layer" inkscape:label="tactile: vibrate()" id="l"><rect width="4" height="4"/></g>
+</svg>"#,
+    ];
+
+    fn parse(text: &str) -> Document<'_> {
+        Document::parse_with_options(text, xml_options()).unwrap()
+    }
+
+    #[test]
+    fn the_first_pass_inserts_exactly_the_keys_usvg_then_reads() {
+        for text in DRAWINGS {
+            let doc = parse(text);
+            let Keys { keys, rewritten } = keys(text, &doc, &mut Vec::new()).unwrap();
+            let elements: Vec<Node<'_, '_>> = doc.root_element().descendants().filter(|n| n.is_element()).collect();
+            assert_eq!(keys.len(), elements.len(), "{text}");
+            // What usvg parses: the same elements, in the same order, each carrying its key as its id.
+            let doc2 = parse(&rewritten);
+            let seen: Vec<&str> = doc2
+                .root_element()
+                .descendants()
+                .filter(|n| n.is_element())
+                .map(|n| n.attribute("id").unwrap_or("(none)"))
+                .collect();
+            assert_eq!(seen, keys, "{rewritten}");
+            // Outside entities, the key is the id as written, or the prefix and
+            // the element's position in document order; the prefix is one no
+            // id of the drawing starts with.
+            let ids: Vec<&str> = elements.iter().filter_map(|n| n.attribute("id")).collect();
+            let prefix = (0..)
+                .map(|x| format!("taxel-auto-{}", "x".repeat(x)))
+                .find(|p| !ids.iter().any(|i| i.starts_with(p.as_str())))
+                .unwrap();
+            let body = doc.root_element().range().start;
+            for (n, (e, k)) in elements.iter().zip(&keys).enumerate() {
+                match e.attribute("id") {
+                    Some(id) => assert_eq!(k, id),
+                    None if e.range().start >= body => assert_eq!(*k, format!("{prefix}{n}")),
+                    None => assert!(k.starts_with(&prefix), "{k}"),
+                }
+            }
+            // Taking the inserted ids out again gives the text back, line for line.
+            let mut back = rewritten.clone();
+            // (Each once: the copies of an entity's element share the one inserted in the entity.)
+            let inserted: HashSet<&String> = keys.iter().filter(|k| !ids.contains(&k.as_str())).collect();
+            for k in inserted {
+                let at = back.find(&format!(" id=\"{k}\"")).or_else(|| back.find(&format!(" id='{k}'"))).unwrap();
+                back.replace_range(at..at + k.len() + 6, "");
+            }
+            assert_eq!(back, text);
+        }
+    }
+
+    #[test]
+    fn the_second_pass_reads_each_element_under_its_key() {
+        for text in DRAWINGS {
+            let doc = parse(text);
+            let first = keys(text, &doc, &mut Vec::new()).unwrap();
+            let src = read(text, &doc, first.keys.clone(), None, &mut Vec::new());
+            let elements: Vec<Node<'_, '_>> = doc.root_element().descendants().filter(|n| n.is_element()).collect();
+            assert_eq!(src.elements.len(), elements.len());
+            for (i, (e, node)) in src.elements.iter().zip(&elements).enumerate() {
+                assert_eq!(e.key, first.keys[i]);
+                assert_eq!(e.node, node.id());
+                assert_eq!(e.tag, node.tag_name().name());
+                assert!(src.by_key[&e.key].contains(&i));
+                assert_eq!(src.get(&e.key, e.parent).map(|(_, f)| f.key.as_str()), Some(e.key.as_str()));
+            }
+        }
+        // Layers, labels and annotations still come from the original text.
+        let text = DRAWINGS[3];
+        let doc = parse(text);
+        let src = read(text, &doc, keys(text, &doc, &mut Vec::new()).unwrap().keys, None, &mut Vec::new());
+        let rect = src.elements.iter().find(|e| e.layers.len() == 2).unwrap();
+        assert_eq!(rect.layers, ["Calque élévation", "レイヤー 1"]);
+        assert_eq!(rect.line, 3);
+        assert!(src.elements.iter().any(|e| e.id == "l" && e.own.is_some()));
+    }
+
+    #[test]
+    fn a_root_that_is_not_svg_is_refused_by_the_first_pass() {
+        let text = "<html><svg/></html>";
+        let mut diags = Vec::new();
+        assert!(keys(text, &parse(text), &mut diags).is_none());
+        assert_eq!(diags.len(), 1);
+        assert_eq!(diags[0].code, "T0200");
     }
 }

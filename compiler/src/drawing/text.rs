@@ -3,6 +3,9 @@
 //! them out, and the style in force from the element and its XML ancestors.
 //! Glyph outlines, when usvg could lay the text out, come from the walk.
 
+use std::collections::HashMap;
+
+use rayon::prelude::*;
 use resvg::tiny_skia::Transform;
 use roxmltree::{Document, Node};
 
@@ -11,6 +14,7 @@ use super::walk::{Decl, Walked, element_of};
 use super::{Element, Paint, Shape, StyledBy, TextRun, TextShape};
 use crate::annotation::Style;
 use crate::diagnostic::Diagnostic;
+use crate::geometry::Polyline;
 
 /// The declaration in force at a `<text>` from the XML alone (own, style
 /// sheet by id/class/layer, then its ancestors', the root `<svg>` included).
@@ -30,81 +34,106 @@ fn xml_decl(src: &Source, elem: usize) -> Option<Decl> {
 }
 
 /// The drawing elements of every `<text>` outside `<defs>` that is drawn,
-/// with the index of its source element. A text with a braille style that is
-/// not drawn gets a warning.
+/// with the index of its source element, each given its glyph outline from
+/// `outlines` (the walk's, taken from it). A text with a braille style that
+/// is not drawn gets a warning.
 pub(crate) fn texts(
     src: &Source,
     doc: &Document<'_>,
     walked: &Walked,
+    mut outlines: HashMap<usize, Vec<Polyline>>,
     mm_per_px: f64,
     root_ts: Transform,
     diags: &mut Vec<Diagnostic>,
 ) -> Vec<(usize, Element)> {
-    let mut out = Vec::new();
-    for (i, e) in src.elements.iter().enumerate() {
-        if e.kind != Kind::Text || e.in_defs {
-            continue;
-        }
-        let decl = xml_decl(src, i);
-        let braille = decl.as_ref().is_some_and(|(d, _)| d.styles().iter().any(|s| matches!(s, Style::Braille(_))));
-        // The nearest group usvg kept gives the transform; if usvg dropped it, the text is not drawn.
-        let mut parent_ts = Some(root_ts);
-        let mut p = e.parent;
-        while let Some(k) = p {
-            let a = &src.elements[k];
-            if a.kind == Kind::Group && a.parent.is_some() {
-                parent_ts = walked.group_ts.get(&a.key).copied();
-                break;
+    // Each text alone, in parallel, in document order.
+    let texts: Vec<usize> =
+        (0..src.elements.len()).filter(|&i| src.elements[i].kind == Kind::Text && !src.elements[i].in_defs).collect();
+    let made: Vec<Result<Option<(usize, Element)>, Diagnostic>> =
+        texts.into_par_iter().map(|i| text(src, doc, walked, i, mm_per_px, root_ts)).collect();
+    let mut out = Vec::with_capacity(made.len());
+    for m in made {
+        match m {
+            Ok(Some((i, mut el))) => {
+                if let Shape::Text(t) = &mut el.shape {
+                    t.outline = outlines.remove(&i).unwrap_or_default();
+                }
+                out.push((i, el));
             }
-            p = a.parent;
+            Ok(None) => {}
+            Err(d) => diags.push(d),
         }
-        let Some(node) = doc.get_node(e.node) else { continue };
-        let own_ts = node
-            .attribute("transform")
-            .and_then(|t| t.parse::<svgtypes::Transform>().ok())
-            .map_or(Transform::identity(), |t| {
-                Transform::from_row(t.a as f32, t.b as f32, t.c as f32, t.d as f32, t.e as f32, t.f as f32)
-            });
-        let s = mm_per_px as f32;
-        let ts = parent_ts.map(|pts| Transform::from_scale(s, s).pre_concat(pts).pre_concat(own_ts));
-        let Some(ts) =
-            ts.filter(|ts| ts.sx.is_finite() && ts.ty.is_finite() && node.attribute("display") != Some("none"))
-        else {
-            if braille {
-                diags.push(
-                    Diagnostic::warning("T0301", "this text is not drawn; no braille is made for it")
-                        .with_element(&e.name)
-                        .at_line(e.line),
-                );
-            }
-            continue;
-        };
-        let anchor = anchor(node);
-        let (mut ux, mut uy) = (0.0f64, 0.0f64);
-        let mut runs = Vec::new();
-        for run in runs_of(node) {
-            let continues = run.x.is_none() && run.y.is_none() && !runs.is_empty();
-            ux = run.x.unwrap_or(ux);
-            uy = run.y.unwrap_or(uy);
-            let (fx, fy) = (ux as f32, uy as f32);
-            runs.push(TextRun {
-                x_mm: (ts.sx * fx + ts.kx * fy + ts.tx) as f64,
-                y_mm: (ts.ky * fx + ts.sy * fy + ts.ty) as f64,
-                text: run.text,
-                anchor,
-                continues,
-            });
-        }
-        let (paint, font_size_mm) = walked.text_paint.get(&i).copied().unwrap_or((Paint::default(), 16.0 * s as f64));
-        let shape = TextShape {
-            content: runs.iter().map(|r| r.text.as_str()).collect::<Vec<_>>().join(" "),
-            runs,
-            font_size_mm,
-            outline: walked.text_outlines.get(&i).cloned().unwrap_or_default(),
-        };
-        out.push((i, element_of(e, decl, true, paint, Shape::Text(shape))));
     }
     out
+}
+
+/// The drawing element of the `<text>` that is source element `i`, without
+/// its glyph outline; `None` when it is not drawn, a warning when it is not
+/// drawn and asks for braille.
+fn text(
+    src: &Source,
+    doc: &Document<'_>,
+    walked: &Walked,
+    i: usize,
+    mm_per_px: f64,
+    root_ts: Transform,
+) -> Result<Option<(usize, Element)>, Diagnostic> {
+    let e = &src.elements[i];
+    let decl = xml_decl(src, i);
+    let braille = decl.as_ref().is_some_and(|(d, _)| d.styles().iter().any(|s| matches!(s, Style::Braille(_))));
+    // The nearest group usvg kept gives the transform; if usvg dropped it, the text is not drawn.
+    let mut parent_ts = Some(root_ts);
+    let mut p = e.parent;
+    while let Some(k) = p {
+        let a = &src.elements[k];
+        if a.kind == Kind::Group && a.parent.is_some() {
+            parent_ts = walked.group_ts.get(&a.key).copied();
+            break;
+        }
+        p = a.parent;
+    }
+    let Some(node) = doc.get_node(e.node) else { return Ok(None) };
+    let own_ts = node
+        .attribute("transform")
+        .and_then(|t| t.parse::<svgtypes::Transform>().ok())
+        .map_or(Transform::identity(), |t| {
+            Transform::from_row(t.a as f32, t.b as f32, t.c as f32, t.d as f32, t.e as f32, t.f as f32)
+        });
+    let s = mm_per_px as f32;
+    let ts = parent_ts.map(|pts| Transform::from_scale(s, s).pre_concat(pts).pre_concat(own_ts));
+    let Some(ts) = ts.filter(|ts| ts.sx.is_finite() && ts.ty.is_finite() && node.attribute("display") != Some("none"))
+    else {
+        if braille {
+            return Err(Diagnostic::warning("T0301", "this text is not drawn; no braille is made for it")
+                .with_element(&e.name)
+                .at_line(e.line));
+        }
+        return Ok(None);
+    };
+    let anchor = anchor(node);
+    let (mut ux, mut uy) = (0.0f64, 0.0f64);
+    let mut runs = Vec::new();
+    for run in runs_of(node) {
+        let continues = run.x.is_none() && run.y.is_none() && !runs.is_empty();
+        ux = run.x.unwrap_or(ux);
+        uy = run.y.unwrap_or(uy);
+        let (fx, fy) = (ux as f32, uy as f32);
+        runs.push(TextRun {
+            x_mm: (ts.sx * fx + ts.kx * fy + ts.tx) as f64,
+            y_mm: (ts.ky * fx + ts.sy * fy + ts.ty) as f64,
+            text: run.text,
+            anchor,
+            continues,
+        });
+    }
+    let (paint, font_size_mm) = walked.text_paint.get(&i).copied().unwrap_or((Paint::default(), 16.0 * s as f64));
+    let shape = TextShape {
+        content: runs.iter().map(|r| r.text.as_str()).collect::<Vec<_>>().join(" "),
+        runs,
+        font_size_mm,
+        outline: Vec::new(),
+    };
+    Ok(Some((i, element_of(e, decl, true, paint, Shape::Text(shape)))))
 }
 
 /// One positioned run of a `<text>`: a start position (user units, when given) and its text.

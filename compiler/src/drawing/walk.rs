@@ -10,7 +10,8 @@
 
 use std::collections::{HashMap, HashSet};
 
-use resvg::tiny_skia::Transform;
+use rayon::prelude::*;
+use resvg::tiny_skia::{Path, Transform};
 use usvg::{Group, Node};
 
 use super::source::{Kind, Source};
@@ -36,11 +37,32 @@ pub(crate) struct Walked {
     pub seen: HashSet<usize>,
 }
 
-struct Walker<'s> {
+/// A drawn element found by the walk, made into a drawing [`Element`] once
+/// the walk is over, in parallel: flattening its path and copying its
+/// source element's strings were a tenth of the time before the layers that
+/// used one core (the 1,000-region map).
+struct Found<'t> {
+    elem: usize,
+    decl: Option<Decl>,
+    visible: bool,
+    paint: Paint,
+    shape: FoundShape<'t>,
+}
+
+/// A found element's geometry: a path still to flatten, or a shape.
+enum FoundShape<'t> {
+    Path { data: &'t Path, ts: Transform, fill_rule: FillRule, markers: Vec<(f64, f64)>, clips: Vec<Clip> },
+    Done(Shape),
+}
+
+struct Walker<'s, 't> {
     src: &'s Source,
     sheet: Option<&'s StyleSheet>,
     page_ts: Transform,
     out: Walked,
+    found: Vec<Found<'t>>,
+    /// The glyph paths of each laid-out text, in tree order: its source element and its paths.
+    glyphs: Vec<(usize, Vec<(&'t Path, Transform)>)>,
 }
 
 /// Walks `tree`; `mm_per_px` maps usvg pixels to page millimetres.
@@ -57,12 +79,50 @@ pub(crate) fn walk(tree: &usvg::Tree, src: &Source, sheet: Option<&StyleSheet>, 
             group_ts: HashMap::new(),
             seen: HashSet::new(),
         },
+        found: Vec::new(),
+        glyphs: Vec::new(),
     };
     // usvg's root group stands for the root `<svg>`, whose annotation applies to the whole drawing.
     let root = src.elements.first().and_then(|_| w.resolve(0, None, None, None));
     let here = (!src.elements.is_empty()).then_some(0);
     w.group(tree.root(), root.as_ref(), None, here, &mut Vec::new());
-    w.out
+    let Walker { mut out, found, glyphs, .. } = w;
+    // Each element alone, in parallel; collected in the walk's order.
+    let (elements, outlines) = rayon::join(
+        || {
+            found
+                .into_par_iter()
+                .map(|f| {
+                    let shape = match f.shape {
+                        FoundShape::Path { data, ts, fill_rule, markers, clips } => Shape::Path(PathShape {
+                            outline: geometry::flatten(data, ts, geometry::FLATTEN_TOLERANCE_MM),
+                            fill_rule,
+                            markers,
+                            clips,
+                        }),
+                        FoundShape::Done(shape) => shape,
+                    };
+                    (f.elem, element_of(&src.elements[f.elem], f.decl, f.visible, f.paint, shape))
+                })
+                .collect()
+        },
+        || {
+            glyphs
+                .par_iter()
+                .map(|(elem, paths)| {
+                    let outline = paths
+                        .iter()
+                        .flat_map(|&(data, ts)| geometry::flatten(data, ts, geometry::FLATTEN_TOLERANCE_MM))
+                        .collect();
+                    (*elem, outline)
+                })
+                .collect::<Vec<_>>()
+        },
+    );
+    out.elements = elements;
+    // In tree order, so a text usvg met twice keeps its last outline, as it would be inserted last.
+    out.text_outlines.extend(outlines);
+    out
 }
 
 fn rgba(p: &usvg::Paint, opacity: f32) -> Option<Rgba> {
@@ -165,7 +225,7 @@ pub(crate) fn element_of(
     }
 }
 
-impl Walker<'_> {
+impl<'t> Walker<'_, 't> {
     /// The declaration in force at a node whose element is `elem`, given what
     /// its usvg parent has.
     fn resolve(
@@ -203,9 +263,9 @@ impl Walker<'_> {
         inherited.cloned()
     }
 
-    /// A drawing element for source element `elem` with `decl` in force.
-    fn element(&self, elem: usize, decl: Option<Decl>, visible: bool, paint: Paint, shape: Shape) -> Element {
-        element_of(&self.src.elements[elem], decl, visible, paint, shape)
+    /// Records the drawing element of source element `elem` with `decl` in force.
+    fn element(&mut self, elem: usize, decl: Option<Decl>, visible: bool, paint: Paint, shape: FoundShape<'t>) {
+        self.found.push(Found { elem, decl, visible, paint, shape });
     }
 
     fn bounds_mm(&self, r: usvg::Rect) -> Option<(f64, f64, f64, f64)> {
@@ -219,7 +279,7 @@ impl Walker<'_> {
     /// `here` is the source element of the nearest group with one.
     fn group(
         &mut self,
-        g: &Group,
+        g: &'t Group,
         inherited: Option<&Decl>,
         owner: Option<usize>,
         here: Option<usize>,
@@ -245,8 +305,7 @@ impl Walker<'_> {
                     // usvg wraps an <image> in a group that carries its id.
                     if let Some(ei) = own.filter(|&ei| self.src.elements[ei].tag == "image") {
                         if let Some(bounds) = self.bounds_mm(cg.abs_bounding_box()) {
-                            let el = self.element(ei, decl, true, Paint::default(), Shape::Image { bounds });
-                            self.out.elements.push((ei, el));
+                            self.element(ei, decl, true, Paint::default(), FoundShape::Done(Shape::Image { bounds }));
                         }
                         continue;
                     }
@@ -280,22 +339,17 @@ impl Walker<'_> {
                         inherited,
                     );
                     let ts = self.page_ts.pre_concat(p.abs_transform());
-                    let shape = Shape::Path(PathShape {
-                        outline: geometry::flatten(p.data(), ts, geometry::FLATTEN_TOLERANCE_MM),
-                        fill_rule: fill_rule(p),
-                        markers,
-                        clips: clips.clone(),
-                    });
+                    let shape =
+                        FoundShape::Path { data: p.data(), ts, fill_rule: fill_rule(p), markers, clips: clips.clone() };
                     let paint = paint_of(p.fill(), p.stroke(), ts);
-                    let el = self.element(ei, decl, p.is_visible(), paint, shape);
-                    self.out.elements.push((ei, el));
+                    self.element(ei, decl, p.is_visible(), paint, shape);
                 }
                 Node::Text(t) => {
                     let Some((ei, _)) = self.src.get(t.id(), here) else { continue };
                     self.out.seen.insert(ei);
-                    let mut outline = Vec::new();
-                    text_outline(t.flattened(), self.page_ts, &mut outline);
-                    self.out.text_outlines.insert(ei, outline);
+                    let mut paths = Vec::new();
+                    glyph_paths(t.flattened(), self.page_ts, &mut paths);
+                    self.glyphs.push((ei, paths));
                     let span = t.chunks().first().and_then(|c| c.spans().first());
                     if let Some(span) = span {
                         let ts = self.page_ts.pre_concat(t.abs_transform());
@@ -308,8 +362,8 @@ impl Walker<'_> {
                         self.out.seen.insert(ei);
                         if let Some(bounds) = self.bounds_mm(im.abs_bounding_box()) {
                             let decl = self.resolve(ei, None, None, inherited);
-                            let el = self.element(ei, decl, im.is_visible(), Paint::default(), Shape::Image { bounds });
-                            self.out.elements.push((ei, el));
+                            let shape = FoundShape::Done(Shape::Image { bounds });
+                            self.element(ei, decl, im.is_visible(), Paint::default(), shape);
                         }
                     }
                 }
@@ -324,15 +378,12 @@ impl Walker<'_> {
     }
 }
 
-/// The glyph outlines of a laid-out text, in page mm.
-fn text_outline(g: &Group, page_ts: Transform, out: &mut Vec<Polyline>) {
+/// The glyph paths of a laid-out text, each with its transform to page mm.
+fn glyph_paths<'t>(g: &'t Group, page_ts: Transform, out: &mut Vec<(&'t Path, Transform)>) {
     for c in g.children() {
         match c {
-            Node::Path(p) => {
-                let ts = page_ts.pre_concat(p.abs_transform());
-                out.extend(geometry::flatten(p.data(), ts, geometry::FLATTEN_TOLERANCE_MM));
-            }
-            Node::Group(g) => text_outline(g, page_ts, out),
+            Node::Path(p) => out.push((p.data(), page_ts.pre_concat(p.abs_transform()))),
+            Node::Group(g) => glyph_paths(g, page_ts, out),
             _ => {}
         }
     }

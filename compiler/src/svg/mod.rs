@@ -38,8 +38,27 @@ use crate::options::{CompileOptions, DEFAULT_PX_PER_MM};
 /// from the input; one would be a bug, and it is not caught here (the batch
 /// builder catches it at its boundary, so one file cannot stop a batch).
 pub fn compile_svg(svg_text: &str, opts: &CompileOptions) -> Compiled {
+    compile_svg_with_fonts(svg_text, opts, &|| opts.fonts.clone())
+}
+
+/// [`compile_svg`] with the fonts given late: `fonts` is called (once) when
+/// the text is about to be laid out, after the XML has been parsed, so that
+/// the caller can load them meanwhile on another thread; `opts.fonts` is
+/// not used. The `taxel` binary loads the system's fonts this way.
+///
+/// ```
+/// use taxel_compiler::{CompileOptions, svg::compile_svg_with_fonts};
+/// use taxel_format::profiles;
+///
+/// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="60mm" height="40mm" viewBox="0 0 60 40">
+///   <rect x="10" y="10" width="30" height="22" data-tactile="vibrate()"/>
+/// </svg>"#;
+/// let out = compile_svg_with_fonts(svg, &CompileOptions::new(profiles::builtin("stress2").unwrap()), &|| None);
+/// assert!(out.bundle.is_some(), "{:?}", out.diagnostics);
+/// ```
+pub fn compile_svg_with_fonts(svg_text: &str, opts: &CompileOptions, fonts: drawing::Fonts<'_>) -> Compiled {
     let (mut diagnostics, mut fonts_used) = (Vec::new(), Vec::new());
-    let bundle = compile(svg_text, opts, &mut diagnostics, &mut fonts_used);
+    let bundle = compile(svg_text, opts, fonts, &mut diagnostics, &mut fonts_used);
     let bundle = if has_errors(&diagnostics) { None } else { bundle };
     Compiled { bundle, diagnostics, fonts_used }
 }
@@ -48,6 +67,7 @@ pub fn compile_svg(svg_text: &str, opts: &CompileOptions) -> Compiled {
 fn compile(
     text: &str,
     opts: &CompileOptions,
+    fonts: drawing::Fonts<'_>,
     diags: &mut Vec<Diagnostic>,
     fonts_used: &mut Vec<drawing::FontFace>,
 ) -> Option<Bundle> {
@@ -62,7 +82,7 @@ fn compile(
             return None;
         }
     };
-    let mut drawing = drawing::resolve_into(text, opts, diags, fonts_used)?;
+    let mut drawing = drawing::resolve_into(text, opts, fonts, diags, fonts_used)?;
     // Styles asked of shapes that are not drawn count as asked (for the T0300 message below).
     let not_drawn = diags.iter().filter(|d| d.code == drawing::NOT_DRAWN).count();
     crate::prepare::prepare(&mut drawing, opts, diags);
