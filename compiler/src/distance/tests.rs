@@ -32,14 +32,30 @@ fn params(pitch: f64, soft: f64) -> FieldParams {
 fn check(g: &LayerGeometry<'_>, p: FieldParams, points: &[(f64, f64)]) -> Result<(), TestCaseError> {
     let h = p.pitch_mm;
     let exact = |q: (f64, f64)| exact_signed_distance(g, p.page, q);
+    let reach = p.soft_mm / 2.0 + 2.0 * h;
     let Some(f) = build_field(g, p) else {
-        // Nothing felt: every point is outside.
+        // Nothing felt: the field is what outside constant tiles on the
+        // layer's lattice (multiples of h) would play, and is held to their
+        // rule below: the exact distances at the corners of each point's
+        // cell saturate the profile outside, and a point farther than the
+        // interpolation bound h √2 from any edge is outside. (A sliver
+        // narrower than a cell between samples that all saturate outside is
+        // not felt, as in a stored field.)
+        let step = reach / 126.0;
+        let ramp = taxel_format::edge_ramp(p.soft_mm as f32, step as f32) as f64;
         for &q in points {
-            prop_assert!(exact(q) <= 1e-9, "no field, but {q:?} is inside by {}", exact(q));
+            let e = exact(q);
+            let (ci, cj) = ((q.0 / h).floor(), (q.1 / h).floor());
+            for (i, j) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)] {
+                let v = exact(((ci + i) * h, (cj + j) * h));
+                prop_assert!(-v >= ramp / 2.0 - step, "no field, but {q:?}'s cell corner is at {v}");
+            }
+            if e.abs() > h * std::f64::consts::SQRT_2 {
+                prop_assert!(e < 0.0, "no field, but {q:?} is inside by {e}");
+            }
         }
         return Ok(());
     };
-    let reach = p.soft_mm / 2.0 + 2.0 * h;
     for &q in points {
         let e = exact(q);
         let got = field_distance(&f, h, q);
