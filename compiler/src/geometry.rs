@@ -564,15 +564,19 @@ mod tests {
         points.iter().zip(keep).filter(|(_, k)| *k).map(|(p, _)| *p).collect()
     }
 
-    #[test]
-    fn simplify_keeps_the_points_that_measuring_every_point_keeps() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = move || {
+    /// A xorshift generator of uniform numbers in [0, 1) from `seed`.
+    fn uniform(mut state: u64) -> impl FnMut() -> f64 {
+        move || {
             state ^= state << 13;
             state ^= state >> 7;
             state ^= state << 17;
             (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        }
+    }
+
+    #[test]
+    fn simplify_keeps_the_points_that_measuring_every_point_keeps() {
+        let mut next = uniform(0x9e37_79b9_7f4a_7c15u64);
         let mut cases: Vec<Vec<(f64, f64)>> = Vec::new();
         for k in 0..300 {
             let n = 4 + (next() * 400.0) as usize;
@@ -618,13 +622,7 @@ mod tests {
     /// Offsets `(a, b)` whose squares order them one way and whose `hypot`
     /// the other (`a`'s square above `b`'s, `a` nearer): a few ulps apart.
     fn squares_and_hypot_disagree() -> Vec<((f64, f64), (f64, f64))> {
-        let mut state = 0x853c_49e6_748f_ea9bu64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = uniform(0x853c_49e6_748f_ea9bu64);
         let ulps = |v: f64, k: i64| f64::from_bits((v.to_bits() as i64 + k) as u64);
         let mut out = Vec::new();
         while out.len() < 40 {
