@@ -654,6 +654,21 @@ mod tests {
 
     use super::*;
 
+    /// The tiles of the layer grid tests' layers, (columns, rows).
+    const GRID_TILES: (usize, usize) = (3, 3);
+
+    /// The layer grid tests' set-up: `segs` binned into the tiles of a
+    /// [`GRID_TILES`] layer at `origin` with lattice pitch `h`, and the
+    /// layer's grid of them (one slot per part kind, as one style's layer).
+    fn layer_grid_of(segs: &[(Seg, Part, f64)], origin: (f64, f64), h: f64, margin: f64) -> (Vec<Vec<u32>>, LayerGrid) {
+        let (cols, rows) = GRID_TILES;
+        let tile = TILE_CELLS as f64 * h;
+        let (buckets, spans) = super::super::buckets_of(segs, origin, tile, (cols, rows));
+        let lattice = super::super::layer_grid::Lattice { origin, h, cols, rows, margin, slots: slots(1, 1) };
+        let grid = LayerGrid::new(segs, spans, &lattice, |p| slot_of(p, 1, 1), 0, MAX_RINGS);
+        (buckets, grid.expect("a layer grid"))
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
 
@@ -766,13 +781,8 @@ mod tests {
                     ((a, last), part, r)
                 })
                 .collect();
-            let origin = (0.0, 0.0);
-            let (cols, rows) = (3, 3);
-            let tile = TILE_CELLS as f64 * h;
-            let (buckets, spans) = super::super::buckets_of(&segs, origin, tile, (cols, rows));
-            let lattice = super::super::layer_grid::Lattice { origin, h, cols, rows, margin, slots: slots(1, 1) };
-            let grid = LayerGrid::new(&segs, spans, &lattice, |p| slot_of(p, 1, 1), 0, MAX_RINGS);
-            let grid = grid.expect("a layer grid");
+            let cols = GRID_TILES.0;
+            let (buckets, grid) = layer_grid_of(&segs, (0.0, 0.0), h, margin);
             let want_slot = part.map(|p| slot_of(p, 1, 1).expect("a slot"));
             for (k, bucket) in buckets.iter().enumerate() {
                 let (c, r) = (k % cols, k / cols);
@@ -819,12 +829,8 @@ mod tests {
                     (((x, y), (x + k * dx, y + k * dy)), part, r)
                 })
                 .collect();
-            let (cols, rows) = (3, 3);
-            let tile = TILE_CELLS as f64 * h;
-            let (buckets, spans) = super::super::buckets_of(&segs, origin, tile, (cols, rows));
-            let lattice = super::super::layer_grid::Lattice { origin, h, cols, rows, margin, slots: slots(1, 1) };
-            let grid = LayerGrid::new(&segs, spans, &lattice, |p| slot_of(p, 1, 1), 0, MAX_RINGS);
-            let grid = grid.expect("a layer grid");
+            let cols = GRID_TILES.0;
+            let (buckets, grid) = layer_grid_of(&segs, origin, h, margin);
             let (mut by_layer, mut by_tile) = (Near::new(1, vec![0.6]), Near::new(1, vec![0.6]));
             for (k, bucket) in buckets.iter().enumerate() {
                 let (c, r) = (k % cols, k / cols);
