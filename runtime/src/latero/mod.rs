@@ -174,6 +174,8 @@ pub struct LateroPlayer<'a, S = [Layer<'a>; DEFAULT_LAYERS]> {
     surface_h: f32,
     clock: osc::PhaseClock,
     max_code: f32,
+    /// The same for [`quantise_block`].
+    block_scale: BlockScale,
     /// Distance from the array's centre to column 0 and to row 0.
     half_span_x: f32,
     half_span_y: f32,
@@ -264,6 +266,7 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
             surface_h: p.surface_h_mm,
             clock: osc::PhaseClock::new(p.rate_hz),
             max_code: p.max_code() as f32,
+            block_scale: BlockScale::new(p.max_code() as f32),
             half_span_x: (p.cols as usize).saturating_sub(1) as f32 * 0.5 * p.pitch_x_mm,
             half_span_y: (p.rows as usize).saturating_sub(1) as f32 * 0.5 * p.pitch_y_mm,
             rows_per_block: (BLOCK / (p.cols as usize).max(1)).max(1),
@@ -339,7 +342,7 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
             for layer in layers {
                 layer.accumulate(&f, &mut acc);
             }
-            stats.clamped = quantise_block(block, &acc, self.max_code);
+            stats.clamped = quantise_block(block, &acc, &self.block_scale);
             return stats;
         }
         let rows_per_block = self.rows_per_block;
@@ -352,7 +355,7 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
             stats.clamped += match <&mut [u16; BLOCK]>::try_from(&mut *block) {
                 // A whole block (every 64-actuator array) at up to 14 bits:
                 // eight codes at a time in 16-bit lanes.
-                Ok(block) if self.max_code <= VECTOR_MAX_CODE => quantise_block(block, &acc, self.max_code),
+                Ok(block) if self.max_code <= VECTOR_MAX_CODE => quantise_block(block, &acc, &self.block_scale),
                 _ => quantise(block, &acc, self.clamp_at, self.max_code),
             };
         }
@@ -380,6 +383,23 @@ fn quantise(out: &mut [u16], acc: &Acc, clamp_at: f32, max_code: f32) -> u32 {
     clamped
 }
 
+/// [`quantise_block`]'s `max_code` in lanes, splat at load rather than
+/// in every frame.
+#[derive(Debug, Clone, Copy)]
+struct BlockScale {
+    /// `max_code` as `f32`, the sums' scale.
+    scale: f32x4,
+    /// `max_code` as `i16`, the largest code (saturated for a `max_code`
+    /// above [`VECTOR_MAX_CODE`], which [`quantise_block`] does not serve).
+    top: i16x8,
+}
+
+impl BlockScale {
+    fn new(max_code: f32) -> Self {
+        BlockScale { scale: f32x4::splat(max_code), top: i16x8::splat(max_code as i16) }
+    }
+}
+
 /// The largest `max_code` that [`quantise_block`] serves: twice it (a sum
 /// clamped to 2) must still fit an `i16` lane, or saturation would hide the
 /// codes above `max_code` that count as clamped. 14 bits.
@@ -391,20 +411,18 @@ const VECTOR_MAX_CODE: f32 = (i16::MAX / 2) as f32;
 /// those above `max_code` are counted and every code is clamped to
 /// `0..=max_code` (so that even a NaN, impossible from validated layers,
 /// gives a code in range on every target). A sum above 1 by more than half
-/// a step rounds above `max_code`, exactly the sums [`quantise`] counts.
-/// The sums need no clamp above: past `2²³ + 2¹⁵` the float's bits less
-/// those of 2²³ still grow with it (up to +∞), so the narrowing saturates
-/// them to `i16::MAX`.
+/// a step rounds above `max_code`, exactly the sums [`quantise`] counts. The sums need no clamp above: past `2²³ + 2¹⁵`
+/// the float's bits less those of 2²³ still grow with it (up to +∞), so the
+/// narrowing saturates them to `i16::MAX`.
 ///
 /// Not inlined: inlined, its constants are hoisted out of the frame's loop
 /// over blocks and live in vector registers across the layers' calls, which
 /// may overwrite them (caller-saved on x86-64), so the frame reloaded all of
 /// them after every layer.
 #[inline(never)]
-fn quantise_block(out: &mut [u16; BLOCK], acc: &Acc, max_code: f32) -> u32 {
-    let (scale, round) = (f32x4::splat(max_code), f32x4::splat(ROUND_BITS));
+fn quantise_block(out: &mut [u16; BLOCK], acc: &Acc, q: &BlockScale) -> u32 {
+    let (scale, round, top) = (q.scale, f32x4::splat(ROUND_BITS), q.top);
     let bias = i32x4::splat(ROUND_BITS.to_bits() as i32);
-    let top = i16x8::splat(max_code as i16);
     let mut over = i16x8::ZERO;
     for (o, a) in out.chunks_exact_mut(8).zip(acc.chunks_exact(8)) {
         let code = |a: &[f32]| -> i32x4 {
@@ -417,12 +435,15 @@ fn quantise_block(out: &mut [u16; BLOCK], acc: &Acc, max_code: f32) -> u32 {
         };
         let c = i16x8::from_i32x8_saturate(cast([code(&a[..4]), code(&a[4..])]));
         // A true lane compares as −1.
-        over -= c.simd_gt(top);
+        over += c.simd_gt(top);
         if let Ok(o) = <&mut [u16; 8]>::try_from(o) {
             *o = cast(c.max(i16x8::ZERO).min(top));
         }
     }
-    over.to_array().iter().map(|&n| n as u32).sum()
+    // Each lane holds minus its count (at most 8): the products by −1 add
+    // them in pairs (`pmaddwd` on x86-64), then the four pair sums.
+    let pairs = over.dot(i16x8::splat(-1)).to_array();
+    (pairs[0] + pairs[1] + pairs[2] + pairs[3]) as u32
 }
 
 /// The half-open range of indices `0..n` whose position `first + i · pitch`
@@ -609,7 +630,7 @@ mod tests {
                     }
                 }
                 let (mut block, mut scalar) = ([0u16; BLOCK], [0u16; BLOCK]);
-                let n = quantise_block(&mut block, &acc, max);
+                let n = quantise_block(&mut block, &acc, &BlockScale::new(max));
                 let m = quantise(&mut scalar, &acc, clamp_at, max);
                 assert_eq!((block, n), (scalar, m), "max code {max}, sums {acc:?}");
             }
