@@ -168,8 +168,6 @@ pub struct LateroPlayer<'a, S = [Layer<'a>; DEFAULT_LAYERS]> {
     cols: usize,
     pitch_x: f32,
     pitch_y: f32,
-    inv_pitch_x: f32,
-    inv_pitch_y: f32,
     surface_w: f32,
     surface_h: f32,
     clock: osc::PhaseClock,
@@ -186,6 +184,15 @@ pub struct LateroPlayer<'a, S = [Layer<'a>; DEFAULT_LAYERS]> {
     /// Whether the array is exactly one block ([`BLOCK`] actuators) and
     /// its codes fit [`quantise_block`]: then a frame is one block.
     whole_block: bool,
+    /// `(cols − 1) · pitch_x` and `(rows − 1) · pitch_y`, as [`inside`]
+    /// computes them: the array is on the surface when its first column
+    /// and row are at or past 0 and its last ones at or before the edges.
+    span_x: f32,
+    span_y: f32,
+    /// The frame of an array wholly on the surface, as one block, but for
+    /// the tick and the position: built at load, copied by every frame
+    /// that plays as one block.
+    whole: Frame,
     _bundle: core::marker::PhantomData<&'a [u8]>,
 }
 
@@ -252,6 +259,34 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
                 len += 1;
             }
         }
+        let (rows, cols) = (p.rows as usize, p.cols as usize);
+        let clock = osc::PhaseClock::new(p.rate_hz);
+        // Profiles have positive pitches (taxel-format checks them).
+        let (inv_pitch_x, inv_pitch_y) = (1.0 / p.pitch_x_mm, 1.0 / p.pitch_y_mm);
+        let mut whole = Frame {
+            tick_in_second: 0,
+            clock,
+            cols,
+            pitch_x: p.pitch_x_mm,
+            pitch_y: p.pitch_y_mm,
+            inv_pitch_x,
+            inv_pitch_y,
+            x_first: 0.0,
+            y_first: 0.0,
+            col_lo: 0,
+            col_hi: cols,
+            row_lo: 0,
+            row_hi: rows,
+            r0: 0,
+            r1: 0,
+            run_first: f32x4::ZERO,
+            run_pitch: f32x4::ZERO,
+            run_inv: f32x4::ZERO,
+            run_lo: i32x4::ZERO,
+            run_hi: i32x4::ZERO,
+        };
+        whole.prepare_runs();
+        whole.set_block(0, rows);
         Ok(LateroPlayer {
             layers: storage,
             len,
@@ -259,19 +294,19 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
             cols: p.cols as usize,
             pitch_x: p.pitch_x_mm,
             pitch_y: p.pitch_y_mm,
-            // Profiles have positive pitches (taxel-format checks them).
-            inv_pitch_x: 1.0 / p.pitch_x_mm,
-            inv_pitch_y: 1.0 / p.pitch_y_mm,
             surface_w: p.surface_w_mm,
             surface_h: p.surface_h_mm,
-            clock: osc::PhaseClock::new(p.rate_hz),
+            clock,
             max_code: p.max_code() as f32,
             block_scale: BlockScale::new(p.max_code() as f32),
             half_span_x: (p.cols as usize).saturating_sub(1) as f32 * 0.5 * p.pitch_x_mm,
             half_span_y: (p.rows as usize).saturating_sub(1) as f32 * 0.5 * p.pitch_y_mm,
             rows_per_block: (BLOCK / (p.cols as usize).max(1)).max(1),
             clamp_at: 1.0 + 0.5 / p.max_code() as f32,
-            whole_block: p.rows as usize * p.cols as usize == BLOCK && p.max_code() as f32 <= VECTOR_MAX_CODE,
+            whole_block: rows * cols == BLOCK && p.max_code() as f32 <= VECTOR_MAX_CODE,
+            span_x: cols.saturating_sub(1) as u32 as f32 * p.pitch_x_mm,
+            span_y: rows.saturating_sub(1) as u32 as f32 * p.pitch_y_mm,
+            whole,
             _bundle: core::marker::PhantomData,
         })
     }
@@ -297,6 +332,56 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
     /// Allocates nothing, cannot panic, and costs the same for a table of
     /// ten dots or ten thousand (it depends on the dots near the array).
     pub fn frame(&self, tick: Tick, x: Mm, y: Mm, out: &mut [u16]) -> FrameStats {
+        // The common case: the whole array is one block of [`BLOCK`]
+        // actuators, quantised in vector lanes (every 64-actuator profile
+        // of up to 14 bits), and wholly on the surface. Its frame is the one
+        // built at load but for the tick and the position. (A NaN or
+        // infinite position fails these comparisons, and rests below.)
+        let (x_first, y_first) = (x.0 - self.half_span_x, y.0 - self.half_span_y);
+        if self.whole_block
+            && x_first >= 0.0
+            && x_first + self.span_x <= self.surface_w
+            && y_first >= 0.0
+            && y_first + self.span_y <= self.surface_h
+            && let Ok(block) = <&mut [u16; BLOCK]>::try_from(&mut *out)
+        {
+            let w = &self.whole;
+            let f = Frame {
+                tick_in_second: self.clock.tick_in_second(tick),
+                clock: w.clock,
+                cols: w.cols,
+                pitch_x: w.pitch_x,
+                pitch_y: w.pitch_y,
+                inv_pitch_x: w.inv_pitch_x,
+                inv_pitch_y: w.inv_pitch_y,
+                x_first,
+                y_first,
+                col_lo: w.col_lo,
+                col_hi: w.col_hi,
+                row_lo: w.row_lo,
+                row_hi: w.row_hi,
+                r0: w.r0,
+                r1: w.r1,
+                run_first: f32x4::new([x_first, x_first, y_first, y_first]),
+                run_pitch: w.run_pitch,
+                run_inv: w.run_inv,
+                run_lo: w.run_lo,
+                run_hi: w.run_hi,
+            };
+            let mut acc: Acc = [0.0; BLOCK];
+            for layer in self.layers.as_ref().get(..self.len).unwrap_or(&[]) {
+                layer.accumulate(&f, &mut acc);
+            }
+            let clamped = quantise_block(block, &acc, &self.block_scale);
+            return FrameStats { clamped, written: BLOCK as u32 };
+        }
+        self.frame_in_blocks(tick, x, y, out)
+    }
+
+    /// [`LateroPlayer::frame`] for every other case: an array of several
+    /// blocks, or partly off the surface, or a short output.
+    #[inline(never)]
+    fn frame_in_blocks(&self, tick: Tick, x: Mm, y: Mm, out: &mut [u16]) -> FrameStats {
         let n = self.actuator_count().min(out.len());
         let out = &mut out[..n];
         let mut stats = FrameStats { clamped: 0, written: n as u32 };
@@ -306,45 +391,15 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
         }
         let mut f = Frame {
             tick_in_second: self.clock.tick_in_second(tick),
-            clock: self.clock,
-            cols: self.cols,
-            pitch_x: self.pitch_x,
-            pitch_y: self.pitch_y,
-            inv_pitch_x: self.inv_pitch_x,
-            inv_pitch_y: self.inv_pitch_y,
             x_first: x.0 - self.half_span_x,
             y_first: y.0 - self.half_span_y,
-            col_lo: 0,
-            col_hi: 0,
-            row_lo: 0,
-            row_hi: 0,
-            r0: 0,
-            r1: 0,
-            run_first: f32x4::ZERO,
-            run_pitch: f32x4::ZERO,
-            run_inv: f32x4::ZERO,
-            run_lo: i32x4::ZERO,
-            run_hi: i32x4::ZERO,
+            ..self.whole
         };
         // Actuators on the surface form one rectangle of columns and rows.
         (f.col_lo, f.col_hi) = inside(self.cols, f.x_first, self.pitch_x, self.surface_w);
         (f.row_lo, f.row_hi) = inside(self.rows, f.y_first, self.pitch_y, self.surface_h);
         f.prepare_runs();
         let layers = self.layers.as_ref().get(..self.len).unwrap_or(&[]);
-        // The common case: the whole array is one block of [`BLOCK`]
-        // actuators, quantised in vector lanes (every 64-actuator profile
-        // of up to 14 bits).
-        if self.whole_block
-            && let Ok(block) = <&mut [u16; BLOCK]>::try_from(&mut *out)
-        {
-            f.set_block(0, self.rows);
-            let mut acc: Acc = [0.0; BLOCK];
-            for layer in layers {
-                layer.accumulate(&f, &mut acc);
-            }
-            stats.clamped = quantise_block(block, &acc, &self.block_scale);
-            return stats;
-        }
         let rows_per_block = self.rows_per_block;
         for (b, block) in out.chunks_mut(rows_per_block * self.cols).enumerate() {
             f.set_block(b * rows_per_block, (b * rows_per_block + rows_per_block).min(self.rows));
@@ -482,6 +537,7 @@ fn inside_edge(n: usize, first: f32, pitch: f32, limit: f32) -> (usize, usize) {
 }
 
 /// The geometry of one frame and the block of rows being computed.
+#[derive(Debug, Clone, Copy)]
 pub(crate) struct Frame {
     /// The tick modulo one second of millihertz cycles, and the clock
     /// that turns it into phases.
