@@ -5,7 +5,7 @@ use taxel_format::DotTableView;
 use wide::bytemuck::cast;
 use wide::{f32x4, i32x4};
 
-use super::osc::{ceil_in, cos_turns4_half, floor_in};
+use super::osc::{cos_turns4_half, floor4};
 use super::{Acc, Frame, LANES, add_lanes};
 
 /// Lane offsets 0, 1, 2, 3.
@@ -96,20 +96,67 @@ impl<'a> DotLayer<'a> {
     }
 }
 
+/// What a frame's block needs to find the actuators a dot reaches.
+struct Span {
+    /// [`Frame`]'s `run_first` and `run_inv`: `[x_first, x_first,
+    /// y_first, y_first]` and the reciprocal pitches in the same lanes.
+    first: f32x4,
+    inv: f32x4,
+    /// The clamps of `[c0, c1, q0, q1]`: the columns on the surface and
+    /// the block's rows on it, `lo..=hi` for the first column and row,
+    /// `lo − 1..=hi − 1` for the last.
+    lo: f32x4,
+    hi: f32x4,
+}
+
+/// The sign bits of lanes 0 and 2.
+const NEG02: i32x4 = i32x4::new([i32::MIN, 0, i32::MIN, 0]);
+
+impl Span {
+    #[inline(always)]
+    fn new(f: &Frame) -> Self {
+        let step = i32x4::new([0, 1, 0, 1]);
+        Span {
+            first: f.run_first,
+            inv: f.run_inv,
+            lo: f32x4::from_i32x4(f.run_lo - step),
+            hi: f32x4::from_i32x4(f.run_hi - step),
+        }
+    }
+
+    /// The dot's actuator columns `c0..=c1` and rows `q0..=q1`, as
+    /// `[c0, c1, q0, q1]`: the first column at or past x − ρ and the last
+    /// at or before x + ρ, the same for rows, clipped to the surface and
+    /// the block (an empty range when the dot lies beside them: c0 > c1
+    /// or q0 > q1). Each is a ceiling or a floor of `(bound − first) /
+    /// pitch` (by the reciprocal) clamped to its lane's range, exactly
+    /// `ceil_in` and `floor_in`; the ceilings are taken as floors of the
+    /// negated lanes, so that the four round at once. The positions are
+    /// finite, so no lane is NaN.
+    #[inline(always)]
+    fn of(&self, x: f32, y: f32, rho: f32) -> [i32; 4] {
+        let neg = cast::<i32x4, f32x4>(NEG02);
+        let ends = f32x4::new([x, x, y, y]) + (f32x4::splat(rho) ^ neg);
+        let v = ((ends - self.first) * self.inv).fast_max(self.lo).fast_min(self.hi) ^ neg;
+        let [c0, c1, q0, q1] = floor4(v).to_array();
+        [c0.wrapping_neg(), c1, q0.wrapping_neg(), q1]
+    }
+}
+
 /// [`DotLayer::accumulate`].
 #[inline(always)]
 fn accumulate_table(layer: &DotLayer<'_>, f: &Frame, acc: &mut Acc) {
     let t = &layer.table;
     let (r_lo, r_hi) = (f.r0.max(f.row_lo), f.r1.min(f.row_hi));
-    if t.is_empty() || f.col_lo >= f.col_hi || r_lo >= r_hi {
+    if f.col_lo >= f.col_hi || r_lo >= r_hi {
         return;
     }
     let g = t.grid;
     let reach = g.max_radius;
     // The cells under the block's actuators widened by the largest radius
     // (the floor-and-clamp of `DotGrid::col_of`). Every index below is
-    // far inside the ±2²² that `floor_in` and `ceil_in` accept: grids have
-    // at most 2²⁰ cells and arrays at most 64 columns.
+    // far inside the ±2²² that the rounding trick accepts: grids have at
+    // most 2²⁰ cells and arrays at most 64 columns.
     // (A product by the reciprocal may land a hair below a cell boundary
     // that the division would reach; a dot so placed is a full radius away
     // from every actuator the query serves, where eq. 1 gives 0.)
@@ -119,19 +166,11 @@ fn accumulate_table(layer: &DotLayer<'_>, f: &Frame, acc: &mut Acc) {
     let bounds = f.run_positions() + f32x4::new([-reach, reach, -reach, reach]);
     let cells = ((bounds - layer.origin) * layer.inv_cell).fast_max(f32x4::ZERO).fast_min(layer.last);
     let [gc0, gc1, gr0, gr1] = cast::<i32x4, [u32; 4]>(cells.fast_trunc_int());
-    let (inv_px, inv_py) = (f.inv_pitch_x, f.inv_pitch_y);
-    let (col_lo, col_hi) = (f.col_lo as i32, f.col_hi as i32);
-    let (row_lo, row_hi) = (r_lo as i32, r_hi as i32);
+    let span = Span::new(f);
     for gr in gr0..=gr1 {
         for d in t.row_run(gc0, gc1, gr) {
             let (x, y, rho) = (d.x.0, d.y.0, d.radius.0);
-            // Actuator columns and rows within the dot's radius, clipped to
-            // the surface and to this block (an empty range when the dot
-            // lies beside them: then c0 > c1 or q0 > q1).
-            let c0 = ceil_in((x - rho - f.x_first) * inv_px, col_lo, col_hi);
-            let c1 = floor_in((x + rho - f.x_first) * inv_px, col_lo - 1, col_hi - 1);
-            let q0 = ceil_in((y - rho - f.y_first) * inv_py, row_lo, row_hi);
-            let q1 = floor_in((y + rho - f.y_first) * inv_py, row_lo - 1, row_hi - 1);
+            let [c0, c1, q0, q1] = span.of(x, y, rho);
             if c0 > c1 || q0 > q1 {
                 continue;
             }
@@ -181,5 +220,51 @@ mod tests {
         assert_eq!(dot_profile4(f32x4::splat(f32::NAN), 0.7).to_array(), [0.0; 4]);
         assert_eq!(dot_profile4(f32x4::splat(f32::INFINITY), 0.7).to_array(), [0.0; 4]);
         assert_eq!(dot_profile(f32::INFINITY), 0.0);
+    }
+
+    /// [`Span::of`] against the scalar ceilings and floors it replaces,
+    /// over frames near and far from the origin, surface and block limits,
+    /// and dots beside, across and inside the array.
+    #[test]
+    fn span_equals_the_scalar_bounds() {
+        use super::super::osc::{ceil_in, floor_in};
+        let mut s = 0x853c_49e6_748f_ea9bu64;
+        let mut next = || {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (s >> 40) as u32
+        };
+        for _ in 0..200_000 {
+            let unit = |n: u32| n as f32 / (1 << 24) as f32;
+            let (cols, rows) = (1 + next() as usize % 16, 1 + next() as usize % 16);
+            let (pitch_x, pitch_y) = (0.05 + 5.0 * unit(next()), 0.05 + 5.0 * unit(next()));
+            let scale = [1.0, 100.0, 1e4][next() as usize % 3];
+            let (x_first, y_first) = (scale * unit(next()), scale * unit(next()));
+            let (col_lo, row_lo) = (next() as usize % cols, next() as usize % rows);
+            let col_hi = col_lo + 1 + next() as usize % (cols - col_lo);
+            let (r_lo, r_hi) = (row_lo, row_lo + 1 + next() as usize % (rows - row_lo));
+            let (inv_x, inv_y) = (1.0 / pitch_x, 1.0 / pitch_y);
+            let span = Span {
+                first: f32x4::new([x_first, x_first, y_first, y_first]),
+                inv: f32x4::new([inv_x, inv_x, inv_y, inv_y]),
+                lo: f32x4::new([col_lo as f32, col_lo as f32 - 1.0, r_lo as f32, r_lo as f32 - 1.0]),
+                hi: f32x4::new([col_hi as f32, col_hi as f32 - 1.0, r_hi as f32, r_hi as f32 - 1.0]),
+            };
+            let rho = 0.01 + 4.0 * unit(next());
+            let x = x_first + (unit(next()) * 1.4 - 0.2) * cols as f32 * pitch_x;
+            // On a row exactly, or anywhere.
+            let y = if next() % 4 == 0 {
+                y_first + (next() as usize % rows) as f32 * pitch_y + rho
+            } else {
+                y_first + (unit(next()) * 1.4 - 0.2) * rows as f32 * pitch_y
+            };
+            let (cl, ch, rl, rh) = (col_lo as i32, col_hi as i32, r_lo as i32, r_hi as i32);
+            let want = [
+                ceil_in((x - rho - x_first) * inv_x, cl, ch),
+                floor_in((x + rho - x_first) * inv_x, cl - 1, ch - 1),
+                ceil_in((y - rho - y_first) * inv_y, rl, rh),
+                floor_in((y + rho - y_first) * inv_y, rl - 1, rh - 1),
+            ];
+            assert_eq!(span.of(x, y, rho), want, "dot ({x}, {y}) radius {rho}");
+        }
     }
 }

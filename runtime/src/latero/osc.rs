@@ -137,6 +137,7 @@ pub(crate) fn ceil_i32(v: f32) -> i32 {
 
 /// The integer nearest to `v` (ties to even), for `|v| ≤ 2²²`: adding
 /// 1.5 · 2²³ leaves it in the low mantissa bits. Two instructions.
+#[cfg(test)]
 #[inline(always)]
 pub(crate) fn round_small(v: f32) -> i32 {
     (v + ROUND_MAGIC).to_bits().wrapping_sub(ROUND_MAGIC.to_bits()) as i32
@@ -145,6 +146,7 @@ pub(crate) fn round_small(v: f32) -> i32 {
 /// `v` clamped to `[lo, hi]`, NaN to `lo`. Comparisons rather than
 /// `f32::max`/`min`, whose NaN rules cost a blend per call, so this is one
 /// `maxss` and one `minss`.
+#[cfg(test)]
 #[inline(always)]
 fn clamp_f(v: f32, lo: f32, hi: f32) -> f32 {
     let c = if v > lo { v } else { lo };
@@ -179,6 +181,7 @@ pub(crate) fn cos_turns4_half(u: f32x4) -> f32x4 {
 /// `floor(v)` clamped to `lo..=hi` (NaN gives `lo`), for bounds within
 /// ±2²²: the clamp comes first, in `f32`, so that the rounding trick of
 /// [`round_small`] applies. Cheaper than a saturating `as` conversion.
+#[cfg(test)]
 #[inline(always)]
 pub(crate) fn floor_in(v: f32, lo: i32, hi: i32) -> i32 {
     let c = clamp_f(v, lo as f32, hi as f32);
@@ -186,7 +189,17 @@ pub(crate) fn floor_in(v: f32, lo: i32, hi: i32) -> i32 {
     r - ((r as f32) > c) as i32
 }
 
+/// `floor(v)` on four lanes, for lanes within ±2²² (clamp them first):
+/// the rounding and correction of `floor_in` (the scalar reference), lane by lane.
+#[inline(always)]
+pub(crate) fn floor4(v: f32x4) -> i32x4 {
+    let r = cast::<f32x4, i32x4>(v + f32x4::splat(ROUND_MAGIC)) - i32x4::splat(ROUND_MAGIC.to_bits() as i32);
+    // A true lane compares as −1.
+    r + cast::<f32x4, i32x4>(f32x4::from_i32x4(r).simd_gt(v))
+}
+
 /// `ceil(v)` clamped to `lo..=hi` (NaN gives `lo`), like [`floor_in`].
+#[cfg(test)]
 #[inline(always)]
 pub(crate) fn ceil_in(v: f32, lo: i32, hi: i32) -> i32 {
     let c = clamp_f(v, lo as f32, hi as f32);
