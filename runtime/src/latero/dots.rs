@@ -167,8 +167,14 @@ fn accumulate_table(layer: &DotLayer<'_>, f: &Frame, acc: &mut Acc) {
     let cells = ((bounds - layer.origin) * layer.inv_cell).fast_max(f32x4::ZERO).fast_min(layer.last);
     let [gc0, gc1, gr0, gr1] = cast::<i32x4, [u32; 4]>(cells.fast_trunc_int());
     let span = Span::new(f);
-    for gr in gr0..=gr1 {
-        for d in t.row_run(gc0, gc1, gr) {
+    // The cells are clamped to the grid: each grid row's run is cells
+    // `cell..cell + width` of the index, the next row's `grid.cols` on.
+    let (width, stride) = (gc1.saturating_sub(gc0) as usize + 1, g.cols as usize);
+    let mut cell = gr0 as usize * stride + gc0 as usize;
+    for _ in gr0..=gr1 {
+        let run = t.cell_run(cell, cell + width);
+        cell += stride;
+        for d in run {
             let (x, y, rho) = (d.x.0, d.y.0, d.radius.0);
             let [c0, c1, q0, q1] = span.of(x, y, rho);
             if c0 > c1 || q0 > q1 {
