@@ -39,16 +39,21 @@ fn dot_profile(s: f32) -> f32 {
 #[inline(always)]
 pub(crate) fn dot_profile4(s: f32x4, amplitude: f32) -> f32x4 {
     // NaN and s ≥ 1 fail `s < 1` and rest: the last mask gives them 0
-    // whatever the square root and the cosine made of them.
+    // whatever the square root and the cosine made of them. (`s` is a sum
+    // of squares times a positive factor, so it is not negative; a NaN
+    // lane leaves the clamp as 1.)
     let inside = s.simd_lt(f32x4::ONE);
-    let r = s.fast_max(f32x4::ZERO).fast_min(f32x4::ONE).sqrt();
+    let r = s.fast_min(f32x4::ONE).sqrt();
     // (r − P) / (2 (1 − P)) is within [−⅙, ½] turn, where the cosine needs
     // no reduction. The amplitude is folded into ½ + ½ cos, off the chain
     // of dependent steps that a dot's cost follows.
     let half = f32x4::splat(0.5 * amplitude);
     let rim = half + half * cos_turns4_half((r - PLATEAU) * (0.5 / (1.0 - PLATEAU)));
-    let v = r.simd_le(f32x4::splat(PLATEAU)).select(f32x4::splat(amplitude), rim);
-    v & inside
+    // On the plateau the amplitude, elsewhere the rim: the rim never
+    // exceeds the amplitude (the cosine is at most 1) and is not negative
+    // (at least −1), so the larger of the two is the plateau's selection.
+    let plateau = r.simd_le(f32x4::splat(PLATEAU)) & f32x4::splat(amplitude);
+    rim.fast_max(plateau) & inside
 }
 
 /// A dot table prepared for playback.
@@ -147,8 +152,9 @@ impl Span {
 #[inline(always)]
 fn accumulate_table(layer: &DotLayer<'_>, f: &Frame, acc: &mut Acc) {
     let t = &layer.table;
-    let (r_lo, r_hi) = (f.r0.max(f.row_lo), f.r1.min(f.row_hi));
-    if f.col_lo >= f.col_hi || r_lo >= r_hi {
+    // No column on the surface, or none of the block's rows: the runs'
+    // bounds are `[c_lo, c_lo, r_lo, r_lo]` and `[c_hi, c_hi, r_hi, r_hi]`.
+    if f.run_lo.simd_lt(f.run_hi).to_bitmask() != 0b1111 {
         return;
     }
     let g = t.grid;
@@ -226,6 +232,38 @@ mod tests {
         assert_eq!(dot_profile4(f32x4::splat(f32::NAN), 0.7).to_array(), [0.0; 4]);
         assert_eq!(dot_profile4(f32x4::splat(f32::INFINITY), 0.7).to_array(), [0.0; 4]);
         assert_eq!(dot_profile(f32::INFINITY), 0.0);
+    }
+
+    /// [`dot_profile4`]'s larger-of-two selection of the plateau and its
+    /// lone clamp give the lanes of the blend it replaced, bit for bit:
+    /// every `s` near the plateau's edge and the rim, a sweep elsewhere,
+    /// several amplitudes, and NaN and ∞.
+    #[test]
+    fn profile_equals_the_blended_one() {
+        use super::super::osc::cos_turns4_half;
+        let blended = |s: f32x4, amplitude: f32| {
+            let inside = s.simd_lt(f32x4::ONE);
+            let r = s.fast_max(f32x4::ZERO).fast_min(f32x4::ONE).sqrt();
+            let half = f32x4::splat(0.5 * amplitude);
+            let rim = half + half * cos_turns4_half((r - PLATEAU) * (0.5 / (1.0 - PLATEAU)));
+            r.simd_le(f32x4::splat(PLATEAU)).select(f32x4::splat(amplitude), rim) & inside
+        };
+        let edges = [PLATEAU * PLATEAU, 1.0f32];
+        let near = edges
+            .iter()
+            .flat_map(|e| (-20_000i32..20_000).map(move |k| f32::from_bits((e.to_bits() as i32 + k) as u32)));
+        let sweep = (0..2_000_000).map(|k| k as f32 * 6e-7);
+        let special = [0.0, f32::NAN, f32::INFINITY, f32::MAX, f32::MIN_POSITIVE];
+        for s in near.chain(sweep).chain(special) {
+            for amplitude in [1.0f32, 0.8, 0.3, 1e-3, 0.0] {
+                let (got, want) = (dot_profile4(f32x4::splat(s), amplitude), blended(f32x4::splat(s), amplitude));
+                assert_eq!(
+                    got.to_array().map(f32::to_bits),
+                    want.to_array().map(f32::to_bits),
+                    "s = {s}, amplitude {amplitude}"
+                );
+            }
+        }
     }
 
     /// [`Span::of`] against the scalar ceilings and floors it replaces,
