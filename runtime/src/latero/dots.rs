@@ -68,6 +68,8 @@ pub(crate) struct DotLayer<'a> {
     /// bounds at once.
     origin: f32x4,
     last: f32x4,
+    /// The largest radius, in the lanes of `[x0, x1, y0, y1]`: `[−r, r, −r, r]`.
+    reach: f32x4,
 }
 
 impl<'a> DotLayer<'a> {
@@ -82,6 +84,7 @@ impl<'a> DotLayer<'a> {
             inv_cell: 1.0 / g.cell_mm,
             origin: f32x4::new([g.origin_x, g.origin_x, g.origin_y, g.origin_y]),
             last: f32x4::new([cols, cols, rows, rows]),
+            reach: f32x4::new([-g.max_radius, g.max_radius, -g.max_radius, g.max_radius]),
         }
     }
 
@@ -158,7 +161,6 @@ fn accumulate_table(layer: &DotLayer<'_>, f: &Frame, acc: &mut Acc) {
         return;
     }
     let g = t.grid;
-    let reach = g.max_radius;
     // The cells under the block's actuators widened by the largest radius
     // (the floor-and-clamp of `DotGrid::col_of`). Every index below is
     // far inside the ±2²² that the rounding trick accepts: grids have at
@@ -169,7 +171,7 @@ fn accumulate_table(layer: &DotLayer<'_>, f: &Frame, acc: &mut Acc) {
     // The four bounds at once, in the lanes. Clamped first, the index is
     // not negative, where truncation is the floor: one conversion. (The
     // positions are finite, so no lane is NaN; an overflow to ±∞ clamps.)
-    let bounds = f.run_positions() + f32x4::new([-reach, reach, -reach, reach]);
+    let bounds = f.run_positions() + layer.reach;
     let cells = ((bounds - layer.origin) * layer.inv_cell).fast_max(f32x4::ZERO).fast_min(layer.last);
     let [gc0, gc1, gr0, gr1] = cast::<i32x4, [u32; 4]>(cells.fast_trunc_int());
     let span = Span::new(f);

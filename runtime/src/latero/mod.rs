@@ -262,31 +262,7 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
         let (rows, cols) = (p.rows as usize, p.cols as usize);
         let clock = osc::PhaseClock::new(p.rate_hz);
         // Profiles have positive pitches (taxel-format checks them).
-        let (inv_pitch_x, inv_pitch_y) = (1.0 / p.pitch_x_mm, 1.0 / p.pitch_y_mm);
-        let mut whole = Frame {
-            tick_in_second: 0,
-            clock,
-            cols,
-            pitch_x: p.pitch_x_mm,
-            pitch_y: p.pitch_y_mm,
-            inv_pitch_x,
-            inv_pitch_y,
-            x_first: 0.0,
-            y_first: 0.0,
-            col_lo: 0,
-            col_hi: cols,
-            row_lo: 0,
-            row_hi: rows,
-            r0: 0,
-            r1: 0,
-            run_first: f32x4::ZERO,
-            run_pitch: f32x4::ZERO,
-            run_inv: f32x4::ZERO,
-            run_lo: i32x4::ZERO,
-            run_hi: i32x4::ZERO,
-        };
-        whole.prepare_runs();
-        whole.set_block(0, rows);
+        let whole = Frame::new(clock, cols, rows, p.pitch_x_mm, p.pitch_y_mm);
         Ok(LateroPlayer {
             layers: storage,
             len,
@@ -352,8 +328,6 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
                 cols: w.cols,
                 pitch_x: w.pitch_x,
                 pitch_y: w.pitch_y,
-                inv_pitch_x: w.inv_pitch_x,
-                inv_pitch_y: w.inv_pitch_y,
                 x_first,
                 y_first,
                 col_lo: w.col_lo,
@@ -389,16 +363,11 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
             out.fill(0);
             return stats;
         }
-        let mut f = Frame {
-            tick_in_second: self.clock.tick_in_second(tick),
-            x_first: x.0 - self.half_span_x,
-            y_first: y.0 - self.half_span_y,
-            ..self.whole
-        };
+        let mut f = Frame { tick_in_second: self.clock.tick_in_second(tick), ..self.whole };
+        f.set_position(x.0 - self.half_span_x, y.0 - self.half_span_y);
         // Actuators on the surface form one rectangle of columns and rows.
         (f.col_lo, f.col_hi) = inside(self.cols, f.x_first, self.pitch_x, self.surface_w);
         (f.row_lo, f.row_hi) = inside(self.rows, f.y_first, self.pitch_y, self.surface_h);
-        f.prepare_runs();
         let layers = self.layers.as_ref().get(..self.len).unwrap_or(&[]);
         let rows_per_block = self.rows_per_block;
         for (b, block) in out.chunks_mut(rows_per_block * self.cols).enumerate() {
@@ -546,9 +515,6 @@ pub(crate) struct Frame {
     pub(crate) cols: usize,
     pub(crate) pitch_x: f32,
     pub(crate) pitch_y: f32,
-    /// Their reciprocals, so that the per-tick path divides nothing.
-    pub(crate) inv_pitch_x: f32,
-    pub(crate) inv_pitch_y: f32,
     /// Page position of column 0 and row 0.
     pub(crate) x_first: f32,
     pub(crate) y_first: f32,
@@ -561,7 +527,7 @@ pub(crate) struct Frame {
     pub(crate) r0: usize,
     pub(crate) r1: usize,
     /// What [`Frame::runs`] needs of the frame, in the lanes of a box's
-    /// `[x0, x1, y0, y1]`, built once per frame ([`Frame::prepare_runs`])
+    /// `[x0, x1, y0, y1]`, built once per frame ([`Frame::new`], [`Frame::set_position`])
     /// and block ([`Frame::set_block`]) rather than by every layer: the
     /// position of column 0 and row 0, the pitches and their reciprocals,
     /// and the first and last indices a run may hold (the columns on the
@@ -574,17 +540,45 @@ pub(crate) struct Frame {
 }
 
 impl Frame {
-    /// Sets [`Frame::runs`]'s positions and pitches from the frame's.
+    /// The frame of an array of `cols` columns and `rows` rows these
+    /// pitches apart (positive), all of it on the surface and one block,
+    /// at tick 0 with row 0 and column 0 at the page's origin.
+    fn new(clock: osc::PhaseClock, cols: usize, rows: usize, pitch_x: f32, pitch_y: f32) -> Self {
+        // Their reciprocals, so that the per-tick path divides nothing.
+        let (inv_x, inv_y) = (1.0 / pitch_x, 1.0 / pitch_y);
+        let mut f = Frame {
+            tick_in_second: 0,
+            clock,
+            cols,
+            pitch_x,
+            pitch_y,
+            x_first: 0.0,
+            y_first: 0.0,
+            col_lo: 0,
+            col_hi: cols,
+            row_lo: 0,
+            row_hi: rows,
+            r0: 0,
+            r1: 0,
+            run_first: f32x4::ZERO,
+            run_pitch: f32x4::new([pitch_x, pitch_x, pitch_y, pitch_y]),
+            run_inv: f32x4::new([inv_x, inv_x, inv_y, inv_y]),
+            run_lo: i32x4::ZERO,
+            run_hi: i32x4::ZERO,
+        };
+        f.set_block(0, rows);
+        f
+    }
+
+    /// Puts column 0 and row 0 at `(x_first, y_first)` on the page.
     #[inline(always)]
-    fn prepare_runs(&mut self) {
-        let (xf, yf) = (self.x_first, self.y_first);
-        self.run_first = f32x4::new([xf, xf, yf, yf]);
-        self.run_pitch = f32x4::new([self.pitch_x, self.pitch_x, self.pitch_y, self.pitch_y]);
-        self.run_inv = f32x4::new([self.inv_pitch_x, self.inv_pitch_x, self.inv_pitch_y, self.inv_pitch_y]);
+    fn set_position(&mut self, x_first: f32, y_first: f32) {
+        (self.x_first, self.y_first) = (x_first, y_first);
+        self.run_first = f32x4::new([x_first, x_first, y_first, y_first]);
     }
 
     /// Makes rows `r0..r1` the block, and sets the index bounds of
-    /// [`Frame::runs`] (after [`Frame::prepare_runs`]'s surface).
+    /// [`Frame::runs`] (after [`Frame::new`], [`Frame::set_position`]'s surface).
     #[inline(always)]
     fn set_block(&mut self, r0: usize, r1: usize) {
         (self.r0, self.r1) = (r0, r1);
@@ -715,29 +709,10 @@ mod tests {
             let r0 = next() as usize % rows;
             let r1 = (r0 + 1 + next() as usize % rows).min(rows);
             let clock = osc::PhaseClock::new(1000);
-            let mut f = Frame {
-                tick_in_second: 0,
-                clock,
-                cols,
-                pitch_x,
-                pitch_y,
-                inv_pitch_x: 1.0 / pitch_x,
-                inv_pitch_y: 1.0 / pitch_y,
-                x_first: scale * unit(next()),
-                y_first: scale * unit(next()),
-                col_lo,
-                col_hi,
-                row_lo,
-                row_hi,
-                r0: 0,
-                r1: 0,
-                run_first: f32x4::ZERO,
-                run_pitch: f32x4::ZERO,
-                run_inv: f32x4::ZERO,
-                run_lo: i32x4::ZERO,
-                run_hi: i32x4::ZERO,
-            };
-            f.prepare_runs();
+            let mut f = Frame::new(clock, cols, rows, pitch_x, pitch_y);
+            let (x_first, y_first) = (scale * unit(next()), scale * unit(next()));
+            f.set_position(x_first, y_first);
+            (f.col_lo, f.col_hi, f.row_lo, f.row_hi) = (col_lo, col_hi, row_lo, row_hi);
             f.set_block(r0, r1);
             // A bound on an actuator, between two, or anywhere around the array.
             let mut bound = |first: f32, pitch: f32, n: usize| match next() % 3 {
