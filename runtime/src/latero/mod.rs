@@ -124,7 +124,11 @@ pub const MAX_OUTPUT_BITS: u8 = 16;
 #[derive(Debug, Clone, Copy)]
 pub struct Layer<'a>(Slot<'a>);
 
+/// An explicit one-byte tag (`repr(u8)`): the frame's dispatch reads it
+/// and jumps, where the tag hidden in a niche of a layer's fields took a
+/// subtraction and a conditional move more per layer.
 #[derive(Debug, Clone, Copy)]
+#[repr(u8)]
 enum Slot<'a> {
     Empty,
     Mask(MaskLayer<'a>),
