@@ -185,14 +185,20 @@ pub struct LateroPlayer<'a, S = [Layer<'a>; DEFAULT_LAYERS]> {
     rows_per_block: usize,
     /// A sum counts as clamped above this: clamping changed its code.
     clamp_at: f32,
-    /// Whether the array is exactly one block ([`BLOCK`] actuators) and
-    /// its codes fit [`quantise_block`]: then a frame is one block.
-    whole_block: bool,
-    /// `(cols − 1) · pitch_x` and `(rows − 1) · pitch_y`, as [`inside`]
-    /// computes them: the array is on the surface when its first column
-    /// and row are at or past 0 and its last ones at or before the edges.
-    span_x: f32,
-    span_y: f32,
+    /// The one-block test of [`LateroPlayer::frame`], in the lanes of
+    /// `[x_first, y_first, x_last, y_last]` (the positions of the first and
+    /// last columns and rows): `half_span` is what the first lies before
+    /// the carrier (`[half_span_x, half_span_y]` twice), `span` what the
+    /// last lies past the first (`[0, 0, (cols − 1) · pitch_x,
+    /// (rows − 1) · pitch_y]`, as [`inside`] computes them), and the array
+    /// plays as one block when every lane is within `fits_lo..=fits_hi`:
+    /// the first column and row at or past 0, the last ones at or before
+    /// the surface's edges. For an array that is not one block, `fits_hi`
+    /// is −∞: no lane fits.
+    half_span: f32x4,
+    span: f32x4,
+    fits_lo: f32x4,
+    fits_hi: f32x4,
     /// The frame of an array wholly on the surface, as one block, but for
     /// the tick and the position: built at load, copied by every frame
     /// that plays as one block.
@@ -267,6 +273,12 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
         let clock = osc::PhaseClock::new(p.rate_hz);
         // Profiles have positive pitches (taxel-format checks them).
         let whole = Frame::new(clock, cols, rows, p.pitch_x_mm, p.pitch_y_mm);
+        // Whether the array is exactly one block ([`BLOCK`] actuators) and
+        // its codes fit [`quantise_block`]: then a frame on the surface is
+        // one block.
+        let whole_block = rows * cols == BLOCK && p.max_code() as f32 <= VECTOR_MAX_CODE;
+        let half_span_x = cols.saturating_sub(1) as f32 * 0.5 * p.pitch_x_mm;
+        let half_span_y = rows.saturating_sub(1) as f32 * 0.5 * p.pitch_y_mm;
         Ok(LateroPlayer {
             layers: storage,
             len,
@@ -279,13 +291,23 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
             clock,
             max_code: p.max_code() as f32,
             block_scale: BlockScale::new(p.max_code() as f32),
-            half_span_x: (p.cols as usize).saturating_sub(1) as f32 * 0.5 * p.pitch_x_mm,
-            half_span_y: (p.rows as usize).saturating_sub(1) as f32 * 0.5 * p.pitch_y_mm,
+            half_span_x,
+            half_span_y,
             rows_per_block: (BLOCK / (p.cols as usize).max(1)).max(1),
             clamp_at: 1.0 + 0.5 / p.max_code() as f32,
-            whole_block: rows * cols == BLOCK && p.max_code() as f32 <= VECTOR_MAX_CODE,
-            span_x: cols.saturating_sub(1) as u32 as f32 * p.pitch_x_mm,
-            span_y: rows.saturating_sub(1) as u32 as f32 * p.pitch_y_mm,
+            half_span: f32x4::new([half_span_x, half_span_y, half_span_x, half_span_y]),
+            span: f32x4::new([
+                0.0,
+                0.0,
+                cols.saturating_sub(1) as u32 as f32 * p.pitch_x_mm,
+                rows.saturating_sub(1) as u32 as f32 * p.pitch_y_mm,
+            ]),
+            fits_lo: f32x4::new([0.0, 0.0, f32::NEG_INFINITY, f32::NEG_INFINITY]),
+            fits_hi: if whole_block {
+                f32x4::new([f32::INFINITY, f32::INFINITY, p.surface_w_mm, p.surface_h_mm])
+            } else {
+                f32x4::splat(f32::NEG_INFINITY)
+            },
             whole,
             _bundle: core::marker::PhantomData,
         })
@@ -317,14 +339,12 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
         // of up to 14 bits), and wholly on the surface. Its frame is the one
         // built at load but for the tick and the position. (A NaN or
         // infinite position fails these comparisons, and rests below.)
-        let (x_first, y_first) = (x.0 - self.half_span_x, y.0 - self.half_span_y);
-        if self.whole_block
-            && x_first >= 0.0
-            && x_first + self.span_x <= self.surface_w
-            && y_first >= 0.0
-            && y_first + self.span_y <= self.surface_h
+        let first = f32x4::new([x.0, y.0, x.0, y.0]) - self.half_span;
+        let ends = first + self.span;
+        if (ends.simd_ge(self.fits_lo) & ends.simd_le(self.fits_hi)).to_bitmask() == 0b1111
             && let Ok(block) = <&mut [u16; BLOCK]>::try_from(&mut *out)
         {
+            let [x_first, y_first, ..] = first.to_array();
             let w = &self.whole;
             let f = Frame {
                 tick_in_second: self.clock.tick_in_second(tick),
@@ -340,7 +360,7 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
                 row_hi: w.row_hi,
                 r0: w.r0,
                 r1: w.r1,
-                run_first: f32x4::new([x_first, x_first, y_first, y_first]),
+                run_first: first.unpack_lo(first),
                 run_pitch: w.run_pitch,
                 run_inv: w.run_inv,
                 run_lo: w.run_lo,
