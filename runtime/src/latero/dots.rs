@@ -179,7 +179,9 @@ fn accumulate_table(layer: &DotLayer<'_>, f: &Frame, acc: &mut Acc) {
     // `cell..cell + width` of the index, the next row's `grid.cols` on.
     let (width, stride) = (gc1.saturating_sub(gc0) as usize + 1, g.cols as usize);
     let mut cell = gr0 as usize * stride + gc0 as usize;
-    for _ in gr0..=gr1 {
+    // (A half-open range, cheaper to step than an inclusive one; `gr1` is
+    // a truncation of at most the grid's last row, far below `u32::MAX`.)
+    for _ in gr0..gr1 + 1 {
         let run = t.cell_run(cell, cell + width);
         cell += stride;
         for d in run {

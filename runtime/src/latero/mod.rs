@@ -367,7 +367,10 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
                 run_hi: w.run_hi,
             };
             let mut acc: Acc = [0.0; BLOCK];
-            for layer in self.layers.as_ref().get(..self.len).unwrap_or(&[]) {
+            let layers = self.layers.as_ref();
+            // `len` never exceeds the storage (checked at load); the
+            // `min` only spares the slicing a bounds check.
+            for layer in layers.get(..self.len.min(layers.len())).unwrap_or(&[]) {
                 layer.accumulate(&f, &mut acc);
             }
             let clamped = quantise_block(block, &acc, &self.block_scale);
