@@ -78,19 +78,14 @@ impl PhaseClock {
     }
 
     /// `x mod m`. The quotient estimate `⌊x · inv / 2⁶⁴⌋` is at most
-    /// `⌊x / m⌋` and short of it by at most 2 (`inv` is within 1 of
-    /// `2⁶⁴ / m` and `x < 2⁶⁴`), so at most two subtractions settle it.
+    /// `⌊x / m⌋` and short of it by at most 1, so one subtraction settles
+    /// it: `inv = 2⁶⁴ / m − e` with `0 ≤ e ≤ 1`, so `x · inv / 2⁶⁴` is
+    /// `x / m` less `x · e / 2⁶⁴`, which is below 1 for every `x < 2⁶⁴`.
     #[inline(always)]
     pub(crate) fn rem(&self, x: u64) -> u64 {
         let q = ((x as u128 * self.inv as u128) >> 64) as u64;
-        let mut r = x.wrapping_sub(q.wrapping_mul(self.m));
-        if r >= self.m {
-            r -= self.m;
-        }
-        if r >= self.m {
-            r -= self.m;
-        }
-        r
+        let r = x.wrapping_sub(q.wrapping_mul(self.m));
+        if r >= self.m { r - self.m } else { r }
     }
 
     /// The tick reduced modulo `m`: the same phase for every oscillator
