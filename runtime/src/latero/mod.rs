@@ -661,9 +661,10 @@ impl Frame {
         let pos = |i: i32x4| first + f32x4::from_i32x4(i) * pitch;
         let e = osc::ceil_in4((bounds - first) * inv, lo, hi);
         // One step down if the index before already reaches the bound, one
-        // up if this one does not yet. (A NaN bound gives `hi`.)
-        let e = e - (e.simd_gt(lo) & cast::<f32x4, i32x4>(pos(e - 1).simd_ge(bounds))).select(i32x4::ONE, i32x4::ZERO);
-        let e = e + (e.simd_lt(hi) & cast::<f32x4, i32x4>(!pos(e).simd_ge(bounds))).select(i32x4::ONE, i32x4::ZERO);
+        // up if this one does not yet: a true lane compares as −1, so the
+        // masks are the steps. (A NaN bound gives `hi`.)
+        let e = e + (e.simd_gt(lo) & cast::<f32x4, i32x4>(pos(e - 1).simd_ge(bounds)));
+        let e = e - (e.simd_lt(hi) & cast::<f32x4, i32x4>(!pos(e).simd_ge(bounds)));
         e.to_array().map(|v| v as usize)
     }
 }
