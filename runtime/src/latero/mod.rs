@@ -38,7 +38,12 @@
 //! once per layer per frame; oscillators use a polynomial cosine with an
 //! error below 1e-6. The per-tick path has no integer division (the tick is
 //! reduced by a reciprocal taken at load, see `osc::PhaseClock`), and its
-//! only float division is one reciprocal per dot it evaluates.
+//! only float division is one reciprocal per dot it evaluates. An array of
+//! exactly one block (64 actuators: every 64-actuator profile of up
+//! to 14 bits) wholly on the surface, the usual case, is tested in four
+//! lanes and plays from a frame geometry built at load, of which each tick
+//! sets only the tick and the position; the rest goes through
+//! `frame_in_blocks`.
 //! `benches/latero.rs` measures a 64-actuator frame; `docs/performance.md`
 //! has the figures.
 //!
