@@ -313,6 +313,20 @@ impl<'a> DotTableView<'a> {
         DotRun(dots)
     }
 
+    /// The dots stored in cells `first..end`, cells numbered row by row
+    /// (`row · cols + col`): [`DotTableView::row_run`] for a caller that
+    /// has clamped its cells to the grid already and steps from one grid
+    /// row to the next by adding `grid.cols`. Cells past the index hold
+    /// no dots.
+    #[inline]
+    pub fn cell_run(&self, first: usize, end: usize) -> DotRun<'a> {
+        let dots = match (self.start(first), self.start(end)) {
+            (Some(a), Some(b)) => self.dots.get(a as usize..b as usize).unwrap_or(&[]),
+            _ => &[],
+        };
+        DotRun(dots)
+    }
+
     /// Calls `f` for every dot whose disc may contain the point `(x, y)`
     /// (every dot within `max_radius` of it, and possibly a few more).
     /// The work is bounded by the dots in at most a few cells, whatever the

@@ -99,6 +99,29 @@ fn dots_of_every_kind_read_back_and_are_found_near_a_point() {
 }
 
 #[test]
+fn a_run_of_cells_by_index_holds_the_dots_of_the_row_run() {
+    let b = sample::every_kind();
+    let bytes = b.to_bytes().unwrap();
+    let view = BundleView::parse(&bytes).unwrap();
+    for c in view.chunks() {
+        let ChunkView::Dots(t) = c else { continue };
+        let g = t.grid;
+        for row in 0..g.rows {
+            for c0 in 0..g.cols {
+                for c1 in c0..g.cols {
+                    let cell = (row * g.cols + c0) as usize;
+                    let by_index: Vec<_> = t.cell_run(cell, cell + (c1 - c0) as usize + 1).collect();
+                    assert_eq!(by_index, t.row_run(c0, c1, row).collect::<Vec<_>>(), "cells {c0}..={c1} of row {row}");
+                }
+            }
+        }
+        // Past the index: no dots.
+        let past = (g.cols * g.rows) as usize + 1;
+        assert_eq!(t.cell_run(past, past + 3).count(), 0);
+    }
+}
+
+#[test]
 fn dots_are_stored_by_grid_cell() {
     let dot = |x: f32, y: f32| Dot { x: Mm(x), y: Mm(y), radius: Mm(0.5), amplitude: 1.0, source: None };
     let mut b = Bundle::new(sample::every_kind().manifest);

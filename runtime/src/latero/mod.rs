@@ -38,7 +38,12 @@
 //! once per layer per frame; oscillators use a polynomial cosine with an
 //! error below 1e-6. The per-tick path has no integer division (the tick is
 //! reduced by a reciprocal taken at load, see `osc::PhaseClock`), and its
-//! only float division is one reciprocal per dot it evaluates.
+//! only float division is one reciprocal per dot it evaluates. An array of
+//! exactly one block (64 actuators: every 64-actuator profile of up
+//! to 14 bits) wholly on the surface, the usual case, is tested in four
+//! lanes and plays from a frame geometry built at load, of which each tick
+//! sets only the tick and the position; the rest goes through
+//! `frame_in_blocks`.
 //! `benches/latero.rs` measures a 64-actuator frame; `docs/performance.md`
 //! has the figures.
 //!
@@ -124,7 +129,11 @@ pub const MAX_OUTPUT_BITS: u8 = 16;
 #[derive(Debug, Clone, Copy)]
 pub struct Layer<'a>(Slot<'a>);
 
+/// An explicit one-byte tag (`repr(u8)`): the frame's dispatch reads it
+/// and jumps, where the tag hidden in a niche of a layer's fields took a
+/// subtraction and a conditional move more per layer.
 #[derive(Debug, Clone, Copy)]
+#[repr(u8)]
 enum Slot<'a> {
     Empty,
     Mask(MaskLayer<'a>),
@@ -168,12 +177,12 @@ pub struct LateroPlayer<'a, S = [Layer<'a>; DEFAULT_LAYERS]> {
     cols: usize,
     pitch_x: f32,
     pitch_y: f32,
-    inv_pitch_x: f32,
-    inv_pitch_y: f32,
     surface_w: f32,
     surface_h: f32,
     clock: osc::PhaseClock,
     max_code: f32,
+    /// The same for [`quantise_block`].
+    block_scale: BlockScale,
     /// Distance from the array's centre to column 0 and to row 0.
     half_span_x: f32,
     half_span_y: f32,
@@ -181,9 +190,24 @@ pub struct LateroPlayer<'a, S = [Layer<'a>; DEFAULT_LAYERS]> {
     rows_per_block: usize,
     /// A sum counts as clamped above this: clamping changed its code.
     clamp_at: f32,
-    /// Whether the array is exactly one block ([`BLOCK`] actuators) and
-    /// its codes fit [`quantise_block`]: then a frame is one block.
-    whole_block: bool,
+    /// The one-block test of [`LateroPlayer::frame`], in the lanes of
+    /// `[x_first, y_first, x_last, y_last]` (the positions of the first and
+    /// last columns and rows): `half_span` is what the first lies before
+    /// the carrier (`[half_span_x, half_span_y]` twice), `span` what the
+    /// last lies past the first (`[0, 0, (cols − 1) · pitch_x,
+    /// (rows − 1) · pitch_y]`, as [`inside`] computes them), and the array
+    /// plays as one block when every lane is within `fits_lo..=fits_hi`:
+    /// the first column and row at or past 0, the last ones at or before
+    /// the surface's edges. For an array that is not one block, `fits_hi`
+    /// is −∞: no lane fits.
+    half_span: f32x4,
+    span: f32x4,
+    fits_lo: f32x4,
+    fits_hi: f32x4,
+    /// The frame of an array wholly on the surface, as one block, but for
+    /// the tick and the position: built at load, copied by every frame
+    /// that plays as one block.
+    whole: Frame,
     _bundle: core::marker::PhantomData<&'a [u8]>,
 }
 
@@ -250,6 +274,16 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
                 len += 1;
             }
         }
+        let (rows, cols) = (p.rows as usize, p.cols as usize);
+        let clock = osc::PhaseClock::new(p.rate_hz);
+        // Profiles have positive pitches (taxel-format checks them).
+        let whole = Frame::new(clock, cols, rows, p.pitch_x_mm, p.pitch_y_mm);
+        // Whether the array is exactly one block ([`BLOCK`] actuators) and
+        // its codes fit [`quantise_block`]: then a frame on the surface is
+        // one block.
+        let whole_block = rows * cols == BLOCK && p.max_code() as f32 <= VECTOR_MAX_CODE;
+        let half_span_x = cols.saturating_sub(1) as f32 * 0.5 * p.pitch_x_mm;
+        let half_span_y = rows.saturating_sub(1) as f32 * 0.5 * p.pitch_y_mm;
         Ok(LateroPlayer {
             layers: storage,
             len,
@@ -257,18 +291,29 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
             cols: p.cols as usize,
             pitch_x: p.pitch_x_mm,
             pitch_y: p.pitch_y_mm,
-            // Profiles have positive pitches (taxel-format checks them).
-            inv_pitch_x: 1.0 / p.pitch_x_mm,
-            inv_pitch_y: 1.0 / p.pitch_y_mm,
             surface_w: p.surface_w_mm,
             surface_h: p.surface_h_mm,
-            clock: osc::PhaseClock::new(p.rate_hz),
+            clock,
             max_code: p.max_code() as f32,
-            half_span_x: (p.cols as usize).saturating_sub(1) as f32 * 0.5 * p.pitch_x_mm,
-            half_span_y: (p.rows as usize).saturating_sub(1) as f32 * 0.5 * p.pitch_y_mm,
+            block_scale: BlockScale::new(p.max_code() as f32),
+            half_span_x,
+            half_span_y,
             rows_per_block: (BLOCK / (p.cols as usize).max(1)).max(1),
             clamp_at: 1.0 + 0.5 / p.max_code() as f32,
-            whole_block: p.rows as usize * p.cols as usize == BLOCK && p.max_code() as f32 <= VECTOR_MAX_CODE,
+            half_span: f32x4::new([half_span_x, half_span_y, half_span_x, half_span_y]),
+            span: f32x4::new([
+                0.0,
+                0.0,
+                cols.saturating_sub(1) as u32 as f32 * p.pitch_x_mm,
+                rows.saturating_sub(1) as u32 as f32 * p.pitch_y_mm,
+            ]),
+            fits_lo: f32x4::new([0.0, 0.0, f32::NEG_INFINITY, f32::NEG_INFINITY]),
+            fits_hi: if whole_block {
+                f32x4::new([f32::INFINITY, f32::INFINITY, p.surface_w_mm, p.surface_h_mm])
+            } else {
+                f32x4::splat(f32::NEG_INFINITY)
+            },
+            whole,
             _bundle: core::marker::PhantomData,
         })
     }
@@ -294,6 +339,55 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
     /// Allocates nothing, cannot panic, and costs the same for a table of
     /// ten dots or ten thousand (it depends on the dots near the array).
     pub fn frame(&self, tick: Tick, x: Mm, y: Mm, out: &mut [u16]) -> FrameStats {
+        // The common case: the whole array is one block of [`BLOCK`]
+        // actuators, quantised in vector lanes (every 64-actuator profile
+        // of up to 14 bits), and wholly on the surface. Its frame is the one
+        // built at load but for the tick and the position. (A NaN or
+        // infinite position fails these comparisons, and rests below.)
+        let first = f32x4::new([x.0, y.0, x.0, y.0]) - self.half_span;
+        let ends = first + self.span;
+        if (ends.simd_ge(self.fits_lo) & ends.simd_le(self.fits_hi)).to_bitmask() == 0b1111
+            && let Ok(block) = <&mut [u16; BLOCK]>::try_from(&mut *out)
+        {
+            let [x_first, y_first, ..] = first.to_array();
+            let w = &self.whole;
+            let f = Frame {
+                tick_in_second: self.clock.tick_in_second(tick),
+                clock: w.clock,
+                cols: w.cols,
+                pitch_x: w.pitch_x,
+                pitch_y: w.pitch_y,
+                x_first,
+                y_first,
+                col_lo: w.col_lo,
+                col_hi: w.col_hi,
+                row_lo: w.row_lo,
+                row_hi: w.row_hi,
+                r0: w.r0,
+                r1: w.r1,
+                run_first: first.unpack_lo(first),
+                run_pitch: w.run_pitch,
+                run_inv: w.run_inv,
+                run_lo: w.run_lo,
+                run_hi: w.run_hi,
+            };
+            let mut acc: Acc = [0.0; BLOCK];
+            let layers = self.layers.as_ref();
+            // `len` never exceeds the storage (checked at load); the
+            // `min` only spares the slicing a bounds check.
+            for layer in layers.get(..self.len.min(layers.len())).unwrap_or(&[]) {
+                layer.accumulate(&f, &mut acc);
+            }
+            let clamped = quantise_block(block, &acc, &self.block_scale);
+            return FrameStats { clamped, written: BLOCK as u32 };
+        }
+        self.frame_in_blocks(tick, x, y, out)
+    }
+
+    /// [`LateroPlayer::frame`] for every other case: an array of several
+    /// blocks, or partly off the surface, or a short output.
+    #[inline(never)]
+    fn frame_in_blocks(&self, tick: Tick, x: Mm, y: Mm, out: &mut [u16]) -> FrameStats {
         let n = self.actuator_count().min(out.len());
         let out = &mut out[..n];
         let mut stats = FrameStats { clamped: 0, written: n as u32 };
@@ -301,47 +395,12 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
             out.fill(0);
             return stats;
         }
-        let mut f = Frame {
-            tick_in_second: self.clock.tick_in_second(tick),
-            clock: self.clock,
-            cols: self.cols,
-            pitch_x: self.pitch_x,
-            pitch_y: self.pitch_y,
-            inv_pitch_x: self.inv_pitch_x,
-            inv_pitch_y: self.inv_pitch_y,
-            x_first: x.0 - self.half_span_x,
-            y_first: y.0 - self.half_span_y,
-            col_lo: 0,
-            col_hi: 0,
-            row_lo: 0,
-            row_hi: 0,
-            r0: 0,
-            r1: 0,
-            run_first: f32x4::ZERO,
-            run_pitch: f32x4::ZERO,
-            run_inv: f32x4::ZERO,
-            run_lo: i32x4::ZERO,
-            run_hi: i32x4::ZERO,
-        };
+        let mut f = Frame { tick_in_second: self.clock.tick_in_second(tick), ..self.whole };
+        f.set_position(x.0 - self.half_span_x, y.0 - self.half_span_y);
         // Actuators on the surface form one rectangle of columns and rows.
         (f.col_lo, f.col_hi) = inside(self.cols, f.x_first, self.pitch_x, self.surface_w);
         (f.row_lo, f.row_hi) = inside(self.rows, f.y_first, self.pitch_y, self.surface_h);
-        f.prepare_runs();
         let layers = self.layers.as_ref().get(..self.len).unwrap_or(&[]);
-        // The common case: the whole array is one block of [`BLOCK`]
-        // actuators, quantised in vector lanes (every 64-actuator profile
-        // of up to 14 bits).
-        if self.whole_block
-            && let Ok(block) = <&mut [u16; BLOCK]>::try_from(&mut *out)
-        {
-            f.set_block(0, self.rows);
-            let mut acc: Acc = [0.0; BLOCK];
-            for layer in layers {
-                layer.accumulate(&f, &mut acc);
-            }
-            stats.clamped = quantise_block(block, &acc, self.max_code);
-            return stats;
-        }
         let rows_per_block = self.rows_per_block;
         for (b, block) in out.chunks_mut(rows_per_block * self.cols).enumerate() {
             f.set_block(b * rows_per_block, (b * rows_per_block + rows_per_block).min(self.rows));
@@ -352,7 +411,7 @@ impl<'a, S: AsRef<[Layer<'a>]> + AsMut<[Layer<'a>]>> LateroPlayer<'a, S> {
             stats.clamped += match <&mut [u16; BLOCK]>::try_from(&mut *block) {
                 // A whole block (every 64-actuator array) at up to 14 bits:
                 // eight codes at a time in 16-bit lanes.
-                Ok(block) if self.max_code <= VECTOR_MAX_CODE => quantise_block(block, &acc, self.max_code),
+                Ok(block) if self.max_code <= VECTOR_MAX_CODE => quantise_block(block, &acc, &self.block_scale),
                 _ => quantise(block, &acc, self.clamp_at, self.max_code),
             };
         }
@@ -380,6 +439,23 @@ fn quantise(out: &mut [u16], acc: &Acc, clamp_at: f32, max_code: f32) -> u32 {
     clamped
 }
 
+/// [`quantise_block`]'s `max_code` in lanes, splat at load rather than
+/// in every frame.
+#[derive(Debug, Clone, Copy)]
+struct BlockScale {
+    /// `max_code` as `f32`, the sums' scale.
+    scale: f32x4,
+    /// `max_code` as `i16`, the largest code (saturated for a `max_code`
+    /// above [`VECTOR_MAX_CODE`], which [`quantise_block`] does not serve).
+    top: i16x8,
+}
+
+impl BlockScale {
+    fn new(max_code: f32) -> Self {
+        BlockScale { scale: f32x4::splat(max_code), top: i16x8::splat(max_code as i16) }
+    }
+}
+
 /// The largest `max_code` that [`quantise_block`] serves: twice it (a sum
 /// clamped to 2) must still fit an `i16` lane, or saturation would hide the
 /// codes above `max_code` that count as clamped. 14 bits.
@@ -391,20 +467,18 @@ const VECTOR_MAX_CODE: f32 = (i16::MAX / 2) as f32;
 /// those above `max_code` are counted and every code is clamped to
 /// `0..=max_code` (so that even a NaN, impossible from validated layers,
 /// gives a code in range on every target). A sum above 1 by more than half
-/// a step rounds above `max_code`, exactly the sums [`quantise`] counts.
-/// The sums need no clamp above: past `2²³ + 2¹⁵` the float's bits less
-/// those of 2²³ still grow with it (up to +∞), so the narrowing saturates
-/// them to `i16::MAX`.
+/// a step rounds above `max_code`, exactly the sums [`quantise`] counts. The sums need no clamp above: past `2²³ + 2¹⁵`
+/// the float's bits less those of 2²³ still grow with it (up to +∞), so the
+/// narrowing saturates them to `i16::MAX`.
 ///
 /// Not inlined: inlined, its constants are hoisted out of the frame's loop
 /// over blocks and live in vector registers across the layers' calls, which
 /// may overwrite them (caller-saved on x86-64), so the frame reloaded all of
 /// them after every layer.
 #[inline(never)]
-fn quantise_block(out: &mut [u16; BLOCK], acc: &Acc, max_code: f32) -> u32 {
-    let (scale, round) = (f32x4::splat(max_code), f32x4::splat(ROUND_BITS));
+fn quantise_block(out: &mut [u16; BLOCK], acc: &Acc, q: &BlockScale) -> u32 {
+    let (scale, round, top) = (q.scale, f32x4::splat(ROUND_BITS), q.top);
     let bias = i32x4::splat(ROUND_BITS.to_bits() as i32);
-    let top = i16x8::splat(max_code as i16);
     let mut over = i16x8::ZERO;
     for (o, a) in out.chunks_exact_mut(8).zip(acc.chunks_exact(8)) {
         let code = |a: &[f32]| -> i32x4 {
@@ -417,12 +491,15 @@ fn quantise_block(out: &mut [u16; BLOCK], acc: &Acc, max_code: f32) -> u32 {
         };
         let c = i16x8::from_i32x8_saturate(cast([code(&a[..4]), code(&a[4..])]));
         // A true lane compares as −1.
-        over -= c.simd_gt(top);
+        over += c.simd_gt(top);
         if let Ok(o) = <&mut [u16; 8]>::try_from(o) {
             *o = cast(c.max(i16x8::ZERO).min(top));
         }
     }
-    over.to_array().iter().map(|&n| n as u32).sum()
+    // Each lane holds minus its count (at most 8): the products by −1 add
+    // them in pairs (`pmaddwd` on x86-64), then the four pair sums.
+    let pairs = over.dot(i16x8::splat(-1)).to_array();
+    (pairs[0] + pairs[1] + pairs[2] + pairs[3]) as u32
 }
 
 /// The half-open range of indices `0..n` whose position `first + i · pitch`
@@ -461,6 +538,7 @@ fn inside_edge(n: usize, first: f32, pitch: f32, limit: f32) -> (usize, usize) {
 }
 
 /// The geometry of one frame and the block of rows being computed.
+#[derive(Debug, Clone, Copy)]
 pub(crate) struct Frame {
     /// The tick modulo one second of millihertz cycles, and the clock
     /// that turns it into phases.
@@ -469,9 +547,6 @@ pub(crate) struct Frame {
     pub(crate) cols: usize,
     pub(crate) pitch_x: f32,
     pub(crate) pitch_y: f32,
-    /// Their reciprocals, so that the per-tick path divides nothing.
-    pub(crate) inv_pitch_x: f32,
-    pub(crate) inv_pitch_y: f32,
     /// Page position of column 0 and row 0.
     pub(crate) x_first: f32,
     pub(crate) y_first: f32,
@@ -484,7 +559,7 @@ pub(crate) struct Frame {
     pub(crate) r0: usize,
     pub(crate) r1: usize,
     /// What [`Frame::runs`] needs of the frame, in the lanes of a box's
-    /// `[x0, x1, y0, y1]`, built once per frame ([`Frame::prepare_runs`])
+    /// `[x0, x1, y0, y1]`, built once per frame ([`Frame::new`], [`Frame::set_position`])
     /// and block ([`Frame::set_block`]) rather than by every layer: the
     /// position of column 0 and row 0, the pitches and their reciprocals,
     /// and the first and last indices a run may hold (the columns on the
@@ -497,17 +572,45 @@ pub(crate) struct Frame {
 }
 
 impl Frame {
-    /// Sets [`Frame::runs`]'s positions and pitches from the frame's.
+    /// The frame of an array of `cols` columns and `rows` rows these
+    /// pitches apart (positive), all of it on the surface and one block,
+    /// at tick 0 with row 0 and column 0 at the page's origin.
+    fn new(clock: osc::PhaseClock, cols: usize, rows: usize, pitch_x: f32, pitch_y: f32) -> Self {
+        // Their reciprocals, so that the per-tick path divides nothing.
+        let (inv_x, inv_y) = (1.0 / pitch_x, 1.0 / pitch_y);
+        let mut f = Frame {
+            tick_in_second: 0,
+            clock,
+            cols,
+            pitch_x,
+            pitch_y,
+            x_first: 0.0,
+            y_first: 0.0,
+            col_lo: 0,
+            col_hi: cols,
+            row_lo: 0,
+            row_hi: rows,
+            r0: 0,
+            r1: 0,
+            run_first: f32x4::ZERO,
+            run_pitch: f32x4::new([pitch_x, pitch_x, pitch_y, pitch_y]),
+            run_inv: f32x4::new([inv_x, inv_x, inv_y, inv_y]),
+            run_lo: i32x4::ZERO,
+            run_hi: i32x4::ZERO,
+        };
+        f.set_block(0, rows);
+        f
+    }
+
+    /// Puts column 0 and row 0 at `(x_first, y_first)` on the page.
     #[inline(always)]
-    fn prepare_runs(&mut self) {
-        let (xf, yf) = (self.x_first, self.y_first);
-        self.run_first = f32x4::new([xf, xf, yf, yf]);
-        self.run_pitch = f32x4::new([self.pitch_x, self.pitch_x, self.pitch_y, self.pitch_y]);
-        self.run_inv = f32x4::new([self.inv_pitch_x, self.inv_pitch_x, self.inv_pitch_y, self.inv_pitch_y]);
+    fn set_position(&mut self, x_first: f32, y_first: f32) {
+        (self.x_first, self.y_first) = (x_first, y_first);
+        self.run_first = f32x4::new([x_first, x_first, y_first, y_first]);
     }
 
     /// Makes rows `r0..r1` the block, and sets the index bounds of
-    /// [`Frame::runs`] (after [`Frame::prepare_runs`]'s surface).
+    /// [`Frame::runs`] (after [`Frame::new`], [`Frame::set_position`]'s surface).
     #[inline(always)]
     fn set_block(&mut self, r0: usize, r1: usize) {
         (self.r0, self.r1) = (r0, r1);
@@ -563,9 +666,10 @@ impl Frame {
         let pos = |i: i32x4| first + f32x4::from_i32x4(i) * pitch;
         let e = osc::ceil_in4((bounds - first) * inv, lo, hi);
         // One step down if the index before already reaches the bound, one
-        // up if this one does not yet. (A NaN bound gives `hi`.)
-        let e = e - (e.simd_gt(lo) & cast::<f32x4, i32x4>(pos(e - 1).simd_ge(bounds))).select(i32x4::ONE, i32x4::ZERO);
-        let e = e + (e.simd_lt(hi) & cast::<f32x4, i32x4>(!pos(e).simd_ge(bounds))).select(i32x4::ONE, i32x4::ZERO);
+        // up if this one does not yet: a true lane compares as −1, so the
+        // masks are the steps. (A NaN bound gives `hi`.)
+        let e = e + (e.simd_gt(lo) & cast::<f32x4, i32x4>(pos(e - 1).simd_ge(bounds)));
+        let e = e - (e.simd_lt(hi) & cast::<f32x4, i32x4>(!pos(e).simd_ge(bounds)));
         e.to_array().map(|v| v as usize)
     }
 }
@@ -609,7 +713,7 @@ mod tests {
                     }
                 }
                 let (mut block, mut scalar) = ([0u16; BLOCK], [0u16; BLOCK]);
-                let n = quantise_block(&mut block, &acc, max);
+                let n = quantise_block(&mut block, &acc, &BlockScale::new(max));
                 let m = quantise(&mut scalar, &acc, clamp_at, max);
                 assert_eq!((block, n), (scalar, m), "max code {max}, sums {acc:?}");
             }
@@ -638,29 +742,10 @@ mod tests {
             let r0 = next() as usize % rows;
             let r1 = (r0 + 1 + next() as usize % rows).min(rows);
             let clock = osc::PhaseClock::new(1000);
-            let mut f = Frame {
-                tick_in_second: 0,
-                clock,
-                cols,
-                pitch_x,
-                pitch_y,
-                inv_pitch_x: 1.0 / pitch_x,
-                inv_pitch_y: 1.0 / pitch_y,
-                x_first: scale * unit(next()),
-                y_first: scale * unit(next()),
-                col_lo,
-                col_hi,
-                row_lo,
-                row_hi,
-                r0: 0,
-                r1: 0,
-                run_first: f32x4::ZERO,
-                run_pitch: f32x4::ZERO,
-                run_inv: f32x4::ZERO,
-                run_lo: i32x4::ZERO,
-                run_hi: i32x4::ZERO,
-            };
-            f.prepare_runs();
+            let mut f = Frame::new(clock, cols, rows, pitch_x, pitch_y);
+            let (x_first, y_first) = (scale * unit(next()), scale * unit(next()));
+            f.set_position(x_first, y_first);
+            (f.col_lo, f.col_hi, f.row_lo, f.row_hi) = (col_lo, col_hi, row_lo, row_hi);
             f.set_block(r0, r1);
             // A bound on an actuator, between two, or anywhere around the array.
             let mut bound = |first: f32, pitch: f32, n: usize| match next() % 3 {

@@ -78,19 +78,14 @@ impl PhaseClock {
     }
 
     /// `x mod m`. The quotient estimate `⌊x · inv / 2⁶⁴⌋` is at most
-    /// `⌊x / m⌋` and short of it by at most 2 (`inv` is within 1 of
-    /// `2⁶⁴ / m` and `x < 2⁶⁴`), so at most two subtractions settle it.
+    /// `⌊x / m⌋` and short of it by at most 1, so one subtraction settles
+    /// it: `inv = 2⁶⁴ / m − e` with `0 ≤ e ≤ 1`, so `x · inv / 2⁶⁴` is
+    /// `x / m` less `x · e / 2⁶⁴`, which is below 1 for every `x < 2⁶⁴`.
     #[inline(always)]
     pub(crate) fn rem(&self, x: u64) -> u64 {
         let q = ((x as u128 * self.inv as u128) >> 64) as u64;
-        let mut r = x.wrapping_sub(q.wrapping_mul(self.m));
-        if r >= self.m {
-            r -= self.m;
-        }
-        if r >= self.m {
-            r -= self.m;
-        }
-        r
+        let r = x.wrapping_sub(q.wrapping_mul(self.m));
+        if r >= self.m { r - self.m } else { r }
     }
 
     /// The tick reduced modulo `m`: the same phase for every oscillator
@@ -137,6 +132,7 @@ pub(crate) fn ceil_i32(v: f32) -> i32 {
 
 /// The integer nearest to `v` (ties to even), for `|v| ≤ 2²²`: adding
 /// 1.5 · 2²³ leaves it in the low mantissa bits. Two instructions.
+#[cfg(test)]
 #[inline(always)]
 pub(crate) fn round_small(v: f32) -> i32 {
     (v + ROUND_MAGIC).to_bits().wrapping_sub(ROUND_MAGIC.to_bits()) as i32
@@ -145,6 +141,7 @@ pub(crate) fn round_small(v: f32) -> i32 {
 /// `v` clamped to `[lo, hi]`, NaN to `lo`. Comparisons rather than
 /// `f32::max`/`min`, whose NaN rules cost a blend per call, so this is one
 /// `maxss` and one `minss`.
+#[cfg(test)]
 #[inline(always)]
 fn clamp_f(v: f32, lo: f32, hi: f32) -> f32 {
     let c = if v > lo { v } else { lo };
@@ -168,7 +165,14 @@ pub(crate) fn ceil_in4(v: f32x4, lo: i32x4, hi: i32x4) -> i32x4 {
 /// sooner. (It is [`cos_turns4`]'s polynomial.)
 #[inline(always)]
 pub(crate) fn cos_turns4_half(u: f32x4) -> f32x4 {
-    let z = f32x4::splat(0.25) - u.abs();
+    sin_turns4_quarter(f32x4::splat(0.25) - u.abs())
+}
+
+/// The polynomial of [`cos_turns`], `sin(2π z)` for `|z| ≤ ¼` turn, on
+/// four lanes. (Measured over every `f32` in `[¼, 0.45]`, beyond its
+/// range, it stays within `[0.3, 1]`.)
+#[inline(always)]
+pub(crate) fn sin_turns4_quarter(z: f32x4) -> f32x4 {
     let z2 = z * z;
     let z4 = z2 * z2;
     let s = |c: f32| f32x4::splat(c);
@@ -179,6 +183,7 @@ pub(crate) fn cos_turns4_half(u: f32x4) -> f32x4 {
 /// `floor(v)` clamped to `lo..=hi` (NaN gives `lo`), for bounds within
 /// ±2²²: the clamp comes first, in `f32`, so that the rounding trick of
 /// [`round_small`] applies. Cheaper than a saturating `as` conversion.
+#[cfg(test)]
 #[inline(always)]
 pub(crate) fn floor_in(v: f32, lo: i32, hi: i32) -> i32 {
     let c = clamp_f(v, lo as f32, hi as f32);
@@ -186,7 +191,17 @@ pub(crate) fn floor_in(v: f32, lo: i32, hi: i32) -> i32 {
     r - ((r as f32) > c) as i32
 }
 
+/// `floor(v)` on four lanes, for lanes within ±2²² (clamp them first):
+/// the rounding and correction of `floor_in` (the scalar reference), lane by lane.
+#[inline(always)]
+pub(crate) fn floor4(v: f32x4) -> i32x4 {
+    let r = cast::<f32x4, i32x4>(v + f32x4::splat(ROUND_MAGIC)) - i32x4::splat(ROUND_MAGIC.to_bits() as i32);
+    // A true lane compares as −1.
+    r + cast::<f32x4, i32x4>(f32x4::from_i32x4(r).simd_gt(v))
+}
+
 /// `ceil(v)` clamped to `lo..=hi` (NaN gives `lo`), like [`floor_in`].
+#[cfg(test)]
 #[inline(always)]
 pub(crate) fn ceil_in(v: f32, lo: i32, hi: i32) -> i32 {
     let c = clamp_f(v, lo as f32, hi as f32);
@@ -248,6 +263,21 @@ mod tests {
                 assert_eq!(g.to_bits(), cos_turns(l).to_bits(), "u = {l}");
             }
         }
+    }
+
+    /// The dot profile relies on this past the polynomial's range: on the
+    /// plateau it takes the larger of the rim and the amplitude.
+    #[test]
+    fn quarter_turn_sine_stays_at_most_one_up_to_045() {
+        let (lo, hi) = (0.25f32.to_bits(), 0.45f32.to_bits());
+        let mut worst = 0.0f32;
+        for b in (lo..=hi).step_by(4) {
+            let z = [b, b + 1, b + 2, b + 3].map(|b| f32::from_bits(b.min(hi)));
+            for v in sin_turns4_quarter(f32x4::new(z)).to_array() {
+                worst = worst.max(v);
+            }
+        }
+        assert!(worst <= 1.0, "largest value {worst}");
     }
 
     #[test]
