@@ -64,7 +64,7 @@
 
 use taxel_format::{
     DistanceView, PLANE_RECORD_LEN, SEGMENTS_PER_TILE, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE,
-    TILE_PLANE, TILE_SAMPLES, TILE_SIDE, TileEntry,
+    TILE_PLANE, TILE_RECORD_MASK, TILE_SAMPLES, TILE_SIDE, TileEntry,
 };
 use wide::bytemuck::cast;
 #[cfg(not(target_arch = "x86_64"))]
@@ -240,7 +240,7 @@ static INSIDE_RECORD: Record = {
 
 /// A record's four values as one vector (one load on little-endian targets).
 #[inline(always)]
-fn record(r: &Record) -> f32x4 {
+fn record_of(r: &Record) -> f32x4 {
     f32x4::new(core::array::from_fn(|i| f32::from_le_bytes([r[4 * i], r[4 * i + 1], r[4 * i + 2], r[4 * i + 3]])))
 }
 
@@ -408,11 +408,11 @@ impl<'a> FieldLayer<'a> {
         // (Bend and arc lanes alone need none of it: their code replaces it.
         // Tested in layers with bend tiles only, where it pays.)
         if any & Lane::CODE != 0 || !BENDS {
-            let [c1, gx1, gy1, top1] = f32x4::transpose(first.map(record));
+            let [c1, gx1, gy1, top1] = f32x4::transpose(first.map(record_of));
             let a1 = c1 + gx1 * u;
             let ridge = cast::<i32x4, f32x4>(has(Lane::RIDGE));
             if any & (Lane::CORNER | Lane::NOTCH) != 0 {
-                let [c2, gx2, gy2, _] = f32x4::transpose(second.map(record));
+                let [c2, gx2, gy2, _] = f32x4::transpose(second.map(record_of));
                 let a2 = c2 + gx2 * u;
                 let half = f32x4::splat(0.5);
                 t.t0 = ridge.select(top1, (a1 + a2) * half);
@@ -507,7 +507,7 @@ impl<'a> FieldLayer<'a> {
         if first {
             bl.bend = [0; LANES];
         }
-        let f = |i: usize| record(r[i / 4]).to_array()[i % 4];
+        let f = |i: usize| record_of(r[i / 4]).to_array()[i % 4];
         for (i, v) in bl.v.iter_mut().enumerate() {
             v[k] = f(i);
         }
@@ -540,8 +540,8 @@ impl<'a> FieldLayer<'a> {
         if first {
             bl.arc = [0; LANES];
         }
-        let [cx, cy, radius, kk] = record(r[0]).to_array();
-        let [top, c, gx, gy] = record(r[1]).to_array();
+        let [cx, cy, radius, kk] = record_of(r[0]).to_array();
+        let [top, c, gx, gy] = record_of(r[1]).to_array();
         let cut = c != 0.0 || gx != 0.0 || gy != 0.0;
         let (p0, pgy) = if cut { (c + gx * u, gy) } else { (f32::MAX, 0.0) };
         for (v, x) in bl.c.iter_mut().zip([u - cx, cy, radius, kk, top, p0, pgy]) {
@@ -696,6 +696,49 @@ impl<'a> FieldLayer<'a> {
         Some(windows)
     }
 
+    /// [`Self::tile_lanes`] when every lane's tile is constant or a plane
+    /// tile: each lane plays `T = c + gx u`, `tgy = gy` from its record (a
+    /// constant tile's code as a plane's `c`, so `T` is that code exactly),
+    /// with no ridge, corner or notch lane (`flat`) and no samples.
+    /// `None` if a lane's tile is of any other kind or names a missing
+    /// record (then [`Self::tile_lanes`] decides).
+    #[inline(always)]
+    fn affine_lanes(&self, tile_row: usize, ci: [u32; LANES], u: f32x4) -> Option<TileLanes<'a>> {
+        let mut records = [&OUTSIDE_RECORD; LANES];
+        // Neighbouring lanes often share a tile: each is looked up once.
+        let mut prev = ci[0] >> SHIFT;
+        let mut record = self.affine(tile_row + prev as usize)?;
+        for k in 0..LANES {
+            if ci[k] >> SHIFT != prev {
+                prev = ci[k] >> SHIFT;
+                record = self.affine(tile_row + prev as usize)?;
+            }
+            records[k] = record;
+        }
+        let [c, gx, gy, _] = f32x4::transpose(records.map(record_of));
+        Some(TileLanes {
+            analytic: true,
+            planar: i32x4::splat(-1),
+            t0: c + gx * u,
+            tgy: gy,
+            flat: true,
+            ..TileLanes::default()
+        })
+    }
+
+    /// The record the tile at index entry `i` plays if it is constant
+    /// (its code as a plane's `c`) or a plane tile; `None` for any other
+    /// kind, or a plane record past the stored ones.
+    #[inline(always)]
+    fn affine(&self, i: usize) -> Option<&'a Record> {
+        match self.entries.get(i).map_or(TILE_OUTSIDE, |b| u32::from_le_bytes(*b)) {
+            TILE_OUTSIDE => Some(&OUTSIDE_RECORD),
+            TILE_INSIDE => Some(&INSIDE_RECORD),
+            e if e >> 28 == TILE_PLANE >> 28 => self.planes.get((e & TILE_RECORD_MASK) as usize),
+            _ => None,
+        }
+    }
+
     /// The samples of the tile at index entry `i` as [`Self::lane`] reads
     /// an outside, inside or stored tile; `None` for any other kind.
     #[inline(always)]
@@ -806,14 +849,26 @@ impl<'a> FieldLayer<'a> {
                         // band crosses rows of tiles): they skip the lookup
                         // that would fail. (`tile_lanes` reads every kind,
                         // so a wrong guess costs time, never a frame.)
+                        // Constant and plane tiles only, the tiles the
+                        // compiler writes along straight edges, first: no
+                        // decode by kind, no second record.
+                        let analytic = |bends: &mut BendLanes| match self.affine_lanes(row, ci, u) {
+                            Some(affine) => {
+                                if BENDS {
+                                    (bends.arced, bends.segged) = (false, false);
+                                }
+                                affine
+                            }
+                            None => self.tile_lanes::<BENDS>(row, ci, u, bends),
+                        };
                         if ANALYTIC && lanes.analytic {
-                            lanes = self.tile_lanes::<BENDS>(row, ci, u, &mut bends);
+                            lanes = analytic(&mut bends);
                         } else {
                             match self.sample_windows(row, ci) {
                                 Some(windows) => (lanes.windows, lanes.analytic, lanes.bent) = (windows, false, false),
                                 // (Never in a layer of such tiles only.)
                                 None if !ANALYTIC => lanes.windows = [&OUTSIDE_WINDOW; LANES],
-                                None => lanes = self.tile_lanes::<BENDS>(row, ci, u, &mut bends),
+                                None => lanes = analytic(&mut bends),
                             }
                         }
                     }
