@@ -129,6 +129,9 @@ struct TileLanes<'a> {
     /// and `gy` are 0 and every lane's code is `T` alone (the rows skip
     /// `− sign · |A|`, which is exactly 0 there).
     flat: bool,
+    /// Whether these lanes were decoded by kind ([`FieldLayer::tile_lanes`]):
+    /// then the next tile change most likely needs that too.
+    decoded: bool,
 }
 
 /// The bend lanes (format 4.0) of a [`TileLanes`]: a bend lane plays `top −
@@ -183,6 +186,7 @@ impl Default for TileLanes<'_> {
             bent: false,
             sampled: false,
             flat: false,
+            decoded: false,
         }
     }
 }
@@ -364,7 +368,7 @@ impl<'a> FieldLayer<'a> {
         u: f32x4,
         bl: &mut BendLanes,
     ) -> TileLanes<'a> {
-        let mut t = TileLanes::default();
+        let mut t = TileLanes { decoded: true, ..TileLanes::default() };
         if BENDS {
             bl.arced = false;
             bl.segged = false;
@@ -842,33 +846,34 @@ impl<'a> FieldLayer<'a> {
                     if ty != ty_now {
                         ty_now = ty;
                         let row = ty as usize * self.tile_cols as usize;
-                        // Outside, inside and stored tiles first: their
-                        // lanes need nothing but their windows. But lanes
-                        // that met an analytic tile most likely meet one
-                        // again in the next tile row (a straight edge or a
-                        // band crosses rows of tiles): they skip the lookup
-                        // that would fail. (`tile_lanes` reads every kind,
-                        // so a wrong guess costs time, never a frame.)
-                        // Constant and plane tiles only, the tiles the
-                        // compiler writes along straight edges, first: no
-                        // decode by kind, no second record.
-                        let analytic = |bends: &mut BendLanes| match self.affine_lanes(row, ci, u) {
-                            Some(affine) => {
-                                if BENDS {
-                                    (bends.arced, bends.segged) = (false, false);
-                                }
-                                affine
+                        if !ANALYTIC {
+                            // (`None` never happens in a layer of such tiles only.)
+                            lanes.windows = self.sample_windows(row, ci).unwrap_or([&OUTSIDE_WINDOW; LANES]);
+                        } else if let Some(affine) = self.affine_lanes(row, ci, u) {
+                            // Constant and plane tiles only, the tiles the
+                            // compiler writes along straight edges and
+                            // inside and outside regions, first: no decode
+                            // by kind, no second record, no samples.
+                            if BENDS {
+                                (bends.arced, bends.segged) = (false, false);
                             }
-                            None => self.tile_lanes::<BENDS>(row, ci, u, bends),
-                        };
-                        if ANALYTIC && lanes.analytic {
-                            lanes = analytic(&mut bends);
+                            lanes = affine;
                         } else {
-                            match self.sample_windows(row, ci) {
-                                Some(windows) => (lanes.windows, lanes.analytic, lanes.bent) = (windows, false, false),
-                                // (Never in a layer of such tiles only.)
-                                None if !ANALYTIC => lanes.windows = [&OUTSIDE_WINDOW; LANES],
-                                None => lanes = analytic(&mut bends),
+                            // Then outside, inside and stored tiles: their
+                            // lanes need nothing but their windows. But
+                            // lanes that met another kind of tile most
+                            // likely meet one again in the next tile row (a
+                            // band or a corner crosses rows of tiles): they
+                            // skip the lookup that would fail.
+                            // (`tile_lanes` reads every kind, so a wrong
+                            // guess costs time, never a frame.)
+                            let windows = if lanes.decoded { None } else { self.sample_windows(row, ci) };
+                            match windows {
+                                Some(windows) => {
+                                    (lanes.windows, lanes.analytic, lanes.bent, lanes.decoded) =
+                                        (windows, false, false, false)
+                                }
+                                None => lanes = self.tile_lanes::<BENDS>(row, ci, u, &mut bends),
                             }
                         }
                     }
