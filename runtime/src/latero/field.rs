@@ -796,18 +796,21 @@ impl<'a> FieldLayer<'a> {
             let fy = ((y - y0) * inv_pitch).fast_max(f32x4::ZERO);
             let cj = fy.fast_min(rmax).fast_trunc_int();
             let wy = (fy - f32x4::from_i32x4(cj)).fast_min(f32x4::ONE).to_array();
-            (cast::<i32x4, [u32; LANES]>(cj), wy, fy.to_array())
+            // The lattice y within the row's tile, for analytic lanes.
+            let tile_y = f32x4::from_i32x4((cj >> SHIFT as i32) << SHIFT as i32);
+            let wt = (fy - tile_y).fast_min(f32x4::splat(TILE_CELLS as f32));
+            (cast::<i32x4, [u32; LANES]>(cj), wy, wt.to_array())
         };
         let mut r8 = r_lo;
         while r8 < r_hi {
-            let ((cj0, wy0, fy0), (cj1, wy1, fy1)) = (lattice(r8), lattice(r8 + LANES));
+            let ((cj0, wy0, wt0), (cj1, wy1, wt1)) = (lattice(r8), lattice(r8 + LANES));
             let pick = |a: [u32; LANES], b: [u32; LANES]| -> [u32; ROWS] {
                 core::array::from_fn(|i| if i < LANES { a[i % LANES] } else { b[i % LANES] })
             };
             let pickf = |a: [f32; LANES], b: [f32; LANES]| -> [f32; ROWS] {
                 core::array::from_fn(|i| if i < LANES { a[i % LANES] } else { b[i % LANES] })
             };
-            let (cjs, wys, fys) = (pick(cj0, cj1), pickf(wy0, wy1), pickf(fy0, fy1));
+            let (cjs, wys, wts) = (pick(cj0, cj1), pickf(wy0, wy1), pickf(wt0, wt1));
             // A grating's phase from row `f.r0` to each of these rows (the
             // product each row took, in lanes).
             let row_phase =
@@ -841,7 +844,6 @@ impl<'a> FieldLayer<'a> {
                 let mut bends = BendLanes::default();
                 for k in 0..rows {
                     let (r, cj, wy) = (r8 + k, cjs[k], f32x4::splat(wys[k]));
-                    let fy = &fys;
                     let ty = cj >> SHIFT;
                     if ty != ty_now {
                         ty_now = ty;
@@ -888,7 +890,7 @@ impl<'a> FieldLayer<'a> {
                     let v = if ANALYTIC && lanes.analytic {
                         // The analytic lanes' code at this row's
                         // lattice y within the tile, in units of `W`.
-                        let wt = (fy[k] - (ty << SHIFT) as f32).min(TILE_CELLS as f32);
+                        let wt = wts[k];
                         let mut code = lanes.t0 + lanes.tgy * wt;
                         if !lanes.flat {
                             code -= lanes.sign * (lanes.a0 + lanes.gy * wt).abs();
