@@ -703,31 +703,32 @@ impl<'a> FieldLayer<'a> {
     /// [`Self::tile_lanes`] when every lane's tile is constant or a plane
     /// tile: each lane plays `T = c + gx u`, `tgy = gy` from its record (a
     /// constant tile's code as a plane's `c`, so `T` is that code exactly),
-    /// with no ridge, corner or notch lane (`flat`) and no samples.
-    /// `None` if a lane's tile is of any other kind or names a missing
-    /// record (then [`Self::tile_lanes`] decides).
+    /// with no ridge, corner or notch lane (`flat`) and no samples. Only
+    /// the fields the rows read in that case are written (the windows,
+    /// `planar`, `a0`, `gy` and `sign` keep whatever they held: no row
+    /// reads them until a tile change writes them again). Returns false,
+    /// leaving `t` alone, if a lane's tile is of any other kind or names a
+    /// missing record (then [`Self::tile_lanes`] decides).
     #[inline(always)]
-    fn affine_lanes(&self, tile_row: usize, ci: [u32; LANES], u: f32x4) -> Option<TileLanes<'a>> {
+    fn affine_lanes(&self, tile_row: usize, ci: [u32; LANES], u: f32x4, t: &mut TileLanes<'a>) -> bool {
         let mut records = [&OUTSIDE_RECORD; LANES];
         // Neighbouring lanes often share a tile: each is looked up once.
         let mut prev = ci[0] >> SHIFT;
-        let mut record = self.affine(tile_row + prev as usize)?;
+        let Some(mut record) = self.affine(tile_row + prev as usize) else { return false };
         for k in 0..LANES {
             if ci[k] >> SHIFT != prev {
                 prev = ci[k] >> SHIFT;
-                record = self.affine(tile_row + prev as usize)?;
+                match self.affine(tile_row + prev as usize) {
+                    Some(r) => record = r,
+                    None => return false,
+                }
             }
             records[k] = record;
         }
         let [c, gx, gy, _] = f32x4::transpose(records.map(record_of));
-        Some(TileLanes {
-            analytic: true,
-            planar: i32x4::splat(-1),
-            t0: c + gx * u,
-            tgy: gy,
-            flat: true,
-            ..TileLanes::default()
-        })
+        (t.t0, t.tgy) = (c + gx * u, gy);
+        (t.analytic, t.flat, t.sampled, t.bent, t.decoded) = (true, true, false, false, false);
+        true
     }
 
     /// The record the tile at index entry `i` plays if it is constant
@@ -851,7 +852,7 @@ impl<'a> FieldLayer<'a> {
                         if !ANALYTIC {
                             // (`None` never happens in a layer of such tiles only.)
                             lanes.windows = self.sample_windows(row, ci).unwrap_or([&OUTSIDE_WINDOW; LANES]);
-                        } else if let Some(affine) = self.affine_lanes(row, ci, u) {
+                        } else if self.affine_lanes(row, ci, u, &mut lanes) {
                             // Constant and plane tiles only, the tiles the
                             // compiler writes along straight edges and
                             // inside and outside regions, first: no decode
@@ -859,7 +860,6 @@ impl<'a> FieldLayer<'a> {
                             if BENDS {
                                 (bends.arced, bends.segged) = (false, false);
                             }
-                            lanes = affine;
                         } else {
                             // Then outside, inside and stored tiles: their
                             // lanes need nothing but their windows. But
