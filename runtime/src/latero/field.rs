@@ -129,6 +129,10 @@ struct TileLanes<'a> {
     /// and `gy` are 0 and every lane's code is `T` alone (the rows skip
     /// `− sign · |A|`, which is exactly 0 there).
     flat: bool,
+    /// Whether every lane is a constant or plane lane written by
+    /// [`FieldLayer::affine_lanes`]: then `analytic` and `flat` hold, no
+    /// lane reads samples or is curved, and the rows play `T` alone.
+    affine: bool,
     /// Whether these lanes were decoded by kind ([`FieldLayer::tile_lanes`]):
     /// then the next tile change most likely needs that too.
     decoded: bool,
@@ -186,6 +190,7 @@ impl Default for TileLanes<'_> {
             bent: false,
             sampled: false,
             flat: false,
+            affine: false,
             decoded: false,
         }
     }
@@ -727,7 +732,7 @@ impl<'a> FieldLayer<'a> {
         }
         let [c, gx, gy, _] = f32x4::transpose(records.map(record_of));
         (t.t0, t.tgy) = (c + gx * u, gy);
-        (t.analytic, t.flat, t.sampled, t.bent, t.decoded) = (true, true, false, false, false);
+        (t.analytic, t.flat, t.sampled, t.bent, t.affine, t.decoded) = (true, true, false, false, true, false);
         true
     }
 
@@ -872,8 +877,8 @@ impl<'a> FieldLayer<'a> {
                             let windows = if lanes.decoded { None } else { self.sample_windows(row, ci) };
                             match windows {
                                 Some(windows) => {
-                                    (lanes.windows, lanes.analytic, lanes.bent, lanes.decoded) =
-                                        (windows, false, false, false)
+                                    (lanes.windows, lanes.analytic, lanes.bent, lanes.affine, lanes.decoded) =
+                                        (windows, false, false, false, false)
                                 }
                                 None => lanes = self.tile_lanes::<BENDS>(row, ci, u, &mut bends),
                             }
@@ -887,7 +892,11 @@ impl<'a> FieldLayer<'a> {
                         let b = f32x4::from_i32x4(bot.dot(w));
                         t + (b - t) * wy
                     };
-                    let v = if ANALYTIC && lanes.analytic {
+                    let v = if ANALYTIC && lanes.affine {
+                        // Constant and plane lanes only: `T` alone, no
+                        // samples (one test for the rows of such tiles).
+                        (lanes.t0 + lanes.tgy * wts[k]) * W as f32
+                    } else if ANALYTIC && lanes.analytic {
                         // The analytic lanes' code at this row's
                         // lattice y within the tile, in units of `W`.
                         let wt = wts[k];
