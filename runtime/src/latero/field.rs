@@ -38,9 +38,16 @@
 //! a cut arc (format 4.3, an arc tile whose second record holds a plane)
 //! plays the lesser of that and the plane's affine code in the same lanes
 //! (a plain arc's plane is `f32::MAX`), so it needs no flag of its own and
-//! the other kinds' code is unchanged. A tile change first looks up each lane's window as if
-//! every lane's tile stored samples or were constant, the common case
-//! (region interiors and exteriors are constant tiles), and only when a
+//! the other kinds' code is unchanged. In a layer of outside, inside and
+//! stored tiles only, a tile change looks up each lane's window. In a layer
+//! with other kinds, it first tries the tiles the compiler writes most:
+//! when every lane's tile is constant or a plane tile (region interiors
+//! and exteriors, straight edges), it reads each tile's entry once and its
+//! record directly, with no decode by kind ([`FieldLayer::affine_lanes`]),
+//! and the rows play that code `T = c + gx u + gy w` behind one test, with
+//! no samples (a constant tile's code is its record's `c`, exactly the
+//! interpolation of its samples). Then it tries every lane's window as if
+//! every lane's tile stored samples or were constant, and only when a
 //! lane's tile is of another kind reads the lanes' records: each tile is
 //! decoded once for the lanes that share it, by its kind nibble with one
 //! arm per kind ([`FieldLayer::lane`]), into its samples, its two records
