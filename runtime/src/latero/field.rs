@@ -856,7 +856,7 @@ impl<'a> FieldLayer<'a> {
                 let mut lanes = TileLanes::default();
                 let mut bends = BendLanes::default();
                 for k in 0..rows {
-                    let (r, cj, wy) = (r8 + k, cjs[k], f32x4::splat(wys[k]));
+                    let (r, cj) = (r8 + k, cjs[k]);
                     let ty = cj >> SHIFT;
                     if ty != ty_now {
                         ty_now = ty;
@@ -897,7 +897,7 @@ impl<'a> FieldLayer<'a> {
                             Self::pairs(&lanes.windows, (cj & (TILE_CELLS as u32 - 1)) as usize * TILE_SIDE);
                         let t = f32x4::from_i32x4(top.dot(w));
                         let b = f32x4::from_i32x4(bot.dot(w));
-                        t + (b - t) * wy
+                        t + (b - t) * f32x4::splat(wys[k])
                     };
                     let v = if ANALYTIC && lanes.affine {
                         // Constant and plane lanes only: `T` alone, no
