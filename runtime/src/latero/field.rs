@@ -38,9 +38,16 @@
 //! a cut arc (format 4.3, an arc tile whose second record holds a plane)
 //! plays the lesser of that and the plane's affine code in the same lanes
 //! (a plain arc's plane is `f32::MAX`), so it needs no flag of its own and
-//! the other kinds' code is unchanged. A tile change first looks up each lane's window as if
-//! every lane's tile stored samples or were constant, the common case
-//! (region interiors and exteriors are constant tiles), and only when a
+//! the other kinds' code is unchanged. In a layer of outside, inside and
+//! stored tiles only, a tile change looks up each lane's window. In a layer
+//! with other kinds, it first tries the tiles the compiler writes most:
+//! when every lane's tile is constant or a plane tile (region interiors
+//! and exteriors, straight edges), it reads each tile's entry once and its
+//! record directly, with no decode by kind ([`FieldLayer::affine_lanes`]),
+//! and the rows play that code `T = c + gx u + gy w` behind one test, with
+//! no samples (a constant tile's code is its record's `c`, exactly the
+//! interpolation of its samples). Then it tries every lane's window as if
+//! every lane's tile stored samples or were constant, and only when a
 //! lane's tile is of another kind reads the lanes' records: each tile is
 //! decoded once for the lanes that share it, by its kind nibble with one
 //! arm per kind ([`FieldLayer::lane`]), into its samples, its two records
@@ -64,7 +71,7 @@
 
 use taxel_format::{
     DistanceView, PLANE_RECORD_LEN, SEGMENTS_PER_TILE, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE,
-    TILE_PLANE, TILE_SAMPLES, TILE_SIDE, TileEntry,
+    TILE_PLANE, TILE_RECORD_MASK, TILE_SAMPLES, TILE_SIDE, TileEntry,
 };
 use wide::bytemuck::cast;
 #[cfg(not(target_arch = "x86_64"))]
@@ -129,6 +136,13 @@ struct TileLanes<'a> {
     /// and `gy` are 0 and every lane's code is `T` alone (the rows skip
     /// `− sign · |A|`, which is exactly 0 there).
     flat: bool,
+    /// Whether every lane is a constant or plane lane written by
+    /// [`FieldLayer::affine_lanes`]: then `analytic` and `flat` hold, no
+    /// lane reads samples or is curved, and the rows play `T` alone.
+    affine: bool,
+    /// Whether these lanes were decoded by kind ([`FieldLayer::tile_lanes`]):
+    /// then the next tile change most likely needs that too.
+    decoded: bool,
 }
 
 /// The bend lanes (format 4.0) of a [`TileLanes`]: a bend lane plays `top −
@@ -183,6 +197,8 @@ impl Default for TileLanes<'_> {
             bent: false,
             sampled: false,
             flat: false,
+            affine: false,
+            decoded: false,
         }
     }
 }
@@ -240,7 +256,7 @@ static INSIDE_RECORD: Record = {
 
 /// A record's four values as one vector (one load on little-endian targets).
 #[inline(always)]
-fn record(r: &Record) -> f32x4 {
+fn record_of(r: &Record) -> f32x4 {
     f32x4::new(core::array::from_fn(|i| f32::from_le_bytes([r[4 * i], r[4 * i + 1], r[4 * i + 2], r[4 * i + 3]])))
 }
 
@@ -364,7 +380,7 @@ impl<'a> FieldLayer<'a> {
         u: f32x4,
         bl: &mut BendLanes,
     ) -> TileLanes<'a> {
-        let mut t = TileLanes::default();
+        let mut t = TileLanes { decoded: true, ..TileLanes::default() };
         if BENDS {
             bl.arced = false;
             bl.segged = false;
@@ -408,11 +424,11 @@ impl<'a> FieldLayer<'a> {
         // (Bend and arc lanes alone need none of it: their code replaces it.
         // Tested in layers with bend tiles only, where it pays.)
         if any & Lane::CODE != 0 || !BENDS {
-            let [c1, gx1, gy1, top1] = f32x4::transpose(first.map(record));
+            let [c1, gx1, gy1, top1] = f32x4::transpose(first.map(record_of));
             let a1 = c1 + gx1 * u;
             let ridge = cast::<i32x4, f32x4>(has(Lane::RIDGE));
             if any & (Lane::CORNER | Lane::NOTCH) != 0 {
-                let [c2, gx2, gy2, _] = f32x4::transpose(second.map(record));
+                let [c2, gx2, gy2, _] = f32x4::transpose(second.map(record_of));
                 let a2 = c2 + gx2 * u;
                 let half = f32x4::splat(0.5);
                 t.t0 = ridge.select(top1, (a1 + a2) * half);
@@ -507,7 +523,7 @@ impl<'a> FieldLayer<'a> {
         if first {
             bl.bend = [0; LANES];
         }
-        let f = |i: usize| record(r[i / 4]).to_array()[i % 4];
+        let f = |i: usize| record_of(r[i / 4]).to_array()[i % 4];
         for (i, v) in bl.v.iter_mut().enumerate() {
             v[k] = f(i);
         }
@@ -540,8 +556,8 @@ impl<'a> FieldLayer<'a> {
         if first {
             bl.arc = [0; LANES];
         }
-        let [cx, cy, radius, kk] = record(r[0]).to_array();
-        let [top, c, gx, gy] = record(r[1]).to_array();
+        let [cx, cy, radius, kk] = record_of(r[0]).to_array();
+        let [top, c, gx, gy] = record_of(r[1]).to_array();
         let cut = c != 0.0 || gx != 0.0 || gy != 0.0;
         let (p0, pgy) = if cut { (c + gx * u, gy) } else { (f32::MAX, 0.0) };
         for (v, x) in bl.c.iter_mut().zip([u - cx, cy, radius, kk, top, p0, pgy]) {
@@ -696,6 +712,50 @@ impl<'a> FieldLayer<'a> {
         Some(windows)
     }
 
+    /// [`Self::tile_lanes`] when every lane's tile is constant or a plane
+    /// tile: each lane plays `T = c + gx u`, `tgy = gy` from its record (a
+    /// constant tile's code as a plane's `c`, so `T` is that code exactly),
+    /// with no ridge, corner or notch lane (`flat`) and no samples. Only
+    /// the fields the rows read in that case are written (the windows,
+    /// `planar`, `a0`, `gy` and `sign` keep whatever they held: no row
+    /// reads them until a tile change writes them again). Returns false,
+    /// leaving `t` alone, if a lane's tile is of any other kind or names a
+    /// missing record (then [`Self::tile_lanes`] decides).
+    #[inline(always)]
+    fn affine_lanes(&self, tile_row: usize, ci: [u32; LANES], u: f32x4, t: &mut TileLanes<'a>) -> bool {
+        let mut records = [&OUTSIDE_RECORD; LANES];
+        // Neighbouring lanes often share a tile: each is looked up once.
+        let mut prev = ci[0] >> SHIFT;
+        let Some(mut record) = self.affine(tile_row + prev as usize) else { return false };
+        for k in 0..LANES {
+            if ci[k] >> SHIFT != prev {
+                prev = ci[k] >> SHIFT;
+                match self.affine(tile_row + prev as usize) {
+                    Some(r) => record = r,
+                    None => return false,
+                }
+            }
+            records[k] = record;
+        }
+        let [c, gx, gy, _] = f32x4::transpose(records.map(record_of));
+        (t.t0, t.tgy) = (c + gx * u, gy);
+        (t.analytic, t.flat, t.sampled, t.bent, t.affine, t.decoded) = (true, true, false, false, true, false);
+        true
+    }
+
+    /// The record the tile at index entry `i` plays if it is constant
+    /// (its code as a plane's `c`) or a plane tile; `None` for any other
+    /// kind, or a plane record past the stored ones.
+    #[inline(always)]
+    fn affine(&self, i: usize) -> Option<&'a Record> {
+        match self.entries.get(i).map_or(TILE_OUTSIDE, |b| u32::from_le_bytes(*b)) {
+            TILE_OUTSIDE => Some(&OUTSIDE_RECORD),
+            TILE_INSIDE => Some(&INSIDE_RECORD),
+            e if e >> 28 == TILE_PLANE >> 28 => self.planes.get((e & TILE_RECORD_MASK) as usize),
+            _ => None,
+        }
+    }
+
     /// The samples of the tile at index entry `i` as [`Self::lane`] reads
     /// an outside, inside or stored tile; `None` for any other kind.
     #[inline(always)]
@@ -749,18 +809,21 @@ impl<'a> FieldLayer<'a> {
             let fy = ((y - y0) * inv_pitch).fast_max(f32x4::ZERO);
             let cj = fy.fast_min(rmax).fast_trunc_int();
             let wy = (fy - f32x4::from_i32x4(cj)).fast_min(f32x4::ONE).to_array();
-            (cast::<i32x4, [u32; LANES]>(cj), wy, fy.to_array())
+            // The lattice y within the row's tile, for analytic lanes.
+            let tile_y = f32x4::from_i32x4((cj >> SHIFT as i32) << SHIFT as i32);
+            let wt = (fy - tile_y).fast_min(f32x4::splat(TILE_CELLS as f32));
+            (cast::<i32x4, [u32; LANES]>(cj), wy, wt.to_array())
         };
         let mut r8 = r_lo;
         while r8 < r_hi {
-            let ((cj0, wy0, fy0), (cj1, wy1, fy1)) = (lattice(r8), lattice(r8 + LANES));
+            let ((cj0, wy0, wt0), (cj1, wy1, wt1)) = (lattice(r8), lattice(r8 + LANES));
             let pick = |a: [u32; LANES], b: [u32; LANES]| -> [u32; ROWS] {
                 core::array::from_fn(|i| if i < LANES { a[i % LANES] } else { b[i % LANES] })
             };
             let pickf = |a: [f32; LANES], b: [f32; LANES]| -> [f32; ROWS] {
                 core::array::from_fn(|i| if i < LANES { a[i % LANES] } else { b[i % LANES] })
             };
-            let (cjs, wys, fys) = (pick(cj0, cj1), pickf(wy0, wy1), pickf(fy0, fy1));
+            let (cjs, wys, wts) = (pick(cj0, cj1), pickf(wy0, wy1), pickf(wt0, wt1));
             // A grating's phase from row `f.r0` to each of these rows (the
             // product each row took, in lanes).
             let row_phase =
@@ -793,26 +856,37 @@ impl<'a> FieldLayer<'a> {
                 let mut lanes = TileLanes::default();
                 let mut bends = BendLanes::default();
                 for k in 0..rows {
-                    let (r, cj, wy) = (r8 + k, cjs[k], f32x4::splat(wys[k]));
-                    let fy = &fys;
+                    let (r, cj) = (r8 + k, cjs[k]);
                     let ty = cj >> SHIFT;
                     if ty != ty_now {
                         ty_now = ty;
                         let row = ty as usize * self.tile_cols as usize;
-                        // Outside, inside and stored tiles first: their
-                        // lanes need nothing but their windows. But lanes
-                        // that met an analytic tile most likely meet one
-                        // again in the next tile row (a straight edge or a
-                        // band crosses rows of tiles): they skip the lookup
-                        // that would fail. (`tile_lanes` reads every kind,
-                        // so a wrong guess costs time, never a frame.)
-                        if ANALYTIC && lanes.analytic {
-                            lanes = self.tile_lanes::<BENDS>(row, ci, u, &mut bends);
+                        if !ANALYTIC {
+                            // (`None` never happens in a layer of such tiles only.)
+                            lanes.windows = self.sample_windows(row, ci).unwrap_or([&OUTSIDE_WINDOW; LANES]);
+                        } else if self.affine_lanes(row, ci, u, &mut lanes) {
+                            // Constant and plane tiles only, the tiles the
+                            // compiler writes along straight edges and
+                            // inside and outside regions, first: no decode
+                            // by kind, no second record, no samples.
+                            if BENDS {
+                                (bends.arced, bends.segged) = (false, false);
+                            }
                         } else {
-                            match self.sample_windows(row, ci) {
-                                Some(windows) => (lanes.windows, lanes.analytic, lanes.bent) = (windows, false, false),
-                                // (Never in a layer of such tiles only.)
-                                None if !ANALYTIC => lanes.windows = [&OUTSIDE_WINDOW; LANES],
+                            // Then outside, inside and stored tiles: their
+                            // lanes need nothing but their windows. But
+                            // lanes that met another kind of tile most
+                            // likely meet one again in the next tile row (a
+                            // band or a corner crosses rows of tiles): they
+                            // skip the lookup that would fail.
+                            // (`tile_lanes` reads every kind, so a wrong
+                            // guess costs time, never a frame.)
+                            let windows = if lanes.decoded { None } else { self.sample_windows(row, ci) };
+                            match windows {
+                                Some(windows) => {
+                                    (lanes.windows, lanes.analytic, lanes.bent, lanes.affine, lanes.decoded) =
+                                        (windows, false, false, false, false)
+                                }
                                 None => lanes = self.tile_lanes::<BENDS>(row, ci, u, &mut bends),
                             }
                         }
@@ -823,12 +897,16 @@ impl<'a> FieldLayer<'a> {
                             Self::pairs(&lanes.windows, (cj & (TILE_CELLS as u32 - 1)) as usize * TILE_SIDE);
                         let t = f32x4::from_i32x4(top.dot(w));
                         let b = f32x4::from_i32x4(bot.dot(w));
-                        t + (b - t) * wy
+                        t + (b - t) * f32x4::splat(wys[k])
                     };
-                    let v = if ANALYTIC && lanes.analytic {
+                    let v = if ANALYTIC && lanes.affine {
+                        // Constant and plane lanes only: `T` alone, no
+                        // samples (one test for the rows of such tiles).
+                        (lanes.t0 + lanes.tgy * wts[k]) * W as f32
+                    } else if ANALYTIC && lanes.analytic {
                         // The analytic lanes' code at this row's
                         // lattice y within the tile, in units of `W`.
-                        let wt = (fy[k] - (ty << SHIFT) as f32).min(TILE_CELLS as f32);
+                        let wt = wts[k];
                         let mut code = lanes.t0 + lanes.tgy * wt;
                         if !lanes.flat {
                             code -= lanes.sign * (lanes.a0 + lanes.gy * wt).abs();
