@@ -283,11 +283,7 @@ mod tests {
     #[test]
     fn span_equals_the_scalar_bounds() {
         use super::super::osc::{ceil_in, floor_in};
-        let mut s = 0x853c_49e6_748f_ea9bu64;
-        let mut next = || {
-            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (s >> 40) as u32
-        };
+        let mut next = super::super::tests::lcg(0x853c_49e6_748f_ea9bu64);
         for _ in 0..200_000 {
             let unit = |n: u32| n as f32 / (1 << 24) as f32;
             let (cols, rows) = (1 + next() as usize % 16, 1 + next() as usize % 16);
@@ -307,7 +303,7 @@ mod tests {
             let rho = 0.01 + 4.0 * unit(next());
             let x = x_first + (unit(next()) * 1.4 - 0.2) * cols as f32 * pitch_x;
             // On a row exactly, or anywhere.
-            let y = if next() % 4 == 0 {
+            let y = if next().is_multiple_of(4) {
                 y_first + (next() as usize % rows) as f32 * pitch_y + rho
             } else {
                 y_first + (unit(next()) * 1.4 - 0.2) * rows as f32 * pitch_y

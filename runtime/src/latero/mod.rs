@@ -678,6 +678,15 @@ impl Frame {
 mod tests {
     use super::*;
 
+    /// A 64-bit linear congruential generator (Knuth's MMIX constants)
+    /// from `seed`: each call gives the top 24 bits of the next state.
+    pub(super) fn lcg(mut s: u64) -> impl FnMut() -> u32 {
+        move || {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (s >> 40) as u32
+        }
+    }
+
     /// [`quantise_block`] gives [`quantise`]'s codes and count for sums
     /// anywhere from below 0 to far above 1, +∞ included (but for a sum
     /// exactly half a step above 1, whose count may differ).
@@ -725,11 +734,7 @@ mod tests {
     /// anywhere: beside the array, between actuators and exactly on one.
     #[test]
     fn runs_equal_a_scan_of_the_positions() {
-        let mut s = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (s >> 40) as u32
-        };
+        let mut next = lcg(0x9e37_79b9_7f4a_7c15u64);
         for _ in 0..200_000 {
             let unit = |n: u32| n as f32 / (1 << 24) as f32;
             let (cols, rows) = (1 + next() as usize % 16, 1 + next() as usize % 16);
