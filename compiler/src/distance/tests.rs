@@ -781,6 +781,15 @@ fn a_side_and_a_hole_within_a_millimetre_play_their_exact_distance_as_cut_arcs()
     assert!(checked > 100, "{checked} points in cut arcs");
 }
 
+/// Points to search from near [`clustered_segments`]' tile: anywhere, or on
+/// its lattice of 0.5 mm (where distances tie).
+fn probe_points() -> impl Strategy<Value = (f64, f64)> {
+    prop_oneof![
+        (8.0f64..14.0, 8.0f64..14.0),
+        (0u8..9, 0u8..9).prop_map(|(i, j)| (9.0 + i as f64 * 0.5, 9.0 + j as f64 * 0.5))
+    ]
+}
+
 /// Segments for the nearest-segment searches: short ones clustered round a
 /// tile, many sharing ends or lying on one another (equal keys), some far.
 fn clustered_segments() -> impl Strategy<Value = Vec<(Seg, Part, f64)>> {
@@ -823,7 +832,7 @@ proptest! {
     fn nearest_of_is_the_first_least_of_a_full_scan(
         segs in clustered_segments(),
         middle in (9.0f64..13.0, 9.0f64..13.0),
-        p in prop_oneof![(8.0f64..14.0, 8.0f64..14.0), (0u8..9, 0u8..9).prop_map(|(i, j)| (9.0 + i as f64 * 0.5, 9.0 + j as f64 * 0.5))],
+        p in probe_points(),
         max in 1usize..48,
     ) {
         let near = nearest_first(segs.iter().map(|&((a, b), _, _)| (distance2_to_segment(middle, a, b), (a, b))), max);
@@ -844,7 +853,7 @@ proptest! {
     fn nearest_of_told_the_least_finds_what_it_finds_untold(
         segs in clustered_segments(),
         middle in (9.0f64..13.0, 9.0f64..13.0),
-        p in prop_oneof![(8.0f64..14.0, 8.0f64..14.0), (0u8..9, 0u8..9).prop_map(|(i, j)| (9.0 + i as f64 * 0.5, 9.0 + j as f64 * 0.5))],
+        p in probe_points(),
         max in 1usize..48,
     ) {
         let near = nearest_first(segs.iter().map(|&((a, b), _, _)| (distance2_to_segment(middle, a, b), (a, b))), max);
