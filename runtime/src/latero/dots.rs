@@ -101,12 +101,9 @@ impl<'a> DotLayer<'a> {
     /// two cell starts per grid row under the array and then only dots that
     /// lie near it. The cost depends on the array's size and the local dot
     /// density, never on the size of the table.
-    ///
-    /// Not inlined: inlined, its set-up is hoisted into the frame's
-    /// prologue and paid by every frame, even one without this kind of layer.
-    #[inline(never)]
+    #[inline(always)]
     pub(crate) fn accumulate(&self, f: &Frame, acc: &mut Acc) {
-        accumulate_table(self, f, acc)
+        accumulate_dots(self, f, acc)
     }
 }
 
@@ -157,7 +154,17 @@ impl Span {
     }
 }
 
-/// [`DotLayer::accumulate`].
+/// [`DotLayer::accumulate`], compiled for the CPU's vector extensions too
+/// (see "Kernels for the CPU" in `latero`). Not inlined: inlined, its set-up
+/// is hoisted into the frame's prologue and paid by every frame, even one
+/// without this kind of layer.
+#[multiversion::multiversion(targets("x86_64+avx"))]
+#[inline(never)]
+fn accumulate_dots<'a>(layer: &DotLayer<'a>, f: &Frame, acc: &mut Acc) {
+    accumulate_table(layer, f, acc)
+}
+
+/// The body of [`accumulate_dots`].
 #[inline(always)]
 fn accumulate_table(layer: &DotLayer<'_>, f: &Frame, acc: &mut Acc) {
     let t = &layer.table;

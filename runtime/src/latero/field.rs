@@ -346,8 +346,15 @@ impl<'a> FieldLayer<'a> {
     }
 
     /// Adds this layer's deflection for rows `f.r0..f.r1` to `acc`.
-    #[inline(never)]
+    #[inline(always)]
     pub(crate) fn accumulate(&self, f: &Frame, acc: &mut Acc) {
+        accumulate_field(self, f, acc)
+    }
+
+    /// The body of [`accumulate_field`]: the kernel's instance for the
+    /// layer's primitive and kinds of tile.
+    #[inline(always)]
+    fn accumulate_in(&self, f: &Frame, acc: &mut Acc) {
         match (self.primitive, self.tiles) {
             (Primitive::Vibration { .. }, Tiles::Sampled) => self.rows::<false, false, false>(f, acc),
             (Primitive::Vibration { .. }, Tiles::Analytic) => self.rows::<false, true, false>(f, acc),
@@ -943,4 +950,13 @@ impl<'a> FieldLayer<'a> {
             r8 += ROWS;
         }
     }
+}
+
+/// [`FieldLayer::accumulate`], compiled for the CPU's vector extensions too
+/// (see "Kernels for the CPU" in `latero`). Not inlined, as the other
+/// layers' kernels.
+#[multiversion::multiversion(targets("x86_64+avx"))]
+#[inline(never)]
+fn accumulate_field<'a>(layer: &FieldLayer<'a>, f: &Frame, acc: &mut Acc) {
+    layer.accumulate_in(f, acc)
 }

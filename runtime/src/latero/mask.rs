@@ -137,11 +137,14 @@ impl<'a> MaskLayer<'a> {
     }
 
     /// Adds this layer's deflection for rows `f.r0..f.r1` to `acc`.
-    ///
-    /// Not inlined: inlined, its set-up is hoisted into the frame's
-    /// prologue and paid by every frame, even one without this kind of layer.
-    #[inline(never)]
+    #[inline(always)]
     pub(crate) fn accumulate(&self, f: &Frame, acc: &mut Acc) {
+        accumulate_mask(self, f, acc)
+    }
+
+    /// The body of [`accumulate_mask`].
+    #[inline(always)]
+    fn accumulate_body(&self, f: &Frame, acc: &mut Acc) {
         // `pairs(b0, b1, taps)` reads, for each of a group's four taps, the
         // sample at byte offset b + tap and its right neighbour, for the
         // mask rows starting at b0 (above the actuators) and b1 (below),
@@ -394,6 +397,16 @@ fn pairs_to_lanes(top: [i32; LANES], bot: [i32; LANES]) -> u8x16 {
 fn quads_to_pairs(top: [i32; LANES], bot: [i32; LANES]) -> u8x16 {
     let pairs = |q: [i32; LANES]| (i32x4::new(q) << 16) >> 16;
     cast(i16x8::from_i32x8_saturate(cast([pairs(top), pairs(bot)])))
+}
+
+/// [`MaskLayer::accumulate`], compiled for the CPU's vector extensions too
+/// (see "Kernels for the CPU" in `latero`). Not inlined: inlined, its set-up
+/// is hoisted into the frame's prologue and paid by every frame, even one
+/// without this kind of layer.
+#[multiversion::multiversion(targets("x86_64+avx"))]
+#[inline(never)]
+fn accumulate_mask<'a>(layer: &MaskLayer<'a>, f: &Frame, acc: &mut Acc) {
+    layer.accumulate_body(f, acc)
 }
 
 #[cfg(test)]
