@@ -158,7 +158,7 @@ impl Span {
 /// (see "Kernels for the CPU" in `latero`). Not inlined: inlined, its set-up
 /// is hoisted into the frame's prologue and paid by every frame, even one
 /// without this kind of layer.
-#[multiversion::multiversion(targets("x86_64+avx"))]
+#[cfg_attr(all(feature = "std", target_arch = "x86_64"), multiversion::multiversion(targets("x86_64+avx")))]
 #[inline(never)]
 fn accumulate_dots<'a>(layer: &DotLayer<'a>, f: &Frame, acc: &mut Acc) {
     accumulate_table(layer, f, acc)

@@ -955,7 +955,7 @@ impl<'a> FieldLayer<'a> {
 /// [`FieldLayer::accumulate`], compiled for the CPU's vector extensions too
 /// (see "Kernels for the CPU" in `latero`). Not inlined, as the other
 /// layers' kernels.
-#[multiversion::multiversion(targets("x86_64+avx"))]
+#[cfg_attr(all(feature = "std", target_arch = "x86_64"), multiversion::multiversion(targets("x86_64+avx")))]
 #[inline(never)]
 fn accumulate_field<'a>(layer: &FieldLayer<'a>, f: &Frame, acc: &mut Acc) {
     layer.accumulate_in(f, acc)

@@ -403,7 +403,7 @@ fn quads_to_pairs(top: [i32; LANES], bot: [i32; LANES]) -> u8x16 {
 /// (see "Kernels for the CPU" in `latero`). Not inlined: inlined, its set-up
 /// is hoisted into the frame's prologue and paid by every frame, even one
 /// without this kind of layer.
-#[multiversion::multiversion(targets("x86_64+avx"))]
+#[cfg_attr(all(feature = "std", target_arch = "x86_64"), multiversion::multiversion(targets("x86_64+avx")))]
 #[inline(never)]
 fn accumulate_mask<'a>(layer: &MaskLayer<'a>, f: &Frame, acc: &mut Acc) {
     layer.accumulate_body(f, acc)

@@ -54,9 +54,8 @@
 //! three-operand (VEX) forms save the register copies and many of the
 //! spills and reloads of the two-operand SSE forms (about 8 % of a frame's
 //! instructions). With the `std` feature the AVX copy is chosen at run time
-//! when the CPU has AVX (one cached test per call); without `std` the choice
-//! is made at compile time, so the baseline plays unless the build enables
-//! AVX. The two copies are the same source and the same IEEE operations
+//! when the CPU has AVX (one cached test per call); without `std` (the crate
+//! needs it) there is no copy and the baseline plays. The two copies are the same source and the same IEEE operations
 //! (AVX adds no fused multiply-add, and Rust never contracts), so their
 //! frames are bit-identical; CI runs the runtime's tests in both builds
 //! (`cargo test -p taxel-runtime --no-default-features` plays the
@@ -492,7 +491,7 @@ const VECTOR_MAX_CODE: f32 = (i16::MAX / 2) as f32;
 /// may overwrite them (caller-saved on x86-64), so the frame reloaded all of
 /// them after every layer. Compiled for the CPU's vector extensions too
 /// (see "Kernels for the CPU" above).
-#[multiversion::multiversion(targets("x86_64+avx"))]
+#[cfg_attr(all(feature = "std", target_arch = "x86_64"), multiversion::multiversion(targets("x86_64+avx")))]
 #[inline(never)]
 fn quantise_block(out: &mut [u16; BLOCK], acc: &Acc, q: &BlockScale) -> u32 {
     let (scale, round, top) = (q.scale, f32x4::splat(ROUND_BITS), q.top);
