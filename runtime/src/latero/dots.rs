@@ -154,14 +154,11 @@ impl Span {
     }
 }
 
-/// [`DotLayer::accumulate`], compiled for the CPU's vector extensions too
-/// (see "Kernels for the CPU" in `latero`). Not inlined: inlined, its set-up
-/// is hoisted into the frame's prologue and paid by every frame, even one
-/// without this kind of layer.
-#[cfg_attr(all(feature = "std", target_arch = "x86_64"), multiversion::multiversion(targets("x86_64+avx")))]
-#[inline(never)]
+kernel! {
+/// [`DotLayer::accumulate`] (a `kernel!`).
 fn accumulate_dots<'a>(layer: &DotLayer<'a>, f: &Frame, acc: &mut Acc) {
     accumulate_table(layer, f, acc)
+}
 }
 
 /// The body of [`accumulate_dots`].

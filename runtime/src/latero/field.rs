@@ -952,11 +952,9 @@ impl<'a> FieldLayer<'a> {
     }
 }
 
-/// [`FieldLayer::accumulate`], compiled for the CPU's vector extensions too
-/// (see "Kernels for the CPU" in `latero`). Not inlined, as the other
-/// layers' kernels.
-#[cfg_attr(all(feature = "std", target_arch = "x86_64"), multiversion::multiversion(targets("x86_64+avx")))]
-#[inline(never)]
+kernel! {
+/// [`FieldLayer::accumulate`] (a `kernel!`).
 fn accumulate_field<'a>(layer: &FieldLayer<'a>, f: &Frame, acc: &mut Acc) {
     layer.accumulate_in(f, acc)
+}
 }

@@ -399,14 +399,11 @@ fn quads_to_pairs(top: [i32; LANES], bot: [i32; LANES]) -> u8x16 {
     cast(i16x8::from_i32x8_saturate(cast([pairs(top), pairs(bot)])))
 }
 
-/// [`MaskLayer::accumulate`], compiled for the CPU's vector extensions too
-/// (see "Kernels for the CPU" in `latero`). Not inlined: inlined, its set-up
-/// is hoisted into the frame's prologue and paid by every frame, even one
-/// without this kind of layer.
-#[cfg_attr(all(feature = "std", target_arch = "x86_64"), multiversion::multiversion(targets("x86_64+avx")))]
-#[inline(never)]
+kernel! {
+/// [`MaskLayer::accumulate`] (a `kernel!`).
 fn accumulate_mask<'a>(layer: &MaskLayer<'a>, f: &Frame, acc: &mut Acc) {
     layer.accumulate_body(f, acc)
+}
 }
 
 #[cfg(test)]

@@ -55,9 +55,9 @@
 //! spills and reloads of the two-operand SSE forms (about 8 % of a frame's
 //! instructions). With the `std` feature the AVX copy is chosen at run time
 //! when the CPU has AVX (one cached test per call); without `std` (the crate
-//! needs it) there is no copy and the baseline plays. The two copies are the same source and the same IEEE operations
-//! (AVX adds no fused multiply-add, and Rust never contracts), so their
-//! frames are bit-identical; CI runs the runtime's tests in both builds
+//! needs it) there is no copy and the baseline plays. The two copies are the
+//! same source and the same IEEE operations (AVX adds no fused multiply-add,
+//! and Rust never contracts), so their frames are bit-identical; CI runs the runtime's tests in both builds
 //! (`cargo test -p taxel-runtime --no-default-features` plays the
 //! baseline). The AVX copy stays at 128-bit lanes: AVX2's wider integer
 //! forms measured slower here.
@@ -88,6 +88,22 @@
 //! assert_eq!(&frame[..4], &[0, 1023, 0, 1023]);
 //! assert_eq!(stats.clamped, 0);
 //! ```
+
+/// A kernel of the frame, not inlined (inlined, its set-up would be hoisted
+/// into the frame's prologue and paid by every frame, even one without its
+/// kind of layer), and compiled for the CPU's vector extensions too (see
+/// "Kernels for the CPU" above): the one place that names them.
+macro_rules! kernel {
+    ($(#[$meta:meta])* fn $($fn:tt)*) => {
+        $(#[$meta])*
+        #[cfg_attr(
+            all(feature = "std", target_arch = "x86_64"),
+            multiversion::multiversion(targets("x86_64+avx"))
+        )]
+        #[inline(never)]
+        fn $($fn)*
+    };
+}
 
 mod dots;
 mod field;
@@ -476,6 +492,7 @@ impl BlockScale {
 /// codes above `max_code` that count as clamped. 14 bits.
 const VECTOR_MAX_CODE: f32 = (i16::MAX / 2) as f32;
 
+kernel! {
 /// [`quantise`] for a whole block and `max_code` ≤ [`VECTOR_MAX_CODE`], in
 /// vector lanes: the sums are scaled and rounded to nearest, ties to even,
 /// by the same 2²³ addition; the codes then narrow to 16-bit lanes, where
@@ -489,10 +506,7 @@ const VECTOR_MAX_CODE: f32 = (i16::MAX / 2) as f32;
 /// Not inlined: inlined, its constants are hoisted out of the frame's loop
 /// over blocks and live in vector registers across the layers' calls, which
 /// may overwrite them (caller-saved on x86-64), so the frame reloaded all of
-/// them after every layer. Compiled for the CPU's vector extensions too
-/// (see "Kernels for the CPU" above).
-#[cfg_attr(all(feature = "std", target_arch = "x86_64"), multiversion::multiversion(targets("x86_64+avx")))]
-#[inline(never)]
+/// them after every layer.
 fn quantise_block(out: &mut [u16; BLOCK], acc: &Acc, q: &BlockScale) -> u32 {
     let (scale, round, top) = (q.scale, f32x4::splat(ROUND_BITS), q.top);
     let bias = i32x4::splat(ROUND_BITS.to_bits() as i32);
@@ -517,6 +531,7 @@ fn quantise_block(out: &mut [u16; BLOCK], acc: &Acc, q: &BlockScale) -> u32 {
     // them in pairs (`pmaddwd` on x86-64), then the four pair sums.
     let pairs = over.dot(i16x8::splat(-1)).to_array();
     (pairs[0] + pairs[1] + pairs[2] + pairs[3]) as u32
+}
 }
 
 /// The half-open range of indices `0..n` whose position `first + i · pitch`
