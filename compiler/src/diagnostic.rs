@@ -128,3 +128,35 @@ impl Diagnostic {
 pub fn has_errors(diags: &[Diagnostic]) -> bool {
     diags.iter().any(|d| d.severity == Severity::Error)
 }
+
+/// A length or factor for a message: `decimals` places in the usual range,
+/// scientific notation far outside it, where fixed notation would print
+/// dozens of digits (a drawing 10³⁰ mm wide) or only zeros (a scale of
+/// 10⁻²⁷).
+pub(crate) fn number(v: f64, decimals: usize) -> String {
+    let a = v.abs();
+    if a != 0.0 && a.is_finite() && !(10f64.powi(-(decimals as i32))..1e7).contains(&a) {
+        format!("{v:.2e}")
+    } else {
+        format!("{v:.decimals$}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::number;
+
+    #[test]
+    fn numbers_stay_short_at_every_magnitude() {
+        assert_eq!(number(100.0, 1), "100.0");
+        assert_eq!(number(0.25, 3), "0.250");
+        assert_eq!(number(0.0, 1), "0.0");
+        assert_eq!(number(1e30, 1), "1.00e30");
+        assert_eq!(number(6e-29, 3), "6.00e-29");
+        assert_eq!(number(-2.5e9, 1), "-2.50e9");
+        assert_eq!(number(f64::INFINITY, 1), "inf");
+        for e in -40..40 {
+            assert!(number(1.2345 * 10f64.powi(e), 1).len() <= 10, "10^{e}");
+        }
+    }
+}

@@ -7,7 +7,7 @@
 use rayon::prelude::*;
 use taxel_format::DeviceProfile;
 
-use crate::diagnostic::Diagnostic;
+use crate::diagnostic::{Diagnostic, number};
 use crate::drawing::{Clip, Drawing, Element, Shape};
 use crate::geometry::{FillRule, Polyline};
 use crate::options::Region;
@@ -203,18 +203,18 @@ pub fn apply(
             let unchanged = part.is_none() && (s - 1.0).abs() < 5e-4;
             if !unchanged {
                 diags.push(Diagnostic::note(
-                "T0211",
-                format!(
-                    "{} scaled by {:.3}: {:.1} x {:.1} mm became {:.1} x {:.1} mm on the {} surface ({sw} x {sh} mm)",
-                    if part.is_some() { "the region was" } else { "the drawing was" },
-                    s,
-                    w,
-                    h,
-                    w * s,
-                    h * s,
-                    profile.name
-                ),
-            ));
+                    "T0211",
+                    format!(
+                        "{} scaled by {}: {} x {} mm became {} x {} mm on the {} surface ({sw} x {sh} mm)",
+                        if part.is_some() { "the region was" } else { "the drawing was" },
+                        number(s, 3),
+                        number(w, 1),
+                        number(h, 1),
+                        number(w * s, 1),
+                        number(h * s, 1),
+                        profile.name
+                    ),
+                ));
             }
         }
     }
@@ -226,7 +226,9 @@ pub fn apply(
         diags.push(Diagnostic::warning(
             "T0202",
             format!(
-                "the drawing ({pw:.1} x {ph:.1} mm) is larger than the {} surface ({sw} x {sh} mm){left}; build with --fit to scale it to the surface, or --region to take part of it",
+                "the drawing ({} x {} mm) is larger than the {} surface ({sw} x {sh} mm){left}; build with --fit to scale it to the surface, or --region to take part of it",
+                number(pw, 1),
+                number(ph, 1),
                 profile.name
             ),
         ));

@@ -88,19 +88,41 @@ pub fn pack(read: &dyn Fn(&str) -> Result<Vec<u8>, TextError>) -> Result<Vec<u8>
     // Every kind's keys are checked once its kind is known.
     let any_keys: Vec<&str> =
         [MASK_KEYS, FIELD_KEYS, DOTS_KEYS, HEIGHT_KEYS, RAW_KEYS, FOOTPRINT_KEYS, super::pins::PINS_KEYS].concat();
-    let mut files = Vec::new();
-    for c in root.tables("chunk", &any_keys)? {
-        bundle.chunks.push(chunk(&c, read)?);
-        files.push((c.line(), c.str("file")?.to_string()));
+    let tables = root.tables("chunk", &any_keys)?;
+    for c in &tables {
+        bundle.chunks.push(chunk(c, read)?);
     }
     bundle.to_bytes_with_minor(minor).map_err(|e| {
-        // Chunk i of the bundle is [[chunk]] i of the manifest: name its data file.
-        match chunk_index(&e).and_then(|i| files.get((i as usize).checked_sub(1)?)) {
-            Some((_, file)) => TextError::new(file.as_str(), format!("not a valid chunk: {e}")),
+        // Chunk i of the bundle is [[chunk]] i of the manifest: name the
+        // file or the key that holds what is wrong.
+        match chunk_index(&e).and_then(|i| tables.get((i as usize).checked_sub(1)?)) {
+            Some(c) => where_in(c, &e),
             None if chunk_index(&e) == Some(0) => TextError::new(profile_file, format!("not a valid profile: {e}")),
             None => TextError::new(MANIFEST, format!("the folder does not make a valid bundle: {e}")),
         }
     })
+}
+
+/// The error `e` about the chunk of table `c`, at what holds the wrong
+/// value: a distance layer's tile index, plane records or samples file, a
+/// manifest key at its line (`pitch_mm`), or else the chunk's data file.
+fn where_in(c: &Table<'_, '_>, e: &FormatError) -> TextError {
+    let message = format!("not a valid chunk: {e}");
+    let field = match e {
+        FormatError::InvalidValue { field, .. } => *field,
+        _ => "",
+    };
+    let key = match field {
+        "tile index" => "tiles",
+        "plane record" => "planes",
+        k => k,
+    };
+    let file = |k: &str| c.str(k).map(|f| TextError::new(f, message.clone()));
+    match key {
+        "tiles" | "planes" | "samples" if c.has(key) => file(key).unwrap_or_else(|err| err),
+        _ if c.has(key) => c.err(key, message.clone()),
+        _ => file("file").unwrap_or_else(|err| err),
+    }
 }
 
 /// The table index of the chunk an error is about, if it names one.

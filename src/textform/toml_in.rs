@@ -71,11 +71,6 @@ impl<'d, 'i> Table<'d, 'i> {
         Ok(t)
     }
 
-    /// The line where this table starts.
-    pub fn line(&self) -> usize {
-        self.line
-    }
-
     fn key(&self, k: &str) -> String {
         if self.path.is_empty() { k.to_string() } else { format!("{}.{k}", self.path) }
     }

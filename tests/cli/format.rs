@@ -127,6 +127,20 @@ fn mistakes_in_a_hand_edited_folder_name_the_file_and_what_was_expected() {
             "dot amplitude must be from 0 to 1",
         ),
         ("profile.toml", "name = \"x\"\n".into(), "profile.toml".into(), "key `array`: missing table [array]"),
+        // ... or, for a distance layer, the manifest key or the file that
+        // holds the value refused.
+        (
+            "manifest.toml",
+            manifest.replace("pitch_mm = 0.5", "pitch_mm = 500.0"),
+            "manifest.toml:".into(),
+            "key `chunk[3].pitch_mm`: not a valid chunk: chunk 3 (GDST): pitch_mm must be from 0.001 to 100 mm",
+        ),
+        (
+            "03-grating-field-tiles.csv",
+            "99999999,0,0,0\n0,0,0,0\n".into(),
+            "03-grating-field-tiles.csv:".into(),
+            "tile index must be",
+        ),
     ];
     for (file, contents, at, expected) in cases {
         let original = std::fs::read(dir.join(file)).unwrap();

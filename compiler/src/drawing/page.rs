@@ -11,7 +11,7 @@ use roxmltree::Node;
 use svgtypes::{Length, LengthUnit};
 use taxel_format::DeviceProfile;
 
-use crate::diagnostic::Diagnostic;
+use crate::diagnostic::{Diagnostic, number};
 
 /// The page as usvg sees it: millimetres per usvg pixel and the page size in millimetres.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -56,7 +56,7 @@ pub(crate) fn page(
             if let Some(s) = own {
                 diags.push(Diagnostic::note(
                     "T0203",
-                    format!("--width-mm {mm} mm replaces the drawing's own width of {:.1} mm", s * w),
+                    format!("--width-mm {mm} mm replaces the drawing's own width of {} mm", number(s * w, 1)),
                 ));
             }
             mm / w
@@ -68,10 +68,10 @@ pub(crate) fn page(
                 Diagnostic::note(
                     "T0201",
                     format!(
-                        "the drawing has no physical size; it is fitted to the {} surface ({sw} x {sh} mm) at {:.1} x {:.1} mm",
+                        "the drawing has no physical size; it is fitted to the {} surface ({sw} x {sh} mm) at {} x {} mm",
                         profile.name,
-                        w * s,
-                        h * s
+                        number(w * s, 1),
+                        number(h * s, 1)
                     ),
                 )
                 .with_help("give the root <svg> a width and height in mm (width=\"100mm\"), or pass --width-mm"),

@@ -174,10 +174,7 @@ pub(crate) fn run(
     let tree = match tree {
         Ok(t) => t,
         Err(e) => {
-            diags.push(
-                Diagnostic::error("T0200", format!("the SVG could not be read: {e}"))
-                    .with_help("check the root <svg> has a valid width, height or viewBox"),
-            );
+            diags.push(Diagnostic::error("T0200", format!("the SVG could not be read: {e}")).with_help(read_help(&e)));
             return None;
         }
     };
@@ -236,3 +233,16 @@ fn not_drawn(src: &Source, walked: &walk::Walked, diags: &mut Vec<Diagnostic>) {
 
 /// The code of "a tactile style was asked of something that is not drawn".
 pub(crate) const NOT_DRAWN: &str = "T0301";
+
+/// What to do about an SVG usvg refuses: its size, or its limits (more
+/// than 1,000,000 elements, or elements nested more than 1,024 deep).
+fn read_help(e: &usvg::Error) -> &'static str {
+    match e {
+        usvg::Error::InvalidSize => "check the root <svg> has a valid width, height or viewBox",
+        usvg::Error::ElementsLimitReached | usvg::Error::ParsingFailed(roxmltree::Error::NodesLimitReached) => {
+            "the drawing has more than 1,000,000 elements or nests groups more than 1,024 deep: \
+             ungroup or simplify it (Inkscape: Edit > Select All, Object > Ungroup), or split it into several drawings"
+        }
+        _ => "open the drawing in Inkscape or a browser and save it again as plain SVG",
+    }
+}

@@ -28,6 +28,23 @@ fn malformed_svgs_give_errors() {
     }
 }
 
+/// usvg's limits (elements nested more than 1,024 deep) and its size check
+/// each get their own hint, not one generic line.
+#[test]
+fn unreadable_svgs_say_what_to_change() {
+    let deep = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"50mm\" height=\"50mm\" viewBox=\"0 0 50 50\">{}<rect width=\"9\" height=\"9\" data-tactile=\"vibrate()\"/>{}</svg>",
+        "<g>".repeat(1500),
+        "</g>".repeat(1500)
+    );
+    let sizeless = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"0\" height=\"0\"/>";
+    for (svg, hint) in [(deep.as_str(), "nests groups"), (sizeless, "width, height or viewBox")] {
+        let c = compile(svg);
+        let e = c.diagnostics.iter().find(|d| d.code == "T0200").unwrap_or_else(|| panic!("{:#?}", c.diagnostics));
+        assert!(e.help.as_deref().is_some_and(|h| h.contains(hint)), "{e:?}");
+    }
+}
+
 #[test]
 fn extreme_geometry_does_not_panic() {
     for body in [
