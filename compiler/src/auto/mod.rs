@@ -746,10 +746,30 @@ pub fn apply(d: &mut Drawing, profile: &DeviceProfile, diags: &mut Vec<Diagnosti
 /// elements became which style. Returns `false` when an error stops the
 /// compilation (a region that cannot be taken).
 pub fn prepare(d: &mut Drawing, opts: &crate::CompileOptions, diags: &mut Vec<Diagnostic>) -> bool {
+    // Whether the author annotated the drawing is decided on the whole
+    // drawing: annotated shapes that cropping leaves out (beyond the surface,
+    // outside `--region`) still make it an annotated drawing, not one for the
+    // automatic sheet.
+    let unannotated = unannotated(d);
     if !crate::fit::apply(d, &opts.profile, opts.fit, opts.region.as_ref(), diags) {
         return false;
     }
-    let implicit = !opts.auto && opts.style.is_none() && unannotated(d);
+    if !unannotated && self::unannotated(d) {
+        diags.push(
+            Diagnostic::warning(
+                "T0205",
+                format!(
+                    "every annotated shape lies {} the {} surface: nothing annotated is left to build",
+                    if opts.region.is_some() { "outside the region or beyond" } else { "beyond" },
+                    opts.profile.name
+                ),
+            )
+            .with_help(
+                "build with --fit to scale the drawing to the surface, or --region to take the part you annotated",
+            ),
+        );
+    }
+    let implicit = !opts.auto && opts.style.is_none() && unannotated;
     if implicit {
         diags.push(
             Diagnostic::note(

@@ -105,15 +105,24 @@ fn compile(
             // Converted automatically, the drawing had nothing the sheet could make tactile: say what it had.
             let auto = opts.auto || diags.iter().any(|d| d.code == "T0320");
             let why = auto.then(|| crate::auto::nothing_made(&drawing, &opts.profile)).flatten();
+            let cropped = diags.iter().any(|d| d.code == "T0205");
             let message = match why {
                 Some(w) => format!("nothing tactile was found in the drawing: {w}"),
+                None if cropped => {
+                    "nothing tactile was found on the surface: the annotated shapes are all beyond it".into()
+                }
                 None => "nothing tactile was found in the drawing".into(),
             };
-            Diagnostic::error("T0300", message).with_help(
+            // Annotated shapes all cropped away (T0205 says so): the way out
+            // is the surface, not annotating.
+            let help = if cropped {
+                "build with --fit to scale the drawing to the surface, or --region to take the part you annotated"
+            } else {
                 "mark shapes with data-tactile=\"vibrate()\" (or grating(), dots(), dot(), braille()), \
                  put them in an Inkscape layer labelled \"tactile: vibrate()\", or map colours with --style FILE \
-                 (see docs/annotations.md)",
-            )
+                 (see docs/annotations.md)"
+            };
+            Diagnostic::error("T0300", message).with_help(help)
         };
         diags.push(d);
         return None;

@@ -96,6 +96,28 @@ fn document_problems() {
     assert_eq!(with_code(&c, "T0204")[0].severity, Severity::Error);
 }
 
+/// A drawing whose annotated shapes all lie beyond the surface is still an
+/// annotated drawing: the automatic sheet does not style what is left in
+/// their place, and the errors say to fit the drawing, not to annotate it.
+#[test]
+fn annotations_beyond_the_surface_say_fit_not_annotate() {
+    let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="300mm" height="100mm" viewBox="0 0 300 100">
+        <rect x="10" y="10" width="40" height="40" fill="red"/>
+        <rect x="200" y="20" width="40" height="40" data-tactile="grating()"/></svg>"#;
+    let c = compile(svg);
+    assert!(c.bundle.is_none());
+    assert!(with_code(&c, "T0320").is_empty(), "{:#?}", c.diagnostics);
+    assert_eq!(with_code(&c, "T0205")[0].severity, Severity::Warning);
+    let e = with_code(&c, "T0300");
+    assert!(e[0].message.contains("beyond"), "{:?}", e[0]);
+    assert!(e[0].help.as_deref().is_some_and(|h| h.contains("--fit") && !h.contains("data-tactile")), "{:?}", e[0]);
+    // Fitted, the annotated square is the one layer; the red one stays out.
+    let opts = CompileOptions { fit: true, ..CompileOptions::new(stress2()) };
+    let c = no_internal_error(compile_svg(svg, &opts));
+    assert!(with_code(&c, "T0205").is_empty());
+    assert_eq!(masks(bundle(&c)).len(), 1, "{:#?}", c.diagnostics);
+}
+
 #[test]
 fn nothing_tactile_is_an_error_that_says_how_to_annotate() {
     // Unannotated, the automatic style sheet makes the red square a grating (note T0320) ...
