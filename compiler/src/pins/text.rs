@@ -22,7 +22,7 @@ pub const DOT_POSITIONS: [(u32, u32); 8] = [(0, 0), (0, 1), (0, 2), (1, 0), (1, 
 fn cells(text: &str, e: Option<&Element>, diags: &mut Vec<Diagnostic>) -> Vec<u8> {
     let (cells, missing) = crate::svg::braille_cells(text);
     if !missing.is_empty() {
-        let list: String = missing.iter().collect();
+        let list = crate::svg::braille_left_out(&missing);
         let mut d =
             Diagnostic::warning("T0304", format!("no uncontracted UEB braille for {list:?}; left out of the braille"));
         if let Some(e) = e {

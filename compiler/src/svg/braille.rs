@@ -105,6 +105,19 @@ fn punctuation(c: char) -> Option<&'static [Cell]> {
     })
 }
 
+/// The characters `missing` (as [`translate`] returns them) for a message:
+/// each once, in the order they first appear in the text (sorted, an Arabic
+/// or Hebrew word would read backwards, and a CJK one scrambled).
+pub fn left_out(missing: &[char]) -> String {
+    let mut seen = Vec::new();
+    for &c in missing {
+        if !seen.contains(&c) {
+            seen.push(c);
+        }
+    }
+    seen.into_iter().collect()
+}
+
 /// Translates text to uncontracted UEB cells (a space is an empty cell).
 /// Returns the cells and the characters that have no translation (left out).
 pub fn translate(text: &str) -> (Vec<Cell>, Vec<char>) {

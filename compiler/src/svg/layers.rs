@@ -694,16 +694,20 @@ fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOptions, diags:
         }
         let (pts, missing) = braille_dots(text, &style);
         if !missing.is_empty() {
-            let list: String = missing.iter().collect();
+            // When no character has braille, this one warning says the text is left out.
+            let left = if pts.is_empty() { "the text is left out" } else { "these characters are left out" };
             diags.push(
                 Diagnostic::warning(
                     "T0304",
-                    format!("no uncontracted UEB braille for {list:?}; these characters are left out"),
+                    format!("no uncontracted UEB braille for {:?}; {left}", braille::left_out(&missing)),
                 )
                 .with_element(&e.name)
                 .with_help("taxel's built-in table covers a-z, A-Z, 0-9, space and common punctuation")
                 .at_line(e.line),
             );
+            if pts.is_empty() {
+                continue;
+            }
         }
         if pts.is_empty() {
             diags.push(
@@ -755,7 +759,5 @@ fn braille_dots(text: &TextShape, style: &BrailleStyle) -> (Vec<(f64, f64)>, Vec
         cursor = Some(x0 + cells.len() as f64 * braille::CELL_PITCH_MM);
         prev_baseline = Some(y);
     }
-    missing.sort_unstable();
-    missing.dedup();
     (pts, missing)
 }

@@ -24,7 +24,7 @@ mod layers;
 pub(crate) mod rules;
 
 /// Braille cells of a text (uncontracted UEB), for the pin arrays' braille too.
-pub(crate) use braille::{CELL_PITCH_MM, DOT_PITCH_MM, translate as braille_cells};
+pub(crate) use braille::{CELL_PITCH_MM, DOT_PITCH_MM, left_out as braille_left_out, translate as braille_cells};
 
 use taxel_format::{Bundle, Manifest};
 

@@ -96,6 +96,26 @@ fn document_problems() {
     assert_eq!(with_code(&c, "T0204")[0].severity, Severity::Error);
 }
 
+/// Characters without braille are named once each, in the order they come
+/// in the text (an Arabic or CJK label reads as written); a text with none
+/// at all gets that one warning, not a second one saying it is empty.
+#[test]
+fn characters_without_braille_are_named_in_their_order() {
+    // (القاهرة, Cairo: its second alef is a repeat.)
+    let c = compile(&page(r#"<text x="10" y="30" data-tactile="braille()">北京 · القاهرة 北京</text>"#));
+    let w = with_code(&c, "T0304");
+    assert_eq!(w.len(), 1, "{:#?}", c.diagnostics);
+    assert!(
+        w[0].message.contains("\"北京·القهرة\"") && w[0].message.contains("the text is left out"),
+        "{}",
+        w[0].message
+    );
+    assert!(with_code(&c, "T0301").is_empty(), "{:#?}", c.diagnostics);
+    let c = compile(&page(r#"<text x="10" y="30" data-tactile="braille()">Zürich ü</text>"#));
+    let w = with_code(&c, "T0304");
+    assert!(w[0].message.contains("\"ü\"; these characters are left out"), "{}", w[0].message);
+}
+
 /// A drawing whose annotated shapes all lie beyond the surface is still an
 /// annotated drawing: the automatic sheet does not style what is left in
 /// their place, and the errors say to fit the drawing, not to annotate it.
