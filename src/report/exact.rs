@@ -26,12 +26,15 @@ pub enum Region {
     /// The union of the insides of closed outlines, minus every vibrating
     /// band on the page (the compiler keeps gratings out from under vibrating
     /// borders, so that a tactile icon's or a map region's two layers do not
-    /// overlap).
+    /// overlap) and minus the opaque fills painted over the sources (a lake
+    /// drawn on the land hides the land's grating there).
     Fill {
         /// Each source's outline and SVG fill rule.
         fills: Vec<(Index, FillRule)>,
         /// Vibrating bands (outline, width in mm) that are left out.
         minus_bands: Vec<(Arc<Index>, f64)>,
+        /// Opaque fills painted over the sources (outline and fill rule), left out.
+        minus_fills: Vec<(Index, FillRule)>,
         /// The corners of the outlines and of the cut bands' centre lines (see [`corners`]).
         corners: Vec<(f64, f64)>,
     },
@@ -48,9 +51,10 @@ impl Region {
     /// Exact coverage (0 or 1) at page point `p` in mm.
     pub fn covers(&self, p: (f64, f64)) -> bool {
         match self {
-            Region::Fill { fills, minus_bands, .. } => {
+            Region::Fill { fills, minus_bands, minus_fills, .. } => {
                 fills.iter().any(|(f, rule)| f.contains(p, *rule))
                     && !minus_bands.iter().any(|(b, w)| b.within(p, w / 2.0))
+                    && !minus_fills.iter().any(|(f, rule)| f.contains(p, *rule))
             }
             Region::Band { bands, .. } => bands.iter().any(|(b, w)| b.within(p, w / 2.0)),
         }
@@ -65,8 +69,8 @@ impl Region {
     pub fn edge_may_pass_within(&self, p: (f64, f64), r: f64) -> bool {
         let band_near = |(b, w): &(Arc<Index>, f64)| b.within(p, r + w / 2.0);
         match self {
-            Region::Fill { fills, minus_bands, .. } => {
-                fills.iter().any(|(f, _)| f.within(p, r)) || minus_bands.iter().any(band_near)
+            Region::Fill { fills, minus_bands, minus_fills, .. } => {
+                fills.iter().chain(minus_fills).any(|(f, _)| f.within(p, r)) || minus_bands.iter().any(band_near)
             }
             Region::Band { bands, .. } => bands.iter().any(band_near),
         }
@@ -130,8 +134,8 @@ impl Region {
             });
         };
         match self {
-            Region::Fill { fills, minus_bands, .. } => {
-                for (f, _) in fills {
+            Region::Fill { fills, minus_bands, minus_fills, .. } => {
+                for (f, _) in fills.iter().chain(minus_fills) {
                     f.near(p, reach, |a, c| {
                         consider(nearest_on_segment(p, a, c), unit(a.1 - c.1, c.0 - a.0));
                         false
@@ -179,8 +183,8 @@ impl Region {
             }
         };
         match self {
-            Region::Fill { fills, minus_bands, .. } => {
-                for (f, _) in fills {
+            Region::Fill { fills, minus_bands, minus_fills, .. } => {
+                for (f, _) in fills.iter().chain(minus_fills) {
                     out.extend_from_slice(&f.segs);
                 }
                 for (b, w) in minus_bands {
@@ -559,6 +563,7 @@ mod tests {
             region: Region::Fill {
                 fills: vec![(Index::new(&[sq], true), FillRule::NonZero)],
                 minus_bands: Vec::new(),
+                minus_fills: vec![],
                 corners: Vec::new(),
             },
             freq_hz: 50.0,
@@ -625,6 +630,7 @@ mod tests {
                 (Index::new(&[sq(50.0)], true), FillRule::NonZero),
             ],
             minus_bands: Vec::new(),
+            minus_fills: vec![],
             corners: Vec::new(),
         };
         let ramp = 0.008;
@@ -653,6 +659,7 @@ mod tests {
         let cut = Region::Fill {
             fills: vec![(Index::new(&[sq(30.0)], true), FillRule::NonZero)],
             minus_bands: vec![(Arc::new(Index::new(&[sq(30.0)], false)), 1.5)],
+            minus_fills: vec![],
             corners: Vec::new(),
         };
         assert!(near(cut.edge_profile((30.751, 30.0), ramp), 0.625));
@@ -666,6 +673,7 @@ mod tests {
             region: Region::Fill {
                 fills: vec![(Index::new(&[sq], true), FillRule::NonZero)],
                 minus_bands: Vec::new(),
+                minus_fills: vec![],
                 corners: Vec::new(),
             },
             wavelength_mm: 2.4,

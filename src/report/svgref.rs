@@ -37,6 +37,8 @@ pub struct Drawing {
 
 /// One source element of the drawing: its geometry and resolved styles.
 pub struct Source {
+    /// The drawing's elements that are its drawn copies (indices).
+    pub elements: Vec<usize>,
     /// Flattened subpaths in page mm (of every copy, for a `<use>`).
     pub polys: Vec<Polyline>,
     /// The first shape's fill rule.
@@ -60,12 +62,14 @@ impl Drawing {
     /// The element a provenance entry names (its id, or its line when it has
     /// none): every drawn copy of it together.
     pub fn source(&self, id: &str, line: u32) -> Option<Source> {
-        let mut found = self.drawing.elements.iter().filter(|e| e.id == id && e.line == line).peekable();
-        let first = found.peek()?;
-        let styles = first.styles.clone();
+        let mut found =
+            self.drawing.elements.iter().enumerate().filter(|(_, e)| e.id == id && e.line == line).peekable();
+        let styles = found.peek()?.1.styles.clone();
         let mut polys = Vec::new();
         let mut rule = None;
-        for e in found {
+        let mut elements = Vec::new();
+        for (i, e) in found {
+            elements.push(i);
             match &e.shape {
                 Shape::Path(p) => {
                     rule.get_or_insert(p.fill_rule);
@@ -75,7 +79,23 @@ impl Drawing {
                 Shape::Image { .. } => {}
             }
         }
-        Some(Source { polys, rule: rule.unwrap_or_default(), styles })
+        Some(Source { elements, polys, rule: rule.unwrap_or_default(), styles })
+    }
+
+    /// The opaque fills that hide a grated layer made of `sources`, as the
+    /// compiler finds them ([`taxel_compiler::svg::occluders`]): each one's
+    /// outline and fill rule.
+    pub fn occluders(&self, sources: &[Source]) -> Vec<(&[Polyline], FillRule)> {
+        let mut elements: Vec<usize> = sources.iter().flat_map(|s| s.elements.iter().copied()).collect();
+        elements.sort_unstable();
+        elements.dedup();
+        taxel_compiler::svg::occluders(&self.drawing, &elements)
+            .into_iter()
+            .filter_map(|j| match &self.drawing.elements.get(j)?.shape {
+                Shape::Path(p) => Some((p.outline.as_slice(), p.fill_rule)),
+                _ => None,
+            })
+            .collect()
     }
 }
 
@@ -144,22 +164,27 @@ pub fn exact_layers(svg: &str, bundle: &Bundle, opts: &CompileOptions) -> Result
                 ramp_mm: 0.0,
                 sources,
             },
-            MaskKind::Grating { wavelength, angle_deg } => ExactLayer::Grating {
-                region: Region::Fill {
-                    fills: geos.iter().map(|g| (Index::new(&g.polys, true), g.rule)).collect(),
-                    minus_bands: all_bands.clone(),
-                    corners: geos
-                        .iter()
-                        .flat_map(|g| corners(&g.polys, true, None))
-                        .chain(band_corners.iter().copied())
-                        .collect(),
-                },
-                wavelength_mm: wavelength.0 as f64,
-                angle_deg: angle_deg as f64,
-                amplitude,
-                ramp_mm: 0.0,
-                sources,
-            },
+            MaskKind::Grating { wavelength, angle_deg } => {
+                let occluders = drawing.occluders(&geos);
+                ExactLayer::Grating {
+                    region: Region::Fill {
+                        fills: geos.iter().map(|g| (Index::new(&g.polys, true), g.rule)).collect(),
+                        minus_bands: all_bands.clone(),
+                        minus_fills: occluders.iter().map(|&(o, rule)| (Index::new(o, true), rule)).collect(),
+                        corners: geos
+                            .iter()
+                            .flat_map(|g| corners(&g.polys, true, None))
+                            .chain(occluders.iter().flat_map(|&(o, _)| corners(o, true, None)))
+                            .chain(band_corners.iter().copied())
+                            .collect(),
+                    },
+                    wavelength_mm: wavelength.0 as f64,
+                    angle_deg: angle_deg as f64,
+                    amplitude,
+                    ramp_mm: 0.0,
+                    sources,
+                }
+            }
         });
     }
     Ok((layers, gaps))

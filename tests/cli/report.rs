@@ -144,6 +144,37 @@ fn touching_outlines_of_one_style_are_one_border_in_the_reference() {
     edge_error_converges_within_the_lattice_bound("vibration", &mine);
 }
 
+/// A fill painted over a grated region hides the grating there, in the
+/// bundle and so in the reference: a lake drawn on the land is felt as the
+/// lake alone. (The reference once left the lake in the land's region and
+/// reported full-scale errors far from every edge.)
+#[test]
+fn fills_painted_over_a_grating_hide_it_in_the_reference() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let svg = dir.path().join("lake.svg");
+    std::fs::write(
+        &svg,
+        r##"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="60mm" viewBox="0 0 100 60">
+  <rect id="land" x="5" y="5" width="90" height="50" fill="#e8f4d0" data-tactile="grating(wavelength: 3mm, angle: 90deg)"/>
+  <ellipse id="lake" cx="60" cy="30" rx="15" ry="8" fill="#99ccff" data-tactile="grating(wavelength: 6mm, angle: 0deg)"/>
+</svg>"##,
+    )
+    .expect("write");
+    let (ok, out, err) = report(&[svg.to_str().expect("utf-8"), "--profile", "stress2", "--format", "json"]);
+    assert!(ok, "{err}");
+    let rows = rows(&out);
+    let mine: Vec<&Value> = rows.iter().filter(|r| r["kernel"] == "grating").collect();
+    assert_eq!(mine.len(), 4);
+    // (At the 2 mm rung the ellipse's edge is 0.12 mm off, with or without
+    // the land under it: actuators past 0.05 mm from it count as far.)
+    for r in mine.iter().filter(|r| f(r, "setting") <= 1.0) {
+        assert!(f(r, "far_error") <= 1.0, "far error {} at {} mm", f(r, "far_error"), f(r, "setting"));
+    }
+    let default = mine.iter().find(|r| r["default"] == true).expect("a default row");
+    assert!(f(default, "edge_error_mm") <= 0.05, "{default}");
+    edge_error_converges_within_the_lattice_bound("grating", &mine);
+}
+
 /// Brushed strokes climb the tick-rate ladder; at every rate the stored
 /// schedule is within one tick of the unquantised one (onsets round to the
 /// nearest tick, durations to whole ticks).

@@ -562,7 +562,15 @@ fn distance_layers(
     built_index
 }
 
-/// An element's fill rule.
+/// The opaque fills of `drawing` that hide a grated layer made of
+/// `elements` (drawing indices, in drawing order), as the layers are built:
+/// solid, opaque, visible, unclipped fills painted over some of the
+/// elements and under none of them. For `taxel report`'s exact reference,
+/// which must leave out what the layer leaves out.
+pub fn occluders(drawing: &Drawing, elements: &[usize]) -> Vec<usize> {
+    OpaqueFills::of(drawing).above(drawing, elements)
+}
+
 /// The drawing's opaque filled shapes, which hide what is painted under them.
 struct OpaqueFills {
     /// Element index and bounds of each.

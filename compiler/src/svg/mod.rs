@@ -25,6 +25,7 @@ pub(crate) mod rules;
 
 /// Braille cells of a text (uncontracted UEB), for the pin arrays' braille too.
 pub(crate) use braille::{CELL_PITCH_MM, DOT_PITCH_MM, left_out as braille_left_out, translate as braille_cells};
+pub use layers::occluders;
 
 use taxel_format::{Bundle, Manifest};
 
