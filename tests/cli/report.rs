@@ -19,6 +19,17 @@ fn rows(json: &str) -> Vec<Value> {
     v["rows"].as_array().expect("rows").clone()
 }
 
+/// The JSON report's rows for the drawing `svg` on STRESS², failing the
+/// test if the report does.
+fn stress2_rows(svg: &str) -> Vec<Value> {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("scene.svg");
+    std::fs::write(&path, svg).expect("write");
+    let (ok, out, err) = report(&[path.to_str().expect("utf-8"), "--profile", "stress2", "--format", "json"]);
+    assert!(ok, "{err}");
+    rows(&out)
+}
+
 fn f(r: &Value, k: &str) -> f64 {
     r[k].as_f64().unwrap_or_else(|| panic!("{k} in {r}"))
 }
@@ -117,21 +128,14 @@ fn edge_error_converges_within_the_lattice_bound(kernel: &str, rows: &[&Value]) 
 /// side (clamped), hundreds of steps off the bundle there.
 #[test]
 fn touching_outlines_of_one_style_are_one_border_in_the_reference() {
-    let dir = tempfile::tempdir().expect("temp dir");
-    let svg = dir.path().join("touching.svg");
-    std::fs::write(
-        &svg,
+    let rows = stress2_rows(
         r##"<svg xmlns="http://www.w3.org/2000/svg" width="60mm" height="40mm" viewBox="0 0 60 40">
   <g data-tactile="vibrate(width: 1.5mm)">
     <rect id="left" x="10" y="10" width="20" height="20" fill="none" stroke="#000"/>
     <rect id="right" x="30" y="10" width="20" height="20" fill="none" stroke="#000"/>
   </g>
 </svg>"##,
-    )
-    .expect("write");
-    let (ok, out, err) = report(&[svg.to_str().expect("utf-8"), "--profile", "stress2", "--format", "json"]);
-    assert!(ok, "{err}");
-    let rows = rows(&out);
+    );
     let mine: Vec<&Value> = rows.iter().filter(|r| r["kernel"] == "vibration").collect();
     assert_eq!(mine.len(), 4);
     for r in &mine {
@@ -150,19 +154,12 @@ fn touching_outlines_of_one_style_are_one_border_in_the_reference() {
 /// reported full-scale errors far from every edge.)
 #[test]
 fn fills_painted_over_a_grating_hide_it_in_the_reference() {
-    let dir = tempfile::tempdir().expect("temp dir");
-    let svg = dir.path().join("lake.svg");
-    std::fs::write(
-        &svg,
+    let rows = stress2_rows(
         r##"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="60mm" viewBox="0 0 100 60">
   <rect id="land" x="5" y="5" width="90" height="50" fill="#e8f4d0" data-tactile="grating(wavelength: 3mm, angle: 90deg)"/>
   <ellipse id="lake" cx="60" cy="30" rx="15" ry="8" fill="#99ccff" data-tactile="grating(wavelength: 6mm, angle: 0deg)"/>
 </svg>"##,
-    )
-    .expect("write");
-    let (ok, out, err) = report(&[svg.to_str().expect("utf-8"), "--profile", "stress2", "--format", "json"]);
-    assert!(ok, "{err}");
-    let rows = rows(&out);
+    );
     let mine: Vec<&Value> = rows.iter().filter(|r| r["kernel"] == "grating").collect();
     assert_eq!(mine.len(), 4);
     // (At the 2 mm rung the ellipse's edge is 0.12 mm off, with or without
