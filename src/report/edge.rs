@@ -443,7 +443,7 @@ mod tests {
         let corners_at = |c: Vec<(f64, f64)>| Region::Fill {
             fills: vec![(Index::new(std::slice::from_ref(&shifted), true), FillRule::NonZero)],
             minus_bands: Vec::new(),
-            minus_fills: vec![],
+            minus_fills: Vec::new(),
             corners: c,
         };
         // The outline finds the square's corners where its sides meet, named or not.

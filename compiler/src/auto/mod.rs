@@ -750,11 +750,11 @@ pub fn prepare(d: &mut Drawing, opts: &crate::CompileOptions, diags: &mut Vec<Di
     // drawing: annotated shapes that cropping leaves out (beyond the surface,
     // outside `--region`) still make it an annotated drawing, not one for the
     // automatic sheet.
-    let unannotated = unannotated(d);
+    let annotated = !unannotated(d);
     if !crate::fit::apply(d, &opts.profile, opts.fit, opts.region.as_ref(), diags) {
         return false;
     }
-    if !unannotated && self::unannotated(d) {
+    if annotated && unannotated(d) {
         diags.push(
             Diagnostic::warning(
                 "T0205",
@@ -769,7 +769,7 @@ pub fn prepare(d: &mut Drawing, opts: &crate::CompileOptions, diags: &mut Vec<Di
             ),
         );
     }
-    let implicit = !opts.auto && opts.style.is_none() && unannotated;
+    let implicit = !opts.auto && opts.style.is_none() && !annotated;
     if implicit {
         diags.push(
             Diagnostic::note(
