@@ -40,6 +40,20 @@ pub struct Drawing {
     pub elements: Vec<Element>,
 }
 
+impl Drawing {
+    /// Whether every drawn element is a picture (a scan or pasted image, linked
+    /// or embedded) and there is at least one: then nothing tactile can come
+    /// of it, and [`PICTURES_HELP`] says what to do instead.
+    pub fn only_pictures(&self) -> bool {
+        !self.elements.is_empty() && self.elements.iter().all(|e| matches!(e.shape, Shape::Image { .. }))
+    }
+}
+
+/// The help of the error for a drawing that is only pictures
+/// ([`Drawing::only_pictures`]): annotating cannot help.
+pub const PICTURES_HELP: &str = "taxel does not turn pictures (PNG, JPEG, linked or embedded images) into tactile \
+     shapes: trace the image to paths (Inkscape: Path > Trace Bitmap) or draw the shapes over it, then build again";
+
 /// The page: its size in millimetres and how drawing units map onto it.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Page {

@@ -33,15 +33,30 @@ pub struct Resolved {
 pub type Fonts<'a> = &'a (dyn Fn() -> Option<Arc<usvg::fontdb::Database>> + Sync);
 
 /// usvg's options: the caller's fonts (none when it gave none), and no file
-/// IO (images that name files are not loaded).
+/// IO: an image that names a file is not read but stands as a blank
+/// [`LINKED_IMAGE`], so that it stays in the drawing as an image (left out,
+/// and named in messages) instead of vanishing. usvg drops an image it cannot
+/// resolve, and a drawing of a linked scan then read as "no elements that
+/// are drawn".
 pub(crate) fn usvg_options(fonts: Option<&Arc<usvg::fontdb::Database>>) -> usvg::Options<'static> {
     static NO_FONTS: OnceLock<Arc<usvg::fontdb::Database>> = OnceLock::new();
+    static LINKED: OnceLock<Arc<Vec<u8>>> = OnceLock::new();
     let fontdb =
         fonts.cloned().unwrap_or_else(|| NO_FONTS.get_or_init(|| Arc::new(usvg::fontdb::Database::new())).clone());
     let mut uopt = usvg::Options { fontdb, ..usvg::Options::default() };
-    uopt.image_href_resolver.resolve_string = Box::new(|_, _| None);
+    uopt.image_href_resolver.resolve_string =
+        Box::new(|_, _| Some(usvg::ImageKind::GIF(LINKED.get_or_init(|| Arc::new(LINKED_IMAGE.to_vec())).clone())));
     uopt
 }
+
+/// What a linked image stands as: a blank 1 x 1 GIF (usvg reads its size
+/// from the header; nothing decodes it). Its box is the `<image>`'s, fitted
+/// as a square by the default `preserveAspectRatio`.
+const LINKED_IMAGE: [u8; 43] = [
+    0x47, 0x49, 0x46, 0x38, 0x39, 0x61, 0x01, 0x00, 0x01, 0x00, 0x80, 0x00, 0x00, 0x00, 0x00, 0x00, 0xff, 0xff, 0xff,
+    0x21, 0xf9, 0x04, 0x01, 0x00, 0x00, 0x00, 0x00, 0x2c, 0x00, 0x00, 0x00, 0x00, 0x01, 0x00, 0x01, 0x00, 0x00, 0x02,
+    0x02, 0x44, 0x01, 0x00, 0x3b,
+];
 
 /// A font face that a drawing's text was laid out with.
 #[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]

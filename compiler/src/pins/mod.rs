@@ -298,13 +298,24 @@ pub fn build_bundle(
     let image = legalise(drawing, profile, diags)?;
     if !image.pins.iter().any(|p| p.raised()) && image.text.is_empty() {
         if !crate::diagnostic::has_errors(diags) {
-            diags.push(
+            let error = if drawing.only_pictures() {
+                Diagnostic::error(
+                    "T0300",
+                    format!(
+                        "nothing in this drawing can be rendered on {}: it holds only {} picture(s)",
+                        profile.name,
+                        drawing.elements.len()
+                    ),
+                )
+                .with_help(crate::drawing::PICTURES_HELP)
+            } else {
                 Diagnostic::error("T0300", format!("nothing in this drawing can be rendered on {}", profile.name))
                     .with_help(
                         "mark shapes with data-tactile=\"vibrate()\" (or grating(), dots(), dot(), braille()), \
                          or map colours with --style FILE (see docs/annotations.md)",
-                    ),
-            );
+                    )
+            };
+            diags.push(error);
         }
         return None;
     }

@@ -118,6 +118,8 @@ fn compile(
             // is the surface, not annotating.
             let help = if cropped {
                 "build with --fit to scale the drawing to the surface, or --region to take the part you annotated"
+            } else if drawing.only_pictures() {
+                drawing::PICTURES_HELP
             } else {
                 "mark shapes with data-tactile=\"vibrate()\" (or grating(), dots(), dot(), braille()), \
                  put them in an Inkscape layer labelled \"tactile: vibrate()\", or map colours with --style FILE \

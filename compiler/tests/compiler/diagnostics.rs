@@ -154,6 +154,39 @@ fn nothing_tactile_is_an_error_that_says_how_to_annotate() {
 }
 
 #[test]
+fn a_drawing_of_pictures_alone_says_to_trace_them() {
+    // A scan placed in Inkscape, linked (the default for large images: the
+    // file is not read) or embedded, with nothing drawn over it. usvg drops an
+    // image whose file it does not read, which read as "no elements drawn".
+    let png = "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAAAAAA6fptVAAAACklEQVR4nGNgAAAAAgABSK+kcQAAAABJRU5ErkJggg==";
+    for href in ["scan.png", "../maps/scan.jpg", png] {
+        let svg = page(&format!(r#"<image id="scan" x="0" y="0" width="80" height="60" href="{href}"/>"#));
+        for profile in [stress2(), profiles::builtin("dotpad").unwrap()] {
+            let name = profile.name;
+            let c = no_internal_error(compile_svg(&svg, &CompileOptions { fit: true, ..CompileOptions::new(profile) }));
+            assert!(c.bundle.is_none());
+            let e = with_code(&c, "T0300");
+            assert_eq!(e.len(), 1, "{href} on {name}: {:#?}", c.diagnostics);
+            let help = e[0].help.as_deref().unwrap_or("");
+            assert!(help.contains("Trace Bitmap") && !help.contains("data-tactile"), "{href} on {name}: {:?}", e[0]);
+            assert!(!e[0].message.contains("no elements"), "{href} on {name}: {:?}", e[0]);
+        }
+    }
+    // A picture under drawn shapes is a background: the shapes build.
+    let c = compile(&page(
+        r#"<image x="0" y="0" width="80" height="60" href="scan.png"/>
+        <rect x="10" y="10" width="30" height="30" data-tactile="grating()"/>"#,
+    ));
+    assert!(c.bundle.is_some(), "{:#?}", c.diagnostics);
+    // Shapes that make nothing keep the advice to annotate.
+    let c = compile(&page(
+        r#"<image x="0" y="0" width="80" height="60" href="scan.png"/>
+        <rect x="10" y="10" width="30" height="30" fill="white"/>"#,
+    ));
+    assert!(with_code(&c, "T0300")[0].help.as_deref().unwrap_or("").contains("data-tactile"), "{:#?}", c.diagnostics);
+}
+
+#[test]
 fn empty_and_invisible_shapes_warn_instead_of_making_empty_layers() {
     let c = compile(&page(
         r#"<rect x="5" y="5" width="30" height="30" data-tactile="vibrate()"/>
