@@ -159,12 +159,15 @@ fn renders_on(style: &Style, family: Family) -> bool {
     }
 }
 
+/// The warning for a style that the device's family does not play.
+pub(super) const NOT_ON_DEVICE: &str = "T0120";
+
 fn not_here(style: &Style, e: &str, line: u32, profile: &str) -> Diagnostic {
     let help = match style {
         Style::Brush(_) => "brush() strokes play on vibrotactile grids such as brush-4x3",
         _ => "vibrate, grating, dots, dot and braille play on laterotactile arrays such as stress2",
     };
-    Diagnostic::warning("T0120", format!("`{}` is not rendered on {profile}; it is left out", style.name()))
+    Diagnostic::warning(NOT_ON_DEVICE, format!("`{}` is not rendered on {profile}; it is left out", style.name()))
         .with_element(e)
         .with_help(help)
         .at_line(line)

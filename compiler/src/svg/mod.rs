@@ -101,7 +101,7 @@ fn compile(
         }
         let any_style = built.styled_elements + not_drawn > 0;
         let d = if any_style {
-            nothing_rendered(&drawing, &built, opts.profile.name.as_str(), diags)
+            nothing_rendered(&drawing, &built, &opts.profile, diags)
         } else {
             // Converted automatically, the drawing had nothing the sheet could make tactile: say what it had.
             let auto = opts.auto || diags.iter().any(|d| d.code == "T0320");
@@ -159,9 +159,10 @@ fn compile(
 fn nothing_rendered(
     drawing: &drawing::Drawing,
     built: &layers::Built,
-    profile: &str,
+    device: &taxel_format::DeviceProfile,
     diags: &[Diagnostic],
 ) -> Diagnostic {
+    let profile = device.name.as_str();
     let names = |ix: &[usize]| {
         let mut s = ix.iter().take(3).map(|&i| format!("#{}", drawing.elements[i].name)).collect::<Vec<_>>().join(", ");
         if ix.len() > 3 {
@@ -190,9 +191,27 @@ fn nothing_rendered(
         }
     }
     let warnings = diags.iter().filter(|d| d.severity == Severity::Warning).count();
+    let elsewhere = diags.iter().filter(|d| d.code == layers::NOT_ON_DEVICE).count();
     if warnings > 0 {
         why.push(format!("the {warnings} warning(s) given with this error say why"));
-        help.push("the styles used may not be rendered on this device, or the shapes may be empty or hidden".into());
+    }
+    // Every warning a style this family does not play: say what it plays
+    // (then what the automatic sheet made of each colour does not matter).
+    let other_family = elsewhere == warnings && warnings > 0;
+    match device.family() {
+        taxel_format::Family::Grid if other_family => help.push(format!(
+            "{profile} plays moving strokes: mark the paths to feel with data-tactile=\"brush()\" \
+             (docs/annotations.md); outlines, textures, dots and braille, which the automatic style sheet makes, \
+             play on laterotactile arrays (stress2) and pin displays (dotpad, monarch, graphiti, hyperbraille)"
+        )),
+        taxel_format::Family::Finger if other_family => help.push(format!(
+            "{profile} plays height meshes: build a relief as .gltf or .glb (docs/finger.md); drawings play on \
+             laterotactile arrays (stress2) and pin displays (dotpad, monarch, graphiti, hyperbraille)"
+        )),
+        _ if warnings > 0 => {
+            help.push("the styles used may not be rendered on this device, or the shapes may be empty or hidden".into())
+        }
+        _ => {}
     }
     let unstyled: Vec<usize> = (0..drawing.elements.len()).filter(|&i| drawing.elements[i].styles.is_empty()).collect();
     if !unstyled.is_empty() {
@@ -201,7 +220,8 @@ fn nothing_rendered(
     if why.is_empty() {
         why.push("the shapes given styles make nothing on the surface".into());
     }
-    if drawing.elements.iter().any(|e| e.styled_by == drawing::StyledBy::Auto) {
+    let family_help = other_family && device.family() != taxel_format::Family::Laterotactile;
+    if !family_help && drawing.elements.iter().any(|e| e.styled_by == drawing::StyledBy::Auto) {
         help.push("`taxel style auto INPUT` shows what the automatic style sheet made of each colour".into());
     }
     let d =

@@ -376,6 +376,30 @@ fn brush_on_a_grid_profile_goes_to_the_brush_scheduler() {
     );
 }
 
+#[test]
+fn a_map_built_for_a_grid_or_finger_device_says_what_that_device_plays() {
+    // A teacher's unannotated map, built for the chair or the finger device:
+    // the automatic sheet makes laterotactile styles, which those do not play.
+    let svg = page(
+        r##"<path d="M5,5 L90,8 L85,55 L8,50 Z" fill="#cfe8a9"/>
+        <path d="M10,30 C30,10 60,50 90,30" stroke="#36f" stroke-width="1" fill="none"/>"##,
+    );
+    for (name, says) in [("brush-4x3", "brush()"), ("finger3", ".gltf")] {
+        let opts = CompileOptions { fit: true, ..CompileOptions::new(profiles::builtin(name).unwrap()) };
+        let c = no_internal_error(compile_svg(&svg, &opts));
+        assert!(c.bundle.is_none());
+        assert!(!with_code(&c, "T0120").is_empty(), "{name}: {:#?}", c.diagnostics);
+        let e = with_code(&c, "T0300");
+        let help = e[0].help.as_deref().unwrap_or("");
+        assert!(help.contains(says) && help.contains("stress2") && help.contains("dotpad"), "{name}: {:?}", e[0]);
+        assert!(!help.contains("style auto"), "{name}: {:?}", e[0]);
+    }
+    // On stress2 a style it does not play keeps the general help.
+    let c = compile(&page(r#"<path d="M10 10 L 80 10" data-tactile="brush()"/>"#));
+    let help = with_code(&c, "T0300")[0].help.as_deref().unwrap_or("").to_string();
+    assert!(help.contains("may not be rendered on this device"), "{help}");
+}
+
 /// Issue 14 (a vector field's arrowheads drawn past the page's edge, which
 /// the automatic sheet makes dots): "no dots are left on the page" gave no
 /// help saying why or what to do.
