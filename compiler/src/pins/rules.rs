@@ -45,12 +45,17 @@ pub(crate) fn check(canvas: &Canvas, drawing: &Drawing, diags: &mut Vec<Diagnost
             )
             .with_help("move the label, or leave out the graphics under it")
         } else {
+            // Two shapes of one element (a `<use>` of a group, a path and its
+            // markers) share its name: "use1 and use1" read as a mistake.
+            let which = if name(first) == name(second) {
+                format!("two parts of {}", name(first))
+            } else {
+                format!("{} and {}", name(first), name(second))
+            };
             Diagnostic::warning(
                 "T0703",
                 format!(
-                    "{} and {} are less than one blank pin apart at pin ({c}, {r}): on the pin grid they are felt as one",
-                    name(first),
-                    name(second)
+                    "{which} are less than one blank pin apart at pin ({c}, {r}): on the pin grid they are felt as one"
                 ),
             )
             .with_help("move them apart, or leave one of them out on pin displays")

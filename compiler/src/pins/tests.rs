@@ -268,6 +268,22 @@ fn labels_over_graphics_and_elements_too_close_are_reported() {
 }
 
 #[test]
+fn two_shapes_of_one_element_too_close_are_named_as_its_parts() {
+    // A `<use>` of a group gives its shapes the one name.
+    let d = drawing(
+        150.0,
+        100.0,
+        vec![
+            path("use1", &[(10.0, 10.0), (60.0, 10.0)], false, vec![VIBRATE]),
+            path("use1", &[(10.0, 12.5), (60.0, 12.5)], false, vec![VIBRATE]),
+        ],
+    );
+    let (_, diags) = run("dotpad", &d);
+    let m: Vec<&str> = diags.iter().filter(|d| d.code == "T0703").map(|d| d.message.as_str()).collect();
+    assert!(!m.is_empty() && m.iter().all(|m| m.starts_with("two parts of use1 are")), "{m:?}");
+}
+
+#[test]
 fn a_texture_the_pitch_cannot_carry_is_reported() {
     let square = [(10.0, 10.0), (40.0, 10.0), (40.0, 40.0), (10.0, 40.0)];
     let (_, diags) = run("dotpad", &drawing(150.0, 100.0, vec![path("g", &square, true, vec![grating(2.0, 0.0)])]));
