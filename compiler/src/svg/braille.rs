@@ -3,6 +3,14 @@
 //!
 //! Braille is made from the text's characters, never from glyph outlines, so
 //! it does not depend on fonts. Contracted (grade 2) braille is not supported.
+//! A Latin letter with diacritics (a place name's é, ü, ñ, ç, whether written
+//! as one character or as a letter and combining marks) is its letter after
+//! the UEB modifiers of its marks (The Rules of UEB, section 4.2), the capital
+//! indicator first. Signs are those of the UEB reference list ("Guide to
+//! Reading UEB", ICEB; The Rules of UEB, section 3); a character with no
+//! sign here is left out and named in a warning.
+
+use unicode_normalization::UnicodeNormalization;
 
 /// Dot pitch within a cell (NLS Spec 800: 0.092 in).
 pub const DOT_PITCH_MM: f64 = 2.34;
@@ -82,6 +90,34 @@ fn punctuation(c: char) -> Option<&'static [Cell]> {
     static PLUS: [Cell; 2] = [cell(&[5]), cell(&[2, 3, 5])];
     static EQUALS: [Cell; 2] = [cell(&[5]), cell(&[2, 3, 5, 6])];
     static STAR: [Cell; 2] = [cell(&[5]), cell(&[3, 5])];
+    static DOLLAR: [Cell; 2] = [cell(&[4]), cell(&[2, 3, 4])];
+    static POUND: [Cell; 2] = [cell(&[4]), cell(&[1, 2, 3])];
+    static EURO: [Cell; 2] = [cell(&[4]), cell(&[1, 5])];
+    static CENT: [Cell; 2] = [cell(&[4]), cell(&[1, 4])];
+    static YEN: [Cell; 2] = [cell(&[4]), cell(&[1, 3, 4, 5, 6])];
+    static DEGREE: [Cell; 2] = [cell(&[4, 5]), cell(&[2, 4, 5])];
+    static LESS: [Cell; 2] = [cell(&[4]), cell(&[1, 2, 6])];
+    static GREATER: [Cell; 2] = [cell(&[4]), cell(&[3, 4, 5])];
+    static LSQUARE: [Cell; 2] = [cell(&[4, 6]), cell(&[1, 2, 6])];
+    static RSQUARE: [Cell; 2] = [cell(&[4, 6]), cell(&[3, 4, 5])];
+    static LCURLY: [Cell; 2] = [cell(&[4, 5, 6]), cell(&[1, 2, 6])];
+    static RCURLY: [Cell; 2] = [cell(&[4, 5, 6]), cell(&[3, 4, 5])];
+    static NUMBER_SIGN: [Cell; 2] = [cell(&[4, 5, 6]), cell(&[1, 4, 5, 6])];
+    static UNDERSCORE: [Cell; 2] = [cell(&[4, 6]), cell(&[3, 6])];
+    static TILDE: [Cell; 2] = [cell(&[4]), cell(&[3, 5])];
+    static CARET: [Cell; 2] = [cell(&[4]), cell(&[2, 6])];
+    static BAR: [Cell; 2] = [cell(&[4, 5, 6]), cell(&[1, 2, 5, 6])];
+    static BACKSLASH: [Cell; 2] = [cell(&[4, 5, 6]), cell(&[1, 6])];
+    static GRAVE: [Cell; 2] = [cell(&[4, 5]), cell(&[1, 6])];
+    static EN_DASH: [Cell; 2] = [cell(&[6]), cell(&[3, 6])];
+    static EM_DASH: [Cell; 3] = [cell(&[5]), cell(&[6]), cell(&[3, 6])];
+    static ELLIPSIS: [Cell; 3] = [cell(&[2, 5, 6]), cell(&[2, 5, 6]), cell(&[2, 5, 6])];
+    static TIMES: [Cell; 2] = [cell(&[5]), cell(&[2, 3, 6])];
+    static DIVIDE: [Cell; 2] = [cell(&[5]), cell(&[3, 4])];
+    static MINUS: [Cell; 2] = [cell(&[5]), cell(&[3, 6])];
+    static OPEN_QUOTE: [Cell; 1] = one(&[2, 3, 6]);
+    static CLOSE_QUOTE: [Cell; 1] = one(&[3, 5, 6]);
+    static OPEN_SINGLE: [Cell; 2] = [cell(&[6]), cell(&[2, 3, 6])];
     Some(match c {
         ',' => &COMMA,
         ';' => &SEMI,
@@ -91,7 +127,35 @@ fn punctuation(c: char) -> Option<&'static [Cell]> {
         '?' => &QUESTION,
         '\'' | '’' => &APOS,
         '-' => &HYPHEN,
-        '"' | '“' | '”' => &QUOTE,
+        '"' => &QUOTE,
+        '“' => &OPEN_QUOTE,
+        '”' => &CLOSE_QUOTE,
+        '‘' => &OPEN_SINGLE,
+        '$' => &DOLLAR,
+        '£' => &POUND,
+        '€' => &EURO,
+        '¢' => &CENT,
+        '¥' => &YEN,
+        '°' => &DEGREE,
+        '<' => &LESS,
+        '>' => &GREATER,
+        '[' => &LSQUARE,
+        ']' => &RSQUARE,
+        '{' => &LCURLY,
+        '}' => &RCURLY,
+        '#' => &NUMBER_SIGN,
+        '_' => &UNDERSCORE,
+        '~' => &TILDE,
+        '^' => &CARET,
+        '|' => &BAR,
+        '\\' => &BACKSLASH,
+        '`' => &GRAVE,
+        '–' => &EN_DASH,
+        '—' => &EM_DASH,
+        '…' => &ELLIPSIS,
+        '×' => &TIMES,
+        '÷' => &DIVIDE,
+        '−' => &MINUS,
         '(' => &LPAREN,
         ')' => &RPAREN,
         '/' => &SLASH,
@@ -103,6 +167,31 @@ fn punctuation(c: char) -> Option<&'static [Cell]> {
         '*' => &STAR,
         _ => return None,
     })
+}
+
+/// The UEB modifier of a combining diacritical mark, written before the
+/// letter it marks (The Rules of UEB, section 4.2).
+fn modifier(mark: char) -> Option<[Cell; 2]> {
+    Some(match mark {
+        '\u{301}' => [cell(&[4, 5]), cell(&[3, 4])],          // acute
+        '\u{300}' => [cell(&[4, 5]), cell(&[1, 6])],          // grave
+        '\u{302}' => [cell(&[4, 5]), cell(&[1, 4, 6])],       // circumflex
+        '\u{308}' => [cell(&[4, 5]), cell(&[2, 5])],          // diaeresis
+        '\u{303}' => [cell(&[4, 5]), cell(&[1, 2, 4, 5, 6])], // tilde
+        '\u{327}' => [cell(&[4, 5]), cell(&[1, 2, 3, 4, 6])], // cedilla
+        '\u{304}' => [cell(&[4]), cell(&[3, 6])],             // macron
+        _ => return None,
+    })
+}
+
+/// Whether `c` is a combining diacritical mark (it belongs to the letter before it).
+fn is_mark(c: char) -> bool {
+    ('\u{300}'..='\u{36f}').contains(&c)
+}
+
+/// Whether `c` is part of a word for the capital indicators: a Latin letter or a mark on one.
+fn in_word(c: char) -> bool {
+    c.is_ascii_alphabetic() || is_mark(c)
 }
 
 /// The characters `missing` (as [`translate`] returns them) for a message:
@@ -119,9 +208,21 @@ pub fn left_out(missing: &[char]) -> String {
 }
 
 /// Translates text to uncontracted UEB cells (a space is an empty cell).
-/// Returns the cells and the characters that have no translation (left out).
+/// Returns the cells and the characters that have no translation (left out;
+/// a letter whose marks are not all known is left out with its marks).
 pub fn translate(text: &str) -> (Vec<Cell>, Vec<char>) {
-    let chars: Vec<char> = text.chars().collect();
+    // Latin letters decomposed, so that é written as one character or as e
+    // and a combining acute is the same letter and mark (other scripts are
+    // left whole, so that their characters are named whole when left out).
+    let mut chars: Vec<char> = Vec::with_capacity(text.len());
+    for c in text.chars() {
+        let start = chars.len();
+        chars.extend(c.nfd());
+        if !chars[start].is_ascii_alphabetic() {
+            chars.truncate(start);
+            chars.push(c);
+        }
+    }
     let mut out = Vec::with_capacity(chars.len() + 4);
     let mut missing = Vec::new();
     let mut numeric = false;
@@ -140,18 +241,29 @@ pub fn translate(text: &str) -> (Vec<Cell>, Vec<char>) {
             // Numeric mode continues through a decimal point or digit separator.
             out.push(if c == '.' { cell(&[2, 5, 6]) } else { cell(&[2]) });
         } else if c.is_ascii_alphabetic() {
+            // The letter's marks, and their modifiers if every one has one.
+            let marks = chars[i + 1..].iter().take_while(|&&m| is_mark(m)).count();
+            let modifiers: Option<Vec<[Cell; 2]>> = chars[i + 1..i + 1 + marks].iter().map(|&m| modifier(m)).collect();
+            let Some(modifiers) = modifiers else {
+                numeric = false;
+                missing.extend_from_slice(&chars[i..i + 1 + marks]);
+                i += 1 + marks;
+                continue;
+            };
             let lower = c.to_ascii_lowercase();
-            if numeric && !c.is_ascii_uppercase() && lower <= 'j' {
+            if numeric && !c.is_ascii_uppercase() && lower <= 'j' && modifiers.is_empty() {
                 out.push(GRADE1);
             }
             numeric = false;
             if c.is_ascii_uppercase() {
-                let word_start = i == 0 || !chars[i - 1].is_ascii_alphabetic();
-                let word: Vec<char> = chars[i..].iter().take_while(|c| c.is_ascii_alphabetic()).copied().collect();
+                let word_start = i == 0 || !in_word(chars[i - 1]);
+                let word: Vec<char> =
+                    chars[i..].iter().take_while(|&&c| in_word(c)).filter(|c| !is_mark(**c)).copied().collect();
                 let caps_word = word.len() >= 2 && word.iter().all(|c| c.is_ascii_uppercase());
                 let in_caps_word = {
-                    let start = chars[..i].iter().rposition(|c| !c.is_ascii_alphabetic()).map_or(0, |p| p + 1);
-                    let w: Vec<char> = chars[start..].iter().take_while(|c| c.is_ascii_alphabetic()).copied().collect();
+                    let start = chars[..i].iter().rposition(|&c| !in_word(c)).map_or(0, |p| p + 1);
+                    let w: Vec<char> =
+                        chars[start..].iter().take_while(|&&c| in_word(c)).filter(|c| !is_mark(**c)).copied().collect();
                     w.len() >= 2 && w.iter().all(|c| c.is_ascii_uppercase())
                 };
                 if word_start && caps_word {
@@ -160,7 +272,10 @@ pub fn translate(text: &str) -> (Vec<Cell>, Vec<char>) {
                     out.push(CAPITAL);
                 }
             }
+            out.extend(modifiers.into_iter().flatten());
             out.push(LETTERS[(lower as u8 - b'a') as usize]);
+            i += 1 + marks;
+            continue;
         } else if c.is_whitespace() {
             numeric = false;
             out.push(0);
@@ -219,7 +334,48 @@ mod tests {
         assert_eq!(translate("1a").0, cells(&["3456", "1", "56", "1"]));
         // A decimal point stays in numeric mode.
         assert_eq!(translate("2.5").0, cells(&["3456", "12", "256", "15"]));
-        assert_eq!(translate("é").1, vec!['é']);
+        assert_eq!(translate("ø").1, vec!['ø']);
+    }
+
+    #[test]
+    fn letters_with_diacritics_take_ueb_modifiers_before_the_letter() {
+        // The Rules of UEB 4.2 and the ICEB reference sheet (Braille ASCII
+        // `^/` acute, `^*` grave, `^%` circumflex, `^3` diaeresis): the
+        // modifier, then the letter; a capital's indicator comes first.
+        assert_eq!(translate("Café"), (cells(&["6", "14", "1", "124", "45", "34", "15"]), vec![]));
+        // Written as a letter and a combining mark, the same cells.
+        assert_eq!(translate("Cafe\u{301}"), translate("Café"));
+        assert_eq!(translate("ü").0, cells(&["45", "25", "136"]));
+        assert_eq!(translate("à").0, cells(&["45", "16", "1"]));
+        assert_eq!(translate("ô").0, cells(&["45", "146", "135"]));
+        assert_eq!(translate("ñ").0, cells(&["45", "12456", "1345"]));
+        assert_eq!(translate("ç").0, cells(&["45", "12346", "14"]));
+        // An all-capital word with an accented letter is still one capitalised word.
+        assert_eq!(translate("ÉTÉ").0, cells(&["6", "6", "45", "34", "15", "2345", "45", "34", "15"]));
+        // After a number the modifier ends numeric mode: no grade 1 indicator.
+        assert_eq!(translate("1é").0, cells(&["3456", "1", "45", "34", "15"]));
+        // A mark without a modifier here (the caron of ř) leaves its letter out, named whole.
+        let (c, missing) = translate("Dvořák");
+        assert_eq!(left_out(&missing), "r\u{30c}");
+        assert_eq!(c, cells(&["6", "145", "1236", "135", "45", "34", "1", "13"]));
+        // Letters of other scripts are not decomposed: named as written.
+        assert_eq!(translate("й").1, vec!['й']);
+    }
+
+    #[test]
+    fn signs_of_maps_and_charts_follow_the_ueb_reference_list() {
+        // Braille ASCII of the ICEB sheet: `^j` degree, `@s` dollar, `@l`
+        // pound, `.<` `.>` square brackets, `,-` dash, `444` ellipsis.
+        assert_eq!(translate("45°").0, cells(&["3456", "145", "15", "45", "245"]));
+        assert_eq!(translate("$5").0, cells(&["4", "234", "3456", "15"]));
+        assert_eq!(translate("£").0, cells(&["4", "123"]));
+        assert_eq!(translate("[a]").0, cells(&["46", "126", "1", "46", "345"]));
+        assert_eq!(translate("–").0, cells(&["6", "36"]));
+        assert_eq!(translate("…").0, cells(&["256", "256", "256"]));
+        assert_eq!(translate("“a”").0, cells(&["236", "1", "356"]));
+        for c in "#<>{}_~^|\\`—×÷−€¢¥‘".chars() {
+            assert!(translate(&c.to_string()).1.is_empty(), "{c}");
+        }
     }
 
     #[test]
