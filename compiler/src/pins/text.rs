@@ -24,7 +24,7 @@ fn cells(text: &str, e: Option<&Element>, diags: &mut Vec<Diagnostic>) -> Vec<u8
     if !missing.is_empty() {
         let list = crate::svg::braille_left_out(&missing);
         let mut d =
-            Diagnostic::warning("T0304", format!("no uncontracted UEB braille for {list:?}; left out of the braille"));
+            Diagnostic::warning("T0304", format!("no uncontracted UEB braille for {list}; left out of the braille"));
         if let Some(e) = e {
             d = d.with_element(e.name.clone()).on_line(e.line);
         }

@@ -196,7 +196,10 @@ fn in_word(c: char) -> bool {
 
 /// The characters `missing` (as [`translate`] returns them) for a message:
 /// each once, in the order they first appear in the text (sorted, an Arabic
-/// or Hebrew word would read backwards, and a CJK one scrambled).
+/// or Hebrew word would read backwards, and a CJK one scrambled), in double
+/// quotes. Only control characters, quotes and backslashes are escaped, so
+/// that a letter and its combining mark (ř) show as the letter, not as
+/// `r\u{30c}` as Rust's `{:?}` writes them.
 pub fn left_out(missing: &[char]) -> String {
     let mut seen = Vec::new();
     for &c in missing {
@@ -204,7 +207,16 @@ pub fn left_out(missing: &[char]) -> String {
             seen.push(c);
         }
     }
-    seen.into_iter().collect()
+    let mut out = String::from("\"");
+    for c in seen {
+        match c {
+            '"' | '\\' => out.extend(['\\', c]),
+            c if c.is_control() => out.extend(c.escape_default()),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
 }
 
 /// Translates text to uncontracted UEB cells (a space is an empty cell).
@@ -356,7 +368,8 @@ mod tests {
         assert_eq!(translate("1é").0, cells(&["3456", "1", "45", "34", "15"]));
         // A mark without a modifier here (the caron of ř) leaves its letter out, named whole.
         let (c, missing) = translate("Dvořák");
-        assert_eq!(left_out(&missing), "r\u{30c}");
+        assert_eq!(left_out(&missing), "\"r\u{30c}\"");
+        assert_eq!(left_out(&['"', '\n', '京']), r#""\"\n京""#);
         assert_eq!(c, cells(&["6", "145", "1236", "135", "45", "34", "1", "13"]));
         // Letters of other scripts are not decomposed: named as written.
         assert_eq!(translate("й").1, vec!['й']);

@@ -710,10 +710,13 @@ fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOptions, diags:
             diags.push(
                 Diagnostic::warning(
                     "T0304",
-                    format!("no uncontracted UEB braille for {:?}; {left}", braille::left_out(&missing)),
+                    format!("no uncontracted UEB braille for {}; {left}", braille::left_out(&missing)),
                 )
                 .with_element(&e.name)
-                .with_help("taxel's built-in table covers a-z, A-Z, 0-9, space and common punctuation")
+                .with_help(
+                    "taxel's built-in table covers Latin letters (with common accents), digits, space, punctuation \
+                     and the signs of maps and charts",
+                )
                 .at_line(e.line),
             );
             if pts.is_empty() {
