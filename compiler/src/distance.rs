@@ -594,13 +594,11 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
             return TileOut::Segments(r);
         }
         // A fill's straight side and a circular hole in it: a cut arc (format 4.3).
-        let cut = cut_arcs::cut_arcs(&tile, &exact).into_iter().find(|r| {
-            tile.centres_all(centres, |u, w, e| {
-                sat.close(taxel_format::arc_code([&r[0], &r[1]], u, w) - DISTANCE_ZERO as f64, e)
-            })
-        });
+        let cut = cut_arcs::cut_arcs(&tile, &exact)
+            .into_iter()
+            .find(|cut| tile.centres_all(centres, |u, w, e| cut.close(u, w, e, sat)));
         match cut {
-            Some(r) => TileOut::Bend(taxel_format::TILE_ARC, r),
+            Some(cut) => TileOut::Bend(taxel_format::TILE_ARC, cut.recs),
             None => TileOut::Samples(tile_buf),
         }
     };

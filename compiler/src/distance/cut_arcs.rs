@@ -17,11 +17,23 @@
 //! within half a code at the 81 lattice points (and, by the caller, at the
 //! 64 cell centres), or saturated on the same side. It is tried last, only
 //! where no other kind plays the tile.
+//!
+//! Where the side meets the circle the felt region has a corner (a Bézier
+//! side meeting a straight one, as a country's outline often has). Outside
+//! it, near the corner, the lesser of the two codes is the miter, not the
+//! exact distance (the distance to the corner point), so a check of the
+//! codes alone refused every such tile. As for corner tiles (`bends.rs`),
+//! the writer checks instead that the exact distance is, within half a code,
+//! that of the region the records stand for (the half plane cut by the disc
+//! or the hole, [`Cut::model`]), and that the played code gives the same
+//! amplitude as that region's distance everywhere but in a spot round each
+//! corner of radius `(ramp / 2) / sin(θ / 2)`, at most
+//! [`SPOT_MM`](super::bends::SPOT_MM).
 
 use taxel_format::{DISTANCE_ZERO, MAX_PLANE_CODE, MAX_PLANE_GRADIENT, TILE_ARC, TILE_CELLS, TILE_SAMPLES, TILE_SIDE};
 use taxel_format::{TileEntry, TilePlane};
 
-use super::planes::TileCtx;
+use super::planes::{Saturation, TOLERANCE, TileCtx};
 use super::{Part, Seg};
 
 /// Fill segments near the tile among which its side and its circle's
@@ -38,7 +50,7 @@ const MAX_SIDES: usize = 3;
 /// plane) that may play a fill's tile whose exact codes are `exact`, each
 /// kept only if it plays the 81 samples (the caller checks the cell
 /// centres). None for a band layer.
-pub(super) fn cut_arcs(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Vec<[TilePlane; 2]> {
+pub(super) fn cut_arcs(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Vec<Cut> {
     if t.g.band.is_some() {
         return Vec::new();
     }
@@ -46,7 +58,7 @@ pub(super) fn cut_arcs(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Vec<
     let middle = t.middle();
     let nearest = t.nearest(Part::Fill, NEAR_SEGMENTS);
     let near: Vec<Seg> = nearest.iter().map(|&(_, s)| s).collect();
-    let mut out: Vec<[TilePlane; 2]> = Vec::new();
+    let mut out: Vec<Cut> = Vec::new();
     let order = t.order(exact);
     for side in sides(t, exact, &nearest) {
         let Some(line) = Line::of(t, side) else { continue };
@@ -70,8 +82,9 @@ pub(super) fn cut_arcs(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Vec<
             for arc in super::arcs::arcs(t, c, r, None) {
                 for sign in [1.0, -1.0] {
                     let Some(rec) = line.cut(arc, sign) else { continue };
-                    if plays(t, &rec, exact, order) && !out.contains(&rec) {
-                        out.push(rec);
+                    let Some(cut) = Cut::new(t, &line, sign, (c, r), rec) else { continue };
+                    if plays(t, &cut, exact, order) && !out.iter().any(|o| o.recs == rec) {
+                        out.push(cut);
                     }
                 }
             }
@@ -99,7 +112,25 @@ fn sides(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES], near: &[(f64, Seg)]) 
         }
     }
     count.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
-    count.into_iter().take(MAX_SIDES).map(|(n, _)| near[n].1).collect()
+    let mut out: Vec<Seg> = count.into_iter().take(MAX_SIDES).map(|(n, _)| near[n].1).collect();
+    // A straight side beside a tight curve: the curve's many short
+    // segments crowd the nearest, and the side may not be among them. The
+    // longest fill segment acting on the tile, if at least a cell long, is
+    // tried too.
+    let longest = t
+        .bucket
+        .iter()
+        .filter_map(|&n| t.segs.get(n as usize))
+        .filter(|(_, part, _)| *part == Part::Fill)
+        .map(|&((a, b), _, _)| ((b.0 - a.0).hypot(b.1 - a.1), (a, b)))
+        .max_by(|x, y| x.0.total_cmp(&y.0));
+    if let Some((len, s)) = longest
+        && len >= t.h
+        && !out.contains(&s)
+    {
+        out.push(s);
+    }
+    out
 }
 
 /// A side's line over the tile: the signed distance to it, in codes, is
@@ -148,12 +179,124 @@ impl Line {
     }
 }
 
-/// Whether a cut arc's records play the tile's 81 exact codes as a plane must.
+/// Whether a cut arc plays the tile's 81 exact codes ([`Cut::close`]).
 /// `order` is [`edge_first`](super::planes::edge_first)'s.
-fn plays(t: &TileCtx<'_, '_>, r: &[TilePlane; 2], exact: &[f64; TILE_SAMPLES], order: &[u8; TILE_SAMPLES]) -> bool {
-    let entry = TileEntry::of(TILE_ARC);
-    order.iter().map(|&i| i as usize).all(|i| {
-        let code = entry.code(r, (i % TILE_SIDE) as f64, (i / TILE_SIDE) as f64);
-        code.is_some_and(|code| t.sat.close(code - DISTANCE_ZERO as f64, exact[i]))
-    })
+fn plays(t: &TileCtx<'_, '_>, cut: &Cut, exact: &[f64; TILE_SAMPLES], order: &[u8; TILE_SAMPLES]) -> bool {
+    order
+        .iter()
+        .map(|&i| i as usize)
+        .all(|i| cut.close((i % TILE_SIDE) as f64, (i / TILE_SIDE) as f64, exact[i], t.sat))
+}
+
+/// A cut arc's records and the region they stand for, in the tile's lattice
+/// coordinates: where the side's signed distance `n · q + d` (cells, `n` a
+/// unit normal towards the felt side) and the circle's, `inside · (ρ − |q −
+/// C|)`, are both positive.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Cut {
+    /// The tile's two records (an arc tile's, the second holding the side's plane).
+    pub recs: [TilePlane; 2],
+    n: (f64, f64),
+    d: f64,
+    centre: (f64, f64),
+    rho: f64,
+    /// 1 for a disc (felt inside the circle), −1 for a hole.
+    inside: f64,
+    /// Codes per cell.
+    k: f64,
+    /// Where the side's line crosses the circle (`count` of them).
+    corners: [(f64, f64); 2],
+    count: usize,
+    /// The radius round each corner where the amplitude may differ, cells.
+    spot: f64,
+}
+
+impl Cut {
+    /// The cut arc of `recs`: the side's `line` on the side `sign` gives, the
+    /// circle of centre `c` and radius `r` (page mm), a disc where the arc
+    /// record's radius is 0, else a hole. `None` where a corner's spot is
+    /// wider than [`SPOT_MM`](super::bends::SPOT_MM).
+    fn new(
+        t: &TileCtx<'_, '_>,
+        line: &Line,
+        sign: f64,
+        (c, r): ((f64, f64), f64),
+        recs: [TilePlane; 2],
+    ) -> Option<Cut> {
+        let k = t.h / t.step;
+        let n = (sign * line.gx / k, sign * line.gy / k);
+        let d = sign * line.c / k;
+        let centre = ((c.0 - t.corner.0) / t.h, (c.1 - t.corner.1) / t.h);
+        let rho = r / t.h;
+        let inside = if recs[0].gy == 0.0 { 1.0 } else { -1.0 };
+        // The line's points nearest the centre, then along it either way.
+        let s = n.0 * centre.0 + n.1 * centre.1 + d;
+        let foot = (centre.0 - s * n.0, centre.1 - s * n.1);
+        let mut cut = Cut { recs, n, d, centre, rho, inside, k, corners: [foot; 2], count: 0, spot: 0.0 };
+        if s.abs() <= rho {
+            let along = (rho * rho - s * s).sqrt();
+            let dir = (-n.1, n.0);
+            cut.corners =
+                [(foot.0 + along * dir.0, foot.1 + along * dir.1), (foot.0 - along * dir.0, foot.1 - along * dir.1)];
+            cut.count = 2;
+            // The spot as a corner tile's (`bends.rs`): the half ramp over
+            // sin(θ / 2), from the felt sides' normals at the corner.
+            for x in cut.corners {
+                let nc = (inside * (centre.0 - x.0) / rho, inside * (centre.1 - x.1) / rho);
+                let sin_half = ((1.0 + n.0 * nc.0 + n.1 * nc.1) / 2.0).max(0.0).sqrt();
+                let spot_mm = t.sat.hi * t.step / sin_half;
+                if !(spot_mm <= super::bends::SPOT_MM) {
+                    return None;
+                }
+                cut.spot = cut.spot.max(spot_mm / t.h);
+            }
+        }
+        Some(cut)
+    }
+
+    /// The signed distance (codes) from `(u, w)` to the region's outline:
+    /// the nearest of the side's line where it is inside the circle's felt
+    /// side, the circle where it is on the side's felt side, and the corners.
+    fn model(&self, u: f64, w: f64) -> f64 {
+        let p = self.n.0 * u + self.n.1 * w + self.d;
+        let (dx, dy) = (u - self.centre.0, w - self.centre.1);
+        let from_centre = dx.hypot(dy);
+        let a = self.inside * (self.rho - from_centre);
+        let mut best = f64::INFINITY;
+        // The foot on the line, on the circle's felt side.
+        let foot = (u - p * self.n.0, w - p * self.n.1);
+        if self.inside * (self.rho - (foot.0 - self.centre.0).hypot(foot.1 - self.centre.1)) >= 0.0 {
+            best = best.min(p.abs());
+        }
+        // The foot on the circle, on the side's felt side.
+        if from_centre > 0.0 {
+            let f = (self.centre.0 + self.rho * dx / from_centre, self.centre.1 + self.rho * dy / from_centre);
+            if self.n.0 * f.0 + self.n.1 * f.1 + self.d >= 0.0 {
+                best = best.min(a.abs());
+            }
+        }
+        for x in &self.corners[..self.count] {
+            best = best.min((u - x.0).hypot(w - x.1));
+        }
+        let felt = p >= 0.0 && a >= 0.0;
+        self.k * if felt { best } else { -best }
+    }
+
+    /// Whether the cut arc plays the exact distance `e` (codes, clamped) at
+    /// `(u, w)`: the region's distance is close to it as a plane's must be,
+    /// and outside the corners' spots the played code gives the amplitude
+    /// of the region's distance.
+    pub(super) fn close(&self, u: f64, w: f64, e: f64, sat: Saturation) -> bool {
+        let m = self.model(u, w);
+        if !(m.is_finite() && sat.close(m, e)) {
+            return false;
+        }
+        if self.corners[..self.count].iter().any(|x| (u - x.0).hypot(w - x.1) <= self.spot) {
+            return true;
+        }
+        let entry = TileEntry::of(TILE_ARC);
+        let Some(v) = entry.code(&self.recs, u, w) else { return false };
+        let clamp = |x: f64| x.clamp(sat.lo, sat.hi);
+        (clamp(v - DISTANCE_ZERO as f64) - clamp(m)).abs() <= TOLERANCE
+    }
 }
