@@ -245,7 +245,8 @@ impl Cut {
                 let nc = (inside * (centre.0 - x.0) / rho, inside * (centre.1 - x.1) / rho);
                 let sin_half = ((1.0 + n.0 * nc.0 + n.1 * nc.1) / 2.0).max(0.0).sqrt();
                 let spot_mm = t.sat.hi * t.step / sin_half;
-                if !(spot_mm <= super::bends::SPOT_MM) {
+                // (A NaN, from a zero sine, is refused too.)
+                if spot_mm.is_nan() || spot_mm > super::bends::SPOT_MM {
                     return None;
                 }
                 cut.spot = cut.spot.max(spot_mm / t.h);
