@@ -82,7 +82,7 @@ pub(super) fn cut_arcs(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Vec<
             for arc in super::arcs::arcs(t, c, r, None) {
                 for sign in [1.0, -1.0] {
                     let Some(rec) = line.cut(arc, sign) else { continue };
-                    let Some(cut) = Cut::new(t, &line, sign, (c, r), rec) else { continue };
+                    let cut = Cut::new(t, &line, sign, (c, r), rec);
                     if plays(t, &cut, exact, order) && !out.iter().any(|o| o.recs == rec) {
                         out.push(cut);
                     }
@@ -214,15 +214,10 @@ pub(super) struct Cut {
 impl Cut {
     /// The cut arc of `recs`: the side's `line` on the side `sign` gives, the
     /// circle of centre `c` and radius `r` (page mm), a disc where the arc
-    /// record's radius is 0, else a hole. `None` where a corner's spot is
-    /// wider than [`SPOT_MM`](super::bends::SPOT_MM).
-    fn new(
-        t: &TileCtx<'_, '_>,
-        line: &Line,
-        sign: f64,
-        (c, r): ((f64, f64), f64),
-        recs: [TilePlane; 2],
-    ) -> Option<Cut> {
+    /// record's radius is 0, else a hole. Its `spot` is NaN where a corner's
+    /// spot over the tile is wider than [`SPOT_MM`](super::bends::SPOT_MM):
+    /// then only the codes' own check holds.
+    fn new(t: &TileCtx<'_, '_>, line: &Line, sign: f64, (c, r): ((f64, f64), f64), recs: [TilePlane; 2]) -> Cut {
         let k = t.h / t.step;
         let n = (sign * line.gx / k, sign * line.gy / k);
         let d = sign * line.c / k;
@@ -240,19 +235,23 @@ impl Cut {
                 [(foot.0 + along * dir.0, foot.1 + along * dir.1), (foot.0 - along * dir.0, foot.1 - along * dir.1)];
             cut.count = 2;
             // The spot as a corner tile's (`bends.rs`): the half ramp over
-            // sin(θ / 2), from the felt sides' normals at the corner.
-            for x in cut.corners {
+            // sin(θ / 2), from the felt sides' normals at the corner. Only
+            // corners over the tile (grown by two cells) matter; a sharp one
+            // there leaves the cut arc to the codes' own check.
+            let grown = -2.0..=TILE_CELLS as f64 + 2.0;
+            for x in cut.corners.into_iter().filter(|x| grown.contains(&x.0) && grown.contains(&x.1)) {
                 let nc = (inside * (centre.0 - x.0) / rho, inside * (centre.1 - x.1) / rho);
                 let sin_half = ((1.0 + n.0 * nc.0 + n.1 * nc.1) / 2.0).max(0.0).sqrt();
                 let spot_mm = t.sat.hi * t.step / sin_half;
                 // (A NaN, from a zero sine, is refused too.)
                 if spot_mm.is_nan() || spot_mm > super::bends::SPOT_MM {
-                    return None;
+                    cut.spot = f64::NAN;
+                    break;
                 }
                 cut.spot = cut.spot.max(spot_mm / t.h);
             }
         }
-        Some(cut)
+        cut
     }
 
     /// The signed distance (codes) from `(u, w)` to the region's outline:
@@ -288,15 +287,19 @@ impl Cut {
     /// and outside the corners' spots the played code gives the amplitude
     /// of the region's distance.
     pub(super) fn close(&self, u: f64, w: f64, e: f64, sat: Saturation) -> bool {
+        let entry = TileEntry::of(TILE_ARC);
+        let Some(v) = entry.code(&self.recs, u, w) else { return false };
+        // The codes' own check first (all a cut arc had before corners).
+        if sat.close(v - DISTANCE_ZERO as f64, e) {
+            return true;
+        }
         let m = self.model(u, w);
-        if !(m.is_finite() && sat.close(m, e)) {
+        if self.spot.is_nan() || !(m.is_finite() && sat.close(m, e)) {
             return false;
         }
         if self.corners[..self.count].iter().any(|x| (u - x.0).hypot(w - x.1) <= self.spot) {
             return true;
         }
-        let entry = TileEntry::of(TILE_ARC);
-        let Some(v) = entry.code(&self.recs, u, w) else { return false };
         let clamp = |x: f64| x.clamp(sat.lo, sat.hi);
         (clamp(v - DISTANCE_ZERO as f64) - clamp(m)).abs() <= TOLERANCE
     }
