@@ -442,6 +442,7 @@ mod tests {
         let shifted = Polyline { points: vec![(1.1, 1.0), (3.1, 1.0), (3.1, 3.0), (1.1, 3.0)], closed: true };
         let corners_at = |c: Vec<(f64, f64)>| Region::Fill {
             fills: vec![(Index::new(std::slice::from_ref(&shifted), true), FillRule::NonZero)],
+            clips: Vec::new(),
             minus_bands: Vec::new(),
             minus_fills: Vec::new(),
             corners: c,

@@ -31,6 +31,11 @@ pub enum Region {
     Fill {
         /// Each source's outline and SVG fill rule.
         fills: Vec<(Index, FillRule)>,
+        /// Each source's clip regions (outline and fill rule), in the order
+        /// of `fills` (a missing entry: none): a source is felt only inside
+        /// all of its own, as the compiler clips it (a nested `<svg>`'s
+        /// viewport, `clip-path`).
+        clips: Vec<Vec<(Index, FillRule)>>,
         /// Vibrating bands (outline, width in mm) that are left out.
         minus_bands: Vec<(Arc<Index>, f64)>,
         /// Opaque fills painted over the sources (outline and fill rule), left out.
@@ -51,9 +56,10 @@ impl Region {
     /// Exact coverage (0 or 1) at page point `p` in mm.
     pub fn covers(&self, p: (f64, f64)) -> bool {
         match self {
-            Region::Fill { fills, minus_bands, minus_fills, .. } => {
-                fills.iter().any(|(f, rule)| f.contains(p, *rule))
-                    && !minus_bands.iter().any(|(b, w)| b.within(p, w / 2.0))
+            Region::Fill { fills, clips, minus_bands, minus_fills, .. } => {
+                fills.iter().enumerate().any(|(i, (f, rule))| {
+                    f.contains(p, *rule) && clips.get(i).is_none_or(|cs| cs.iter().all(|(c, r)| c.contains(p, *r)))
+                }) && !minus_bands.iter().any(|(b, w)| b.within(p, w / 2.0))
                     && !minus_fills.iter().any(|(f, rule)| f.contains(p, *rule))
             }
             Region::Band { bands, .. } => bands.iter().any(|(b, w)| b.within(p, w / 2.0)),
@@ -69,8 +75,9 @@ impl Region {
     pub fn edge_may_pass_within(&self, p: (f64, f64), r: f64) -> bool {
         let band_near = |(b, w): &(Arc<Index>, f64)| b.within(p, r + w / 2.0);
         match self {
-            Region::Fill { fills, minus_bands, minus_fills, .. } => {
-                fills.iter().chain(minus_fills).any(|(f, _)| f.within(p, r)) || minus_bands.iter().any(band_near)
+            Region::Fill { fills, clips, minus_bands, minus_fills, .. } => {
+                fills.iter().chain(minus_fills).chain(clips.iter().flatten()).any(|(f, _)| f.within(p, r))
+                    || minus_bands.iter().any(band_near)
             }
             Region::Band { bands, .. } => bands.iter().any(band_near),
         }
@@ -134,8 +141,8 @@ impl Region {
             });
         };
         match self {
-            Region::Fill { fills, minus_bands, minus_fills, .. } => {
-                for (f, _) in fills.iter().chain(minus_fills) {
+            Region::Fill { fills, clips, minus_bands, minus_fills, .. } => {
+                for (f, _) in fills.iter().chain(minus_fills).chain(clips.iter().flatten()) {
                     f.near(p, reach, |a, c| {
                         consider(nearest_on_segment(p, a, c), unit(a.1 - c.1, c.0 - a.0));
                         false
@@ -183,8 +190,8 @@ impl Region {
             }
         };
         match self {
-            Region::Fill { fills, minus_bands, minus_fills, .. } => {
-                for (f, _) in fills.iter().chain(minus_fills) {
+            Region::Fill { fills, clips, minus_bands, minus_fills, .. } => {
+                for (f, _) in fills.iter().chain(minus_fills).chain(clips.iter().flatten()) {
                     out.extend_from_slice(&f.segs);
                 }
                 for (b, w) in minus_bands {
@@ -562,6 +569,7 @@ mod tests {
         let layers = [ExactLayer::Vibration {
             region: Region::Fill {
                 fills: vec![(Index::new(&[sq], true), FillRule::NonZero)],
+                clips: Vec::new(),
                 minus_bands: Vec::new(),
                 minus_fills: vec![],
                 corners: Vec::new(),
@@ -629,6 +637,7 @@ mod tests {
                 (Index::new(&[sq(30.0)], true), FillRule::NonZero),
                 (Index::new(&[sq(50.0)], true), FillRule::NonZero),
             ],
+            clips: Vec::new(),
             minus_bands: Vec::new(),
             minus_fills: vec![],
             corners: Vec::new(),
@@ -658,6 +667,7 @@ mod tests {
         // A grating cut by that band: its edge is the band's inner offset.
         let cut = Region::Fill {
             fills: vec![(Index::new(&[sq(30.0)], true), FillRule::NonZero)],
+            clips: Vec::new(),
             minus_bands: vec![(Arc::new(Index::new(&[sq(30.0)], false)), 1.5)],
             minus_fills: vec![],
             corners: Vec::new(),
@@ -672,6 +682,7 @@ mod tests {
         let layers = [ExactLayer::Grating {
             region: Region::Fill {
                 fills: vec![(Index::new(&[sq], true), FillRule::NonZero)],
+                clips: Vec::new(),
                 minus_bands: Vec::new(),
                 minus_fills: vec![],
                 corners: Vec::new(),

@@ -14,7 +14,7 @@ use std::sync::Arc;
 
 use taxel_compiler::CompileOptions;
 use taxel_compiler::annotation::Style;
-use taxel_compiler::drawing::{self, Shape};
+use taxel_compiler::drawing::{self, Clip, Shape};
 use taxel_compiler::geometry::{FillRule, Polyline};
 use taxel_format::{Bundle, Chunk, DeviceProfile, MaskKind};
 
@@ -45,6 +45,9 @@ pub struct Source {
     pub rule: FillRule,
     /// The styles the compiler resolved for it.
     pub styles: Vec<Style>,
+    /// Its clip regions (a nested `<svg>`'s viewport, `clip-path`), when
+    /// every drawn copy has the same ones; else none.
+    pub clips: Vec<Clip>,
 }
 
 impl Drawing {
@@ -68,18 +71,29 @@ impl Drawing {
         let mut polys = Vec::new();
         let mut rule = None;
         let mut elements = Vec::new();
+        let mut clips: Option<Vec<Clip>> = None;
         for (i, e) in found {
             elements.push(i);
-            match &e.shape {
+            let own: &[Clip] = match &e.shape {
                 Shape::Path(p) => {
                     rule.get_or_insert(p.fill_rule);
                     polys.extend(p.outline.iter().cloned());
+                    &p.clips
                 }
-                Shape::Text(t) => polys.extend(t.outline.iter().cloned()),
-                Shape::Image { .. } => {}
+                Shape::Text(t) => {
+                    polys.extend(t.outline.iter().cloned());
+                    &[]
+                }
+                Shape::Image { .. } => &[],
+            };
+            // Copies clipped differently (a `<use>` in two viewports): none kept.
+            match &clips {
+                None => clips = Some(own.to_vec()),
+                Some(c) if c.as_slice() != own => clips = Some(Vec::new()),
+                Some(_) => {}
             }
         }
-        Some(Source { elements, polys, rule: rule.unwrap_or_default(), styles })
+        Some(Source { elements, polys, rule: rule.unwrap_or_default(), styles, clips: clips.unwrap_or_default() })
     }
 
     /// The opaque fills that hide a grated layer made of `sources`, as the
@@ -169,11 +183,19 @@ pub fn exact_layers(svg: &str, bundle: &Bundle, opts: &CompileOptions) -> Result
                 ExactLayer::Grating {
                     region: Region::Fill {
                         fills: geos.iter().map(|g| (Index::new(&g.polys, true), g.rule)).collect(),
+                        clips: geos
+                            .iter()
+                            .map(|g| g.clips.iter().map(|c| (Index::new(&c.outline, true), c.fill_rule)).collect())
+                            .collect(),
                         minus_bands: all_bands.clone(),
                         minus_fills: occluders.iter().map(|&(o, rule)| (Index::new(o, true), rule)).collect(),
                         corners: geos
                             .iter()
-                            .flat_map(|g| corners(&g.polys, true, None))
+                            .flat_map(|g| {
+                                corners(&g.polys, true, None)
+                                    .into_iter()
+                                    .chain(g.clips.iter().flat_map(|c| corners(&c.outline, true, None)))
+                            })
                             .chain(occluders.iter().flat_map(|&(o, _)| corners(o, true, None)))
                             .chain(band_corners.iter().copied())
                             .collect(),
