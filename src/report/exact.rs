@@ -47,6 +47,8 @@ pub enum Region {
     Band {
         /// Each source's outline and band width.
         bands: Vec<(Arc<Index>, f64)>,
+        /// Each source's clip regions, in the order of `bands` (as a fill's).
+        clips: Vec<Vec<(Index, FillRule)>>,
         /// The corners of the centre lines (see [`corners`]).
         corners: Vec<(f64, f64)>,
     },
@@ -62,7 +64,9 @@ impl Region {
                 }) && !minus_bands.iter().any(|(b, w)| b.within(p, w / 2.0))
                     && !minus_fills.iter().any(|(f, rule)| f.contains(p, *rule))
             }
-            Region::Band { bands, .. } => bands.iter().any(|(b, w)| b.within(p, w / 2.0)),
+            Region::Band { bands, clips, .. } => bands.iter().enumerate().any(|(i, (b, w))| {
+                b.within(p, w / 2.0) && clips.get(i).is_none_or(|cs| cs.iter().all(|(c, r)| c.contains(p, *r)))
+            }),
         }
     }
 
@@ -79,7 +83,9 @@ impl Region {
                 fills.iter().chain(minus_fills).chain(clips.iter().flatten()).any(|(f, _)| f.within(p, r))
                     || minus_bands.iter().any(band_near)
             }
-            Region::Band { bands, .. } => bands.iter().any(band_near),
+            Region::Band { bands, clips, .. } => {
+                bands.iter().any(band_near) || clips.iter().flatten().any(|(f, _)| f.within(p, r))
+            }
         }
     }
 
@@ -152,9 +158,15 @@ impl Region {
                     band(b, *w, &mut consider);
                 }
             }
-            Region::Band { bands, .. } => {
+            Region::Band { bands, clips, .. } => {
                 for (b, w) in bands {
                     band(b, *w, &mut consider);
+                }
+                for (f, _) in clips.iter().flatten() {
+                    f.near(p, reach, |a, c| {
+                        consider(nearest_on_segment(p, a, c), unit(a.1 - c.1, c.0 - a.0));
+                        false
+                    });
                 }
             }
         }
@@ -198,9 +210,12 @@ impl Region {
                     band(b, *w, &mut out);
                 }
             }
-            Region::Band { bands, .. } => {
+            Region::Band { bands, clips, .. } => {
                 for (b, w) in bands {
                     band(b, *w, &mut out);
+                }
+                for (f, _) in clips.iter().flatten() {
+                    out.extend_from_slice(&f.segs);
                 }
             }
         }
@@ -598,7 +613,7 @@ mod tests {
         };
         let band = |x0: f64| (Arc::new(Index::new(&[sq(x0)], false)), 1.5);
         let layers = [ExactLayer::Vibration {
-            region: Region::Band { bands: vec![band(30.0), band(50.0)], corners: Vec::new() },
+            region: Region::Band { bands: vec![band(30.0), band(50.0)], clips: Vec::new(), corners: Vec::new() },
             freq_hz: 50.0,
             amplitude: 0.6,
             ramp_mm: 0.0,
@@ -660,7 +675,11 @@ mod tests {
         assert_eq!(fill.edge_profile((30.002, 30.0), 0.0), 1.0);
         assert_eq!(fill.edge_profile((29.998, 30.0), 0.0), 0.0);
         // A 1.5 mm band round the left square: its outer edge at x = 29.25.
-        let band = Region::Band { bands: vec![(Arc::new(Index::new(&[sq(30.0)], false)), 1.5)], corners: Vec::new() };
+        let band = Region::Band {
+            bands: vec![(Arc::new(Index::new(&[sq(30.0)], false)), 1.5)],
+            clips: Vec::new(),
+            corners: Vec::new(),
+        };
         assert!(near(band.edge_profile((29.251, 30.0), ramp), 0.625));
         assert!(near(band.edge_profile((30.749, 30.0), ramp), 0.625));
         assert!(near(band.edge_profile((30.0, 30.0), ramp), 1.0) && near(band.edge_profile((29.2, 30.0), ramp), 0.0));

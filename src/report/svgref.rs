@@ -171,7 +171,15 @@ pub fn exact_layers(svg: &str, bundle: &Bundle, opts: &CompileOptions) -> Result
             MaskKind::Vibration { freq } => ExactLayer::Vibration {
                 region: Region::Band {
                     bands: geos.iter().map(|g| (Arc::new(Index::new(&g.polys, false)), band_width(g))).collect(),
-                    corners: geos.iter().flat_map(|g| corners(&g.polys, false, Some(band_width(g)))).collect(),
+                    clips: geos.iter().map(clip_regions).collect(),
+                    corners: geos
+                        .iter()
+                        .flat_map(|g| {
+                            corners(&g.polys, false, Some(band_width(g)))
+                                .into_iter()
+                                .chain(g.clips.iter().flat_map(|c| corners(&c.outline, true, None)))
+                        })
+                        .collect(),
                 },
                 freq_hz: freq.0 as f64 / 1000.0,
                 amplitude,
@@ -183,10 +191,7 @@ pub fn exact_layers(svg: &str, bundle: &Bundle, opts: &CompileOptions) -> Result
                 ExactLayer::Grating {
                     region: Region::Fill {
                         fills: geos.iter().map(|g| (Index::new(&g.polys, true), g.rule)).collect(),
-                        clips: geos
-                            .iter()
-                            .map(|g| g.clips.iter().map(|c| (Index::new(&c.outline, true), c.fill_rule)).collect())
-                            .collect(),
+                        clips: geos.iter().map(clip_regions).collect(),
                         minus_bands: all_bands.clone(),
                         minus_fills: occluders.iter().map(|&(o, rule)| (Index::new(o, true), rule)).collect(),
                         corners: geos
@@ -210,6 +215,11 @@ pub fn exact_layers(svg: &str, bundle: &Bundle, opts: &CompileOptions) -> Result
         });
     }
     Ok((layers, gaps))
+}
+
+/// A source's clip regions, indexed for coverage.
+fn clip_regions(geo: &Source) -> Vec<(Index, FillRule)> {
+    geo.clips.iter().map(|c| (Index::new(&c.outline, true), c.fill_rule)).collect()
 }
 
 /// The vibrating band's width of an element: its `vibrate(width: ...)`, or the default.
