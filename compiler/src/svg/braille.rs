@@ -230,7 +230,7 @@ pub fn translate(text: &str) -> (Vec<Cell>, Vec<char>) {
     for c in text.chars() {
         let start = chars.len();
         chars.extend(c.nfd());
-        if !chars[start].is_ascii_alphabetic() {
+        if !chars.get(start).is_some_and(char::is_ascii_alphabetic) {
             chars.truncate(start);
             chars.push(c);
         }
