@@ -474,7 +474,7 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
         near: Near::new(g.clips.len(), cut_widths.clone()),
         centres: Near::new(g.clips.len(), cut_widths.clone()),
     };
-    let tile_of = |Scratch { near, centres }: &mut Scratch, r: usize, c: usize| -> TileOut {
+    let tile_of = |Scratch { near, centres }: &mut Scratch, r: usize, c: usize, refine: bool| -> TileOut {
         let bucket = &buckets[r * cols + c];
         let corner = at(c * TILE_CELLS, r * TILE_CELLS);
         if bucket.is_empty() && !page_edge_near(c, r) {
@@ -597,21 +597,79 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
         let cut = cut_arcs::cut_arcs(&tile, &exact)
             .into_iter()
             .find(|cut| tile.centres_all(centres, |u, w, e| cut.close(u, w, e, sat)));
-        match cut {
-            Some(cut) => TileOut::Bend(taxel_format::TILE_ARC, cut.recs),
-            None => TileOut::Samples(tile_buf),
+        if let Some(cut) = cut {
+            return TileOut::Bend(taxel_format::TILE_ARC, cut.recs);
+        }
+        // Its samples, finer where the lattice's misplace the edge (format
+        // 4.4): on a second pass, within the layer's budget.
+        if refine {
+            match fine::refine(&tile, centres, &tile_buf) {
+                Some(f) => TileOut::Fine(f, tile_buf),
+                None => TileOut::Samples(tile_buf),
+            }
+        } else {
+            match fine::priority(&tile, centres, &tile_buf) {
+                Some(p) => TileOut::Refinable(tile_buf, p),
+                None => TileOut::Samples(tile_buf),
+            }
         }
     };
     // A small layer on one thread: handing its tiles out costs more than it
     // saves, and on a loaded machine a tile stolen by a worker that is not
     // running holds up the layer until it is.
     let work: usize = buckets.iter().map(Vec::len).sum();
-    let outs: Vec<TileOut> = if work >= PARALLEL_FROM {
-        (0..rows * cols).into_par_iter().map_init(scratch, |s, k| tile_of(s, k / cols, k % cols)).collect()
+    let mut outs: Vec<TileOut> = if work >= PARALLEL_FROM {
+        (0..rows * cols).into_par_iter().map_init(scratch, |s, k| tile_of(s, k / cols, k % cols, false)).collect()
     } else {
         let mut s = scratch();
-        (0..rows * cols).map(|k| tile_of(&mut s, k / cols, k % cols)).collect()
+        (0..rows * cols).map(|k| tile_of(&mut s, k / cols, k % cols, false)).collect()
     };
+    // Fine tiles (format 4.4) where stored tiles misplace the edge, the
+    // worst first, while they add no more bytes than the layer has without
+    // them (or [`FINE_BUDGET_FLOOR`]): refining every tile of a map drawn
+    // finer than the lattice (a thousand regions on the device) would take
+    // megabytes. A round of refinements that adds none ends the search.
+    let mut wanted: Vec<(f64, usize)> = outs
+        .iter()
+        .enumerate()
+        .filter_map(|(k, o)| match o {
+            TileOut::Refinable(_, p) => Some((*p, k)),
+            _ => None,
+        })
+        .collect();
+    wanted.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    let budget = outs.iter().map(TileOut::bytes).sum::<usize>().max(FINE_BUDGET_FLOOR);
+    let mut extra = 0usize;
+    for chunk in wanted.chunks(REFINE_CHUNK) {
+        if budget.saturating_sub(extra) < TILE_SAMPLES {
+            break;
+        }
+        let refined: Vec<(usize, TileOut)> = if work >= PARALLEL_FROM {
+            chunk.par_iter().map_init(scratch, |s, &(_, k)| (k, tile_of(s, k / cols, k % cols, true))).collect()
+        } else {
+            let mut s = scratch();
+            chunk.iter().map(|&(_, k)| (k, tile_of(&mut s, k / cols, k % cols, true))).collect()
+        };
+        // In priority order, whatever the threads' order.
+        let mut added = false;
+        for (k, out) in refined {
+            let out = match out {
+                TileOut::Fine(f, buf) if extra + f.samples.len().saturating_sub(TILE_SAMPLES) <= budget => {
+                    extra += f.samples.len().saturating_sub(TILE_SAMPLES);
+                    added = true;
+                    TileOut::Fine(f, buf)
+                }
+                TileOut::Fine(_, buf) | TileOut::Refinable(buf, _) => TileOut::Samples(buf),
+                o => o,
+            };
+            if let Some(slot) = outs.get_mut(k) {
+                *slot = out;
+            }
+        }
+        if !added {
+            break;
+        }
+    }
     let mut tiles = vec![TILE_OUTSIDE; cols * rows];
     let mut samples = Vec::new();
     let mut planes = Vec::new();
@@ -633,10 +691,24 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
                 planes.extend(recs);
                 taxel_format::TILE_SEGMENTS | n
             }
-            TileOut::Samples(buf) => {
+            TileOut::Samples(buf) | TileOut::Refinable(buf, _) => {
                 let n = (samples.len() / TILE_SAMPLES) as u32;
                 samples.extend_from_slice(&buf);
                 TILE_FIRST_STORED + n
+            }
+            TileOut::Fine(f, buf) => {
+                let n = (samples.len() / TILE_SAMPLES) as u32;
+                match taxel_format::fine_entry(n, f.fine, f.pair) {
+                    Some(e) => {
+                        samples.extend_from_slice(&f.samples);
+                        e
+                    }
+                    // (Past the entry's 2^26 stored tiles: the tile's own samples.)
+                    None => {
+                        samples.extend_from_slice(&buf);
+                        TILE_FIRST_STORED + n
+                    }
+                }
             }
         };
     }
@@ -671,7 +743,33 @@ enum TileOut {
     Segments([TilePlane; taxel_format::SEGMENT_TILE_RECORDS]),
     /// A stored tile's samples.
     Samples([u8; TILE_SAMPLES]),
+    /// A fine tile (format 4.4), and the tile's samples at the lattice's pitch.
+    Fine(fine::Fine, [u8; TILE_SAMPLES]),
+    /// A stored tile's samples that a fine tile may play better, and how
+    /// much ([`fine::priority`]).
+    Refinable([u8; TILE_SAMPLES], f64),
 }
+
+impl TileOut {
+    /// The bytes the tile takes in its layer: its index entry, records and
+    /// samples.
+    fn bytes(&self) -> usize {
+        4 + match self {
+            TileOut::Constant(_) => 0,
+            TileOut::Record(..) => taxel_format::PLANE_RECORD_LEN,
+            TileOut::Bend(..) => 2 * taxel_format::PLANE_RECORD_LEN,
+            TileOut::Segments(_) => taxel_format::SEGMENT_TILE_RECORDS * taxel_format::PLANE_RECORD_LEN,
+            TileOut::Samples(_) | TileOut::Refinable(..) => TILE_SAMPLES,
+            TileOut::Fine(f, _) => f.samples.len(),
+        }
+    }
+}
+
+/// Fine tiles refined at a time, in priority order, between checks of the budget.
+const REFINE_CHUNK: usize = 32;
+/// The fine tiles of a layer may add this many bytes even where the layer
+/// has fewer (a diagram's layer of a few kB, whose corners they sharpen).
+const FINE_BUDGET_FLOOR: usize = 16 * 1024;
 
 /// One worker's scratch for measuring tiles: at the samples and at the cell
 /// centres (the plane fits' check).
@@ -850,6 +948,28 @@ pub fn field_distance(f: &Field, h: f64, p: (f64, f64)) -> Option<f64> {
     match e {
         TILE_OUTSIDE => Some(-128.0 * step),
         TILE_INSIDE => Some(127.0 * step),
+        e if e >> 28 == taxel_format::TILE_FINE >> 28 => {
+            let taxel_format::TileEntry::Fine { first, fine, pair } = taxel_format::TileEntry::of(e) else {
+                return None;
+            };
+            let fine = fine as usize;
+            let cell = |v: f64| {
+                let last = TILE_CELLS * fine - 1;
+                let c = ((v * fine as f64).max(0.0) as usize).min(last);
+                (c / TILE_CELLS, c % TILE_CELLS, v * fine as f64 - c as f64)
+            };
+            let ((a, i, wx), (b, j, wy)) = (cell(fx - (tx * TILE_CELLS) as f64), cell(fy - (ty * TILE_CELLS) as f64));
+            let channel = |c: usize| {
+                let base = (first as usize + (c * fine + b) * fine + a) * TILE_SAMPLES;
+                let s = |i: usize, j: usize| {
+                    f.samples.get(base + j * TILE_SIDE + i).map_or(0.0, |&v| v as f64 - DISTANCE_ZERO as f64)
+                };
+                let top = s(i, j) + (s(i + 1, j) - s(i, j)) * wx;
+                let bot = s(i, j + 1) + (s(i + 1, j + 1) - s(i, j + 1)) * wx;
+                top + (bot - top) * wy
+            };
+            Some(if pair { channel(0).min(channel(1)) } else { channel(0) } * step)
+        }
         e if e >= taxel_format::TILE_PLANE => {
             // A plane, ridge, corner or notch tile: its function at the point itself.
             let (u, w) = (fx - (tx * TILE_CELLS) as f64, fy - (ty * TILE_CELLS) as f64);
@@ -893,6 +1013,7 @@ pub fn constant_tile_at(f: &Field, h: f64, p: (f64, f64)) -> Option<bool> {
 mod arcs;
 mod bends;
 mod cut_arcs;
+mod fine;
 mod junctions;
 mod layer_grid;
 mod near;

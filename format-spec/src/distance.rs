@@ -93,6 +93,29 @@ pub const TILE_ARC: u32 = 0xD000_0000;
 /// `top + |k| · min_i dist(q, segment i)`. A 4.1 reader decodes it as a
 /// ridge entry naming record `2^29 + p`, which its index check refuses.
 pub const TILE_SEGMENTS: u32 = 0xE000_0000;
+/// Tile index entry `TILE_FINE | s << TILE_FINE_SHIFT | c << 25 | k`: a
+/// **fine** tile (format 4.4), the distance sampled `f = 2^s` times finer
+/// than the layer's lattice (`f` 1, 2, 4 or 8), in one channel (`c` = 0,
+/// `f` at least 2) or two (`c` = 1, [`TILE_FINE_PAIR`]): `f²` stored tiles
+/// a channel from stored tile `k`, row-major, the channel's sub-tile `(a,
+/// b)` (`a, b` below `f`) covering lattice cells `8 a / f ..= 8 (a + 1) /
+/// f` by the same along y with 9 x 9 samples `h / f` apart. The code is
+/// the channel's bilinear interpolation ([`fine_cell`]), or with two
+/// channels the lesser of theirs. Where no single feature decides a tile (a
+/// thin wedge between two curved edges, a narrow band cut across a curve),
+/// the lattice's own pitch rounds it away; finer samples keep it, and two
+/// channels, each the distance to one feature, keep the crease between them
+/// exactly. A 4.3 reader decodes it as stored tile `0x6000_0000 − 2 + …`,
+/// past every stored tile, which its index check refuses.
+pub const TILE_FINE: u32 = 0x6000_0000;
+/// Shift of a fine entry's refinement field (two bits: `log2 f`).
+pub const TILE_FINE_SHIFT: u32 = 26;
+/// The bit of a fine entry that gives it two channels.
+pub const TILE_FINE_PAIR: u32 = 1 << 25;
+/// The bits of a fine entry that hold its first stored tile's number.
+pub const TILE_FINE_FIRST_MASK: u32 = TILE_FINE_PAIR - 1;
+/// Finest refinement of a fine tile.
+pub const MAX_FINE: u32 = 8;
 /// Segments of one segments tile (unused ones repeat a used one).
 pub const SEGMENTS_PER_TILE: usize = 3;
 /// Plane records of one segments tile: its segments, then `(k, top, 0, 0)`.
@@ -163,6 +186,18 @@ pub enum TileEntry {
     /// Plane records `p` to `p + 3`, played as the nearest of three
     /// segments ([`TILE_SEGMENTS`], format 4.2).
     Segments(u32),
+    /// Stored tiles from `first`, the tile sampled `fine` times finer than
+    /// the lattice (1, 2, 4 or 8), `fine²` a channel, in two channels where
+    /// `pair` ([`TILE_FINE`], format 4.4; one channel at `fine` 1 is
+    /// refused).
+    Fine {
+        /// The first stored tile's number.
+        first: u32,
+        /// How many times finer than the lattice.
+        fine: u32,
+        /// Two channels, whose lesser code the tile plays.
+        pair: bool,
+    },
 }
 
 impl TileEntry {
@@ -178,6 +213,7 @@ impl TileEntry {
             0x9 => TileEntry::Bend(e & TILE_CORNER_RECORD_MASK),
             0xD => TileEntry::Arc(e & TILE_CORNER_RECORD_MASK),
             0xE => TileEntry::Segments(e & TILE_CORNER_RECORD_MASK),
+            0x6 => TileEntry::fine(e),
             // The other nibbles with both ridge bits (an arc's D and a
             // segments tile's E have them too; format 3.0's ridges were C to F).
             0xC | 0xF => TileEntry::Ridge(e & TILE_RECORD_MASK),
@@ -190,6 +226,16 @@ impl TileEntry {
         }
     }
 
+    /// A fine entry's fields (its kind nibble [`TILE_FINE`]).
+    #[inline]
+    fn fine(e: u32) -> Self {
+        TileEntry::Fine {
+            first: e & TILE_FINE_FIRST_MASK,
+            fine: 1 << ((e >> TILE_FINE_SHIFT) & 3),
+            pair: e & TILE_FINE_PAIR != 0,
+        }
+    }
+
     /// The number of plane records a tile of this kind plays: one for a
     /// plane or a ridge, two for a corner, a notch, a bend or an arc, four
     /// for a segments tile, none for the others.
@@ -199,7 +245,18 @@ impl TileEntry {
             TileEntry::Plane(_) | TileEntry::Ridge(_) => 1,
             TileEntry::Corner(_) | TileEntry::Notch(_) | TileEntry::Bend(_) | TileEntry::Arc(_) => 2,
             TileEntry::Segments(_) => SEGMENT_TILE_RECORDS as u32,
-            TileEntry::Outside | TileEntry::Inside | TileEntry::Stored(_) => 0,
+            TileEntry::Outside | TileEntry::Inside | TileEntry::Stored(_) | TileEntry::Fine { .. } => 0,
+        }
+    }
+
+    /// The number of stored tiles a tile of this kind plays: one for a
+    /// stored tile, `fine²` a channel for a fine tile, none for the others.
+    #[inline]
+    pub fn stored(self) -> u32 {
+        match self {
+            TileEntry::Stored(_) => 1,
+            TileEntry::Fine { fine, pair, .. } => fine * fine * (1 + pair as u32),
+            _ => 0,
         }
     }
 
@@ -229,9 +286,39 @@ impl TileEntry {
                 let r = records.get(p as usize..p as usize + SEGMENT_TILE_RECORDS)?;
                 Some(segments_code([&r[0], &r[1], &r[2], &r[3]], u, w))
             }
-            TileEntry::Outside | TileEntry::Inside | TileEntry::Stored(_) => None,
+            TileEntry::Outside | TileEntry::Inside | TileEntry::Stored(_) | TileEntry::Fine { .. } => None,
         }
     }
+}
+
+/// The index entry of a fine tile ([`TILE_FINE`]) `fine` times finer than
+/// the lattice (1, 2, 4 or 8), of two channels where `pair`, whose stored
+/// tiles start at `first`; `None` for another refinement, one channel at
+/// `fine` 1 (a stored tile), or a `first` beyond the entry's bits.
+pub fn fine_entry(first: u32, fine: u32, pair: bool) -> Option<u32> {
+    let s = match fine {
+        1 if pair => 0,
+        2 => 1,
+        4 => 2,
+        8 => 3,
+        _ => return None,
+    };
+    let c = if pair { TILE_FINE_PAIR } else { 0 };
+    (first <= TILE_FINE_FIRST_MASK).then_some(TILE_FINE | s << TILE_FINE_SHIFT | c | first)
+}
+
+/// Where lattice coordinate `u` (in `[0, 8]` within the tile) falls in a
+/// fine tile `fine` times finer ([`TILE_FINE`]): its sub-tile along that
+/// axis, the fine cell within the sub-tile (0 to 7) and the weight of the
+/// cell's far sample, `f u` less the fine cell's start. `u` = 8 falls in
+/// the last cell with weight 1. Exact in `f32`: `fine` is a power of two.
+#[inline]
+pub fn fine_cell(u: f32, fine: u32) -> (usize, usize, f32) {
+    let fu = u * fine as f32;
+    let last = (TILE_CELLS as u32 * fine).saturating_sub(1);
+    // (`as` saturates: a NaN or negative `u` lands in cell 0.)
+    let c = (fu as u32).min(last);
+    ((c as usize) / TILE_CELLS, (c as usize) % TILE_CELLS, fu - c as f32)
 }
 
 /// One distance layer: every shape of one style.
@@ -317,6 +404,21 @@ impl DistanceLayer {
                 let (u, w) = (fx as f64 - (tx * TILE_CELLS) as f64, fy as f64 - (ty * TILE_CELLS) as f64);
                 let code = analytic.code(&self.planes, u, w)?;
                 Some(((code - DISTANCE_ZERO as f64) * self.step_mm as f64) as f32)
+            }
+            TileEntry::Fine { first, fine, pair } => {
+                let (u, w) = (fx - (tx * TILE_CELLS) as f32, fy - (ty * TILE_CELLS) as f32);
+                let ((a, i, wx), (b, j, wy)) = (fine_cell(u, fine), fine_cell(w, fine));
+                let channel = |c: usize| {
+                    let base = (first as usize + (c * fine as usize + b) * fine as usize + a) * TILE_SAMPLES;
+                    let s = |i: usize, j: usize| {
+                        self.samples.get(base + j * TILE_SIDE + i).map_or(0.0, |&v| v as f32 - 128.0)
+                    };
+                    let top = s(i, j) + (s(i + 1, j) - s(i, j)) * wx;
+                    let bot = s(i, j + 1) + (s(i + 1, j + 1) - s(i, j + 1)) * wx;
+                    top + (bot - top) * wy
+                };
+                let code = if pair { channel(0).min(channel(1)) } else { channel(0) };
+                Some(code * self.step_mm)
             }
             TileEntry::Stored(k) => {
                 let base = k as usize * TILE_SAMPLES;
@@ -534,8 +636,9 @@ impl<'a> DistanceView<'a> {
         if ntiles > MAX_DISTANCE_TILES as u64 {
             return Err(FormatError::Limit { tag, field: "tiles", value: ntiles, limit: MAX_DISTANCE_TILES as u64 });
         }
-        if stored as u64 > ntiles {
-            return Err(bad("stored tiles", "at most tile_cols * tile_rows"));
+        // (A fine tile, format 4.4, stores up to 128.)
+        if stored as u64 > 2 * (MAX_FINE * MAX_FINE) as u64 * ntiles {
+            return Err(bad("stored tiles", "at most 128 * tile_cols * tile_rows"));
         }
         // The plane records' count is what the length leaves after the
         // other parts; the index check below makes it canonical.
@@ -610,6 +713,9 @@ impl<'a> DistanceView<'a> {
                 match TileEntry::of(e) {
                     TileEntry::Outside | TileEntry::Inside => {}
                     TileEntry::Stored(k) if k == next => next += 1,
+                    f @ TileEntry::Fine { first, fine, pair } if first == next && (pair || fine > 1) => {
+                        next += f.stored()
+                    }
                     TileEntry::Plane(p) | TileEntry::Ridge(p) if p == next_plane => {
                         let rec = view.plane(p).ok_or(bad("tile index", "a plane record for every plane tile"))?;
                         check_plane(&rec, e).map_err(|expected| bad("plane record", expected))?;
@@ -838,6 +944,9 @@ mod tests {
         match e {
             TILE_OUTSIDE => TileEntry::Outside,
             TILE_INSIDE => TileEntry::Inside,
+            e if e & NIBBLE == TILE_FINE => {
+                TileEntry::Fine { first: e & 0x01FF_FFFF, fine: 1 << ((e >> 26) & 3), pair: e & 0x0200_0000 != 0 }
+            }
             e if e < TILE_PLANE => TileEntry::Stored(e - TILE_FIRST_STORED),
             e if e & NIBBLE == TILE_CORNER => TileEntry::Corner(e & TILE_CORNER_RECORD_MASK),
             e if e & NIBBLE == TILE_NOTCH => TileEntry::Notch(e & TILE_CORNER_RECORD_MASK),
@@ -862,5 +971,28 @@ mod tests {
         assert_eq!(TileEntry::of(TILE_ARC | 5), TileEntry::Arc(5));
         assert_eq!(TileEntry::of(TILE_SEGMENTS | 3), TileEntry::Segments(3));
         assert_eq!(TileEntry::of(0xF000_0003), TileEntry::Ridge(0x3000_0003));
+        assert_eq!(TileEntry::of(0x6C00_0007), TileEntry::Fine { first: 7, fine: 8, pair: false });
+        assert_eq!(TileEntry::of(0x6600_0007), TileEntry::Fine { first: 7, fine: 2, pair: true });
+        assert_eq!(fine_entry(7, 8, false), Some(0x6C00_0007));
+        assert_eq!(fine_entry(7, 2, true), Some(0x6600_0007));
+        assert_eq!(fine_entry(7, 16, false), None);
+        assert_eq!(fine_entry(7, 1, false), None);
+        for (fine, pair) in [(1, true), (2, false), (2, true), (4, false), (4, true), (8, false), (8, true)] {
+            let e = fine_entry(12345, fine, pair).expect("an entry");
+            assert_eq!(TileEntry::of(e), TileEntry::Fine { first: 12345, fine, pair });
+            assert_eq!(TileEntry::of(e).stored(), fine * fine * if pair { 2 } else { 1 });
+        }
+    }
+
+    #[test]
+    fn a_fine_cell_is_found_exactly_at_every_refinement() {
+        // Written from the definition: fine coordinate f u, its cell, the sub-tile of eight cells.
+        assert_eq!(fine_cell(0.0, 2), (0, 0, 0.0));
+        assert_eq!(fine_cell(3.75, 2), (0, 7, 0.5));
+        assert_eq!(fine_cell(4.0, 2), (1, 0, 0.0));
+        assert_eq!(fine_cell(5.3125, 4), (2, 5, 0.25));
+        assert_eq!(fine_cell(8.0, 8), (7, 7, 1.0));
+        assert_eq!(fine_cell(7.9921875, 8), (7, 7, 0.9375));
+        assert_eq!(fine_cell(-1.0, 4), (0, 0, -4.0));
     }
 }

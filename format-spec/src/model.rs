@@ -86,7 +86,8 @@ impl Bundle {
     /// The canonical encoding, as format version
     /// [`FORMAT_MAJOR`](crate::FORMAT_MAJOR).*m*, where *m* is the lowest
     /// minor version that has every chunk of the bundle (SPEC.md section 12):
-    /// 3 when a distance layer holds a cut arc (format 4.3), else 2 when one
+    /// 4 when a distance layer holds a fine tile (format 4.4), else 3 when
+    /// one holds a cut arc (format 4.3), else 2 when one
     /// holds a segments tile (format 4.2), else 1
     /// when one holds an arc tile (format 4.1), else 0.
     /// The result is checked with the reader before it is returned, so a
@@ -111,7 +112,9 @@ impl Bundle {
             }),
             _ => false,
         });
-        if cut_arc {
+        if holds(|e| matches!(e, crate::TileEntry::Fine { .. })) {
+            4
+        } else if cut_arc {
             3
         } else if holds(|e| matches!(e, crate::TileEntry::Segments(_))) {
             2

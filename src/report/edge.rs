@@ -170,14 +170,19 @@ pub fn contour(layer: &DistanceLayer, sample: f64) -> Vec<[f64; 2]> {
                 bend_contour(&layer.planes, bend, corner, h, lines * TILE_CELLS, &mut out);
                 continue;
             }
+            if let TileEntry::Fine { first, fine, pair } = TileEntry::of(entry) {
+                let corner = (ox + (tx * TILE_CELLS) as f64 * h, oy + (ty * TILE_CELLS) as f64 * h);
+                fine_contour(layer, (first, fine as usize, pair), corner, lines.div_ceil(fine as usize), &mut out);
+                continue;
+            }
             for cj in ty * TILE_CELLS..(ty + 1) * TILE_CELLS {
                 for ci in tx * TILE_CELLS..(tx + 1) * TILE_CELLS {
-                    let Some(c) = cell_corners(layer, ci, cj) else { continue };
+                    let (x0, y0) = (ox + ci as f64 * h, oy + cj as f64 * h);
+                    let Some(c) = cell_corners(layer, (x0, y0), h) else { continue };
                     let inside = c.map(|d| d > 0.0);
                     if inside.iter().all(|&s| s == inside[0]) {
                         continue;
                     }
-                    let (x0, y0) = (ox + ci as f64 * h, oy + cj as f64 * h);
                     let [c00, c10, c01, c11] = c;
                     for k in 0..=lines {
                         let t = k as f64 / lines as f64;
@@ -196,6 +201,66 @@ pub fn contour(layer: &DistanceLayer, sample: f64) -> Vec<[f64; 2]> {
         }
     }
     out
+}
+
+/// Points of the half-amplitude contour of a fine tile (format 4.4; stored
+/// tiles from `first`, `fine` times finer than the lattice, two channels
+/// where `pair`) whose first lattice point is at page `corner`, where it
+/// crosses `lines + 1` lines across each fine cell in each direction. Each
+/// channel is bilinear in a fine cell, so its zero on a line is found
+/// exactly; with two channels it is on the contour where the other channel
+/// is not below 0 there (their lesser's zero). A code of exactly 0 counts
+/// as inside, so that an edge on the tile's side (a rectangle's side on a
+/// lattice line, where the samples are 0) is found from the outside tile.
+fn fine_contour(
+    layer: &DistanceLayer,
+    (first, fine, pair): (u32, usize, bool),
+    corner: (f64, f64),
+    lines: usize,
+    out: &mut Vec<[f64; 2]>,
+) {
+    let size = layer.pitch_mm as f64 / fine as f64;
+    let lines = lines.max(1);
+    // Channel `c`'s code (unbiased) at fine lattice point `(x, y)` of the tile.
+    let at = |c: usize, x: usize, y: usize| {
+        let (a, b) = ((x / TILE_CELLS).min(fine - 1), (y / TILE_CELLS).min(fine - 1));
+        let (i, j) = (x - a * TILE_CELLS, y - b * TILE_CELLS);
+        let k =
+            (first as usize + (c * fine + b) * fine + a) * taxel_format::TILE_SAMPLES + j * taxel_format::TILE_SIDE + i;
+        layer.samples.get(k).map_or(f64::NAN, |&v| v as f64 - DISTANCE_ZERO as f64)
+    };
+    let channels = if pair { 2 } else { 1 };
+    for y in 0..TILE_CELLS * fine {
+        for x in 0..TILE_CELLS * fine {
+            let cell: [[f64; 4]; 2] =
+                core::array::from_fn(|c| [at(c, x, y), at(c, x + 1, y), at(c, x, y + 1), at(c, x + 1, y + 1)]);
+            let cell = &cell[..channels];
+            let value = |[c00, c10, c01, c11]: [f64; 4], u: f64, v: f64| {
+                let (top, bot) = (c00 + (c10 - c00) * u, c01 + (c11 - c01) * u);
+                top + (bot - top) * v
+            };
+            let (x0, y0) = (corner.0 + x as f64 * size, corner.1 + y as f64 * size);
+            for (c, &[c00, c10, c01, c11]) in cell.iter().enumerate() {
+                let sides = [c00, c10, c01, c11].map(|d| d >= 0.0);
+                if sides.iter().all(|&s| s == sides[0]) {
+                    continue;
+                }
+                // On the contour where every other channel is not below 0.
+                let on = |u: f64, v: f64| cell.iter().enumerate().all(|(o, &d)| o == c || value(d, u, v) >= 0.0);
+                for k in 0..=lines {
+                    let t = k as f64 / lines as f64;
+                    let (a, b) = (c00 + (c10 - c00) * t, c01 + (c11 - c01) * t);
+                    if (a >= 0.0) != (b >= 0.0) && on(t, a / (a - b)) {
+                        out.push([x0 + t * size, y0 + a / (a - b) * size]);
+                    }
+                    let (a, b) = (c00 + (c01 - c00) * t, c10 + (c11 - c10) * t);
+                    if (a >= 0.0) != (b >= 0.0) && on(a / (a - b), t) {
+                        out.push([x0 + a / (a - b) * size, y0 + t * size]);
+                    }
+                }
+            }
+        }
+    }
 }
 
 /// Points of the half-amplitude contour of a bend, arc or segments tile (SPEC.md section
@@ -320,16 +385,14 @@ fn bent_contour(
     }
 }
 
-/// The distance at the four corners of lattice cell `(ci, cj)` as its
-/// bilinear interpolation sees them, `[(0,0), (1,0), (0,1), (1,1)]`: read
-/// through [`DistanceLayer::distance_at`] at the cell's quarter points (so
-/// that every read lands in the cell's own tile) and extrapolated, which is
-/// exact for a bilinear function.
-fn cell_corners(layer: &DistanceLayer, ci: usize, cj: usize) -> Option<[f64; 4]> {
-    let h = layer.pitch_mm;
-    let at = |u: f32, v: f32| {
-        layer.distance_at(layer.origin_x.0 + (ci as f32 + u) * h, layer.origin_y.0 + (cj as f32 + v) * h).map(f64::from)
-    };
+/// The distance at the four corners of the cell `size` mm square from page
+/// `(x0, y0)` (a lattice cell, or a fine tile's cell) as its bilinear
+/// interpolation sees them, `[(0,0), (1,0), (0,1), (1,1)]`: read through
+/// [`DistanceLayer::distance_at`] at the cell's quarter points (so that
+/// every read lands in the cell itself) and extrapolated, which is exact
+/// for a bilinear function.
+fn cell_corners(layer: &DistanceLayer, (x0, y0): (f64, f64), size: f64) -> Option<[f64; 4]> {
+    let at = |u: f64, v: f64| layer.distance_at((x0 + u * size) as f32, (y0 + v * size) as f32).map(f64::from);
     let (q1, q3) = (0.25, 0.75);
     let (a, b, c, d) = (at(q1, q1)?, at(q3, q1)?, at(q1, q3)?, at(q3, q3)?);
     // A linear function known at ¼ and ¾ is 1.5 f(¼) − 0.5 f(¾) at 0 and the reverse at 1.
@@ -426,9 +489,53 @@ mod tests {
         assert_eq!(pts.len(), 8 * 51);
     }
 
+    /// A fine tile's contour (format 4.4) with two channels: the zero set of
+    /// their lesser, each channel's zero where the other is not below 0.
+    #[test]
+    fn a_fine_tile_of_two_channels_has_the_contour_of_their_lesser() {
+        // Channel A positive left of x = 2, channel B below y = 1 (page y
+        // down): their lesser is positive in the quarter x < 2, y > 1, and
+        // its contour the two half lines x = 2, y >= 1 and y = 1, x <= 2.
+        for fine in [1usize, 2] {
+            let mut l = layer(|x, _| 2.0 - x, 0.05);
+            // Each channel sampled `fine` times finer: sub-tile (sa, sb)'s
+            // sample (i, j) at fine lattice point (8 sa + i, 8 sb + j).
+            let h = 0.5 / fine as f64;
+            let chan = |f: &dyn Fn(f64, f64) -> f64| -> Vec<u8> {
+                let mut out = Vec::new();
+                for sb in 0..fine {
+                    for sa in 0..fine {
+                        for j in 0..TILE_SIDE {
+                            for i in 0..TILE_SIDE {
+                                let (x, y) = ((8 * sa + i) as f64 * h, (8 * sb + j) as f64 * h);
+                                out.push((128.0 + (f(x, y) / 0.05).round()).clamp(1.0, 255.0) as u8);
+                            }
+                        }
+                    }
+                }
+                out
+            };
+            l.samples = chan(&|x, _| 2.0 - x);
+            l.samples.extend(chan(&|_, y| y - 1.0));
+            l.tiles = vec![taxel_format::fine_entry(0, fine as u32, true).expect("an entry")];
+            let pts = contour(&l, 0.01);
+            let (mut vertical, mut horizontal) = (0, 0);
+            for p in &pts {
+                if (p[0] - 2.0).abs() < 1e-5 && p[1] >= 1.0 - 1e-5 {
+                    vertical += 1;
+                } else if (p[1] - 1.0).abs() < 1e-5 && p[0] <= 2.0 + 1e-5 {
+                    horizontal += 1;
+                } else {
+                    panic!("fine {fine}: {p:?} is on neither half line");
+                }
+            }
+            assert!(vertical > 100 && horizontal > 100, "fine {fine}: {vertical} and {horizontal} points");
+        }
+    }
+
     #[test]
     fn cell_corners_recover_the_samples() {
-        let c = cell_corners(&half_plane(), 3, 2).expect("inside the lattice");
+        let c = cell_corners(&half_plane(), (1.5, 1.0), 0.5).expect("inside the lattice");
         // Cell 3 spans x = 1.5..2.0: distances 0.5 and 0.
         assert!((c[0] - 0.5).abs() < 1e-5 && (c[2] - 0.5).abs() < 1e-5, "{c:?}");
         assert!(c[1].abs() < 1e-5 && c[3].abs() < 1e-5, "{c:?}");

@@ -239,6 +239,24 @@ impl Near {
         (d <= r * r * (1.0 - 1e-6)).then_some(d)
     }
 
+    /// How many of the parts (the fills, the band, the occluders, each cut
+    /// width group and each clip) have an edge within `within` mm of one of
+    /// the tile's samples, where the last measure is sure of it: a cut's
+    /// edge is its centre line's distance less its half width. Two or more
+    /// may meet inside a cell, where a stored tile rounds their crease.
+    pub(super) fn edges_within(&self, within: f64) -> usize {
+        (0..self.slots())
+            .filter(|&slot| {
+                let r = self.reach.get(slot).copied().unwrap_or(0.0);
+                let half = slot.checked_sub(FIRST_CUT).and_then(|k| self.cut_widths.get(k)).map_or(0.0, |w| w / 2.0);
+                (0..TILE_SAMPLES).any(|t| {
+                    let d2 = self.at(slot, t);
+                    d2 <= r * r * (1.0 - 1e-6) && (d2.sqrt() - half).abs() <= within
+                })
+            })
+            .count()
+    }
+
     /// Measures every part at the tile's samples (corner `corner`, pitch
     /// `h`), each segment within its reach plus `margin`.
     pub(super) fn measure(
@@ -249,6 +267,19 @@ impl Near {
         layer: Option<InLayer<'_>>,
     ) {
         self.run(segs, bucket, (corner, h, margin), None, layer, GRID_FROM);
+    }
+
+    /// As [`measure`](Self::measure), with the segment sweep whatever the
+    /// number of segments (a fine tile's cells: few segments each, and a
+    /// reach of many of their pitches, which the grid search walks ring by
+    /// ring).
+    pub(super) fn measure_swept(
+        &mut self,
+        segs: &[(Seg, Part, f64)],
+        bucket: &[u32],
+        (corner, h, margin): ((f64, f64), f64, f64),
+    ) {
+        self.run(segs, bucket, (corner, h, margin), None, None, usize::MAX);
     }
 
     /// As [`measure`](Self::measure), but the parts that only lower the
@@ -619,6 +650,36 @@ impl Near {
             s = s.max(w / 2.0 - self.at(BAND, t).sqrt());
         }
         s
+    }
+
+    /// The terms whose least is [`signed`](Self::signed) at sample `t`, in
+    /// its order: the layer's own distance, each cut width group's, each
+    /// clip's, the occluders' (if any) and the page's. `out` is cleared first.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn terms(
+        &self,
+        g: &LayerGeometry<'_>,
+        t: usize,
+        (inside, occluded): (bool, bool),
+        in_clip: &[bool],
+        p: (f64, f64),
+        page: (f64, f64, f64, f64),
+        out: &mut Vec<f64>,
+    ) {
+        out.clear();
+        out.push(self.own(g, t, inside));
+        for (k, w) in self.cut_widths.iter().enumerate() {
+            out.push(self.at(FIRST_CUT + k, t).sqrt() - w / 2.0);
+        }
+        for (k, &in_k) in in_clip.iter().enumerate() {
+            let d = self.at(FIRST_CUT + self.cut_widths.len() + k, t).sqrt();
+            out.push(if in_k { d } else { -d });
+        }
+        if !g.occluders.is_empty() {
+            let d_occ = self.at(OCC, t).sqrt();
+            out.push(if occluded { -d_occ } else { d_occ });
+        }
+        out.push(super::inside_rect(page, p));
     }
 
     /// The unclamped signed distance at sample `t` (page point `p`);

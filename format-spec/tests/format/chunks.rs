@@ -369,3 +369,107 @@ fn distance_layer_fields() {
     length(edit_chunk(tag, |d| d.truncate(47)), tag);
     length(edit_chunk(tag, |d| d.push(0)), tag);
 }
+
+/// A fine tile (format 4.4): a layer of two tiles, the first stored, the
+/// second `fine` times finer, in two channels where `pair` (`fine²` stored
+/// tiles a channel from stored tile 1), whose samples are `code(c, x, y)`
+/// in channel `c` at fine lattice point `(x, y)` of the second tile (`x, y`
+/// from 0 to `8 fine`).
+fn fine_layer(fine: u32, pair: bool, code: impl Fn(usize, usize, usize) -> u8) -> taxel_format::DistanceLayer {
+    let f = fine as usize;
+    let mut samples: Vec<u8> = (0..81).map(|k| 100 + (k % 9) as u8).collect();
+    for c in 0..1 + pair as usize {
+        for b in 0..f {
+            for a in 0..f {
+                for j in 0..9 {
+                    for i in 0..9 {
+                        samples.push(code(c, 8 * a + i, 8 * b + j));
+                    }
+                }
+            }
+        }
+    }
+    taxel_format::DistanceLayer {
+        kind: taxel_format::MaskKind::Grating { wavelength: taxel_format::Mm(3.0), angle_deg: 0.0 },
+        amplitude: 1.0,
+        soft_mm: 0.0,
+        step_mm: 0.01,
+        origin_x: taxel_format::Mm(10.0),
+        origin_y: taxel_format::Mm(20.0),
+        pitch_mm: 0.5,
+        tile_cols: 2,
+        tile_rows: 1,
+        sources: vec![],
+        tiles: vec![taxel_format::TILE_FIRST_STORED, taxel_format::fine_entry(1, fine, pair).expect("an entry")],
+        planes: vec![],
+        samples,
+    }
+}
+
+fn bundle_of(layer: taxel_format::DistanceLayer) -> taxel_format::Bundle {
+    let profile = taxel_format::profiles::builtin("stress2").expect("built-in profile");
+    let mut b = taxel_format::Bundle::new(taxel_format::Manifest::new(profile));
+    b.chunks.push(taxel_format::Chunk::Distance(layer));
+    b
+}
+
+#[test]
+fn a_fine_tile_plays_its_fine_samples_and_is_written_as_4_4() {
+    for (fine, pair) in [(1u32, true), (2, false), (2, true), (4, false), (4, true), (8, false), (8, true)] {
+        let f = fine as f32;
+        // At every fine lattice point the code is its sample (the lesser of
+        // the two channels'); between them the bilinear interpolation of
+        // its fine cell's corners (the lesser of each channel's).
+        let code = |c: usize, x: usize, y: usize| ((x * 37 + y * 11 + x * y + c * 101) % 200) as u8 + 20;
+        let b = bundle_of(fine_layer(fine, pair, code));
+        assert_eq!(b.lowest_minor(), 4);
+        let bytes = b.to_bytes().expect("a fine tile's bundle writes");
+        assert_eq!(u16::from_le_bytes([bytes[10], bytes[11]]), 4, "written as 4.4");
+        let back = taxel_format::Bundle::from_bytes(&bytes).expect("it reads back");
+        assert_eq!(back, b);
+        let Some(taxel_format::Chunk::Distance(layer)) = back.chunks.first() else { panic!("no layer") };
+        // The second tile starts 4 mm right of the origin; a fine cell is 0.5 / f mm.
+        let at = |x: f32, y: f32| layer.distance_at(14.0 + x * 0.5 / f, 20.0 + y * 0.5 / f);
+        let channels = if pair { 2 } else { 1 };
+        let n = 8 * fine as usize;
+        for y in 0..n {
+            for x in 0..n {
+                let least = |v: &dyn Fn(usize) -> f32| (0..channels).map(v).fold(f32::MAX, f32::min);
+                let want = (least(&|c| code(c, x, y) as f32) - 128.0) * 0.01;
+                assert!(at(x as f32, y as f32).is_some_and(|d| (d - want).abs() < 1e-5), "fine {fine} at ({x}, {y})");
+                // A quarter into the cell, a quarter down.
+                let inner = |c: usize| {
+                    let s = |dx: usize, dy: usize| code(c, x + dx, y + dy) as f32;
+                    let top = s(0, 0) * 0.75 + s(1, 0) * 0.25;
+                    let bot = s(0, 1) * 0.75 + s(1, 1) * 0.25;
+                    top * 0.75 + bot * 0.25
+                };
+                let want = (least(&inner) - 128.0) * 0.01;
+                let got = at(x as f32 + 0.25, y as f32 + 0.25);
+                assert!(got.is_some_and(|d| (d - want).abs() < 1e-4), "fine {fine} in ({x}, {y}): {got:?} vs {want}");
+            }
+        }
+        // The first tile is unchanged: its own samples.
+        assert!(layer.distance_at(10.0, 20.0).is_some_and(|d| (d - (100.0 - 128.0) * 0.01).abs() < 1e-6));
+    }
+}
+
+#[test]
+fn a_fine_tile_with_the_wrong_stored_tiles_is_refused() {
+    let code = |_: usize, _: usize, _: usize| 128u8;
+    // Naming stored tile 0 again, or 2 (skipping 1).
+    for first in [0, 2] {
+        let mut layer = fine_layer(2, false, code);
+        layer.tiles[1] = taxel_format::fine_entry(first, 2, false).expect("an entry");
+        assert!(bundle_of(layer).to_bytes().is_err(), "first {first}");
+    }
+    // One channel at the lattice's own pitch (a stored tile's second encoding).
+    let mut layer = fine_layer(1, true, code);
+    layer.tiles[1] = taxel_format::TILE_FINE | 1;
+    layer.samples.truncate(81 * 2);
+    assert!(bundle_of(layer).to_bytes().is_err());
+    // Fewer stored tiles than it names: one channel of a pair.
+    let mut layer = fine_layer(4, true, code);
+    layer.samples.truncate(81 * 17);
+    assert!(bundle_of(layer).to_bytes().is_err());
+}

@@ -70,8 +70,8 @@
 //! edges are.
 
 use taxel_format::{
-    DistanceView, PLANE_RECORD_LEN, SEGMENTS_PER_TILE, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE,
-    TILE_PLANE, TILE_RECORD_MASK, TILE_SAMPLES, TILE_SIDE, TileEntry,
+    DistanceView, PLANE_RECORD_LEN, SEGMENTS_PER_TILE, TILE_CELLS, TILE_FINE, TILE_FIRST_STORED, TILE_INSIDE,
+    TILE_OUTSIDE, TILE_PLANE, TILE_RECORD_MASK, TILE_SAMPLES, TILE_SIDE, TileEntry, fine_cell,
 };
 use wide::bytemuck::cast;
 #[cfg(not(target_arch = "x86_64"))]
@@ -178,6 +178,19 @@ struct BendLanes {
     /// Whether any lane of the current tiles is in a segments tile, reset
     /// as `arced` is.
     segged: bool,
+    /// The fine lanes (format 4.4): a fine lane plays the bilinear
+    /// interpolation of its fine tile's samples, or the lesser of its two
+    /// channels' ([`FieldLayer::fine`]); per lane its first stored tile,
+    /// its refinement, whether it has two channels, and its lattice x
+    /// within the tile.
+    fine: [i32; LANES],
+    fine_first: [u32; LANES],
+    fine_by: [u32; LANES],
+    fine_pair: [bool; LANES],
+    fine_u: [f32; LANES],
+    /// Whether any lane of the current tiles is in a fine tile, reset as
+    /// `arced` is.
+    fined: bool,
 }
 
 /// Values per lane of a segments tile: five per segment, `k` and `top`.
@@ -243,6 +256,8 @@ impl Lane<'_> {
     const ARC: u32 = 128;
     /// A segments tile (format 4.2), played out of line.
     const SEGMENTS: u32 = 256;
+    /// A fine tile (format 4.4), played out of line.
+    const FINE: u32 = 512;
 }
 
 /// The constant tiles' codes as plane records (`c` only): a lane in a
@@ -337,7 +352,9 @@ impl<'a> FieldLayer<'a> {
             tiles: m.tile_bytes().as_chunks::<4>().0.iter().fold(Tiles::Sampled, |t, e| {
                 match TileEntry::of(u32::from_le_bytes(*e)) {
                     TileEntry::Outside | TileEntry::Inside | TileEntry::Stored(_) => t,
-                    TileEntry::Bend(_) | TileEntry::Arc(_) | TileEntry::Segments(_) => Tiles::Bent,
+                    TileEntry::Bend(_) | TileEntry::Arc(_) | TileEntry::Segments(_) | TileEntry::Fine { .. } => {
+                        Tiles::Bent
+                    }
                     _ if t == Tiles::Bent => t,
                     _ => Tiles::Analytic,
                 }
@@ -391,6 +408,7 @@ impl<'a> FieldLayer<'a> {
         if BENDS {
             bl.arced = false;
             bl.segged = false;
+            bl.fined = false;
         }
         let (mut first, mut second) = ([&ZERO_RECORD; LANES], [&ZERO_RECORD; LANES]);
         let mut kind = [0u32; LANES];
@@ -417,7 +435,7 @@ impl<'a> FieldLayer<'a> {
         t.sampled = all & Lane::PLANAR == 0;
         t.flat = any & (Lane::RIDGE | Lane::CORNER | Lane::NOTCH) == 0;
         // (A layer without bend tiles never reads one: `bends`.)
-        if BENDS && any & (Lane::BEND | Lane::ARC | Lane::SEGMENTS) != 0 {
+        if BENDS && any & (Lane::BEND | Lane::ARC | Lane::SEGMENTS | Lane::FINE) != 0 {
             self.curved_lanes(tile_row, ci, &kind, &first, &second, u, &mut t.bent, bl);
         }
         let kind = i32x4::new(kind.map(|k| k as i32));
@@ -498,6 +516,20 @@ impl<'a> FieldLayer<'a> {
                 {
                     Self::segments_lane(r.as_flattened(), u[k], k, !bl.segged, bl);
                     bl.segged = true;
+                }
+            } else if kind[k] & Lane::FINE != 0 {
+                let e = self
+                    .entries
+                    .get(tile_row + (ci[k] >> SHIFT) as usize)
+                    .map_or(TILE_OUTSIDE, |b| u32::from_le_bytes(*b));
+                // (`lane` checked its stored tiles are there.)
+                if let TileEntry::Fine { first, fine, pair } = TileEntry::of(e) {
+                    if !bl.fined {
+                        bl.fine = [0; LANES];
+                    }
+                    (bl.fine[k], bl.fine_first[k], bl.fine_by[k], bl.fine_pair[k], bl.fine_u[k]) =
+                        (-1, first, fine, pair, u[k]);
+                    bl.fined = true;
                 }
             } else if kind[k] & Lane::BEND != 0 {
                 Self::bend_lane(r, u[k], k, !*bent, bl);
@@ -592,6 +624,38 @@ impl<'a> FieldLayer<'a> {
         top - k * d2.sqrt()
     }
 
+    /// The fine lanes' codes at lattice y `wt` within the tile (format
+    /// 4.4): each lane's bilinear interpolation of the fine cell it lies
+    /// in (the lesser of its two channels'), lane by lane (fine tiles are
+    /// few), out of line as [`Self::bend`]. A stored tile past the layer's
+    /// (which validation rules out) plays code 0.
+    #[inline(never)]
+    fn fine(&self, b: &BendLanes, wt: f32) -> f32x4 {
+        let mut out = [0.0f32; LANES];
+        for (k, code) in out.iter_mut().enumerate() {
+            if b.fine[k] == 0 {
+                continue;
+            }
+            let fine = b.fine_by[k] as usize;
+            let ((a, i, wx), (sb, j, wy)) = (fine_cell(b.fine_u[k], fine as u32), fine_cell(wt, fine as u32));
+            let channel = |c: usize| {
+                let slot = (b.fine_first[k] as usize).saturating_add((c * fine + sb) * fine + a);
+                let tile = self.stored.get(slot)?;
+                let s = |i: usize, j: usize| tile.get(j * TILE_SIDE + i).map_or(0.0, |&v| f32::from(v));
+                let top = s(i, j) + (s(i + 1, j) - s(i, j)) * wx;
+                let bot = s(i, j + 1) + (s(i + 1, j + 1) - s(i, j + 1)) * wx;
+                Some(top + (bot - top) * wy)
+            };
+            let first = channel(0);
+            *code = match (first, b.fine_pair[k]) {
+                (Some(c), false) => c,
+                (Some(c), true) => channel(1).map_or(0.0, |d| c.min(d)),
+                (None, _) => 0.0,
+            };
+        }
+        f32x4::new(out)
+    }
+
     /// Lane `k`'s segments values from its tile's four records `r` (three
     /// segments (ax, ay, bx, by), then (k, top, 0, 0)), at lattice x `u` in
     /// the tile; the `first` segments lane of a tile change clears the other
@@ -646,6 +710,19 @@ impl<'a> FieldLayer<'a> {
             // (`curved_lanes`): here the last is checked.
             TileEntry::Segments(p) => (p, 3, Lane::SEGMENTS),
             TileEntry::Inside => return constant(&INSIDE, &INSIDE_RECORD),
+            // Its stored tiles are read again from the entry (`curved_lanes`):
+            // here the last is checked.
+            fine @ TileEntry::Fine { first, .. } => {
+                let last = (first as usize).saturating_add(fine.stored() as usize).saturating_sub(1);
+                return match self.stored.get(last) {
+                    Some(_) => Lane {
+                        tile: &OUTSIDE,
+                        records: [&ZERO_RECORD; 2],
+                        kind: Lane::FINE | Lane::PLANAR | Lane::ANALYTIC,
+                    },
+                    _ => outside,
+                };
+            }
             // Outside, or a stored tile past the stored ones.
             TileEntry::Outside | TileEntry::Stored(_) => return outside,
         };
@@ -773,7 +850,8 @@ impl<'a> FieldLayer<'a> {
             None if e == TILE_INSIDE => Some(&INSIDE),
             // Outside, or a stored tile past the stored ones (which
             // validation rules out): outside.
-            None if e < TILE_PLANE => Some(&OUTSIDE),
+            // (A fine tile's entry, format 4.4, is not: its lanes are analytic.)
+            None if e < TILE_FINE => Some(&OUTSIDE),
             None => None,
         }
     }
@@ -877,7 +955,7 @@ impl<'a> FieldLayer<'a> {
                             // inside and outside regions, first: no decode
                             // by kind, no second record, no samples.
                             if BENDS {
-                                (bends.arced, bends.segged) = (false, false);
+                                (bends.arced, bends.segged, bends.fined) = (false, false, false);
                             }
                         } else {
                             // Then outside, inside and stored tiles: their
@@ -926,6 +1004,9 @@ impl<'a> FieldLayer<'a> {
                         }
                         if BENDS && bends.segged {
                             code = cast::<i32x4, f32x4>(i32x4::new(bends.seg)).select(Self::segments(&bends, wt), code);
+                        }
+                        if BENDS && bends.fined {
+                            code = cast::<i32x4, f32x4>(i32x4::new(bends.fine)).select(self.fine(&bends, wt), code);
                         }
                         // Only lanes in stored tiles read samples.
                         if lanes.sampled {

@@ -1,7 +1,8 @@
 //! Distance layers (`VDST`, `GDST`) against an f64 evaluation of SPEC.md
 //! section 6.2 and the seed-000 equations: random sparse fields (inside,
 //! outside and stored tiles with random codes, plane, ridge, corner,
-//! notch, bend, arc (plain and cut) and segments tiles with random records), hard and soft edges, both primitives,
+//! notch, bend, arc (plain and cut) and segments tiles with random records,
+//! fine tiles with random codes), hard and soft edges, both primitives,
 //! anywhere on and off the lattice.
 
 use proptest::prelude::*;
@@ -38,7 +39,8 @@ pub(crate) fn field(
             gy: (at(n + 3) - 128.0) / 2.0,
             top,
         };
-        match entries[k % entries.len()] % 10 {
+        let entry = entries[k % entries.len()];
+        match entry % 10 {
             0 => tiles.push(0),
             1 => tiles.push(1),
             3 => {
@@ -93,9 +95,22 @@ pub(crate) fn field(
                 planes.push(TilePlane { c: (at(4) - 128.0) / 2.0, gx: 128.0 + at(6) - at(1), gy: 0.0, top: 0.0 });
             }
             _ => {
-                tiles.push(next);
-                next += 1;
-                samples.extend((0..81).map(|i| codes[(k * 81 + i) % codes.len()]));
+                // Entries from 10 on: one in four a plain stored tile, the
+                // others fine tiles (format 4.4), 1 (two channels only), 2, 4
+                // or 8 times finer, in one or two channels: fine² stored
+                // tiles a channel. (Below 10, plain: `sampled_fields`.)
+                let fine = if entry < 10 { 0 } else { [0u32, 1, 2, 4, 8][at(5) as usize % 5] };
+                let pair = fine == 1 || (fine > 1 && at(6) >= 128.0);
+                let stored = if fine == 0 { 1 } else { fine * fine * (1 + pair as u32) };
+                tiles.push(if fine == 0 {
+                    next
+                } else {
+                    0x6000_0000 | fine.trailing_zeros() << 26 | (pair as u32) << 25 | (next - 2)
+                });
+                for n in 0..stored as usize {
+                    samples.extend((0..81).map(|i| codes[(k * 81 + n * 13 + i) % codes.len()]));
+                }
+                next += stored;
             }
         }
     }

@@ -195,6 +195,26 @@ pub fn field_code(d: &DistanceLayer, x: f64, y: f64) -> Option<f64> {
     }
     let (ci, cj) = (u.floor() as usize, v.floor() as usize);
     let e = d.tiles[(cj / 8) * d.tile_cols as usize + ci / 8];
+    if e >> 28 == 0x6 {
+        // A fine tile (0x6000_0000 | s << 26 | c << 25 | k, format 4.4): f =
+        // 2^s times finer, f² stored tiles a channel from k (two channels
+        // where c = 1), row-major; the fine lattice point (x, y) of the tile
+        // (x, y in 0..=8f) is sample (x mod 8, y mod 8) of sub-tile (x div 8,
+        // y div 8), the last fine cell's far side in the same sub-tile;
+        // bilinear within the fine cell, the lesser of the two channels'.
+        let f = 1usize << ((e >> 26) & 3);
+        let first = (e & 0x01FF_FFFF) as usize;
+        let channels = if e & 0x0200_0000 != 0 { 2 } else { 1 };
+        let (fu, fw) = ((u - (ci / 8 * 8) as f64) * f as f64, (v - (cj / 8 * 8) as f64) * f as f64);
+        let (x, y) = ((fu.floor() as usize).min(8 * f - 1), (fw.floor() as usize).min(8 * f - 1));
+        let (a, b) = (fu - x as f64, fw - y as f64);
+        let channel = |c: usize| {
+            let sub = first + c * f * f + (y / 8) * f + x / 8;
+            let s = |i: usize, j: usize| d.samples[sub * 81 + (y % 8 + j) * 9 + x % 8 + i] as f64;
+            (1.0 - a) * (1.0 - b) * s(0, 0) + a * (1.0 - b) * s(1, 0) + (1.0 - a) * b * s(0, 1) + a * b * s(1, 1)
+        };
+        return Some((0..channels).map(channel).fold(f64::INFINITY, f64::min));
+    }
     if e >= 0x8000_0000 {
         // A plane (0x8000_0000 | p), ridge (0xC000_0000 | p), corner
         // (0xA000_0000 | p) or notch (0xB000_0000 | p) tile: the record's
