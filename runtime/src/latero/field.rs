@@ -38,7 +38,11 @@
 //! a cut arc (format 4.3, an arc tile whose second record holds a plane)
 //! plays the lesser of that and the plane's affine code in the same lanes
 //! (a plain arc's plane is `f32::MAX`), so it needs no flag of its own and
-//! the other kinds' code is unchanged. In a layer of outside, inside and
+//! the other kinds' code is unchanged. A fine tile (format 4.4, samples
+//! 2 to 8 times finer, in one channel or two whose lesser it plays) rides
+//! with them too: its lanes are written out of line on a tile change and
+//! interpolated lane by lane ([`FieldLayer::fine`]) in rows that have a
+//! fine lane. In a layer of outside, inside and
 //! stored tiles only, a tile change looks up each lane's window. In a layer
 //! with other kinds, it first tries the tiles the compiler writes most:
 //! when every lane's tile is constant or a plane tile (region interiors
