@@ -435,6 +435,8 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
     let ridge_top = g.band.as_ref().map(|(_, w)| w / 2.0 / step);
     // Inside bits at the cell centres, swept when a tile first fits a plane.
     let centre_bits: OnceLock<planes::CentreBits> = OnceLock::new();
+    // The shapes each row of tiles crosses, when a fine tile is first measured.
+    let fine_rows: OnceLock<FineRows> = OnceLock::new();
     // A segment is measured only at the tile's samples within its reach plus
     // the clamp's margin: farther ones would clamp to the same code anyway
     // (every part is then beyond ±cap, and min, max and the clamp commute).
@@ -541,6 +543,9 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
             nearest: planes::NearestSegments::default(),
             order: std::cell::OnceCell::new(),
             measured: near,
+            row: r,
+            fine_rows: &fine_rows,
+            rows_of: &|| FineRows::new(g, oy, tile, rows),
             centre_bits: centre_bits.get_or_init(|| {
                 // The same sweeps as the lattice points', half a cell on.
                 let (cx, cy) = (ox + h / 2.0, oy + h / 2.0);
@@ -640,6 +645,18 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
     wanted.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
     let budget = outs.iter().map(TileOut::bytes).sum::<usize>().max(FINE_BUDGET_FLOOR);
     let mut extra = 0usize;
+    // And within a budget of work: a fine tile measures each segment near
+    // it at a thousand points, and in a map drawn much finer than the lattice
+    // (a thousand regions fitted to the device) every tile has hundreds.
+    let work_per = |k: usize| buckets.get(k).map_or(0, Vec::len).saturating_mul(FINE_POINTS);
+    let mut work = 0usize;
+    let wanted: Vec<(f64, usize)> = wanted
+        .into_iter()
+        .take_while(|&(_, k)| {
+            work = work.saturating_add(work_per(k));
+            work <= FINE_WORK
+        })
+        .collect();
     for chunk in wanted.chunks(REFINE_CHUNK) {
         if budget.saturating_sub(extra) < TILE_SAMPLES {
             break;
@@ -767,6 +784,13 @@ impl TileOut {
 
 /// Fine tiles refined at a time, in priority order, between checks of the budget.
 const REFINE_CHUNK: usize = 32;
+/// The points at which a fine tile measures each segment of its bucket
+/// (`fine.rs`: 16 sets of 9 x 9).
+const FINE_POINTS: usize = 16 * TILE_SAMPLES;
+/// The most segment measurements a layer's fine tiles may take together
+/// (a few milliseconds of one core; with the tiles' other work, a
+/// thousand-region map's build takes about 10 % longer).
+const FINE_WORK: usize = 2_000_000;
 /// The fine tiles of a layer may add this many bytes even where the layer
 /// has fewer (a diagram's layer of a few kB, whose corners they sharpen).
 const FINE_BUDGET_FLOOR: usize = 16 * 1024;
@@ -862,14 +886,27 @@ fn saturated_codes(soft: f64, step: f64) -> (u8, u8) {
 /// union of the fills, by sweeping each row's crossings with every fill
 /// outline (the same half-open rule as [`contains`](crate::geometry::contains)).
 fn fill_bits(fills: &[(&[Polyline], FillRule)], ox: f64, oy: f64, h: f64, nx: usize, ny: usize) -> Vec<bool> {
+    let all = fills.iter().enumerate().flat_map(|(shape, (pls, _))| pls.iter().map(move |pl| (shape, pl)));
+    fill_bits_of(fills, all, (ox, oy, h), (nx, ny))
+}
+
+/// [`fill_bits`] from the polylines `some` of `fills` (shape number and
+/// polyline): the same bits wherever the others cross none of the rows
+/// (a fine tile's rows, [`RowShapes`]).
+fn fill_bits_of<'p>(
+    fills: &[(&[Polyline], FillRule)],
+    some: impl Iterator<Item = (usize, &'p Polyline)>,
+    (ox, oy, h): (f64, f64, f64),
+    (nx, ny): (usize, usize),
+) -> Vec<bool> {
     let mut bits = vec![false; nx * ny];
     if fills.is_empty() {
         return bits;
     }
     // Edges bucketed by the lattice rows they span.
     let mut by_row: Vec<Vec<(Seg, usize)>> = vec![Vec::new(); ny];
-    for (shape, (pls, _)) in fills.iter().enumerate() {
-        for pl in pls.iter() {
+    for (shape, pl) in some {
+        {
             for s in closed_segments(pl) {
                 let (lo, hi) = (s.0.1.min(s.1.1), s.0.1.max(s.1.1));
                 let j0 = ceil_f64((lo - oy) / h).max(0.0);
@@ -922,6 +959,80 @@ fn fill_bits(fills: &[(&[Polyline], FillRule)], ox: f64, oy: f64, h: f64, nx: us
         }
     }
     bits
+}
+
+/// The polylines of a layer's shapes (fills, occluders or one clip) whose
+/// vertical extent meets each row of tiles, as (shape, polyline) numbers:
+/// a row sweep of points in that row crosses no other.
+struct RowShapes(Vec<Vec<(u32, u32)>>);
+
+impl RowShapes {
+    /// Over `rows` rows of tiles `tile` mm high from page y `oy`.
+    fn new(shapes: &[(&[Polyline], FillRule)], oy: f64, tile: f64, rows: usize) -> RowShapes {
+        let mut out = vec![Vec::new(); rows];
+        for (k, (pls, _)) in shapes.iter().enumerate() {
+            for (i, pl) in pls.iter().enumerate() {
+                let (lo, hi) =
+                    pl.points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p.1), b.max(p.1)));
+                // Rows from the one holding `lo` to the one holding `hi`, one more each way for rounding.
+                let first = floor_f64((lo - oy) / tile - 1.0).max(0.0);
+                let last = floor_f64((hi - oy) / tile + 1.0).min(rows as f64 - 1.0);
+                // (NaN bounds, from no points, give no rows.)
+                if first.is_nan() || last.is_nan() || first > last {
+                    continue;
+                }
+                for row in out.iter_mut().take(last as usize + 1).skip(first as usize) {
+                    row.push((k as u32, i as u32));
+                }
+            }
+        }
+        RowShapes(out)
+    }
+
+    /// Inside bits of `shapes` (those this index was built from) at the
+    /// `n` x `n` points `hf` apart from `corner`, which lie in tile row `row`.
+    fn bits(&self, shapes: &[(&[Polyline], FillRule)], row: usize, corner: (f64, f64), hf: f64, n: usize) -> Vec<bool> {
+        let some = self.0.get(row).into_iter().flatten().filter_map(|&(k, i)| {
+            let (pls, _) = shapes.get(k as usize)?;
+            Some((k as usize, pls.get(i as usize)?))
+        });
+        fill_bits_of(shapes, some, (corner.0, corner.1, hf), (n, n))
+    }
+}
+
+/// The [`RowShapes`] of a layer's fills, occluders and clips, built when a
+/// fine tile is first measured.
+pub(super) struct FineRows {
+    fills: RowShapes,
+    occluders: RowShapes,
+    clips: Vec<RowShapes>,
+}
+
+impl FineRows {
+    fn new(g: &LayerGeometry<'_>, oy: f64, tile: f64, rows: usize) -> FineRows {
+        FineRows {
+            fills: RowShapes::new(&g.fills, oy, tile, rows),
+            occluders: RowShapes::new(&g.occluders, oy, tile, rows),
+            clips: g.clips.iter().map(|c| RowShapes::new(std::slice::from_ref(c), oy, tile, rows)).collect(),
+        }
+    }
+
+    /// Inside-the-fills, inside-the-occluders and inside-each-clip bits at
+    /// the `n` x `n` points `hf` apart from `corner`, in tile row `row`.
+    pub(super) fn bits(
+        &self,
+        g: &LayerGeometry<'_>,
+        row: usize,
+        corner: (f64, f64),
+        hf: f64,
+        n: usize,
+    ) -> (Vec<bool>, Vec<bool>, Vec<Vec<bool>>) {
+        (
+            self.fills.bits(&g.fills, row, corner, hf, n),
+            self.occluders.bits(&g.occluders, row, corner, hf, n),
+            self.clips.iter().zip(&g.clips).map(|(r, c)| r.bits(std::slice::from_ref(c), row, corner, hf, n)).collect(),
+        )
+    }
 }
 
 fn is_in(s: (i32, u32), rule: FillRule) -> bool {

@@ -152,9 +152,15 @@ fn describe(view: &BundleView<'_>) -> Value {
                 // Plane and ridge tiles play one record, corner and notch tiles two.
                 // Bend and arc tiles (two records too) and segments tiles
                 // (four, format 4.2) are counted on their own, as bends.
-                let (mut planar, mut bent, mut bends) = (0u32, 0u32, 0u32);
+                // Stored and fine tiles (format 4.4, several stored tiles each) too.
+                let (mut planar, mut bent, mut bends, mut stored, mut fine) = (0u32, 0u32, 0u32, 0u32, 0u32);
                 for i in 0..dv.tile_cols * dv.tile_rows {
                     let entry = taxel_format::TileEntry::of(dv.tile_entry(i));
+                    match entry {
+                        taxel_format::TileEntry::Stored(_) => stored += 1,
+                        taxel_format::TileEntry::Fine { .. } => fine += 1,
+                        _ => {}
+                    }
                     if let taxel_format::TileEntry::Bend(_)
                     | taxel_format::TileEntry::Arc(_)
                     | taxel_format::TileEntry::Segments(_) = entry
@@ -170,7 +176,7 @@ fn describe(view: &BundleView<'_>) -> Value {
                 }
                 let mut e = json!({
                     "kind": match dv.kind { MaskKind::Vibration { .. } => "vibration-field", MaskKind::Grating { .. } => "grating-field" },
-                    "tiles": [dv.tile_cols, dv.tile_rows], "stored_tiles": dv.stored, "plane_tiles": planar,
+                    "tiles": [dv.tile_cols, dv.tile_rows], "stored_tiles": stored, "fine_tiles": fine, "plane_tiles": planar,
                     "corner_tiles": bent, "bend_tiles": bends, "pitch_mm": dv.pitch_mm,
                     "step_mm": dv.step_mm, "soft_mm": dv.soft_mm,
                     "origin_mm": [dv.origin_x.0, dv.origin_y.0],
@@ -334,11 +340,12 @@ fn human(path: &Path, r: &Value) -> String {
                     format!("soft edge {} mm", num(&c["soft_mm"]))
                 };
                 format!(
-                    "{prim}, amplitude {}, {edge}; {} element(s); distance field {} tiles ({} stored, {} plane, {} corner, {} bend) every {} mm, {} mm from ({}) mm",
+                    "{prim}, amplitude {}, {edge}; {} element(s); distance field {} tiles ({} stored, {} fine, {} plane, {} corner, {} bend) every {} mm, {} mm from ({}) mm",
                     num(&c["amplitude"]),
                     c["elements"],
                     pair(&c["tiles"], " x "),
                     c["stored_tiles"],
+                    c["fine_tiles"],
                     c["plane_tiles"],
                     c["corner_tiles"],
                     c["bend_tiles"],

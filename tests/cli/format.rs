@@ -205,7 +205,7 @@ fn inspect_prints_profile_layers_and_sizes() {
     assert!(out.contains("vibration 50 Hz, amplitude 0.75; mask 3 x 2 8-bit at 4 px/mm"), "{out}");
     assert!(out.contains("grating 6 mm at 45°"), "{out}");
     assert!(
-        out.contains("grating 3 mm at 30°, amplitude 0.9, soft edge 0.3 mm; 2 element(s); distance field 4 x 2 tiles (2 stored, 2 plane, 2 corner, 0 bend) every 0.5 mm"),
+        out.contains("grating 3 mm at 30°, amplitude 0.9, soft edge 0.3 mm; 2 element(s); distance field 4 x 2 tiles (2 stored, 0 fine, 2 plane, 2 corner, 0 bend) every 0.5 mm"),
         "{out}"
     );
     assert!(out.contains("6 braille dots"), "{out}");

@@ -280,6 +280,11 @@ pub(super) struct TileCtx<'a, 'g> {
     pub first: usize,
     pub nx: usize,
     pub centre_bits: &'a CentreBits,
+    /// The tile's row of tiles, and the layer's shapes by row of tiles for
+    /// fine tiles' inside bits, built by `rows_of` when first asked.
+    pub row: usize,
+    pub fine_rows: &'a std::sync::OnceLock<super::FineRows>,
+    pub rows_of: &'a (dyn Fn() -> super::FineRows + Sync),
     /// The tile in its layer's grid, for the cell centres' search (one
     /// grid cell on from the samples').
     pub layer: Option<InLayer<'a>>,

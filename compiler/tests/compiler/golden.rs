@@ -114,7 +114,13 @@ pub fn dump(b: &Bundle) -> String {
                         format!("GDST {} mm at {}°", wavelength.0, angle_deg)
                     }
                 };
-                let stored = d.samples.len() / taxel_format::TILE_SAMPLES;
+                // Fine tiles (format 4.4, several stored tiles each) are
+                // named only where there are some, as arcs are.
+                let stored = d
+                    .tiles
+                    .iter()
+                    .filter(|&&t| matches!(taxel_format::TileEntry::of(t), taxel_format::TileEntry::Stored(_)))
+                    .count();
                 let inside = d.tiles.iter().filter(|&&t| t == taxel_format::TILE_INSIDE).count();
                 let count = |f: fn(taxel_format::TileEntry) -> bool| {
                     d.tiles.iter().filter(|&&t| f(taxel_format::TileEntry::of(t))).count()
@@ -130,9 +136,13 @@ pub fn dump(b: &Bundle) -> String {
                     0 => String::new(),
                     n => format!(", {n} arc"),
                 };
+                let fine = match count(|e| matches!(e, taxel_format::TileEntry::Fine { .. })) {
+                    0 => String::new(),
+                    n => format!(", {n} fine"),
+                };
                 writeln!(
                     s,
-                    "{kind} amplitude {} soft {} sources {:?}: {} x {} tiles every {} mm from ({:.2}, {:.2}) mm, {stored} stored, {planes} plane, {ridges} ridge, {corners} corner, {notches} notch, {bends} bend{arcs}, {inside} inside",
+                    "{kind} amplitude {} soft {} sources {:?}: {} x {} tiles every {} mm from ({:.2}, {:.2}) mm, {stored} stored{fine}, {planes} plane, {ridges} ridge, {corners} corner, {notches} notch, {bends} bend{arcs}, {inside} inside",
                     d.amplitude, d.soft_mm, d.sources, d.tile_cols, d.tile_rows, d.pitch_mm, d.origin_x.0, d.origin_y.0
                 )
                 .unwrap();
