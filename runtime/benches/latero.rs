@@ -1,7 +1,8 @@
 //! Cost of one 64-actuator STRESS² frame: all three primitives active at
 //! once, each alone, and dots in a scene of 1 dot against 10,000 dots; the
 //! same with distance layers (one per style), and a distance layer of one
-//! region against one of 5,000 regions (every tile of a 300 mm square stored).
+//! region against one of 5,000 regions (every tile of a 300 mm square stored);
+//! fine tiles (format 4.4) under the array.
 //!
 //! Run briefly with
 //! `cargo bench -p taxel-runtime --bench latero -- --warm-up-time 1 --measurement-time 3`.
@@ -114,6 +115,35 @@ fn field_with(
         }
     }
     distance_layer(kind, (x0, y0), (cols, rows), tiles, records, samples)
+}
+
+/// As [`field`] with the tiles under the carrier as fine tiles (format
+/// 4.4), `fine` times finer, in two channels where `pair`: the same climbing
+/// codes in every sub-tile (the second channel falling), so that every
+/// lane interpolates its fine cell, and the lesser of two where `pair`.
+fn field_fine(kind: MaskKind, x0: f32, y0: f32, cols: u32, rows: u32, fine: u32, pair: bool) -> Chunk {
+    let mut tiles = Vec::new();
+    let mut samples = Vec::new();
+    for r in 0..rows {
+        for c in 0..cols {
+            let (tx, ty) = (x0 + 4.0 * c as f32, y0 + 4.0 * r as f32);
+            if (tx - X).abs() < 16.0 && (ty - Y).abs() < 16.0 {
+                let first = (samples.len() / 81) as u32;
+                tiles.push(taxel_format::fine_entry(first, fine, pair).expect("a fine entry"));
+                for channel in 0..1 + pair as u32 {
+                    for _ in 0..fine * fine {
+                        samples.extend((0..81u32).map(|k| match channel {
+                            0 => (100 + (k % 9) * 7 + (k / 9) * 3) as u8,
+                            _ => (200 - (k % 9) * 5 - (k / 9) * 4) as u8,
+                        }));
+                    }
+                }
+            } else {
+                tiles.push((c + r) % 2);
+            }
+        }
+    }
+    distance_layer(kind, (x0, y0), (cols, rows), tiles, vec![], samples)
 }
 
 /// A distance layer as the compiler writes one for a region with a straight
@@ -255,6 +285,18 @@ fn latero(c: &mut Criterion) {
             field_with(GRATE, X, Y - 12.0, 3, 6, true, true, false, true),
         ],
     );
+    // Fine tiles (format 4.4) under the array: one channel 4 times finer,
+    // and two channels twice as fine.
+    for (name, fine, pair) in [("one channel x4", 4, false), ("two channels x2", 2, true)] {
+        bench_scene(
+            c,
+            &format!("latero frame (distance): fine tiles, {name}, vibration and grating"),
+            vec![
+                field_fine(VIBRATE, X - 12.0, Y - 12.0, 3, 6, fine, pair),
+                field_fine(GRATE, X, Y - 12.0, 3, 6, fine, pair),
+            ],
+        );
+    }
     // Frame-cost independence: the same two styles over one region (the
     // tiles near the carrier stored, the rest flags) and over 5,000 regions
     // (all 5,625 tiles of a 300 mm square stored, 456 kB per layer).
