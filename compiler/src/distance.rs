@@ -542,6 +542,7 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
             layer: in_layer((c, r), 1),
             nearest: planes::NearestSegments::default(),
             order: std::cell::OnceCell::new(),
+            centre_codes: std::cell::OnceCell::new(),
             measured: near,
             row: r,
             fine_rows: &fine_rows,

@@ -296,6 +296,9 @@ pub(super) struct TileCtx<'a, 'g> {
     pub measured: &'a Near,
     /// [`edge_first`] of the tile's samples, once a writer asks.
     pub order: std::cell::OnceCell<[u8; TILE_SAMPLES]>,
+    /// The exact distance at the 64 cell centres (codes, clamped), measured
+    /// when a writer first checks a candidate there and shared by the rest.
+    pub centre_codes: std::cell::OnceCell<[f64; TILE_CELLS * TILE_CELLS]>,
 }
 
 /// Most segments of one part kept nearest a tile's middle: as many as the
@@ -480,10 +483,18 @@ impl TileCtx<'_, '_> {
     /// `(u, w)` its lattice coordinates in the tile and `e` the exact
     /// distance there in codes (clamped); `centres` is scratch.
     pub(super) fn centres_all(&self, centres: &mut Near, ok: impl Fn(f64, f64, f64) -> bool) -> bool {
+        let codes = self.centre_codes.get_or_init(|| self.measure_centres(centres));
+        codes.iter().enumerate().all(|(k, &e)| ok((k % TILE_CELLS) as f64 + 0.5, (k / TILE_CELLS) as f64 + 0.5, e))
+    }
+
+    /// The exact distance at the tile's 64 cell centres, row-major, in codes
+    /// (clamped); `centres` is scratch.
+    fn measure_centres(&self, centres: &mut Near) -> [f64; TILE_CELLS * TILE_CELLS] {
         let h = self.h;
         let corner = (self.corner.0 + h / 2.0, self.corner.1 + h / 2.0);
         centres.measure(self.segs, self.bucket, (corner, h, self.margin), self.layer);
         let mut in_clip = vec![false; self.centre_bits.clips.len()];
+        let mut out = [0.0; TILE_CELLS * TILE_CELLS];
         for j in 0..TILE_CELLS {
             for i in 0..TILE_CELLS {
                 let tc = j * TILE_SIDE + i;
@@ -494,13 +505,12 @@ impl TileCtx<'_, '_> {
                 let (inside, occluded) = (self.centre_bits.inside[k], self.centre_bits.occluded[k]);
                 let p = (self.corner.0 + (i as f64 + 0.5) * h, self.corner.1 + (j as f64 + 0.5) * h);
                 let s = centres.signed(self.g, tc, (inside, occluded), &in_clip, p, self.page);
-                let e = (s / self.step).clamp(-self.cap, self.cap);
-                if !ok(i as f64 + 0.5, j as f64 + 0.5, e) {
-                    return false;
+                if let Some(slot) = out.get_mut(j * TILE_CELLS + i) {
+                    *slot = (s / self.step).clamp(-self.cap, self.cap);
                 }
             }
         }
-        true
+        out
     }
 }
 
