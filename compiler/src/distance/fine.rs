@@ -202,13 +202,13 @@ impl Measured {
             if within < 2 {
                 continue;
             }
-            if let Some(i) = ts.iter().position(|&v| v == e) {
-                count[i] += 1;
+            if let Some(c) = ts.iter().position(|&v| v == e).and_then(|i| count.get_mut(i)) {
+                *c += 1;
             }
         }
-        let mut order: Vec<usize> = (0..self.n).filter(|&i| count[i] > 0).collect();
-        order.sort_by(|a, b| count[*b].cmp(&count[*a]).then(a.cmp(b)));
-        order
+        let mut order: Vec<(usize, usize)> = count.into_iter().enumerate().filter(|&(_, c)| c > 0).collect();
+        order.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+        order.into_iter().map(|(i, _)| i).collect()
     }
 
     /// The two channels' codes: term `lone`, and the least of the others.
@@ -270,7 +270,9 @@ fn finest(t: &TileCtx<'_, '_>, near: &mut Near) -> Measured {
                         m.terms = vec![0.0; m.n * SIDE * SIDE];
                     }
                     let s = terms_here.iter().fold(f64::INFINITY, |a, &b| a.min(b));
-                    m.exact[k] = (s / step).clamp(-t.cap, t.cap);
+                    if let Some(slot) = m.exact.get_mut(k) {
+                        *slot = (s / step).clamp(-t.cap, t.cap);
+                    }
                     for (slot, v) in m.terms.iter_mut().skip(k * m.n).zip(&terms_here) {
                         *slot = v / step;
                     }
