@@ -264,7 +264,8 @@ fn finest(t: &TileCtx<'_, '_>, near: &mut Near) -> Measured {
                     }
                     let bits = (inside.get(k).copied().unwrap_or(false), occluded.get(k).copied().unwrap_or(false));
                     let p = (t.corner.0 + x as f64 * hf, t.corner.1 + y as f64 * hf);
-                    near.terms(t.g, j * TILE_SIDE + i, bits, &in_clip, p, t.page, &mut terms_here);
+                    terms_here.clear();
+                    terms_here.extend(near.terms(t.g, j * TILE_SIDE + i, bits, &in_clip, p, t.page));
                     if m.n == 0 {
                         m.n = terms_here.len();
                         m.terms = vec![0.0; m.n * SIDE * SIDE];

@@ -652,60 +652,49 @@ impl Near {
         s
     }
 
-    /// The terms whose least is [`signed`](Self::signed) at sample `t`, in
-    /// its order: the layer's own distance, each cut width group's, each
-    /// clip's, the occluders' (if any) and the page's. `out` is cleared first.
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn terms(
-        &self,
+    /// The terms whose least is [`signed`](Self::signed) at sample `t`
+    /// (page point `p`), in its order: the layer's own distance, each cut
+    /// width group's, each clip's, the occluders' (if any) and the page's;
+    /// `inside` says whether it is inside the fills and inside the
+    /// occluders.
+    pub(super) fn terms<'s>(
+        &'s self,
         g: &LayerGeometry<'_>,
         t: usize,
         (inside, occluded): (bool, bool),
-        in_clip: &[bool],
+        in_clip: &'s [bool],
         p: (f64, f64),
         page: (f64, f64, f64, f64),
-        out: &mut Vec<f64>,
-    ) {
-        out.clear();
-        out.push(self.own(g, t, inside));
-        for (k, w) in self.cut_widths.iter().enumerate() {
-            out.push(self.at(FIRST_CUT + k, t).sqrt() - w / 2.0);
-        }
-        for (k, &in_k) in in_clip.iter().enumerate() {
+    ) -> impl Iterator<Item = f64> + 's {
+        let cuts = self.cut_widths.iter().enumerate().map(move |(k, w)| self.at(FIRST_CUT + k, t).sqrt() - w / 2.0);
+        let clips = in_clip.iter().enumerate().map(move |(k, &in_k)| {
             let d = self.at(FIRST_CUT + self.cut_widths.len() + k, t).sqrt();
-            out.push(if in_k { d } else { -d });
-        }
-        if !g.occluders.is_empty() {
+            if in_k { d } else { -d }
+        });
+        let occluders = (!g.occluders.is_empty()).then(|| {
             let d_occ = self.at(OCC, t).sqrt();
-            out.push(if occluded { -d_occ } else { d_occ });
-        }
-        out.push(super::inside_rect(page, p));
+            if occluded { -d_occ } else { d_occ }
+        });
+        std::iter::once(self.own(g, t, inside))
+            .chain(cuts)
+            .chain(clips)
+            .chain(occluders)
+            .chain(std::iter::once(super::inside_rect(page, p)))
     }
 
-    /// The unclamped signed distance at sample `t` (page point `p`);
-    /// `inside` says whether it is inside the fills and inside the occluders.
+    /// The unclamped signed distance at sample `t` (page point `p`): the
+    /// least of its [`terms`](Self::terms), taken in their order.
     pub(super) fn signed(
         &self,
         g: &LayerGeometry<'_>,
         t: usize,
-        (inside, occluded): (bool, bool),
+        bits: (bool, bool),
         in_clip: &[bool],
         p: (f64, f64),
         page: (f64, f64, f64, f64),
     ) -> f64 {
-        let mut s = self.own(g, t, inside);
-        for (k, w) in self.cut_widths.iter().enumerate() {
-            s = s.min(self.at(FIRST_CUT + k, t).sqrt() - w / 2.0);
-        }
-        for (k, &in_k) in in_clip.iter().enumerate() {
-            let d = self.at(FIRST_CUT + self.cut_widths.len() + k, t).sqrt();
-            s = s.min(if in_k { d } else { -d });
-        }
-        if !g.occluders.is_empty() {
-            let d_occ = self.at(OCC, t).sqrt();
-            s = s.min(if occluded { -d_occ } else { d_occ });
-        }
-        s.min(super::inside_rect(page, p))
+        // (Never empty: the own distance and the page's are always there.)
+        self.terms(g, t, bits, in_clip, p, page).reduce(f64::min).unwrap_or(f64::NEG_INFINITY)
     }
 }
 
