@@ -535,6 +535,7 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
             margin,
             page: pg,
             cap: cap / step,
+            cap_mm: cap,
             step,
             sat,
             first: r * TILE_CELLS * nx + c * TILE_CELLS,

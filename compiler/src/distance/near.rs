@@ -94,6 +94,12 @@ struct Grid {
     ranges: Vec<Option<(usize, usize, usize, usize)>>,
 }
 
+/// Whether sample `t` is in a tile's last lattice row or column: on a
+/// lattice shifted half a cell, past the tile's cell centres.
+fn past_centres(t: usize) -> bool {
+    t % TILE_SIDE == TILE_CELLS || t / TILE_SIDE == TILE_CELLS
+}
+
 /// `floor(v)` as an integer, for `|v|` within ±1e6 (clamped; NaN gives 0)
 /// and without a call into libm.
 pub(super) fn floor_cell(v: f64) -> isize {
@@ -258,18 +264,8 @@ impl Near {
     }
 
     /// Measures every part at the tile's samples (corner `corner`, pitch
-    /// `h`), each segment within its reach plus `margin`.
-    pub(super) fn measure(
-        &mut self,
-        segs: &[(Seg, Part, f64)],
-        bucket: &[u32],
-        (corner, h, margin): ((f64, f64), f64, f64),
-        layer: Option<InLayer<'_>>,
-    ) {
-        self.run(segs, bucket, (corner, h, margin), None, layer, GRID_FROM);
-    }
-
-    /// As [`measure`](Self::measure), with the segment sweep whatever the
+    /// `h`), each segment within its reach plus `margin`, with the segment
+    /// sweep whatever the
     /// number of segments (a fine tile's cells: few segments each, and a
     /// reach of many of their pitches, which the grid search walks ring by
     /// ring).
@@ -279,10 +275,13 @@ impl Near {
         bucket: &[u32],
         (corner, h, margin): ((f64, f64), f64, f64),
     ) {
-        self.run(segs, bucket, (corner, h, margin), None, None, usize::MAX);
+        self.run(segs, bucket, (corner, h, margin), None, None, (usize::MAX, false));
     }
 
-    /// As [`measure`](Self::measure), but the parts that only lower the
+    /// Measures every part at the tile's samples (corner `corner`, pitch
+    /// `h`), each segment within its reach plus `margin`, the grid search
+    /// for crowded groups (the layer's grid where it has one, `layer`); the
+    /// parts that only lower the
     /// distance (cuts, clips, occluders) only where, given the layer's own
     /// parts and what each sample is inside of (`bits`), they can change the
     /// clamped distance; elsewhere their slots are left infinite.
@@ -295,12 +294,29 @@ impl Near {
         bits: &TileBits<'_>,
         layer: Option<InLayer<'_>>,
     ) {
-        self.run(segs, bucket, (corner, h, margin), Some((g, bits)), layer, GRID_FROM);
+        self.run(segs, bucket, (corner, h, margin), Some((g, bits)), layer, (GRID_FROM, false));
+    }
+
+    /// As [`measure_live`](Self::measure_live) on a lattice shifted half a
+    /// cell, at a tile's 64 cell centres only: the samples of its last row
+    /// and column, past the centres, are not measured (their slots read
+    /// infinite). `bits` are the centres' (at the samples they sit on).
+    pub(super) fn measure_centres(
+        &mut self,
+        g: &LayerGeometry<'_>,
+        segs: &[(Seg, Part, f64)],
+        bucket: &[u32],
+        (corner, h, margin): ((f64, f64), f64, f64),
+        bits: &TileBits<'_>,
+        layer: Option<InLayer<'_>>,
+    ) {
+        self.run(segs, bucket, (corner, h, margin), Some((g, bits)), layer, (GRID_FROM, true));
     }
 
     /// Measures, with the grid search for groups of at least `grid_from`
     /// segments: the layer's grid where it has one (`layer`), else the
-    /// tile's own.
+    /// tile's own; at the cell centres only where `centres` (the samples
+    /// of the last row and column are not live in any slot).
     fn run(
         &mut self,
         segs: &[(Seg, Part, f64)],
@@ -308,10 +324,15 @@ impl Near {
         (corner, h, margin): ((f64, f64), f64, f64),
         live: Option<(&LayerGeometry<'_>, &TileBits<'_>)>,
         layer: Option<InLayer<'_>>,
-        grid_from: usize,
+        (grid_from, centres): (usize, bool),
     ) {
         self.d.fill(f64::INFINITY);
         self.live.fill(true);
+        if centres {
+            for (k, l) in self.live.iter_mut().enumerate() {
+                *l = !past_centres(k % TILE_SAMPLES);
+            }
+        }
         // Each entry's slot (`usize::MAX`: none) and each slot's reach.
         self.slot_of.clear();
         self.reach.clear();
@@ -369,7 +390,7 @@ impl Near {
             self.sweep(segs, bucket, corner, h, margin, &|s| own(s));
         }
         if let Some((g, bits)) = live {
-            self.mark_live(g, bits, 0..TILE_SAMPLES);
+            self.mark_live(g, bits, (0..TILE_SAMPLES).filter(|&t| !(centres && past_centres(t))));
         }
         if n_rest >= grid_from && grid.1 {
             match layer {
@@ -611,7 +632,7 @@ impl Near {
     /// Marks, at samples `ts`, the slots of the parts that only lower the
     /// distance as not live where they cannot change the clamped distance
     /// (the layer's own slots must be measured there already).
-    fn mark_live(&mut self, g: &LayerGeometry<'_>, bits: &TileBits<'_>, ts: std::ops::Range<usize>) {
+    fn mark_live(&mut self, g: &LayerGeometry<'_>, bits: &TileBits<'_>, ts: impl Iterator<Item = usize>) {
         for t in ts {
             let inside = bits.inside.get(t).copied().unwrap_or(false);
             let u = self.own(g, t, inside).min(bits.cap);
@@ -745,8 +766,8 @@ mod tests {
             let bucket: Vec<u32> = (0..segs.len() as u32).collect();
             let (mut grid, mut sweep) = (Near::new(1, vec![0.6]), Near::new(1, vec![0.6]));
             let corner = (0.0, 0.0);
-            grid.run(&segs, &bucket, (corner, h, margin), None, None, 0);
-            sweep.run(&segs, &bucket, (corner, h, margin), None, None, usize::MAX);
+            grid.run(&segs, &bucket, (corner, h, margin), None, None, (0, false));
+            sweep.run(&segs, &bucket, (corner, h, margin), None, None, (usize::MAX, false));
             for slot in 0..grid.slots() {
                 let reach = segs.iter().filter(|s| sweep.slot(s.1) == Some(slot)).map(|s| s.2 + margin).fold(0.0, f64::max);
                 for t in 0..TILE_SAMPLES {
@@ -785,7 +806,7 @@ mod tests {
                 .collect();
             let bucket: Vec<u32> = (0..segs.len() as u32).collect();
             let mut near = Near::new(1, vec![0.6]);
-            near.run(&segs, &bucket, ((0.0, 0.0), h, margin), None, None, grid_from);
+            near.run(&segs, &bucket, ((0.0, 0.0), h, margin), None, None, (grid_from, false));
             for part in parts {
                 for t in 0..TILE_SAMPLES {
                     let p = ((t % TILE_SIDE) as f64 * h, (t / TILE_SIDE) as f64 * h);
@@ -890,8 +911,8 @@ mod tests {
                         origin.1 + (r * TILE_CELLS) as f64 * h + shift as f64 * h / 2.0,
                     );
                     let at = InLayer { grid: &grid, tile: (c, r), shift };
-                    by_layer.run(&segs, bucket, (corner, h, margin), None, Some(at), 0);
-                    by_tile.run(&segs, bucket, (corner, h, margin), None, None, 0);
+                    by_layer.run(&segs, bucket, (corner, h, margin), None, Some(at), (0, false));
+                    by_tile.run(&segs, bucket, (corner, h, margin), None, None, (0, false));
                     for slot in 0..by_tile.slots() {
                         let mine: Vec<&(Seg, Part, f64)> =
                             bucket.iter().map(|&n| &segs[n as usize]).filter(|s| by_tile.slot(s.1) == Some(slot)).collect();

@@ -17,7 +17,7 @@ use taxel_format::{
     TilePlane,
 };
 
-use super::near::{InLayer, Near};
+use super::near::{InLayer, Near, TileBits};
 use super::{LayerGeometry, Part, Seg};
 
 /// Largest error of a plane or ridge tile against the exact distance, codes.
@@ -272,8 +272,9 @@ pub(super) struct TileCtx<'a, 'g> {
     pub h: f64,
     pub margin: f64,
     pub page: (f64, f64, f64, f64),
-    /// The clamp in codes, and mm per code.
+    /// The clamp in codes, and in mm (exactly the samples'), and mm per code.
     pub cap: f64,
+    pub cap_mm: f64,
     pub step: f64,
     pub sat: Saturation,
     /// Index of the tile's first cell centre in `centre_bits`, and centres per row.
@@ -492,19 +493,36 @@ impl TileCtx<'_, '_> {
     fn measure_centres(&self, centres: &mut Near) -> [f64; TILE_CELLS * TILE_CELLS] {
         let h = self.h;
         let corner = (self.corner.0 + h / 2.0, self.corner.1 + h / 2.0);
-        centres.measure(self.segs, self.bucket, (corner, h, self.margin), self.layer);
-        let mut in_clip = vec![false; self.centre_bits.clips.len()];
+        // What each centre is inside of, at the sample of the shifted
+        // lattice it sits on: the parts that only lower the distance are
+        // measured only where they can change its clamp, as at the samples.
+        let clips = &self.centre_bits.clips;
+        let (mut inside, mut occluded) = ([false; TILE_SAMPLES], [false; TILE_SAMPLES]);
+        let mut in_clip = vec![false; clips.len() * TILE_SAMPLES];
+        for j in 0..TILE_CELLS {
+            for i in 0..TILE_CELLS {
+                let (t, k) = (j * TILE_SIDE + i, self.first + j * self.nx + i);
+                let bit = |bits: &[bool]| bits.get(k).copied().unwrap_or(false);
+                (inside[t], occluded[t]) = (bit(&self.centre_bits.inside), bit(&self.centre_bits.occluded));
+                for (q, b) in clips.iter().enumerate() {
+                    if let Some(v) = in_clip.get_mut(q * TILE_SAMPLES + t) {
+                        *v = bit(b);
+                    }
+                }
+            }
+        }
+        let bits = TileBits { inside: &inside, occluded: &occluded, in_clip: &in_clip, cap: self.cap_mm };
+        centres.measure_centres(self.g, self.segs, self.bucket, (corner, h, self.margin), &bits, self.layer);
+        let mut clipped = vec![false; clips.len()];
         let mut out = [0.0; TILE_CELLS * TILE_CELLS];
         for j in 0..TILE_CELLS {
             for i in 0..TILE_CELLS {
-                let tc = j * TILE_SIDE + i;
-                let k = self.first + j * self.nx + i;
-                for (slot, bits) in in_clip.iter_mut().zip(&self.centre_bits.clips) {
-                    *slot = bits[k];
+                let t = j * TILE_SIDE + i;
+                for (q, slot) in clipped.iter_mut().enumerate() {
+                    *slot = in_clip.get(q * TILE_SAMPLES + t).copied().unwrap_or(false);
                 }
-                let (inside, occluded) = (self.centre_bits.inside[k], self.centre_bits.occluded[k]);
                 let p = (self.corner.0 + (i as f64 + 0.5) * h, self.corner.1 + (j as f64 + 0.5) * h);
-                let s = centres.signed(self.g, tc, (inside, occluded), &in_clip, p, self.page);
+                let s = centres.signed(self.g, t, (inside[t], occluded[t]), &clipped, p, self.page);
                 if let Some(slot) = out.get_mut(j * TILE_CELLS + i) {
                     *slot = (s / self.step).clamp(-self.cap, self.cap);
                 }
