@@ -582,6 +582,12 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
         if let Some((entry, rec)) = fitted {
             return TileOut::Record(entry, rec);
         }
+        // The kinds below play two lines, a circle or up to three segments:
+        // where hundreds of segments lie within the tile's reach (a map
+        // drawn far finer than the lattice) they are not tried.
+        if bucket.len() > CROWDED {
+            return stored(&tile, centres, tile_buf, refine);
+        }
         // Two straight edges meeting at a vertex: a corner or a notch.
         let bent = bends::bends(&tile, &exact, ramp)
             .into_iter()
@@ -597,12 +603,6 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
         });
         if let Some(r) = band_bent {
             return TileOut::Bend(taxel_format::TILE_BEND, r);
-        }
-        // The kinds below play a circle, or up to three segments: where
-        // hundreds of segments lie within the tile's reach (a map drawn far
-        // finer than the lattice) they are not tried.
-        if bucket.len() > CROWDED {
-            return stored(&tile, centres, tile_buf, refine);
         }
         // A circular arc: the cone round its centre as a bend tile, else an arc tile.
         let circle = arcs::circles(&tile, &exact).into_iter().find(|(kind, r)| {
@@ -805,13 +805,13 @@ const FINE_POINTS: usize = 16 * TILE_SAMPLES;
 /// (a few milliseconds of one core; with the tiles' other work, a
 /// thousand-region map's build takes about 10 % longer).
 const FINE_WORK: usize = 2_000_000;
-/// Segments within a tile's reach beyond which the kinds that play a
-/// circle or a few segments (arc, segments and cut arc tiles) are not
-/// tried: four a lattice cell. Where those kinds play a tile, measured, it
-/// has at most 120 (`tala-map`'s circles; the generated charts' at most
-/// 106); a map of a thousand regions fitted to the device has 400 to 700
-/// in most of its tiles, where those writers found nothing and took a
-/// fifth of the build.
+/// Segments within a tile's reach beyond which the kinds that play two
+/// lines, a circle or a few segments (corner, notch, bend, arc, segments
+/// and cut arc tiles) are not tried: four a lattice cell. Where those
+/// kinds play a tile, measured, it has at most 213 (a generated chart's
+/// corners; `tala-map`'s circles 120); a map of a thousand regions fitted
+/// to the device has 400 to 700 in most of its tiles, where those writers
+/// found nothing and took a fifth of the build.
 const CROWDED: usize = 4 * TILE_CELLS * TILE_CELLS;
 /// A tile is a candidate for refining only where the layer's work budget
 /// could refine at least this many tiles as crowded: on a map drawn far
