@@ -129,7 +129,12 @@ fn buckets_of(
     let mut spans = Vec::with_capacity(if narrow { segs.len() } else { 0 });
     for (n, (s, _, m)) in segs.iter().enumerate() {
         let b = seg_bounds(s);
-        let tc = |v: f64, o: f64, n: usize| (floor_f64((v - o) / tile).max(0.0) as usize).min(n);
+        // `floor` then not below 0: a truncation of what is above 0 (NaN
+        // and below give 0, +inf saturates), without the floor's work.
+        let tc = |v: f64, o: f64, n: usize| {
+            let x = (v - o) / tile;
+            (if x > 0.0 { x as usize } else { 0 }).min(n)
+        };
         let (c0, c1) = (tc(b.0 - m, ox, cols), tc(b.2 + m, ox, cols));
         let (r0, r1) = (tc(b.1 - m, oy, rows), tc(b.3 + m, oy, rows));
         if b.2 + m < ox || b.3 + m < oy || c0 >= cols || r0 >= rows {
@@ -379,7 +384,13 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
     let at = |i: usize, j: usize| (ox + i as f64 * h, oy + j as f64 * h);
 
     // Segments into per-tile buckets, each grown by how far it acts.
-    let mut segs: Vec<(Seg, Part, f64)> = Vec::new();
+    // (Reserved at once: a map's layer holds a few hundred thousand, which
+    // grown by doubling were copied a dozen times.)
+    let points = |pls: &[Polyline]| pls.iter().map(|pl| pl.points.len() + 1).sum::<usize>();
+    let outlines = [&g.fills, &g.clips, &g.occluders].into_iter().flatten().map(|(pls, _)| points(pls));
+    let lines = g.band.iter().flat_map(|(lines, _)| lines.iter().map(|pls| points(pls)));
+    let cut = g.cuts.iter().map(|(pls, _)| points(pls));
+    let mut segs: Vec<(Seg, Part, f64)> = Vec::with_capacity(outlines.chain(lines).chain(cut).sum());
     for (pls, _) in &g.fills {
         for pl in pls.iter() {
             segs.extend(closed_segments(pl).map(|s| (s, Part::Fill, reach)));
