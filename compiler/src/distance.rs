@@ -431,6 +431,15 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
         }
     }
     let (buckets, spans) = buckets_of(&segs, (ox, oy), tile, (cols, rows));
+    // Each segment's length, for the length of edge within a tile's reach.
+    let seg_len: Vec<f64> =
+        segs.iter().map(|&((a, b), _, _)| ((b.0 - a.0).powi(2) + (b.1 - a.1).powi(2)).sqrt()).collect();
+    // Whether a tile is crowded ([`CROWDED_SEGMENTS`], [`CROWDED_EDGE`]).
+    let crowded = |bucket: &[u32]| {
+        bucket.len() > CROWDED_SEGMENTS
+            && bucket.iter().map(|&n| seg_len.get(n as usize).copied().unwrap_or(0.0)).sum::<f64>()
+                > CROWDED_EDGE * tile
+    };
     // Inside-the-fills bits at every lattice point, one row sweep each.
     let (nx, ny) = (cols * TILE_CELLS + 1, rows * TILE_CELLS + 1);
     let inside = fill_bits(&g.fills, ox, oy, h, nx, ny);
@@ -496,7 +505,7 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
                 Some(f) => TileOut::Fine(f, buf),
                 None => TileOut::Samples(buf),
             }
-        } else if tile.bucket.len().saturating_mul(FINE_POINTS) <= FINE_WORK / MIN_REFINABLE {
+        } else if !crowded(tile.bucket) && tile.bucket.len().saturating_mul(FINE_POINTS) <= FINE_WORK {
             match fine::priority(tile, centres, &buf) {
                 Some(p) => TileOut::Refinable(buf, p),
                 None => TileOut::Samples(buf),
@@ -596,7 +605,7 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
         // The kinds below play two lines, a circle or up to three segments:
         // where hundreds of segments lie within the tile's reach (a map
         // drawn far finer than the lattice) they are not tried.
-        if bucket.len() > CROWDED {
+        if crowded(bucket) {
             return stored(&tile, centres, tile_buf, refine);
         }
         // Two straight edges meeting at a vertex: a corner or a notch.
@@ -816,21 +825,21 @@ const FINE_POINTS: usize = 16 * TILE_SAMPLES;
 /// (a few milliseconds of one core; with the tiles' other work, a
 /// thousand-region map's build takes about 10 % longer).
 const FINE_WORK: usize = 2_000_000;
-/// Segments within a tile's reach beyond which the kinds that play two
-/// lines, a circle or a few segments (corner, notch, bend, arc, segments
-/// and cut arc tiles) are not tried: four a lattice cell. Where those
-/// kinds play a tile, measured, it has at most 213 (a generated chart's
-/// corners; `tala-map`'s circles 120); a map of a thousand regions fitted
-/// to the device has 400 to 700 in most of its tiles, where those writers
-/// found nothing and took a fifth of the build.
-const CROWDED: usize = 4 * TILE_CELLS * TILE_CELLS;
-/// A tile is a candidate for refining only where the layer's work budget
-/// could refine at least this many tiles as crowded: on a map drawn far
-/// finer than the lattice, where every tile's bucket holds hundreds of
-/// segments, the budget buys two or three fine tiles among hundreds of
-/// stored ones, and ranking them all (the check at every stored tile's
-/// cell centres) cost a tenth of the build.
-const MIN_REFINABLE: usize = 8;
+/// A tile is crowded where more than [`CROWDED_SEGMENTS`] segments and
+/// more than [`CROWDED_EDGE`] tile sides of edge lie within its reach: many
+/// shapes' edges, as where a map is drawn far finer than the lattice. The
+/// kinds that play two lines, a circle or a few segments (corner, notch,
+/// bend, arc, segments and cut arc tiles) are not tried there, nor is it
+/// ranked for refining into a fine tile. Measured: on the 1,000-region map
+/// fitted to the device most tiles have 400 to 700 segments and 12 to 25
+/// sides of edge; those writers found nothing there, and ranking every
+/// stored tile for the two or three that the work budget could refine took
+/// a tenth of the build. Every tile those kinds play in the demo and the
+/// generated drawings has at most 213 segments; a lake flattened into 600
+/// segments and crossed by a river has some 200 but 3 sides of edge, and a
+/// chart's glyphs or `tala-plain` 20 sides but a few dozen segments.
+const CROWDED_SEGMENTS: usize = 4 * TILE_CELLS * TILE_CELLS;
+const CROWDED_EDGE: f64 = 12.0;
 /// The fine tiles of a layer may add this many bytes even where the layer
 /// has fewer (a diagram's layer of a few kB, whose corners they sharpen).
 const FINE_BUDGET_FLOOR: usize = 16 * 1024;
