@@ -837,7 +837,7 @@ const FINE_WORK: usize = 2_000_000;
 /// a tenth of the build. Every tile those kinds play in the demo and the
 /// generated drawings has at most 213 segments; a lake flattened into 600
 /// segments and crossed by a river has some 200 but 3 sides of edge, and a
-/// chart's glyphs or `tala-plain` 20 sides but a few dozen segments.
+/// generated chart's tiles 17 sides but 17 segments (medians).
 const CROWDED_SEGMENTS: usize = 4 * TILE_CELLS * TILE_CELLS;
 const CROWDED_EDGE: f64 = 12.0;
 /// The fine tiles of a layer may add this many bytes even where the layer
