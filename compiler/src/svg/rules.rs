@@ -307,7 +307,8 @@ fn meeting_pairs(index: &spatial::BoxIndex, boxes: &[spatial::Bbox]) -> usize {
         return 0;
     }
     // Each sampled box meets itself (when usable): not a pair.
-    let met: usize = (0..picks).map(|k| index.meeting(boxes[k * n / picks]).count().saturating_sub(1)).sum();
+    let met: usize =
+        (0..picks).filter_map(|k| boxes.get(k * n / picks)).map(|&b| index.meeting(b).count().saturating_sub(1)).sum();
     // Every pair is counted from both of its boxes.
     (met as f64 * n as f64 / picks as f64 / 2.0) as usize
 }
