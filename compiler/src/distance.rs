@@ -538,7 +538,7 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
             }
         }
         let bits = near::TileBits { inside: &inside_t, occluded: &occluded_t, in_clip: &in_clip, cap };
-        near.measure_live(g, &segs, bucket, (corner, h, margin), &bits, in_layer((c, r), 0));
+        near.measure_live(g, &segs, bucket, (corner, h, margin), &bits, in_layer((c, r), 0), false);
         let mut tile_buf = [0u8; TILE_SAMPLES];
         // The unquantised distances of the tile's samples, in codes (clamped).
         let mut exact = [0f64; TILE_SAMPLES];

@@ -281,10 +281,13 @@ impl Near {
     /// Measures every part at the tile's samples (corner `corner`, pitch
     /// `h`), each segment within its reach plus `margin`, the grid search
     /// for crowded groups (the layer's grid where it has one, `layer`); the
-    /// parts that only lower the
-    /// distance (cuts, clips, occluders) only where, given the layer's own
-    /// parts and what each sample is inside of (`bits`), they can change the
-    /// clamped distance; elsewhere their slots are left infinite.
+    /// parts that only lower the distance (cuts, clips, occluders) only
+    /// where, given the layer's own parts and what each sample is inside of
+    /// (`bits`), they can change the clamped distance; elsewhere their slots
+    /// are left infinite. With `centres`, the lattice is one shifted half a
+    /// cell and only a tile's 64 cell centres are measured: the samples of
+    /// its last row and column, past the centres, read infinite.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn measure_live(
         &mut self,
         g: &LayerGeometry<'_>,
@@ -293,24 +296,9 @@ impl Near {
         (corner, h, margin): ((f64, f64), f64, f64),
         bits: &TileBits<'_>,
         layer: Option<InLayer<'_>>,
+        centres: bool,
     ) {
-        self.run(segs, bucket, (corner, h, margin), Some((g, bits)), layer, (GRID_FROM, false));
-    }
-
-    /// As [`measure_live`](Self::measure_live) on a lattice shifted half a
-    /// cell, at a tile's 64 cell centres only: the samples of its last row
-    /// and column, past the centres, are not measured (their slots read
-    /// infinite). `bits` are the centres' (at the samples they sit on).
-    pub(super) fn measure_centres(
-        &mut self,
-        g: &LayerGeometry<'_>,
-        segs: &[(Seg, Part, f64)],
-        bucket: &[u32],
-        (corner, h, margin): ((f64, f64), f64, f64),
-        bits: &TileBits<'_>,
-        layer: Option<InLayer<'_>>,
-    ) {
-        self.run(segs, bucket, (corner, h, margin), Some((g, bits)), layer, (GRID_FROM, true));
+        self.run(segs, bucket, (corner, h, margin), Some((g, bits)), layer, (GRID_FROM, centres));
     }
 
     /// Measures, with the grid search for groups of at least `grid_from`

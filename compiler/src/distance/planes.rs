@@ -512,7 +512,7 @@ impl TileCtx<'_, '_> {
             }
         }
         let bits = TileBits { inside: &inside, occluded: &occluded, in_clip: &in_clip, cap: self.cap_mm };
-        centres.measure_centres(self.g, self.segs, self.bucket, (corner, h, self.margin), &bits, self.layer);
+        centres.measure_live(self.g, self.segs, self.bucket, (corner, h, self.margin), &bits, self.layer, true);
         let mut clipped = vec![false; clips.len()];
         let mut out = [0.0; TILE_CELLS * TILE_CELLS];
         for j in 0..TILE_CELLS {
