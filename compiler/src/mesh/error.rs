@@ -1,6 +1,7 @@
 //! What can stop a mesh from compiling.
 
 use super::load::Where;
+use crate::diagnostic::number;
 
 /// A problem that prevents a height field from being built. Messages name
 /// the node, mesh and primitive where they can; the caller names the file.
@@ -73,6 +74,8 @@ pub enum MeshError {
         part: String,
         /// The footprint `[xmin, ymin, xmax, ymax]`, in model units (metres).
         footprint: [f64; 4],
+        /// The model's extent along its X, Y and Z axes, metres.
+        extent: [f64; 3],
     },
     /// The scene has no triangles.
     EmptyScene,
@@ -134,10 +137,13 @@ impl core::fmt::Display for MeshError {
             }
             MeshError::NonFinite { node, mesh, what } => write!(f, "{node}, {mesh}: a {what} is not finite"),
             MeshError::Range { at } => write!(f, "{at}: a vertex lies more than 10 million km from the origin"),
-            MeshError::Far { part, footprint: b } => write!(
+            MeshError::Far { part, footprint: b, .. } => write!(
                 f,
-                "{part}: a vertex lies more than 100 km from the origin (the footprint is x {:.3}..{:.3}, y {:.3}..{:.3} in model units)",
-                b[0], b[2], b[1], b[3]
+                "{part}: a vertex lies more than 100 km from the origin (the footprint is x {}..{}, y {}..{} in model units)",
+                number(b[0], 3),
+                number(b[2], 3),
+                number(b[1], 3),
+                number(b[3], 3)
             ),
             MeshError::EmptyScene => write!(f, "the scene has no triangles (no node with a triangle mesh)"),
             MeshError::NoArea => {

@@ -38,6 +38,7 @@ use taxel_format::{Bundle, Chunk, DeviceProfile, Family, HeightField, Manifest, 
 pub use error::MeshError;
 pub use load::Resolver;
 
+use crate::diagnostic::number;
 use crate::options::{CompileOptions, Region, UpAxis};
 use crate::{Compiled, Diagnostic};
 
@@ -108,18 +109,41 @@ pub struct MeshReport {
 }
 
 impl MeshReport {
-    /// The other height axis, when the model's shape suggests it: a model
-    /// read with +Y up whose Z extent is under a quarter of both its X and
-    /// Y extents lies flat in X/Y, as a terrain exported Z-up does (and the
-    /// other way round).
+    /// The other height axis, when the model's shape suggests it
+    /// ([`suggested_up`]).
     pub fn suggested_up(&self, up: UpAxis) -> Option<UpAxis> {
-        let [x, y, z] = self.extent;
-        match up {
-            UpAxis::Y if z < 0.25 * x.min(y) => Some(UpAxis::Z),
-            UpAxis::Z if y < 0.25 * x.min(z) => Some(UpAxis::Y),
-            _ => None,
-        }
+        suggested_up(self.extent, up)
     }
+}
+
+/// The other height axis, when a model's extent along its X, Y and Z axes
+/// suggests it: a model read with +Y up whose Z extent is under a quarter of
+/// both its X and Y extents lies flat in X/Y, as a terrain exported Z-up
+/// does (and the other way round).
+pub fn suggested_up(extent: [f64; 3], up: UpAxis) -> Option<UpAxis> {
+    let [x, y, z] = extent;
+    match up {
+        UpAxis::Y if z < 0.25 * x.min(y) => Some(UpAxis::Z),
+        UpAxis::Z if y < 0.25 * x.min(z) => Some(UpAxis::Y),
+        _ => None,
+    }
+}
+
+/// What to say of a model whose extent suggests the other height axis
+/// ([`suggested_up`]): the finding, and the flag that reads it so.
+fn other_up(extent: [f64; 3], up: UpAxis) -> Option<(String, &'static str)> {
+    let [x, y, z] = extent.map(|v| number(v, 3));
+    let (flag, now, other) = match suggested_up(extent, up)? {
+        UpAxis::Z => ("--up z", "+Y", "Z"),
+        UpAxis::Y => ("--up y", "+Z", "Y"),
+    };
+    Some((
+        format!(
+            "the model spans {x} x {y} x {z} m along X, Y, Z: it lies flat across the {now} axis taken as up, as a \
+             terrain exported {other}-up does"
+        ),
+        flag,
+    ))
 }
 
 /// The triangles a height field is built from: the scene read with
@@ -148,6 +172,7 @@ pub fn placed(bytes: &[u8], resolve: &mut Resolver<'_>, opts: &MeshOptions) -> R
         return Err(MeshError::Far {
             part: part.unwrap_or_else(|| "the model".into()),
             footprint: footprint.map(|v| v / 1000.0),
+            extent: soup.extent,
         });
     }
     Ok((soup, mm_per_metre))
@@ -160,6 +185,11 @@ pub fn height_field(
     opts: &MeshOptions,
 ) -> Result<(HeightField, MeshReport), MeshError> {
     let (soup, mm_per_metre) = placed(bytes, resolve, opts)?;
+    field_of(soup, mm_per_metre, opts)
+}
+
+/// The height field of placed triangles ([`placed`]).
+fn field_of(soup: load::Soup, mm_per_metre: f64, opts: &MeshOptions) -> Result<(HeightField, MeshReport), MeshError> {
     let surf = surface::build(&soup)?;
     let cell = match opts.nodes_per_mm {
         Some(r) if r.is_finite() && r > 0.0 => 1.0 / r,
@@ -203,51 +233,61 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
         );
         return Compiled { bundle: None, diagnostics, fonts_used: Vec::new() };
     }
-    let (hf, report) = match height_field(bytes, resolve, opts) {
-        Ok(v) => v,
+    // A model read with the wrong axis up (a terrain exported Z-up) is seen
+    // edge on: its errors say which flag reads it the other way.
+    let failed = |e: MeshError, extent: Option<[f64; 3]>| {
+        let up = extent.and_then(|x| other_up(x, opts.up));
+        let up_help = |help: &str| match &up {
+            Some((finding, flag)) => format!("{help}{finding}: build with {flag}"),
+            None => help.trim_end_matches("; ").into(),
+        };
+        let d = Diagnostic::error(e.code(), e.to_string());
+        match &e {
+            MeshError::Region(_) => d.with_help("a region is X,Y,W,H in model units along the page (x = X, y = Z, or -Y with --up z), or #name of a node or mesh"),
+            MeshError::Far { .. } => d.with_help(up_help("build with --fit (and --region for a part) to recentre the model and scale it onto the surface; ")),
+            MeshError::NoArea | MeshError::TooBig { .. } | MeshError::Triangulation(_) if up.is_some() => d.with_help(up_help("")),
+            _ => d,
+        }
+    };
+    let (hf, report) = match placed(bytes, resolve, opts) {
         Err(e) => {
-            let d = Diagnostic::error(e.code(), e.to_string());
-            diagnostics.push(match &e {
-                MeshError::Region(_) => d.with_help("a region is X,Y,W,H in model units along the page (x = X, y = Z, or -Y with --up z), or #name of a node or mesh"),
-                MeshError::Far { .. } => d.with_help("build with --fit (and --region for a part) to recentre the model and scale it onto the surface"),
-                _ => d,
-            });
+            let extent = if let MeshError::Far { extent, .. } = e { Some(extent) } else { None };
+            diagnostics.push(failed(e, extent));
             return Compiled { bundle: None, diagnostics, fonts_used: Vec::new() };
+        }
+        Ok((soup, mm_per_metre)) => {
+            let extent = soup.extent;
+            match field_of(soup, mm_per_metre, opts) {
+                Ok(v) => v,
+                Err(e) => {
+                    diagnostics.push(failed(e, Some(extent)));
+                    return Compiled { bundle: None, diagnostics, fonts_used: Vec::new() };
+                }
+            }
         }
     };
     let scale = if opts.fit.is_some() {
-        format!("; fitted at {:.6} mm per model metre", report.mm_per_metre)
+        format!("; fitted at {} mm per model metre", number(report.mm_per_metre, 3))
     } else {
         String::new()
     };
     diagnostics.push(Diagnostic::note(
         "T0610",
         format!(
-            "height field of {} x {} nodes every {} mm over {:.3} x {:.3} mm from {} triangles ({} steps{scale})",
+            "height field of {} x {} nodes every {} mm over {} x {} mm from {} triangles ({} steps{scale})",
             hf.cols,
             hf.rows,
-            report.cell,
-            report.bbox[2] - report.bbox[0],
-            report.bbox[3] - report.bbox[1],
+            number(report.cell, 3),
+            number(report.bbox[2] - report.bbox[0], 3),
+            number(report.bbox[3] - report.bbox[1], 3),
             report.triangles,
             report.steps
         ),
     ));
-    if let Some(other) = report.suggested_up(opts.up) {
-        let [x, y, z] = report.extent;
-        let (flag, now) = match other {
-            UpAxis::Z => ("--up z", "+Y"),
-            UpAxis::Y => ("--up y", "+Z"),
-        };
+    if let Some((finding, flag)) = other_up(report.extent, opts.up) {
         diagnostics.push(
-            Diagnostic::note(
-                "T0616",
-                format!(
-                    "the model spans {x:.6} x {y:.6} x {z:.6} along X, Y, Z: it lies flat across the {now} axis \
-                     taken as up, as a terrain exported with the other axis up does"
-                ),
-            )
-            .with_help(format!("if the heights run along the other axis, build with {flag}")),
+            Diagnostic::note("T0616", finding)
+                .with_help(format!("if the heights run along the other axis, build with {flag}")),
         );
     }
     if report.unresolved > 0 {

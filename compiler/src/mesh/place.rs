@@ -12,6 +12,7 @@
 use super::error::MeshError;
 use super::load::Soup;
 use super::{MeshOptions, Region};
+use crate::diagnostic::number;
 
 /// Applies `opts.region`, `opts.fit` and `opts.exaggerate` to `soup` in
 /// place. Returns the page millimetres per model metre (1000 without `--fit`).
@@ -30,8 +31,11 @@ pub fn place(soup: &mut Soup, opts: &MeshOptions) -> Result<f64, MeshError> {
                     "{} keeps nothing of the model{}",
                     describe(region),
                     f.map(|b| format!(
-                        ", whose footprint is x {:.6}..{:.6}, y {:.6}..{:.6} (model units)",
-                        b[0], b[2], b[1], b[3]
+                        ", whose footprint is x {}..{}, y {}..{} (model units)",
+                        number(b[0], 3),
+                        number(b[2], 3),
+                        number(b[1], 3),
+                        number(b[3], 3)
                     ))
                     .unwrap_or_default()
                 )));

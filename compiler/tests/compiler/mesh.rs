@@ -862,7 +862,30 @@ fn a_terrain_at_utm_coordinates_builds_with_fit_and_is_refused_without_it() {
     let profile = profiles::builtin("finger3").unwrap();
     let out = mesh::compile_gltf(&far.to_glb(), &mut no_files, &profile, &plain);
     let d = out.diagnostics.iter().find(|d| d.code == "T0605").expect("the refusal");
-    assert!(out.bundle.is_none() && d.help.as_deref().unwrap_or("").contains("--fit"), "{d:?}");
+    let help = d.help.as_deref().unwrap_or("");
+    assert!(out.bundle.is_none() && help.contains("--fit") && !help.contains("--up"), "{d:?}");
+    // Read with +Y up (the default), the Z-up terrain lies flat across the
+    // axis taken as up: the refusal also says which flag reads it right.
+    let out = mesh::compile_gltf(&far.to_glb(), &mut no_files, &profile, &MeshOptions::default());
+    let d = out.diagnostics.iter().find(|d| d.code == "T0605").expect("the refusal");
+    let help = d.help.as_deref().unwrap_or("");
+    assert!(help.contains("--fit") && help.contains("flat across the +Y axis") && help.contains("--up z"), "{d:?}");
+}
+
+#[test]
+fn a_flat_model_seen_edge_on_fails_with_the_up_axis_that_reads_it() {
+    // A square in the X/Y plane (a Z-up export of a flat plate) read with +Y
+    // up covers no area of the page: the error names --up z; read Z-up, the
+    // same file builds.
+    let plate = HeightMesh::grid(4, 4, |u, v| [10.0 * u, 10.0 * v, 0.0]);
+    let glb = plate.to_glb();
+    let profile = profiles::builtin("finger3").unwrap();
+    let out = mesh::compile_gltf(&glb, &mut no_files, &profile, &MeshOptions::default());
+    let d = out.diagnostics.iter().find(|d| d.code == "T0606").expect("no area");
+    assert!(out.bundle.is_none() && d.help.as_deref().unwrap_or("").contains("build with --up z"), "{d:?}");
+    let z_up = MeshOptions { up: UpAxis::Z, fit: Some([160.0, 100.0]), ..MeshOptions::default() };
+    let out = mesh::compile_gltf(&glb, &mut no_files, &profile, &z_up);
+    assert!(out.bundle.is_some(), "{:?}", out.diagnostics);
 }
 
 #[test]
@@ -895,7 +918,7 @@ fn regions_keep_part_of_the_model_and_fit_it() {
     assert!((at(50.0) - 20.0).abs() < 1e-3 && (at(110.0) - 60.0).abs() < 1e-3, "{} {}", at(50.0), at(110.0));
     // Nothing there, and a name that is not in the file.
     let e = error_with(&glb, fit(Region::Rect { x: 50.0, y: 50.0, w: 1.0, h: 1.0 }));
-    assert!(e.contains("keeps nothing") && e.contains("footprint is x 0.000000..20.000000"), "{e}");
+    assert!(e.contains("keeps nothing") && e.contains("footprint is x 0.000..20.000"), "{e}");
     let e = error_with(&glb, fit(Region::Element("church".into())));
     assert!(e.contains("'church'") && e.contains("#low") && e.contains("#tall"), "{e}");
 }
