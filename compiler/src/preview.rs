@@ -219,21 +219,24 @@ fn draw_strokes(c: &mut Canvas, t: &StrokeTable) {
     }
 }
 
+/// A height field: each preview pixel takes its nearest node's height, so
+/// that nodes finer than a pixel blend into no pattern (painting node by
+/// node blended some pixels twice: a moiré over the whole field).
 fn draw_height(c: &mut Canvas, f: &HeightField) {
     let cell = f.cell.0 as f64;
     let max = f.heights.iter().fold(0.0f32, |m, h| m.max(h.abs())) as f64;
-    if cell.is_nan() || cell <= 0.0 || max.is_nan() || max <= 0.0 {
+    if cell.is_nan() || cell <= 0.0 || max.is_nan() || max <= 0.0 || f.cols == 0 || f.rows == 0 {
         return;
     }
-    for r in 0..f.rows as usize {
-        for q in 0..f.cols as usize {
+    let (x0, y0) = (f.origin_x.0 as f64, f.origin_y.0 as f64);
+    let (last_q, last_r) = (f.cols as usize - 1, f.rows as usize - 1);
+    let node = |v: f64, last: usize| (v.round().max(0.0) as usize).min(last);
+    for j in c.rows(y0 - cell / 2.0, y0 + (last_r as f64 + 0.5) * cell) {
+        for i in c.cols(x0 - cell / 2.0, x0 + (last_q as f64 + 0.5) * cell) {
+            let (x, y) = c.at(i, j);
+            let (q, r) = (node((x - x0) / cell, last_q), node((y - y0) / cell, last_r));
             let h = f.heights.get(r * f.cols as usize + q).copied().unwrap_or(0.0) as f64;
-            let (x, y) = (f.origin_x.0 as f64 + q as f64 * cell, f.origin_y.0 as f64 + r as f64 * cell);
-            for j in c.rows(y - cell / 2.0, y + cell / 2.0) {
-                for i in c.cols(x - cell / 2.0, x + cell / 2.0) {
-                    c.paint(i, j, HEIGHT, 0.8 * h.abs() / max);
-                }
-            }
+            c.paint(i, j, HEIGHT, 0.8 * h.abs() / max);
         }
     }
 }
@@ -395,6 +398,49 @@ pub fn preview_svg(svg_text: &str, opts: &CompileOptions) -> (Option<Picture>, C
 #[cfg(test)]
 mod tests {
     use super::*;
+    use taxel_format::Mm;
+
+    #[test]
+    fn a_height_field_of_one_height_paints_one_colour_at_any_node_spacing() {
+        // Nodes finer than a pixel, about a pixel, and coarser: every pixel
+        // whose centre is on the field is painted once, with the same colour
+        // (painting node squares blended pixels under two nodes twice).
+        for cell in [0.0713f32, 0.13, 1.37] {
+            let n = (20.0 / cell) as u32;
+            let nodes = (n * n) as usize;
+            let f = HeightField {
+                source: None,
+                cols: n,
+                rows: n,
+                origin_x: Mm(3.1),
+                origin_y: Mm(2.7),
+                cell: Mm(cell),
+                gradient_cap: 1.0,
+                heights: vec![5.0; nodes],
+                grad_x: vec![0.0; nodes],
+                grad_y: vec![0.0; nodes],
+                flags: vec![0; nodes],
+            };
+            let (w, h) = (240, 240);
+            let k = PREVIEW_PX_PER_MM;
+            let mut c = Canvas { w, h, x0: 0.0, y0: 0.0, k, rgb: vec![[1.0; 3]; w * h] };
+            draw_height(&mut c, &f);
+            let end = |o: f32| (o + (n - 1) as f32 * cell) as f64;
+            let mut seen = std::collections::BTreeSet::new();
+            for j in 0..h {
+                for i in 0..w {
+                    let (x, y) = c.at(i, j);
+                    let p = c.rgb[j * w + i];
+                    if x > 3.1 + 0.01 && x < end(3.1) - 0.01 && y > 2.7 + 0.01 && y < end(2.7) - 0.01 {
+                        seen.insert(p.map(f32::to_bits));
+                    } else if x < 3.1 - cell as f64 || y < 2.7 - cell as f64 {
+                        assert_eq!(p, [1.0; 3], "pixel ({i}, {j}) off the field, cell {cell}");
+                    }
+                }
+            }
+            assert_eq!(seen.len(), 1, "cell {cell} mm: {} colours on a field of one height", seen.len());
+        }
+    }
 
     #[test]
     fn dot_profile_matches_eq_1() {
