@@ -12,7 +12,10 @@
 //! f32 only). This reader takes every component type, normalised integers
 //! (`KHR_mesh_quantization`) and sparse accessors. Compressed meshes are
 //! recognised from `extensionsUsed`/`extensionsRequired` before any accessor
-//! is read, so their refusal names the compression.
+//! is read, so their refusal names the compression. A node with
+//! `EXT_mesh_gpu_instancing` (trees and buildings of city models) places its
+//! mesh once per instance, each instance's transform applied before the
+//! node's.
 
 use gltf::Document;
 use gltf::accessor::{DataType, Dimensions};
@@ -78,6 +81,11 @@ const COMPRESSIONS: [(&str, &str); 2] = [
 const HARMLESS_PREFIXES: [&str; 6] =
     ["KHR_materials_", "KHR_texture_", "EXT_texture_", "KHR_lights_", "MSFT_texture_", "KHR_mesh_quantization"];
 
+/// The instancing extension, which this reader applies ([`instances`]).
+const INSTANCING: &str = "EXT_mesh_gpu_instancing";
+/// Instances one node may place (a forest of a million trees).
+const MAX_INSTANCES: usize = 1_000_000;
+
 /// What `resolve` returns for an external buffer URI: its bytes, or a message.
 pub type Resolver<'r> = dyn FnMut(&str) -> Result<Vec<u8>, String> + 'r;
 
@@ -94,7 +102,7 @@ fn parse(bytes: &[u8]) -> Result<gltf::Gltf, MeshError> {
         }
     }
     for ext in &root.extensions_required {
-        if !HARMLESS_PREFIXES.iter().any(|p| ext.starts_with(p)) {
+        if !HARMLESS_PREFIXES.iter().any(|p| ext.starts_with(p)) && ext != INSTANCING {
             return Err(MeshError::Extension(ext.clone()));
         }
     }
@@ -167,7 +175,11 @@ pub fn load_with(bytes: &[u8], resolve: &mut Resolver<'_>, up: UpAxis) -> Result
             return Err(MeshError::NonFinite { node: name, mesh: String::new(), what: "transform" });
         }
         if let Some(mesh) = node.mesh() {
-            add_mesh(&mut soup, &node, &mesh, &world, &buffers, up, &mut model)?;
+            let worlds = match instances(doc, &node, &mesh, &buffers)? {
+                Some(each) => each.iter().map(|m| mul(&world, m)).collect(),
+                None => vec![world],
+            };
+            add_mesh(&mut soup, &node, &mesh, &worlds, &buffers, up, &mut model)?;
         }
         for c in node.children().collect::<Vec<_>>().into_iter().rev() {
             stack.push((c, world, depth + 1));
@@ -208,11 +220,13 @@ fn load_buffers(
     Ok(out)
 }
 
+/// Adds `mesh`'s triangles placed by each of `worlds` (the node's world
+/// transform, or one per instance): one part for the node.
 fn add_mesh(
     soup: &mut Soup,
     node: &gltf::Node<'_>,
     mesh: &gltf::Mesh<'_>,
-    world: &[[f64; 4]; 4],
+    worlds: &[[[f64; 4]; 4]],
     buffers: &[Vec<u8>],
     up: UpAxis,
     model: &mut [[f64; 3]; 2],
@@ -229,29 +243,6 @@ fn add_mesh(
         let acc = prim.get(&gltf::Semantic::Positions).ok_or_else(|| MeshError::NoPositions { at: at() })?;
         let raw =
             read_vec3(&acc, buffers).map_err(|problem| MeshError::Accessor { at: at(), what: "POSITION", problem })?;
-        let base = soup.vertices.len();
-        if base + raw.len() > u32::MAX as usize / 2 {
-            return Err(MeshError::TooBig { what: "vertices", limit: u32::MAX as usize / 2 });
-        }
-        for p in &raw {
-            let v = apply(world, *p);
-            if v.iter().any(|c| !c.is_finite()) {
-                return Err(MeshError::NonFinite { node: at().node, mesh: at().mesh, what: "vertex position" });
-            }
-            let mm = match up {
-                UpAxis::Y => [v[0] * 1000.0, v[2] * 1000.0, v[1] * 1000.0],
-                UpAxis::Z => [v[0] * 1000.0, -v[1] * 1000.0, v[2] * 1000.0],
-            };
-            if mm.iter().any(|c| c.abs() > MAX_MODEL_MM) {
-                return Err(MeshError::Range { at: at() });
-            }
-            for k in 0..3 {
-                model[0][k] = model[0][k].min(v[k]);
-                model[1][k] = model[1][k].max(v[k]);
-            }
-            part_box = [part_box[0].min(mm[0]), part_box[1].min(mm[1]), part_box[2].max(mm[0]), part_box[3].max(mm[1])];
-            soup.vertices.push(mm);
-        }
         let indices: Vec<u32> = match prim.indices() {
             Some(ia) => read_indices(&ia, buffers).map_err(|problem| MeshError::Accessor {
                 at: at(),
@@ -263,24 +254,50 @@ fn add_mesh(
         if let Some(&bad) = indices.iter().find(|&&i| i as usize >= raw.len()) {
             return Err(MeshError::Index { at: at(), index: bad, count: raw.len() });
         }
-        let b = base as u32;
-        let mut push = |t: [u32; 3]| soup.triangles.push([t[0] + b, t[1] + b, t[2] + b]);
-        match mode {
-            Mode::Triangles => indices.chunks_exact(3).for_each(|c| push([c[0], c[1], c[2]])),
-            Mode::TriangleStrip => {
-                for (k, w) in indices.windows(3).enumerate() {
-                    // Odd triangles of a strip swap two corners to keep the winding.
-                    push(if k % 2 == 0 { [w[0], w[1], w[2]] } else { [w[1], w[0], w[2]] });
+        for world in worlds {
+            let base = soup.vertices.len();
+            if base + raw.len() > u32::MAX as usize / 2 {
+                return Err(MeshError::TooBig { what: "vertices", limit: u32::MAX as usize / 2 });
+            }
+            for p in &raw {
+                let v = apply(world, *p);
+                if v.iter().any(|c| !c.is_finite()) {
+                    return Err(MeshError::NonFinite { node: at().node, mesh: at().mesh, what: "vertex position" });
+                }
+                let mm = match up {
+                    UpAxis::Y => [v[0] * 1000.0, v[2] * 1000.0, v[1] * 1000.0],
+                    UpAxis::Z => [v[0] * 1000.0, -v[1] * 1000.0, v[2] * 1000.0],
+                };
+                if mm.iter().any(|c| c.abs() > MAX_MODEL_MM) {
+                    return Err(MeshError::Range { at: at() });
+                }
+                for k in 0..3 {
+                    model[0][k] = model[0][k].min(v[k]);
+                    model[1][k] = model[1][k].max(v[k]);
+                }
+                part_box =
+                    [part_box[0].min(mm[0]), part_box[1].min(mm[1]), part_box[2].max(mm[0]), part_box[3].max(mm[1])];
+                soup.vertices.push(mm);
+            }
+            let b = base as u32;
+            let mut push = |t: [u32; 3]| soup.triangles.push([t[0] + b, t[1] + b, t[2] + b]);
+            match mode {
+                Mode::Triangles => indices.chunks_exact(3).for_each(|c| push([c[0], c[1], c[2]])),
+                Mode::TriangleStrip => {
+                    for (k, w) in indices.windows(3).enumerate() {
+                        // Odd triangles of a strip swap two corners to keep the winding.
+                        push(if k % 2 == 0 { [w[0], w[1], w[2]] } else { [w[1], w[0], w[2]] });
+                    }
+                }
+                _ => {
+                    if let Some((&first, rest)) = indices.split_first() {
+                        rest.windows(2).for_each(|w| push([first, w[0], w[1]]));
+                    }
                 }
             }
-            _ => {
-                if let Some((&first, rest)) = indices.split_first() {
-                    rest.windows(2).for_each(|w| push([first, w[0], w[1]]));
-                }
+            if soup.triangles.len() > MAX_TRIANGLES {
+                return Err(MeshError::TooBig { what: "triangles", limit: MAX_TRIANGLES });
             }
-        }
-        if soup.triangles.len() > MAX_TRIANGLES {
-            return Err(MeshError::TooBig { what: "triangles", limit: MAX_TRIANGLES });
         }
     }
     if part_box.iter().all(|v| v.is_finite()) {
@@ -291,6 +308,90 @@ fn add_mesh(
         });
     }
     Ok(())
+}
+
+/// The instance transforms of a node with `EXT_mesh_gpu_instancing`, each
+/// `T * R * S` from its `TRANSLATION`, `ROTATION` and `SCALE` (any of them
+/// may be absent); `None` for a node without the extension.
+fn instances(
+    doc: &Document,
+    node: &gltf::Node<'_>,
+    mesh: &gltf::Mesh<'_>,
+    buffers: &[Vec<u8>],
+) -> Result<Option<Vec<[[f64; 4]; 4]>>, MeshError> {
+    let Some(ext) = node.extension_value(INSTANCING) else { return Ok(None) };
+    let at = || Where { node: node_name(node), mesh: mesh_name(mesh), primitive: 0 };
+    let bad = |what: &'static str, problem: String| MeshError::Accessor { at: at(), what, problem };
+    let read = |name: &str, what: &'static str, dims: Dimensions| -> Result<Option<Vec<f64>>, MeshError> {
+        let Some(v) = ext.get("attributes").and_then(|a| a.get(name)) else { return Ok(None) };
+        let acc = v
+            .as_u64()
+            .and_then(|i| doc.accessors().nth(i as usize))
+            .ok_or_else(|| bad(what, format!("names accessor {v}, which the file does not have")))?;
+        let n = match dims {
+            Dimensions::Vec4 => 4,
+            _ => 3,
+        };
+        let float = acc.data_type() == DataType::F32;
+        // Rotations may be normalised 8 or 16-bit integers (the extension's spec).
+        let quantised = dims == Dimensions::Vec4 && acc.normalized() && !matches!(acc.data_type(), DataType::U32);
+        if acc.dimensions() != dims || !(float || quantised) {
+            return Err(bad(
+                what,
+                format!("expected {dims:?} of floats, found {:?} {:?}", acc.data_type(), acc.dimensions()),
+            ));
+        }
+        let flat = read_accessor(&acc, buffers, n).map_err(|p| bad(what, p))?;
+        if flat.iter().any(|v| !v.is_finite()) {
+            return Err(bad(what, "holds a value that is not a finite number".into()));
+        }
+        Ok(Some(flat))
+    };
+    let t = read("TRANSLATION", "EXT_mesh_gpu_instancing TRANSLATION", Dimensions::Vec3)?;
+    let r = read("ROTATION", "EXT_mesh_gpu_instancing ROTATION", Dimensions::Vec4)?;
+    let s = read("SCALE", "EXT_mesh_gpu_instancing SCALE", Dimensions::Vec3)?;
+    let counts = [(&t, 3), (&r, 4), (&s, 3)].map(|(v, n)| v.as_ref().map(|v| v.len() / n));
+    let count = counts.iter().flatten().copied().max().unwrap_or(0);
+    if counts.iter().flatten().any(|&c| c != count) {
+        return Err(bad(
+            "EXT_mesh_gpu_instancing",
+            format!("its attributes hold different numbers of instances: {counts:?}"),
+        ));
+    }
+    if count > MAX_INSTANCES {
+        return Err(MeshError::TooBig { what: "instances of one node", limit: MAX_INSTANCES });
+    }
+    let get = |v: &Option<Vec<f64>>, k: usize, n: usize, default: [f64; 4]| -> [f64; 4] {
+        let mut out = default;
+        if let Some(slot) = v.as_ref().and_then(|v| v.get(k * n..(k + 1) * n)) {
+            out[..n].copy_from_slice(slot);
+        }
+        out
+    };
+    let mut each = Vec::with_capacity(count);
+    for k in 0..count {
+        let [tx, ty, tz, _] = get(&t, k, 3, [0.0; 4]);
+        let [x, y, z, w] = get(&r, k, 4, [0.0, 0.0, 0.0, 1.0]);
+        let [sx, sy, sz, _] = get(&s, k, 3, [1.0; 4]);
+        let norm = (x * x + y * y + z * z + w * w).sqrt();
+        if norm.is_nan() || norm <= 1e-6 {
+            return Err(bad(
+                "EXT_mesh_gpu_instancing ROTATION",
+                format!("instance {k} has no rotation (a zero quaternion)"),
+            ));
+        }
+        let (x, y, z, w) = (x / norm, y / norm, z / norm, w / norm);
+        // Rotation rows of the unit quaternion (x, y, z, w).
+        let rot = [
+            [1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y - z * w), 2.0 * (x * z + y * w)],
+            [2.0 * (x * y + z * w), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z - x * w)],
+            [2.0 * (x * z - y * w), 2.0 * (y * z + x * w), 1.0 - 2.0 * (x * x + y * y)],
+        ];
+        // Column-major, as glTF: column c is rotation column c times scale c.
+        let col = |c: usize, sc: f64| [rot[0][c] * sc, rot[1][c] * sc, rot[2][c] * sc, 0.0];
+        each.push([col(0, sx), col(1, sy), col(2, sz), [tx, ty, tz, 1.0]]);
+    }
+    Ok(Some(each))
 }
 
 /// Where in the file a problem is.

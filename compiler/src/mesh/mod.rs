@@ -330,7 +330,10 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
     }
     let mut bundle = Bundle::new(Manifest::new(*profile));
     bundle.chunks.push(Chunk::Height(hf));
-    let names: Vec<&str> = report.mesh_names.iter().map(String::as_str).filter(|s| !s.is_empty()).collect();
+    // Each mesh named once, in the file's order (many nodes may place one mesh).
+    let mut seen = std::collections::HashSet::new();
+    let names: Vec<&str> =
+        report.mesh_names.iter().map(String::as_str).filter(|s| !s.is_empty() && seen.insert(*s)).collect();
     bundle.chunks.push(Chunk::Provenance(Provenance {
         entries: vec![ProvenanceEntry {
             id: report.scene_name.clone().unwrap_or_else(|| "scene".into()),

@@ -770,9 +770,10 @@ fn compressed_meshes_are_refused_with_the_compression_and_the_way_out() {
     b.extensions_required.push("KHR_texture_basisu".into());
     assert!(mesh::height_field(&b.to_glb(&[node]), &mut no_files, &MeshOptions::default()).is_ok());
     // An unknown required extension may change geometry: refused by name.
-    b.extensions_required = vec!["EXT_mesh_gpu_instancing".into()];
+    // (KHR_implicit_shapes describes shapes without triangles.)
+    b.extensions_required = vec!["KHR_implicit_shapes".into()];
     let e = error(&b.to_glb(&[node])).to_string();
-    assert!(e.contains("EXT_mesh_gpu_instancing") && e.contains("requires"), "{e}");
+    assert!(e.contains("KHR_implicit_shapes") && e.contains("requires"), "{e}");
 }
 
 /// A Z-up terrain as a GIS tool exports it: X east and Y north over 9 x 11
@@ -993,4 +994,93 @@ fn skinned_and_morphed_meshes_are_read_in_their_rest_pose_from_the_default_or_fi
     assert_eq!(f, rest, "the default scene, 1");
     let (f, _) = mesh::height_field(two("").as_bytes(), &mut no_files, &opts()).unwrap();
     assert_eq!(f.origin_x.0, 500.0, "the first scene, 0, holds the far copy");
+}
+
+#[test]
+fn instanced_meshes_are_placed_as_nodes_with_the_same_transforms_are() {
+    // Three instances of one block (EXT_mesh_gpu_instancing): moved, moved
+    // and stretched up, moved and turned 30 degrees about +Y. The reference
+    // is the same block placed by three plain nodes with those transforms
+    // (the gltf crate's own matrices): the two fields must agree.
+    let block = HeightMesh { name: "block".into(), ..cuboid(2.0, 1.0, 1.0) };
+    let (s, c) = (15f32.to_radians().sin(), 15f32.to_radians().cos());
+    let t = [[0.0f32, 0.0, 0.0], [4.0, 0.0, 0.0], [1.0, 0.0, 4.0]];
+    let r = [[0.0f32, 0.0, 0.0, 1.0], [0.0, 0.0, 0.0, 1.0], [0.0, s, 0.0, c]];
+    let sc = [[1.0f32, 1.0, 1.0], [1.0, 2.5, 1.0], [1.0, 1.0, 1.0]];
+    let floats = |v: &[f32]| v.iter().flat_map(|x| x.to_le_bytes()).collect::<Vec<u8>>();
+
+    let mut b = Builder::default();
+    // The block's mesh (0) and a node of it left out of the scene.
+    let _ = b.height_mesh(&block, "");
+    let mut attrs = Vec::new();
+    for (name, data, kind) in
+        [("TRANSLATION", t.concat(), "VEC3"), ("ROTATION", r.concat(), "VEC4"), ("SCALE", sc.concat(), "VEC3")]
+    {
+        let v = b.view(&floats(&data), None);
+        let a = b.accessor(format!("{{\"bufferView\":{v},\"componentType\":5126,\"count\":3,\"type\":\"{kind}\"}}"));
+        attrs.push(format!("\"{name}\":{a}"));
+    }
+    let mut inst = b.clone();
+    inst.extensions_used = vec!["EXT_mesh_gpu_instancing".into()];
+    inst.extensions_required = inst.extensions_used.clone();
+    // The instanced node: the block's mesh (0) with the extension.
+    let root = inst.node(format!(
+        "{{\"name\":\"forest\",\"mesh\":0,\"extensions\":{{\"EXT_mesh_gpu_instancing\":{{\"attributes\":{{{}}}}}}}}}",
+        attrs.join(",")
+    ));
+    let instanced = inst.to_glb(&[root]);
+
+    let mut plain = Builder::default();
+    let _ = plain.height_mesh(&block, "");
+    let nodes: Vec<usize> = (0..3)
+        .map(|k| {
+            plain.node(format!(
+                "{{\"mesh\":0,\"translation\":{:?},\"rotation\":{:?},\"scale\":{:?}}}",
+                t[k], r[k], sc[k]
+            ))
+        })
+        .collect();
+    let reference = plain.to_glb(&nodes);
+
+    let coarse = MeshOptions { nodes_per_mm: Some(0.05), ..MeshOptions::default() };
+    let (a, ra) = mesh::height_field(&instanced, &mut no_files, &coarse).unwrap();
+    let (e, re) = mesh::height_field(&reference, &mut no_files, &coarse).unwrap();
+    assert_eq!(ra.triangles, 3 * 12, "three instances of twelve triangles");
+    assert_eq!((ra.triangles, ra.bbox.map(|v| (v * 1e3).round())), (re.triangles, re.bbox.map(|v| (v * 1e3).round())));
+    assert_eq!((a.cols, a.rows, a.origin_x, a.origin_y, a.cell), (e.cols, e.rows, e.origin_x, e.origin_y, e.cell));
+    for (k, (x, y)) in a.heights.iter().zip(&e.heights).enumerate() {
+        assert!((x - y).abs() < 1e-3, "node {k}: instanced {x} vs nodes {y}");
+    }
+    // The stretched instance stands 2.5 m high, the others 1 m.
+    let top = a.heights.iter().cloned().fold(f32::MIN, f32::max);
+    assert!((top - 2500.0).abs() < 1e-2, "{top}");
+    // Provenance names the mesh once, not once per node or instance.
+    let profile = profiles::builtin("finger3").unwrap();
+    for glb in [&instanced, &reference] {
+        let out = mesh::compile_gltf(glb, &mut no_files, &profile, &coarse);
+        let labels: Vec<String> = out
+            .bundle
+            .iter()
+            .flat_map(|b| &b.chunks)
+            .filter_map(|c| match c {
+                taxel_format::Chunk::Provenance(p) => {
+                    Some(p.entries.iter().map(|e| e.label.clone()).collect::<Vec<_>>())
+                }
+                _ => None,
+            })
+            .flatten()
+            .collect();
+        assert_eq!(labels, ["block"]);
+    }
+
+    // Instances whose attributes disagree on their number are refused.
+    let mut bad = inst.clone();
+    let v = bad.view(&floats(&[1.0, 1.0, 1.0]), None);
+    let a1 = bad.accessor(format!("{{\"bufferView\":{v},\"componentType\":5126,\"count\":1,\"type\":\"VEC3\"}}"));
+    let root = bad.node(format!(
+        "{{\"mesh\":0,\"extensions\":{{\"EXT_mesh_gpu_instancing\":{{\"attributes\":{{{},\"SCALE\":{a1}}}}}}}}}",
+        attrs[0]
+    ));
+    let e = error(&bad.to_glb(&[root]));
+    assert!(e.to_string().contains("different numbers of instances"), "{e}");
 }
