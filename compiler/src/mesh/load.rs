@@ -332,14 +332,12 @@ fn instances(
             Dimensions::Vec4 => 4,
             _ => 3,
         };
-        let float = acc.data_type() == DataType::F32;
-        // Rotations may be normalised 8 or 16-bit integers (the extension's spec).
-        let quantised = dims == Dimensions::Vec4 && acc.normalized() && !matches!(acc.data_type(), DataType::U32);
-        if acc.dimensions() != dims || !(float || quantised) {
-            return Err(bad(
-                what,
-                format!("expected {dims:?} of floats, found {:?} {:?}", acc.data_type(), acc.dimensions()),
-            ));
+        // Floats; rotations may be normalised 8 or 16-bit integers (the
+        // extension's spec), and with KHR_mesh_quantization any of them 8 or
+        // 16-bit integers, normalised or not.
+        if acc.dimensions() != dims || acc.data_type() == DataType::U32 {
+            let found = format!("{:?} {:?}", acc.data_type(), acc.dimensions());
+            return Err(bad(what, format!("expected {dims:?} of floats or 8 or 16-bit integers, found {found}")));
         }
         let flat = read_accessor(&acc, buffers, n).map_err(|p| bad(what, p))?;
         if flat.iter().any(|v| !v.is_finite()) {
