@@ -44,6 +44,13 @@ pub enum MeshError {
         /// What is wrong.
         problem: String,
     },
+    /// A node's `EXT_mesh_gpu_instancing` cannot be read.
+    Instancing {
+        /// The node.
+        node: String,
+        /// What is wrong.
+        problem: String,
+    },
     /// An index points past the end of the vertices.
     Index {
         /// Where.
@@ -132,6 +139,7 @@ impl core::fmt::Display for MeshError {
             MeshError::Index { at, index, count } => {
                 write!(f, "{at}: index {index} is out of range (the primitive has {count} vertices)")
             }
+            MeshError::Instancing { node, problem } => write!(f, "{node}: EXT_mesh_gpu_instancing: {problem}"),
             MeshError::NonFinite { node, mesh, what } if mesh.is_empty() => {
                 write!(f, "{node}: the {what} is not finite")
             }
@@ -180,7 +188,10 @@ impl MeshError {
             MeshError::Parse(_) | MeshError::Buffer { .. } | MeshError::Extension(_) => "T0601",
             MeshError::Graph { .. } | MeshError::EmptyScene => "T0602",
             MeshError::Mode { .. } => "T0603",
-            MeshError::NoPositions { .. } | MeshError::Accessor { .. } | MeshError::Index { .. } => "T0604",
+            MeshError::NoPositions { .. }
+            | MeshError::Accessor { .. }
+            | MeshError::Index { .. }
+            | MeshError::Instancing { .. } => "T0604",
             MeshError::NonFinite { .. } | MeshError::Range { .. } | MeshError::Far { .. } => "T0605",
             MeshError::NoArea => "T0606",
             MeshError::TooBig { .. }

@@ -175,7 +175,7 @@ pub fn load_with(bytes: &[u8], resolve: &mut Resolver<'_>, up: UpAxis) -> Result
             return Err(MeshError::NonFinite { node: name, mesh: String::new(), what: "transform" });
         }
         if let Some(mesh) = node.mesh() {
-            let worlds = match instances(doc, &node, &mesh, &buffers)? {
+            let worlds = match instances(doc, &node, &buffers)? {
                 Some(each) => each.iter().map(|m| mul(&world, m)).collect(),
                 None => vec![world],
             };
@@ -316,18 +316,20 @@ fn add_mesh(
 fn instances(
     doc: &Document,
     node: &gltf::Node<'_>,
-    mesh: &gltf::Mesh<'_>,
     buffers: &[Vec<u8>],
 ) -> Result<Option<Vec<[[f64; 4]; 4]>>, MeshError> {
     let Some(ext) = node.extension_value(INSTANCING) else { return Ok(None) };
-    let at = || Where { node: node_name(node), mesh: mesh_name(mesh), primitive: 0 };
-    let bad = |what: &'static str, problem: String| MeshError::Accessor { at: at(), what, problem };
-    let read = |name: &str, what: &'static str, dims: Dimensions| -> Result<Option<Vec<f64>>, MeshError> {
-        let Some(v) = ext.get("attributes").and_then(|a| a.get(name)) else { return Ok(None) };
+    let bad = |problem: String| MeshError::Instancing { node: node_name(node), problem };
+    let attributes = ext
+        .get("attributes")
+        .and_then(|a| a.as_object())
+        .ok_or_else(|| bad("expected an object with \"attributes\" (TRANSLATION, ROTATION, SCALE)".into()))?;
+    let read = |name: &str, dims: Dimensions| -> Result<Option<Vec<f64>>, MeshError> {
+        let Some(v) = attributes.get(name) else { return Ok(None) };
         let acc = v
             .as_u64()
             .and_then(|i| doc.accessors().nth(i as usize))
-            .ok_or_else(|| bad(what, format!("names accessor {v}, which the file does not have")))?;
+            .ok_or_else(|| bad(format!("{name} names accessor {v}, which the file does not have")))?;
         let n = match dims {
             Dimensions::Vec4 => 4,
             _ => 3,
@@ -337,24 +339,26 @@ fn instances(
         // 16-bit integers, normalised or not.
         if acc.dimensions() != dims || acc.data_type() == DataType::U32 {
             let found = format!("{:?} {:?}", acc.data_type(), acc.dimensions());
-            return Err(bad(what, format!("expected {dims:?} of floats or 8 or 16-bit integers, found {found}")));
+            return Err(bad(format!("{name}: expected {dims:?} of floats or 8 or 16-bit integers, found {found}")));
         }
-        let flat = read_accessor(&acc, buffers, n).map_err(|p| bad(what, p))?;
+        let flat = read_accessor(&acc, buffers, n).map_err(|p| bad(format!("{name}: {p}")))?;
         if flat.iter().any(|v| !v.is_finite()) {
-            return Err(bad(what, "holds a value that is not a finite number".into()));
+            return Err(bad(format!("{name} holds a value that is not a finite number")));
         }
         Ok(Some(flat))
     };
-    let t = read("TRANSLATION", "EXT_mesh_gpu_instancing TRANSLATION", Dimensions::Vec3)?;
-    let r = read("ROTATION", "EXT_mesh_gpu_instancing ROTATION", Dimensions::Vec4)?;
-    let s = read("SCALE", "EXT_mesh_gpu_instancing SCALE", Dimensions::Vec3)?;
+    let t = read("TRANSLATION", Dimensions::Vec3)?;
+    let r = read("ROTATION", Dimensions::Vec4)?;
+    let s = read("SCALE", Dimensions::Vec3)?;
     let counts = [(&t, 3), (&r, 4), (&s, 3)].map(|(v, n)| v.as_ref().map(|v| v.len() / n));
-    let count = counts.iter().flatten().copied().max().unwrap_or(0);
+    let Some(count) = counts.iter().flatten().copied().max() else {
+        return Err(bad("it has none of the attributes TRANSLATION, ROTATION and SCALE".into()));
+    };
     if counts.iter().flatten().any(|&c| c != count) {
-        return Err(bad(
-            "EXT_mesh_gpu_instancing",
-            format!("its attributes hold different numbers of instances: {counts:?}"),
-        ));
+        let [t, r, s] = counts.map(|c| c.map_or("none".to_string(), |c| c.to_string()));
+        return Err(bad(format!(
+            "its attributes hold different numbers of instances (TRANSLATION {t}, ROTATION {r}, SCALE {s})"
+        )));
     }
     if count > MAX_INSTANCES {
         return Err(MeshError::TooBig { what: "instances of one node", limit: MAX_INSTANCES });
@@ -373,10 +377,7 @@ fn instances(
         let [sx, sy, sz, _] = get(&s, k, 3, [1.0; 4]);
         let norm = (x * x + y * y + z * z + w * w).sqrt();
         if norm.is_nan() || norm <= 1e-6 {
-            return Err(bad(
-                "EXT_mesh_gpu_instancing ROTATION",
-                format!("instance {k} has no rotation (a zero quaternion)"),
-            ));
+            return Err(bad(format!("ROTATION of instance {k} is a zero quaternion")));
         }
         let (x, y, z, w) = (x / norm, y / norm, z / norm, w / norm);
         // Rotation rows of the unit quaternion (x, y, z, w).

@@ -1082,5 +1082,9 @@ fn instanced_meshes_are_placed_as_nodes_with_the_same_transforms_are() {
         attrs[0]
     ));
     let e = error(&bad.to_glb(&[root]));
-    assert!(e.to_string().contains("different numbers of instances"), "{e}");
+    assert!(e.to_string().contains("different numbers of instances (TRANSLATION 3, ROTATION none, SCALE 1)"), "{e}");
+    // So is an extension that is not an object of attributes.
+    let root = bad.node("{\"mesh\":0,\"extensions\":{\"EXT_mesh_gpu_instancing\":\"all\"}}".into());
+    let e = error(&bad.to_glb(&[root]));
+    assert!(e.to_string().contains("EXT_mesh_gpu_instancing: expected an object with \"attributes\""), "{e}");
 }
