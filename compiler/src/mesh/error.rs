@@ -132,7 +132,11 @@ impl core::fmt::Display for MeshError {
             MeshError::Buffer { index, message } => write!(f, "buffer {index}: {message}"),
             MeshError::Graph { node, problem } => write!(f, "{node} {problem}"),
             MeshError::Mode { at, mode } => {
-                write!(f, "{at}: mode {mode} is not supported (expected triangles, a triangle strip or a fan)")
+                write!(
+                    f,
+                    "{at}: mode {mode} is not supported (expected triangles, a triangle strip or a fan), and the \
+                     scene has no triangles"
+                )
             }
             MeshError::NoPositions { at } => write!(f, "{at}: no POSITION attribute"),
             MeshError::Accessor { at, what, problem } => write!(f, "{at}: {what} accessor: {problem}"),

@@ -54,6 +54,11 @@ pub struct Soup {
     /// Extent of the model along its own X, Y and Z axes (metres, after the
     /// node transforms), for the up-axis note.
     pub extent: [f64; 3],
+    /// Primitives of points or lines left out (a relief is built from
+    /// triangles).
+    pub skipped: usize,
+    /// The first of them, with its mode.
+    pub first_skipped: Option<(Where, String)>,
 }
 
 /// One node's mesh and where it lies, for `--region #name`.
@@ -186,7 +191,10 @@ pub fn load_with(bytes: &[u8], resolve: &mut Resolver<'_>, up: UpAxis) -> Result
         }
     }
     if soup.triangles.is_empty() {
-        return Err(MeshError::EmptyScene);
+        return Err(match soup.first_skipped.take() {
+            Some((at, mode)) => MeshError::Mode { at, mode },
+            None => MeshError::EmptyScene,
+        });
     }
     soup.extent = [0, 1, 2].map(|k| (model[1][k] - model[0][k]).max(0.0));
     Ok(soup)
@@ -238,7 +246,14 @@ fn add_mesh(
         let at = || Where { node: node_name(node), mesh: mesh_name.clone(), primitive: prim.index() };
         let mode = prim.mode();
         if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
-            return Err(MeshError::Mode { at: at(), mode: format!("{mode:?}") });
+            // Loose edges and points (Blender's "Loose Edges", a road's
+            // centre line in a city model) have no area to feel: left out,
+            // and an error only when nothing else is left.
+            soup.skipped += 1;
+            if soup.first_skipped.is_none() {
+                soup.first_skipped = Some((at(), format!("{mode:?}")));
+            }
+            continue;
         }
         let acc = prim.get(&gltf::Semantic::Positions).ok_or_else(|| MeshError::NoPositions { at: at() })?;
         let raw =

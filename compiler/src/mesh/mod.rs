@@ -106,6 +106,10 @@ pub struct MeshReport {
     pub mm_per_metre: f64,
     /// Projected edges left crossing after the arrangement (see `planar`).
     pub unresolved: usize,
+    /// Primitives of points or lines left out.
+    pub skipped: usize,
+    /// The first of them: where, and its mode.
+    pub first_skipped: Option<String>,
 }
 
 impl MeshReport {
@@ -210,6 +214,8 @@ fn field_of(soup: load::Soup, mm_per_metre: f64, opts: &MeshOptions) -> Result<(
         extent: soup.extent,
         mm_per_metre,
         unresolved: surf.unresolved,
+        skipped: soup.skipped,
+        first_skipped: soup.first_skipped.map(|(at, mode)| format!("{at}, mode {mode}")),
     };
     Ok((hf, report))
 }
@@ -288,6 +294,19 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
         diagnostics.push(
             Diagnostic::note("T0616", finding)
                 .with_help(format!("if the heights run along the other axis, build with {flag}")),
+        );
+    }
+    if let Some(first) = report.first_skipped.as_ref().filter(|_| report.skipped > 0) {
+        let n = report.skipped;
+        diagnostics.push(
+            Diagnostic::note(
+                "T0618",
+                format!(
+                    "{n} {} of points or lines left out (the first: {first}): a relief is built from triangles",
+                    if n == 1 { "primitive" } else { "primitives" }
+                ),
+            )
+            .with_help("loose edges and points have no area to feel; draw them as thin faces if they matter"),
         );
     }
     if report.unresolved > 0 {

@@ -1088,3 +1088,46 @@ fn instanced_meshes_are_placed_as_nodes_with_the_same_transforms_are() {
     let e = error(&bad.to_glb(&[root]));
     assert!(e.to_string().contains("EXT_mesh_gpu_instancing: expected an object with \"attributes\""), "{e}");
 }
+
+#[test]
+fn loose_edges_and_points_beside_triangles_are_left_out_with_a_note() {
+    // A ramp with a second primitive of lines (Blender's loose edges) and a
+    // mesh of points: the relief is the ramp's, as without them, and a note
+    // names the first primitive left out. Lines alone stay an error.
+    let ramp = unit_ramp(4);
+    let mut b = Builder::default();
+    let p = b.positions(&ramp.positions);
+    let i = b.indices(&ramp.indices);
+    let edges = b.indices(&[0, 1, 1, 2]);
+    let tri = format!("{{\"attributes\":{{\"POSITION\":{p}}},\"indices\":{i}}}");
+    let lines = format!("{{\"attributes\":{{\"POSITION\":{p}}},\"indices\":{edges},\"mode\":1}}");
+    let points = format!("{{\"attributes\":{{\"POSITION\":{p}}},\"mode\":0}}");
+    let both = b.mesh("ramp", &[tri.clone(), lines.clone()]);
+    let dots = b.mesh("dots", &[points]);
+    let n1 = b.node(format!("{{\"name\":\"ramp\",\"mesh\":{both}}}"));
+    let n2 = b.node(format!("{{\"name\":\"survey\",\"mesh\":{dots}}}"));
+    let mixed = b.to_glb(&[n1, n2]);
+    let mut plain = Builder::default();
+    let root = plain.height_mesh(&ramp, "");
+    let (f, r) = mesh::height_field(&mixed, &mut no_files, &opts()).unwrap();
+    let (g, _) = mesh::height_field(&plain.to_glb(&[root]), &mut no_files, &opts()).unwrap();
+    assert_eq!((f.cols, f.rows, &f.heights), (g.cols, g.rows, &g.heights));
+    assert_eq!(r.skipped, 2);
+    let profile = profiles::builtin("finger3").unwrap();
+    let out = mesh::compile_gltf(&mixed, &mut no_files, &profile, &opts());
+    let note = out.diagnostics.iter().find(|d| d.code == "T0618").expect("the note");
+    assert!(out.bundle.is_some(), "{:?}", out.diagnostics);
+    assert!(
+        note.message.starts_with("2 primitives of points or lines left out (the first: node 'ramp' (#0), mesh 'ramp' (#0), primitive 1, mode Lines)"),
+        "{}",
+        note.message
+    );
+    // Lines alone: nothing to build, the error names them.
+    let mut only = Builder::default();
+    let p = only.positions(&ramp.positions);
+    let edges = only.indices(&[0, 1, 1, 2]);
+    let m = only.mesh("wire", &[format!("{{\"attributes\":{{\"POSITION\":{p}}},\"indices\":{edges},\"mode\":1}}")]);
+    let n = only.node(format!("{{\"mesh\":{m}}}"));
+    let e = error(&only.to_glb(&[n])).to_string();
+    assert!(e.contains("mode Lines is not supported") && e.contains("no triangles"), "{e}");
+}
