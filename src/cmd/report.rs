@@ -61,7 +61,7 @@ pub fn human(rep: &Report) -> String {
         s += &format!(
             "{:<10} {:>9} {:>11.2} {:>10} {:>9.3} {:>9.1} {:>10.2} {:>10.3} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}  {}\n",
             r.kernel,
-            r.setting,
+            setting(r.setting),
             r.compile_ms,
             r.bundle_bytes,
             r.frame_us,
@@ -87,4 +87,28 @@ pub fn human(rep: &Report) -> String {
         s += &format!("note: {n}\n");
     }
     s
+}
+
+/// A setting as the table shows it: at most four decimals, trailing zeros
+/// dropped (a mesh's default resolution is 5.98 nodes per mm, not
+/// 5.979998966336429).
+fn setting(v: f64) -> String {
+    let s = format!("{v:.4}");
+    let s = if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s };
+    if s == "0" && v != 0.0 { format!("{v:.2e}") } else { s }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::setting;
+
+    #[test]
+    fn settings_are_shown_short() {
+        assert_eq!(setting(5.979998966336429), "5.98");
+        assert_eq!(setting(0.25), "0.25");
+        assert_eq!(setting(0.0625), "0.0625");
+        assert_eq!(setting(2.0), "2");
+        assert_eq!(setting(1000.0), "1000");
+        assert_eq!(setting(1.5e-5), "1.50e-5");
+    }
 }
