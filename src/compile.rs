@@ -116,7 +116,12 @@ pub fn compile_bytes(path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> Result<
     match ext.as_str() {
         "svg" | "svgz" => compile_drawing(path, bytes, opts),
         "gltf" | "glb" => compile_mesh(path, &bytes, opts),
-        _ => bail!("{}: unknown input kind, expected .svg, .svgz, .gltf or .glb", path.display()),
+        _ => match crate::batch::discover::convert_hint(&ext) {
+            Some(hint) => {
+                bail!("{}: taxel does not read .{ext} files, only .svg, .svgz, .gltf and .glb: {hint}", path.display())
+            }
+            None => bail!("{}: unknown input kind, expected .svg, .svgz, .gltf or .glb", path.display()),
+        },
     }
 }
 

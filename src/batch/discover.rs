@@ -64,10 +64,38 @@ impl Discovered {
         if by.len() > 4 {
             kinds.push(format!("{} of other kinds", by[4..].iter().map(|(_, n)| **n).sum::<usize>()));
         }
+        // What to do with each kind found, once per kind of advice.
+        let mut advice: Vec<&str> = Vec::new();
+        for (e, _) in &by {
+            let a = convert_hint(e).unwrap_or(OTHER_DRAWINGS);
+            if !advice.contains(&a) {
+                advice.push(a);
+            }
+        }
         Some(format!(
-            "note: {total} other file(s) in the folders are not drawings and were not built ({}); taxel builds .svg, .svgz, .gltf and .glb (export other drawings to SVG)",
-            kinds.join(", ")
+            "note: {total} other file(s) in the folders are not drawings and were not built ({}); taxel builds .svg, .svgz, .gltf and .glb: {}",
+            kinds.join(", "),
+            advice.join("; ")
         ))
+    }
+}
+
+/// Advice for files of kinds taxel does not read.
+const OTHER_DRAWINGS: &str = "save other drawings as SVG";
+const MESHES: &str = "export 3D models from Blender as glTF 2.0 (File > Import, then File > Export > glTF 2.0 .glb) and build them with --fit";
+const PICTURES: &str = "trace pictures to paths and save them as SVG (Inkscape: Path > Trace Bitmap)";
+const DOCUMENTS: &str = "open PDF, EPS, AI and other vector files in Inkscape and save them as SVG";
+
+/// What to do with a file of extension `ext` (lower case) that taxel does
+/// not read, when it is a known kind: a 3D model, a picture or a vector
+/// document.
+pub fn convert_hint(ext: &str) -> Option<&'static str> {
+    match ext {
+        "stl" | "obj" | "fbx" | "ply" | "dae" | "3ds" | "3mf" | "blend" | "usd" | "usda" | "usdc" | "usdz" | "x3d"
+        | "wrl" | "off" | "step" | "stp" => Some(MESHES),
+        "png" | "jpg" | "jpeg" | "gif" | "bmp" | "tif" | "tiff" | "webp" | "heic" => Some(PICTURES),
+        "pdf" | "eps" | "ps" | "ai" | "emf" | "wmf" | "cdr" | "odg" | "vsd" | "vsdx" | "dxf" => Some(DOCUMENTS),
+        _ => None,
     }
 }
 

@@ -37,6 +37,11 @@ pub fn run(input: &Path, out: &Path, opts: &CompileOpts) -> CmdResult {
             print_diagnostics(&shown, &compiled.diagnostics);
             compiled.bundle.as_ref().map(|b| preview::render_bundle(b, None))
         }
+        _ if let Some(hint) = crate::batch::discover::convert_hint(&ext) => {
+            return Err(CliError::input(anyhow::anyhow!(
+                "{shown}: taxel does not read .{ext} files, only drawings (.svg, .svgz), meshes (.gltf, .glb) and bundles: {hint}"
+            )));
+        }
         _ => {
             let bytes = io::read_bundle(input)?;
             let bundle = Bundle::from_bytes(&bytes)

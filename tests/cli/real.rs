@@ -163,6 +163,7 @@ fn a_teachers_folder_builds_svgz_and_upper_case_svg_and_names_what_it_did_not_bu
     write(&src, "worksheet.pdf", "%PDF-1.4");
     write(&src, "photo.png", "png");
     write(&src, "photo2.png", "png");
+    write(&src, "relief.stl", "solid x\nendsolid x\n");
     let out_dir = dir.path().join("out");
     let out = taxel(&["build", "--fit", src.to_str().unwrap(), "-o", out_dir.to_str().unwrap()]);
     let text = all(&out);
@@ -177,7 +178,22 @@ fn a_teachers_folder_builds_svgz_and_upper_case_svg_and_names_what_it_did_not_bu
     let layers = |b: &[u8]| taxel_format::BundleView::parse(b).unwrap().chunks().count();
     assert_eq!(layers(&packed), layers(&plain));
     let note = text.lines().find(|l| l.contains("not drawings")).unwrap_or_else(|| panic!("{text}"));
-    assert!(note.contains("3 other file(s)") && note.contains("2 .png, 1 .pdf"), "{note}");
+    assert!(note.contains("4 other file(s)") && note.contains("2 .png, 1 .pdf, 1 .stl"), "{note}");
+    // With what to do with each kind: trace pictures, convert documents and 3D models.
+    for advice in ["Path > Trace Bitmap", "in Inkscape and save them as SVG", "glTF 2.0", "--fit"] {
+        assert!(note.contains(advice), "{advice}: {note}");
+    }
+    // A 3D-printing model named directly says the same.
+    let out = taxel(&["build", src.join("relief.stl").to_str().unwrap()]);
+    let text = all(&out);
+    assert!(
+        out.status.code() == Some(1) && text.contains("does not read .stl files") && text.contains("glTF 2.0"),
+        "{text}"
+    );
+    let png = dir.path().join("photo-preview.png");
+    let out = taxel(&["preview", src.join("photo.png").to_str().unwrap(), "-o", png.to_str().unwrap()]);
+    let text = all(&out);
+    assert!(out.status.code() == Some(1) && text.contains("Trace Bitmap") && !png.exists(), "{text}");
     // Named directly, and previewed.
     let one = dir.path().join("one.taxel");
     let src_z = src.join("packed.svgz");
