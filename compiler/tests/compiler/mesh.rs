@@ -1131,3 +1131,79 @@ fn loose_edges_and_points_beside_triangles_are_left_out_with_a_note() {
     let e = error(&only.to_glb(&[n])).to_string();
     assert!(e.contains("mode Lines is not supported") && e.contains("no triangles"), "{e}");
 }
+
+#[test]
+fn corrupted_files_are_errors_or_fields_never_panics() {
+    // A small file with most of what the reader takes (an instanced node
+    // with translations and normalised-short rotations, a plain node, u16
+    // indices, a primitive of lines), corrupted a few bytes at a time:
+    // random bytes anywhere, or a digit of the JSON changed (which keeps it
+    // JSON and reaches the accessors, counts and offsets). Every result is a
+    // field or an error; a panic fails the test.
+    let ramp = HeightMesh::grid(3, 3, |u, v| [0.01 * u, 0.004 * u * v, 0.01 * v]);
+    let mut b = Builder::default();
+    let p = b.positions(&ramp.positions);
+    let idx: Vec<u8> = ramp.indices.iter().flat_map(|&i| (i as u16).to_le_bytes()).collect();
+    let v = b.view(&idx, None);
+    let i = b.accessor(format!(
+        "{{\"bufferView\":{v},\"componentType\":5123,\"count\":{},\"type\":\"SCALAR\"}}",
+        ramp.indices.len()
+    ));
+    let edges = b.indices(&[0, 1, 1, 2]);
+    let m = b.mesh(
+        "ramp",
+        &[
+            format!("{{\"attributes\":{{\"POSITION\":{p}}},\"indices\":{i}}}"),
+            format!("{{\"attributes\":{{\"POSITION\":{p}}},\"indices\":{edges},\"mode\":1}}"),
+        ],
+    );
+    let t: Vec<u8> = [0.0f32, 0.0, 0.0, 0.02, 0.0, 0.0].iter().flat_map(|x| x.to_le_bytes()).collect();
+    let tv = b.view(&t, None);
+    let ta = b.accessor(format!("{{\"bufferView\":{tv},\"componentType\":5126,\"count\":2,\"type\":\"VEC3\"}}"));
+    let r: Vec<u8> = [0i16, 0, 0, 32767, 0, 23170, 0, 23170].iter().flat_map(|x| x.to_le_bytes()).collect();
+    let rv = b.view(&r, None);
+    let ra = b.accessor(format!(
+        "{{\"bufferView\":{rv},\"componentType\":5122,\"normalized\":true,\"count\":2,\"type\":\"VEC4\"}}"
+    ));
+    b.extensions_used = vec!["EXT_mesh_gpu_instancing".into()];
+    let n1 = b.node(format!(
+        "{{\"mesh\":{m},\"extensions\":{{\"EXT_mesh_gpu_instancing\":{{\"attributes\":{{\"TRANSLATION\":{ta},\"ROTATION\":{ra}}}}}}}}}"
+    ));
+    let n2 = b.node(format!("{{\"mesh\":{m},\"translation\":[0,0,0.03]}}"));
+    let glb = b.to_glb(&[n1, n2]);
+    let opts = MeshOptions { nodes_per_mm: Some(0.5), ..MeshOptions::default() };
+    let (_, report) = mesh::height_field(&glb, &mut no_files, &opts).expect("the file itself builds");
+    assert_eq!(report.triangles, 3 * ramp.indices.len() / 3, "two instances and a node of the ramp");
+
+    let json_end = 20 + u32::from_le_bytes([glb[12], glb[13], glb[14], glb[15]]) as usize;
+    let digits: Vec<usize> = (20..json_end).filter(|&k| glb[k].is_ascii_digit()).collect();
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    };
+    let (mut built, mut refused) = (0, 0);
+    for round in 0..3000 {
+        let mut bytes = glb.clone();
+        for _ in 0..1 + next() % 3 {
+            if round % 2 == 0 {
+                let k = digits[next() as usize % digits.len()];
+                bytes[k] = b"0123456789"[next() as usize % 10];
+            } else {
+                let k = next() as usize % bytes.len();
+                bytes[k] = next() as u8;
+            }
+        }
+        match mesh::height_field(&bytes, &mut no_files, &opts) {
+            Ok(_) => built += 1,
+            Err(e) => {
+                assert!(!e.to_string().is_empty());
+                refused += 1;
+            }
+        }
+    }
+    // Both outcomes are exercised: the corruption reaches past the parser.
+    assert!(built > 100 && refused > 100, "built {built}, refused {refused}");
+}
