@@ -221,7 +221,8 @@ pub enum Command {
     Play {
         /// The bundle.
         bundle: PathBuf,
-        /// Exploration trace (CSV with header `t_ms,x_mm,y_mm`, plus `contact` for the finger device).
+        /// Exploration trace (CSV with header `t_ms,x_mm,y_mm`, plus `contact` for the finger device; columns in
+        /// any order, `#` comment lines, semicolons or tabs with decimal commas read too).
         #[arg(long)]
         trace: Option<PathBuf>,
         /// Output: FRAMES.csv, MOTORS.csv or DRIVE.wav (standard output when omitted).

@@ -3,6 +3,10 @@
 //! optional `contact` column (0 or 1, for the finger device).
 //!
 //! Columns are found by name, in any order; other columns are ignored.
+//! Lines starting with `#` are comments (a recorder's preamble). Fields are
+//! separated by commas, or by semicolons or tabs when the header has no comma
+//! (spreadsheets in locales with a decimal comma); with those, a number may
+//! be written with a decimal comma (`12,5`).
 //! Times are milliseconds on the trace's own clock, not negative, and never
 //! decreasing; every number is finite. Between samples the position is
 //! interpolated linearly and contact holds the latest sample's value. Tick
@@ -57,8 +61,7 @@ pub struct Trace {
     has_contact: bool,
 }
 
-/// Why a trace was refused. `line` is the 1-based line in the file (the
-/// header is line 1).
+/// Why a trace was refused. `line` is the 1-based line in the file.
 #[derive(Debug, Clone, PartialEq)]
 pub enum TraceError {
     /// The CSV itself is malformed (or not UTF-8), or could not be read.
@@ -70,6 +73,8 @@ pub enum TraceError {
     },
     /// A required column is not in the header.
     MissingColumn {
+        /// Line of the header.
+        line: u64,
         /// The column.
         column: &'static str,
         /// The header found.
@@ -77,6 +82,8 @@ pub enum TraceError {
     },
     /// A column appears twice in the header.
     DuplicateColumn {
+        /// Line of the header.
+        line: u64,
         /// The column.
         column: &'static str,
     },
@@ -137,11 +144,11 @@ impl fmt::Display for TraceError {
         match self {
             TraceError::Csv { line: Some(l), message } => write!(f, "line {l}: malformed CSV: {message}"),
             TraceError::Csv { line: None, message } => write!(f, "malformed CSV: {message}"),
-            TraceError::MissingColumn { column, header } => write!(
+            TraceError::MissingColumn { line, column, header } => write!(
                 f,
-                "line 1: the header has no `{column}` column (expected t_ms,x_mm,y_mm and optionally contact; found `{header}`)"
+                "line {line}: the header has no `{column}` column (expected t_ms,x_mm,y_mm and optionally contact; found `{header}`)"
             ),
-            TraceError::DuplicateColumn { column } => write!(f, "line 1: the header names `{column}` twice"),
+            TraceError::DuplicateColumn { line, column } => write!(f, "line {line}: the header names `{column}` twice"),
             TraceError::MissingField { line, column } => write!(f, "line {line}: no value for `{column}`"),
             TraceError::NotANumber { line, column, value } => {
                 write!(f, "line {line}: `{column}` must be a number, found `{value}`")
@@ -169,15 +176,62 @@ const COLUMNS: [&str; 4] = ["t_ms", "x_mm", "y_mm", "contact"];
 
 impl Trace {
     /// Reads and checks a trace.
-    pub fn parse(reader: impl Read) -> Result<Trace, TraceError> {
+    pub fn parse(mut reader: impl Read) -> Result<Trace, TraceError> {
+        let mut bytes = Vec::new();
+        reader.read_to_end(&mut bytes).map_err(|e| TraceError::Csv { line: None, message: e.to_string() })?;
+        // The header: the first line that is neither blank nor a comment.
+        let mut header_line = 1u64;
+        let mut header_text: &[u8] = &[];
+        for l in bytes.split(|&b| b == b'\n') {
+            let l = l.strip_prefix("\u{feff}".as_bytes()).unwrap_or(l);
+            if l.starts_with(b"#") || l.iter().all(u8::is_ascii_whitespace) {
+                header_line += 1;
+                continue;
+            }
+            header_text = l;
+            break;
+        }
+        // Comment lines are emptied rather than left to the CSV reader's
+        // comments, which it does not count as lines: errors name the line
+        // in the file.
+        let mut text = Vec::with_capacity(bytes.len());
+        for (i, l) in bytes.split(|&b| b == b'\n').enumerate() {
+            if i > 0 {
+                text.push(b'\n');
+            }
+            let bare = l.strip_prefix("\u{feff}".as_bytes()).unwrap_or(l);
+            if !bare.starts_with(b"#") {
+                text.extend_from_slice(l);
+            }
+        }
+        // Line numbers from byte offsets: the CSV reader's own skip blank
+        // lines without counting them (a record's position is where the
+        // reader started, before the blank lines it skipped).
+        let starts: Vec<usize> = core::iter::once(0)
+            .chain(text.iter().enumerate().filter(|(_, b)| **b == b'\n').map(|(i, _)| i + 1))
+            .collect();
+        let line_of = |p: &csv::Position| {
+            let mut at = p.byte() as usize;
+            while matches!(text.get(at), Some(b'\n' | b'\r')) {
+                at += 1;
+            }
+            starts.partition_point(|&s| s <= at) as u64
+        };
+        let delimiter = match header_text {
+            h if h.contains(&b',') => b',',
+            h if h.contains(&b';') => b';',
+            h if h.contains(&b'\t') => b'\t',
+            _ => b',',
+        };
         let mut csv = csv::ReaderBuilder::new()
             .has_headers(true)
             .flexible(true)
             .trim(csv::Trim::All)
             .comment(None)
-            .from_reader(reader);
+            .delimiter(delimiter)
+            .from_reader(text.as_slice());
         let csv_error = |e: csv::Error| TraceError::Csv {
-            line: e.position().map(|p| p.line()),
+            line: e.position().map(line_of),
             message: match e.kind() {
                 csv::ErrorKind::Utf8 { .. } => "not UTF-8 text".to_string(),
                 _ => e.to_string(),
@@ -193,16 +247,19 @@ impl Trace {
             let name = name.trim_start_matches('\u{feff}');
             if let Some(c) = COLUMNS.iter().position(|&c| c == name) {
                 if index[c].is_some() {
-                    return Err(TraceError::DuplicateColumn { column: COLUMNS[c] });
+                    return Err(TraceError::DuplicateColumn { line: header_line, column: COLUMNS[c] });
                 }
                 index[c] = Some(i);
             }
         }
-        let header_text = header.iter().collect::<Vec<_>>().join(",");
+        let header_text = header.iter().collect::<Vec<_>>().join(&(delimiter as char).to_string());
         let mut required = [0usize; 3];
         for c in 0..3 {
-            required[c] =
-                index[c].ok_or(TraceError::MissingColumn { column: COLUMNS[c], header: header_text.clone() })?;
+            required[c] = index[c].ok_or(TraceError::MissingColumn {
+                line: header_line,
+                column: COLUMNS[c],
+                header: header_text.clone(),
+            })?;
         }
         let has_contact = index[3].is_some();
         let mut samples: Vec<TraceSample> = Vec::new();
@@ -213,7 +270,7 @@ impl Trace {
                 Ok(false) => break,
                 Err(e) => return Err(csv_error(e)),
             }
-            let line = record.position().map(|p| p.line()).unwrap_or(0);
+            let line = record.position().map(line_of).unwrap_or(0);
             // A blank line reads as one empty field; skip it.
             if record.len() == 1 && record.get(0) == Some("") {
                 continue;
@@ -221,11 +278,13 @@ impl Trace {
             let field = |c: usize, i: usize| record.get(i).ok_or(TraceError::MissingField { line, column: COLUMNS[c] });
             let number = |c: usize| -> Result<f64, TraceError> {
                 let text = field(c, required[c])?;
-                let v: f64 = text.parse().map_err(|_| TraceError::NotANumber {
-                    line,
-                    column: COLUMNS[c],
-                    value: text.to_string(),
-                })?;
+                // A decimal comma, where commas do not separate fields.
+                let parsed = match delimiter {
+                    b',' => text.parse(),
+                    _ => text.replacen(',', ".", 1).parse(),
+                };
+                let v: f64 =
+                    parsed.map_err(|_| TraceError::NotANumber { line, column: COLUMNS[c], value: text.to_string() })?;
                 if v.is_finite() {
                     Ok(v)
                 } else {
@@ -406,6 +465,39 @@ mod tests {
         assert!(!t.at_ms(5.0).contact);
         assert!(t.at_ms(4.9).contact);
         assert!(parse("t_ms,x_mm,y_mm\n0,1,2\n").unwrap().samples()[0].contact);
+    }
+
+    #[test]
+    fn comments_semicolons_tabs_and_decimal_commas_are_read() {
+        // A recorder's preamble, blank lines and a comment between rows.
+        let t = parse("# recorded 2026-11-27, carrier 3\n\nt_ms,x_mm,y_mm\n0,1,2\n# paused\n4,5,6\n").unwrap();
+        assert_eq!(t.samples().len(), 2);
+        assert_eq!(t.samples()[1], TraceSample { t_ms: 4.0, x_mm: 5.0, y_mm: 6.0, contact: true });
+        // A spreadsheet in a locale with decimal commas, and one with tabs.
+        for text in ["t_ms;x_mm;y_mm\n0;10,5;20\n2,5;11;20,25\n", "t_ms\tx_mm\ty_mm\n0\t10.5\t20\n2.5\t11\t20.25\n"] {
+            let t = parse(text).unwrap();
+            assert_eq!(
+                t.samples(),
+                [
+                    TraceSample { t_ms: 0.0, x_mm: 10.5, y_mm: 20.0, contact: true },
+                    TraceSample { t_ms: 2.5, x_mm: 11.0, y_mm: 20.25, contact: true }
+                ],
+                "{text:?}"
+            );
+        }
+        // Errors count the comment lines: they name the line in the file.
+        let e = parse("# a\n# b\nt_ms;x_mm\n0;1\n").unwrap_err().to_string();
+        assert!(e.starts_with("line 3: the header has no `y_mm` column") && e.contains("`t_ms;x_mm`"), "{e}");
+        let e = parse("# a\nt_ms,x_mm,y_mm\n0,1,2\n# b\n1,abc,2\n").unwrap_err().to_string();
+        assert!(e.starts_with("line 5: `x_mm` must be a number"), "{e}");
+        // Blank lines count too (the CSV reader skips them uncounted), with
+        // Unix or Windows line ends.
+        let e = parse("t_ms,x_mm,y_mm\n\n0,1,2\n\n1,abc,2\n").unwrap_err().to_string();
+        assert!(e.starts_with("line 5: "), "{e}");
+        let e = parse("t_ms,x_mm,y_mm\r\n\r\n0,1,2\r\n1,abc,2\r\n").unwrap_err().to_string();
+        assert!(e.starts_with("line 4: "), "{e}");
+        // With commas between fields, a decimal comma is two fields.
+        assert!(parse("t_ms,x_mm,y_mm\n0,1,5,2\n").is_ok_and(|t| t.samples()[0].y_mm == 5.0));
     }
 
     #[test]
