@@ -191,16 +191,17 @@ impl Trace {
             header_text = l;
             break;
         }
-        // Comment lines are emptied rather than left to the CSV reader's
-        // comments, which it does not count as lines: errors name the line
-        // in the file.
+        // Comment lines (and lines of spaces, which the CSV reader would take
+        // for a header of one empty column) are emptied, rather than left to
+        // the CSV reader's comments, which it does not count as lines: errors
+        // name the line in the file.
         let mut text = Vec::with_capacity(bytes.len());
         for (i, l) in bytes.split(|&b| b == b'\n').enumerate() {
             if i > 0 {
                 text.push(b'\n');
             }
             let bare = l.strip_prefix("\u{feff}".as_bytes()).unwrap_or(l);
-            if !bare.starts_with(b"#") {
+            if !bare.starts_with(b"#") && !bare.iter().all(u8::is_ascii_whitespace) {
                 text.extend_from_slice(l);
             }
         }
@@ -496,6 +497,8 @@ mod tests {
         assert!(e.starts_with("line 5: "), "{e}");
         let e = parse("t_ms,x_mm,y_mm\r\n\r\n0,1,2\r\n1,abc,2\r\n").unwrap_err().to_string();
         assert!(e.starts_with("line 4: "), "{e}");
+        let t = parse("  \n\t\nt_ms,x_mm,y_mm\n0,1,2\n").unwrap();
+        assert_eq!(t.samples().len(), 1);
         // With commas between fields, a decimal comma is two fields.
         assert!(parse("t_ms,x_mm,y_mm\n0,1,5,2\n").is_ok_and(|t| t.samples()[0].y_mm == 5.0));
     }
