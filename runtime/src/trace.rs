@@ -3,7 +3,9 @@
 //! optional `contact` column (0 or 1, for the finger device).
 //!
 //! Columns are found by name, in any order; other columns are ignored.
-//! Lines starting with `#` are comments (a recorder's preamble). Fields are
+//! Lines starting with `#` are comments (a recorder's preamble), except a
+//! first comment whose fields name the columns (`# t_ms,x_mm,y_mm`, as
+//! numpy's `savetxt` writes a header), which is the header. Fields are
 //! separated by commas, or by semicolons or tabs when the header has no comma
 //! (spreadsheets in locales with a decimal comma); with those, a number may
 //! be written with a decimal comma (`12,5`).
@@ -179,11 +181,24 @@ impl Trace {
     pub fn parse(mut reader: impl Read) -> Result<Trace, TraceError> {
         let mut bytes = Vec::new();
         reader.read_to_end(&mut bytes).map_err(|e| TraceError::Csv { line: None, message: e.to_string() })?;
-        // The header: the first line that is neither blank nor a comment.
+        // The header: the first line that is neither blank nor a comment,
+        // or a comment that names the columns (numpy's `savetxt` writes its
+        // header as `# t_ms,x_mm,y_mm`).
+        let names_columns = |l: &[u8]| {
+            let fields = || l.split(|b| matches!(b, b',' | b';' | b'\t')).map(|f| f.trim_ascii());
+            COLUMNS[..3].iter().all(|c| fields().any(|f| f == c.as_bytes()))
+        };
         let mut header_line = 1u64;
         let mut header_text: &[u8] = &[];
+        let mut commented_header = false;
         for l in bytes.split(|&b| b == b'\n') {
             let l = l.strip_prefix("\u{feff}".as_bytes()).unwrap_or(l);
+            if let Some(rest) = l.strip_prefix(b"#")
+                && names_columns(rest)
+            {
+                (header_text, commented_header) = (rest, true);
+                break;
+            }
             if l.starts_with(b"#") || l.iter().all(u8::is_ascii_whitespace) {
                 header_line += 1;
                 continue;
@@ -194,14 +209,16 @@ impl Trace {
         // Comment lines (and lines of spaces, which the CSV reader would take
         // for a header of one empty column) are emptied, rather than left to
         // the CSV reader's comments, which it does not count as lines: errors
-        // name the line in the file.
+        // name the line in the file. A commented header loses its `#`.
         let mut text = Vec::with_capacity(bytes.len());
         for (i, l) in bytes.split(|&b| b == b'\n').enumerate() {
             if i > 0 {
                 text.push(b'\n');
             }
             let bare = l.strip_prefix("\u{feff}".as_bytes()).unwrap_or(l);
-            if !bare.starts_with(b"#") && !bare.iter().all(u8::is_ascii_whitespace) {
+            if commented_header && i as u64 + 1 == header_line {
+                text.extend_from_slice(bare.strip_prefix(b"#").unwrap_or(bare));
+            } else if !bare.starts_with(b"#") && !bare.iter().all(u8::is_ascii_whitespace) {
                 text.extend_from_slice(l);
             }
         }
@@ -498,6 +515,14 @@ mod tests {
         let e = parse("t_ms,x_mm,y_mm\r\n\r\n0,1,2\r\n1,abc,2\r\n").unwrap_err().to_string();
         assert!(e.starts_with("line 4: "), "{e}");
         let t = parse("  \n\t\nt_ms,x_mm,y_mm\n0,1,2\n").unwrap();
+        assert_eq!(t.samples().len(), 1);
+        // numpy's savetxt: the header as a comment, after another comment.
+        let t = parse("# sweep 3\n# t_ms,x_mm,y_mm\n0,1,2\n5,3,4\n").unwrap();
+        assert_eq!(t.samples()[1], TraceSample { t_ms: 5.0, x_mm: 3.0, y_mm: 4.0, contact: true });
+        let e = parse("# t_ms,x_mm,y_mm\n0,1,2\n1,abc,2\n").unwrap_err().to_string();
+        assert!(e.starts_with("line 3: "), "{e}");
+        // A comment that only mentions the columns stays a comment.
+        let t = parse("# columns: t_ms, x_mm, y_mm in ms and mm\nt_ms,x_mm,y_mm\n0,1,2\n").unwrap();
         assert_eq!(t.samples().len(), 1);
         // With commas between fields, a decimal comma is two fields.
         assert!(parse("t_ms,x_mm,y_mm\n0,1,5,2\n").is_ok_and(|t| t.samples()[0].y_mm == 5.0));
