@@ -243,14 +243,19 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
     // edge on: its errors say which flag reads it the other way.
     let failed = |e: MeshError, extent: Option<[f64; 3]>| {
         let up = extent.and_then(|x| other_up(x, opts.up));
-        let up_help = |help: &str| match &up {
-            Some((finding, flag)) => format!("{help}{finding}: build with {flag}"),
-            None => help.trim_end_matches("; ").into(),
+        // The help, then the up-axis finding when there is one.
+        let up_help = |help: &str| {
+            let finding = up.as_ref().map(|(finding, flag)| format!("{finding}: build with {flag}"));
+            [Some(help.to_string()).filter(|h| !h.is_empty()), finding]
+                .into_iter()
+                .flatten()
+                .collect::<Vec<_>>()
+                .join("; ")
         };
         let d = Diagnostic::error(e.code(), e.to_string());
         match &e {
             MeshError::Region(_) => d.with_help("a region is X,Y,W,H in model units along the page (x = X, y = Z, or -Y with --up z), or #name of a node or mesh"),
-            MeshError::Far { .. } => d.with_help(up_help("build with --fit (and --region for a part) to recentre the model and scale it onto the surface; ")),
+            MeshError::Far { .. } => d.with_help(up_help("build with --fit (and --region for a part) to recentre the model and scale it onto the surface")),
             MeshError::NoArea | MeshError::TooBig { .. } | MeshError::Triangulation(_) if up.is_some() => d.with_help(up_help("")),
             _ => d,
         }
