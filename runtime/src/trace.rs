@@ -181,47 +181,36 @@ impl Trace {
     pub fn parse(mut reader: impl Read) -> Result<Trace, TraceError> {
         let mut bytes = Vec::new();
         reader.read_to_end(&mut bytes).map_err(|e| TraceError::Csv { line: None, message: e.to_string() })?;
-        // The header: the first line that is neither blank nor a comment,
-        // or a comment that names the columns (numpy's `savetxt` writes its
-        // header as `# t_ms,x_mm,y_mm`).
+        // One pass over the lines. The header is the first line that is
+        // neither blank nor a comment, or a comment that names the columns
+        // (numpy's `savetxt` writes its header as `# t_ms,x_mm,y_mm`), which
+        // loses its `#`. Comment lines (and lines of spaces, which the CSV
+        // reader would take for a header of one empty column) are emptied,
+        // rather than left to the CSV reader's comments, which it does not
+        // count as lines: errors name the line in the file.
         let names_columns = |l: &[u8]| {
             let fields = || l.split(|b| matches!(b, b',' | b';' | b'\t')).map(|f| f.trim_ascii());
             COLUMNS[..3].iter().all(|c| fields().any(|f| f == c.as_bytes()))
         };
-        let mut header_line = 1u64;
-        let mut header_text: &[u8] = &[];
-        let mut commented_header = false;
-        for l in bytes.split(|&b| b == b'\n') {
-            let l = l.strip_prefix("\u{feff}".as_bytes()).unwrap_or(l);
-            if let Some(rest) = l.strip_prefix(b"#")
-                && names_columns(rest)
-            {
-                (header_text, commented_header) = (rest, true);
-                break;
-            }
-            if l.starts_with(b"#") || l.iter().all(u8::is_ascii_whitespace) {
-                header_line += 1;
-                continue;
-            }
-            header_text = l;
-            break;
-        }
-        // Comment lines (and lines of spaces, which the CSV reader would take
-        // for a header of one empty column) are emptied, rather than left to
-        // the CSV reader's comments, which it does not count as lines: errors
-        // name the line in the file. A commented header loses its `#`.
         let mut text = Vec::with_capacity(bytes.len());
+        let mut header: Option<(u64, &[u8])> = None;
         for (i, l) in bytes.split(|&b| b == b'\n').enumerate() {
             if i > 0 {
                 text.push(b'\n');
             }
             let bare = l.strip_prefix("\u{feff}".as_bytes()).unwrap_or(l);
-            if commented_header && i as u64 + 1 == header_line {
-                text.extend_from_slice(bare.strip_prefix(b"#").unwrap_or(bare));
-            } else if !bare.starts_with(b"#") && !bare.iter().all(u8::is_ascii_whitespace) {
+            let comment = bare.strip_prefix(b"#");
+            if header.is_none()
+                && let Some(names) = comment.filter(|c| names_columns(c))
+            {
+                header = Some((i as u64 + 1, names));
+                text.extend_from_slice(names);
+            } else if comment.is_none() && !bare.iter().all(u8::is_ascii_whitespace) {
+                header = header.or(Some((i as u64 + 1, bare)));
                 text.extend_from_slice(l);
             }
         }
+        let (header_line, header_text) = header.unwrap_or((1, &[]));
         // Line numbers from byte offsets: the CSV reader's own skip blank
         // lines without counting them (a record's position is where the
         // reader started, before the blank lines it skipped).
