@@ -238,6 +238,35 @@ fn braille_sits_on_the_devices_cell_grid() {
     assert_eq!(raised, vec![(6, 5), (9, 5), (9, 6)]);
 }
 
+/// A label whose letters all lack braille is left out whole: its
+/// punctuation alone would put cells on the display that say nothing. A
+/// label that keeps some letters keeps its punctuation too.
+#[test]
+fn a_label_in_another_script_raises_no_pins_for_its_punctuation() {
+    let raised = |image: &PinImage| {
+        (0..image.rows)
+            .flat_map(|r| (0..image.cols).map(move |c| (c, r)))
+            .filter(|&(c, r)| image.get(c, r).raised())
+            .count()
+    };
+    for profile in ["dotpad", "monarch"] {
+        let (image, diags) = run(profile, &drawing(150.0, 100.0, vec![label("t", "Осадки (мм), 2024", 16.0, 21.0)]));
+        // The digits stay: "2024" keeps the label.
+        assert!(raised(&image) > 0, "{profile}");
+        let w: Vec<_> = diags.iter().filter(|d| d.code == "T0304").collect();
+        assert!(w.len() == 1 && w[0].message.contains("these characters are left out"), "{profile}: {w:?}");
+        let (image, diags) = run(profile, &drawing(150.0, 100.0, vec![label("t", "Осадки (мм)", 16.0, 21.0)]));
+        assert_eq!(raised(&image), 0, "{profile}: the parentheses alone are left out");
+        let w: Vec<_> = diags.iter().filter(|d| d.code == "T0304").collect();
+        assert!(w.len() == 1 && w[0].message.contains("the text is left out"), "{profile}: {w:?}");
+        assert!(w[0].help.as_deref().is_some_and(|h| h.contains("Latin letters")), "{profile}: {w:?}");
+    }
+    // The title on the Dot Pad's text line, the same way.
+    let mut d = drawing(150.0, 100.0, vec![path("l", &[(10.0, 10.0), (50.0, 10.0)], false, vec![VIBRATE])]);
+    d.title = "«Карта»".into();
+    assert!(run("dotpad", &d).0.text.is_empty());
+}
+
 #[test]
 fn the_title_goes_to_the_text_line_where_there_is_one() {
     let mut d = drawing(150.0, 100.0, vec![path("l", &[(10.0, 10.0), (50.0, 10.0)], false, vec![VIBRATE])]);

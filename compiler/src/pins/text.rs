@@ -20,11 +20,16 @@ pub const DOT_POSITIONS: [(u32, u32); 8] = [(0, 0), (0, 1), (0, 2), (1, 0), (1, 
 
 /// Translates `text` to cells, warning about characters left out.
 fn cells(text: &str, e: Option<&Element>, diags: &mut Vec<Diagnostic>) -> Vec<u8> {
-    let (cells, missing) = crate::svg::braille_cells(text);
+    let (mut cells, missing) = crate::svg::braille_cells(text);
     if !missing.is_empty() {
         let list = crate::svg::braille_left_out(&missing);
-        let mut d =
-            Diagnostic::warning("T0304", format!("no uncontracted UEB braille for {list}; left out of the braille"));
+        // Punctuation alone says nothing: then the text is left out whole.
+        if crate::svg::braille_says_nothing(text, &missing) {
+            cells.clear();
+        }
+        let left = if cells.iter().all(|&c| c == 0) { "the text is left out" } else { "these characters are left out" };
+        let mut d = Diagnostic::warning("T0304", format!("no uncontracted UEB braille for {list}; {left}"))
+            .with_help(crate::svg::BRAILLE_TABLE_HELP);
         if let Some(e) = e {
             d = d.with_element(e.name.clone()).on_line(e.line);
         }

@@ -219,6 +219,19 @@ pub fn left_out(missing: &[char]) -> String {
     out
 }
 
+/// Whether the braille of `text` would say nothing: it has letters or
+/// digits and [`translate`] left every one of them out (`missing`), so
+/// that only its punctuation and spaces would be written, as for a label in
+/// another script, `Осадки (мм)`. Such a text is left out whole.
+pub fn says_nothing(text: &str, missing: &[char]) -> bool {
+    let letters = text.chars().filter(|c| c.is_alphanumeric()).count();
+    letters > 0 && missing.iter().filter(|c| c.is_alphanumeric()).count() >= letters
+}
+
+/// What T0304 says helps: what the built-in table covers.
+pub const TABLE_HELP: &str = "taxel's built-in table covers Latin letters (with common accents), digits, space, \
+                              punctuation and the signs of maps and charts";
+
 /// Translates text to uncontracted UEB cells (a space is an empty cell).
 /// Returns the cells and the characters that have no translation (left out;
 /// a letter whose marks are not all known is left out with its marks).

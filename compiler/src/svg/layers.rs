@@ -703,7 +703,11 @@ fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOptions, diags:
             diags.push(not_here(&Style::Braille(style), &e.name, e.line, opts.profile.name.as_str()));
             continue;
         }
-        let (pts, missing) = braille_dots(text, &style);
+        let (mut pts, missing) = braille_dots(text, &style);
+        // Punctuation alone says nothing: then the text is left out whole.
+        if braille::says_nothing(&text.runs.iter().map(|r| r.text.as_str()).collect::<String>(), &missing) {
+            pts.clear();
+        }
         if !missing.is_empty() {
             // When no character has braille, this one warning says the text is left out.
             let left = if pts.is_empty() { "the text is left out" } else { "these characters are left out" };
@@ -713,10 +717,7 @@ fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOptions, diags:
                     format!("no uncontracted UEB braille for {}; {left}", braille::left_out(&missing)),
                 )
                 .with_element(&e.name)
-                .with_help(
-                    "taxel's built-in table covers Latin letters (with common accents), digits, space, punctuation \
-                     and the signs of maps and charts",
-                )
+                .with_help(braille::TABLE_HELP)
                 .at_line(e.line),
             );
             if pts.is_empty() {

@@ -24,7 +24,10 @@ mod layers;
 pub(crate) mod rules;
 
 /// Braille cells of a text (uncontracted UEB), for the pin arrays' braille too.
-pub(crate) use braille::{CELL_PITCH_MM, DOT_PITCH_MM, left_out as braille_left_out, translate as braille_cells};
+pub(crate) use braille::{
+    CELL_PITCH_MM, DOT_PITCH_MM, TABLE_HELP as BRAILLE_TABLE_HELP, left_out as braille_left_out,
+    says_nothing as braille_says_nothing, translate as braille_cells,
+};
 pub use layers::occluders;
 
 use taxel_format::{Bundle, Manifest};

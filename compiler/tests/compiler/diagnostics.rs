@@ -114,6 +114,21 @@ fn characters_without_braille_are_named_in_their_order() {
     let c = compile(&page(r#"<text x="10" y="30" data-tactile="braille()">Søndre Zürich ø</text>"#));
     let w = with_code(&c, "T0304");
     assert!(w[0].message.contains("\"ø\"; these characters are left out"), "{}", w[0].message);
+    // Punctuation alone says nothing: a label whose letters all lack braille
+    // is left out whole, its parentheses with it (and the drawing, with
+    // nothing else, has nothing tactile).
+    let c = compile(&page(
+        r#"<text x="10" y="30" data-tactile="braille()">Осадки (мм)</text>
+        <rect x="10" y="40" width="30" height="20" data-tactile="grating()"/>"#,
+    ));
+    let w = with_code(&c, "T0304");
+    assert!(w.len() == 1 && w[0].message.contains("the text is left out"), "{:#?}", c.diagnostics);
+    let bundle = c.bundle.as_ref().expect("the grating builds");
+    assert!(!bundle.chunks.iter().any(|ch| matches!(ch, taxel_format::Chunk::Dots(_))), "no braille dots");
+    // With letters of its own it keeps its punctuation.
+    let c = compile(&page(r#"<text x="10" y="30" data-tactile="braille()">Осадки (mm)</text>"#));
+    assert!(with_code(&c, "T0304")[0].message.contains("these characters are left out"), "{:#?}", c.diagnostics);
+    assert!(c.bundle.as_ref().is_some_and(|b| b.chunks.iter().any(|ch| matches!(ch, taxel_format::Chunk::Dots(_)))));
 }
 
 /// A drawing whose annotated shapes all lie beyond the surface is still an
