@@ -473,33 +473,46 @@ fn texture_fill(
     let border: std::collections::HashSet<PinPos> =
         if outlined { outline_pins(canvas, polys).into_iter().collect() } else { Default::default() };
     let near_border = |p: PinPos| (-1..=1).any(|dr| (-1..=1).any(|dc| border.contains(&(p.0 + dc, p.1 + dr))));
-    let mut room = 0;
-    let mut raised = 0;
-    for p in inside_pins(canvas, polys, rule) {
-        if near_border(p) {
-            continue;
+    let room: Vec<PinPos> = inside_pins(canvas, polys, rule).into_iter().filter(|&p| !near_border(p)).collect();
+    let ridges: Vec<PinPos> = room.iter().copied().filter(|p| pattern.raised(p.0, p.1)).collect();
+    // A texture is felt as one only with two ridges or more: a region that
+    // holds one (a bar of a chart two pins wide) would read as a line, like
+    // an outline, or as nothing. It is filled solid instead. (Two ridges
+    // stay a texture: a key's swatch a few pins square shows its
+    // orientation with two.)
+    let lines = {
+        let mut seen: Vec<i64> = Vec::new();
+        for &p in &ridges {
+            if seen.len() < 2 && !seen.contains(&pattern.ridge(p)) {
+                seen.push(pattern.ridge(p));
+            }
         }
-        room += 1;
-        if pattern.raised(p.0, p.1) {
-            canvas.raise(p, elem, height, false);
-            raised += 1;
-        }
+        seen.len()
+    };
+    let solid = !room.is_empty() && lines < 2;
+    for &p in if solid { &room } else { &ridges } {
+        canvas.raise(p, elem, height, false);
     }
-    if raised == 0 || room < 2 * pattern.period as usize * pattern.period as usize {
-        diags.push(
-            Diagnostic::warning(
-                "T0707",
-                format!(
-                    "the region is too small for its texture on pins: {room} pins inside it, \
-                     {raised} of them ridges every {} pins",
-                    pattern.period
-                ),
-            )
+    let (room, raised, period) = (room.len(), ridges.len(), pattern.period);
+    let warning = if solid {
+        format!(
+            "the region is too narrow for its texture on pins ({room} pins inside it would carry {} every \
+             {period} pins, felt as a line, not as a texture): it is filled solid",
+            if lines == 0 { "no ridge" } else { "one ridge" }
+        )
+    } else if raised == 0 || room < 2 * period as usize * period as usize {
+        format!(
+            "the region is too small for its texture on pins: {room} pins inside it, {raised} of them ridges every {period} pins"
+        )
+    } else {
+        return;
+    };
+    diags.push(
+        Diagnostic::warning("T0707", warning)
             .with_element(e.name.clone())
             .with_help("make the region larger, or give it an outline or dots instead")
             .on_line(e.line),
-        );
-    }
+    );
 }
 
 /// Side of a pin cluster for a dot of `radius_mm`: its diameter in pins, 2 to 4.

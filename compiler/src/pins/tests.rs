@@ -322,6 +322,35 @@ fn a_texture_the_pitch_cannot_carry_is_reported() {
     assert!(diags.iter().any(|d| d.code == "T0707"), "{diags:?}");
 }
 
+/// A region that holds one ridge of its texture (a chart's bar two pins
+/// wide) would be felt as a line, like an outline: it is filled solid, with
+/// T0707 saying so. A region with two ridges or more keeps its texture.
+#[test]
+fn a_region_too_narrow_for_two_ridges_is_filled_solid() {
+    let raised_in = |image: &PinImage| {
+        (0..image.rows)
+            .flat_map(|r| (0..image.cols).map(move |c| (c, r)))
+            .filter(|&(c, r)| image.get(c, r).raised())
+            .count()
+    };
+    let bar = |w: f64| [(20.0, 20.0), (20.0 + w, 20.0), (20.0 + w, 50.0), (20.0, 50.0)];
+    // Vertical ridges every 2 pins (5 mm at 2.5 mm). Bars 30 mm tall (pins
+    // 8 to 19, centres 21.25 to 48.75 mm) and 2.5 or 5 mm wide: pins 8, or
+    // 8 and 9, one ridge (column 8): every pin raised.
+    for (w, cols) in [(2.5, 1), (5.0, 2)] {
+        let (image, diags) =
+            run("dotpad", &drawing(150.0, 100.0, vec![path("bar", &bar(w), true, vec![grating(5.0, 90.0)])]));
+        assert_eq!(raised_in(&image), cols * 12, "{w} mm: {}", unicode(&image));
+        let w707: Vec<_> = diags.iter().filter(|d| d.code == "T0707").collect();
+        assert!(w707.len() == 1 && w707[0].message.contains("filled solid"), "{w} mm: {diags:?}");
+    }
+    // 7.5 mm: pins 8 to 10, two ridges (8 and 10), a texture.
+    let (image, diags) =
+        run("dotpad", &drawing(150.0, 100.0, vec![path("bar", &bar(7.5), true, vec![grating(5.0, 90.0)])]));
+    assert_eq!(raised_in(&image), 2 * 12, "{}", unicode(&image));
+    assert!(!diags.iter().any(|d| d.message.contains("filled solid")), "{diags:?}");
+}
+
 #[test]
 fn dots_become_pin_clusters() {
     let mut sym = path("city", &[(49.0, 49.0), (51.0, 49.0), (51.0, 51.0), (49.0, 51.0)], true, vec![]);

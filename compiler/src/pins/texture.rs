@@ -45,17 +45,27 @@ impl Pattern {
         self.orient as u32 * 45
     }
 
-    /// Whether image pin `(c, r)` is on a ridge.
-    pub fn raised(self, c: i64, r: i64) -> bool {
-        let p = self.period as i64;
-        let d = match self.orient {
+    /// Pin `(c, r)`'s place across the ridges: constant along a ridge,
+    /// one more a pin across them.
+    fn across(self, c: i64, r: i64) -> i64 {
+        match self.orient {
             0 => r,
             // Ridges rising to the right on the page (y down): c + r constant.
             1 => c + r,
             2 => c,
             _ => c - r,
-        };
-        d.rem_euclid(p) == 0
+        }
+    }
+
+    /// Whether image pin `(c, r)` is on a ridge.
+    pub fn raised(self, c: i64, r: i64) -> bool {
+        self.across(c, r).rem_euclid(self.period as i64) == 0
+    }
+
+    /// Which ridge (or gap after it) pin `(c, r)` belongs to, counted across
+    /// the ridges: two raised pins are on one ridge when these are equal.
+    pub fn ridge(self, (c, r): (i64, i64)) -> i64 {
+        self.across(c, r).div_euclid(self.period as i64)
     }
 
     /// Whether a reader can tell `self` from `other` (the rule above).
