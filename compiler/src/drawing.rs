@@ -108,8 +108,10 @@ pub struct Element {
     pub name: String,
     /// 1-based line of its start tag in the source (0 when unknown).
     pub line: u32,
-    /// `<title>`, `inkscape:label` or `aria-label`, whichever comes first; what
-    /// a host says when the finger is on it.
+    /// `<title>`, `inkscape:label` (but a `tactile:` annotation) or
+    /// `aria-label`, whichever comes first, else its nearest group's (not the
+    /// root's, nor an Inkscape layer's); what a host says when the finger is
+    /// on it.
     pub label: String,
     /// Local tag name (`path`, `rect`, `text`, ...).
     pub tag: String,

@@ -60,8 +60,13 @@ pub(crate) struct Element {
     pub kind: Kind,
     /// 1-based line of the start tag (of the entity reference, for an element from an entity).
     pub line: u32,
-    /// `<title>`, `inkscape:label` or `aria-label`, whichever comes first.
+    /// `<title>`, `inkscape:label` (but an annotation) or `aria-label`,
+    /// whichever comes first; else the label its group passes down.
     pub label: String,
+    /// The label its children take when they have none: its own label, or
+    /// what its parent passes; the root's and an Inkscape layer's pass only
+    /// what their parent passes (nothing for the root).
+    pub passes: String,
     pub classes: String,
     /// Labels of the Inkscape layers that contain the element (itself included).
     pub layers: Vec<String>,
@@ -249,17 +254,26 @@ pub(crate) fn read(
         pos_of.insert(node.id(), pos);
         let line = lines.line(pos);
         let ink_label = node.attribute((INKSCAPE_NS, "label"));
-        let label = node
+        // An Inkscape label that is an annotation (`tactile: ...`) names nothing.
+        let names =
+            ink_label.filter(|l| !l.trim_start().get(..PREFIX.len()).is_some_and(|p| p.eq_ignore_ascii_case(PREFIX)));
+        let own_label = node
             .children()
             .find(|c| c.is_element() && c.tag_name().name() == "title")
             .and_then(|t| t.text())
-            .or(ink_label)
+            .or(names)
             .or(node.attribute("aria-label"))
             .unwrap_or("")
-            .trim()
-            .to_string();
-        let mut layers = parent_el.map_or(Vec::new(), |p| p.layers.clone());
+            .trim();
         let is_layer = tag == "g" && node.attribute((INKSCAPE_NS, "groupmode")) == Some("layer");
+        // An element without a label of its own takes its group's (a
+        // `<g><title>Lake Geneva</title><path/><path/></g>` names both
+        // paths); the root's title (the drawing's) and Inkscape layers'
+        // labels ("Layer 1") are not passed down.
+        let inherited = parent_el.map_or("", |p| p.passes.as_str());
+        let label = if own_label.is_empty() { inherited } else { own_label }.to_string();
+        let passes = if is_layer || parent.is_none() { inherited.to_string() } else { label.clone() };
+        let mut layers = parent_el.map_or(Vec::new(), |p| p.layers.clone());
         if let (true, Some(l)) = (is_layer, ink_label) {
             layers.push(l.trim().to_string());
         }
@@ -296,6 +310,7 @@ pub(crate) fn read(
             kind,
             line,
             label,
+            passes,
             classes,
             layers,
             own,

@@ -52,6 +52,35 @@ fn the_topmost_element_wins_and_the_id_names_an_unlabelled_one() {
     assert_eq!(got, want.map(|n| n.map(String::from)));
 }
 
+/// A shape without a label of its own is named by its group's `<title>`,
+/// `aria-label` or Inkscape label (charts and maps label groups of paths);
+/// the drawing's own title, an Inkscape layer's label and a `tactile:`
+/// annotation name nothing, so such a shape keeps its id.
+#[test]
+fn a_shape_without_a_label_is_named_by_its_group() {
+    let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape"
+     width="100mm" height="60mm" viewBox="0 0 100 60">
+<title>Lakes of the region</title>
+<g inkscape:groupmode="layer" inkscape:label="Layer 1">
+  <g><title>Lake Geneva</title>
+    <rect id="west" x="5" y="5" width="10" height="10" data-tactile="grating()"/>
+    <g><rect id="east" x="20" y="5" width="10" height="10" data-tactile="grating()"/></g>
+  </g>
+  <g aria-label="Lake Constance"><rect id="c" x="35" y="5" width="10" height="10" data-tactile="grating()" aria-label="Obersee"/></g>
+  <g inkscape:label="tactile: grating()"><rect id="annotated" x="50" y="5" width="10" height="10"/></g>
+  <rect id="alone" x="65" y="5" width="10" height="10" data-tactile="grating()"/>
+  <rect id="self" x="80" y="5" width="10" height="10" inkscape:label="tactile: grating()"/>
+</g>
+</svg>"#;
+    let got = names(
+        svg,
+        &CompileOptions::new(stress2()),
+        &[(10.0, 10.0), (25.0, 10.0), (40.0, 10.0), (55.0, 10.0), (70.0, 10.0)],
+    );
+    let want = [Some("Lake Geneva"), Some("Lake Geneva"), Some("Obersee"), Some("annotated"), Some("alone")];
+    assert_eq!(got, want.map(|n| n.map(String::from)));
+}
+
 #[test]
 fn under_fit_footprints_are_in_surface_millimetres() {
     // A 220 x 120 mm page on the 110 x 60 mm stress2 surface: --fit halves it.
