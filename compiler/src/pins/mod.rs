@@ -206,6 +206,7 @@ pub fn legalise(drawing: &Drawing, profile: &DeviceProfile, diags: &mut Vec<Diag
     // Gratings first get their patterns, in document order, so that the
     // textures of different gratings stay distinguishable.
     let patterns = assign_patterns(drawing, pitch.0.max(pitch.1), diags);
+    let regions = region_map(&canvas, drawing);
     let mut labels = Vec::new();
     for (i, e) in drawing.elements.iter().enumerate() {
         if !e.visible {
@@ -222,7 +223,8 @@ pub fn legalise(drawing: &Drawing, profile: &DeviceProfile, diags: &mut Vec<Diag
                         .find(|(k, _)| *k == grating_key(g.wavelength_mm, g.angle_deg))
                         .map_or(Pattern::wanted(g.wavelength_mm, g.angle_deg, pitch.0), |(_, p)| *p);
                     let outlined = e.styles.iter().any(|s| matches!(s, Style::Vibrate(_) | Style::Dots(_)));
-                    let fill = Fill { rule: p.fill_rule, pattern, height: heights.texture, outlined };
+                    let fill =
+                        Fill { rule: p.fill_rule, pattern, height: heights.texture, outlined, regions: &regions };
                     texture_fill(&mut canvas, &p.outline, fill, i, e, diags);
                 }
                 (Style::Dots(d), Shape::Path(p)) => {
@@ -448,13 +450,35 @@ pub(crate) fn inside_pins(canvas: &Canvas, polys: &[Polyline], rule: FillRule) -
     out
 }
 
+/// Which grated region each pin's centre lies in: element index + 1 (the
+/// first in drawing order where regions overlap), 0 for none.
+fn region_map(canvas: &Canvas, drawing: &Drawing) -> Vec<u32> {
+    let mut map = vec![0u32; canvas.owner.len()];
+    for (i, e) in drawing.elements.iter().enumerate().filter(|(_, e)| e.visible) {
+        let Shape::Path(p) = &e.shape else { continue };
+        if !e.styles.iter().any(|s| matches!(s, Style::Grating(_))) {
+            continue;
+        }
+        for q in inside_pins(canvas, &p.outline, p.fill_rule) {
+            if let Some(slot) = canvas.index(q).and_then(|k| map.get_mut(k))
+                && *slot == 0
+            {
+                *slot = i as u32 + 1;
+            }
+        }
+    }
+    map
+}
+
 /// How a region is textured.
-struct Fill {
+struct Fill<'r> {
     rule: FillRule,
     pattern: Pattern,
     height: u8,
     /// Whether the element also draws its outline (`vibrate` or `dots`).
     outlined: bool,
+    /// Every grated region's pins ([`region_map`]).
+    regions: &'r [u32],
 }
 
 fn texture_fill(
@@ -465,7 +489,7 @@ fn texture_fill(
     e: &Element,
     diags: &mut Vec<Diagnostic>,
 ) {
-    let Fill { rule, pattern, height, outlined } = fill;
+    let Fill { rule, pattern, height, outlined, regions } = fill;
     // One blank pin between the texture and the region's own outline, so that
     // the outline is felt as a line and not as the texture's first ridge.
     // Without an outline the texture fills the region (its gap to other
@@ -477,9 +501,12 @@ fn texture_fill(
     let ridges: Vec<PinPos> = room.iter().copied().filter(|p| pattern.raised(p.0, p.1)).collect();
     // A texture is felt as one only with two ridges or more: a region that
     // holds one (a bar of a chart two pins wide) would read as a line, like
-    // an outline, or as nothing. It is filled solid instead. (Two ridges
-    // stay a texture: a key's swatch a few pins square shows its
-    // orientation with two.)
+    // an outline, or as nothing. It is filled solid instead, when no other
+    // grated region comes within a pin of it: regions that touch (the
+    // provinces of a map shrunk onto the display) would merge into one
+    // solid mass, where their ridges at least differ. (Two ridges stay a
+    // texture: a key's swatch a few pins square shows its orientation with
+    // two.)
     let lines = {
         let mut seen: Vec<i64> = Vec::new();
         for &p in &ridges {
@@ -489,7 +516,10 @@ fn texture_fill(
         }
         seen.len()
     };
-    let solid = !room.is_empty() && lines < 2;
+    let me = elem as u32 + 1;
+    let other = |q: PinPos| canvas.index(q).and_then(|k| regions.get(k)).is_some_and(|&a| a != 0 && a != me);
+    let alone = || room.iter().all(|&(c, r)| !(-1..=1).any(|dr| (-1..=1).any(|dc| other((c + dc, r + dr)))));
+    let solid = !room.is_empty() && lines < 2 && alone();
     for &p in if solid { &room } else { &ridges } {
         canvas.raise(p, elem, height, false);
     }

@@ -324,7 +324,8 @@ fn a_texture_the_pitch_cannot_carry_is_reported() {
 
 /// A region that holds one ridge of its texture (a chart's bar two pins
 /// wide) would be felt as a line, like an outline: it is filled solid, with
-/// T0707 saying so. A region with two ridges or more keeps its texture.
+/// T0707 saying so, unless another grated region comes within a pin of it.
+/// A region with two ridges or more keeps its texture.
 #[test]
 fn a_region_too_narrow_for_two_ridges_is_filled_solid() {
     let raised_in = |image: &PinImage| {
@@ -344,6 +345,15 @@ fn a_region_too_narrow_for_two_ridges_is_filled_solid() {
         let w707: Vec<_> = diags.iter().filter(|d| d.code == "T0707").collect();
         assert!(w707.len() == 1 && w707[0].message.contains("filled solid"), "{w} mm: {diags:?}");
     }
+    // Two such bars side by side (pins 8-9 and 10-11) would merge into one
+    // solid block: they keep their ridges (columns 8 and 10), as the
+    // touching provinces of a map shrunk onto the display do.
+    let other = [(25.0, 20.0), (30.0, 20.0), (30.0, 50.0), (25.0, 50.0)];
+    let pair =
+        vec![path("a", &bar(5.0), true, vec![grating(5.0, 90.0)]), path("b", &other, true, vec![grating(5.0, 90.0)])];
+    let (image, diags) = run("dotpad", &drawing(150.0, 100.0, pair));
+    assert_eq!(raised_in(&image), 2 * 12, "{}", unicode(&image));
+    assert!(!diags.iter().any(|d| d.message.contains("filled solid")), "{diags:?}");
     // 7.5 mm: pins 8 to 10, two ridges (8 and 10), a texture.
     let (image, diags) =
         run("dotpad", &drawing(150.0, 100.0, vec![path("bar", &bar(7.5), true, vec![grating(5.0, 90.0)])]));
