@@ -361,6 +361,45 @@ fn a_region_too_narrow_for_two_ridges_is_filled_solid() {
     assert!(!diags.iter().any(|d| d.message.contains("filled solid")), "{diags:?}");
 }
 
+/// Lines closer than a pin fill the display solid: one warning says the
+/// picture is too dense, where T0703 lists pairs. Solid bars and a texture
+/// are not.
+#[test]
+fn a_picture_packed_solid_is_reported_once() {
+    let streets: Vec<Element> = (0..40)
+        .map(|k| {
+            path(
+                &format!("street{k}"),
+                &[(10.0, 10.0 + 2.0 * k as f64), (90.0, 10.0 + 2.0 * k as f64)],
+                false,
+                vec![VIBRATE],
+            )
+        })
+        .collect();
+    let (_, diags) = run("dotpad", &drawing(150.0, 100.0, streets));
+    let w: Vec<_> = diags.iter().filter(|d| d.code == "T0709").collect();
+    assert!(w.len() == 1 && w[0].message.contains("too dense"), "{w:?}");
+    // Two solid bars three pins wide and a textured square: no T0709.
+    let bar = |x: f64| vec![(x, 20.0), (x + 5.0, 20.0), (x + 5.0, 80.0), (x, 80.0)];
+    let square = [(60.0, 20.0), (100.0, 20.0), (100.0, 60.0), (60.0, 60.0)];
+    let d = drawing(
+        150.0,
+        100.0,
+        vec![
+            path("a", &bar(20.0), true, vec![grating(5.0, 90.0)]),
+            path("b", &bar(40.0), true, vec![grating(5.0, 90.0)]),
+            path("c", &square, true, vec![grating(5.0, 0.0)]),
+        ],
+    );
+    let (image, diags) = run("dotpad", &d);
+    assert!(raised_count(&image) > 150, "{}", unicode(&image));
+    assert!(!diags.iter().any(|d| d.code == "T0709"), "{diags:?}");
+}
+
+fn raised_count(image: &PinImage) -> usize {
+    image.pins.iter().filter(|p| p.raised()).count()
+}
+
 #[test]
 fn dots_become_pin_clusters() {
     let mut sym = path("city", &[(49.0, 49.0), (51.0, 49.0), (51.0, 51.0), (49.0, 51.0)], true, vec![]);
