@@ -208,6 +208,7 @@ pub(crate) fn run(
         move || drop((tree, doc2)),
     );
     not_drawn(&src, &walked, diags);
+    flowed_text(&src, &doc, diags);
     let mut elements: Vec<(usize, super::Element)> = walked.elements;
     elements.extend(texts);
     // Document order: a `<use>`'s copies sit at the `<use>`, in usvg's order (the sort is stable).
@@ -243,6 +244,38 @@ fn not_drawn(src: &Source, walked: &walk::Walked, diags: &mut Vec<Diagnostic>) {
                 .at_line(e.line),
             );
         }
+    }
+}
+
+/// T0306 for each Inkscape flowed text (`<flowRoot>`, Inkscape 0.92's text
+/// in a frame): it never became SVG, no renderer draws it (usvg neither), and
+/// its words would vanish without a word. Text in a shape as Inkscape 1
+/// writes it (`shape-inside`) is SVG 2 text and is read.
+fn flowed_text(src: &Source, doc: &roxmltree::Document<'_>, diags: &mut Vec<Diagnostic>) {
+    for e in src.elements.iter().filter(|e| e.tag == "flowRoot" && !e.in_defs) {
+        let Some(node) = doc.get_node(e.node) else { continue };
+        // The words of its paragraphs (not of its frame's `flowRegion`).
+        let words: String = node
+            .descendants()
+            .filter(|n| n.is_text() && !n.ancestors().any(|a| a.tag_name().name() == "flowRegion"))
+            .filter_map(|n| n.text())
+            .collect::<Vec<_>>()
+            .join(" ");
+        let words = words.split_whitespace().collect::<Vec<_>>().join(" ");
+        let shown = match words.char_indices().nth(40) {
+            Some((cut, _)) => format!("\"{}…\"", words.get(..cut).unwrap_or("")),
+            None if words.is_empty() => "its (empty) text".to_string(),
+            None => format!("\"{words}\""),
+        };
+        diags.push(
+            Diagnostic::warning(
+                "T0306",
+                format!("Inkscape flowed text (<flowRoot>) is not SVG and is not read: {shown} is left out"),
+            )
+            .with_element(&e.name)
+            .with_help("in Inkscape, select it and use Text > Convert to Text, then save")
+            .at_line(e.line),
+        );
     }
 }
 

@@ -131,6 +131,26 @@ fn characters_without_braille_are_named_in_their_order() {
     assert!(c.bundle.as_ref().is_some_and(|b| b.chunks.iter().any(|ch| matches!(ch, taxel_format::Chunk::Dots(_)))));
 }
 
+/// Inkscape 0.92's flowed text is not SVG: no renderer draws it, so its
+/// words would vanish silently. Each says what is lost and how to keep it;
+/// SVG 2 text in a shape (Inkscape 1) is read as text.
+#[test]
+fn inkscape_flowed_text_says_it_is_left_out() {
+    let c = compile(&page(
+        r#"<rect x="10" y="10" width="30" height="30" data-tactile="grating()"/>
+<flowRoot id="flow1" data-tactile="braille()"><flowRegion><rect x="50" y="10" width="40" height="20"/></flowRegion><flowPara>Lake</flowPara><flowPara>Tana</flowPara></flowRoot>
+<text id="river" x="50" y="50" style="font-size:5px;shape-inside:url(#box)" data-tactile="braille()"><tspan>River</tspan></text>
+<rect id="box" x="50" y="40" width="40" height="15" fill="none"/>"#,
+    ));
+    let w = with_code(&c, "T0306");
+    assert_eq!(w.len(), 1, "{:#?}", c.diagnostics);
+    assert!(w[0].message.contains("\"Lake Tana\" is left out"), "{}", w[0].message);
+    assert_eq!((w[0].element.as_deref(), w[0].line), (Some("flow1"), Some(3)));
+    assert!(w[0].help.as_deref().unwrap_or("").contains("Convert to Text"));
+    let b = bundle(&c);
+    assert!(dots(b, taxel_format::DotKind::Braille).is_some(), "the text in a shape is read");
+}
+
 /// A drawing whose annotated shapes all lie beyond the surface is still an
 /// annotated drawing: the automatic sheet does not style what is left in
 /// their place, and the errors say to fit the drawing, not to annotate it.
