@@ -88,12 +88,29 @@ pub struct CompileOpts {
     /// Lay text out with the fonts in this folder (and its subfolders) instead of the system's.
     #[arg(long, value_name = "DIR")]
     pub fonts: Option<PathBuf>,
+    /// The reader's languages, for drawings that hold a label in several
+    /// (`<switch>` with `systemLanguage`, as Wikimedia's maps do): `fr`, or
+    /// `fr-CA,fr`. Default: the system's language (LC_ALL, LC_MESSAGES or
+    /// LANG), else English.
+    #[arg(long, value_name = "LANG[,LANG...]", value_parser = parse_lang)]
+    pub lang: Option<String>,
 }
 
 impl CompileOpts {
     /// Whether `--style auto` asks for the built-in automatic style sheet.
     pub fn style_is_auto(&self) -> bool {
         self.style.as_deref() == Some(std::path::Path::new("auto"))
+    }
+}
+
+/// `--lang`: comma-separated language tags (letters, digits and `-`),
+/// given back with the spaces around them taken out.
+fn parse_lang(s: &str) -> Result<String, String> {
+    let tags: Vec<&str> = s.split(',').map(str::trim).filter(|t| !t.is_empty()).collect();
+    match tags.iter().find(|t| !t.chars().all(|c| c.is_ascii_alphanumeric() || c == '-')) {
+        _ if tags.is_empty() => Err("expected a language tag such as `fr` or `fr-CA,fr`".to_string()),
+        Some(bad) => Err(format!("`{bad}` is not a language tag: expected letters, digits and `-`, such as `fr-CA`")),
+        None => Ok(tags.join(",")),
     }
 }
 
@@ -295,4 +312,17 @@ pub enum DeviceCommand {
         #[arg(long, required = true)]
         device: String,
     },
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lang_takes_comma_separated_tags_and_refuses_others() {
+        assert_eq!(parse_lang("fr").unwrap(), "fr");
+        assert_eq!(parse_lang("fr-CA, fr").unwrap(), "fr-CA,fr");
+        assert!(parse_lang("").unwrap_err().contains("expected a language tag"));
+        assert!(parse_lang("fr_FR.UTF-8").unwrap_err().contains("`fr_FR.UTF-8` is not a language tag"));
+    }
 }

@@ -59,6 +59,34 @@ fn fonts_dir(dir: Option<&Path>) -> Result<()> {
     Ok(())
 }
 
+/// The reader's languages: `--lang`, else the system's (the first of
+/// `LC_ALL`, `LC_MESSAGES` and `LANG` that is set), else English.
+pub fn languages(opts: &CompileOpts) -> Vec<String> {
+    if let Some(tags) = &opts.lang {
+        return tags.split(',').map(String::from).collect();
+    }
+    let locale = ["LC_ALL", "LC_MESSAGES", "LANG"].iter().find_map(|v| std::env::var(v).ok().filter(|l| !l.is_empty()));
+    locale.as_deref().map_or_else(|| vec!["en".to_string()], locale_languages)
+}
+
+/// The language tags of a POSIX locale name: `fr_CA.UTF-8@euro` gives
+/// `fr-CA` and `fr`; `C`, `POSIX` and names that are no language give `en`.
+fn locale_languages(locale: &str) -> Vec<String> {
+    let name = locale.split(['.', '@']).next().unwrap_or("");
+    let (lang, region) = name.split_once('_').unwrap_or((name, ""));
+    let letters = |s: &str, n: std::ops::RangeInclusive<usize>| {
+        n.contains(&s.len()) && s.chars().all(|c| c.is_ascii_alphabetic())
+    };
+    if !letters(lang, 2..=3) || lang.eq_ignore_ascii_case("c") {
+        return vec!["en".to_string()];
+    }
+    let lang = lang.to_ascii_lowercase();
+    match region {
+        r if letters(r, 2..=3) => vec![format!("{lang}-{}", r.to_ascii_uppercase()), lang],
+        _ => vec![lang],
+    }
+}
+
 /// The compiler options for `opts`, or the diagnostic that says why the style
 /// sheet cannot be used (an input problem, reported like the drawing's own).
 pub fn compile_options(opts: &CompileOpts) -> Result<Result<CompileOptions, Diagnostic>> {
@@ -98,6 +126,7 @@ fn options_with_fonts(opts: &CompileOpts, fonts: bool) -> Result<Result<CompileO
             }
         },
         auto: opts.style_is_auto(),
+        languages: languages(opts),
     }))
 }
 
@@ -195,4 +224,29 @@ fn read_beside(dir: &Path, uri: &str) -> Result<Vec<u8>, String> {
         return Err(format!("buffer '{}' lies outside the glTF file's folder", full.display()));
     }
     io::read_input(&real).map_err(|e| format!("buffer '{}': {e:#}", full.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_locale_gives_its_language_and_region_as_tags() {
+        let tags = |l: &str| locale_languages(l);
+        assert_eq!(tags("fr_CA.UTF-8"), ["fr-CA", "fr"]);
+        assert_eq!(tags("de_DE.UTF-8@euro"), ["de-DE", "de"]);
+        assert_eq!(tags("pt_BR"), ["pt-BR", "pt"]);
+        assert_eq!(tags("es"), ["es"]);
+        assert_eq!(tags("ast_ES.UTF-8"), ["ast-ES", "ast"]);
+        for none in ["C", "C.UTF-8", "POSIX", "", "en_US.UTF-8"] {
+            assert_eq!(
+                tags(none)[..],
+                *if none.starts_with("en") { &["en-US", "en"][..] } else { &["en"][..] },
+                "{none}"
+            );
+        }
+        // `--lang` wins over the system's.
+        let opts = CompileOpts { lang: Some("nl-BE,nl".into()), ..CompileOpts::default() };
+        assert_eq!(languages(&opts), ["nl-BE", "nl"]);
+    }
 }

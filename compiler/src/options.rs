@@ -96,6 +96,12 @@ pub struct CompileOptions {
     /// automatic sheet is still used, with a note, when the drawing has no
     /// annotation and no [`CompileOptions::style`].
     pub auto: bool,
+    /// The reader's languages (BCP 47 tags such as `fr` or `fr-CA`; `--lang`):
+    /// a `<switch>` draws its first child whose `systemLanguage` names one of
+    /// them (or a longer tag of one: `fr` takes `fr-CA`), or that has none, as
+    /// browsers do. Multilingual maps (Wikimedia's) hold each label once per
+    /// language this way. Default `["en"]`.
+    pub languages: Vec<String>,
 }
 
 impl CompileOptions {
@@ -113,6 +119,7 @@ impl CompileOptions {
             exaggerate: 1.0,
             fonts: None,
             auto: false,
+            languages: vec!["en".to_string()],
         }
     }
 }

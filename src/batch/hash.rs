@@ -65,6 +65,9 @@ pub struct Partial {
     /// or `.svgz` that unpacks to it) whose text mentions `<text`, as
     /// [`taxel_compiler::drawing::fonts_used`] decides.
     fonts_matter: bool,
+    /// Whether the reader's languages are part of the hash: a drawing whose
+    /// text mentions `systemLanguage` (a `<switch>` may choose by it).
+    switches: bool,
     /// The input, for unpacking a compressed drawing the same way the build does.
     input: std::path::PathBuf,
 }
@@ -83,9 +86,10 @@ impl Partial {
                 h.field(uri.as_bytes()).opt(data.as_deref());
             }
         }
-        let fonts_matter =
-            matches!(ext.as_str(), "svg" | "svgz") && text_of(input, bytes).is_some_and(|t| t.contains("<text"));
-        Partial { h, fonts_matter, input: input.to_path_buf() }
+        let text = matches!(ext.as_str(), "svg" | "svgz").then(|| text_of(input, bytes)).flatten();
+        let fonts_matter = text.as_ref().is_some_and(|t| t.contains("<text"));
+        let switches = text.as_ref().is_some_and(|t| t.contains("systemLanguage"));
+        Partial { h, fonts_matter, switches, input: input.to_path_buf() }
     }
 
     /// The font faces the text of `bytes` (the input's, as given to
@@ -97,7 +101,7 @@ impl Partial {
             _ => return Ok(Vec::new()),
         };
         let db = crate::compile::font_database(opts.fonts.as_deref())?;
-        Ok(taxel_compiler::drawing::fonts_used(&text, &db))
+        Ok(taxel_compiler::drawing::fonts_used(&text, &db, &crate::compile::languages(opts)))
     }
 
     /// The hash, given the faces the text was laid out with (those of
@@ -132,6 +136,10 @@ impl Partial {
         h.field(&[opts.fit as u8, opts.up as u8]);
         h.opt(opts.region.as_ref().map(|r| format!("{r:?}")).as_ref().map(|s| s.as_bytes()));
         h.opt(opts.exaggerate.map(|e| e.to_le_bytes()).as_ref().map(|b| &b[..]));
+        // The reader's languages choose among a `<switch>`'s children.
+        if self.switches {
+            h.field(crate::compile::languages(opts).join(",").as_bytes());
+        }
         Ok(*h.0.finalize().as_bytes())
     }
 }
@@ -194,6 +202,19 @@ mod tests {
 
     fn opts() -> CompileOpts {
         CompileOpts::default()
+    }
+
+    /// The reader's languages choose among a `<switch>`'s children: they
+    /// count for a drawing that mentions `systemLanguage`, and only there.
+    #[test]
+    fn languages_change_the_hash_of_a_drawing_with_a_switch() {
+        let svg = Path::new("x.svg");
+        let fr = CompileOpts { lang: Some("fr".into()), ..opts() };
+        let de = CompileOpts { lang: Some("de".into()), ..opts() };
+        let switch = br#"<svg><switch><rect systemLanguage="fr"/></switch></svg>"#;
+        assert_ne!(content_hash(svg, switch, &fr).unwrap(), content_hash(svg, switch, &de).unwrap());
+        let plain = b"<svg><rect/></svg>";
+        assert_eq!(content_hash(svg, plain, &fr).unwrap(), content_hash(svg, plain, &de).unwrap());
     }
 
     #[test]

@@ -95,3 +95,66 @@ fn build_is_deterministic_and_preview_draws_drawings_and_bundles() {
     let o = taxel(&["preview", &write(dir.path(), "x.taxel", "not a bundle"), "-o", "/dev/null"]);
     assert_eq!(o.status.code(), Some(1));
 }
+
+/// `--lang` chooses a `<switch>`'s child for the reader (the same drawing
+/// gives another bundle, and a bundle rebuilt for another language is not
+/// up to date); the system's language (`LANG`) is the default; a locale
+/// name given as a tag is refused with what is expected.
+#[test]
+fn lang_chooses_the_labels_of_a_multilingual_drawing() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = write(
+        dir.path(),
+        "m.svg",
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="60mm" viewBox="0 0 100 60">
+  <rect x="10" y="10" width="30" height="30" data-tactile="grating()"/>
+  <switch data-tactile="braille()">
+    <text id="fr" x="50" y="20" systemLanguage="fr">Lac</text>
+    <text id="en" x="50" y="40">Lake</text>
+  </switch>
+</svg>"#,
+    );
+    let out = dir.path().join("m.taxel");
+    let build = |args: &[&str], lang_env: &str| {
+        let o = Command::new(env!("CARGO_BIN_EXE_taxel"))
+            .args(["build", &svg, "-o", out.to_str().unwrap()])
+            .args(args)
+            .env_remove("LC_ALL")
+            .env_remove("LC_MESSAGES")
+            .env("LANG", lang_env)
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+        (String::from_utf8_lossy(&o.stdout).to_string(), std::fs::read(&out).unwrap())
+    };
+    let (_, english) = build(&[], "C.UTF-8");
+    let (said, again) = build(&[], "C.UTF-8");
+    assert!(said.starts_with("skipped "), "{said}");
+    assert_eq!(english, again);
+    let (said, french) = build(&["--lang", "fr"], "C.UTF-8");
+    assert!(said.starts_with("built "), "another language is not up to date: {said}");
+    assert_ne!(english, french);
+    let (said, _) = build(&["--lang", "fr"], "C.UTF-8");
+    assert!(said.starts_with("skipped "), "{said}");
+    // LANG=fr_FR gives fr-FR and fr: the same label as --lang fr.
+    let (said, system) = build(&[], "fr_FR.UTF-8");
+    assert!(said.starts_with("built "), "{said}");
+    // The braille dots, unpacked: the same (the bundles differ in their
+    // manifest's content hash).
+    let dots = |bundle: &[u8], name: &str| {
+        let (b, folder) = (dir.path().join(format!("{name}.taxel")), dir.path().join(name));
+        std::fs::write(&b, bundle).unwrap();
+        let o = taxel(&["unpack", b.to_str().unwrap(), "-o", folder.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+        let csv = std::fs::read_dir(&folder)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .find(|p| p.to_string_lossy().ends_with("dots.csv"));
+        std::fs::read_to_string(csv.expect("a dots table")).unwrap()
+    };
+    assert_eq!(dots(&system, "system"), dots(&french, "french"));
+    assert_ne!(dots(&english, "english"), dots(&french, "french2"));
+    let o = taxel(&["build", &svg, "--lang", "fr_FR.UTF-8", "-o", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("is not a language tag"));
+}

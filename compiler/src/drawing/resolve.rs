@@ -38,12 +38,15 @@ pub type Fonts<'a> = &'a (dyn Fn() -> Option<Arc<usvg::fontdb::Database>> + Sync
 /// and named in messages) instead of vanishing. usvg drops an image it cannot
 /// resolve, and a drawing of a linked scan then read as "no elements that
 /// are drawn".
-pub(crate) fn usvg_options(fonts: Option<&Arc<usvg::fontdb::Database>>) -> usvg::Options<'static> {
+pub(crate) fn usvg_options(
+    fonts: Option<&Arc<usvg::fontdb::Database>>,
+    languages: &[String],
+) -> usvg::Options<'static> {
     static NO_FONTS: OnceLock<Arc<usvg::fontdb::Database>> = OnceLock::new();
     static LINKED: OnceLock<Arc<Vec<u8>>> = OnceLock::new();
     let fontdb =
         fonts.cloned().unwrap_or_else(|| NO_FONTS.get_or_init(|| Arc::new(usvg::fontdb::Database::new())).clone());
-    let mut uopt = usvg::Options { fontdb, ..usvg::Options::default() };
+    let mut uopt = usvg::Options { fontdb, languages: languages.to_vec(), ..usvg::Options::default() };
     uopt.image_href_resolver.resolve_string =
         Box::new(|_, _| Some(usvg::ImageKind::GIF(LINKED.get_or_init(|| Arc::new(LINKED_IMAGE.to_vec())).clone())));
     uopt
@@ -111,14 +114,14 @@ fn faces_used(tree: &usvg::Tree) -> Vec<FontFace> {
 /// without building the drawing (for a content hash that must cover them;
 /// the same as [`Resolved::fonts_used`]). Empty when the SVG cannot be read
 /// or has no text.
-pub fn fonts_used(svg_text: &str, fonts: &Arc<usvg::fontdb::Database>) -> Vec<FontFace> {
+pub fn fonts_used(svg_text: &str, fonts: &Arc<usvg::fontdb::Database>, languages: &[String]) -> Vec<FontFace> {
     if !svg_text.contains("<text") {
         return Vec::new();
     }
     let Ok(doc) = roxmltree::Document::parse_with_options(svg_text, source::xml_options()) else {
         return Vec::new();
     };
-    usvg::Tree::from_xmltree(&doc, &usvg_options(Some(fonts))).map_or(Vec::new(), |t| faces_used(&t))
+    usvg::Tree::from_xmltree(&doc, &usvg_options(Some(fonts), languages)).map_or(Vec::new(), |t| faces_used(&t))
 }
 
 /// Resolves an annotated SVG into a [`Drawing`] for `opts` (its profile
@@ -180,10 +183,10 @@ pub(crate) fn run(
     let (converted, src) = rayon::join(
         || {
             let doc2 = roxmltree::Document::parse_with_options(&rewritten, source::xml_options()).ok()?;
-            let tree = usvg::Tree::from_xmltree(&doc2, &usvg_options(fonts().as_ref()));
+            let tree = usvg::Tree::from_xmltree(&doc2, &usvg_options(fonts().as_ref(), &opts.languages));
             Some((doc2, tree))
         },
-        || source::read(text, &doc, keys, opts.style.as_ref(), diags),
+        || source::read(text, &doc, keys, opts.style.as_ref(), &opts.languages, diags),
     );
     let (doc2, tree) = converted?;
     let tree = match tree {
@@ -234,7 +237,8 @@ fn not_drawn(src: &Source, walked: &walk::Walked, diags: &mut Vec<Diagnostic>) {
     const SHAPES: &[&str] = &["path", "rect", "circle", "ellipse", "line", "polyline", "polygon"];
     for (i, e) in src.elements.iter().enumerate() {
         let annotated = matches!(&e.own, Some(Declaration::Styles(s)) if !s.is_empty());
-        if annotated && !e.in_defs && SHAPES.contains(&e.tag.as_str()) && !walked.seen.contains(&i) {
+        // (Another language's child of a `<switch>` is not drawn, by design.)
+        if annotated && !e.in_defs && !e.switched_off && SHAPES.contains(&e.tag.as_str()) && !walked.seen.contains(&i) {
             diags.push(
                 Diagnostic::warning(
                     NOT_DRAWN,
@@ -252,7 +256,7 @@ fn not_drawn(src: &Source, walked: &walk::Walked, diags: &mut Vec<Diagnostic>) {
 /// its words would vanish without a word. Text in a shape as Inkscape 1
 /// writes it (`shape-inside`) is SVG 2 text and is read.
 fn flowed_text(src: &Source, doc: &roxmltree::Document<'_>, diags: &mut Vec<Diagnostic>) {
-    for e in src.elements.iter().filter(|e| e.tag == "flowRoot" && !e.in_defs) {
+    for e in src.elements.iter().filter(|e| e.tag == "flowRoot" && !e.in_defs && !e.switched_off) {
         let Some(node) = doc.get_node(e.node) else { continue };
         // The words of its paragraphs (not of its frame's `flowRegion`).
         let words: String = node

@@ -76,6 +76,8 @@ pub(crate) struct Element {
     pub sheet: Option<Declaration>,
     pub parent: Option<usize>,
     pub in_defs: bool,
+    /// Whether it is under a `<switch>` child that is not drawn ([`switch_child`]).
+    pub switched_off: bool,
     /// Whether it draws markers (so the group after its usvg path holds them).
     pub has_markers: bool,
     /// The node in the original document.
@@ -214,6 +216,7 @@ pub(crate) fn read(
     doc: &Document<'_>,
     keys: Vec<String>,
     sheet: Option<&StyleSheet>,
+    languages: &[String],
     diags: &mut Vec<Diagnostic>,
 ) -> Source {
     let root = doc.root_element();
@@ -278,6 +281,11 @@ pub(crate) fn read(
             layers.push(l.trim().to_string());
         }
         let in_defs = parent_el.is_some_and(|p| p.in_defs || p.kind == Kind::Defs);
+        // Under a `<switch>`, only its chosen child is drawn.
+        let switched_off = parent_el.is_some_and(|p| p.switched_off)
+            || node
+                .parent_element()
+                .is_some_and(|p| p.tag_name().name() == "switch" && switch_child(p, languages) != Some(node.id()));
         let display = if id.is_empty() { name.clone() } else { id.clone() };
         let mut own = None;
         if let Some(attr) = node.attributes().find(|a| a.name() == "data-tactile" && a.namespace().is_none()) {
@@ -317,12 +325,69 @@ pub(crate) fn read(
             sheet: sheet_decl,
             parent,
             in_defs,
+            switched_off,
             has_markers,
             node: node.id(),
         });
     }
     Source { elements, by_key }
 }
+
+/// The child a `<switch>` draws for a reader of `languages`: its first child
+/// element whose conditions pass, exactly as usvg decides (so that texts,
+/// which taxel places itself, agree with the shapes usvg draws). A child
+/// passes unless it has `requiredExtensions`, names a `requiredFeatures`
+/// feature usvg lacks, or has a `systemLanguage` list with no tag equal to a
+/// reader's language or starting with it and a `-`.
+pub(crate) fn switch_child(switch: Node<'_, '_>, languages: &[String]) -> Option<roxmltree::NodeId> {
+    let passes = |n: &Node<'_, '_>| {
+        if n.has_attribute("requiredExtensions") {
+            return false;
+        }
+        if let Some(features) = n.attribute("requiredFeatures")
+            && !features.split(' ').all(|f| FEATURES.contains(&f))
+        {
+            return false;
+        }
+        n.attribute("systemLanguage").is_none_or(|langs| {
+            langs.split(',').map(str::trim).any(|lang| {
+                languages.iter().any(|v| v == lang || lang.split_once('-').is_some_and(|(prefix, _)| v == prefix))
+            })
+        })
+    };
+    switch.children().filter(|n| n.is_element()).find(passes).map(|n| n.id())
+}
+
+/// The SVG 1.1 features usvg supports, for `requiredFeatures` (usvg 0.49's
+/// list, `parser/switch.rs`, Apache-2.0 OR MIT).
+const FEATURES: &[&str] = &[
+    "http://www.w3.org/TR/SVG11/feature#SVGDOM-static",
+    "http://www.w3.org/TR/SVG11/feature#SVG-static",
+    "http://www.w3.org/TR/SVG11/feature#CoreAttribute",
+    "http://www.w3.org/TR/SVG11/feature#Structure",
+    "http://www.w3.org/TR/SVG11/feature#BasicStructure",
+    "http://www.w3.org/TR/SVG11/feature#ContainerAttribute",
+    "http://www.w3.org/TR/SVG11/feature#ConditionalProcessing",
+    "http://www.w3.org/TR/SVG11/feature#Image",
+    "http://www.w3.org/TR/SVG11/feature#Style",
+    "http://www.w3.org/TR/SVG11/feature#Shape",
+    "http://www.w3.org/TR/SVG11/feature#Text",
+    "http://www.w3.org/TR/SVG11/feature#BasicText",
+    "http://www.w3.org/TR/SVG11/feature#PaintAttribute",
+    "http://www.w3.org/TR/SVG11/feature#BasicPaintAttribute",
+    "http://www.w3.org/TR/SVG11/feature#OpacityAttribute",
+    "http://www.w3.org/TR/SVG11/feature#GraphicsAttribute",
+    "http://www.w3.org/TR/SVG11/feature#BasicGraphicsAttribute",
+    "http://www.w3.org/TR/SVG11/feature#Marker",
+    "http://www.w3.org/TR/SVG11/feature#Gradient",
+    "http://www.w3.org/TR/SVG11/feature#Pattern",
+    "http://www.w3.org/TR/SVG11/feature#Clip",
+    "http://www.w3.org/TR/SVG11/feature#BasicClip",
+    "http://www.w3.org/TR/SVG11/feature#Mask",
+    "http://www.w3.org/TR/SVG11/feature#Filter",
+    "http://www.w3.org/TR/SVG11/feature#BasicFilter",
+    "http://www.w3.org/TR/SVG11/feature#XlinkAttribute",
+];
 
 /// The byte offset just after an element's tag name in its start tag, when
 /// the source there really is that start tag (not an entity expansion).
@@ -494,7 +559,7 @@ mod tests {
         for text in DRAWINGS {
             let doc = parse(text);
             let first = keys(text, &doc, &mut Vec::new()).unwrap();
-            let src = read(text, &doc, first.keys.clone(), None, &mut Vec::new());
+            let src = read(text, &doc, first.keys.clone(), None, &["en".to_string()], &mut Vec::new());
             let elements: Vec<Node<'_, '_>> = doc.root_element().descendants().filter(|n| n.is_element()).collect();
             assert_eq!(src.elements.len(), elements.len());
             for (i, (e, node)) in src.elements.iter().zip(&elements).enumerate() {
@@ -508,7 +573,14 @@ mod tests {
         // Layers, labels and annotations still come from the original text.
         let text = DRAWINGS[3];
         let doc = parse(text);
-        let src = read(text, &doc, keys(text, &doc, &mut Vec::new()).unwrap().keys, None, &mut Vec::new());
+        let src = read(
+            text,
+            &doc,
+            keys(text, &doc, &mut Vec::new()).unwrap().keys,
+            None,
+            &["en".to_string()],
+            &mut Vec::new(),
+        );
         let rect = src.elements.iter().find(|e| e.layers.len() == 2).unwrap();
         assert_eq!(rect.layers, ["Calque élévation", "レイヤー 1"]);
         assert_eq!(rect.line, 3);

@@ -47,8 +47,11 @@ pub(crate) fn texts(
     diags: &mut Vec<Diagnostic>,
 ) -> Vec<(usize, Element)> {
     // Each text alone, in parallel, in document order.
-    let texts: Vec<usize> =
-        (0..src.elements.len()).filter(|&i| src.elements[i].kind == Kind::Text && !src.elements[i].in_defs).collect();
+    // (A text under a `<switch>` child that is not drawn, another language's
+    // label, is no text of this drawing.)
+    let texts: Vec<usize> = (0..src.elements.len())
+        .filter(|&i| src.elements[i].kind == Kind::Text && !src.elements[i].in_defs && !src.elements[i].switched_off)
+        .collect();
     let made: Vec<Result<Option<(usize, Element)>, Diagnostic>> =
         texts.into_par_iter().map(|i| text(src, doc, walked, i, mm_per_px, root_ts)).collect();
     let mut out = Vec::with_capacity(made.len());

@@ -242,7 +242,7 @@ pub(crate) fn render_page(
 ) -> Option<resvg::tiny_skia::Pixmap> {
     let mut scratch = Vec::new();
     let doc = drawing::source::parse_xml(text, &mut scratch)?;
-    let tree = usvg::Tree::from_xmltree(&doc, &drawing::usvg_options(opts.fonts.as_ref())).ok()?;
+    let tree = usvg::Tree::from_xmltree(&doc, &drawing::usvg_options(opts.fonts.as_ref(), &opts.languages)).ok()?;
     let (w, h) = (tree.size().width(), tree.size().height());
     let page = drawing::page_size(doc.root_element(), w as f64, h as f64, opts.width_mm, &opts.profile, &mut scratch);
     // With --fit or --region the page is placed on the surface as the compiler placed the drawing.

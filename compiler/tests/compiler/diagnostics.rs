@@ -151,6 +151,68 @@ fn inkscape_flowed_text_says_it_is_left_out() {
     assert!(dots(b, taxel_format::DotKind::Braille).is_some(), "the text in a shape is read");
 }
 
+/// A multilingual drawing (Wikimedia's maps) holds each label once per
+/// language in a `<switch>`: only the child for the reader's language is
+/// drawn, texts (which taxel places itself) as shapes (which usvg draws),
+/// and the others make no braille and no warning.
+#[test]
+fn a_switch_draws_the_child_for_the_readers_language() {
+    let svg = page(
+        r#"<switch data-tactile="braille()">
+  <text id="fr" x="10" y="20" systemLanguage="fr">Lac</text>
+  <text id="de" x="10" y="35" systemLanguage="de,de-CH">See</text>
+  <text id="en" x="10" y="50">Lake</text>
+</switch>
+<switch>
+  <rect id="fr-box" x="60" y="10" width="20" height="20" systemLanguage="fr-CA" data-tactile="grating()"/>
+  <rect id="other-box" x="60" y="40" width="20" height="20" data-tactile="grating()"/>
+</switch>"#,
+    );
+    let drawn = |languages: &[&str]| {
+        let opts = CompileOptions {
+            languages: languages.iter().map(|l| l.to_string()).collect(),
+            ..CompileOptions::new(stress2())
+        };
+        let c = no_internal_error(compile_svg(&svg, &opts));
+        assert!(c.diagnostics.iter().all(|d| d.code != "T0301"), "{languages:?}: {:#?}", c.diagnostics);
+        let b = bundle(&c);
+        let prov = b
+            .chunks
+            .iter()
+            .find_map(|ch| match ch {
+                taxel_format::Chunk::Provenance(p) => Some(p.entries.iter().map(|e| e.id.clone()).collect::<Vec<_>>()),
+                _ => None,
+            })
+            .unwrap_or_default();
+        // The braille's height on the page says which text it is.
+        let ys: Vec<f32> =
+            dots(b, taxel_format::DotKind::Braille).map_or(vec![], |t| t.dots.iter().map(|d| d.y.0).collect());
+        let text_line = ys.iter().all(|y| *y < 21.0) as u8
+            + 2 * ys.iter().all(|y| *y > 21.0 && *y < 36.0) as u8
+            + 4 * ys.iter().all(|y| *y > 36.0) as u8;
+        (prov, text_line)
+    };
+    let (prov, line) = drawn(&["en"]);
+    assert_eq!(
+        (line, prov.contains(&"en".to_string()), prov.contains(&"other-box".to_string())),
+        (4, true, true),
+        "{prov:?}"
+    );
+    assert!(!prov.iter().any(|p| p == "fr" || p == "de" || p == "fr-box"), "{prov:?}");
+    // `fr` takes a child for `fr-CA` too (a longer tag of it).
+    let (prov, line) = drawn(&["fr"]);
+    assert_eq!(
+        (line, prov.contains(&"fr".to_string()), prov.contains(&"fr-box".to_string())),
+        (1, true, true),
+        "{prov:?}"
+    );
+    assert!(!prov.iter().any(|p| p == "en" || p == "de" || p == "other-box"), "{prov:?}");
+    // A longer tag of the reader's does not take a shorter one: `de-AT` alone
+    // matches neither `de` nor `de-CH` (the system's locale gives `de` too).
+    assert_eq!(drawn(&["de-AT"]).1, 4);
+    assert_eq!(drawn(&["de-AT", "de"]).1, 2);
+}
+
 /// A drawing whose annotated shapes all lie beyond the surface is still an
 /// annotated drawing: the automatic sheet does not style what is left in
 /// their place, and the errors say to fit the drawing, not to annotate it.

@@ -268,9 +268,12 @@ fn fonts_are_an_input_and_the_faces_used_are_reported() {
     let faces: Vec<(&str, Option<&std::path::Path>)> =
         with.fonts_used.iter().map(|f| (f.family.as_str(), f.path.as_deref())).collect();
     assert_eq!(faces, [("Tuffy", None)]);
-    assert_eq!(drawing::fonts_used(&svg, opts.fonts.as_ref().unwrap()), with.fonts_used);
+    assert_eq!(drawing::fonts_used(&svg, opts.fonts.as_ref().unwrap(), &opts.languages), with.fonts_used);
     let c = no_internal_error(taxel_compiler::svg::compile_svg(&svg, &opts));
     assert_eq!(masks(bundle(&c)).len(), 1, "the glyphs vibrate: {:#?}", c.diagnostics);
     // A drawing without text uses no face.
-    assert!(drawing::fonts_used(&page(r#"<rect width="5" height="5"/>"#), opts.fonts.as_ref().unwrap()).is_empty());
+    assert!(
+        drawing::fonts_used(&page(r#"<rect width="5" height="5"/>"#), opts.fonts.as_ref().unwrap(), &opts.languages)
+            .is_empty()
+    );
 }
