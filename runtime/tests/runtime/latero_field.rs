@@ -139,6 +139,19 @@ fn assert_close(layer: DistanceLayer, tick: u64, x: f32, y: f32) {
     assert_close_on(stress2(), layer, tick, x, y);
 }
 
+/// Whether the field of `layer` jumps by more than a code within 3e-5 mm of
+/// `(x, y)`, ten times the f32 error of an actuator's position (random fine
+/// tiles climb up to 8,200 codes a millimetre: 0.7 codes over that distance
+/// wherever the field is continuous), or leaves the layer there.
+fn jumps(layer: &DistanceLayer, x: f64, y: f64) -> bool {
+    const E: f64 = 3e-5;
+    let around = [(-E, -E), (E, -E), (-E, E), (E, E)].map(|(dx, dy)| field_code(layer, x + dx, y + dy));
+    let codes: Vec<f64> = around.iter().flatten().copied().collect();
+    let spread =
+        codes.iter().fold(f64::NEG_INFINITY, |a, &c| a.max(c)) - codes.iter().fold(f64::INFINITY, |a, &c| a.min(c));
+    spread > 1.0 || !(codes.is_empty() || codes.len() == 4)
+}
+
 /// [`assert_close`] on the array of profile `p`.
 fn assert_close_on(p: DeviceProfile, layer: DistanceLayer, tick: u64, x: f32, y: f32) {
     let chunks = vec![Chunk::Distance(layer.clone())];
@@ -153,6 +166,14 @@ fn assert_close_on(p: DeviceProfile, layer: DistanceLayer, tick: u64, x: f32, y:
                 if steep * 1023.0 > 0.5 {
                     continue;
                 }
+            }
+            // Random tiles need not agree where they meet (a compiled field
+            // does: both sides sample the same distance), so on a tile's or
+            // fine sub-tile's edge the field jumps, and which side an
+            // actuator exactly on it reads depends on the last bit of its
+            // f32 position: either is right. Such points are skipped.
+            if jumps(&layer, ax, ay) {
+                continue;
             }
             let want = expected_code(&p, reference(&p, &chunks, tick, x as f64, y as f64, row, col));
             let code = got[cols * row + col];
