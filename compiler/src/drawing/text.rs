@@ -176,6 +176,12 @@ fn runs_of(text: Node<'_, '_>) -> Vec<Run> {
                     runs.push(Run { x, y, text: String::new() });
                 }
                 walk(c, runs);
+            } else if c.is_element() && c.tag_name().name() == "textPath" {
+                // Text along a path (a street's name on a map): braille does
+                // not bend, so it starts where the path starts.
+                let (x, y) = path_start(c).unzip();
+                runs.push(Run { x, y, text: String::new() });
+                walk(c, runs);
             }
         }
     }
@@ -187,6 +193,31 @@ fn runs_of(text: Node<'_, '_>) -> Vec<Run> {
     out.retain(|r| !r.text.is_empty());
     out
 }
+
+/// Where the path of a `<textPath>` starts, in its text's user units: its
+/// `path` attribute (SVG 2), else the first point of the `<path>` its `href`
+/// names, moved by that path's own `transform` (SVG: a supplemental
+/// transform in the text's coordinates). `None` when neither is readable.
+fn path_start(text_path: Node<'_, '_>) -> Option<(f64, f64)> {
+    let d = match text_path.attribute("path") {
+        Some(d) => (d, None),
+        None => {
+            let href = text_path.attribute((XLINK_NS, "href")).or(text_path.attribute("href"))?;
+            let id = href.trim().strip_prefix('#')?;
+            let path = text_path.document().descendants().find(|n| n.is_element() && n.attribute("id") == Some(id))?;
+            (path.attribute("d")?, path.attribute("transform"))
+        }
+    };
+    let (x, y) = match svgtypes::PathParser::from(d.0).next()?.ok()? {
+        svgtypes::PathSegment::MoveTo { x, y, .. } => (x, y),
+        _ => return None,
+    };
+    let t = d.1.and_then(|t| t.parse::<svgtypes::Transform>().ok()).unwrap_or_default();
+    Some((t.a * x + t.c * y + t.e, t.b * x + t.d * y + t.f)).filter(|p| p.0.is_finite() && p.1.is_finite())
+}
+
+/// The XLink namespace, of `xlink:href`.
+const XLINK_NS: &str = "http://www.w3.org/1999/xlink";
 
 /// The text's `text-anchor` as a fraction of the run's width to shift left (0, ½ or 1).
 fn anchor(text: Node<'_, '_>) -> f64 {

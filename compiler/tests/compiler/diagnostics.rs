@@ -213,6 +213,31 @@ fn a_switch_draws_the_child_for_the_readers_language() {
     assert_eq!(drawn(&["de-AT", "de"]).1, 2);
 }
 
+/// Text along a path (a street's name on a map) becomes braille starting
+/// where the path starts (braille does not bend), the path's own transform
+/// applied, for `xlink:href`, `href` and SVG 2's `path`; it was left out.
+#[test]
+fn text_on_a_path_starts_its_braille_where_the_path_starts() {
+    for text_path in [
+        r##"<textPath xlink:href="#road">main</textPath>"##,
+        r##"<textPath href="#road">main</textPath>"##,
+        r#"<textPath path="M 25 30 H 85">main</textPath>"#,
+    ] {
+        let c = compile(&page(&format!(
+            r#"<path id="road" d="M 20 30 H 80" transform="translate(5 0)" fill="none" stroke="black"/>
+<text xmlns:xlink="http://www.w3.org/1999/xlink" data-tactile="braille()">{text_path}</text>"#
+        )));
+        let b = bundle(&c);
+        let d = dots(b, taxel_format::DotKind::Braille).expect("braille for the text on the path");
+        let x0 = d.dots.iter().map(|d| d.x.0).fold(f32::INFINITY, f32::min);
+        let y1 = d.dots.iter().map(|d| d.y.0).fold(f32::NEG_INFINITY, f32::max);
+        // The first dot's left edge at the path's start, x = 25; the
+        // cells' lowest dots rest on its baseline, y = 30.
+        let r = d.dots[0].radius.0;
+        assert!((x0 - r - 25.0).abs() < 0.01 && (y1 + r - 30.0).abs() < 0.01, "{text_path}: {x0}, {y1}");
+    }
+}
+
 /// A drawing whose annotated shapes all lie beyond the surface is still an
 /// annotated drawing: the automatic sheet does not style what is left in
 /// their place, and the errors say to fit the drawing, not to annotate it.
