@@ -49,11 +49,16 @@ pub(crate) fn texts(
     // Each text alone, in parallel, in document order.
     // (A text under a `<switch>` child that is not drawn, another language's
     // label, is no text of this drawing.)
-    let texts: Vec<usize> = (0..src.elements.len())
-        .filter(|&i| src.elements[i].kind == Kind::Text && !src.elements[i].in_defs && !src.elements[i].switched_off)
+    let drawn = |e: &super::source::Element| !e.in_defs && !e.switched_off;
+    let mut texts: Vec<(usize, Option<usize>)> = (0..src.elements.len())
+        .filter(|&i| src.elements[i].kind == Kind::Text && drawn(&src.elements[i]))
+        .map(|i| (i, None))
         .collect();
+    // A `<use>` of a `<text>` (a label kept once in `<defs>`) is that text
+    // where the `<use>` puts it.
+    texts.extend(used_texts(src, doc).into_iter().filter(|&(_, u)| drawn(&src.elements[u])).map(|(t, u)| (t, Some(u))));
     let made: Vec<Result<Option<(usize, Element)>, Diagnostic>> =
-        texts.into_par_iter().map(|i| text(src, doc, walked, i, mm_per_px, root_ts)).collect();
+        texts.into_par_iter().map(|(i, by)| text(src, doc, walked, i, by, mm_per_px, root_ts)).collect();
     let mut out = Vec::with_capacity(made.len());
     for m in made {
         match m {
@@ -70,19 +75,52 @@ pub(crate) fn texts(
     out
 }
 
-/// The drawing element of the `<text>` that is source element `i`, without
-/// its glyph outline; `None` when it is not drawn, a warning when it is not
-/// drawn and asks for braille.
+/// The `<text>` elements that `<use>` elements show: (the text's source
+/// index, the `<use>`'s), in document order of the `<use>`s.
+fn used_texts(src: &Source, doc: &Document<'_>) -> Vec<(usize, usize)> {
+    if !src.elements.iter().any(|e| e.tag == "use") {
+        return Vec::new();
+    }
+    let texts: HashMap<&str, usize> = src
+        .elements
+        .iter()
+        .enumerate()
+        .filter(|(_, e)| e.kind == Kind::Text && !e.id.is_empty())
+        .map(|(i, e)| (e.id.as_str(), i))
+        .collect();
+    let mut out = Vec::new();
+    for (u, e) in src.elements.iter().enumerate().filter(|(_, e)| e.tag == "use") {
+        let Some(node) = doc.get_node(e.node) else { continue };
+        let href = node.attribute((XLINK_NS, "href")).or(node.attribute("href")).unwrap_or("");
+        if let Some(&t) = href.trim().strip_prefix('#').and_then(|id| texts.get(id)) {
+            out.push((t, u));
+        }
+    }
+    out
+}
+
+/// The drawing element of the `<text>` that is source element `i`, shown
+/// by itself or, with `by`, by that `<use>` (whose place, transform, name
+/// and styles it then takes), without its glyph outline; `None` when it is
+/// not drawn, a warning when it is not drawn and asks for braille.
 fn text(
     src: &Source,
     doc: &Document<'_>,
     walked: &Walked,
     i: usize,
+    by: Option<usize>,
     mm_per_px: f64,
     root_ts: Transform,
 ) -> Result<Option<(usize, Element)>, Diagnostic> {
+    // The element on the page: the text, or the `<use>` that shows it (the
+    // text's own annotation first, then the `<use>`'s and its groups').
+    let t = i;
+    let i = by.unwrap_or(t);
     let e = &src.elements[i];
-    let decl = xml_decl(src, i);
+    let decl = match by {
+        Some(_) => src.elements[t].own.clone().map(|d| (d, StyledBy::Annotation)).or_else(|| xml_decl(src, i)),
+        None => xml_decl(src, i),
+    };
     let braille = decl.as_ref().is_some_and(|(d, _)| d.styles().iter().any(|s| matches!(s, Style::Braille(_))));
     // The nearest group usvg kept gives the transform; if usvg dropped it, the text is not drawn.
     let mut parent_ts = Some(root_ts);
@@ -95,13 +133,23 @@ fn text(
         }
         p = a.parent;
     }
-    let Some(node) = doc.get_node(e.node) else { return Ok(None) };
-    let own_ts = node
-        .attribute("transform")
-        .and_then(|t| t.parse::<svgtypes::Transform>().ok())
-        .map_or(Transform::identity(), |t| {
-            Transform::from_row(t.a as f32, t.b as f32, t.c as f32, t.d as f32, t.e as f32, t.f as f32)
-        });
+    let Some(node) = doc.get_node(src.elements[t].node) else { return Ok(None) };
+    let transform = |n: Node<'_, '_>| {
+        n.attribute("transform")
+            .and_then(|t| t.parse::<svgtypes::Transform>().ok())
+            .map_or(Transform::identity(), |t| {
+                Transform::from_row(t.a as f32, t.b as f32, t.c as f32, t.d as f32, t.e as f32, t.f as f32)
+            })
+    };
+    // A `<use>` adds its transform, then its `x` and `y`, before the text's own.
+    let by_ts = match by.and_then(|u| doc.get_node(src.elements[u].node)) {
+        Some(u) => {
+            let at = |a: &str| u.attribute(a).and_then(|v| v.trim().parse::<f32>().ok()).filter(|v| v.is_finite());
+            transform(u).pre_translate(at("x").unwrap_or(0.0), at("y").unwrap_or(0.0))
+        }
+        None => Transform::identity(),
+    };
+    let own_ts = by_ts.pre_concat(transform(node));
     let s = mm_per_px as f32;
     let ts = parent_ts.map(|pts| Transform::from_scale(s, s).pre_concat(pts).pre_concat(own_ts));
     let Some(ts) = ts.filter(|ts| ts.sx.is_finite() && ts.ty.is_finite() && node.attribute("display") != Some("none"))

@@ -238,6 +238,32 @@ fn text_on_a_path_starts_its_braille_where_the_path_starts() {
     }
 }
 
+/// A label kept once in `<defs>` and shown by `<use>` is braille where each
+/// `<use>` puts it (its transform, then its `x` and `y`), named by the
+/// `<use>`; it was left out, and the `<use>`'s annotation with it.
+#[test]
+fn a_text_shown_by_use_is_braille_where_the_use_puts_it() {
+    let c = compile(&page(
+        r##"<defs><text id="oak" x="1" y="2">oak</text></defs>
+<use id="first" href="#oak" x="20" y="30" data-tactile="braille()"/>
+<g transform="translate(40 0)"><use id="second" xlink:href="#oak" transform="translate(0 10)" x="10" y="30" data-tactile="braille()" xmlns:xlink="http://www.w3.org/1999/xlink"/></g>"##,
+    ));
+    let b = bundle(&c);
+    let d = dots(b, taxel_format::DotKind::Braille).expect("braille for both uses");
+    let r = d.dots[0].radius.0;
+    // "oak": o = dots 1 3 5, a = 1, k = 1 3; each copy's first dot at its
+    // left edge + r, its lowest dots on its baseline.
+    let left = |lo: f32, hi: f32| {
+        d.dots.iter().filter(|p| p.x.0 > lo && p.x.0 < hi).map(|p| p.x.0).fold(f32::INFINITY, f32::min)
+    };
+    let base = |lo: f32, hi: f32| {
+        d.dots.iter().filter(|p| p.x.0 > lo && p.x.0 < hi).map(|p| p.y.0).fold(f32::NEG_INFINITY, f32::max)
+    };
+    assert!((left(0.0, 45.0) - r - 21.0).abs() < 0.01 && (base(0.0, 45.0) + r - 32.0).abs() < 0.01, "{d:?}");
+    assert!((left(45.0, 100.0) - r - 51.0).abs() < 0.01 && (base(45.0, 100.0) + r - 42.0).abs() < 0.01, "{d:?}");
+    assert_eq!(d.dots.len(), 2 * 6);
+}
+
 /// A drawing whose annotated shapes all lie beyond the surface is still an
 /// annotated drawing: the automatic sheet does not style what is left in
 /// their place, and the errors say to fit the drawing, not to annotate it.
