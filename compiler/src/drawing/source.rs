@@ -76,7 +76,9 @@ pub(crate) struct Element {
     pub sheet: Option<Declaration>,
     pub parent: Option<usize>,
     pub in_defs: bool,
-    /// Whether it is under a `<switch>` child that is not drawn ([`switch_child`]).
+    /// Whether it is not drawn for the reader's languages: its conditions,
+    /// or an ancestor's, fail ([`conditions_pass`]), or it is under a `<switch>` child
+    /// that is not drawn ([`switch_child`]).
     pub switched_off: bool,
     /// Whether it draws markers (so the group after its usvg path holds them).
     pub has_markers: bool,
@@ -281,8 +283,10 @@ pub(crate) fn read(
             layers.push(l.trim().to_string());
         }
         let in_defs = parent_el.is_some_and(|p| p.in_defs || p.kind == Kind::Defs);
-        // Under a `<switch>`, only its chosen child is drawn.
+        // An element whose conditions fail is not drawn (another language's
+        // label), and under a `<switch>` only its chosen child is.
         let switched_off = parent_el.is_some_and(|p| p.switched_off)
+            || !conditions_pass(node, languages)
             || node
                 .parent_element()
                 .is_some_and(|p| p.tag_name().name() == "switch" && switch_child(p, languages) != Some(node.id()));
@@ -333,29 +337,32 @@ pub(crate) fn read(
     Source { elements, by_key }
 }
 
-/// The child a `<switch>` draws for a reader of `languages`: its first child
-/// element whose conditions pass, exactly as usvg decides (so that texts,
-/// which taxel places itself, agree with the shapes usvg draws). A child
-/// passes unless it has `requiredExtensions`, names a `requiredFeatures`
-/// feature usvg lacks, or has a `systemLanguage` list with no tag equal to a
-/// reader's language or starting with it and a `-`.
-pub(crate) fn switch_child(switch: Node<'_, '_>, languages: &[String]) -> Option<roxmltree::NodeId> {
-    let passes = |n: &Node<'_, '_>| {
-        if n.has_attribute("requiredExtensions") {
-            return false;
-        }
-        if let Some(features) = n.attribute("requiredFeatures")
-            && !features.split(' ').all(|f| FEATURES.contains(&f))
-        {
-            return false;
-        }
-        n.attribute("systemLanguage").is_none_or(|langs| {
-            langs.split(',').map(str::trim).any(|lang| {
-                languages.iter().any(|v| v == lang || lang.split_once('-').is_some_and(|(prefix, _)| v == prefix))
-            })
+/// Whether element `n`'s conditions pass for a reader of `languages`,
+/// exactly as usvg decides (so that texts, which taxel places itself, agree
+/// with the shapes usvg draws): it fails if it has `requiredExtensions`,
+/// names a `requiredFeatures` feature usvg lacks, or has a `systemLanguage`
+/// list with no tag equal to a reader's language or starting with it and a
+/// `-`. usvg draws no element whose conditions fail, in a `<switch>` or not.
+fn conditions_pass(n: Node<'_, '_>, languages: &[String]) -> bool {
+    if n.has_attribute("requiredExtensions") {
+        return false;
+    }
+    if let Some(features) = n.attribute("requiredFeatures")
+        && !features.split(' ').all(|f| FEATURES.contains(&f))
+    {
+        return false;
+    }
+    n.attribute("systemLanguage").is_none_or(|langs| {
+        langs.split(',').map(str::trim).any(|lang| {
+            languages.iter().any(|v| v == lang || lang.split_once('-').is_some_and(|(prefix, _)| v == prefix))
         })
-    };
-    switch.children().filter(|n| n.is_element()).find(passes).map(|n| n.id())
+    })
+}
+
+/// The child a `<switch>` draws for a reader of `languages`: its first child
+/// element whose conditions pass ([`conditions_pass`]).
+pub(crate) fn switch_child(switch: Node<'_, '_>, languages: &[String]) -> Option<roxmltree::NodeId> {
+    switch.children().filter(|n| n.is_element()).find(|n| conditions_pass(*n, languages)).map(|n| n.id())
 }
 
 /// The SVG 1.1 features usvg supports, for `requiredFeatures` (usvg 0.49's

@@ -211,6 +211,23 @@ fn a_switch_draws_the_child_for_the_readers_language() {
     // matches neither `de` nor `de-CH` (the system's locale gives `de` too).
     assert_eq!(drawn(&["de-AT"]).1, 4);
     assert_eq!(drawn(&["de-AT", "de"]).1, 2);
+    // Outside a `<switch>` an element whose language is not the reader's
+    // is not drawn either (usvg's rule for shapes).
+    let svg = page(
+        r#"<text x="10" y="20" systemLanguage="de" data-tactile="braille()">Weg</text>
+<g systemLanguage="de"><text x="10" y="40" data-tactile="braille()">Pfad</text></g>
+<rect x="60" y="10" width="20" height="20" data-tactile="grating()"/>"#,
+    );
+    for (lang, braille) in [("en", 0), ("de", 2)] {
+        let opts = CompileOptions { languages: vec![lang.to_string()], ..CompileOptions::new(stress2()) };
+        let c = no_internal_error(compile_svg(&svg, &opts));
+        let lines = dots(bundle(&c), taxel_format::DotKind::Braille).map_or(0, |t| {
+            (t.dots.iter().any(|d| d.y.0 < 21.0) as usize) + (t.dots.iter().any(|d| d.y.0 > 21.0) as usize)
+        });
+        assert_eq!(lines, braille, "{lang}: {:#?}", c.diagnostics);
+        // Another language's label is left out by design, not "not drawn".
+        assert!(c.diagnostics.iter().all(|d| d.code != "T0301"), "{lang}: {:#?}", c.diagnostics);
+    }
 }
 
 /// Text along a path (a street's name on a map) becomes braille starting
