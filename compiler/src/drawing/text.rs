@@ -144,8 +144,8 @@ fn text(
     // A `<use>` adds its transform, then its `x` and `y`, before the text's own.
     let by_ts = match by.and_then(|u| doc.get_node(src.elements[u].node)) {
         Some(u) => {
-            let at = |a: &str| u.attribute(a).and_then(|v| v.trim().parse::<f32>().ok()).filter(|v| v.is_finite());
-            transform(u).pre_translate(at("x").unwrap_or(0.0), at("y").unwrap_or(0.0))
+            let at = |a: &str| first(u, a).unwrap_or(0.0) as f32;
+            transform(u).pre_translate(at("x"), at("y"))
         }
         None => Transform::identity(),
     };
@@ -195,23 +195,26 @@ struct Run {
     text: String,
 }
 
+/// The first length of attribute `a` of `n` (a list such as `x="10 12 14"`
+/// starts at its first), in user units; `None` when absent or unreadable.
+fn first(n: Node<'_, '_>, a: &str) -> Option<f64> {
+    let v = n.attribute(a)?;
+    let tok = v.split(|c: char| c.is_whitespace() || c == ',').find(|t| !t.is_empty())?;
+    let l: svgtypes::Length = tok.parse().ok()?;
+    let per = match l.unit {
+        svgtypes::LengthUnit::Mm => 96.0 / 25.4,
+        svgtypes::LengthUnit::Cm => 96.0 / 2.54,
+        svgtypes::LengthUnit::In => 96.0,
+        svgtypes::LengthUnit::Pt => 96.0 / 72.0,
+        svgtypes::LengthUnit::Pc => 16.0,
+        _ => 1.0,
+    };
+    Some(l.number * per).filter(|v| v.is_finite())
+}
+
 /// The runs of a `<text>` element: a new run wherever `x` or `y` is given (on
 /// the text or a `<tspan>`); whitespace collapsed as SVG does by default.
 fn runs_of(text: Node<'_, '_>) -> Vec<Run> {
-    fn first(n: Node<'_, '_>, a: &str) -> Option<f64> {
-        let v = n.attribute(a)?;
-        let tok = v.split(|c: char| c.is_whitespace() || c == ',').find(|t| !t.is_empty())?;
-        let l: svgtypes::Length = tok.parse().ok()?;
-        let per = match l.unit {
-            svgtypes::LengthUnit::Mm => 96.0 / 25.4,
-            svgtypes::LengthUnit::Cm => 96.0 / 2.54,
-            svgtypes::LengthUnit::In => 96.0,
-            svgtypes::LengthUnit::Pt => 96.0 / 72.0,
-            svgtypes::LengthUnit::Pc => 16.0,
-            _ => 1.0,
-        };
-        Some(l.number * per).filter(|v| v.is_finite())
-    }
     fn walk(n: Node<'_, '_>, runs: &mut Vec<Run>) {
         for c in n.children() {
             if c.is_text() {

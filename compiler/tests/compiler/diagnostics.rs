@@ -262,7 +262,7 @@ fn text_on_a_path_starts_its_braille_where_the_path_starts() {
 fn a_text_shown_by_use_is_braille_where_the_use_puts_it() {
     let c = compile(&page(
         r##"<defs><text id="oak" x="1" y="2">oak</text></defs>
-<use id="first" href="#oak" x="20" y="30" data-tactile="braille()"/>
+<use id="first" href="#oak" x="20" y="30px" data-tactile="braille()"/>
 <g transform="translate(40 0)"><use id="second" xlink:href="#oak" transform="translate(0 10)" x="10" y="30" data-tactile="braille()" xmlns:xlink="http://www.w3.org/1999/xlink"/></g>"##,
     ));
     let b = bundle(&c);
