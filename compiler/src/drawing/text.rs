@@ -75,28 +75,36 @@ pub(crate) fn texts(
     out
 }
 
-/// The `<text>` elements that `<use>` elements show: (the text's source
-/// index, the `<use>`'s), in document order of the `<use>`s.
+/// The `<text>` elements that `<use>` elements show, a text itself or the
+/// texts of a group (`<g>`): (the text's source index, the `<use>`'s), in
+/// document order of the `<use>`s.
 fn used_texts(src: &Source, doc: &Document<'_>) -> Vec<(usize, usize)> {
     if !src.elements.iter().any(|e| e.tag == "use") {
         return Vec::new();
     }
-    let texts: HashMap<&str, usize> = src
+    let by_id: HashMap<&str, usize> = src
         .elements
         .iter()
         .enumerate()
-        .filter(|(_, e)| e.kind == Kind::Text && !e.id.is_empty())
+        .filter(|(_, e)| matches!(e.tag.as_str(), "text" | "g") && !e.id.is_empty())
         .map(|(i, e)| (e.id.as_str(), i))
         .collect();
+    let by_node: HashMap<roxmltree::NodeId, usize> =
+        src.elements.iter().enumerate().filter(|(_, e)| e.kind == Kind::Text).map(|(i, e)| (e.node, i)).collect();
     let mut out = Vec::new();
     for (u, e) in src.elements.iter().enumerate().filter(|(_, e)| e.tag == "use") {
         let Some(node) = doc.get_node(e.node) else { continue };
-        let href = node.attribute((XLINK_NS, "href")).or(node.attribute("href")).unwrap_or("");
-        if let Some(&t) = href.trim().strip_prefix('#').and_then(|id| texts.get(id)) {
-            out.push((t, u));
-        }
+        let Some(&target) = use_target(node).and_then(|id| by_id.get(id)) else { continue };
+        let Some(target) = doc.get_node(src.elements[target].node) else { continue };
+        // (A group's texts in document order; the target itself when it is one.)
+        out.extend(target.descendants().filter_map(|n| by_node.get(&n.id())).map(|&t| (t, u)));
     }
     out
+}
+
+/// The id a `<use>` names (`href` or `xlink:href`, `#id`).
+fn use_target<'a>(u: Node<'a, '_>) -> Option<&'a str> {
+    u.attribute((XLINK_NS, "href")).or(u.attribute("href"))?.trim().strip_prefix('#')
 }
 
 /// The drawing element of the `<text>` that is source element `i`, shown
@@ -112,13 +120,29 @@ fn text(
     mm_per_px: f64,
     root_ts: Transform,
 ) -> Result<Option<(usize, Element)>, Diagnostic> {
-    // The element on the page: the text, or the `<use>` that shows it (the
-    // text's own annotation first, then the `<use>`'s and its groups').
+    // The element on the page: the text, or the `<use>` that shows it.
     let t = i;
     let i = by.unwrap_or(t);
     let e = &src.elements[i];
     let decl = match by {
-        Some(_) => src.elements[t].own.clone().map(|d| (d, StyledBy::Annotation)).or_else(|| xml_decl(src, i)),
+        Some(u) => {
+            // The text's own annotation, or its groups' up to the one the
+            // `<use>` names; then the `<use>`'s and its groups'.
+            let target = doc.get_node(src.elements[u].node).and_then(use_target);
+            let mut k = Some(t);
+            let mut found = None;
+            while let Some(e) = k.and_then(|j| src.elements.get(j)) {
+                if let Some(d) = &e.own {
+                    found = Some((d.clone(), StyledBy::Annotation));
+                    break;
+                }
+                if Some(e.id.as_str()) == target {
+                    break;
+                }
+                k = e.parent;
+            }
+            found.or_else(|| xml_decl(src, i))
+        }
         None => xml_decl(src, i),
     };
     let braille = decl.as_ref().is_some_and(|(d, _)| d.styles().iter().any(|s| matches!(s, Style::Braille(_))));
@@ -141,11 +165,21 @@ fn text(
                 Transform::from_row(t.a as f32, t.b as f32, t.c as f32, t.d as f32, t.e as f32, t.f as f32)
             })
     };
-    // A `<use>` adds its transform, then its `x` and `y`, before the text's own.
+    // A `<use>` adds its transform, then its `x` and `y`, then those of the
+    // groups from the one it names down to the text, before the text's own.
     let by_ts = match by.and_then(|u| doc.get_node(src.elements[u].node)) {
         Some(u) => {
             let at = |a: &str| first(u, a).unwrap_or(0.0) as f32;
-            transform(u).pre_translate(at("x"), at("y"))
+            let mut ts = Transform::identity();
+            if node.attribute("id") != use_target(u) {
+                for a in node.ancestors().skip(1) {
+                    ts = transform(a).pre_concat(ts);
+                    if a.attribute("id") == use_target(u) || a.parent_element().is_none() {
+                        break;
+                    }
+                }
+            }
+            transform(u).pre_translate(at("x"), at("y")).pre_concat(ts)
         }
         None => Transform::identity(),
     };

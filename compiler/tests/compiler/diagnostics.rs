@@ -279,6 +279,30 @@ fn a_text_shown_by_use_is_braille_where_the_use_puts_it() {
     assert!((left(0.0, 45.0) - r - 21.0).abs() < 0.01 && (base(0.0, 45.0) + r - 32.0).abs() < 0.01, "{d:?}");
     assert!((left(45.0, 100.0) - r - 51.0).abs() < 0.01 && (base(45.0, 100.0) + r - 42.0).abs() < 0.01, "{d:?}");
     assert_eq!(d.dots.len(), 2 * 6);
+    // A group of labels kept in `<defs>` (a symbol with its name): each text
+    // where the `<use>`, then the group, puts it; the group's annotation
+    // styles them.
+    let c = compile(&page(
+        r##"<defs><g id="town" transform="translate(0 5)" data-tactile="braille()"><circle r="1"/><text x="2" y="0">ab</text><g transform="translate(0 12)"><text x="2" y="0">c</text></g></g></defs>
+<use href="#town" x="20" y="20"/>"##,
+    ));
+    let d = dots(bundle(&c), taxel_format::DotKind::Braille).expect("braille for the group's texts");
+    let r = d.dots[0].radius.0;
+    // "ab" starting at (22, 25) and "c" at (22, 37): a = dot 1, b = dots 1 2,
+    // c = dots 1 4; cells 6.2 mm apart, dots 2.34 mm apart, the lowest row
+    // (dot 3) on the baseline, so dot 1 is two dot pitches above it. Each
+    // dot as its centre less r in x and plus r in y.
+    let (cell, dot) = (6.2f32, 2.34f32);
+    let want = [
+        (22.0, 25.0 - 2.0 * dot),
+        (22.0 + cell, 25.0 - 2.0 * dot),
+        (22.0 + cell, 25.0 - dot),
+        (22.0, 37.0 - 2.0 * dot),
+        (22.0 + dot, 37.0 - 2.0 * dot),
+    ];
+    let got: Vec<(f32, f32)> = d.dots.iter().map(|p| (p.x.0 - r, p.y.0 + r)).collect();
+    assert_eq!(got.len(), want.len(), "{got:?}");
+    assert!(want.iter().all(|w| got.iter().any(|g| (g.0 - w.0).abs() < 0.01 && (g.1 - w.1).abs() < 0.01)), "{got:?}");
 }
 
 /// A drawing whose annotated shapes all lie beyond the surface is still an
