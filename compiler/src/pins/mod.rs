@@ -223,8 +223,7 @@ pub fn legalise(drawing: &Drawing, profile: &DeviceProfile, diags: &mut Vec<Diag
                         .find(|(k, _)| *k == grating_key(g.wavelength_mm, g.angle_deg))
                         .map_or(Pattern::wanted(g.wavelength_mm, g.angle_deg, pitch.0), |(_, p)| *p);
                     let outlined = e.styles.iter().any(|s| matches!(s, Style::Vibrate(_) | Style::Dots(_)));
-                    let fill =
-                        Fill { rule: p.fill_rule, pattern, height: heights.texture, outlined, regions: &regions };
+                    let fill = Fill { pattern, height: heights.texture, outlined, regions: &regions };
                     texture_fill(&mut canvas, &p.outline, fill, i, e, diags);
                 }
                 (Style::Dots(d), Shape::Path(p)) => {
@@ -450,35 +449,46 @@ pub(crate) fn inside_pins(canvas: &Canvas, polys: &[Polyline], rule: FillRule) -
     out
 }
 
-/// Which grated region each pin's centre lies in: element index + 1 (the
-/// first in drawing order where regions overlap), 0 for none.
-fn region_map(canvas: &Canvas, drawing: &Drawing) -> Vec<u32> {
+/// The pins inside every grated region, found once for its texture and
+/// for its neighbours' ([`region_map`]).
+struct Regions {
+    /// Which region each pin's centre lies in: element index + 1 (the first
+    /// in drawing order where regions overlap), 0 for none.
+    map: Vec<u32>,
+    /// Each grated element's pins inside it ([`inside_pins`]), by index.
+    inside: std::collections::HashMap<usize, Vec<PinPos>>,
+}
+
+/// [`Regions`] of the visible grated paths of `drawing`.
+fn region_map(canvas: &Canvas, drawing: &Drawing) -> Regions {
     let mut map = vec![0u32; canvas.owner.len()];
+    let mut inside = std::collections::HashMap::new();
     for (i, e) in drawing.elements.iter().enumerate().filter(|(_, e)| e.visible) {
         let Shape::Path(p) = &e.shape else { continue };
         if !e.styles.iter().any(|s| matches!(s, Style::Grating(_))) {
             continue;
         }
-        for q in inside_pins(canvas, &p.outline, p.fill_rule) {
+        let pins = inside_pins(canvas, &p.outline, p.fill_rule);
+        for &q in &pins {
             if let Some(slot) = canvas.index(q).and_then(|k| map.get_mut(k))
                 && *slot == 0
             {
                 *slot = i as u32 + 1;
             }
         }
+        inside.insert(i, pins);
     }
-    map
+    Regions { map, inside }
 }
 
 /// How a region is textured.
 struct Fill<'r> {
-    rule: FillRule,
     pattern: Pattern,
     height: u8,
     /// Whether the element also draws its outline (`vibrate` or `dots`).
     outlined: bool,
-    /// Every grated region's pins ([`region_map`]).
-    regions: &'r [u32],
+    /// Every grated region's pins ([`region_map`]), this one's among them.
+    regions: &'r Regions,
 }
 
 fn texture_fill(
@@ -489,7 +499,7 @@ fn texture_fill(
     e: &Element,
     diags: &mut Vec<Diagnostic>,
 ) {
-    let Fill { rule, pattern, height, outlined, regions } = fill;
+    let Fill { pattern, height, outlined, regions } = fill;
     // One blank pin between the texture and the region's own outline, so that
     // the outline is felt as a line and not as the texture's first ridge.
     // Without an outline the texture fills the region (its gap to other
@@ -497,7 +507,8 @@ fn texture_fill(
     let border: std::collections::HashSet<PinPos> =
         if outlined { outline_pins(canvas, polys).into_iter().collect() } else { Default::default() };
     let near_border = |p: PinPos| (-1..=1).any(|dr| (-1..=1).any(|dc| border.contains(&(p.0 + dc, p.1 + dr))));
-    let room: Vec<PinPos> = inside_pins(canvas, polys, rule).into_iter().filter(|&p| !near_border(p)).collect();
+    let inside = regions.inside.get(&elem).map_or(&[][..], Vec::as_slice);
+    let room: Vec<PinPos> = inside.iter().copied().filter(|&p| !near_border(p)).collect();
     let ridges: Vec<PinPos> = room.iter().copied().filter(|p| pattern.raised(p.0, p.1)).collect();
     // A texture is felt as one only with two ridges or more: a region that
     // holds one (a bar of a chart two pins wide) would read as a line, like
@@ -507,17 +518,11 @@ fn texture_fill(
     // solid mass, where their ridges at least differ. (Two ridges stay a
     // texture: a key's swatch a few pins square shows its orientation with
     // two.)
-    let lines = {
-        let mut seen: Vec<i64> = Vec::new();
-        for &p in &ridges {
-            if seen.len() < 2 && !seen.contains(&pattern.ridge(p)) {
-                seen.push(pattern.ridge(p));
-            }
-        }
-        seen.len()
-    };
+    // Ridges held: 0, 1, or 2 for two or more.
+    let lines =
+        ridges.first().map_or(0, |&f| 1 + ridges.iter().any(|&p| pattern.ridge(p) != pattern.ridge(f)) as usize);
     let me = elem as u32 + 1;
-    let other = |q: PinPos| canvas.index(q).and_then(|k| regions.get(k)).is_some_and(|&a| a != 0 && a != me);
+    let other = |q: PinPos| canvas.index(q).and_then(|k| regions.map.get(k)).is_some_and(|&a| a != 0 && a != me);
     let alone = || room.iter().all(|&(c, r)| !(-1..=1).any(|dr| (-1..=1).any(|dc| other((c + dc, r + dr)))));
     let solid = !room.is_empty() && lines < 2 && alone();
     for &p in if solid { &room } else { &ridges } {
