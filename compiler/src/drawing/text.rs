@@ -169,7 +169,7 @@ fn text(
     // groups from the one it names down to the text, before the text's own.
     let by_ts = match by.and_then(|u| doc.get_node(src.elements[u].node)) {
         Some(u) => {
-            let at = |a: &str| first(u, a).unwrap_or(0.0) as f32;
+            let at = |a: &str| first(u, a, DEFAULT_EM).unwrap_or(0.0) as f32;
             let mut ts = Transform::identity();
             if node.attribute("id") != use_target(u) {
                 for a in node.ancestors().skip(1) {
@@ -196,9 +196,21 @@ fn text(
         return Ok(None);
     };
     let anchor = anchor(node);
+    let (paint, font_size_mm) = walked.text_paint.get(&i).copied().unwrap_or((Paint::default(), 16.0 * s as f64));
+    // The font size in the text's user units, for lengths in `em` (usvg's
+    // size, when it laid the text out, is in millimetres on the page).
+    let scale = ((ts.sx as f64 * ts.sy as f64) - (ts.kx as f64 * ts.ky as f64)).abs().sqrt();
+    let em = match walked.text_paint.get(&i) {
+        Some(_) if scale > 0.0 => font_size_mm / scale,
+        // (No layout, for want of fonts: the sizes the XML sets, from the root down.)
+        _ => {
+            let chain: Vec<Node<'_, '_>> = node.ancestors().filter(|n| n.is_element()).collect();
+            chain.iter().rev().fold(DEFAULT_EM, |em, &n| own_font_size(n, em).unwrap_or(em))
+        }
+    };
     let (mut ux, mut uy) = (0.0f64, 0.0f64);
     let mut runs = Vec::new();
-    for run in runs_of(node) {
+    for run in runs_of(node, em) {
         let continues = run.x.is_none() && run.y.is_none() && !runs.is_empty();
         ux = run.x.unwrap_or(ux);
         uy = run.y.unwrap_or(uy);
@@ -211,7 +223,6 @@ fn text(
             continues,
         });
     }
-    let (paint, font_size_mm) = walked.text_paint.get(&i).copied().unwrap_or((Paint::default(), 16.0 * s as f64));
     let shape = TextShape {
         content: runs.iter().map(|r| r.text.as_str()).collect::<Vec<_>>().join(" "),
         runs,
@@ -220,6 +231,9 @@ fn text(
     };
     Ok(Some((i, element_of(e, decl, true, paint, Shape::Text(shape)))))
 }
+
+/// CSS's initial font size, in user units (pixels).
+const DEFAULT_EM: f64 = 16.0;
 
 /// One positioned run of a `<text>`: a start position (user units, when given) and its text.
 #[derive(Debug, Clone, PartialEq)]
@@ -230,48 +244,123 @@ struct Run {
 }
 
 /// The first length of attribute `a` of `n` (a list such as `x="10 12 14"`
-/// starts at its first), in user units; `None` when absent or unreadable.
-fn first(n: Node<'_, '_>, a: &str) -> Option<f64> {
+/// starts at its first), in user units, `em` being the font size there in
+/// user units; `None` when absent, unreadable or a percentage (of the
+/// viewport, which a text's position seldom uses).
+fn first(n: Node<'_, '_>, a: &str, em: f64) -> Option<f64> {
     let v = n.attribute(a)?;
     let tok = v.split(|c: char| c.is_whitespace() || c == ',').find(|t| !t.is_empty())?;
-    let l: svgtypes::Length = tok.parse().ok()?;
+    length(tok, em)
+}
+
+/// One length in user units, `em` being the font size in user units (an
+/// `ex` is taken as half of it, as usvg does); `None` when unreadable or a
+/// percentage.
+fn length(tok: &str, em: f64) -> Option<f64> {
+    let l: svgtypes::Length = tok.trim().parse().ok()?;
     let per = match l.unit {
         svgtypes::LengthUnit::Mm => 96.0 / 25.4,
         svgtypes::LengthUnit::Cm => 96.0 / 2.54,
         svgtypes::LengthUnit::In => 96.0,
         svgtypes::LengthUnit::Pt => 96.0 / 72.0,
         svgtypes::LengthUnit::Pc => 16.0,
+        svgtypes::LengthUnit::Em => em,
+        svgtypes::LengthUnit::Ex => em / 2.0,
+        svgtypes::LengthUnit::Percent => return None,
         _ => 1.0,
     };
     Some(l.number * per).filter(|v| v.is_finite())
 }
 
-/// The runs of a `<text>` element: a new run wherever `x` or `y` is given (on
-/// the text or a `<tspan>`); whitespace collapsed as SVG does by default.
-fn runs_of(text: Node<'_, '_>) -> Vec<Run> {
-    fn walk(n: Node<'_, '_>, runs: &mut Vec<Run>) {
+/// The font size an element of a text sets itself (its `font-size`
+/// attribute, or its style's `font-size` or `font` shorthand, as
+/// matplotlib writes `font: 10px 'DejaVu Sans'`), in user units, `em` being
+/// its parent's; `None` when it sets none, or one this reading does not
+/// resolve (a keyword such as `larger`, or a percentage: the parent's size
+/// stays).
+fn own_font_size(n: Node<'_, '_>, em: f64) -> Option<f64> {
+    let declared = |name: &str| {
+        n.attribute("style").and_then(|s| {
+            s.split(';').find_map(|d| {
+                let (k, v) = d.split_once(':')?;
+                (k.trim() == name).then(|| v.trim())
+            })
+        })
+    };
+    // The shorthand's size is its first token that reads as a length
+    // (before any `/line-height`).
+    let shorthand = || {
+        declared("font")?.split_whitespace().find_map(|t| {
+            t.split('/').next().and_then(|t| t.starts_with(|c: char| c.is_ascii_digit() || c == '.').then_some(t))
+        })
+    };
+    let size = declared("font-size").or_else(shorthand).or(n.attribute("font-size"))?;
+    length(size, em).filter(|&v| v > 0.0)
+}
+
+/// The runs of a `<text>` element, `em` being its font size in user units:
+/// a new run wherever `x` or `y` is given (on the text or a `<tspan>`), at
+/// the current text position moved by the element's `dx` and `dy` (which
+/// move the position even where no run starts, as SVG's do: a line written
+/// as `<tspan x="0" dy="1.2em">` is a run one line below the last);
+/// whitespace collapsed as SVG does by default.
+fn runs_of(text: Node<'_, '_>, em: f64) -> Vec<Run> {
+    /// The current text position in user units, as far as it is known.
+    struct At {
+        x: Option<f64>,
+        y: Option<f64>,
+    }
+    impl At {
+        /// Moves to element `n`'s `x`, `y` (where given), then by its `dx`,
+        /// `dy`; whether it gave `x` or `y` (a run starts there).
+        fn step(&mut self, n: Node<'_, '_>, em: f64) -> bool {
+            let (x, y) = (first(n, "x", em), first(n, "y", em));
+            self.x = x.or(self.x);
+            self.y = y.or(self.y);
+            let (dx, dy) = (first(n, "dx", em), first(n, "dy", em));
+            if dx.is_some() {
+                self.x = Some(self.x.unwrap_or(0.0) + dx.unwrap_or(0.0));
+            }
+            if dy.is_some() {
+                self.y = Some(self.y.unwrap_or(0.0) + dy.unwrap_or(0.0));
+            }
+            x.is_some() || y.is_some()
+        }
+    }
+    fn walk(n: Node<'_, '_>, em: f64, at: &mut At, runs: &mut Vec<Run>) {
         for c in n.children() {
             if c.is_text() {
                 if let Some(t) = runs.last_mut() {
                     t.text.push_str(c.text().unwrap_or(""));
                 }
             } else if c.is_element() && matches!(c.tag_name().name(), "tspan" | "a") {
-                let (x, y) = (first(c, "x"), first(c, "y"));
-                if x.is_some() || y.is_some() {
-                    runs.push(Run { x, y, text: String::new() });
+                let em = own_font_size(c, em).unwrap_or(em);
+                let (before_x, before_y) = (at.x, at.y);
+                if at.step(c, em) {
+                    runs.push(Run { x: at.x, y: at.y, text: String::new() });
+                } else if (at.x, at.y) != (before_x, before_y) && runs.last().is_some_and(|r| r.text.trim().is_empty())
+                {
+                    // A shift before any text of the run (`<text x="0"
+                    // y="9"><tspan dy="0.71em">`) moves the run itself.
+                    if let Some(r) = runs.last_mut() {
+                        (r.x, r.y) = (at.x, at.y);
+                    }
                 }
-                walk(c, runs);
+                walk(c, em, at, runs);
             } else if c.is_element() && c.tag_name().name() == "textPath" {
                 // Text along a path (a street's name on a map): braille does
                 // not bend, so it starts where the path starts.
                 let (x, y) = path_start(c).unzip();
+                (at.x, at.y) = (x.or(at.x), y.or(at.y));
                 runs.push(Run { x, y, text: String::new() });
-                walk(c, runs);
+                walk(c, em, at, runs);
             }
         }
     }
-    let mut out = vec![Run { x: first(text, "x"), y: first(text, "y"), text: String::new() }];
-    walk(text, &mut out);
+    let mut at = At { x: None, y: None };
+    at.step(text, em);
+    let mut out = vec![Run { x: at.x, y: at.y, text: String::new() }];
+    walk(text, em, &mut at, &mut out);
     for r in &mut out {
         r.text = r.text.split_whitespace().collect::<Vec<_>>().join(" ");
     }

@@ -255,6 +255,53 @@ fn text_on_a_path_starts_its_braille_where_the_path_starts() {
     }
 }
 
+/// Lines written as `<tspan x="…" dy="1.2em">` (d3's and many editors'
+/// multi-line labels) are braille lines that far apart, and a `dx` or `dy`
+/// on the text (d3's axis labels, `dy="0.71em"`) moves its braille: they
+/// were all placed on the first line's baseline, ran into each other and
+/// were left out.
+#[test]
+fn dx_and_dy_move_the_braille_of_a_text_and_its_lines() {
+    let c = compile(&page(
+        r#"<g data-tactile="braille()" font-size="10">
+<text x="10" y="15"><tspan x="10" dy="0">ab</tspan><tspan x="10" dy="1.2em">c</tspan><tspan x="10" dy="1em" font-size="20">a</tspan></text>
+<text x="60" y="20" dx="5" dy="0.5em">d</text>
+<text x="60" y="30" style="font: italic 20px/1.5 sans-serif"><tspan x="60" dy="1em">a</tspan></text>
+</g>"#,
+    ));
+    let b = bundle(&c);
+    let d = dots(b, taxel_format::DotKind::Braille).expect("braille for the texts");
+    let r = d.dots[0].radius.0;
+    // Each run's first dot's centre less r, and its lowest dots' centres plus
+    // r, among the dots in the box x0..x1, y0..y1.
+    let run = |x0: f32, x1: f32, y0: f32, y1: f32| {
+        let inside: Vec<_> = d.dots.iter().filter(|p| p.x.0 > x0 && p.x.0 < x1 && p.y.0 > y0 && p.y.0 < y1).collect();
+        let left = inside.iter().map(|p| p.x.0).fold(f32::INFINITY, f32::min) - r;
+        let base = inside.iter().map(|p| p.y.0).fold(f32::NEG_INFINITY, f32::max) + r;
+        (inside.len(), left, base)
+    };
+    // "ab" on y = 15 (a = dot 1, b = dots 1 2); "c" (dots 1 4) 1.2 em = 12
+    // lower; "a" one em lower still, in its own font size (20): y = 47;
+    // "d" (dots 1 4 5) at x = 60 + 5, y = 20 + 5; "a" at x = 60, one em
+    // below y = 30 in the size its style's `font` gives. The lowest dot of a cell
+    // whose lowest row is empty is a pitch (2.34 mm) or two above the baseline.
+    let dot = 2.34f32;
+    let near = |got: (usize, f32, f32), want: (usize, f32, f32)| {
+        got.0 == want.0 && (got.1 - want.1).abs() < 0.01 && (got.2 - want.2).abs() < 0.01
+    };
+    let ab = run(0.0, 40.0, 0.0, 16.0);
+    assert!(near(ab, (3, 10.0, 15.0 - dot)), "ab: {ab:?} in {d:?}");
+    let c2 = run(0.0, 40.0, 16.0, 28.0);
+    assert!(near(c2, (2, 10.0, 27.0 - 2.0 * dot)), "c: {c2:?} in {d:?}");
+    let a3 = run(0.0, 40.0, 28.0, 60.0);
+    assert!(near(a3, (1, 10.0, 47.0 - 2.0 * dot)), "a: {a3:?} in {d:?}");
+    let d4 = run(50.0, 100.0, 0.0, 28.0);
+    assert!(near(d4, (3, 65.0, 25.0 - dot)), "d: {d4:?} in {d:?}");
+    let a5 = run(50.0, 100.0, 28.0, 60.0);
+    assert!(near(a5, (1, 60.0, 50.0 - 2.0 * dot)), "a: {a5:?} in {d:?}");
+    assert_eq!(d.dots.len(), 3 + 2 + 1 + 3 + 1, "{d:?}");
+}
+
 /// A label kept once in `<defs>` and shown by `<use>` is braille where each
 /// `<use>` puts it (its transform, then its `x` and `y`), named by the
 /// `<use>`; it was left out, and the `<use>`'s annotation with it.
