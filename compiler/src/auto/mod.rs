@@ -37,9 +37,10 @@ use taxel_format::DeviceProfile;
 use crate::annotation::{Braille, Dot, Grating, Style, Vibrate};
 use crate::diagnostic::Diagnostic;
 use crate::drawing::{Drawing, Element, Rgba, Shape, StyledBy};
-use crate::geometry::Polyline;
+use crate::geometry::{FillRule, Polyline};
 use crate::spatial::{self, Bbox, Occupancy};
 use crate::svg::{CELL_PITCH_MM, DOT_PITCH_MM, braille_cells};
+use crate::vector::filled_area;
 
 /// Most textures the automatic sheet uses (BANA 2010: about five of each kind).
 pub const MAX_TEXTURES: usize = 5;
@@ -226,25 +227,6 @@ fn grey(c: Rgba) -> bool {
     hi - lo <= GREY_SPREAD
 }
 
-/// Area enclosed by `polys` (each closed implicitly): the signed areas
-/// summed, so a hole drawn the other way round (as fonts and map exporters
-/// draw them) is taken away.
-fn area(polys: &[Polyline]) -> f64 {
-    let twice: f64 = polys
-        .iter()
-        .map(|p| {
-            let n = p.points.len();
-            (0..n)
-                .map(|i| {
-                    let (a, b) = (p.points[i], p.points[(i + 1) % n]);
-                    a.0 * b.1 - b.0 * a.1
-                })
-                .sum::<f64>()
-        })
-        .sum();
-    twice.abs() / 2.0
-}
-
 /// A small compact mark (circle, square, triangle, diamond) rather than a
 /// glyph or a sliver: about as wide as high, and filling about half its box or more.
 fn compact(b: Bbox, a: f64) -> bool {
@@ -425,7 +407,7 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
                 // abut the lines it crosses and lose its vibrating stroke (a chart's axes).
                 let filled = paint.filled
                     && paint.fill.is_none_or(|c| visible(c) && (white_is_figure || !paper(c)))
-                    && area(&p.outline) > MIN_FILL_MM2;
+                    && filled_area(&p.outline, p.fill_rule) > MIN_FILL_MM2;
                 let stroked = paint.stroked && paint.stroke_width_mm > 0.0 && paint.stroke.is_none_or(visible);
                 if filled && backgrounds.contains(&i) {
                     dec.left_out = Some(LeftOut::Background);
@@ -450,7 +432,8 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
                     braille.place((x - r, y - r, x + r, y + r));
                 }
                 if filled {
-                    shapes.push(Filled { i, region: Region { outline: &p.outline, bbox: b }, area: area(&p.outline) });
+                    let area = filled_area(&p.outline, p.fill_rule);
+                    shapes.push(Filled { i, region: Region { outline: &p.outline, bbox: b }, area });
                 } else if !dec.outline && !dec.mark {
                     dec.left_out = Some(if dec.faint { LeftOut::Faint } else { LeftOut::Unpainted });
                 }
@@ -608,10 +591,12 @@ fn backgrounds(d: &Drawing, page: Bbox) -> Vec<usize> {
     let area = |b: Bbox| (b.2 - b.0).max(0.0) * (b.3 - b.1).max(0.0);
     let clip = |b: Bbox| (b.0.max(page.0), b.1.max(page.1), b.2.min(page.2), b.3.min(page.3));
     let filled = |e: &Element| matches!(e.shape, Shape::Path(_)) && e.visible && e.paint.filled;
-    // Every element's box, worked out once and in parallel (each is a pass over its outline).
+    // Every element's box as far as its clip regions let it be seen (a
+    // page-sized shape clipped to a small square is that square), worked out
+    // once and in parallel (each is a pass over its outline).
     let bounds: Vec<Option<Bbox>> = {
         use rayon::prelude::*;
-        d.elements.par_iter().map(Element::bounds).collect()
+        d.elements.par_iter().map(seen_bounds).collect()
     };
     let boxes: Vec<Option<Bbox>> =
         d.elements.iter().zip(&bounds).map(|(e, b)| b.filter(|_| filled(e)).map(clip)).collect();
@@ -630,8 +615,8 @@ fn backgrounds(d: &Drawing, page: Bbox) -> Vec<usize> {
     let mut candidates = 0;
     // What a shape covers is its own area on the page, not its box's: a flag's
     // cross or a logo's disc spans the page without covering it.
-    let covered = |i: usize| match &d.elements[i].shape {
-        Shape::Path(p) => area_within(&p.outline, page),
+    let covered = |i: usize| match (&d.elements[i].shape, boxes[i]) {
+        (Shape::Path(p), Some(seen)) => area_within(&p.outline, p.fill_rule, seen),
         _ => 0.0,
     };
     for (i, b) in boxes.iter().enumerate() {
@@ -654,9 +639,23 @@ fn backgrounds(d: &Drawing, page: Bbox) -> Vec<usize> {
     out
 }
 
-/// Area enclosed by `polys` inside the box `b`: each ring clipped to the box
-/// (Sutherland and Hodgman: exact for a convex window), then [`area`].
-fn area_within(polys: &[Polyline], b: Bbox) -> f64 {
+/// The box of what can be seen of an element: its bounds within the boxes
+/// of its clip regions; `None` when it has no outline or they leave nothing.
+fn seen_bounds(e: &Element) -> Option<Bbox> {
+    let mut b = e.bounds()?;
+    if let Shape::Path(p) = &e.shape {
+        for c in &p.clips {
+            let cb = crate::geometry::bounds(&c.outline)?;
+            b = (b.0.max(cb.0), b.1.max(cb.1), b.2.min(cb.2), b.3.min(cb.3));
+        }
+    }
+    (b.0 <= b.2 && b.1 <= b.3).then_some(b)
+}
+
+/// Area a fill of `polys` under `rule` covers inside the box `b`: each ring
+/// clipped to the box (Sutherland and Hodgman: exact for a convex window),
+/// then [`filled_area`].
+fn area_within(polys: &[Polyline], rule: FillRule, b: Bbox) -> f64 {
     // The window's four sides as "keep where f(p) >= 0" and the crossing with the side.
     type Side = (fn((f64, f64), f64) -> f64, f64);
     let sides: [Side; 4] =
@@ -684,7 +683,7 @@ fn area_within(polys: &[Polyline], b: Bbox) -> f64 {
             Polyline { points: ring, closed: true }
         })
         .collect();
-    area(&clipped)
+    filled_area(&clipped, rule)
 }
 
 /// Whether one of the element's clip regions lies wholly away from it.

@@ -373,3 +373,54 @@ fn textures_are_distinguishable_on_every_built_in_profile() {
         }
     }
 }
+
+/// What a fill covers is measured under its rule: a figure eight (whose
+/// lobes wind opposite ways) and two squares drawn in opposite directions
+/// in one path cover the area of their lobes, and are regions; their signed
+/// areas cancelled out, and they were left out as enclosing nothing.
+#[test]
+fn a_figure_eight_and_blobs_drawn_opposite_ways_are_regions() {
+    let eight = vec![Polyline {
+        points: vec![(20.0, 20.0), (60.0, 20.0), (60.0, 100.0), (100.0, 100.0), (100.0, 60.0), (20.0, 60.0)],
+        closed: true,
+    }];
+    let mut pair = rect(120.0, 20.0, 160.0, 60.0);
+    let mut back = rect(170.0, 20.0, 210.0, 60.0);
+    back[0].points.reverse();
+    pair.extend(back);
+    for rule in [FillRule::NonZero, FillRule::EvenOdd] {
+        let mut elements = vec![shape("eight", eight.clone(), RED, None), shape("pair", pair.clone(), BLUE, None)];
+        for e in &mut elements {
+            if let Shape::Path(p) = &mut e.shape {
+                p.fill_rule = rule;
+            }
+        }
+        let d = Drawing { page: page(230.0, 120.0), elements, ..Default::default() };
+        let plan = plan(&d, &stress2());
+        for (k, name) in ["eight", "pair"].iter().enumerate() {
+            assert_eq!(plan.decisions[k].left_out, None, "{name} ({rule:?})");
+            assert!(plan.styles(k).iter().any(|s| matches!(s, Style::Grating(_))), "{name} ({rule:?})");
+        }
+        // Each covers 2 x 40 x 40 mm².
+        for e in &d.elements {
+            let Shape::Path(p) = &e.shape else { unreachable!() };
+            assert!((crate::vector::filled_area(&p.outline, rule) - 3200.0).abs() < 0.01, "{} ({rule:?})", e.name);
+        }
+    }
+}
+
+/// A page-sized shape clipped to a small square is that square, not the
+/// page's background: it was left out as one (a chart's clipped plot area).
+#[test]
+fn a_page_sized_shape_clipped_small_is_not_a_background() {
+    let mut clipped = shape("clipped", rect(0.0, 0.0, 200.0, 100.0), RED, None);
+    if let Shape::Path(p) = &mut clipped.shape {
+        p.clips = vec![Clip { outline: rect(50.0, 25.0, 100.0, 75.0), fill_rule: FillRule::NonZero }];
+    }
+    let ground = shape("ground", rect(0.0, 0.0, 200.0, 100.0), Some([40, 40, 40, 255]), None);
+    let d = Drawing { page: page(200.0, 100.0), elements: vec![ground, clipped], ..Default::default() };
+    let plan = plan(&d, &stress2());
+    assert_eq!(plan.decisions[0].left_out, Some(LeftOut::Background));
+    assert_eq!(plan.decisions[1].left_out, None);
+    assert!(plan.styles(1).iter().any(|s| matches!(s, Style::Grating(_))));
+}
