@@ -58,7 +58,7 @@ use taxel_format::{
 
 use crate::annotation::Style;
 use crate::diagnostic::Diagnostic;
-use crate::drawing::{Drawing, Element, Shape};
+use crate::drawing::{Clip, Drawing, Element, Shape};
 use crate::geometry::{FillRule, Polyline};
 use line::PinPos;
 use texture::Pattern;
@@ -109,6 +109,9 @@ pub(crate) struct Canvas {
     /// Pairs of distinct elements closer than one blank pin, with a pin where they meet.
     pub touching: std::collections::BTreeMap<(u32, u32), PinPos>,
     pub pitch: (f64, f64),
+    /// The pins the element being drawn may raise, by index, when it is
+    /// clipped ([`clip_mask`]); `None` for every pin.
+    clip: Option<std::rc::Rc<Vec<bool>>>,
 }
 
 impl Canvas {
@@ -118,6 +121,7 @@ impl Canvas {
             owner: vec![0; cols as usize * rows as usize],
             touching: Default::default(),
             pitch,
+            clip: None,
         }
     }
 
@@ -141,6 +145,9 @@ impl Canvas {
     /// on it blinks. Records distinct elements that meet or touch.
     pub fn raise(&mut self, p: PinPos, elem: usize, height: u8, blink: bool) {
         let Some(i) = self.index(p) else { return };
+        if self.clip.as_ref().is_some_and(|c| !c.get(i).copied().unwrap_or(false)) {
+            return;
+        }
         let me = elem as u32 + 1;
         for dr in -1..=1 {
             for dc in -1..=1 {
@@ -208,10 +215,23 @@ pub fn legalise(drawing: &Drawing, profile: &DeviceProfile, diags: &mut Vec<Diag
     let patterns = assign_patterns(drawing, pitch.0.max(pitch.1), diags);
     let regions = region_map(&canvas, drawing);
     let mut labels = Vec::new();
+    // Elements clipped alike (a chart's data in its axes) share one mask.
+    let mut clipped_by: Option<(&[Clip], std::rc::Rc<Vec<bool>>)> = None;
     for (i, e) in drawing.elements.iter().enumerate() {
         if !e.visible {
             continue;
         }
+        canvas.clip = match &e.shape {
+            Shape::Path(p) if !p.clips.is_empty() => match &clipped_by {
+                Some((c, mask)) if *c == &p.clips[..] => Some(mask.clone()),
+                _ => {
+                    let mask = std::rc::Rc::new(clip_mask(&canvas, &p.clips));
+                    clipped_by = Some((&p.clips[..], mask.clone()));
+                    Some(mask)
+                }
+            },
+            _ => None,
+        };
         for style in &e.styles {
             match (style, &e.shape) {
                 (Style::Vibrate(_), Shape::Path(p)) => {
@@ -258,6 +278,7 @@ pub fn legalise(drawing: &Drawing, profile: &DeviceProfile, diags: &mut Vec<Diag
             }
         }
     }
+    canvas.clip = None;
     // Labels last, on top of the graphics they name.
     for (i, t) in labels {
         text::place(&mut canvas, &params, t, i, heights.outline, &drawing.elements[i], diags);
@@ -406,6 +427,27 @@ fn outline(canvas: &mut Canvas, polys: &[Polyline], elem: usize, height: u8, bli
     for p in outline_pins(canvas, polys) {
         canvas.raise(p, elem, height, blink);
     }
+}
+
+/// The pins an element clipped by `clips` may raise, by index: those inside
+/// every clip region or on its edge (so that a line drawn along the edge, a
+/// bar's base on a chart's axis, keeps its pins).
+fn clip_mask(canvas: &Canvas, clips: &[Clip]) -> Vec<bool> {
+    let n = canvas.owner.len();
+    let mut mask = vec![true; n];
+    for c in clips {
+        let mut this = vec![false; n];
+        let pins = inside_pins(canvas, &c.outline, c.fill_rule).into_iter().chain(outline_pins(canvas, &c.outline));
+        for i in pins.filter_map(|p| canvas.index(p)) {
+            if let Some(t) = this.get_mut(i) {
+                *t = true;
+            }
+        }
+        for (m, t) in mask.iter_mut().zip(this) {
+            *m &= t;
+        }
+    }
+    mask
 }
 
 /// Pins whose centres are inside the shape, by scanlines through pin centres.

@@ -9,7 +9,7 @@ use taxel_format::{Navigation, PinImage, profiles};
 use super::export::unicode;
 use super::*;
 use crate::annotation::{Braille, Dot, Dots, Grating, Style, Vibrate};
-use crate::drawing::{Element, Page, PathShape, TextRun, TextShape};
+use crate::drawing::{Clip, Element, Page, PathShape, TextRun, TextShape};
 
 const VIBRATE: Style = Style::Vibrate(Vibrate { width_mm: 1.5, freq_hz: 50.0, amplitude: 1.0, soft_mm: 0.0 });
 
@@ -449,4 +449,34 @@ fn hostile_drawings_give_errors_not_panics() {
     let (image, _) = run("dotpad", &wild);
     assert_eq!((image.cols, image.rows), (60, 40));
     assert!(legalise(&wild, &profiles::builtin("stress2").unwrap(), &mut Vec::new()).is_none());
+}
+
+/// A clipped shape raises pins only inside its clip regions (or on their
+/// edges): a page-sized rectangle clipped to a square in the middle, its
+/// texture and its outline; the pins were raised over the whole shape.
+#[test]
+fn a_clipped_shape_raises_pins_only_inside_its_clip() {
+    let page = [(0.0, 0.0), (150.0, 0.0), (150.0, 100.0), (0.0, 100.0)];
+    let square =
+        vec![Polyline { points: vec![(50.0, 25.0), (100.0, 25.0), (100.0, 75.0), (50.0, 75.0)], closed: true }];
+    let mut e = path("clipped", &page, true, vec![VIBRATE, grating(7.5, 90.0)]);
+    if let Shape::Path(p) = &mut e.shape {
+        p.clips = vec![Clip { outline: square.clone(), fill_rule: FillRule::NonZero }];
+    }
+    let (image, _) = run("dotpad", &drawing(150.0, 100.0, vec![e.clone()]));
+    let raised = decode_art(&unicode(&image));
+    // The square's pins: centres (c + 0.5) 2.5 mm inside or on its edge.
+    let within = |(c, r): (i64, i64)| (19..=40).contains(&c) && (9..=30).contains(&r);
+    assert!(!raised.is_empty() && raised.iter().all(|&p| within(p)), "{}", unicode(&image));
+    // Its texture is there: vertical ridges every third column across the square.
+    let columns: HashSet<i64> = raised.iter().map(|p| p.0).collect();
+    assert!(columns.len() >= 6, "{columns:?}");
+    // The page's outline lies wholly outside the clip: none of it is raised.
+    assert!(!raised.iter().any(|&(c, r)| c == 0 || r == 0), "{}", unicode(&image));
+    // Unclipped, the same shape covers the page.
+    if let Shape::Path(p) = &mut e.shape {
+        p.clips.clear();
+    }
+    let (image, _) = run("dotpad", &drawing(150.0, 100.0, vec![e]));
+    assert!(decode_art(&unicode(&image)).iter().any(|&p| !within(p)));
 }
