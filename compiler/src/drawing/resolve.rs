@@ -174,6 +174,10 @@ pub(crate) fn run(
     fonts_used: &mut Vec<FontFace>,
 ) -> Option<Drawing> {
     let doc = source::parse_xml(text, diags)?;
+    if let Some(d) = source::patterns_too_nested(&doc) {
+        diags.push(d);
+        return None;
+    }
     let source::Keys { keys, rewritten } = source::keys(text, &doc, diags)?;
     // usvg needs only the rewritten text: it parses and converts the drawing
     // on this thread while the rest of the XML side (annotations, labels,

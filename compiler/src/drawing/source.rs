@@ -149,6 +149,107 @@ pub(crate) fn parse_xml<'a>(text: &'a str, diags: &mut Vec<Diagnostic>) -> Optio
     }
 }
 
+/// The most drawing elements a pattern may stand for once the patterns it
+/// fills and strokes with are expanded inside one another: far above any
+/// hatching or texture a drawing carries (a few shapes, nested once or
+/// twice), far below the expansion of a hostile file (librsvg's "billion
+/// laughs": ten patterns of ten shapes, each filled with the next, which
+/// usvg took 24 s to read).
+const PATTERN_EXPANSION_LIMIT: f64 = 1e6;
+
+/// An error when `<pattern>`s nest inside one another so deeply that
+/// expanding them would not end in reasonable time (a "billion laughs" of
+/// paint servers, which usvg expands before anything can be checked).
+pub(crate) fn patterns_too_nested<'a>(doc: &'a Document<'a>) -> Option<Diagnostic> {
+    let patterns: HashMap<&str, roxmltree::Node<'a, 'a>> = doc
+        .descendants()
+        .filter(|n| n.is_element() && n.tag_name().name() == "pattern")
+        .filter_map(|n| Some((n.attribute("id")?, n)))
+        .collect();
+    if patterns.len() < 2 {
+        return None;
+    }
+    // The patterns an element paints with: `url(#id)` in its fill or stroke,
+    // as attributes or in its style.
+    fn urls<'a>(v: &'a str, out: &mut Vec<&'a str>) {
+        let mut rest = v;
+        while let Some(k) = rest.find("url(") {
+            rest = &rest[k + 4..];
+            let id = rest.split(')').next().unwrap_or("").trim().trim_matches(|c| c == '\'' || c == '"');
+            if let Some(id) = id.strip_prefix('#') {
+                out.push(id);
+            }
+        }
+    }
+    fn refs<'a>(n: roxmltree::Node<'a, 'a>) -> Vec<&'a str> {
+        let mut out = Vec::new();
+        for v in [n.attribute("fill"), n.attribute("stroke"), n.attribute("style")].into_iter().flatten() {
+            urls(v, &mut out);
+        }
+        out
+    }
+    // Each pattern's expansion, memoised; a pattern met again on the path
+    // being expanded (a cycle, which usvg breaks) counts for nothing more.
+    fn expand<'a>(
+        id: &'a str,
+        patterns: &HashMap<&'a str, roxmltree::Node<'a, 'a>>,
+        memo: &mut HashMap<&'a str, f64>,
+        open: &mut HashSet<&'a str>,
+    ) -> f64 {
+        if let Some(&v) = memo.get(id) {
+            return v;
+        }
+        let Some(&node) = patterns.get(id) else { return 0.0 };
+        if !open.insert(id) {
+            return 0.0;
+        }
+        let mut total = 0.0;
+        let children: Vec<_> = node.descendants().skip(1).filter(|n| n.is_element()).collect();
+        if children.is_empty() {
+            // A pattern without content takes its `href`'s.
+            let href = node.attribute(("http://www.w3.org/1999/xlink", "href")).or(node.attribute("href"));
+            if let Some(other) = href.and_then(|h| h.trim().strip_prefix('#')) {
+                total += expand(other, patterns, memo, open);
+            }
+        }
+        for c in children {
+            total += 1.0;
+            for r in refs(c) {
+                total += expand(r, patterns, memo, open);
+            }
+            if total > PATTERN_EXPANSION_LIMIT {
+                break;
+            }
+        }
+        open.remove(id);
+        memo.insert(id, total);
+        total
+    }
+    let mut memo = HashMap::new();
+    let mut open = HashSet::new();
+    // In document order, so that the message names the same pattern each time.
+    let ids = doc.descendants().filter(|n| n.is_element() && n.tag_name().name() == "pattern");
+    for id in ids.filter_map(|n| n.attribute("id")) {
+        let n = expand(id, &patterns, &mut memo, &mut open);
+        if n > PATTERN_EXPANSION_LIMIT {
+            let line = patterns.get(id).map_or(1, |p| doc.text_pos_at(p.range().start).row);
+            return Some(
+                Diagnostic::error(
+                    "T0200",
+                    format!(
+                        "pattern #{id} nests other patterns so deeply that it stands for more than {} shapes: \
+                         the drawing cannot be read in reasonable time",
+                        PATTERN_EXPANSION_LIMIT as u64
+                    ),
+                )
+                .at_line(line)
+                .with_help("fill the shapes inside the patterns with plain colours, or remove the patterns"),
+            );
+        }
+    }
+    None
+}
+
 /// The ids usvg sees, from a light first pass over the parsed document: the
 /// key of every element (in the order of [`read`]) and the text with an id
 /// inserted where an element had none. It is all that usvg's pass needs, so
@@ -601,5 +702,50 @@ mod tests {
         assert!(keys(text, &parse(text), &mut diags).is_none());
         assert_eq!(diags.len(), 1);
         assert_eq!(diags[0].code, "T0200");
+    }
+
+    /// Patterns filled with patterns, `levels` deep, each of ten rectangles
+    /// (the last stroked only), in `style` or as attributes.
+    fn nested_patterns(levels: usize, in_style: bool) -> String {
+        let mut defs = String::new();
+        for k in 0..levels {
+            let paint = if k + 1 < levels { format!("url(#p{})", k + 1) } else { "none".into() };
+            let fill = if in_style { format!(r#"style="fill: {paint}""#) } else { format!(r#"fill="{paint}""#) };
+            defs += &format!(r#"<pattern id="p{k}" width="20" height="20" patternUnits="userSpaceOnUse">"#);
+            for j in 0..10 {
+                defs += &format!(r#"<rect x="{j}" width="20" height="20" {fill} stroke="green"/>"#);
+            }
+            defs += "</pattern>";
+        }
+        format!(
+            r#"<svg xmlns="http://www.w3.org/2000/svg"><defs>{defs}</defs><rect width="9" height="9" fill="url(#p0)"/></svg>"#
+        )
+    }
+
+    /// Patterns nested so deeply that expanding them would not end (usvg
+    /// took 24 s on ten levels of ten, librsvg's "billion laughs" test) are
+    /// refused before usvg reads them, naming the outermost; hatchings
+    /// nested a few levels, and patterns that name each other in a cycle,
+    /// are not.
+    #[test]
+    fn patterns_nested_past_reason_are_refused() {
+        for in_style in [false, true] {
+            // 11^6 shapes: refused, at the first pattern's line.
+            let text = nested_patterns(6, in_style);
+            let d = patterns_too_nested(&parse(&text)).expect("refused");
+            assert_eq!(d.code, "T0200");
+            assert!(d.message.contains("pattern #p0 "), "{}", d.message);
+            // 11^5: read.
+            assert!(patterns_too_nested(&parse(&nested_patterns(5, in_style))).is_none());
+        }
+        let cycle = r#"<svg xmlns="http://www.w3.org/2000/svg"><pattern id="a"><rect fill="url(#b)"/></pattern><pattern id="b"><rect fill="url('#a')"/></pattern></svg>"#;
+        assert!(patterns_too_nested(&parse(cycle)).is_none());
+        // A pattern that takes another's content by `href` counts it.
+        let text = nested_patterns(6, false).replace(
+            "<defs>",
+            r##"<defs><pattern id="q" xmlns:xlink="http://www.w3.org/1999/xlink" xlink:href="#p0"/>"##,
+        );
+        let d = patterns_too_nested(&parse(&text)).expect("refused");
+        assert!(d.message.contains("pattern #q "), "{}", d.message);
     }
 }
