@@ -112,6 +112,9 @@ pub(crate) struct Canvas {
     /// The pins the element being drawn may raise, by index, when it is
     /// clipped ([`clip_mask`]); `None` for every pin.
     clip: Option<std::rc::Rc<Vec<bool>>>,
+    /// The pins (by index) the texture being drawn may not raise: those
+    /// under opaque fills painted over it, which hide it ([`hidden_under`]).
+    hidden: std::collections::HashSet<usize>,
 }
 
 impl Canvas {
@@ -122,6 +125,7 @@ impl Canvas {
             touching: Default::default(),
             pitch,
             clip: None,
+            hidden: Default::default(),
         }
     }
 
@@ -145,7 +149,7 @@ impl Canvas {
     /// on it blinks. Records distinct elements that meet or touch.
     pub fn raise(&mut self, p: PinPos, elem: usize, height: u8, blink: bool) {
         let Some(i) = self.index(p) else { return };
-        if self.clip.as_ref().is_some_and(|c| !c.get(i).copied().unwrap_or(false)) {
+        if self.clip.as_ref().is_some_and(|c| !c.get(i).copied().unwrap_or(false)) || self.hidden.contains(&i) {
             return;
         }
         let me = elem as u32 + 1;
@@ -214,6 +218,7 @@ pub fn legalise(drawing: &Drawing, profile: &DeviceProfile, diags: &mut Vec<Diag
     // textures of different gratings stay distinguishable.
     let patterns = assign_patterns(drawing, pitch.0.max(pitch.1), diags);
     let regions = region_map(&canvas, drawing);
+    let opaque = crate::svg::OpaqueFills::of(drawing);
     let mut labels = Vec::new();
     // Elements clipped alike (a chart's data in its axes) share one mask.
     let mut clipped_by: Option<(&[Clip], std::rc::Rc<Vec<bool>>)> = None;
@@ -244,7 +249,12 @@ pub fn legalise(drawing: &Drawing, profile: &DeviceProfile, diags: &mut Vec<Diag
                         .map_or(Pattern::wanted(g.wavelength_mm, g.angle_deg, pitch.0), |(_, p)| *p);
                     let outlined = e.styles.iter().any(|s| matches!(s, Style::Vibrate(_) | Style::Dots(_)));
                     let fill = Fill { pattern, height: heights.texture, outlined, regions: &regions };
+                    // Not where opaque fills painted later hide it (a flag's
+                    // canton over its stripes, a map's legend box), as the
+                    // array's grated layers are not.
+                    canvas.hidden = hidden_under(&canvas, drawing, &opaque, i);
                     texture_fill(&mut canvas, &p.outline, fill, i, e, diags);
+                    canvas.hidden.clear();
                 }
                 (Style::Dots(d), Shape::Path(p)) => {
                     dotted(&mut canvas, &p.outline, d.radius_mm, d.spacing_mm, i, heights.outline);
@@ -427,6 +437,22 @@ fn outline(canvas: &mut Canvas, polys: &[Polyline], elem: usize, height: u8, bli
     for p in outline_pins(canvas, polys) {
         canvas.raise(p, elem, height, blink);
     }
+}
+
+/// The pins (by index) whose centres lie under the opaque fills painted
+/// over element `i` ([`crate::svg::OpaqueFills::above`]), which hide its texture.
+fn hidden_under(
+    canvas: &Canvas,
+    drawing: &Drawing,
+    opaque: &crate::svg::OpaqueFills,
+    i: usize,
+) -> std::collections::HashSet<usize> {
+    let mut out = std::collections::HashSet::new();
+    for j in opaque.above(drawing, &[i]) {
+        let Some(Shape::Path(p)) = drawing.elements.get(j).map(|e| &e.shape) else { continue };
+        out.extend(inside_pins(canvas, &p.outline, p.fill_rule).into_iter().filter_map(|q| canvas.index(q)));
+    }
+    out
 }
 
 /// The pins an element clipped by `clips` may raise, by index: those inside

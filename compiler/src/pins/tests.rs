@@ -480,3 +480,36 @@ fn a_clipped_shape_raises_pins_only_inside_its_clip() {
     let (image, _) = run("dotpad", &drawing(150.0, 100.0, vec![e]));
     assert!(decode_art(&unicode(&image)).iter().any(|&p| !within(p)));
 }
+
+/// A texture is not raised under an opaque fill painted over it (a map's
+/// legend box, an inset), as the array's grated layers are not felt there;
+/// the pins of both textures were raised on top of each other.
+#[test]
+fn a_texture_is_hidden_under_an_opaque_fill_painted_over_it() {
+    let big = [(10.0, 10.0), (110.0, 10.0), (110.0, 90.0), (10.0, 90.0)];
+    let small = [(40.0, 30.0), (80.0, 30.0), (80.0, 70.0), (40.0, 70.0)];
+    let opaque = |mut e: Element, rgb: [u8; 3]| {
+        e.paint.fill = Some([rgb[0], rgb[1], rgb[2], 255]);
+        e.paint.filled = true;
+        e
+    };
+    let under = opaque(path("under", &big, true, vec![grating(7.5, 90.0)]), [200, 0, 0]);
+    // The box over it: plain (a white legend box the sheet leaves out), or with its own texture.
+    for styles in [vec![], vec![grating(7.5, 0.0)]] {
+        let over = opaque(path("over", &small, true, styles.clone()), [0, 0, 200]);
+        let (image, _) = run("dotpad", &drawing(150.0, 100.0, vec![under.clone(), over]));
+        let raised = decode_art(&unicode(&image));
+        // Pins whose centres lie inside the box: columns 16..=31, rows 12..=27.
+        let inside = |&(c, r): &(i64, i64)| (16..=31).contains(&c) && (12..=27).contains(&r);
+        let in_box: HashSet<(i64, i64)> = raised.iter().copied().filter(inside).collect();
+        if styles.is_empty() {
+            assert!(in_box.is_empty(), "{}", unicode(&image));
+        } else {
+            // Only the box's horizontal ridges: whole rows, never a lone vertical ridge.
+            let rows: HashSet<i64> = in_box.iter().map(|p| p.1).collect();
+            assert!(!rows.is_empty() && rows.len() <= 6, "{rows:?}\n{}", unicode(&image));
+        }
+        // Around the box the texture under it stays.
+        assert!(raised.iter().any(|p| !inside(p) && p.0 > 4 && p.0 < 43), "{}", unicode(&image));
+    }
+}

@@ -575,14 +575,14 @@ pub fn occluders(drawing: &Drawing, elements: &[usize]) -> Vec<usize> {
 }
 
 /// The drawing's opaque filled shapes, which hide what is painted under them.
-struct OpaqueFills {
+pub(crate) struct OpaqueFills {
     /// Element index and bounds of each.
     shapes: Vec<(usize, Bbox)>,
     index: BoxIndex,
 }
 
 impl OpaqueFills {
-    fn of(drawing: &Drawing) -> Self {
+    pub(crate) fn of(drawing: &Drawing) -> Self {
         let shapes: Vec<(usize, Bbox)> = drawing
             .elements
             .iter()
@@ -605,7 +605,7 @@ impl OpaqueFills {
     /// where they cover it, as it is not seen there. A fill that lies between
     /// two of the layer's shapes hides nothing (the layer is one union), so
     /// the overlap stays and the design rules report it.
-    fn above(&self, drawing: &Drawing, elements: &[usize]) -> Vec<usize> {
+    pub(crate) fn above(&self, drawing: &Drawing, elements: &[usize]) -> Vec<usize> {
         let boxes: Vec<(usize, Bbox)> = elements
             .iter()
             .filter_map(|&i| crate::geometry::bounds(outline(&drawing.elements[i])).map(|b| (i, b)))

@@ -28,6 +28,7 @@ pub(crate) use braille::{
     CELL_PITCH_MM, DOT_PITCH_MM, TABLE_HELP as BRAILLE_TABLE_HELP, left_out as braille_left_out,
     says_nothing as braille_says_nothing, translate as braille_cells,
 };
+pub(crate) use layers::OpaqueFills;
 pub use layers::occluders;
 
 use taxel_format::{Bundle, Manifest};
