@@ -266,6 +266,33 @@ fn braille_boxes(t: &crate::drawing::TextShape) -> Vec<Bbox> {
 const BRAILLE_SHIFTS: [(f64, f64); 9] =
     [(0.0, 0.0), (0.0, 1.5), (0.0, -1.5), (-1.5, 0.0), (1.5, 0.0), (0.0, 3.0), (0.0, -3.0), (-3.0, 0.0), (3.0, 0.0)];
 
+/// The shift that brings a label's braille `boxes` that run off the page
+/// back onto it: left (or right) by no more than the label's width, so that
+/// it still covers where it began, and up (or down) by no more than its
+/// height; `None` when it lies on the page, or cannot be brought onto it so.
+fn pull_inside(boxes: &[Bbox], page: Bbox) -> Option<(f64, f64)> {
+    let u = boxes.iter().copied().reduce(|a, b| (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)))?;
+    let (w, h) = (u.2 - u.0, u.3 - u.1);
+    let pull = |lo: f64, hi: f64, page_lo: f64, page_hi: f64| {
+        if hi > page_hi {
+            page_hi - hi
+        } else if lo < page_lo {
+            page_lo - lo
+        } else {
+            0.0
+        }
+    };
+    let (dx, dy) = (pull(u.0, u.2, page.0, page.2), pull(u.1, u.3, page.1, page.3));
+    let ok = (dx != 0.0 || dy != 0.0)
+        && w <= page.2 - page.0
+        && h <= page.3 - page.1
+        && dx.abs() < w
+        && dy.abs() <= h
+        && dx.is_finite()
+        && dy.is_finite();
+    ok.then_some((dx, dy))
+}
+
 /// The outlines the sheet makes vibrate, for braille to keep off: their
 /// boxes in an R*-tree, each outline's segments looked at only when its box
 /// meets a label's (a scatter plot's 5,651 stroked circles made an R*-tree
@@ -544,7 +571,12 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
                     && !lines.meet(spatial::grow(q, off_lines))
             })
         };
-        match BRAILLE_SHIFTS.iter().copied().find(|&s| !boxes.is_empty() && fits(s)) {
+        // Then, for a label that runs off the page (a town on the map's
+        // east coast, once fitted), the same places pulled back inside.
+        let pulled = pull_inside(&boxes, page)
+            .into_iter()
+            .flat_map(|(px, py)| BRAILLE_SHIFTS.iter().map(move |&(sx, sy)| (px + sx, py + sy)));
+        match BRAILLE_SHIFTS.iter().copied().chain(pulled).find(|&s| !boxes.is_empty() && fits(s)) {
             Some((dx, dy)) => {
                 for q in &boxes {
                     braille.place((q.0 + dx, q.1 + dy, q.2 + dx, q.3 + dy));

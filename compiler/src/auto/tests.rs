@@ -424,3 +424,47 @@ fn a_page_sized_shape_clipped_small_is_not_a_background() {
     assert_eq!(plan.decisions[1].left_out, None);
     assert!(plan.styles(1).iter().any(|s| matches!(s, Style::Grating(_))));
 }
+
+/// A label that runs off the page's side (a town on a fitted map's east
+/// coast) is pulled back onto it, whole, still covering where it began; it
+/// was left out. One wider than the page, or that would have to move past
+/// its own width, is still left out.
+#[test]
+fn a_label_running_off_the_page_is_pulled_back_onto_it() {
+    let braille_width = |cells: usize| (cells - 1) as f64 * CELL_PITCH_MM + DOT_PITCH_MM + 2.0 * BRAILLE_RADIUS_MM;
+    // "abcd" (4 cells, no capital) starting 10 mm from the right edge of a 200 mm page.
+    let d =
+        Drawing { page: page(200.0, 100.0), elements: vec![text("east", "abcd", 190.0, 50.0)], ..Default::default() };
+    let plan = plan(&d, &stress2());
+    let dec = &plan.decisions[0];
+    assert!(dec.braille && dec.left_out.is_none(), "{dec:?}");
+    // Its right edge on the page's, or a clearance shift short of it.
+    let right = 190.0 + dec.braille_shift.0 + braille_width(4);
+    assert!(right <= 200.0 + 1e-9 && right >= 200.0 - 3.0 - 1e-9, "{dec:?}");
+    // Off the left edge (centred on x = 5 mm) and the top (the cells stand on
+    // the baseline, 3 mm down) alike.
+    let mut west = text("west", "abcd", 5.0, 3.0);
+    if let Shape::Text(t) = &mut west.shape {
+        t.runs[0].anchor = 0.5;
+    }
+    let d = Drawing { page: page(200.0, 100.0), elements: vec![west], ..Default::default() };
+    let dec = &plan_of(&d).decisions[0];
+    assert!(
+        dec.braille && dec.braille_shift.0 >= braille_width(4) / 2.0 - 5.0 && dec.braille_shift.1 >= 1.0,
+        "{dec:?}"
+    );
+    // Starting just inside the edge; and beyond it, off the page.
+    let d = Drawing { page: page(200.0, 100.0), elements: vec![text("far", "ab", 199.5, 50.0)], ..Default::default() };
+    let dec = &plan_of(&d).decisions[0];
+    assert!(dec.braille, "{dec:?}");
+    let d = Drawing { page: page(200.0, 100.0), elements: vec![text("far", "ab", 215.0, 50.0)], ..Default::default() };
+    assert!(!plan_of(&d).decisions[0].braille);
+    // Wider than the page.
+    let long = "ab".repeat(20);
+    let d = Drawing { page: page(200.0, 100.0), elements: vec![text("long", &long, 10.0, 50.0)], ..Default::default() };
+    assert_eq!(plan_of(&d).decisions[0].left_out, Some(LeftOut::TextDoesNotFit));
+}
+
+fn plan_of(d: &Drawing) -> Plan {
+    plan(d, &stress2())
+}

@@ -513,3 +513,30 @@ fn a_texture_is_hidden_under_an_opaque_fill_painted_over_it() {
         assert!(raised.iter().any(|p| !inside(p) && p.0 > 4 && p.0 < 43), "{}", unicode(&image));
     }
 }
+
+/// A label that would run off the image's right side (the device's cells
+/// are wider than the page's braille) is pulled back inside, whole, ending
+/// on the last cell; one that starts left of the image starts on the first.
+/// Its cells past the side were left out (T0708).
+#[test]
+fn a_label_running_off_the_side_is_pulled_back_whole() {
+    // dotpad: 60 columns, cells 3 pins apart, so cell 19 (columns 57, 58) is the last.
+    for (x, want_first) in [(140.0, 57 - 3 * 3), (-4.0, 0)] {
+        let d = drawing(150.0, 100.0, vec![label("t", "abcd", x, 21.0)]);
+        let (image, diags) = run("dotpad", &d);
+        assert!(diags.iter().all(|d| d.code != "T0708"), "{diags:?}");
+        let cols: Vec<u32> = (0..image.rows)
+            .flat_map(|r| (0..image.cols).map(move |c| (c, r)))
+            .filter(|&(c, r)| image.get(c, r).raised())
+            .map(|(c, _)| c)
+            .collect();
+        // a, b, c, d all start with dot 1: four cells, their left columns 3 apart.
+        let first = cols.iter().copied().min();
+        assert_eq!(first, Some(want_first), "x = {x}: {cols:?}");
+        assert_eq!(cols.iter().copied().max(), Some(want_first + 3 * 3 + 1), "x = {x}: {cols:?}");
+    }
+    // Longer than the display: cut, and said so.
+    let d = drawing(150.0, 100.0, vec![label("t", &"ab".repeat(15), 16.0, 21.0)]);
+    let (_, diags) = run("dotpad", &d);
+    assert!(diags.iter().any(|d| d.code == "T0708"), "{diags:?}");
+}

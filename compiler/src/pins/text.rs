@@ -6,7 +6,9 @@
 //! line_gap_rows))`, so on a paged image whose display is a whole number of
 //! cells wide every page starts on the grid too. A label goes to the grid
 //! cell nearest to where its text starts, on the line whose cells stand on
-//! its baseline, and reads left to right from there. Text is uncontracted
+//! its baseline, and reads left to right from there; one that would run off
+//! the image's side is pulled back inside, whole, while it still covers
+//! where it began. Text is uncontracted
 //! UEB (grade 1), six dots; on an eight-dot cell dots 7 and 8 stay down.
 
 use crate::diagnostic::Diagnostic;
@@ -80,6 +82,18 @@ pub(crate) fn place(
             continue;
         }
         let (k0, l) = (k0.clamp(-1e9, 1e9) as i64, l.clamp(-1e9, 1e9) as i64);
+        // A label that runs off the image's side (a town on a fitted map's
+        // east coast: the device's cells are wider than the page's braille)
+        // is pulled back inside, whole, while it still covers where it began.
+        let n = cells.len() as i64;
+        let last = (canvas.image.cols as i64 - 2).div_euclid(cp as i64);
+        let k0 = if n - 1 <= last && k0 + n - 1 > last && k0 + n - 1 - last < n {
+            last - (n - 1)
+        } else if n - 1 <= last && k0 < 0 && -k0 < n {
+            0
+        } else {
+            k0
+        };
         for (k, &cell) in cells.iter().enumerate() {
             let c0 = (k0 + k as i64) * cp as i64;
             let r0 = l * lp as i64;
