@@ -440,7 +440,7 @@ fn a_label_running_off_the_page_is_pulled_back_onto_it() {
     assert!(dec.braille && dec.left_out.is_none(), "{dec:?}");
     // Its right edge on the page's, or a clearance shift short of it.
     let right = 190.0 + dec.braille_shift.0 + braille_width(4);
-    assert!(right <= 200.0 + 1e-9 && right >= 200.0 - 3.0 - 1e-9, "{dec:?}");
+    assert!((200.0 - 3.0 - 1e-9..=200.0 + 1e-9).contains(&right), "{dec:?}");
     // Off the left edge (centred on x = 5 mm) and the top (the cells stand on
     // the baseline, 3 mm down) alike.
     let mut west = text("west", "abcd", 5.0, 3.0);
