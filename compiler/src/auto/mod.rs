@@ -16,7 +16,8 @@
 //! - small filled circles, small compact marks and marker instances become
 //!   dot symbols;
 //! - text becomes braille where the braille fits on the page without running
-//!   into other braille, and is left out otherwise, with one note;
+//!   into other braille (moved a little, or pulled back onto the page when it
+//!   runs off its side), and is left out otherwise, with one note;
 //! - page backgrounds, white or transparent fills, hidden, clipped-away and
 //!   off-page elements, and images are left out (white fills count as regions
 //!   when they are all a coloured background carries: a flag's white cross on red).
