@@ -88,22 +88,30 @@ pub(crate) fn page(
 /// `viewBox` mapped onto the size `w` x `h`), read with svgtypes the way usvg
 /// reads it. Used to place text that usvg could not lay out (no fonts).
 pub(crate) fn root_transform(root: Node<'_, '_>, w: f32, h: f32) -> resvg::tiny_skia::Transform {
+    own_transform(root).pre_concat(view_box_transform(root, w, h))
+}
+
+/// An element's own `transform` attribute (identity when absent or unreadable).
+pub(crate) fn own_transform(n: Node<'_, '_>) -> resvg::tiny_skia::Transform {
+    use resvg::tiny_skia::Transform;
+    n.attribute("transform").and_then(|t| t.parse::<svgtypes::Transform>().ok()).map_or(Transform::identity(), |t| {
+        Transform::from_row(t.a as f32, t.b as f32, t.c as f32, t.d as f32, t.e as f32, t.f as f32)
+    })
+}
+
+/// The `viewBox` of `n` (an `<svg>`) mapped onto the size `w` x `h` under
+/// its `preserveAspectRatio`; identity without a usable `viewBox`.
+pub(crate) fn view_box_transform(n: Node<'_, '_>, w: f32, h: f32) -> resvg::tiny_skia::Transform {
     use resvg::tiny_skia::Transform;
     use svgtypes::Align;
-    let own = root
-        .attribute("transform")
-        .and_then(|t| t.parse::<svgtypes::Transform>().ok())
-        .map_or(Transform::identity(), |t| {
-            Transform::from_row(t.a as f32, t.b as f32, t.c as f32, t.d as f32, t.e as f32, t.f as f32)
-        });
-    let Some(vb) = root.attribute("viewBox").and_then(|v| v.parse::<svgtypes::ViewBox>().ok()) else {
-        return own;
+    let Some(vb) = n.attribute("viewBox").and_then(|v| v.parse::<svgtypes::ViewBox>().ok()) else {
+        return Transform::identity();
     };
     if !(vb.w > 0.0 && vb.h > 0.0) {
-        return own;
+        return Transform::identity();
     }
     let aspect: svgtypes::AspectRatio =
-        root.attribute("preserveAspectRatio").and_then(|v| v.parse().ok()).unwrap_or_default();
+        n.attribute("preserveAspectRatio").and_then(|v| v.parse().ok()).unwrap_or_default();
     let (mut sx, mut sy) = (w / vb.w as f32, h / vb.h as f32);
     if aspect.align != Align::None {
         let s = if aspect.slice { sx.max(sy) } else { sx.min(sy) };
@@ -122,7 +130,7 @@ pub(crate) fn root_transform(root: Node<'_, '_>, w: f32, h: f32) -> resvg::tiny_
         Align::XMidYMax => (0.5, 1.0),
         Align::XMaxYMax => (1.0, 1.0),
     };
-    own.pre_concat(Transform::from_row(sx, 0.0, 0.0, sy, x + fx * rw, y + fy * rh))
+    Transform::from_row(sx, 0.0, 0.0, sy, x + fx * rw, y + fy * rh)
 }
 
 #[cfg(test)]

@@ -146,17 +146,24 @@ fn text(
         None => xml_decl(src, i),
     };
     let braille = decl.as_ref().is_some_and(|(d, _)| d.styles().iter().any(|s| matches!(s, Style::Braille(_))));
-    // The nearest group usvg kept gives the transform; if usvg dropped it, the text is not drawn.
-    let mut parent_ts = Some(root_ts);
+    // The nearest group usvg kept gives the transform; if usvg dropped it,
+    // the text is not drawn. A nested `<svg>` on the way adds its viewport's
+    // transform (usvg's group for it carries no id to find it by).
+    let mut inner = Transform::identity();
+    let mut parent_ts = None;
     let mut p = e.parent;
     while let Some(k) = p {
         let a = &src.elements[k];
         if a.kind == Kind::Group && a.parent.is_some() {
-            parent_ts = walked.group_ts.get(&a.key).copied();
+            parent_ts = Some(walked.group_ts.get(&a.key).map(|g| g.pre_concat(inner)));
             break;
+        }
+        if a.tag == "svg" && a.parent.is_some() {
+            inner = doc.get_node(a.node).map_or(inner, |n| nested_svg_transform(n).pre_concat(inner));
         }
         p = a.parent;
     }
+    let parent_ts = parent_ts.unwrap_or(Some(root_ts.pre_concat(inner)));
     let Some(node) = doc.get_node(src.elements[t].node) else { return Ok(None) };
     let transform = |n: Node<'_, '_>| {
         n.attribute("transform")
@@ -230,6 +237,18 @@ fn text(
         outline: Vec::new(),
     };
     Ok(Some((i, element_of(e, decl, true, paint, Shape::Text(shape)))))
+}
+
+/// The transform a nested `<svg>` gives its content, as usvg reads it: its
+/// own `transform`, its `x` and `y`, then its `viewBox` mapped onto its
+/// `width` and `height` (where one is not given, or is a percentage of a
+/// viewport this reading does not follow, the `viewBox`'s own: a scale of 1).
+fn nested_svg_transform(n: Node<'_, '_>) -> Transform {
+    let vb = n.attribute("viewBox").and_then(|v| v.parse::<svgtypes::ViewBox>().ok());
+    let size = |a: &str, of_box: Option<f64>| first(n, a, DEFAULT_EM).or(of_box).unwrap_or(0.0) as f32;
+    let (w, h) = (size("width", vb.map(|v| v.w)), size("height", vb.map(|v| v.h)));
+    let (x, y) = (first(n, "x", DEFAULT_EM).unwrap_or(0.0) as f32, first(n, "y", DEFAULT_EM).unwrap_or(0.0) as f32);
+    super::page::own_transform(n).pre_translate(x, y).pre_concat(super::page::view_box_transform(n, w, h))
 }
 
 /// CSS's initial font size, in user units (pixels).

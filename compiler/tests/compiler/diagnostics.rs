@@ -302,6 +302,44 @@ fn dx_and_dy_move_the_braille_of_a_text_and_its_lines() {
     assert_eq!(d.dots.len(), 3 + 2 + 1 + 3 + 1, "{d:?}");
 }
 
+/// A text inside a nested `<svg>` (a chart or pictogram pasted into a page)
+/// is braille where the nested viewport puts it: its `x`, `y`, and its
+/// `viewBox` scaled onto its size, also under a group inside it. It was
+/// placed at its own coordinates, as if the viewport were not there.
+#[test]
+fn a_text_in_a_nested_svg_is_placed_through_its_viewport() {
+    let c = compile(&page(
+        r#"<svg x="10" y="10" width="40" height="20" viewBox="0 0 20 10" data-tactile="braille()">
+<text x="2" y="5">a</text>
+<g transform="translate(10 0)"><text x="2" y="5">b</text></g>
+</svg>
+<svg x="60" y="30" width="20" height="20" viewBox="0 0 40 20" data-tactile="braille()"><text x="0" y="20">c</text></svg>"#,
+    ));
+    let d = dots(bundle(&c), taxel_format::DotKind::Braille).expect("braille for the texts");
+    let r = d.dots[0].radius.0;
+    let dot = 2.34f32;
+    // Each dot as (its cell's left edge + its column's offset, the baseline
+    // less its row's height): "a" (dot 1) at (10 + 2·2, 10 + 5·2) = (14, 20);
+    // "b" (dots 1 2) at (10 + 12·2, 20) = (34, 20); "c" (dots 1 4): the 40 x
+    // 20 box meets the 20 x 20 viewport at scale 0.5, centred (xMidYMid), so
+    // 5 down: (60, 30 + 5 + 20·0.5) = (60, 45).
+    let mut want = vec![
+        (14.0, 20.0 - 2.0 * dot),
+        (34.0, 20.0 - 2.0 * dot),
+        (34.0, 20.0 - dot),
+        (60.0, 45.0 - 2.0 * dot),
+        (60.0 + dot, 45.0 - 2.0 * dot),
+    ];
+    let mut got: Vec<(f32, f32)> = d.dots.iter().map(|p| (p.x.0 - r, p.y.0 + r)).collect();
+    let order = |a: &(f32, f32), b: &(f32, f32)| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1));
+    got.sort_by(order);
+    want.sort_by(order);
+    assert_eq!(got.len(), want.len(), "{got:?}");
+    for (g, w) in got.iter().zip(&want) {
+        assert!((g.0 - w.0).abs() < 0.01 && (g.1 - w.1).abs() < 0.01, "{got:?} against {want:?}");
+    }
+}
+
 /// A label kept once in `<defs>` and shown by `<use>` is braille where each
 /// `<use>` puts it (its transform, then its `x` and `y`), named by the
 /// `<use>`; it was left out, and the `<use>`'s annotation with it.
