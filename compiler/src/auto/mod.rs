@@ -63,6 +63,12 @@ pub const WHITE: u8 = 240;
 /// beside its `#888` axes (0.28 against 0.75), matplotlib's `#b0b0b0` grid
 /// beside black axes (0.57 against 1).
 pub const FAINT_SHARE: f64 = 0.6;
+/// A grey line at least this light (each channel, as seen over white) is
+/// faint too whenever a darker line is drawn, however light that one is:
+/// Highcharts' `#e6e6e6` grid beside its `#ccd6eb` axis (0.21 against 0.33,
+/// 63 %). Lines this light are barely seen on paper; they guide the eye.
+pub const LIGHT_GUIDE: u8 = 224;
+const LIGHT_GUIDE_GREY: Rgba = [LIGHT_GUIDE, LIGHT_GUIDE, LIGHT_GUIDE, 255];
 /// Colours whose channels differ by no more than this are grey (no hue): a
 /// light coloured line is data (a yellow series), a light grey one is a guide.
 const GREY_SPREAD: u8 = 24;
@@ -400,8 +406,12 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
         .filter(|e| e.paint.stroked && e.paint.stroke_width_mm > 0.0)
         .filter_map(|e| e.paint.stroke.filter(|&c| visible(c)))
         .max_by(|a, b| darkness(*a).total_cmp(&darkness(*b)));
-    let faint =
-        |c: Option<Rgba>| c.zip(darkest).is_some_and(|(c, top)| grey(c) && darkness(c) < FAINT_SHARE * darkness(top));
+    let faint = |c: Option<Rgba>| {
+        c.zip(darkest).is_some_and(|(c, top)| {
+            let (d, top) = (darkness(c), darkness(top));
+            grey(c) && (d < FAINT_SHARE * top || (d <= darkness(LIGHT_GUIDE_GREY) && d < top))
+        })
+    };
     let mut faint_colours: Vec<[u8; 3]> = Vec::new();
     for (i, e) in d.elements.iter().enumerate() {
         if e.styled_by != StyledBy::Nothing {
@@ -933,10 +943,11 @@ fn notes(plan: &Plan, d: &Drawing, diags: &mut Vec<Diagnostic>) {
             Diagnostic::note(
                 "T0325",
                 format!(
-                    "{faint} faint grey stroke(s) left out ({}): less than {:.0} % as dark as the darkest lines ({}), as a chart's grid lines are, so the axes and the data are felt rather than the grid",
+                    "{faint} faint grey stroke(s) left out ({}): less than {:.0} % as dark as the darkest lines ({}), or as light as {}, as a chart's grid lines are, so the axes and the data are felt rather than the grid",
                     first_three(&colours),
                     FAINT_SHARE * 100.0,
-                    fill_name(plan.darkest)
+                    fill_name(plan.darkest),
+                    fill_name(Some([LIGHT_GUIDE; 3])),
                 ),
             )
             .with_help(format!(

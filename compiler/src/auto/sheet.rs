@@ -47,7 +47,11 @@ pub fn sheet_toml(profile: &DeviceProfile, input: Option<(&Drawing, &Plan)>) -> 
         "#   - stroked lines and outlines vibrate (grey lines less than {:.0} % as dark as the",
         super::FAINT_SHARE * 100.0
     );
-    s += "#     darkest lines, as a chart's grid, are left out), and so do the borders between regions\n";
+    let _ = writeln!(
+        s,
+        "#     darkest lines, or as light as #{0:02x}{0:02x}{0:02x}, as a chart's grid, are left out), and so do the borders between regions",
+        super::LIGHT_GUIDE
+    );
     s += "#     of one fill (a map's districts drawn in one colour), unless most of them are\n";
     let _ = writeln!(
         s,

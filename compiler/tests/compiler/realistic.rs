@@ -374,6 +374,36 @@ fn faint_grey_grid_lines_are_left_out_and_the_axes_and_data_stay() {
     }
 }
 
+/// Regression (Highcharts' defaults): the `#e6e6e6` grid beside the
+/// `#ccd6eb` axis line is 63 % as dark, above the share, and vibrated across
+/// the columns (on pins, raised through them) and kept the axis labels off
+/// the page. A grey line as light as `#e0e0e0` is a guide whenever a darker
+/// line is drawn; lines as dark as each other (Excel's `#d9d9d9` grid and
+/// axis) stay.
+#[test]
+fn very_light_grey_grid_lines_are_left_out_beside_any_darker_line() {
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="60mm" viewBox="0 0 100 60">
+  <g><path id="grid1" d="M 10 10.5 L 90 10.5" fill="none" stroke="#e6e6e6"/><path id="grid2" d="M 10 30.5 L 90 30.5" fill="none" stroke="#e6e6e6"/></g>
+  <path id="axis" d="M 10 50.5 L 90 50.5" fill="none" stroke="#ccd6eb"/>
+  <rect id="bar" x="30" y="20" width="15" height="30" fill="#7cb5ec"/>
+</svg>"##;
+    let s = auto_styles(svg);
+    for id in ["grid1", "grid2"] {
+        assert!(styles_of(&s, id).is_empty(), "#{id}: {s:?}");
+    }
+    assert_eq!(styles_of(&s, "axis"), ["vibrate"], "{s:?}");
+    assert_eq!(styles_of(&s, "bar"), ["grating"], "{s:?}");
+    let c = super::common::compile(svg);
+    let notes = super::common::with_code(&c, "T0325");
+    assert!(notes.len() == 1 && notes[0].message.contains("or as light as #e0e0e0"), "{:#?}", c.diagnostics);
+    // Grid and axis of one light grey: both stay.
+    let excel = svg.replace("#e6e6e6", "#d9d9d9").replace("#ccd6eb", "#d9d9d9");
+    let s = auto_styles(&excel);
+    for id in ["grid1", "grid2", "axis"] {
+        assert_eq!(styles_of(&s, id), ["vibrate"], "#{id}: {s:?}");
+    }
+}
+
 /// Regression (resvg's tests of hidden elements, images, empty drawings): a
 /// drawing the automatic sheet made nothing of was refused with "nothing
 /// tactile was found" alone, as if it had not looked. The error now says
