@@ -18,7 +18,8 @@
 //! - text becomes braille where the braille fits on the page without running
 //!   into other braille (moved a little, or pulled back onto the page when it
 //!   runs off its side), and is left out otherwise, with one note;
-//! - page backgrounds, white or transparent fills, hidden, clipped-away and
+//! - page backgrounds (and a chart's very light plot panel under its bars),
+//!   white or transparent fills, hidden, clipped-away and
 //!   off-page elements, and images are left out (white fills count as regions
 //!   when they are all a coloured background carries: a flag's white cross on red).
 //!
@@ -656,6 +657,7 @@ fn backgrounds(d: &Drawing, page: Bbox) -> Vec<usize> {
     // Each candidate looks at every other shape once; a drawing has a few
     // backgrounds, so a flood of page-sized shapes is cut short (never all pairs).
     let mut candidates = 0;
+    let mut panels = 0;
     // What a shape covers is its own area on the page, not its box's: a flag's
     // cross or a logo's disc spans the page without covering it.
     let covered = |i: usize| match (&d.elements[i].shape, boxes[i]) {
@@ -677,9 +679,36 @@ fn backgrounds(d: &Drawing, page: Bbox) -> Vec<usize> {
             if boxes.iter().enumerate().any(|(j, o)| o.is_some_and(|o| under(j, o))) {
                 out.push(i);
             }
+        } else if panels < 8 && very_light(&d.elements[i]) && covered(i) >= BACKGROUND_SHARE * area(b) {
+            // A chart's plot panel: a very light rectangle (Plotly's
+            // #e5ecf6, ggplot2's #ebebeb, seaborn's #eaeaf2) with coloured
+            // shapes painted on it (the bars), which the panel only sets off.
+            panels += 1;
+            let on_it = |j: usize, o: Bbox| {
+                j > i
+                    && o.0 >= b.0
+                    && o.1 >= b.1
+                    && o.2 <= b.2
+                    && o.3 <= b.3
+                    && (o.2 - o.0).max(o.3 - o.1) > MARK_MM
+                    && !very_light(&d.elements[j])
+            };
+            if boxes.iter().enumerate().any(|(j, o)| o.is_some_and(|o| on_it(j, o))) {
+                out.push(i);
+            }
         }
     }
     out
+}
+
+/// Whether an element's fill is very light: every channel, over white
+/// paper after its opacity, at least [`LIGHT_GUIDE`] (a gradient's or a
+/// pattern's is not known, so not).
+fn very_light(e: &Element) -> bool {
+    e.paint.fill.is_some_and(|c| {
+        let a = c[3] as f64 / 255.0;
+        c[..3].iter().all(|&v| a * v as f64 + (1.0 - a) * 255.0 >= LIGHT_GUIDE as f64)
+    })
 }
 
 /// The box of what can be seen of an element: its bounds within the boxes

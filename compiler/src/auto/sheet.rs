@@ -64,7 +64,7 @@ pub fn sheet_toml(profile: &DeviceProfile, input: Option<(&Drawing, &Plan)>) -> 
     s += "#   - filled circles up to 8 mm and compact marks up to 5 mm, and markers, become dots;\n";
     s += "#   - text becomes braille where it fits on the page without running into other braille\n";
     s += "#     (moved a little, or pulled back onto the page when it runs off its side);\n";
-    s += "#   - page backgrounds, white or transparent fills, hidden, clipped-away and\n";
+    s += "#   - page backgrounds (and a chart's very light plot panel), white or transparent fills, hidden, clipped-away and\n";
     s += "#     off-page elements, and images are left out (white fills are regions\n";
     s += "#     when they are all that a coloured background carries).\n";
     s += "# A style sheet selects by id, class, layer, fill and stroke only; for braille and\n";

@@ -468,3 +468,43 @@ fn a_label_running_off_the_page_is_pulled_back_onto_it() {
 fn plan_of(d: &Drawing) -> Plan {
     plan(d, &stress2())
 }
+
+/// A chart's plot panel (Plotly's `#e5ecf6`, ggplot2's `#ebebeb`: a very
+/// light rectangle with the bars painted on it) is a background, not a
+/// region: it was given a texture under the bars' own, and on pins the two
+/// were raised into one mass. A very light region with nothing coloured on
+/// it, or with only marks, stays a region; so does a light one carrying
+/// shapes painted before it (under it).
+#[test]
+fn a_chart_s_light_plot_panel_is_a_background() {
+    let panel = |fill: Rgba| shape("panel", rect(20.0, 10.0, 150.0, 90.0), Some(fill), None);
+    let bar = |x: f64| shape("bar", rect(x, 40.0, x + 20.0, 90.0), BLUE, None);
+    let page_rect = shape("page", rect(0.0, 0.0, 200.0, 120.0), WHITE_FILL, None);
+    let d = Drawing {
+        page: page(200.0, 120.0),
+        elements: vec![page_rect.clone(), panel([229, 236, 246, 255]), bar(40.0), bar(90.0)],
+        ..Default::default()
+    };
+    let plan = plan(&d, &stress2());
+    assert_eq!(plan.decisions[1].left_out, Some(LeftOut::Background));
+    for k in [2, 3] {
+        assert!(plan.styles(k).iter().any(|s| matches!(s, Style::Grating(_))), "bar {k}");
+    }
+    // ggplot2's grey92 alike.
+    let d = Drawing { elements: vec![page_rect.clone(), panel([235, 235, 235, 255]), bar(40.0)], ..d.clone() };
+    assert_eq!(plan_of(&d).decisions[1].left_out, Some(LeftOut::Background));
+    // Alone, or with a mark only, or painted over the bar: a region.
+    let mark = shape("mark", rect(60.0, 50.0, 62.0, 52.0), BLUE, None);
+    let light = panel([229, 236, 246, 255]);
+    for rest in [vec![light.clone()], vec![light.clone(), mark], vec![bar(40.0), light.clone()]] {
+        let elements: Vec<Element> = std::iter::once(page_rect.clone()).chain(rest).collect();
+        let k = elements.iter().position(|e| e.name == "panel").unwrap_or(0);
+        let d = Drawing { page: page(200.0, 120.0), elements, ..Default::default() };
+        let plan = plan_of(&d);
+        assert_eq!(plan.decisions[k].left_out, None, "{:?}", plan.decisions);
+    }
+    // A panel of a stronger colour is a region the bars lie in.
+    let elements = vec![page_rect, panel([200, 215, 240, 255]), bar(40.0)];
+    let d = Drawing { page: page(200.0, 120.0), elements, ..Default::default() };
+    assert_eq!(plan_of(&d).decisions[1].left_out, None);
+}
