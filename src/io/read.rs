@@ -65,8 +65,56 @@ pub fn drawing_text(path: &Path, bytes: Vec<u8>) -> Result<String> {
     } else {
         bytes
     };
-    String::from_utf8(bytes)
-        .map_err(|_| anyhow::anyhow!("{}: the file is not UTF-8 text, expected an SVG document", path.display()))
+    svg_text(path, bytes)
+}
+
+/// SVG bytes as text: UTF-8, or UTF-16 with its byte-order mark, or the
+/// encoding the XML declaration names (`encoding="ISO-8859-1"`, as older GIS
+/// and Windows tools write), decoded exactly: a byte that is not valid in
+/// that encoding is an error, never replaced.
+fn svg_text(path: &Path, bytes: Vec<u8>) -> Result<String> {
+    let undecodable =
+        |name: &str| anyhow::anyhow!("{}: the file is not valid {name} text, expected an SVG document", path.display());
+    if let Some((enc, bom)) = encoding_rs::Encoding::for_bom(&bytes)
+        && enc != encoding_rs::UTF_8
+    {
+        return bytes
+            .get(bom..)
+            .and_then(|b| enc.decode_without_bom_handling_and_without_replacement(b))
+            .map(|t| t.into_owned())
+            .ok_or_else(|| undecodable(enc.name()));
+    }
+    let bytes = match String::from_utf8(bytes) {
+        Ok(text) => return Ok(text),
+        Err(e) => e.into_bytes(),
+    };
+    match declared_encoding(&bytes) {
+        Some(enc) if enc != encoding_rs::UTF_8 => enc
+            .decode_without_bom_handling_and_without_replacement(&bytes)
+            .map(|t| t.into_owned())
+            .ok_or_else(|| undecodable(enc.name())),
+        _ => Err(anyhow::anyhow!(
+            "{}: the file is not UTF-8 text, and its XML declaration names no other encoding; expected an SVG document",
+            path.display()
+        )),
+    }
+}
+
+/// The encoding an XML declaration at the start of `bytes` names
+/// (`<?xml version="1.0" encoding="ISO-8859-1"?>`), if it names one
+/// encoding_rs knows. (The declaration is ASCII in every encoding it can name
+/// without a byte-order mark.)
+fn declared_encoding(bytes: &[u8]) -> Option<&'static encoding_rs::Encoding> {
+    let head = bytes.get(..bytes.len().min(1024))?;
+    let end = head.windows(2).position(|w| w == b"?>")?;
+    let decl = head.get(..end)?.strip_prefix(b"<?xml")?;
+    let at = decl.windows(8).position(|w| w == b"encoding")?;
+    let rest = decl.get(at + 8..)?;
+    let rest = rest.get(rest.iter().position(|&b| b == b'=')? + 1..)?;
+    let rest = rest.get(rest.iter().position(|&b| b == b'"' || b == b'\'')?..)?;
+    let (&quote, rest) = rest.split_first()?;
+    let label = rest.get(..rest.iter().position(|&b| b == quote)?)?;
+    encoding_rs::Encoding::for_label(label)
 }
 
 /// Reads a drawing (`.svg` or `.svgz`) as SVG text, through [`read_input`] and [`drawing_text`].
@@ -135,5 +183,41 @@ mod tests {
         let e = format!("{:#}", read_input(&p).unwrap_err());
         assert!(e.contains("larger than the 64 MB input limit"), "{e}");
         assert!(read_bundle(&p).is_ok(), "bundles have the format's own limit");
+    }
+
+    /// Drawings in UTF-16 (with its byte-order mark) or in the encoding
+    /// their XML declaration names are read, decoded exactly; they were
+    /// refused as "not UTF-8". Bytes no encoding explains are still refused,
+    /// naming the file.
+    #[test]
+    fn drawings_in_utf16_or_a_declared_encoding_are_decoded() {
+        let p = Path::new("map.svg");
+        let svg = "<?xml version=\"1.0\" encoding=\"UTF-16\"?><svg><text>Café Zürich</text></svg>";
+        let le: Vec<u8> = [0xff, 0xfe].into_iter().chain(svg.encode_utf16().flat_map(u16::to_le_bytes)).collect();
+        let be: Vec<u8> = [0xfe, 0xff].into_iter().chain(svg.encode_utf16().flat_map(u16::to_be_bytes)).collect();
+        assert_eq!(drawing_text(p, le).unwrap(), svg);
+        assert_eq!(drawing_text(p, be.clone()).unwrap(), svg);
+        // Compressed alike.
+        assert_eq!(drawing_text(p, gzip(&be)).unwrap(), svg);
+        // ISO-8859-1, named in the declaration (either quote): é is one byte, 0xe9.
+        for q in ['"', '\''] {
+            let head = format!("<?xml version={q}1.0{q} encoding={q}ISO-8859-1{q}?>\n<svg><text>Caf");
+            let bytes: Vec<u8> = head.bytes().chain([0xe9]).chain(*b"</text></svg>").collect();
+            assert_eq!(drawing_text(p, bytes).unwrap(), format!("{head}é</text></svg>"));
+        }
+        // UTF-8 with its byte-order mark, as before.
+        let bom: Vec<u8> = [0xef, 0xbb, 0xbf].into_iter().chain(*b"<svg/>").collect();
+        assert!(drawing_text(p, bom).unwrap().ends_with("<svg/>"));
+        // Not UTF-8, and no other encoding named (or UTF-8 named): refused.
+        for head in ["<svg><text>Caf", "<?xml version=\"1.0\" encoding=\"UTF-8\"?><svg><text>Caf"] {
+            let bytes: Vec<u8> = head.bytes().chain([0xe9]).chain(*b"</text></svg>").collect();
+            let e = format!("{:#}", drawing_text(p, bytes).unwrap_err());
+            assert!(e.starts_with("map.svg: the file is not UTF-8 text"), "{e}");
+        }
+        // UTF-16 cut in the middle of a character: refused as such.
+        let mut odd: Vec<u8> = [0xff, 0xfe].into_iter().chain(svg.encode_utf16().flat_map(u16::to_le_bytes)).collect();
+        odd.extend([0x00, 0xd8]);
+        let e = format!("{:#}", drawing_text(p, odd).unwrap_err());
+        assert!(e.contains("not valid UTF-16LE text"), "{e}");
     }
 }
