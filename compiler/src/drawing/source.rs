@@ -299,13 +299,35 @@ pub(crate) fn keys(text: &str, doc: &Document<'_>, diags: &mut Vec<Diagnostic>) 
         };
         keys.push(key);
     }
+    // XML comments inside a `<style>` are cut out of usvg's text: usvg reads
+    // a style sheet's first text only, so a comment in it (Wikimedia's world
+    // maps write `/* <!-- Done up to row 1708 --> */` at the top of theirs)
+    // lost every rule after it, and the whole map was drawn black. (The
+    // comment then leaves `/*  */`, an empty CSS comment.)
+    let cuts: BTreeMap<usize, usize> = root
+        .descendants()
+        .filter(|n| n.is_element() && n.tag_name().name() == "style")
+        .flat_map(|n| n.children().filter(|c| c.is_comment()).map(|c| c.range()))
+        .filter(|r| r.start >= body_start && r.start < r.end && r.end <= text.len())
+        .map(|r| (r.start, r.end))
+        .collect();
     let mut rewritten = String::with_capacity(text.len() + inserts.len() * 24);
     let mut last = 0;
-    // In offset order (a BTreeMap), so every slice below runs forwards.
+    // In offset order (BTreeMaps), so every slice below runs forwards; no
+    // id goes inside a comment.
+    let mut cuts = cuts.into_iter().peekable();
     for (&at, (_, s)) in &inserts {
+        while let Some((start, end)) = cuts.next_if(|&(start, _)| start < at) {
+            rewritten.push_str(text.get(last..start).unwrap_or(""));
+            last = end.max(last);
+        }
         rewritten.push_str(text.get(last..at).unwrap_or(""));
         rewritten.push_str(s);
         last = at;
+    }
+    for (start, end) in cuts {
+        rewritten.push_str(text.get(last..start).unwrap_or(""));
+        last = end.max(last);
     }
     rewritten.push_str(text.get(last..).unwrap_or(""));
     Some(Keys { keys, rewritten })
@@ -747,5 +769,27 @@ mod tests {
         );
         let d = patterns_too_nested(&parse(&text)).expect("refused");
         assert!(d.message.contains("pattern #q "), "{}", d.message);
+    }
+
+    /// An XML comment in a `<style>` (Wikimedia's world maps open theirs with
+    /// `/* <!-- Done up to row 1708 --> */`) is cut out of usvg's text, so
+    /// that usvg, which reads a style sheet's first text only, applies the
+    /// rules after it: the whole map was drawn black. Ids still go in.
+    #[test]
+    fn comments_in_a_style_sheet_do_not_hide_its_rules_from_usvg() {
+        let text = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"10\" height=\"10\"><style type=\"text/css\">\n/* <!-- Done up to row 1708 --> */\n.land { fill: #c0c0c0 }\n<!-- and another -->.sea { fill: #0000ff }</style><rect class=\"land\" width=\"4\" height=\"4\"/><rect id=\"s\" class=\"sea\" x=\"5\" width=\"4\" height=\"4\"/></svg>";
+        let doc = parse(text);
+        let Keys { keys, rewritten } = keys(text, &doc, &mut Vec::new()).unwrap();
+        assert!(!rewritten.contains("<!--") && rewritten.contains("/*  */"), "{rewritten}");
+        let tree = usvg::Tree::from_str(&rewritten, &usvg::Options::default()).unwrap();
+        let fill = |id: &str| match tree.node_by_id(id) {
+            Some(usvg::Node::Path(p)) => match p.fill().map(|f| f.paint()) {
+                Some(usvg::Paint::Color(c)) => Some((c.red, c.green, c.blue)),
+                _ => None,
+            },
+            _ => None,
+        };
+        assert_eq!(fill(&keys[2]), Some((0xc0, 0xc0, 0xc0)), "{rewritten}");
+        assert_eq!(fill("s"), Some((0, 0, 0xff)), "{rewritten}");
     }
 }
