@@ -405,7 +405,8 @@ pub(crate) fn read(
         if let (true, Some(l)) = (is_layer, ink_label) {
             layers.push(l.trim().to_string());
         }
-        let in_defs = parent_el.is_some_and(|p| p.in_defs || p.kind == Kind::Defs);
+        // (A `<symbol>`'s content is drawn only where a `<use>` shows it, as `<defs>`' is.)
+        let in_defs = parent_el.is_some_and(|p| p.in_defs || p.kind == Kind::Defs || p.tag == "symbol");
         // An element whose conditions fail is not drawn (another language's
         // label), and under a `<switch>` only its chosen child is.
         let switched_off = parent_el.is_some_and(|p| p.switched_off)

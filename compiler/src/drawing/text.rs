@@ -86,7 +86,7 @@ fn used_texts(src: &Source, doc: &Document<'_>) -> Vec<(usize, usize)> {
         .elements
         .iter()
         .enumerate()
-        .filter(|(_, e)| matches!(e.tag.as_str(), "text" | "g") && !e.id.is_empty())
+        .filter(|(_, e)| matches!(e.tag.as_str(), "text" | "g" | "symbol") && !e.id.is_empty())
         .map(|(i, e)| (e.id.as_str(), i))
         .collect();
     let by_node: HashMap<roxmltree::NodeId, usize> =
@@ -181,7 +181,17 @@ fn text(
             if node.attribute("id") != use_target(u) {
                 for a in node.ancestors().skip(1) {
                     ts = transform(a).pre_concat(ts);
-                    if a.attribute("id") == use_target(u) || a.parent_element().is_none() {
+                    let target = a.attribute("id") == use_target(u);
+                    if target && a.tag_name().name() == "symbol" {
+                        // A symbol's viewBox maps onto the `<use>`'s size (else its own, else the viewBox's).
+                        let vb = a.attribute("viewBox").and_then(|v| v.parse::<svgtypes::ViewBox>().ok());
+                        let size = |k: &str, of_box: Option<f64>| {
+                            first(u, k, DEFAULT_EM).or(first(a, k, DEFAULT_EM)).or(of_box).unwrap_or(0.0) as f32
+                        };
+                        let (w, h) = (size("width", vb.map(|v| v.w)), size("height", vb.map(|v| v.h)));
+                        ts = super::page::view_box_transform(a, w, h).pre_concat(ts);
+                    }
+                    if target || a.parent_element().is_none() {
                         break;
                     }
                 }

@@ -340,6 +340,30 @@ fn a_text_in_a_nested_svg_is_placed_through_its_viewport() {
     }
 }
 
+/// A text inside a `<symbol>` is braille where each `<use>` shows it, through
+/// the symbol's viewBox mapped onto the `<use>`'s size; it was left out
+/// (and, outside `<defs>`, would have been placed at its own coordinates).
+#[test]
+fn a_text_in_a_symbol_is_braille_where_each_use_shows_it() {
+    let c = compile(&page(
+        r##"<symbol id="exit" viewBox="0 0 20 10"><text x="2" y="8">a</text></symbol>
+<use href="#exit" x="10" y="10" width="40" height="20" data-tactile="braille()"/>
+<use href="#exit" x="60" y="30" data-tactile="braille()"/>"##,
+    ));
+    let d = dots(bundle(&c), taxel_format::DotKind::Braille).expect("braille for both uses");
+    let r = d.dots[0].radius.0;
+    // "a" (dot 1, two pitches above the baseline): at (10 + 2·2, 10 + 8·2) =
+    // (14, 26) in the first; in the second, no size given, the viewBox's
+    // own (scale 1): (62, 38).
+    let mut got: Vec<(f32, f32)> = d.dots.iter().map(|p| (p.x.0 - r, p.y.0 + r + 2.0 * 2.34)).collect();
+    got.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let want = [(14.0, 26.0), (62.0, 38.0)];
+    assert_eq!(got.len(), 2, "{got:?}");
+    for (g, w) in got.iter().zip(want) {
+        assert!((g.0 - w.0).abs() < 0.01 && (g.1 - w.1).abs() < 0.01, "{got:?}");
+    }
+}
+
 /// A label kept once in `<defs>` and shown by `<use>` is braille where each
 /// `<use>` puts it (its transform, then its `x` and `y`), named by the
 /// `<use>`; it was left out, and the `<use>`'s annotation with it.
