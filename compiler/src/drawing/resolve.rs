@@ -216,8 +216,14 @@ pub(crate) fn run(
     );
     not_drawn(&src, &walked, diags);
     flowed_text(&src, &doc, diags);
+    // Labels matplotlib drew as glyphs, with their text in a comment: braille, not shapes.
+    let (labels, glyphs) = text::glyph_labels(&src, &doc, &walked, sizing.scale);
     let mut elements: Vec<(usize, super::Element)> = walked.elements;
+    if !glyphs.is_empty() {
+        elements.retain(|(i, _)| !glyphs.contains(i));
+    }
     elements.extend(texts);
+    elements.extend(labels);
     // Document order: a `<use>`'s copies sit at the `<use>`, in usvg's order (the sort is stable).
     elements.sort_by_key(|(i, _)| *i);
     let title = root

@@ -75,6 +75,62 @@ pub(crate) fn texts(
     out
 }
 
+/// Labels drawn as glyph outlines with their text in a comment, as
+/// matplotlib's SVG backend writes every label by default (`svg.fonttype:
+/// path`): a group whose first child is the comment (`<!-- Apples -->`) and
+/// whose one element is a group of glyphs, its transform putting the text's
+/// baseline origin (`translate(x y) scale(s -s)`, the font size `100 s`).
+/// Each becomes a text element of the outer group, at that origin, so the
+/// label is braille rather than glyph shapes; returned with the source
+/// indices of the glyphs' elements, which the label replaces. A comment
+/// holding mathtext (`$...$`) is not taken for the text.
+pub(crate) fn glyph_labels(
+    src: &Source,
+    doc: &Document<'_>,
+    walked: &Walked,
+    mm_per_px: f64,
+) -> (Vec<(usize, Element)>, std::collections::HashSet<usize>) {
+    let mut labels = Vec::new();
+    let mut glyphs = std::collections::HashSet::new();
+    let by_node: HashMap<roxmltree::NodeId, usize> =
+        src.elements.iter().enumerate().map(|(i, e)| (e.node, i)).collect();
+    for (i, e) in src.elements.iter().enumerate() {
+        if e.tag != "g" || e.in_defs || e.switched_off {
+            continue;
+        }
+        let Some(node) = doc.get_node(e.node) else { continue };
+        let mut kids = node.children().filter(|c| c.is_element() || c.is_comment());
+        let (Some(comment), Some(inner), None) = (kids.next(), kids.next(), kids.next()) else { continue };
+        let said = comment.text().map(str::trim).unwrap_or("");
+        let glyphed = inner.descendants().any(|d| d.is_element() && matches!(d.tag_name().name(), "use" | "path"));
+        if !comment.is_comment() || said.is_empty() || said.contains('$') || inner.tag_name().name() != "g" || !glyphed
+        {
+            continue;
+        }
+        let Some(inner_ts) = inner.attribute("transform").and_then(|t| t.parse::<svgtypes::Transform>().ok()) else {
+            continue;
+        };
+        // The group usvg kept gives the transform (it has an id); if usvg
+        // dropped it, the label is not drawn.
+        let Some(&group_ts) = walked.group_ts.get(&e.key) else { continue };
+        let s = mm_per_px as f32;
+        let ts = Transform::from_scale(s, s).pre_concat(group_ts);
+        let (ox, oy) = (inner_ts.e as f32, inner_ts.f as f32);
+        let (x_mm, y_mm) = ((ts.sx * ox + ts.kx * oy + ts.tx) as f64, (ts.ky * ox + ts.sy * oy + ts.ty) as f64);
+        let scale = ((ts.sx as f64 * ts.sy as f64) - (ts.kx as f64 * ts.ky as f64)).abs().sqrt();
+        let font_size_mm = 100.0 * (inner_ts.a * inner_ts.d - inner_ts.b * inner_ts.c).abs().sqrt() * scale;
+        if !(x_mm.is_finite() && y_mm.is_finite()) {
+            continue;
+        }
+        let text = said.split_whitespace().collect::<Vec<_>>().join(" ");
+        let run = TextRun { x_mm, y_mm, text: text.clone(), anchor: 0.0, continues: false };
+        let shape = TextShape { content: text, runs: vec![run], font_size_mm, outline: Vec::new() };
+        labels.push((i, element_of(e, xml_decl(src, i), true, Paint::default(), Shape::Text(shape))));
+        glyphs.extend(inner.descendants().filter_map(|d| by_node.get(&d.id())).copied());
+    }
+    (labels, glyphs)
+}
+
 /// The `<text>` elements that `<use>` elements show, a text itself or the
 /// texts of a group (`<g>`): (the text's source index, the `<use>`'s), in
 /// document order of the `<use>`s.

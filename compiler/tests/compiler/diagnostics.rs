@@ -364,6 +364,36 @@ fn a_text_in_a_symbol_is_braille_where_each_use_shows_it() {
     }
 }
 
+/// A label matplotlib drew as glyph outlines (its SVG backend's default)
+/// carries its text in a comment: it is braille at the glyphs' baseline
+/// origin, and its glyphs are no longer shapes of the drawing (they were
+/// textured blobs, and every label of a chart was lost). A comment holding
+/// mathtext is not taken for the text.
+#[test]
+fn a_label_drawn_as_glyphs_with_its_text_in_a_comment_is_braille() {
+    let label = |said: &str| {
+        format!(
+            r##"<g id="text_1" data-tactile="braille()" xmlns:xlink="http://www.w3.org/1999/xlink"><!-- {said} -->
+<g transform="translate(20 30) scale(0.1 -0.1)"><defs><path id="glyph" d="M 0 0 L 500 0 L 500 700 L 0 700 z"/></defs>
+<use xlink:href="#glyph"/><use xlink:href="#glyph" x="600"/></g></g>"##
+        )
+    };
+    let c = compile(&page(&label("ab")));
+    let d = dots(bundle(&c), taxel_format::DotKind::Braille).expect("braille for the label");
+    let r = d.dots[0].radius.0;
+    // "ab": a = dot 1, b = dots 1 2; the first dot's left edge at x = 20, dot 1
+    // two pitches above the baseline at y = 30.
+    assert_eq!(d.dots.len(), 3, "{d:?}");
+    let x0 = d.dots.iter().map(|p| p.x.0).fold(f32::INFINITY, f32::min) - r;
+    let y0 = d.dots.iter().map(|p| p.y.0).fold(f32::INFINITY, f32::min) + r + 2.0 * 2.34;
+    assert!((x0 - 20.0).abs() < 0.01 && (y0 - 30.0).abs() < 0.01, "{x0}, {y0}");
+    // The glyphs are not shapes of the drawing: no "braille() applies to text" for them.
+    assert!(c.diagnostics.iter().all(|d| d.code != "T0121"), "{:#?}", c.diagnostics);
+    // Mathtext: the glyphs stay shapes (and are said not to be text).
+    let c = compile(&page(&label("$x^2$")));
+    assert!(c.diagnostics.iter().any(|d| d.code == "T0121"), "{:#?}", c.diagnostics);
+}
+
 /// A label kept once in `<defs>` and shown by `<use>` is braille where each
 /// `<use>` puts it (its transform, then its `x` and `y`), named by the
 /// `<use>`; it was left out, and the `<use>`'s annotation with it.
