@@ -78,8 +78,10 @@ pub(crate) fn texts(
 /// Labels drawn as glyph outlines with their text in a comment, as
 /// matplotlib's SVG backend writes every label by default (`svg.fonttype:
 /// path`): a group whose first child is the comment (`<!-- Apples -->`) and
-/// whose one element is a group of glyphs, its transform putting the text's
-/// baseline origin (`translate(x y) scale(s -s)`, the font size `100 s`).
+/// whose one element is a group of glyphs (`<use>`s of outlines in `<defs>`),
+/// its transform putting the text's baseline origin and turning the font's y
+/// axis up (`translate(x y) scale(s -s)`, the font size `100 s`). A group
+/// of other shapes with a comment is a commented drawing, not a label.
 /// Each becomes a text element of the outer group, at that origin, so the
 /// label is braille rather than glyph shapes; returned with the source
 /// indices of the glyphs' elements, which the label replaces. A comment
@@ -102,14 +104,26 @@ pub(crate) fn glyph_labels(
         let mut kids = node.children().filter(|c| c.is_element() || c.is_comment());
         let (Some(comment), Some(inner), None) = (kids.next(), kids.next(), kids.next()) else { continue };
         let said = comment.text().map(str::trim).unwrap_or("");
-        let glyphed = inner.descendants().any(|d| d.is_element() && matches!(d.tag_name().name(), "use" | "path"));
-        if !comment.is_comment() || said.is_empty() || said.contains('$') || inner.tag_name().name() != "g" || !glyphed
-        {
+        if !comment.is_comment() || said.is_empty() || said.contains('$') || inner.tag_name().name() != "g" {
             continue;
         }
+        // Glyphs, not a drawing someone commented: uses of outlines kept in
+        // `<defs>`, under a uniform scale that turns the font's y axis up
+        // (`scale(s -s)`), as a font's outlines are.
+        let mut parts = inner.children().filter(|c| c.is_element() && c.tag_name().name() != "defs").peekable();
+        let glyphs_only = parts.peek().is_some() && parts.all(|c| c.tag_name().name() == "use");
         let Some(inner_ts) = inner.attribute("transform").and_then(|t| t.parse::<svgtypes::Transform>().ok()) else {
             continue;
         };
+        // A uniform scale, maybe rotated (an axis title turned on its side),
+        // that mirrors: the font's y axis turned up.
+        let (a, b, c, d) = (inner_ts.a, inner_ts.b, inner_ts.c, inner_ts.d);
+        let det = a * d - b * c;
+        let tol = 1e-9 * (a * a + b * b);
+        let font_axes = det < 0.0 && (a * c + b * d).abs() <= tol && (a * a + b * b - c * c - d * d).abs() <= tol;
+        if !(glyphs_only && font_axes) {
+            continue;
+        }
         // The group usvg kept gives the transform (it has an id); if usvg
         // dropped it, the label is not drawn.
         let Some(&group_ts) = walked.group_ts.get(&e.key) else { continue };
@@ -118,7 +132,7 @@ pub(crate) fn glyph_labels(
         let (ox, oy) = (inner_ts.e as f32, inner_ts.f as f32);
         let (x_mm, y_mm) = ((ts.sx * ox + ts.kx * oy + ts.tx) as f64, (ts.ky * ox + ts.sy * oy + ts.ty) as f64);
         let scale = ((ts.sx as f64 * ts.sy as f64) - (ts.kx as f64 * ts.ky as f64)).abs().sqrt();
-        let font_size_mm = 100.0 * (inner_ts.a * inner_ts.d - inner_ts.b * inner_ts.c).abs().sqrt() * scale;
+        let font_size_mm = 100.0 * det.abs().sqrt() * scale;
         if !(x_mm.is_finite() && y_mm.is_finite()) {
             continue;
         }

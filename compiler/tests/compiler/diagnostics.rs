@@ -392,6 +392,25 @@ fn a_label_drawn_as_glyphs_with_its_text_in_a_comment_is_braille() {
     // Mathtext: the glyphs stay shapes (and are said not to be text).
     let c = compile(&page(&label("$x^2$")));
     assert!(c.diagnostics.iter().any(|d| d.code == "T0121"), "{:#?}", c.diagnostics);
+    // An axis title turned on its side (`rotate(-90)` before the flip) is a
+    // label too, its braille horizontal from the same origin.
+    let turned =
+        label("ab").replace("translate(20 30) scale(0.1 -0.1)", "translate(20 30) rotate(-90) scale(0.1 -0.1)");
+    let c = compile(&page(&turned));
+    let d = dots(bundle(&c), taxel_format::DotKind::Braille).expect("braille for the turned label");
+    assert_eq!(d.dots.len(), 3, "{d:?}");
+    // A drawing someone commented is not a label: a group of shapes (not
+    // glyph uses), or glyph uses not mirrored as a font's are.
+    for drawing in [
+        label("ab").replace(
+            r##"<use xlink:href="#glyph"/><use xlink:href="#glyph" x="600"/>"##,
+            r#"<rect width="500" height="700"/>"#,
+        ),
+        label("ab").replace("scale(0.1 -0.1)", "scale(0.1 0.1)"),
+    ] {
+        let c = compile(&page(&drawing));
+        assert!(c.diagnostics.iter().any(|d| d.code == "T0121"), "{drawing}: {:#?}", c.diagnostics);
+    }
 }
 
 /// A label kept once in `<defs>` and shown by `<use>` is braille where each
