@@ -274,6 +274,14 @@ fn braille_boxes(t: &crate::drawing::TextShape) -> Vec<Bbox> {
 const BRAILLE_SHIFTS: [(f64, f64); 9] =
     [(0.0, 0.0), (0.0, 1.5), (0.0, -1.5), (-1.5, 0.0), (1.5, 0.0), (0.0, 3.0), (0.0, -3.0), (-3.0, 0.0), (3.0, 0.0)];
 
+/// Where a label kept off its place by a vibrating line alone may go last:
+/// a cell's height below. A chart's tick label, set in a font smaller than
+/// braille, sits under its axis, and braille stands on the baseline and grows
+/// upwards, into the axis. (Not above: that took an axis's labels up into the
+/// bars they name; and not for a label that meets other braille, which is
+/// left out as before rather than stacked under it.)
+const BELOW_A_LINE: (f64, f64) = (0.0, 6.0);
+
 /// The shift that brings a label's braille `boxes` that run off the page
 /// back onto it: left (or right) by no more than the label's width, so that
 /// it still covers where it began, and up (or down) by no more than its
@@ -588,7 +596,10 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
         let pulled = pull_inside(&boxes, page)
             .into_iter()
             .flat_map(|(px, py)| BRAILLE_SHIFTS.iter().map(move |&(sx, sy)| (px + sx, py + sy)));
-        match BRAILLE_SHIFTS.iter().copied().chain(pulled).find(|&s| !boxes.is_empty() && fits(s)) {
+        let clear_of_braille = boxes.iter().all(|q| braille.is_free(spatial::grow(*q, BRAILLE_CLEARANCE_MM)));
+        let below = clear_of_braille.then_some(BELOW_A_LINE);
+        let mut shifts = BRAILLE_SHIFTS.iter().copied().chain(below).chain(pulled);
+        match shifts.find(|&s| !boxes.is_empty() && fits(s)) {
             Some((dx, dy)) => {
                 for q in &boxes {
                     braille.place((q.0 + dx, q.1 + dy, q.2 + dx, q.3 + dy));

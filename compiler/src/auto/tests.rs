@@ -508,3 +508,30 @@ fn a_chart_s_light_plot_panel_is_a_background() {
     let d = Drawing { page: page(200.0, 120.0), elements, ..Default::default() };
     assert_eq!(plan_of(&d).decisions[1].left_out, None);
 }
+
+/// A tick label set in a font smaller than braille, just under its axis:
+/// braille stands on the baseline and grows upwards into the axis, at its
+/// place and at every small shift; a cell's height lower it fits, and is
+/// kept there (it was left out). Nothing moves a whole cell upwards, where
+/// an axis's labels would land on the bars they name (and a label that
+/// meets other braille is not stacked under it:
+/// `braille_labels_that_would_collide_keep_the_first`).
+#[test]
+fn a_tick_label_under_its_axis_moves_a_cell_down_rather_than_out() {
+    let axis = shape("axis", vec![Polyline { points: vec![(10.0, 50.0), (190.0, 50.0)], closed: false }], None, BLACK);
+    let d = Drawing {
+        page: page(200.0, 100.0),
+        elements: vec![axis.clone(), text("tick", "12", 90.0, 52.0)],
+        ..Default::default()
+    };
+    let dec = &plan_of(&d).decisions[1];
+    assert!(dec.braille && dec.braille_shift == (0.0, 6.0), "{dec:?}");
+    // Above an axis, the same label moves up only as far as the small shifts.
+    let d = Drawing {
+        page: page(200.0, 100.0),
+        elements: vec![axis, text("tick", "12", 90.0, 49.0)],
+        ..Default::default()
+    };
+    let dec = &plan_of(&d).decisions[1];
+    assert!(!dec.braille || dec.braille_shift.1 >= -3.0, "{dec:?}");
+}
