@@ -10,7 +10,7 @@ use resvg::tiny_skia::Transform;
 use roxmltree::{Document, Node};
 
 use super::source::{Kind, Source};
-use super::walk::{Decl, Walked, element_of};
+use super::walk::{Decl, Walked, element_of, length_scale};
 use super::{Element, Paint, Shape, StyledBy, TextRun, TextShape};
 use crate::annotation::Style;
 use crate::diagnostic::Diagnostic;
@@ -94,6 +94,9 @@ pub(crate) fn glyph_labels(
 ) -> (Vec<(usize, Element)>, std::collections::HashSet<usize>) {
     let mut labels = Vec::new();
     let mut glyphs = std::collections::HashSet::new();
+    if !doc.descendants().any(|n| n.is_comment()) {
+        return (labels, glyphs);
+    }
     let by_node: HashMap<roxmltree::NodeId, usize> =
         src.elements.iter().enumerate().map(|(i, e)| (e.node, i)).collect();
     for (i, e) in src.elements.iter().enumerate() {
@@ -131,8 +134,7 @@ pub(crate) fn glyph_labels(
         let ts = Transform::from_scale(s, s).pre_concat(group_ts);
         let (ox, oy) = (inner_ts.e as f32, inner_ts.f as f32);
         let (x_mm, y_mm) = ((ts.sx * ox + ts.kx * oy + ts.tx) as f64, (ts.ky * ox + ts.sy * oy + ts.ty) as f64);
-        let scale = ((ts.sx as f64 * ts.sy as f64) - (ts.kx as f64 * ts.ky as f64)).abs().sqrt();
-        let font_size_mm = 100.0 * det.abs().sqrt() * scale;
+        let font_size_mm = 100.0 * det.abs().sqrt() * length_scale(ts);
         if !(x_mm.is_finite() && y_mm.is_finite()) {
             continue;
         }
@@ -253,13 +255,8 @@ fn text(
                     ts = transform(a).pre_concat(ts);
                     let target = a.attribute("id") == use_target(u);
                     if target && a.tag_name().name() == "symbol" {
-                        // A symbol's viewBox maps onto the `<use>`'s size (else its own, else the viewBox's).
-                        let vb = a.attribute("viewBox").and_then(|v| v.parse::<svgtypes::ViewBox>().ok());
-                        let size = |k: &str, of_box: Option<f64>| {
-                            first(u, k, DEFAULT_EM).or(first(a, k, DEFAULT_EM)).or(of_box).unwrap_or(0.0) as f32
-                        };
-                        let (w, h) = (size("width", vb.map(|v| v.w)), size("height", vb.map(|v| v.h)));
-                        ts = super::page::view_box_transform(a, w, h).pre_concat(ts);
+                        // A symbol's viewBox maps onto the `<use>`'s size (else its own).
+                        ts = viewport(a, &[u, a]).pre_concat(ts);
                     }
                     if target || a.parent_element().is_none() {
                         break;
@@ -286,7 +283,7 @@ fn text(
     let (paint, font_size_mm) = walked.text_paint.get(&i).copied().unwrap_or((Paint::default(), 16.0 * s as f64));
     // The font size in the text's user units, for lengths in `em` (usvg's
     // size, when it laid the text out, is in millimetres on the page).
-    let scale = ((ts.sx as f64 * ts.sy as f64) - (ts.kx as f64 * ts.ky as f64)).abs().sqrt();
+    let scale = length_scale(ts);
     let em = match walked.text_paint.get(&i) {
         Some(_) if scale > 0.0 => font_size_mm / scale,
         // (No layout, for want of fonts: the sizes the XML sets, from the root down.)
@@ -324,11 +321,20 @@ fn text(
 /// `width` and `height` (where one is not given, or is a percentage of a
 /// viewport this reading does not follow, the `viewBox`'s own: a scale of 1).
 fn nested_svg_transform(n: Node<'_, '_>) -> Transform {
-    let vb = n.attribute("viewBox").and_then(|v| v.parse::<svgtypes::ViewBox>().ok());
-    let size = |a: &str, of_box: Option<f64>| first(n, a, DEFAULT_EM).or(of_box).unwrap_or(0.0) as f32;
-    let (w, h) = (size("width", vb.map(|v| v.w)), size("height", vb.map(|v| v.h)));
     let (x, y) = (first(n, "x", DEFAULT_EM).unwrap_or(0.0) as f32, first(n, "y", DEFAULT_EM).unwrap_or(0.0) as f32);
-    super::page::own_transform(n).pre_translate(x, y).pre_concat(super::page::view_box_transform(n, w, h))
+    super::page::own_transform(n).pre_translate(x, y).pre_concat(viewport(n, &[n]))
+}
+
+/// The `viewBox` of `n` (a nested `<svg>` or a `<symbol>`) mapped onto the
+/// `width` and `height` the first of `sized_by` gives (a `<use>`'s before
+/// the element's own), else onto the `viewBox`'s own size: a scale of 1.
+fn viewport(n: Node<'_, '_>, sized_by: &[Node<'_, '_>]) -> Transform {
+    let vb = n.attribute("viewBox").and_then(|v| v.parse::<svgtypes::ViewBox>().ok());
+    let size = |a: &str, of_box: Option<f64>| {
+        sized_by.iter().find_map(|m| first(*m, a, DEFAULT_EM)).or(of_box).unwrap_or(0.0) as f32
+    };
+    let (w, h) = (size("width", vb.map(|v| v.w)), size("height", vb.map(|v| v.h)));
+    super::page::view_box_transform(n, w, h)
 }
 
 /// CSS's initial font size, in user units (pixels).
@@ -416,12 +422,11 @@ fn runs_of(text: Node<'_, '_>, em: f64) -> Vec<Run> {
             let (x, y) = (first(n, "x", em), first(n, "y", em));
             self.x = x.or(self.x);
             self.y = y.or(self.y);
-            let (dx, dy) = (first(n, "dx", em), first(n, "dy", em));
-            if dx.is_some() {
-                self.x = Some(self.x.unwrap_or(0.0) + dx.unwrap_or(0.0));
+            if let Some(dx) = first(n, "dx", em) {
+                self.x = Some(self.x.unwrap_or(0.0) + dx);
             }
-            if dy.is_some() {
-                self.y = Some(self.y.unwrap_or(0.0) + dy.unwrap_or(0.0));
+            if let Some(dy) = first(n, "dy", em) {
+                self.y = Some(self.y.unwrap_or(0.0) + dy);
             }
             x.is_some() || y.is_some()
         }

@@ -140,7 +140,7 @@ fn rgb(p: Option<&usvg::Paint>) -> Option<[u8; 3]> {
 }
 
 /// How much a transform scales lengths (the square root of its area scale).
-fn length_scale(ts: Transform) -> f64 {
+pub(crate) fn length_scale(ts: Transform) -> f64 {
     let det = ts.sx as f64 * ts.sy as f64 - ts.kx as f64 * ts.ky as f64;
     det.abs().sqrt()
 }
