@@ -215,7 +215,9 @@ pub(crate) fn run(
         move || drop((tree, doc2)),
     );
     not_drawn(&src, &walked, diags);
-    flowed_text(&src, &doc, diags);
+    // Inkscape 0.92's flowed text, which usvg does not draw: read as text.
+    let (flows, unread) = text::flowed(&src, &doc, &walked, sizing.scale, root_ts);
+    flowed_text(&src, &doc, &unread, diags);
     // Labels matplotlib drew as glyphs, with their text in a comment: braille, not shapes.
     let (labels, glyphs) = text::glyph_labels(&src, &doc, &walked, sizing.scale);
     let mut elements: Vec<(usize, super::Element)> = walked.elements;
@@ -223,6 +225,7 @@ pub(crate) fn run(
         elements.retain(|(i, _)| !glyphs.contains(i));
     }
     elements.extend(texts);
+    elements.extend(flows);
     elements.extend(labels);
     // Document order: a `<use>`'s copies sit at the `<use>`, in usvg's order (the sort is stable).
     elements.sort_by_key(|(i, _)| *i);
@@ -262,11 +265,11 @@ fn not_drawn(src: &Source, walked: &walk::Walked, diags: &mut Vec<Diagnostic>) {
 }
 
 /// T0306 for each Inkscape flowed text (`<flowRoot>`, Inkscape 0.92's text
-/// in a frame): it never became SVG, no renderer draws it (usvg neither), and
-/// its words would vanish without a word. Text in a shape as Inkscape 1
-/// writes it (`shape-inside`) is SVG 2 text and is read.
-fn flowed_text(src: &Source, doc: &roxmltree::Document<'_>, diags: &mut Vec<Diagnostic>) {
-    for e in src.elements.iter().filter(|e| e.tag == "flowRoot" && !e.in_defs && !e.switched_off) {
+/// in a frame) that [`text::flowed`] could not read (source indices
+/// `unread`): its frame is not a shape it reads, or its group is not drawn.
+/// Its words would otherwise vanish without a word.
+fn flowed_text(src: &Source, doc: &roxmltree::Document<'_>, unread: &[usize], diags: &mut Vec<Diagnostic>) {
+    for e in unread.iter().filter_map(|&i| src.elements.get(i)) {
         let Some(node) = doc.get_node(e.node) else { continue };
         // The words of its paragraphs (not of its frame's `flowRegion`).
         let words: String = node
@@ -284,7 +287,10 @@ fn flowed_text(src: &Source, doc: &roxmltree::Document<'_>, diags: &mut Vec<Diag
         diags.push(
             Diagnostic::warning(
                 "T0306",
-                format!("Inkscape flowed text (<flowRoot>) is not SVG and is not read: {shown} is left out"),
+                format!(
+                    "Inkscape flowed text (<flowRoot>) whose frame is not a rectangle, path or basic shape is not \
+                     read: {shown} is left out"
+                ),
             )
             .with_element(&e.name)
             .with_help("in Inkscape, select it and use Text > Convert to Text, then save")

@@ -218,24 +218,7 @@ fn text(
         None => xml_decl(src, i),
     };
     let braille = decl.as_ref().is_some_and(|(d, _)| d.styles().iter().any(|s| matches!(s, Style::Braille(_))));
-    // The nearest group usvg kept gives the transform; if usvg dropped it,
-    // the text is not drawn. A nested `<svg>` on the way adds its viewport's
-    // transform (usvg's group for it carries no id to find it by).
-    let mut inner = Transform::identity();
-    let mut parent_ts = None;
-    let mut p = e.parent;
-    while let Some(k) = p {
-        let a = &src.elements[k];
-        if a.kind == Kind::Group && a.parent.is_some() {
-            parent_ts = Some(walked.group_ts.get(&a.key).map(|g| g.pre_concat(inner)));
-            break;
-        }
-        if a.tag == "svg" && a.parent.is_some() {
-            inner = doc.get_node(a.node).map_or(inner, |n| nested_svg_transform(n).pre_concat(inner));
-        }
-        p = a.parent;
-    }
-    let parent_ts = parent_ts.unwrap_or(Some(root_ts.pre_concat(inner)));
+    let parent_ts = parent_transform(src, doc, walked, e, root_ts);
     let Some(node) = doc.get_node(src.elements[t].node) else { return Ok(None) };
     let transform = |n: Node<'_, '_>| {
         n.attribute("transform")
@@ -314,6 +297,204 @@ fn text(
         outline: Vec::new(),
     };
     Ok(Some((i, element_of(e, decl, true, paint, Shape::Text(shape)))))
+}
+
+/// The transform of the user space an element `e` is drawn in (its
+/// parent's), in drawing pixels: the nearest group usvg kept gives it; if
+/// usvg dropped that group, the element is not drawn (`None`). A nested
+/// `<svg>` on the way adds its viewport's transform (usvg's group for it
+/// carries no id to find it by).
+fn parent_transform(
+    src: &Source,
+    doc: &Document<'_>,
+    walked: &Walked,
+    e: &super::source::Element,
+    root_ts: Transform,
+) -> Option<Transform> {
+    let mut inner = Transform::identity();
+    let mut p = e.parent;
+    while let Some(k) = p {
+        let a = &src.elements[k];
+        if a.kind == Kind::Group && a.parent.is_some() {
+            return walked.group_ts.get(&a.key).map(|g| g.pre_concat(inner));
+        }
+        if a.tag == "svg" && a.parent.is_some() {
+            inner = doc.get_node(a.node).map_or(inner, |n| nested_svg_transform(n).pre_concat(inner));
+        }
+        p = a.parent;
+    }
+    Some(root_ts.pre_concat(inner))
+}
+
+/// Inkscape 0.92's flowed text (`<flowRoot>`, text in a frame), which is not
+/// SVG and which no renderer draws, read as the text Inkscape shows: one run
+/// per paragraph (`<flowPara>`, also inside a `<flowDiv>`), from the frame's
+/// top corner on the side its `text-anchor` names, the first baseline one
+/// font size below the frame's top and each paragraph below the lines the
+/// last took (Inkscape's wrapping estimated at half a font size a
+/// character, `line-height` 1.25 unless the text sets it). Braille is laid
+/// out from these runs, as from any text. The frame is the bounding box of
+/// the `<flowRegion>`'s first shape (a `<rect>`, a `<path>` or another
+/// basic shape, or a `<use>` of one). Returns the texts read, and the
+/// flowed texts that could not be: their frame is missing or unreadable, or
+/// usvg dropped their group.
+pub(crate) fn flowed(
+    src: &Source,
+    doc: &Document<'_>,
+    walked: &Walked,
+    mm_per_px: f64,
+    root_ts: Transform,
+) -> (Vec<(usize, Element)>, Vec<usize>) {
+    let (mut read, mut unread) = (Vec::new(), Vec::new());
+    for (i, e) in src.elements.iter().enumerate() {
+        if e.tag != "flowRoot" || e.in_defs || e.switched_off {
+            continue;
+        }
+        let Some(node) = doc.get_node(e.node) else { continue };
+        // (Not drawn, in a hidden layer say: no text, as for a `<text>`.)
+        let Some(ts) = parent_transform(src, doc, walked, e, root_ts) else { continue };
+        match flowed_text(node, ts, mm_per_px) {
+            Some(shape) => read.push((i, element_of(e, xml_decl(src, i), true, Paint::default(), Shape::Text(shape)))),
+            None => unread.push(i),
+        }
+    }
+    (read, unread)
+}
+
+/// The text of one `<flowRoot>` ([`flowed`]) drawn in user space `parent`
+/// (drawing pixels); `None` when its frame cannot be read. A paragraph that
+/// is not displayed, or has no words, makes no run (and a flowed text
+/// without runs no braille).
+fn flowed_text(node: Node<'_, '_>, parent: Transform, mm_per_px: f64) -> Option<TextShape> {
+    let region = node.children().find(|c| c.tag_name().name() == "flowRegion")?;
+    let [x0, y0, x1, _] = region.children().filter(|c| c.is_element()).find_map(frame_box)?;
+    let s = mm_per_px as f32;
+    let ts = Transform::from_scale(s, s).pre_concat(parent).pre_concat(super::page::own_transform(node));
+    let chain: Vec<Node<'_, '_>> = node.ancestors().filter(|n| n.is_element()).collect();
+    let em = chain.iter().rev().fold(DEFAULT_EM, |em, &n| own_font_size(n, em).unwrap_or(em));
+    let line = line_height(node, em);
+    let anchor = anchor(node);
+    let x = x0 + (x1 - x0) * anchor;
+    // Characters a line of the frame holds, at half a font size each.
+    let per_line = ((x1 - x0) / (0.5 * em)).floor().max(1.0);
+    let paragraphs = node.children().filter(|c| c.is_element()).flat_map(|c| match c.tag_name().name() {
+        "flowPara" => vec![c],
+        "flowDiv" => c.children().filter(|p| p.tag_name().name() == "flowPara").collect(),
+        _ => Vec::new(),
+    });
+    let mut baseline = y0 + em;
+    let mut runs = Vec::new();
+    // (`display: none` as an attribute or in the style, on the paragraph or
+    // the text: the groups above are usvg's to judge.)
+    let hidden = |n: Node<'_, '_>| {
+        n.ancestors().take_while(|a| *a != node.parent().unwrap_or(node)).any(|a| {
+            a.attribute("display") == Some("none")
+                || a.attribute("style").is_some_and(|st| {
+                    st.split(';')
+                        .any(|d| d.split_once(':').is_some_and(|(k, v)| k.trim() == "display" && v.trim() == "none"))
+                })
+        })
+    };
+    for p in paragraphs {
+        let text: String =
+            p.descendants().filter(|t| t.is_text()).filter_map(|t| t.text()).collect::<Vec<_>>().join("");
+        let text = text.split_whitespace().collect::<Vec<_>>().join(" ");
+        let lines = (text.chars().count() as f64 / per_line).ceil().max(1.0);
+        if !text.is_empty() && !hidden(p) {
+            let (fx, fy) = (x as f32, baseline as f32);
+            let (x_mm, y_mm) = ((ts.sx * fx + ts.kx * fy + ts.tx) as f64, (ts.ky * fx + ts.sy * fy + ts.ty) as f64);
+            if x_mm.is_finite() && y_mm.is_finite() {
+                runs.push(TextRun { x_mm, y_mm, text, anchor, continues: false });
+            }
+        }
+        baseline += lines * line;
+    }
+    Some(TextShape {
+        content: runs.iter().map(|r| r.text.as_str()).collect::<Vec<_>>().join(" "),
+        runs,
+        font_size_mm: em * length_scale(ts),
+        outline: Vec::new(),
+    })
+}
+
+/// The box `[x0, y0, x1, y1]` of a flowed text's frame shape, in its
+/// text's user units (moved by the shape's own `transform`): a `<rect>`, a
+/// `<path>`, `<polygon>`, `<circle>` or `<ellipse>`, or a `<use>` of one
+/// (moved by its `x`, `y` and `transform`); `None` for anything else or an
+/// empty box.
+fn frame_box(shape: Node<'_, '_>) -> Option<[f64; 4]> {
+    let num = |n: Node<'_, '_>, a: &str| first(n, a, DEFAULT_EM).unwrap_or(0.0);
+    let (n, outer) = match shape.tag_name().name() {
+        "use" => {
+            let id = use_target(shape)?;
+            let target = shape.document().descendants().find(|d| d.is_element() && d.attribute("id") == Some(id))?;
+            let at = super::page::own_transform(shape).pre_translate(num(shape, "x") as f32, num(shape, "y") as f32);
+            (target, at)
+        }
+        _ => (shape, Transform::identity()),
+    };
+    let points: Vec<(f64, f64)> = match n.tag_name().name() {
+        "rect" => {
+            let (x, y) = (num(n, "x"), num(n, "y"));
+            vec![(x, y), (x + num(n, "width"), y + num(n, "height"))]
+        }
+        "circle" | "ellipse" => {
+            let (cx, cy) = (num(n, "cx"), num(n, "cy"));
+            let (rx, ry) = match n.tag_name().name() {
+                "circle" => (num(n, "r"), num(n, "r")),
+                _ => (num(n, "rx"), num(n, "ry")),
+            };
+            vec![(cx - rx, cy - ry), (cx + rx, cy + ry)]
+        }
+        "polygon" | "polyline" => {
+            let v: Vec<f64> = svgtypes::NumberListParser::from(n.attribute("points")?).filter_map(Result::ok).collect();
+            v.chunks_exact(2).map(|p| (p[0], p[1])).collect()
+        }
+        "path" => {
+            let mut pts = Vec::new();
+            for seg in svgtypes::SimplifyingPathParser::from(n.attribute("d")?).filter_map(Result::ok) {
+                use svgtypes::SimplePathSegment as S;
+                match seg {
+                    S::MoveTo { x, y } | S::LineTo { x, y } => pts.push((x, y)),
+                    // (The control points bound the curve.)
+                    S::CurveTo { x1, y1, x2, y2, x, y } => pts.extend([(x1, y1), (x2, y2), (x, y)]),
+                    S::Quadratic { x1, y1, x, y } => pts.extend([(x1, y1), (x, y)]),
+                    S::ClosePath => {}
+                }
+            }
+            pts
+        }
+        _ => return None,
+    };
+    let ts = outer.pre_concat(super::page::own_transform(n));
+    let mut b = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
+    for (x, y) in points {
+        let (x, y) = (x as f32, y as f32);
+        let (x, y) = ((ts.sx * x + ts.kx * y + ts.tx) as f64, (ts.ky * x + ts.sy * y + ts.ty) as f64);
+        b = [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)];
+    }
+    (b.iter().all(|v| v.is_finite()) && b[2] > b[0]).then_some(b)
+}
+
+/// A flowed text's `line-height` in user units, `em` being its font size
+/// there: a number or a percentage of the font size, or a length; 1.25 font
+/// sizes (Inkscape's default) when it sets none or one this reading does not
+/// resolve (`normal`).
+fn line_height(n: Node<'_, '_>, em: f64) -> f64 {
+    let set = n.attribute("style").and_then(|s| {
+        s.split(';').find_map(|d| {
+            let (k, v) = d.split_once(':')?;
+            (k.trim() == "line-height").then(|| v.trim())
+        })
+    });
+    let v = set.or(n.attribute("line-height")).and_then(|v| match v.parse::<f64>() {
+        Ok(k) => Some(k * em),
+        Err(_) => match v.strip_suffix('%') {
+            Some(p) => p.trim().parse::<f64>().ok().map(|p| p / 100.0 * em),
+            None => length(v, em),
+        },
+    });
+    v.filter(|v| v.is_finite() && *v > 0.0).unwrap_or(1.25 * em)
 }
 
 /// The transform a nested `<svg>` gives its content, as usvg reads it: its

@@ -131,24 +131,34 @@ fn characters_without_braille_are_named_in_their_order() {
     assert!(c.bundle.as_ref().is_some_and(|b| b.chunks.iter().any(|ch| matches!(ch, taxel_format::Chunk::Dots(_)))));
 }
 
-/// Inkscape 0.92's flowed text is not SVG: no renderer draws it, so its
-/// words would vanish silently. Each says what is lost and how to keep it;
-/// SVG 2 text in a shape (Inkscape 1) is read as text.
+/// Inkscape 0.92's flowed text is not SVG and no renderer draws it: taxel
+/// reads it as Inkscape shows it (`drawing.rs` checks where). One whose
+/// frame it cannot read says what is lost and how to keep it; SVG 2 text in
+/// a shape (Inkscape 1) is read as text.
 #[test]
-fn inkscape_flowed_text_says_it_is_left_out() {
+fn inkscape_flowed_text_is_read_or_says_it_is_left_out() {
     let c = compile(&page(
         r#"<rect x="10" y="10" width="30" height="30" data-tactile="grating()"/>
-<flowRoot id="flow1" data-tactile="braille()"><flowRegion><rect x="50" y="10" width="40" height="20"/></flowRegion><flowPara>Lake</flowPara><flowPara>Tana</flowPara></flowRoot>
-<text id="river" x="50" y="50" style="font-size:5px;shape-inside:url(#box)" data-tactile="braille()"><tspan>River</tspan></text>
-<rect id="box" x="50" y="40" width="40" height="15" fill="none"/>"#,
+<flowRoot id="flow1" data-tactile="braille()"><flowRegion><g/></flowRegion><flowPara>Lake</flowPara><flowPara>Tana</flowPara></flowRoot>
+<flowRoot id="flow2" style="font-size:4px" data-tactile="braille()"><flowRegion><rect x="50" y="40" width="40" height="15"/></flowRegion><flowPara>a</flowPara></flowRoot>
+<text id="river" x="50" y="20" style="font-size:5px;shape-inside:url(#box)" data-tactile="braille()"><tspan>b</tspan></text>
+<rect id="box" x="50" y="10" width="40" height="15" fill="none"/>
+<g inkscape:groupmode="layer" style="display:none"><flowRoot id="off"><flowRegion><g/></flowRegion><flowPara>Hidden</flowPara></flowRoot></g>"#,
     ));
+    // (The hidden layer's flowed text is not drawn: no word of it.)
     let w = with_code(&c, "T0306");
     assert_eq!(w.len(), 1, "{:#?}", c.diagnostics);
     assert!(w[0].message.contains("\"Lake Tana\" is left out"), "{}", w[0].message);
     assert_eq!((w[0].element.as_deref(), w[0].line), (Some("flow1"), Some(3)));
     assert!(w[0].help.as_deref().unwrap_or("").contains("Convert to Text"));
-    let b = bundle(&c);
-    assert!(dots(b, taxel_format::DotKind::Braille).is_some(), "the text in a shape is read");
+    // "a" (dot 1) from the flowed text's frame, one font size down; "b"
+    // (dots 1 2) from the text in a shape: each dot 1 is at its cell's left.
+    let d = dots(bundle(&c), taxel_format::DotKind::Braille).expect("braille for both texts");
+    let r = d.dots[0].radius.0;
+    let lefts: Vec<(f32, f32)> = d.dots.iter().filter(|p| p.x.0 - r < 50.01).map(|p| (p.x.0 - r, p.y.0 + r)).collect();
+    let dot = 2.34f32;
+    assert!(lefts.iter().any(|&(x, y)| (x - 50.0).abs() < 0.01 && (y - (44.0 - 2.0 * dot)).abs() < 0.01), "{lefts:?}");
+    assert!(lefts.iter().any(|&(x, y)| (x - 50.0).abs() < 0.01 && (y - (20.0 - 2.0 * dot)).abs() < 0.01), "{lefts:?}");
 }
 
 /// A multilingual drawing (Wikimedia's maps) holds each label once per

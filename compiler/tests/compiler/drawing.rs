@@ -277,3 +277,39 @@ fn fonts_are_an_input_and_the_faces_used_are_reported() {
             .is_empty()
     );
 }
+
+/// Inkscape 0.92's flowed text (`<flowRoot>`) is read as Inkscape shows it:
+/// a run per paragraph from its frame's top corner on its anchor's side, the
+/// first baseline a font size down, each paragraph below the lines the last
+/// took (wrapped at half a font size a character), under the text's and its
+/// groups' transforms; a frame may be a rectangle, a path or a `<use>` of one.
+#[test]
+fn inkscape_flowed_text_is_a_text_of_its_paragraphs_in_its_frame() {
+    let svg = page(
+        r##"<flowRoot id="lake" transform="translate(5 2)" style="font-size:4px;line-height:1.5"><flowRegion><rect x="20" y="10" width="30" height="20"/></flowRegion><flowPara>Lake   Tana</flowPara><flowDiv><flowPara>fresh water lake of <flowSpan>Ethiopia</flowSpan></flowPara></flowDiv><flowPara/><flowPara>End</flowPara></flowRoot>
+<g transform="translate(0 5)"><flowRoot id="forest" style="font-size:3px;line-height:125%;text-anchor:middle"><flowRegion><path d="M 60,40 h 30 v 10 h -30 z"/></flowRegion><flowPara>Forest</flowPara></flowRoot></g>
+<defs><rect id="frame" x="0" y="0" width="20" height="8"/><flowRoot id="hidden"><flowRegion><rect x="0" y="0" width="9" height="9"/></flowRegion><flowPara>no</flowPara></flowRoot></defs>
+<flowRoot id="used"><flowRegion><use href="#frame" x="70" y="2"/></flowRegion><flowPara>hill</flowPara><flowPara style="display:none">dale</flowPara></flowRoot>"##,
+    );
+    let d = resolve(&svg);
+    let runs = |id: &str| match &by_id(&d, id).shape {
+        Shape::Text(t) => t.runs.iter().map(|r| (r.text.clone(), r.x_mm, r.y_mm, r.anchor)).collect::<Vec<_>>(),
+        s => panic!("{id} is not a text: {s:?}"),
+    };
+    // 15 characters a line (30 / (4 / 2)): "Lake Tana" takes one line of
+    // 6, the 28 characters of the next paragraph two, the empty one one.
+    let want = [("Lake Tana", 16.0), ("fresh water lake of Ethiopia", 22.0), ("End", 40.0)];
+    let got = runs("lake");
+    assert_eq!(got.len(), want.len(), "{got:?}");
+    for ((text, x, y, anchor), (t, wy)) in got.iter().zip(want) {
+        assert!(text == t && close(*x, 25.0) && close(*y, wy) && *anchor == 0.0, "{got:?}");
+    }
+    // Anchored in the middle of its path's box, moved by its group.
+    let got = runs("forest");
+    assert!(got.len() == 1 && got[0].0 == "Forest" && close(got[0].1, 75.0) && close(got[0].2, 48.0), "{got:?}");
+    assert_eq!(got[0].3, 0.5);
+    // A `<use>`'s frame is where the `<use>` puts it; the default font size is 16 px.
+    let got = runs("used");
+    assert!(got.len() == 1 && close(got[0].1, 70.0) && close(got[0].2, 18.0), "{got:?}");
+    assert!(d.elements.iter().all(|e| e.id != "hidden"), "a flowed text in <defs> is not drawn");
+}
