@@ -218,6 +218,8 @@ pub(crate) fn run(
     // Inkscape 0.92's flowed text, which usvg does not draw: read as text.
     let (flows, unread) = text::flowed(&src, &doc, &walked, sizing.scale, root_ts);
     flowed_text(&src, &doc, &unread, diags);
+    // HTML in a `<foreignObject>` (Mermaid's labels), which usvg does not draw: read as text.
+    let html = text::foreign(&src, &doc, &walked, sizing.scale, root_ts);
     // Labels matplotlib drew as glyphs, with their text in a comment: braille, not shapes.
     let (labels, glyphs) = text::glyph_labels(&src, &doc, &walked, sizing.scale);
     let mut elements: Vec<(usize, super::Element)> = walked.elements;
@@ -226,6 +228,7 @@ pub(crate) fn run(
     }
     elements.extend(texts);
     elements.extend(flows);
+    elements.extend(html);
     elements.extend(labels);
     // Document order: a `<use>`'s copies sit at the `<use>`, in usvg's order (the sort is stable).
     elements.sort_by_key(|(i, _)| *i);

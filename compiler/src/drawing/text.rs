@@ -386,15 +386,7 @@ fn flowed_text(node: Node<'_, '_>, parent: Transform, mm_per_px: f64) -> Option<
     let mut runs = Vec::new();
     // (`display: none` as an attribute or in the style, on the paragraph or
     // the text: the groups above are usvg's to judge.)
-    let hidden = |n: Node<'_, '_>| {
-        n.ancestors().take_while(|a| *a != node.parent().unwrap_or(node)).any(|a| {
-            a.attribute("display") == Some("none")
-                || a.attribute("style").is_some_and(|st| {
-                    st.split(';')
-                        .any(|d| d.split_once(':').is_some_and(|(k, v)| k.trim() == "display" && v.trim() == "none"))
-                })
-        })
-    };
+    let hidden = |n: Node<'_, '_>| n.ancestors().take_while(|a| *a != node.parent().unwrap_or(node)).any(hidden);
     for p in paragraphs {
         let text: String =
             p.descendants().filter(|t| t.is_text()).filter_map(|t| t.text()).collect::<Vec<_>>().join("");
@@ -408,6 +400,178 @@ fn flowed_text(node: Node<'_, '_>, parent: Transform, mm_per_px: f64) -> Option<
             }
         }
         baseline += lines * line;
+    }
+    Some(TextShape {
+        content: runs.iter().map(|r| r.text.as_str()).collect::<Vec<_>>().join(" "),
+        runs,
+        font_size_mm: em * length_scale(ts),
+        outline: Vec::new(),
+    })
+}
+
+/// The text of HTML in a `<foreignObject>` (Mermaid's node and edge
+/// labels, which no SVG renderer without a browser draws; usvg neither), as
+/// a browser lays it out, for braille: a run per line (block elements,
+/// `<br>`), from the box's top corner on the side of the first
+/// `text-align` its HTML sets (its middle for `center`), the first
+/// baseline a font size and half the leading below its top (`line-height`
+/// 1.2 unless the HTML sets it), each line below the last, wrapped at the
+/// box's width at half a font size a character. The transform comes from
+/// the nearest group usvg kept, and the XML's own transforms below it (usvg
+/// drops a group left empty, as a label's group is without its HTML); a
+/// `<foreignObject>` under a group hidden with `display: none` is not drawn.
+/// A `<foreignObject>` that a `<switch>` passes over (draw.io's, beside its
+/// `<text>` fallback) is not read.
+pub(crate) fn foreign(
+    src: &Source,
+    doc: &Document<'_>,
+    walked: &Walked,
+    mm_per_px: f64,
+    root_ts: Transform,
+) -> Vec<(usize, Element)> {
+    let mut out = Vec::new();
+    for (i, e) in src.elements.iter().enumerate() {
+        if e.tag != "foreignObject" || e.in_defs || e.switched_off {
+            continue;
+        }
+        let Some(node) = doc.get_node(e.node) else { continue };
+        let Some(parent) = xml_parent_transform(src, doc, walked, e, root_ts) else { continue };
+        if let Some(shape) = foreign_text(node, parent, mm_per_px)
+            && !shape.runs.is_empty()
+        {
+            out.push((i, element_of(e, xml_decl(src, i), true, Paint::default(), Shape::Text(shape))));
+        }
+    }
+    out
+}
+
+/// [`parent_transform`], through the groups usvg dropped too: their own
+/// `transform`s from the XML (`None` when one of them is hidden with
+/// `display: none`, or its transform is not invertible, as usvg drops it
+/// then).
+fn xml_parent_transform(
+    src: &Source,
+    doc: &Document<'_>,
+    walked: &Walked,
+    e: &super::source::Element,
+    root_ts: Transform,
+) -> Option<Transform> {
+    let mut inner = Transform::identity();
+    let mut p = e.parent;
+    while let Some(k) = p {
+        let a = &src.elements[k];
+        if a.parent.is_none() {
+            break;
+        }
+        if a.kind == Kind::Group
+            && let Some(g) = walked.group_ts.get(&a.key)
+        {
+            return Some(g.pre_concat(inner));
+        }
+        let n = doc.get_node(a.node)?;
+        if hidden(n) {
+            return None;
+        }
+        let own = match a.tag.as_str() {
+            "svg" => nested_svg_transform(n),
+            _ => super::page::own_transform(n),
+        };
+        if !own.is_finite() || own.invert().is_none() {
+            return None;
+        }
+        inner = own.pre_concat(inner);
+        p = a.parent;
+    }
+    Some(root_ts.pre_concat(inner))
+}
+
+/// Whether element `n` is hidden by `display: none` (attribute or style).
+fn hidden(n: Node<'_, '_>) -> bool {
+    n.attribute("display") == Some("none")
+        || n.attribute("style").is_some_and(|st| {
+            st.split(';').any(|d| d.split_once(':').is_some_and(|(k, v)| k.trim() == "display" && v.trim() == "none"))
+        })
+}
+
+/// The text of one `<foreignObject>` ([`foreign`]) drawn in user space
+/// `parent` (drawing pixels); `None` when its box is unreadable or empty.
+fn foreign_text(node: Node<'_, '_>, parent: Transform, mm_per_px: f64) -> Option<TextShape> {
+    let num = |a: &str| first(node, a, DEFAULT_EM);
+    let (x0, y0) = (num("x").unwrap_or(0.0), num("y").unwrap_or(0.0));
+    let w = num("width").filter(|w| *w > 0.0)?;
+    let s = mm_per_px as f32;
+    let ts = Transform::from_scale(s, s).pre_concat(parent).pre_concat(super::page::own_transform(node));
+    let chain: Vec<Node<'_, '_>> = node.ancestors().filter(|n| n.is_element()).collect();
+    let em = chain.iter().rev().fold(DEFAULT_EM, |em, &n| own_font_size(n, em).unwrap_or(em));
+    // The lines: text broken at block elements and `<br>`, each line's text
+    // gathered with its font size (the first that its HTML sets, else the
+    // box's).
+    let mut lines: Vec<(String, f64)> = vec![(String::new(), em)];
+    fn walk(n: Node<'_, '_>, em: f64, lines: &mut Vec<(String, f64)>) {
+        for c in n.children() {
+            if c.is_text() {
+                if let Some(last) = lines.last_mut() {
+                    if last.0.trim().is_empty() {
+                        last.1 = em;
+                    }
+                    last.0.push_str(c.text().unwrap_or(""));
+                }
+            } else if c.is_element() && !hidden(c) {
+                let name = c.tag_name().name();
+                if matches!(name, "style" | "script" | "title") {
+                    continue;
+                }
+                let em = own_font_size(c, em).unwrap_or(em);
+                let block = matches!(
+                    name,
+                    "p" | "div" | "li" | "br" | "h1" | "h2" | "h3" | "h4" | "h5" | "h6" | "tr" | "ul" | "ol" | "table"
+                );
+                if block {
+                    lines.push((String::new(), em));
+                }
+                walk(c, em, lines);
+                if block {
+                    lines.push((String::new(), em));
+                }
+            }
+        }
+    }
+    walk(node, em, &mut lines);
+    let setting = |name: &str| {
+        node.descendants().filter(|n| n.is_element()).find_map(|n| {
+            n.attribute("style").and_then(|st| {
+                st.split(';').find_map(|d| {
+                    let (k, v) = d.split_once(':')?;
+                    (k.trim() == name).then(|| v.trim().to_string())
+                })
+            })
+        })
+    };
+    let anchor = match setting("text-align").as_deref() {
+        Some("center") => 0.5,
+        Some("right" | "end") => 1.0,
+        _ => 0.0,
+    };
+    // `line-height` as a number, a percentage or a length, of the first
+    // line's font size.
+    let line_height = setting("line-height");
+    let leading = |size: f64| line_height_value(line_height.as_deref(), size).unwrap_or(1.2 * size);
+    let x = x0 + w * anchor;
+    let mut top = y0;
+    let mut runs = Vec::new();
+    for (text, size) in lines {
+        let text = text.split_whitespace().collect::<Vec<_>>().join(" ");
+        if text.is_empty() {
+            continue;
+        }
+        let line = leading(size);
+        let (fx, fy) = (x as f32, (top + (line - size) / 2.0 + size) as f32);
+        let (x_mm, y_mm) = ((ts.sx * fx + ts.kx * fy + ts.tx) as f64, (ts.ky * fx + ts.sy * fy + ts.ty) as f64);
+        let wraps = (text.chars().count() as f64 * 0.5 * size / w).ceil().max(1.0);
+        if x_mm.is_finite() && y_mm.is_finite() {
+            runs.push(TextRun { x_mm, y_mm, text, anchor, continues: false });
+        }
+        top += wraps * line;
     }
     Some(TextShape {
         content: runs.iter().map(|r| r.text.as_str()).collect::<Vec<_>>().join(" "),
@@ -487,14 +651,22 @@ fn line_height(n: Node<'_, '_>, em: f64) -> f64 {
             (k.trim() == "line-height").then(|| v.trim())
         })
     });
-    let v = set.or(n.attribute("line-height")).and_then(|v| match v.parse::<f64>() {
+    line_height_value(set.or(n.attribute("line-height")), em).unwrap_or(1.25 * em)
+}
+
+/// A `line-height` value in user units, `em` being the font size there: a
+/// number or a percentage of the font size, or a length; `None` for none,
+/// or one this reading does not resolve (`normal`).
+fn line_height_value(v: Option<&str>, em: f64) -> Option<f64> {
+    let v = v?.trim();
+    let h = match v.parse::<f64>() {
         Ok(k) => Some(k * em),
         Err(_) => match v.strip_suffix('%') {
             Some(p) => p.trim().parse::<f64>().ok().map(|p| p / 100.0 * em),
             None => length(v, em),
         },
-    });
-    v.filter(|v| v.is_finite() && *v > 0.0).unwrap_or(1.25 * em)
+    };
+    h.filter(|v| v.is_finite() && *v > 0.0)
 }
 
 /// The transform a nested `<svg>` gives its content, as usvg reads it: its

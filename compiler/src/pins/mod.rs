@@ -115,6 +115,11 @@ pub(crate) struct Canvas {
     /// The pins (by index) the texture being drawn may not raise: those
     /// under opaque fills painted over it, which hide it ([`hidden_under`]).
     hidden: std::collections::HashSet<usize>,
+    /// The pins (by index) raised by a texture and by nothing else, which
+    /// a braille label clears around itself ([`Canvas::clear_texture`]).
+    texture: Vec<bool>,
+    /// Whether the feature being drawn is a texture.
+    filling: bool,
 }
 
 impl Canvas {
@@ -126,6 +131,8 @@ impl Canvas {
             pitch,
             clip: None,
             hidden: Default::default(),
+            texture: vec![false; cols as usize * rows as usize],
+            filling: false,
         }
     }
 
@@ -165,6 +172,19 @@ impl Canvas {
         let blink = if old.raised() { old.blinks() && blink } else { blink };
         self.image.pins[i] = Pin::new(old.height().max(height), blink);
         self.owner[i] = me;
+        // (A pin an outline raised stays the outline's under a texture.)
+        self.texture[i] = self.filling && (!old.raised() || self.texture[i]);
+    }
+
+    /// Lowers pin `p` if a texture alone raised it: the blank a braille
+    /// label keeps around itself inside a textured region.
+    pub fn clear_texture(&mut self, p: PinPos) {
+        let Some(i) = self.index(p) else { return };
+        if self.texture[i] {
+            self.image.pins[i] = Pin::FLUSH;
+            self.owner[i] = 0;
+            self.texture[i] = false;
+        }
     }
 
     /// Lowers pin `p` (an empty dot of a braille cell placed by `elem`),
@@ -178,6 +198,7 @@ impl Canvas {
         }
         self.image.pins[i] = Pin::FLUSH;
         self.owner[i] = me;
+        self.texture[i] = false;
     }
 }
 
@@ -253,7 +274,9 @@ pub fn legalise(drawing: &Drawing, profile: &DeviceProfile, diags: &mut Vec<Diag
                     // canton over its stripes, a map's legend box), as the
                     // array's grated layers are not.
                     canvas.hidden = hidden_under(&canvas, drawing, &opaque, i);
+                    canvas.filling = true;
                     texture_fill(&mut canvas, &p.outline, fill, i, e, diags);
+                    canvas.filling = false;
                     canvas.hidden.clear();
                 }
                 (Style::Dots(d), Shape::Path(p)) => {

@@ -540,3 +540,28 @@ fn a_label_running_off_the_side_is_pulled_back_whole() {
     let (_, diags) = run("dotpad", &d);
     assert!(diags.iter().any(|d| d.code == "T0708"), "{diags:?}");
 }
+
+/// A label inside a textured region clears the texture under its cells and
+/// one pin around them, as transcribers clear an area's texture around its
+/// label (braille amid ridges reads as more ridges); the texture stays
+/// elsewhere, and the label is not reported as colliding with it.
+#[test]
+fn a_label_clears_the_texture_around_itself() {
+    let region = path("lake", &[(5.0, 5.0), (145.0, 5.0), (145.0, 95.0), (5.0, 95.0)], true, vec![grating(7.5, 90.0)]);
+    let name = label("name", "abc", 60.0, 50.0);
+    let (alone, _) = run("dotpad", &drawing(150.0, 100.0, vec![name.clone()]));
+    let braille = decode_art(&unicode(&alone));
+    assert!(!braille.is_empty());
+    let (image, diags) = run("dotpad", &drawing(150.0, 100.0, vec![region, name]));
+    let raised = decode_art(&unicode(&image));
+    // The braille's box, one pin wider each way, holds the braille alone.
+    let (c0, c1) = (braille.iter().map(|p| p.0).min().unwrap_or(0), braille.iter().map(|p| p.0).max().unwrap_or(0));
+    let (r0, r1) = (braille.iter().map(|p| p.1).min().unwrap_or(0), braille.iter().map(|p| p.1).max().unwrap_or(0));
+    let near = |&(c, r): &(i64, i64)| (c0 - 1..=c1 + 1).contains(&c) && (r0 - 1..=r1 + 1).contains(&r);
+    let around: HashSet<(i64, i64)> = raised.iter().copied().filter(near).collect();
+    assert_eq!(around, braille, "{}", unicode(&image));
+    // Three pins further out the texture goes on, and no collision is reported.
+    let far = |&(c, r): &(i64, i64)| (c0 - 4..=c1 + 4).contains(&c) && (r0 - 4..=r1 + 4).contains(&r) && !near(&(c, r));
+    assert!(raised.iter().filter(|p| far(p)).count() > 6, "{}", unicode(&image));
+    assert!(diags.iter().all(|d| d.code != "T0704"), "{diags:?}");
+}

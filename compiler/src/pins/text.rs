@@ -41,7 +41,8 @@ fn cells(text: &str, e: Option<&Element>, diags: &mut Vec<Diagnostic>) -> Vec<u8
 }
 
 /// Places a label's braille on the cell grid, over whatever graphics are
-/// there (the design rules report the collision).
+/// there once the texture under it and one pin around it is cleared (the
+/// design rules report a collision with other graphics).
 pub(crate) fn place(
     canvas: &mut Canvas,
     params: &PinParams,
@@ -94,6 +95,16 @@ pub(crate) fn place(
         } else {
             k0
         };
+        // The texture under the label and one pin around it is cleared, as
+        // transcribers clear an area's texture around its label: braille
+        // amid ridges reads as more ridges. (Outlines and dots stay; T0704
+        // reports a label on them.)
+        let (r0, c_first, c_last) = (l * lp as i64, k0 * cp as i64, (k0 + n - 1) * cp as i64 + 1);
+        for r in r0 - 1..=r0 + params.cell_rows as i64 {
+            for c in c_first - 1..=c_last + 1 {
+                canvas.clear_texture((c, r));
+            }
+        }
         for (k, &cell) in cells.iter().enumerate() {
             let c0 = (k0 + k as i64) * cp as i64;
             let r0 = l * lp as i64;

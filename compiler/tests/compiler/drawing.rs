@@ -313,3 +313,40 @@ fn inkscape_flowed_text_is_a_text_of_its_paragraphs_in_its_frame() {
     assert!(got.len() == 1 && close(got[0].1, 70.0) && close(got[0].2, 18.0), "{got:?}");
     assert!(d.elements.iter().all(|e| e.id != "hidden"), "a flowed text in <defs> is not drawn");
 }
+
+/// HTML in a `<foreignObject>` (Mermaid's labels; usvg draws none of it) is
+/// a text of its lines, laid out as a browser would: from the box's top
+/// corner on its `text-align` side, the first baseline a font size and half
+/// the leading below the top, a line per block element or `<br>`, under the
+/// transforms of groups usvg dropped as empty. One a `<switch>` passes over
+/// (draw.io's, beside its `<text>`) or in a hidden group is not read.
+#[test]
+fn html_in_a_foreign_object_is_a_text_of_its_lines() {
+    let xhtml = r#"xmlns="http://www.w3.org/1999/xhtml""#;
+    let svg = page(&format!(
+        r#"<g transform="translate(50 20)"><g class="label" transform="translate(-15 -6)"><rect/><foreignObject id="start" width="30" height="9"><div {xhtml} style="font-size: 6px; line-height: 1.5; text-align: center;"><span><p>Start</p></span></div></foreignObject></g></g>
+<foreignObject id="gate" x="5" y="40" width="40" height="20"><div {xhtml} style="font-size:4px">North<br/>  Gate </div></foreignObject>
+<switch><foreignObject id="skipped" requiredFeatures="http://www.w3.org/TR/SVG11/feature#Extensibility" width="20" height="9"><div {xhtml}>Dup</div></foreignObject><text id="fallback" x="70" y="50">Dup</text></switch>
+<g style="display:none"><foreignObject id="hidden" width="20" height="9"><div {xhtml}>Hidden</div></foreignObject></g>"#
+    ));
+    let d = resolve(&svg);
+    let runs = |id: &str| match &by_id(&d, id).shape {
+        Shape::Text(t) => t.runs.iter().map(|r| (r.text.clone(), r.x_mm, r.y_mm, r.anchor)).collect::<Vec<_>>(),
+        s => panic!("{id} is not a text: {s:?}"),
+    };
+    // Centred in its 30-unit box at x 35: 50; its top at 14, a 9-unit line
+    // of a 6-unit font: baseline 14 + 1.5 + 6.
+    let got = runs("start");
+    assert!(got.len() == 1 && got[0].0 == "Start" && close(got[0].1, 50.0) && close(got[0].2, 21.5), "{got:?}");
+    assert_eq!(got[0].3, 0.5);
+    // Lines of 1.2 font sizes: baselines at 40 + 0.4 + 4 and 4.8 below.
+    let got = runs("gate");
+    let want = [("North", 44.4), ("Gate", 49.2)];
+    assert_eq!(got.len(), 2, "{got:?}");
+    for ((text, x, y, anchor), (t, wy)) in got.iter().zip(want) {
+        assert!(text == t && close(*x, 5.0) && close(*y, wy) && *anchor == 0.0, "{got:?}");
+    }
+    let texts: Vec<&str> =
+        d.elements.iter().filter(|e| matches!(e.shape, Shape::Text(_))).map(|e| e.id.as_str()).collect();
+    assert_eq!(texts, ["start", "gate", "fallback"], "{:#?}", d.elements);
+}
