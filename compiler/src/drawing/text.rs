@@ -354,6 +354,9 @@ pub(crate) fn flowed(
         // (Not drawn, in a hidden layer say: no text, as for a `<text>`.)
         let Some(ts) = parent_transform(src, doc, walked, e, root_ts) else { continue };
         match flowed_text(node, ts, mm_per_px) {
+            // (An empty one, which a stray click of Inkscape's text tool
+            // leaves, is no text.)
+            Some(shape) if shape.runs.is_empty() => {}
             Some(shape) => read.push((i, element_of(e, xml_decl(src, i), true, Paint::default(), Shape::Text(shape)))),
             None => unread.push(i),
         }
@@ -372,34 +375,39 @@ fn flowed_text(node: Node<'_, '_>, parent: Transform, mm_per_px: f64) -> Option<
     let ts = Transform::from_scale(s, s).pre_concat(parent).pre_concat(super::page::own_transform(node));
     let chain: Vec<Node<'_, '_>> = node.ancestors().filter(|n| n.is_element()).collect();
     let em = chain.iter().rev().fold(DEFAULT_EM, |em, &n| own_font_size(n, em).unwrap_or(em));
-    let line = line_height(node, em);
     let anchor = anchor(node);
     let x = x0 + (x1 - x0) * anchor;
-    // Characters a line of the frame holds, at half a font size each.
-    let per_line = ((x1 - x0) / (0.5 * em)).floor().max(1.0);
     let paragraphs = node.children().filter(|c| c.is_element()).flat_map(|c| match c.tag_name().name() {
         "flowPara" => vec![c],
         "flowDiv" => c.children().filter(|p| p.tag_name().name() == "flowPara").collect(),
         _ => Vec::new(),
     });
-    let mut baseline = y0 + em;
+    // The top of the next paragraph's first line.
+    let mut top = y0;
     let mut runs = Vec::new();
     // (`display: none` as an attribute or in the style, on the paragraph or
     // the text: the groups above are usvg's to judge.)
     let hidden = |n: Node<'_, '_>| n.ancestors().take_while(|a| *a != node.parent().unwrap_or(node)).any(hidden);
     for p in paragraphs {
+        // Inkscape 0.92 often sets the size and line height on each
+        // paragraph (and `line-height: 0.01%` on the text): a paragraph's
+        // own, else the text's, and never less than one font size.
+        let size = own_font_size(p, em).unwrap_or(em);
+        let line = line_height(p, size).or_else(|| line_height(node, size)).unwrap_or(1.25 * size).max(size);
         let text: String =
             p.descendants().filter(|t| t.is_text()).filter_map(|t| t.text()).collect::<Vec<_>>().join("");
         let text = text.split_whitespace().collect::<Vec<_>>().join(" ");
+        // Characters a line of the frame holds, at half a font size each.
+        let per_line = ((x1 - x0) / (0.5 * size)).floor().max(1.0);
         let lines = (text.chars().count() as f64 / per_line).ceil().max(1.0);
         if !text.is_empty() && !hidden(p) {
-            let (fx, fy) = (x as f32, baseline as f32);
+            let (fx, fy) = (x as f32, (top + size) as f32);
             let (x_mm, y_mm) = ((ts.sx * fx + ts.kx * fy + ts.tx) as f64, (ts.ky * fx + ts.sy * fy + ts.ty) as f64);
             if x_mm.is_finite() && y_mm.is_finite() {
                 runs.push(TextRun { x_mm, y_mm, text, anchor, continues: false });
             }
         }
-        baseline += lines * line;
+        top += lines * line;
     }
     Some(TextShape {
         content: runs.iter().map(|r| r.text.as_str()).collect::<Vec<_>>().join(" "),
@@ -640,18 +648,17 @@ fn frame_box(shape: Node<'_, '_>) -> Option<[f64; 4]> {
     (b.iter().all(|v| v.is_finite()) && b[2] > b[0]).then_some(b)
 }
 
-/// A flowed text's `line-height` in user units, `em` being its font size
-/// there: a number or a percentage of the font size, or a length; 1.25 font
-/// sizes (Inkscape's default) when it sets none or one this reading does not
-/// resolve (`normal`).
-fn line_height(n: Node<'_, '_>, em: f64) -> f64 {
+/// The `line-height` that element `n` sets (its style's or attribute), in
+/// user units, `em` being its font size there; `None` when it sets none, or
+/// one this reading does not resolve (`normal`).
+fn line_height(n: Node<'_, '_>, em: f64) -> Option<f64> {
     let set = n.attribute("style").and_then(|s| {
         s.split(';').find_map(|d| {
             let (k, v) = d.split_once(':')?;
             (k.trim() == "line-height").then(|| v.trim())
         })
     });
-    line_height_value(set.or(n.attribute("line-height")), em).unwrap_or(1.25 * em)
+    line_height_value(set.or(n.attribute("line-height")), em)
 }
 
 /// A `line-height` value in user units, `em` being the font size there: a

@@ -289,7 +289,9 @@ fn inkscape_flowed_text_is_a_text_of_its_paragraphs_in_its_frame() {
         r##"<flowRoot id="lake" transform="translate(5 2)" style="font-size:4px;line-height:1.5"><flowRegion><rect x="20" y="10" width="30" height="20"/></flowRegion><flowPara>Lake   Tana</flowPara><flowDiv><flowPara>fresh water lake of <flowSpan>Ethiopia</flowSpan></flowPara></flowDiv><flowPara/><flowPara>End</flowPara></flowRoot>
 <g transform="translate(0 5)"><flowRoot id="forest" style="font-size:3px;line-height:125%;text-anchor:middle"><flowRegion><path d="M 60,40 h 30 v 10 h -30 z"/></flowRegion><flowPara>Forest</flowPara></flowRoot></g>
 <defs><rect id="frame" x="0" y="0" width="20" height="8"/><flowRoot id="hidden"><flowRegion><rect x="0" y="0" width="9" height="9"/></flowRegion><flowPara>no</flowPara></flowRoot></defs>
-<flowRoot id="used"><flowRegion><use href="#frame" x="70" y="2"/></flowRegion><flowPara>hill</flowPara><flowPara style="display:none">dale</flowPara></flowRoot>"##,
+<flowRoot id="used"><flowRegion><use href="#frame" x="70" y="2"/></flowRegion><flowPara>hill</flowPara><flowPara style="display:none">dale</flowPara></flowRoot>
+<flowRoot id="sized" style="font-size:2px;line-height:0.01%"><flowRegion><rect x="60" y="50" width="30" height="9"/></flowRegion><flowPara style="font-size:5px;line-height:1.2">ab</flowPara><flowPara style="font-size:5px">cd</flowPara></flowRoot>
+<flowRoot id="empty"><flowRegion><rect x="0" y="0" width="9" height="9"/></flowRegion><flowPara/></flowRoot>"##,
     );
     let d = resolve(&svg);
     let runs = |id: &str| match &by_id(&d, id).shape {
@@ -312,6 +314,12 @@ fn inkscape_flowed_text_is_a_text_of_its_paragraphs_in_its_frame() {
     let got = runs("used");
     assert!(got.len() == 1 && close(got[0].1, 70.0) && close(got[0].2, 18.0), "{got:?}");
     assert!(d.elements.iter().all(|e| e.id != "hidden"), "a flowed text in <defs> is not drawn");
+    // Sizes and line heights set on the paragraphs (as Inkscape 0.92 does,
+    // with a `line-height` of 0.01% on the text): the first's 1.2, the
+    // second's the text's, which is never less than one font size.
+    let got = runs("sized");
+    assert!(got.len() == 2 && close(got[0].2, 55.0) && close(got[1].2, 61.0), "{got:?}");
+    assert!(d.elements.iter().all(|e| e.id != "empty"), "an empty flowed text is no text");
 }
 
 /// HTML in a `<foreignObject>` (Mermaid's labels; usvg draws none of it) is
