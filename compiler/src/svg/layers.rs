@@ -75,6 +75,9 @@ pub(crate) struct Built {
     /// they cover is hidden under opaque fills painted later, clipped away or
     /// off the surface. Said when nothing at all is made (T0300).
     pub unfelt: Vec<Unfelt>,
+    /// The boxes of the braille lines written, each grown by the design
+    /// rules' gap: gratings are not felt inside them ([`braille_texts`]).
+    pub braille_clear: Vec<Polyline>,
     prov_index: HashMap<(String, u32), u32>,
 }
 
@@ -458,6 +461,7 @@ fn distance_layers(
     // interpolate to complementary values and never overlap.
     let narrowest = bands.iter().map(|&(_, w)| w).reduce(f64::min);
     let opaque = OpaqueFills::of(drawing);
+    let braille_clear = std::mem::take(&mut b.braille_clear);
     let pitch = field_pitch(px, narrowest);
     // Every style's field at once: a layer's own setup (its segments'
     // buckets, the inside bits) runs on one thread, and with the layers one
@@ -505,10 +509,21 @@ fn distance_layers(
                     let kind =
                         MaskKind::Grating { wavelength: Mm(gr.wavelength_mm as f32), angle_deg: gr.angle_deg as f32 };
                     covered_by = opaque.above(drawing, &p.elements);
-                    let occluders = covered_by
+                    let mut occluders: Vec<_> = covered_by
                         .iter()
                         .map(|&j| (outline(&drawing.elements[j]), fill_rule(&drawing.elements[j])))
                         .collect();
+                    // Nor under braille and a gap around it: braille amid a
+                    // texture reads as more texture.
+                    occluders.extend(
+                        braille_clear
+                            .iter()
+                            .filter(|c| match (mine, crate::geometry::bounds(std::slice::from_ref(*c))) {
+                                (Some(a), Some(r)) => r.0 <= a.2 && a.0 <= r.2 && r.1 <= a.3 && a.1 <= r.3,
+                                _ => false,
+                            })
+                            .map(|c| (std::slice::from_ref(c), crate::geometry::FillRule::NonZero)),
+                    );
                     (
                         LayerGeometry { fills, cuts, clips, occluders, ..Default::default() },
                         kind,
@@ -703,7 +718,7 @@ fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOptions, diags:
             diags.push(not_here(&Style::Braille(style), &e.name, e.line, opts.profile.name.as_str()));
             continue;
         }
-        let (mut pts, missing) = braille_dots(text, &style);
+        let (mut pts, missing, lines) = braille_dots(text, &style);
         // Punctuation alone says nothing: then the text is left out whole.
         if braille::says_nothing(&text.runs.iter().map(|r| r.text.as_str()).collect::<String>(), &missing) {
             pts.clear();
@@ -741,18 +756,29 @@ fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOptions, diags:
             fk: FeatureKind::Braille,
         };
         dot_feature(b, job, &pts, drawing.page, diags);
+        let gap = super::rules::MIN_GAP_MM;
+        b.braille_clear.extend(lines.into_iter().map(|(x0, y0, x1, y1)| Polyline {
+            points: vec![(x0 - gap, y0 - gap), (x1 + gap, y0 - gap), (x1 + gap, y1 + gap), (x0 - gap, y1 + gap)],
+            closed: true,
+        }));
     }
 }
 
-/// The braille dot centres of a text, and the characters braille has no
-/// cell for (sorted, once each). Lines closer than braille's line pitch are
-/// moved apart; a run without its own `y` stays on the line before.
-fn braille_dots(text: &TextShape, style: &BrailleStyle) -> (Vec<(f64, f64)>, Vec<char>) {
+/// The boxes `(x0, y0, x1, y1)` of a text's braille lines, mm.
+type Boxes = Vec<(f64, f64, f64, f64)>;
+
+/// The braille dot centres of a text, the characters braille has no cell
+/// for (sorted, once each), and the box of each run's cells (whole cells:
+/// three dot rows standing on the baseline). Lines closer than braille's
+/// line pitch are moved apart; a run without its own `y` stays on the line
+/// before.
+fn braille_dots(text: &TextShape, style: &BrailleStyle) -> (Vec<(f64, f64)>, Vec<char>, Boxes) {
     let r = style.radius_mm;
     let mut prev_baseline: Option<f64> = None;
     let mut cursor: Option<f64> = None;
     let mut pts = Vec::new();
     let mut missing: Vec<char> = Vec::new();
+    let mut boxes = Vec::new();
     for run in &text.runs {
         let (cells, miss) = braille::translate(&run.text);
         missing.extend(miss);
@@ -771,8 +797,11 @@ fn braille_dots(text: &TextShape, style: &BrailleStyle) -> (Vec<(f64, f64)>, Vec
             _ => run.x_mm - run.anchor * width,
         };
         pts.extend(braille::layout(&cells, x0, y, r));
+        if !cells.is_empty() {
+            boxes.push((x0, y - 2.0 * braille::DOT_PITCH_MM - 2.0 * r, x0 + width, y));
+        }
         cursor = Some(x0 + cells.len() as f64 * braille::CELL_PITCH_MM);
         prev_baseline = Some(y);
     }
-    (pts, missing)
+    (pts, missing, boxes)
 }

@@ -260,3 +260,36 @@ fn clip_paths_and_transforms_are_honoured() {
     assert_eq!(sample(m, 40.0, 20.0), 0.0);
     assert!(sample(m, 29.95, 20.0) == 1.0 && sample(m, 30.05, 20.0) == 0.0);
 }
+
+/// A braille label inside a grated region clears the texture under its
+/// cells (three dot rows standing on the baseline, the run's width) and the
+/// design rules' gap (3.2 mm) around them, where braille amid the texture
+/// would read as more texture and their sum would clamp (T0410); beyond it
+/// the texture goes on.
+#[test]
+fn braille_clears_the_texture_around_itself() {
+    let c = compile(&page(
+        r#"<rect x="5" y="5" width="90" height="50" data-tactile="grating()"/>
+<text x="30" y="30" data-tactile="braille()">ab</text>"#,
+    ));
+    assert!(with_code(&c, "T0410").is_empty(), "{:#?}", c.diagnostics);
+    let b = bundle(&c);
+    let grating = masks(b);
+    assert_eq!(grating.len(), 1);
+    let g = grating[0];
+    let d = dots(b, DotKind::Braille).expect("braille");
+    let r = d.dots[0].radius.0 as f64;
+    assert!(d.dots.iter().all(|p| sample(g, p.x.0 as f64, p.y.0 as f64) == 0.0), "texture under a dot");
+    // The cells' box: "ab" is two cells from x 30, its dot rows standing on y 30.
+    let (x0, y0, x1, y1) = (30.0, 30.0 - 2.0 * 2.34 - 2.0 * r, 30.0 + 6.2 + 2.34 + 2.0 * r, 30.0);
+    let (mx, my) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
+    for (inside, outside) in [
+        ((x0 - 2.9, my), (x0 - 3.5, my)),
+        ((x1 + 2.9, my), (x1 + 3.5, my)),
+        ((mx, y0 - 2.9), (mx, y0 - 3.5)),
+        ((mx, y1 + 2.9), (mx, y1 + 3.5)),
+    ] {
+        assert_eq!(sample(g, inside.0, inside.1), 0.0, "texture at {inside:?}, in the gap");
+        assert_eq!(sample(g, outside.0, outside.1), 1.0, "no texture at {outside:?}, past the gap");
+    }
+}
