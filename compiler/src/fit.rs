@@ -115,12 +115,53 @@ fn crop(d: &mut Drawing, keep: Bbox) -> usize {
     before - d.elements.len()
 }
 
+/// A drawing occupies less than this share of its page's width or height
+/// for `--fit` to fit what it occupies rather than the page.
+const OCCUPIED_SHARE: f64 = 0.9;
+/// An element covering this share of the page's area is its background or
+/// frame, not what the drawing shows.
+const BACKGROUND_SHARE: f64 = 0.9;
+/// The margin kept around what a drawing occupies, as a share of its larger side.
+const MARGIN_SHARE: f64 = 0.03;
+
+/// What the drawing shows on its page, in page mm: the union of its
+/// visible elements' boxes within the page, leaving out any element that
+/// covers most of the page (a background, a frame), grown by a margin of 3 %
+/// of its larger side (kept on the page). `None` when it takes up nearly the
+/// whole page (at least 90 % of its width and of its height), or nothing.
+/// An artboard a drawing fills a corner of (an Illustrator letter page, an
+/// Inkscape A4 with a small diagram) is then fitted by what it shows.
+fn occupied(d: &Drawing) -> Option<Bbox> {
+    let page: Bbox = (0.0, 0.0, d.page.width_mm, d.page.height_mm);
+    let area = |b: Bbox| (b.2 - b.0).max(0.0) * (b.3 - b.1).max(0.0);
+    let on_page = |b: Bbox| (b.0.max(page.0), b.1.max(page.1), b.2.min(page.2), b.3.min(page.3));
+    let shown = d
+        .elements
+        .par_iter()
+        .filter(|e| e.visible)
+        .filter_map(Element::bounds)
+        .filter(|&b| b.0.is_finite() && b.1.is_finite() && b.2.is_finite() && b.3.is_finite() && meet(b, page))
+        .map(on_page)
+        .filter(|&b| area(b) < BACKGROUND_SHARE * area(page))
+        .reduce_with(|a, b| (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)))?;
+    let (w, h) = (shown.2 - shown.0, shown.3 - shown.1);
+    let most = w >= OCCUPIED_SHARE * (page.2 - page.0) && h >= OCCUPIED_SHARE * (page.3 - page.1);
+    if most || !(w > 0.0 && h > 0.0) {
+        return None;
+    }
+    let m = MARGIN_SHARE * w.max(h);
+    Some(on_page((shown.0 - m, shown.1 - m, shown.2 + m, shown.3 + m)))
+}
+
 /// Where `--region` and `--fit` put a drawing: page mm `p` goes to
 /// `p * scale + shift` on a page the size of the surface.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Placement {
     /// The part taken (`--region`), in page mm before scaling.
     pub part: Option<Bbox>,
+    /// The box fitted, in page mm before scaling: the part, else what the
+    /// drawing occupies ([`occupied`]), else the page.
+    pub from: Bbox,
     /// The scale factor.
     pub scale: f64,
     /// The shift after scaling, mm.
@@ -149,7 +190,7 @@ pub fn placement(
             _ => return Err(Diagnostic::error("T0210", "--region: the part to take has no area")),
         },
     };
-    let from = part.unwrap_or((0.0, 0.0, d.page.width_mm, d.page.height_mm));
+    let from = part.or_else(|| occupied(d)).unwrap_or((0.0, 0.0, d.page.width_mm, d.page.height_mm));
     let (w, h) = (from.2 - from.0, from.3 - from.1);
     if !(w > 0.0 && h > 0.0 && w.is_finite() && h.is_finite()) {
         return Ok(None);
@@ -157,7 +198,7 @@ pub fn placement(
     let scale = (sw / w).min(sh / h);
     // Centred on the surface.
     let shift = ((sw - w * scale) / 2.0 - from.0 * scale, (sh - h * scale) / 2.0 - from.1 * scale);
-    Ok(Some(Placement { part, scale, shift, surface: (sw, sh) }))
+    Ok(Some(Placement { part, from, scale, shift, surface: (sw, sh) }))
 }
 
 /// Applies `--region` and `--fit` (`region` and `fit`) to `d` for a device of
@@ -188,9 +229,10 @@ pub fn apply(
             crop(d, b);
         }
         let page: Bbox = (0.0, 0.0, d.page.width_mm, d.page.height_mm);
-        let from = p.part.unwrap_or(page);
+        let from = p.from;
         let (w, h) = (from.2 - from.0, from.3 - from.1);
         let part = p.part;
+        let shown = part.is_none() && from != page;
         {
             let (s, t) = (p.scale, p.shift);
             d.elements.par_iter_mut().for_each(|e| transform(e, s, t));
@@ -200,13 +242,22 @@ pub fn apply(
             d.page.height_mm = sh;
             // A drawing without a size was already fitted to the surface (T0201 says so):
             // "scaled by 1.000" would only repeat it.
-            let unchanged = part.is_none() && (s - 1.0).abs() < 5e-4;
+            let unchanged = part.is_none() && !shown && (s - 1.0).abs() < 5e-4;
             if !unchanged {
+                let what = match (part, shown) {
+                    (Some(_), _) => "the region was".to_string(),
+                    (None, true) => format!(
+                        "what the drawing shows (its {} x {} mm page less the empty margins) was",
+                        number(page.2, 1),
+                        number(page.3, 1)
+                    ),
+                    (None, false) => "the drawing was".to_string(),
+                };
                 diags.push(Diagnostic::note(
                     "T0211",
                     format!(
                         "{} scaled by {}: {} x {} mm became {} x {} mm on the {} surface ({sw} x {sh} mm)",
-                        if part.is_some() { "the region was" } else { "the drawing was" },
+                        what,
                         number(s, 3),
                         number(w, 1),
                         number(h, 1),
@@ -285,6 +336,44 @@ mod tests {
         assert_eq!((d.page.width_mm, d.page.height_mm), (110.0, 60.0));
         assert!(!diags.iter().any(|d| d.code == "T0202"));
         assert!(diags.iter().any(|d| d.code == "T0211"));
+    }
+
+    /// A drawing that shows a corner of its page (a diagram on an
+    /// Illustrator letter artboard) is fitted by what it shows, with a margin
+    /// of 3 % of its larger side, not by its empty page; its background (a
+    /// rectangle over the whole page) does not count. One that shows most of
+    /// its page is fitted by the page.
+    #[test]
+    fn fit_scales_what_the_drawing_shows_not_its_empty_page() {
+        let p = profiles::builtin("stress2").unwrap(); // 110 x 60 mm
+        let page = Page { width_mm: 200.0, height_mm: 100.0, scale: 1.0, offset_mm: (0.0, 0.0) };
+        let shown = |extra: Vec<Element>| {
+            let mut elements = vec![square("bg", -5.0, -5.0, 210.0), square("a", 10.0, 10.0, 30.0)];
+            elements.push(square("b", 20.0, 10.0, 30.0));
+            elements.extend(extra);
+            Drawing { page, elements, ..Default::default() }
+        };
+        let mut d = shown(vec![]);
+        let mut diags = Vec::new();
+        assert!(apply(&mut d, &p, true, None, &mut diags));
+        // Shown: 10..50 x 10..40 mm, grown by 1.2 mm: 42.4 x 32.4 mm, so 60 mm high.
+        let s = 60.0 / 32.4;
+        let b = d.elements[1].bounds().unwrap();
+        let want = (55.0 - 21.2 * s + 1.2 * s, 1.2 * s, 55.0 - 21.2 * s + 31.2 * s, 31.2 * s);
+        for (got, want) in [b.0, b.1, b.2, b.3].into_iter().zip([want.0, want.1, want.2, want.3]) {
+            assert!((got - want).abs() < 1e-9, "{b:?} against {want:?}");
+        }
+        let note = diags.iter().find(|d| d.code == "T0211").expect("T0211");
+        assert!(
+            note.message.contains("what the drawing shows") && note.message.contains("42.4 x 32.4 mm"),
+            "{}",
+            note.message
+        );
+        // Shapes across most of the page: the page is fitted, 110 mm wide.
+        let mut d = shown(vec![square("c", 185.0, 85.0, 10.0), square("d", 5.0, 5.0, 1.0)]);
+        assert!(apply(&mut d, &p, true, None, &mut Vec::new()));
+        let b = d.elements[1].bounds().unwrap();
+        assert!((b.0 - 5.5).abs() < 1e-9 && (b.2 - 22.0).abs() < 1e-9, "{b:?}");
     }
 
     #[test]

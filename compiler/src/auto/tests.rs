@@ -282,13 +282,15 @@ fn prepare_uses_the_automatic_sheet_only_when_nothing_else_styles_the_drawing() 
     assert!(prepare(&mut d, &opts, &mut diags));
     assert_eq!(codes(&diags), ["T0330"]);
     assert_eq!(d.elements[0].styled_by, StyledBy::Nothing);
-    // --fit runs first: the 100 x 50 mm page fills the 110 x 60 mm surface, scale 1.1.
+    // --fit runs first: what the drawing shows (10..40 mm, with a margin of
+    // 0.9 mm: 31.8 mm square) fills the 60 mm height of the surface, centred.
     let (mut d, mut diags) = (drawing(), Vec::new());
     let opts = crate::CompileOptions { fit: true, ..crate::CompileOptions::new(profile) };
     assert!(prepare(&mut d, &opts, &mut diags));
     assert_eq!(codes(&diags), ["T0211", "T0320", "T0330"]);
     let b = d.elements[0].bounds().unwrap();
-    assert!((b.0 - 11.0).abs() < 1e-9 && (b.2 - 44.0).abs() < 1e-9, "{b:?}");
+    let s = 60.0 / 31.8;
+    assert!((b.0 - (55.0 - 15.0 * s)).abs() < 1e-9 && (b.2 - (55.0 + 15.0 * s)).abs() < 1e-9, "{b:?}");
 }
 
 #[test]

@@ -83,9 +83,11 @@ fn a_shape_without_a_label_is_named_by_its_group() {
 
 #[test]
 fn under_fit_footprints_are_in_surface_millimetres() {
-    // A 220 x 120 mm page on the 110 x 60 mm stress2 surface: --fit halves it.
+    // A 220 x 120 mm page on the 110 x 60 mm stress2 surface: --fit halves it
+    // (marks at two corners: the drawing shows its whole page).
     let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="220mm" height="120mm" viewBox="0 0 220 120">
 <rect x="20" y="20" width="40" height="40" data-tactile="grating()" aria-label="square"/>
+<rect x="0" y="0" width="2" height="2"/><rect x="218" y="118" width="2" height="2"/>
 </svg>"#;
     let mut opts = CompileOptions::new(stress2());
     assert_eq!((opts.profile.surface_w_mm, opts.profile.surface_h_mm), (110.0, 60.0));

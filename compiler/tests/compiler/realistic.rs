@@ -453,7 +453,8 @@ fn fit_says_nothing_when_it_changes_nothing() {
         let opts = taxel_compiler::CompileOptions { fit: true, ..taxel_compiler::CompileOptions::new(stress2()) };
         super::common::no_internal_error(taxel_compiler::svg::compile_svg(svg, &opts))
     };
-    let body = r#"<rect x="10" y="10" width="60" height="40" fill="none" stroke="black"/></svg>"#;
+    // (Across most of the page, so that `--fit` fits the page.)
+    let body = r#"<rect x="2" y="2" width="96" height="56" fill="none" stroke="black"/></svg>"#;
     let sizeless = format!(r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 60">{body}"#);
     let c = compile(&sizeless);
     assert_eq!(super::common::with_code(&c, "T0201").len(), 1, "{:#?}", c.diagnostics);
@@ -466,14 +467,16 @@ fn fit_says_nothing_when_it_changes_nothing() {
 
 /// Issue 14 point 3: design rules are judged after `--fit` scales the
 /// drawing. Two 40 mm squares 6 mm apart in the top-left corner of a
-/// 440 x 240 mm page (both on the 110 x 60 mm surface, so nothing is cut):
-/// as drawn they are large and far apart enough; fitted (scale 1/4) they are
+/// 440 x 240 mm page (both on the 110 x 60 mm surface, so nothing is cut;
+/// marks at the page's corners, so that `--fit` fits the whole page): as
+/// drawn they are large and far apart enough; fitted (scale 1/4) they are
 /// 10 mm squares 1.5 mm apart, and the size and gap rules say so.
 #[test]
 fn design_rules_are_judged_after_fitting() {
     let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="440mm" height="240mm" viewBox="0 0 440 240">
   <rect id="a" x="10" y="10" width="40" height="40" data-tactile="grating(wavelength: 3mm)"/>
   <rect id="b" x="56" y="10" width="40" height="40" data-tactile="grating(wavelength: 6mm, angle: 0deg)"/>
+  <rect x="0" y="0" width="1" height="1"/><rect x="439" y="239" width="1" height="1"/>
 </svg>"#;
     let profile = stress2();
     let codes = |fit: bool| -> Vec<(&'static str, String)> {
