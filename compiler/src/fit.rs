@@ -118,31 +118,40 @@ fn crop(d: &mut Drawing, keep: Bbox) -> usize {
 /// A drawing occupies less than this share of its page's width or height
 /// for `--fit` to fit what it occupies rather than the page.
 const OCCUPIED_SHARE: f64 = 0.9;
-/// An element covering this share of the page's area is its background or
-/// frame, not what the drawing shows.
+/// A fill covering this share of the page's area is its background, not
+/// what the drawing shows.
 const BACKGROUND_SHARE: f64 = 0.9;
 /// The margin kept around what a drawing occupies, as a share of its larger side.
 const MARGIN_SHARE: f64 = 0.03;
 
 /// What the drawing shows on its page, in page mm: the union of its
-/// visible elements' boxes within the page, leaving out any element that
-/// covers most of the page (a background, a frame), grown by a margin of 3 %
-/// of its larger side (kept on the page). `None` when it takes up nearly the
-/// whole page (at least 90 % of its width and of its height), or nothing.
-/// An artboard a drawing fills a corner of (an Illustrator letter page, an
-/// Inkscape A4 with a small diagram) is then fitted by what it shows.
+/// visible elements' boxes within the page (as far as their clips let them
+/// be seen), leaving out backgrounds: fills that cover 90 % of the page's
+/// area within it (a flag's triangles, whose boxes span the page, count),
+/// grown by a margin of 3 % of its larger side (kept on the page). `None`
+/// when it takes up nearly the whole page (at least 90 % of its width and
+/// of its height), or nothing. An artboard a drawing fills a corner of (an
+/// Illustrator letter page, an Inkscape A4 with a small diagram) is then
+/// fitted by what it shows.
 fn occupied(d: &Drawing) -> Option<Bbox> {
     let page: Bbox = (0.0, 0.0, d.page.width_mm, d.page.height_mm);
     let area = |b: Bbox| (b.2 - b.0).max(0.0) * (b.3 - b.1).max(0.0);
     let on_page = |b: Bbox| (b.0.max(page.0), b.1.max(page.1), b.2.min(page.2), b.3.min(page.3));
+    let background = |e: &Element, b: Bbox| match &e.shape {
+        Shape::Path(p) if e.paint.filled && area(b) >= BACKGROUND_SHARE * area(page) => {
+            crate::auto::area_within(&p.outline, p.fill_rule, b) >= BACKGROUND_SHARE * area(page)
+        }
+        _ => false,
+    };
     let shown = d
         .elements
         .par_iter()
         .filter(|e| e.visible)
-        .filter_map(Element::bounds)
-        .filter(|&b| b.0.is_finite() && b.1.is_finite() && b.2.is_finite() && b.3.is_finite() && meet(b, page))
-        .map(on_page)
-        .filter(|&b| area(b) < BACKGROUND_SHARE * area(page))
+        .filter_map(|e| Some((e, crate::auto::seen_bounds(e)?)))
+        .filter(|&(_, b)| b.0.is_finite() && b.1.is_finite() && b.2.is_finite() && b.3.is_finite() && meet(b, page))
+        .map(|(e, b)| (e, on_page(b)))
+        .filter(|&(e, b)| !background(e, b))
+        .map(|(_, b)| b)
         .reduce_with(|a, b| (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)))?;
     let (w, h) = (shown.2 - shown.0, shown.3 - shown.1);
     let most = w >= OCCUPIED_SHARE * (page.2 - page.0) && h >= OCCUPIED_SHARE * (page.3 - page.1);
@@ -347,8 +356,12 @@ mod tests {
     fn fit_scales_what_the_drawing_shows_not_its_empty_page() {
         let p = profiles::builtin("stress2").unwrap(); // 110 x 60 mm
         let page = Page { width_mm: 200.0, height_mm: 100.0, scale: 1.0, offset_mm: (0.0, 0.0) };
+        let filled = |mut e: Element| {
+            e.paint.filled = true;
+            e
+        };
         let shown = |extra: Vec<Element>| {
-            let mut elements = vec![square("bg", -5.0, -5.0, 210.0), square("a", 10.0, 10.0, 30.0)];
+            let mut elements = vec![filled(square("bg", -5.0, -5.0, 210.0)), square("a", 10.0, 10.0, 30.0)];
             elements.push(square("b", 20.0, 10.0, 30.0));
             elements.extend(extra);
             Drawing { page, elements, ..Default::default() }
@@ -369,11 +382,22 @@ mod tests {
             "{}",
             note.message
         );
-        // Shapes across most of the page: the page is fitted, 110 mm wide.
-        let mut d = shown(vec![square("c", 185.0, 85.0, 10.0), square("d", 5.0, 5.0, 1.0)]);
-        assert!(apply(&mut d, &p, true, None, &mut Vec::new()));
-        let b = d.elements[1].bounds().unwrap();
-        assert!((b.0 - 5.5).abs() < 1e-9 && (b.2 - 22.0).abs() < 1e-9, "{b:?}");
+        // Shapes across most of the page, or a fill whose box spans the page
+        // but which covers half of it (a flag's triangle): the page is fitted,
+        // 110 mm wide.
+        let triangle = Element {
+            shape: Shape::Path(PathShape {
+                outline: vec![Polyline { points: vec![(0.0, 0.0), (200.0, 0.0), (0.0, 100.0)], closed: true }],
+                ..Default::default()
+            }),
+            ..filled(square("t", 0.0, 0.0, 1.0))
+        };
+        for extra in [vec![square("c", 185.0, 85.0, 10.0), square("d", 5.0, 5.0, 1.0)], vec![triangle]] {
+            let mut d = shown(extra);
+            assert!(apply(&mut d, &p, true, None, &mut Vec::new()));
+            let b = d.elements[1].bounds().unwrap();
+            assert!((b.0 - 5.5).abs() < 1e-9 && (b.2 - 22.0).abs() < 1e-9, "{b:?}");
+        }
     }
 
     #[test]

@@ -724,7 +724,7 @@ fn very_light(e: &Element) -> bool {
 
 /// The box of what can be seen of an element: its bounds within the boxes
 /// of its clip regions; `None` when it has no outline or they leave nothing.
-fn seen_bounds(e: &Element) -> Option<Bbox> {
+pub(crate) fn seen_bounds(e: &Element) -> Option<Bbox> {
     let mut b = e.bounds()?;
     if let Shape::Path(p) = &e.shape {
         for c in &p.clips {
@@ -738,7 +738,7 @@ fn seen_bounds(e: &Element) -> Option<Bbox> {
 /// Area a fill of `polys` under `rule` covers inside the box `b`: each ring
 /// clipped to the box (Sutherland and Hodgman: exact for a convex window),
 /// then [`filled_area`].
-fn area_within(polys: &[Polyline], rule: FillRule, b: Bbox) -> f64 {
+pub(crate) fn area_within(polys: &[Polyline], rule: FillRule, b: Bbox) -> f64 {
     // The window's four sides as "keep where f(p) >= 0" and the crossing with the side.
     type Side = (fn((f64, f64), f64) -> f64, f64);
     let sides: [Side; 4] =
