@@ -169,7 +169,7 @@ pub struct Placement {
     /// The part taken (`--region`), in page mm before scaling.
     pub part: Option<Bbox>,
     /// The box fitted, in page mm before scaling: the part, else what the
-    /// drawing occupies ([`occupied`]), else the page.
+    /// drawing shows (when it shows only part of its page), else the page.
     pub from: Bbox,
     /// The scale factor.
     pub scale: f64,
