@@ -118,40 +118,27 @@ fn crop(d: &mut Drawing, keep: Bbox) -> usize {
 /// A drawing occupies less than this share of its page's width or height
 /// for `--fit` to fit what it occupies rather than the page.
 const OCCUPIED_SHARE: f64 = 0.9;
-/// A fill covering this share of the page's area is its background, not
-/// what the drawing shows.
-const BACKGROUND_SHARE: f64 = 0.9;
 /// The margin kept around what a drawing occupies, as a share of its larger side.
 const MARGIN_SHARE: f64 = 0.03;
 
 /// What the drawing shows on its page, in page mm: the union of its
 /// visible elements' boxes within the page (as far as their clips let them
-/// be seen), leaving out backgrounds: fills that cover 90 % of the page's
-/// area within it (a flag's triangles, whose boxes span the page, count),
-/// grown by a margin of 3 % of its larger side (kept on the page). `None`
-/// when it takes up nearly the whole page (at least 90 % of its width and
-/// of its height), or nothing. An artboard a drawing fills a corner of (an
-/// Illustrator letter page, an Inkscape A4 with a small diagram) is then
-/// fitted by what it shows.
+/// be seen), grown by a margin of 3 % of its larger side (kept on the page).
+/// `None` when it takes up nearly the whole page (at least 90 % of its width
+/// and of its height), or nothing. An artboard a drawing fills a corner of
+/// (an Illustrator letter page, an Inkscape A4 with a small diagram) is then
+/// fitted by what it shows; a drawing with a background across its page (a
+/// flag's field, a map's sea) shows its whole page.
 fn occupied(d: &Drawing) -> Option<Bbox> {
     let page: Bbox = (0.0, 0.0, d.page.width_mm, d.page.height_mm);
-    let area = |b: Bbox| (b.2 - b.0).max(0.0) * (b.3 - b.1).max(0.0);
     let on_page = |b: Bbox| (b.0.max(page.0), b.1.max(page.1), b.2.min(page.2), b.3.min(page.3));
-    let background = |e: &Element, b: Bbox| match &e.shape {
-        Shape::Path(p) if e.paint.filled && area(b) >= BACKGROUND_SHARE * area(page) => {
-            crate::auto::area_within(&p.outline, p.fill_rule, b) >= BACKGROUND_SHARE * area(page)
-        }
-        _ => false,
-    };
     let shown = d
         .elements
         .par_iter()
         .filter(|e| e.visible)
-        .filter_map(|e| Some((e, crate::auto::seen_bounds(e)?)))
-        .filter(|&(_, b)| b.0.is_finite() && b.1.is_finite() && b.2.is_finite() && b.3.is_finite() && meet(b, page))
-        .map(|(e, b)| (e, on_page(b)))
-        .filter(|&(e, b)| !background(e, b))
-        .map(|(_, b)| b)
+        .filter_map(crate::auto::seen_bounds)
+        .filter(|&b| b.0.is_finite() && b.1.is_finite() && b.2.is_finite() && b.3.is_finite() && meet(b, page))
+        .map(on_page)
         .reduce_with(|a, b| (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)))?;
     let (w, h) = (shown.2 - shown.0, shown.3 - shown.1);
     let most = w >= OCCUPIED_SHARE * (page.2 - page.0) && h >= OCCUPIED_SHARE * (page.3 - page.1);
@@ -349,9 +336,9 @@ mod tests {
 
     /// A drawing that shows a corner of its page (a diagram on an
     /// Illustrator letter artboard) is fitted by what it shows, with a margin
-    /// of 3 % of its larger side, not by its empty page; its background (a
-    /// rectangle over the whole page) does not count. One that shows most of
-    /// its page is fitted by the page.
+    /// of 3 % of its larger side, not by its empty page. One that shows most
+    /// of its page (shapes across it, a background over it, a flag's
+    /// triangle) is fitted by the page.
     #[test]
     fn fit_scales_what_the_drawing_shows_not_its_empty_page() {
         let p = profiles::builtin("stress2").unwrap(); // 110 x 60 mm
@@ -361,7 +348,7 @@ mod tests {
             e
         };
         let shown = |extra: Vec<Element>| {
-            let mut elements = vec![filled(square("bg", -5.0, -5.0, 210.0)), square("a", 10.0, 10.0, 30.0)];
+            let mut elements = vec![square("a", 10.0, 10.0, 30.0)];
             elements.push(square("b", 20.0, 10.0, 30.0));
             elements.extend(extra);
             Drawing { page, elements, ..Default::default() }
@@ -371,7 +358,7 @@ mod tests {
         assert!(apply(&mut d, &p, true, None, &mut diags));
         // Shown: 10..50 x 10..40 mm, grown by 1.2 mm: 42.4 x 32.4 mm, so 60 mm high.
         let s = 60.0 / 32.4;
-        let b = d.elements[1].bounds().unwrap();
+        let b = d.elements[0].bounds().unwrap();
         let want = (55.0 - 21.2 * s + 1.2 * s, 1.2 * s, 55.0 - 21.2 * s + 31.2 * s, 31.2 * s);
         for (got, want) in [b.0, b.1, b.2, b.3].into_iter().zip([want.0, want.1, want.2, want.3]) {
             assert!((got - want).abs() < 1e-9, "{b:?} against {want:?}");
@@ -382,9 +369,9 @@ mod tests {
             "{}",
             note.message
         );
-        // Shapes across most of the page, or a fill whose box spans the page
-        // but which covers half of it (a flag's triangle): the page is fitted,
-        // 110 mm wide.
+        // Shapes across most of the page, a fill across half of it (a flag's
+        // triangle) or all of it (a background): the page is fitted, 110 mm
+        // wide.
         let triangle = Element {
             shape: Shape::Path(PathShape {
                 outline: vec![Polyline { points: vec![(0.0, 0.0), (200.0, 0.0), (0.0, 100.0)], closed: true }],
@@ -392,10 +379,13 @@ mod tests {
             }),
             ..filled(square("t", 0.0, 0.0, 1.0))
         };
-        for extra in [vec![square("c", 185.0, 85.0, 10.0), square("d", 5.0, 5.0, 1.0)], vec![triangle]] {
+        let background = filled(square("bg", -5.0, -5.0, 210.0));
+        for extra in
+            [vec![square("c", 185.0, 85.0, 10.0), square("d", 5.0, 5.0, 1.0)], vec![triangle], vec![background]]
+        {
             let mut d = shown(extra);
             assert!(apply(&mut d, &p, true, None, &mut Vec::new()));
-            let b = d.elements[1].bounds().unwrap();
+            let b = d.elements[0].bounds().unwrap();
             assert!((b.0 - 5.5).abs() < 1e-9 && (b.2 - 22.0).abs() < 1e-9, "{b:?}");
         }
     }

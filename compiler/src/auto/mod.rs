@@ -738,7 +738,7 @@ pub(crate) fn seen_bounds(e: &Element) -> Option<Bbox> {
 /// Area a fill of `polys` under `rule` covers inside the box `b`: each ring
 /// clipped to the box (Sutherland and Hodgman: exact for a convex window),
 /// then [`filled_area`].
-pub(crate) fn area_within(polys: &[Polyline], rule: FillRule, b: Bbox) -> f64 {
+fn area_within(polys: &[Polyline], rule: FillRule, b: Bbox) -> f64 {
     // The window's four sides as "keep where f(p) >= 0" and the crossing with the side.
     type Side = (fn((f64, f64), f64) -> f64, f64);
     let sides: [Side; 4] =
