@@ -123,6 +123,17 @@ pub fn exact_layers(svg: &str, bundle: &Bundle, opts: &CompileOptions) -> Result
     let prov = bundle.provenance();
     let mut layers = Vec::new();
     let mut gaps = Gaps::default();
+    // Gratings are not felt around braille, where the compiler cleared them
+    // (found from the bundle's braille dots, as the compiler finds them).
+    let clearing: Vec<Polyline> = bundle
+        .chunks
+        .iter()
+        .filter_map(|c| match c {
+            Chunk::Dots(d) if d.kind == taxel_format::DotKind::Braille => Some(&d.dots),
+            _ => None,
+        })
+        .flat_map(|dots| taxel_compiler::svg::braille_clearing(dots))
+        .collect();
     // Each vibration or grating layer as (its sources, kind, amplitude): a
     // distance layer's every source, a raster mask's one source.
     let mut groups: Vec<(Vec<u32>, MaskKind, f32)> = Vec::new();
@@ -187,7 +198,21 @@ pub fn exact_layers(svg: &str, bundle: &Bundle, opts: &CompileOptions) -> Result
                 sources,
             },
             MaskKind::Grating { wavelength, angle_deg } => {
-                let occluders = drawing.occluders(&geos);
+                let mut occluders = drawing.occluders(&geos);
+                // The clearings that meet the layer's shapes, as the compiler takes them.
+                let mine = geos
+                    .iter()
+                    .filter_map(|g| taxel_compiler::geometry::bounds(&g.polys))
+                    .reduce(|a, r| (a.0.min(r.0), a.1.min(r.1), a.2.max(r.2), a.3.max(r.3)));
+                occluders.extend(
+                    clearing
+                        .iter()
+                        .filter(|c| match (mine, taxel_compiler::geometry::bounds(std::slice::from_ref(*c))) {
+                            (Some(a), Some(r)) => r.0 <= a.2 && a.0 <= r.2 && r.1 <= a.3 && a.1 <= r.3,
+                            _ => false,
+                        })
+                        .map(|c| (std::slice::from_ref(c), FillRule::NonZero)),
+                );
                 ExactLayer::Grating {
                     region: Region::Fill {
                         fills: geos.iter().map(|g| (Index::new(&g.polys, true), g.rule)).collect(),

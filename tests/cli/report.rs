@@ -172,6 +172,24 @@ fn fills_painted_over_a_grating_hide_it_in_the_reference() {
     edge_error_converges_within_the_lattice_bound("grating", &mine);
 }
 
+/// A grating is not felt around braille (the compiler clears it over the
+/// label's dots and the design rules' gap), in the bundle and so in the
+/// reference, which finds the same boxes from the bundle's braille dots.
+#[test]
+fn braille_clears_a_grating_in_the_reference_too() {
+    let rows = stress2_rows(
+        r##"<svg xmlns="http://www.w3.org/2000/svg" width="50mm" height="40mm" viewBox="0 0 50 40">
+  <rect id="land" x="5" y="5" width="40" height="30" fill="#e8f4d0" data-tactile="grating(wavelength: 3mm, angle: 90deg)"/>
+  <text id="name" x="15" y="18" data-tactile="braille()"><tspan x="15" y="18">ab</tspan><tspan x="15" y="29">c</tspan></text>
+</svg>"##,
+    );
+    let mine: Vec<&Value> = rows.iter().filter(|r| r["kernel"] == "grating").collect();
+    assert_eq!(mine.len(), 4);
+    let default = mine.iter().find(|r| r["default"] == true).expect("a default row");
+    assert!(f(default, "edge_error_mm") <= 0.05, "{default}");
+    assert!(f(default, "far_error") <= 1.0, "{default}");
+}
+
 /// Shapes clipped by a nested `<svg>`'s viewport and by a `clip-path` (as
 /// exported charts clip their plot area and its lines) are felt only inside the clip, as
 /// the compiler clips it; the reference did not clip, and on a disc larger

@@ -75,8 +75,8 @@ pub(crate) struct Built {
     /// they cover is hidden under opaque fills painted later, clipped away or
     /// off the surface. Said when nothing at all is made (T0300).
     pub unfelt: Vec<Unfelt>,
-    /// The boxes of the braille lines written, each grown by the design
-    /// rules' gap: gratings are not felt inside them ([`braille_texts`]).
+    /// Where gratings are not felt around the braille written
+    /// ([`braille_clearing`]).
     pub braille_clear: Vec<Polyline>,
     prov_index: HashMap<(String, u32), u32>,
 }
@@ -718,7 +718,7 @@ fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOptions, diags:
             diags.push(not_here(&Style::Braille(style), &e.name, e.line, opts.profile.name.as_str()));
             continue;
         }
-        let (mut pts, missing, lines) = braille_dots(text, &style);
+        let (mut pts, missing) = braille_dots(text, &style);
         // Punctuation alone says nothing: then the text is left out whole.
         if braille::says_nothing(&text.runs.iter().map(|r| r.text.as_str()).collect::<String>(), &missing) {
             pts.clear();
@@ -756,29 +756,19 @@ fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOptions, diags:
             fk: FeatureKind::Braille,
         };
         dot_feature(b, job, &pts, drawing.page, diags);
-        let gap = super::rules::MIN_GAP_MM;
-        b.braille_clear.extend(lines.into_iter().map(|(x0, y0, x1, y1)| Polyline {
-            points: vec![(x0 - gap, y0 - gap), (x1 + gap, y0 - gap), (x1 + gap, y1 + gap), (x0 - gap, y1 + gap)],
-            closed: true,
-        }));
     }
+    b.braille_clear = braille_clearing(&b.braille_dots);
 }
 
-/// The boxes `(x0, y0, x1, y1)` of a text's braille lines, mm.
-type Boxes = Vec<(f64, f64, f64, f64)>;
-
-/// The braille dot centres of a text, the characters braille has no cell
-/// for (sorted, once each), and the box of each run's cells (whole cells:
-/// three dot rows standing on the baseline). Lines closer than braille's
-/// line pitch are moved apart; a run without its own `y` stays on the line
-/// before.
-fn braille_dots(text: &TextShape, style: &BrailleStyle) -> (Vec<(f64, f64)>, Vec<char>, Boxes) {
+/// The braille dot centres of a text, and the characters braille has no
+/// cell for (sorted, once each). Lines closer than braille's line pitch are
+/// moved apart; a run without its own `y` stays on the line before.
+fn braille_dots(text: &TextShape, style: &BrailleStyle) -> (Vec<(f64, f64)>, Vec<char>) {
     let r = style.radius_mm;
     let mut prev_baseline: Option<f64> = None;
     let mut cursor: Option<f64> = None;
     let mut pts = Vec::new();
     let mut missing: Vec<char> = Vec::new();
-    let mut boxes = Vec::new();
     for run in &text.runs {
         let (cells, miss) = braille::translate(&run.text);
         missing.extend(miss);
@@ -797,11 +787,54 @@ fn braille_dots(text: &TextShape, style: &BrailleStyle) -> (Vec<(f64, f64)>, Vec
             _ => run.x_mm - run.anchor * width,
         };
         pts.extend(braille::layout(&cells, x0, y, r));
-        if !cells.is_empty() {
-            boxes.push((x0, y - 2.0 * braille::DOT_PITCH_MM - 2.0 * r, x0 + width, y));
-        }
         cursor = Some(x0 + cells.len() as f64 * braille::CELL_PITCH_MM);
         prev_baseline = Some(y);
     }
-    (pts, missing, boxes)
+    (pts, missing)
+}
+
+/// Dot centres of one braille line lie within this of each other vertically
+/// (three rows, 2.34 mm apart); the nearest rows of two lines of a label,
+/// 10.2 mm apart, are 5.5 mm apart.
+const LINE_SPLIT_MM: f64 = 5.0;
+
+/// Where gratings are not felt around braille (on the laterotactile array):
+/// for each braille line of each text, the box of its dots (each dot's
+/// disc), grown by the design rules' gap (3.2 mm), as closed rectangles.
+/// Braille amid a texture reads as more texture, and the two would add up
+/// and clamp. Found from the braille dot table alone (its dots grouped by
+/// source, then into lines where their centres are more than 5 mm apart
+/// vertically), so that `taxel report`'s exact reference finds the same
+/// boxes in a bundle.
+pub fn braille_clearing(dots: &[Dot]) -> Vec<Polyline> {
+    let gap = super::rules::MIN_GAP_MM;
+    let mut by_source: Vec<&Dot> = dots.iter().collect();
+    by_source.sort_by(|a, b| a.source.cmp(&b.source).then(a.y.0.total_cmp(&b.y.0)));
+    let mut out = Vec::new();
+    let mut line: Option<(Option<u32>, f64, [f64; 4])> = None;
+    let close = |b: [f64; 4], out: &mut Vec<Polyline>| {
+        let [x0, y0, x1, y1] = [b[0] - gap, b[1] - gap, b[2] + gap, b[3] + gap];
+        out.push(Polyline { points: vec![(x0, y0), (x1, y0), (x1, y1), (x0, y1)], closed: true });
+    };
+    for d in by_source {
+        let (x, y, r) = (d.x.0 as f64, d.y.0 as f64, d.radius.0 as f64);
+        if !(x.is_finite() && y.is_finite() && r.is_finite()) {
+            continue;
+        }
+        line = match line {
+            Some((src, last_y, b)) if src == d.source && y - last_y <= LINE_SPLIT_MM => {
+                Some((src, y, [b[0].min(x - r), b[1].min(y - r), b[2].max(x + r), b[3].max(y + r)]))
+            }
+            other => {
+                if let Some((_, _, b)) = other {
+                    close(b, &mut out);
+                }
+                Some((d.source, y, [x - r, y - r, x + r, y + r]))
+            }
+        };
+    }
+    if let Some((_, _, b)) = line {
+        close(b, &mut out);
+    }
+    out
 }

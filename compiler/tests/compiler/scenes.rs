@@ -261,11 +261,10 @@ fn clip_paths_and_transforms_are_honoured() {
     assert!(sample(m, 29.95, 20.0) == 1.0 && sample(m, 30.05, 20.0) == 0.0);
 }
 
-/// A braille label inside a grated region clears the texture under its
-/// cells (three dot rows standing on the baseline, the run's width) and the
-/// design rules' gap (3.2 mm) around them, where braille amid the texture
-/// would read as more texture and their sum would clamp (T0410); beyond it
-/// the texture goes on.
+/// A braille label inside a grated region clears the texture over the box
+/// of its dots and the design rules' gap (3.2 mm) around it, where braille
+/// amid the texture would read as more texture and their sum would clamp
+/// (T0410); beyond it the texture goes on.
 #[test]
 fn braille_clears_the_texture_around_itself() {
     let c = compile(&page(
@@ -280,8 +279,10 @@ fn braille_clears_the_texture_around_itself() {
     let d = dots(b, DotKind::Braille).expect("braille");
     let r = d.dots[0].radius.0 as f64;
     assert!(d.dots.iter().all(|p| sample(g, p.x.0 as f64, p.y.0 as f64) == 0.0), "texture under a dot");
-    // The cells' box: "ab" is two cells from x 30, its dot rows standing on y 30.
-    let (x0, y0, x1, y1) = (30.0, 30.0 - 2.0 * 2.34 - 2.0 * r, 30.0 + 6.2 + 2.34 + 2.0 * r, 30.0);
+    // The dots' box: "ab" (dot 1; dots 1 and 2) is two cells from x 30, the
+    // lowest of its three dot rows on y 30: dots 1 and 2 in its top two rows.
+    let (x0, y0) = (30.0, 30.0 - 2.0 * 2.34 - 2.0 * r);
+    let (x1, y1) = (30.0 + 6.2 + 2.0 * r, 30.0 - 2.34);
     let (mx, my) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
     for (inside, outside) in [
         ((x0 - 2.9, my), (x0 - 3.5, my)),
