@@ -28,7 +28,16 @@ mod textform;
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 /// The one place that turns an outcome into an exit code and prints the error.
+/// Stack of the threads that compile (the batch's workers and rayon's
+/// global pool): usvg's parser recurses once per nested element (in text,
+/// deeper frames than in groups), and a drawing may nest 1,024 deep
+/// (`taxel_compiler`'s limit) but 700 nested `<tspan>`s overflowed the
+/// default 2 MiB. Reserved, not used: pages are touched only as needed.
+pub const WORKER_STACK: usize = 32 << 20;
+
 fn main() -> ExitCode {
+    // (A pool already built, as in tests that call in twice, keeps its stacks.)
+    let _ = rayon::ThreadPoolBuilder::new().stack_size(WORKER_STACK).build_global();
     let args = cli::Cli::parse();
     match cmd::run(args) {
         Ok(()) => ExitCode::SUCCESS,

@@ -132,7 +132,10 @@ pub fn run(jobs: &[Job], problems: &[String], settings: &Settings, compile: &Com
     // Several inputs: the notes of those built are counted for the whole
     // batch and given once at the end (`-v` keeps every one with its input).
     let notes = (jobs.len() + problems.len() > 1 && !settings.verbose).then(|| Mutex::new(NoteTally::default()));
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(settings.jobs.unwrap_or(0)).build()?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(settings.jobs.unwrap_or(0))
+        .stack_size(crate::WORKER_STACK)
+        .build()?;
     pool.install(|| {
         jobs.par_iter().enumerate().for_each(|(at, job)| {
             let (outcome, line, messages) = build_one(job, settings, compile, notes.as_ref().map(|n| (n, at)));

@@ -244,3 +244,29 @@ fn drawings_and_meshes_in_one_folder_each_with_its_default_profile() {
     let again = taxel(&["build", s(&src), "-o", s(&out)]);
     assert!(String::from_utf8_lossy(&again.stdout).contains("skipped 3"), "{}", all_text(&again));
 }
+
+/// Hostile nesting in a batch: 1,000 nested `<tspan>`s (usvg's text parser
+/// recurses once per level, and 700 overflowed a worker's default stack,
+/// aborting the whole batch) build; 2,000 are refused with T0200 naming the
+/// line; the other inputs are built either way.
+#[test]
+fn deeply_nested_text_neither_aborts_the_batch_nor_is_lost_silently() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = dir.path().join("src");
+    let nested = |n: usize| {
+        format!(
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"110mm\" height=\"60mm\" viewBox=\"0 0 110 60\">\n<text x=\"10\" y=\"30\" data-tactile=\"braille()\">{}deep{}</text></svg>",
+            "<tspan>".repeat(n),
+            "</tspan>".repeat(n)
+        )
+    };
+    write(&src.join("a.svg"), &nested(1000));
+    write(&src.join("b.svg"), &nested(2000));
+    write(&src.join("c.svg"), &good_svg(1));
+    let out = dir.path().join("out");
+    let o = taxel(&["build", s(&src), "-o", s(&out), "--profile", "stress2", "--jobs", "2"]);
+    let text = all_text(&o);
+    assert_eq!(o.status.code(), Some(1), "{text}");
+    assert_eq!(bundles(&out), set(&["a.taxel", "c.taxel"]), "{text}");
+    assert!(text.contains("b.svg:2: error[T0200]") && text.contains("more than 1,024 deep"), "{text}");
+}

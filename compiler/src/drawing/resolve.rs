@@ -174,7 +174,7 @@ pub(crate) fn run(
     fonts_used: &mut Vec<FontFace>,
 ) -> Option<Drawing> {
     let doc = source::parse_xml(text, diags)?;
-    if let Some(d) = source::patterns_too_nested(&doc) {
+    if let Some(d) = source::nested_too_deep(&doc).or_else(|| source::patterns_too_nested(&doc)) {
         diags.push(d);
         return None;
     }

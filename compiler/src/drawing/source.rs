@@ -156,6 +156,10 @@ pub(crate) fn parse_xml<'a>(text: &'a str, diags: &mut Vec<Diagnostic>) -> Optio
 /// laughs": ten patterns of ten shapes, each filled with the next, which
 /// usvg took 24 s to read).
 const PATTERN_EXPANSION_LIMIT: f64 = 1e6;
+/// Patterns painting with patterns more levels deep than this are refused:
+/// real drawings nest two or three, and usvg recurses once per level (a
+/// chain of 100,000 overflowed its stack).
+const PATTERN_DEPTH_LIMIT: usize = 64;
 
 /// An error when `<pattern>`s nest inside one another so deeply that
 /// expanding them would not end in reasonable time (a "billion laughs" of
@@ -190,6 +194,8 @@ pub(crate) fn patterns_too_nested<'a>(doc: &'a Document<'a>) -> Option<Diagnosti
     }
     // Each pattern's expansion, memoised; a pattern met again on the path
     // being expanded (a cycle, which usvg breaks) counts for nothing more.
+    // A chain deeper than PATTERN_DEPTH_LIMIT counts as too large (usvg
+    // recurses once per level, and so would this).
     fn expand<'a>(
         id: &'a str,
         patterns: &HashMap<&'a str, roxmltree::Node<'a, 'a>>,
@@ -200,6 +206,9 @@ pub(crate) fn patterns_too_nested<'a>(doc: &'a Document<'a>) -> Option<Diagnosti
             return v;
         }
         let Some(&node) = patterns.get(id) else { return 0.0 };
+        if open.len() >= PATTERN_DEPTH_LIMIT {
+            return f64::INFINITY;
+        }
         if !open.insert(id) {
             return 0.0;
         }
@@ -237,13 +246,49 @@ pub(crate) fn patterns_too_nested<'a>(doc: &'a Document<'a>) -> Option<Diagnosti
                 Diagnostic::error(
                     "T0200",
                     format!(
-                        "pattern #{id} nests other patterns so deeply that it stands for more than {} shapes: \
-                         the drawing cannot be read in reasonable time",
+                        "pattern #{id} nests other patterns more than {PATTERN_DEPTH_LIMIT} deep, or so that it \
+                         stands for more than {} shapes: the drawing cannot be read in reasonable time",
                         PATTERN_EXPANSION_LIMIT as u64
                     ),
                 )
                 .at_line(line)
                 .with_help("fill the shapes inside the patterns with plain colours, or remove the patterns"),
+            );
+        }
+    }
+    None
+}
+
+/// How deep elements may nest: usvg's own limit for groups. Deeper nesting
+/// is refused before usvg (and taxel's own walks of the XML) could recurse
+/// through it: usvg's text parser recurses once per nested `<tspan>`, and
+/// 700 of them overflowed a worker thread's stack.
+pub(crate) const NESTING_LIMIT: usize = 1024;
+
+/// An error when elements nest more than [`NESTING_LIMIT`] deep, at the line
+/// of the first element that does. One pass over the document, keeping each
+/// element's depth by its node's index.
+pub(crate) fn nested_too_deep(doc: &Document<'_>) -> Option<Diagnostic> {
+    let mut depth = vec![0u32; doc.descendants().map(|n| n.id().get_usize() + 1).max().unwrap_or(0)];
+    for n in doc.descendants().filter(|n| n.is_element()) {
+        let d = n.parent().and_then(|p| depth.get(p.id().get_usize()).copied()).unwrap_or(0) + 1;
+        if let Some(slot) = depth.get_mut(n.id().get_usize()) {
+            *slot = d;
+        }
+        if d as usize > NESTING_LIMIT {
+            return Some(
+                Diagnostic::error(
+                    "T0200",
+                    format!(
+                        "elements nest more than 1,024 deep here (<{}>): the drawing cannot be read",
+                        n.tag_name().name()
+                    ),
+                )
+                .at_line(doc.text_pos_at(n.range().start).row)
+                .with_help(
+                    "the drawing nests groups (or a text's <tspan>s) more than 1,024 deep: ungroup or simplify \
+                     it (Inkscape: Edit > Select All, Object > Ungroup)",
+                ),
             );
         }
     }
@@ -770,6 +815,38 @@ mod tests {
         );
         let d = patterns_too_nested(&parse(&text)).expect("refused");
         assert!(d.message.contains("pattern #q "), "{}", d.message);
+    }
+
+    /// Elements nested past 1,024 deep (usvg's limit for groups; 700 nested
+    /// `<tspan>`s overflowed a worker's stack inside usvg) are refused
+    /// before usvg reads them, at the line of the first too deep; 1,024 are
+    /// read. A chain of patterns each painting with the next (100,000 of
+    /// them overflowed the stack) is refused past 64 levels.
+    #[test]
+    fn nesting_past_the_limits_is_refused_before_usvg() {
+        let tspans = |n: usize| {
+            format!(
+                "<svg xmlns=\"http://www.w3.org/2000/svg\">\n<text>{}deep{}</text></svg>",
+                "<tspan>".repeat(n),
+                "</tspan>".repeat(n)
+            )
+        };
+        // The root is 1 deep, the text 2: 1,022 tspans reach 1,024.
+        assert!(nested_too_deep(&parse(&tspans(1022))).is_none());
+        let d = nested_too_deep(&parse(&tspans(1023))).expect("refused");
+        assert_eq!((d.code, d.line), ("T0200", Some(2)));
+        assert!(d.message.contains("(<tspan>)"), "{}", d.message);
+        let chain = |n: usize| {
+            let defs: String = (0..n)
+                .map(|i| {
+                    format!(r#"<pattern id="p{i}"><rect width="2" height="2" fill="url(#p{})"/></pattern>"#, i + 1)
+                })
+                .collect();
+            format!(r#"<svg xmlns="http://www.w3.org/2000/svg"><defs>{defs}</defs><rect fill="url(#p0)"/></svg>"#)
+        };
+        assert!(patterns_too_nested(&parse(&chain(64))).is_none());
+        let d = patterns_too_nested(&parse(&chain(65))).expect("refused");
+        assert!(d.message.contains("pattern #p0 ") && d.message.contains("64 deep"), "{}", d.message);
     }
 
     /// An XML comment in a `<style>` (Wikimedia's world maps open theirs with
