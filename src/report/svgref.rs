@@ -204,15 +204,7 @@ pub fn exact_layers(svg: &str, bundle: &Bundle, opts: &CompileOptions) -> Result
                     .iter()
                     .filter_map(|g| taxel_compiler::geometry::bounds(&g.polys))
                     .reduce(|a, r| (a.0.min(r.0), a.1.min(r.1), a.2.max(r.2), a.3.max(r.3)));
-                occluders.extend(
-                    clearing
-                        .iter()
-                        .filter(|c| match (mine, taxel_compiler::geometry::bounds(std::slice::from_ref(*c))) {
-                            (Some(a), Some(r)) => r.0 <= a.2 && a.0 <= r.2 && r.1 <= a.3 && a.1 <= r.3,
-                            _ => false,
-                        })
-                        .map(|c| (std::slice::from_ref(c), FillRule::NonZero)),
-                );
+                occluders.extend(taxel_compiler::svg::clearing_within(&clearing, mine));
                 ExactLayer::Grating {
                     region: Region::Fill {
                         fills: geos.iter().map(|g| (Index::new(&g.polys, true), g.rule)).collect(),

@@ -218,7 +218,7 @@ fn text(
         None => xml_decl(src, i),
     };
     let braille = decl.as_ref().is_some_and(|(d, _)| d.styles().iter().any(|s| matches!(s, Style::Braille(_))));
-    let parent_ts = parent_transform(src, doc, walked, e, root_ts);
+    let parent_ts = parent_transform(src, doc, walked, e, root_ts, false);
     let Some(node) = doc.get_node(src.elements[t].node) else { return Ok(None) };
     let transform = |n: Node<'_, '_>| {
         n.attribute("transform")
@@ -301,25 +301,44 @@ fn text(
 
 /// The transform of the user space an element `e` is drawn in (its
 /// parent's), in drawing pixels: the nearest group usvg kept gives it; if
-/// usvg dropped that group, the element is not drawn (`None`). A nested
-/// `<svg>` on the way adds its viewport's transform (usvg's group for it
-/// carries no id to find it by).
+/// usvg dropped that group, the element is not drawn (`None`), unless
+/// `through_dropped`: then the dropped groups' own `transform`s from the XML
+/// are taken on the way up (usvg drops a group left empty, as a
+/// `<foreignObject>`'s is), and only one hidden with `display: none`, or
+/// with a transform that is not invertible, hides it. A nested `<svg>` on
+/// the way adds its viewport's transform (usvg's group for it carries no id
+/// to find it by).
 fn parent_transform(
     src: &Source,
     doc: &Document<'_>,
     walked: &Walked,
     e: &super::source::Element,
     root_ts: Transform,
+    through_dropped: bool,
 ) -> Option<Transform> {
     let mut inner = Transform::identity();
     let mut p = e.parent;
     while let Some(k) = p {
         let a = &src.elements[k];
-        if a.kind == Kind::Group && a.parent.is_some() {
-            return walked.group_ts.get(&a.key).map(|g| g.pre_concat(inner));
+        if a.parent.is_none() {
+            break;
         }
-        if a.tag == "svg" && a.parent.is_some() {
+        if a.kind == Kind::Group {
+            match walked.group_ts.get(&a.key) {
+                Some(g) => return Some(g.pre_concat(inner)),
+                None if !through_dropped => return None,
+                None => {}
+            }
+        }
+        if a.tag == "svg" {
             inner = doc.get_node(a.node).map_or(inner, |n| nested_svg_transform(n).pre_concat(inner));
+        } else if through_dropped {
+            let n = doc.get_node(a.node)?;
+            let own = super::page::own_transform(n);
+            if hidden(n) || !own.is_finite() || own.invert().is_none() {
+                return None;
+            }
+            inner = own.pre_concat(inner);
         }
         p = a.parent;
     }
@@ -352,7 +371,7 @@ pub(crate) fn flowed(
         }
         let Some(node) = doc.get_node(e.node) else { continue };
         // (Not drawn, in a hidden layer say: no text, as for a `<text>`.)
-        let Some(ts) = parent_transform(src, doc, walked, e, root_ts) else { continue };
+        let Some(ts) = parent_transform(src, doc, walked, e, root_ts, false) else { continue };
         match flowed_text(node, ts, mm_per_px) {
             // (An empty one, which a stray click of Inkscape's text tool
             // leaves, is no text.)
@@ -397,24 +416,38 @@ fn flowed_text(node: Node<'_, '_>, parent: Transform, mm_per_px: f64) -> Option<
         let text: String =
             p.descendants().filter(|t| t.is_text()).filter_map(|t| t.text()).collect::<Vec<_>>().join("");
         let text = text.split_whitespace().collect::<Vec<_>>().join(" ");
-        // Characters a line of the frame holds, at half a font size each.
-        let per_line = ((x1 - x0) / (0.5 * size)).floor().max(1.0);
-        let lines = (text.chars().count() as f64 / per_line).ceil().max(1.0);
+        let lines = lines_taken(&text, size, x1 - x0);
         if !text.is_empty() && !hidden(p) {
-            let (fx, fy) = (x as f32, (top + size) as f32);
-            let (x_mm, y_mm) = ((ts.sx * fx + ts.kx * fy + ts.tx) as f64, (ts.ky * fx + ts.sy * fy + ts.ty) as f64);
-            if x_mm.is_finite() && y_mm.is_finite() {
-                runs.push(TextRun { x_mm, y_mm, text, anchor, continues: false });
-            }
+            runs.extend(run_at(ts, (x, top + size), text, anchor));
         }
         top += lines * line;
     }
-    Some(TextShape {
+    Some(text_of(runs, em, ts))
+}
+
+/// The lines a text of `size` takes in a box `width` wide, its wrapping
+/// estimated at half a font size a character (at least one line).
+fn lines_taken(text: &str, size: f64, width: f64) -> f64 {
+    let per_line = (width / (0.5 * size)).floor().max(1.0);
+    (text.chars().count() as f64 / per_line).ceil().max(1.0)
+}
+
+/// A run of `text` from `at` (user units under `ts`, which maps them to page
+/// mm); `None` where that is not a finite point.
+fn run_at(ts: Transform, at: (f64, f64), text: String, anchor: f64) -> Option<TextRun> {
+    let (fx, fy) = (at.0 as f32, at.1 as f32);
+    let (x_mm, y_mm) = ((ts.sx * fx + ts.kx * fy + ts.tx) as f64, (ts.ky * fx + ts.sy * fy + ts.ty) as f64);
+    (x_mm.is_finite() && y_mm.is_finite()).then_some(TextRun { x_mm, y_mm, text, anchor, continues: false })
+}
+
+/// The text of `runs`, of font size `em` in user units under `ts`.
+fn text_of(runs: Vec<TextRun>, em: f64, ts: Transform) -> TextShape {
+    TextShape {
         content: runs.iter().map(|r| r.text.as_str()).collect::<Vec<_>>().join(" "),
         runs,
         font_size_mm: em * length_scale(ts),
         outline: Vec::new(),
-    })
+    }
 }
 
 /// The text of HTML in a `<foreignObject>` (Mermaid's node and edge
@@ -443,7 +476,7 @@ pub(crate) fn foreign(
             continue;
         }
         let Some(node) = doc.get_node(e.node) else { continue };
-        let Some(parent) = xml_parent_transform(src, doc, walked, e, root_ts) else { continue };
+        let Some(parent) = parent_transform(src, doc, walked, e, root_ts, true) else { continue };
         if let Some(shape) = foreign_text(node, parent, mm_per_px)
             && !shape.runs.is_empty()
         {
@@ -451,46 +484,6 @@ pub(crate) fn foreign(
         }
     }
     out
-}
-
-/// [`parent_transform`], through the groups usvg dropped too: their own
-/// `transform`s from the XML (`None` when one of them is hidden with
-/// `display: none`, or its transform is not invertible, as usvg drops it
-/// then).
-fn xml_parent_transform(
-    src: &Source,
-    doc: &Document<'_>,
-    walked: &Walked,
-    e: &super::source::Element,
-    root_ts: Transform,
-) -> Option<Transform> {
-    let mut inner = Transform::identity();
-    let mut p = e.parent;
-    while let Some(k) = p {
-        let a = &src.elements[k];
-        if a.parent.is_none() {
-            break;
-        }
-        if a.kind == Kind::Group
-            && let Some(g) = walked.group_ts.get(&a.key)
-        {
-            return Some(g.pre_concat(inner));
-        }
-        let n = doc.get_node(a.node)?;
-        if hidden(n) {
-            return None;
-        }
-        let own = match a.tag.as_str() {
-            "svg" => nested_svg_transform(n),
-            _ => super::page::own_transform(n),
-        };
-        if !own.is_finite() || own.invert().is_none() {
-            return None;
-        }
-        inner = own.pre_concat(inner);
-        p = a.parent;
-    }
-    Some(root_ts.pre_concat(inner))
 }
 
 /// Whether element `n` is hidden by `display: none` (attribute or style).
@@ -573,20 +566,11 @@ fn foreign_text(node: Node<'_, '_>, parent: Transform, mm_per_px: f64) -> Option
             continue;
         }
         let line = leading(size);
-        let (fx, fy) = (x as f32, (top + (line - size) / 2.0 + size) as f32);
-        let (x_mm, y_mm) = ((ts.sx * fx + ts.kx * fy + ts.tx) as f64, (ts.ky * fx + ts.sy * fy + ts.ty) as f64);
-        let wraps = (text.chars().count() as f64 * 0.5 * size / w).ceil().max(1.0);
-        if x_mm.is_finite() && y_mm.is_finite() {
-            runs.push(TextRun { x_mm, y_mm, text, anchor, continues: false });
-        }
+        let wraps = lines_taken(&text, size, w);
+        runs.extend(run_at(ts, (x, top + (line - size) / 2.0 + size), text, anchor));
         top += wraps * line;
     }
-    Some(TextShape {
-        content: runs.iter().map(|r| r.text.as_str()).collect::<Vec<_>>().join(" "),
-        runs,
-        font_size_mm: em * length_scale(ts),
-        outline: Vec::new(),
-    })
+    Some(text_of(runs, em, ts))
 }
 
 /// The box `[x0, y0, x1, y1]` of a flowed text's frame shape, in its

@@ -515,15 +515,7 @@ fn distance_layers(
                         .collect();
                     // Nor under braille and a gap around it: braille amid a
                     // texture reads as more texture.
-                    occluders.extend(
-                        braille_clear
-                            .iter()
-                            .filter(|c| match (mine, crate::geometry::bounds(std::slice::from_ref(*c))) {
-                                (Some(a), Some(r)) => r.0 <= a.2 && a.0 <= r.2 && r.1 <= a.3 && a.1 <= r.3,
-                                _ => false,
-                            })
-                            .map(|c| (std::slice::from_ref(c), crate::geometry::FillRule::NonZero)),
-                    );
+                    occluders.extend(clearing_within(&braille_clear, mine));
                     (
                         LayerGeometry { fills, cuts, clips, occluders, ..Default::default() },
                         kind,
@@ -791,6 +783,22 @@ fn braille_dots(text: &TextShape, style: &BrailleStyle) -> (Vec<(f64, f64)>, Vec
         prev_baseline = Some(y);
     }
     (pts, missing)
+}
+
+/// The boxes of `clearing` ([`braille_clearing`]) that meet `bounds` (a
+/// grated layer's shapes' box), as occluders of that layer: the ones the
+/// layer is built with, and that `taxel report`'s reference takes.
+pub fn clearing_within(
+    clearing: &[Polyline],
+    bounds: Option<(f64, f64, f64, f64)>,
+) -> impl Iterator<Item = (&[Polyline], crate::geometry::FillRule)> {
+    clearing
+        .iter()
+        .filter(move |c| match (bounds, crate::geometry::bounds(std::slice::from_ref(*c))) {
+            (Some(a), Some(r)) => r.0 <= a.2 && a.0 <= r.2 && r.1 <= a.3 && a.1 <= r.3,
+            _ => false,
+        })
+        .map(|c| (std::slice::from_ref(c), crate::geometry::FillRule::NonZero))
 }
 
 /// Dot centres of one braille line lie within this of each other vertically

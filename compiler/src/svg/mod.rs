@@ -29,7 +29,7 @@ pub(crate) use braille::{
     says_nothing as braille_says_nothing, translate as braille_cells,
 };
 pub(crate) use layers::OpaqueFills;
-pub use layers::{braille_clearing, occluders};
+pub use layers::{braille_clearing, clearing_within, occluders};
 
 use taxel_format::{Bundle, Manifest};
 
