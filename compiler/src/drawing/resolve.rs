@@ -217,7 +217,7 @@ pub(crate) fn run(
     not_drawn(&src, &walked, diags);
     // Inkscape 0.92's flowed text, which usvg does not draw: read as text.
     let (flows, unread) = text::flowed(&src, &doc, &walked, sizing.scale, root_ts);
-    flowed_text(&src, &doc, &unread, diags);
+    unread_flowed_text(&src, &doc, &unread, diags);
     // HTML in a `<foreignObject>` (Mermaid's labels), which usvg does not draw: read as text.
     let html = text::foreign(&src, &doc, &walked, sizing.scale, root_ts);
     // Labels matplotlib drew as glyphs, with their text in a comment: braille, not shapes.
@@ -271,7 +271,7 @@ fn not_drawn(src: &Source, walked: &walk::Walked, diags: &mut Vec<Diagnostic>) {
 /// in a frame) that [`text::flowed`] could not read (source indices
 /// `unread`): its frame is not a shape it reads, or its group is not drawn.
 /// Its words would otherwise vanish without a word.
-fn flowed_text(src: &Source, doc: &roxmltree::Document<'_>, unread: &[usize], diags: &mut Vec<Diagnostic>) {
+fn unread_flowed_text(src: &Source, doc: &roxmltree::Document<'_>, unread: &[usize], diags: &mut Vec<Diagnostic>) {
     for e in unread.iter().filter_map(|&i| src.elements.get(i)) {
         let Some(node) = doc.get_node(e.node) else { continue };
         // The words of its paragraphs (not of its frame's `flowRegion`).
