@@ -13,11 +13,15 @@
 //!   or nearly touch never share one (a colouring of the region-adjacency
 //!   graph, largest area first, at most five textures, BANA 2010); a fill
 //!   that cannot get a texture falls back to its outline, with a note;
-//! - small filled circles, small compact marks and marker instances become
+//! - small filled circles, small compact marks, marker instances and
+//!   arrowheads (a small shape of a line's colour where the line ends) become
 //!   dot symbols;
 //! - text becomes braille where the braille fits on the page without running
 //!   into other braille (moved a little, or pulled back onto the page when it
-//!   runs off its side), and is left out otherwise, with one note;
+//!   runs off its side); a label that finds no place is written as a
+//!   two-letter key code where that fits (BANA's keys, note T0326 gives the
+//!   key; the label's words are its name, said when the finger is on it), and
+//!   is left out otherwise, with one note;
 //! - page backgrounds (and a chart's very light plot panel under its bars),
 //!   white or transparent fills, hidden, clipped-away and
 //!   off-page elements, and images are left out (white fills count as regions
@@ -38,7 +42,7 @@ use taxel_format::DeviceProfile;
 
 use crate::annotation::{Braille, Dot, Grating, Style, Vibrate};
 use crate::diagnostic::Diagnostic;
-use crate::drawing::{Drawing, Element, Rgba, Shape, StyledBy};
+use crate::drawing::{Drawing, Element, Rgba, Shape, StyledBy, TextRun, TextShape};
 use crate::geometry::{FillRule, Polyline};
 use crate::spatial::{self, Bbox, Occupancy};
 use crate::svg::{CELL_PITCH_MM, DOT_PITCH_MM, braille_cells};
@@ -152,6 +156,9 @@ pub struct Decision {
     /// How far its braille is moved from the text's place, mm `(x, y)`, so
     /// that it clears the lines the sheet makes vibrate.
     pub braille_shift: (f64, f64),
+    /// Its braille is this key code rather than its text, which found no
+    /// place ([`KeyCode`]).
+    pub key: Option<KeyCode>,
     /// Its stroke is faint (a grid line) and does not vibrate.
     pub faint: bool,
     /// Why nothing was made of it; `None` when something was, or when an
@@ -253,10 +260,9 @@ fn round(b: Bbox, a: f64) -> bool {
 
 /// Boxes of the braille an element's text would make: one per run, placed as
 /// the layer builder places it (from the run's start, after its anchor).
-fn braille_boxes(t: &crate::drawing::TextShape) -> Vec<Bbox> {
+fn braille_boxes(runs: &[TextRun]) -> Vec<Bbox> {
     let height = 2.0 * DOT_PITCH_MM + 2.0 * BRAILLE_RADIUS_MM;
-    t.runs
-        .iter()
+    runs.iter()
         .filter(|r| !r.text.trim().is_empty())
         .map(|r| {
             // The run's width from its first dot's left edge to its last's right edge.
@@ -307,6 +313,46 @@ fn pull_inside(boxes: &[Bbox], page: Bbox) -> Option<(f64, f64)> {
         && dx.is_finite()
         && dy.is_finite();
     ok.then_some((dx, dy))
+}
+
+/// How far from a small filled shape a line of its colour may end for the
+/// shape to be its arrowhead, mm, beyond half the line's width: Graphviz
+/// ends an edge 0.19 pt short of its arrowhead's base.
+const ARROW_GAP_MM: f64 = 0.3;
+
+/// The ends of the drawing's open stroked lines, by colour, for telling
+/// arrowheads from regions: a filled shape no larger than a mark
+/// ([`MARK_MM`]) whose fill is the colour of a line that ends on it (within
+/// half the line's width and [`ARROW_GAP_MM`]) is that line's arrowhead, as
+/// Graphviz, draw.io, LibreOffice and matplotlib draw them (a separate
+/// filled triangle beside the stroked line).
+struct LineEnds {
+    colours: Vec<[u8; 3]>,
+    index: spatial::BoxIndex,
+}
+
+impl LineEnds {
+    fn of(d: &Drawing) -> LineEnds {
+        let mut colours = Vec::new();
+        let mut boxes = Vec::new();
+        for e in d.elements.iter().filter(|e| e.styled_by == StyledBy::Nothing && e.visible) {
+            let (Shape::Path(p), Some(c), true) = (&e.shape, e.paint.stroke, e.paint.stroked) else { continue };
+            let reach = e.paint.stroke_width_mm / 2.0 + ARROW_GAP_MM;
+            for l in p.outline.iter().filter(|l| !l.closed) {
+                for &(x, y) in l.points.first().into_iter().chain(l.points.last()) {
+                    colours.push(rgb(c));
+                    boxes.push((x - reach, y - reach, x + reach, y + reach));
+                }
+            }
+        }
+        LineEnds { index: spatial::BoxIndex::new(&boxes), colours }
+    }
+
+    /// Whether a filled shape of box `b` and fill `fill` is an arrowhead.
+    fn arrowhead(&self, b: Bbox, fill: Option<Rgba>) -> bool {
+        let Some(fill) = fill.map(rgb) else { return false };
+        b.2 - b.0 <= MARK_MM && b.3 - b.1 <= MARK_MM && self.index.meeting(b).any(|k| self.colours[k] == fill)
+    }
 }
 
 /// The outlines the sheet makes vibrate, for braille to keep off: their
@@ -422,6 +468,7 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
         })
     };
     let mut faint_colours: Vec<[u8; 3]> = Vec::new();
+    let line_ends = LineEnds::of(d);
     for (i, e) in d.elements.iter().enumerate() {
         if e.styled_by != StyledBy::Nothing {
             continue;
@@ -478,7 +525,18 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
                     let r = 1.0 + BRAILLE_CLEARANCE_MM;
                     braille.place((x - r, y - r, x + r, y + r));
                 }
-                if filled {
+                if filled && line_ends.arrowhead(b, paint.fill) {
+                    // An arrowhead (a diagram's, a chart's annotation): a
+                    // mark at its line's end, not a piece of a tessellation
+                    // with the box its tip touches, which would lose its
+                    // outline there.
+                    if compact(b, filled_area(&p.outline, p.fill_rule)) {
+                        dec.mark = true;
+                        braille.place(spatial::grow(b, BRAILLE_CLEARANCE_MM));
+                    } else if !dec.outline && !dec.mark {
+                        dec.left_out = Some(LeftOut::SmallShape);
+                    }
+                } else if filled {
                     let area = filled_area(&p.outline, p.fill_rule);
                     shapes.push(Filled { i, region: Region { outline: &p.outline, bbox: b }, area });
                 } else if !dec.outline && !dec.mark {
@@ -576,30 +634,15 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
     // vibrating line is felt as neither (the two add up, T0410; a chart's
     // tick labels sat on its axis), so a label is moved off the lines, a
     // little, or left out.
-    let inside = |q: &Bbox| q.0 >= page.0 && q.1 >= page.1 && q.2 <= page.2 && q.3 <= page.3;
     let lines = if texts.is_empty() { Lines::default() } else { Lines::of(d, &decisions) };
     let off_lines = BRAILLE_CLEARANCE_MM + outline.width_mm / 2.0;
+    // Labels whose braille finds no place are written as a key code (two
+    // letters) where that fits, after every whole label has had its place.
+    let mut unplaced = Vec::new();
     for (i, t) in texts {
         let dec = &mut decisions[i];
-        let boxes = braille_boxes(t);
-        // Every run is checked before any is placed, so a label is whole or absent.
-        let fits = |(dx, dy): (f64, f64)| {
-            boxes.iter().all(|q| {
-                let q = (q.0 + dx, q.1 + dy, q.2 + dx, q.3 + dy);
-                inside(&q)
-                    && braille.is_free(spatial::grow(q, BRAILLE_CLEARANCE_MM))
-                    && !lines.meet(spatial::grow(q, off_lines))
-            })
-        };
-        // Then, for a label that runs off the page (a town on the map's
-        // east coast, once fitted), the same places pulled back inside.
-        let pulled = pull_inside(&boxes, page)
-            .into_iter()
-            .flat_map(|(px, py)| BRAILLE_SHIFTS.iter().map(move |&(sx, sy)| (px + sx, py + sy)));
-        let clear_of_braille = boxes.iter().all(|q| braille.is_free(spatial::grow(*q, BRAILLE_CLEARANCE_MM)));
-        let below = clear_of_braille.then_some(BELOW_A_LINE);
-        let mut shifts = BRAILLE_SHIFTS.iter().copied().chain(below).chain(pulled);
-        match shifts.find(|&s| !boxes.is_empty() && fits(s)) {
+        let boxes = braille_boxes(&t.runs);
+        match place_label(&boxes, page, &braille, &lines, off_lines) {
             Some((dx, dy)) => {
                 for q in &boxes {
                     braille.place((q.0 + dx, q.1 + dy, q.2 + dx, q.3 + dy));
@@ -608,7 +651,23 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
                 dec.braille_shift = (dx, dy);
             }
             None if boxes.is_empty() => dec.left_out = Some(LeftOut::Empty),
-            None => dec.left_out = Some(LeftOut::TextDoesNotFit),
+            None => {
+                dec.left_out = Some(LeftOut::TextDoesNotFit);
+                unplaced.push((i, t));
+            }
+        }
+    }
+    let mut keys = Keys::new(d, &decisions);
+    for (i, t) in unplaced {
+        let Some((code, run)) = keys.code_for(t) else { continue };
+        let boxes = braille_boxes(std::slice::from_ref(&run));
+        if let Some((dx, dy)) = place_label(&boxes, page, &braille, &lines, off_lines) {
+            for q in &boxes {
+                braille.place((q.0 + dx, q.1 + dy, q.2 + dx, q.3 + dy));
+            }
+            keys.take(t, code);
+            let dec = &mut decisions[i];
+            (dec.braille, dec.braille_shift, dec.key, dec.left_out) = (true, (dx, dy), Some(code), None);
         }
     }
     Plan {
@@ -622,6 +681,125 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
         too_small,
     }
 }
+
+/// Where a label's braille `boxes` go: the shift from its place that the
+/// first of its places clear of the page's edge, other braille and the
+/// vibrating lines takes, or `None`.
+fn place_label(
+    boxes: &[Bbox],
+    page: Bbox,
+    braille: &Occupancy,
+    lines: &Lines<'_>,
+    off_lines: f64,
+) -> Option<(f64, f64)> {
+    let inside = |q: &Bbox| q.0 >= page.0 && q.1 >= page.1 && q.2 <= page.2 && q.3 <= page.3;
+    // Every run is checked before any is placed, so a label is whole or absent.
+    let fits = |(dx, dy): (f64, f64)| {
+        boxes.iter().all(|q| {
+            let q = (q.0 + dx, q.1 + dy, q.2 + dx, q.3 + dy);
+            inside(&q)
+                && braille.is_free(spatial::grow(q, BRAILLE_CLEARANCE_MM))
+                && !lines.meet(spatial::grow(q, off_lines))
+        })
+    };
+    // Then, for a label that runs off the page (a town on the map's
+    // east coast, once fitted), the same places pulled back inside.
+    let pulled = pull_inside(boxes, page)
+        .into_iter()
+        .flat_map(|(px, py)| BRAILLE_SHIFTS.iter().map(move |&(sx, sy)| (px + sx, py + sy)));
+    let clear_of_braille = boxes.iter().all(|q| braille.is_free(spatial::grow(*q, BRAILLE_CLEARANCE_MM)));
+    let below = clear_of_braille.then_some(BELOW_A_LINE);
+    let mut shifts = BRAILLE_SHIFTS.iter().copied().chain(below).chain(pulled);
+    shifts.find(|&s| !boxes.is_empty() && fits(s))
+}
+
+/// A key code: two lowercase Latin letters that stand for a label whose
+/// braille finds no place (BANA's Guidelines and Standards for Tactile
+/// Graphics, 2010, §3.4: a label that does not fit is replaced by a short
+/// abbreviation explained in a key).
+pub type KeyCode = [u8; 2];
+
+/// The key codes of a drawing: each label text that needs one has one
+/// (the same text, the same code), no two texts share one, and no code is
+/// the text of a label written whole.
+struct Keys {
+    /// Codes taken, and by which label (empty for a label written whole).
+    taken: BTreeMap<KeyCode, String>,
+    /// Each keyed label's code.
+    of_label: BTreeMap<String, KeyCode>,
+}
+
+impl Keys {
+    fn new(d: &Drawing, decisions: &[Decision]) -> Keys {
+        let mut taken = BTreeMap::new();
+        for (e, dec) in d.elements.iter().zip(decisions) {
+            let Shape::Text(t) = &e.shape else { continue };
+            if let (true, [a, b]) = (dec.braille, t.content.trim().to_lowercase().as_bytes()) {
+                taken.insert([*a, *b], String::new());
+            }
+        }
+        Keys { taken, of_label: BTreeMap::new() }
+    }
+
+    /// The code for a label, and the run that writes it where the label's
+    /// first line starts; `None` for a label shorter than [`MIN_KEYED_CELLS`], or one
+    /// with no Latin letter (a code must say something of what it stands for).
+    fn code_for(&self, t: &TextShape) -> Option<(KeyCode, TextRun)> {
+        let text = label_text(t);
+        let first = t.runs.iter().find(|r| !r.text.trim().is_empty())?;
+        let words: Vec<Vec<u8>> = text
+            .split(|c: char| !c.is_alphanumeric())
+            .map(|w| w.chars().filter_map(latin_letter).collect::<Vec<u8>>())
+            .filter(|w| !w.is_empty())
+            .collect();
+        let letters: Vec<u8> = words.concat();
+        let &initial = letters.first()?;
+        let long = text.chars().filter(|c| !c.is_whitespace()).count() >= MIN_KEYED_CELLS
+            && crate::svg::braille_cells(&text).0.len() >= MIN_KEYED_CELLS;
+        if !long {
+            return None;
+        }
+        let code = match self.of_label.get(&text) {
+            Some(code) => *code,
+            None => {
+                // The first letters of its first two words, then its first
+                // letter with each later one, then any free pair.
+                let initials = words.get(1).and_then(|w| w.first()).map(|&b| [initial, b]);
+                let with_first = letters.iter().skip(1).map(|&b| [initial, b]);
+                let any = (b'a'..=b'z').flat_map(|a| (b'a'..=b'z').map(move |b| [a, b]));
+                initials.into_iter().chain(with_first).chain(any).find(|c| !self.taken.contains_key(c))?
+            }
+        };
+        let run = TextRun { text: String::from_utf8_lossy(&code).into_owned(), continues: false, ..first.clone() };
+        Some((code, run))
+    }
+
+    fn take(&mut self, t: &TextShape, code: KeyCode) {
+        let text = label_text(t);
+        self.of_label.insert(text.clone(), code);
+        self.taken.insert(code, text);
+    }
+}
+
+/// A label's words, its runs joined by spaces (the lines of a label).
+pub fn label_text(t: &TextShape) -> String {
+    let words: Vec<&str> = t.runs.iter().flat_map(|r| r.text.split_whitespace()).collect();
+    words.join(" ")
+}
+
+/// A letter as a key code's letter: Latin, lowercase, without its accents.
+fn latin_letter(c: char) -> Option<u8> {
+    use unicode_normalization::UnicodeNormalization;
+    let base = c.nfd().next()?.to_ascii_lowercase();
+    base.is_ascii_lowercase().then_some(base as u8)
+}
+
+/// The fewest characters and braille cells a label takes to be worth a key
+/// code (two cells): one of two characters ("No", "Nr") is written whole or not at all.
+const MIN_KEYED_CELLS: usize = 3;
+
+/// How many of a drawing's key codes note T0326 shows.
+const KEY_SHOWN: usize = 8;
 
 /// The size (the side of a square of the same area) below which a region's
 /// own vibrating border, `width` wide and centred on its outline, would cover
@@ -810,6 +988,16 @@ pub fn apply(d: &mut Drawing, profile: &DeviceProfile, diags: &mut Vec<Diagnosti
         }
         let (dx, dy) = plan.decisions[i].braille_shift;
         if let (true, Shape::Text(t)) = (plan.decisions[i].braille, &mut e.shape) {
+            if let Some(code) = plan.decisions[i].key {
+                // The code where the label's first line starts; the label's
+                // words are what the host says when the finger is on it.
+                e.label = label_text(t);
+                let code = String::from_utf8_lossy(&code).into_owned();
+                if let Some(first) = t.runs.iter().find(|r| !r.text.trim().is_empty()).cloned() {
+                    t.runs = vec![TextRun { text: code.clone(), continues: false, ..first }];
+                }
+                t.content = code;
+            }
             for r in &mut t.runs {
                 r.x_mm += dx;
                 r.y_mm += dy;
@@ -993,6 +1181,28 @@ fn notes(plan: &Plan, d: &Drawing, diags: &mut Vec<Diagnostic>) {
             .with_help(format!(
                 "to feel them, weaker than the other lines, use a style sheet with a rule `stroke = \"{first}\"`, `tactile = \"vibrate(amplitude: 0.5)\"` (start from `taxel style auto INPUT`)"
             )),
+        );
+    }
+    let mut key: BTreeMap<KeyCode, &str> = BTreeMap::new();
+    for (dec, e) in plan.decisions.iter().zip(&d.elements) {
+        if let Some(code) = dec.key {
+            key.insert(code, &e.label);
+        }
+    }
+    if !key.is_empty() {
+        let shown: Vec<String> =
+            key.iter().take(KEY_SHOWN).map(|(c, label)| format!("{} {label}", String::from_utf8_lossy(c))).collect();
+        let more = if key.len() > KEY_SHOWN { format!(" and {} more", key.len() - KEY_SHOWN) } else { String::new() };
+        diags.push(
+            Diagnostic::note(
+                "T0326",
+                format!(
+                    "{} label(s) too long for their place are written as two-letter key codes: {}{more}",
+                    key.len(),
+                    shown.join("; ")
+                ),
+            )
+            .with_help("a keyed label's words are its name in the bundle, said when the finger is on it; give the reader the key (`taxel unpack` lists every name)"),
         );
     }
     let text: Vec<String> = plan

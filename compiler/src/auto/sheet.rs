@@ -61,9 +61,11 @@ pub fn sheet_toml(profile: &DeviceProfile, input: Option<(&Drawing, &Plan)>) -> 
     s += "#   - each filled colour becomes one of the textures below, largest area first,\n";
     s += "#     so that colours whose regions touch (closer than 3.2 mm) never share one;\n";
     s += "#     at most five textures; a colour that would need a sixth keeps only its outline;\n";
-    s += "#   - filled circles up to 8 mm and compact marks up to 5 mm, and markers, become dots;\n";
+    s += "#   - filled circles up to 8 mm and compact marks up to 5 mm, markers and arrowheads\n";
+    s += "#     (a small shape of a line's colour where the line ends) become dots;\n";
     s += "#   - text becomes braille where it fits on the page without running into other braille\n";
-    s += "#     (moved a little, or pulled back onto the page when it runs off its side);\n";
+    s += "#     (moved a little, or pulled back onto the page when it runs off its side), else a\n";
+    s += "#     two-letter key code where that fits (note T0326 gives the key);\n";
     s += "#   - page backgrounds (and a chart's very light plot panel), white or transparent fills, hidden, clipped-away and\n";
     s += "#     off-page elements, and images are left out (white fills are regions\n";
     s += "#     when they are all that a coloured background carries).\n";

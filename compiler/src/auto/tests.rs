@@ -88,7 +88,8 @@ fn each_kind_of_element_gets_what_the_sheet_promises() {
             shape("paper", rect(100.0, 10.0, 140.0, 40.0), WHITE_FILL, None),
             shape("ghost", rect(100.0, 50.0, 140.0, 60.0), Some([255, 0, 0, 10]), None),
             text("label", "Tala", 20.0, 30.0),
-            text("too-long", "a label far too long for the page in braille", 150.0, 60.0),
+            // Too long for the page, and no key code: it has no letter.
+            text("too-long", "3,141,592,653,589,793,238,462,643,383,279", 150.0, 60.0),
             shape("off", rect(300.0, 10.0, 320.0, 40.0), RED, None),
             Element { visible: false, ..shape("hidden", rect(10.0, 10.0, 30.0, 30.0), RED, None) },
             {
@@ -461,8 +462,8 @@ fn a_label_running_off_the_page_is_pulled_back_onto_it() {
     assert!(dec.braille, "{dec:?}");
     let d = Drawing { page: page(200.0, 100.0), elements: vec![text("far", "ab", 215.0, 50.0)], ..Default::default() };
     assert!(!plan_of(&d).decisions[0].braille);
-    // Wider than the page.
-    let long = "ab".repeat(20);
+    // Wider than the page (digits: no key code).
+    let long = "12".repeat(20);
     let d = Drawing { page: page(200.0, 100.0), elements: vec![text("long", &long, 10.0, 50.0)], ..Default::default() };
     assert_eq!(plan_of(&d).decisions[0].left_out, Some(LeftOut::TextDoesNotFit));
 }
@@ -536,4 +537,65 @@ fn a_tick_label_under_its_axis_moves_a_cell_down_rather_than_out() {
     };
     let dec = &plan_of(&d).decisions[1];
     assert!(!dec.braille || dec.braille_shift.1 >= -3.0, "{dec:?}");
+}
+
+/// A diagram's arrowhead (Graphviz, draw.io, LibreOffice: a small filled
+/// triangle of the line's colour, its tip on the box the line points at) is
+/// a mark at the line's end. It was taken for a piece of a tessellation
+/// with the box (they touch), became a tiny grating, and the box lost its
+/// outline beside it. A triangle of the same size and colour that no line
+/// of its colour ends on, touching a box, stays a region; so does one where
+/// only a line of another colour ends.
+#[test]
+fn an_arrowhead_touching_a_box_is_a_mark_and_the_box_keeps_its_outline() {
+    let boxed = shape("box", rect(50.0, 40.0, 90.0, 60.0), BLUE, BLACK);
+    let line = |stroke| {
+        shape("edge", vec![Polyline { points: vec![(10.0, 50.0), (46.1, 50.0)], closed: false }], None, stroke)
+    };
+    // Its base 0.1 mm past the line's end (Graphviz's gap), its tip on the box.
+    let head = shape(
+        "head",
+        vec![Polyline { points: vec![(46.2, 48.5), (50.0, 50.0), (46.2, 51.5)], closed: true }],
+        BLACK,
+        BLACK,
+    );
+    for (stroke, arrow) in [(BLACK, true), (RED, false), (None, false)] {
+        let mut elements = vec![boxed.clone(), head.clone()];
+        if stroke.is_some() {
+            elements.push(line(stroke));
+        }
+        let d = Drawing { page: page(200.0, 100.0), elements, ..Default::default() };
+        let plan = plan_of(&d);
+        let (b, h) = (&plan.decisions[0], &plan.decisions[1]);
+        if arrow {
+            assert!(h.mark && h.region.is_none(), "the arrowhead: {h:?}");
+            assert!(b.outline && b.region.is_some(), "the box: {b:?}");
+        } else {
+            assert!(!h.mark && h.region.is_some(), "no line of its colour ends on it: {h:?}");
+        }
+    }
+}
+
+/// Key codes: a label's initials (accents dropped), else its first letter
+/// with a later one; none for a label of fewer than three characters; none
+/// that a label written whole already reads as.
+#[test]
+fn key_codes_are_initials_unless_short_or_taken() {
+    let keyed = |labels: &[(&str, f64, f64)], w: f64| {
+        let elements = labels.iter().map(|&(s, x, y)| text(s, s, x, y)).collect();
+        let plan = plan_of(&Drawing { page: page(w, 20.0), elements, ..Default::default() });
+        plan.decisions
+            .iter()
+            .map(|d| (d.braille, d.key.map(|k| String::from_utf8_lossy(&k).into_owned())))
+            .collect::<Vec<_>>()
+    };
+    // 20 mm wide: room for two cells, not for a whole label of four or more.
+    assert_eq!(keyed(&[("Read input", 2.0, 12.0)], 20.0), [(true, Some("ri".into()))]);
+    assert_eq!(keyed(&[("Élysée Palace", 2.0, 12.0)], 20.0), [(true, Some("ep".into()))]);
+    assert_eq!(keyed(&[("Bremen", 2.0, 12.0)], 20.0), [(true, Some("br".into()))]);
+    assert_eq!(keyed(&[("Tea", 2.0, 12.0)], 16.0), [(true, Some("te".into()))]);
+    // Two characters take three cells ("No": a capital sign, n, o): whole or not at all.
+    assert_eq!(keyed(&[("No", 2.0, 12.0)], 14.0), [(false, None)]);
+    // "ri" written whole (it fits) takes its code from "Read input".
+    assert_eq!(keyed(&[("ri", 2.0, 8.0), ("Read input", 2.0, 18.0)], 20.0), [(true, None), (true, Some("re".into()))]);
 }

@@ -13,6 +13,15 @@ fn resolve(svg: &str) -> Drawing {
     r.drawing.unwrap_or_else(|| panic!("no drawing: {:#?}", r.diagnostics))
 }
 
+/// The drawing as read, with no automatic sheet (an empty style sheet):
+/// what the reader found, before labels that find no place become key codes.
+fn resolve_as_read(svg: &str) -> Drawing {
+    let mut opts = CompileOptions::new(stress2());
+    opts.style = Some(taxel_compiler::stylesheet::StyleSheet::parse("", "empty.toml").expect("an empty sheet"));
+    let r = drawing::resolve(svg, &opts);
+    r.drawing.unwrap_or_else(|| panic!("no drawing: {:#?}", r.diagnostics))
+}
+
 fn by_id<'a>(d: &'a Drawing, id: &str) -> &'a Element {
     d.elements.iter().find(|e| e.id == id).unwrap_or_else(|| panic!("no element {id}: {:#?}", d.elements))
 }
@@ -293,7 +302,7 @@ fn inkscape_flowed_text_is_a_text_of_its_paragraphs_in_its_frame() {
 <flowRoot id="sized" style="font-size:2px;line-height:0.01%"><flowRegion><rect x="60" y="50" width="30" height="9"/></flowRegion><flowPara style="font-size:5px;line-height:1.2">ab</flowPara><flowPara style="font-size:5px">cd</flowPara></flowRoot>
 <flowRoot id="empty"><flowRegion><rect x="0" y="0" width="9" height="9"/></flowRegion><flowPara/></flowRoot>"##,
     );
-    let d = resolve(&svg);
+    let d = resolve_as_read(&svg);
     let runs = |id: &str| match &by_id(&d, id).shape {
         Shape::Text(t) => t.runs.iter().map(|r| (r.text.clone(), r.x_mm, r.y_mm, r.anchor)).collect::<Vec<_>>(),
         s => panic!("{id} is not a text: {s:?}"),

@@ -525,3 +525,58 @@ fn braille_of_an_unannotated_label_keeps_off_the_lines_that_vibrate() {
         assert!((y - 30.0).abs() - r >= half, "a dot at y {y} (radius {r}) touches the band of 30 +- {half}");
     }
 }
+
+/// A diagram's labels too long for their boxes (Graphviz's, draw.io's,
+/// Mermaid's: the box's outline vibrates, and the label's braille would run
+/// across it) are written as two-letter key codes inside the boxes, with one
+/// note giving the key; a keyed label's words are its name in the bundle,
+/// what the host says when the finger is on its braille. The same label
+/// twice has one code; a label whose initials are taken gets another.
+#[test]
+fn labels_too_long_for_their_boxes_are_written_as_key_codes() {
+    let node = |x: f64, y: f64, label: &str| {
+        format!(
+            r##"<rect x="{x}" y="{y}" width="40" height="16" fill="#dde8ff" stroke="black" stroke-width="0.6"/>
+<text x="{}" y="{}" font-size="4" text-anchor="middle">{label}</text>"##,
+            x + 20.0,
+            y + 10.0
+        )
+    };
+    let svg = super::common::page(
+        &[node(5.0, 5.0, "Read input"), node(55.0, 5.0, "Read input"), node(5.0, 35.0, "Read it")].concat(),
+    );
+    let c = super::common::compile(&svg);
+    let b = super::common::bundle(&c);
+    let key = super::common::with_code(&c, "T0326");
+    assert_eq!(key.len(), 1, "{:#?}", c.diagnostics);
+    assert!(key[0].message.contains("re Read it; ri Read input"), "{}", key[0].message);
+    assert!(super::common::with_code(&c, "T0323").is_empty(), "{:#?}", c.diagnostics);
+    let braille =
+        super::common::dots(b, taxel_format::DotKind::Braille).unwrap_or_else(|| panic!("{:#?}", c.diagnostics));
+    let names: Vec<String> = b.provenance().expect("provenance").entries.iter().map(|e| e.label.clone()).collect();
+    // Each box holds its code's dots, named by the label's words.
+    // Braille's letters: r is dots 1-2-3-5, i 2-4, e 1-5.
+    let dots_of = |code: &str| match code {
+        "ri" => 4 + 2,
+        "re" => 4 + 2,
+        _ => unreachable!(),
+    };
+    for (x0, y0, code, label) in
+        [(5.0, 5.0, "ri", "Read input"), (55.0, 5.0, "ri", "Read input"), (5.0, 35.0, "re", "Read it")]
+    {
+        let inside: Vec<_> = braille
+            .dots
+            .iter()
+            .filter(|d| {
+                let (x, y) = (d.x.0 as f64, d.y.0 as f64);
+                x > x0 && x < x0 + 40.0 && y > y0 && y < y0 + 16.0
+            })
+            .collect();
+        assert_eq!(inside.len(), dots_of(code), "the box at ({x0}, {y0}) holds {code}");
+        for d in inside {
+            let name = d.source.and_then(|s| names.get(s as usize));
+            assert_eq!(name.map(String::as_str), Some(label));
+        }
+    }
+    assert_eq!(braille.dots.len(), 2 * dots_of("ri") + dots_of("re"));
+}
