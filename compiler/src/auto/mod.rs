@@ -355,6 +355,49 @@ impl LineEnds {
     }
 }
 
+/// The regions that stand alone, for braille to keep off unless it was
+/// drawn on them: a chart's bars, a diagram's boxes, a legend's swatches.
+/// Braille clears a grating around itself (the layers' clearing), so a
+/// label moved onto a bar it was not drawn on would cut the bar short. The
+/// regions of a tessellation (a map's, whose labels lie across its borders)
+/// are not figures.
+#[derive(Default)]
+struct Figures<'d> {
+    outlines: Vec<(&'d [Polyline], FillRule)>,
+    index: Option<spatial::BoxIndex>,
+}
+
+impl<'d> Figures<'d> {
+    fn of(d: &'d Drawing, shapes: &[Filled<'d>], abuts: &[bool], decisions: &[Decision]) -> Figures<'d> {
+        let mut outlines = Vec::new();
+        let mut boxes = Vec::new();
+        for (f, _) in shapes.iter().zip(abuts).filter(|(f, abuts)| !**abuts && decisions[f.i].region.is_some()) {
+            let Shape::Path(p) = &d.elements[f.i].shape else { continue };
+            outlines.push((f.region.outline, p.fill_rule));
+            boxes.push(f.region.bbox);
+        }
+        Figures { index: Some(spatial::BoxIndex::new(&boxes)), outlines }
+    }
+
+    /// The figures whose area meets box `q`.
+    fn meeting(&self, q: Bbox) -> impl Iterator<Item = usize> + '_ {
+        self.index.iter().flat_map(move |index| index.meeting(q)).filter(move |&k| {
+            let (outline, rule) = self.outlines[k];
+            let centre = ((q.0 + q.2) / 2.0, (q.1 + q.3) / 2.0);
+            crate::geometry::contains(outline, centre, rule)
+                || outline.iter().any(|l| {
+                    let closing = l.points.last().copied().zip(l.points.first().copied());
+                    l.points.windows(2).map(|w| (w[0], w[1])).chain(closing).any(|s| segment_meets_box(s, q))
+                })
+        })
+    }
+
+    /// The figures a text was drawn on (its own box meets them).
+    fn under(&self, e: &Element) -> Vec<usize> {
+        e.bounds().map(|b| self.meeting(b).collect()).unwrap_or_default()
+    }
+}
+
 /// The outlines the sheet makes vibrate, for braille to keep off: their
 /// boxes in an R*-tree, each outline's segments looked at only when its box
 /// meets a label's (a scatter plot's 5,651 stroked circles made an R*-tree
@@ -634,15 +677,20 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
     // vibrating line is felt as neither (the two add up, T0410; a chart's
     // tick labels sat on its axis), so a label is moved off the lines, a
     // little, or left out.
-    let lines = if texts.is_empty() { Lines::default() } else { Lines::of(d, &decisions) };
-    let off_lines = BRAILLE_CLEARANCE_MM + outline.width_mm / 2.0;
+    let room = Room {
+        page,
+        lines: if texts.is_empty() { Lines::default() } else { Lines::of(d, &decisions) },
+        off_lines: BRAILLE_CLEARANCE_MM + outline.width_mm / 2.0,
+        figures: if texts.is_empty() { Figures::default() } else { Figures::of(d, &shapes, &abuts, &decisions) },
+    };
     // Labels whose braille finds no place are written as a key code (two
     // letters) where that fits, after every whole label has had its place.
     let mut unplaced = Vec::new();
     for (i, t) in texts {
+        let own = room.figures.under(&d.elements[i]);
         let dec = &mut decisions[i];
         let boxes = braille_boxes(&t.runs);
-        match place_label(&boxes, page, &braille, &lines, off_lines) {
+        match place_label(&boxes, &room, &braille, &own) {
             Some((dx, dy)) => {
                 for q in &boxes {
                     braille.place((q.0 + dx, q.1 + dy, q.2 + dx, q.3 + dy));
@@ -653,15 +701,15 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
             None if boxes.is_empty() => dec.left_out = Some(LeftOut::Empty),
             None => {
                 dec.left_out = Some(LeftOut::TextDoesNotFit);
-                unplaced.push((i, t));
+                unplaced.push((i, t, own));
             }
         }
     }
     let mut keys = Keys::new(d, &decisions);
-    for (i, t) in unplaced {
+    for (i, t, own) in unplaced {
         let Some((code, run)) = keys.code_for(t) else { continue };
         let boxes = braille_boxes(std::slice::from_ref(&run));
-        if let Some((dx, dy)) = place_label(&boxes, page, &braille, &lines, off_lines) {
+        if let Some((dx, dy)) = place_label(&boxes, &room, &braille, &own) {
             for q in &boxes {
                 braille.place((q.0 + dx, q.1 + dy, q.2 + dx, q.3 + dy));
             }
@@ -682,24 +730,31 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
     }
 }
 
-/// Where a label's braille `boxes` go: the shift from its place that the
-/// first of its places clear of the page's edge, other braille and the
-/// vibrating lines takes, or `None`.
-fn place_label(
-    boxes: &[Bbox],
+/// What a label's braille keeps clear of: the page's edge, the lines the
+/// sheet makes vibrate (by `off_lines` mm), and the figures it was not
+/// drawn on.
+struct Room<'d> {
     page: Bbox,
-    braille: &Occupancy,
-    lines: &Lines<'_>,
+    lines: Lines<'d>,
     off_lines: f64,
-) -> Option<(f64, f64)> {
+    figures: Figures<'d>,
+}
+
+/// Where a label's braille `boxes` go: the shift from its place that the
+/// first of its places clear of the page's edge, other braille, the
+/// vibrating lines and the figures other than `own` takes, or `None`.
+fn place_label(boxes: &[Bbox], room: &Room<'_>, braille: &Occupancy, own: &[usize]) -> Option<(f64, f64)> {
+    let page = room.page;
     let inside = |q: &Bbox| q.0 >= page.0 && q.1 >= page.1 && q.2 <= page.2 && q.3 <= page.3;
     // Every run is checked before any is placed, so a label is whole or absent.
     let fits = |(dx, dy): (f64, f64)| {
         boxes.iter().all(|q| {
             let q = (q.0 + dx, q.1 + dy, q.2 + dx, q.3 + dy);
+            let near = spatial::grow(q, BRAILLE_CLEARANCE_MM);
             inside(&q)
-                && braille.is_free(spatial::grow(q, BRAILLE_CLEARANCE_MM))
-                && !lines.meet(spatial::grow(q, off_lines))
+                && braille.is_free(near)
+                && !room.lines.meet(spatial::grow(q, room.off_lines))
+                && room.figures.meeting(near).all(|k| own.contains(&k))
         })
     };
     // Then, for a label that runs off the page (a town on the map's

@@ -599,3 +599,47 @@ fn key_codes_are_initials_unless_short_or_taken() {
     // "ri" written whole (it fits) takes its code from "Read input".
     assert_eq!(keyed(&[("ri", 2.0, 8.0), ("Read input", 2.0, 18.0)], 20.0), [(true, None), (true, Some("re".into()))]);
 }
+
+/// Braille keeps off a region that stands alone (a chart's bar, a
+/// diagram's box) unless it was drawn on it: braille clears a grating
+/// around itself, and a tick label moved onto a bar cut the bar short. A
+/// label drawn on a box stays on it; a label across the border of two
+/// regions of a tessellation (a map's) stays where it is.
+#[test]
+fn braille_keeps_off_figures_it_was_not_drawn_on() {
+    let boxes_of = |dec: &Decision, s: &str, x: f64, y: f64| {
+        let text = dec.key.map_or(s.to_string(), |k| String::from_utf8_lossy(&k).into_owned());
+        let run = TextRun { text, x_mm: x + dec.braille_shift.0, y_mm: y + dec.braille_shift.1, ..Default::default() };
+        braille_boxes(&[run])
+    };
+    let bar = shape("bar", rect(50.0, 20.0, 60.0, 80.0), BLUE, None);
+    let d = Drawing {
+        page: page(200.0, 100.0),
+        elements: vec![
+            bar,
+            text("tick", "abcd", 40.0, 50.0),
+            shape("box", rect(100.0, 20.0, 160.0, 60.0), RED, None),
+            text("inside", "abcd", 110.0, 45.0),
+        ],
+        ..Default::default()
+    };
+    let plan = plan_of(&d);
+    let tick = &plan.decisions[1];
+    for q in boxes_of(tick, "abcd", 40.0, 50.0).into_iter().filter(|_| tick.braille) {
+        assert!(q.2 + BRAILLE_CLEARANCE_MM <= 50.0 || q.0 - BRAILLE_CLEARANCE_MM >= 60.0, "{tick:?}: {q:?} on the bar");
+    }
+    let inside = &plan.decisions[3];
+    assert!(inside.braille && inside.braille_shift == (0.0, 0.0) && inside.key.is_none(), "{inside:?}");
+    // Across the border of two regions that abut.
+    let d = Drawing {
+        page: page(200.0, 100.0),
+        elements: vec![
+            shape("west", rect(0.0, 0.0, 50.0, 50.0), RED, None),
+            shape("east", rect(50.0, 0.0, 100.0, 50.0), BLUE, None),
+            text("across", "abcd", 45.0, 30.0),
+        ],
+        ..Default::default()
+    };
+    let across = &plan_of(&d).decisions[2];
+    assert!(across.braille && across.braille_shift == (0.0, 0.0) && across.key.is_none(), "{across:?}");
+}

@@ -277,11 +277,22 @@ fn text(
     };
     let (mut ux, mut uy) = (0.0f64, 0.0f64);
     let mut runs = Vec::new();
+    // Text turned on its side (an axis's tick labels and title, turned 90°):
+    // braille is written level, so each run is placed at its middle along
+    // its own direction (its length estimated at half a font size a
+    // character), centred there, rather than from an anchor that lies at
+    // one of its ends on the page's vertical.
+    let upright = ts.ky.abs() <= ts.sx.abs();
     for run in runs_of(node, em) {
         let continues = run.x.is_none() && run.y.is_none() && !runs.is_empty();
         ux = run.x.unwrap_or(ux);
         uy = run.y.unwrap_or(uy);
-        let (fx, fy) = (ux as f32, uy as f32);
+        let (at_x, anchor) = if upright || continues {
+            (ux, anchor)
+        } else {
+            (ux + (0.5 - anchor) * 0.5 * em * run.text.trim().chars().count() as f64, 0.5)
+        };
+        let (fx, fy) = (at_x as f32, uy as f32);
         runs.push(TextRun {
             x_mm: (ts.sx * fx + ts.kx * fy + ts.tx) as f64,
             y_mm: (ts.ky * fx + ts.sy * fy + ts.ty) as f64,

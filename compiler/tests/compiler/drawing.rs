@@ -367,3 +367,28 @@ fn html_in_a_foreign_object_is_a_text_of_its_lines() {
         d.elements.iter().filter(|e| matches!(e.shape, Shape::Text(_))).map(|e| e.id.as_str()).collect();
     assert_eq!(texts, ["start", "gate", "fallback"], "{:#?}", d.elements);
 }
+
+/// Text turned on its side (Vega-Lite's and matplotlib's tick labels under
+/// a bar chart, `rotate(270)` with `text-anchor: end`) is placed at its
+/// middle, centred: braille is written level, and from the anchor (the
+/// text's end, on the axis) it stood on the axis and ran into the bars. A
+/// level text keeps its anchor.
+#[test]
+fn text_turned_on_its_side_is_placed_at_its_middle() {
+    let svg = page(
+        r#"<text id="turned" transform="translate(50 40) rotate(270)" text-anchor="end" font-size="4">ABCD</text>
+<text id="tilted" transform="translate(20 20) rotate(-30)" text-anchor="end" font-size="4">ABCD</text>"#,
+    );
+    let d = resolve_as_read(&svg);
+    let run = |id: &str| match &by_id(&d, id).shape {
+        Shape::Text(t) => (t.runs[0].x_mm, t.runs[0].y_mm, t.runs[0].anchor),
+        s => panic!("{id} is not a text: {s:?}"),
+    };
+    // Four characters at half a font size each: 8 mm, running up the page
+    // and ending at (50, 40), so its middle is 4 mm below that.
+    let (x, y, anchor) = run("turned");
+    assert!(close(x, 50.0) && close(y, 44.0) && anchor == 0.5, "{:?}", run("turned"));
+    // Closer to level than upright: its anchor as written.
+    let (x, y, anchor) = run("tilted");
+    assert!(close(x, 20.0) && close(y, 20.0) && anchor == 1.0, "{:?}", run("tilted"));
+}
