@@ -770,7 +770,7 @@ fn place_label(boxes: &[Bbox], room: &Room<'_>, braille: &Occupancy, own: &[usiz
 
 /// A key code: two lowercase Latin letters that stand for a label whose
 /// braille finds no place (BANA's Guidelines and Standards for Tactile
-/// Graphics, 2010, §3.4: a label that does not fit is replaced by a short
+/// Graphics, 2010: a label that does not fit is replaced by a short
 /// abbreviation explained in a key).
 pub type KeyCode = [u8; 2];
 
@@ -798,7 +798,8 @@ impl Keys {
 
     /// The code for a label, and the run that writes it where the label's
     /// first line starts; `None` for a label shorter than [`MIN_KEYED_CELLS`], or one
-    /// with no Latin letter (a code must say something of what it stands for).
+    /// with fewer than two Latin letters (a code must say something of what
+    /// it stands for: "R108" gets none).
     fn code_for(&self, t: &TextShape) -> Option<(KeyCode, TextRun)> {
         let text = label_text(t);
         let first = t.runs.iter().find(|r| !r.text.trim().is_empty())?;
@@ -811,18 +812,25 @@ impl Keys {
         let &initial = letters.first()?;
         let long = text.chars().filter(|c| !c.is_whitespace()).count() >= MIN_KEYED_CELLS
             && crate::svg::braille_cells(&text).0.len() >= MIN_KEYED_CELLS;
-        if !long {
+        if !long || letters.len() < 2 {
             return None;
         }
         let code = match self.of_label.get(&text) {
             Some(code) => *code,
             None => {
                 // The first letters of its first two words, then its first
-                // letter with each later one, then any free pair.
+                // letter with each later one, then with any letter, then
+                // any free pair.
                 let initials = words.get(1).and_then(|w| w.first()).map(|&b| [initial, b]);
                 let with_first = letters.iter().skip(1).map(|&b| [initial, b]);
+                let first_any = (b'a'..=b'z').map(|b| [initial, b]);
                 let any = (b'a'..=b'z').flat_map(|a| (b'a'..=b'z').map(move |b| [a, b]));
-                initials.into_iter().chain(with_first).chain(any).find(|c| !self.taken.contains_key(c))?
+                initials
+                    .into_iter()
+                    .chain(with_first)
+                    .chain(first_any)
+                    .chain(any)
+                    .find(|c| !self.taken.contains_key(c))?
             }
         };
         let run = TextRun { text: String::from_utf8_lossy(&code).into_owned(), continues: false, ..first.clone() };

@@ -577,7 +577,8 @@ fn an_arrowhead_touching_a_box_is_a_mark_and_the_box_keeps_its_outline() {
 }
 
 /// Key codes: a label's initials (accents dropped), else its first letter
-/// with a later one; none for a label of fewer than three characters; none
+/// with a later one; none for a label of fewer than three characters or
+/// two letters; none
 /// that a label written whole already reads as.
 #[test]
 fn key_codes_are_initials_unless_short_or_taken() {
@@ -593,6 +594,8 @@ fn key_codes_are_initials_unless_short_or_taken() {
     assert_eq!(keyed(&[("Read input", 2.0, 12.0)], 20.0), [(true, Some("ri".into()))]);
     assert_eq!(keyed(&[("Élysée Palace", 2.0, 12.0)], 20.0), [(true, Some("ep".into()))]);
     assert_eq!(keyed(&[("Bremen", 2.0, 12.0)], 20.0), [(true, Some("br".into()))]);
+    // One letter says too little of the label.
+    assert_eq!(keyed(&[("R108", 2.0, 12.0)], 20.0), [(false, None)]);
     assert_eq!(keyed(&[("Tea", 2.0, 12.0)], 16.0), [(true, Some("te".into()))]);
     // Two characters take three cells ("No": a capital sign, n, o): whole or not at all.
     assert_eq!(keyed(&[("No", 2.0, 12.0)], 14.0), [(false, None)]);
