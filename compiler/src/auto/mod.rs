@@ -320,38 +320,56 @@ fn pull_inside(boxes: &[Bbox], page: Bbox) -> Option<(f64, f64)> {
 /// ends an edge 0.19 pt short of its arrowhead's base.
 const ARROW_GAP_MM: f64 = 0.3;
 
+/// Most corners an arrowhead has: a triangle, a barbed or notched head
+/// (Graphviz's `vee`, draw.io's `classic`), closed or with its first corner
+/// repeated. An emblem's detail (a flag's sun rays, its leaves) is drawn
+/// with curves, many points once flattened.
+const ARROW_CORNERS: usize = 6;
+
+/// How much longer than its head an arrow's line is, at least: a diagram's
+/// edge, not an emblem's short detail stroke ending on a small shape.
+const SHAFT_PER_HEAD: f64 = 2.0;
+
 /// The ends of the drawing's open stroked lines, by colour, for telling
-/// arrowheads from regions: a filled shape no larger than a mark
-/// ([`MARK_MM`]) whose fill is the colour of a line that ends on it (within
-/// half the line's width and [`ARROW_GAP_MM`]) is that line's arrowhead, as
-/// Graphviz, draw.io, LibreOffice and matplotlib draw them (a separate
-/// filled triangle beside the stroked line).
+/// arrowheads from regions: a filled shape of a few straight sides
+/// ([`ARROW_CORNERS`]) no larger than a mark ([`MARK_MM`]) whose fill is the
+/// colour of a line that ends on it (within half the line's width and
+/// [`ARROW_GAP_MM`]) and is [`SHAFT_PER_HEAD`] times as long as the shape is
+/// wide is that line's arrowhead, as Graphviz, draw.io, LibreOffice and
+/// matplotlib draw them (a separate filled triangle beside the stroked line).
 struct LineEnds {
-    colours: Vec<[u8; 3]>,
+    /// Each end's line's colour and length, mm.
+    lines: Vec<([u8; 3], f64)>,
     index: spatial::BoxIndex,
 }
 
 impl LineEnds {
     fn of(d: &Drawing) -> LineEnds {
-        let mut colours = Vec::new();
+        let mut lines = Vec::new();
         let mut boxes = Vec::new();
         for e in d.elements.iter().filter(|e| e.styled_by == StyledBy::Nothing && e.visible) {
             let (Shape::Path(p), Some(c), true) = (&e.shape, e.paint.stroke, e.paint.stroked) else { continue };
             let reach = e.paint.stroke_width_mm / 2.0 + ARROW_GAP_MM;
             for l in p.outline.iter().filter(|l| !l.closed) {
+                let length: f64 = l.points.windows(2).map(|w| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1)).sum();
                 for &(x, y) in l.points.first().into_iter().chain(l.points.last()) {
-                    colours.push(rgb(c));
+                    lines.push((rgb(c), length));
                     boxes.push((x - reach, y - reach, x + reach, y + reach));
                 }
             }
         }
-        LineEnds { index: spatial::BoxIndex::new(&boxes), colours }
+        LineEnds { index: spatial::BoxIndex::new(&boxes), lines }
     }
 
-    /// Whether a filled shape of box `b` and fill `fill` is an arrowhead.
-    fn arrowhead(&self, b: Bbox, fill: Option<Rgba>) -> bool {
+    /// Whether a filled shape of outline `outline`, box `b` and fill `fill`
+    /// is an arrowhead.
+    fn arrowhead(&self, outline: &[Polyline], b: Bbox, fill: Option<Rgba>) -> bool {
         let Some(fill) = fill.map(rgb) else { return false };
-        b.2 - b.0 <= MARK_MM && b.3 - b.1 <= MARK_MM && self.index.meeting(b).any(|k| self.colours[k] == fill)
+        let size = (b.2 - b.0).max(b.3 - b.1);
+        let few_corners = matches!(outline, [l] if l.points.len() <= ARROW_CORNERS);
+        few_corners
+            && size <= MARK_MM
+            && self.index.meeting(b).any(|k| self.lines[k].0 == fill && self.lines[k].1 >= SHAFT_PER_HEAD * size)
     }
 }
 
@@ -568,7 +586,7 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
                     let r = 1.0 + BRAILLE_CLEARANCE_MM;
                     braille.place((x - r, y - r, x + r, y + r));
                 }
-                if filled && line_ends.arrowhead(b, paint.fill) {
+                if filled && line_ends.arrowhead(&p.outline, b, paint.fill) {
                     // An arrowhead (a diagram's, a chart's annotation): a
                     // mark at its line's end, not a piece of a tessellation
                     // with the box its tip touches, which would lose its

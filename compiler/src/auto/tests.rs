@@ -545,7 +545,9 @@ fn a_tick_label_under_its_axis_moves_a_cell_down_rather_than_out() {
 /// with the box (they touch), became a tiny grating, and the box lost its
 /// outline beside it. A triangle of the same size and colour that no line
 /// of its colour ends on, touching a box, stays a region; so does one where
-/// only a line of another colour ends.
+/// only a line of another colour ends, one where a line shorter than twice
+/// its size ends (an emblem's detail stroke), and a small curved shape (a
+/// leaf of an emblem: many corners).
 #[test]
 fn an_arrowhead_touching_a_box_is_a_mark_and_the_box_keeps_its_outline() {
     let boxed = shape("box", rect(50.0, 40.0, 90.0, 60.0), BLUE, BLACK);
@@ -573,6 +575,16 @@ fn an_arrowhead_touching_a_box_is_a_mark_and_the_box_keeps_its_outline() {
         } else {
             assert!(!h.mark && h.region.is_some(), "no line of its colour ends on it: {h:?}");
         }
+    }
+    let short =
+        shape("stroke", vec![Polyline { points: vec![(40.0, 50.0), (46.1, 50.0)], closed: false }], None, BLACK);
+    // A leaf touching the box, the line ending on it.
+    let leaf = shape("leaf", circle(48.5, 50.0, 1.5), BLACK, BLACK);
+    let stem = shape("stem", vec![Polyline { points: vec![(10.0, 50.0), (47.0, 50.0)], closed: false }], None, BLACK);
+    for (head, line) in [(head.clone(), short), (leaf, stem)] {
+        let d = Drawing { page: page(200.0, 100.0), elements: vec![boxed.clone(), head, line], ..Default::default() };
+        let h = &plan_of(&d).decisions[1];
+        assert!(!h.mark && h.region.is_some(), "not an arrowhead: {h:?}");
     }
 }
 
