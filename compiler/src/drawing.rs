@@ -185,6 +185,10 @@ pub struct TextShape {
     pub font_size_mm: f64,
     /// Glyph outlines, when the font database had the fonts (else empty).
     pub outline: Vec<Polyline>,
+    /// The label this text stands for when it is a key code the automatic
+    /// sheet wrote for a label that found no place (note T0326); `None` for
+    /// a text that says itself.
+    pub keyed: Option<String>,
 }
 
 /// One positioned run of text.

@@ -437,7 +437,7 @@ mod tests {
                 content: "A".into(),
                 runs: vec![TextRun { text: "A".into(), x_mm: 250.0, y_mm: 250.0, anchor: 0.0, continues: false }],
                 font_size_mm: 10.0,
-                outline: vec![],
+                ..Default::default()
             }),
             ..Default::default()
         });

@@ -26,16 +26,19 @@ pub fn run(bundle: &Path, format: ExportFormat, out: &Path) -> CmdResult {
             profile.family()
         )));
     };
-    // The drawing's title, when the compiler recorded it (provenance entry 0, id `svg`).
-    let title = b
-        .provenance()
-        .and_then(|p| p.entries.first())
-        .filter(|e| e.id == "svg")
-        .map_or(String::new(), |e| e.label.clone());
+    // The drawing's title, when the compiler recorded it (provenance entry 0,
+    // id `svg`), and the key of its key codes (entry `key`): together the
+    // print text of the device's text line.
+    let entry = |id: &str| {
+        b.provenance().and_then(|p| p.entries.iter().find(|e| e.id == id)).map_or(String::new(), |e| e.label.clone())
+    };
+    let title = entry("svg");
+    let line =
+        [title.as_str(), entry("key").as_str()].into_iter().filter(|s| !s.is_empty()).collect::<Vec<_>>().join("; ");
     let file_title = out.file_name().and_then(|n| n.to_str()).unwrap_or("drawing.dtms").to_string();
     let data = match format {
         ExportFormat::Unicode => Ok(export::unicode(image).into_bytes()),
-        ExportFormat::Dtms => export::dtms(image, &profile, &file_title, &title).map(String::into_bytes),
+        ExportFormat::Dtms => export::dtms(image, &profile, &file_title, &title, &line).map(String::into_bytes),
         ExportFormat::Graphiti => export::graphiti(image, &profile),
     };
     let data = data.map_err(|e| CliError::input(anyhow::anyhow!("{shown}: {e}")))?;

@@ -139,3 +139,43 @@ fn export_refuses_what_the_format_cannot_hold() {
     assert!(text(&o).contains("60 x 40"), "{}", text(&o));
     assert!(!out.exists(), "nothing written");
 }
+
+/// A diagram nobody annotated whose node names do not fit their boxes: the
+/// automatic sheet writes them as key codes (T0326), and the Dot Pad's text
+/// line gives the key after the title, in braille and in the DTMS file's
+/// print text, as a transcriber gives the key beside the graphic.
+#[test]
+fn key_codes_have_their_key_on_the_dot_pad_s_text_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let node = |x: u32, label: &str| {
+        format!(
+            r##"<rect x="{x}" y="40" width="40" height="20" fill="#dde8ff" stroke="black" stroke-width="0.8"/><text x="{}" y="52" font-size="5" text-anchor="middle">{label}</text>"##,
+            x + 20
+        )
+    };
+    let svg = format!(
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="150mm" height="100mm" viewBox="0 0 150 100"><title>Process</title>{}{}{}</svg>"#,
+        node(2, "Read input"),
+        node(55, "Decide path"),
+        node(108, "Write output")
+    );
+    let input = dir.path().join("process.svg");
+    std::fs::write(&input, svg).unwrap();
+    let bundle = dir.path().join("process.taxel");
+    let o = taxel(&["build", input.to_str().unwrap(), "--profile", "dotpad", "-o", bundle.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("T0326"), "{}", text(&o));
+    let dtms = dir.path().join("process.dtms");
+    let o = taxel(&["export", bundle.to_str().unwrap(), "--format", "dtms", "-o", dtms.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&dtms).unwrap()).unwrap();
+    let line = "Process; key: dp Decide path, ri Read input, wo Write output";
+    assert_eq!(v["items"][0]["text"]["plain"], line);
+    // In braille: a cell for each character but the capitals' signs (one
+    // each: P, D, R, W), padded to whole 20-cell lines.
+    let cells = v["items"][0]["text"]["data"].as_str().unwrap().len() / 2;
+    let capitals = line.chars().filter(char::is_ascii_uppercase).count();
+    assert_eq!(cells, (line.chars().count() + capitals).div_ceil(20) * 20);
+    let b = Bundle::from_bytes(&std::fs::read(&bundle).unwrap()).unwrap();
+    assert_eq!(b.pin_image().unwrap().text.len(), line.chars().count() + capitals);
+}

@@ -862,6 +862,22 @@ impl Keys {
     }
 }
 
+/// The key of a drawing's key codes (T0326) as one line of print, codes in
+/// order: `"key: bs Bundle Store, kf 1 kHz frames"`; empty when it has none.
+pub fn key_line(d: &Drawing) -> String {
+    let mut key: BTreeMap<&str, &str> = BTreeMap::new();
+    for e in &d.elements {
+        if let Shape::Text(TextShape { content, keyed: Some(label), .. }) = &e.shape {
+            key.insert(content, label);
+        }
+    }
+    if key.is_empty() {
+        return String::new();
+    }
+    let entries: Vec<String> = key.iter().map(|(code, label)| format!("{code} {label}")).collect();
+    format!("key: {}", entries.join(", "))
+}
+
 /// A label's words, its runs joined by spaces (the lines of a label).
 pub fn label_text(t: &TextShape) -> String {
     let words: Vec<&str> = t.runs.iter().flat_map(|r| r.text.split_whitespace()).collect();
@@ -1078,6 +1094,7 @@ pub fn apply(d: &mut Drawing, profile: &DeviceProfile, diags: &mut Vec<Diagnosti
                     t.runs = vec![TextRun { text: code.clone(), continues: false, ..first }];
                 }
                 t.content = code;
+                t.keyed = Some(e.label.clone());
             }
             for r in &mut t.runs {
                 r.x_mm += dx;

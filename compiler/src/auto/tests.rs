@@ -55,7 +55,7 @@ fn text(name: &str, s: &str, x: f64, y: f64) -> Element {
             content: s.into(),
             runs: vec![TextRun { text: s.into(), x_mm: x, y_mm: y, anchor: 0.0, continues: false }],
             font_size_mm: 4.0,
-            outline: vec![],
+            ..Default::default()
         }),
         ..Default::default()
     }

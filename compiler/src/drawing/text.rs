@@ -140,7 +140,7 @@ pub(crate) fn glyph_labels(
         }
         let text = said.split_whitespace().collect::<Vec<_>>().join(" ");
         let run = TextRun { x_mm, y_mm, text: text.clone(), anchor: 0.0, continues: false };
-        let shape = TextShape { content: text, runs: vec![run], font_size_mm, outline: Vec::new() };
+        let shape = TextShape { content: text, runs: vec![run], font_size_mm, ..Default::default() };
         labels.push((i, element_of(e, xml_decl(src, i), true, Paint::default(), Shape::Text(shape))));
         glyphs.extend(inner.descendants().filter_map(|d| by_node.get(&d.id())).copied());
     }
@@ -305,7 +305,7 @@ fn text(
         content: runs.iter().map(|r| r.text.as_str()).collect::<Vec<_>>().join(" "),
         runs,
         font_size_mm,
-        outline: Vec::new(),
+        ..Default::default()
     };
     Ok(Some((i, element_of(e, decl, true, paint, Shape::Text(shape)))))
 }
@@ -457,7 +457,7 @@ fn text_of(runs: Vec<TextRun>, em: f64, ts: Transform) -> TextShape {
         content: runs.iter().map(|r| r.text.as_str()).collect::<Vec<_>>().join(" "),
         runs,
         font_size_mm: em * length_scale(ts),
-        outline: Vec::new(),
+        ..Default::default()
     }
 }
 

@@ -136,10 +136,17 @@ pub const DTMS_TEXT_LINE: usize = 20;
 /// `graphic.data` is 300 bytes, one per 2 x 4 cell, 30 cells a line, as
 /// lower-case hex; `text.data` the text line's six-dot cells as upper-case
 /// hex padded with `00` to whole 20-cell lines, as in the sample; `plain`
-/// the title in print. `file_title` names the file (the sample uses its
+/// the text line in print (`line`: the title, and the key of the labels
+/// written as key codes). `file_title` names the file (the sample uses its
 /// file name), `title` is the drawing's title. `lang` is `english` (the
 /// braille is UEB) and `lang_option` `1`, the value of the sample.
-pub fn dtms(image: &PinImage, profile: &DeviceProfile, file_title: &str, title: &str) -> Result<String, ExportError> {
+pub fn dtms(
+    image: &PinImage,
+    profile: &DeviceProfile,
+    file_title: &str,
+    title: &str,
+    line: &str,
+) -> Result<String, ExportError> {
     need_60x40(profile, "dtms")?;
     let mut text = String::new();
     let cells = image.text.len().div_ceil(DTMS_TEXT_LINE) * DTMS_TEXT_LINE;
@@ -161,7 +168,7 @@ pub fn dtms(image: &PinImage, profile: &DeviceProfile, file_title: &str, title: 
                 page: n + 1,
                 title: if title.is_empty() { file_title } else { title },
                 graphic: DtmsGraphic { name: format!("{}.dtm", n + 1), data },
-                text: DtmsText { name: format!("{}.txt", n + 1), data: text.clone(), plain: title },
+                text: DtmsText { name: format!("{}.txt", n + 1), data: text.clone(), plain: line },
             }
         })
         .collect();
@@ -235,7 +242,7 @@ mod tests {
     fn dtms_graphic_bytes_decode_to_the_pins_of_each_page() {
         let dotpad = profiles::builtin("dotpad").unwrap();
         let im = image();
-        let json = dtms(&im, &dotpad, "map.dtms", "Map").unwrap();
+        let json = dtms(&im, &dotpad, "map.dtms", "Map", "Map").unwrap();
         let v: serde_json::Value = serde_json::from_str(&json).unwrap();
         assert_eq!(v["title"], "map.dtms");
         assert_eq!(v["device"], "dotpad320");

@@ -316,8 +316,13 @@ pub fn legalise(drawing: &Drawing, profile: &DeviceProfile, diags: &mut Vec<Diag
     for (i, t) in labels {
         text::place(&mut canvas, &params, t, i, heights.outline, &drawing.elements[i], diags);
     }
-    if params.text_cells > 0 && !drawing.title.is_empty() {
-        canvas.image.text = text::text_line(&drawing.title, diags);
+    // The device's text line says the drawing's title, then the key of the
+    // labels written as key codes (T0326), as a transcriber gives the key
+    // beside the graphic.
+    let key = crate::auto::key_line(drawing);
+    let line = [drawing.title.as_str(), key.as_str()].into_iter().filter(|s| !s.is_empty()).collect::<Vec<_>>();
+    if params.text_cells > 0 && !line.is_empty() {
+        canvas.image.text = text::text_line(&line.join("; "), diags);
     }
     if canvas.image.pins.iter().any(|p| p.blinks()) {
         let step = params.blink_step_ms as u32;
@@ -377,11 +382,18 @@ pub fn build_bundle(
     let mut bundle = Bundle::new(Manifest { content_hash, ..Manifest::new(*profile) });
     bundle.chunks.push(Chunk::Pins(image));
     // Provenance entry 0 of a pin bundle is the drawing itself, so that
-    // exports and hosts can name it (the DTMS title).
+    // exports and hosts can name it (the DTMS title); an entry `key` holds
+    // the key of its key codes in print (the DTMS text line's print text).
+    let key = crate::auto::key_line(drawing);
+    let mut entries = Vec::new();
     if !drawing.title.is_empty() {
-        bundle.chunks.push(Chunk::Provenance(Provenance {
-            entries: vec![ProvenanceEntry { id: "svg".into(), label: drawing.title.clone(), line: 0 }],
-        }));
+        entries.push(ProvenanceEntry { id: "svg".into(), label: drawing.title.clone(), line: 0 });
+    }
+    if !key.is_empty() {
+        entries.push(ProvenanceEntry { id: "key".into(), label: key, line: 0 });
+    }
+    if !entries.is_empty() {
+        bundle.chunks.push(Chunk::Provenance(Provenance { entries }));
     }
     if let Err(e) = bundle.to_bytes() {
         diags.push(Diagnostic::error("T0900", format!("internal error: the pin bundle does not validate: {e}")));

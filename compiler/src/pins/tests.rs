@@ -40,7 +40,7 @@ fn label(name: &str, text: &str, x: f64, y: f64) -> Element {
             content: text.into(),
             runs: vec![TextRun { text: text.into(), x_mm: x, y_mm: y, anchor: 0.0, continues: false }],
             font_size_mm: 4.0,
-            outline: vec![],
+            ..Default::default()
         }),
         ..Default::default()
     }
