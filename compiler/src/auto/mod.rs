@@ -1300,7 +1300,7 @@ fn notes(plan: &Plan, d: &Drawing, diags: &mut Vec<Diagnostic>) {
                     shown.join("; ")
                 ),
             )
-            .with_help("a keyed label's words are its name in the bundle, said when the finger is on it; give the reader the key (`taxel unpack` lists every name)"),
+            .with_help("a keyed label's words are its name in the bundle, said when the finger is on it; the whole key is the bundle's provenance entry `key` (`taxel unpack` lists it) and a Dot Pad's text line"),
         );
     }
     let text: Vec<String> = plan

@@ -750,6 +750,12 @@ fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOptions, diags:
         dot_feature(b, job, &pts, drawing.page, diags);
     }
     b.braille_clear = braille_clearing(&b.braille_dots);
+    // The key of the labels written as key codes (T0326) in print, for a
+    // host to give the reader: provenance entry `key`, with no footprint.
+    let key = crate::auto::key_line(drawing);
+    if family == Family::Laterotactile && !key.is_empty() {
+        b.provenance.push(ProvenanceEntry { id: "key".into(), label: key, line: 0 });
+    }
 }
 
 /// The braille dot centres of a text, and the characters braille has no

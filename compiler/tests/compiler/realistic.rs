@@ -579,4 +579,7 @@ fn labels_too_long_for_their_boxes_are_written_as_key_codes() {
         }
     }
     assert_eq!(braille.dots.len(), 2 * dots_of("ri") + dots_of("re"));
+    // The whole key, in print, for the host to give the reader.
+    let key = b.provenance().expect("provenance").entries.iter().find(|e| e.id == "key").map(|e| e.label.as_str());
+    assert_eq!(key, Some("key: re Read it, ri Read input"));
 }
