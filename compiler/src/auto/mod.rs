@@ -402,11 +402,7 @@ impl<'d> Figures<'d> {
         self.index.iter().flat_map(move |index| index.meeting(q)).filter(move |&k| {
             let (outline, rule) = self.outlines[k];
             let centre = ((q.0 + q.2) / 2.0, (q.1 + q.3) / 2.0);
-            crate::geometry::contains(outline, centre, rule)
-                || outline.iter().any(|l| {
-                    let closing = l.points.last().copied().zip(l.points.first().copied());
-                    l.points.windows(2).map(|w| (w[0], w[1])).chain(closing).any(|s| segment_meets_box(s, q))
-                })
+            crate::geometry::contains(outline, centre, rule) || outline.iter().any(|l| line_meets_box(l, true, q))
         })
     }
 
@@ -443,13 +439,16 @@ impl<'d> Lines<'d> {
     /// Whether a segment of an outline passes through box `q`.
     fn meet(&self, q: Bbox) -> bool {
         let Some(index) = &self.index else { return false };
-        index.meeting(q).any(|k| {
-            self.outlines[k].iter().any(|l| {
-                let closing = l.closed.then(|| l.points.last().copied().zip(l.points.first().copied())).flatten();
-                l.points.windows(2).map(|w| (w[0], w[1])).chain(closing).any(|s| segment_meets_box(s, q))
-            })
-        })
+        index.meeting(q).any(|k| self.outlines[k].iter().any(|l| line_meets_box(l, l.closed, q)))
     }
+}
+
+/// Whether a segment of polyline `l` passes through box `q`, with its
+/// closing segment when `closed` (a filled outline is closed whether or not
+/// its path says so).
+fn line_meets_box(l: &Polyline, closed: bool, q: Bbox) -> bool {
+    let closing = closed.then(|| l.points.last().copied().zip(l.points.first().copied())).flatten();
+    l.points.windows(2).map(|w| (w[0], w[1])).chain(closing).any(|s| segment_meets_box(s, q))
 }
 
 /// Whether segment `a`-`b` passes through box `q` (Liang-Barsky clipping).
