@@ -543,3 +543,47 @@ fn every_stress2_example_plays_on_its_trace_and_clamps_only_where_it_warns_of_ov
         }
     }
 }
+
+/// Each example's bundle size in bytes as the build before issue 16 wrote
+/// it (`0688be9`, format 1.0, raster masks): the demo (`taxel` with no
+/// arguments) run by that build on its own `examples/`. Scenes added since
+/// have no entry.
+#[rustfmt::skip]
+const SIZES_BEFORE_LAYERS_BY_STYLE: [(&str, usize); 45] = [
+    ("exp1-vibrate-2cm", 280896), ("exp1-vibrate-3cm-a", 300192), ("exp1-vibrate-3cm-b", 300160),
+    ("exp1-dots-2cm", 7280), ("exp1-dots-3cm-a", 5472), ("exp1-dots-3cm-b", 5704), ("exp1-grating-2cm", 240960),
+    ("exp1-grating-3cm-a", 270624), ("exp1-grating-3cm-b", 270592), ("exp2-gratings-1.0-1.5mm", 538112),
+    ("exp2-gratings-3.0-3.5mm", 538112), ("exp2-gratings-5.5-6.0mm", 538112), ("exp2-gratings-3.0-6.0mm", 538112),
+    ("exp2-gratings-1.0-6.0mm", 538112), ("exp3-orientations-4mm", 377056), ("exp3-orientations-6mm", 377056),
+    ("exp3-orientations-8mm", 377056), ("exp4-orientations-6mm", 250792), ("exp5-icon-circle-vertical-2mm", 182128),
+    ("exp5-icon-circle-vertical-6mm", 182128), ("exp5-icon-circle-horizontal-2mm", 182128),
+    ("exp5-icon-circle-horizontal-6mm", 182128), ("exp5-icon-square-vertical-2mm", 182128),
+    ("exp5-icon-square-vertical-6mm", 182128), ("exp5-icon-square-horizontal-2mm", 182128),
+    ("exp5-icon-square-horizontal-6mm", 182128), ("exp5-icon-triangle-down-vertical-2mm", 176800),
+    ("exp5-icon-triangle-down-vertical-6mm", 176800), ("exp5-icon-triangle-down-horizontal-2mm", 176800),
+    ("exp5-icon-triangle-down-horizontal-6mm", 176800), ("exp5-icon-right-triangle-vertical-2mm", 175976),
+    ("exp5-icon-right-triangle-vertical-6mm", 175976), ("exp5-icon-right-triangle-horizontal-2mm", 175976),
+    ("exp5-icon-right-triangle-horizontal-6mm", 175976), ("tala-map", 664056), ("tala-plain", 1093488),
+    ("brush-1-diagonal", 576), ("brush-2-horizontal", 528), ("brush-3-virtual", 592), ("brush-4-curve", 664),
+    ("finger-edge", 379448), ("finger-flat", 379448), ("finger-inclined", 379456), ("finger-convex", 379456),
+    ("finger-concave", 379456),
+];
+
+/// Issue 16 point 6: no example bundle is larger than it was before layers
+/// by style (the sizes `taxel build` writes: the bundle's bytes).
+#[test]
+fn no_example_bundle_is_larger_than_before_layers_by_style() {
+    let scenes = scenes();
+    let mut larger = Vec::new();
+    for (name, before) in SIZES_BEFORE_LAYERS_BY_STYLE {
+        let s = scenes.iter().find(|s| s.name == name).unwrap_or_else(|| panic!("{name}: no longer in the index"));
+        let out = build(s);
+        let bundle = out.bundle.unwrap_or_else(|| panic!("{name}: no bundle"));
+        let now = bundle.to_bytes().unwrap_or_else(|e| panic!("{name}: {e}")).len();
+        eprintln!("{name}: {before} -> {now} bytes");
+        if now > before {
+            larger.push(format!("{name}: {before} -> {now} bytes"));
+        }
+    }
+    assert!(larger.is_empty(), "larger than before layers by style:\n{}", larger.join("\n"));
+}

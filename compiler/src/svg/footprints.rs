@@ -2,8 +2,9 @@
 //! element lies on the surface, for the host's point lookup. Each rendered
 //! style of an element gives one shape: a grated region its fill, a
 //! vibrating outline its centre lines with half the band's width, dots
-//! their discs, a braille text the box around its cells, a brushed stroke
-//! its path. Outlines are simplified
+//! their discs, a braille text the box around its cells (a brushed stroke,
+//! which plays in time with no reader's position, has none). Outlines are
+//! simplified
 //! (Douglas–Peucker, [`SIMPLIFY_MM`]) and quantised to 16-bit coordinates.
 
 use taxel_format::{Footprint, FootprintKind, Footprints};

@@ -329,8 +329,10 @@ pub(crate) fn build<R: Send>(
                     .at_line(e.line),
                 ),
                 Style::Brush(br) => {
+                    // No footprint: a brushed stroke plays in time on a grid
+                    // worn on the body, with no reader's position on the page
+                    // for a host to look up (SPEC.md section 10.1).
                     let source = b.source(e);
-                    b.footprints.extend(FootPending::band(index, source, polylines, 0.0));
                     for pl in polylines {
                         requests.push(BrushRequest {
                             polyline: pl.walked(),
