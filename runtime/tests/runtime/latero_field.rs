@@ -312,3 +312,23 @@ fn a_corner_tile_plays_the_lesser_of_its_planes_and_a_notch_the_greater() {
     assert_eq!(art(TILE_CORNER), "...\n...\n.##");
     assert_eq!(art(TILE_NOTCH), ".##\n.##\n###");
 }
+
+/// A distance layer's vibration takes its phase from the integer tick, as a
+/// raster mask's does: a day of ticks later (and near `u64::MAX`) the frames
+/// are those of tick 0, bit for bit, while a quarter period later they move.
+#[test]
+fn a_distance_layer_s_phase_comes_from_the_integer_tick() {
+    let p = stress2();
+    // Two inside tiles of 4 mm under the array, a 50 Hz vibration.
+    let layer = field(vibration(50_000), 40.0, 26.0, 0.5, 2, 2, &[1, 1, 1, 1], &[128], 0.0);
+    let bytes = bundle_bytes(p, vec![Chunk::Distance(layer)]);
+    let (x, y) = (44.0, 30.0);
+    let frame0 = play(&bytes, 0, x, y);
+    assert!(frame0.iter().any(|&c| c > 0), "the layer plays under the array: {frame0:?}");
+    for k in 0..40 {
+        assert_eq!(play(&bytes, 86_400_000 + k, x, y), play(&bytes, k, x, y), "tick {k}");
+    }
+    let far = u64::MAX - u64::MAX % 1_000_000;
+    assert_eq!(play(&bytes, far, x, y), frame0);
+    assert_ne!(play(&bytes, 86_400_005, x, y), frame0);
+}
