@@ -179,3 +179,44 @@ fn a_folder_without_a_marker_accepts_any_profile_and_a_bad_marker_is_named() {
     assert_eq!(o.status.code(), Some(2));
     assert!(text(&o).contains("mounted"), "{}", text(&o));
 }
+
+/// A bundle as `taxel build` writes it (distance layers, one per style)
+/// goes onto the device whole: stored byte for byte, listed, and what the
+/// device holds validates and plays its layers.
+#[test]
+fn a_built_map_with_distance_layers_loads_and_plays_from_the_device() {
+    let tmp = tempfile::tempdir().unwrap();
+    let store = tmp.path().join("store");
+    let sim = Simulator::start(&store, &["--profile", "stress2"]);
+    let map = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/map/tala-map.svg");
+    let built = tmp.path().join("tala-map.taxel");
+    let o = taxel(&["build", map, "-o", built.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
+    let bytes = std::fs::read(&built).unwrap();
+    let layers = BundleView::parse(&bytes)
+        .unwrap()
+        .chunks()
+        .filter(|c| matches!(c, taxel_format::ChunkView::Distance(_)))
+        .count();
+    assert!(layers >= 2, "the map has distance layers: {layers}");
+    let o = taxel(&["load", built.to_str().unwrap(), "--device", &sim.url]);
+    assert!(o.status.success(), "{}", text(&o));
+    let o = taxel(&["device", "ls", "--device", &sim.url]);
+    assert!(String::from_utf8_lossy(&o.stdout).contains("tala-map.taxel"), "{}", text(&o));
+    let stored = std::fs::read(store.join("tala-map.taxel")).unwrap();
+    assert_eq!(stored, bytes, "the device holds the bundle byte for byte");
+    let view = BundleView::parse(&stored).unwrap();
+    let player = taxel_runtime::latero::LateroPlayer::new(&view).unwrap();
+    let mut frame = [0u16; 64];
+    // A sweep across the map meets its layers.
+    let played = (0..40).any(|k| {
+        player.frame(
+            taxel_format::Tick(k),
+            taxel_format::Mm(10.0 + 2.2 * k as f32),
+            taxel_format::Mm(30.0),
+            &mut frame,
+        );
+        frame.iter().any(|&c| c > 0)
+    });
+    assert!(played, "the stored map plays");
+}
