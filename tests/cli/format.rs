@@ -257,3 +257,59 @@ fn a_corrupt_bundle_is_bad_input_named_with_its_file() {
     let o = taxel(&["inspect", p(&tmp.path().join("missing.taxel"))]);
     assert_eq!(o.status.code(), Some(2));
 }
+
+/// A hand-painted mask still has its place beside the distance layers a
+/// build writes: a grayscale PNG added to a built map's folder as a
+/// vibration chunk packs into a raster mask of exactly its pixels, and the
+/// bundle validates and plays it (SPEC.md section 6.1).
+#[test]
+fn a_hand_painted_png_packs_into_a_raster_mask_beside_the_distance_layers() {
+    let tmp = tempfile::tempdir().unwrap();
+    let built = tmp.path().join("map.taxel");
+    let map = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/map/tala-map.svg");
+    let o = taxel(&["build", map, "-o", p(&built)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let dir = tmp.path().join("d");
+    assert!(taxel(&["unpack", p(&built), "-o", p(&dir)]).status.success());
+    // A 10 x 5 mm patch painted at 4 px/mm: full inside a disc, a soft rim.
+    let (w, h) = (40u32, 20u32);
+    let painted = image::GrayImage::from_fn(w, h, |x, y| {
+        let r = ((x as f32 - 19.5).powi(2) + (y as f32 - 9.5).powi(2)).sqrt();
+        image::Luma([(255.0 * (9.0 - r).clamp(0.0, 1.0)) as u8])
+    });
+    painted.save(dir.join("99-painted.png")).unwrap();
+    let manifest = std::fs::read_to_string(dir.join("manifest.toml")).unwrap();
+    let chunk = "\n[[chunk]]\nkind = \"vibration\"\nfile = \"99-painted.png\"\namplitude = 1.0\n\
+                 origin_x_mm = 80.0\norigin_y_mm = 40.0\npx_per_mm = 4.0\nfreq_mhz = 50000\n";
+    std::fs::write(dir.join("manifest.toml"), manifest + chunk).unwrap();
+    let out = tmp.path().join("painted.taxel");
+    let o = taxel(&["pack", p(&dir), "-o", p(&out)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let bytes = std::fs::read(&out).unwrap();
+    let b = taxel_format::Bundle::from_bytes(&bytes).unwrap();
+    let distance = b.chunks.iter().filter(|c| matches!(c, taxel_format::Chunk::Distance(_))).count();
+    let masks: Vec<_> = b
+        .chunks
+        .iter()
+        .filter_map(|c| match c {
+            taxel_format::Chunk::Mask(m) => Some(m),
+            _ => None,
+        })
+        .collect();
+    assert!(distance >= 2, "the map's distance layers stay: {distance}");
+    assert_eq!(masks.len(), 1);
+    assert_eq!((masks[0].width, masks[0].height, masks[0].px_per_mm), (w, h, 4.0));
+    assert_eq!(masks[0].samples, taxel_format::MaskSamples::U8(painted.into_raw()));
+    // Played: over the disc's middle, at tick 0, actuators whose row and
+    // column parities differ are deflected by the patch on top of the map.
+    let play = |bytes: &[u8]| {
+        let view = taxel_format::BundleView::parse(bytes).unwrap();
+        let player = taxel_runtime::latero::LateroPlayer::new(&view).unwrap();
+        let mut frame = [0u16; 64];
+        player.frame(taxel_format::Tick(0), taxel_format::Mm(85.0), taxel_format::Mm(42.5), &mut frame);
+        frame
+    };
+    let (with, without) = (play(&bytes), play(&std::fs::read(&built).unwrap()));
+    let raised = with.iter().zip(&without).filter(|(a, b)| a > b).count();
+    assert!(raised >= 4 && with.contains(&1023), "the patch plays: {with:?} against {without:?}");
+}
