@@ -65,6 +65,19 @@ pub struct Page {
     pub scale: f64,
     /// Page position, in mm, of the root user space's origin (non-zero after `--fit` or `--region`).
     pub offset_mm: (f64, f64),
+    /// Where the drawing's own page lies, `(x0, y0, x1, y1)` in mm, once
+    /// `--fit` or `--region` has placed it on the surface (which
+    /// [`Page::width_mm`] and [`Page::height_mm`] then are); `None` when it
+    /// was not moved. The automatic sheet tells a page's background by it.
+    pub sheet_mm: Option<(f64, f64, f64, f64)>,
+}
+
+impl Page {
+    /// The drawing's own page on this page: [`Page::sheet_mm`] where the
+    /// drawing was placed, else the whole page.
+    pub fn sheet(&self) -> (f64, f64, f64, f64) {
+        self.sheet_mm.unwrap_or((0.0, 0.0, self.width_mm, self.height_mm))
+    }
 }
 
 /// Where an element's styles came from.

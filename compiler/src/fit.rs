@@ -232,6 +232,8 @@ pub fn apply(
         {
             let (s, t) = (p.scale, p.shift);
             d.elements.par_iter_mut().for_each(|e| transform(e, s, t));
+            let sheet = d.page.sheet();
+            d.page.sheet_mm = Some((sheet.0 * s + t.0, sheet.1 * s + t.1, sheet.2 * s + t.0, sheet.3 * s + t.1));
             d.page.scale *= s;
             d.page.offset_mm = (d.page.offset_mm.0 * s + t.0, d.page.offset_mm.1 * s + t.1);
             d.page.width_mm = sw;
@@ -302,7 +304,7 @@ mod tests {
     /// A 500 x 500 mm page whose user unit is 2 mm.
     fn big() -> Drawing {
         Drawing {
-            page: Page { width_mm: 500.0, height_mm: 500.0, scale: 2.0, offset_mm: (0.0, 0.0) },
+            page: Page { width_mm: 500.0, height_mm: 500.0, scale: 2.0, offset_mm: (0.0, 0.0), sheet_mm: None },
             elements: vec![
                 square("a", 0.0, 0.0, 100.0),
                 square("b", 400.0, 400.0, 100.0),
@@ -342,7 +344,7 @@ mod tests {
     #[test]
     fn fit_scales_what_the_drawing_shows_not_its_empty_page() {
         let p = profiles::builtin("stress2").unwrap(); // 110 x 60 mm
-        let page = Page { width_mm: 200.0, height_mm: 100.0, scale: 1.0, offset_mm: (0.0, 0.0) };
+        let page = Page { width_mm: 200.0, height_mm: 100.0, scale: 1.0, offset_mm: (0.0, 0.0), sheet_mm: None };
         let filled = |mut e: Element| {
             e.paint.filled = true;
             e

@@ -491,7 +491,11 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
     // What can be felt: the page, as far as it lies on the device's surface.
     let (sw, sh) = (profile.surface_w_mm as f64, profile.surface_h_mm as f64);
     let page: Bbox = (0.0, 0.0, d.page.width_mm.min(sw), d.page.height_mm.min(sh));
-    let backgrounds = backgrounds(d, page);
+    // The drawing's own page on it: all of it, unless `--fit` or `--region`
+    // placed a page of another shape there (a 3:2 map on a 2:1 surface).
+    let s = d.page.sheet();
+    let sheet: Bbox = (s.0.max(page.0), s.1.max(page.1), s.2.min(page.2), s.3.min(page.3));
+    let backgrounds = backgrounds(d, page, sheet);
     // White is the paper, except where a coloured ground carries nothing but
     // white shapes (a flag's white cross on its red field, an app icon's white
     // glyph on its tile): there the white shapes are the figure. Where other
@@ -913,10 +917,11 @@ pub fn min_region_mm(width: f64) -> f64 {
 }
 
 /// The page backgrounds among the filled paths: those covering nine tenths of
-/// the page, and those covering nine tenths of what the drawing occupies
-/// when other filled shapes lie on them (a sea under the countries; a lone
-/// country with only labels on it stays a region).
-fn backgrounds(d: &Drawing, page: Bbox) -> Vec<usize> {
+/// the drawing's own page (`sheet`, where it lies on the felt `page`), and
+/// those covering nine tenths of what the drawing occupies when other
+/// filled shapes lie on them (a sea under the countries; a lone country with
+/// only labels on it stays a region).
+fn backgrounds(d: &Drawing, page: Bbox, sheet: Bbox) -> Vec<usize> {
     let area = |b: Bbox| (b.2 - b.0).max(0.0) * (b.3 - b.1).max(0.0);
     let clip = |b: Bbox| (b.0.max(page.0), b.1.max(page.1), b.2.min(page.2), b.3.min(page.3));
     let filled = |e: &Element| matches!(e.shape, Shape::Path(_)) && e.visible && e.paint.filled;
@@ -951,7 +956,10 @@ fn backgrounds(d: &Drawing, page: Bbox) -> Vec<usize> {
     };
     for (i, b) in boxes.iter().enumerate() {
         let Some(b) = *b else { continue };
-        if area(b) >= BACKGROUND_SHARE * area(page) && covered(i) >= BACKGROUND_SHARE * area(page) {
+        if area(sheet) > 0.0
+            && area(b) >= BACKGROUND_SHARE * area(sheet)
+            && covered(i) >= BACKGROUND_SHARE * area(sheet)
+        {
             out.push(i);
         } else if area(b) >= BACKGROUND_SHARE * area(extent)
             && candidates < 8

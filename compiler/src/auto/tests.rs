@@ -10,7 +10,7 @@ fn stress2() -> DeviceProfile {
 }
 
 fn page(w: f64, h: f64) -> Page {
-    Page { width_mm: w, height_mm: h, scale: 1.0, offset_mm: (0.0, 0.0) }
+    Page { width_mm: w, height_mm: h, scale: 1.0, offset_mm: (0.0, 0.0), sheet_mm: None }
 }
 
 fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<Polyline> {

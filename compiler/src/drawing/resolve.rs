@@ -244,6 +244,7 @@ pub(crate) fn run(
         height_mm: sizing.height_mm,
         scale: sizing.scale * root_ts.sx as f64,
         offset_mm: (sizing.scale * root_ts.tx as f64, sizing.scale * root_ts.ty as f64),
+        sheet_mm: None,
     };
     Some(Drawing { page, title, elements: elements.into_iter().map(|(_, e)| e).collect() })
 }

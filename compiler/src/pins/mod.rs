@@ -27,7 +27,7 @@
 //!
 //! let square = Polyline { points: vec![(10.0, 10.0), (40.0, 10.0), (40.0, 40.0), (10.0, 40.0)], closed: true };
 //! let drawing = Drawing {
-//!     page: Page { width_mm: 150.0, height_mm: 100.0, scale: 1.0, offset_mm: (0.0, 0.0) },
+//!     page: Page { width_mm: 150.0, height_mm: 100.0, scale: 1.0, offset_mm: (0.0, 0.0), sheet_mm: None },
 //!     elements: vec![Element {
 //!         name: "square".into(),
 //!         visible: true,

@@ -48,7 +48,7 @@ fn label(name: &str, text: &str, x: f64, y: f64) -> Element {
 
 fn drawing(w: f64, h: f64, elements: Vec<Element>) -> Drawing {
     Drawing {
-        page: Page { width_mm: w, height_mm: h, scale: 1.0, offset_mm: (0.0, 0.0) },
+        page: Page { width_mm: w, height_mm: h, scale: 1.0, offset_mm: (0.0, 0.0), sheet_mm: None },
         title: String::new(),
         elements,
     }

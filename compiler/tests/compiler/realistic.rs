@@ -57,7 +57,8 @@ fn map(n: usize, fills: usize, seed: u64) -> (Drawing, Vec<Vec<(f64, f64)>>) {
             }
         })
         .collect();
-    let page = Page { width_mm: g.size.0 * k, height_mm: g.size.1 * k, scale: k, offset_mm: (0.0, 0.0) };
+    let page =
+        Page { width_mm: g.size.0 * k, height_mm: g.size.1 * k, scale: k, offset_mm: (0.0, 0.0), sheet_mm: None };
     (Drawing { page, title: String::new(), elements }, polys)
 }
 
@@ -140,6 +141,54 @@ fn a_shape_spanning_the_page_without_covering_it_is_not_its_background() {
     let s = auto_styles(sea);
     assert!(styles_of(&s, "sea").is_empty(), "{s:?}");
     assert_eq!(styles_of(&s, "land"), ["grating"], "{s:?}");
+}
+
+/// Regression (a map fitted to a surface of another shape): the page's
+/// coloured background, a river and labels on it, drawn 3:2, fitted to
+/// STRESS² (11:6) or HyperBraille (2:1). Fitting makes the surface the page
+/// and leaves a margin beside the drawing, so the background covered less
+/// than nine tenths of it and became one grating over the whole map. It is
+/// the background of the drawing's own page wherever that page was placed;
+/// a shape that covers most of the drawing without covering its page (a
+/// lone country) stays a region.
+#[test]
+fn a_page_background_stays_the_background_when_fitted_to_another_shape() {
+    let svg = |ground: &str| {
+        format!(
+            r##"<svg xmlns="http://www.w3.org/2000/svg" width="150mm" height="100mm" viewBox="0 0 150 100">
+  {ground}
+  <path id="river" d="M 5 80 C 40 60 80 90 145 40" fill="none" stroke="#3070c0" stroke-width="2"/>
+  <text id="town" x="60" y="30" font-size="5">Town</text>
+</svg>"##
+        )
+    };
+    let background = svg(r##"<rect id="ground" x="0" y="0" width="150" height="100" fill="#d8e8c0"/>"##);
+    let country = svg(r##"<path id="ground" d="M 10 10 L 140 20 L 120 95 L 20 85 Z" fill="#d8e8c0"/>"##);
+    for profile in ["stress2", "hyperbraille"] {
+        let fitted = |svg: &str| {
+            let opts = taxel_compiler::CompileOptions {
+                fit: true,
+                ..taxel_compiler::CompileOptions::new(taxel_format::profiles::builtin(profile).unwrap())
+            };
+            let r = taxel_compiler::drawing::resolve(svg, &opts);
+            let d = r.drawing.unwrap_or_else(|| panic!("no drawing: {:#?}", r.diagnostics));
+            d.elements.iter().map(|e| (e.id.clone(), e.styles.iter().map(|s| s.name()).collect())).collect::<Vec<_>>()
+        };
+        let s = fitted(&background);
+        assert!(styles_of(&s, "ground").is_empty(), "{profile}: the background is left out: {s:?}");
+        assert_eq!(styles_of(&s, "river"), ["vibrate"], "{profile}: {s:?}");
+        let s = fitted(&country);
+        assert_eq!(styles_of(&s, "ground"), ["grating"], "{profile}: a lone country stays a region: {s:?}");
+    }
+    // Unfitted, on a page of the surface's own shape, the same.
+    let s = auto_styles(
+        &background
+            .replace("150mm", "110mm")
+            .replace("100mm", "60mm")
+            .replace("0 0 150 100", "0 0 110 60")
+            .replace(r#"width="150" height="100""#, r#"width="110" height="60""#),
+    );
+    assert!(styles_of(&s, "ground").is_empty(), "{s:?}");
 }
 
 /// Regression (PreFigure's tactile diagrams): a `<line>` is filled black by
