@@ -706,6 +706,11 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
     };
     // Labels whose braille finds no place are written as a key code (two
     // letters) where that fits, after every whole label has had its place.
+    // The larger a label is drawn, the more it matters (a map's region
+    // names before its towns, a chart's title before its ticks): where
+    // labels compete for room, the larger take it first; labels of one size
+    // in document order.
+    texts.sort_by(|a, b| b.1.font_size_mm.total_cmp(&a.1.font_size_mm));
     let mut unplaced = Vec::new();
     for (i, t) in texts {
         let own = room.figures.under(&d.elements[i]);

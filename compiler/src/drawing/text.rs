@@ -263,18 +263,23 @@ fn text(
         return Ok(None);
     };
     let anchor = anchor(node);
-    let (paint, font_size_mm) = walked.text_paint.get(&i).copied().unwrap_or((Paint::default(), 16.0 * s as f64));
+    let laid = walked.text_paint.get(&i).copied();
     // The font size in the text's user units, for lengths in `em` (usvg's
     // size, when it laid the text out, is in millimetres on the page).
     let scale = length_scale(ts);
-    let em = match walked.text_paint.get(&i) {
-        Some(_) if scale > 0.0 => font_size_mm / scale,
+    let em = match laid {
+        Some((_, size_mm)) if scale > 0.0 => size_mm / scale,
         // (No layout, for want of fonts: the sizes the XML sets, from the root down.)
         _ => {
             let chain: Vec<Node<'_, '_>> = node.ancestors().filter(|n| n.is_element()).collect();
             chain.iter().rev().fold(DEFAULT_EM, |em, &n| own_font_size(n, em).unwrap_or(em))
         }
     };
+    // Without a layout, the font size on the page is the XML's too.
+    let (paint, font_size_mm) = laid.unwrap_or_else(|| {
+        let size = em * scale;
+        (Paint::default(), if size.is_finite() && size > 0.0 { size } else { 16.0 * s as f64 })
+    });
     let (mut ux, mut uy) = (0.0f64, 0.0f64);
     let mut runs = Vec::new();
     // Text turned on its side (an axis's tick labels and title, turned 90°):
