@@ -260,6 +260,9 @@ pub enum Command {
         /// Also draw error against run time to this PNG.
         #[arg(long)]
         plot: Option<PathBuf>,
+        /// Measure the compiler's default setting alone, not the whole ladder (quicker).
+        #[arg(long)]
+        default_only: bool,
         /// Output format.
         #[arg(long, value_enum, default_value_t)]
         format: Format,

@@ -34,7 +34,9 @@ pub fn run(cli: Cli) -> CmdResult {
         Some(Command::Play { bundle, trace, out, elements }) => {
             play::run(&bundle, trace.as_deref(), out.as_deref(), elements.as_deref())
         }
-        Some(Command::Report { input, opts, plot, format }) => report::run(&input, &opts, plot.as_deref(), format),
+        Some(Command::Report { input, opts, plot, default_only, format }) => {
+            report::run(&input, &opts, plot.as_deref(), default_only, format)
+        }
         Some(Command::Load { bundles, device }) => load::run(&bundles, &device),
         Some(Command::Device(DeviceCommand::Serve { store, listen, capacity, profile })) => {
             device::serve(&store, &listen, capacity, profile.as_deref())

@@ -1,4 +1,4 @@
-//! `taxel report INPUT [--profile P] [--plot PNG] [--format human|json]`:
+//! `taxel report INPUT [--profile P] [--plot PNG] [--default-only] [--format human|json]`:
 //! error against run time over a ladder of settings (docs/report.md).
 
 use std::path::Path;
@@ -9,8 +9,14 @@ use crate::io::stdout::{self, outln};
 use crate::report::{self, Report, plot};
 
 /// Runs the report and prints it; writes the plot when asked.
-pub fn run(input: &Path, opts: &CompileOpts, plot_path: Option<&Path>, format: Format) -> CmdResult {
-    let rep = report::run(input, opts, None)?;
+pub fn run(
+    input: &Path,
+    opts: &CompileOpts,
+    plot_path: Option<&Path>,
+    default_only: bool,
+    format: Format,
+) -> CmdResult {
+    let rep = report::run(input, opts, None, default_only)?;
     if let Some(p) = plot_path {
         let title = format!(
             "{} on {}",

@@ -383,16 +383,21 @@ fn near_edge(regions: &[&exact::Region], p: (f64, f64)) -> bool {
     })
 }
 
-/// Runs the report for `input`. `trace` overrides the scene's own trace.
-pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>) -> Result<Report> {
+/// Runs the report for `input`. `trace` overrides the scene's own trace;
+/// `default_only` keeps the compiler's default setting alone.
+pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>, default_only: bool) -> Result<Report> {
     let default_px = taxel_compiler::DEFAULT_PX_PER_MM;
     // Each pitch as the resolution that gives it (5 / pitch px/mm).
-    let ladder: Vec<f32> = PITCH_LADDER.iter().map(|h| 5.0 / h).collect();
+    let ladder: Vec<f32> =
+        PITCH_LADDER.iter().map(|h| 5.0 / h).filter(|&px| !default_only || px == default_px).collect();
     // Compile once at the default for the reference (this also warms fonts and caches).
     let base = compile(input, opts, None)?.0;
     if base.manifest.profile.family() == Family::Grid {
         let mut rows = strokes::ladder(input, opts, &base)?;
         // Strokes play in time: a row's run time is its compile plus all its ticks.
+        if default_only {
+            rows.retain(|r| r.default);
+        }
         mark_front(&mut rows);
         return Ok(Report {
             input: input.display().to_string(),
@@ -406,6 +411,9 @@ pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>) -> Result<Rep
     if base.manifest.profile.family() == Family::Finger {
         let tr = load_trace(input, trace, &base)?;
         let (mut rows, notes) = mesh::ladder(input, opts, &base, &tr.trace)?;
+        if default_only {
+            rows.retain(|r| r.default);
+        }
         mark_front(&mut rows);
         return Ok(Report {
             input: input.display().to_string(),

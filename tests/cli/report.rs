@@ -99,9 +99,10 @@ fn the_default_meets_the_accuracy_targets_on_the_experiment_1_stimuli() {
     let root = env!("CARGO_MANIFEST_DIR");
     for (scene, kernel) in [("exp1-grating-2cm", "grating"), ("exp1-vibrate-3cm-a", "vibration")] {
         let input = format!("{root}/examples/stress2/{scene}.svg");
-        let (ok, out, err) = report(&[&input, "--format", "json"]);
+        let (ok, out, err) = report(&[&input, "--format", "json", "--default-only"]);
         assert!(ok, "{scene}: {err}");
         let rows = rows(&out);
+        assert!(rows.iter().all(|r| r["default"] == true), "{scene}: the default alone");
         let d = rows
             .iter()
             .find(|r| r["kernel"] == kernel && r["default"] == true)
