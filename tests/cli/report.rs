@@ -263,6 +263,13 @@ fn stroke_schedule_error_is_within_one_tick() {
         assert_eq!(r["error_unit"], "ms");
     }
     assert!(rows.iter().any(|r| r["default"] == true && f(r, "setting") == 1000.0));
+    // `--default-only`: that row alone, the same.
+    let (ok, out, err) = report(&[&input, "--profile", "brush-4x3", "--format", "json", "--default-only"]);
+    assert!(ok, "{err}");
+    let only = self::rows(&out);
+    assert_eq!(only.len(), 1, "{only:?}");
+    let default = rows.iter().find(|r| r["default"] == true).expect("a default row");
+    assert_eq!((&only[0]["setting"], &only[0]["max_error"]), (&default["setting"], &default["max_error"]));
 }
 
 /// A file that is not there, and a drawing with nothing tactile: exit 2 with a message, no table.
