@@ -488,7 +488,12 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
     let (full, none) = saturated_codes(soft, step);
     let zero = DISTANCE_ZERO as f64;
     let ramp = taxel_format::edge_ramp(soft as f32, step as f32) as f64;
-    let sat = planes::Saturation { hi: full as f64 - zero, lo: none as f64 - zero, near: (ramp / 2.0 + h) / step };
+    let sat = planes::Saturation {
+        hi: full as f64 - zero,
+        lo: none as f64 - zero,
+        near: (ramp / 2.0 + h) / step,
+        pin: (ramp / 2.0 + h / 2.0) / step + 1.0,
+    };
     // Each tile on its own (in parallel: a tile reads only the layer's
     // shared geometry, buckets and bits), then numbered in order, so that
     // the field is the same however the tiles were shared out.

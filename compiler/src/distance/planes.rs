@@ -34,19 +34,28 @@ pub(super) struct Saturation {
     pub lo: f64,
     /// Within this many codes of the edge a code must be within the
     /// tolerance even where saturated: the profile's half ramp plus one
-    /// lattice pitch, so that every point where the plane's profile is not
-    /// saturated lies within half a pitch of a checked point that pins it.
+    /// lattice pitch (the writer's orderings and junction tests use it too).
     pub near: f64,
+    /// Within this many codes of the edge, by the exact code or by the
+    /// played one, [`Saturation::close`] asks for the tolerance: the
+    /// profile's half ramp plus half a lattice pitch and one code, so that
+    /// every point where either profile is not saturated lies within half a
+    /// pitch of a checked point (a lattice point or a cell centre) that
+    /// pins both. Not [`Saturation::near`] by the exact code alone: the
+    /// layer's distance where parts combine (a grating less the band cut out
+    /// of it) is a bound, short of the true distance a plane plays, a pitch
+    /// from the edge (the experiment-5 icons' gratings were stored for it).
+    pub pin: f64,
 }
 
 impl Saturation {
     /// Whether the code `v` (unbiased) plays as the exact distance `e`
-    /// (codes, clamped to ±[`CAP`]): within [`TOLERANCE`], or, farther than
-    /// `near` from the edge, both saturated on the same side, where the
+    /// (codes, clamped to ±[`CAP`]): within [`TOLERANCE`], or, both farther
+    /// than `pin` from the edge, both saturated on the same side, where the
     /// amplitude is the same whatever the code.
     pub(super) fn close(&self, v: f64, e: f64) -> bool {
         (v - e).abs() <= TOLERANCE
-            || e.abs() > self.near && ((e >= self.hi && v >= self.hi) || (e <= self.lo && v <= self.lo))
+            || e.abs().min(v.abs()) > self.pin && ((e >= self.hi && v >= self.hi) || (e <= self.lo && v <= self.lo))
     }
 }
 
@@ -536,7 +545,7 @@ impl TileCtx<'_, '_> {
 mod tests {
     use super::*;
 
-    const SAT: Saturation = Saturation { hi: 1.0, lo: -1.0, near: 64.0 };
+    const SAT: Saturation = Saturation { hi: 1.0, lo: -1.0, near: 64.0, pin: 64.0 };
 
     fn samples(f: impl Fn(f64, f64) -> f64) -> [f64; TILE_SAMPLES] {
         std::array::from_fn(|t| f((t % TILE_SIDE) as f64, (t / TILE_SIDE) as f64).clamp(-CAP, CAP))

@@ -124,9 +124,13 @@ fn check(g: &LayerGeometry<'_>, p: FieldParams, points: &[(f64, f64)]) -> Result
                 if plane_tile_at(&f, h, pt) != Some(&e_tile) {
                     continue;
                 }
-                let near = ramp / 2.0 + h;
+                // The writer's rule (`Saturation::close`): within half a
+                // ramp, half a pitch and a step of the edge, by either
+                // distance, within half a step; beyond, saturated alike.
+                let pin = ramp / 2.0 + h / 2.0 + f.step_mm;
                 prop_assert!(
-                    (v - ex).abs() <= tol || ex.abs() > near - 1e-9 && ((ex >= hi && v >= hi) || (ex <= lo && v <= lo)),
+                    (v - ex).abs() <= tol
+                        || ex.abs().min(v.abs()) > pin - 1e-9 && ((ex >= hi && v >= hi) || (ex <= lo && v <= lo)),
                     "{pt:?}: plane tile, field {v}, exact {ex} (ramp {ramp})"
                 );
             }
