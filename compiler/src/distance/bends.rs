@@ -179,32 +179,42 @@ pub(super) fn bends(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES], ramp_mm: f
             .map(|&i| i as usize)
             .all(|i| bend.close((i % TILE_SIDE) as f64, (i / TILE_SIDE) as f64, exact[i], t.sat))
     };
-    // Each segment's line once (a segment is in up to two pairs that share
-    // an end), with the length of its record's gradient (either sign).
-    let lines: Vec<_> =
-        near.iter().map(|&(_, (a, b))| line(a, b).map(|(c, gx, gy)| (c, gx, gy, gradient_norm(gx, gy)))).collect();
-    for (i, &(_, (a1, b1))) in near.iter().enumerate() {
-        for (j, &(_, (a2, b2))) in near.iter().enumerate().skip(i + 1) {
-            // Whether they share an end first: most pairs do not.
-            let shares = [a1, b1].iter().any(|p| [a2, b2].iter().any(|q| p.0 == q.0 && p.1 == q.1));
-            if !shares {
-                continue;
-            }
-            let (Some(l1), Some(l2)) = (lines[i], lines[j]) else { continue };
-            let norms = (l1.3, l2.3);
-            for (s1, s2) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
-                let rec = |(c, gx, gy, _): (f64, f64, f64, f64), s: f64| {
-                    record(DISTANCE_ZERO as f64 + s * c, s * gx, s * gy, 0.0)
-                };
-                let (Some(r1), Some(r2)) = (rec(l1, s1), rec(l2, s2)) else { continue };
-                for kind in [TILE_CORNER, TILE_NOTCH] {
-                    let bend = Bend::with_norms(kind, [r1, r2], k, ramp_mm / 2.0, t.h, norms);
-                    if let Some(bend) = bend.filter(|b| plays(b)) {
-                        out.push(bend);
+    // Pairs of segments that share an end, as two lines less `off` codes:
+    // a fill's own edges (`off` 0), or a cut band's centre lines less its
+    // half width, whose offsets are the inner edges of a grating less the
+    // vibrating outline cut out of it (an icon's inner corners).
+    let mut pairs = |near: &[(f64, super::Seg)], off: f64| {
+        // Each segment's line once (a segment is in up to two pairs that
+        // share an end), with the length of its record's gradient (either sign).
+        let lines: Vec<_> =
+            near.iter().map(|&(_, (a, b))| line(a, b).map(|(c, gx, gy)| (c, gx, gy, gradient_norm(gx, gy)))).collect();
+        for (i, &(_, (a1, b1))) in near.iter().enumerate() {
+            for (j, &(_, (a2, b2))) in near.iter().enumerate().skip(i + 1) {
+                // Whether they share an end first: most pairs do not.
+                let shares = [a1, b1].iter().any(|p| [a2, b2].iter().any(|q| p.0 == q.0 && p.1 == q.1));
+                if !shares {
+                    continue;
+                }
+                let (Some(l1), Some(l2)) = (lines[i], lines[j]) else { continue };
+                let norms = (l1.3, l2.3);
+                for (s1, s2) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
+                    let rec = |(c, gx, gy, _): (f64, f64, f64, f64), s: f64| {
+                        record(DISTANCE_ZERO as f64 + s * c - off, s * gx, s * gy, 0.0)
+                    };
+                    let (Some(r1), Some(r2)) = (rec(l1, s1), rec(l2, s2)) else { continue };
+                    for kind in [TILE_CORNER, TILE_NOTCH] {
+                        let bend = Bend::with_norms(kind, [r1, r2], k, ramp_mm / 2.0, t.h, norms);
+                        if let Some(bend) = bend.filter(|b| plays(b)) {
+                            out.push(bend);
+                        }
                     }
                 }
             }
         }
+    };
+    pairs(&near, 0.0);
+    for (kc, w) in super::junctions::cut_widths(t).into_iter().enumerate() {
+        pairs(&t.nearest(Part::Cut(kc), MAX_SEGMENTS), w / 2.0 / t.step);
     }
     out
 }

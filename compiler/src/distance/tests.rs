@@ -1058,3 +1058,30 @@ fn a_thin_wedge_between_a_lake_and_a_river_is_kept_by_fine_tiles() {
     }
     assert!(checked > 30_000 && wedge > 200, "{checked} points, {wedge} in the wedges");
 }
+
+/// An icon as experiment 5 draws it: a grated right triangle less its
+/// vibrating outline cut out of it. The grating's edge is the outline's
+/// inner offset; near an acute corner both offsets cross one tile, a wedge
+/// that a corner tile of two cut lines plays (each segment's line less the
+/// cut's half width), exactly, and the field matches the exact geometry
+/// everywhere.
+#[test]
+fn a_grating_s_wedge_inside_a_cut_outline_is_a_corner_tile() {
+    let tri = [Polyline { points: vec![(5.0, 3.0), (27.0, 25.0), (5.0, 25.0)], closed: true }];
+    let g = LayerGeometry { fills: vec![(&tri, FillRule::NonZero)], cuts: vec![(&tri, 1.5)], ..Default::default() };
+    let p = params(0.5, 0.0);
+    check(&g, p, &grid_points(0.173)).expect("field within bounds");
+    let f = build_field(&g, p).expect("a field");
+    // Below the top acute corner, the wedge between the offsets of the leg
+    // x = 5 and the hypotenuse y = x - 2 (both 0.75 mm in) crosses the tile
+    // from (4, 6) to (8, 10).
+    let q = (5.75, 8.0);
+    let (tx, ty) = (((q.0 - f.origin.0) / 0.5) as usize / TILE_CELLS, ((q.1 - f.origin.1) / 0.5) as usize / TILE_CELLS);
+    let e = f.tiles.get(ty * f.tile_cols as usize + tx).copied().unwrap_or(TILE_OUTSIDE);
+    assert!(
+        matches!(taxel_format::TileEntry::of(e), taxel_format::TileEntry::Corner(_)),
+        "{:?}",
+        taxel_format::TileEntry::of(e)
+    );
+    assert_amplitude_exact_round(&g, p, &f, q);
+}
