@@ -170,7 +170,13 @@ fn cell_of(b: &Bundle) -> Option<f64> {
 
 /// The height-field ladder of a mesh scene: per setting a `height` row (mm)
 /// and a `gradient` row (degrees of slope).
-pub fn ladder(input: &Path, opts: &CompileOpts, base: &Bundle, trace: &Trace) -> Result<(Vec<Row>, Vec<String>)> {
+pub fn ladder(
+    input: &Path,
+    opts: &CompileOpts,
+    base: &Bundle,
+    trace: &Trace,
+    default_only: bool,
+) -> Result<(Vec<Row>, Vec<String>)> {
     let profile = base.manifest.profile;
     let exact = MeshRef::read_with(input, &crate::compile::mesh_options(opts, &profile))?;
     let default = cell_of(base).map(|c| 1.0 / c);
@@ -180,6 +186,10 @@ pub fn ladder(input: &Path, opts: &CompileOpts, base: &Bundle, trace: &Trace) ->
         settings.retain(|s| (s.1 - d).abs() > 1e-9 * d);
         settings.push((None, d));
         settings.sort_by(|a, b| a.1.total_cmp(&b.1));
+    }
+    if default_only {
+        // The compiler's own choice alone (no rung when it has none).
+        settings.retain(|s| s.0.is_none());
     }
     let mut rows = Vec::new();
     let mut notes = Vec::new();

@@ -393,11 +393,8 @@ pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>, default_only:
     // Compile once at the default for the reference (this also warms fonts and caches).
     let base = compile(input, opts, None)?.0;
     if base.manifest.profile.family() == Family::Grid {
-        let mut rows = strokes::ladder(input, opts, &base)?;
+        let mut rows = strokes::ladder(input, opts, &base, default_only)?;
         // Strokes play in time: a row's run time is its compile plus all its ticks.
-        if default_only {
-            rows.retain(|r| r.default);
-        }
         mark_front(&mut rows);
         return Ok(Report {
             input: input.display().to_string(),
@@ -410,10 +407,7 @@ pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>, default_only:
     }
     if base.manifest.profile.family() == Family::Finger {
         let tr = load_trace(input, trace, &base)?;
-        let (mut rows, notes) = mesh::ladder(input, opts, &base, &tr.trace)?;
-        if default_only {
-            rows.retain(|r| r.default);
-        }
+        let (mut rows, notes) = mesh::ladder(input, opts, &base, &tr.trace, default_only)?;
         mark_front(&mut rows);
         return Ok(Report {
             input: input.display().to_string(),

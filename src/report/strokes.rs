@@ -97,7 +97,7 @@ pub const RATE_LADDER: [u32; 5] = [250, 500, 1000, 2000, 4000];
 
 /// The tick-rate ladder of a grid scene: one `strokes` row per rate, the
 /// error being the schedule's largest onset or duration error in ms.
-pub fn ladder(input: &Path, opts: &CompileOpts, base: &Bundle) -> Result<Vec<super::Row>> {
+pub fn ladder(input: &Path, opts: &CompileOpts, base: &Bundle, default_only: bool) -> Result<Vec<super::Row>> {
     use std::time::Instant;
     use taxel_format::{BundleView, Tick};
     use taxel_runtime::grid::{ActuatorDrive, GridPlayer};
@@ -108,6 +108,9 @@ pub fn ladder(input: &Path, opts: &CompileOpts, base: &Bundle) -> Result<Vec<sup
     if !rates.contains(&default_rate) {
         rates.push(default_rate);
         rates.sort_unstable();
+    }
+    if default_only {
+        rates.retain(|&r| r == default_rate);
     }
     let options = crate::compile::compile_options(opts)?.map_err(|d| anyhow!("{}", d.message))?;
     let mut rows = Vec::new();
