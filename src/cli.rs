@@ -281,6 +281,26 @@ pub enum Command {
     Device(DeviceCommand),
     /// List the built-in device profiles.
     Profiles,
+    /// Install or remove the Inkscape extension (Extensions > Tactile: style, check, preview, export).
+    #[command(subcommand)]
+    Inkscape(InkscapeCommand),
+}
+
+/// `taxel inkscape ...`
+#[derive(Debug, Subcommand)]
+pub enum InkscapeCommand {
+    /// Copy the extension into Inkscape's user extensions folder (a `taxel` folder inside it).
+    Install {
+        /// The extensions folder (default: Inkscape's user extensions folder for this system).
+        #[arg(long, value_name = "DIR")]
+        dir: Option<PathBuf>,
+    },
+    /// Remove the extension's files from that folder (and nothing else).
+    Uninstall {
+        /// The extensions folder (default: Inkscape's user extensions folder for this system).
+        #[arg(long, value_name = "DIR")]
+        dir: Option<PathBuf>,
+    },
 }
 
 /// `taxel device ...`

@@ -1,12 +1,13 @@
 //! One module per command; `run` dispatches.
 
-use crate::cli::{Cli, Command, DeviceCommand};
+use crate::cli::{Cli, Command, DeviceCommand, InkscapeCommand};
 use crate::error::{CliError, CmdResult};
 
 mod build;
 mod check;
 mod device;
 mod export;
+mod inkscape;
 mod inspect;
 mod load;
 mod pack;
@@ -44,6 +45,8 @@ pub fn run(cli: Cli) -> CmdResult {
         Some(Command::Device(DeviceCommand::Ls { device })) => device::ls(&device),
         Some(Command::Device(DeviceCommand::Rm { name, device })) => device::rm(&name, &device),
         Some(Command::Profiles) => profiles::run(),
+        Some(Command::Inkscape(InkscapeCommand::Install { dir })) => inkscape::install(dir.as_deref()),
+        Some(Command::Inkscape(InkscapeCommand::Uninstall { dir })) => inkscape::uninstall(dir.as_deref()),
     }
 }
 
