@@ -27,6 +27,8 @@ import taxel_ink as tk  # noqa: E402
 STYLE_SUMMARY = "T0330"
 # How many places a group names before "and N more", as the command line.
 NAMED = 3
+# Longest list of a group's different messages written out, as the command line.
+LISTED_CHARS = 160
 SEVERITIES = ("error", "warning", "note")
 
 
@@ -47,13 +49,11 @@ def group(diagnostics):
 
 
 def place(d):
-    """Where one diagnostic is: `#id (line N)`."""
-    element, line = d.get("element"), d.get("line")
-    if element and line:
-        return f"#{element} (line {line})"
-    if element:
-        return f"#{element}"
-    return f"line {line}" if line else ""
+    """Which element one diagnostic is about: `#id`. Line numbers are left
+    out: they count lines of the copy taxel read, not of anything the
+    teacher sees."""
+    element = d.get("element")
+    return f"#{element}" if element else ""
 
 
 def describe_group(number, diags):
@@ -66,15 +66,18 @@ def describe_group(number, diags):
         if p and p not in places:
             places.append(p)
     at = ", ".join(places[:NAMED]) + (f" and {len(places) - NAMED} more" if len(places) > NAMED else "")
-    messages = list(dict.fromkeys(d["message"] for d in diags))
-    if len(diags) == 1:
+    counts = {}
+    for d in diags:
+        counts[d["message"]] = counts.get(d["message"], 0) + 1
+    listed = " | ".join(f"{m} (x{c})" for m, c in counts.items())
+    if len(diags) > 1:
+        head += f" x{len(diags)}"
+    if len(counts) == 1:
         text = first["message"]
-    elif len(messages) == 1:
-        head += f" x{len(diags)}"
-        text = messages[0]
+    elif len(counts) <= NAMED and len(listed) <= LISTED_CHARS:
+        text = listed
     else:
-        head += f" x{len(diags)}"
-        text = f"{first['message']} (the first of {len(messages)} different messages)"
+        text = f"{first['message']} (the first of {len(counts)} different messages)"
     lines = [f"{head}: {text}" + (f" (at {at})" if at else "")]
     if first.get("help"):
         lines.append(f"   help: {first['help']}")
@@ -152,8 +155,10 @@ class TactileCheck(inkex.EffectExtension):
                 lines.append(
                     f"\nDiagnostic {picked} is about {names}{more}: framed in red on the layer "
                     "\"taxel check\" (Edit > Find selects an element by its id). Pick another "
-                    "with \"Show the elements of diagnostic number\"."
+                    "with \"Frame the elements of diagnostic number\"."
                 )
+            else:
+                lines.append(f"\nDiagnostic {picked} names no element of the drawing.")
         if not marked:
             for old in tk.own_layers(self.svg, "check"):
                 old.getparent().remove(old)
@@ -177,7 +182,8 @@ class TactileCheck(inkex.EffectExtension):
             if box is None:
                 continue
             pad = 2 * stroke
-            rect = inkex.Rectangle.new(box.left - pad, box.top - pad, box.width + 2 * pad, box.height + 2 * pad)
+            edges = (box.left - pad, box.top - pad, box.width + 2 * pad, box.height + 2 * pad)
+            rect = inkex.Rectangle.new(*(round(v, 3) for v in edges))
             rect.style = inkex.Style(
                 {"fill": "none", "stroke": "#e00000", "stroke-width": number(stroke), "stroke-dasharray": number(3 * stroke)}
             )

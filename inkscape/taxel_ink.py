@@ -16,6 +16,7 @@ import subprocess
 import sys
 import tempfile
 from collections import namedtuple
+from copy import deepcopy
 
 import inkex
 
@@ -321,10 +322,7 @@ def write_document(document, folder, drop_own):
     element's path (`svg/g[2]/path[1]`) as in the document, so Check's
     diagnostics name the teacher's elements.
     """
-    copy = document.__copy__() if hasattr(document, "__copy__") else None
-    if copy is None:
-        from copy import deepcopy
-        copy = deepcopy(document)
+    copy = deepcopy(document)
     root = copy.getroot()
     for layer in own_layers(root):
         if drop_own:
