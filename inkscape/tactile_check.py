@@ -89,9 +89,10 @@ _STEP = re.compile(r"^([A-Za-z_][\w.-]*)\[(\d+)\]$")
 
 def resolve(svg, name):
     """The element a diagnostic names: its id, or a path such as
-    `svg/g[2]/path[1]` or `layer1/path[0]` (the parent's name, then the
-    element's tag and how many earlier siblings have that tag), as the
-    compiler names elements without an id. None when nothing matches."""
+    `svg/g[2]/path[1]` or `layer1/path[3]` (the parent's name, then the
+    element's tag and its rank, from 1, among its siblings of that tag),
+    as the compiler names elements without an id. None when nothing
+    matches."""
     if not name:
         return None
     found = svg.getElementById(name)
@@ -107,7 +108,7 @@ def resolve(svg, name):
         for step in steps if node is not None else []:
             tag, nth = _STEP.match(step).groups()
             same = [c for c in node if isinstance(c.tag, str) and c.TAG == tag]
-            node = same[int(nth)] if int(nth) < len(same) else None
+            node = same[int(nth) - 1] if 1 <= int(nth) <= len(same) else None
             if node is None:
                 break
         if node is not None:
