@@ -116,7 +116,7 @@ def resolve(svg, name):
     return None
 
 
-class TactileCheck(inkex.EffectExtension):
+class Check(inkex.EffectExtension):
     """Extensions > Tactile > Check."""
 
     def add_arguments(self, pars):
@@ -211,4 +211,4 @@ def number(value):
 
 
 if __name__ == "__main__":
-    TactileCheck().run()
+    Check().run()

@@ -19,20 +19,20 @@ import taxel_ink as tk  # noqa: E402
 FORMATS = {"bundle": ".taxel", "dtms": ".dtms", "graphiti": ".bin", "unicode": ".txt"}
 
 
-class TactileExport(inkex.EffectExtension):
+class Export(inkex.EffectExtension):
     """Extensions > Tactile > Export."""
 
     def add_arguments(self, pars):
         tk.add_compile_args(pars)
         pars.add_argument("--format", default="bundle")
-        pars.add_argument("--output", default="")
+        pars.add_argument("--out_file", default="")
 
     def output_path(self):
         """The file to write: the dialog's, else beside the drawing with the format's extension."""
         fmt = self.options.format
         if fmt not in FORMATS:
             raise inkex.AbortExtension(f"unknown format {fmt!r}: expected one of {', '.join(FORMATS)}")
-        chosen = (self.options.output or "").strip()
+        chosen = (self.options.out_file or "").strip()
         if chosen:
             return os.path.abspath(os.path.expanduser(chosen))
         doc = self.document_path()
@@ -73,4 +73,4 @@ class TactileExport(inkex.EffectExtension):
 
 
 if __name__ == "__main__":
-    TactileExport().run()
+    Export().run()

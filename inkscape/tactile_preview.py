@@ -32,7 +32,7 @@ def png_size(data):
     return (width, height) if width and height else None
 
 
-class TactilePreview(inkex.EffectExtension):
+class Preview(inkex.EffectExtension):
     """Extensions > Tactile > Preview."""
 
     def add_arguments(self, pars):
@@ -68,4 +68,4 @@ class TactilePreview(inkex.EffectExtension):
 
 
 if __name__ == "__main__":
-    TactilePreview().run()
+    Preview().run()

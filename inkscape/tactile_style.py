@@ -16,7 +16,7 @@ import inkex  # noqa: E402
 import taxel_ink as tk  # noqa: E402
 
 
-class TactileStyle(inkex.EffectExtension):
+class Style(inkex.EffectExtension):
     """Extensions > Tactile > Style selection."""
 
     def add_arguments(self, pars):
@@ -117,4 +117,4 @@ class TactileStyle(inkex.EffectExtension):
 
 
 if __name__ == "__main__":
-    TactileStyle().run()
+    Style().run()

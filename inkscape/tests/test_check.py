@@ -8,8 +8,8 @@ import re
 
 import taxel_ink as tk
 from helpers import EffectCase, check_json, taxel
-from tactile_check import TactileCheck, group, resolve
-from tactile_preview import TactilePreview
+from tactile_check import Check, group, resolve
+from tactile_preview import Preview
 
 
 def frames(doc):
@@ -20,7 +20,7 @@ def frames(doc):
 class CheckEffect(EffectCase):
     def test_groups_are_the_command_line_s_and_the_first_is_framed(self):
         path = self.data_file("faulty.svg")
-        doc, said, effect = self.run_effect(TactileCheck, path)
+        doc, said, effect = self.run_effect(Check, path)
         # The command line's own account, without -v: one line per group.
         code, out, _ = taxel("check", path)
         cli = [l for l in out.splitlines() if "[T" in l]
@@ -43,7 +43,7 @@ class CheckEffect(EffectCase):
         groups = group(diags)
         # The first group naming several elements.
         n, chosen = next((i, g) for i, g in enumerate(groups, 1) if len({d.get("element") for d in g}) > 1)
-        doc, said, effect = self.run_effect(TactileCheck, path, f"--group={n}")
+        doc, said, effect = self.run_effect(Check, path, f"--group={n}")
         named = {d["element"] for d in chosen if d.get("element")}
         selected = list(effect.svg.selection.values())
         # Elements without an id are selected too, through their path, and get no id.
@@ -53,7 +53,7 @@ class CheckEffect(EffectCase):
         self.assertIn(f"Diagnostic {n} is about", said)
 
     def test_an_element_without_id_is_found_by_the_compiler_s_path(self):
-        doc, said, effect = self.run_effect(TactileCheck, self.data_file("faulty.svg"), "--group=1")
+        doc, said, effect = self.run_effect(Check, self.data_file("faulty.svg"), "--group=1")
         svg = effect.svg
         # Every element the compiler names resolves, and to one whose own name is that one.
         _, diags = check_json(self.data_file("faulty.svg"))
@@ -68,30 +68,30 @@ class CheckEffect(EffectCase):
         self.assertIsNone(resolve(svg, "parts/path[7]"))
 
     def test_a_group_naming_no_element_takes_the_old_frames_away(self):
-        doc, said, _ = self.run_effect(TactileCheck, self.data_file("faulty.svg"))
+        doc, said, _ = self.run_effect(Check, self.data_file("faulty.svg"))
         self.assertEqual(len(tk.own_layers(doc, "check")), 1)
         # The badge's annotation fixed; then a group about no element (the page size) is picked.
         doc.getElementById("badge").set("data-tactile", "vibrate()")
         fixed = self.write(doc, "fixed.svg")
         _, diags = check_json(fixed)
         n = next(i for i, g in enumerate(group(diags), 1) if not any(d.get("element") for d in g))
-        doc, said, _ = self.run_effect(TactileCheck, fixed, f"--group={n}")
+        doc, said, _ = self.run_effect(Check, fixed, f"--group={n}")
         self.assertIn("taxel check: ok, 0 error(s)", said)
         self.assertIn(f"Diagnostic {n} names no element", said)
         self.assertEqual(tk.own_layers(doc, "check"), [])
 
     def test_the_preview_layer_adds_no_diagnostic(self):
         path = self.data_file("map.svg")
-        _, before, _ = self.run_effect(TactileCheck, path)
-        doc, _, _ = self.run_effect(TactilePreview, path)
-        _, after, _ = self.run_effect(TactileCheck, self.write(doc))
+        _, before, _ = self.run_effect(Check, path)
+        doc, _, _ = self.run_effect(Preview, path)
+        _, after, _ = self.run_effect(Check, self.write(doc))
         self.assertEqual(before, after)
 
     def test_missing_taxel_says_what_to_do(self):
         saved = os.environ["TAXEL"]
         os.environ["TAXEL"] = os.path.join(self.tempdir, "no-such-taxel")
         try:
-            doc, said, _ = self.run_effect(TactileCheck, self.data_file("map.svg"))
+            doc, said, _ = self.run_effect(Check, self.data_file("map.svg"))
         finally:
             os.environ["TAXEL"] = saved
         self.assertIsNone(doc)
@@ -99,5 +99,5 @@ class CheckEffect(EffectCase):
         self.assertIn("What to do", said)
         self.assertIn("[exit", said)
         # The dialog's field wins over the environment.
-        doc, said, _ = self.run_effect(TactileCheck, self.data_file("map.svg"), "--taxel=/nowhere/taxel")
+        doc, said, _ = self.run_effect(Check, self.data_file("map.svg"), "--taxel=/nowhere/taxel")
         self.assertIn("/nowhere/taxel (from the dialog's \"taxel program\" field)", said)

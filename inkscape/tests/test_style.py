@@ -8,7 +8,7 @@ from inkex.tester import ComparisonMixin, TestCase
 
 import taxel_ink as tk
 from helpers import EffectCase, check_json, taxel
-from tactile_style import TactileStyle
+from tactile_style import Style
 
 MAP = "map.svg"
 
@@ -17,7 +17,7 @@ class StyleComparisons(ComparisonMixin, TestCase):
     """The documents written for a few dialogs, reviewed once and kept
     (data/refs; EXPORT_COMPARE=1 writes new ones to review)."""
 
-    effect_class = TactileStyle
+    effect_class = Style
     compare_file = "map.svg"
     comparisons = [
         ("--id=lake", "--id=forest", "--tab=grating", "--grating_wavelength=6", "--grating_angle=45"),
@@ -33,7 +33,7 @@ class StyleEffect(EffectCase):
     """Each tab's annotation, as taxel reads it."""
 
     def styled(self, *args):
-        doc, said, _ = self.run_effect(TactileStyle, self.data_file(MAP), *args)
+        doc, said, _ = self.run_effect(Style, self.data_file(MAP), *args)
         self.assertIsNotNone(doc, said)
         return doc, said
 
@@ -68,7 +68,7 @@ class StyleEffect(EffectCase):
     def test_the_dialog_s_numbers_reach_the_bundle(self):
         doc, _ = self.styled("--id=lake", "--tab=vibrate", "--vibrate_width=2.5", "--vibrate_freq=80",
                              "--vibrate_amplitude=60", "--vibrate_soft=0.3")
-        doc, _, _ = self.run_effect(TactileStyle, self.write(doc, "v.svg"), "--id=lake", "--tab=grating",
+        doc, _, _ = self.run_effect(Style, self.write(doc, "v.svg"), "--id=lake", "--tab=grating",
                                     "--combine=add", "--grating_wavelength=6", "--grating_angle=135")
         bundle = f"{self.tempdir}/lake.taxel"
         code, out, err = taxel("build", self.write(doc), "-o", bundle)
@@ -131,41 +131,41 @@ class StyleEffect(EffectCase):
     def test_add_keeps_the_other_kinds_and_replaces_the_same_kind(self):
         doc, _ = self.styled("--id=lake", "--tab=vibrate")
         first = self.write(doc, "a.svg")
-        doc, _, _ = self.run_effect(TactileStyle, first, "--id=lake", "--tab=grating", "--combine=add",
+        doc, _, _ = self.run_effect(Style, first, "--id=lake", "--tab=grating", "--combine=add",
                                     "--grating_wavelength=6", "--grating_angle=0")
         self.assertEqual(doc.getElementById("lake").get("data-tactile"),
                          "vibrate(width: 1.5mm); grating(wavelength: 6mm, angle: 0deg)")
-        doc, _, _ = self.run_effect(TactileStyle, self.write(doc, "b.svg"), "--id=lake", "--tab=grating",
+        doc, _, _ = self.run_effect(Style, self.write(doc, "b.svg"), "--id=lake", "--tab=grating",
                                     "--combine=add", "--grating_wavelength=9")
         self.assertEqual(doc.getElementById("lake").get("data-tactile"),
                          "vibrate(width: 1.5mm); grating(wavelength: 9mm, angle: 90deg)")
-        doc, _, _ = self.run_effect(TactileStyle, self.write(doc, "c.svg"), "--id=lake", "--tab=dot")
+        doc, _, _ = self.run_effect(Style, self.write(doc, "c.svg"), "--id=lake", "--tab=dot")
         self.assertEqual(doc.getElementById("lake").get("data-tactile"), "dot(radius: 1mm)")
 
     def test_clear_takes_the_style_off(self):
         doc, _ = self.styled("--tab=vibrate")  # the current layer, "Roads"
-        doc, _, _ = self.run_effect(TactileStyle, self.write(doc), "--tab=clear")
+        doc, _, _ = self.run_effect(Style, self.write(doc), "--tab=clear")
         self.assertEqual(doc.getElementById("roads").get(tk.INKSCAPE_LABEL), "roads")
         doc, _ = self.styled("--id=lake", "--tab=grating")
-        doc, _, _ = self.run_effect(TactileStyle, self.write(doc), "--id=lake", "--tab=clear")
+        doc, _, _ = self.run_effect(Style, self.write(doc), "--id=lake", "--tab=clear")
         self.assertIsNone(doc.getElementById("lake").get("data-tactile"))
 
     def test_what_is_there_reads_back_every_setting_and_changes_nothing(self):
         doc, _ = self.styled("--id=lake", "--tab=grating", "--grating_wavelength=6", "--grating_angle=135",
                              "--grating_amplitude=70")
         path = self.write(doc)
-        doc, said, _ = self.run_effect(TactileStyle, path, "--id=lake", "--id=forest", "--id=road", "--tab=current")
+        doc, said, _ = self.run_effect(Style, path, "--id=lake", "--id=forest", "--id=road", "--tab=current")
         self.assertIsNone(doc, "the document is unchanged")
         self.assertIn("#lake: its data-tactile:\n    grating: wavelength 6 mm, angle 135 deg, amplitude 70 %, soft 0 mm",
                       said)
         self.assertIn("#forest: no tactile style", said)
         doc, _ = self.styled("--tab=dots", "--dots_spacing=4")
-        doc, said, _ = self.run_effect(TactileStyle, self.write(doc, "l.svg"), "--id=road", "--tab=current")
+        doc, said, _ = self.run_effect(Style, self.write(doc, "l.svg"), "--id=road", "--tab=current")
         self.assertIn("#road: inherits from #roads (tactile: dots(radius: 1mm, spacing: 4mm)):\n"
                       "    dots: radius 1 mm, spacing 4 mm, amplitude 100 %", said)
 
     def test_nothing_to_style_says_what_to_do(self):
-        doc, said, _ = self.run_effect(TactileStyle, self.data_file("plain.svg"), "--tab=vibrate")
+        doc, said, _ = self.run_effect(Style, self.data_file("plain.svg"), "--tab=vibrate")
         self.assertIsNone(doc)
         self.assertIn("select the shapes", said)
 
