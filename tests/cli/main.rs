@@ -7,6 +7,7 @@ mod device;
 mod examples;
 mod finger;
 mod format;
+mod inkscape;
 mod lookup;
 mod outputs;
 mod pins;
