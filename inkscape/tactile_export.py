@@ -53,23 +53,18 @@ class Export(inkex.EffectExtension):
             code, stdout, stderr = tk.run_taxel(
                 exe, ["build", path, "-o", bundle, "--force"] + tk.compile_args(self.options)
             )
-            said += self.lines(stdout + stderr, path)
+            said += tk.for_teacher(stdout + stderr, path)
             if code != 0 or not os.path.isfile(bundle):
                 raise inkex.AbortExtension(f"taxel build wrote nothing (exit {code}):\n" + "\n".join(said))
             if self.options.format != "bundle":
                 code, stdout, stderr = tk.run_taxel(
                     exe, ["export", bundle, "--format", self.options.format, "-o", out]
                 )
-                said += self.lines(stdout + stderr, path)
+                said += tk.for_teacher(stdout + stderr, bundle)
                 if code != 0:
                     raise inkex.AbortExtension(f"taxel export wrote nothing (exit {code}):\n" + "\n".join(said))
         self.msg("\n".join(said + [f"Written: {out} ({os.path.getsize(out)} bytes)"]))
         return False
-
-    @staticmethod
-    def lines(text, temp_path):
-        """taxel's output for the teacher: the temporary file named as "the drawing"."""
-        return [l.replace(temp_path, "the drawing") for l in text.splitlines() if l.strip()]
 
 
 if __name__ == "__main__":

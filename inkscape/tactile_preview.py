@@ -48,7 +48,7 @@ class Preview(inkex.EffectExtension):
             if os.path.isfile(png):
                 with open(png, "rb") as f:
                     data = f.read()
-        said = [l for l in (err + out).splitlines() if l.strip() and not l.startswith("wrote ")]
+        said = tk.for_teacher(err + out, path)
         size = png_size(data)
         if code != 0 or size is None:
             raise inkex.AbortExtension(f"taxel preview made no picture (exit {code}):\n" + "\n".join(said))

@@ -273,6 +273,19 @@ def run_taxel(exe, args):
     return done.returncode, done.stdout, done.stderr
 
 
+def for_teacher(text, temp_path):
+    """taxel's account of the temporary copy, as the teacher reads it: the
+    copy named "the drawing", without its line numbers (they count lines
+    of the copy, not of anything the teacher sees)."""
+    lines = []
+    for line in text.splitlines():
+        if not line.strip() or line.startswith("wrote "):
+            continue
+        line = re.sub(re.escape(temp_path) + r"(:\d+)*", "the drawing", line)
+        lines.append(re.sub(r" \(line \d+\)", "", line))
+    return lines
+
+
 # --- compile options shared by Check, Preview and Export ---------------------
 
 def add_compile_args(pars):
