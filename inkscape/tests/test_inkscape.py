@@ -68,8 +68,11 @@ class InkscapeRunsTheExtension(TestCase):
         command = [INKSCAPE, "-g", "--batch-process", f"--actions={actions}", drawing]
         if XVFB and not os.environ.get("DISPLAY"):
             command = [XVFB, "-a"] + command
-        # A guard against a dialog left open (an error from the script): Inkscape would wait for a click.
-        done = subprocess.run(command, env=env, capture_output=True, text=True, timeout=180)
+        try:
+            done = subprocess.run(command, env=env, capture_output=True, text=True, timeout=180)
+        except subprocess.TimeoutExpired as late:
+            # Inkscape waits for a click on a dialog it opened: a script's error message.
+            self.fail(f"Inkscape did not finish within {late.timeout} s (a message dialog left open?)")
         self.assertTrue(os.path.isfile(out), done.stderr[-2000:])
 
         code, diags = check_json(out)
