@@ -30,12 +30,15 @@ class Style(inkex.EffectExtension):
         pars.add_argument("--brush_start_fixed", type=inkex.Boolean, default=False)
 
     def targets(self):
-        """The selected elements, else the current layer."""
-        chosen = list(self.svg.selection.values())
+        """The selected elements, else the current layer; never the
+        extension's own layers (the preview, the check's frames)."""
+        own = tk.own_layers(self.svg)
+        mine = lambda e: any(e is layer or layer in e.iterancestors() for layer in own)
+        chosen = [e for e in self.svg.selection.values() if not mine(e)]
         if chosen:
             return chosen
         layer = self.svg.get_current_layer()
-        if layer is not None and tk.is_layer(layer):
+        if layer is not None and tk.is_layer(layer) and not mine(layer):
             return [layer]
         raise inkex.AbortExtension(
             "Nothing to style: select the shapes, lines or texts to style (or a layer), then run this again."

@@ -8,6 +8,7 @@ from inkex.tester import ComparisonMixin, TestCase
 
 import taxel_ink as tk
 from helpers import EffectCase, check_json, taxel
+from tactile_preview import Preview
 from tactile_style import Style
 
 MAP = "map.svg"
@@ -168,6 +169,18 @@ class StyleEffect(EffectCase):
         doc, said, _ = self.run_effect(Style, self.data_file("plain.svg"), "--tab=vibrate")
         self.assertIsNone(doc)
         self.assertIn("select the shapes", said)
+
+    def test_the_extension_s_own_layers_are_never_styled(self):
+        doc, _, _ = self.run_effect(Preview, self.data_file(MAP))
+        (layer,) = tk.own_layers(doc, "preview")
+        image = layer[0]
+        # The preview layer current (the teacher clicked it), its picture selected.
+        doc.getElement("//sodipodi:namedview").set("inkscape:current-layer", layer.get("id"))
+        path = self.write(doc)
+        for args in ([], [f"--id={image.get('id')}"]):
+            out, said, _ = self.run_effect(Style, path, "--tab=vibrate", *args)
+            self.assertIsNone(out, said)
+            self.assertIn("Nothing to style", said)
 
 
 class ReadingBack(TestCase):
