@@ -43,24 +43,26 @@ const FILES: &[(&str, &str)] = &[
 /// `~/.config/inkscape/extensions`.
 fn default_dir() -> Result<PathBuf, CliError> {
     let var = |name: &str| std::env::var_os(name).filter(|v| !v.is_empty()).map(PathBuf::from);
-    let missing = |what: &str| {
+    let missing = |why: &str| {
         CliError::trouble(anyhow::anyhow!(
-            "cannot find the Inkscape extensions folder: {what} is not set; give it with --dir \
+            "cannot find the Inkscape extensions folder: {why}; give it with --dir \
              (Inkscape shows it under Edit > Preferences > System > User extensions)"
         ))
     };
     if cfg!(windows) {
-        return var("APPDATA").map(|a| a.join("inkscape").join("extensions")).ok_or_else(|| missing("APPDATA"));
+        return var("APPDATA")
+            .map(|a| a.join("inkscape").join("extensions"))
+            .ok_or_else(|| missing("APPDATA is not set"));
     }
     let home = var("HOME");
     if cfg!(target_os = "macos") {
-        let home = home.ok_or_else(|| missing("HOME"))?;
+        let home = home.ok_or_else(|| missing("HOME is not set"))?;
         return Ok(home.join("Library/Application Support/org.inkscape.Inkscape/config/inkscape/extensions"));
     }
     match (var("XDG_CONFIG_HOME"), home) {
         (Some(config), _) => Ok(config.join("inkscape").join("extensions")),
         (None, Some(home)) => Ok(home.join(".config").join("inkscape").join("extensions")),
-        (None, None) => Err(missing("neither XDG_CONFIG_HOME nor HOME")),
+        (None, None) => Err(missing("neither XDG_CONFIG_HOME nor HOME is set")),
     }
 }
 
@@ -71,14 +73,14 @@ pub fn install(dir: Option<&Path>) -> CmdResult {
     };
     let folder = base.join(FOLDER);
     for (name, text) in FILES {
-        io::write_file(&folder.join(name), text.as_bytes()).map_err(CliError::trouble)?;
+        io::write_file(&folder.join(name), text.as_bytes())?;
     }
     // Where this program is, for the extension's search (see the module's comment).
     let program = std::env::current_exe().and_then(|p| p.canonicalize()).map_err(|e| {
         CliError::trouble(anyhow::anyhow!("cannot tell where this taxel program is, to record it for Inkscape: {e}"))
     })?;
     let line = format!("{}\n", program.display());
-    io::write_file(&folder.join(PROGRAM_FILE), line.as_bytes()).map_err(CliError::trouble)?;
+    io::write_file(&folder.join(PROGRAM_FILE), line.as_bytes())?;
     eprintln!(
         "installed the Inkscape extension in {} ({} files; it runs {})\n\
          restart Inkscape, then use Extensions > Tactile (docs/inkscape.md)",
