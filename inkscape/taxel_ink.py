@@ -369,8 +369,11 @@ def replace_own_layer(svg, kind, label):
 
 
 def document_box(svg):
-    """The page in user units: (x, y, width, height) of the viewBox."""
+    """The page in user units: (x, y, width, height) of the viewBox, else
+    of the width and height (inkex before 1.2 has no viewport_width)."""
     vb = svg.get_viewbox()
     if vb and vb[2] > 0 and vb[3] > 0:
-        return vb
-    return [0.0, 0.0, svg.viewport_width or 100.0, svg.viewport_height or 100.0]
+        return list(vb)
+    width = getattr(svg, "viewport_width", None) or svg.unittouu(svg.get("width") or "100")
+    height = getattr(svg, "viewport_height", None) or svg.unittouu(svg.get("height") or "100")
+    return [0.0, 0.0, width or 100.0, height or 100.0]
