@@ -294,6 +294,9 @@ enum Part {
 /// by at most 8 nm, far below a sample step.
 const UNION_QUANTUM_MM: f64 = 1.0 / 65_536.0;
 
+/// Most crossings of a layer's fills for which their union is taken.
+const UNION_MAX_CROSSINGS: usize = 100_000;
+
 /// The union of a layer's fills as one outline, when two of them meet: the
 /// distance is then measured to the union's boundary, not to a side that
 /// two regions of the style share (which lies inside the union and would
@@ -313,6 +316,14 @@ fn united_fills(fills: &[(&[Polyline], FillRule)]) -> Option<Vec<Polyline>> {
     // The integer frame keeps coordinates within ±2^28 units.
     let span = (all.2 - all.0).max(all.3 - all.1);
     if !(span.is_finite() && span / UNION_QUANTUM_MM < (1u64 << 28) as f64) {
+        return None;
+    }
+    // An overlay's work follows the outlines' crossings: a map's regions
+    // share sides and cross a few times, a scribble's fill crosses itself
+    // by the million (16 GB). Past the budget the fills are kept as they are
+    // (a side two of them share then plays as an edge).
+    let segments: Vec<Seg> = fills.iter().flat_map(|(pls, _)| pls.iter().flat_map(closed_segments)).collect();
+    if crate::geometry::crossings::crossings_exceed(&segments, UNION_MAX_CROSSINGS) {
         return None;
     }
     let f = crate::vector::Frame { ox: all.0, oy: all.1, q: UNION_QUANTUM_MM };

@@ -16,6 +16,10 @@
 
 use resvg::tiny_skia::{Path, PathSegment, Transform};
 
+mod area;
+pub(crate) mod crossings;
+pub use area::filled_area;
+
 /// Largest distance, in millimetres, between a curve and the polyline that replaces it.
 ///
 /// Masks are rasterised from these polylines, so this bounds how far a mask's

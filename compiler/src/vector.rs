@@ -277,42 +277,6 @@ pub(crate) fn shapes_of(cs: &[Vec<IntPoint>], rule: OvFill) -> Vec<Vec<Vec<IntPo
     o.overlay(OverlayRule::Subject, rule)
 }
 
-/// The area a fill covers under its rule, in the outline's units squared:
-/// its contours made simple by the overlay first, so that the lobes of a
-/// figure eight, or two blobs drawn in opposite directions, add up rather
-/// than cancel out (as the signed areas of the rings would), and a hole
-/// counts once whichever way it is drawn. Zero for an outline that encloses
-/// nothing, or lies too far out to measure.
-pub(crate) fn filled_area(pls: &[Polyline], rule: FillRule) -> f64 {
-    let Some(b) = crate::geometry::bounds(pls) else { return 0.0 };
-    let span = (b.2 - b.0).max(b.3 - b.1);
-    if !(span.is_finite() && span > 0.0) {
-        return 0.0;
-    }
-    // 2^24 units across the outline: far finer than any threshold the
-    // area is held against, and well inside the overlay's range.
-    let f = Frame { ox: b.0, oy: b.1, q: span / (1u64 << 24) as f64 };
-    let twice: f64 = shapes_of(&contours(pls, f, 0.0), ov_rule(rule))
-        .iter()
-        .map(|shape| {
-            // A shape's outer contour and its holes, wound opposite ways.
-            let signed: i128 = shape
-                .iter()
-                .map(|c| {
-                    (0..c.len())
-                        .map(|k| {
-                            let (a, b) = (c[k], c[(k + 1) % c.len()]);
-                            a.x as i128 * b.y as i128 - b.x as i128 * a.y as i128
-                        })
-                        .sum::<i128>()
-                })
-                .sum();
-            signed.unsigned_abs() as f64
-        })
-        .sum();
-    twice / 2.0 * f.q * f.q
-}
-
 fn intersect(a: &[Vec<Vec<IntPoint>>], b: &[Vec<Vec<IntPoint>>]) -> Vec<Vec<Vec<IntPoint>>> {
     if a.is_empty() || b.is_empty() {
         return Vec::new();

@@ -106,6 +106,25 @@ impl<'r, 'a> Neighbours<'r, 'a> {
         out.into_iter().map(AtomicBool::into_inner).collect()
     }
 
+    /// Whether each region lies across another that it meets: their
+    /// outlines come within `abut` mm and one reaches into the other
+    /// ([`overlap`]). A tessellation's pieces only share sides; the marks of a
+    /// scatter plot pile up across each other. Only the regions `asked` says
+    /// yes to are looked at (the others are `false`).
+    pub fn lying_across(&self, abut: f64, asked: impl Fn(usize) -> bool + Sync) -> Vec<bool> {
+        use rayon::prelude::*;
+        let regions = self.regions;
+        let across = |(k, r): (usize, &Region<'_>)| {
+            asked(k)
+                && self.index.meeting(spatial::grow(r.bbox, abut)).any(|j| {
+                    j != k
+                        && self.outlines.distance(k, j, abut, abut) <= abut
+                        && (overlap(r, &regions[j], abut) || overlap(&regions[j], r, abut))
+                })
+        };
+        regions.par_iter().enumerate().with_min_len(REGIONS_PER_JOB).map(across).collect()
+    }
+
     /// [`abutting_alike`]: each region is decided on its own, so in parallel.
     pub fn abutting_alike(&self, class_of: &[Option<usize>], abut: f64) -> Vec<bool> {
         use rayon::prelude::*;

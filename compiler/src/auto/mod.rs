@@ -43,10 +43,9 @@ use taxel_format::DeviceProfile;
 use crate::annotation::{Braille, Dot, Grating, Style, Vibrate};
 use crate::diagnostic::Diagnostic;
 use crate::drawing::{Drawing, Element, Rgba, Shape, StyledBy, TextRun, TextShape};
-use crate::geometry::{FillRule, Polyline};
+use crate::geometry::{FillRule, Polyline, filled_area};
 use crate::spatial::{self, Bbox, Occupancy};
 use crate::svg::{CELL_PITCH_MM, DOT_PITCH_MM, braille_cells};
-use crate::vector::filled_area;
 
 /// Most textures the automatic sheet uses (BANA 2010: about five of each kind).
 pub const MAX_TEXTURES: usize = 5;
@@ -56,6 +55,15 @@ pub const NEAR_MM: f64 = 3.2;
 pub const MARK_MM: f64 = 5.0;
 /// Filled circles up to this diameter are point symbols (a town on a map).
 pub const CIRCLE_MM: f64 = 8.0;
+/// Closest that the centres of two marks' dots may lie (both ways, the
+/// marks' boxes' centres): the dots' diameter (2 mm) and the gap below which
+/// neighbours are not felt apart ([`NEAR_MM`]). Marks crowded closer (a
+/// scatter plot of thousands of points) are thinned to an even sample, in
+/// document order, with note T0327.
+pub const MARK_SPACING_MM: f64 = 2.0 + NEAR_MM;
+/// Fewest marks of one kind (one fill, one size) that make a scatter: when
+/// one of them lies across another, all of them are marks.
+pub const MARK_KIND_MIN: usize = 8;
 /// A filled element covering this share of the page is its background.
 pub const BACKGROUND_SHARE: f64 = 0.9;
 /// Fills and strokes with less alpha than this (of 255) are not seen, so not felt.
@@ -140,6 +148,8 @@ pub enum LeftOut {
     Image,
     /// A faint grey line (a chart's grid): see [`darkness`] and [`FAINT_SHARE`].
     Faint,
+    /// A mark among marks too dense to feel apart (a scatter plot's), thinned: see [`MARK_SPACING_MM`].
+    Crowded,
 }
 
 /// What the automatic sheet made of one element.
@@ -614,15 +624,44 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
     let regions: Vec<Region<'_>> = shapes.iter().map(|f| f.region).collect();
     let neighbours = Neighbours::of(&regions);
     let abuts = neighbours.abutting(ABUT_MM);
+    // Small shapes that touch are a tessellation's pieces (a map's small
+    // districts), but marks that lie across each other (a dense scatter
+    // plot's) stay marks, and so do all the marks of their kind (one fill,
+    // one size), the ones that only graze a neighbour too.
+    let small_size = |f: &Filled<'_>| {
+        let b = f.region.bbox;
+        let (w, h) = (b.2 - b.0, b.3 - b.1);
+        w.max(h) <= MARK_MM || (w.max(h) <= CIRCLE_MM && round(b, f.area))
+    };
+    let across = neighbours.lying_across(ABUT_MM, |k| abuts[k] && small_size(&shapes[k]));
+    let kind_of = |f: &Filled<'_>| {
+        let b = f.region.bbox;
+        let size = |v: f64| (v * 100.0).round() as i64;
+        (d.elements[f.i].paint.fill.map(rgb), size(b.2 - b.0), size(b.3 - b.1))
+    };
+    let mut kinds: BTreeMap<_, (usize, bool)> = BTreeMap::new();
+    for (k, f) in shapes.iter().enumerate().filter(|(_, f)| small_size(f)) {
+        let e = kinds.entry(kind_of(f)).or_default();
+        *e = (e.0 + 1, e.1 || across[k]);
+    }
+    let scattered = |f: &Filled<'_>| kinds.get(&kind_of(f)).is_some_and(|&(n, any)| any && n >= MARK_KIND_MIN);
     let mut class_of = vec![None; shapes.len()];
+    let mut kept_marks = Occupancy::default();
     for (k, f) in shapes.iter().enumerate() {
         let e = &d.elements[f.i];
         let b = f.region.bbox;
-        let (w, h) = (b.2 - b.0, b.3 - b.1);
-        let small = !abuts[k] && (w.max(h) <= MARK_MM || (w.max(h) <= CIRCLE_MM && round(b, f.area)));
+        let small = small_size(f) && (!abuts[k] || across[k] || scattered(f));
         let dec = &mut decisions[f.i];
         if small {
             if compact(b, f.area) {
+                // A dot closer to one already kept than it can be felt apart
+                // from is left out: a dense scatter keeps an even sample of its marks.
+                let (cx, cy) = ((b.0 + b.2) / 2.0, (b.1 + b.3) / 2.0);
+                let half = MARK_SPACING_MM / 2.0;
+                if !kept_marks.place((cx - half, cy - half, cx + half, cy + half)) {
+                    dec.left_out = Some(LeftOut::Crowded);
+                    continue;
+                }
                 dec.mark = true;
                 braille.place(spatial::grow(b, BRAILLE_CLEARANCE_MM));
             } else if !dec.outline && !dec.mark {
@@ -1180,6 +1219,7 @@ impl LeftOut {
             LeftOut::TextDoesNotFit => "text whose braille does not fit",
             LeftOut::Image => "image(s)",
             LeftOut::Faint => "faint grey line(s)",
+            LeftOut::Crowded => "mark(s) too crowded to feel apart",
         }
     }
 }
@@ -1313,6 +1353,27 @@ fn notes(plan: &Plan, d: &Drawing, diags: &mut Vec<Diagnostic>) {
                 ),
             )
             .with_help("a keyed label's words are its name in the bundle, said when the finger is on it; the whole key is the bundle's provenance entry `key` (`taxel unpack` lists it) and a Dot Pad's text line"),
+        );
+    }
+    let crowded: Vec<String> = plan
+        .decisions
+        .iter()
+        .zip(&d.elements)
+        .filter(|(dec, _)| dec.left_out == Some(LeftOut::Crowded))
+        .map(|(_, e)| format!("#{}", e.name))
+        .collect();
+    if !crowded.is_empty() {
+        let kept = plan.decisions.iter().filter(|dec| dec.mark).count();
+        diags.push(
+            Diagnostic::note(
+                "T0327",
+                format!(
+                    "{} mark(s) left out, too crowded to feel apart: {kept} dot(s) are kept, an even sample with centres at least {MARK_SPACING_MM:.1} mm apart ({})",
+                    crowded.len(),
+                    first_three(&crowded)
+                ),
+            )
+            .with_help("to feel more of them, take part of the drawing with --region so they spread out, or draw a density texture (a grating) in a style sheet"),
         );
     }
     let text: Vec<String> = plan

@@ -20,6 +20,7 @@
 
 use taxel_format::TILE_CELLS;
 
+use super::near::row_cells;
 use super::{Part, Seg, seg_bounds};
 
 /// Grid cells per lattice cell along each axis (the per-tile grid's `SUB`).
@@ -232,9 +233,21 @@ impl LayerGrid {
                 }
             }
         };
+        // The cells of each row that the segment passes through ([`row_cells`]).
+        let (ox, oy) = self.origin;
+        let in_cells =
+            |p: (f64, f64)| ((p.0 - ox) / self.cell + self.pad as f64, (p.1 - oy) / self.cell + self.pad as f64);
+        let rows = move |n: u32, [x0, y0, x1, y1]: [usize; 4]| {
+            let ((a, b), _, _) = segs[n as usize];
+            let (a, b) = (in_cells(a), in_cells(b));
+            (y0..=y1).filter_map(move |y| {
+                let (c0, c1) = row_cells(a, b, y as isize, (x0 as isize, x1 as isize));
+                (c0 <= c1).then_some((y, c0 as usize, c1 as usize))
+            })
+        };
         let mut start = vec![0u32; n_cells + 1];
-        each(&mut |_, [x0, y0, x1, y1]| {
-            for y in y0..=y1 {
+        each(&mut |n, c| {
+            for (y, x0, x1) in rows(n, c) {
                 for c in &mut start[y * self.width + x0 + 1..=y * self.width + x1 + 1] {
                     *c += 1;
                 }
@@ -245,8 +258,8 @@ impl LayerGrid {
         }
         let mut items = vec![0u32; start[n_cells] as usize];
         let mut next = start[..n_cells].to_vec();
-        each(&mut |n, [x0, y0, x1, y1]| {
-            for y in y0..=y1 {
+        each(&mut |n, c| {
+            for (y, x0, x1) in rows(n, c) {
                 for e in &mut next[y * self.width + x0..=y * self.width + x1] {
                     items[*e as usize] = n;
                     *e += 1;

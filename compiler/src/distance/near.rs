@@ -91,7 +91,7 @@ struct Grid {
     start: Vec<u32>,
     items: Vec<u32>,
     /// Scratch: each entry's cell range, `None` when not in this grid.
-    ranges: Vec<Option<(usize, usize, usize, usize)>>,
+    ranges: Vec<Option<((f64, f64), (f64, f64), [isize; 4])>>,
 }
 
 /// Whether sample `t` is in a tile's last lattice row or column: on a
@@ -108,24 +108,55 @@ pub(super) fn floor_cell(v: f64) -> isize {
     if (t as f64) > v { t - 1 } else { t }
 }
 
+/// The cells of row `y` (the band `y <= v <= y + 1`, in cell units) that the
+/// segment `a`-`b` (in cell units) passes through, within its box's columns
+/// `[x0, x1]`: a long slanted segment is binned in the cells along it, not in
+/// every cell of its box (a scribble's segments cross the whole drawing, and
+/// binned by their boxes every cell held every segment). A few cells more
+/// than it meets, never fewer, so a search finds the same minima.
+pub(super) fn row_cells(a: (f64, f64), b: (f64, f64), y: isize, (x0, x1): (isize, isize)) -> (isize, isize) {
+    let dy = b.1 - a.1;
+    if dy == 0.0 || !dy.is_finite() {
+        return (x0, x1);
+    }
+    let (ta, tb) = ((y as f64 - a.1) / dy, (y as f64 + 1.0 - a.1) / dy);
+    let (lo, hi) = (ta.min(tb).max(0.0), ta.max(tb).min(1.0));
+    if !(lo <= hi) {
+        return (x0, x1);
+    }
+    let (xa, xb) = (a.0 + lo * (b.0 - a.0), a.0 + hi * (b.0 - a.0));
+    // A thousandth of a cell for the rounding of `lo`, `hi` and the products.
+    const SLACK: f64 = 1e-3;
+    let (c0, c1) = (floor_cell(xa.min(xb) - SLACK), floor_cell(xa.max(xb) + SLACK));
+    (c0.max(x0), c1.min(x1))
+}
+
 impl Grid {
-    /// Fills the grid with the `n` entries whose cell ranges `cells(k)` gives
-    /// (`None`: not in this grid).
-    fn fill(&mut self, pad: isize, n: usize, cells: impl Fn(usize) -> Option<(isize, isize, isize, isize)>) {
+    /// Fills the grid with the `n` entries whose segments in cell units
+    /// (from the tile's corner) `cells(k)` gives (`None`: not in this grid),
+    /// each in the cells it passes through ([`row_cells`]).
+    fn fill(&mut self, pad: isize, n: usize, cells: impl Fn(usize) -> Option<((f64, f64), (f64, f64))>) {
         self.pad = pad;
         let side = TILE_CELLS as isize * SUB + 2 * pad;
         self.side = side as usize;
         self.ranges.clear();
         self.ranges.extend((0..n).map(|k| {
-            let (x0, y0, x1, y1) = cells(k)?;
+            let (a, b) = cells(k)?;
+            let (x0, y0) = (floor_cell(a.0.min(b.0)), floor_cell(a.1.min(b.1)));
+            let (x1, y1) = (floor_cell(a.0.max(b.0)), floor_cell(a.1.max(b.1)));
             let (x0, y0, x1, y1) =
                 ((x0 + pad).max(0), (y0 + pad).max(0), (x1 + pad).min(side - 1), (y1 + pad).min(side - 1));
-            (x0 <= x1 && y0 <= y1).then_some((x0 as usize, y0 as usize, x1 as usize, y1 as usize))
+            let shift = pad as f64;
+            (x0 <= x1 && y0 <= y1).then_some(((a.0 + shift, a.1 + shift), (b.0 + shift, b.1 + shift), [x0, y0, x1, y1]))
         }));
+        let spans = |&(a, b, [x0, y0, x1, y1]): &((f64, f64), (f64, f64), [isize; 4])| {
+            (y0..=y1).map(move |y| (y as usize, row_cells(a, b, y, (x0, x1))))
+        };
         self.start.clear();
         self.start.resize(self.side * self.side + 1, 0);
-        for &(x0, y0, x1, y1) in self.ranges.iter().flatten() {
-            for y in y0..=y1 {
+        for r in self.ranges.iter().flatten() {
+            for (y, (x0, x1)) in spans(r).filter(|(_, (x0, x1))| x0 <= x1) {
+                let (x0, x1) = (x0 as usize, x1 as usize);
                 for c in &mut self.start[y * self.side + x0 + 1..=y * self.side + x1 + 1] {
                     *c += 1;
                 }
@@ -139,9 +170,9 @@ impl Grid {
         // Filled back to front, each cell's end counting down to its start.
         let mut end: Vec<u32> = self.start[1..].to_vec();
         for (k, r) in self.ranges.iter().enumerate().rev() {
-            let Some(&(x0, y0, x1, y1)) = r.as_ref() else { continue };
-            for y in y0..=y1 {
-                for x in x0..=x1 {
+            let Some(r) = r.as_ref() else { continue };
+            for (y, (x0, x1)) in spans(r).filter(|(_, (x0, x1))| x0 <= x1) {
+                for x in x0 as usize..=x1 as usize {
                     let e = &mut end[y * self.side + x];
                     *e -= 1;
                     self.items[*e as usize] = k as u32;
@@ -455,9 +486,8 @@ impl Near {
             if !in_group(slot) {
                 return None;
             }
-            let bb = super::seg_bounds(&seg);
-            let c = |v: f64, o: f64| floor_cell((v - o) / cell);
-            Some((c(bb.0, corner.0), c(bb.1, corner.1), c(bb.2, corner.0), c(bb.3, corner.1)))
+            let c = |p: (f64, f64)| ((p.0 - corner.0) / cell, (p.1 - corner.1) / cell);
+            Some((c(seg.0), c(seg.1)))
         });
         let search = Search { segs, bucket, slot_of: &slot_of, cell, rings };
         for j in 0..TILE_SIDE {

@@ -398,6 +398,7 @@ pub(crate) fn read(
     let mut index_of: HashMap<roxmltree::NodeId, usize> = HashMap::new();
     let body_start = root.range().start;
     let mut pos_of: HashMap<roxmltree::NodeId, usize> = HashMap::new();
+    let mut seen_tags: HashMap<(Option<roxmltree::NodeId>, String), usize> = HashMap::new();
     let lines = LineIndex::new(text);
     let mut keys = keys.into_iter();
     for node in root.descendants().filter(|n| n.is_element()) {
@@ -407,11 +408,19 @@ pub(crate) fn read(
         let parent_el: Option<&Element> = parent.map(|p| &elements[p]);
         let tag = node.tag_name().name().to_string();
         let id = node.attribute("id").unwrap_or("").to_string();
+        // Elements of this tag before it among its siblings, counted as the
+        // walk (in document order) meets them: counting them again at each
+        // element was quadratic in a parent's children (100,000 circles of a
+        // scatter plot: 90 % of a 35 s build).
+        let nth = {
+            let seen = seen_tags.entry((node.parent().map(|n| n.id()), tag.clone())).or_insert(0);
+            *seen += 1;
+            *seen - 1
+        };
         let name = match parent_el {
             _ if !id.is_empty() => id.clone(),
             None => tag.clone(),
             Some(p) => {
-                let nth = node.prev_siblings().filter(|s| s.is_element() && s.tag_name().name() == tag).count();
                 format!("{}/{tag}[{nth}]", p.name)
             }
         };

@@ -10,6 +10,7 @@ mod lookup;
 mod malformed;
 mod mesh;
 mod realistic;
+mod runaway;
 mod scenes;
 mod sizes;
 mod svggen;

@@ -1,0 +1,251 @@
+//! The area a fill covers under its fill rule, in bounded work.
+//!
+//! A boolean overlay gives the exact area of any outline, but its work and
+//! memory follow the number of self-crossings, which a hand-drawn scribble or
+//! a noisy plotted area can have by the million (a 30,000-segment random
+//! path: some 10^8 crossings, 16 GB). This measures the area by sweeping
+//! horizontal rows instead: along a row the covered length is exact (the
+//! crossings sorted, the winding counted under the rule), and the rows are
+//! integrated.
+//!
+//! Between two consecutive vertex heights an outline that does not cross
+//! itself covers a length linear in `y`, so one row at the middle of each such
+//! slab integrates it exactly: for the outlines of real drawings (regions,
+//! circles, marks) the result is exact up to rounding. Where the slabs would
+//! cost more than [`AREA_WORK`] crossings, the rows are spaced evenly, as many
+//! as the budget allows (at least [`MIN_ROWS`]): the midpoint rule's
+//! approximation, within a row's height times the outline's width, and the
+//! work stays near [`AREA_WORK`] whatever the outline.
+
+use super::{FillRule, Polyline};
+
+/// Most row crossings one area may take before its rows are spaced evenly.
+pub const AREA_WORK: usize = 4_000_000;
+/// Fewest rows over the outline's height (slabs are split into rows no
+/// taller than its share), and fewest evenly spaced rows, whatever the work.
+const MIN_ROWS: usize = 256;
+/// Most evenly spaced rows.
+const MAX_ROWS: usize = 4096;
+
+/// One non-horizontal edge: its lower and upper `y`, the `x` at the lower
+/// end, `dx/dy`, and its direction (+1 upward in `y`).
+#[derive(Clone, Copy)]
+struct Edge {
+    y0: f64,
+    y1: f64,
+    x0: f64,
+    slope: f64,
+    dir: i32,
+}
+
+/// The area, in mm², that the shape whose subpaths are `pls` (each closed
+/// implicitly, as SVG fills are) covers under `rule`.
+///
+/// ```
+/// use taxel_compiler::geometry::{FillRule, Polyline, filled_area};
+///
+/// let square = |o: f64| Polyline { points: vec![(o, 0.0), (o + 10.0, 0.0), (o + 10.0, 10.0), (o, 10.0)], closed: true };
+/// // Two squares overlapping by half: 150 mm² under either rule's union...
+/// assert!((filled_area(&[square(0.0), square(5.0)], FillRule::NonZero) - 150.0).abs() < 1e-9);
+/// // ...and the overlap is a hole under even-odd.
+/// assert!((filled_area(&[square(0.0), square(5.0)], FillRule::EvenOdd) - 100.0).abs() < 1e-9);
+/// ```
+pub fn filled_area(pls: &[Polyline], rule: FillRule) -> f64 {
+    let mut edges: Vec<Edge> = Vec::with_capacity(pls.iter().map(|p| p.points.len()).sum());
+    for pl in pls {
+        let n = pl.points.len();
+        if n < 3 {
+            continue;
+        }
+        for i in 0..n {
+            let (a, b) = (pl.points[i], pl.points[(i + 1) % n]);
+            if !(a.0.is_finite() && a.1.is_finite() && b.0.is_finite() && b.1.is_finite()) || a.1 == b.1 {
+                continue;
+            }
+            let (lo, hi, dir) = if a.1 < b.1 { (a, b, 1) } else { (b, a, -1) };
+            edges.push(Edge { y0: lo.1, y1: hi.1, x0: lo.0, slope: (hi.0 - lo.0) / (hi.1 - lo.1), dir });
+        }
+    }
+    if edges.is_empty() {
+        return 0.0;
+    }
+    edges.sort_by(|a, b| a.y0.total_cmp(&b.y0));
+    let rows = rows_of(&edges);
+    sweep(&edges, &rows, rule)
+}
+
+/// The rows `(y, weight)` to integrate over: the slabs' midpoints where they
+/// fit the budget, else evenly spaced rows.
+fn rows_of(edges: &[Edge]) -> Vec<(f64, f64)> {
+    let mut ys: Vec<f64> = edges.iter().flat_map(|e| [e.y0, e.y1]).collect();
+    ys.sort_by(f64::total_cmp);
+    ys.dedup();
+    let (lo, hi) = (ys[0], ys[ys.len() - 1]);
+    let height = hi - lo;
+    // Each slab split into rows of at most 1/MIN_ROWS of the height: exact
+    // still where the length is linear, and where the outline crosses itself
+    // (the length bends inside a slab) the midpoint rule's error shrinks with
+    // the square of the rows' height.
+    let split = |w: f64| ((w / height * MIN_ROWS as f64).ceil() as usize).max(1);
+    let mut first_row = Vec::with_capacity(ys.len());
+    let mut total = 0usize;
+    for w in ys.windows(2) {
+        first_row.push(total);
+        total += split(w[1] - w[0]);
+    }
+    first_row.push(total);
+    // Rows each edge spans: those of the slabs between its ends.
+    let slab_work: usize = edges
+        .iter()
+        .map(|e| first_row[ys.partition_point(|&y| y < e.y1)] - first_row[ys.partition_point(|&y| y < e.y0)])
+        .sum();
+    if slab_work <= AREA_WORK {
+        return ys
+            .windows(2)
+            .flat_map(|w| {
+                let k = split(w[1] - w[0]);
+                let dy = (w[1] - w[0]) / k as f64;
+                (0..k).map(move |i| (w[0] + (i as f64 + 0.5) * dy, dy))
+            })
+            .collect();
+    }
+    // Rows an edge spans out of `n` evenly spaced ones: about `n` times its share of the height.
+    let share: f64 = edges.iter().map(|e| (e.y1 - e.y0) / height).sum();
+    let n = ((AREA_WORK as f64 / share.max(1e-9)) as usize).clamp(MIN_ROWS, MAX_ROWS);
+    let dy = height / n as f64;
+    (0..n).map(|k| (lo + (k as f64 + 0.5) * dy, dy)).collect()
+}
+
+/// The covered length of each row under `rule`, times its weight, summed.
+/// `edges` are sorted by their lower end and `rows` ascend.
+fn sweep(edges: &[Edge], rows: &[(f64, f64)], rule: FillRule) -> f64 {
+    let mut active: Vec<Edge> = Vec::new();
+    let mut next = 0;
+    let mut xs: Vec<(f64, i32)> = Vec::new();
+    let mut total = 0.0;
+    for &(y, weight) in rows {
+        while next < edges.len() && edges[next].y0 <= y {
+            active.push(edges[next]);
+            next += 1;
+        }
+        // Half-open spans `[y0, y1)`: a vertex on the row counts once.
+        active.retain(|e| e.y1 > y);
+        xs.clear();
+        xs.extend(active.iter().map(|e| (e.x0 + (y - e.y0) * e.slope, e.dir)));
+        xs.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let (mut winding, mut crossings) = (0i32, 0u32);
+        for pair in xs.windows(2) {
+            winding += pair[0].1;
+            crossings += 1;
+            let inside = match rule {
+                FillRule::NonZero => winding != 0,
+                FillRule::EvenOdd => crossings % 2 == 1,
+            };
+            if inside {
+                total += (pair[1].0 - pair[0].0) * weight;
+            }
+        }
+    }
+    total
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ring(points: &[(f64, f64)]) -> Polyline {
+        Polyline { points: points.to_vec(), closed: true }
+    }
+
+    /// The shoelace formula: the exact area of a ring that does not cross itself.
+    fn shoelace(points: &[(f64, f64)]) -> f64 {
+        let n = points.len();
+        (0..n).map(|i| points[i].0 * points[(i + 1) % n].1 - points[(i + 1) % n].0 * points[i].1).sum::<f64>().abs()
+            / 2.0
+    }
+
+    #[test]
+    fn a_ring_that_does_not_cross_itself_is_measured_exactly() {
+        // A 257-gon of radius 3 and a concave star: the slabs integrate both exactly.
+        let circle: Vec<_> = (0..257)
+            .map(|k| {
+                let a = k as f64 / 257.0 * std::f64::consts::TAU;
+                (10.0 + 3.0 * a.cos(), 20.0 + 3.0 * a.sin())
+            })
+            .collect();
+        let star: Vec<_> = (0..10)
+            .map(|k| {
+                let a = k as f64 / 10.0 * std::f64::consts::TAU;
+                let r = if k % 2 == 0 { 5.0 } else { 2.0 };
+                (r * a.cos(), r * a.sin())
+            })
+            .collect();
+        for pts in [circle, star] {
+            for rule in [FillRule::NonZero, FillRule::EvenOdd] {
+                let got = filled_area(&[ring(&pts)], rule);
+                assert!((got - shoelace(&pts)).abs() < 1e-9 * shoelace(&pts), "{got} against {}", shoelace(&pts));
+            }
+        }
+    }
+
+    #[test]
+    fn the_rules_differ_where_the_outline_winds_twice() {
+        // A pentagram: its centre pentagon is wound twice, a hole under even-odd.
+        let pts: Vec<_> = (0..5)
+            .map(|k| {
+                let a = (k * 2) as f64 / 5.0 * std::f64::consts::TAU;
+                (10.0 * a.sin(), -10.0 * a.cos())
+            })
+            .collect();
+        let (nonzero, evenodd) =
+            (filled_area(&[ring(&pts)], FillRule::NonZero), filled_area(&[ring(&pts)], FillRule::EvenOdd));
+        // The inner pentagon's vertices: where the star's edges cross, at radius r cos(72°)/cos(36°).
+        let inner_r = 10.0 * (72f64.to_radians().cos() / 36f64.to_radians().cos());
+        let inner: Vec<_> = (0..5)
+            .map(|k| {
+                let a = (k as f64 + 0.5) / 5.0 * std::f64::consts::TAU;
+                (inner_r * a.sin(), -inner_r * a.cos())
+            })
+            .collect();
+        let hole = shoelace(&inner);
+        assert!((nonzero - evenodd - hole).abs() < 1e-3 * hole, "{nonzero} - {evenodd} against {hole}");
+    }
+
+    #[test]
+    fn degenerate_outlines_cover_nothing() {
+        assert_eq!(filled_area(&[], FillRule::NonZero), 0.0);
+        assert_eq!(filled_area(&[ring(&[(0.0, 0.0), (5.0, 5.0)])], FillRule::NonZero), 0.0);
+        assert_eq!(filled_area(&[ring(&[(0.0, 0.0), (5.0, 5.0), (10.0, 10.0)])], FillRule::NonZero), 0.0);
+        assert_eq!(filled_area(&[ring(&[(0.0, 0.0), (f64::NAN, 5.0), (10.0, 0.0)])], FillRule::NonZero), 0.0);
+    }
+
+    #[test]
+    fn a_scribble_is_measured_in_bounded_work_close_to_its_area() {
+        // 3,000 random segments over a 100 mm square: far over the budget
+        // for slabs, so evenly spaced rows; the reference is the winding
+        // rule sampled on a fine grid.
+        let mut s = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64 * 100.0
+        };
+        let pts: Vec<_> = (0..3_000).map(|_| (next(), next())).collect();
+        let shape = [ring(&pts)];
+        for rule in [FillRule::NonZero, FillRule::EvenOdd] {
+            let got = filled_area(&shape, rule);
+            let n = 150;
+            let cell = 100.0 / n as f64;
+            let mut inside = 0usize;
+            for j in 0..n {
+                for i in 0..n {
+                    let p = ((i as f64 + 0.37) * cell, (j as f64 + 0.61) * cell);
+                    inside += usize::from(crate::geometry::contains(&shape, p, rule));
+                }
+            }
+            let sampled = inside as f64 * cell * cell;
+            assert!((got - sampled).abs() < 0.02 * 10_000.0, "{rule:?}: {got} against {sampled} sampled");
+        }
+    }
+}

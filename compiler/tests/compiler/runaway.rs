@@ -1,0 +1,142 @@
+//! Drawings that ran away (issue 47): hand-drawn scribbles, noisy filled
+//! areas and dense scatter plots, at sizes a debug test build compiles in a
+//! few seconds. The same generators at the issue's sizes are the
+//! `runaway` group of `benches/real_build.rs`; here each case asserts what
+//! a reader gets, and `tests/cli` runs the binary on them under a memory cap.
+
+use taxel_format::DotKind;
+
+use super::common::{bundle, compile, dots, masks, page, with_code};
+
+/// A seeded sequence in `[0, 1)` (xorshift), so every run draws the same drawing.
+pub struct Rng(u64);
+
+impl Rng {
+    /// A sequence from `seed` (any value but 0 works).
+    pub fn new(seed: u64) -> Self {
+        Rng(seed.max(1))
+    }
+
+    /// The next value in `[0, 1)`.
+    pub fn next(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// One filled path of `n` random segments across a `w` x `h` mm page, crossing
+/// itself some n²/10 times; `attrs` are its other attributes.
+pub fn scribble(n: usize, (w, h): (f64, f64), attrs: &str, seed: u64) -> String {
+    let mut rng = Rng::new(seed);
+    let mut d = format!("M{:.3},{:.3}", w / 2.0, h / 2.0);
+    for _ in 0..n {
+        d += &format!(" L{:.3},{:.3}", rng.next() * w, rng.next() * h);
+    }
+    d += " Z";
+    svg((w, h), &format!(r##"<path fill="#c33" {attrs} d="{d}"/>"##))
+}
+
+/// `n` filled circles of radius `r` mm scattered over the page (a scatter plot).
+pub fn scatter(n: usize, r: f64, (w, h): (f64, f64), seed: u64) -> String {
+    let mut rng = Rng::new(seed);
+    let mut body = String::new();
+    for _ in 0..n {
+        body += &format!(r##"<circle cx="{:.2}" cy="{:.2}" r="{r}" fill="#36c"/>"##, rng.next() * w, rng.next() * h);
+        body.push('\n');
+    }
+    svg((w, h), &body)
+}
+
+/// One closed filled ring of `n` points, each jittered `jitter` mm in or out
+/// from a circle of radius `radius` mm (a traced scan's noisy outline).
+pub fn jittered_ring(n: usize, radius: f64, jitter: f64, (w, h): (f64, f64), seed: u64) -> String {
+    let mut rng = Rng::new(seed);
+    let mut d = String::new();
+    for k in 0..n {
+        let a = k as f64 / n as f64 * std::f64::consts::TAU;
+        let r = radius + (rng.next() * 2.0 - 1.0) * jitter;
+        d += &format!("{}{:.3},{:.3}", if k == 0 { "M" } else { " L" }, w / 2.0 + r * a.cos(), h / 2.0 + r * a.sin());
+    }
+    d += " Z";
+    svg((w, h), &format!(r##"<path fill="#3a3" d="{d}"/>"##))
+}
+
+fn svg((w, h): (f64, f64), body: &str) -> String {
+    format!(
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}mm" height="{h}mm" viewBox="0 0 {w} {h}">
+{body}
+</svg>"#
+    )
+}
+
+#[test]
+fn a_scatter_plot_s_overlapping_marks_are_dots_thinned_to_be_felt_apart() {
+    // 1,500 circles of 1.2 mm over 100 x 60 mm: most overlap a neighbour.
+    // Before, those that touched became 1,000-odd separately grated regions.
+    let c = compile(&scatter(1_500, 0.6, (100.0, 60.0), 7));
+    let b = bundle(&c);
+    assert!(masks(b).is_empty(), "no grated regions: {:?}", masks(b).len());
+    let symbols = dots(b, DotKind::Symbol).expect("the marks are dot symbols");
+    let n = symbols.dots.len();
+    assert!(n >= 50, "an even sample is kept: {n}");
+    // Kept dots lie at least the spacing apart on one axis (the thinning's boxes).
+    let spacing = taxel_compiler::auto::MARK_SPACING_MM as f32;
+    for (i, a) in symbols.dots.iter().enumerate() {
+        for q in &symbols.dots[i + 1..] {
+            let (dx, dy) = ((a.x.0 - q.x.0).abs(), (a.y.0 - q.y.0).abs());
+            assert!(dx.max(dy) >= spacing - 1e-3, "dots {dx} x {dy} mm apart");
+        }
+    }
+    let notes = with_code(&c, "T0327");
+    assert_eq!(notes.len(), 1, "{:#?}", c.diagnostics);
+    assert!(notes[0].message.starts_with(&format!("{} mark(s) left out", 1_500 - n)), "{}", notes[0].message);
+}
+
+#[test]
+fn a_few_marks_far_apart_are_all_kept() {
+    // Towns on a map: ten dots 8 mm apart, none thinned, no note.
+    let body: String =
+        (0..10).map(|k| format!(r##"<circle cx="{}" cy="30" r="1" fill="#000"/>"##, 10 + 8 * k)).collect();
+    let c = compile(&page(&body));
+    assert_eq!(dots(bundle(&c), DotKind::Symbol).map(|d| d.dots.len()), Some(10));
+    assert!(with_code(&c, "T0327").is_empty());
+}
+
+#[test]
+fn a_grid_of_small_cells_sharing_sides_stays_a_tessellation() {
+    // A heat map's 4 mm cells of two colours share sides and lie across none:
+    // regions (gratings), not dots.
+    let mut body = String::new();
+    for j in 0..8 {
+        for i in 0..16 {
+            let fill = if (i + j) % 2 == 0 { "#c00" } else { "#00c" };
+            body += &format!(r#"<rect x="{}" y="{}" width="4" height="4" fill="{fill}"/>"#, 10 + 4 * i, 10 + 4 * j);
+        }
+    }
+    let c = compile(&page(&body));
+    let b = bundle(&c);
+    assert!(!masks(b).is_empty(), "{:#?}", c.diagnostics);
+    assert!(dots(b, DotKind::Symbol).is_none());
+}
+
+#[test]
+fn a_self_crossing_scribble_builds_its_layers() {
+    // 2,000 random segments crossing themselves some 400,000 times, filled
+    // and stroked: the area, the fills' union and the distance layers all
+    // stay bounded (before, the overlay behind the area took 14 s at 3,000).
+    let c = compile(&scribble(
+        2_000,
+        (100.0, 60.0),
+        r##"stroke="#000" stroke-width="0.5" data-tactile="grating(); vibrate()""##,
+        3,
+    ));
+    assert_eq!(masks(bundle(&c)).len(), 2, "{:#?}", c.diagnostics);
+}
+
+#[test]
+fn a_jittered_ring_is_one_grated_region() {
+    let c = compile(&jittered_ring(20_000, 20.0, 2.0, (100.0, 60.0), 5));
+    assert_eq!(masks(bundle(&c)).len(), 1, "{:#?}", c.diagnostics);
+}
