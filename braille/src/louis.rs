@@ -4,8 +4,8 @@
 //!
 //! liblouis (LGPL-2.1+) is used as a system library: it is never linked at
 //! build time, so taxel builds and runs without it (the built-in UEB grade 1
-//! is used then). The library is not thread-safe (its table cache is
-//! global), so every call goes through one process-wide lock.
+//! is used then). The library is not thread-safe (its table cache and index
+//! are global), so every call goes through one process-wide lock.
 //!
 //! Safety, for every `unsafe` block below: the symbols are looked up by
 //! name and given the signatures of liblouis 3's `liblouis.h`, which have not
@@ -46,6 +46,11 @@ type TranslateFn = unsafe extern "C" fn(
     c_int,
 ) -> c_int;
 
+/// One lock for every call into liblouis, process-wide: its state (the
+/// table cache, the table index) is global, shared by every [`Louis`] the
+/// process opens (the system's loader gives them one library).
+static LOCK: Mutex<()> = Mutex::new(());
+
 /// The names the library is looked for under, in order, when no name is given.
 pub const LIBRARY_NAMES: &[&str] =
     &["liblouis.so.20", "liblouis.so", "liblouis.20.dylib", "liblouis.dylib", "liblouis-20.dll", "liblouis.dll"];
@@ -57,7 +62,6 @@ pub struct Louis {
     char_size: usize,
     find_table: FindTableFn,
     translate: TranslateFn,
-    lock: Mutex<()>,
     // Kept last: dropped after the function pointers above are no longer usable.
     _lib: Library,
 }
@@ -106,7 +110,7 @@ impl Louis {
                 n => return Err(format!("liblouis {version} has {n}-byte characters, expected 2 or 4")),
             };
             log_level(LOG_OFF);
-            Ok(Louis { version, char_size, find_table, translate, lock: Mutex::new(()), _lib: lib })
+            Ok(Louis { version, char_size, find_table, translate, _lib: lib })
         }
     }
 
@@ -119,7 +123,7 @@ impl Louis {
     /// `language:fr type:literary contraction:full`; `None` when none matches.
     pub fn find_table(&self, query: &str) -> Option<String> {
         let q = CString::new(query).ok()?;
-        let _guard = self.lock.lock().unwrap_or_else(|p| p.into_inner());
+        let _guard = LOCK.lock().unwrap_or_else(|p| p.into_inner());
         // SAFETY: `q` is NUL-terminated; the result is NULL or a C string
         // that the caller owns. It is copied and, as it was allocated with
         // the C library's `malloc` that Rust cannot free portably, left
@@ -150,7 +154,7 @@ impl Louis {
         for _ in 0..4 {
             let mut out = vec![0u8; capacity * self.char_size];
             let (mut inl, mut outl) = (in_len, c_int::try_from(capacity).ok()?);
-            let _guard = self.lock.lock().unwrap_or_else(|p| p.into_inner());
+            let _guard = LOCK.lock().unwrap_or_else(|p| p.into_inner());
             // SAFETY: `input` holds `in_len` widechars; `out` has room for
             // `outl` widechars; typeform and spacing may be NULL.
             let ok = unsafe {

@@ -5,7 +5,8 @@
 //! A language tag is tried whole (`pt-BR`), then as its primary language
 //! (`pt`): liblouis's metadata names regions apart. Literary braille is
 //! asked for contracted first (`contraction:full`, then `partial`) unless
-//! grade 1 is asked, then uncontracted (`contraction:no`, `grade:1`), then
+//! grade 1 is asked, then the language's grade 1 (`grade:1`: German
+//! Basisschrift), then uncontracted (`contraction:no`), then
 //! any literary table, then any table. Eight-dot computer braille asks for
 //! `type:computer dots:8` first.
 
@@ -18,7 +19,8 @@ fn queries(tag: &str, grade: Option<u8>, computer: bool) -> Vec<String> {
         features.push("type:computer dots:8");
     }
     let contracted = ["type:literary contraction:full", "type:literary grade:2", "type:literary contraction:partial"];
-    let uncontracted = ["type:literary contraction:no", "type:literary grade:1"];
+    // A language's own grade 1 first (German Basisschrift, `de-g1.ctb`), else its uncontracted table.
+    let uncontracted = ["type:literary grade:1", "type:literary contraction:no"];
     if grade == Some(1) {
         features.extend(uncontracted);
         features.extend(contracted);
