@@ -262,21 +262,26 @@ fn round(b: Bbox, a: f64) -> bool {
 /// compilation's braille service and table ([`crate::braille`]), or the
 /// built-in UEB grade 1 ([`Measure::BUILTIN`], what [`plan`] and [`apply`] use).
 #[derive(Clone, Copy)]
-pub struct Measure<'a>(Option<&'a crate::CompileOptions>);
+pub struct Measure<'a>(Option<&'a crate::CompileOptions>, Option<u8>);
 
 impl<'a> Measure<'a> {
     /// The built-in uncontracted UEB's cells.
-    pub const BUILTIN: Measure<'static> = Measure(None);
+    pub const BUILTIN: Measure<'static> = Measure(None, None);
 
     /// The cells of the braille `opts` chooses.
     pub fn of(opts: &'a crate::CompileOptions) -> Self {
-        Measure(Some(opts))
+        Measure(Some(opts), None)
+    }
+
+    /// The cells of a key code, written uncontracted (letters, not a word).
+    fn key(self) -> Self {
+        Measure(self.0, Some(1))
     }
 
     /// How many cells `text` (of `shape`, whose language chooses the table) takes.
     fn cells(self, shape: Option<&TextShape>, text: &str) -> usize {
         match self.0 {
-            Some(opts) => crate::braille::translate(text, shape, opts, None, false).cells.len(),
+            Some(opts) => crate::braille::translate(text, shape, opts, self.1, false).cells.len(),
             None => taxel_braille::ueb::translate(text).0.len(),
         }
     }
@@ -763,7 +768,7 @@ pub fn plan_measured(d: &Drawing, profile: &DeviceProfile, m: Measure<'_>) -> Pl
     let mut keys = Keys::new(d, &decisions);
     for (i, t, own) in unplaced {
         let Some((code, run)) = keys.code_for(t, m) else { continue };
-        let boxes = braille_boxes(std::slice::from_ref(&run), Some(t), m);
+        let boxes = braille_boxes(std::slice::from_ref(&run), Some(t), m.key());
         if let Some((dx, dy)) = place_label(&boxes, &room, &braille, &own) {
             for q in &boxes {
                 braille.place((q.0 + dx, q.1 + dy, q.2 + dx, q.3 + dy));

@@ -57,7 +57,10 @@ fn cells(
     diags: &mut Vec<Diagnostic>,
 ) -> Vec<u8> {
     let t = crate::braille::translate(text, ask.shape, opts, ask.grade, ask.computer);
-    notes.add(&t);
+    // (A key code's grade 1 is taxel's choice, not the reader's: no note for it.)
+    if ask.shape.is_none_or(|s| s.keyed.is_none()) {
+        notes.add(&t);
+    }
     let table = crate::braille::table_name(&t);
     let (mut cells, missing) = (t.cells, t.missing);
     if !missing.is_empty() {
@@ -106,7 +109,9 @@ pub(crate) fn place(
     }
     let mut off_image = false;
     for (x, y, anchor, text) in lines {
-        let ask = Ask { shape: Some(t), grade: label.grade, computer: params.cell_rows == 4 };
+        // A key code is letters, not a word: uncontracted.
+        let grade = if t.keyed.is_some() { Some(1) } else { label.grade };
+        let ask = Ask { shape: Some(t), grade, computer: params.cell_rows == 4 };
         let cells = cells(text.trim(), ask, Some(e), opts, notes, diags);
         if cells.is_empty() {
             continue;

@@ -791,8 +791,13 @@ fn braille_dots(
     let mut missing: Vec<char> = Vec::new();
     let mut table = String::from("uncontracted UEB");
     for run in &text.runs {
-        let t = crate::braille::translate(&run.text, Some(text), opts, style.grade, false);
-        notes.add(&t);
+        // A key code is letters, not a word: uncontracted, so that no
+        // contracted table reads it as a word sign (`be`, `st`).
+        let grade = if text.keyed.is_some() { Some(1) } else { style.grade };
+        let t = crate::braille::translate(&run.text, Some(text), opts, grade, false);
+        if text.keyed.is_none() {
+            notes.add(&t);
+        }
         table = crate::braille::table_name(&t);
         let (cells, miss) = (t.cells, t.missing);
         missing.extend(miss);
