@@ -108,12 +108,17 @@ pub struct Translation {
     pub fallback: Option<Fallback>,
 }
 
+/// A table chosen (`None`: the built-in one) and the note that goes with it.
+type Choice = (Option<String>, Option<Fallback>);
+/// What a choice is cached by: language (lowercase), grade, computer braille.
+type ChoiceKey = (String, Option<u8>, bool);
+
 /// The braille service: liblouis when it was found, the built-in UEB grade 1 otherwise.
 #[derive(Debug)]
 pub struct Braille {
     louis: Result<louis::Louis, Option<String>>,
     /// Tables chosen per request (language, grade, computer), and the fallback note.
-    chosen: Mutex<HashMap<(String, Option<u8>, bool), (Option<String>, Option<Fallback>)>>,
+    chosen: Mutex<HashMap<ChoiceKey, Choice>>,
     /// Per table, the characters it has no braille for, once looked up.
     undefined: Mutex<HashMap<(String, char), bool>>,
 }
@@ -148,7 +153,7 @@ impl Braille {
 
     /// The liblouis table for `req` and a note when it is not what was
     /// asked; `None` for the built-in table.
-    pub fn table_for(&self, req: &Request<'_>) -> (Option<String>, Option<Fallback>) {
+    pub fn table_for(&self, req: &Request<'_>) -> Choice {
         let louis = match &self.louis {
             Ok(l) => l,
             Err(None) => return (None, None),

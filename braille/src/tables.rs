@@ -69,7 +69,7 @@ pub(crate) fn choose(
     for tag in tags(lang) {
         for q in queries(&tag, grade, computer) {
             if let Some(t) = find(&q) {
-                let note = grade.filter(|&g| !gives_grade(&q, g) && !(computer && q.contains("type:computer")));
+                let note = grade.filter(|&g| !(gives_grade(&q, g) || computer && q.contains("type:computer")));
                 let note = note.map(|g| Fallback::OtherGrade { lang: lang.to_string(), grade: g, table: short(&t) });
                 return (Some(t), note);
             }

@@ -76,7 +76,7 @@ fn braille_dots(path: &Path) -> Vec<(f64, f64)> {
         .chunks
         .iter()
         .filter_map(|c| match c {
-            Chunk::Dots(t) if t.kind == DotKind::Braille => Some(t.dots.iter().map(|d| (d.x as f64, d.y as f64))),
+            Chunk::Dots(t) if t.kind == DotKind::Braille => Some(t.dots.iter().map(|d| (d.x.0 as f64, d.y.0 as f64))),
             _ => None,
         })
         .flatten()
