@@ -206,7 +206,7 @@ impl Canvas {
 /// `None` (with an error diagnostic) when the profile is not a pin matrix or
 /// the drawing is too large for any pin image.
 pub fn legalise(drawing: &Drawing, profile: &DeviceProfile, diags: &mut Vec<Diagnostic>) -> Option<PinImage> {
-    legalise_with(drawing, &crate::CompileOptions::new(profile.clone()), diags)
+    legalise_with(drawing, &crate::CompileOptions::new(*profile), diags)
 }
 
 /// [`legalise`] for `opts.profile`, its braille written as `opts` chooses
