@@ -127,7 +127,25 @@ fn options_with_fonts(opts: &CompileOpts, fonts: bool) -> Result<Result<CompileO
         },
         auto: opts.style_is_auto(),
         languages: languages(opts),
+        braille: braille(),
     }))
+}
+
+/// The braille service, made once per process: liblouis when the system
+/// has it, under its usual names or the library `TAXEL_LIBLOUIS` names
+/// (a file name or path); `TAXEL_LIBLOUIS=none` keeps the built-in
+/// uncontracted UEB alone. Without liblouis the built-in table is used and
+/// each compilation notes it (T0307), saying how to install liblouis.
+pub fn braille() -> std::sync::Arc<taxel_braille::Braille> {
+    static BRAILLE: std::sync::OnceLock<std::sync::Arc<taxel_braille::Braille>> = std::sync::OnceLock::new();
+    BRAILLE
+        .get_or_init(|| {
+            std::sync::Arc::new(match std::env::var("TAXEL_LIBLOUIS").ok().filter(|v| !v.is_empty()).as_deref() {
+                Some("none") => taxel_braille::Braille::builtin(),
+                name => taxel_braille::Braille::load(name),
+            })
+        })
+        .clone()
 }
 
 /// Reads and compiles one input (.svg, .gltf, .glb). IO failures are `Err`;

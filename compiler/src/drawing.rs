@@ -202,6 +202,9 @@ pub struct TextShape {
     /// sheet wrote for a label that found no place (note T0326); `None` for
     /// a text that says itself.
     pub keyed: Option<String>,
+    /// Its language: the nearest `xml:lang` (or `lang`) on it or around it;
+    /// `None` when none says (the reader's language, `--lang`, is used).
+    pub lang: Option<String>,
 }
 
 /// One positioned run of text.

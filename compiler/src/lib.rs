@@ -12,6 +12,7 @@
 
 pub mod annotation;
 pub mod auto;
+pub mod braille;
 pub mod brush;
 mod diagnostic;
 #[doc(hidden)]

@@ -102,6 +102,12 @@ pub struct CompileOptions {
     /// browsers do. Multilingual maps (Wikimedia's) hold each label once per
     /// language this way. Default `["en"]`.
     pub languages: Vec<String>,
+    /// The braille service: liblouis when the caller found it
+    /// ([`crate::braille::Braille::load`]), else the built-in uncontracted
+    /// UEB. Default: the built-in table alone, so that a library build
+    /// writes the same cells on every system; the `taxel` binary loads
+    /// liblouis.
+    pub braille: Arc<crate::braille::Braille>,
 }
 
 impl CompileOptions {
@@ -120,6 +126,7 @@ impl CompileOptions {
             fonts: None,
             auto: false,
             languages: vec!["en".to_string()],
+            braille: Arc::new(crate::braille::Braille::builtin()),
         }
     }
 }

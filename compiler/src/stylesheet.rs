@@ -12,6 +12,9 @@
 //! tactile = "vibrate(width: 2mm)"
 //! ```
 //!
+//! A sheet may also name the liblouis table all braille is written in,
+//! before its rules: `braille-table = "fr-bfu-g2.ctb"`.
+//!
 //! A rule applies to an element when every selector it gives matches. When
 //! several rules apply, the most specific wins (`id` 100, `class` 10, `layer`,
 //! `fill` and `stroke` 1 each, summed); among equally specific rules the later one wins.
@@ -37,6 +40,10 @@ pub struct StyleSheet {
     pub source_name: String,
     /// The rules, in file order.
     pub rules: Vec<Rule>,
+    /// The liblouis table every text's braille is written in (the key
+    /// `braille-table = "fr-bfu-g2.ctb"`, before the rules), whatever its
+    /// language; `None`: each text's language chooses.
+    pub braille_table: Option<String>,
 }
 
 /// One rule: what it selects and the styles it gives.
@@ -129,6 +136,8 @@ impl std::error::Error for StyleError {}
 #[serde(deny_unknown_fields)]
 struct File {
     version: Option<Spanned<i64>>,
+    #[serde(rename = "braille-table")]
+    braille_table: Option<Spanned<String>>,
     #[serde(default)]
     rule: Vec<RawRule>,
 }
@@ -169,6 +178,16 @@ impl StyleSheet {
                 format!("unknown style sheet version {}, expected 1", v.get_ref()),
             ));
         }
+        if let Some(t) = &file.braille_table {
+            let name = t.get_ref();
+            if name.trim().is_empty() || name.contains('\0') || name.len() > 1024 {
+                return Err(err_at(
+                    Some(t.span().start),
+                    "`braille-table` names a liblouis table list, such as \"fr-bfu-g2.ctb\"".into(),
+                ));
+            }
+        }
+        let braille_table = file.braille_table.map(|t| t.into_inner().trim().to_string());
         let mut rules = Vec::with_capacity(file.rule.len());
         for r in file.rule {
             let colour = |c: &Option<Spanned<String>>, key: &str| -> Result<Option<[u8; 3]>, StyleError> {
@@ -204,7 +223,7 @@ impl StyleSheet {
             })?;
             rules.push(Rule { selector, declaration, line: line_col(text, span.start).0 });
         }
-        Ok(StyleSheet { source_name: source_name.into(), rules })
+        Ok(StyleSheet { source_name: source_name.into(), rules, braille_table })
     }
 
     /// The rule that applies to `e`, if any: the most specific, the later on ties.
@@ -261,6 +280,20 @@ tactile = "grating(wavelength: 4mm)"
         let lake = ElementFacts { fill: Some([255, 0, 0]), classes: "water lake", ..Default::default() };
         assert_eq!(s.lookup(&lake).unwrap().line, 8);
         assert!(s.lookup(&ElementFacts::default()).is_none());
+    }
+
+    #[test]
+    fn a_sheet_names_the_braille_table() {
+        let s = StyleSheet::parse(
+            "braille-table = \"fr-bfu-g2.ctb\"\n[[rule]]\nid = \"a\"\ntactile = \"braille()\"\n",
+            "s.toml",
+        )
+        .unwrap();
+        assert_eq!(s.braille_table.as_deref(), Some("fr-bfu-g2.ctb"));
+        assert_eq!(StyleSheet::parse("", "s.toml").unwrap().braille_table, None);
+        let e = StyleSheet::parse("braille-table = \" \"\n", "s.toml").unwrap_err();
+        assert_eq!(e.line, 1, "{e}");
+        assert!(e.message.contains("liblouis"), "{e}");
     }
 
     #[test]

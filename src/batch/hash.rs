@@ -136,6 +136,14 @@ impl Partial {
         h.field(&[opts.fit as u8, opts.up as u8]);
         h.opt(opts.region.as_ref().map(|r| format!("{r:?}")).as_ref().map(|s| s.as_bytes()));
         h.opt(opts.exaggerate.map(|e| e.to_le_bytes()).as_ref().map(|b| &b[..]));
+        // Text's braille: the braille service (liblouis's version, or the
+        // built-in table) and the reader's language, which chooses the table
+        // of text that does not say its own.
+        if self.fonts_matter {
+            let braille = crate::compile::braille();
+            h.field(braille.liblouis_version().unwrap_or("built-in").as_bytes());
+            h.field(crate::compile::languages(opts).first().map_or("en", String::as_str).as_bytes());
+        }
         // The reader's languages choose among a `<switch>`'s children.
         if self.switches {
             h.field(crate::compile::languages(opts).join(",").as_bytes());

@@ -273,6 +273,8 @@ fn describe(view: &BundleView<'_>) -> Value {
         "generator": m.generator.as_str(),
         "content_hash": m.content_hash.iter().map(|b| format!("{b:02x}")).collect::<String>(),
         "chunks": chunks,
+        // The key of the labels written as key codes (provenance entry `key`: `key: co Count, fs Fruit sold`).
+        "key": prov.as_ref().and_then(|p| (0..p.len()).filter_map(|i| p.get(i)).find(|e| e.0 == "key")).map(|e| e.1),
     })
 }
 
@@ -307,6 +309,11 @@ fn human(path: &Path, r: &Value) -> String {
         r["generator"].as_str().unwrap_or(""),
         r["content_hash"].as_str().unwrap_or(""),
     );
+    if let Some(key) = r["key"].as_str() {
+        // Before the chunks: the key, one code a line, as a transcriber's key page lists it.
+        let key = key.strip_prefix("key: ").unwrap_or(key).replace(", ", "\n           ");
+        out.insert_str(out.len() - 1, &format!("key        {key}\n"));
+    }
     out += "     #  tag   flag         bytes  layer\n";
     for c in r["chunks"].as_array().into_iter().flatten() {
         let what = match c["kind"].as_str().unwrap_or("") {

@@ -1,6 +1,7 @@
 //! End-to-end tests of the `taxel` command line, one module per area.
 
 mod batch;
+mod braille;
 mod brush;
 mod compile;
 mod device;

@@ -84,6 +84,9 @@ pub struct Braille {
     pub radius_mm: f64,
     /// Amplitude, 0..=1 (default 1).
     pub amplitude: f64,
+    /// `grade: 1` uncontracted, `grade: 2` contracted; `None` (the
+    /// default): contracted where the language has it.
+    pub grade: Option<u8>,
 }
 
 /// One tactile style.

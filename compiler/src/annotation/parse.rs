@@ -402,18 +402,12 @@ fn build(name: &str, at: usize, args: &[Arg<'_>]) -> Result<Style, AnnotationErr
             freq_hz: get(2, 200.0),
             start_ms: values[3],
         }),
-        _ => {
-            if get(2, 1.0) != 1.0 {
-                let at = args.iter().find(|a| a.name.is_some_and(|(n, _)| n == "grade")).map_or(at, |a| a.at);
-                return Err(AnnotationError {
-                    offset: at,
-                    kind: AnnotationErrorKind::Unsupported,
-                    message: "contracted (grade 2) braille is not supported, expected grade 1".into(),
-                    help: Some("taxel writes uncontracted UEB (grade 1); transcribe contracted text beforehand and draw it as dots".into()),
-                });
-            }
-            Style::Braille(Braille { radius_mm: get(0, 0.72), amplitude: get(1, 1.0) })
-        }
+        // (A grade is a whole 1 or 2: checked with the parameter's range.)
+        _ => Style::Braille(Braille {
+            radius_mm: get(0, 0.72),
+            amplitude: get(1, 1.0),
+            grade: values[2].map(|g| g as u8),
+        }),
     })
 }
 
@@ -439,7 +433,7 @@ mod tests {
             vec![Style::Grating(Grating { wavelength_mm: 2.0, angle_deg: 90.0, amplitude: 1.0, soft_mm: 0.0 })]
         );
         assert_eq!(styles("dots()"), vec![Style::Dots(Dots { radius_mm: 1.0, spacing_mm: None, amplitude: 1.0 })]);
-        assert_eq!(styles("braille()"), vec![Style::Braille(Braille { radius_mm: 0.72, amplitude: 1.0 })]);
+        assert_eq!(styles("braille()"), vec![Style::Braille(Braille { radius_mm: 0.72, amplitude: 1.0, grade: None })]);
     }
 
     #[test]
@@ -478,8 +472,12 @@ mod tests {
         assert_eq!(e.kind, AnnotationErrorKind::Range);
         let e = parse("dot(radius: 1mm, radius: 2mm)").unwrap_err();
         assert_eq!((e.offset, e.kind), (17, AnnotationErrorKind::Duplicate));
-        let e = parse("braille(grade: 2)").unwrap_err();
-        assert_eq!(e.kind, AnnotationErrorKind::Unsupported);
+        assert_eq!(
+            styles("braille(grade: 2)"),
+            vec![Style::Braille(Braille { radius_mm: 0.72, amplitude: 1.0, grade: Some(2) })]
+        );
+        assert_eq!(parse("braille(grade: 3)").unwrap_err().kind, AnnotationErrorKind::Range);
+        assert_eq!(parse("braille(grade: 1.5)").unwrap_err().kind, AnnotationErrorKind::Range);
         let e = parse("vibrate() grating()").unwrap_err();
         assert_eq!(e.offset, 10);
         let e = parse("none; vibrate()").unwrap_err();

@@ -45,7 +45,7 @@ use crate::diagnostic::Diagnostic;
 use crate::drawing::{Drawing, Element, Rgba, Shape, StyledBy, TextRun, TextShape};
 use crate::geometry::{FillRule, Polyline, filled_area};
 use crate::spatial::{self, Bbox, Occupancy};
-use crate::svg::{CELL_PITCH_MM, DOT_PITCH_MM, braille_cells};
+use crate::svg::{CELL_PITCH_MM, DOT_PITCH_MM};
 
 /// Most textures the automatic sheet uses (BANA 2010: about five of each kind).
 pub const MAX_TEXTURES: usize = 5;
@@ -268,15 +268,44 @@ fn round(b: Bbox, a: f64) -> bool {
         && (a / (std::f64::consts::PI * w * h / 4.0) - 1.0).abs() < 0.1
 }
 
+/// How many cells a text's braille takes, as the layers will write it: the
+/// compilation's braille service and table ([`crate::braille`]), or the
+/// built-in UEB grade 1 ([`Measure::BUILTIN`], what [`plan`] and [`apply`] use).
+#[derive(Clone, Copy)]
+pub struct Measure<'a>(Option<&'a crate::CompileOptions>, Option<u8>);
+
+impl<'a> Measure<'a> {
+    /// The built-in uncontracted UEB's cells.
+    pub const BUILTIN: Measure<'static> = Measure(None, None);
+
+    /// The cells of the braille `opts` chooses.
+    pub fn of(opts: &'a crate::CompileOptions) -> Self {
+        Measure(Some(opts), None)
+    }
+
+    /// The cells of a key code, written uncontracted (letters, not a word).
+    fn key(self) -> Self {
+        Measure(self.0, Some(1))
+    }
+
+    /// How many cells `text` (of `shape`, whose language chooses the table) takes.
+    fn cells(self, shape: Option<&TextShape>, text: &str) -> usize {
+        match self.0 {
+            Some(opts) => crate::braille::translate(text, shape, opts, self.1, false).cells.len(),
+            None => taxel_braille::ueb::translate(text).0.len(),
+        }
+    }
+}
+
 /// Boxes of the braille an element's text would make: one per run, placed as
 /// the layer builder places it (from the run's start, after its anchor).
-fn braille_boxes(runs: &[TextRun]) -> Vec<Bbox> {
+fn braille_boxes(runs: &[TextRun], shape: Option<&TextShape>, m: Measure<'_>) -> Vec<Bbox> {
     let height = 2.0 * DOT_PITCH_MM + 2.0 * BRAILLE_RADIUS_MM;
     runs.iter()
         .filter(|r| !r.text.trim().is_empty())
         .map(|r| {
             // The run's width from its first dot's left edge to its last's right edge.
-            let cells = braille_cells(&r.text).0.len().max(1);
+            let cells = m.cells(shape, &r.text).max(1);
             let w = (cells - 1) as f64 * CELL_PITCH_MM + DOT_PITCH_MM + 2.0 * BRAILLE_RADIUS_MM;
             let x0 = r.x_mm - r.anchor.clamp(0.0, 1.0) * w;
             (x0, r.y_mm - height, x0 + w, r.y_mm)
@@ -498,6 +527,11 @@ struct Filled<'a> {
 /// Decides, without changing the drawing, what the automatic sheet makes of
 /// each element that no annotation or style sheet styled.
 pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
+    plan_measured(d, profile, Measure::BUILTIN)
+}
+
+/// [`plan`] with labels measured by `m`.
+pub fn plan_measured(d: &Drawing, profile: &DeviceProfile, m: Measure<'_>) -> Plan {
     // What can be felt: the page, as far as it lies on the device's surface.
     let (sw, sh) = (profile.surface_w_mm as f64, profile.surface_h_mm as f64);
     let page: Bbox = (0.0, 0.0, d.page.width_mm.min(sw), d.page.height_mm.min(sh));
@@ -754,7 +788,7 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
     for (i, t) in texts {
         let own = room.figures.under(&d.elements[i]);
         let dec = &mut decisions[i];
-        let boxes = braille_boxes(&t.runs);
+        let boxes = braille_boxes(&t.runs, Some(t), m);
         match place_label(&boxes, &room, &braille, &own) {
             Some((dx, dy)) => {
                 for q in &boxes {
@@ -772,8 +806,8 @@ pub fn plan(d: &Drawing, profile: &DeviceProfile) -> Plan {
     }
     let mut keys = Keys::new(d, &decisions);
     for (i, t, own) in unplaced {
-        let Some((code, run)) = keys.code_for(t) else { continue };
-        let boxes = braille_boxes(std::slice::from_ref(&run));
+        let Some((code, run)) = keys.code_for(t, m) else { continue };
+        let boxes = braille_boxes(std::slice::from_ref(&run), Some(t), m.key());
         if let Some((dx, dy)) = place_label(&boxes, &room, &braille, &own) {
             for q in &boxes {
                 braille.place((q.0 + dx, q.1 + dy, q.2 + dx, q.3 + dy));
@@ -865,7 +899,7 @@ impl Keys {
     /// first line starts; `None` for a label shorter than [`MIN_KEYED_CELLS`], or one
     /// with fewer than two Latin letters (a code must say something of what
     /// it stands for: "R108" gets none).
-    fn code_for(&self, t: &TextShape) -> Option<(KeyCode, TextRun)> {
+    fn code_for(&self, t: &TextShape, m: Measure<'_>) -> Option<(KeyCode, TextRun)> {
         let text = label_text(t);
         let first = t.runs.iter().find(|r| !r.text.trim().is_empty())?;
         let words: Vec<Vec<u8>> = text
@@ -876,7 +910,7 @@ impl Keys {
         let letters: Vec<u8> = words.concat();
         let &initial = letters.first()?;
         let long = text.chars().filter(|c| !c.is_whitespace()).count() >= MIN_KEYED_CELLS
-            && crate::svg::braille_cells(&text).0.len() >= MIN_KEYED_CELLS;
+            && m.cells(Some(t), &text) >= MIN_KEYED_CELLS;
         if !long || letters.len() < 2 {
             return None;
         }
@@ -1117,7 +1151,7 @@ impl Plan {
             out.push(Style::Dot(Dot { radius_mm: 1.0, amplitude: 1.0 }));
         }
         if d.braille {
-            out.push(Style::Braille(Braille { radius_mm: BRAILLE_RADIUS_MM, amplitude: 1.0 }));
+            out.push(Style::Braille(Braille { radius_mm: BRAILLE_RADIUS_MM, amplitude: 1.0, grade: None }));
         }
         out
     }
@@ -1127,7 +1161,12 @@ impl Plan {
 /// decides, and adds the notes a reader of the build needs: textures shared
 /// or given up, text left out. Returns the plan.
 pub fn apply(d: &mut Drawing, profile: &DeviceProfile, diags: &mut Vec<Diagnostic>) -> Plan {
-    let plan = plan(d, profile);
+    apply_measured(d, profile, Measure::BUILTIN, diags)
+}
+
+/// [`apply`] with labels measured by `m`.
+pub fn apply_measured(d: &mut Drawing, profile: &DeviceProfile, m: Measure<'_>, diags: &mut Vec<Diagnostic>) -> Plan {
+    let plan = plan_measured(d, profile, m);
     for (i, e) in d.elements.iter_mut().enumerate() {
         let styles = plan.styles(i);
         if !styles.is_empty() {
@@ -1199,7 +1238,7 @@ pub fn prepare(d: &mut Drawing, opts: &crate::CompileOptions, diags: &mut Vec<Di
         );
     }
     if opts.auto || implicit {
-        apply(d, &opts.profile, diags);
+        apply_measured(d, &opts.profile, Measure::of(opts), diags);
     }
     diags.push(summary(d));
     true

@@ -625,7 +625,7 @@ fn braille_keeps_off_figures_it_was_not_drawn_on() {
     let boxes_of = |dec: &Decision, s: &str, x: f64, y: f64| {
         let text = dec.key.map_or(s.to_string(), |k| String::from_utf8_lossy(&k).into_owned());
         let run = TextRun { text, x_mm: x + dec.braille_shift.0, y_mm: y + dec.braille_shift.1, ..Default::default() };
-        braille_boxes(&[run])
+        braille_boxes(&[run], None, Measure::BUILTIN)
     };
     let bar = shape("bar", rect(50.0, 20.0, 60.0, 80.0), BLUE, None);
     let d = Drawing {

@@ -232,6 +232,12 @@ pub(crate) fn run(
     elements.extend(labels);
     // Document order: a `<use>`'s copies sit at the `<use>`, in usvg's order (the sort is stable).
     elements.sort_by_key(|(i, _)| *i);
+    // Each text's language, for its braille table.
+    for (i, e) in &mut elements {
+        if let super::Shape::Text(t) = &mut e.shape {
+            t.lang = src.elements.get(*i).and_then(|s| doc.get_node(s.node)).and_then(text::lang);
+        }
+    }
     let title = root
         .children()
         .find(|c| c.is_element() && c.tag_name().name() == "title")

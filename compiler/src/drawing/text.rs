@@ -75,6 +75,16 @@ pub(crate) fn texts(
     out
 }
 
+/// The language of a node's text: the nearest `xml:lang` (or HTML's `lang`)
+/// on it or an ancestor; `None` when none says, or the nearest is empty
+/// (`xml:lang=""`: unknown).
+pub(crate) fn lang(node: Node<'_, '_>) -> Option<String> {
+    const XML: &str = "http://www.w3.org/XML/1998/namespace";
+    let tag = node.ancestors().find_map(|n| n.attribute((XML, "lang")).or_else(|| n.attribute("lang")))?;
+    let tag = tag.trim();
+    (!tag.is_empty()).then(|| tag.to_string())
+}
+
 /// Labels drawn as glyph outlines with their text in a comment, as
 /// matplotlib's SVG backend writes every label by default (`svg.fonttype:
 /// path`): a group whose first child is the comment (`<!-- Apples -->`) and

@@ -206,6 +206,13 @@ impl Canvas {
 /// `None` (with an error diagnostic) when the profile is not a pin matrix or
 /// the drawing is too large for any pin image.
 pub fn legalise(drawing: &Drawing, profile: &DeviceProfile, diags: &mut Vec<Diagnostic>) -> Option<PinImage> {
+    legalise_with(drawing, &crate::CompileOptions::new(*profile), diags)
+}
+
+/// [`legalise`] for `opts.profile`, its braille written as `opts` chooses
+/// (the braille service, the reader's language, a style sheet's table).
+pub fn legalise_with(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mut Vec<Diagnostic>) -> Option<PinImage> {
+    let profile = &opts.profile;
     let FamilyParams::Pins(params) = profile.params else {
         diags.push(Diagnostic::error("T0900", format!("internal error: {} is not a pin-matrix profile", profile.name)));
         return None;
@@ -292,7 +299,7 @@ pub fn legalise(drawing: &Drawing, profile: &DeviceProfile, diags: &mut Vec<Diag
                         cluster(&mut canvas, c, d.radius_mm, i, heights.outline);
                     }
                 }
-                (Style::Braille(_), Shape::Text(t)) => labels.push((i, t)),
+                (Style::Braille(br), Shape::Text(t)) => labels.push((i, t, br.grade)),
                 (Style::Braille(_), _) => diags.push(
                     Diagnostic::warning("T0121", "braille() applies to <text> elements; this one is not text")
                         .with_element(e.name.clone())
@@ -313,8 +320,10 @@ pub fn legalise(drawing: &Drawing, profile: &DeviceProfile, diags: &mut Vec<Diag
     }
     canvas.clip = None;
     // Labels last, on top of the graphics they name.
-    for (i, t) in labels {
-        text::place(&mut canvas, &params, t, i, heights.outline, &drawing.elements[i], diags);
+    let mut notes = crate::braille::Notes::default();
+    for (i, t, grade) in labels {
+        let label = text::Label { text: t, grade, elem: i, height: heights.outline, e: &drawing.elements[i] };
+        text::place(&mut canvas, &params, &label, opts, &mut notes, diags);
     }
     // The device's text line says the drawing's title, then the key of the
     // labels written as key codes (T0326), as a transcriber gives the key
@@ -322,8 +331,9 @@ pub fn legalise(drawing: &Drawing, profile: &DeviceProfile, diags: &mut Vec<Diag
     let key = crate::auto::key_line(drawing);
     let line = [drawing.title.as_str(), key.as_str()].into_iter().filter(|s| !s.is_empty()).collect::<Vec<_>>();
     if params.text_cells > 0 && !line.is_empty() {
-        canvas.image.text = text::text_line(&line.join("; "), diags);
+        canvas.image.text = text::text_line(&line.join("; "), opts, &mut notes, diags);
     }
+    notes.emit(diags);
     if canvas.image.pins.iter().any(|p| p.blinks()) {
         let step = params.blink_step_ms as u32;
         canvas.image.blink_ms = BLINK_HALF_PERIOD_MS.div_ceil(step.max(1)) * step.max(1);
@@ -349,13 +359,9 @@ pub fn legalise(drawing: &Drawing, profile: &DeviceProfile, diags: &mut Vec<Diag
 /// A bundle for the pin-matrix `profile` from `drawing`: its manifest and
 /// pin image. `None` when nothing tactile was made (with an error) or the
 /// drawing cannot be legalised.
-pub fn build_bundle(
-    drawing: &Drawing,
-    profile: &DeviceProfile,
-    content_hash: [u8; 32],
-    diags: &mut Vec<Diagnostic>,
-) -> Option<Bundle> {
-    let image = legalise(drawing, profile, diags)?;
+pub fn build_bundle(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mut Vec<Diagnostic>) -> Option<Bundle> {
+    let (profile, content_hash) = (&opts.profile, opts.content_hash);
+    let image = legalise_with(drawing, opts, diags)?;
     if !image.pins.iter().any(|p| p.raised()) && image.text.is_empty() {
         if !crate::diagnostic::has_errors(diags) {
             let error = if drawing.only_pictures() {

@@ -8,30 +8,70 @@
 //! cell nearest to where its text starts, on the line whose cells stand on
 //! its baseline, and reads left to right from there; one that would run off
 //! the image's side is pulled back inside, whole, while it still covers
-//! where it began. Text is uncontracted
-//! UEB (grade 1), six dots; on an eight-dot cell dots 7 and 8 stay down.
+//! where it began. The braille is the shared service's
+//! ([`crate::braille`]): the label's language's literary braille on a
+//! six-dot cell, and on an eight-dot cell the language's eight-dot computer
+//! braille where liblouis has it (as the displays' own screen readers
+//! write text on eight-dot cells), its literary braille otherwise. The
+//! device's text line is six-dot literary braille (the Dot Pad's).
 
+use crate::braille::Notes;
 use crate::diagnostic::Diagnostic;
 use crate::drawing::{Element, TextShape};
+use crate::options::CompileOptions;
 use taxel_format::PinParams;
 
 use super::Canvas;
 
+/// A label to place: its text, the grade its style asks for, and its element.
+pub(crate) struct Label<'a> {
+    /// The text.
+    pub text: &'a TextShape,
+    /// `braille(grade: ..)`.
+    pub grade: Option<u8>,
+    /// The element's index (provenance).
+    pub elem: usize,
+    /// The pins' height.
+    pub height: u8,
+    /// The element.
+    pub e: &'a Element,
+}
+
 /// Dot `k` (0-based bit of a Unicode braille mask) at `(column, row)` within its cell.
 pub const DOT_POSITIONS: [(u32, u32); 8] = [(0, 0), (0, 1), (0, 2), (1, 0), (1, 1), (1, 2), (0, 3), (1, 3)];
 
+/// How a text is to be written: its shape (language), grade, and whether in eight-dot computer braille.
+struct Ask<'a> {
+    shape: Option<&'a TextShape>,
+    grade: Option<u8>,
+    computer: bool,
+}
+
 /// Translates `text` to cells, warning about characters left out.
-fn cells(text: &str, e: Option<&Element>, diags: &mut Vec<Diagnostic>) -> Vec<u8> {
-    let (mut cells, missing) = crate::svg::braille_cells(text);
+fn cells(
+    text: &str,
+    ask: Ask<'_>,
+    e: Option<&Element>,
+    opts: &CompileOptions,
+    notes: &mut Notes,
+    diags: &mut Vec<Diagnostic>,
+) -> Vec<u8> {
+    let t = crate::braille::translate(text, ask.shape, opts, ask.grade, ask.computer);
+    // (A key code's grade 1 is taxel's choice, not the reader's: no note for it.)
+    if ask.shape.is_none_or(|s| s.keyed.is_none()) {
+        notes.add(&t);
+    }
+    let table = crate::braille::table_name(&t);
+    let (mut cells, missing) = (t.cells, t.missing);
     if !missing.is_empty() {
-        let list = crate::svg::braille_left_out(&missing);
+        let list = taxel_braille::left_out(&missing);
         // Punctuation alone says nothing: then the text is left out whole.
-        if crate::svg::braille_says_nothing(text, &missing) {
+        if taxel_braille::says_nothing(text, &missing) {
             cells.clear();
         }
         let left = if cells.iter().all(|&c| c == 0) { "the text is left out" } else { "these characters are left out" };
-        let mut d = Diagnostic::warning("T0304", format!("no uncontracted UEB braille for {list}; {left}"))
-            .with_help(crate::svg::BRAILLE_TABLE_HELP);
+        let mut d = Diagnostic::warning("T0304", format!("no braille in {table} for {list}; {left}"))
+            .with_help(crate::svg::braille_missing_help(&table));
         if let Some(e) = e {
             d = d.with_element(e.name.clone()).on_line(e.line);
         }
@@ -46,12 +86,12 @@ fn cells(text: &str, e: Option<&Element>, diags: &mut Vec<Diagnostic>) -> Vec<u8
 pub(crate) fn place(
     canvas: &mut Canvas,
     params: &PinParams,
-    t: &TextShape,
-    elem: usize,
-    height: u8,
-    e: &Element,
+    label: &Label<'_>,
+    opts: &CompileOptions,
+    notes: &mut Notes,
     diags: &mut Vec<Diagnostic>,
 ) {
+    let (t, elem, height, e) = (label.text, label.elem, label.height, label.e);
     let (cp, lp) = (params.cell_pitch_cols() as f64, params.line_pitch_rows() as f64);
     // One braille line per run that starts a line; continuing runs join it.
     let mut lines: Vec<(f64, f64, f64, String)> = Vec::new();
@@ -69,7 +109,10 @@ pub(crate) fn place(
     }
     let mut off_image = false;
     for (x, y, anchor, text) in lines {
-        let cells = cells(text.trim(), Some(e), diags);
+        // A key code is letters, not a word: uncontracted.
+        let grade = if t.keyed.is_some() { Some(1) } else { label.grade };
+        let ask = Ask { shape: Some(t), grade, computer: params.cell_rows == 4 };
+        let cells = cells(text.trim(), ask, Some(e), opts, notes, diags);
         if cells.is_empty() {
             continue;
         }
@@ -138,8 +181,13 @@ pub(crate) fn place(
 }
 
 /// The title as text-line cells (six-dot masks).
-pub(crate) fn text_line(title: &str, diags: &mut Vec<Diagnostic>) -> Vec<u8> {
-    let mut c = cells(title.trim(), None, diags);
+pub(crate) fn text_line(title: &str, opts: &CompileOptions, notes: &mut Notes, diags: &mut Vec<Diagnostic>) -> Vec<u8> {
+    let ask = Ask { shape: None, grade: None, computer: false };
+    let mut c = cells(title.trim(), ask, None, opts, notes, diags);
+    // A six-dot line: an eight-dot table's dots 7 and 8 cannot be written.
+    for cell in &mut c {
+        *cell &= 0x3f;
+    }
     c.truncate(taxel_format::MAX_TEXT_CELLS as usize);
     c
 }

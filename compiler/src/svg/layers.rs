@@ -700,6 +700,7 @@ fn dot_feature(b: &mut Built, job: DotJob<'_>, pts: &[(f64, f64)], page: Page, d
 /// Braille for every text with a braille style, in document order, after the other layers.
 fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOptions, diags: &mut Vec<Diagnostic>) {
     let family = opts.profile.family();
+    let mut notes = crate::braille::Notes::default();
     for (order, e) in drawing.elements.iter().enumerate() {
         let Shape::Text(text) = &e.shape else { continue };
         let Some(style) = e.styles.iter().find_map(|s| match s {
@@ -712,9 +713,9 @@ fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOptions, diags:
             diags.push(not_here(&Style::Braille(style), &e.name, e.line, opts.profile.name.as_str()));
             continue;
         }
-        let (mut pts, missing) = braille_dots(text, &style);
+        let (mut pts, missing, table) = braille_dots(text, &style, opts, &mut notes);
         // Punctuation alone says nothing: then the text is left out whole.
-        if braille::says_nothing(&text.runs.iter().map(|r| r.text.as_str()).collect::<String>(), &missing) {
+        if taxel_braille::says_nothing(&text.runs.iter().map(|r| r.text.as_str()).collect::<String>(), &missing) {
             pts.clear();
         }
         if !missing.is_empty() {
@@ -723,10 +724,10 @@ fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOptions, diags:
             diags.push(
                 Diagnostic::warning(
                     "T0304",
-                    format!("no uncontracted UEB braille for {}; {left}", braille::left_out(&missing)),
+                    format!("no braille in {table} for {}; {left}", taxel_braille::left_out(&missing)),
                 )
                 .with_element(&e.name)
-                .with_help(braille::TABLE_HELP)
+                .with_help(missing_help(&table))
                 .at_line(e.line),
             );
             if pts.is_empty() {
@@ -751,6 +752,7 @@ fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOptions, diags:
         };
         dot_feature(b, job, &pts, drawing.page, diags);
     }
+    notes.emit(diags);
     b.braille_clear = braille_clearing(&b.braille_dots);
     // The key of the labels written as key codes (T0326) in print, for a
     // host to give the reader: provenance entry `key`, with no footprint.
@@ -760,17 +762,44 @@ fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOptions, diags:
     }
 }
 
-/// The braille dot centres of a text, and the characters braille has no
-/// cell for (sorted, once each). Lines closer than braille's line pitch are
-/// moved apart; a run without its own `y` stays on the line before.
-fn braille_dots(text: &TextShape, style: &BrailleStyle) -> (Vec<(f64, f64)>, Vec<char>) {
+/// What T0304 says helps, for the table that left characters out.
+pub(crate) fn missing_help(table: &str) -> String {
+    if table == "uncontracted UEB" {
+        format!(
+            "{}; with liblouis installed, a text's `xml:lang` chooses its language's table",
+            taxel_braille::TABLE_HELP
+        )
+    } else {
+        "mark the text's language with `xml:lang` (its table is chosen from it), or name a table with a style sheet's `braille-table`".into()
+    }
+}
+
+/// The braille dot centres of a text, the characters braille has no cell
+/// for (in text order), and the table that wrote it (for messages). Lines
+/// closer than braille's line pitch are moved apart; a run without its
+/// own `y` stays on the line before.
+fn braille_dots(
+    text: &TextShape,
+    style: &BrailleStyle,
+    opts: &CompileOptions,
+    notes: &mut crate::braille::Notes,
+) -> (Vec<(f64, f64)>, Vec<char>, String) {
     let r = style.radius_mm;
     let mut prev_baseline: Option<f64> = None;
     let mut cursor: Option<f64> = None;
     let mut pts = Vec::new();
     let mut missing: Vec<char> = Vec::new();
+    let mut table = String::from("uncontracted UEB");
     for run in &text.runs {
-        let (cells, miss) = braille::translate(&run.text);
+        // A key code is letters, not a word: uncontracted, so that no
+        // contracted table reads it as a word sign (`be`, `st`).
+        let grade = if text.keyed.is_some() { Some(1) } else { style.grade };
+        let t = crate::braille::translate(&run.text, Some(text), opts, grade, false);
+        if text.keyed.is_none() {
+            notes.add(&t);
+        }
+        table = crate::braille::table_name(&t);
+        let (cells, miss) = (t.cells, t.missing);
         missing.extend(miss);
         let mut y = run.y_mm;
         if let Some(prev) = prev_baseline {
@@ -790,7 +819,7 @@ fn braille_dots(text: &TextShape, style: &BrailleStyle) -> (Vec<(f64, f64)>, Vec
         cursor = Some(x0 + cells.len() as f64 * braille::CELL_PITCH_MM);
         prev_baseline = Some(y);
     }
-    (pts, missing)
+    (pts, missing, table)
 }
 
 /// The boxes of `clearing` ([`braille_clearing`]) that meet `bounds` (a

@@ -23,12 +23,10 @@ mod footprints;
 mod layers;
 pub(crate) mod rules;
 
-/// Braille cells of a text (uncontracted UEB), for the pin arrays' braille too.
-pub(crate) use braille::{
-    CELL_PITCH_MM, DOT_PITCH_MM, TABLE_HELP as BRAILLE_TABLE_HELP, left_out as braille_left_out,
-    says_nothing as braille_says_nothing, translate as braille_cells,
-};
+/// The paper's braille geometry, for the automatic sheet's measures too.
+pub(crate) use braille::{CELL_PITCH_MM, DOT_PITCH_MM};
 pub(crate) use layers::OpaqueFills;
+pub(crate) use layers::missing_help as braille_missing_help;
 pub use layers::{braille_clearing, clearing_within, occluders};
 
 use taxel_format::{Bundle, Manifest};
@@ -93,7 +91,7 @@ fn compile(
     crate::prepare::prepare(&mut drawing, opts, diags);
     // Pin displays are legalised from the same drawing into one pin image.
     if opts.profile.family() == taxel_format::Family::Pins {
-        return crate::pins::build_bundle(&drawing, &opts.profile, opts.content_hash, diags);
+        return crate::pins::build_bundle(&drawing, opts, diags);
     }
     // The design rules but the overlaps need only the features: they run
     // beside the distance fields, and add their diagnostics after them.

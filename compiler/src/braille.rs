@@ -1,0 +1,85 @@
+//! The braille service the back ends share (paper cells, pin arrays, the
+//! automatic sheet's measures): which table writes a text, and the notes
+//! that say when it is not the braille asked for.
+//!
+//! The cells come from [`taxel_braille`]: liblouis when the caller gave a
+//! service that found it ([`CompileOptions::braille`]), taxel's built-in
+//! uncontracted UEB otherwise. A text is written in its own language (the
+//! nearest `xml:lang` or `lang` around it), else the reader's (`--lang`,
+//! [`CompileOptions::languages`]); a style sheet's `braille-table` names a
+//! liblouis table for every text; `braille(grade: 1|2)` chooses the grade,
+//! contracted being the default where the language has it.
+
+pub use taxel_braille::{Braille, Cell, Fallback, Request, Translation};
+
+use crate::diagnostic::Diagnostic;
+use crate::drawing::TextShape;
+use crate::options::CompileOptions;
+
+/// The language `text` is written in: its own, else the reader's first, else English.
+pub(crate) fn lang_of<'a>(text: Option<&'a TextShape>, opts: &'a CompileOptions) -> &'a str {
+    text.and_then(|t| t.lang.as_deref()).or(opts.languages.first().map(String::as_str)).unwrap_or("en")
+}
+
+/// The request for a text of `shape` (its language) at `grade`, in eight-dot computer braille when `computer`.
+pub(crate) fn request<'a>(
+    shape: Option<&'a TextShape>,
+    opts: &'a CompileOptions,
+    grade: Option<u8>,
+    computer: bool,
+) -> Request<'a> {
+    Request {
+        lang: lang_of(shape, opts),
+        grade,
+        table: opts.style.as_ref().and_then(|s| s.braille_table.as_deref()),
+        computer,
+    }
+}
+
+/// `text` of `shape` in braille as the options and its style ask.
+pub(crate) fn translate(
+    text: &str,
+    shape: Option<&TextShape>,
+    opts: &CompileOptions,
+    grade: Option<u8>,
+    computer: bool,
+) -> Translation {
+    opts.braille.translate(text, &request(shape, opts, grade, computer))
+}
+
+/// The table a translation used, for messages: its file name, or the built-in one.
+pub(crate) fn table_name(t: &Translation) -> String {
+    match &t.table {
+        Some(name) => format!("the liblouis table {}", name.rsplit(['/', '\\']).next().unwrap_or(name)),
+        None => "uncontracted UEB".to_string(),
+    }
+}
+
+/// The notes of a compilation's translations, each said once (T0307).
+#[derive(Debug, Default)]
+pub(crate) struct Notes(Vec<Fallback>);
+
+impl Notes {
+    /// Keeps `t`'s note, if it has one not kept yet.
+    pub(crate) fn add(&mut self, t: &Translation) {
+        if let Some(f) = &t.fallback
+            && !self.0.contains(f)
+        {
+            self.0.push(f.clone());
+        }
+    }
+
+    /// One diagnostic per note: a note when liblouis is absent or a
+    /// language has no table of the grade asked for, a warning when a
+    /// language has no table at all or the table named cannot be used.
+    pub(crate) fn emit(self, diags: &mut Vec<Diagnostic>) {
+        for f in self.0 {
+            let d = match &f {
+                Fallback::NoLibrary(_) | Fallback::OtherGrade { .. } => Diagnostic::note("T0307", f.message()),
+                Fallback::NoTable(_) | Fallback::BadTable(_) => Diagnostic::warning("T0307", f.message())
+                    .with_help("liblouis's tables are listed by `lou_translate --help` and in /usr/share/liblouis/tables; a style sheet's `braille-table` names one"),
+            };
+            diags.push(d);
+        }
+    }
+}
