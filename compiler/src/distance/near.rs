@@ -91,7 +91,7 @@ struct Grid {
     start: Vec<u32>,
     items: Vec<u32>,
     /// Scratch: each entry's cell range, `None` when not in this grid.
-    ranges: Vec<Option<((f64, f64), (f64, f64), [isize; 4])>>,
+    ranges: Vec<Option<Binned>>,
 }
 
 /// Whether sample `t` is in a tile's last lattice row or column: on a
@@ -108,6 +108,10 @@ pub(super) fn floor_cell(v: f64) -> isize {
     if (t as f64) > v { t - 1 } else { t }
 }
 
+/// A segment in a tile's grid: its ends in cell units (the grid's padding
+/// added) and its box's cells `[x0, y0, x1, y1]`.
+type Binned = ((f64, f64), (f64, f64), [isize; 4]);
+
 /// The cells of row `y` (the band `y <= v <= y + 1`, in cell units) that the
 /// segment `a`-`b` (in cell units) passes through, within its box's columns
 /// `[x0, x1]`: a long slanted segment is binned in the cells along it, not in
@@ -121,7 +125,8 @@ pub(super) fn row_cells(a: (f64, f64), b: (f64, f64), y: isize, (x0, x1): (isize
     }
     let (ta, tb) = ((y as f64 - a.1) / dy, (y as f64 + 1.0 - a.1) / dy);
     let (lo, hi) = (ta.min(tb).max(0.0), ta.max(tb).min(1.0));
-    if !(lo <= hi) {
+    // (NaN, from a segment whose ends lie a world apart, is taken whole.)
+    if lo.partial_cmp(&hi).is_none_or(|o| o == std::cmp::Ordering::Greater) {
         return (x0, x1);
     }
     let (xa, xb) = (a.0 + lo * (b.0 - a.0), a.0 + hi * (b.0 - a.0));
@@ -149,9 +154,8 @@ impl Grid {
             let shift = pad as f64;
             (x0 <= x1 && y0 <= y1).then_some(((a.0 + shift, a.1 + shift), (b.0 + shift, b.1 + shift), [x0, y0, x1, y1]))
         }));
-        let spans = |&(a, b, [x0, y0, x1, y1]): &((f64, f64), (f64, f64), [isize; 4])| {
-            (y0..=y1).map(move |y| (y as usize, row_cells(a, b, y, (x0, x1))))
-        };
+        let spans =
+            |&(a, b, [x0, y0, x1, y1]): &Binned| (y0..=y1).map(move |y| (y as usize, row_cells(a, b, y, (x0, x1))));
         self.start.clear();
         self.start.resize(self.side * self.side + 1, 0);
         for r in self.ranges.iter().flatten() {
