@@ -284,6 +284,23 @@ pub enum Command {
     /// Install or remove the Inkscape extension (Extensions > Tactile: style, check, preview, export).
     #[command(subcommand)]
     Inkscape(InkscapeCommand),
+    /// A local web app: open a drawing, see and hear what will be felt, fix
+    /// a style, download the bundle, explore it (docs/studio.md).
+    Studio {
+        /// A drawing, mesh, bundle or folder (default: the current folder).
+        path: Option<PathBuf>,
+        /// Port to listen on (default 8470, or any free one when it is taken; 0: any free one).
+        #[arg(long, value_name = "N")]
+        port: Option<u16>,
+        /// Do not open the default browser.
+        #[arg(long)]
+        no_open: bool,
+        /// Address to listen on (default 127.0.0.1, this machine only).
+        #[arg(long, value_name = "ADDR")]
+        listen: Option<std::net::IpAddr>,
+        #[command(flatten)]
+        opts: CompileOpts,
+    },
 }
 
 /// `taxel inkscape ...`

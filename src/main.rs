@@ -16,6 +16,7 @@ mod examples;
 mod io;
 mod playback;
 mod report;
+mod studio;
 mod textform;
 
 /// mimalloc rather than the system allocator: a build allocates and frees

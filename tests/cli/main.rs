@@ -16,3 +16,5 @@ mod play;
 mod real;
 mod report;
 mod stability;
+mod studio;
+mod studio_wasm;
