@@ -16,6 +16,8 @@
 
 use resvg::tiny_skia::{Path, PathSegment, Transform};
 
+pub(crate) mod overlay;
+
 /// Largest distance, in millimetres, between a curve and the polyline that replaces it.
 ///
 /// Masks are rasterised from these polylines, so this bounds how far a mask's

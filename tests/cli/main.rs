@@ -12,6 +12,7 @@ mod lookup;
 mod outputs;
 mod pins;
 mod play;
+mod played;
 mod real;
 mod report;
 mod stability;

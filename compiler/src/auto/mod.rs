@@ -46,7 +46,7 @@ use crate::drawing::{Drawing, Element, Rgba, Shape, StyledBy, TextRun, TextShape
 use crate::geometry::{FillRule, Polyline};
 use crate::spatial::{self, Bbox, Occupancy};
 use crate::svg::{CELL_PITCH_MM, DOT_PITCH_MM, braille_cells};
-use crate::vector::filled_area;
+use crate::geometry::overlay::filled_area;
 
 /// Most textures the automatic sheet uses (BANA 2010: about five of each kind).
 pub const MAX_TEXTURES: usize = 5;
