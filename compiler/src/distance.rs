@@ -1184,5 +1184,7 @@ mod junctions;
 mod layer_grid;
 mod near;
 mod planes;
+mod sanity;
+pub use sanity::sanity_check;
 #[cfg(test)]
 pub(crate) mod tests;

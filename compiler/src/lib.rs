@@ -24,6 +24,7 @@ mod options;
 pub mod pins;
 mod prepare;
 pub mod preview;
+pub mod sanity;
 pub mod spatial;
 pub mod stylesheet;
 pub mod svg;
