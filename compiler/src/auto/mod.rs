@@ -43,10 +43,10 @@ use taxel_format::DeviceProfile;
 use crate::annotation::{Braille, Dot, Grating, Style, Vibrate};
 use crate::diagnostic::Diagnostic;
 use crate::drawing::{Drawing, Element, Rgba, Shape, StyledBy, TextRun, TextShape};
+use crate::geometry::overlay::filled_area;
 use crate::geometry::{FillRule, Polyline};
 use crate::spatial::{self, Bbox, Occupancy};
 use crate::svg::{CELL_PITCH_MM, DOT_PITCH_MM, braille_cells};
-use crate::geometry::overlay::filled_area;
 
 /// Most textures the automatic sheet uses (BANA 2010: about five of each kind).
 pub const MAX_TEXTURES: usize = 5;

@@ -407,7 +407,11 @@ fn a_figure_eight_and_blobs_drawn_opposite_ways_are_regions() {
         // Each covers 2 x 40 x 40 mm².
         for e in &d.elements {
             let Shape::Path(p) = &e.shape else { unreachable!() };
-            assert!((crate::geometry::overlay::filled_area(&p.outline, rule) - 3200.0).abs() < 0.01, "{} ({rule:?})", e.name);
+            assert!(
+                (crate::geometry::overlay::filled_area(&p.outline, rule) - 3200.0).abs() < 0.01,
+                "{} ({rule:?})",
+                e.name
+            );
         }
     }
 }
