@@ -17,8 +17,9 @@
 //!   provenance entry; two layers of one style (kind, amplitude, soft
 //!   edge) hold different elements, since one style's shapes under the
 //!   same clips are one layer and an element has one set of clips; every
-//!   provenance entry is the source of something (a layer, a dot or a
-//!   stroke).
+//!   provenance entry is the source of something (a layer, a dot, a stroke
+//!   or a footprint: a style whose layer came out empty keeps its entry and
+//!   footprint).
 
 use taxel_format::{Bundle, Chunk, DotKind};
 
@@ -106,11 +107,16 @@ pub fn latero_plan(b: &Bundle) -> Result<(), String> {
                     mark(&format!("chunk {i} ({})", c.tag()), s)?;
                 }
             }
+            Chunk::Footprints(f) => {
+                for sh in &f.shapes {
+                    mark(&format!("chunk {i} ({})", c.tag()), sh.source)?;
+                }
+            }
             _ => {}
         }
     }
     match used.iter().position(|u| !u) {
-        Some(s) => Err(format!("provenance entry {s} is the source of no layer, dot or stroke")),
+        Some(s) => Err(format!("provenance entry {s} is the source of no layer, dot, stroke or footprint")),
         None => Ok(()),
     }
 }
