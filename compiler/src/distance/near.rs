@@ -542,7 +542,7 @@ impl Near {
         let d = &mut self.d;
         let visit = |items: &[u32], d: &mut [f64], active: u64| {
             for &n in items {
-                let Some(slot) = grid.slot_in(n as usize, tile) else { continue };
+                let Some(slot) = grid.slot_in(segs, n as usize, tile) else { continue };
                 if slot >= 64 || active & (1 << slot) == 0 {
                     continue;
                 }
@@ -756,8 +756,9 @@ mod tests {
     fn layer_grid_of(segs: &[(Seg, Part, f64)], origin: (f64, f64), h: f64, margin: f64) -> (Vec<Vec<u32>>, LayerGrid) {
         let (cols, rows) = GRID_TILES;
         let tile = TILE_CELLS as f64 * h;
-        let (buckets, spans) = super::super::buckets_of(segs, origin, tile, (cols, rows));
-        let lattice = super::super::layer_grid::Lattice { origin, h, cols, rows, margin, slots: slots(1, 1) };
+        let tiles = super::super::Tiles { origin, side: tile, cols, rows };
+        let (buckets, spans) = super::super::buckets_of(segs, &tiles);
+        let lattice = super::super::layer_grid::Lattice { tiles, h, margin, slots: slots(1, 1) };
         let grid = LayerGrid::new(segs, spans, &lattice, |p| slot_of(p, 1, 1), 0, MAX_RINGS);
         (buckets, grid.expect("a layer grid"))
     }
