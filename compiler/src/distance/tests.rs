@@ -759,7 +759,7 @@ proptest! {
                     let held = bucket.contains(&(n as u32));
                     prop_assert!(!held || by_bounds(seg, c, r), "tile ({}, {}) holds segment {} beyond its bounds", c, r, n);
                     let d = distance_to_square(seg.0, square);
-                    prop_assert!(held || !(d < seg.2 * (1.0 - 1e-9)), "tile ({}, {}) lacks segment {} at {}", c, r, n, d);
+                    prop_assert!(held || d >= seg.2 * (1.0 - 1e-9), "tile ({}, {}) lacks segment {} at {}", c, r, n, d);
                 }
             }
         }
