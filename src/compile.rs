@@ -128,6 +128,10 @@ fn options_with_fonts(opts: &CompileOpts, fonts: bool) -> Result<Result<CompileO
         auto: opts.style_is_auto(),
         languages: languages(opts),
         braille: braille(),
+        memory: match opts.max_memory.unwrap_or(crate::cli::DEFAULT_MAX_MEMORY) {
+            usize::MAX => None,
+            limit => Some(taxel_compiler::budget::MemoryBudget { in_use: crate::held, limit }),
+        },
     }))
 }
 

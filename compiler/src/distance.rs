@@ -27,6 +27,7 @@
 //! profile there is saturated whatever the interpolation gives.
 
 use std::sync::OnceLock;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use rayon::prelude::*;
 
@@ -34,6 +35,7 @@ use taxel_format::{
     DISTANCE_ZERO, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE, TILE_SAMPLES, TILE_SIDE, TilePlane,
 };
 
+use crate::budget::{MemoryBudget, OverBudget};
 #[cfg(test)]
 use crate::geometry::distance_to_segment;
 use crate::geometry::overlay;
@@ -401,15 +403,45 @@ fn united_fills(fills: &[(&[Polyline], FillRule)]) -> Option<Vec<Polyline>> {
 
 /// Builds the field of one layer; `None` when nothing of it is felt on the page.
 pub fn build_field(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
-    if let Some(union) = united_fills(&g.fills) {
-        let g = LayerGeometry { fills: vec![(&union[..], FillRule::NonZero)], ..g.clone() };
-        return build_united(&g, params);
-    }
-    build_united(g, params)
+    build_field_within(g, params, None).unwrap_or(None)
 }
 
-/// [`build_field`] once the fills share no side.
-fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
+/// [`build_field`] within a memory budget: [`OverBudget`] when the process
+/// holds more than `budget` allows before the field is done (looked at
+/// before the fills are united and at every tile).
+pub fn build_field_within(
+    g: &LayerGeometry<'_>,
+    params: FieldParams,
+    budget: Option<&MemoryBudget>,
+) -> Result<Option<Field>, OverBudget> {
+    let over = || budget.is_some_and(MemoryBudget::exceeded);
+    if over() {
+        return Err(OverBudget);
+    }
+    if let Some(union) = united_fills(&g.fills) {
+        let g = LayerGeometry { fills: vec![(&union[..], FillRule::NonZero)], ..g.clone() };
+        return build_united(&g, params, budget);
+    }
+    build_united(g, params, budget)
+}
+
+/// [`build_field_within`] once the fills share no side.
+fn build_united(
+    g: &LayerGeometry<'_>,
+    params: FieldParams,
+    budget: Option<&MemoryBudget>,
+) -> Result<Option<Field>, OverBudget> {
+    let Some(built) = build_united_inner(g, params, budget) else { return Ok(None) };
+    built.map(Some)
+}
+
+/// [`build_united`]: `None` when nothing is felt, `Some(Err)` when the
+/// budget stopped it.
+fn build_united_inner(
+    g: &LayerGeometry<'_>,
+    params: FieldParams,
+    budget: Option<&MemoryBudget>,
+) -> Option<Result<Field, OverBudget>> {
     let h = params.pitch_mm;
     if !(h.is_finite() && h > 0.0) {
         return None;
@@ -505,6 +537,7 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
     }
     let tiles = Tiles { origin: (ox, oy), side: tile, cols, rows };
     let (buckets, spans) = buckets_of(&segs, &tiles);
+    let stopped = AtomicBool::new(budget.is_some_and(MemoryBudget::exceeded));
     // Each segment's length, for the length of edge within a tile's reach.
     let seg_len: Vec<f64> =
         segs.iter().map(|&((a, b), _, _)| ((b.0 - a.0).powi(2) + (b.1 - a.1).powi(2)).sqrt()).collect();
@@ -587,6 +620,11 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
         }
     };
     let tile_of = |Scratch { near, centres }: &mut Scratch, r: usize, c: usize, refine: bool| -> TileOut {
+        // Past the budget: the remaining tiles are not worked on.
+        if stopped.load(Ordering::Relaxed) || budget.is_some_and(MemoryBudget::exceeded) {
+            stopped.store(true, Ordering::Relaxed);
+            return TileOut::Constant(TILE_OUTSIDE);
+        }
         let bucket = &buckets[r * cols + c];
         let corner = at(c * TILE_CELLS, r * TILE_CELLS);
         if bucket.is_empty() && !page_edge_near(c, r) {
@@ -735,6 +773,9 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
         let mut s = scratch();
         (0..rows * cols).map(|k| tile_of(&mut s, k / cols, k % cols, false)).collect()
     };
+    if stopped.load(Ordering::Relaxed) {
+        return Some(Err(OverBudget));
+    }
     // Fine tiles (format 4.4) where stored tiles misplace the edge, the
     // worst first, while they add no more bytes than the layer has without
     // them (or [`FINE_BUDGET_FLOOR`]): refining every tile of a map drawn
@@ -793,6 +834,9 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
             break;
         }
     }
+    if stopped.load(Ordering::Relaxed) {
+        return Some(Err(OverBudget));
+    }
     let mut tiles = vec![TILE_OUTSIDE; cols * rows];
     let mut samples = Vec::new();
     let mut planes = Vec::new();
@@ -838,7 +882,7 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
     if tiles.iter().all(|&t| t == TILE_OUTSIDE) {
         return None;
     }
-    Some(Field {
+    Some(Ok(Field {
         origin: (ox, oy),
         tile_cols: cols as u32,
         tile_rows: rows as u32,
@@ -846,7 +890,7 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
         tiles,
         planes,
         samples,
-    })
+    }))
 }
 
 /// The segment entries in a layer's tile buckets from which its tiles are

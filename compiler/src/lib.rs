@@ -14,6 +14,7 @@ pub mod annotation;
 pub mod auto;
 pub mod braille;
 pub mod brush;
+pub mod budget;
 mod diagnostic;
 #[doc(hidden)]
 pub mod distance;

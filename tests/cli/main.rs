@@ -16,6 +16,7 @@ mod play;
 mod played;
 mod real;
 mod report;
+mod runaway;
 mod stability;
 mod studio;
 mod studio_wasm;

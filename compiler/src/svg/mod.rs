@@ -89,6 +89,10 @@ fn compile(
     // Styles asked of shapes that are not drawn count as asked (for the T0300 message below).
     let not_drawn = diags.iter().filter(|d| d.code == drawing::NOT_DRAWN).count();
     crate::prepare::prepare(&mut drawing, opts, diags);
+    if let Some(d) = crate::budget::check(opts.memory.as_ref(), "reading the drawing") {
+        diags.push(d);
+        return None;
+    }
     // Pin displays are legalised from the same drawing into one pin image.
     if opts.profile.family() == taxel_format::Family::Pins {
         return crate::pins::build_bundle(&drawing, opts, diags);
