@@ -99,8 +99,8 @@ pub fn png(sheet: &Sheet) -> Result<Vec<u8>, PrintError> {
         return Err(PrintError(format!("{} is not an embosser: it has no dot grid to write as PNG", sheet.profile.name)));
     }
     let g = sheet.params.grid_mm as f64;
-    let w = (sheet.paper_mm.0 / g + 1e-6).floor() as u32;
-    let h = (sheet.paper_mm.1 / g + 1e-6).floor() as u32;
+    let w = (sheet.paper_mm.0 / g * (1.0 + 1e-6)).floor() as u32;
+    let h = (sheet.paper_mm.1 / g * (1.0 + 1e-6)).floor() as u32;
     let levels = sheet.params.dot_levels.max(1) as u32;
     let mut gray = vec![255u8; w as usize * h as usize];
     // The graphic's page only: the key is a page of its own, and a PNG has one.

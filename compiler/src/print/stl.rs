@@ -30,8 +30,8 @@ pub const MAX_RELIEF_VERTICES: u64 = 16_000_000;
 pub fn heights(sheet: &Sheet) -> Result<(Vec<f32>, (u32, u32)), PrintError> {
     let p = &sheet.params;
     let g = p.grid_mm as f64;
-    let cols = (sheet.paper_mm.0 / g + 1e-6).floor().max(1.0);
-    let rows = (sheet.paper_mm.1 / g + 1e-6).floor().max(1.0);
+    let cols = (sheet.paper_mm.0 / g * (1.0 + 1e-6)).floor().max(1.0);
+    let rows = (sheet.paper_mm.1 / g * (1.0 + 1e-6)).floor().max(1.0);
     if (cols + 1.0) * (rows + 1.0) > MAX_RELIEF_VERTICES as f64 {
         return Err(PrintError(format!(
             "a relief of {cols} x {rows} cells of {g} mm is more than {MAX_RELIEF_VERTICES} vertices: make grid_mm larger"

@@ -42,7 +42,7 @@ fn label(name: &str, text: &str, x: f64, y: f64) -> Element {
     Element {
         name: name.into(),
         visible: true,
-        styles: vec![Style::Braille(Braille::default())],
+        styles: vec![Style::Braille(Braille { radius_mm: 0.72, amplitude: 1.0 })],
         shape: Shape::Text(TextShape {
             content: text.into(),
             runs: vec![TextRun { text: text.into(), x_mm: x, y_mm: y, anchor: 0.0, continues: false }],
@@ -231,7 +231,7 @@ fn a_thin_line_is_widened_with_a_note() {
     let d = drawing(vec![path("thin", rect(10.0, 10.0, 30.0, 30.0), vec![vibrate(0.2, 50.0)])]);
     let (s, diags) = sheet(&d, "swell-a4");
     assert!(diags.iter().any(|d| d.code == "T0721"), "{diags:?}");
-    assert!(matches!(s.pages[0][0].shape, MarkShape::Line { width_mm, .. } if width_mm == 0.8));
+    assert!(matches!(s.pages[0][0].shape, MarkShape::Line { width_mm, .. } if width_mm == profile("swell-a4").1.min_line_mm as f64));
 }
 
 #[test]
@@ -242,7 +242,7 @@ fn braille_over_a_line_and_lines_too_close_are_reported() {
         label("name", "road", 20.0, 40.0),
     ]);
     let (_, diags) = sheet(&d, "swell-a4");
-    let codes: Vec<&str> = diags.iter().map(|d| d.code.as_str()).collect();
+    let codes: Vec<&str> = diags.iter().map(|d| d.code).collect();
     assert!(codes.contains(&"T0722"), "{codes:?}");
     assert!(codes.contains(&"T0723"), "{codes:?}");
     // Apart and labelled clear of them: neither.

@@ -247,7 +247,10 @@ fn hatch(polys: &[Polyline], rule: FillRule, angle_deg: f64, spacing: f64, inset
     let mut k = (lo / spacing).ceil();
     while k * spacing <= hi && out.len() < MAX_PIECES {
         let y = k * spacing;
-        for (u0, u1) in spans(&rotated, rule, y, inset) {
+        // Kept `inset` from the outline across the line too: where the spans
+        // `inset` above and below hold it (a line along a side is none).
+        let held = intersect(&intersect(&spans(&rotated, rule, y, inset), &spans(&rotated, rule, y - inset, inset)), &spans(&rotated, rule, y + inset, inset));
+        for (u0, u1) in held {
             for (a, b) in less_boxes(back((u0, y)), back((u1, y)), clear) {
                 if (b.0 - a.0).hypot(b.1 - a.1) > spacing / 4.0 {
                     out.push((a, b));
@@ -255,6 +258,19 @@ fn hatch(polys: &[Polyline], rule: FillRule, angle_deg: f64, spacing: f64, inset
             }
         }
         k += 1.0;
+    }
+    out
+}
+
+/// The intersection of two sorted lists of disjoint spans.
+fn intersect(a: &[(f64, f64)], b: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let (mut i, mut j, mut out) = (0, 0, Vec::new());
+    while i < a.len() && j < b.len() {
+        let (lo, hi) = (a[i].0.max(b[j].0), a[i].1.min(b[j].1));
+        if hi > lo {
+            out.push((lo, hi));
+        }
+        if a[i].1 < b[j].1 { i += 1 } else { j += 1 }
     }
     out
 }
@@ -354,7 +370,7 @@ mod tests {
 
     #[test]
     fn a_hatch_is_cleared_from_a_box() {
-        let segs = hatch(&square(0.0, 0.0, 20.0), FillRule::NonZero, 0.0, 4.0, 0.0, &[(5.0, 6.0, 15.0, 10.0)]);
+        let segs = hatch(&square(0.0, 0.0, 20.0), FillRule::NonZero, 0.0, 4.0, 0.5, &[(5.0, 6.0, 15.0, 10.0)]);
         // y = 8 is cut in two around the box; the others are whole.
         assert_eq!(segs.len(), 5, "{segs:?}");
         assert!(segs.iter().all(|s| s.0.1 != 8.0 || s.1.0 <= 5.0 + 1e-9 || s.0.0 >= 15.0 - 1e-9));
@@ -362,7 +378,7 @@ mod tests {
 
     #[test]
     fn a_diagonal_hatch_stays_inside() {
-        let segs = hatch(&square(0.0, 0.0, 20.0), FillRule::NonZero, 45.0, 4.0, 0.0, &[]);
+        let segs = hatch(&square(0.0, 0.0, 20.0), FillRule::NonZero, 45.0, 4.0, 0.5, &[]);
         assert!(!segs.is_empty());
         for (a, b) in segs {
             for p in [a, b] {
