@@ -215,7 +215,8 @@ fn print_scene(input: &Path, out: &Path, s: &Scene, opts: &CompileOpts) -> Resul
     let kind = taxel_compiler::print::FileKind::for_medium(sheet.medium())[0];
     let bytes = taxel_compiler::print::write(&sheet, kind).map_err(|e| anyhow::anyhow!("{e}"))?;
     let build_ms = t0.elapsed().as_secs_f64() * 1e3;
-    std::fs::create_dir_all(out.join("prints")).with_context(|| format!("cannot create {}", out.join("prints").display()))?;
+    std::fs::create_dir_all(out.join("prints"))
+        .with_context(|| format!("cannot create {}", out.join("prints").display()))?;
     io::write_file(&out.join("prints").join(format!("{}.{}", s.name, kind.extension())), &bytes)?;
     let picture = taxel_compiler::print::preview::render(&sheet);
     io::write_file(&out.join("previews").join(format!("{}.png", s.name)), &io::png::encode_picture(&picture)?)?;

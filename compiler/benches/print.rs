@@ -33,9 +33,8 @@ fn map() -> String {
             corner[j * (nx + 1) + i] = (i as f64 * w + dx, j as f64 * h + dy);
         }
     }
-    let mut s = String::from(
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="190mm" height="277mm" viewBox="0 0 190 277">"#,
-    );
+    let mut s =
+        String::from(r#"<svg xmlns="http://www.w3.org/2000/svg" width="190mm" height="277mm" viewBox="0 0 190 277">"#);
     for j in 0..ny {
         for i in 0..nx {
             let c = |a: usize, b: usize| corner[b * (nx + 1) + a];

@@ -291,7 +291,9 @@ fn parse_print(top: &Fields<'_, '_>, source_name: &str, text: &str) -> Result<De
     let name = ProfileName::new(name_text)
         .filter(|_| !name_text.is_empty())
         .ok_or_else(|| top.err("name", None, "expected a name of 1 to 31 bytes without NUL".into()))?;
-    let t = top.table("print")?.ok_or_else(|| top.err("print", None, "missing table [print] for family \"print\"".into()))?;
+    let t = top
+        .table("print")?
+        .ok_or_else(|| top.err("print", None, "missing table [print] for family \"print\"".into()))?;
     let f = Fields::new(t, "print", PRINT_KEYS, source_name, text)?;
     let medium_name = f.string("medium")?;
     let medium = Medium::from_name(medium_name).ok_or_else(|| {

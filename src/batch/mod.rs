@@ -61,7 +61,9 @@ impl Output {
     pub fn for_profile(profile: &taxel_format::DeviceProfile, out: Option<&Path>) -> Result<Output> {
         let ext = out.and_then(|o| o.extension()).and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
         let taxel_format::FamilyParams::Print(p) = profile.params else {
-            if let Some(k) = ext.as_deref().and_then(FileKind::from_extension).filter(|_| out.is_some_and(|o| !o.is_dir())) {
+            if let Some(k) =
+                ext.as_deref().and_then(FileKind::from_extension).filter(|_| out.is_some_and(|o| !o.is_dir()))
+            {
                 bail!(
                     "-o {}: .{} files come from print profiles (swell-a4, swell-letter, tiger-20dpi, \
                      emboss-braille-grid, print3d), and {} makes bundles (.taxel)",
@@ -284,7 +286,9 @@ fn build_one(
     };
     // A print sheet is written as the file its output names.
     let write_print = |sheet: taxel_compiler::print::Sheet| -> Result<(), String> {
-        let Output::Print(kind) = settings.output else { return Err(format!("{shown}: internal error: a print sheet for a bundle")) };
+        let Output::Print(kind) = settings.output else {
+            return Err(format!("{shown}: internal error: a print sheet for a bundle"));
+        };
         let bytes = taxel_compiler::print::write(&sheet, kind).map_err(|e| format!("{shown}: {e}"))?;
         crate::io::write_file(&job.output, &bytes).map_err(|e| e.to_string())
     };
@@ -335,9 +339,12 @@ mod tests {
         let bundle = Some(Bundle::new(Manifest::new(profiles::builtin("stress2").unwrap())));
         Ok(match text.trim() {
             "good" => Compiled { bundle, diagnostics: vec![], fonts_used: vec![], print: None },
-            "warn" => {
-                Compiled { bundle, diagnostics: vec![Diagnostic::warning("T9", "thin").at(1, 1)], fonts_used: vec![], print: None }
-            }
+            "warn" => Compiled {
+                bundle,
+                diagnostics: vec![Diagnostic::warning("T9", "thin").at(1, 1)],
+                fonts_used: vec![],
+                print: None,
+            },
             "panic" => panic!("fake compiler panic"),
             _ => Compiled {
                 bundle: None,
@@ -411,7 +418,10 @@ mod tests {
         let f = Path::new("x.taxel");
         assert_eq!(Destination::choose(Some(f), 1, Output::Bundle).unwrap(), Destination::File(f.into()));
         assert!(Destination::choose(Some(f), 2, Output::Bundle).is_err());
-        assert_eq!(Destination::choose(Some(Path::new("out")), 2, Output::Bundle).unwrap(), Destination::Folder("out".into()));
+        assert_eq!(
+            Destination::choose(Some(Path::new("out")), 2, Output::Bundle).unwrap(),
+            Destination::Folder("out".into())
+        );
         assert_eq!(Destination::choose(None, 3, Output::Bundle).unwrap(), Destination::NextToInputs);
     }
 }

@@ -38,7 +38,8 @@ pub fn run(args: BuildArgs) -> CmdResult {
     let (found, problems) = (discovered.inputs, discovered.problems);
     let found_count = found.len();
     // A print profile writes the medium's file (PDF, PNG, STL) instead of a bundle.
-    let profile = crate::io::load::profile(args.opts.profile.as_deref().unwrap_or(crate::io::load::DEFAULT_DRAWING_PROFILE))?;
+    let profile =
+        crate::io::load::profile(args.opts.profile.as_deref().unwrap_or(crate::io::load::DEFAULT_DRAWING_PROFILE))?;
     let output = Output::for_profile(&profile, args.out.as_deref())?;
     let dest = Destination::choose(args.out.as_deref(), found_count, output)?;
     let selected: Vec<_> = match shard {

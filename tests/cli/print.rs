@@ -276,3 +276,91 @@ fn the_felt_preview_of_a_print_profile_is_drawn() {
     // Raised marks are shaded darker than the paper.
     assert!(img.pixels().filter(|p| p.0[0] < 200).count() > 1000);
 }
+
+/// A sheet as text a person can review: its pages and their marks by kind
+/// and level, the texture each grated element got, and each page as ASCII
+/// art at 2.5 mm a character (`#` lines and symbols, `o` braille, `.` texture).
+fn sheet_text(sheet: &taxel_compiler::print::Sheet) -> String {
+    use taxel_compiler::print::{Level, MarkShape};
+    let mut s = format!(
+        "profile {}, paper {} x {} mm, {} page(s)\n",
+        sheet.profile.name,
+        sheet.paper_mm.0,
+        sheet.paper_mm.1,
+        sheet.pages.len()
+    );
+    s += &format!("textures (element, texture): {:?}\n", sheet.textures);
+    let cell = 2.5;
+    let (cols, rows) = ((sheet.paper_mm.0 / cell).ceil() as usize, (sheet.paper_mm.1 / cell).ceil() as usize);
+    for (n, page) in sheet.pages.iter().enumerate() {
+        let mut counts = std::collections::BTreeMap::new();
+        let mut art = vec![vec![' '; cols]; rows];
+        let mut put = |p: (f64, f64), l: Level| {
+            let (i, j) = ((p.0 / cell).floor(), (p.1 / cell).floor());
+            if i >= 0.0 && j >= 0.0 && (i as usize) < cols && (j as usize) < rows {
+                let c = &mut art[j as usize][i as usize];
+                let rank = |c: char| " .o#".find(c).unwrap_or(0);
+                let new = match l {
+                    Level::Texture => '.',
+                    Level::Braille => 'o',
+                    Level::Line => '#',
+                };
+                if rank(new) > rank(*c) {
+                    *c = new;
+                }
+            }
+        };
+        for m in page {
+            let kind = match &m.shape {
+                MarkShape::Line { points, .. } => {
+                    for w in points.windows(2) {
+                        let steps = ((w[1].0 - w[0].0).hypot(w[1].1 - w[0].1) / 1.0).ceil().max(1.0) as usize;
+                        for k in 0..=steps {
+                            let t = k as f64 / steps as f64;
+                            put((w[0].0 + t * (w[1].0 - w[0].0), w[0].1 + t * (w[1].1 - w[0].1)), m.level);
+                        }
+                    }
+                    "line"
+                }
+                MarkShape::Polygon { rings } => {
+                    rings.iter().flatten().for_each(|&p| put(p, m.level));
+                    "polygon"
+                }
+                MarkShape::Dot { centre, .. } => {
+                    put(*centre, m.level);
+                    "dot"
+                }
+            };
+            *counts.entry(format!("{kind} {:?}", m.level)).or_insert(0usize) += 1;
+        }
+        s += &format!("page {}: {counts:?}\n", n + 1);
+        for row in art {
+            s += row.iter().collect::<String>().trim_end();
+            s += "\n";
+        }
+    }
+    s
+}
+
+#[test]
+fn the_map_s_sheet_for_each_print_profile_matches_its_golden() {
+    // `TAXEL_BLESS=1 cargo test --test cli print::` rewrites the goldens; review them as pictures
+    // (`taxel preview examples/map/tala-map.svg --profile P -o P.png`) before committing.
+    let text = std::fs::read_to_string(MAP).unwrap();
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/cli/print_goldens");
+    let mut stale = Vec::new();
+    for profile in ["swell-a4", "swell-letter", "tiger-20dpi", "emboss-braille-grid", "print3d"] {
+        let opts = taxel_compiler::CompileOptions::new(taxel_format::profiles::builtin(profile).unwrap());
+        let compiled = taxel_compiler::svg::compile_svg(&text, &opts);
+        let sheet = compiled.print.unwrap_or_else(|| panic!("{profile}: {:?}", compiled.diagnostics));
+        let got = sheet_text(&sheet);
+        let path = dir.join(format!("tala-map.{profile}.txt"));
+        if std::env::var_os("TAXEL_BLESS").is_some() {
+            std::fs::create_dir_all(&dir).unwrap();
+            std::fs::write(&path, &got).unwrap();
+        } else if std::fs::read_to_string(&path).ok().as_deref() != Some(got.as_str()) {
+            stale.push(path.display().to_string());
+        }
+    }
+    assert!(stale.is_empty(), "goldens differ (re-bless with TAXEL_BLESS=1 after looking at the previews): {stale:?}");
+}

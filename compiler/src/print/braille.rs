@@ -62,7 +62,11 @@ pub(super) fn run_dots(p: &PrintParams, cells: &[u8], x0: f64, y0: f64) -> Vec<(
 
 fn dot_marks(p: &PrintParams, dots: &[(f64, f64)], elem: Option<usize>) -> impl Iterator<Item = Mark> {
     let d = p.braille_dot_mm as f64;
-    dots.iter().map(move |&c| Mark { shape: MarkShape::Dot { centre: c, diameter_mm: d }, level: Level::Braille, element: elem })
+    dots.iter().map(move |&c| Mark {
+        shape: MarkShape::Dot { centre: c, diameter_mm: d },
+        level: Level::Braille,
+        element: elem,
+    })
 }
 
 /// The braille of every visible label with a `braille` style.
@@ -118,7 +122,12 @@ pub(super) fn labels(drawing: &Drawing, p: &PrintParams, origin: (f64, f64), dia
 /// The key page: the drawing's title, then each key code with the label it
 /// stands for, a braille line each, wrapped at the printable width. Empty
 /// when the drawing has no key codes.
-pub(super) fn key_page(drawing: &Drawing, p: &PrintParams, origin: (f64, f64), diags: &mut Vec<Diagnostic>) -> Vec<Mark> {
+pub(super) fn key_page(
+    drawing: &Drawing,
+    p: &PrintParams,
+    origin: (f64, f64),
+    diags: &mut Vec<Diagnostic>,
+) -> Vec<Mark> {
     let key = crate::auto::key_line(drawing);
     let Some(entries) = key.strip_prefix("key: ") else { return Vec::new() };
     let mut lines: Vec<String> = Vec::new();

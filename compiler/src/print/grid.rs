@@ -21,7 +21,13 @@ pub fn dot_diameter(p: &PrintParams) -> f64 {
 }
 
 /// `marks` as grid dots; warns (T0725) about marks that cover no grid point.
-pub(super) fn snap(p: &PrintParams, origin: (f64, f64), marks: Vec<Mark>, drawing: &Drawing, diags: &mut Vec<Diagnostic>) -> Vec<Mark> {
+pub(super) fn snap(
+    p: &PrintParams,
+    origin: (f64, f64),
+    marks: Vec<Mark>,
+    drawing: &Drawing,
+    diags: &mut Vec<Diagnostic>,
+) -> Vec<Mark> {
     let g = p.grid_mm as f64;
     let (cols, rows) = p.grid_size();
     let (cols, rows) = (cols as u32, rows as u32);
@@ -48,7 +54,10 @@ pub(super) fn snap(p: &PrintParams, origin: (f64, f64), marks: Vec<Mark>, drawin
                 if let Some(e) = m.element.filter(|_| covers_nothing(&m.shape, origin, g)) {
                     lost.push(e);
                 }
-                drawn.push(Mark { shape: MarkShape::Line { points: points.clone(), closed: *closed, width_mm: width_mm.max(g) }, ..m });
+                drawn.push(Mark {
+                    shape: MarkShape::Line { points: points.clone(), closed: *closed, width_mm: width_mm.max(g) },
+                    ..m
+                });
             }
             _ => {
                 if let Some(e) = m.element.filter(|_| covers_nothing(&m.shape, origin, g)) {

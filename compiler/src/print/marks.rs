@@ -176,7 +176,8 @@ impl<'d> Builder<'d> {
                 self.symbol_styles.len() - 1
             }
         };
-        let size = if radius_mm.is_finite() { (2.0 * radius_mm).clamp(self.params.symbol_mm as f64, 50.0) } else { 0.0 };
+        let size =
+            if radius_mm.is_finite() { (2.0 * radius_mm).clamp(self.params.symbol_mm as f64, 50.0) } else { 0.0 };
         let size = size.max(self.params.symbol_mm as f64);
         for &c in centres {
             let c = self.at(c);
@@ -190,7 +191,9 @@ impl<'d> Builder<'d> {
     fn symbol(&mut self, s: Symbol, c: (f64, f64), size: f64, elem: usize) {
         let h = size / 2.0;
         let line = self.params.min_line_mm as f64;
-        let poly = |pts: &[(f64, f64)]| MarkShape::Polygon { rings: vec![pts.iter().map(|p| (c.0 + p.0, c.1 + p.1)).collect()] };
+        let poly = |pts: &[(f64, f64)]| MarkShape::Polygon {
+            rings: vec![pts.iter().map(|p| (c.0 + p.0, c.1 + p.1)).collect()],
+        };
         match s {
             Symbol::Disc => self.dot(c, size, elem),
             Symbol::Square => self.push(poly(&[(-h, -h), (h, -h), (h, h), (-h, h)]), Level::Line, elem),
@@ -370,8 +373,20 @@ fn offset(pts: &[(f64, f64)], closed: bool, d: f64) -> Vec<(f64, f64)> {
     };
     let mut out = Vec::with_capacity(n);
     for i in 0..n {
-        let prev = if i > 0 { Some(pts[i - 1]) } else if closed { pts.get(n - 1).copied() } else { None };
-        let next = if i + 1 < n { Some(pts[i + 1]) } else if closed { pts.first().copied() } else { None };
+        let prev = if i > 0 {
+            Some(pts[i - 1])
+        } else if closed {
+            pts.get(n - 1).copied()
+        } else {
+            None
+        };
+        let next = if i + 1 < n {
+            Some(pts[i + 1])
+        } else if closed {
+            pts.first().copied()
+        } else {
+            None
+        };
         let n1 = prev.and_then(|p| normal(p, pts[i]));
         let n2 = next.and_then(|q| normal(pts[i], q));
         let m = match (n1, n2) {

@@ -96,7 +96,10 @@ pub(super) fn coverage(marks: &[Mark], f: Frame, anti_alias: bool) -> Option<Cov
 /// chunk): white where no dot is, darker for higher dots, black the highest.
 pub fn png(sheet: &Sheet) -> Result<Vec<u8>, PrintError> {
     if sheet.medium() != Medium::Emboss {
-        return Err(PrintError(format!("{} is not an embosser: it has no dot grid to write as PNG", sheet.profile.name)));
+        return Err(PrintError(format!(
+            "{} is not an embosser: it has no dot grid to write as PNG",
+            sheet.profile.name
+        )));
     }
     let g = sheet.params.grid_mm as f64;
     let w = (sheet.paper_mm.0 / g * (1.0 + 1e-6)).floor() as u32;

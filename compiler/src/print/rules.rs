@@ -62,8 +62,7 @@ fn reaches(m: &Mark, b: Bbox) -> bool {
         MarkShape::Line { points, width_mm, .. } => {
             let g = spatial::grow(b, width_mm / 2.0);
             let inside = |p: &(f64, f64)| p.0 >= g.0 && p.0 <= g.2 && p.1 >= g.1 && p.1 <= g.3;
-            points.iter().any(inside)
-                || points.windows(2).any(|w| segment_meets_box(w[0], w[1], g))
+            points.iter().any(inside) || points.windows(2).any(|w| segment_meets_box(w[0], w[1], g))
         }
         _ => mark_box(m).is_some_and(|mb| spatial::meet(mb, b)),
     }
@@ -125,10 +124,13 @@ fn braille_over_lines(p: &PrintParams, drawing: &Drawing, page: &[Mark], labels:
         let e = &drawing.elements[label];
         let what = drawing.elements.get(other).map_or("another mark".to_string(), |o| format!("#{}", o.name));
         diags.push(
-            Diagnostic::warning("T0722", format!("the braille of this label runs over {what}: the dots cannot be read on a raised line"))
-                .with_element(e.name.clone())
-                .on_line(e.line)
-                .with_help("move the label off the line, or let the automatic sheet place it (--style auto)"),
+            Diagnostic::warning(
+                "T0722",
+                format!("the braille of this label runs over {what}: the dots cannot be read on a raised line"),
+            )
+            .with_element(e.name.clone())
+            .on_line(e.line)
+            .with_help("move the label off the line, or let the automatic sheet place it (--style auto)"),
         );
     }
 }
@@ -148,8 +150,10 @@ fn gaps(p: &PrintParams, drawing: &Drawing, diags: &mut Vec<Diagnostic>) {
         }
     }
     let gap = p.min_gap_mm as f64;
-    let boxes: Vec<Bbox> =
-        lined.iter().map(|(_, path, _)| crate::geometry::bounds(&path.outline).unwrap_or((0.0, 0.0, -1.0, -1.0))).collect();
+    let boxes: Vec<Bbox> = lined
+        .iter()
+        .map(|(_, path, _)| crate::geometry::bounds(&path.outline).unwrap_or((0.0, 0.0, -1.0, -1.0)))
+        .collect();
     let widest = lined.iter().map(|l| l.2).fold(0.0, f64::max);
     let mut found: Option<(usize, usize, f64)> = None;
     let mut count = 0usize;

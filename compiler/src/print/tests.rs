@@ -78,7 +78,11 @@ fn touching_regions_never_share_a_texture() {
         for i in 0..n {
             let style = (i + 2 * j) % 5;
             let g = grating(2.0 + style as f64, 0.0);
-            elements.push(path(&format!("r{i}_{j}"), rect(10.0 + 20.0 * i as f64, 10.0 + 20.0 * j as f64, 20.0, 20.0), vec![g]));
+            elements.push(path(
+                &format!("r{i}_{j}"),
+                rect(10.0 + 20.0 * i as f64, 10.0 + 20.0 * j as f64, 20.0, 20.0),
+                vec![g],
+            ));
         }
     }
     let d = drawing(elements);
@@ -178,7 +182,11 @@ fn braille_is_dots_at_the_profile_s_dimensions() {
 fn an_embosser_s_dots_all_lie_on_its_grid() {
     let d = drawing(vec![
         path("a", rect(10.3, 10.7, 50.0, 33.3), vec![vibrate(1.5, 50.0), grating(2.0, 45.0)]),
-        path("b", vec![Polyline { points: vec![(70.0, 20.0), (150.0, 90.0)], closed: false }], vec![vibrate(0.5, 80.0)]),
+        path(
+            "b",
+            vec![Polyline { points: vec![(70.0, 20.0), (150.0, 90.0)], closed: false }],
+            vec![vibrate(0.5, 80.0)],
+        ),
         label("t", "map", 20.0, 120.0),
     ]);
     for name in ["tiger-20dpi", "emboss-braille-grid"] {
@@ -207,10 +215,18 @@ fn several_vibrating_styles_get_distinct_line_styles_and_dot_styles_distinct_sym
     let mut elements = Vec::new();
     for (k, f) in [50.0, 80.0, 120.0].into_iter().enumerate() {
         let y = 20.0 + 30.0 * k as f64;
-        elements.push(path(&format!("l{k}"), vec![Polyline { points: vec![(10.0, y), (100.0, y)], closed: false }], vec![vibrate(1.5, f)]));
+        elements.push(path(
+            &format!("l{k}"),
+            vec![Polyline { points: vec![(10.0, y), (100.0, y)], closed: false }],
+            vec![vibrate(1.5, f)],
+        ));
     }
     for (k, r) in [1.0, 2.0].into_iter().enumerate() {
-        let mut e = path(&format!("p{k}"), rect(120.0 + 20.0 * k as f64, 20.0, 2.0, 2.0), vec![Style::Dot(Dot { radius_mm: r, amplitude: 1.0 })]);
+        let mut e = path(
+            &format!("p{k}"),
+            rect(120.0 + 20.0 * k as f64, 20.0, 2.0, 2.0),
+            vec![Style::Dot(Dot { radius_mm: r, amplitude: 1.0 })],
+        );
         e.styles = vec![Style::Dot(Dot { radius_mm: r, amplitude: 1.0 })];
         elements.push(e);
     }
@@ -231,14 +247,24 @@ fn a_thin_line_is_widened_with_a_note() {
     let d = drawing(vec![path("thin", rect(10.0, 10.0, 30.0, 30.0), vec![vibrate(0.2, 50.0)])]);
     let (s, diags) = sheet(&d, "swell-a4");
     assert!(diags.iter().any(|d| d.code == "T0721"), "{diags:?}");
-    assert!(matches!(s.pages[0][0].shape, MarkShape::Line { width_mm, .. } if width_mm == profile("swell-a4").1.min_line_mm as f64));
+    assert!(
+        matches!(s.pages[0][0].shape, MarkShape::Line { width_mm, .. } if width_mm == profile("swell-a4").1.min_line_mm as f64)
+    );
 }
 
 #[test]
 fn braille_over_a_line_and_lines_too_close_are_reported() {
     let d = drawing(vec![
-        path("road", vec![Polyline { points: vec![(10.0, 38.0), (120.0, 38.0)], closed: false }], vec![vibrate(1.5, 50.0)]),
-        path("rail", vec![Polyline { points: vec![(10.0, 41.0), (120.0, 41.0)], closed: false }], vec![vibrate(1.5, 50.0)]),
+        path(
+            "road",
+            vec![Polyline { points: vec![(10.0, 38.0), (120.0, 38.0)], closed: false }],
+            vec![vibrate(1.5, 50.0)],
+        ),
+        path(
+            "rail",
+            vec![Polyline { points: vec![(10.0, 41.0), (120.0, 41.0)], closed: false }],
+            vec![vibrate(1.5, 50.0)],
+        ),
         label("name", "road", 20.0, 40.0),
     ]);
     let (_, diags) = sheet(&d, "swell-a4");
@@ -247,8 +273,16 @@ fn braille_over_a_line_and_lines_too_close_are_reported() {
     assert!(codes.contains(&"T0723"), "{codes:?}");
     // Apart and labelled clear of them: neither.
     let d = drawing(vec![
-        path("road", vec![Polyline { points: vec![(10.0, 38.0), (120.0, 38.0)], closed: false }], vec![vibrate(1.5, 50.0)]),
-        path("rail", vec![Polyline { points: vec![(10.0, 48.0), (120.0, 48.0)], closed: false }], vec![vibrate(1.5, 50.0)]),
+        path(
+            "road",
+            vec![Polyline { points: vec![(10.0, 38.0), (120.0, 38.0)], closed: false }],
+            vec![vibrate(1.5, 50.0)],
+        ),
+        path(
+            "rail",
+            vec![Polyline { points: vec![(10.0, 48.0), (120.0, 48.0)], closed: false }],
+            vec![vibrate(1.5, 50.0)],
+        ),
         label("name", "road", 20.0, 80.0),
     ]);
     let (_, diags) = sheet(&d, "swell-a4");
@@ -276,7 +310,9 @@ fn closed_volume(tris: &[[[f32; 3]; 3]]) -> f64 {
             *edges.entry((a, b)).or_default() += 1;
         }
         let [p, q, r] = t.map(|v| v.map(f64::from));
-        volume += (p[0] * (q[1] * r[2] - q[2] * r[1]) - p[1] * (q[0] * r[2] - q[2] * r[0]) + p[2] * (q[0] * r[1] - q[1] * r[0])) / 6.0;
+        volume += (p[0] * (q[1] * r[2] - q[2] * r[1]) - p[1] * (q[0] * r[2] - q[2] * r[0])
+            + p[2] * (q[0] * r[1] - q[1] * r[0]))
+            / 6.0;
     }
     for (&(a, b), &n) in &edges {
         assert_eq!(n, 1, "edge {a:?}-{b:?} run {n} times the same way");
@@ -329,7 +365,9 @@ fn each_medium_writes_only_its_own_files() {
 #[test]
 fn the_pdf_page_is_the_paper() {
     let d = drawing(vec![path("a", rect(20.0, 20.0, 60.0, 40.0), vec![vibrate(1.5, 50.0)])]);
-    for (name, w_in, h_in) in [("swell-a4", 210.0 / 25.4, 297.0 / 25.4), ("swell-letter", 8.5, 11.0), ("tiger-20dpi", 11.0, 11.5)] {
+    for (name, w_in, h_in) in
+        [("swell-a4", 210.0 / 25.4, 297.0 / 25.4), ("swell-letter", 8.5, 11.0), ("tiger-20dpi", 11.0, 11.5)]
+    {
         let (s, _) = sheet(&d, name);
         let pdf = pdf(&s).unwrap();
         let text = String::from_utf8_lossy(&pdf);

@@ -166,7 +166,10 @@ pub fn fill(p: &PrintParams, origin: (f64, f64), elem: usize, path: &PathShape, 
     let polys: Vec<Polyline> = path
         .outline
         .iter()
-        .map(|pl| Polyline { points: pl.points.iter().map(|q| (q.0 + origin.0, q.1 + origin.1)).collect(), closed: true })
+        .map(|pl| Polyline {
+            points: pl.points.iter().map(|q| (q.0 + origin.0, q.1 + origin.1)).collect(),
+            closed: true,
+        })
         .collect();
     let line = p.min_line_mm as f64;
     let inset = if f.outlined { p.min_gap_mm as f64 / 2.0 + line } else { line / 2.0 };
@@ -233,7 +236,14 @@ type Seg = ((f64, f64), (f64, f64));
 /// Hatch lines through the region at `angle_deg`, `spacing` apart (phase
 /// fixed on the paper, so that a texture continues across regions), less the
 /// boxes in `clear`.
-fn hatch(polys: &[Polyline], rule: FillRule, angle_deg: f64, spacing: f64, inset: f64, clear: &[(f64, f64, f64, f64)]) -> Vec<Seg> {
+fn hatch(
+    polys: &[Polyline],
+    rule: FillRule,
+    angle_deg: f64,
+    spacing: f64,
+    inset: f64,
+    clear: &[(f64, f64, f64, f64)],
+) -> Vec<Seg> {
     let (s, c) = angle_deg.to_radians().sin_cos();
     // Rotate by -angle: the hatch lines become horizontal.
     let rot = |p: (f64, f64)| (p.0 * c + p.1 * s, -p.0 * s + p.1 * c);
@@ -249,7 +259,10 @@ fn hatch(polys: &[Polyline], rule: FillRule, angle_deg: f64, spacing: f64, inset
         let y = k * spacing;
         // Kept `inset` from the outline across the line too: where the spans
         // `inset` above and below hold it (a line along a side is none).
-        let held = intersect(&intersect(&spans(&rotated, rule, y, inset), &spans(&rotated, rule, y - inset, inset)), &spans(&rotated, rule, y + inset, inset));
+        let held = intersect(
+            &intersect(&spans(&rotated, rule, y, inset), &spans(&rotated, rule, y - inset, inset)),
+            &spans(&rotated, rule, y + inset, inset),
+        );
         for (u0, u1) in held {
             for (a, b) in less_boxes(back((u0, y)), back((u1, y)), clear) {
                 if (b.0 - a.0).hypot(b.1 - a.1) > spacing / 4.0 {
@@ -276,7 +289,14 @@ fn intersect(a: &[(f64, f64)], b: &[(f64, f64)]) -> Vec<(f64, f64)> {
 }
 
 /// Dot centres on the lattice inside the region, `inset` from its outline.
-fn lattice(polys: &[Polyline], rule: FillRule, spacing: f64, staggered: bool, inset: f64, clear: &[(f64, f64, f64, f64)]) -> Vec<(f64, f64)> {
+fn lattice(
+    polys: &[Polyline],
+    rule: FillRule,
+    spacing: f64,
+    staggered: bool,
+    inset: f64,
+    clear: &[(f64, f64, f64, f64)],
+) -> Vec<(f64, f64)> {
     let rings: Vec<Vec<(f64, f64)>> = polys.iter().map(|pl| pl.points.clone()).collect();
     let (lo, hi) = rings.iter().flatten().fold((f64::MAX, f64::MIN), |a, q| (a.0.min(q.1), a.1.max(q.1)));
     if !(lo.is_finite() && hi.is_finite() && spacing > 0.0) || (hi - lo) / spacing > MAX_PIECES as f64 {
@@ -288,7 +308,11 @@ fn lattice(polys: &[Polyline], rule: FillRule, spacing: f64, staggered: bool, in
         let y = k * spacing;
         let shift = if staggered && (k as i64).rem_euclid(2) == 1 { spacing / 2.0 } else { 0.0 };
         // Away from the outline across the rows too: the spans a dot's radius above and below.
-        let rows = [spans(&rings, rule, y - inset, inset), spans(&rings, rule, y, inset), spans(&rings, rule, y + inset, inset)];
+        let rows = [
+            spans(&rings, rule, y - inset, inset),
+            spans(&rings, rule, y, inset),
+            spans(&rings, rule, y + inset, inset),
+        ];
         for &(u0, u1) in &rows[1] {
             let mut m = ((u0 - shift) / spacing).ceil();
             while m * spacing + shift <= u1 && out.len() < MAX_PIECES {
