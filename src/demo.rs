@@ -303,6 +303,29 @@ mod tests {
         }
     }
 
+    #[test]
+    fn demo_writes_the_print_scenes_files_and_felt_previews() {
+        let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+        let out = tempfile::tempdir().expect("temp dir");
+        let names = ["tala-map-swell", "tala-map-tiger", "tala-map-print3d"];
+        let outcomes = run(&examples, out.path(), Some(&names)).expect("runs");
+        assert_eq!(outcomes.len(), 3);
+        for o in &outcomes {
+            let f = o.result.as_ref().unwrap_or_else(|e| panic!("{}: {e}", o.scene));
+            assert!(f.layers > 0 && f.bundle_bytes > 0, "{}: marks and a file", o.scene);
+        }
+        for (n, ext, magic) in [
+            ("tala-map-swell", "pdf", &b"%PDF-"[..]),
+            ("tala-map-tiger", "pdf", b"%PDF-"),
+            ("tala-map-print3d", "stl", &[0u8; 80][..]),
+        ] {
+            let bytes = std::fs::read(out.path().join("prints").join(format!("{n}.{ext}"))).expect("the file");
+            assert!(bytes.starts_with(magic), "{n}.{ext}");
+            let png = image::open(out.path().join("previews").join(format!("{n}.png"))).expect("preview");
+            assert!(png.width() > 1000, "{n}: the paper at 6 px/mm");
+        }
+    }
+
     /// The demo on two scenes (one per device family played) writes the
     /// summary, the bundles, the frames CSV and the WAV, and fails no scene.
     #[test]
