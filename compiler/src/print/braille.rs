@@ -1,5 +1,5 @@
 //! Braille on paper: the cells the compiler makes for a label
-//! ([`crate::svg::braille_cells`], the same as on every device), drawn as
+//! (`crate::braille`, the same as on every device), drawn as
 //! round dots at the medium's dimensions (base diameter, dot spacing, cell
 //! spacing, line spacing), never through a font. A label's cells start where
 //! its text starts (after its anchor) and stand on its baseline. The key of
@@ -8,8 +8,10 @@
 use taxel_format::{Medium, PrintParams};
 
 use super::{Level, Mark, MarkShape};
+use crate::CompileOptions;
+use crate::braille::Notes;
 use crate::diagnostic::Diagnostic;
-use crate::drawing::{Drawing, Element, Shape};
+use crate::drawing::{Drawing, Element, Shape, TextShape};
 
 /// The labels' braille: its dots, and the box of each label (paper mm,
 /// grown by the medium's minimum gap) that textures are cleared from.
@@ -21,23 +23,42 @@ pub(super) struct Labels {
     pub owners: Vec<usize>,
 }
 
-/// Translates `text`, warning (T0304) about characters left out, as the pin arrays do.
-fn cells(text: &str, e: Option<&Element>, diags: &mut Vec<Diagnostic>) -> Vec<u8> {
-    let (mut cells, missing) = crate::svg::braille_cells(text);
+/// Translates `text` as the other devices do (`crate::braille`: liblouis
+/// where it is, contracted where the language has it, else the built-in UEB
+/// grade 1), warning (T0304) about characters left out; six-dot cells.
+fn cells(text: &str, ask: (Option<&TextShape>, Option<u8>), e: Option<&Element>, cx: &mut Cx<'_>) -> Vec<u8> {
+    let t = crate::braille::translate(text, ask.0, cx.opts, ask.1, false);
+    // (A key code's grade 1 is taxel's choice, not the reader's: no note for it.)
+    if ask.0.is_none_or(|s| s.keyed.is_none()) {
+        cx.notes.add(&t);
+    }
+    let table = crate::braille::table_name(&t);
+    let (mut cells, missing) = (t.cells, t.missing);
     if !missing.is_empty() {
-        let list = crate::svg::braille_left_out(&missing);
-        if crate::svg::braille_says_nothing(text, &missing) {
+        let list = taxel_braille::left_out(&missing);
+        if taxel_braille::says_nothing(text, &missing) {
             cells.clear();
         }
         let left = if cells.iter().all(|&c| c == 0) { "the text is left out" } else { "these characters are left out" };
-        let mut d = Diagnostic::warning("T0304", format!("no uncontracted UEB braille for {list}; {left}"))
-            .with_help(crate::svg::BRAILLE_TABLE_HELP);
+        let mut d = Diagnostic::warning("T0304", format!("no braille in {table} for {list}; {left}"))
+            .with_help(crate::svg::braille_missing_help(&table));
         if let Some(e) = e {
             d = d.with_element(e.name.clone()).on_line(e.line);
         }
-        diags.push(d);
+        cx.diags.push(d);
+    }
+    // Paper has six-dot cells: an eight-dot table's dots 7 and 8 are not drawn.
+    for c in &mut cells {
+        *c &= 0x3f;
     }
     cells
+}
+
+/// What braille is written with, and where its notes and diagnostics go.
+pub(super) struct Cx<'a> {
+    pub opts: &'a CompileOptions,
+    pub notes: &'a mut Notes,
+    pub diags: &'a mut Vec<Diagnostic>,
 }
 
 /// Snaps a coordinate to an embosser's grid (grid points at `origin + (k + 0.5) * grid`).
@@ -70,7 +91,7 @@ fn dot_marks(p: &PrintParams, dots: &[(f64, f64)], elem: Option<usize>) -> impl 
 }
 
 /// The braille of every visible label with a `braille` style.
-pub(super) fn labels(drawing: &Drawing, p: &PrintParams, origin: (f64, f64), diags: &mut Vec<Diagnostic>) -> Labels {
+pub(super) fn labels(drawing: &Drawing, p: &PrintParams, origin: (f64, f64), cx: &mut Cx<'_>) -> Labels {
     let mut out = Labels::default();
     let (dp, cp) = (p.braille_dot_pitch_mm as f64, p.braille_cell_mm as f64);
     let r = p.braille_dot_mm as f64 / 2.0;
@@ -78,9 +99,14 @@ pub(super) fn labels(drawing: &Drawing, p: &PrintParams, origin: (f64, f64), dia
     let emboss = p.medium == Medium::Emboss;
     for (i, e) in drawing.elements.iter().enumerate().filter(|(_, e)| e.visible) {
         let Shape::Text(t) = &e.shape else { continue };
-        if !e.styles.iter().any(|s| matches!(s, crate::annotation::Style::Braille(_))) {
+        let Some(grade) = e.styles.iter().find_map(|s| match s {
+            crate::annotation::Style::Braille(b) => Some(b.grade),
+            _ => None,
+        }) else {
             continue;
-        }
+        };
+        // A key code is letters, not a word: uncontracted.
+        let grade = if t.keyed.is_some() { Some(1) } else { grade };
         // One braille line per run that starts a line; continuing runs join it.
         let mut lines: Vec<(f64, f64, f64, String)> = Vec::new();
         for run in &t.runs {
@@ -96,7 +122,7 @@ pub(super) fn labels(drawing: &Drawing, p: &PrintParams, origin: (f64, f64), dia
             lines.push((b.0, b.3, 0.0, t.content.clone()));
         }
         for (x, y, anchor, text) in lines {
-            let cells = cells(text.trim(), Some(e), diags);
+            let cells = cells(text.trim(), (Some(t), grade), Some(e), cx);
             if cells.is_empty() || !(x.is_finite() && y.is_finite()) {
                 continue;
             }
@@ -122,12 +148,7 @@ pub(super) fn labels(drawing: &Drawing, p: &PrintParams, origin: (f64, f64), dia
 /// The key page: the drawing's title, then each key code with the label it
 /// stands for, a braille line each, wrapped at the printable width. Empty
 /// when the drawing has no key codes.
-pub(super) fn key_page(
-    drawing: &Drawing,
-    p: &PrintParams,
-    origin: (f64, f64),
-    diags: &mut Vec<Diagnostic>,
-) -> Vec<Mark> {
+pub(super) fn key_page(drawing: &Drawing, p: &PrintParams, origin: (f64, f64), cx: &mut Cx<'_>) -> Vec<Mark> {
     let key = crate::auto::key_line(drawing);
     let Some(entries) = key.strip_prefix("key: ") else { return Vec::new() };
     let mut lines: Vec<String> = Vec::new();
@@ -144,7 +165,7 @@ pub(super) fn key_page(
     let mut row = 0usize;
     let mut cut = false;
     for text in lines {
-        let cells = cells(&text, None, diags);
+        let cells = cells(&text, (None, None), None, cx);
         for chunk in cells.chunks(per_line) {
             if row >= max_lines {
                 cut = true;
@@ -161,7 +182,7 @@ pub(super) fn key_page(
         }
     }
     if cut {
-        diags.push(Diagnostic::warning("T0727", "the key is longer than one page; its last lines are left out"));
+        cx.diags.push(Diagnostic::warning("T0727", "the key is longer than one page; its last lines are left out"));
     }
     marks
 }

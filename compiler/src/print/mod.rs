@@ -230,6 +230,13 @@ pub fn write(sheet: &Sheet, kind: FileKind) -> Result<Vec<u8>, PrintError> {
 /// an error diagnostic) when the profile is not a print profile or nothing
 /// tactile was made.
 pub fn legalise(drawing: &Drawing, profile: &DeviceProfile, diags: &mut Vec<Diagnostic>) -> Option<Sheet> {
+    legalise_with(drawing, &crate::CompileOptions::new(*profile), diags)
+}
+
+/// [`legalise`] for `opts.profile`, its braille written as `opts` chooses
+/// (the braille service, the reader's language, a style sheet's table).
+pub fn legalise_with(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mut Vec<Diagnostic>) -> Option<Sheet> {
+    let profile = &opts.profile;
     let FamilyParams::Print(params) = profile.params else {
         diags.push(Diagnostic::error("T0900", format!("internal error: {} is not a print profile", profile.name)));
         return None;
@@ -238,7 +245,8 @@ pub fn legalise(drawing: &Drawing, profile: &DeviceProfile, diags: &mut Vec<Diag
     let mut b = marks::Builder::new(drawing, &params, origin);
     let textures = texture::assign(drawing, &params, diags);
     // Labels first, so that textures are cleared around them.
-    let labels = braille::labels(drawing, &params, origin, diags);
+    let mut notes = crate::braille::Notes::default();
+    let labels = braille::labels(drawing, &params, origin, &mut braille::Cx { opts, notes: &mut notes, diags });
     for (i, e) in drawing.elements.iter().enumerate().filter(|(_, e)| e.visible) {
         for style in &e.styles {
             match (style, &e.shape) {
@@ -276,7 +284,8 @@ pub fn legalise(drawing: &Drawing, profile: &DeviceProfile, diags: &mut Vec<Diag
     page.extend(labels.marks.iter().cloned());
     rules::check(&params, drawing, &page, &labels, diags);
     let mut pages = vec![page];
-    let key = braille::key_page(drawing, &params, origin, diags);
+    let key = braille::key_page(drawing, &params, origin, &mut braille::Cx { opts, notes: &mut notes, diags });
+    notes.emit(diags);
     if !key.is_empty() {
         pages.push(key);
     }

@@ -42,7 +42,7 @@ fn label(name: &str, text: &str, x: f64, y: f64) -> Element {
     Element {
         name: name.into(),
         visible: true,
-        styles: vec![Style::Braille(Braille { radius_mm: 0.72, amplitude: 1.0 })],
+        styles: vec![Style::Braille(Braille { radius_mm: 0.72, amplitude: 1.0, grade: None })],
         shape: Shape::Text(TextShape {
             content: text.into(),
             runs: vec![TextRun { text: text.into(), x_mm: x, y_mm: y, anchor: 0.0, continues: false }],

@@ -98,7 +98,7 @@ fn compile(
     }
     // Print media are legalised from the same drawing into a sheet of raised marks (no bundle).
     if opts.profile.family() == taxel_format::Family::Print {
-        *print = crate::print::legalise(&drawing, &opts.profile, diags);
+        *print = crate::print::legalise_with(&drawing, opts, diags);
         return None;
     }
     // The design rules but the overlaps need only the features: they run
