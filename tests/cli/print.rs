@@ -124,11 +124,11 @@ fn braille_dots_read_back_from_the_pdf_have_the_nls_pitch_and_diameter() {
     }
     let dir = tempfile::tempdir().unwrap();
     let svg = dir.path().join("label.svg");
-    // "ll": dots 1, 2, 3 in two cells, the text starting at (20, 30) mm.
+    // "ll" uncontracted: dots 1, 2, 3 in two cells, the text starting at (20, 30) mm.
     std::fs::write(
         &svg,
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="50mm" viewBox="0 0 100 50">
-  <text x="20" y="30" data-tactile="braille()">ll</text></svg>"#,
+  <text x="20" y="30" data-tactile="braille(grade: 1)">ll</text></svg>"#,
     )
     .unwrap();
     let pdf = dir.path().join("label.pdf");
