@@ -36,6 +36,7 @@ use taxel_format::{
 
 #[cfg(test)]
 use crate::geometry::distance_to_segment;
+use crate::geometry::overlay;
 use crate::geometry::{FillRule, Polyline};
 use near::Near;
 
@@ -326,13 +327,13 @@ fn united_fills(fills: &[(&[Polyline], FillRule)]) -> Option<Vec<Polyline>> {
     if crate::geometry::crossings::crossings_exceed(&segments, UNION_MAX_CROSSINGS) {
         return None;
     }
-    let f = crate::vector::Frame { ox: all.0, oy: all.1, q: UNION_QUANTUM_MM };
+    let f = overlay::Frame { ox: all.0, oy: all.1, q: UNION_QUANTUM_MM };
     let mut each: Vec<Vec<i_overlay::i_float::int::point::IntPoint>> = Vec::new();
     for (pls, rule) in fills {
-        let shapes = crate::vector::shapes_of(&crate::vector::contours(pls, f, 0.0), crate::vector::ov_rule(*rule));
+        let shapes = overlay::shapes_of(&overlay::contours(pls, f), overlay::ov_rule(*rule));
         each.extend(shapes.into_iter().flatten());
     }
-    let union = crate::vector::shapes_of(&each, i_overlay::core::fill_rule::FillRule::NonZero);
+    let union = overlay::shapes_of(&each, i_overlay::core::fill_rule::FillRule::NonZero);
     let back = |p: &i_overlay::i_float::int::point::IntPoint| (f.ox + p.x as f64 * f.q, f.oy + p.y as f64 * f.q);
     Some(union.iter().flatten().map(|c| Polyline { points: c.iter().map(back).collect(), closed: true }).collect())
 }
@@ -1194,5 +1195,7 @@ mod junctions;
 mod layer_grid;
 mod near;
 mod planes;
+mod sanity;
+pub use sanity::sanity_check;
 #[cfg(test)]
 pub(crate) mod tests;

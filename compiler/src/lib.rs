@@ -26,12 +26,11 @@ pub mod pins;
 mod prepare;
 pub mod preview;
 pub mod print;
+pub mod sanity;
 pub mod spatial;
 pub mod stylesheet;
 pub mod svg;
 mod text_pos;
-#[doc(hidden)]
-pub mod vector;
 
 pub use diagnostic::{Diagnostic, Severity, has_errors};
 pub use options::{CompileOptions, DEFAULT_PX_PER_MM, Region, UpAxis};

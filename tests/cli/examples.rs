@@ -282,6 +282,12 @@ fn every_example_builds_with_exactly_the_warnings_it_is_meant_to_show() {
         let out = build(&s);
         if let Some(b) = &out.bundle {
             sizes.push((s.name.clone(), b.to_bytes().map_or(usize::MAX, |bytes| bytes.len())));
+            // The layer plan keeps its invariants on every example drawing.
+            if b.manifest.profile.family() == taxel_format::Family::Laterotactile
+                && let Err(e) = taxel_compiler::sanity::latero_plan(b)
+            {
+                failures.push(format!("{}: the layer plan breaks an invariant: {e}", s.name));
+            }
         }
         let errors = out.diagnostics.iter().any(|d| d.severity == Severity::Error);
         let warnings: Vec<String> = out

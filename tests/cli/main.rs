@@ -13,6 +13,7 @@ mod lookup;
 mod outputs;
 mod pins;
 mod play;
+mod played;
 mod print;
 mod real;
 mod report;

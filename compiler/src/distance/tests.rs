@@ -56,6 +56,9 @@ fn check(g: &LayerGeometry<'_>, p: FieldParams, points: &[(f64, f64)]) -> Result
         }
         return Ok(());
     };
+    if let Err(e) = f.sanity_check(p) {
+        return Err(TestCaseError::fail(format!("the field breaks an invariant: {e}")));
+    }
     for &q in points {
         let e = exact(q);
         let got = field_distance(&f, h, q);

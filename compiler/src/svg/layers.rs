@@ -528,11 +528,11 @@ fn distance_layers(
             };
             let params = FieldParams { pitch_mm: pitch, soft_mm: soft, page: page_rect };
             let field = build_field(&geometry, params);
-            Some((k, geometry, params, field, kind, amplitude, soft, covered_by))
+            Some((k, field, kind, amplitude, soft, covered_by))
         })
         .collect();
     let mut built_index = vec![None; pending.len()];
-    for (k, geometry, params, field, kind, amplitude, soft, covered_by) in built.into_iter().flatten() {
+    for (k, field, kind, amplitude, soft, covered_by) in built.into_iter().flatten() {
         let p = &pending[k];
         let Some(field) = field else {
             let style = match p.style {
@@ -565,10 +565,6 @@ fn distance_layers(
             planes: field.planes,
             samples: field.samples,
         };
-        // The vector-layer prototype's figures and benches see what was built.
-        if crate::vector::capture::active() {
-            crate::vector::capture::record(&geometry, params, &layer);
-        }
         b.layers.push(layer);
     }
     built_index
