@@ -187,7 +187,10 @@ pub fn parse(text: &str, source_name: &str) -> Result<DeviceProfile, ProfileErro
         message: e.to_string().trim_end().replace('\n', " "),
     })?;
     let top = Fields::new(doc.get_ref(), "", TOP_KEYS, source_name, text)?;
-    if top.string("family")? == "print" {
+    // Only a print profile turns here; a missing or mistyped family goes on
+    // to the other families' checks, which name the first thing missing in
+    // their own order (`[array]` before `family`), as before print existed.
+    if top.string("family").ok() == Some("print") {
         return parse_print(&top, source_name, text);
     }
     if top.table("print")?.is_some() {
@@ -660,6 +663,17 @@ mod tests {
         let text = BUILTIN[0].1.replace("rate_hz = 1000", "");
         let e = parse(&text, "my.toml").unwrap_err();
         assert_eq!(e.key.as_deref(), Some("rate_hz"), "{e}");
+    }
+
+    #[test]
+    fn a_profile_with_a_name_alone_misses_its_array_first() {
+        // Regression: the print family's check read `family` before
+        // anything else, so this profile named `family` instead of `[array]`.
+        let e = parse("name = \"x\"\n", "p").unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("array"), "{e}");
+        assert!(e.to_string().contains("missing table [array]"), "{e}");
+        let e = parse("name = \"x\"\nfamily = 5\n", "p").unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("array"), "{e}");
     }
 
     #[test]
