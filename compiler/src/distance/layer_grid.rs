@@ -50,13 +50,6 @@ pub(super) struct TileStats {
     pub rest: u32,
     /// The slots with at least one entry (slot `s` at bit `s`).
     pub slots: u64,
-    /// The slots with an entry that passes nowhere within the layer's
-    /// largest reach of the tile: a bucket holds a segment whose bounds,
-    /// grown by its reach, meet the tile, and a long slanted segment's
-    /// bounds can meet it while the segment passes far off. The rings of
-    /// [`LayerGrid::nearest_to`] cover the tile grown by that reach, so
-    /// they may not see such an entry.
-    pub far: u64,
 }
 
 /// One group's segments by cell (compressed rows).
@@ -142,19 +135,7 @@ impl LayerGrid {
                 Some(v) if v.to_bits() != r.to_bits() => return None,
                 _ => reach[s] = Some(r),
             }
-            slot.push(s as u8);
-        }
-        let reach: Vec<f64> = reach.into_iter().map(|r| r.unwrap_or(0.0)).collect();
-        let reach_max = reach.iter().copied().fold(0.0, f64::max);
-        // Each tile's counts, once every slot's reach is known (the far
-        // entries are measured against the largest).
-        let tile = TILE_CELLS as f64 * h;
-        let (ox, oy) = lat.origin;
-        for ((seg, _, _), (&s, sp)) in segs.iter().zip(slot.iter().zip(&span)) {
-            if s == u8::MAX {
-                continue;
-            }
-            let own = is_own(s as usize);
+            let own = is_own(s);
             for row in sp[2]..=sp[3] {
                 for col in sp[0]..=sp[1] {
                     let t = stats.get_mut(row as usize * cols + col as usize)?;
@@ -164,19 +145,17 @@ impl LayerGrid {
                         t.rest += 1;
                     }
                     t.slots |= 1 << s;
-                    let (x0, y0) = (ox + col as f64 * tile, oy + row as f64 * tile);
-                    let grown = (x0 - reach_max, y0 - reach_max, x0 + tile + reach_max, y0 + tile + reach_max);
-                    if !meets_box(seg, grown) {
-                        t.far |= 1 << s;
-                    }
                 }
             }
+            slot.push(s as u8);
         }
+        let reach: Vec<f64> = reach.into_iter().map(|r| r.unwrap_or(0.0)).collect();
         let searched = |own: bool| stats.iter().any(|t| (if own { t.own } else { t.rest }) as usize >= grid_from);
         let wanted = [searched(true), searched(false)];
         if !(wanted[0] || wanted[1]) {
             return None;
         }
+        let reach_max = reach.iter().copied().fold(0.0, f64::max);
         if reach_max / cell > max_rings {
             return None;
         }
@@ -348,22 +327,14 @@ impl LayerGrid {
     /// the tile) and then by segment number: what
     /// [`nearest_first`](super::nearest_first) keeps of them in bucket
     /// order, since a bucket lists its segments by number. `None` when a
-    /// group asked for was not binned, or when the search cannot vouch for
-    /// its answer (below), and the caller measures the bucket instead.
+    /// group asked for was not binned.
     ///
     /// Found by searching rings of cells round `xy` rather than measuring
     /// every entry of the bucket: the search stops once it holds `max`
-    /// segments all nearer than any cell of the next ring (a segment not
-    /// yet seen has its nearest point beyond the rings searched, so it is
-    /// strictly farther) and nearer than the grid's edge (a segment whose
-    /// nearest point lies off the grid is binned only where it enters it),
-    /// or once the rings cover the tile grown by every reach (every entry
-    /// of the bucket that passes there is binned in a cell there). An entry
-    /// that passes nowhere near the tile ([`TileStats::far`]) is farther
-    /// than every reach; when the tile has one of the slots wanted, the
-    /// search vouches only for an answer of `max` segments nearer than
-    /// that, and gives `None` otherwise (the nearest of a part that has few
-    /// segments near the tile may be such an entry).
+    /// segments all nearer than any cell of the next ring (the segments not
+    /// yet seen lie beyond the rings searched, so strictly farther), or
+    /// once the rings cover the tile grown by every reach (every entry of
+    /// the bucket is binned in a cell there).
     pub(super) fn nearest_to(
         &self,
         segs: &[(Seg, Part, f64)],
@@ -384,18 +355,6 @@ impl LayerGrid {
         // From a point of the tile, ring `last` lies beyond the tile grown by every reach.
         let last = (SUB * TILE_CELLS) as isize + (reach / self.cell).ceil() as isize + 2;
         let (x, y) = xy;
-        // How near an entry not yet seen may be at most: the grid's edge (a
-        // segment's nearest point off the grid is not binned), a cell short
-        // for the rounding; and, where an entry of a slot wanted passes far
-        // off the tile, every reach.
-        let edge = [x, y, self.width as isize - x, self.height as isize - y].into_iter().min().unwrap_or(0);
-        let far_slots = self.tile(tile).far;
-        let far =
-            (0..self.reach.len()).any(|s| far_slots & (1 << s) != 0 && groups[usize::from(!is_own(s))] && want(s));
-        let sure = {
-            let edge = (edge - 1).max(0) as f64 * self.cell;
-            if far { edge.min(reach) } else { edge }
-        };
         let visit = |items: &[u32], found: &mut Vec<(f64, u32)>| {
             for &n in items {
                 let Some(slot) = self.slot_in(n as usize, tile_u32) else { continue };
@@ -427,21 +386,15 @@ impl LayerGrid {
             // Not seen yet: at least `next` away (a hundredth of a cell for
             // the rounding of the cell bounds). Sorted only once `max` seen
             // (counted with repeats) lie nearer.
-            let next = ((r as f64 + 0.99) * self.cell).min(sure);
+            let next = (r as f64 + 0.99) * self.cell;
             if r < last && found.iter().filter(|e| e.0 < next * next).count() >= max {
                 order(&mut found);
                 if found.len() >= max && found[max - 1].0 < next * next {
-                    found.truncate(max);
-                    return Some(found);
+                    break;
                 }
             }
         }
         order(&mut found);
-        // Every entry that passes near the tile is found; one that passes
-        // far off is farther than every reach.
-        if far && !(found.len() >= max && found[max - 1].0 < reach * reach) {
-            return None;
-        }
         found.truncate(max);
         Some(found)
     }
@@ -450,22 +403,4 @@ impl LayerGrid {
     pub(super) fn tile(&self, (c, r): (usize, usize)) -> TileStats {
         self.stats.get(r * self.cols + c).copied().unwrap_or_default()
     }
-}
-
-/// Whether segment `seg` meets the closed box `(x0, y0, x1, y1)`: an end
-/// inside it (most segments, much shorter than a tile), else their boxes
-/// overlap and the box's corners are not all strictly on one side of the
-/// segment's line (the separating axes of a segment and a box).
-fn meets_box(&((ax, ay), (bx, by)): &Seg, (x0, y0, x1, y1): (f64, f64, f64, f64)) -> bool {
-    let inside = |x: f64, y: f64| x0 <= x && x <= x1 && y0 <= y && y <= y1;
-    if inside(ax, ay) || inside(bx, by) {
-        return true;
-    }
-    if ax.max(bx) < x0 || ax.min(bx) > x1 || ay.max(by) < y0 || ay.min(by) > y1 {
-        return false;
-    }
-    let (dx, dy) = (bx - ax, by - ay);
-    let side = |(cx, cy): (f64, f64)| dx * (cy - ay) - dy * (cx - ax);
-    let s = [side((x0, y0)), side((x1, y0)), side((x0, y1)), side((x1, y1))];
-    !(s.iter().all(|&v| v > 0.0) || s.iter().all(|&v| v < 0.0))
 }

@@ -442,9 +442,7 @@ impl TileCtx<'_, '_> {
     /// in the layer's grid ([`LayerGrid::nearest_to`](super::layer_grid::LayerGrid::nearest_to)):
     /// `p` lies at grid cell corner `xy` of the tile (half a lattice pitch
     /// a cell). `None` where the tile's bucket holds too few of the groups
-    /// searched for a search to pay, the layer has no grid of them, or the
-    /// search cannot vouch for its answer (an entry of the bucket passes far
-    /// off the tile and may be among the nearest): the bucket is measured then.
+    /// searched for a search to pay, or the layer has no grid of them.
     pub(super) fn in_grid(
         &self,
         part: Option<Part>,
