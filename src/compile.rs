@@ -183,7 +183,7 @@ fn compile_drawing(path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> Result<Co
     // ([`warm_up_fonts`]).
     let options = match options_with_fonts(opts, false)? {
         Ok(o) => o,
-        Err(d) => return Ok(Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new() }),
+        Err(d) => return Ok(Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new(), print: None }),
     };
     // A compressed drawing is unpacked (within the input limit); what is
     // neither SVG text nor gzip is a problem of the input, said like the others.
@@ -194,7 +194,7 @@ fn compile_drawing(path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> Result<Co
             let why = format!("{e:#}");
             let why = why.strip_prefix(&format!("{shown}: ")).unwrap_or(&why).to_string();
             let d = Diagnostic::error("T0200", why);
-            return Ok(Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new() });
+            return Ok(Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new(), print: None });
         }
     };
     let fonts = || font_database(opts.fonts.as_deref()).ok();

@@ -26,6 +26,7 @@ mod options;
 pub mod pins;
 mod prepare;
 pub mod preview;
+pub mod print;
 pub mod sanity;
 pub mod spatial;
 pub mod stylesheet;
@@ -52,4 +53,8 @@ pub struct Compiled {
     /// as [`drawing::fonts_used`] of its text; empty for a mesh), so that a
     /// content hash that covers them needs no second parse.
     pub fonts_used: Vec<drawing::FontFace>,
+    /// For a print profile, the legalised sheet (absent when there were
+    /// errors), written as the medium's file by [`print::write`]; print
+    /// media make no bundle.
+    pub print: Option<print::Sheet>,
 }

@@ -378,6 +378,10 @@ pub fn render_bundle(bundle: &Bundle, backdrop: Option<&Backdrop>) -> Picture {
 /// The picture is `None` when the drawing did not compile (see the diagnostics).
 pub fn preview_svg(svg_text: &str, opts: &CompileOptions) -> (Option<Picture>, Compiled) {
     let compiled = svg::compile_svg(svg_text, opts);
+    // A print profile's sheet is drawn as it is felt on paper or as a relief.
+    if let Some(sheet) = compiled.print.as_ref() {
+        return (Some(crate::print::preview::render(sheet)), compiled);
+    }
     let Some(bundle) = compiled.bundle.as_ref() else { return (None, compiled) };
     (Some(preview_compiled(svg_text, opts, bundle)), compiled)
 }

@@ -79,6 +79,8 @@ impl<'a> Session<'a> {
             Family::Pins => Player::Pins(PinsPlayer::new(&view).map_err(|e| e.to_string())?),
             Family::Finger => Player::Finger(Box::new(FingerPlayer::new(&view).map_err(|e| e.to_string())?)),
             Family::Grid => Player::Grid(GridPlayer::new(&view).map_err(|e| e.to_string())?),
+            // No bundle holds a print profile (the manifest has no code for it).
+            Family::Print => return Err("a print profile makes no bundle".to_string()),
         };
         let packed = match &player {
             Player::Pins(p) => vec![0; p.frame_len()],

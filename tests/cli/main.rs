@@ -14,6 +14,7 @@ mod outputs;
 mod pins;
 mod play;
 mod played;
+mod print;
 mod real;
 mod report;
 mod runaway;

@@ -237,7 +237,7 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
             )
             .with_help("build with --profile finger3 (or a profile file of family \"finger\")"),
         );
-        return Compiled { bundle: None, diagnostics, fonts_used: Vec::new() };
+        return Compiled { bundle: None, diagnostics, fonts_used: Vec::new(), print: None };
     }
     // A model read with the wrong axis up (a terrain exported Z-up) is seen
     // edge on: its errors say which flag reads it the other way.
@@ -264,7 +264,7 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
         Err(e) => {
             let extent = if let MeshError::Far { extent, .. } = e { Some(extent) } else { None };
             diagnostics.push(failed(e, extent));
-            return Compiled { bundle: None, diagnostics, fonts_used: Vec::new() };
+            return Compiled { bundle: None, diagnostics, fonts_used: Vec::new(), print: None };
         }
         Ok((soup, mm_per_metre)) => {
             let extent = soup.extent;
@@ -272,7 +272,7 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
                 Ok(v) => v,
                 Err(e) => {
                     diagnostics.push(failed(e, Some(extent)));
-                    return Compiled { bundle: None, diagnostics, fonts_used: Vec::new() };
+                    return Compiled { bundle: None, diagnostics, fonts_used: Vec::new(), print: None };
                 }
             }
         }
@@ -368,7 +368,7 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
     // The writer validates its own output; a refusal here is reported, not hidden.
     if let Err(e) = bundle.to_bytes() {
         diagnostics.push(Diagnostic::error("T0613", format!("the height field cannot be stored: {e}")));
-        return Compiled { bundle: None, diagnostics, fonts_used: Vec::new() };
+        return Compiled { bundle: None, diagnostics, fonts_used: Vec::new(), print: None };
     }
-    Compiled { bundle: Some(bundle), diagnostics, fonts_used: Vec::new() }
+    Compiled { bundle: Some(bundle), diagnostics, fonts_used: Vec::new(), print: None }
 }
