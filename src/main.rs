@@ -37,6 +37,11 @@ pub fn held() -> usize {
     ALLOCATOR.allocated()
 }
 
+/// The most bytes the process has held at once.
+pub fn peak_held() -> usize {
+    ALLOCATOR.max_allocated()
+}
+
 /// The one place that turns an outcome into an exit code and prints the error.
 /// Stack of the threads that compile (the batch's workers and rayon's
 /// global pool): usvg's parser recurses once per nested element (in text,

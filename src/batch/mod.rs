@@ -210,7 +210,7 @@ pub fn run(jobs: &[Job], problems: &[String], settings: &Settings, compile: &Com
             let _ = writeln!(err, "{l}");
         }
     }
-    Ok(Summary { counts, elapsed: started.elapsed() })
+    Ok(Summary { counts, elapsed: started.elapsed(), peak: crate::peak_held() })
 }
 
 /// Builds one job: `(outcome, plain line, diagnostics)`. With `notes`, the
