@@ -7,8 +7,7 @@
 use std::path::Path;
 use std::process::Command;
 
-#[path = "../../compiler/benches/drawings/mod.rs"]
-mod drawings;
+use super::real::drawings;
 
 /// A `taxel` run: its exit code (`None`: killed by a signal), its output
 /// (stderr then stdout), and the peak memory its summary line gives, bytes.
@@ -63,7 +62,7 @@ fn drawings_that_ran_away_build_or_are_refused_within_the_memory_limit() {
         assert!(!run.text.contains("T0900"), "{name}: an internal error\n{}", run.text);
         assert_eq!(Path::new(&output).exists(), code == 0, "{name}: a bundle only when built\n{}", run.text);
         let peak = run.peak.unwrap_or_else(|| panic!("{name}: no peak said\n{}", run.text));
-        assert!(peak >= 1 << 20 && peak < 1 << 30, "{name}: peak {} MB", peak >> 20);
+        assert!((1 << 20..1 << 30).contains(&peak), "{name}: peak {} MB", peak >> 20);
     }
 }
 
