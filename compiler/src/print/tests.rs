@@ -400,3 +400,36 @@ fn nothing_tactile_is_an_error_not_an_empty_page() {
     assert!(legalise(&d, &profile("swell-a4").0, &mut diags).is_none());
     assert!(diags.iter().any(|d| d.code == "T0300"), "{diags:?}");
 }
+
+#[test]
+fn the_relief_as_3mf_reads_back_as_the_stl_s_triangles_in_millimetres() {
+    let d = drawing(vec![
+        path("a", rect(20.0, 20.0, 60.0, 40.0), vec![vibrate(1.5, 50.0), grating(2.0, 0.0)]),
+        label("t", "ab", 30.0, 100.0),
+    ]);
+    let (s, _) = sheet(&d, "print3d");
+    let bytes = write(&s, FileKind::ThreeMf).unwrap();
+    // threemf's own reader, as a slicer would open the package.
+    let models = threemf::read(std::io::Cursor::new(&bytes)).unwrap();
+    assert_eq!(models.len(), 1);
+    let model = &models[0];
+    assert!(matches!(model.unit, threemf::model::Unit::Millimeter), "in millimetres");
+    assert_eq!(model.resources.object.len(), 1);
+    let mesh = model.resources.object[0].mesh.as_ref().expect("a mesh");
+    let v = &mesh.vertices.vertex;
+    let read: Vec<[[f32; 3]; 3]> = mesh
+        .triangles
+        .triangle
+        .iter()
+        .map(|t| [t.v1, t.v2, t.v3].map(|k| [v[k].x as f32, v[k].y as f32, v[k].z as f32]))
+        .collect();
+    // The STL's triangles, corner for corner, with each corner stored once.
+    let tris = stl::triangles(&s).unwrap();
+    assert_eq!(read, tris);
+    let distinct: std::collections::HashSet<[u32; 3]> = tris.iter().flatten().map(|p| p.map(f32::to_bits)).collect();
+    assert_eq!(v.len(), distinct.len());
+    assert!(closed_volume(&read) > 0.0);
+    // Not for other media.
+    let (swell, _) = sheet(&d, "swell-a4");
+    assert!(write(&swell, FileKind::ThreeMf).is_err());
+}
