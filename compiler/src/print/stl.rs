@@ -117,10 +117,14 @@ pub fn stl(sheet: &Sheet) -> Result<Vec<u8>, PrintError> {
     Ok(out)
 }
 
+/// A mesh with shared corners: the distinct points, and each triangle as
+/// three indices into them.
+pub type Indexed = (Vec<[f32; 3]>, Vec<[usize; 3]>);
+
 /// The relief's triangles with their corners shared: each distinct corner
 /// (by its exact coordinates) once, and each triangle as three indices into
 /// them, in the order of [`triangles`].
-pub fn indexed(sheet: &Sheet) -> Result<(Vec<[f32; 3]>, Vec<[usize; 3]>), PrintError> {
+pub fn indexed(sheet: &Sheet) -> Result<Indexed, PrintError> {
     let tris = triangles(sheet)?;
     let mut index: std::collections::HashMap<[u32; 3], usize> = std::collections::HashMap::new();
     let mut points: Vec<[f32; 3]> = Vec::new();
