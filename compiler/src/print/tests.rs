@@ -433,3 +433,39 @@ fn the_relief_as_3mf_reads_back_as_the_stl_s_triangles_in_millimetres() {
     let (swell, _) = sheet(&d, "swell-a4");
     assert!(write(&swell, FileKind::ThreeMf).is_err());
 }
+
+#[test]
+fn point_symbols_that_would_touch_are_left_out_with_a_note() {
+    // A scatter plot's marks 3 mm apart in a row: paper draws each at least
+    // the medium's symbol size, so neighbours would touch.
+    let elements: Vec<Element> = (0..40)
+        .map(|k| {
+            let mut e = path(&format!("m{k}"), rect(20.0 + 3.0 * k as f64, 50.0, 1.0, 1.0), vec![]);
+            e.styles = vec![Style::Dot(Dot { radius_mm: 1.0, amplitude: 1.0 })];
+            e
+        })
+        .collect();
+    let (s, diags) = sheet(&drawing(elements), "swell-a4");
+    let (_, q) = profile("swell-a4");
+    let placed: Vec<((f64, f64), f64)> = (0..40).flat_map(|e| dots_of(&s.pages[0], e)).collect();
+    assert!(placed.len() > 5 && placed.len() < 40, "{} kept", placed.len());
+    for (i, a) in placed.iter().enumerate() {
+        for b in &placed[i + 1..] {
+            let d = (a.0.0 - b.0.0).hypot(a.0.1 - b.0.1);
+            assert!(d >= (a.1 + b.1) / 2.0 + q.min_gap_mm as f64 - 1e-9, "{a:?} and {b:?} {d} mm apart");
+        }
+    }
+    let note = diags.iter().find(|d| d.code == "T0728").expect("a note says so");
+    assert!(note.message.starts_with(&format!("{} point symbol(s) left out", 40 - placed.len())), "{}", note.message);
+    // Marks far apart are all kept, with no note.
+    let far: Vec<Element> = (0..5)
+        .map(|k| {
+            let mut e = path(&format!("f{k}"), rect(20.0 + 30.0 * k as f64, 50.0, 1.0, 1.0), vec![]);
+            e.styles = vec![Style::Dot(Dot { radius_mm: 1.0, amplitude: 1.0 })];
+            e
+        })
+        .collect();
+    let (s, diags) = sheet(&drawing(far), "swell-a4");
+    assert_eq!((0..5).map(|e| dots_of(&s.pages[0], e).len()).sum::<usize>(), 5);
+    assert!(diags.iter().all(|d| d.code != "T0728"));
+}
