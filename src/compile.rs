@@ -198,7 +198,7 @@ fn compile_drawing(path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> Result<Co
         }
     };
     let fonts = || font_database(opts.fonts.as_deref()).ok();
-    Ok(taxel_compiler::svg::compile_svg_with_fonts(&text, &options, &fonts))
+    Ok(taxel_compiler::compile_svg_with_fonts(&text, &options, &fonts))
 }
 
 /// A glTF height mesh for the finger device (docs/finger.md). Without

@@ -6,7 +6,7 @@
 //! `cargo bench -p taxel-compiler --bench compile -- --warm-up-time 1 --measurement-time 3`
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use taxel_compiler::{CompileOptions, DEFAULT_PX_PER_MM, svg::compile_svg};
+use taxel_compiler::{CompileOptions, DEFAULT_PX_PER_MM, compile_svg};
 use taxel_format::profiles;
 
 const MAP: &str = include_str!("map.svg");

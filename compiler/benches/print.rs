@@ -11,7 +11,7 @@ use std::fmt::Write as _;
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use taxel_compiler::{CompileOptions, print, svg};
+use taxel_compiler::{CompileOptions, compile_svg, print};
 use taxel_format::profiles;
 
 /// The map: page 190 x 277 mm, 40 x 25 regions whose shared corners are
@@ -73,7 +73,7 @@ fn bench(c: &mut Criterion) {
         let opts = CompileOptions { fit: true, ..CompileOptions::new(profiles::builtin(profile).unwrap()) };
         g.bench_function(name, |b| {
             b.iter(|| {
-                let compiled = svg::compile_svg(black_box(&text), &opts);
+                let compiled = compile_svg(black_box(&text), &opts);
                 let sheet = compiled.print.expect("the map prints");
                 black_box(print::write(&sheet, kind).expect("the file is written").len())
             })

@@ -10,7 +10,7 @@
 //! `cargo bench -p taxel-compiler --bench real_drawings -- --warm-up-time 1 --measurement-time 5`
 
 use criterion::{BenchmarkId, Criterion, SamplingMode, Throughput, criterion_group, criterion_main};
-use taxel_compiler::{CompileOptions, svg::compile_svg};
+use taxel_compiler::{CompileOptions, compile_svg};
 use taxel_format::profiles;
 
 #[path = "drawings/mod.rs"]

@@ -1,3 +1,5 @@
+//! Shared service: the memory budget.
+//!
 //! The memory a compilation may take (`taxel build --max-memory`).
 //!
 //! The library allocates through whatever allocator its program chose, so

@@ -1,3 +1,5 @@
+//! Stage 1, drawing: the SVG as written, resolved (styles, paint, geometry, occlusion).
+//!
 //! The resolved drawing: the compiler's public stage between an SVG and its
 //! layers, as usvg's `Tree` is between SVG text and pixels.
 //!
@@ -14,16 +16,19 @@
 //!
 //! [`resolve`] makes a drawing from SVG text; it returns the drawing, the
 //! diagnostics found on the way and the font faces its text used
-//! ([`Resolved`]). `svg::compile_svg` builds its layers from the same stage.
+//! ([`Resolved`]). `pipeline::compile_svg` builds its layers from the same stage.
 
+mod occlusion;
 mod page;
 mod resolve;
 pub(crate) mod source;
 mod text;
 mod walk;
 
+pub(crate) use occlusion::OpaqueFills;
+pub use occlusion::occluders;
 pub(crate) use page::page as page_size;
-pub use resolve::{FontFace, Fonts, Resolved, fonts_used, resolve, resolve_as_drawn};
+pub use resolve::{FontFace, Fonts, Resolved, fonts_used, resolve};
 pub(crate) use resolve::{NOT_DRAWN, run as resolve_into, usvg_options};
 
 use crate::annotation::Style;
@@ -223,6 +228,30 @@ pub struct TextRun {
 }
 
 impl Element {
+    /// The box of what can be seen of the element: its bounds within the
+    /// boxes of its clip regions; `None` when it has no outline or they
+    /// leave nothing.
+    pub fn seen_bounds(&self) -> Option<(f64, f64, f64, f64)> {
+        let mut b = self.bounds()?;
+        if let Shape::Path(p) = &self.shape {
+            for c in &p.clips {
+                let cb = crate::geometry::bounds(&c.outline)?;
+                b = (b.0.max(cb.0), b.1.max(cb.1), b.2.min(cb.2), b.3.min(cb.3));
+            }
+        }
+        (b.0 <= b.2 && b.1 <= b.3).then_some(b)
+    }
+
+    /// The element's outline in page mm: a path's, or a text's glyph
+    /// outlines; none for an image.
+    pub fn outline(&self) -> &[Polyline] {
+        match &self.shape {
+            Shape::Path(p) => &p.outline,
+            Shape::Text(t) => &t.outline,
+            Shape::Image { .. } => &[],
+        }
+    }
+
     /// The element's bounds `(x0, y0, x1, y1)` in page mm, `None` when it has no geometry.
     pub fn bounds(&self) -> Option<(f64, f64, f64, f64)> {
         match &self.shape {

@@ -1,3 +1,5 @@
+//! Shared service: exact geometry.
+//!
 //! Exact geometry in f64: outlines flattened to polylines in page
 //! millimetres, point-in-shape tests and distances to an outline.
 //!

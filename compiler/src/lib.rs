@@ -3,39 +3,46 @@
 //! takes bytes and strings, and returns the bundle together with every
 //! diagnostic it collected.
 //!
-//! Entry points: [`svg::compile_svg`] for drawings; [`drawing::resolve`] for
-//! the resolved drawing that its layers are built from; [`preview`] draws a
-//! bundle the way a reader will feel it; [`geometry`] holds the exact (f64)
-//! geometry that error reports compare rasters against.
+//! Entry points: [`compile_svg`] for drawings (the [`pipeline`]);
+//! [`mesh::compile_gltf`] for meshes; [`drawing::resolve`] for the drawing
+//! as written and [`pipeline::resolve`] for the drawing its layers are built
+//! from; [`preview`]
+//! draws a bundle the way a reader will feel it; [`geometry`] holds the exact
+//! (f64) geometry that error reports compare rasters against.
+//!
+//! The modules are declared below in the pipeline's order, top down: each
+//! imports only from those declared after it (a test checks this, and that
+//! no circle of imports remains). ARCHITECTURE.md has the map.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
-pub mod annotation;
-pub mod auto;
-pub mod braille;
+// The stages, in the order a drawing goes through them (ARCHITECTURE.md
+// has the map): each imports only from those below it.
+pub mod pipeline;
+pub mod sanity;
+pub mod rules;
+pub mod latero;
 pub mod brush;
+pub mod pins;
+pub mod mesh;
+pub mod print;
+pub mod preview;
+pub mod style;
+pub mod place;
+pub mod braille;
+pub mod drawing;
+mod options;
+pub mod annotation;
+pub mod spatial;
+pub mod geometry;
 pub mod budget;
 mod diagnostic;
-#[doc(hidden)]
-pub mod distance;
-pub mod drawing;
-pub mod fit;
-pub mod geometry;
-pub mod mesh;
-mod options;
-pub mod pins;
-mod prepare;
-pub mod preview;
-pub mod print;
-pub mod sanity;
-pub mod spatial;
-pub mod stylesheet;
-pub mod svg;
 mod text_pos;
 
+pub use annotation::sheet::{StyleError, StyleSheet};
 pub use diagnostic::{Diagnostic, Severity, has_errors};
 pub use options::{CompileOptions, DEFAULT_PX_PER_MM, Region, UpAxis};
-pub use stylesheet::{StyleError, StyleSheet};
+pub use pipeline::{compile_svg, compile_svg_with_fonts};
 /// The font database type of [`CompileOptions::fonts`] (usvg's `fontdb`).
 pub use usvg::fontdb;
 

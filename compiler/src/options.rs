@@ -4,7 +4,7 @@ use std::sync::Arc;
 
 use taxel_format::DeviceProfile;
 
-use crate::stylesheet::StyleSheet;
+use crate::annotation::sheet::StyleSheet;
 
 /// Default mask resolution in samples per millimetre (see `docs/annotations.md`,
 /// "Mask resolution"): the bilinear 50 % contour of an edge then lies within
@@ -92,7 +92,7 @@ pub struct CompileOptions {
     /// system's fonts, or those of `--fonts DIR`.
     pub fonts: Option<Arc<usvg::fontdb::Database>>,
     /// Use the built-in automatic style sheet (`--style auto`, see
-    /// [`crate::auto`]) for every element no annotation styles. Without it the
+    /// [`crate::style`]) for every element no annotation styles. Without it the
     /// automatic sheet is still used, with a note, when the drawing has no
     /// annotation and no [`CompileOptions::style`].
     pub auto: bool,
@@ -103,11 +103,11 @@ pub struct CompileOptions {
     /// language this way. Default `["en"]`.
     pub languages: Vec<String>,
     /// The braille service: liblouis when the caller found it
-    /// ([`crate::braille::Braille::load`]), else the built-in uncontracted
+    /// ([`taxel_braille::Braille::load`]), else the built-in uncontracted
     /// UEB. Default: the built-in table alone, so that a library build
     /// writes the same cells on every system; the `taxel` binary loads
     /// liblouis.
-    pub braille: Arc<crate::braille::Braille>,
+    pub braille: Arc<taxel_braille::Braille>,
     /// The memory the compilation may take (`--max-memory`): the stages
     /// whose work grows with the geometry stop with an error (T0308) past
     /// it. `None` (the default): no limit.
@@ -130,7 +130,7 @@ impl CompileOptions {
             fonts: None,
             auto: false,
             languages: vec!["en".to_string()],
-            braille: Arc::new(crate::braille::Braille::builtin()),
+            braille: Arc::new(taxel_braille::Braille::builtin()),
             memory: None,
         }
     }

@@ -12,7 +12,7 @@
 //!   and samples the same points (origins on multiples of the pitch), so a
 //!   grating's cut-out band is sampled where the band itself is.
 //! - **Tiles.** Each distance layer keeps its writer's invariants
-//!   ([`distance::sanity_check`](crate::distance::sanity_check)).
+//!   ([`distance::sanity_check`](crate::latero::distance::sanity_check)).
 //! - **Provenance.** Every layer names at least one source, each a
 //!   provenance entry; two layers of one style (kind, amplitude, soft
 //!   edge) hold different elements, since one style's shapes under the
@@ -72,7 +72,7 @@ pub fn latero_plan(b: &Bundle) -> Result<(), String> {
         })
         .collect();
     for &(i, d) in &layers {
-        crate::distance::sanity_check(d).map_err(|e| format!("chunk {i} ({}): {e}", d.tag()))?;
+        crate::latero::distance::sanity_check(d).map_err(|e| format!("chunk {i} ({}): {e}", d.tag()))?;
         if entries.is_some() && d.sources.is_empty() {
             return Err(format!("chunk {i} ({}) names no source", d.tag()));
         }

@@ -1,3 +1,5 @@
+//! Shared service: spatial indexes.
+//!
 //! Spatial indexes (R*-trees from `rstar`) for every pass that relates
 //! elements to their neighbours: the design rules' gaps and overlaps, and the
 //! automatic style sheet's region adjacency. Each finds the pairs of boxes

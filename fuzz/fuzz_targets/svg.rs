@@ -7,7 +7,7 @@
 
 use libfuzzer_sys::fuzz_target;
 use taxel_compiler::CompileOptions;
-use taxel_compiler::svg::compile_svg;
+use taxel_compiler::compile_svg;
 
 #[path = "../../compiler/tests/compiler/svggen.rs"]
 mod svggen;

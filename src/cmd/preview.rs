@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use taxel_compiler::Severity;
-use taxel_compiler::preview;
+use taxel_compiler::{pipeline, preview};
 use taxel_format::Bundle;
 
 use crate::cli::CompileOpts;
@@ -28,7 +28,7 @@ pub fn run(input: &Path, out: &Path, opts: &CompileOpts) -> CmdResult {
             };
             // Read like `build` reads it: with the size limit, and UTF-8 or nothing.
             let text = io::read_drawing(input).map_err(CliError::input)?;
-            let (picture, compiled) = preview::preview_svg(&text, &options);
+            let (picture, compiled) = pipeline::preview_svg(&text, &options);
             print_diagnostics(&shown, &compiled.diagnostics);
             picture
         }

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use taxel_compiler::{Severity, auto, drawing, fit};
+use taxel_compiler::{Severity, drawing, place, style};
 
 use crate::cli::{BuiltinSheet, CompileOpts};
 use crate::compile::compile_options;
@@ -16,7 +16,7 @@ pub fn run(sheet: BuiltinSheet, input: Option<&Path>, opts: &CompileOpts) -> Cmd
     let BuiltinSheet::Auto = sheet;
     let Some(path) = input else {
         let profile = io::load::profile(opts.profile.as_deref().unwrap_or(io::load::DEFAULT_DRAWING_PROFILE))?;
-        return io::stdout::print(&auto::sheet_toml(&profile, None));
+        return io::stdout::print(&style::sheet_toml(&profile, None));
     };
     let shown = path.display().to_string();
     let options = match compile_options(opts)? {
@@ -27,11 +27,11 @@ pub fn run(sheet: BuiltinSheet, input: Option<&Path>, opts: &CompileOpts) -> Cmd
         }
     };
     let text = io::read_drawing(path).map_err(CliError::input)?;
-    let resolved = drawing::resolve_as_drawn(&text, &options);
+    let resolved = drawing::resolve(&text, &options);
     let mut diags = resolved.diagnostics;
     let mut drawing = resolved.drawing.filter(|_| !taxel_compiler::has_errors(&diags));
     let placed = match &mut drawing {
-        Some(d) => fit::apply(d, &options.profile, options.fit, options.region.as_ref(), &mut diags),
+        Some(d) => place::apply(d, &options.profile, options.fit, options.region.as_ref(), &mut diags),
         None => false,
     };
     let Some(d) = drawing.filter(|_| placed) else {
@@ -40,6 +40,6 @@ pub fn run(sheet: BuiltinSheet, input: Option<&Path>, opts: &CompileOpts) -> Cmd
         }
         return Err(CliError::input(anyhow::anyhow!("{shown}: no style sheet can be made for this drawing")));
     };
-    let plan = auto::plan(&d, &options.profile);
-    io::stdout::print(&auto::sheet_toml(&options.profile, Some((&d, &plan))))
+    let plan = style::plan(&d, &options.profile);
+    io::stdout::print(&style::sheet_toml(&options.profile, Some((&d, &plan))))
 }

@@ -119,7 +119,7 @@ pub fn ladder(input: &Path, opts: &CompileOpts, base: &Bundle, default_only: boo
         profile.rate_hz = rate;
         let o = taxel_compiler::CompileOptions { profile, ..options.clone() };
         let t0 = Instant::now();
-        let compiled = taxel_compiler::svg::compile_svg(&svg, &o);
+        let compiled = taxel_compiler::compile_svg(&svg, &o);
         let compile_ms = t0.elapsed().as_secs_f64() * 1000.0;
         let Some(bundle) = compiled.bundle else {
             bail!("{} does not compile at {rate} Hz", input.display());

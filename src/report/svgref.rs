@@ -55,7 +55,7 @@ impl Drawing {
     /// sheet, `--width-mm` and fonts), for the profile `profile` the bundle was built for.
     pub fn read(svg: &str, profile: &DeviceProfile, opts: &CompileOptions) -> Result<Drawing, String> {
         let opts = CompileOptions { profile: *profile, ..opts.clone() };
-        let r = drawing::resolve(svg, &opts);
+        let r = taxel_compiler::pipeline::resolve(svg, &opts);
         match r.drawing {
             Some(drawing) => Ok(Drawing { drawing }),
             None => Err(r.diagnostics.first().map_or("the SVG could not be read".into(), |d| d.message.clone())),
@@ -97,13 +97,13 @@ impl Drawing {
     }
 
     /// The opaque fills that hide a grated layer made of `sources`, as the
-    /// compiler finds them ([`taxel_compiler::svg::occluders`]): each one's
+    /// compiler finds them ([`taxel_compiler::drawing::occluders`]): each one's
     /// outline and fill rule.
     pub fn occluders(&self, sources: &[Source]) -> Vec<(&[Polyline], FillRule)> {
         let mut elements: Vec<usize> = sources.iter().flat_map(|s| s.elements.iter().copied()).collect();
         elements.sort_unstable();
         elements.dedup();
-        taxel_compiler::svg::occluders(&self.drawing, &elements)
+        taxel_compiler::drawing::occluders(&self.drawing, &elements)
             .into_iter()
             .filter_map(|j| match &self.drawing.elements.get(j)?.shape {
                 Shape::Path(p) => Some((p.outline.as_slice(), p.fill_rule)),
@@ -132,7 +132,7 @@ pub fn exact_layers(svg: &str, bundle: &Bundle, opts: &CompileOptions) -> Result
             Chunk::Dots(d) if d.kind == taxel_format::DotKind::Braille => Some(&d.dots),
             _ => None,
         })
-        .flat_map(|dots| taxel_compiler::svg::braille_clearing(dots))
+        .flat_map(|dots| taxel_compiler::latero::braille_clearing(dots))
         .collect();
     // Each vibration or grating layer as (its sources, kind, amplitude): a
     // distance layer's every source, a raster mask's one source.
@@ -204,7 +204,7 @@ pub fn exact_layers(svg: &str, bundle: &Bundle, opts: &CompileOptions) -> Result
                     .iter()
                     .filter_map(|g| taxel_compiler::geometry::bounds(&g.polys))
                     .reduce(|a, r| (a.0.min(r.0), a.1.min(r.1), a.2.max(r.2), a.3.max(r.3)));
-                occluders.extend(taxel_compiler::svg::clearing_within(&clearing, mine));
+                occluders.extend(taxel_compiler::latero::clearing_within(&clearing, mine));
                 ExactLayer::Grating {
                     region: Region::Fill {
                         fills: geos.iter().map(|g| (Index::new(&g.polys, true), g.rule)).collect(),

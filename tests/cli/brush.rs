@@ -134,7 +134,7 @@ fn play_refuses_a_broken_bundle_by_name() {
 /// Compiles an SVG for `brush-4x3` with the library's SVG front end and writes the bundle.
 fn build_svg(svg: &str, path: &Path) -> Vec<taxel_compiler::Diagnostic> {
     let opts = taxel_compiler::CompileOptions::new(profiles::builtin("brush-4x3").unwrap());
-    let compiled = taxel_compiler::svg::compile_svg(svg, &opts);
+    let compiled = taxel_compiler::compile_svg(svg, &opts);
     let bundle = compiled.bundle.unwrap_or_else(|| panic!("no bundle: {:?}", compiled.diagnostics));
     std::fs::write(path, bundle.to_bytes().unwrap()).unwrap();
     compiled.diagnostics

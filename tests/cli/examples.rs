@@ -13,7 +13,7 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
-use taxel_compiler::svg::compile_svg;
+use taxel_compiler::compile_svg;
 use taxel_compiler::{CompileOptions, Compiled, Severity, StyleSheet};
 use taxel_format::{Chunk, DeviceProfile, DotKind, MaskKind, MaskLayer, MaskSamples, profiles};
 

@@ -195,9 +195,7 @@ fn compiled_examples_play_along_their_traces() {
         let trace = examples.join("traces").join(format!("{name}.csv"));
         let (Ok(text), true) = (std::fs::read_to_string(&svg), trace.exists()) else { continue };
         let opts = taxel_compiler::CompileOptions::new(profiles::builtin("stress2").unwrap());
-        let Some(bundle) = taxel_compiler::svg::compile_svg(&text, &opts).bundle else {
-            panic!("{name} does not compile")
-        };
+        let Some(bundle) = taxel_compiler::compile_svg(&text, &opts).bundle else { panic!("{name} does not compile") };
         let path = dir.path().join(format!("{name}.taxel"));
         std::fs::write(&path, bundle.to_bytes().unwrap()).unwrap();
         let out = dir.path().join(format!("{name}.csv"));

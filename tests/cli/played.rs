@@ -3,7 +3,7 @@
 //! where shapes of one style overlap. Here rather than in the compiler's
 //! tests, since the compiler does not depend on the runtime.
 
-use taxel_compiler::{CompileOptions, Compiled, svg::compile_svg};
+use taxel_compiler::{CompileOptions, Compiled, compile_svg};
 use taxel_format::{Bundle, Chunk, DeviceProfile, DistanceLayer, profiles};
 
 /// The STRESS² profile.

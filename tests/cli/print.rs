@@ -360,7 +360,7 @@ fn the_map_s_sheet_for_each_print_profile_matches_its_golden() {
     let mut stale = Vec::new();
     for profile in ["swell-a4", "swell-letter", "tiger-20dpi", "emboss-braille-grid", "print3d"] {
         let opts = taxel_compiler::CompileOptions::new(taxel_format::profiles::builtin(profile).unwrap());
-        let compiled = taxel_compiler::svg::compile_svg(&text, &opts);
+        let compiled = taxel_compiler::compile_svg(&text, &opts);
         let sheet = compiled.print.unwrap_or_else(|| panic!("{profile}: {:?}", compiled.diagnostics));
         let got = sheet_text(&sheet);
         let path = dir.join(format!("tala-map.{profile}.txt"));

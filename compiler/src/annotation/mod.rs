@@ -1,3 +1,5 @@
+//! The annotation language, below the stages: `data-tactile`, layer labels and style sheets.
+//!
 //! Tactile annotations: the style model every way of marking a drawing
 //! resolves to (`data-tactile` attributes, `tactile:` layer labels, style
 //! sheets), and its parser.
@@ -13,6 +15,7 @@
 //! ```
 
 mod parse;
+pub mod sheet;
 mod units;
 
 pub use parse::{AnnotationError, AnnotationErrorKind, parse};

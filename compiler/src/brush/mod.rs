@@ -1,3 +1,5 @@
+//! Back end for vibrotactile grids (stage 4, family 2), used by `latero` for `brush()` styles.
+//!
 //! Tactile Brush strokes (seed 001): stroke tables for vibrotactile grids.
 //!
 //! A `brush(duration, intensity, freq)` path becomes a stroke: virtual

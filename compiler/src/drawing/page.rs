@@ -80,7 +80,7 @@ pub(crate) fn page(
         }
     };
     // A page larger than the surface is reported once, after `--fit` and
-    // `--region` had their say, by `crate::fit::apply` (T0202).
+    // `--region` had their say, by `crate::place::apply` (T0202).
     Sizing { scale, width_mm: w * scale, height_mm: h * scale }
 }
 

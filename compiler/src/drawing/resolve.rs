@@ -126,10 +126,10 @@ pub fn fonts_used(svg_text: &str, fonts: &Arc<usvg::fontdb::Database>, languages
 
 /// Resolves an annotated SVG into a [`Drawing`] for `opts` (its profile
 /// decides the page when the drawing has no physical size; its style sheet
-/// takes part in style resolution), prepared as `svg::compile_svg` prepares
-/// it before making layers (automatic styles, `--region`, `--fit`), so the
-/// drawing is the one the bundle's layers are built from. No panic is
-/// reachable from the input.
+/// takes part in style resolution): the drawing as written, before the
+/// pipeline adapts it to the device (`crate::pipeline::resolve` does that:
+/// automatic styles, `--region`, `--fit`). No panic is reachable from the
+/// input.
 ///
 /// ```
 /// use taxel_compiler::{CompileOptions, drawing::{self, Shape}};
@@ -145,19 +145,6 @@ pub fn fonts_used(svg_text: &str, fonts: &Arc<usvg::fontdb::Database>, languages
 /// assert!((x0 - 10.0).abs() < 1e-4 && (y0 - 10.0).abs() < 1e-4 && (x1 - 40.0).abs() < 1e-4 && (y1 - 30.0).abs() < 1e-4);
 /// ```
 pub fn resolve(svg_text: &str, opts: &CompileOptions) -> Resolved {
-    let mut diagnostics = Vec::new();
-    let mut fonts_used = Vec::new();
-    let mut drawing = run(svg_text, opts, &|| opts.fonts.clone(), &mut diagnostics, &mut fonts_used);
-    if let Some(d) = &mut drawing {
-        crate::prepare::prepare(d, opts, &mut diagnostics);
-    }
-    Resolved { drawing, diagnostics, fonts_used }
-}
-
-/// [`resolve`] without the preparation: the drawing as written (no automatic
-/// styles, no `--region` or `--fit`), for what looks at the drawing before
-/// it is prepared (`taxel style auto INPUT`, the placement of the preview's backdrop).
-pub fn resolve_as_drawn(svg_text: &str, opts: &CompileOptions) -> Resolved {
     let mut diagnostics = Vec::new();
     let mut fonts_used = Vec::new();
     let drawing = run(svg_text, opts, &|| opts.fonts.clone(), &mut diagnostics, &mut fonts_used);

@@ -20,9 +20,9 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 
 use roxmltree::{Document, Node, ParsingOptions};
 
+use crate::annotation::sheet::{ElementFacts, StyleSheet};
 use crate::annotation::{self, Declaration};
 use crate::diagnostic::Diagnostic;
-use crate::stylesheet::{ElementFacts, StyleSheet};
 use crate::text_pos::{LineIndex, line_col, raw_offset};
 
 const INKSCAPE_NS: &str = "http://www.inkscape.org/namespaces/inkscape";

@@ -17,8 +17,8 @@ use usvg::{Group, Node};
 use super::source::{Kind, Source};
 use super::{Clip, Element, Paint, PathShape, Rgba, Shape, StyledBy};
 use crate::annotation::Declaration;
+use crate::annotation::sheet::{ElementFacts, StyleSheet};
 use crate::geometry::{self, FillRule, Polyline};
-use crate::stylesheet::{ElementFacts, StyleSheet};
 
 /// A declaration and where it came from.
 pub(crate) type Decl = (Declaration, StyledBy);

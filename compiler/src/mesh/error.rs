@@ -1,6 +1,5 @@
 //! What can stop a mesh from compiling.
 
-use super::load::Where;
 use crate::diagnostic::number;
 
 /// A problem that prevents a height field from being built. Messages name
@@ -222,5 +221,22 @@ impl MeshError {
             MeshError::Far { part, .. } => Some(part.clone()),
             _ => None,
         }
+    }
+}
+
+/// Where in the file a problem is.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Where {
+    /// The node, as `node 'name' (#i)`.
+    pub node: String,
+    /// The mesh, as `mesh 'name' (#i)`.
+    pub mesh: String,
+    /// Index of the primitive within the mesh.
+    pub primitive: usize,
+}
+
+impl core::fmt::Display for Where {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "{}, {}, primitive {}", self.node, self.mesh, self.primitive)
     }
 }

@@ -22,7 +22,7 @@ use gltf::accessor::{DataType, Dimensions};
 use gltf::buffer::Source;
 use gltf::mesh::Mode;
 
-use super::error::MeshError;
+use super::error::{MeshError, Where};
 use crate::options::UpAxis;
 
 /// Largest number of triangles one file may contribute.
@@ -406,23 +406,6 @@ fn instances(
         each.push([col(0, sx), col(1, sy), col(2, sz), [tx, ty, tz, 1.0]]);
     }
     Ok(Some(each))
-}
-
-/// Where in the file a problem is.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Where {
-    /// The node, as `node 'name' (#i)`.
-    pub node: String,
-    /// The mesh, as `mesh 'name' (#i)`.
-    pub mesh: String,
-    /// Index of the primitive within the mesh.
-    pub primitive: usize,
-}
-
-impl core::fmt::Display for Where {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        write!(f, "{}, {}, primitive {}", self.node, self.mesh, self.primitive)
-    }
 }
 
 fn node_name(n: &gltf::Node<'_>) -> String {

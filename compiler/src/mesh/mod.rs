@@ -1,3 +1,5 @@
+//! Back end for the finger device (its own pipeline, family 3): meshes, not drawings.
+//!
 //! glTF height meshes to height and gradient fields for the finger device
 //! (seed 002, `docs/finger.md`).
 //!

@@ -74,12 +74,7 @@ pub fn unicode(image: &PinImage) -> String {
     s
 }
 
-/// The display pages of `image` for `profile`, row-major: each `(col, row)` of its top-left pin.
-pub fn pages(image: &PinImage, profile: &DeviceProfile) -> Vec<(u32, u32)> {
-    let (w, h) = (profile.cols as u32, profile.rows as u32);
-    let (across, down) = (image.cols.div_ceil(w).max(1), image.rows.div_ceil(h).max(1));
-    (0..down).flat_map(|j| (0..across).map(move |i| (i * w, j * h))).collect()
-}
+pub use crate::preview::pins::pages;
 
 fn need_60x40(profile: &DeviceProfile, format: &str) -> Result<(), ExportError> {
     if !matches!(profile.params, FamilyParams::Pins(_)) || (profile.cols, profile.rows) != (60, 40) {

@@ -1,3 +1,5 @@
+//! Back end for pin-array displays (stage 4, family 4).
+//!
 //! Pin-matrix displays (device family 4): a resolved [`Drawing`] legalised
 //! to a pin image, from the same annotations as every other device.
 //!
@@ -46,7 +48,6 @@
 
 pub mod export;
 pub(crate) mod line;
-pub mod preview;
 pub(crate) mod rules;
 pub(crate) mod text;
 pub(crate) mod texture;
@@ -246,7 +247,7 @@ pub fn legalise_with(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mu
     // textures of different gratings stay distinguishable.
     let patterns = assign_patterns(drawing, pitch.0.max(pitch.1), diags);
     let regions = region_map(&canvas, drawing);
-    let opaque = crate::svg::OpaqueFills::of(drawing);
+    let opaque = crate::drawing::OpaqueFills::of(drawing);
     let mut labels = Vec::new();
     // Elements clipped alike (a chart's data in its axes) share one mask.
     let mut clipped_by: Option<(&[Clip], std::rc::Rc<Vec<bool>>)> = None;
@@ -328,7 +329,7 @@ pub fn legalise_with(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mu
     // The device's text line says the drawing's title, then the key of the
     // labels written as key codes (T0326), as a transcriber gives the key
     // beside the graphic.
-    let key = crate::auto::key_line(drawing);
+    let key = crate::style::key_line(drawing);
     let line = [drawing.title.as_str(), key.as_str()].into_iter().filter(|s| !s.is_empty()).collect::<Vec<_>>();
     if params.text_cells > 0 && !line.is_empty() {
         canvas.image.text = text::text_line(&line.join("; "), opts, &mut notes, diags);
@@ -390,7 +391,7 @@ pub fn build_bundle(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mut
     // Provenance entry 0 of a pin bundle is the drawing itself, so that
     // exports and hosts can name it (the DTMS title); an entry `key` holds
     // the key of its key codes in print (the DTMS text line's print text).
-    let key = crate::auto::key_line(drawing);
+    let key = crate::style::key_line(drawing);
     let mut entries = Vec::new();
     if !drawing.title.is_empty() {
         entries.push(ProvenanceEntry { id: "svg".into(), label: drawing.title.clone(), line: 0 });
@@ -481,11 +482,11 @@ fn outline(canvas: &mut Canvas, polys: &[Polyline], elem: usize, height: u8, bli
 }
 
 /// The pins (by index) whose centres lie under the opaque fills painted
-/// over element `i` ([`crate::svg::OpaqueFills::above`]), which hide its texture.
+/// over element `i` ([`crate::drawing::OpaqueFills::above`]), which hide its texture.
 fn hidden_under(
     canvas: &Canvas,
     drawing: &Drawing,
-    opaque: &crate::svg::OpaqueFills,
+    opaque: &crate::drawing::OpaqueFills,
     i: usize,
 ) -> std::collections::HashSet<usize> {
     let mut out = std::collections::HashSet::new();

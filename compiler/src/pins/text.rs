@@ -37,8 +37,7 @@ pub(crate) struct Label<'a> {
     pub e: &'a Element,
 }
 
-/// Dot `k` (0-based bit of a Unicode braille mask) at `(column, row)` within its cell.
-pub const DOT_POSITIONS: [(u32, u32); 8] = [(0, 0), (0, 1), (0, 2), (1, 0), (1, 1), (1, 2), (0, 3), (1, 3)];
+pub use crate::braille::DOT_POSITIONS;
 
 /// How a text is to be written: its shape (language), grade, and whether in eight-dot computer braille.
 struct Ask<'a> {

@@ -135,7 +135,7 @@ pub(super) fn labels(drawing: &Drawing, p: &PrintParams, origin: (f64, f64), cx:
 /// stands for, a braille line each, wrapped at the printable width. Empty
 /// when the drawing has no key codes.
 pub(super) fn key_page(drawing: &Drawing, p: &PrintParams, origin: (f64, f64), cx: &mut Cx<'_>) -> Vec<Mark> {
-    let key = crate::auto::key_line(drawing);
+    let key = crate::style::key_line(drawing);
     let Some(entries) = key.strip_prefix("key: ") else { return Vec::new() };
     let mut lines: Vec<String> = Vec::new();
     if !drawing.title.is_empty() {

@@ -1,3 +1,5 @@
+//! Back end for paper and 3D print (stage 4, family 5).
+//!
 //! Print media (device family 5): a resolved [`Drawing`] legalised to a
 //! [`Sheet`] of raised marks on paper, from the same annotations as every
 //! other device, and the sheet written as the medium's own file.

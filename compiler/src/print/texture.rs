@@ -5,7 +5,7 @@
 //! [`TEXTURES`], as the same style means the same thing wherever it is
 //! used. The styles are coloured over the graph of styles whose regions
 //! touch (the automatic sheet's region adjacency,
-//! [`crate::auto::adjacency::class_edges`], at the medium's minimum gap), in
+//! [`crate::style::adjacency::class_edges`], at the medium's minimum gap), in
 //! order of first use: each takes the texture of its own orientation when no
 //! touching style has it, else the first free one. A texture is drawn as
 //! scanlines through the region at the pattern's angle, cut by the fill rule
@@ -16,10 +16,10 @@ use taxel_format::PrintParams;
 
 use super::{Level, Mark, MarkShape, TextureId};
 use crate::annotation::Style;
-use crate::auto::adjacency::{self, Region};
 use crate::diagnostic::Diagnostic;
 use crate::drawing::{Drawing, PathShape, Shape};
 use crate::geometry::{FillRule, Polyline};
+use crate::style::adjacency::{self, Region};
 
 /// One texture of the catalogue.
 #[derive(Debug, Clone, Copy, PartialEq)]

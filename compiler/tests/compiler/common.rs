@@ -1,6 +1,6 @@
 //! Helpers shared by the compiler tests.
 
-use taxel_compiler::{CompileOptions, Compiled, Diagnostic, Severity, svg::compile_svg};
+use taxel_compiler::{CompileOptions, Compiled, Diagnostic, Severity, compile_svg};
 use taxel_format::{Bundle, Chunk, DeviceProfile, DistanceLayer, DotKind, DotTable, profiles};
 
 /// The STRESS² profile.

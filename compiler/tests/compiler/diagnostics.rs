@@ -1,6 +1,6 @@
 //! One test per diagnostic code: the drawing that triggers it, and where it points.
 
-use taxel_compiler::{CompileOptions, Severity, svg::compile_svg};
+use taxel_compiler::{CompileOptions, Severity, compile_svg};
 use taxel_format::profiles;
 
 use crate::common::*;

@@ -9,7 +9,7 @@ use taxel_format::{Chunk, DotKind, MaskKind};
 use crate::common::*;
 
 fn resolve(svg: &str) -> Drawing {
-    let r = drawing::resolve(svg, &CompileOptions::new(stress2()));
+    let r = taxel_compiler::pipeline::resolve(svg, &CompileOptions::new(stress2()));
     r.drawing.unwrap_or_else(|| panic!("no drawing: {:#?}", r.diagnostics))
 }
 
@@ -17,8 +17,8 @@ fn resolve(svg: &str) -> Drawing {
 /// what the reader found, before labels that find no place become key codes.
 fn resolve_as_read(svg: &str) -> Drawing {
     let mut opts = CompileOptions::new(stress2());
-    opts.style = Some(taxel_compiler::stylesheet::StyleSheet::parse("", "empty.toml").expect("an empty sheet"));
-    let r = drawing::resolve(svg, &opts);
+    opts.style = Some(taxel_compiler::annotation::sheet::StyleSheet::parse("", "empty.toml").expect("an empty sheet"));
+    let r = taxel_compiler::pipeline::resolve(svg, &opts);
     r.drawing.unwrap_or_else(|| panic!("no drawing: {:#?}", r.diagnostics))
 }
 
@@ -91,7 +91,7 @@ fn styles_come_from_the_style_sheet_and_are_overridden_by_annotations() {
     );
     let mut opts = CompileOptions::new(stress2());
     opts.style = Some(sheet);
-    let d = drawing::resolve(&svg, &opts).drawing.unwrap();
+    let d = taxel_compiler::pipeline::resolve(&svg, &opts).drawing.unwrap();
     let names = |e: &Element| e.styles.iter().map(|s| s.name()).collect::<Vec<_>>();
     assert_eq!((by_id(&d, "a").styled_by, names(by_id(&d, "a"))), (StyledBy::StyleSheet, vec!["grating"]));
     assert_eq!((by_id(&d, "b").styled_by, names(by_id(&d, "b"))), (StyledBy::Annotation, vec!["vibrate"]));
@@ -266,19 +266,19 @@ fn fonts_are_an_input_and_the_faces_used_are_reported() {
         _ => panic!("a text"),
     };
     // Without fonts: no glyph outlines, no faces; braille still comes from the characters.
-    let none = drawing::resolve(&svg, &CompileOptions::new(stress2()));
+    let none = taxel_compiler::pipeline::resolve(&svg, &CompileOptions::new(stress2()));
     assert_eq!((outline(&none), none.fonts_used.len()), (0, 0));
     let b = compile(&svg).bundle.expect("braille without fonts");
     assert!(masks(&b).is_empty() && dots(&b, DotKind::Braille).is_some());
 
     let opts = CompileOptions { fonts: Some(tuffy()), ..CompileOptions::new(stress2()) };
-    let with = drawing::resolve(&svg, &opts);
+    let with = taxel_compiler::pipeline::resolve(&svg, &opts);
     assert!(outline(&with) >= 2, "H and i have outlines");
     let faces: Vec<(&str, Option<&std::path::Path>)> =
         with.fonts_used.iter().map(|f| (f.family.as_str(), f.path.as_deref())).collect();
     assert_eq!(faces, [("Tuffy", None)]);
     assert_eq!(drawing::fonts_used(&svg, opts.fonts.as_ref().unwrap(), &opts.languages), with.fonts_used);
-    let c = no_internal_error(taxel_compiler::svg::compile_svg(&svg, &opts));
+    let c = no_internal_error(taxel_compiler::compile_svg(&svg, &opts));
     assert_eq!(masks(bundle(&c)).len(), 1, "the glyphs vibrate: {:#?}", c.diagnostics);
     // A drawing without text uses no face.
     assert!(

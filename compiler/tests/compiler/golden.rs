@@ -7,7 +7,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use taxel_compiler::{CompileOptions, StyleSheet, svg::compile_svg};
+use taxel_compiler::{CompileOptions, StyleSheet, compile_svg};
 use taxel_format::{Bundle, Chunk, MaskKind, MaskLayer, MaskSamples};
 
 use crate::common::*;

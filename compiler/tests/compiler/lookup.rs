@@ -2,7 +2,7 @@
 //! point lookup over it: what lies under a surface point of a compiled drawing.
 //! Expected points are read off the drawings' own coordinates.
 
-use taxel_compiler::{CompileOptions, svg::compile_svg};
+use taxel_compiler::{CompileOptions, compile_svg};
 use taxel_format::BundleView;
 use taxel_format::lookup::PointLookup;
 

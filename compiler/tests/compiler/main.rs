@@ -6,6 +6,7 @@ mod diagnostics;
 mod drawing;
 mod fuzzed;
 mod golden;
+mod layout;
 mod lookup;
 mod malformed;
 mod mesh;

@@ -3,9 +3,9 @@
 //! map of touching regions, checked against an adjacency this test computes
 //! on its own from the geometry.
 
-use taxel_compiler::auto::{self, NEAR_MM};
 use taxel_compiler::drawing::{Drawing, Element, Page, Paint, PathShape, Shape};
 use taxel_compiler::geometry::Polyline;
+use taxel_compiler::style::{self, NEAR_MM};
 
 use super::common::stress2;
 
@@ -68,7 +68,7 @@ fn auto_never_gives_touching_regions_of_different_fills_one_texture() {
     (profile.surface_w_mm, profile.surface_h_mm) = (400.0, 400.0);
     for (n, fills, seed) in [(60, 4, 1), (150, 8, 2), (300, 12, 3)] {
         let (d, polys) = map(n, fills, seed);
-        let plan = auto::plan(&d, &profile);
+        let plan = style::plan(&d, &profile);
         let texture = |r: usize| plan.decisions[r].region.and_then(|k| plan.fills[k].texture);
         let fill = |r: usize| d.elements[r].paint.fill;
         let mut pairs = 0;
@@ -95,9 +95,9 @@ fn auto_never_gives_touching_regions_of_different_fills_one_texture() {
         // Each distinct fill is its own class, and at most five textures are used.
         let distinct: std::collections::HashSet<_> = (0..n).map(fill).collect();
         assert_eq!(plan.fills.len(), distinct.len());
-        assert!(plan.fills.iter().filter_map(|f| f.texture).all(|t| t < auto::MAX_TEXTURES));
+        assert!(plan.fills.iter().filter_map(|f| f.texture).all(|t| t < style::MAX_TEXTURES));
         // Up to five fills, each has its own texture.
-        if distinct.len() <= auto::MAX_TEXTURES {
+        if distinct.len() <= style::MAX_TEXTURES {
             let used: std::collections::HashSet<_> = plan.fills.iter().map(|f| f.texture).collect();
             assert_eq!(used.len(), distinct.len(), "map {n}: {:?}", plan.fills);
         }
@@ -107,7 +107,7 @@ fn auto_never_gives_touching_regions_of_different_fills_one_texture() {
 /// The styles the automatic sheet gives each element of `svg`, by id.
 fn auto_styles(svg: &str) -> Vec<(String, Vec<&'static str>)> {
     let opts = taxel_compiler::CompileOptions::new(stress2());
-    let r = taxel_compiler::drawing::resolve(svg, &opts);
+    let r = taxel_compiler::pipeline::resolve(svg, &opts);
     let d = r.drawing.unwrap_or_else(|| panic!("no drawing: {:#?}", r.diagnostics));
     d.elements.iter().map(|e| (e.id.clone(), e.styles.iter().map(|s| s.name()).collect())).collect()
 }
@@ -170,7 +170,7 @@ fn a_page_background_stays_the_background_when_fitted_to_another_shape() {
                 fit: true,
                 ..taxel_compiler::CompileOptions::new(taxel_format::profiles::builtin(profile).unwrap())
             };
-            let r = taxel_compiler::drawing::resolve(svg, &opts);
+            let r = taxel_compiler::pipeline::resolve(svg, &opts);
             let d = r.drawing.unwrap_or_else(|| panic!("no drawing: {:#?}", r.diagnostics));
             d.elements.iter().map(|e| (e.id.clone(), e.styles.iter().map(|s| s.name()).collect())).collect::<Vec<_>>()
         };
@@ -522,7 +522,7 @@ fn an_empty_file_is_said_to_be_empty() {
 fn fit_says_nothing_when_it_changes_nothing() {
     let compile = |svg: &str| {
         let opts = taxel_compiler::CompileOptions { fit: true, ..taxel_compiler::CompileOptions::new(stress2()) };
-        super::common::no_internal_error(taxel_compiler::svg::compile_svg(svg, &opts))
+        super::common::no_internal_error(taxel_compiler::compile_svg(svg, &opts))
     };
     // (Across most of the page, so that `--fit` fits the page.)
     let body = r#"<rect x="2" y="2" width="96" height="56" fill="none" stroke="black"/></svg>"#;
@@ -552,7 +552,7 @@ fn design_rules_are_judged_after_fitting() {
     let profile = stress2();
     let codes = |fit: bool| -> Vec<(&'static str, String)> {
         let opts = taxel_compiler::CompileOptions { fit, ..taxel_compiler::CompileOptions::new(profile) };
-        let c = taxel_compiler::svg::compile_svg(svg, &opts);
+        let c = taxel_compiler::compile_svg(svg, &opts);
         assert!(c.bundle.is_some(), "{:#?}", c.diagnostics);
         c.diagnostics.iter().map(|d| (d.code, d.message.clone())).collect()
     };
@@ -585,7 +585,7 @@ fn braille_of_an_unannotated_label_keeps_off_the_lines_that_vibrate() {
         super::common::dots(b, taxel_format::DotKind::Braille).unwrap_or_else(|| panic!("{:#?}", c.diagnostics));
     assert!(!braille.dots.is_empty());
     // The outline the sheet gives the line (its band's half-width either side of y = 30).
-    let resolved = taxel_compiler::drawing::resolve(&svg, &taxel_compiler::CompileOptions::new(stress2()));
+    let resolved = taxel_compiler::pipeline::resolve(&svg, &taxel_compiler::CompileOptions::new(stress2()));
     let line = &resolved.drawing.expect("a drawing").elements[0];
     let half = match line.styles.as_slice() {
         [taxel_compiler::annotation::Style::Vibrate(v)] => v.width_mm / 2.0,

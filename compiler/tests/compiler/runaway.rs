@@ -22,7 +22,7 @@ fn a_scatter_plot_s_overlapping_marks_are_dots_thinned_to_be_felt_apart() {
     let n = symbols.dots.len();
     assert!(n >= 50, "an even sample is kept: {n}");
     // Kept dots lie at least the spacing apart on one axis (the thinning's boxes).
-    let spacing = taxel_compiler::auto::MARK_SPACING_MM as f32;
+    let spacing = taxel_compiler::style::MARK_SPACING_MM as f32;
     for (i, a) in symbols.dots.iter().enumerate() {
         for q in &symbols.dots[i + 1..] {
             let (dx, dy) = ((a.x.0 - q.x.0).abs(), (a.y.0 - q.y.0).abs());

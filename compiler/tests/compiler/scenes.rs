@@ -183,7 +183,7 @@ fn only_what_the_scene_needs() {
 
 #[test]
 fn precedence_inherited_then_style_sheet_then_attribute() {
-    use taxel_compiler::{CompileOptions, StyleSheet, svg::compile_svg};
+    use taxel_compiler::{CompileOptions, StyleSheet, compile_svg};
     let svg = page(
         r#"<g data-tactile="vibrate()">
   <rect id="a" x="5" y="5" width="25" height="25"/>
@@ -216,7 +216,7 @@ fn precedence_inherited_then_style_sheet_then_attribute() {
 
 #[test]
 fn width_mm_scales_a_drawing_without_size() {
-    use taxel_compiler::{CompileOptions, svg::compile_svg};
+    use taxel_compiler::{CompileOptions, compile_svg};
     let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100"><rect x="50" y="25" width="100" height="50" data-tactile="grating()"/></svg>"#;
     let opts = CompileOptions { width_mm: Some(80.0), ..CompileOptions::new(stress2()) };
     let c = no_internal_error(compile_svg(svg, &opts));

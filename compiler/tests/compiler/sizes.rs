@@ -3,7 +3,7 @@
 //! by resvg, independently of the compiler, and as the issue measured it), and a scene of 2,000 regions and
 //! a fitted map of 1,000 regions are each one layer per style and at most 1 MB.
 
-use taxel_compiler::{CompileOptions, svg::compile_svg};
+use taxel_compiler::{CompileOptions, compile_svg};
 use taxel_format::Chunk;
 
 use super::common::*;

@@ -2,7 +2,7 @@
 //! wavelengths, overlapping layers, empty and unsupported scenes, and NaN or
 //! infinity in the SVG, its annotations and style sheets.
 
-use taxel_compiler::{CompileOptions, StyleSheet, svg::compile_svg};
+use taxel_compiler::{CompileOptions, StyleSheet, compile_svg};
 use taxel_format::{Chunk, profiles};
 
 use super::{assert_sane, codes, compile, has, page};

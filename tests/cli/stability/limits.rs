@@ -4,7 +4,7 @@
 
 use std::process::Command;
 
-use taxel_compiler::{CompileOptions, svg::compile_svg};
+use taxel_compiler::{CompileOptions, compile_svg};
 use taxel_format::{Chunk, profiles};
 
 use super::{codes, has, page};

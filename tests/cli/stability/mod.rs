@@ -8,7 +8,7 @@ mod meshes;
 mod playback;
 mod strokes;
 
-use taxel_compiler::{CompileOptions, Compiled, Diagnostic, svg::compile_svg};
+use taxel_compiler::{CompileOptions, Compiled, Diagnostic, compile_svg};
 use taxel_format::{Bundle, BundleView, Chunk, Family, profiles};
 
 /// Compiles `svg` for the built-in profile `profile`.
@@ -64,7 +64,7 @@ pub fn assert_sane(b: &Bundle) {
                 assert!(d.pitch_mm > 0.0 && d.step_mm > 0.0 && d.soft_mm >= 0.0);
                 assert!((0.0..=1.0).contains(&d.amplitude));
                 // What the writer promises of its tiles beyond the format's checks.
-                if let Err(e) = taxel_compiler::distance::sanity_check(d) {
+                if let Err(e) = taxel_compiler::latero::distance::sanity_check(d) {
                     panic!("{} layer: {e}", d.tag());
                 }
             }

@@ -1,3 +1,5 @@
+//! Shared service: braille for every medium.
+//!
 //! The braille service the back ends share (paper cells, pin arrays, the
 //! automatic sheet's measures): which table writes a text, and the notes
 //! that say when it is not the braille asked for.
@@ -10,11 +12,16 @@
 //! liblouis table for every text; `braille(grade: 1|2)` chooses the grade,
 //! contracted being the default where the language has it.
 
+pub mod paper;
+
 pub use taxel_braille::{Braille, Cell, Fallback, Request, Translation};
 
 use crate::diagnostic::Diagnostic;
 use crate::drawing::TextShape;
 use crate::options::CompileOptions;
+
+/// Dot `k` (0-based bit of a Unicode braille mask) at `(column, row)` within its cell.
+pub const DOT_POSITIONS: [(u32, u32); 8] = [(0, 0), (0, 1), (0, 2), (1, 0), (1, 1), (1, 2), (0, 3), (1, 3)];
 
 /// The language `text` is written in: its own, else the reader's first, else English.
 pub(crate) fn lang_of<'a>(text: Option<&'a TextShape>, opts: &'a CompileOptions) -> &'a str {
@@ -67,13 +74,25 @@ pub(crate) fn cells_warning_missing(
         }
         let left = if cells.iter().all(|&c| c == 0) { "the text is left out" } else { "these characters are left out" };
         let mut d = Diagnostic::warning("T0304", format!("no braille in {table} for {list}; {left}"))
-            .with_help(crate::svg::braille_missing_help(&table));
+            .with_help(missing_help(&table));
         if let Some(e) = e {
             d = d.with_element(e.name.clone()).on_line(e.line);
         }
         diags.push(d);
     }
     cells
+}
+
+/// What T0304 says helps, for the table that left characters out.
+pub(crate) fn missing_help(table: &str) -> String {
+    if table == "uncontracted UEB" {
+        format!(
+            "{}; with liblouis installed, a text's `xml:lang` chooses its language's table",
+            taxel_braille::TABLE_HELP
+        )
+    } else {
+        "mark the text's language with `xml:lang` (its table is chosen from it), or name a table with a style sheet's `braille-table`".into()
+    }
 }
 
 /// The table a translation used, for messages: its file name, or the built-in one.

@@ -25,7 +25,7 @@
 
 use taxel_format::{TILE_CELLS, TILE_SAMPLES, TILE_SIDE};
 
-use super::layer_grid::LayerGrid;
+use super::layer_grid::{BAND, FILL, FIRST_CUT, LayerGrid, OCC, floor_cell, row_cells};
 use super::{LayerGeometry, Part, Seg, distance2_to_segment};
 
 /// From this many segments of a group (the layer's own parts, or the
@@ -38,13 +38,6 @@ pub(super) const GRID_FROM: usize = 128;
 /// The most rings of cells a sample's search may need, else the tile is
 /// measured segment by segment.
 pub(super) const MAX_RINGS: f64 = 64.0;
-
-/// Slots of the squared-distance array, `TILE_SAMPLES` each: the fills, the
-/// band and the occluders, then one per cut width group, then one per clip.
-pub(super) const FILL: usize = 0;
-pub(super) const BAND: usize = 1;
-const OCC: usize = 2;
-const FIRST_CUT: usize = 3;
 
 /// What the samples of one tile are inside of, for deciding where the parts
 /// that only lower the distance can change it.
@@ -100,41 +93,9 @@ fn past_centres(t: usize) -> bool {
     t % TILE_SIDE == TILE_CELLS || t / TILE_SIDE == TILE_CELLS
 }
 
-/// `floor(v)` as an integer, for `|v|` within ±1e6 (clamped; NaN gives 0)
-/// and without a call into libm.
-pub(super) fn floor_cell(v: f64) -> isize {
-    let v = v.clamp(-1e6, 1e6);
-    let t = v as isize;
-    if (t as f64) > v { t - 1 } else { t }
-}
-
 /// A segment in a tile's grid: its ends in cell units (the grid's padding
 /// added) and its box's cells `[x0, y0, x1, y1]`.
 type Binned = ((f64, f64), (f64, f64), [isize; 4]);
-
-/// The cells of row `y` (the band `y <= v <= y + 1`, in cell units) that the
-/// segment `a`-`b` (in cell units) passes through, within its box's columns
-/// `[x0, x1]`: a long slanted segment is binned in the cells along it, not in
-/// every cell of its box (a scribble's segments cross the whole drawing, and
-/// binned by their boxes every cell held every segment). A few cells more
-/// than it meets, never fewer, so a search finds the same minima.
-pub(super) fn row_cells(a: (f64, f64), b: (f64, f64), y: isize, (x0, x1): (isize, isize)) -> (isize, isize) {
-    let dy = b.1 - a.1;
-    if dy == 0.0 || !dy.is_finite() {
-        return (x0, x1);
-    }
-    let (ta, tb) = ((y as f64 - a.1) / dy, (y as f64 + 1.0 - a.1) / dy);
-    let (lo, hi) = (ta.min(tb).max(0.0), ta.max(tb).min(1.0));
-    // (NaN, from a segment whose ends lie a world apart, is taken whole.)
-    if lo.partial_cmp(&hi).is_none_or(|o| o == std::cmp::Ordering::Greater) {
-        return (x0, x1);
-    }
-    let (xa, xb) = (a.0 + lo * (b.0 - a.0), a.0 + hi * (b.0 - a.0));
-    // A thousandth of a cell for the rounding of `lo`, `hi` and the products.
-    const SLACK: f64 = 1e-3;
-    let (c0, c1) = (floor_cell(xa.min(xb) - SLACK), floor_cell(xa.max(xb) + SLACK));
-    (c0.max(x0), c1.min(x1))
-}
 
 impl Grid {
     /// Fills the grid with the `n` entries whose segments in cell units

@@ -9,11 +9,11 @@ fn stress2() -> DeviceProfile {
     p
 }
 
-fn page(w: f64, h: f64) -> Page {
+pub(crate) fn page(w: f64, h: f64) -> Page {
     Page { width_mm: w, height_mm: h, scale: 1.0, offset_mm: (0.0, 0.0), sheet_mm: None }
 }
 
-fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<Polyline> {
+pub(crate) fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<Polyline> {
     vec![Polyline { points: vec![(x0, y0), (x1, y0), (x1, y1), (x0, y1)], closed: true }]
 }
 
@@ -27,7 +27,7 @@ fn circle(cx: f64, cy: f64, r: f64) -> Vec<Polyline> {
     vec![Polyline { points, closed: true }]
 }
 
-fn shape(name: &str, outline: Vec<Polyline>, fill: Option<Rgba>, stroke: Option<Rgba>) -> Element {
+pub(crate) fn shape(name: &str, outline: Vec<Polyline>, fill: Option<Rgba>, stroke: Option<Rgba>) -> Element {
     Element {
         id: name.into(),
         name: name.into(),
@@ -62,7 +62,7 @@ fn text(name: &str, s: &str, x: f64, y: f64) -> Element {
 }
 
 const BLACK: Option<Rgba> = Some([0, 0, 0, 255]);
-const RED: Option<Rgba> = Some([228, 26, 28, 255]);
+pub(crate) const RED: Option<Rgba> = Some([228, 26, 28, 255]);
 const BLUE: Option<Rgba> = Some([55, 126, 184, 255]);
 const WHITE_FILL: Option<Rgba> = Some([255, 255, 255, 255]);
 
@@ -236,7 +236,7 @@ fn the_sheet_for_a_drawing_parses_and_maps_each_fill_to_its_texture() {
     let plan = plan(&d, &stress2());
     let toml = sheet_toml(&stress2(), Some((&d, &plan)));
     let sheet = crate::StyleSheet::parse(&toml, "auto.toml").unwrap_or_else(|e| panic!("{e}\n{toml}"));
-    let facts = |fill: Option<[u8; 3]>, stroke: Option<[u8; 3]>| crate::stylesheet::ElementFacts {
+    let facts = |fill: Option<[u8; 3]>, stroke: Option<[u8; 3]>| crate::annotation::sheet::ElementFacts {
         fill,
         stroke,
         ..Default::default()
@@ -254,44 +254,6 @@ fn the_sheet_for_a_drawing_parses_and_maps_each_fill_to_its_texture() {
     );
     assert_eq!(styles(facts(Some([55, 126, 184]), None)), [Style::Grating(t[1])]);
     assert_eq!(styles(facts(None, Some([0, 0, 255]))), [Style::Vibrate(outline_style(&stress2()))]);
-}
-
-#[test]
-fn prepare_uses_the_automatic_sheet_only_when_nothing_else_styles_the_drawing() {
-    let profile = profiles::builtin("stress2").unwrap();
-    let drawing = || Drawing {
-        page: page(100.0, 50.0),
-        elements: vec![shape("a", rect(10.0, 10.0, 40.0, 40.0), RED, None)],
-        ..Default::default()
-    };
-    let codes = |diags: &[Diagnostic]| diags.iter().map(|d| d.code).collect::<Vec<_>>();
-    // Unannotated, no sheet: automatic, with the note.
-    let (mut d, mut diags) = (drawing(), Vec::new());
-    assert!(prepare(&mut d, &crate::CompileOptions::new(profile), &mut diags));
-    assert_eq!(codes(&diags), ["T0320", "T0330"]);
-    assert_eq!(d.elements[0].styled_by, StyledBy::Auto);
-    // --style auto: automatic, no note needed.
-    let (mut d, mut diags) = (drawing(), Vec::new());
-    let opts = crate::CompileOptions { auto: true, ..crate::CompileOptions::new(profile) };
-    assert!(prepare(&mut d, &opts, &mut diags));
-    assert_eq!(codes(&diags), ["T0330"]);
-    assert_eq!(d.elements[0].styled_by, StyledBy::Auto);
-    // A style sheet was given: it decides, even if it styled nothing.
-    let (mut d, mut diags) = (drawing(), Vec::new());
-    let sheet = crate::StyleSheet::parse("[[rule]]\nid = \"b\"\ntactile = \"vibrate()\"\n", "s.toml").unwrap();
-    let opts = crate::CompileOptions { style: Some(sheet), ..crate::CompileOptions::new(profile) };
-    assert!(prepare(&mut d, &opts, &mut diags));
-    assert_eq!(codes(&diags), ["T0330"]);
-    assert_eq!(d.elements[0].styled_by, StyledBy::Nothing);
-    // --fit runs first: what the drawing shows (10..40 mm, with a margin of
-    // 0.9 mm: 31.8 mm square) fills the 60 mm height of the surface, centred.
-    let (mut d, mut diags) = (drawing(), Vec::new());
-    let opts = crate::CompileOptions { fit: true, ..crate::CompileOptions::new(profile) };
-    assert!(prepare(&mut d, &opts, &mut diags));
-    assert_eq!(codes(&diags), ["T0211", "T0320", "T0330"]);
-    let b = d.elements[0].bounds().unwrap();
-    let s = 60.0 / 31.8;
-    assert!((b.0 - (55.0 - 15.0 * s)).abs() < 1e-9 && (b.2 - (55.0 + 15.0 * s)).abs() < 1e-9, "{b:?}");
 }
 
 #[test]

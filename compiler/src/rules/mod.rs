@@ -1,3 +1,5 @@
+//! Stage 5, design rules (laterotactile arrays): the back end's features checked against the perception research.
+//!
 //! Design rules from the research: what will not read well by touch.
 //! Every rule, its threshold and its source are listed in docs/diagnostics.md.
 
@@ -8,15 +10,14 @@ use rayon::prelude::*;
 
 use taxel_format::DeviceProfile;
 
-use super::layers::{Built, Feature, FeatureKind};
 use crate::diagnostic::Diagnostic;
 use crate::geometry::{FillRule, Polyline, bounds, contains, dist, distance_to_outline_within, simplify};
+use crate::latero::{Built, Feature, FeatureKind};
 use crate::spatial;
 
 mod overlap;
 
-/// Smallest distance between distinct elements (1/8 in, Hasty).
-pub const MIN_GAP_MM: f64 = 3.2;
+pub use crate::latero::MIN_GAP_MM;
 
 /// How far the outlines the gap rule measures may lie from the drawn ones
 /// (Douglas–Peucker), in mm: a reported gap is within twice this of the

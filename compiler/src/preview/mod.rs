@@ -1,3 +1,5 @@
+//! Shared service: pictures of what will be felt, for every family but print (which draws its own sheet).
+//!
 //! Previews: a picture of what a reader will feel, drawn the way the STRESS²
 //! paper drew its primitives (seed 000, Fig. 2): a noise texture where the
 //! surface vibrates, stripes at the true wavelength and angle where it is
@@ -8,13 +10,15 @@
 //! The picture is drawn from the bundle alone, so `taxel preview BUNDLE`
 //! shows exactly what was compiled.
 
+mod backdrop;
+pub mod pins;
+
+pub use backdrop::{drawing_picture, preview_compiled};
+
 use resvg::tiny_skia::Pixmap;
 use taxel_format::{
     Bundle, Chunk, DistanceLayer, DotKind, DotTable, HeightField, MaskKind, MaskLayer, MaskSamples, StrokeTable,
 };
-
-use crate::options::CompileOptions;
-use crate::{Compiled, svg};
 
 /// Pixels per millimetre of a preview.
 pub const PREVIEW_PX_PER_MM: f64 = 8.0;
@@ -324,7 +328,7 @@ fn extent(b: &Bundle) -> (f64, f64, f64, f64) {
 pub fn render_bundle(bundle: &Bundle, backdrop: Option<&Backdrop>) -> Picture {
     // A pin display is drawn pin by pin, as the reader meets it.
     if let Some(image) = bundle.pin_image() {
-        return crate::pins::preview::render(image, &bundle.manifest.profile);
+        return pins::render(image, &bundle.manifest.profile);
     }
     let (ex0, ey0, ex1, ey1) = extent(bundle);
     let (x0, y0, k, wmm, hmm) = layout((ex0, ey0, ex1, ey1));
@@ -372,56 +376,6 @@ pub fn render_bundle(bundle: &Bundle, backdrop: Option<&Backdrop>) -> Picture {
         .flat_map(|p| [p[0], p[1], p[2]].map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8).into_iter().chain([255]))
         .collect();
     Picture { width: w as u32, height: h as u32, rgba }
-}
-
-/// Compiles an SVG and draws the result over a faint copy of the drawing.
-/// The picture is `None` when the drawing did not compile (see the diagnostics).
-pub fn preview_svg(svg_text: &str, opts: &CompileOptions) -> (Option<Picture>, Compiled) {
-    let compiled = svg::compile_svg(svg_text, opts);
-    // A print profile's sheet is drawn as it is felt on paper or as a relief.
-    if let Some(sheet) = compiled.print.as_ref() {
-        return (Some(crate::print::preview::render(sheet)), compiled);
-    }
-    let Some(bundle) = compiled.bundle.as_ref() else { return (None, compiled) };
-    (Some(preview_compiled(svg_text, opts, bundle)), compiled)
-}
-
-/// Draws `bundle`, compiled from `svg_text` with `opts`, over a faint copy
-/// of the drawing: [`preview_svg`] for a caller that compiled it already.
-pub fn preview_compiled(svg_text: &str, opts: &CompileOptions, bundle: &Bundle) -> Picture {
-    let backdrop = drawing_pixmap(svg_text, opts).map(|pixmap| Backdrop { pixmap });
-    render_bundle(bundle, backdrop.as_ref())
-}
-
-/// The drawing alone, no tactile layer, rendered at [`PREVIEW_PX_PER_MM`]
-/// with page origin at its top-left, placed as the compiler placed it (under
-/// `fit` or a region): a picture of the drawing that never executes it
-/// (resvg draws; scripts and external files are not read). `None` when it
-/// cannot be read.
-pub fn drawing_picture(svg_text: &str, opts: &CompileOptions) -> Option<Picture> {
-    let pixmap = drawing_pixmap(svg_text, opts)?;
-    let (width, height) = (pixmap.width(), pixmap.height());
-    let rgba = pixmap
-        .pixels()
-        .iter()
-        .flat_map(|p| {
-            let c = p.demultiply();
-            [c.red(), c.green(), c.blue(), c.alpha()]
-        })
-        .collect();
-    Some(Picture { width, height, rgba })
-}
-
-fn drawing_pixmap(svg_text: &str, opts: &CompileOptions) -> Option<Pixmap> {
-    // Under --fit or --region the backdrop is placed as the drawing was (that needs the resolved drawing).
-    let placement = if opts.fit || opts.region.is_some() {
-        crate::drawing::resolve_as_drawn(svg_text, opts)
-            .drawing
-            .and_then(|d| crate::fit::placement(&d, &opts.profile, opts.fit, opts.region.as_ref()).ok().flatten())
-    } else {
-        None
-    };
-    svg::render_page(svg_text, opts, PREVIEW_PX_PER_MM, placement)
 }
 
 /// Where [`render_bundle`]'s picture of `bundle` lies on the page: the page

@@ -1,13 +1,18 @@
-//! The SVG front end: annotated SVG in, bundle and diagnostics out.
+//! The pipeline: the order of the stages, the family dispatch and the
+//! bundle's assembly. Annotated SVG in, a bundle (or a print sheet) and
+//! diagnostics out.
 //!
-//! Stages: [`crate::drawing::resolve`] turns the SVG into the resolved
-//! drawing (styles, paint, exact geometry in page mm); `prepare` is where
-//! the drawing is adapted before layers are made (automatic style sheet,
-//! `--fit`, `--region`); `layers` turns the drawing into masks, dot tables
-//! and strokes; `rules` checks the design rules; the bundle is assembled last.
+//! Stages: 1. [`crate::drawing::resolve`] turns the SVG into the drawing as
+//! written (styles, paint, exact geometry in page mm); 2. [`crate::place`]
+//! takes `--region`, `--fit` and the crop to the surface; 3. [`crate::style`]
+//! styles what no annotation styles (the automatic sheet); 4. the family's
+//! back end ([`crate::latero`], [`crate::pins`], [`crate::print`]) makes its
+//! layers; 5. [`crate::rules`] checks the design rules; the bundle is
+//! assembled last. [`resolve`] is the drawing after stages 1 to 3, the one
+//! the layers are built from.
 //!
 //! ```
-//! use taxel_compiler::{CompileOptions, svg::compile_svg};
+//! use taxel_compiler::{CompileOptions, compile_svg};
 //! use taxel_format::profiles;
 //!
 //! let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="60mm" height="40mm" viewBox="0 0 60 40">
@@ -17,24 +22,14 @@
 //! assert!(out.bundle.is_some(), "{:?}", out.diagnostics);
 //! ```
 
-mod braille;
-mod dots;
-mod footprints;
-mod layers;
-pub(crate) mod rules;
-
-/// The paper's braille geometry, for the automatic sheet's measures too.
-pub(crate) use braille::{CELL_PITCH_MM, DOT_PITCH_MM};
-pub(crate) use layers::OpaqueFills;
-pub(crate) use layers::missing_help as braille_missing_help;
-pub use layers::{braille_clearing, clearing_within, occluders};
-
 use taxel_format::{Bundle, Manifest};
 
 use crate::Compiled;
 use crate::diagnostic::{Diagnostic, Severity, has_errors};
 use crate::drawing;
+use crate::drawing::Drawing;
 use crate::options::{CompileOptions, DEFAULT_PX_PER_MM};
+use crate::{latero, place, rules, style};
 
 /// Compiles an annotated SVG for `opts.profile`. A drawing that cannot be
 /// compiled gives error diagnostics and no bundle. No panic is reachable
@@ -50,7 +45,7 @@ pub fn compile_svg(svg_text: &str, opts: &CompileOptions) -> Compiled {
 /// not used. The `taxel` binary loads the system's fonts this way.
 ///
 /// ```
-/// use taxel_compiler::{CompileOptions, svg::compile_svg_with_fonts};
+/// use taxel_compiler::{CompileOptions, compile_svg_with_fonts};
 /// use taxel_format::profiles;
 ///
 /// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="60mm" height="40mm" viewBox="0 0 60 40">
@@ -91,7 +86,7 @@ fn compile(
     let mut drawing = drawing::resolve_into(text, opts, fonts, diags, fonts_used)?;
     // Styles asked of shapes that are not drawn count as asked (for the T0300 message below).
     let not_drawn = diags.iter().filter(|d| d.code == drawing::NOT_DRAWN).count();
-    crate::prepare::prepare(&mut drawing, opts, diags);
+    prepare(&mut drawing, opts, diags);
     if let Some(d) = crate::budget::check(opts.memory.as_ref(), "reading the drawing") {
         diags.push(d);
         return None;
@@ -107,7 +102,7 @@ fn compile(
     }
     // The design rules but the overlaps need only the features: they run
     // beside the distance fields, and add their diagnostics after them.
-    let (built, checked) = layers::build(&drawing, opts, px, diags, |f| rules::check_features(f, &opts.profile));
+    let (built, checked) = latero::build(&drawing, opts, px, diags, |f| rules::check_features(f, &opts.profile));
     if built.is_empty() {
         // A malformed annotation already explains why nothing is tactile.
         if has_errors(diags) {
@@ -119,7 +114,7 @@ fn compile(
         } else {
             // Converted automatically, the drawing had nothing the sheet could make tactile: say what it had.
             let auto = opts.auto || diags.iter().any(|d| d.code == "T0320");
-            let why = auto.then(|| crate::auto::nothing_made(&drawing, &opts.profile)).flatten();
+            let why = auto.then(|| style::nothing_made(&drawing, &opts.profile)).flatten();
             let cropped = diags.iter().any(|d| d.code == "T0205");
             let message = match why {
                 Some(w) => format!("nothing tactile was found in the drawing: {w}"),
@@ -165,6 +160,90 @@ fn compile(
     Some(bundle)
 }
 
+/// Prepares `drawing` for `opts` before its layers are built: `--region` and
+/// `--fit` and the crop to the surface, then the automatic style sheet where
+/// it applies, then the style summary. When an error stops it (a region that
+/// cannot be taken) the drawing is emptied, so no layer is built; the error
+/// says why. Called by both [`compile_svg`] and [`resolve`], so that
+/// `taxel report`'s reference sees the drawing the layers were built from.
+pub(crate) fn prepare(drawing: &mut Drawing, opts: &CompileOptions, diags: &mut Vec<Diagnostic>) {
+    if !adapt(drawing, opts, diags) {
+        drawing.elements.clear();
+    }
+}
+
+/// The passes between the resolved drawing and its layers that make a
+/// drawing as teachers have it usable: `--region` and `--fit` (and cropping to
+/// the surface, [`place::apply`]); then the automatic sheet, where
+/// `--style auto` asks for it or where nothing else styles the drawing (no
+/// annotation, no style sheet; with note T0320); then the note saying how many
+/// elements became which style. Returns `false` when an error stops the
+/// compilation (a region that cannot be taken).
+fn adapt(d: &mut Drawing, opts: &CompileOptions, diags: &mut Vec<Diagnostic>) -> bool {
+    // Whether the author annotated the drawing is decided on the whole
+    // drawing: annotated shapes that cropping leaves out (beyond the surface,
+    // outside `--region`) still make it an annotated drawing, not one for the
+    // automatic sheet.
+    let annotated = !style::unannotated(d);
+    if !place::apply(d, &opts.profile, opts.fit, opts.region.as_ref(), diags) {
+        return false;
+    }
+    if annotated && style::unannotated(d) {
+        diags.push(
+            Diagnostic::warning(
+                "T0205",
+                format!(
+                    "every annotated shape lies {} the {} surface: nothing annotated is left to build",
+                    if opts.region.is_some() { "outside the region or beyond" } else { "beyond" },
+                    opts.profile.name
+                ),
+            )
+            .with_help(
+                "build with --fit to scale the drawing to the surface, or --region to take the part you annotated",
+            ),
+        );
+    }
+    let implicit = !opts.auto && opts.style.is_none() && !annotated;
+    if implicit {
+        diags.push(
+            Diagnostic::note(
+                "T0320",
+                "nothing in the drawing is annotated: the automatic style sheet decided its tactile styles",
+            )
+            .with_help("`taxel style auto INPUT` prints what it decided as a style sheet to start your own from"),
+        );
+    }
+    if opts.auto || implicit {
+        style::apply_measured(d, &opts.profile, style::Measure::of(opts), diags);
+    }
+    diags.push(style::summary(d));
+    true
+}
+
+/// The drawing of an SVG as the pipeline builds its layers from it:
+/// [`drawing::resolve`] (the drawing as written), then prepared for `opts`
+/// as [`compile_svg`] prepares it (automatic styles, `--region`, `--fit`).
+/// No panic is reachable from the input.
+///
+/// ```
+/// use taxel_compiler::{CompileOptions, pipeline};
+/// use taxel_format::profiles;
+///
+/// // Unannotated: the automatic style sheet styles the rectangle.
+/// let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="60mm" height="40mm" viewBox="0 0 60 40">
+///   <rect id="box" x="10" y="10" width="30" height="20" fill="#3060c0"/>
+/// </svg>"##;
+/// let d = pipeline::resolve(svg, &CompileOptions::new(profiles::builtin("stress2").unwrap())).drawing.unwrap();
+/// assert!(!d.elements[0].styles.is_empty());
+/// ```
+pub fn resolve(svg_text: &str, opts: &CompileOptions) -> drawing::Resolved {
+    let mut r = drawing::resolve(svg_text, opts);
+    if let Some(d) = &mut r.drawing {
+        prepare(d, opts, &mut r.diagnostics);
+    }
+    r
+}
+
 /// T0300 when elements asked for styles and nothing was made of them: what
 /// was asked, and why nothing was kept (the warnings given with it, or layers that
 /// came out empty because opaque fills painted later hide them, or because
@@ -172,7 +251,7 @@ fn compile(
 /// are not there.
 fn nothing_rendered(
     drawing: &drawing::Drawing,
-    built: &layers::Built,
+    built: &latero::Built,
     device: &taxel_format::DeviceProfile,
     diags: &[Diagnostic],
 ) -> Diagnostic {
@@ -205,7 +284,7 @@ fn nothing_rendered(
         }
     }
     let warnings = diags.iter().filter(|d| d.severity == Severity::Warning).count();
-    let elsewhere = diags.iter().filter(|d| d.code == layers::NOT_ON_DEVICE).count();
+    let elsewhere = diags.iter().filter(|d| d.code == latero::NOT_ON_DEVICE).count();
     if warnings > 0 {
         why.push(format!("the {warnings} warning(s) given with this error say why"));
     }
@@ -243,31 +322,60 @@ fn nothing_rendered(
     if help.is_empty() { d } else { d.with_help(help.join("; ")) }
 }
 
-/// Renders the drawing itself (no tactile layers) with resvg at `px_per_mm`,
-/// page origin at the top-left, for previews. `None` when it cannot be read.
-pub(crate) fn render_page(
-    text: &str,
-    opts: &CompileOptions,
-    px_per_mm: f64,
-    placement: Option<crate::fit::Placement>,
-) -> Option<resvg::tiny_skia::Pixmap> {
-    let mut scratch = Vec::new();
-    let doc = drawing::source::parse_xml(text, &mut scratch)?;
-    let tree = usvg::Tree::from_xmltree(&doc, &drawing::usvg_options(opts.fonts.as_ref(), &opts.languages)).ok()?;
-    let (w, h) = (tree.size().width(), tree.size().height());
-    let page = drawing::page_size(doc.root_element(), w as f64, h as f64, opts.width_mm, &opts.profile, &mut scratch);
-    // With --fit or --region the page is placed on the surface as the compiler placed the drawing.
-    let (s, t, (page_w, page_h)) = match placement {
-        Some(p) => (p.scale, p.shift, p.surface),
-        None => (1.0, (0.0, 0.0), (page.width_mm, page.height_mm)),
-    };
-    let k = (page.scale * s * px_per_mm) as f32;
-    let (pw, ph) = ((page_w * px_per_mm).ceil(), (page_h * px_per_mm).ceil());
-    if !(pw >= 1.0 && ph >= 1.0 && pw * ph <= 64e6) {
-        return None;
+/// Compiles an SVG and draws the result over a faint copy of the drawing.
+/// The picture is `None` when the drawing did not compile (see the diagnostics).
+pub fn preview_svg(svg_text: &str, opts: &CompileOptions) -> (Option<crate::preview::Picture>, Compiled) {
+    let compiled = compile_svg(svg_text, opts);
+    // A print profile's sheet is drawn as it is felt on paper or as a relief.
+    if let Some(sheet) = compiled.print.as_ref() {
+        return (Some(crate::print::preview::render(sheet)), compiled);
     }
-    let mut pixmap = resvg::tiny_skia::Pixmap::new(pw as u32, ph as u32)?;
-    let ts = resvg::tiny_skia::Transform::from_row(k, 0.0, 0.0, k, (t.0 * px_per_mm) as f32, (t.1 * px_per_mm) as f32);
-    resvg::render(&tree, ts, &mut pixmap.as_mut());
-    Some(pixmap)
+    let Some(bundle) = compiled.bundle.as_ref() else { return (None, compiled) };
+    (Some(crate::preview::preview_compiled(svg_text, opts, bundle)), compiled)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::drawing::StyledBy;
+    use crate::style::tests::{RED, page, rect, shape};
+    use taxel_format::profiles;
+
+    #[test]
+    fn prepare_uses_the_automatic_sheet_only_when_nothing_else_styles_the_drawing() {
+        let profile = profiles::builtin("stress2").unwrap();
+        let drawing = || Drawing {
+            page: page(100.0, 50.0),
+            elements: vec![shape("a", rect(10.0, 10.0, 40.0, 40.0), RED, None)],
+            ..Default::default()
+        };
+        let codes = |diags: &[Diagnostic]| diags.iter().map(|d| d.code).collect::<Vec<_>>();
+        // Unannotated, no sheet: automatic, with the note.
+        let (mut d, mut diags) = (drawing(), Vec::new());
+        assert!(adapt(&mut d, &crate::CompileOptions::new(profile), &mut diags));
+        assert_eq!(codes(&diags), ["T0320", "T0330"]);
+        assert_eq!(d.elements[0].styled_by, StyledBy::Auto);
+        // --style auto: automatic, no note needed.
+        let (mut d, mut diags) = (drawing(), Vec::new());
+        let opts = crate::CompileOptions { auto: true, ..crate::CompileOptions::new(profile) };
+        assert!(adapt(&mut d, &opts, &mut diags));
+        assert_eq!(codes(&diags), ["T0330"]);
+        assert_eq!(d.elements[0].styled_by, StyledBy::Auto);
+        // A style sheet was given: it decides, even if it styled nothing.
+        let (mut d, mut diags) = (drawing(), Vec::new());
+        let sheet = crate::StyleSheet::parse("[[rule]]\nid = \"b\"\ntactile = \"vibrate()\"\n", "s.toml").unwrap();
+        let opts = crate::CompileOptions { style: Some(sheet), ..crate::CompileOptions::new(profile) };
+        assert!(adapt(&mut d, &opts, &mut diags));
+        assert_eq!(codes(&diags), ["T0330"]);
+        assert_eq!(d.elements[0].styled_by, StyledBy::Nothing);
+        // --fit runs first: what the drawing shows (10..40 mm, with a margin of
+        // 0.9 mm: 31.8 mm square) fills the 60 mm height of the surface, centred.
+        let (mut d, mut diags) = (drawing(), Vec::new());
+        let opts = crate::CompileOptions { fit: true, ..crate::CompileOptions::new(profile) };
+        assert!(adapt(&mut d, &opts, &mut diags));
+        assert_eq!(codes(&diags), ["T0211", "T0320", "T0330"]);
+        let b = d.elements[0].bounds().unwrap();
+        let s = 60.0 / 31.8;
+        assert!((b.0 - (55.0 - 15.0 * s)).abs() < 1e-9 && (b.2 - (55.0 + 15.0 * s)).abs() < 1e-9, "{b:?}");
+    }
 }

@@ -187,7 +187,7 @@ pub(super) fn nearest_lines(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) ->
             let c = (nx * (t.corner.0 - a.0) + ny * (t.corner.1 - a.1)) / t.step;
             let (off, top) = match part {
                 // `kc` is the cut's width group, not its place among the cuts.
-                Part::Cut(kc) => (super::junctions::cut_widths(t).get(kc).map_or(0.0, |w| w / 2.0 / t.step), None),
+                Part::Cut(kc) => (t.cut_widths().get(kc).map_or(0.0, |w| w / 2.0 / t.step), None),
                 Part::Band => (0.0, Some(w_half(t))),
                 _ => (0.0, None),
             };
@@ -380,6 +380,18 @@ pub(super) fn edge_first(exact: &[f64; TILE_SAMPLES], near: f64) -> [u8; TILE_SA
 }
 
 impl TileCtx<'_, '_> {
+    /// The distinct widths of a grating's cut bands, in the order of their
+    /// groups ([`Part::Cut`]: the first band of each width names its group).
+    pub(super) fn cut_widths(&self) -> Vec<f64> {
+        let mut widths: Vec<f64> = Vec::new();
+        for (_, w) in &self.g.cuts {
+            if !widths.iter().any(|v| v.to_bits() == w.to_bits()) {
+                widths.push(*w);
+            }
+        }
+        widths
+    }
+
     /// The order in which the writers check a candidate at the tile's
     /// samples ([`edge_first`]); `exact` must be the tile's exact codes.
     pub(super) fn order(&self, exact: &[f64; TILE_SAMPLES]) -> &[u8; TILE_SAMPLES] {

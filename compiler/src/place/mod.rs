@@ -1,3 +1,5 @@
+//! Stage 2, place: `--region`, `--fit` and the crop to the surface.
+//!
 //! Fitting a resolved drawing to the device: `--region` takes part of it,
 //! `--fit` scales it to fill the profile's surface keeping its aspect ratio,
 //! and in every case what lies beyond the surface is left out, so it is never
@@ -136,7 +138,7 @@ fn occupied(d: &Drawing) -> Option<Bbox> {
         .elements
         .par_iter()
         .filter(|e| e.visible)
-        .filter_map(crate::auto::seen_bounds)
+        .filter_map(Element::seen_bounds)
         .filter(|&b| b.0.is_finite() && b.1.is_finite() && b.2.is_finite() && b.3.is_finite() && meet(b, page))
         .map(on_page)
         .reduce_with(|a, b| (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)))?;

@@ -20,11 +20,49 @@
 
 use taxel_format::TILE_CELLS;
 
-use super::near::row_cells;
 use super::{Part, Seg, Tiles, seg_bounds};
 
 /// Grid cells per lattice cell along each axis (the per-tile grid's `SUB`).
 pub(super) const SUB: usize = 2;
+
+/// Slots of the squared-distance array, `TILE_SAMPLES` each: the fills, the
+/// band and the occluders, then one per cut width group, then one per clip.
+pub(super) const FILL: usize = 0;
+pub(super) const BAND: usize = 1;
+pub(super) const OCC: usize = 2;
+pub(super) const FIRST_CUT: usize = 3;
+
+/// `floor(v)` as an integer, for `|v|` within ±1e6 (clamped; NaN gives 0)
+/// and without a call into libm.
+pub(super) fn floor_cell(v: f64) -> isize {
+    let v = v.clamp(-1e6, 1e6);
+    let t = v as isize;
+    if (t as f64) > v { t - 1 } else { t }
+}
+
+/// The cells of row `y` (the band `y <= v <= y + 1`, in cell units) that the
+/// segment `a`-`b` (in cell units) passes through, within its box's columns
+/// `[x0, x1]`: a long slanted segment is binned in the cells along it, not in
+/// every cell of its box (a scribble's segments cross the whole drawing, and
+/// binned by their boxes every cell held every segment). A few cells more
+/// than it meets, never fewer, so a search finds the same minima.
+pub(super) fn row_cells(a: (f64, f64), b: (f64, f64), y: isize, (x0, x1): (isize, isize)) -> (isize, isize) {
+    let dy = b.1 - a.1;
+    if dy == 0.0 || !dy.is_finite() {
+        return (x0, x1);
+    }
+    let (ta, tb) = ((y as f64 - a.1) / dy, (y as f64 + 1.0 - a.1) / dy);
+    let (lo, hi) = (ta.min(tb).max(0.0), ta.max(tb).min(1.0));
+    // (NaN, from a segment whose ends lie a world apart, is taken whole.)
+    if lo.partial_cmp(&hi).is_none_or(|o| o == std::cmp::Ordering::Greater) {
+        return (x0, x1);
+    }
+    let (xa, xb) = (a.0 + lo * (b.0 - a.0), a.0 + hi * (b.0 - a.0));
+    // A thousandth of a cell for the rounding of `lo`, `hi` and the products.
+    const SLACK: f64 = 1e-3;
+    let (c0, c1) = (floor_cell(xa.min(xb) - SLACK), floor_cell(xa.max(xb) + SLACK));
+    (c0.max(x0), c1.min(x1))
+}
 
 /// The most cells a layer's grid may have per segment it holds (and at
 /// most [`MAX_CELLS`] in all): a sparse layer on a large lattice keeps the
@@ -38,7 +76,7 @@ const MAX_CELLS: usize = 1 << 22;
 /// The part of a layer's slots a group holds: the layer's own fills and
 /// band, or the parts that only lower its distance.
 pub(super) fn is_own(slot: usize) -> bool {
-    slot == super::near::FILL || slot == super::near::BAND
+    slot == FILL || slot == BAND
 }
 
 /// What the searches of one tile need to know of its bucket, counted once
@@ -198,9 +236,8 @@ impl LayerGrid {
     /// The stored cell range `[x0, y0, x1, y1]` a segment's bounds meet.
     fn cells_of(&self, seg: &Seg) -> [usize; 4] {
         let b = seg_bounds(seg);
-        let c = |v: f64, o: f64, n: usize| {
-            (super::near::floor_cell((v - o) / self.cell) + self.pad).clamp(0, n as isize - 1) as usize
-        };
+        let c =
+            |v: f64, o: f64, n: usize| (floor_cell((v - o) / self.cell) + self.pad).clamp(0, n as isize - 1) as usize;
         let (ox, oy) = self.origin;
         [c(b.0, ox, self.width), c(b.1, oy, self.height), c(b.2, ox, self.width), c(b.3, oy, self.height)]
     }

@@ -213,7 +213,7 @@ pub(super) fn bends(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES], ramp_mm: f
         }
     };
     pairs(&near, 0.0);
-    for (kc, w) in super::junctions::cut_widths(t).into_iter().enumerate() {
+    for (kc, w) in t.cut_widths().into_iter().enumerate() {
         pairs(&t.nearest(Part::Cut(kc), MAX_SEGMENTS), w / 2.0 / t.step);
     }
     out

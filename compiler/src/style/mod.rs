@@ -1,3 +1,5 @@
+//! Stage 3, style: the automatic style sheet for what no annotation styles. It never places or fits.
+//!
 //! The built-in automatic style sheet `auto`: tactile styles decided from what
 //! a drawing shows, for the drawings nobody annotated (a Wikimedia map, an
 //! OpenStreetMap plan, a chart from a plotting library).
@@ -41,11 +43,11 @@ use std::collections::BTreeMap;
 use taxel_format::DeviceProfile;
 
 use crate::annotation::{Braille, Dot, Grating, Style, Vibrate};
+use crate::braille::paper::{CELL_PITCH_MM, DOT_PITCH_MM};
 use crate::diagnostic::Diagnostic;
 use crate::drawing::{Drawing, Element, Rgba, Shape, StyledBy, TextRun, TextShape};
 use crate::geometry::{FillRule, Polyline, filled_area};
 use crate::spatial::{self, Bbox, Occupancy};
-use crate::svg::{CELL_PITCH_MM, DOT_PITCH_MM};
 
 /// Most textures the automatic sheet uses (BANA 2010: about five of each kind).
 pub const MAX_TEXTURES: usize = 5;
@@ -100,7 +102,7 @@ const BRAILLE_CLEARANCE_MM: f64 = 1.0;
 /// by at least 3 mm (seed 000 §4.2: told apart almost always).
 ///
 /// ```
-/// use taxel_compiler::auto::textures;
+/// use taxel_compiler::style::textures;
 /// use taxel_format::profiles;
 ///
 /// let t = textures(&profiles::builtin("stress2").unwrap());
@@ -233,7 +235,7 @@ fn rgb(c: Rgba) -> [u8; 3] {
 /// the colour laid over white at its alpha.
 ///
 /// ```
-/// use taxel_compiler::auto::darkness;
+/// use taxel_compiler::style::darkness;
 /// assert_eq!(darkness([0, 0, 0, 255]), 1.0);
 /// assert_eq!(darkness([0, 0, 0, 0]), 0.0);
 /// assert!((darkness([0xdd, 0xdd, 0xdd, 255]) - 0.277).abs() < 0.001);
@@ -987,7 +989,7 @@ const KEY_SHOWN: usize = 8;
 /// for the 1.5 mm outline).
 ///
 /// ```
-/// let s = taxel_compiler::auto::min_region_mm(1.5);
+/// let s = taxel_compiler::style::min_region_mm(1.5);
 /// assert!(((s - 1.5) * (s - 1.5) / (s * s) - 0.5).abs() < 1e-12);
 /// ```
 pub fn min_region_mm(width: f64) -> f64 {
@@ -1008,7 +1010,7 @@ fn backgrounds(d: &Drawing, page: Bbox, sheet: Bbox) -> Vec<usize> {
     // once and in parallel (each is a pass over its outline).
     let bounds: Vec<Option<Bbox>> = {
         use rayon::prelude::*;
-        d.elements.par_iter().map(seen_bounds).collect()
+        d.elements.par_iter().map(Element::seen_bounds).collect()
     };
     let boxes: Vec<Option<Bbox>> =
         d.elements.iter().zip(&bounds).map(|(e, b)| b.filter(|_| filled(e)).map(clip)).collect();
@@ -1080,19 +1082,6 @@ fn very_light(e: &Element) -> bool {
         let a = c[3] as f64 / 255.0;
         c[..3].iter().all(|&v| a * v as f64 + (1.0 - a) * 255.0 >= LIGHT_GUIDE as f64)
     })
-}
-
-/// The box of what can be seen of an element: its bounds within the boxes
-/// of its clip regions; `None` when it has no outline or they leave nothing.
-pub(crate) fn seen_bounds(e: &Element) -> Option<Bbox> {
-    let mut b = e.bounds()?;
-    if let Shape::Path(p) = &e.shape {
-        for c in &p.clips {
-            let cb = crate::geometry::bounds(&c.outline)?;
-            b = (b.0.max(cb.0), b.1.max(cb.1), b.2.min(cb.2), b.3.min(cb.3));
-        }
-    }
-    (b.0 <= b.2 && b.1 <= b.3).then_some(b)
 }
 
 /// Area a fill of `polys` under `rule` covers inside the box `b`: each ring
@@ -1194,54 +1183,6 @@ pub fn apply_measured(d: &mut Drawing, profile: &DeviceProfile, m: Measure<'_>, 
     }
     notes(&plan, d, diags);
     plan
-}
-
-/// The passes between the resolved drawing and its layers that make a
-/// drawing as teachers have it usable: `--region` and `--fit` (and cropping to
-/// the surface, [`crate::fit::apply`]); then the automatic sheet, where
-/// `--style auto` asks for it or where nothing else styles the drawing (no
-/// annotation, no style sheet; with note T0320); then the note saying how many
-/// elements became which style. Returns `false` when an error stops the
-/// compilation (a region that cannot be taken).
-pub fn prepare(d: &mut Drawing, opts: &crate::CompileOptions, diags: &mut Vec<Diagnostic>) -> bool {
-    // Whether the author annotated the drawing is decided on the whole
-    // drawing: annotated shapes that cropping leaves out (beyond the surface,
-    // outside `--region`) still make it an annotated drawing, not one for the
-    // automatic sheet.
-    let annotated = !unannotated(d);
-    if !crate::fit::apply(d, &opts.profile, opts.fit, opts.region.as_ref(), diags) {
-        return false;
-    }
-    if annotated && unannotated(d) {
-        diags.push(
-            Diagnostic::warning(
-                "T0205",
-                format!(
-                    "every annotated shape lies {} the {} surface: nothing annotated is left to build",
-                    if opts.region.is_some() { "outside the region or beyond" } else { "beyond" },
-                    opts.profile.name
-                ),
-            )
-            .with_help(
-                "build with --fit to scale the drawing to the surface, or --region to take the part you annotated",
-            ),
-        );
-    }
-    let implicit = !opts.auto && opts.style.is_none() && !annotated;
-    if implicit {
-        diags.push(
-            Diagnostic::note(
-                "T0320",
-                "nothing in the drawing is annotated: the automatic style sheet decided its tactile styles",
-            )
-            .with_help("`taxel style auto INPUT` prints what it decided as a style sheet to start your own from"),
-        );
-    }
-    if opts.auto || implicit {
-        apply_measured(d, &opts.profile, Measure::of(opts), diags);
-    }
-    diags.push(summary(d));
-    true
 }
 
 impl LeftOut {
@@ -1471,4 +1412,4 @@ pub fn summary(d: &Drawing) -> Diagnostic {
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

@@ -26,7 +26,7 @@ fn vibrate(v: &Vibrate) -> String {
 /// dots, backgrounds left out) is explained in comments.
 ///
 /// ```
-/// use taxel_compiler::{StyleSheet, auto::sheet_toml};
+/// use taxel_compiler::{StyleSheet, style::sheet_toml};
 /// use taxel_format::profiles;
 ///
 /// let toml = sheet_toml(&profiles::builtin("stress2").unwrap(), None);

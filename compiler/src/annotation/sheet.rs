@@ -20,7 +20,7 @@
 //! `fill` and `stroke` 1 each, summed); among equally specific rules the later one wins.
 //!
 //! ```
-//! use taxel_compiler::stylesheet::{ElementFacts, StyleSheet};
+//! use taxel_compiler::annotation::sheet::{ElementFacts, StyleSheet};
 //!
 //! let sheet = StyleSheet::parse("[[rule]]\nfill = \"red\"\ntactile = \"grating()\"\n", "s.toml").unwrap();
 //! let facts = ElementFacts { fill: Some([255, 0, 0]), ..Default::default() };

@@ -1,7 +1,14 @@
+//! Back end for laterotactile arrays (stage 4, family 1).
+//!
 //! From the resolved drawing to layers: one distance layer per vibration or
 //! grating style (every shape of that style, SPEC.md section 6.2), dot
 //! tables per kind, brush requests for grid devices, provenance, and the
 //! features the design rules look at.
+
+#[doc(hidden)]
+pub mod distance;
+mod dots;
+mod footprints;
 
 use std::collections::HashMap;
 
@@ -12,17 +19,19 @@ use taxel_format::{
     StrokeTable,
 };
 
-use super::braille;
-use super::dots;
-use super::footprints::{self, Pending as FootPending};
+use self::distance::{FieldParams, LayerGeometry, build_field_within};
+use self::footprints::Pending as FootPending;
 use crate::annotation::{Braille as BrailleStyle, Grating, Style, Vibrate};
+use crate::braille::paper as braille;
 use crate::brush::{self, BrushRequest};
 use crate::diagnostic::Diagnostic;
-use crate::distance::{FieldParams, LayerGeometry, build_field_within};
 use crate::drawing::{Clip, Drawing, Element, Page, Shape, TextShape};
 use crate::geometry::Polyline;
 use crate::options::CompileOptions;
-use crate::spatial::{Bbox, BoxIndex};
+
+/// Smallest distance between distinct elements (1/8 in, Hasty): the
+/// design rules' gap, and the clearing kept around braille.
+pub const MIN_GAP_MM: f64 = 3.2;
 
 /// What a feature is, with the parameters the design rules need.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -220,11 +229,7 @@ fn clips_of(e: &Element) -> &[Clip] {
 
 /// The outline a style is rendered from (glyph outlines for text).
 fn outline(e: &Element) -> &[Polyline] {
-    match &e.shape {
-        Shape::Path(p) => &p.outline,
-        Shape::Text(t) => &t.outline,
-        Shape::Image { .. } => &[],
-    }
+    e.outline()
 }
 
 /// Builds every layer of `drawing` at `px` samples per mm.
@@ -494,7 +499,7 @@ fn distance_layers(
     // is then sampled at the same points as the band itself, so the two
     // interpolate to complementary values and never overlap.
     let narrowest = bands.iter().map(|&(_, w)| w).reduce(f64::min);
-    let opaque = OpaqueFills::of(drawing);
+    let opaque = crate::drawing::OpaqueFills::of(drawing);
     let braille_clear = std::mem::take(&mut b.braille_clear);
     let pitch = field_pitch(px, narrowest);
     // Every style's field at once: a layer's own setup (its segments'
@@ -609,69 +614,6 @@ fn distance_layers(
     built_index
 }
 
-/// The opaque fills of `drawing` that hide a grated layer made of
-/// `elements` (drawing indices, in drawing order), as the layers are built:
-/// solid, opaque, visible, unclipped fills painted over some of the
-/// elements and under none of them. For `taxel report`'s exact reference,
-/// which must leave out what the layer leaves out.
-pub fn occluders(drawing: &Drawing, elements: &[usize]) -> Vec<usize> {
-    OpaqueFills::of(drawing).above(drawing, elements)
-}
-
-/// The drawing's opaque filled shapes, which hide what is painted under them.
-pub(crate) struct OpaqueFills {
-    /// Element index and bounds of each.
-    shapes: Vec<(usize, Bbox)>,
-    index: BoxIndex,
-}
-
-impl OpaqueFills {
-    pub(crate) fn of(drawing: &Drawing) -> Self {
-        let shapes: Vec<(usize, Bbox)> = drawing
-            .elements
-            .iter()
-            .enumerate()
-            .filter(|(_, e)| {
-                // A solid, opaque, visible, unclipped fill (a gradient's or a
-                // clip's coverage is not known exactly, so it hides nothing).
-                e.visible
-                    && e.paint.fill.is_some_and(|c| c[3] == u8::MAX)
-                    && matches!(&e.shape, Shape::Path(p) if p.clips.is_empty())
-            })
-            .filter_map(|(i, e)| crate::geometry::bounds(outline(e)).map(|b| (i, b)))
-            .collect();
-        let index = BoxIndex::new(&shapes.iter().map(|s| s.1).collect::<Vec<_>>());
-        OpaqueFills { shapes, index }
-    }
-
-    /// The opaque fills painted over some of `elements` (drawing indices, in
-    /// drawing order) and under none of them: a grated layer is not felt
-    /// where they cover it, as it is not seen there. A fill that lies between
-    /// two of the layer's shapes hides nothing (the layer is one union), so
-    /// the overlap stays and the design rules report it.
-    pub(crate) fn above(&self, drawing: &Drawing, elements: &[usize]) -> Vec<usize> {
-        let boxes: Vec<(usize, Bbox)> = elements
-            .iter()
-            .filter_map(|&i| crate::geometry::bounds(outline(&drawing.elements[i])).map(|b| (i, b)))
-            .collect();
-        let mine = BoxIndex::new(&boxes.iter().map(|b| b.1).collect::<Vec<_>>());
-        let mut seen = std::collections::HashSet::new();
-        let mut out = Vec::new();
-        for &(i, b) in &boxes {
-            for k in self.index.meeting(b) {
-                let Some(&(j, bj)) = self.shapes.get(k) else { continue };
-                if j <= i || !seen.insert(j) {
-                    continue;
-                }
-                if mine.meeting(bj).all(|m| boxes.get(m).is_some_and(|&(e, _)| e < j)) {
-                    out.push(j);
-                }
-            }
-        }
-        out
-    }
-}
-
 fn fill_rule(e: &Element) -> crate::geometry::FillRule {
     match &e.shape {
         Shape::Path(p) => p.fill_rule,
@@ -762,7 +704,7 @@ fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOptions, diags:
                     format!("no braille in {table} for {}; {left}", taxel_braille::left_out(&missing)),
                 )
                 .with_element(&e.name)
-                .with_help(missing_help(&table))
+                .with_help(crate::braille::missing_help(&table))
                 .at_line(e.line),
             );
             if pts.is_empty() {
@@ -791,21 +733,9 @@ fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOptions, diags:
     b.braille_clear = braille_clearing(&b.braille_dots);
     // The key of the labels written as key codes (T0326) in print, for a
     // host to give the reader: provenance entry `key`, with no footprint.
-    let key = crate::auto::key_line(drawing);
+    let key = crate::style::key_line(drawing);
     if family == Family::Laterotactile && !key.is_empty() {
         b.provenance.push(ProvenanceEntry { id: "key".into(), label: key, line: 0 });
-    }
-}
-
-/// What T0304 says helps, for the table that left characters out.
-pub(crate) fn missing_help(table: &str) -> String {
-    if table == "uncontracted UEB" {
-        format!(
-            "{}; with liblouis installed, a text's `xml:lang` chooses its language's table",
-            taxel_braille::TABLE_HELP
-        )
-    } else {
-        "mark the text's language with `xml:lang` (its table is chosen from it), or name a table with a style sheet's `braille-table`".into()
     }
 }
 
@@ -887,7 +817,7 @@ const LINE_SPLIT_MM: f64 = 5.0;
 /// vertically), so that `taxel report`'s exact reference finds the same
 /// boxes in a bundle.
 pub fn braille_clearing(dots: &[Dot]) -> Vec<Polyline> {
-    let gap = super::rules::MIN_GAP_MM;
+    let gap = MIN_GAP_MM;
     let mut by_source: Vec<&Dot> = dots.iter().collect();
     by_source.sort_by(|a, b| a.source.cmp(&b.source).then(a.y.0.total_cmp(&b.y.0)));
     let mut out = Vec::new();

@@ -47,22 +47,10 @@ pub(super) fn segment_tiles(
     if let Some((_, w)) = t.g.band.as_ref() {
         kinds.push((Part::Band, k, zero + w / 2.0 / t.step));
     }
-    for (group, w) in cut_widths(t).into_iter().enumerate() {
+    for (group, w) in t.cut_widths().into_iter().enumerate() {
         kinds.push((Part::Cut(group), -k, zero - w / 2.0 / t.step));
     }
     kinds.into_iter().filter_map(|(part, k, top)| segments_of(t, exact, part, k, top)).collect()
-}
-
-/// The distinct widths of a grating's cut bands, in the order of their
-/// groups ([`Part::Cut`]: the first band of each width names its group).
-pub(super) fn cut_widths(t: &TileCtx<'_, '_>) -> Vec<f64> {
-    let mut widths: Vec<f64> = Vec::new();
-    for (_, w) in &t.g.cuts {
-        if !widths.iter().any(|v| v.to_bits() == w.to_bits()) {
-            widths.push(*w);
-        }
-    }
-    widths
 }
 
 /// The segments tile of the `part` segments nearest the tile's points, if

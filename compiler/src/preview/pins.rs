@@ -105,7 +105,7 @@ pub fn render(image: &PinImage, profile: &DeviceProfile) -> Picture {
     };
     match image.navigation {
         Navigation::Pages => {
-            for (c0, r0) in super::export::pages(image, profile) {
+            for (c0, r0) in pages(image, profile) {
                 frame(&mut px, c0, r0);
             }
         }
@@ -114,7 +114,7 @@ pub fn render(image: &PinImage, profile: &DeviceProfile) -> Picture {
     // The text line: its cells as pins, below the image.
     for (k, &m) in image.text.iter().enumerate() {
         let (line, cell) = ((k / per_line) as u32, (k % per_line) as u32);
-        for (bit, &(dc, dr)) in super::text::DOT_POSITIONS.iter().enumerate() {
+        for (bit, &(dc, dr)) in crate::braille::DOT_POSITIONS.iter().enumerate() {
             let (x, y) = centre(cell * 3 + dc, image.rows + 1 + 5 * line + dr);
             if m & (1 << bit) != 0 {
                 px.disc(x, y, 0.42 * s, 0.0, [0, 0, 0]);
@@ -124,4 +124,11 @@ pub fn render(image: &PinImage, profile: &DeviceProfile) -> Picture {
         }
     }
     Picture { width: px.w, height: px.h, rgba: px.rgba }
+}
+
+/// The display pages of `image` for `profile`, row-major: each `(col, row)` of its top-left pin.
+pub fn pages(image: &PinImage, profile: &DeviceProfile) -> Vec<(u32, u32)> {
+    let (w, h) = (profile.cols as u32, profile.rows as u32);
+    let (across, down) = (image.cols.div_ceil(w).max(1), image.rows.div_ceil(h).max(1));
+    (0..down).flat_map(|j| (0..across).map(move |i| (i * w, j * h))).collect()
 }
