@@ -55,6 +55,6 @@ pub fn run(cli: Cli) -> CmdResult {
 
 /// A problem with a text-form folder or bundle: exit 1 when the input is
 /// wrong, 2 when the file system failed or the command would overwrite data.
-fn text_error(e: crate::textform::TextError) -> CliError {
+fn text_error(e: taxel_textform::TextError) -> CliError {
     if e.io { CliError::trouble(e) } else { CliError::input(e) }
 }

@@ -3,10 +3,10 @@
 use std::path::Path;
 
 use crate::error::CmdResult;
-use crate::textform::folder;
+use crate::textform;
 
 pub fn run(dir: &Path, out: &Path) -> CmdResult {
-    let n = folder::pack_to(dir, out).map_err(super::text_error)?;
+    let n = textform::pack_to(dir, out).map_err(super::text_error)?;
     eprintln!("packed {} into {} ({n} bytes)", dir.display(), out.display());
     Ok(())
 }

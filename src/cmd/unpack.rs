@@ -3,10 +3,10 @@
 use std::path::Path;
 
 use crate::error::CmdResult;
-use crate::textform::folder;
+use crate::textform;
 
 pub fn run(bundle: &Path, out: &Path) -> CmdResult {
-    let n = folder::unpack_to(bundle, out).map_err(super::text_error)?;
+    let n = textform::unpack_to(bundle, out).map_err(super::text_error)?;
     eprintln!("unpacked {} into {} ({n} files)", bundle.display(), out.display());
     Ok(())
 }

@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use taxel_format::{Bundle, BundleView, Chunk, DistanceLayer, MaskKind, MaskSamples, Tag, profiles};
 
 use super::error::TextError;
-use super::tables::{dots_csv, footprints_csv, height_csv, provenance_csv, quoted, strokes_toml};
+use super::tables::{csv_rows, dots_csv, footprints_csv, height_csv, provenance_csv, quoted, strokes_toml};
 use super::toml_in::f32_text;
 use super::{MANIFEST, MANIFEST_HEADER, PROFILE, png};
 
@@ -87,18 +87,8 @@ pub fn unpack(name: &str, bytes: &[u8]) -> Result<Vec<(String, Vec<u8>)>, TextEr
                     // One record a line, `c, gx, gy, top` in codes (SPEC.md section 6.2).
                     let planes = format!("{stem}-{kind}-planes.csv");
                     let _ = writeln!(toml, "planes = \"{planes}\"");
-                    let mut csv = String::new();
-                    for p in &d.planes {
-                        let _ = writeln!(
-                            csv,
-                            "{}, {}, {}, {}",
-                            f32_text(p.c),
-                            f32_text(p.gx),
-                            f32_text(p.gy),
-                            f32_text(p.top)
-                        );
-                    }
-                    files.push((planes, csv.into_bytes()));
+                    let rows = d.planes.iter().map(|p| [p.c, p.gx, p.gy, p.top].map(f32_text).to_vec());
+                    files.push((planes, csv_rows(rows)));
                 }
                 let sources: Vec<String> = d.sources.iter().map(|s| s.to_string()).collect();
                 let _ = writeln!(
@@ -115,12 +105,8 @@ pub fn unpack(name: &str, bytes: &[u8]) -> Result<Vec<(String, Vec<u8>)>, TextEr
                     d.tile_rows
                 );
                 kind_params(&mut toml, d.kind);
-                let mut csv = String::new();
-                for row in d.tiles.chunks(d.tile_cols.max(1) as usize) {
-                    let line: Vec<String> = row.iter().map(|t| t.to_string()).collect();
-                    let _ = writeln!(csv, "{}", line.join(","));
-                }
-                files.push((tiles, csv.into_bytes()));
+                let rows = d.tiles.chunks(d.tile_cols.max(1) as usize).map(|r| r.iter().map(u32::to_string).collect());
+                files.push((tiles, csv_rows(rows)));
                 (file.clone(), amplitude_png(&file, d)?)
             }
             Chunk::Dots(d) => {

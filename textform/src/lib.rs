@@ -17,11 +17,13 @@
 //! read back from their text as `f32`, so they survive exactly. The layout is
 //! documented for people in docs/text-form.md.
 //!
-//! [`unpack`] and [`pack`] work on bytes and file contents only; [`folder`]
-//! does the file system part (refusing to overwrite, atomic writes).
+//! [`unpack`] and [`pack`] work on bytes and file contents only; the
+//! `taxel` binary does the file system part (refusing to overwrite, atomic
+//! writes). The codec sits beside `taxel-format`, which it reads and writes
+//! through; it is a crate of its own so that the format crate stays
+//! `no_std` with no dependency on PNG, CSV or TOML.
 
 pub mod error;
-pub mod folder;
 mod pins;
 mod png;
 mod read;
@@ -76,6 +78,32 @@ mod tests {
     }
 
     #[test]
+    fn tile_and_plane_rows_read_through_csv_and_say_which_line_is_wrong() {
+        let bytes = sample::every_kind().to_bytes().unwrap();
+        let mut files: BTreeMap<String, Vec<u8>> = unpack("b.taxel", &bytes).unwrap().into_iter().collect();
+        let pack_files = |files: &BTreeMap<String, Vec<u8>>| {
+            pack(&|name: &str| files.get(name).cloned().ok_or_else(|| TextError::io(name, "missing")))
+        };
+        // Fields padded with spaces (as earlier versions wrote plane records) read the same.
+        let planes = "03-grating-field-planes.csv";
+        let spaced = String::from_utf8(files[planes].clone()).unwrap().replace(',', ", ");
+        files.insert(planes.into(), spaced.into_bytes());
+        assert_eq!(pack_files(&files).unwrap(), bytes);
+        // A row of the wrong width, and a field that is not a number, name the file and line.
+        let tiles = "03-grating-field-tiles.csv";
+        files.insert(tiles.into(), b"0,2,2147483648,2952790017\n1,3,3221225475\n".to_vec());
+        let e = pack_files(&files).unwrap_err().to_string();
+        assert!(e.starts_with(&format!("{tiles}:2:")) && e.contains("expected 4"), "{e}");
+        files.insert(tiles.into(), b"0,2,2147483648,2952790017\n1,3,x,2684354564\n".to_vec());
+        let e = pack_files(&files).unwrap_err().to_string();
+        assert!(e.starts_with(&format!("{tiles}:2:")) && e.contains("`x`"), "{e}");
+        files.insert(tiles.into(), b"0,2,2147483648,2952790017\n1,3,3221225475,2684354564\n".to_vec());
+        files.insert(planes.into(), b"100.0,4.5,-2.25\n".to_vec());
+        let e = pack_files(&files).unwrap_err().to_string();
+        assert!(e.starts_with(&format!("{planes}:1:")) && e.contains("expected 4"), "{e}");
+    }
+
+    #[test]
     fn the_manifest_lists_every_chunk_in_order() {
         let files = unpack("b.taxel", &sample::every_kind().to_bytes().unwrap()).unwrap();
         let names: Vec<&str> = files.iter().map(|(n, _)| n.as_str()).collect();
@@ -107,8 +135,8 @@ mod tests {
         let planes = &files.iter().find(|(n, _)| n == "03-grating-field-planes.csv").unwrap().1;
         assert_eq!(
             String::from_utf8(planes.clone()).unwrap(),
-            "100.0, 4.5, -2.25, 0.0\n130.0, -16.0, 0.0, 0.0\n60.0, 0.0, 16.0, 0.0\n-10.0, 3.0, 1.5, 160.0\n\
-             200.0, -12.0, -9.0, 0.0\n150.0, 9.0, -12.0, 0.0\n"
+            "100.0,4.5,-2.25,0.0\n130.0,-16.0,0.0,0.0\n60.0,0.0,16.0,0.0\n-10.0,3.0,1.5,160.0\n\
+             200.0,-12.0,-9.0,0.0\n150.0,9.0,-12.0,0.0\n"
         );
         let manifest = String::from_utf8(files.last().unwrap().1.clone()).unwrap();
         assert!(manifest.starts_with(MANIFEST_HEADER));

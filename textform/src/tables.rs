@@ -172,6 +172,50 @@ pub fn strokes_toml(t: &StrokeTable) -> Vec<u8> {
     s.into_bytes()
 }
 
+/// CSV of `rows` with no header line (a distance layer's tile index and plane records).
+pub fn csv_rows(rows: impl Iterator<Item = Vec<String>>) -> Vec<u8> {
+    let mut w = csv::WriterBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .terminator(csv::Terminator::Any(b'\n'))
+        .from_writer(Vec::new());
+    // Writing to a Vec cannot fail.
+    for r in rows {
+        let _ = w.write_record(&r);
+    }
+    w.into_inner().unwrap_or_default()
+}
+
+/// Reads CSV with no header line whose every row has `width` fields, each
+/// parsed by `parse` (`what` names them in the error); yields the values in
+/// row order. Fields may be padded with spaces.
+pub fn parse_rows<T>(
+    file: &str,
+    bytes: &[u8],
+    width: usize,
+    what: &str,
+    parse: impl Fn(&str) -> Option<T>,
+) -> Result<Vec<T>, TextError> {
+    let mut r = csv::ReaderBuilder::new().has_headers(false).flexible(true).trim(csv::Trim::All).from_reader(bytes);
+    let mut out = Vec::new();
+    for rec in r.records() {
+        let rec = rec.map_err(|e| {
+            let line = e.position().map_or(0, |p| p.line() as usize);
+            TextError::at(file, line, format!("not valid CSV: {e}"))
+        })?;
+        let line = rec.position().map_or(0, |p| p.line() as usize);
+        if rec.len() != width {
+            return Err(TextError::at(file, line, format!("expected {width} {what}, found {}", rec.len())));
+        }
+        for field in &rec {
+            out.push(
+                parse(field).ok_or_else(|| TextError::at(file, line, format!("expected {what}, found `{field}`")))?,
+            );
+        }
+    }
+    Ok(out)
+}
+
 /// Reads CSV records after checking the header; yields `(line, record)`.
 fn csv_records(file: &str, bytes: &[u8], header: &[&str]) -> Result<Vec<(usize, csv::StringRecord)>, TextError> {
     let mut r = csv::ReaderBuilder::new().has_headers(true).from_reader(bytes);

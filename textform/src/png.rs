@@ -14,7 +14,9 @@ pub fn encode(file: &str, width: u32, height: u32, samples: &MaskSamples) -> Res
         MaskSamples::U16(v) => ImageBuffer::<Luma<u16>, _>::from_raw(width, height, v.clone()).map(DynamicImage::from),
     }
     .ok_or_else(|| TextError::new(file, "mask samples do not fill its width and height"))?;
-    crate::io::png::encode(&image).map_err(|e| TextError::new(file, format!("{e:#}")))
+    let mut out = std::io::Cursor::new(Vec::new());
+    image.write_to(&mut out, ImageFormat::Png).map_err(|e| TextError::new(file, format!("cannot encode PNG: {e}")))?;
+    Ok(out.into_inner())
 }
 
 /// Decodes a grayscale PNG into `(width, height, samples)`.

@@ -7,7 +7,7 @@ use taxel_format::{
 };
 
 use super::error::TextError;
-use super::tables::{parse_dots, parse_footprints, parse_height, parse_provenance, parse_strokes};
+use super::tables::{parse_dots, parse_footprints, parse_height, parse_provenance, parse_rows, parse_strokes};
 use super::toml_in::{Doc, Table};
 use super::{MANIFEST, png};
 
@@ -308,25 +308,8 @@ fn field_chunk(
     let tile_cols = c.uint("tile_cols", taxel_format::MAX_DISTANCE_TILES as u64)? as u32;
     let tile_rows = c.uint("tile_rows", taxel_format::MAX_DISTANCE_TILES as u64)? as u32;
     let tiles_file = safe_name(c, "tiles")?;
-    let text = read(tiles_file)?;
-    let text = std::str::from_utf8(&text).map_err(|_| TextError::new(tiles_file, "expected UTF-8 text"))?;
-    let mut tiles = Vec::new();
-    for (n, line) in text.lines().enumerate() {
-        let row: Result<Vec<u32>, _> = line.split(',').map(|v| v.trim().parse::<u32>()).collect();
-        let row = row.map_err(|_| {
-            TextError::new(
-                tiles_file,
-                format!("line {}: expected tile index entries (whole numbers) separated by commas", n + 1),
-            )
-        })?;
-        if row.len() != tile_cols as usize {
-            return Err(TextError::new(
-                tiles_file,
-                format!("line {}: expected {tile_cols} entries (tile_cols), found {}", n + 1, row.len()),
-            ));
-        }
-        tiles.extend(row);
-    }
+    let what = "tile index entries (whole numbers; tile_cols of them a line)";
+    let tiles = parse_rows(tiles_file, &read(tiles_file)?, tile_cols as usize, what, |v| v.parse::<u32>().ok())?;
     if tiles.len() as u64 != tile_cols as u64 * tile_rows as u64 {
         return Err(TextError::new(tiles_file, format!("expected {tile_rows} lines (tile_rows)")));
     }
@@ -342,20 +325,14 @@ fn field_chunk(
     let mut planes = Vec::new();
     if c.has("planes") {
         let file = safe_name(c, "planes")?;
-        let text = read(file)?;
-        let text = std::str::from_utf8(&text).map_err(|_| TextError::new(file, "expected UTF-8 text"))?;
-        for (n, line) in text.lines().enumerate() {
-            let v: Result<Vec<f32>, _> = line.split(',').map(|v| v.trim().parse::<f32>()).collect();
-            match v.as_deref() {
-                Ok(&[c, gx, gy, top]) => planes.push(taxel_format::TilePlane { c, gx, gy, top }),
-                _ => {
-                    return Err(TextError::new(
-                        file,
-                        format!("line {}: expected four numbers `c, gx, gy, top` separated by commas", n + 1),
-                    ));
-                }
-            }
-        }
+        let what = "numbers (four a line: `c, gx, gy, top`)";
+        let values = parse_rows(file, &read(file)?, 4, what, |v| v.parse::<f32>().ok())?;
+        planes.extend(values.chunks_exact(4).map(|v| taxel_format::TilePlane {
+            c: v[0],
+            gx: v[1],
+            gy: v[2],
+            top: v[3],
+        }));
     }
     let sources = c.uint_array("sources", u32::MAX as u64 - 1)?.into_iter().map(|v| v as u32).collect();
     Ok(Chunk::Distance(DistanceLayer {

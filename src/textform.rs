@@ -1,4 +1,4 @@
-//! The file-system side of the text form: where files go, what may be
+//! The file-system side of the text form (`taxel-textform` is the codec): where files go, what may be
 //! overwritten, and atomic writes.
 //!
 //! - `unpack` writes into a folder that does not exist, is empty, or holds a
@@ -13,8 +13,7 @@
 use std::fs;
 use std::path::Path;
 
-use super::error::TextError;
-use super::{MANIFEST, MANIFEST_HEADER, PROFILE, pack, unpack};
+use taxel_textform::{MANIFEST, MANIFEST_HEADER, PROFILE, TextError, pack, unpack};
 
 fn io_err(path: &Path, what: &str, e: std::io::Error) -> TextError {
     TextError::io(path.display().to_string(), format!("{what}: {e}"))
