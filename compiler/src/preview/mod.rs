@@ -11,14 +11,15 @@
 //! shows exactly what was compiled.
 
 mod backdrop;
+mod overlay;
 pub mod pins;
 
 pub use backdrop::{drawing_picture, preview_compiled};
 
 use resvg::tiny_skia::Pixmap;
-use taxel_format::{
-    Bundle, Chunk, DistanceLayer, DotKind, DotTable, HeightField, MaskKind, MaskLayer, MaskSamples, StrokeTable,
-};
+
+use overlay::Overlay;
+use taxel_format::{Bundle, Chunk, DistanceLayer, DotKind, DotTable, HeightField, MaskKind, MaskLayer, MaskSamples};
 
 /// Pixels per millimetre of a preview.
 pub const PREVIEW_PX_PER_MM: f64 = 8.0;
@@ -90,7 +91,6 @@ const VIBRATION: [f32; 3] = [0.75, 0.1, 0.1];
 const GRATING: [f32; 3] = [0.1, 0.25, 0.7];
 const DOTS: [f32; 3] = [0.05, 0.05, 0.05];
 const BRAILLE: [f32; 3] = [0.2, 0.45, 0.1];
-const STROKE: [f32; 3] = [0.55, 0.2, 0.6];
 const HEIGHT: [f32; 3] = [0.35, 0.25, 0.1];
 
 /// Bilinear mask value in 0..=1 at page `(x, y)`, as a player reads it.
@@ -191,38 +191,6 @@ fn draw_dots(c: &mut Canvas, t: &DotTable) {
     }
 }
 
-fn disc(c: &mut Canvas, x: f64, y: f64, r: f64, colour: [f32; 3], a: f64) {
-    for j in c.rows(y - r, y + r) {
-        for i in c.cols(x - r, x + r) {
-            let (px, py) = c.at(i, j);
-            if (px - x).powi(2) + (py - y).powi(2) <= r * r {
-                c.paint(i, j, colour, a);
-            }
-        }
-    }
-}
-
-fn line(c: &mut Canvas, a: (f64, f64), b: (f64, f64), width: f64, colour: [f32; 3], alpha: f64) {
-    let len = ((b.0 - a.0).powi(2) + (b.1 - a.1).powi(2)).sqrt();
-    let steps = (len * c.k).ceil().clamp(1.0, 1e5) as usize;
-    for s in 0..=steps {
-        let t = s as f64 / steps as f64;
-        disc(c, a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1), width / 2.0, colour, alpha);
-    }
-}
-
-fn draw_strokes(c: &mut Canvas, t: &StrokeTable) {
-    for s in &t.strokes {
-        let pts: Vec<(f64, f64)> = s.points.iter().map(|p| (p.x.0 as f64, p.y.0 as f64)).collect();
-        for w in pts.windows(2) {
-            line(c, w[0], w[1], 1.5, STROKE, 0.6);
-        }
-        for p in &pts {
-            disc(c, p.0, p.1, 2.5, STROKE, 0.9);
-        }
-    }
-}
-
 /// A height field: each preview pixel takes its nearest node's height, so
 /// that nodes finer than a pixel blend into no pattern (painting node by
 /// node blended some pixels twice: a moiré over the whole field).
@@ -246,51 +214,6 @@ fn draw_height(c: &mut Canvas, f: &HeightField) {
 }
 
 /// 3 x 5 pixel glyphs for the scale bar's label ("0"-"9", "m", " ").
-fn glyph(ch: char) -> [u8; 5] {
-    match ch {
-        '0' => [7, 5, 5, 5, 7],
-        '1' => [2, 6, 2, 2, 7],
-        '2' => [7, 1, 7, 4, 7],
-        '3' => [7, 1, 7, 1, 7],
-        '4' => [5, 5, 7, 1, 1],
-        '5' => [7, 4, 7, 1, 7],
-        '6' => [7, 4, 7, 5, 7],
-        '7' => [7, 1, 1, 1, 1],
-        '8' => [7, 5, 7, 5, 7],
-        '9' => [7, 5, 7, 1, 7],
-        'm' => [0, 0, 7, 7, 5],
-        _ => [0; 5],
-    }
-}
-
-fn scale_bar(c: &mut Canvas, x: f64, y: f64) {
-    let black = [0.0, 0.0, 0.0];
-    line(c, (x, y), (x + 10.0, y), 0.5, black, 1.0);
-    for k in 0..=10 {
-        let tick = if k % 5 == 0 { 1.5 } else { 0.8 };
-        let xk = x + k as f64;
-        line(c, (xk, y - tick), (xk, y), 0.25, black, 1.0);
-    }
-    // "10 mm" in 3 x 5 glyphs, each glyph pixel 0.4 mm.
-    let p = 0.4;
-    for (n, ch) in "10 mm".chars().enumerate() {
-        let g = glyph(ch);
-        for (row, bits) in g.iter().enumerate() {
-            for col in 0..3 {
-                if bits & (4 >> col) != 0 {
-                    let gx = x + 11.5 + n as f64 * 4.0 * p + col as f64 * p;
-                    let gy = y - 2.0 + row as f64 * p;
-                    for j in c.rows(gy, gy + p) {
-                        for i in c.cols(gx, gx + p) {
-                            c.paint(i, j, black, 1.0);
-                        }
-                    }
-                }
-            }
-        }
-    }
-}
-
 /// The page extent a bundle covers: the device surface and every layer.
 fn extent(b: &Bundle) -> (f64, f64, f64, f64) {
     let p = &b.manifest.profile;
@@ -363,13 +286,20 @@ pub fn render_bundle(bundle: &Bundle, backdrop: Option<&Backdrop>) -> Picture {
         }
     }
     for ch in &bundle.chunks {
-        match ch {
-            Chunk::Dots(t) => draw_dots(&mut c, t),
-            Chunk::Strokes(s) => draw_strokes(&mut c, s),
-            _ => {}
+        if let Chunk::Dots(t) = ch {
+            draw_dots(&mut c, t);
         }
     }
-    scale_bar(&mut c, ex0 - MARGIN_MM + 2.0, ey1 + MARGIN_MM - 3.0);
+    // Lines, discs and text are drawn by tiny-skia over the fields above.
+    if let Some(mut over) = Overlay::new(&c) {
+        for ch in &bundle.chunks {
+            if let Chunk::Strokes(t) = ch {
+                over.strokes(t);
+            }
+        }
+        over.scale_bar(ex0 - MARGIN_MM + 2.0, ey1 + MARGIN_MM - 3.0);
+        over.onto(&mut c);
+    }
     let rgba = c
         .rgb
         .iter()

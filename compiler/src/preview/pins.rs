@@ -4,6 +4,7 @@
 //! pannable surface, its first viewport) outlined in blue; the text line's
 //! cells below the image.
 
+use resvg::tiny_skia::{Color, FillRule, Paint, PathBuilder, Pixmap, Rect, Stroke, Transform};
 use taxel_format::{DeviceProfile, FamilyParams, Navigation, PinImage};
 
 use crate::preview::Picture;
@@ -13,44 +14,41 @@ pub const PX_PER_PIN: u32 = 10;
 /// Largest preview side in pixels (an image may be large).
 const MAX_SIDE_PX: u64 = 8000;
 
+/// The picture being drawn: tiny-skia paths, anti-aliased, in pixels.
 struct Px {
-    w: u32,
-    h: u32,
-    rgba: Vec<u8>,
+    pixmap: Pixmap,
 }
 
 impl Px {
-    fn set(&mut self, x: i64, y: i64, c: [u8; 3]) {
-        if x >= 0 && y >= 0 && (x as u32) < self.w && (y as u32) < self.h {
-            let i = (y as usize * self.w as usize + x as usize) * 4;
-            self.rgba[i..i + 3].copy_from_slice(&c);
-        }
-    }
-
     /// A filled disc (or a ring between `inner` and `r`) centred at `(cx, cy)`.
     fn disc(&mut self, cx: f64, cy: f64, r: f64, inner: f64, c: [u8; 3]) {
-        let (x0, x1) = ((cx - r).floor() as i64, (cx + r).ceil() as i64);
-        let (y0, y1) = ((cy - r).floor() as i64, (cy + r).ceil() as i64);
-        for y in y0..=y1 {
-            for x in x0..=x1 {
-                let d = ((x as f64 + 0.5 - cx).powi(2) + (y as f64 + 0.5 - cy).powi(2)).sqrt();
-                if d <= r && d >= inner {
-                    self.set(x, y, c);
-                }
-            }
+        let mut pb = PathBuilder::new();
+        pb.push_circle(cx as f32, cy as f32, r as f32);
+        if inner > 0.0 {
+            pb.push_circle(cx as f32, cy as f32, inner as f32);
+        }
+        if let Some(path) = pb.finish() {
+            self.pixmap.fill_path(&path, &paint(c), FillRule::EvenOdd, Transform::identity(), None);
         }
     }
 
-    fn rect(&mut self, x0: i64, y0: i64, x1: i64, y1: i64, c: [u8; 3]) {
-        for x in x0..=x1 {
-            self.set(x, y0, c);
-            self.set(x, y1, c);
-        }
-        for y in y0..=y1 {
-            self.set(x0, y, c);
-            self.set(x1, y, c);
-        }
+    /// A one-pixel outline through the pixels `(x0, y0)` to `(x1, y1)`.
+    fn rect(&mut self, x0: f64, y0: f64, x1: f64, y1: f64, c: [u8; 3]) {
+        let Some(r) = Rect::from_ltrb(x0 as f32 + 0.5, y0 as f32 + 0.5, x1 as f32 + 0.5, y1 as f32 + 0.5) else {
+            return;
+        };
+        let path = PathBuilder::from_rect(r);
+        let mut p = paint(c);
+        p.anti_alias = false;
+        self.pixmap.stroke_path(&path, &p, &Stroke { width: 1.0, ..Stroke::default() }, Transform::identity(), None);
     }
+}
+
+fn paint(c: [u8; 3]) -> Paint<'static> {
+    let mut p = Paint::default();
+    p.set_color_rgba8(c[0], c[1], c[2], 255);
+    p.anti_alias = true;
+    p
 }
 
 /// The shade of a raised pin of `height` out of `levels`: from mid grey (lowest) to black (highest).
@@ -78,7 +76,12 @@ pub fn render(image: &PinImage, profile: &DeviceProfile) -> Picture {
         s = (MAX_SIDE_PX / (cols.max(image.rows + text_rows) as u64 + 2)).max(2);
     }
     let (w, h) = ((cols as u64 + 2) * s, (image.rows as u64 + 2 + text_rows as u64) * s);
-    let mut px = Px { w: w as u32, h: h as u32, rgba: [250, 250, 246, 255].repeat((w * h) as usize) };
+    // (The sides are at most MAX_SIDE_PX, or a few pins' width over it, and at least two pins.)
+    let Some(mut pixmap) = Pixmap::new(w as u32, h as u32) else {
+        return Picture { width: 0, height: 0, rgba: Vec::new() };
+    };
+    pixmap.fill(Color::from_rgba8(250, 250, 246, 255));
+    let mut px = Px { pixmap };
     let s = s as f64;
     let centre = |c: u32, r: u32| ((c as f64 + 1.5) * s, (r as f64 + 1.5) * s);
     for r in 0..image.rows {
@@ -101,7 +104,7 @@ pub fn render(image: &PinImage, profile: &DeviceProfile) -> Picture {
     let frame = |px: &mut Px, c0: u32, r0: u32| {
         let (x0, y0) = ((c0 as f64 + 1.0) * s, (r0 as f64 + 1.0) * s);
         let (x1, y1) = (((c0 + dw).min(image.cols) as f64 + 1.0) * s, ((r0 + dh).min(image.rows) as f64 + 1.0) * s);
-        px.rect(x0 as i64, y0 as i64, x1 as i64 - 1, y1 as i64 - 1, blue);
+        px.rect(x0, y0, x1 - 1.0, y1 - 1.0, blue);
     };
     match image.navigation {
         Navigation::Pages => {
@@ -123,7 +126,9 @@ pub fn render(image: &PinImage, profile: &DeviceProfile) -> Picture {
             }
         }
     }
-    Picture { width: px.w, height: px.h, rgba: px.rgba }
+    // Every pixel is opaque, so the premultiplied bytes are the plain ones.
+    let (width, height) = (px.pixmap.width(), px.pixmap.height());
+    Picture { width, height, rgba: px.pixmap.take() }
 }
 
 /// The display pages of `image` for `profile`, row-major: each `(col, row)` of its top-left pin.
