@@ -214,10 +214,28 @@ fn draw_height(c: &mut Canvas, f: &HeightField) {
 }
 
 /// 3 x 5 pixel glyphs for the scale bar's label ("0"-"9", "m", " ").
+/// Millimetres from one line of the key to the next under the picture.
+const KEY_LINE_MM: f64 = 4.0;
+
+/// The key of the labels written as key codes (provenance entry `key`,
+/// `key: bs Bundle Store, kf 1 kHz frames`), one code and its meaning a line.
+fn key_lines(b: &Bundle) -> Vec<String> {
+    let key = b.chunks.iter().find_map(|c| match c {
+        Chunk::Provenance(p) => p.entries.iter().find(|e| e.id == "key").map(|e| e.label.as_str()),
+        _ => None,
+    });
+    let Some(key) = key.map(|k| k.strip_prefix("key: ").unwrap_or(k)).filter(|k| !k.is_empty()) else {
+        return Vec::new();
+    };
+    std::iter::once("Key".to_string()).chain(key.split(", ").map(String::from)).collect()
+}
+
 /// The page extent a bundle covers: the device surface and every layer.
 fn extent(b: &Bundle) -> (f64, f64, f64, f64) {
     let p = &b.manifest.profile;
     let mut e = (0.0f64, 0.0f64, p.surface_w_mm as f64, p.surface_h_mm as f64);
+    // Room for the key under the scale bar (added to the bottom after the layers, below).
+    let key = key_lines(b).len() as f64 * KEY_LINE_MM;
     let mut grow = |x0: f64, y0: f64, x1: f64, y1: f64| {
         if [x0, y0, x1, y1].iter().all(|v| v.is_finite()) {
             e = (e.0.min(x0), e.1.min(y0), e.2.max(x1), e.3.max(y1));
@@ -244,7 +262,7 @@ fn extent(b: &Bundle) -> (f64, f64, f64, f64) {
             _ => {}
         }
     }
-    e
+    (e.0, e.1, e.2, e.3 + key)
 }
 
 /// Draws a bundle, optionally over a faint backdrop rendered at [`PREVIEW_PX_PER_MM`].
@@ -297,7 +315,13 @@ pub fn render_bundle(bundle: &Bundle, backdrop: Option<&Backdrop>) -> Picture {
                 over.strokes(t);
             }
         }
-        over.scale_bar(ex0 - MARGIN_MM + 2.0, ey1 + MARGIN_MM - 3.0);
+        // (The extent holds the key's lines under the drawing: the bar goes above them.)
+        let key = key_lines(bundle);
+        let bar_y = ey1 - key.len() as f64 * KEY_LINE_MM + MARGIN_MM - 3.0;
+        over.scale_bar(ex0 - MARGIN_MM + 2.0, bar_y);
+        for (n, line) in key.iter().enumerate() {
+            over.text(line, (ex0 - MARGIN_MM + 2.0, bar_y + (n + 1) as f64 * KEY_LINE_MM), 2.8);
+        }
         over.onto(&mut c);
     }
     let rgba = c
@@ -332,6 +356,31 @@ fn layout((ex0, ey0, ex1, ey1): (f64, f64, f64, f64)) -> (f64, f64, f64, f64, f6
 mod tests {
     use super::*;
     use taxel_format::Mm;
+
+    #[test]
+    fn the_key_of_a_bundle_is_listed_under_its_picture() {
+        let mut b = Bundle::new(taxel_format::Manifest::new(taxel_format::profiles::builtin("stress2").unwrap()));
+        let plain = render_bundle(&b, None);
+        let entry =
+            |id: &str, label: &str| taxel_format::ProvenanceEntry { id: id.into(), label: label.into(), line: 0 };
+        let entries = vec![entry("a", "a"), entry("key", "key: cr Check rules, eb Emit bundle")];
+        b.chunks.push(Chunk::Provenance(taxel_format::Provenance { entries }));
+        let keyed = render_bundle(&b, None);
+        // A title and two codes: three lines more, the picture otherwise the same.
+        let k = PREVIEW_PX_PER_MM;
+        assert_eq!(keyed.width, plain.width);
+        assert_eq!(keyed.height, plain.height + (3.0 * KEY_LINE_MM * k).ceil() as u32, "{}", plain.height);
+        let row = |p: &Picture, j: u32| p.rgba[(j * p.width * 4) as usize..((j + 1) * p.width * 4) as usize].to_vec();
+        // The scale bar's line is 3 mm above the plain picture's bottom; the key's lines are 4 mm apart under it.
+        let bar = plain.height as f64 - 3.0 * k;
+        assert!((0..(bar + k) as u32).all(|j| row(&plain, j) == row(&keyed, j)));
+        for line in 1..=3 {
+            let baseline = bar + line as f64 * KEY_LINE_MM * k;
+            let ink = |j: u32| row(&keyed, j).chunks(4).any(|px| px[0] < 128);
+            assert!(((baseline - 2.0 * k) as u32..baseline as u32).any(ink), "line {line}");
+            assert!(!((baseline + 0.9 * k) as u32..(baseline + 1.9 * k) as u32).any(ink), "between lines {line}");
+        }
+    }
 
     #[test]
     fn a_height_field_of_one_height_paints_one_colour_at_any_node_spacing() {

@@ -88,7 +88,7 @@ impl Overlay {
     }
 
     /// `text` in black with its baseline starting at page `at`, `size_mm` to the em.
-    fn text(&mut self, text: &str, at: (f64, f64), size_mm: f64) {
+    pub(super) fn text(&mut self, text: &str, at: (f64, f64), size_mm: f64) {
         let Ok(font) = FontRef::try_from_slice(FONT) else { return };
         let font = font.as_scaled((size_mm * self.k) as f32);
         let (w, h) = (self.pixmap.width() as i64, self.pixmap.height() as i64);
