@@ -38,6 +38,51 @@ pub struct Built {
     pub drawing_png: Option<Vec<u8>>,
     /// What the page is told (ids and URLs are added by the caller).
     pub summary: Value,
+    /// The teacher's style sheet this build used, when the page made one
+    /// (a change of style by fill colour).
+    pub sheet: Option<Sheet>,
+    /// Whether the drawing is a changed copy (a style changed by element).
+    pub changed: bool,
+    /// Whether the automatic style sheet styled the drawing (unannotated, no
+    /// `--style`, or `--style auto`): a teacher's sheet then starts from its decisions.
+    pub auto_styled: bool,
+    /// The drawing's fill colours, found when the page first asks.
+    pub fills: std::sync::OnceLock<Value>,
+}
+
+/// A teacher's style sheet: the sheet a change starts from (the command
+/// line's `--style` file, or the automatic sheet as decided for the
+/// drawing, or nothing) and, after it, one rule per fill colour changed in
+/// the page, in the order first changed (a colour changed again keeps its
+/// place and takes the new style).
+#[derive(Debug, Clone, Default)]
+pub struct Sheet {
+    /// The TOML the page's rules follow.
+    pub base: String,
+    /// `(#rrggbb, style)` per colour.
+    pub rules: Vec<(String, String)>,
+    /// Whether the base is the automatic sheet as decided for the drawing.
+    pub from_auto: bool,
+}
+
+impl Sheet {
+    /// The sheet as TOML: its base, then the page's rules. Among rules as
+    /// specific as a fill rule the later wins, so these override the base's
+    /// rule for the same colour; an id, class or layer rule of the base
+    /// stays more specific than any of them.
+    pub fn text(&self) -> String {
+        let mut out = self.base.clone();
+        if !out.is_empty() && !out.ends_with('\n') {
+            out.push('\n');
+        }
+        for (fill, style) in &self.rules {
+            let style = toml::Value::String(style.clone());
+            out.push_str(&format!(
+                "\n# Changed in taxel studio: every element filled with {fill}\n[[rule]]\nfill = \"{fill}\"\ntactile = {style}\n"
+            ));
+        }
+        out
+    }
 }
 
 /// Builds `bytes`, a file named `name` at `path` (a path inside the opened
@@ -56,6 +101,10 @@ pub fn build(name: &str, path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> any
         preview_png: None,
         drawing_png: None,
         summary: Value::Null,
+        sheet: None,
+        changed: false,
+        auto_styled: opts.style_is_auto(),
+        fills: std::sync::OnceLock::new(),
     };
     if !matches!(ext.as_str(), "svg" | "svgz" | "gltf" | "glb") {
         return Ok(open_bundle(built, &bytes));
@@ -64,6 +113,8 @@ pub fn build(name: &str, path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> any
     let text = matches!(ext.as_str(), "svg" | "svgz").then(|| crate::io::drawing_text(path, bytes.clone()).ok());
     let compiled = compile_bytes(path, bytes, opts)?;
     let diags = &compiled.diagnostics;
+    // T0320: nothing was annotated, so the automatic sheet styled the drawing.
+    built.auto_styled |= diags.iter().any(|d| d.code == "T0320");
     let errors = diags.iter().filter(|d| d.severity == Severity::Error).count();
     // As `taxel build`: a bundle only when there is no error, stamped with its content hash.
     if let Some(mut bundle) = compiled.bundle.clone().filter(|_| errors == 0) {
@@ -263,4 +314,95 @@ pub fn restyle(built: &Built, element: &str, style: &str) -> Result<String, Stri
         }
     }
     Ok(out)
+}
+
+/// The drawing's fill colours (plain colours only, as a style sheet's
+/// `fill` selects them), most used first: `[{"fill": "#rrggbb", "count": N}]`.
+pub fn fills(built: &Built) -> Value {
+    built
+        .fills
+        .get_or_init(|| {
+            let (Some(text), Ok(Ok(options))) = (&built.svg_text, compile_options(&built.opts)) else {
+                return json!([]);
+            };
+            let Some(d) = taxel_compiler::drawing::resolve_as_drawn(text, &options).drawing else { return json!([]) };
+            let mut counts: Vec<(String, usize)> = Vec::new();
+            for e in &d.elements {
+                let Some([r, g, b, _]) = e.paint.fill else { continue };
+                let hex = format!("#{r:02x}{g:02x}{b:02x}");
+                match counts.iter_mut().find(|(h, _)| *h == hex) {
+                    Some((_, n)) => *n += 1,
+                    None => counts.push((hex, 1)),
+                }
+            }
+            // Most used first; colours used alike in the order met.
+            counts.sort_by(|a, b| b.1.cmp(&a.1));
+            Value::Array(counts.into_iter().map(|(fill, count)| json!({"fill": fill, "count": count})).collect())
+        })
+        .clone()
+}
+
+/// The teacher's sheet after giving every element filled with `fill`
+/// (`#rrggbb`) the style `style`: the build's sheet, or a new one started
+/// from [`base_sheet`], with that colour's rule set. The sheet is parsed
+/// as the compiler will parse it, so a bad style is refused here with the
+/// style sheet reader's message.
+pub fn sheet_with(built: &Built, fill: &str, style: &str) -> Result<Sheet, String> {
+    let text = built.svg_text.as_deref().ok_or("only a drawing's styles can be changed")?;
+    let hex = fill.strip_prefix('#').filter(|h| h.len() == 6 && h.bytes().all(|b| b.is_ascii_hexdigit()));
+    let Some(hex) = hex else { return Err(format!("'{fill}' is not a fill colour: #rrggbb")) };
+    let fill = format!("#{}", hex.to_ascii_lowercase());
+    let mut sheet = match &built.sheet {
+        Some(s) => s.clone(),
+        None => {
+            let (base, from_auto) = base_sheet(built, text)?;
+            Sheet { base, rules: Vec::new(), from_auto }
+        }
+    };
+    match sheet.rules.iter_mut().find(|(f, _)| *f == fill) {
+        Some(rule) => rule.1 = style.to_string(),
+        None => sheet.rules.push((fill, style.to_string())),
+    }
+    taxel_compiler::StyleSheet::parse(&sheet.text(), &sheet_name(built)).map_err(|e| e.to_string())?;
+    Ok(sheet)
+}
+
+/// A teacher's sheet of no rule yet, on the sheet [`base_sheet`] gives.
+pub fn auto_sheet(built: &Built) -> Result<Sheet, String> {
+    let text = built.svg_text.as_deref().ok_or("only a drawing's styles can be changed")?;
+    let (base, from_auto) = base_sheet(built, text)?;
+    Ok(Sheet { base, rules: Vec::new(), from_auto })
+}
+
+/// The file name a teacher's sheet is downloaded and saved under.
+pub fn sheet_name(built: &Built) -> String {
+    let stem = Path::new(&built.name).file_stem().and_then(|s| s.to_str()).unwrap_or("drawing");
+    format!("{}.tactile.toml", stem.strip_suffix(".tactile").unwrap_or(stem))
+}
+
+/// What a teacher's first sheet starts from: the command line's `--style`
+/// file as it is; for a drawing the automatic sheet styled, that sheet as
+/// decided for this drawing (`taxel style auto INPUT`: a sheet replaces
+/// the automatic one, so without its rules every other colour would lose
+/// its texture); else an empty sheet. Also whether it is the automatic one.
+fn base_sheet(built: &Built, text: &str) -> Result<(String, bool), String> {
+    let opts = &built.opts;
+    match &opts.style {
+        Some(path) if !opts.style_is_auto() => {
+            return crate::io::read_input_text(path).map(|t| (t, false)).map_err(|e| format!("{e:#}"));
+        }
+        _ if !built.auto_styled => {
+            return Ok(("# The styles changed in taxel studio.\nversion = 1\n".to_string(), false));
+        }
+        _ => {}
+    }
+    let options = match compile_options(opts) {
+        Ok(Ok(o)) => o,
+        Ok(Err(d)) => return Err(d.message),
+        Err(e) => return Err(format!("{e:#}")),
+    };
+    crate::cmd::style::decided(text, &options).map(|t| (t, true)).map_err(|diags| {
+        let first = diags.iter().find(|d| d.severity == Severity::Error).map_or(String::new(), |d| d.message.clone());
+        format!("{}: no style sheet can be made for this drawing: {first}", built.name)
+    })
 }
