@@ -238,6 +238,9 @@ struct Carry {
     changed: bool,
     /// Whether the automatic sheet styled the original drawing.
     auto_styled: bool,
+    /// The drawing's picture and fill colours, when a style change kept
+    /// them (the drawing looks as before).
+    looks: Option<(work::Looks, std::sync::OnceLock<serde_json::Value>)>,
 }
 
 fn build_with(
@@ -248,7 +251,11 @@ fn build_with(
     opts: CompileOpts,
     carry: Carry,
 ) -> anyhow::Result<Reply> {
-    let mut built = work::build(name, path, bytes, &opts)?;
+    let (looks, fills) = carry.looks.unzip();
+    let mut built = work::build(name, path, bytes, &opts, looks)?;
+    if let Some(fills) = fills {
+        built.fills = fills;
+    }
     built.opened = carry.opened;
     built.sheet = carry.sheet;
     built.changed = carry.changed;
@@ -315,6 +322,7 @@ fn restyle(
         sheet: built.sheet.clone(),
         changed: built.changed,
         auto_styled: built.auto_styled,
+        looks: Some(((built.drawing_png.clone(), built.backdrop.clone()), built.fills.clone())),
     };
     let text = match (element, fill) {
         (Some(element), None) => match work::restyle(built, &element, &style) {

@@ -6,6 +6,7 @@
 //! draws it; a bundle is read as `taxel inspect` reads it.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use serde_json::{Value, json};
 use taxel_compiler::{Severity, preview};
@@ -36,6 +37,8 @@ pub struct Built {
     pub preview_png: Option<Vec<u8>>,
     /// The drawing rasterised (PNG): drawings are never shown as SVG.
     pub drawing_png: Option<Vec<u8>>,
+    /// The same picture as the felt preview's backdrop.
+    pub backdrop: Option<Arc<preview::Backdrop>>,
     /// What the page is told (ids and URLs are added by the caller).
     pub summary: Value,
     /// The teacher's style sheet this build used, when the page made one
@@ -89,7 +92,18 @@ impl Sheet {
 /// folder, or in an empty folder for an upload: a glTF's buffers are read
 /// beside it), with `opts`. An input problem is in the summary's
 /// diagnostics; `Err` is a failure of the machine (a font folder, say).
-pub fn build(name: &str, path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> anyhow::Result<Built> {
+///
+/// `looks` is the drawing's picture (PNG) and backdrop when the caller
+/// knows the drawing looks as before (a style change: a `data-tactile`
+/// attribute or a style sheet changes what is felt, never what is seen),
+/// so that a rebuild does not draw it again.
+pub fn build(
+    name: &str,
+    path: &Path,
+    bytes: Vec<u8>,
+    opts: &CompileOpts,
+    looks: Option<Looks>,
+) -> anyhow::Result<Built> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).unwrap_or_default();
     let mut built = Built {
         name: name.to_string(),
@@ -100,6 +114,7 @@ pub fn build(name: &str, path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> any
         bundle_bytes: None,
         preview_png: None,
         drawing_png: None,
+        backdrop: None,
         summary: Value::Null,
         sheet: None,
         changed: false,
@@ -129,10 +144,20 @@ pub fn build(name: &str, path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> any
     let options = compile_options(opts)?.ok();
     match (text.flatten(), options) {
         (Some(text), Some(options)) => {
-            built.drawing_png = preview::drawing_picture(&text, &options).map(|p| png(&p)).transpose()?;
+            // The drawing is drawn once, for its picture and as the felt
+            // preview's backdrop (`preview::preview_compiled` would draw it
+            // again, and on a large map drawing is half a rebuild's time).
+            let (picture, backdrop) = match looks {
+                Some(l) => l,
+                None => match preview::drawing_picture(&text, &options) {
+                    Some(p) => (Some(png(&p)?), backdrop_of(&p).map(Arc::new)),
+                    None => (None, None),
+                },
+            };
             if let Some(b) = &built.bundle {
-                built.preview_png = Some(png(&preview::preview_compiled(&text, &options, b))?);
+                built.preview_png = Some(png(&preview::render_bundle(b, backdrop.as_deref()))?);
             }
+            (built.drawing_png, built.backdrop) = (picture, backdrop);
             built.svg_text = Some(text);
         }
         _ => {
@@ -271,6 +296,21 @@ pub fn outlines(built: &Built, ids: &[&str]) -> Value {
     Value::Array(out)
 }
 
+/// A drawing's picture and backdrop, kept by a style change.
+pub type Looks = (Option<Vec<u8>>, Option<Arc<preview::Backdrop>>);
+
+/// The drawing's picture as the preview's backdrop: its pixels premultiplied
+/// again (the picture holds them demultiplied; premultiplying gives back the
+/// pixmap `preview::preview_compiled` draws, whose every pixel is `c · a / 255`
+/// rounded, so demultiplying and premultiplying again lands on it).
+fn backdrop_of(p: &preview::Picture) -> Option<preview::Backdrop> {
+    let mut pixmap = tiny_skia::Pixmap::new(p.width, p.height)?;
+    for (px, c) in pixmap.pixels_mut().iter_mut().zip(p.rgba.chunks_exact(4)) {
+        *px = tiny_skia::ColorU8::from_rgba(c[0], c[1], c[2], c[3]).premultiply();
+    }
+    Some(preview::Backdrop { pixmap })
+}
+
 fn png(p: &preview::Picture) -> anyhow::Result<Vec<u8>> {
     crate::io::png::encode_picture(p)
 }
@@ -336,7 +376,7 @@ pub fn fills(built: &Built) -> Value {
                 }
             }
             // Most used first; colours used alike in the order met.
-            counts.sort_by(|a, b| b.1.cmp(&a.1));
+            counts.sort_by_key(|c| std::cmp::Reverse(c.1));
             Value::Array(counts.into_iter().map(|(fill, count)| json!({"fill": fill, "count": count})).collect())
         })
         .clone()
