@@ -15,7 +15,7 @@ mod play;
 mod preview;
 mod profiles;
 mod report;
-mod style;
+pub mod style;
 mod unpack;
 
 /// Runs a parsed command line.

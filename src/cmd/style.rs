@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use taxel_compiler::{Severity, drawing, place, style};
+use taxel_compiler::{CompileOptions, Diagnostic, Severity, drawing, place, style};
 
 use crate::cli::{BuiltinSheet, CompileOpts};
 use crate::compile::compile_options;
@@ -27,19 +27,29 @@ pub fn run(sheet: BuiltinSheet, input: Option<&Path>, opts: &CompileOpts) -> Cmd
         }
     };
     let text = io::read_drawing(path).map_err(CliError::input)?;
-    let resolved = drawing::resolve(&text, &options);
+    match decided(&text, &options) {
+        Ok(sheet) => io::stdout::print(&sheet),
+        Err(diags) => {
+            for line in crate::account::lines(&diags, &shown, Severity::Warning, false) {
+                eprintln!("{line}");
+            }
+            Err(CliError::input(anyhow::anyhow!("{shown}: no style sheet can be made for this drawing")))
+        }
+    }
+}
+
+/// The automatic style sheet as decided for the drawing `text` (after
+/// `--fit` and `--region`, as a build would), as TOML; the diagnostics that
+/// say why none can be made. `taxel studio` starts a teacher's sheet from it.
+pub fn decided(text: &str, options: &CompileOptions) -> Result<String, Vec<Diagnostic>> {
+    let resolved = drawing::resolve(text, options);
     let mut diags = resolved.diagnostics;
     let mut drawing = resolved.drawing.filter(|_| !taxel_compiler::has_errors(&diags));
     let placed = match &mut drawing {
         Some(d) => place::apply(d, &options.profile, options.fit, options.region.as_ref(), &mut diags),
         None => false,
     };
-    let Some(d) = drawing.filter(|_| placed) else {
-        for line in crate::account::lines(&diags, &shown, Severity::Warning, false) {
-            eprintln!("{line}");
-        }
-        return Err(CliError::input(anyhow::anyhow!("{shown}: no style sheet can be made for this drawing")));
-    };
+    let Some(d) = drawing.filter(|_| placed) else { return Err(diags) };
     let plan = style::plan(&d, &options.profile);
-    io::stdout::print(&style::sheet_toml(&options.profile, Some((&d, &plan))))
+    Ok(style::sheet_toml(&options.profile, Some((&d, &plan))))
 }

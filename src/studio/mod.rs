@@ -61,6 +61,10 @@ pub struct Studio {
     pub opts: CompileOpts,
     /// Built files, newest last.
     kept: Mutex<Kept>,
+    /// Files the page made, which builds read by path as the command line
+    /// reads its own: profile files uploaded and the teacher's style sheets
+    /// (see [`Studio::stash`]). Removed when the studio stops.
+    scratch: tempfile::TempDir,
 }
 
 /// The last id given and the built files kept, newest last, by id.
@@ -77,7 +81,40 @@ impl Studio {
             let name = real.file_name().map(|n| n.to_string_lossy().into_owned());
             (root, name)
         };
-        Ok(Studio { root, file, hosts: security::Hosts::new(addr), opts, kept: Mutex::new((0, VecDeque::new())) })
+        let scratch = tempfile::tempdir().context("cannot make the studio's temporary folder")?;
+        Ok(Studio {
+            root,
+            file,
+            hosts: security::Hosts::new(addr),
+            opts,
+            kept: Mutex::new((0, VecDeque::new())),
+            scratch,
+        })
+    }
+
+    /// Writes `text` into the scratch folder as `KIND-HASH.toml` (its
+    /// content's hash: the same text is the same file) and returns the
+    /// file's key (`KIND-HASH`) and path. A build names it by path, so the
+    /// bundle's content hash covers its bytes exactly as `taxel build
+    /// --profile FILE` or `--style FILE` covers the teacher's own file.
+    fn stash(&self, kind: &str, text: &str) -> anyhow::Result<(String, PathBuf)> {
+        let hash = blake3::hash(text.as_bytes()).to_hex();
+        let key = format!("{kind}-{}", &hash.as_str()[..32]);
+        let path = self.scratch.path().join(format!("{key}.toml"));
+        if !path.is_file() {
+            crate::io::write_file(&path, text.as_bytes())?;
+        }
+        Ok((key, path))
+    }
+
+    /// The path of a file [`Studio::stash`] wrote under `key`, if there is one
+    /// (the key is checked: a kind, a dash and hexadecimal digits only).
+    fn stashed(&self, kind: &str, key: &str) -> Option<PathBuf> {
+        let hash = key.strip_prefix(kind)?.strip_prefix('-')?;
+        if hash.len() != 32 || !hash.bytes().all(|b| b.is_ascii_hexdigit()) {
+            return None;
+        }
+        Some(self.scratch.path().join(format!("{key}.toml"))).filter(|p| p.is_file())
     }
 
     /// Keeps `built` and returns its id; the oldest is forgotten past [`KEPT`].

@@ -11,9 +11,12 @@
 //! | `POST /api/open?path=REL&profile=P&fit=1` | builds a file of the opened folder |
 //! | `GET /api/r/ID/bundle`, `/preview.png`, `/drawing.png`, `/export/FORMAT` | a build's parts |
 //! | `GET /api/r/ID/outlines?ids=A,B` | the footprints of elements, for highlighting |
-//! | `POST /api/r/ID/restyle?element=ID&style=S` | the drawing rebuilt with that element's style |
-//! | `GET /api/r/ID/copy.svg` | the restyled copy (download) |
-//! | `POST /api/r/ID/save?overwrite=0\|1` | the restyled copy saved beside the original |
+//! | `POST /api/profile?name=FILE` | a profile file (the body) checked and kept; its key for `profile=` |
+//! | `POST /api/r/ID/restyle?element=ID&style=S` | the drawing rebuilt with that element's style (in a copy) |
+//! | `POST /api/r/ID/restyle?fill=%23RRGGBB&style=S` | rebuilt with every element of that fill styled (a style sheet) |
+//! | `GET /api/r/ID/fills` | the drawing's fill colours, most used first |
+//! | `GET /api/r/ID/copy.svg`, `/sheet.toml` | the restyled copy, the teacher's style sheet (downloads) |
+//! | `POST /api/r/ID/save?what=svg\|sheet&overwrite=0\|1` | the copy or the sheet saved beside the original |
 
 use std::io::Read;
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -74,7 +77,16 @@ fn handle(studio: &Studio, request: &mut Request) -> Reply {
             // buffers are read only beside it, and there is nothing there.
             let Ok(dir) = tempfile::tempdir() else { return error(500, "cannot make a temporary folder") };
             let fit = param("fit").as_deref() == Some("1");
-            build_reply(studio, &name, &dir.path().join(&name), body, (param("profile"), fit), None)
+            build_reply(studio, &name, &dir.path().join(&name), body, (param("profile"), fit), Carry::default())
+        }
+        (Method::Post, "/api/profile") => {
+            let body = match read_body(request) {
+                Ok(b) => b,
+                Err(r) => return r,
+            };
+            let name = param("name").unwrap_or_default();
+            let name = Path::new(&name).file_name().and_then(|n| n.to_str()).unwrap_or("profile.toml").to_string();
+            profile_upload(studio, &name, &body)
         }
         (Method::Post, "/api/open") => {
             let rel = param("path").unwrap_or_default();
@@ -86,7 +98,8 @@ fn handle(studio: &Studio, request: &mut Request) -> Reply {
             match crate::io::read_input(&file) {
                 Ok(bytes) => {
                     let fit = param("fit").as_deref() == Some("1");
-                    build_reply(studio, &rel, &file, bytes, (param("profile"), fit), Some(file.clone()))
+                    let carry = Carry { opened: Some(file.clone()), ..Carry::default() };
+                    build_reply(studio, &rel, &file, bytes, (param("profile"), fit), carry)
                 }
                 Err(e) => error(400, &format!("{e:#}")),
             }
@@ -138,25 +151,23 @@ fn part_reply(
             json_reply(200, &work::outlines(built, &ids))
         }
         (Method::Post, "restyle") => {
-            let (Some(element), Some(style)) = (param("element"), param("style")) else {
-                return error(400, "restyle needs an element and a style");
-            };
-            // The request carries nothing else; its body, if any, is not read.
+            // The request carries nothing but its query; its body, if any, is not read.
             let _ = request;
-            match work::restyle(built, &element, &style) {
-                Ok(text) => {
-                    let (path, opened) = (Path::new(&built.name), built.opened.clone());
-                    let reply = build_with(studio, &built.name, path, text.into_bytes(), built.opts.clone(), opened);
-                    reply.unwrap_or_else(|e| error(500, &format!("{e:#}")))
-                }
-                Err(why) => error(400, &why),
-            }
+            restyle(studio, built, param("element"), param("fill"), param("style"))
         }
+        (Method::Get, "fills") => json_reply(200, &work::fills(built)),
+        (Method::Get, "sheet.toml") => match &built.sheet {
+            Some(s) => download(s.text().into_bytes(), &work::sheet_name(built), "application/toml"),
+            None => error(404, "no style sheet: no colour's style was changed"),
+        },
         (Method::Get, "copy.svg") => match &built.svg_text {
             Some(t) => download(t.clone().into_bytes(), &format!("{stem}.tactile.svg"), "image/svg+xml"),
             None => error(404, "only a drawing has a copy"),
         },
-        (Method::Post, "save") => save(studio, built, param("overwrite").as_deref() == Some("1")),
+        (Method::Post, "save") => {
+            let sheet = param("what").as_deref() == Some("sheet");
+            save(studio, built, sheet, param("overwrite").as_deref() == Some("1"))
+        }
         _ => error(404, "no such part"),
     }
 }
@@ -197,19 +208,39 @@ fn build_reply(
     path: &Path,
     bytes: Vec<u8>,
     (profile, fit): (Option<String>, bool),
-    opened: Option<std::path::PathBuf>,
+    carry: Carry,
 ) -> Reply {
     let mut opts = studio.opts.clone();
     // The page's "fit" adds `--fit`; it never takes away the command line's.
     opts.fit |= fit;
     if let Some(p) = profile.filter(|p| !p.is_empty()) {
-        // A built-in profile by name only: the page cannot name a file to read.
-        if taxel_format::profiles::builtin(&p).is_none() {
-            return error(400, &format!("'{p}' is not a built-in profile"));
+        // A built-in profile by name, or a profile file the page uploaded
+        // (`POST /api/profile`) by its key: the page cannot name a path.
+        if let Some(file) = studio.stashed("profile", &p) {
+            opts.profile = Some(file.display().to_string());
+        } else if taxel_format::profiles::builtin(&p).is_some() {
+            opts.profile = Some(p);
+        } else {
+            return error(400, &format!("'{p}' is not a built-in profile nor a profile file opened in this studio"));
         }
-        opts.profile = Some(p);
     }
-    build_with(studio, name, path, bytes, opts, opened).unwrap_or_else(|e| error(500, &format!("{e:#}")))
+    build_with(studio, name, path, bytes, opts, carry).unwrap_or_else(|e| error(500, &format!("{e:#}")))
+}
+
+/// What a build carries over from the one it changes.
+#[derive(Default)]
+struct Carry {
+    /// Where the drawing was opened from in the folder.
+    opened: Option<std::path::PathBuf>,
+    /// The teacher's style sheet.
+    sheet: Option<work::Sheet>,
+    /// Whether the drawing is a changed copy.
+    changed: bool,
+    /// Whether the automatic sheet styled the original drawing.
+    auto_styled: bool,
+    /// The drawing's picture and fill colours, when a style change kept
+    /// them (the drawing looks as before).
+    looks: Option<(work::Looks, std::sync::OnceLock<serde_json::Value>)>,
 }
 
 fn build_with(
@@ -218,10 +249,17 @@ fn build_with(
     path: &Path,
     bytes: Vec<u8>,
     opts: CompileOpts,
-    opened: Option<std::path::PathBuf>,
+    carry: Carry,
 ) -> anyhow::Result<Reply> {
-    let mut built = work::build(name, path, bytes, &opts)?;
-    built.opened = opened;
+    let (looks, fills) = carry.looks.unzip();
+    let mut built = work::build(name, path, bytes, &opts, looks)?;
+    if let Some(fills) = fills {
+        built.fills = fills;
+    }
+    built.opened = carry.opened;
+    built.sheet = carry.sheet;
+    built.changed = carry.changed;
+    built.auto_styled |= carry.auto_styled;
     let (id, built) = studio.keep(built);
     let mut summary = built.summary.clone();
     if let serde_json::Value::Object(s) = &mut summary {
@@ -230,21 +268,29 @@ fn build_with(
         s.insert("has_preview".into(), json!(built.preview_png.is_some()));
         s.insert("has_drawing".into(), json!(built.drawing_png.is_some()));
         s.insert("can_save".into(), json!(built.opened.is_some() && built.svg_text.is_some()));
+        s.insert("changed".into(), json!(built.changed));
+        s.insert("sheet".into(), json!(built.sheet.as_ref().map(|_| work::sheet_name(&built))));
+        s.insert("sheet_from_auto".into(), json!(built.sheet.as_ref().is_some_and(|sh| sh.from_auto)));
     }
     Ok(json_reply(200, &summary))
 }
 
 /// `POST /api/r/ID/save`: the drawing's copy beside the original, as
-/// `NAME.tactile.svg`; never the original itself, and an existing copy only
-/// when the page asked (`overwrite=1`, after the teacher confirmed).
-fn save(studio: &Studio, built: &work::Built, overwrite: bool) -> Reply {
-    let (Some(original), Some(text)) = (&built.opened, &built.svg_text) else {
+/// `NAME.tactile.svg` (or, `what=sheet`, the teacher's style sheet as
+/// `NAME.tactile.toml`); never the original itself, and an existing file
+/// only when the page asked (`overwrite=1`, after the teacher confirmed).
+fn save(studio: &Studio, built: &work::Built, sheet: bool, overwrite: bool) -> Reply {
+    let (Some(original), Some(svg)) = (&built.opened, &built.svg_text) else {
         return error(400, "only a drawing opened from the folder can be saved beside it; download the copy instead");
     };
     let stem = original.file_stem().and_then(|s| s.to_str()).unwrap_or("drawing");
     let stem = stem.strip_suffix(".tactile").unwrap_or(stem);
     let Some(dir) = original.parent() else { return error(400, "the drawing has no folder") };
-    let target = dir.join(format!("{stem}.tactile.svg"));
+    let (target, text) = match (sheet, &built.sheet) {
+        (true, Some(s)) => (dir.join(format!("{stem}.tactile.toml")), s.text()),
+        (true, None) => return error(400, "no style sheet: no colour's style was changed"),
+        (false, _) => (dir.join(format!("{stem}.tactile.svg")), svg.clone()),
+    };
     if !target.starts_with(&studio.root) || target == *original {
         return error(403, "the copy would not be a new file in the opened folder");
     }
@@ -254,6 +300,92 @@ fn save(studio: &Studio, built: &work::Built, overwrite: bool) -> Reply {
     match crate::io::write_file(&target, text.as_bytes()) {
         Ok(()) => json_reply(200, &json!({"saved": target.display().to_string()})),
         Err(e) => error(500, &e.to_string()),
+    }
+}
+
+/// `POST /api/r/ID/restyle`: the drawing rebuilt with one element's style
+/// changed (`element`, as `data-tactile` in a copy) or every element of one
+/// fill colour's (`fill`, as a rule of the teacher's style sheet). The
+/// change builds on the build it changes: its copy, its sheet, its options.
+fn restyle(
+    studio: &Studio,
+    built: &work::Built,
+    element: Option<String>,
+    fill: Option<String>,
+    style: Option<String>,
+) -> Reply {
+    let Some(style) = style else { return error(400, "restyle needs a style") };
+    let Some(svg) = &built.svg_text else { return error(400, "only a drawing's styles can be changed") };
+    let mut opts = built.opts.clone();
+    let mut carry = Carry {
+        opened: built.opened.clone(),
+        sheet: built.sheet.clone(),
+        changed: built.changed,
+        auto_styled: built.auto_styled,
+        looks: Some(((built.drawing_png.clone(), built.backdrop.clone()), built.fills.clone())),
+    };
+    let text = match (element, fill) {
+        (Some(element), None) => match work::restyle(built, &element, &style) {
+            Ok(text) => {
+                carry.changed = true;
+                // An annotation turns the automatic sheet off for the whole
+                // drawing: where it styled the drawing, the copy is built
+                // with it as decided for the drawing, so that one element's
+                // change leaves the others' textures as they were.
+                if carry.sheet.is_none() && built.auto_styled {
+                    carry.sheet = match work::auto_sheet(built) {
+                        Ok(sheet) => Some(sheet),
+                        Err(why) => return error(400, &why),
+                    };
+                }
+                text
+            }
+            Err(why) => return error(400, &why),
+        },
+        (None, Some(fill)) => match work::sheet_with(built, &fill, &style) {
+            Ok(sheet) => {
+                carry.sheet = Some(sheet);
+                svg.clone()
+            }
+            Err(why) => return error(400, &why),
+        },
+        _ => return error(400, "restyle needs an element or a fill colour, not both"),
+    };
+    if let Some(sheet) = &carry.sheet {
+        match studio.stash("sheet", &sheet.text()) {
+            Ok((_, path)) => opts.style = Some(path),
+            Err(e) => return error(500, &format!("{e:#}")),
+        }
+    }
+    let path = Path::new(&built.name);
+    build_with(studio, &built.name, path, text.into_bytes(), opts, carry)
+        .unwrap_or_else(|e| error(500, &format!("{e:#}")))
+}
+
+/// `POST /api/profile`: a profile file from the page, read as `--profile
+/// FILE` reads one; kept for builds under its key, or refused with the
+/// reader's message.
+fn profile_upload(studio: &Studio, name: &str, body: &[u8]) -> Reply {
+    let Ok(text) = std::str::from_utf8(body) else {
+        return error(400, &format!("{name}: not a profile file: it is not UTF-8 text"));
+    };
+    // The reader's message names the file and the key at fault, as the command line prints it.
+    let profile = match taxel_format::profiles::parse(text, name) {
+        Ok(p) => p,
+        Err(e) => return error(400, &e.to_string()),
+    };
+    if profile.family() == taxel_format::Family::Print {
+        return error(
+            400,
+            &format!("{name}: a print profile makes files to print, not a bundle to play: use taxel build"),
+        );
+    }
+    match studio.stash("profile", text) {
+        Ok((key, _)) => json_reply(
+            200,
+            &json!({"key": key, "name": profile.name.as_str(), "family": profile.family().name(), "file": name}),
+        ),
+        Err(e) => error(500, &format!("{e:#}")),
     }
 }
 

@@ -6,6 +6,7 @@
 //! draws it; a bundle is read as `taxel inspect` reads it.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use serde_json::{Value, json};
 use taxel_compiler::{Severity, preview};
@@ -36,15 +37,73 @@ pub struct Built {
     pub preview_png: Option<Vec<u8>>,
     /// The drawing rasterised (PNG): drawings are never shown as SVG.
     pub drawing_png: Option<Vec<u8>>,
+    /// The same picture as the felt preview's backdrop.
+    pub backdrop: Option<Arc<preview::Backdrop>>,
     /// What the page is told (ids and URLs are added by the caller).
     pub summary: Value,
+    /// The teacher's style sheet this build used, when the page made one
+    /// (a change of style by fill colour).
+    pub sheet: Option<Sheet>,
+    /// Whether the drawing is a changed copy (a style changed by element).
+    pub changed: bool,
+    /// Whether the automatic style sheet styled the drawing (unannotated, no
+    /// `--style`, or `--style auto`): a teacher's sheet then starts from its decisions.
+    pub auto_styled: bool,
+    /// The drawing's fill colours, found when the page first asks.
+    pub fills: std::sync::OnceLock<Value>,
+}
+
+/// A teacher's style sheet: the sheet a change starts from (the command
+/// line's `--style` file, or the automatic sheet as decided for the
+/// drawing, or nothing) and, after it, one rule per fill colour changed in
+/// the page, in the order first changed (a colour changed again keeps its
+/// place and takes the new style).
+#[derive(Debug, Clone, Default)]
+pub struct Sheet {
+    /// The TOML the page's rules follow.
+    pub base: String,
+    /// `(#rrggbb, style)` per colour.
+    pub rules: Vec<(String, String)>,
+    /// Whether the base is the automatic sheet as decided for the drawing.
+    pub from_auto: bool,
+}
+
+impl Sheet {
+    /// The sheet as TOML: its base, then the page's rules. Among rules as
+    /// specific as a fill rule the later wins, so these override the base's
+    /// rule for the same colour; an id, class or layer rule of the base
+    /// stays more specific than any of them.
+    pub fn text(&self) -> String {
+        let mut out = self.base.clone();
+        if !out.is_empty() && !out.ends_with('\n') {
+            out.push('\n');
+        }
+        for (fill, style) in &self.rules {
+            let style = toml::Value::String(style.clone());
+            out.push_str(&format!(
+                "\n# Changed in taxel studio: every element filled with {fill}\n[[rule]]\nfill = \"{fill}\"\ntactile = {style}\n"
+            ));
+        }
+        out
+    }
 }
 
 /// Builds `bytes`, a file named `name` at `path` (a path inside the opened
 /// folder, or in an empty folder for an upload: a glTF's buffers are read
 /// beside it), with `opts`. An input problem is in the summary's
 /// diagnostics; `Err` is a failure of the machine (a font folder, say).
-pub fn build(name: &str, path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> anyhow::Result<Built> {
+///
+/// `looks` is the drawing's picture (PNG) and backdrop when the caller
+/// knows the drawing looks as before (a style change: a `data-tactile`
+/// attribute or a style sheet changes what is felt, never what is seen),
+/// so that a rebuild does not draw it again.
+pub fn build(
+    name: &str,
+    path: &Path,
+    bytes: Vec<u8>,
+    opts: &CompileOpts,
+    looks: Option<Looks>,
+) -> anyhow::Result<Built> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).unwrap_or_default();
     let mut built = Built {
         name: name.to_string(),
@@ -55,7 +114,12 @@ pub fn build(name: &str, path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> any
         bundle_bytes: None,
         preview_png: None,
         drawing_png: None,
+        backdrop: None,
         summary: Value::Null,
+        sheet: None,
+        changed: false,
+        auto_styled: opts.style_is_auto(),
+        fills: std::sync::OnceLock::new(),
     };
     if !matches!(ext.as_str(), "svg" | "svgz" | "gltf" | "glb") {
         return Ok(open_bundle(built, &bytes));
@@ -64,6 +128,8 @@ pub fn build(name: &str, path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> any
     let text = matches!(ext.as_str(), "svg" | "svgz").then(|| crate::io::drawing_text(path, bytes.clone()).ok());
     let compiled = compile_bytes(path, bytes, opts)?;
     let diags = &compiled.diagnostics;
+    // T0320: nothing was annotated, so the automatic sheet styled the drawing.
+    built.auto_styled |= diags.iter().any(|d| d.code == "T0320");
     let errors = diags.iter().filter(|d| d.severity == Severity::Error).count();
     // As `taxel build`: a bundle only when there is no error, stamped with its content hash.
     if let Some(mut bundle) = compiled.bundle.clone().filter(|_| errors == 0) {
@@ -78,10 +144,20 @@ pub fn build(name: &str, path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> any
     let options = compile_options(opts)?.ok();
     match (text.flatten(), options) {
         (Some(text), Some(options)) => {
-            built.drawing_png = preview::drawing_picture(&text, &options).map(|p| png(&p)).transpose()?;
+            // The drawing is drawn once, for its picture and as the felt
+            // preview's backdrop (`preview::preview_compiled` would draw it
+            // again, and on a large map drawing is half a rebuild's time).
+            let (picture, backdrop) = match looks {
+                Some(l) => l,
+                None => match preview::drawing_picture(&text, &options) {
+                    Some(p) => (Some(png(&p)?), backdrop_of(&p).map(Arc::new)),
+                    None => (None, None),
+                },
+            };
             if let Some(b) = &built.bundle {
-                built.preview_png = Some(png(&preview::preview_compiled(&text, &options, b))?);
+                built.preview_png = Some(png(&preview::render_bundle(b, backdrop.as_deref()))?);
             }
+            (built.drawing_png, built.backdrop) = (picture, backdrop);
             built.svg_text = Some(text);
         }
         _ => {
@@ -220,6 +296,21 @@ pub fn outlines(built: &Built, ids: &[&str]) -> Value {
     Value::Array(out)
 }
 
+/// A drawing's picture and backdrop, kept by a style change.
+pub type Looks = (Option<Vec<u8>>, Option<Arc<preview::Backdrop>>);
+
+/// The drawing's picture as the preview's backdrop: its pixels premultiplied
+/// again (the picture holds them demultiplied; premultiplying gives back the
+/// pixmap `preview::preview_compiled` draws, whose every pixel is `c · a / 255`
+/// rounded, so demultiplying and premultiplying again lands on it).
+fn backdrop_of(p: &preview::Picture) -> Option<preview::Backdrop> {
+    let mut pixmap = tiny_skia::Pixmap::new(p.width, p.height)?;
+    for (px, c) in pixmap.pixels_mut().iter_mut().zip(p.rgba.chunks_exact(4)) {
+        *px = tiny_skia::ColorU8::from_rgba(c[0], c[1], c[2], c[3]).premultiply();
+    }
+    Some(preview::Backdrop { pixmap })
+}
+
 fn png(p: &preview::Picture) -> anyhow::Result<Vec<u8>> {
     crate::io::png::encode_picture(p)
 }
@@ -263,4 +354,95 @@ pub fn restyle(built: &Built, element: &str, style: &str) -> Result<String, Stri
         }
     }
     Ok(out)
+}
+
+/// The drawing's fill colours (plain colours only, as a style sheet's
+/// `fill` selects them), most used first: `[{"fill": "#rrggbb", "count": N}]`.
+pub fn fills(built: &Built) -> Value {
+    built
+        .fills
+        .get_or_init(|| {
+            let (Some(text), Ok(Ok(options))) = (&built.svg_text, compile_options(&built.opts)) else {
+                return json!([]);
+            };
+            let Some(d) = taxel_compiler::drawing::resolve(text, &options).drawing else { return json!([]) };
+            let mut counts: Vec<(String, usize)> = Vec::new();
+            for e in &d.elements {
+                let Some([r, g, b, _]) = e.paint.fill else { continue };
+                let hex = format!("#{r:02x}{g:02x}{b:02x}");
+                match counts.iter_mut().find(|(h, _)| *h == hex) {
+                    Some((_, n)) => *n += 1,
+                    None => counts.push((hex, 1)),
+                }
+            }
+            // Most used first; colours used alike in the order met.
+            counts.sort_by_key(|c| std::cmp::Reverse(c.1));
+            Value::Array(counts.into_iter().map(|(fill, count)| json!({"fill": fill, "count": count})).collect())
+        })
+        .clone()
+}
+
+/// The teacher's sheet after giving every element filled with `fill`
+/// (`#rrggbb`) the style `style`: the build's sheet, or a new one started
+/// from [`base_sheet`], with that colour's rule set. The sheet is parsed
+/// as the compiler will parse it, so a bad style is refused here with the
+/// style sheet reader's message.
+pub fn sheet_with(built: &Built, fill: &str, style: &str) -> Result<Sheet, String> {
+    let text = built.svg_text.as_deref().ok_or("only a drawing's styles can be changed")?;
+    let hex = fill.strip_prefix('#').filter(|h| h.len() == 6 && h.bytes().all(|b| b.is_ascii_hexdigit()));
+    let Some(hex) = hex else { return Err(format!("'{fill}' is not a fill colour: #rrggbb")) };
+    let fill = format!("#{}", hex.to_ascii_lowercase());
+    let mut sheet = match &built.sheet {
+        Some(s) => s.clone(),
+        None => {
+            let (base, from_auto) = base_sheet(built, text)?;
+            Sheet { base, rules: Vec::new(), from_auto }
+        }
+    };
+    match sheet.rules.iter_mut().find(|(f, _)| *f == fill) {
+        Some(rule) => rule.1 = style.to_string(),
+        None => sheet.rules.push((fill, style.to_string())),
+    }
+    taxel_compiler::StyleSheet::parse(&sheet.text(), &sheet_name(built)).map_err(|e| e.to_string())?;
+    Ok(sheet)
+}
+
+/// A teacher's sheet of no rule yet, on the sheet [`base_sheet`] gives.
+pub fn auto_sheet(built: &Built) -> Result<Sheet, String> {
+    let text = built.svg_text.as_deref().ok_or("only a drawing's styles can be changed")?;
+    let (base, from_auto) = base_sheet(built, text)?;
+    Ok(Sheet { base, rules: Vec::new(), from_auto })
+}
+
+/// The file name a teacher's sheet is downloaded and saved under.
+pub fn sheet_name(built: &Built) -> String {
+    let stem = Path::new(&built.name).file_stem().and_then(|s| s.to_str()).unwrap_or("drawing");
+    format!("{}.tactile.toml", stem.strip_suffix(".tactile").unwrap_or(stem))
+}
+
+/// What a teacher's first sheet starts from: the command line's `--style`
+/// file as it is; for a drawing the automatic sheet styled, that sheet as
+/// decided for this drawing (`taxel style auto INPUT`: a sheet replaces
+/// the automatic one, so without its rules every other colour would lose
+/// its texture); else an empty sheet. Also whether it is the automatic one.
+fn base_sheet(built: &Built, text: &str) -> Result<(String, bool), String> {
+    let opts = &built.opts;
+    match &opts.style {
+        Some(path) if !opts.style_is_auto() => {
+            return crate::io::read_input_text(path).map(|t| (t, false)).map_err(|e| format!("{e:#}"));
+        }
+        _ if !built.auto_styled => {
+            return Ok(("# The styles changed in taxel studio.\nversion = 1\n".to_string(), false));
+        }
+        _ => {}
+    }
+    let options = match compile_options(opts) {
+        Ok(Ok(o)) => o,
+        Ok(Err(d)) => return Err(d.message),
+        Err(e) => return Err(format!("{e:#}")),
+    };
+    crate::cmd::style::decided(text, &options).map(|t| (t, true)).map_err(|diags| {
+        let first = diags.iter().find(|d| d.severity == Severity::Error).map_or(String::new(), |d| d.message.clone());
+        format!("{}: no style sheet can be made for this drawing: {first}", built.name)
+    })
 }

@@ -25,6 +25,9 @@ mkdirSync(shots, { recursive: true });
 const dir = mkdtempSync(join(tmpdir(), "taxel-studio-"));
 const map = join(dir, "tala-map.svg");
 copyFileSync(join(repo, "examples/map/tala-map.svg"), map);
+// The same map with no annotation: the automatic style sheet styles it.
+const plain = join(dir, "tala-plain.svg");
+copyFileSync(join(repo, "examples/map/tala-plain.svg"), plain);
 
 let server;
 let url;
@@ -123,7 +126,8 @@ test("the student moves the finger by keyboard, hears the element, and the frame
   assert.equal(await page.textContent("#pos"), "25.0, 15.0 mm");
   assert.equal(await page.textContent("#under"), "ash province");
   assert.equal(await page.getAttribute("#under", "aria-live"), "polite");
-  assert.match(page.url(), /#at=25,15$/);
+  // The fragment follows the finger (written at most every 200 ms, the last place always).
+  await page.waitForURL(/#at=25,15$/);
   // The frame drawn, held still, against `taxel play` at that tick and place.
   await page.check("#pause");
   await page.waitForTimeout(100);
@@ -226,4 +230,95 @@ test("a style change rebuilds the copy, and its bundle is taxel build's of that 
   cli(["build", copyPath, "-o", built]);
   assert.ok(readFileSync(saved).equals(readFileSync(built)), "the rebuilt bundle is taxel build's of the copy");
   await page.screenshot({ path: join(shots, "restyled.png"), fullPage: true });
+});
+
+test("every element of one fill colour restyled: a style sheet, and the bundle is taxel build's with it", async () => {
+  const page = await newPage();
+  await page.goto(url);
+  await page.getByRole("button", { name: "tala-plain.svg" }).click();
+  await page.waitForFunction(() => document.getElementById("status").textContent.startsWith("Built tala-plain.svg"));
+  const before = await page.textContent("#summary");
+  // Keyboard alone: the radio button, the colour, the style, the button.
+  await page.focus("#target-element");
+  await page.keyboard.press("ArrowDown");
+  assert.equal(await page.isChecked("#target-fill"), true);
+  await page.waitForFunction(() => document.querySelectorAll("#fill option").length > 0);
+  const colours = await page.$$eval("#fill option", (os) => os.map((o) => o.value));
+  assert.ok(colours.includes("#e41a1c"), colours.join(" "));
+  await page.selectOption("#fill", "#e41a1c");
+  await page.selectOption("#style-kind", "dots");
+  await page.focus("#apply");
+  await page.keyboard.press("Enter");
+  await page.waitForFunction(() => /tactile\.toml/.test(document.getElementById("copy").textContent));
+  assert.notEqual(await page.textContent("#summary"), before);
+  await axe(page, "the teacher's view, styling by fill colour");
+  await page.screenshot({ path: join(shots, "fill-restyled.png"), fullPage: true });
+
+  const [download] = await Promise.all([
+    page.waitForEvent("download"),
+    page.getByRole("link", { name: /style sheet/ }).click(),
+  ]);
+  assert.equal(download.suggestedFilename(), "tala-plain.tactile.toml");
+  const sheetPath = join(dir, "tala-plain.tactile.toml");
+  await download.saveAs(sheetPath);
+  const sheet = readFileSync(sheetPath, "utf8");
+  // It starts from the automatic sheet as decided for this drawing (the
+  // drawing had no annotation), as `taxel style auto` prints it, and ends
+  // with the colour's rule.
+  const decided = cli(["style", "auto", plain]).toString();
+  assert.ok(sheet.startsWith(decided), "the sheet starts from taxel style auto's");
+  assert.match(sheet.slice(decided.length), /\[\[rule\]\]\nfill = "#e41a1c"\ntactile = "dots\(\)"\n$/);
+
+  const [bundle] = await Promise.all([
+    page.waitForEvent("download"),
+    page.getByRole("link", { name: /^Bundle/ }).click(),
+  ]);
+  const saved = join(dir, "plain-styled.taxel");
+  await bundle.saveAs(saved);
+  const built = join(dir, "plain-sheet.taxel");
+  cli(["build", plain, "--style", sheetPath, "-o", built]);
+  assert.ok(readFileSync(saved).equals(readFileSync(built)), "the rebuilt bundle is taxel build's with the sheet");
+  const unstyled = join(dir, "plain.taxel");
+  cli(["build", plain, "-o", unstyled]);
+  assert.ok(!readFileSync(saved).equals(readFileSync(unstyled)), "the change made another bundle");
+});
+
+test("a profile file chosen in the page builds as taxel build --profile FILE; a bad one says why", async () => {
+  const page = await newPage();
+  await openMap(page);
+  // Stress2 under another name on a wider surface.
+  const text = readFileSync(join(repo, "format-spec/profiles/stress2.toml"), "utf8")
+    .replace('name = "stress2"', 'name = "classroom"')
+    .replace("width_mm = 110", "width_mm = 130");
+  const good = join(dir, "classroom.toml");
+  writeFileSync(good, text);
+  await page.setInputFiles("#profile-file", good);
+  await page.waitForFunction(() => /for classroom/.test(document.getElementById("summary").textContent));
+  assert.equal(await page.$eval("#profile", (s) => s.selectedOptions[0].textContent), "classroom (laterotactile, from classroom.toml)");
+  const [download] = await Promise.all([
+    page.waitForEvent("download"),
+    page.getByRole("link", { name: /^Bundle/ }).click(),
+  ]);
+  const saved = join(dir, "classroom-studio.taxel");
+  await download.saveAs(saved);
+  const built = join(dir, "classroom-cli.taxel");
+  cli(["build", map, "--profile", good, "-o", built]);
+  assert.ok(readFileSync(saved).equals(readFileSync(built)), "the bundle is taxel build --profile FILE's");
+
+  // A profile without its surface: the command line's message, beside the control.
+  const bad = join(dir, "broken.toml");
+  writeFileSync(bad, text.replace(/\[surface\][^[]*$/, ""));
+  const run = spawnSync(taxel, ["build", map, "--profile", bad, "-o", join(dir, "x.taxel")], { encoding: "utf8" });
+  assert.notEqual(run.status, 0);
+  const why = run.stderr.trim().split(bad)[1];
+  assert.ok(why && why.length > 3, run.stderr);
+  await page.setInputFiles("#profile-file", bad);
+  await page.waitForFunction(() => !document.getElementById("profile-error").hidden);
+  const shown = await page.textContent("#profile-error");
+  assert.ok(shown.includes(`broken.toml${why}`), `${shown} says ${why}`);
+  assert.equal(await page.getAttribute("#profile-file", "aria-invalid"), "true");
+  assert.match(await page.textContent("#status"), /broken\.toml was not used/);
+  // The last good build stays.
+  assert.match(await page.textContent("#summary"), /for classroom/);
+  await axe(page, "the teacher's view with a refused profile file");
 });

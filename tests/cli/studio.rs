@@ -340,3 +340,124 @@ fn a_style_change_rebuilds_a_copy_and_saves_it_beside_the_original_only_when_ask
     assert!(bad["errors"].as_u64().unwrap() >= 1, "{bad}");
     assert_eq!(s.post(&format!("{base}restyle?element=nope&style=dots()"), b"").status, 400);
 }
+
+#[test]
+fn a_fill_colour_s_style_is_a_style_sheet_rule_and_builds_as_taxel_build_with_that_sheet() {
+    let (_dir, root) = folder();
+    let original = std::fs::read(root.join("tala-map.svg")).unwrap();
+    let s = Studio::start(&root);
+    let v = s.post("/api/open?path=tala-map.svg", b"").json();
+    let base = v["base"].as_str().unwrap().to_string();
+    assert_eq!(s.get(&format!("{base}sheet.toml")).status, 404, "no sheet before a colour is changed");
+    // The drawing's colours, most used first, as #rrggbb.
+    let fills = s.get(&format!("{base}fills")).json();
+    let fills = fills.as_array().unwrap();
+    assert!(fills.len() >= 3, "{fills:?}");
+    assert!(fills.windows(2).all(|w| w[0]["count"].as_u64() >= w[1]["count"].as_u64()));
+    let fill = fills[0]["fill"].as_str().unwrap().to_string();
+    assert!(fill.len() == 7 && fill.starts_with('#'), "{fill}");
+    let r = s.post(&format!("{base}restyle?fill={}&style=dots()", fill.replace('#', "%23")), b"");
+    assert_eq!(r.status, 200, "{}", String::from_utf8_lossy(&r.body));
+    let v2 = r.json();
+    assert_eq!(v2["sheet"], "tala-map.tactile.toml");
+    assert_eq!(v2["changed"], false, "the drawing itself is not changed");
+    let base2 = v2["base"].as_str().unwrap().to_string();
+    let sheet = String::from_utf8(s.get(&format!("{base2}sheet.toml")).body).unwrap();
+    assert!(sheet.ends_with(&format!("[[rule]]\nfill = \"{fill}\"\ntactile = \"dots()\"\n")), "{sheet}");
+    // The bundle is `taxel build --style` of that sheet.
+    let sheet_file = root.join("check.toml");
+    std::fs::write(&sheet_file, &sheet).unwrap();
+    let out = root.join("check.taxel");
+    let built = taxel(&["build", MAP, "--style", sheet_file.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert!(built.status.success(), "{}", String::from_utf8_lossy(&built.stderr));
+    assert!(std::fs::read(&out).unwrap() == s.get(&format!("{base2}bundle")).body);
+    // The same colour again: its rule takes the new style, in its place.
+    let v3 = s.post(&format!("{base2}restyle?fill={}&style=none", fill.replace('#', "%23")), b"").json();
+    let sheet3 = String::from_utf8(s.get(&format!("{}sheet.toml", v3["base"].as_str().unwrap())).body).unwrap();
+    assert_eq!(sheet3.matches("[[rule]]").count(), sheet.matches("[[rule]]").count());
+    assert!(sheet3.ends_with("tactile = \"none\"\n"), "{sheet3}");
+    // Saved beside the original as NAME.tactile.toml, again only when asked.
+    assert_eq!(s.post(&format!("{base2}save?what=sheet"), b"").status, 200);
+    assert_eq!(std::fs::read_to_string(root.join("tala-map.tactile.toml")).unwrap(), sheet);
+    assert_eq!(s.post(&format!("{base2}save?what=sheet"), b"").status, 409);
+    assert_eq!(std::fs::read(root.join("tala-map.svg")).unwrap(), original, "the original is untouched");
+    // Not a colour, or a style the sheet reader refuses: said, nothing built.
+    assert_eq!(s.post(&format!("{base}restyle?fill=red&style=dots()"), b"").status, 400);
+    let bad = s.post(&format!("{base}restyle?fill=%23ff0000&style=dots(%22"), b"");
+    assert_eq!(bad.status, 400, "{}", String::from_utf8_lossy(&bad.body));
+    assert_eq!(s.post(&format!("{base}restyle?fill=%23ff0000&element=path1&style=dots()"), b"").status, 400);
+}
+
+#[test]
+fn a_profile_file_from_the_page_is_read_as_the_cli_reads_one_and_named_only_by_its_key() {
+    let (_dir, root) = folder();
+    let s = Studio::start(&root);
+    let stress2 = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/format-spec/profiles/stress2.toml"))
+        .unwrap()
+        .replace("name = \"stress2\"", "name = \"wide\"")
+        .replace("width_mm = 110", "width_mm = 150");
+    // A broken file: the command line's message, with the file's name.
+    let broken = stress2.replace("[array]", "[arrray]");
+    let file = root.join("broken.toml");
+    std::fs::write(&file, &broken).unwrap();
+    let cli = taxel(&["build", MAP, "--profile", file.to_str().unwrap(), "-o", root.join("x.taxel").to_str().unwrap()]);
+    let cli = String::from_utf8_lossy(&cli.stderr).into_owned();
+    let why = cli.split(file.to_str().unwrap()).nth(1).unwrap_or_else(|| panic!("{cli}")).trim().to_string();
+    let r = s.post("/api/profile?name=broken.toml", broken.as_bytes());
+    assert_eq!(r.status, 400);
+    let said = r.json()["error"].as_str().unwrap().to_string();
+    assert_eq!(said, format!("broken.toml{why}"));
+    // A good one: its key builds as `taxel build --profile FILE`.
+    let r = s.post("/api/profile?name=wide.toml", stress2.as_bytes()).json();
+    assert_eq!(r["name"], "wide");
+    let key = r["key"].as_str().unwrap();
+    let v = s.post(&format!("/api/open?path=tala-map.svg&profile={key}"), b"").json();
+    assert_eq!(v["bundle"]["profile"], "wide");
+    let bundle = s.get(&format!("{}bundle", v["base"].as_str().unwrap())).body;
+    let good = root.join("wide.toml");
+    std::fs::write(&good, &stress2).unwrap();
+    let out = root.join("wide.taxel");
+    assert!(taxel(&["build", MAP, "--profile", good.to_str().unwrap(), "-o", out.to_str().unwrap()]).status.success());
+    assert!(std::fs::read(&out).unwrap() == bundle, "the bundle is taxel build --profile FILE's");
+    // Only a key names a kept file: never a path.
+    for bad in
+        ["profile-..%2F..%2Fetc%2Fpasswd", "%2Fetc%2Fpasswd", "profile-0123", "sheet-0123456789abcdef0123456789abcdef"]
+    {
+        let r = s.post(&format!("/api/open?path=tala-map.svg&profile={bad}"), b"");
+        assert_eq!(r.status, 400, "{bad}");
+    }
+}
+
+#[test]
+fn one_element_restyled_in_a_drawing_the_automatic_sheet_styled_keeps_the_others_textures() {
+    // Regression: one `data-tactile` made the drawing annotated, so the
+    // automatic sheet no longer styled it and every other element lost its
+    // texture. The copy is now built with the automatic sheet as decided for
+    // the drawing, which the page offers beside the copy.
+    let dir = tempfile::tempdir().unwrap();
+    let plain = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/map/tala-plain.svg");
+    std::fs::copy(plain, dir.path().join("plain.svg")).unwrap();
+    let s = Studio::start(dir.path());
+    let v = s.post("/api/open?path=plain.svg", b"").json();
+    let base = v["base"].as_str().unwrap().to_string();
+    let r = s.post(&format!("{base}restyle?element=oak&style=dots()"), b"");
+    assert_eq!(r.status, 200, "{}", String::from_utf8_lossy(&r.body));
+    let v2 = r.json();
+    assert_eq!((v2["changed"].as_bool(), v2["sheet_from_auto"].as_bool()), (Some(true), Some(true)), "{v2}");
+    let base2 = v2["base"].as_str().unwrap().to_string();
+    let sheet = s.get(&format!("{base2}sheet.toml")).body;
+    let decided = taxel(&["style", "auto", plain]);
+    assert!(decided.status.success());
+    assert_eq!(sheet, decided.stdout, "the sheet is taxel style auto's for the drawing");
+    let (copy, sheet_file, out) =
+        (dir.path().join("copy.svg"), dir.path().join("copy.toml"), dir.path().join("copy.taxel"));
+    std::fs::write(&copy, s.get(&format!("{base2}copy.svg")).body).unwrap();
+    std::fs::write(&sheet_file, &sheet).unwrap();
+    let built =
+        taxel(&["build", copy.to_str().unwrap(), "--style", sheet_file.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert!(built.status.success(), "{}", String::from_utf8_lossy(&built.stderr));
+    assert!(std::fs::read(&out).unwrap() == s.get(&format!("{base2}bundle")).body);
+    // The other regions are still textured: the summary still counts gratings.
+    let styles = v2["styles"].as_str().unwrap_or_default();
+    assert!(styles.contains("grating"), "{styles}");
+}

@@ -27,6 +27,23 @@ export class Player {
 
   constructor(exports) {
     this.x = exports;
+    // Views of the module's frame buffers, made once and kept: a frame is
+    // read in place, with no copy and no allocation per tick. A view is
+    // made again only when the module's memory has grown (growing it
+    // detaches the old buffer) or the buffer moved.
+    this.views = new Map();
+  }
+
+  // A view of `n` elements of `Type` at `at` in the module's memory, reused
+  // from call to call.
+  view(Type, at, n) {
+    if (!at) return new Type(0);
+    let v = this.views.get(Type);
+    if (!v || v.buffer !== this.x.memory.buffer || v.byteOffset !== at || v.length !== n) {
+      v = new Type(this.x.memory.buffer, at, n);
+      this.views.set(Type, v);
+    }
+    return v;
   }
 
   text(len) {
@@ -34,36 +51,27 @@ export class Player {
     return decoder.decode(new Uint8Array(this.x.memory.buffer, this.x.taxel_text_ptr(), len));
   }
 
-  // One code per actuator (row-major).
+  // One code per actuator (row-major): a view of the module's buffer, valid
+  // until the next call (copy it to keep it).
   lateroFrame(tick, x, y) {
-    const at = this.x.taxel_latero_frame(tick, x, y);
-    const n = this.info.rows * this.info.cols;
-    return at ? new Uint16Array(this.x.memory.buffer, at, n).slice() : new Uint16Array(0);
+    return this.view(Uint16Array, this.x.taxel_latero_frame(tick, x, y), this.info.rows * this.info.cols);
   }
 
-  // One height per pin of the display, and the viewport's top-left pin.
+  // One height per pin of the display (a view, as above), and the viewport's top-left pin.
   pinsFrame(tick, x, y) {
-    const at = this.x.taxel_pins_frame(tick, x, y);
-    const n = this.info.rows * this.info.cols;
+    const pins = this.view(Uint8Array, this.x.taxel_pins_frame(tick, x, y), this.info.rows * this.info.cols);
     const view = this.x.taxel_pins_view();
-    return {
-      pins: at ? new Uint8Array(this.x.memory.buffer, at, n).slice() : new Uint8Array(0),
-      col: view & 0xffff,
-      row: view >>> 16,
-    };
+    return { pins, col: view & 0xffff, row: view >>> 16 };
   }
 
-  // Left, down, right intensities, period (ms), height (mm), on a step (1).
+  // Left, down, right intensities, period (ms), height (mm), on a step (1) (a view).
   fingerSample(tick, x, y, contact) {
-    const at = this.x.taxel_finger_sample(tick, x, y, contact ? 1 : 0);
-    return at ? new Float32Array(this.x.memory.buffer, at, 6).slice() : new Float32Array(0);
+    return this.view(Float32Array, this.x.taxel_finger_sample(tick, x, y, contact ? 1 : 0), 6);
   }
 
-  // One amplitude (0..1) per actuator.
+  // One amplitude (0..1) per actuator (a view).
   gridFrame(tick) {
-    const at = this.x.taxel_grid_frame(tick);
-    const n = this.info.rows * this.info.cols;
-    return at ? new Float32Array(this.x.memory.buffer, at, n).slice() : new Float32Array(0);
+    return this.view(Float32Array, this.x.taxel_grid_frame(tick), this.info.rows * this.info.cols);
   }
 
   nameAt(x, y) {

@@ -18,6 +18,11 @@ const state = {
   lastKey: "",
   vibrateAt: 0,
   preview: null,
+  // When the fragment was last written, and a later write that waits.
+  hashAt: -Infinity,
+  hashTimer: 0,
+  // How long the last drawn frame took, in ms (the benchmark reads it).
+  frameMs: 0,
 };
 // For tests and for the curious: the studio's live state.
 window.taxelStudio = state;
@@ -75,6 +80,8 @@ async function init() {
     if (f) upload(f);
   });
   $("apply").addEventListener("click", restyle);
+  $("profile-file").addEventListener("change", uploadProfile);
+  for (const id of ["target-element", "target-fill"]) $(id).addEventListener("change", chooseTarget);
   $("preview").addEventListener("click", pickElement);
   setupExplore();
   try {
@@ -106,6 +113,45 @@ async function init() {
     await open(start.file);
   } else {
     say(`Ready. Open a drawing${start.files.length ? " from the folder, or your own" : ""}.`);
+  }
+}
+
+// A profile file chosen in the page: read by the server as `--profile FILE`
+// reads one; a bad one is refused with the reader's message, shown beside
+// the control and announced.
+async function uploadProfile() {
+  const input = $("profile-file");
+  const f = input.files[0];
+  const err = $("profile-error");
+  if (!f) return;
+  const refuse = (message) => {
+    err.textContent = `${f.name} was not used: ${message}`;
+    err.hidden = false;
+    input.setAttribute("aria-invalid", "true");
+    say(err.textContent);
+  };
+  if (f.size > state.start.max_input_bytes) {
+    refuse(`it is larger than the ${state.start.max_input_bytes >> 20} MB input limit`);
+    return;
+  }
+  try {
+    const p = await api(`/api/profile?name=${encodeURIComponent(f.name)}`, { method: "POST", body: f });
+    err.hidden = true;
+    err.textContent = "";
+    input.removeAttribute("aria-invalid");
+    const select = $("profile");
+    let o = Array.from(select.options).find((o) => o.value === p.key);
+    if (!o) {
+      o = document.createElement("option");
+      o.value = p.key;
+      o.textContent = `${p.name} (${p.family}, from ${p.file})`;
+      select.append(o);
+    }
+    select.value = p.key;
+    say(`Profile ${p.name} read from ${p.file}.`);
+    if (state.source) await rebuild();
+  } catch (e) {
+    refuse(e.message);
   }
 }
 
@@ -160,6 +206,7 @@ async function showResult(r) {
   showDownloads(r);
   $("styling").hidden = r.kind !== "drawing";
   $("copy").replaceChildren();
+  if (r.kind === "drawing" && $("target-fill").checked) loadFills();
   await loadPlayer(r);
   const what = `${r.errors} error${r.errors === 1 ? "" : "s"}, ${r.warnings} warning${r.warnings === 1 ? "" : "s"}`;
   say(`Built ${r.name}: ${what}.${b ? " Explore it with the Explore view." : ""}`);
@@ -283,21 +330,60 @@ function pickElement(e) {
   }
 }
 
+// Whether the change is for one element or for a fill colour.
+function chooseTarget() {
+  const byFill = $("target-fill").checked;
+  $("by-element").hidden = byFill;
+  $("by-fill").hidden = !byFill;
+  if (byFill) loadFills();
+}
+
+// The drawing's fill colours, most used first, into the colour menu (the
+// colour chosen before is kept when the drawing still has it).
+async function loadFills() {
+  const r = state.result;
+  if (!r || r.kind !== "drawing") return;
+  const select = $("fill");
+  const was = select.value;
+  try {
+    const fills = await api(`${r.base}fills`);
+    select.replaceChildren();
+    for (const f of fills) {
+      const o = document.createElement("option");
+      o.value = f.fill;
+      o.textContent = `${f.fill} (${f.count} element${f.count === 1 ? "" : "s"})`;
+      select.append(o);
+    }
+    if (fills.some((f) => f.fill === was)) select.value = was;
+    if (!fills.length) say("The drawing has no plain fill colour to change.");
+  } catch (e) {
+    say(e.message);
+  }
+}
+
 async function restyle() {
+  const byFill = $("target-fill").checked;
   const element = $("element").value.trim();
-  if (!element) {
+  const fill = $("fill").value;
+  if (!byFill && !element) {
     say("Give the id of the element to change (select it on the felt preview).");
     $("element").focus();
+    return;
+  }
+  if (byFill && !fill) {
+    say("Choose the fill colour to change.");
+    $("fill").focus();
     return;
   }
   const kind = $("style-kind").value;
   const params = $("style-params").value.trim();
   const style = kind === "none" ? "none" : `${kind}(${params})`;
   const base = state.result.base;
-  say(`Rebuilding with #${element}: ${style}…`);
+  const what = byFill ? `every element filled with ${fill}` : `#${element}`;
+  const target = byFill ? `fill=${encodeURIComponent(fill)}` : `element=${encodeURIComponent(element)}`;
+  say(`Rebuilding with ${what}: ${style}…`);
   try {
-    const url = `${base}restyle?element=${encodeURIComponent(element)}&style=${encodeURIComponent(style)}`;
-    const r = await api(url, { method: "POST" });
+    const r = await api(`${base}restyle?${target}&style=${encodeURIComponent(style)}`, { method: "POST" });
     await showResult(r);
     showCopy(r);
   } catch (e) {
@@ -305,34 +391,57 @@ async function restyle() {
   }
 }
 
+// What the changes are saved as: the changed copy of the drawing (styles
+// by element), the teacher's style sheet (styles by fill colour), or both.
 function showCopy(r) {
   const list = $("copy");
   list.replaceChildren();
   const stem = r.name.replace(/^.*\//, "").replace(/\.[^.]*$/, "").replace(/\.tactile$/, "");
-  const li = document.createElement("li");
-  const a = document.createElement("a");
-  a.href = `${r.base}copy.svg`;
-  a.download = `${stem}.tactile.svg`;
-  a.textContent = `Download the changed copy (${stem}.tactile.svg)`;
-  li.append(a);
-  list.append(li);
-  if (r.can_save) {
-    const li2 = document.createElement("li");
+  const item = (node) => {
+    const li = document.createElement("li");
+    li.append(node);
+    list.append(li);
+  };
+  const link = (href, file, text) => {
+    const a = document.createElement("a");
+    a.href = href;
+    a.download = file;
+    a.textContent = text;
+    item(a);
+  };
+  const saveButton = (text, what) => {
     const b = document.createElement("button");
     b.type = "button";
-    b.textContent = `Save ${stem}.tactile.svg beside the original`;
-    b.addEventListener("click", () => save(r, false));
-    li2.append(b);
-    list.append(li2);
+    b.textContent = text;
+    b.addEventListener("click", () => save(r, what, false));
+    item(b);
+  };
+  if (r.changed) {
+    link(`${r.base}copy.svg`, `${stem}.tactile.svg`, `Download the changed copy (${stem}.tactile.svg)`);
+    if (r.can_save) saveButton(`Save ${stem}.tactile.svg beside the original`, "svg");
+  }
+  if (r.sheet) {
+    link(`${r.base}sheet.toml`, r.sheet, `Download the style sheet (${r.sheet})`);
+    if (r.can_save) saveButton(`Save ${r.sheet} beside the original`, "sheet");
+    const note = document.createElement("span");
+    note.textContent = `Build with it: taxel build --style ${r.sheet} ${r.changed ? `${stem}.tactile.svg` : r.name.replace(/^.*\//, "")}`;
+    item(note);
+    if (r.sheet_from_auto) {
+      const auto = document.createElement("span");
+      auto.textContent =
+        "The sheet starts from the automatic style sheet's choices for this drawing. A style sheet cannot select texts " +
+        "and small marks, so their braille and point symbols are left out: give those elements a style one by one to keep them.";
+      item(auto);
+    }
   }
 }
 
-async function save(r, overwrite) {
+async function save(r, what, overwrite) {
   try {
-    const done = await api(`${r.base}save?overwrite=${overwrite ? 1 : 0}`, { method: "POST" });
+    const done = await api(`${r.base}save?what=${what}&overwrite=${overwrite ? 1 : 0}`, { method: "POST" });
     say(`Saved ${done.saved}.`);
   } catch (e) {
-    if (e.status === 409 && window.confirm(e.message)) return save(r, true);
+    if (e.status === 409 && window.confirm(e.message)) return save(r, what, true);
     say(e.message);
   }
 }
@@ -384,7 +493,7 @@ function place(x, y) {
   state.finger = { x: clamp(x, info.surface_w_mm), y: clamp(y, info.surface_h_mm) };
   const { x: fx, y: fy } = state.finger;
   $("pos").textContent = `${fx.toFixed(1)}, ${fy.toFixed(1)} mm`;
-  history.replaceState(null, "", `#at=${fx},${fy}`);
+  shareHash();
   const name = state.player.nameAt(fx, fy) || "nothing";
   if (name !== state.lastName) {
     state.lastName = name;
@@ -395,6 +504,21 @@ function place(x, y) {
     }
   }
   drawSurface();
+}
+
+// Keeps `#at=X,Y` in the URL. Browsers refuse a page more than a few
+// hundred history changes in ten seconds (a pointer moves the finger at
+// every display frame), so the fragment is written at most every 200 ms,
+// and the last position always.
+function shareHash() {
+  clearTimeout(state.hashTimer);
+  const write = () => {
+    state.hashAt = performance.now();
+    history.replaceState(null, "", `#at=${state.finger.x},${state.finger.y}`);
+  };
+  const wait = state.hashAt + 200 - performance.now();
+  if (wait <= 0) write();
+  else state.hashTimer = setTimeout(write, wait);
 }
 
 function setupExplore() {
@@ -496,6 +620,13 @@ function drawSurface() {
 function frameLoop() {
   requestAnimationFrame(frameLoop);
   if (!state.player || $("explore").hidden) return;
+  const started = performance.now();
+  drawFrame();
+  state.frameMs = performance.now() - started;
+}
+
+// The frame under the finger at this tick, drawn.
+function drawFrame() {
   const t = tick();
   const { x, y } = state.finger;
   const info = state.player.info;
@@ -542,7 +673,12 @@ function frameLoop() {
     cells(g, c, info.rows, info.cols, (i) => values[i]);
     note = `The strokes play on the ${info.cols} × ${info.rows} grid (tick ${t % (end + 1)} of ${end}).`;
   }
-  state.lastFrame = values;
+  // The player's frames are views of its buffer: the last one is copied
+  // into an array kept from frame to frame.
+  if (!state.lastFrame || state.lastFrame.length !== values.length || state.lastFrame.constructor !== values.constructor) {
+    state.lastFrame = new values.constructor(values.length);
+  }
+  state.lastFrame.set(values);
   c.dataset.tick = String(t);
   c.dataset.x = String(x);
   c.dataset.y = String(y);
