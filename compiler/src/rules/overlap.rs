@@ -4,7 +4,8 @@
 
 use taxel_format::{DistanceLayer, TILE_CELLS, TILE_OUTSIDE, edge_profile as profile, edge_ramp as ramp};
 
-use super::{Built, Feature, FeatureKind, at, near_dot_pairs};
+use super::gaps::near_dot_pairs;
+use super::{Built, Feature, FeatureKind, at};
 use crate::diagnostic::Diagnostic;
 use crate::geometry::dist;
 use crate::spatial::{self, Bbox};

@@ -1,5 +1,8 @@
+use super::labels::braille_boxes;
 use super::*;
-use crate::drawing::{Clip, Page, Paint, PathShape, TextRun, TextShape};
+use crate::braille::paper::{CELL_PITCH_MM, DOT_PITCH_MM};
+use crate::drawing::{Clip, Element, Page, Paint, PathShape, TextRun, TextShape};
+use crate::geometry::{FillRule, Polyline};
 use taxel_format::profiles;
 
 /// stress2 with a surface large enough for the test pages (fitting is not what these test).
