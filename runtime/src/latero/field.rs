@@ -65,7 +65,8 @@
 //! `T` alone. (A new kind of tile adds its arm to
 //! `TileEntry::of` and to [`FieldLayer::lane`], with a flag; a kind played
 //! out of line, as bends and arcs are, adds its lane writer to
-//! `curved_lanes` and its row function beside [`FieldLayer::bend`].) Which of these
+//! `curved_lanes` and its row function beside [`FieldLayer::bend`], in
+//! `field/curved.rs`; the decoding by kind is in `field/lanes.rs`.) Which of these
 //! the kernel carries is chosen per layer at load ([`Tiles`]): a layer whose
 //! tiles all store samples or are constant runs an instance with no analytic
 //! lanes at all; only a layer with bend tiles carries the bend lanes. The
@@ -73,10 +74,7 @@
 //! depends neither on the number of shapes in the layer nor on where their
 //! edges are.
 
-use taxel_format::{
-    DistanceView, PLANE_RECORD_LEN, SEGMENTS_PER_TILE, TILE_CELLS, TILE_FINE, TILE_FIRST_STORED, TILE_INSIDE,
-    TILE_OUTSIDE, TILE_PLANE, TILE_RECORD_MASK, TILE_SAMPLES, TILE_SIDE, TileEntry, fine_cell,
-};
+use taxel_format::{DistanceView, PLANE_RECORD_LEN, TILE_CELLS, TILE_SAMPLES, TILE_SIDE, TileEntry};
 use wide::bytemuck::cast;
 #[cfg(not(target_arch = "x86_64"))]
 use wide::u16x8;
@@ -85,6 +83,9 @@ use wide::{f32x4, i16x8, i32x4, u8x16};
 use super::mask::Primitive;
 use super::osc::{cos_turns, cos_turns4, frac64};
 use super::{Acc, Frame, LANES, add_lanes};
+
+use curved::BendLanes;
+use lanes::Record;
 
 /// The fixed-point unit of the horizontal weights (as in `mask.rs`).
 const W: i32 = 1 << 14;
@@ -149,57 +150,6 @@ struct TileLanes<'a> {
     decoded: bool,
 }
 
-/// The bend lanes (format 4.0) of a [`TileLanes`]: a bend lane plays `top −
-/// k · min(dist(q, ray 1), dist(q, ray 2))` ([`FieldLayer::bend`]); `v`
-/// holds per lane its column less its vertex's x, the vertex's y, its
-/// rays' unit directions (x, y, x, y), its codes per cell and its top
-/// code. Kept apart and written out of line, so that tiles without bends
-/// cost nothing more.
-#[derive(Debug, Clone, Copy, Default)]
-struct BendLanes {
-    bend: [i32; LANES],
-    v: [[f32; LANES]; 8],
-    /// The arc lanes (format 4.1): an arc lane plays `top − k · ||q − C| −
-    /// R|` ([`FieldLayer::arc`]); `c` holds per lane its column less its
-    /// centre's x, the centre's y, the radius, `k` and the top code, then a
-    /// cut arc's plane (format 4.3) at its column and its gradient along y
-    /// (`f32::MAX` and 0 for an arc alone, so that the lesser is the arc's).
-    arc: [i32; LANES],
-    c: [[f32; LANES]; 7],
-    /// Whether any lane of the current tiles is in an arc tile. Kept here,
-    /// not in [`TileLanes`], so that kernels without bend lanes are the
-    /// code they were before arcs; reset on every tile change that reads
-    /// records.
-    arced: bool,
-    /// The segments lanes (format 4.2): a segments lane plays `top − k ·
-    /// min_i dist(q, segment i)` over three segments
-    /// ([`FieldLayer::segments`]); `s` holds per lane, for each segment, its
-    /// column less the segment's first end's x, that end's y, the segment's
-    /// vector (x, y) and the inverse of its squared length (0 for a point),
-    /// then `k` and the top code.
-    seg: [i32; LANES],
-    s: [[f32; LANES]; SEGMENT_LANE_VALUES],
-    /// Whether any lane of the current tiles is in a segments tile, reset
-    /// as `arced` is.
-    segged: bool,
-    /// The fine lanes (format 4.4): a fine lane plays the bilinear
-    /// interpolation of its fine tile's samples, or the lesser of its two
-    /// channels' ([`FieldLayer::fine`]); per lane its first stored tile,
-    /// its refinement, whether it has two channels, and its lattice x
-    /// within the tile.
-    fine: [i32; LANES],
-    fine_first: [u32; LANES],
-    fine_by: [u32; LANES],
-    fine_pair: [bool; LANES],
-    fine_u: [f32; LANES],
-    /// Whether any lane of the current tiles is in a fine tile, reset as
-    /// `arced` is.
-    fined: bool,
-}
-
-/// Values per lane of a segments tile: five per segment, `k` and `top`.
-const SEGMENT_LANE_VALUES: usize = 5 * SEGMENTS_PER_TILE + 2;
-
 impl Default for TileLanes<'_> {
     fn default() -> Self {
         TileLanes {
@@ -218,65 +168,6 @@ impl Default for TileLanes<'_> {
             decoded: false,
         }
     }
-}
-
-/// One plane record's bytes: `c`, `gx`, `gy`, `top` (little-endian `f32`).
-type Record = [u8; PLANE_RECORD_LEN];
-/// The record a lane with no record of its own reads: zero everywhere.
-static ZERO_RECORD: Record = [0; PLANE_RECORD_LEN];
-
-/// What a tile index entry makes its lanes read, decoded once for the
-/// lanes that share the tile ([`FieldLayer::lane`]): the same three fields
-/// for every kind, which a lane copies with no branch.
-#[derive(Debug, Clone, Copy)]
-struct Lane<'a> {
-    /// The samples a lane reads: a stored tile's, or a constant tile's
-    /// (0 outside, 255 inside); the outside tile's for the other kinds.
-    tile: &'a Tile,
-    /// The records a lane plays `T − sign · |A|` from ([`TileLanes`]): a
-    /// plane's or a ridge's record twice, a corner's or a notch's two, a
-    /// constant tile's code as a plane's `c` twice, a bend's or an arc's
-    /// two (whose code replaces this one); zeros for a stored tile.
-    records: [&'a Record; 2],
-    /// What the lane plays: [`Lane::PLANAR`] and the other flags.
-    kind: u32,
-}
-
-impl Lane<'_> {
-    /// The lane plays its records' code rather than its samples (every kind
-    /// but a stored tile).
-    const PLANAR: u32 = 1;
-    /// ... as a constant, plane, ridge, corner or notch tile.
-    const CODE: u32 = 2;
-    /// A plane, ridge, corner, notch, bend or arc tile.
-    const ANALYTIC: u32 = 4;
-    /// A ridge tile: `T` is its top, `A` its affine code, sign 1.
-    const RIDGE: u32 = 8;
-    /// A corner tile, sign 1, or a notch tile, sign −1.
-    const CORNER: u32 = 16;
-    const NOTCH: u32 = 32;
-    /// A bend or an arc tile (formats 4.0 and 4.1), played out of line.
-    const BEND: u32 = 64;
-    const ARC: u32 = 128;
-    /// A segments tile (format 4.2), played out of line.
-    const SEGMENTS: u32 = 256;
-    /// A fine tile (format 4.4), played out of line.
-    const FINE: u32 = 512;
-}
-
-/// The constant tiles' codes as plane records (`c` only): a lane in a
-/// constant tile among analytic lanes plays its code as a plane, so that
-/// rows with no stored tile read no samples.
-static OUTSIDE_RECORD: Record = ZERO_RECORD;
-static INSIDE_RECORD: Record = {
-    let c = 255f32.to_le_bytes();
-    [c[0], c[1], c[2], c[3], 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]
-};
-
-/// A record's four values as one vector (one load on little-endian targets).
-#[inline(always)]
-fn record_of(r: &Record) -> f32x4 {
-    f32x4::new(core::array::from_fn(|i| f32::from_le_bytes([r[4 * i], r[4 * i + 1], r[4 * i + 2], r[4 * i + 3]])))
 }
 
 /// A distance layer prepared for playback.
@@ -385,357 +276,17 @@ impl<'a> FieldLayer<'a> {
             (Primitive::Grating { .. }, Tiles::Bent) => self.rows::<true, true, true>(f, acc),
         }
     }
+}
 
-    /// For the tile row starting at index entry `tile_row`, four lanes' cell
-    /// columns `ci` and lattice x within their tiles `u`: what each lane
-    /// reads until its tile changes. A stored tile's lanes read the window
-    /// of its samples that starts at the lane's column; a constant tile's
-    /// lanes read a tile of that constant code (0 outside, 255 inside),
-    /// whose interpolation is the constant exactly (the weights sum to
-    /// `W`), and play it as a plane of that code too (the same code, so
-    /// that rows whose lanes read no stored tile read no samples); a plane,
-    /// ridge, corner or notch tile's lanes take their records' affine codes
-    /// at their column, `c + gx u`, and gradients along y. Each tile is
-    /// decoded once for the lanes that share it ([`Self::lane`]); the
-    /// records are read as one vector each and the lanes' values computed
-    /// four at a time. (An index entry past the stored tiles or records,
-    /// which validation rules out, reads as outside.)
-    #[inline(always)]
-    fn tile_lanes<const BENDS: bool>(
-        &self,
-        tile_row: usize,
-        ci: [u32; LANES],
-        u: f32x4,
-        bl: &mut BendLanes,
-    ) -> TileLanes<'a> {
-        let mut t = TileLanes { decoded: true, ..TileLanes::default() };
-        if BENDS {
-            bl.arced = false;
-            bl.segged = false;
-            bl.fined = false;
-        }
-        let (mut first, mut second) = ([&ZERO_RECORD; LANES], [&ZERO_RECORD; LANES]);
-        let mut kind = [0u32; LANES];
-        // The lanes' kinds, or'ed and and'ed.
-        let (mut any, mut all) = (0u32, u32::MAX);
-        // The lanes' columns grow from lane to lane, so neighbours often
-        // share a tile: each tile is decoded once.
-        let mut prev = ci[0] >> SHIFT;
-        let mut lane = self.lane(tile_row + prev as usize);
-        for k in 0..LANES {
-            let c = ci[k];
-            if c >> SHIFT != prev {
-                prev = c >> SHIFT;
-                lane = self.lane(tile_row + prev as usize);
-            }
-            let col = (c & (TILE_CELLS as u32 - 1)) as usize;
-            // A column below TILE_CELLS leaves a whole window: never `None`.
-            t.windows[k] = lane.tile.get(col..col + WINDOW).and_then(|w| w.try_into().ok()).unwrap_or(&OUTSIDE_WINDOW);
-            [first[k], second[k]] = lane.records;
-            kind[k] = lane.kind;
-            (any, all) = (any | lane.kind, all & lane.kind);
-        }
-        t.analytic = any & Lane::ANALYTIC != 0;
-        t.sampled = all & Lane::PLANAR == 0;
-        t.flat = any & (Lane::RIDGE | Lane::CORNER | Lane::NOTCH) == 0;
-        // (A layer without bend tiles never reads one: `bends`.)
-        if BENDS && any & (Lane::BEND | Lane::ARC | Lane::SEGMENTS | Lane::FINE) != 0 {
-            self.curved_lanes(tile_row, ci, &kind, &first, &second, u, &mut t.bent, bl);
-        }
-        let kind = i32x4::new(kind.map(|k| k as i32));
-        let has = |flag: u32| (kind & i32x4::splat(flag as i32)).simd_eq(i32x4::splat(flag as i32));
-        // Every lane but a stored tile's plays its code: `T − sign · |A|`.
-        // With `A1`, `A2` the records' affine codes (a plane's, a ridge's
-        // and a constant's twice), `T = (A1 + A2) / 2` and `A = (A1 − A2)
-        // / 2` (exactly `A1` and 0 for a plane); a ridge's `T` is its top
-        // and its `A` its affine code.
-        t.planar = has(Lane::PLANAR);
-        // (Bend and arc lanes alone need none of it: their code replaces it.
-        // Tested in layers with bend tiles only, where it pays.)
-        if any & Lane::CODE != 0 || !BENDS {
-            let [c1, gx1, gy1, top1] = f32x4::transpose(first.map(record_of));
-            let a1 = c1 + gx1 * u;
-            let ridge = cast::<i32x4, f32x4>(has(Lane::RIDGE));
-            if any & (Lane::CORNER | Lane::NOTCH) != 0 {
-                let [c2, gx2, gy2, _] = f32x4::transpose(second.map(record_of));
-                let a2 = c2 + gx2 * u;
-                let half = f32x4::splat(0.5);
-                t.t0 = ridge.select(top1, (a1 + a2) * half);
-                t.tgy = ridge.select(f32x4::ZERO, (gy1 + gy2) * half);
-                t.a0 = ridge.select(a1, (a1 - a2) * half);
-                t.gy = ridge.select(gy1, (gy1 - gy2) * half);
-            } else if t.flat {
-                // Plane and constant lanes only (a bend's or an arc's aside,
-                // whose code replaces this one): `T = A1`; `A` and the sign
-                // keep their 0.
-                (t.t0, t.tgy) = (a1, gy1);
-                return t;
-            } else {
-                // Every lane's records are one record twice (a bend's or an
-                // arc's lanes aside, whose code replaces this one): `T =
-                // A1`, `A = 0` exactly.
-                (t.t0, t.tgy) = (ridge.select(top1, a1), ridge.select(f32x4::ZERO, gy1));
-                (t.a0, t.gy) = (ridge & a1, ridge & gy1);
-            }
-            let one = cast::<i32x4, f32x4>(has(Lane::RIDGE) | has(Lane::CORNER)) & f32x4::ONE;
-            t.sign = one | (cast::<i32x4, f32x4>(has(Lane::NOTCH)) & f32x4::splat(-1.0));
-        }
-        t
-    }
+// The lanes' decoding by kind and the out-of-line lanes are declared here,
+// between `accumulate_in` and `pairs`, rather than at the top: the
+// kernel's items then come in the order they had when this was one file,
+// and LLVM compiles the kernel to the same instructions (declared at the
+// top, its registers and spills came out differently).
+mod curved;
+mod lanes;
 
-    /// The bend, arc and segments lanes' values (lanes of `kind`
-    /// [`Lane::BEND`], [`Lane::ARC`] or [`Lane::SEGMENTS`]) from their
-    /// records `first` and `second` (a segments lane's four records are
-    /// read again from its entry, at `tile_row` and column `ci`), at
-    /// lattice x `u` in their tiles; sets `bent` if any lane is a bend lane.
-    #[cold]
-    #[inline(never)]
-    #[allow(clippy::too_many_arguments)]
-    fn curved_lanes(
-        &self,
-        tile_row: usize,
-        ci: [u32; LANES],
-        kind: &[u32; LANES],
-        first: &[&Record; LANES],
-        second: &[&Record; LANES],
-        u: f32x4,
-        bent: &mut bool,
-        bl: &mut BendLanes,
-    ) {
-        let u = u.to_array();
-        for k in 0..LANES {
-            let r = [first[k], second[k]];
-            // The first bend (arc) lane of these tiles clears the others' flags.
-            if kind[k] & Lane::ARC != 0 {
-                Self::arc_lane(r, u[k], k, !bl.arced, bl);
-                bl.arced = true;
-            } else if kind[k] & Lane::SEGMENTS != 0 {
-                let e = self
-                    .entries
-                    .get(tile_row + (ci[k] >> SHIFT) as usize)
-                    .map_or(TILE_OUTSIDE, |b| u32::from_le_bytes(*b));
-                // (`lane` checked the four records are there.)
-                if let TileEntry::Segments(p) = TileEntry::of(e)
-                    && let Some(r) = self.planes.get(p as usize..p as usize + 4)
-                {
-                    Self::segments_lane(r.as_flattened(), u[k], k, !bl.segged, bl);
-                    bl.segged = true;
-                }
-            } else if kind[k] & Lane::FINE != 0 {
-                let e = self
-                    .entries
-                    .get(tile_row + (ci[k] >> SHIFT) as usize)
-                    .map_or(TILE_OUTSIDE, |b| u32::from_le_bytes(*b));
-                // (`lane` checked its stored tiles are there.)
-                if let TileEntry::Fine { first, fine, pair } = TileEntry::of(e) {
-                    if !bl.fined {
-                        bl.fine = [0; LANES];
-                    }
-                    (bl.fine[k], bl.fine_first[k], bl.fine_by[k], bl.fine_pair[k], bl.fine_u[k]) =
-                        (-1, first, fine, pair, u[k]);
-                    bl.fined = true;
-                }
-            } else if kind[k] & Lane::BEND != 0 {
-                Self::bend_lane(r, u[k], k, !*bent, bl);
-                *bent = true;
-            }
-        }
-    }
-
-    /// The bend lanes' codes at lattice y `wt` within the tile: one square
-    /// root per row for four lanes. Out of line, so that rows without bend
-    /// lanes keep their registers.
-    #[inline(never)]
-    fn bend(b: &BendLanes, wt: f32) -> f32x4 {
-        let [dx, vy, d1x, d1y, d2x, d2y, k, top] = b.v.map(f32x4::new);
-        let dy = f32x4::splat(wt) - vy;
-        let r = (dx * dx + dy * dy).sqrt();
-        let ray = |ex: f32x4, ey: f32x4| {
-            let ahead = (dx * ex + dy * ey).simd_ge(f32x4::ZERO);
-            ahead.select((dx * ey - dy * ex).abs(), r)
-        };
-        top - k * ray(d1x, d1y).fast_min(ray(d2x, d2y))
-    }
-
-    /// Lane `k`'s bend values from its tile's two records `r` ((Vx, Vy,
-    /// d1x, d1y), (d2x, d2y, k, top)), at lattice x `u` in the tile; the
-    /// `first` bend lane of a tile change clears the other lanes' flags.
-    #[cold]
-    #[inline(never)]
-    fn bend_lane(r: [&Record; 2], u: f32, k: usize, first: bool, bl: &mut BendLanes) {
-        if first {
-            bl.bend = [0; LANES];
-        }
-        let f = |i: usize| record_of(r[i / 4]).to_array()[i % 4];
-        for (i, v) in bl.v.iter_mut().enumerate() {
-            v[k] = f(i);
-        }
-        bl.v[0][k] = u - bl.v[0][k];
-        bl.bend[k] = -1;
-    }
-
-    /// The arc lanes' codes at lattice y `wt` within the tile (format 4.1):
-    /// `top − k · ||q − C| − R|`, one square root per row for four lanes,
-    /// out of line as [`Self::bend`].
-    #[inline(never)]
-    fn arc(b: &BendLanes, wt: f32) -> f32x4 {
-        let [dx, cy, radius, k, top, p0, pgy] = b.c.map(f32x4::new);
-        let wt = f32x4::splat(wt);
-        let dy = wt - cy;
-        let arc = top - k * ((dx * dx + dy * dy).sqrt() - radius).abs();
-        // A cut arc's plane `(c + gx u') + gy w'` (format 4.3).
-        arc.fast_min(p0 + pgy * wt)
-    }
-
-    /// Lane `k`'s arc values from its tile's two records `r` ((Cx, Cy, R,
-    /// k), (top, c, gx, gy)), at lattice x `u` in the tile; the `first` arc
-    /// lane of a tile change clears the other lanes' flags. A second record
-    /// whose plane `(c, gx, gy)` is not all 0 is a cut arc (format 4.3):
-    /// its plane's value at the column and its `gy` are kept; for an arc
-    /// alone, `f32::MAX` and 0, which the lesser never picks.
-    #[cold]
-    #[inline(never)]
-    fn arc_lane(r: [&Record; 2], u: f32, k: usize, first: bool, bl: &mut BendLanes) {
-        if first {
-            bl.arc = [0; LANES];
-        }
-        let [cx, cy, radius, kk] = record_of(r[0]).to_array();
-        let [top, c, gx, gy] = record_of(r[1]).to_array();
-        let cut = c != 0.0 || gx != 0.0 || gy != 0.0;
-        let (p0, pgy) = if cut { (c + gx * u, gy) } else { (f32::MAX, 0.0) };
-        for (v, x) in bl.c.iter_mut().zip([u - cx, cy, radius, kk, top, p0, pgy]) {
-            v[k] = x;
-        }
-        bl.arc[k] = -1;
-    }
-
-    /// The segments lanes' codes at lattice y `wt` within the tile (format
-    /// 4.2): `top − k · min_i dist(q, segment i)`, one square root per row
-    /// for four lanes, out of line as [`Self::bend`].
-    #[inline(never)]
-    fn segments(b: &BendLanes, wt: f32) -> f32x4 {
-        let v = b.s.map(f32x4::new);
-        let mut d2 = f32x4::splat(f32::MAX);
-        for i in 0..SEGMENTS_PER_TILE {
-            let [dx, ay, ex, ey, inv] = [v[5 * i], v[5 * i + 1], v[5 * i + 2], v[5 * i + 3], v[5 * i + 4]];
-            let dy = f32x4::splat(wt) - ay;
-            // The nearest point's place along the segment, clamped to it.
-            let t = ((dx * ex + dy * ey) * inv).fast_max(f32x4::ZERO).fast_min(f32x4::ONE);
-            let (px, py) = (dx - t * ex, dy - t * ey);
-            d2 = d2.fast_min(px * px + py * py);
-        }
-        let [k, top] = [v[5 * SEGMENTS_PER_TILE], v[5 * SEGMENTS_PER_TILE + 1]];
-        top - k * d2.sqrt()
-    }
-
-    /// The fine lanes' codes at lattice y `wt` within the tile (format
-    /// 4.4): each lane's bilinear interpolation of the fine cell it lies
-    /// in (the lesser of its two channels'), lane by lane (fine tiles are
-    /// few), out of line as [`Self::bend`]. A stored tile past the layer's
-    /// (which validation rules out) plays code 0.
-    #[inline(never)]
-    fn fine(&self, b: &BendLanes, wt: f32) -> f32x4 {
-        let mut out = [0.0f32; LANES];
-        for (k, code) in out.iter_mut().enumerate() {
-            if b.fine[k] == 0 {
-                continue;
-            }
-            let fine = b.fine_by[k] as usize;
-            let ((a, i, wx), (sb, j, wy)) = (fine_cell(b.fine_u[k], fine as u32), fine_cell(wt, fine as u32));
-            let channel = |c: usize| {
-                let slot = (b.fine_first[k] as usize).saturating_add((c * fine + sb) * fine + a);
-                let tile = self.stored.get(slot)?;
-                let s = |i: usize, j: usize| tile.get(j * TILE_SIDE + i).map_or(0.0, |&v| f32::from(v));
-                let top = s(i, j) + (s(i + 1, j) - s(i, j)) * wx;
-                let bot = s(i, j + 1) + (s(i + 1, j + 1) - s(i, j + 1)) * wx;
-                Some(top + (bot - top) * wy)
-            };
-            let first = channel(0);
-            *code = match (first, b.fine_pair[k]) {
-                (Some(c), false) => c,
-                (Some(c), true) => channel(1).map_or(0.0, |d| c.min(d)),
-                (None, _) => 0.0,
-            };
-        }
-        f32x4::new(out)
-    }
-
-    /// Lane `k`'s segments values from its tile's four records `r` (three
-    /// segments (ax, ay, bx, by), then (k, top, 0, 0)), at lattice x `u` in
-    /// the tile; the `first` segments lane of a tile change clears the other
-    /// lanes' flags.
-    #[cold]
-    #[inline(never)]
-    fn segments_lane(r: &[u8], u: f32, k: usize, first: bool, bl: &mut BendLanes) {
-        if first {
-            bl.seg = [0; LANES];
-        }
-        let f = |o: usize| r.get(o..o + 4).map_or(0.0, |b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]));
-        for i in 0..SEGMENTS_PER_TILE {
-            let o = i * PLANE_RECORD_LEN;
-            let (ax, ay, ex, ey) = (f(o), f(o + 4), f(o + 8) - f(o), f(o + 12) - f(o + 4));
-            let len2 = ex * ex + ey * ey;
-            // A segment shorter than a millionth of a cell plays as its first end.
-            let inv = if len2 > 1e-12 { 1.0 / len2 } else { 0.0 };
-            for (j, x) in [u - ax, ay, ex, ey, inv].into_iter().enumerate() {
-                bl.s[5 * i + j][k] = x;
-            }
-        }
-        let o = SEGMENTS_PER_TILE * PLANE_RECORD_LEN;
-        bl.s[5 * SEGMENTS_PER_TILE][k] = f(o);
-        bl.s[5 * SEGMENTS_PER_TILE + 1][k] = f(o + 4);
-        bl.seg[k] = -1;
-    }
-
-    /// What the tile at index entry `i` makes its lanes read: one arm per
-    /// kind of [`TileEntry`] (a new kind adds its arm here, and its lanes'
-    /// values in [`Self::tile_lanes`]).
-    #[inline(always)]
-    fn lane(&self, i: usize) -> Lane<'a> {
-        let e = self.entries.get(i).map_or(TILE_OUTSIDE, |b| u32::from_le_bytes(*b));
-        // Stored tiles first, the common kind near edges: one bounds check
-        // decodes them. Any other entry (below `TILE_FIRST_STORED`, or with
-        // a kind's high bits) is no stored tile's number once shifted down.
-        if let Some(tile) = self.stored.get(e.wrapping_sub(TILE_FIRST_STORED) as usize) {
-            return Lane { tile, records: [&ZERO_RECORD; 2], kind: 0 };
-        }
-        let constant = |tile, record| Lane { tile, records: [record; 2], kind: Lane::PLANAR | Lane::CODE };
-        let outside = constant(&OUTSIDE, &OUTSIDE_RECORD);
-        // Each kind's first record `p`, its second `p + second` (its first
-        // twice for 0) and its flags.
-        let (p, second, kind) = match TileEntry::of(e) {
-            TileEntry::Plane(p) => (p, 0, Lane::CODE),
-            TileEntry::Corner(p) => (p, 1, Lane::CODE | Lane::CORNER),
-            TileEntry::Notch(p) => (p, 1, Lane::CODE | Lane::NOTCH),
-            TileEntry::Ridge(p) => (p, 0, Lane::CODE | Lane::RIDGE),
-            TileEntry::Bend(p) => (p, 1, Lane::BEND),
-            TileEntry::Arc(p) => (p, 1, Lane::ARC),
-            // Its three segments' records are read again from the entry
-            // (`curved_lanes`): here the last is checked.
-            TileEntry::Segments(p) => (p, 3, Lane::SEGMENTS),
-            TileEntry::Inside => return constant(&INSIDE, &INSIDE_RECORD),
-            // Its stored tiles are read again from the entry (`curved_lanes`):
-            // here the last is checked.
-            fine @ TileEntry::Fine { first, .. } => {
-                let last = (first as usize).saturating_add(fine.stored() as usize).saturating_sub(1);
-                return match self.stored.get(last) {
-                    Some(_) => Lane {
-                        tile: &OUTSIDE,
-                        records: [&ZERO_RECORD; 2],
-                        kind: Lane::FINE | Lane::PLANAR | Lane::ANALYTIC,
-                    },
-                    _ => outside,
-                };
-            }
-            // Outside, or a stored tile past the stored ones.
-            TileEntry::Outside | TileEntry::Stored(_) => return outside,
-        };
-        match (self.planes.get(p as usize), self.planes.get(p as usize + second)) {
-            (Some(a), Some(b)) => Lane { tile: &OUTSIDE, records: [a, b], kind: kind | Lane::PLANAR | Lane::ANALYTIC },
-            _ => outside,
-        }
-    }
-
+impl<'a> FieldLayer<'a> {
     /// The byte pairs at offset `j` (the lattice row above, `j` a multiple
     /// of [`TILE_SIDE`] below `TILE_CELLS · TILE_SIDE`) and `j + TILE_SIDE`
     /// (below) of each lane's window, as (top, bottom) rows of (left,
@@ -778,86 +329,6 @@ impl<'a> FieldLayer<'a> {
             pair(lanes[3], j + TILE_SIDE),
         ]));
         (i16x8::from_u8x16_low(bytes), i16x8::from_u8x16_high(bytes))
-    }
-
-    /// [`Self::tile_lanes`] when every lane's tile stores samples or is
-    /// constant: each lane's window of samples in the tile row starting at
-    /// index entry `tile_row`, for lanes with cell columns `ci`; `None` if
-    /// a lane's tile is of any other kind.
-    #[inline(always)]
-    fn sample_windows(&self, tile_row: usize, ci: [u32; LANES]) -> Option<[&'a Window; LANES]> {
-        let mut windows = [&OUTSIDE_WINDOW; LANES];
-        // Neighbouring lanes often share a tile: each is looked up once.
-        let mut tile = self.sampled(tile_row + (ci[0] >> SHIFT) as usize)?;
-        for k in 0..LANES {
-            if k > 0 && ci[k] >> SHIFT != ci[k - 1] >> SHIFT {
-                tile = self.sampled(tile_row + (ci[k] >> SHIFT) as usize)?;
-            }
-            let col = (ci[k] & (TILE_CELLS as u32 - 1)) as usize;
-            // A column below TILE_CELLS leaves a whole window: never `None`.
-            windows[k] = tile.get(col..col + WINDOW).and_then(|w| w.try_into().ok()).unwrap_or(&OUTSIDE_WINDOW);
-        }
-        Some(windows)
-    }
-
-    /// [`Self::tile_lanes`] when every lane's tile is constant or a plane
-    /// tile: each lane plays `T = c + gx u`, `tgy = gy` from its record (a
-    /// constant tile's code as a plane's `c`, so `T` is that code exactly),
-    /// with no ridge, corner or notch lane (`flat`) and no samples. Only
-    /// the fields the rows read in that case are written (the windows,
-    /// `planar`, `a0`, `gy` and `sign` keep whatever they held: no row
-    /// reads them until a tile change writes them again). Returns false,
-    /// leaving `t` alone, if a lane's tile is of any other kind or names a
-    /// missing record (then [`Self::tile_lanes`] decides).
-    #[inline(always)]
-    fn affine_lanes(&self, tile_row: usize, ci: [u32; LANES], u: f32x4, t: &mut TileLanes<'a>) -> bool {
-        let mut records = [&OUTSIDE_RECORD; LANES];
-        // Neighbouring lanes often share a tile: each is looked up once.
-        let mut prev = ci[0] >> SHIFT;
-        let Some(mut record) = self.affine(tile_row + prev as usize) else { return false };
-        for k in 0..LANES {
-            if ci[k] >> SHIFT != prev {
-                prev = ci[k] >> SHIFT;
-                match self.affine(tile_row + prev as usize) {
-                    Some(r) => record = r,
-                    None => return false,
-                }
-            }
-            records[k] = record;
-        }
-        let [c, gx, gy, _] = f32x4::transpose(records.map(record_of));
-        (t.t0, t.tgy) = (c + gx * u, gy);
-        (t.analytic, t.flat, t.sampled, t.bent, t.affine, t.decoded) = (true, true, false, false, true, false);
-        true
-    }
-
-    /// The record the tile at index entry `i` plays if it is constant
-    /// (its code as a plane's `c`) or a plane tile; `None` for any other
-    /// kind, or a plane record past the stored ones.
-    #[inline(always)]
-    fn affine(&self, i: usize) -> Option<&'a Record> {
-        match self.entries.get(i).map_or(TILE_OUTSIDE, |b| u32::from_le_bytes(*b)) {
-            TILE_OUTSIDE => Some(&OUTSIDE_RECORD),
-            TILE_INSIDE => Some(&INSIDE_RECORD),
-            e if e >> 28 == TILE_PLANE >> 28 => self.planes.get((e & TILE_RECORD_MASK) as usize),
-            _ => None,
-        }
-    }
-
-    /// The samples of the tile at index entry `i` as [`Self::lane`] reads
-    /// an outside, inside or stored tile; `None` for any other kind.
-    #[inline(always)]
-    fn sampled(&self, i: usize) -> Option<&'a Tile> {
-        let e = self.entries.get(i).map_or(TILE_OUTSIDE, |b| u32::from_le_bytes(*b));
-        match self.stored.get(e.wrapping_sub(TILE_FIRST_STORED) as usize) {
-            Some(tile) => Some(tile),
-            None if e == TILE_INSIDE => Some(&INSIDE),
-            // Outside, or a stored tile past the stored ones (which
-            // validation rules out): outside.
-            // (A fine tile's entry, format 4.4, is not: its lanes are analytic.)
-            None if e < TILE_FINE => Some(&OUTSIDE),
-            None => None,
-        }
     }
 
     #[inline(always)]
