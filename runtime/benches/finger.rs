@@ -26,6 +26,7 @@ fn bytes() -> Vec<u8> {
         grad_x: vec![0.0; n],
         grad_y: vec![0.0; n],
         flags: vec![FIELD_CONTACT; n],
+        encoding: taxel_format::HeightEncoding::Float,
     };
     for j in 0..rows {
         for i in 0..cols {

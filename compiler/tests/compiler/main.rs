@@ -9,6 +9,7 @@ mod golden;
 mod lookup;
 mod malformed;
 mod mesh;
+mod mesh_axis;
 mod realistic;
 mod runaway;
 mod scenes;

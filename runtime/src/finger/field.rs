@@ -37,6 +37,9 @@ pub fn sample(field: &HeightFieldView<'_>, x: f32, y: f32) -> Option<SurfacePoin
     let i = (u as u32).min(cols - 2);
     let j = (v as u32).min(rows - 2);
     let (fx, fy) = (u - i as f32, v - j as f32);
+    if field.is_tiled() {
+        return sample_tiled(field, i, j, fx, fy);
+    }
     // One read of the cell's four nodes, listed in the order of the weights.
     let nodes = field.cell_nodes(j * cols + i)?;
     let weights = [(1.0 - fx) * (1.0 - fy), fx * (1.0 - fy), (1.0 - fx) * fy, fx * fy];
@@ -66,4 +69,50 @@ pub fn sample(field: &HeightFieldView<'_>, x: f32, y: f32) -> Option<SurfacePoin
         return None;
     }
     Some(SurfacePoint { height: h / w, grad_x: gx / w, grad_y: gy / w, edge })
+}
+
+/// [`sample`] in a tiled field (format 4.5), which stores heights only: the
+/// gradient is the slope of the bilinear surface through the cell's
+/// contact nodes at the point, capped at the field's gradient cap.
+///
+/// Along x that is the height difference of the top pair of nodes and of the
+/// bottom pair, blended by the point's row weights (a pair counts only when
+/// both of its nodes have contact; one pair alone is taken as it is); along
+/// y likewise with the left and right pairs. Over a plane tile this is the
+/// plane's slope; across a step it is the finite difference the 4.0 field
+/// stored there (SPEC.md section 9.1).
+#[inline]
+fn sample_tiled(field: &HeightFieldView<'_>, i: u32, j: u32, fx: f32, fy: f32) -> Option<SurfacePoint> {
+    let c = field.cell_heights(i, j)?;
+    let weights = [(1.0 - fx) * (1.0 - fy), fx * (1.0 - fy), (1.0 - fx) * fy, fx * fy];
+    let con = c.flags.map(|f| f & FIELD_CONTACT != 0);
+    let mut wm = [0.0f32; 4];
+    let mut edge = false;
+    for n in 0..4 {
+        wm[n] = if con[n] { weights[n] } else { 0.0 };
+        edge |= c.flags[n] & FIELD_EDGE != 0 && wm[n] > 0.0;
+    }
+    let hs = c.heights;
+    let w = 0.0 + wm[0] + wm[1] + wm[2] + wm[3];
+    if w < 0.5 {
+        return None;
+    }
+    let h = 0.0 + wm[0] * hs[0] + wm[1] * hs[1] + wm[2] * hs[2] + wm[3] * hs[3];
+    let slope = |a: bool, da: f32, wa: f32, b: bool, db: f32, wb: f32| match (a, b) {
+        (true, true) => da * wa + db * wb,
+        (true, false) => da,
+        (false, true) => db,
+        (false, false) => 0.0,
+    };
+    let inv = 1.0 / field.cell.0;
+    let mut gx = slope(con[0] && con[1], hs[1] - hs[0], 1.0 - fy, con[2] && con[3], hs[3] - hs[2], fy) * inv;
+    let mut gy = slope(con[0] && con[2], hs[2] - hs[0], 1.0 - fx, con[1] && con[3], hs[3] - hs[1], fx) * inv;
+    let cap = field.gradient_cap;
+    let m2 = gx * gx + gy * gy;
+    if m2 > cap * cap {
+        let s = cap / libm::sqrtf(m2);
+        gx *= s;
+        gy *= s;
+    }
+    Some(SurfacePoint { height: h / w, grad_x: gx, grad_y: gy, edge })
 }
