@@ -237,7 +237,6 @@ fn plane_of(f: &HeightField, step: f32, nodes: &[(u32, u32, u32, f32, u8)]) -> O
     // the model (an incline of 1 in 8, a level terrace) finds the same
     // numbers from its own nodes, and its record is stored once.
     let cap = f.gradient_cap * (1.0 + 1e-6);
-    let half = step as f64 / 2.0;
     for k in (4..=24).step_by(2) {
         let unit = (1u32 << k) as f64;
         let (gx, gy) = (((gx * unit).round() / unit) as f32, ((gy * unit).round() / unit) as f32);
@@ -246,15 +245,20 @@ fn plane_of(f: &HeightField, step: f32, nodes: &[(u32, u32, u32, f32, u8)]) -> O
         if ![h0, gx, gy].iter().all(|v| v.is_finite()) || gx.abs() > cap || gy.abs() > cap || h0.abs() > 1e9 {
             return None;
         }
-        let fits = c.iter().all(|n| {
-            let p = h0 + gx * (n.1 as f32 * f.cell.0) + gy * (n.2 as f32 * f.cell.0);
-            (p as f64 - n.3 as f64).abs() <= half
-        });
-        if fits {
+        if fits(f, step, nodes, [h0, gx, gy]) {
             return Some([h0, gx, gy]);
         }
     }
     None
+}
+
+/// Whether every contact node lies within half a step of plane `p`.
+fn fits(f: &HeightField, step: f32, nodes: &[(u32, u32, u32, f32, u8)], p: [f32; 3]) -> bool {
+    let half = step as f64 / 2.0;
+    nodes.iter().filter(|n| n.4 & FIELD_CONTACT != 0).all(|n| {
+        let h = p[0] + p[1] * (n.1 as f32 * f.cell.0) + p[2] * (n.2 as f32 * f.cell.0);
+        (h as f64 - n.3 as f64).abs() <= half
+    })
 }
 
 /// Greatest common divisor.
@@ -265,8 +269,16 @@ fn gcd(mut a: u64, mut b: u64) -> u64 {
     a
 }
 
-/// The record of one tile.
-fn record(f: &HeightField, step: f32, base: f32, tx: u32, ty: u32) -> Result<Vec<u32>, &'static str> {
+/// The record of one tile, and its plane when it is a plane tile. A tile
+/// first tries the planes of its neighbours to the left and above (`near`),
+/// so one plane of the model is one record however far it reaches.
+fn record(
+    f: &HeightField,
+    step: f32,
+    base: f32,
+    (tx, ty): (u32, u32),
+    near: [Option<[f32; 3]>; 2],
+) -> Result<(Vec<u32>, Option<[f32; 3]>), &'static str> {
     let nodes = tile_nodes(f, tx, ty);
     let mut contact = [0u32; 2];
     let mut edge = [0u32; 2];
@@ -279,7 +291,7 @@ fn record(f: &HeightField, step: f32, base: f32, tx: u32, ty: u32) -> Result<Vec
         }
     }
     if contact == [0, 0] {
-        return Ok(alloc::vec![KIND_EMPTY]);
+        return Ok((alloc::vec![KIND_EMPTY], None));
     }
     let mut masks = Vec::new();
     let mut flags = 0;
@@ -291,10 +303,11 @@ fn record(f: &HeightField, step: f32, base: f32, tx: u32, ty: u32) -> Result<Vec
         flags |= HAS_EDGE;
         masks.extend_from_slice(&edge);
     }
-    if let Some([h0, gx, gy]) = plane_of(f, step, &nodes) {
+    let plane = near.into_iter().flatten().find(|&p| fits(f, step, &nodes, p)).or_else(|| plane_of(f, step, &nodes));
+    if let Some([h0, gx, gy]) = plane {
         let mut r = alloc::vec![KIND_PLANE | flags, h0.to_bits(), gx.to_bits(), gy.to_bits()];
         r.extend_from_slice(&masks);
-        return Ok(r);
+        return Ok((r, plane));
     }
     let mut codes = [0u64; 64];
     let mut lo = u64::MAX;
@@ -332,7 +345,7 @@ fn record(f: &HeightField, step: f32, base: f32, tx: u32, ty: u32) -> Result<Vec
     let mut r = alloc::vec![KIND_SAMPLED | bits << 8 | flags, lo as u32, m as u32];
     r.extend_from_slice(&packed);
     r.extend_from_slice(&masks);
-    Ok(r)
+    Ok((r, None))
 }
 
 /// The superblock index and the pool of field `f` in the tiled encoding
@@ -342,9 +355,14 @@ pub(crate) fn encode_tiles(f: &HeightField, step: f32, base: f32) -> Result<(Vec
     let (scols, srows) = (tcols.div_ceil(SUPER), trows.div_ceil(SUPER));
     let mut pool = Pool { words: Vec::new(), seen: BTreeMap::new() };
     let mut of_tile = Vec::with_capacity((tcols * trows) as usize);
+    let mut planes: Vec<Option<[f32; 3]>> = Vec::with_capacity((tcols * trows) as usize);
     for ty in 0..trows {
         for tx in 0..tcols {
-            of_tile.push(pool.add(record(f, step, base, tx, ty)?));
+            let left = if tx > 0 { planes.last().copied().flatten() } else { None };
+            let above = if ty > 0 { planes.get(((ty - 1) * tcols + tx) as usize).copied().flatten() } else { None };
+            let (rec, plane) = record(f, step, base, (tx, ty), [left, above])?;
+            of_tile.push(pool.add(rec));
+            planes.push(plane);
         }
     }
     // Lists after every record, so records are numbered in tile order.
