@@ -1,7 +1,7 @@
 //! The tiled encoding of a height field (format 4.5, SPEC.md section 9.1):
 //! heights quantised to a step, in tiles of 8 x 8 nodes that are empty,
-//! one plane, or sampled (a base code plus packed residuals), grouped in
-//! superblocks of 8 x 8 tiles that may all name one record. Identical
+//! one plane, or sampled (a base code, a plane of codes and packed
+//! residuals), grouped in superblocks of 4 x 4 tiles that may all name one record. Identical
 //! records and tile lists are stored once. Gradients are not stored: a
 //! player derives them from the heights of the cell it is in.
 
@@ -16,7 +16,7 @@ use crate::{Tag, in_range};
 /// Nodes along one side of a tile.
 pub const TILE: u32 = 8;
 /// Tiles along one side of a superblock.
-pub const SUPER: u32 = 8;
+pub const SUPER: u32 = 4;
 /// Bytes before the superblock index.
 pub(crate) const TILED_HEADER_LEN: usize = 64;
 /// The encoding number of the tiled encoding (the word at offset 12).
@@ -84,7 +84,7 @@ impl<'a> Tiled<'a> {
         let bits = (head >> 8) & 0xff;
         let body = match kind {
             KIND_PLANE => 3,
-            KIND_SAMPLED => 2 + 2 * bits,
+            KIND_SAMPLED => 4 + 2 * bits,
             _ => return (0.0, 0),
         };
         let mut at = r + 1 + body;
@@ -104,10 +104,7 @@ impl<'a> Tiled<'a> {
             let gy = f32::from_bits(word(self.pool, r + 3));
             h0 + gx * (i as f32 * self.cell) + gy * (j as f32 * self.cell)
         } else {
-            let c0 = word(self.pool, r + 1);
-            let m = word(self.pool, r + 2);
-            let res = residual(self.pool, r + 3, l, bits);
-            let code = c0.wrapping_add(res.wrapping_mul(m));
+            let code = sampled_code(self.pool, r, l, bits);
             self.base + code as f32 * self.step
         };
         (h, flags)
@@ -149,6 +146,18 @@ impl<'a> Tiled<'a> {
             (f(1), f(2), f(3))
         })
     }
+}
+
+/// The code of node `l` of the sampled record at `r` with `bits`-bit
+/// residuals: `c0 + ((sx a + sy b) >> 8) + m r_l` for the node's place
+/// `(a, b)` in the tile (a checked record keeps it within `0..2^24`).
+#[inline]
+fn sampled_code(pool: &[u8], r: u32, l: u32, bits: u32) -> i64 {
+    let c0 = word(pool, r + 1) as i32 as i64;
+    let m = word(pool, r + 2) as i64;
+    let (sx, sy) = (word(pool, r + 3) as i32 as i64, word(pool, r + 4) as i32 as i64);
+    let pred = (sx * (l % TILE) as i64 + sy * (l / TILE) as i64) >> 8;
+    c0 + pred + m * residual(pool, r + 5, l, bits) as i64
 }
 
 #[inline]
@@ -280,17 +289,18 @@ fn record(
     near: [Option<[f32; 3]>; 2],
 ) -> Result<(Vec<u32>, Option<[f32; 3]>), &'static str> {
     let nodes = tile_nodes(f, tx, ty);
-    let mut contact = [0u32; 2];
+    // Nodes past the field's edge are never read: they count as touching,
+    // so an edge tile needs no mask for them and matches the tiles inside.
+    let mut contact = [u32::MAX; 2];
     let mut edge = [0u32; 2];
     for n in &nodes {
-        if n.4 & FIELD_CONTACT != 0 {
-            contact[(n.0 / 32) as usize] |= 1 << (n.0 % 32);
-            if n.4 & FIELD_EDGE != 0 {
-                edge[(n.0 / 32) as usize] |= 1 << (n.0 % 32);
-            }
+        if n.4 & FIELD_CONTACT == 0 {
+            contact[(n.0 / 32) as usize] &= !(1 << (n.0 % 32));
+        } else if n.4 & FIELD_EDGE != 0 {
+            edge[(n.0 / 32) as usize] |= 1 << (n.0 % 32);
         }
     }
-    if contact == [0, 0] {
+    if nodes.iter().all(|n| n.4 & FIELD_CONTACT == 0) {
         return Ok((alloc::vec![KIND_EMPTY], None));
     }
     let mut masks = Vec::new();
@@ -309,29 +319,22 @@ fn record(
         r.extend_from_slice(&masks);
         return Ok((r, plane));
     }
-    let mut codes = [0u64; 64];
-    let mut lo = u64::MAX;
+    let mut codes = [0i64; 64];
     for n in nodes.iter().filter(|n| n.4 & FIELD_CONTACT != 0) {
         let c = ((n.3 as f64 - base as f64) / step as f64).round();
         if !(0.0..=MAX_CODE as f64).contains(&c) {
             return Err("heights within 2^24 - 1 steps of the lowest");
         }
-        codes[n.0 as usize] = c as u64;
-        lo = lo.min(c as u64);
+        codes[n.0 as usize] = c as i64;
     }
-    let mut m = 0;
-    for n in nodes.iter().filter(|n| n.4 & FIELD_CONTACT != 0) {
-        m = gcd(m, codes[n.0 as usize] - lo);
-    }
-    let m = m.max(1);
-    let mut res = [0u32; 64];
-    let mut top = 0u32;
-    for n in nodes.iter().filter(|n| n.4 & FIELD_CONTACT != 0) {
-        let r = ((codes[n.0 as usize] - lo) / m) as u32;
-        res[n.0 as usize] = r;
-        top = top.max(r);
-    }
-    let bits = 32 - top.leading_zeros();
+    let touching: Vec<u32> = nodes.iter().filter(|n| n.4 & FIELD_CONTACT != 0).map(|n| n.0).collect();
+    // The codes less a plane of codes (slopes in 1/256 code a node, from
+    // their least-squares plane) when that needs fewer bits than the codes
+    // themselves: a smooth surface's residuals are its bending within the
+    // tile, a terrace's or a step's are its levels.
+    let slopes = code_slopes(&touching, &codes);
+    let best = [(0, 0), slopes].into_iter().map(|sl| sampled(&touching, &codes, sl)).min_by_key(|r| r.0);
+    let Some((bits, c0, m, (sx, sy), res)) = best else { return Err("a tile with contact") };
     let mut packed = alloc::vec![0u32; 2 * bits as usize];
     for (l, &r) in res.iter().enumerate() {
         let p = l as u32 * bits;
@@ -342,10 +345,56 @@ fn record(
             }
         }
     }
-    let mut r = alloc::vec![KIND_SAMPLED | bits << 8 | flags, lo as u32, m as u32];
+    let mut r = alloc::vec![KIND_SAMPLED | bits << 8 | flags, c0 as i32 as u32, m, sx as u32, sy as u32];
     r.extend_from_slice(&packed);
     r.extend_from_slice(&masks);
     Ok((r, None))
+}
+
+/// The least-squares slopes of the codes of nodes `l` along the tile's
+/// columns and rows, in 1/256 code a node.
+fn code_slopes(l: &[u32], codes: &[i64; 64]) -> (i32, i32) {
+    let k = l.len() as f64;
+    let at = |l: u32| ((l % TILE) as f64, (l / TILE) as f64, codes[l as usize] as f64);
+    let (ma, mb, mc) = l.iter().fold((0.0, 0.0, 0.0), |s, &l| {
+        let (a, b, c) = at(l);
+        (s.0 + a / k, s.1 + b / k, s.2 + c / k)
+    });
+    let (mut saa, mut sab, mut sbb, mut sac, mut sbc) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for &l in l {
+        let (a, b, c) = at(l);
+        let (a, b, c) = (a - ma, b - mb, c - mc);
+        (saa, sab, sbb, sac, sbc) = (saa + a * a, sab + a * b, sbb + b * b, sac + a * c, sbc + b * c);
+    }
+    let det = saa * sbb - sab * sab;
+    if !(det > 1e-9) {
+        return (0, 0);
+    }
+    let q = |v: f64| (v * 256.0).round().clamp(-(1 << 30) as f64, (1 << 30) as f64) as i32;
+    (q((sac * sbb - sbc * sab) / det), q((sbc * saa - sac * sab) / det))
+}
+
+/// A sampled tile's numbers with code slopes `sl`: residual bits, base
+/// code, multiplier, slopes and the 64 residuals.
+type Sampled = (u32, i64, u32, (i32, i32), [u32; 64]);
+
+fn sampled(l: &[u32], codes: &[i64; 64], sl: (i32, i32)) -> Sampled {
+    let pred = |l: u32| (sl.0 as i64 * (l % TILE) as i64 + sl.1 as i64 * (l / TILE) as i64) >> 8;
+    let d = |l: u32| codes[l as usize] - pred(l);
+    let c0 = l.iter().map(|&l| d(l)).min().unwrap_or(0);
+    let m = l.iter().fold(0u64, |g, &l| gcd(g, (d(l) - c0) as u64)).max(1);
+    let mut res = [0u32; 64];
+    let mut top = 0u64;
+    for &l in l {
+        let r = (d(l) - c0) as u64 / m;
+        top = top.max(r);
+        res[l as usize] = r.min(u32::MAX as u64) as u32;
+    }
+    let bits = 64 - top.leading_zeros();
+    // Residuals that do not fit in 24 bits cannot be stored: such a choice
+    // of slopes is never the smaller one (the plain codes fit).
+    let bits = if bits > MAX_RESIDUAL_BITS || m > MAX_CODE as u64 { u32::MAX } else { bits };
+    (bits, c0, m as u32, sl, res)
 }
 
 /// The superblock index and the pool of field `f` in the tiled encoding
@@ -371,7 +420,7 @@ pub(crate) fn encode_tiles(f: &HeightField, step: f32, base: f32) -> Result<(Vec
     let mut supers = Vec::with_capacity((scols * srows) as usize);
     for sy in 0..srows {
         for sx in 0..scols {
-            let mut list = Vec::with_capacity(64);
+            let mut list = Vec::with_capacity((SUPER * SUPER) as usize);
             for k in 0..SUPER * SUPER {
                 let (tx, ty) = (sx * SUPER + k % SUPER, sy * SUPER + k / SUPER);
                 // A tile past the field's last one names the superblock's first tile's record.
@@ -445,10 +494,10 @@ pub(crate) fn parse_tiled<'a>(
         if e & UNIFORM != 0 {
             check_record(&t, e & !UNIFORM, w, cap, index)?;
         } else {
-            if e as u64 + 64 > w as u64 {
-                return Err(bad("tile list", "64 entries inside the pool"));
+            if e as u64 + (SUPER * SUPER) as u64 > w as u64 {
+                return Err(bad("tile list", "16 entries inside the pool"));
             }
-            for l in 0..64 {
+            for l in 0..SUPER * SUPER {
                 check_record(&t, word(pool, e + l), w, cap, index)?;
             }
         }
@@ -474,7 +523,7 @@ fn check_record(t: &Tiled<'_>, r: u32, w: u32, cap: f32, index: u32) -> Result<(
     }
     let body = match kind {
         KIND_PLANE => 3,
-        KIND_SAMPLED => 2 + 2 * bits,
+        KIND_SAMPLED => 4 + 2 * bits,
         _ => 0,
     };
     let masks = 2 * ((head & HAS_CONTACT != 0) as u32 + (head & HAS_EDGE != 0) as u32);
@@ -500,17 +549,13 @@ fn check_record(t: &Tiled<'_>, r: u32, w: u32, cap: f32, index: u32) -> Result<(
             in_range(f(3), -cap, cap, tag, index, "plane gradient y", "within the gradient cap")?;
         }
         KIND_SAMPLED => {
-            let (c0, m) = (word(t.pool, r + 1), word(t.pool, r + 2));
-            if c0 > MAX_CODE || !(1..=MAX_CODE).contains(&m) {
-                return Err(bad("sampled tile", "a base code and a multiplier below 2^24, the multiplier at least 1"));
+            let m = word(t.pool, r + 2);
+            if !(1..=MAX_CODE).contains(&m) {
+                return Err(bad("sampled tile", "a multiplier from 1 to 2^24 - 1"));
             }
             for l in 0..64 {
-                let v = residual(t.pool, r + 3, l, bits);
-                if !contact(l) && v != 0 {
+                if !contact(l) && residual(t.pool, r + 5, l, bits) != 0 {
                     return Err(bad("sampled tile", "residual 0 at nodes without contact"));
-                }
-                if c0 as u64 + v as u64 * m as u64 > MAX_CODE as u64 {
-                    return Err(bad("sampled tile", "codes below 2^24"));
                 }
             }
         }

@@ -87,6 +87,7 @@ fn finger_fields_are_at_most_a_16_bit_png_of_their_heights() {
         .collect();
     let fit = MeshOptions { fit: Some([160.0, 100.0]), nodes_per_mm: Some(4.0), ..MeshOptions::default() };
     cases.push(("fitted terrain".into(), terrain().to_glb(), fit));
+    let mut over = Vec::new();
     for (name, glb, opts) in &cases {
         let (float, tiled) = fields(glb, opts);
         let (old, new) = (field_bytes(&float), field_bytes(&tiled));
@@ -95,8 +96,11 @@ fn finger_fields_are_at_most_a_16_bit_png_of_their_heights() {
             "{name}: {} x {} nodes: 4.0 field {old} B, tiled {new} B, 16-bit PNG {png} B (best compression {best} B)",
             float.cols, float.rows
         );
-        assert!(new <= png, "{name}: the tiled field is {new} bytes, its PNG {png}");
+        if new > png {
+            over.push(format!("{name}: the tiled field is {new} bytes, its PNG {png}"));
+        }
     }
+    assert!(over.is_empty(), "{over:?}");
 }
 
 /// The frames of the bundle holding `f`, played along `trace`.

@@ -67,17 +67,17 @@ fn spec_node(d: &[u8], i: u32, j: u32) -> Option<f32> {
     let f = |o: usize| f32::from_bits(w(o));
     let (cols, cell, step, base, s) = (w(4), f(24), f(48), f(52), w(56) as usize);
     let pool = |k: u32| w(64 + 4 * s + 4 * k as usize);
-    let sc = cols.div_ceil(8).div_ceil(8);
+    let sc = cols.div_ceil(8).div_ceil(4);
     let (tx, ty) = (i / 8, j / 8);
-    let e = w(64 + 4 * ((ty / 8) * sc + tx / 8) as usize);
-    let r = if e >> 31 == 1 { e & 0x7fff_ffff } else { pool(e + (ty % 8) * 8 + tx % 8) };
+    let e = w(64 + 4 * ((ty / 4) * sc + tx / 4) as usize);
+    let r = if e >> 31 == 1 { e & 0x7fff_ffff } else { pool(e + (ty % 4) * 4 + tx % 4) };
     let head = pool(r);
     let l = (j % 8) * 8 + i % 8;
     let bits = (head >> 8) & 0xff;
     let body = match head & 0xff {
         0 => return None,
         1 => 3,
-        _ => 2 + 2 * bits,
+        _ => 4 + 2 * bits,
     };
     let bit = |at: u32, k: u32| (pool(at + k / 32) >> (k % 32)) & 1;
     if head & 1 << 16 != 0 && bit(r + 1 + body, l) == 0 {
@@ -87,8 +87,11 @@ fn spec_node(d: &[u8], i: u32, j: u32) -> Option<f32> {
         let (h0, gx, gy) = (f32::from_bits(pool(r + 1)), f32::from_bits(pool(r + 2)), f32::from_bits(pool(r + 3)));
         h0 + gx * (i as f32 * cell) + gy * (j as f32 * cell)
     } else {
-        let residual = (0..bits).map(|b| bit(r + 3, l * bits + b) << b).sum::<u32>();
-        base + (pool(r + 1) + pool(r + 2) * residual) as f32 * step
+        let residual = (0..bits).map(|b| bit(r + 5, l * bits + b) << b).sum::<u32>() as i64;
+        let (c0, m) = (pool(r + 1) as i32 as i64, pool(r + 2) as i64);
+        let (sx, sy) = (pool(r + 3) as i32 as i64, pool(r + 4) as i32 as i64);
+        let code = c0 + ((sx * (i % 8) as i64 + sy * (j % 8) as i64) >> 8) + m * residual;
+        base + code as f32 * step
     })
 }
 
