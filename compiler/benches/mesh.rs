@@ -20,8 +20,8 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use taxel_compiler::mesh::write::HeightMesh;
 use taxel_compiler::UpAxis;
+use taxel_compiler::mesh::write::HeightMesh;
 use taxel_compiler::mesh::{self, MeshOptions};
 
 /// A closed block `w` x `d` x `h` (metres) at `(x, z)`, turned by `a` about +Y.

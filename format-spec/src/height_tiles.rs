@@ -222,9 +222,9 @@ fn plane_of(f: &HeightField, step: f32, nodes: &[(u32, u32, u32, f32, u8)]) -> O
     let cell = f.cell.0 as f64;
     // Least squares h = a + b x + c y about the nodes' mean (x, y in mm).
     let k = c.len() as f64;
-    let (mx, my, mh) = c.iter().fold((0.0, 0.0, 0.0), |s, n| {
-        (s.0 + n.1 as f64 * cell / k, s.1 + n.2 as f64 * cell / k, s.2 + n.3 as f64 / k)
-    });
+    let (mx, my, mh) = c
+        .iter()
+        .fold((0.0, 0.0, 0.0), |s, n| (s.0 + n.1 as f64 * cell / k, s.1 + n.2 as f64 * cell / k, s.2 + n.3 as f64 / k));
     let (mut sxx, mut sxy, mut syy, mut sxh, mut syh) = (0.0, 0.0, 0.0, 0.0, 0.0);
     for n in &c {
         let (x, y, h) = (n.1 as f64 * cell - mx, n.2 as f64 * cell - my, n.3 as f64 - mh);

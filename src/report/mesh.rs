@@ -251,7 +251,11 @@ pub fn png16(h: &taxel_format::HeightField) -> Option<usize> {
         .heights
         .iter()
         .zip(&h.flags)
-        .map(|(v, f)| if f & taxel_format::FIELD_CONTACT != 0 { 1 + ((*v as f64 - lo) * scale).round() as u16 } else { 0 })
+        .map(
+            |(v, f)| {
+                if f & taxel_format::FIELD_CONTACT != 0 { 1 + ((*v as f64 - lo) * scale).round() as u16 } else { 0 }
+            },
+        )
         .collect();
     let img: image::ImageBuffer<image::Luma<u16>, Vec<u16>> = image::ImageBuffer::from_raw(h.cols, h.rows, px)?;
     let mut out = Vec::new();

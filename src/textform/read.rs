@@ -45,8 +45,20 @@ const FIELD_KEYS: &[&str] = &[
 ];
 const DOTS_KEYS: &[&str] = &["kind", "file", "dot_kind"];
 const FILE_KEYS: &[&str] = &["kind", "file"];
-const HEIGHT_KEYS: &[&str] =
-    &["kind", "file", "source", "cols", "rows", "origin_x_mm", "origin_y_mm", "cell_mm", "gradient_cap", "height_step_mm", "height_base_mm", "max_gradient"];
+const HEIGHT_KEYS: &[&str] = &[
+    "kind",
+    "file",
+    "source",
+    "cols",
+    "rows",
+    "origin_x_mm",
+    "origin_y_mm",
+    "cell_mm",
+    "gradient_cap",
+    "height_step_mm",
+    "height_base_mm",
+    "max_gradient",
+];
 const FOOTPRINT_KEYS: &[&str] = &["kind", "file", "origin_x_mm", "origin_y_mm", "quantum_mm"];
 const RAW_KEYS: &[&str] = &["kind", "file", "tag", "tag_hex", "required"];
 

@@ -10,8 +10,8 @@ use image::{ImageBuffer, Luma};
 use taxel_compiler::mesh::write::HeightMesh;
 use taxel_compiler::mesh::{self, MeshOptions, store};
 use taxel_format::{
-    Bundle, BundleView, Chunk, ChunkView, FIELD_CONTACT, FamilyParams, HeightEncoding, HeightField, Manifest, Mm,
-    Tick, profiles,
+    Bundle, BundleView, Chunk, ChunkView, FIELD_CONTACT, FamilyParams, HeightEncoding, HeightField, Manifest, Mm, Tick,
+    profiles,
 };
 use taxel_runtime::finger::{FingerPlayer, Touch};
 use taxel_runtime::trace::Trace;

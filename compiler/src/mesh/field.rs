@@ -278,7 +278,9 @@ fn raster_steps(s: &Surface, g: &Grid, best: &[f64], top: &[u32], mark: &mut dyn
     for j in 0..rows {
         for i in 0..cols {
             let k = j * cols + i;
-            for (next, axis) in [(i + 1 < cols).then_some(k + 1), (j + 1 < rows).then_some(k + cols)].into_iter().zip(0..) {
+            for (next, axis) in
+                [(i + 1 < cols).then_some(k + 1), (j + 1 < rows).then_some(k + cols)].into_iter().zip(0..)
+            {
                 let Some(k2) = next else { continue };
                 let both = best[k].is_finite() && best[k2].is_finite();
                 if both && top[k] != top[k2] && (best[k2] - best[k]).abs() > rise {

@@ -96,7 +96,8 @@ fn a_terrain_seen_edge_on_builds_to_the_exact_top_surface() {
     for j in 0..f.rows {
         for i in 0..f.cols {
             let k = (j * f.cols + i) as usize;
-            let (x, y) = (f.origin_x.0 as f64 + i as f64 * f.cell.0 as f64, f.origin_y.0 as f64 + j as f64 * f.cell.0 as f64);
+            let (x, y) =
+                (f.origin_x.0 as f64 + i as f64 * f.cell.0 as f64, f.origin_y.0 as f64 + j as f64 * f.cell.0 as f64);
             // Nodes within the field's outline slack of a face's edge may take
             // the neighbouring face's height: compare where the reference is
             // the same a little way round the node.

@@ -112,7 +112,8 @@ fn a_tiled_field_plays_the_float_field_within_half_a_step_and_its_slope_within_t
         // Within a cell of the hole a pair of nodes may lack contact, and
         // the derived slope along it is 0 (SPEC.md section 9.1): compare
         // where the whole cell touches.
-        let inside = [(-0.5, -0.5), (0.5, -0.5), (-0.5, 0.5), (0.5, 0.5)].iter().all(|(dx, dy)| cap(x + dx, y + dy).is_some());
+        let inside =
+            [(-0.5, -0.5), (0.5, -0.5), (-0.5, 0.5), (0.5, 0.5)].iter().all(|(dx, dy)| cap(x + dx, y + dy).is_some());
         if !a.edge && inside {
             let e = (a.grad_x - b.grad_x).abs().max((a.grad_y - b.grad_y).abs()) as f64;
             assert!(e <= bound, "slope at ({x}, {y}): {a:?} {b:?}, bound {bound}");
