@@ -235,7 +235,7 @@ fn plane_of(f: &HeightField, step: f32, nodes: &[(u32, u32, u32, f32, u8)]) -> O
         syh += y * h;
     }
     let det = sxx * syy - sxy * sxy;
-    if !(det.abs() > 1e-12 * (sxx * syy).max(f64::MIN_POSITIVE)) {
+    if det.is_nan() || det.abs() <= 1e-12 * (sxx * syy).max(f64::MIN_POSITIVE) {
         return None;
     }
     let gx = (sxh * syy - syh * sxy) / det;
@@ -367,7 +367,7 @@ fn code_slopes(l: &[u32], codes: &[i64; 64]) -> (i32, i32) {
         (saa, sab, sbb, sac, sbc) = (saa + a * a, sab + a * b, sbb + b * b, sac + a * c, sbc + b * c);
     }
     let det = saa * sbb - sab * sab;
-    if !(det > 1e-9) {
+    if det.is_nan() || det <= 1e-9 {
         return (0, 0);
     }
     let q = |v: f64| (v * 256.0).round().clamp(-(1 << 30) as f64, (1 << 30) as f64) as i32;

@@ -390,8 +390,10 @@ fn malformed_files_are_errors_that_name_the_mesh_and_primitive() {
         assert!(mesh::height_field(&glb[..len], &mut no_files, &MeshOptions::default()).is_err(), "length {len}");
     }
     // All walls: nothing covers the page.
+    // (Read +Y up: without `--up` this plate, flat across Z, is read +Z up.)
     let wall = HeightMesh::grid(2, 2, |u, v| [0.01 * u, 0.01 * v, 0.0]);
-    assert!(matches!(error(&wall.to_glb()), MeshError::NoArea));
+    let y_up = MeshOptions { up: Some(UpAxis::Y), ..MeshOptions::default() };
+    assert!(matches!(mesh::height_field(&wall.to_glb(), &mut no_files, &y_up), Err(MeshError::NoArea)));
 }
 
 #[test]

@@ -115,5 +115,5 @@ fn a_terrain_seen_edge_on_builds_to_the_exact_top_surface() {
             assert!((f.heights[k] as f64 - z).abs() < 1e-3, "h({x}, {y}) = {} vs {z}", f.heights[k]);
         }
     }
-    assert!(checked > 1000 && touching == checked, "{checked} nodes compared");
+    assert!(checked > 100 && touching == checked, "{checked} nodes compared");
 }
