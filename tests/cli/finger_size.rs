@@ -43,7 +43,7 @@ fn png_of(f: &HeightField, compression: CompressionType) -> usize {
 /// The bytes a height field chunk takes in a bundle (its data, its table entry, its padding).
 fn field_bytes(f: &HeightField) -> usize {
     let manifest = Manifest::new(profiles::builtin("finger3").unwrap());
-    let mut b = Bundle::new(manifest.clone());
+    let mut b = Bundle::new(manifest);
     let empty = b.to_bytes().unwrap().len();
     b.chunks.push(Chunk::Height(f.clone()));
     b.to_bytes().unwrap().len() - empty
