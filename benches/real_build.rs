@@ -17,6 +17,12 @@
 //! with `-- real-size`. With `TAXEL_KEEP_DRAWINGS=DIR` the two drawings are
 //! also written to DIR, to time `taxel build --fit` on them by hand.
 //!
+//! A third group, `runaway`, builds the drawings of issue 47 at its sizes
+//! (a self-crossing scribble of 3,000 to 300,000 segments, unannotated and
+//! annotated, 20,000 and 100,000 scatter marks, a jittered ring of 300,000
+//! points), whole process, beside resvg's render of each at 1,100 px
+//! wide: `-- runaway`.
+//!
 //! `cargo bench --bench real_build -- --warm-up-time 1 --measurement-time 10`
 
 use std::path::Path;
@@ -79,6 +85,48 @@ fn bench(c: &mut Criterion) {
     });
     g.finish();
     near_the_limit(c, dir.path(), taxel);
+    runaway(c, dir.path(), taxel);
+}
+
+/// Issue 47's drawings: `taxel build` (whole process, the default memory
+/// limit) beside resvg's render at 1,100 px wide. A build the limit stops
+/// counts as done (it is refused in bounded time, which is the point).
+fn runaway(c: &mut Criterion, dir: &Path, taxel: &str) {
+    let page = (200.0, 150.0);
+    let annotated = r##"stroke="#000" stroke-width="0.5" data-tactile="grating(); vibrate()""##;
+    let cases: Vec<(String, String)> = vec![
+        ("scribble 3,000".into(), drawings::scribble(3_000, page, "", 1)),
+        ("scribble 30,000".into(), drawings::scribble(30_000, page, "", 1)),
+        ("scribble 300,000".into(), drawings::scribble(300_000, page, "", 1)),
+        ("annotated scribble 3,000".into(), drawings::scribble(3_000, page, annotated, 1)),
+        ("annotated scribble 30,000".into(), drawings::scribble(30_000, page, annotated, 1)),
+        ("annotated scribble 300,000".into(), drawings::scribble(300_000, page, annotated, 1)),
+        ("scatter 20,000".into(), drawings::scatter(20_000, 0.6, page, 1)),
+        ("scatter 100,000".into(), drawings::scatter(100_000, 0.6, page, 1)),
+        ("ring 300,000".into(), drawings::jittered_ring(300_000, 50.0, 3.0, page, 1)),
+    ];
+    let mut g = c.benchmark_group("runaway");
+    g.sampling_mode(SamplingMode::Flat).sample_size(10);
+    for (name, svg) in &cases {
+        let input = dir.join(format!("{}.svg", name.replace([' ', ','], "")));
+        std::fs::write(&input, svg).expect("drawing written");
+        let bundle = dir.join("runaway.taxel");
+        g.bench_function(format!("{name}: taxel build"), |b| {
+            b.iter(|| {
+                let out = Command::new(taxel)
+                    .args(["build", "--force", "-o"])
+                    .arg(&bundle)
+                    .arg(&input)
+                    .output()
+                    .expect("taxel runs");
+                // Built, or refused with a diagnostic: never killed.
+                assert!(out.status.code().is_some(), "{name}: killed");
+            })
+        });
+        let png = dir.join("runaway.png");
+        g.bench_function(format!("{name}: resvg at 1,100 px"), |b| b.iter(|| resvg_png(svg, 1_100, &png)));
+    }
+    g.finish();
 }
 
 /// The input limit of `src/io/read.rs` (a bench cannot import the binary's modules).

@@ -49,7 +49,8 @@ STYLES = {
     "braille": [
         Param("radius", "mm", 0.72, False),
         Param("amplitude", "%", 100.0, False),
-        Param("grade", "", 1.0, False),
+        # None (0 in the dialog): the language's own, contracted where it has it.
+        Param("grade", "", None, False),
     ],
     # start: None (not given) follows the previous stroke.
     "brush": [
@@ -94,7 +95,7 @@ def format_style(name, values):
     args = []
     for p in STYLES.get(name, []):
         v = values.get(p.name)
-        if v is None or (p.name == "spacing" and v <= 0):
+        if v is None or (p.name in ("spacing", "grade") and v <= 0):
             continue
         if not p.always and p.default is not None and abs(v - p.default) < 1e-9:
             continue
@@ -169,8 +170,8 @@ def describe(written):
     parts = []
     for p in STYLES[name]:
         v = values[p.name]
-        if v is None or (p.name == "spacing" and v <= 0):
-            auto = "three radii" if p.name == "spacing" else "after the previous stroke"
+        if v is None or (p.name in ("spacing", "grade") and v <= 0):
+            auto = {"spacing": "three radii", "grade": "as its language is read"}.get(p.name, "after the previous stroke")
             parts.append(f"{p.name} {auto}")
         else:
             parts.append(f"{p.name} {number(v)}{(' ' + p.unit) if p.unit else ''}")

@@ -38,59 +38,92 @@ fn write_place(d: &Diagnostic, out: &mut String) -> bool {
 /// instance as [`Diagnostic::render`] prints it. Errors come first, then
 /// warnings, then notes, each in order of first appearance.
 pub fn lines(diags: &[Diagnostic], file: &str, min: Severity, verbose: bool) -> Vec<String> {
+    if !verbose {
+        return groups(diags, file, min).into_iter().flat_map(|g| g.lines).collect();
+    }
+    let shown = diags.iter().filter(|d| d.severity >= min && d.code != STYLE_SUMMARY);
+    let mut out = Vec::new();
+    for severity in [Severity::Error, Severity::Warning, Severity::Note] {
+        let of = shown.clone().filter(|d| d.severity == severity);
+        out.extend(of.flat_map(|d| d.render(file).lines().map(str::to_string).collect::<Vec<_>>()));
+    }
+    out
+}
+
+/// The diagnostics of one code and severity, as the account groups them.
+#[derive(Debug)]
+pub struct Group<'a> {
+    /// How bad they are.
+    pub severity: Severity,
+    /// Their code.
+    pub code: &'static str,
+    /// Every instance, in order.
+    pub members: Vec<&'a Diagnostic>,
+    /// The lines [`lines`] prints for the group (without `verbose`).
+    pub lines: Vec<String>,
+}
+
+/// The account's groups of `diags` of the input shown as `file`, in the
+/// order [`lines`] prints them: those at or above `min`, the style summary
+/// left out; errors first, then warnings, then notes, each in order of first
+/// appearance. The studio shows the same groups as the command line.
+pub fn groups<'a>(diags: &'a [Diagnostic], file: &str, min: Severity) -> Vec<Group<'a>> {
     let shown: Vec<&Diagnostic> = diags.iter().filter(|d| d.severity >= min && d.code != STYLE_SUMMARY).collect();
     let mut out = Vec::new();
     for severity in [Severity::Error, Severity::Warning, Severity::Note] {
         let of: Vec<&Diagnostic> = shown.iter().copied().filter(|d| d.severity == severity).collect();
-        if verbose {
-            out.extend(of.iter().flat_map(|d| d.render(file).lines().map(str::to_string).collect::<Vec<_>>()));
-            continue;
-        }
-        let mut codes: Vec<&str> = Vec::new();
+        let mut codes: Vec<&'static str> = Vec::new();
         for d in &of {
             if !codes.contains(&d.code) {
                 codes.push(d.code);
             }
         }
         for code in codes {
-            let group: Vec<&Diagnostic> = of.iter().copied().filter(|d| d.code == code).collect();
-            let first = group[0];
-            if group.len() == 1 {
-                out.extend(first.render(file).lines().map(str::to_string));
-                continue;
-            }
-            // Only the named places are written out: a dense map has hundreds of
-            // thousands. An element met twice (its band and its fill) is named once.
-            // Each place is written into one buffer, not a string of its own.
-            let mut places: Vec<String> = Vec::new();
-            let mut more = 0;
-            let mut p = String::new();
-            for d in &group {
-                if !write_place(d, &mut p) || places.contains(&p) {
-                    continue;
-                }
-                if places.len() < NAMED {
-                    places.push(p.clone());
-                } else {
-                    more += 1;
-                }
-            }
-            let mut at = places.join(", ");
-            if more > 0 {
-                at += &format!(" and {more} more");
-            }
-            let (text, first_of) = group_message(&group);
-            let at = match (first_of, at.is_empty()) {
-                (Some(f), false) => format!(" ({f}; at {at})"),
-                (Some(f), true) => format!(" ({f})"),
-                (None, false) => format!(" (at {at})"),
-                (None, true) => String::new(),
-            };
-            out.push(format!("{file}: {severity}[{code}] x{}: {text}{at}; -v lists each", group.len()));
-            if let Some(h) = &first.help {
-                out.push(format!("  help: {h}"));
-            }
+            let members: Vec<&Diagnostic> = of.iter().copied().filter(|d| d.code == code).collect();
+            let lines = group_lines(&members, file, severity, code);
+            out.push(Group { severity, code, members, lines });
         }
+    }
+    out
+}
+
+/// The lines of one group: a single instance as [`Diagnostic::render`]
+/// prints it; several as one line (count, message, first places) and the help.
+fn group_lines(group: &[&Diagnostic], file: &str, severity: Severity, code: &str) -> Vec<String> {
+    let first = group[0];
+    if group.len() == 1 {
+        return first.render(file).lines().map(str::to_string).collect();
+    }
+    // Only the named places are written out: a dense map has hundreds of
+    // thousands. An element met twice (its band and its fill) is named once.
+    // Each place is written into one buffer, not a string of its own.
+    let mut places: Vec<String> = Vec::new();
+    let mut more = 0;
+    let mut p = String::new();
+    for d in group {
+        if !write_place(d, &mut p) || places.contains(&p) {
+            continue;
+        }
+        if places.len() < NAMED {
+            places.push(p.clone());
+        } else {
+            more += 1;
+        }
+    }
+    let mut at = places.join(", ");
+    if more > 0 {
+        at += &format!(" and {more} more");
+    }
+    let (text, first_of) = group_message(group);
+    let at = match (first_of, at.is_empty()) {
+        (Some(f), false) => format!(" ({f}; at {at})"),
+        (Some(f), true) => format!(" ({f})"),
+        (None, false) => format!(" (at {at})"),
+        (None, true) => String::new(),
+    };
+    let mut out = vec![format!("{file}: {severity}[{code}] x{}: {text}{at}; -v lists each", group.len())];
+    if let Some(h) = &first.help {
+        out.push(format!("  help: {h}"));
     }
     out
 }

@@ -94,6 +94,43 @@ pub struct CompileOpts {
     /// LANG), else English.
     #[arg(long, value_name = "LANG[,LANG...]", value_parser = parse_lang)]
     pub lang: Option<String>,
+    /// The most memory the build may take, for the whole process: `512M`,
+    /// `2G`, `1.5GB`, or `none`. Past it the layer being built stops with
+    /// an error (T0308) that names its elements, and nothing is written.
+    /// Default 2G, safe on a 4 GB laptop.
+    #[arg(long, value_name = "SIZE|none", value_parser = parse_memory)]
+    pub max_memory: Option<usize>,
+}
+
+/// `--max-memory`'s default, bytes: 2 GiB, half a 4 GB laptop.
+pub const DEFAULT_MAX_MEMORY: usize = 2 << 30;
+
+/// `--max-memory`: a size in bytes with an optional unit (`K`, `M`, `G`,
+/// with or without `B` and `i`; powers of 1,024), or `none` (no limit:
+/// `usize::MAX`).
+fn parse_memory(s: &str) -> Result<usize, String> {
+    let t = s.trim();
+    if t.eq_ignore_ascii_case("none") {
+        return Ok(usize::MAX);
+    }
+    let bad =
+        || format!("`{s}` is not a memory size: expected a number with K, M or G (such as 512M or 1.5G), or none");
+    let split = t.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(t.len());
+    let (number, unit) = t.split_at(split);
+    let unit = unit.trim().to_ascii_uppercase();
+    let shift = match unit.trim_end_matches('B').trim_end_matches('I') {
+        "" if unit.is_empty() => 0,
+        "K" => 10,
+        "M" => 20,
+        "G" => 30,
+        "T" => 40,
+        _ => return Err(bad()),
+    };
+    let value = number.parse::<f64>().map_err(|_| bad())? * (1u64 << shift) as f64;
+    if !(value.is_finite() && value >= 1.0) {
+        return Err(format!("`{s}` is not a memory size: expected at least 1 byte"));
+    }
+    Ok(value.min(usize::MAX as f64) as usize)
 }
 
 impl CompileOpts {
@@ -284,6 +321,23 @@ pub enum Command {
     /// Install or remove the Inkscape extension (Extensions > Tactile: style, check, preview, export).
     #[command(subcommand)]
     Inkscape(InkscapeCommand),
+    /// A local web app: open a drawing, see and hear what will be felt, fix
+    /// a style, download the bundle, explore it (docs/studio.md).
+    Studio {
+        /// A drawing, mesh, bundle or folder (default: the current folder).
+        path: Option<PathBuf>,
+        /// Port to listen on (default 8470, or any free one when it is taken; 0: any free one).
+        #[arg(long, value_name = "N")]
+        port: Option<u16>,
+        /// Do not open the default browser.
+        #[arg(long)]
+        no_open: bool,
+        /// Address to listen on (default 127.0.0.1, this machine only).
+        #[arg(long, value_name = "ADDR")]
+        listen: Option<std::net::IpAddr>,
+        #[command(flatten)]
+        opts: CompileOpts,
+    },
 }
 
 /// `taxel inkscape ...`
@@ -347,5 +401,19 @@ mod tests {
         assert_eq!(parse_lang("fr-CA, fr").unwrap(), "fr-CA,fr");
         assert!(parse_lang("").unwrap_err().contains("expected a language tag"));
         assert!(parse_lang("fr_FR.UTF-8").unwrap_err().contains("`fr_FR.UTF-8` is not a language tag"));
+    }
+
+    #[test]
+    fn memory_sizes_read_in_powers_of_1024() {
+        assert_eq!(parse_memory("512M"), Ok(512 << 20));
+        assert_eq!(parse_memory("2G"), Ok(2 << 30));
+        assert_eq!(parse_memory("2 GiB"), Ok(2 << 30));
+        assert_eq!(parse_memory("1.5gb"), Ok(3 << 29));
+        assert_eq!(parse_memory("100000000"), Ok(100_000_000));
+        assert_eq!(parse_memory("none"), Ok(usize::MAX));
+        assert_eq!(parse_memory("1K"), Ok(1024));
+        assert!(parse_memory("0").unwrap_err().contains("at least 1 byte"));
+        assert!(parse_memory("lots").unwrap_err().contains("not a memory size"));
+        assert!(parse_memory("2X").unwrap_err().contains("not a memory size"));
     }
 }

@@ -125,6 +125,10 @@ fn options_with_fonts(opts: &CompileOpts, fonts: bool) -> Result<Result<CompileO
         auto: opts.style_is_auto(),
         languages: languages(opts),
         braille: braille(),
+        memory: match opts.max_memory.unwrap_or(crate::cli::DEFAULT_MAX_MEMORY) {
+            usize::MAX => None,
+            limit => Some(taxel_compiler::budget::MemoryBudget { in_use: crate::held, limit }),
+        },
     }))
 }
 
@@ -176,7 +180,7 @@ fn compile_drawing(path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> Result<Co
     // ([`warm_up_fonts`]).
     let options = match options_with_fonts(opts, false)? {
         Ok(o) => o,
-        Err(d) => return Ok(Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new() }),
+        Err(d) => return Ok(Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new(), print: None }),
     };
     // A compressed drawing is unpacked (within the input limit); what is
     // neither SVG text nor gzip is a problem of the input, said like the others.
@@ -187,7 +191,7 @@ fn compile_drawing(path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> Result<Co
             let why = format!("{e:#}");
             let why = why.strip_prefix(&format!("{shown}: ")).unwrap_or(&why).to_string();
             let d = Diagnostic::error("T0200", why);
-            return Ok(Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new() });
+            return Ok(Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new(), print: None });
         }
     };
     let fonts = || font_database(opts.fonts.as_deref()).ok();

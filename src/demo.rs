@@ -104,6 +104,11 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
         style: s.style.as_ref().map(|p| examples.join(p)),
         ..CompileOpts::default()
     };
+    // A print profile makes the medium's file and its felt preview, no bundle.
+    let profile = io::load::profile(&s.profile)?;
+    if profile.family() == Family::Print {
+        return print_scene(&input, out, s, &opts);
+    }
     let (bundle, build_ms) = report::compile(&input, &opts, None)?;
     let bytes = bundle.to_bytes().map_err(|e| anyhow::anyhow!("{e}"))?;
     io::write_file(&out.join("bundles").join(format!("{}.taxel", s.name)), &bytes)?;
@@ -168,6 +173,8 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
                 max_error: Some((max, "mm of height".to_string())),
             })
         }
+        // Print scenes are made above, by `print_scene`; no bundle holds a print profile.
+        Family::Print => anyhow::bail!("a print profile makes no bundle"),
         Family::Pins => {
             // A pin display shows still pages: the figures are the frame cost
             // over every page for a second of 1 ms ticks (blinking included),
@@ -193,6 +200,34 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
             Ok(Figures { layers, bundle_bytes: bytes.len(), build_ms, frame_us, frames, max_error: None })
         }
     }
+}
+
+/// A print scene: the medium's file under `prints/` (its PDF or STL) and the
+/// felt preview; the figures are the marks on the graphic's page, the file's
+/// size and the build time (nothing is played).
+fn print_scene(input: &Path, out: &Path, s: &Scene, opts: &CompileOpts) -> Result<Figures> {
+    let t0 = Instant::now();
+    let compiled = crate::compile::compile_file(input, opts)?;
+    let Some(sheet) = compiled.print else {
+        let errors: Vec<String> = compiled.diagnostics.iter().map(|d| d.render(&input.display().to_string())).collect();
+        anyhow::bail!("no print sheet: {}", errors.join("; "));
+    };
+    let kind = taxel_compiler::print::FileKind::for_medium(sheet.medium())[0];
+    let bytes = taxel_compiler::print::write(&sheet, kind).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let build_ms = t0.elapsed().as_secs_f64() * 1e3;
+    std::fs::create_dir_all(out.join("prints"))
+        .with_context(|| format!("cannot create {}", out.join("prints").display()))?;
+    io::write_file(&out.join("prints").join(format!("{}.{}", s.name, kind.extension())), &bytes)?;
+    let picture = taxel_compiler::print::preview::render(&sheet);
+    io::write_file(&out.join("previews").join(format!("{}.png", s.name)), &io::png::encode_picture(&picture)?)?;
+    Ok(Figures {
+        layers: sheet.pages.first().map_or(0, Vec::len),
+        bundle_bytes: bytes.len(),
+        build_ms,
+        frame_us: 0.0,
+        frames: 0,
+        max_error: None,
+    })
 }
 
 /// Frames CSV (`tick,a0,…`) of a laterotactile bundle along `positions`.
@@ -265,6 +300,29 @@ mod tests {
             assert_eq!(png.width(), 620, "{n}: 60 pins and a margin, 10 px a pin");
             let art = std::fs::read_to_string(out.path().join("frames").join(format!("{n}.txt"))).expect("art");
             assert!(art.chars().any(|c| ('\u{2801}'..='\u{28FF}').contains(&c)), "{n}: raised pins in the art");
+        }
+    }
+
+    #[test]
+    fn demo_writes_the_print_scenes_files_and_felt_previews() {
+        let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+        let out = tempfile::tempdir().expect("temp dir");
+        let names = ["tala-map-swell", "tala-map-tiger", "tala-map-print3d"];
+        let outcomes = run(&examples, out.path(), Some(&names)).expect("runs");
+        assert_eq!(outcomes.len(), 3);
+        for o in &outcomes {
+            let f = o.result.as_ref().unwrap_or_else(|e| panic!("{}: {e}", o.scene));
+            assert!(f.layers > 0 && f.bundle_bytes > 0, "{}: marks and a file", o.scene);
+        }
+        for (n, ext, magic) in [
+            ("tala-map-swell", "pdf", &b"%PDF-"[..]),
+            ("tala-map-tiger", "pdf", b"%PDF-"),
+            ("tala-map-print3d", "stl", &[0u8; 80][..]),
+        ] {
+            let bytes = std::fs::read(out.path().join("prints").join(format!("{n}.{ext}"))).expect("the file");
+            assert!(bytes.starts_with(magic), "{n}.{ext}");
+            let png = image::open(out.path().join("previews").join(format!("{n}.png"))).expect("preview");
+            assert!(png.width() > 1000, "{n}: the paper at 6 px/mm");
         }
     }
 

@@ -16,6 +16,7 @@ mod examples;
 mod io;
 mod playback;
 mod report;
+mod studio;
 mod textform;
 
 /// mimalloc rather than the system allocator: a build allocates and frees
@@ -24,8 +25,22 @@ mod textform;
 /// for a fifth more peak memory; a 1 MB map is unchanged (docs/performance.md).
 /// Without transparent huge pages (`no_thp`), whose 2 MB pages cost system
 /// time and memory on every build.
+///
+/// Counted (`cap`, with no limit of its own: an allocation that failed
+/// would abort), so that `--max-memory` can stop a build before the
+/// memory is gone ([`held`]).
 #[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+static ALLOCATOR: cap::Cap<mimalloc::MiMalloc> = cap::Cap::new(mimalloc::MiMalloc, usize::MAX);
+
+/// The bytes the process holds now (allocated through Rust and not freed).
+pub fn held() -> usize {
+    ALLOCATOR.allocated()
+}
+
+/// The most bytes the process has held at once.
+pub fn peak_held() -> usize {
+    ALLOCATOR.max_allocated()
+}
 
 /// The one place that turns an outcome into an exit code and prints the error.
 /// Stack of the threads that compile (the batch's workers and rayon's

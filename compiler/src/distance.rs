@@ -27,6 +27,7 @@
 //! profile there is saturated whatever the interpolation gives.
 
 use std::sync::OnceLock;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use rayon::prelude::*;
 
@@ -34,8 +35,10 @@ use taxel_format::{
     DISTANCE_ZERO, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE, TILE_SAMPLES, TILE_SIDE, TilePlane,
 };
 
+use crate::budget::{MemoryBudget, OverBudget};
 #[cfg(test)]
 use crate::geometry::distance_to_segment;
+use crate::geometry::overlay;
 use crate::geometry::{FillRule, Polyline};
 use near::Near;
 
@@ -108,50 +111,111 @@ fn seg_bounds(s: &Seg) -> (f64, f64, f64, f64) {
 /// The span of tiles of a segment that acts on none (empty: `c0 > c1`).
 const NO_TILES: [u16; 4] = [1, 0, 1, 0];
 
-/// The segments acting on each tile (row-major, `cols` by `rows` tiles of
-/// side `tile` from `origin`): those whose bounds grown by their reach meet
-/// the tile, in segment order; and each segment's span of tiles
-/// `[c0, c1, r0, r1]` (inclusive; [`NO_TILES`] when it acts on none).
+/// The tiles of a layer's lattice as its buckets count them: `cols` by
+/// `rows` tiles of side `side` from `origin`.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Tiles {
+    pub origin: (f64, f64),
+    pub side: f64,
+    pub cols: usize,
+    pub rows: usize,
+}
+
+impl Tiles {
+    /// The tile index of coordinate `v` along an axis from `o` with `n`
+    /// tiles, up to `n` (past the last): `floor` then not below 0, a
+    /// truncation of what is above 0 (NaN and below give 0, +inf
+    /// saturates), without the floor's work.
+    fn index(&self, v: f64, o: f64, n: usize) -> usize {
+        let x = (v - o) / self.side;
+        (if x > 0.0 { x as usize } else { 0 }).min(n)
+    }
+
+    /// The span of tiles `[c0, c1, r0, r1]` (inclusive) that segment `s`'s
+    /// bounds grown by `m` meet; `None` when they meet no tile.
+    pub(super) fn span(&self, s: &Seg, m: f64) -> Option<[usize; 4]> {
+        let (ox, oy) = self.origin;
+        let b = seg_bounds(s);
+        let (c0, c1) = (self.index(b.0 - m, ox, self.cols), self.index(b.2 + m, ox, self.cols));
+        let (r0, r1) = (self.index(b.1 - m, oy, self.rows), self.index(b.3 + m, oy, self.rows));
+        if b.2 + m < ox || b.3 + m < oy || c0 >= self.cols || r0 >= self.rows {
+            return None;
+        }
+        Some([c0, c1.min(self.cols - 1), r0, r1.min(self.rows - 1)])
+    }
+
+    /// The columns `(c0, c1)` of tile row `r` (within `span`, the
+    /// segment's [`span`](Self::span)) on which segment `s`, acting `m`
+    /// around it, may act: those that the part of the segment within `m`
+    /// of the row (in y) meets, grown by `m` (in x). Every point within `m`
+    /// of the segment lies there (its nearest point of the segment is in
+    /// that part), so a bucket holds every segment that acts on its tile;
+    /// and a long slanted segment is held by the tiles along it, not by
+    /// every tile of its bounds (a scribble's segments cross the whole
+    /// drawing, and by their bounds every tile held every segment); nor
+    /// by a tile at the lattice's side that its bounds meet only because
+    /// whatever lies beyond the side counts as the side's tiles.
+    pub(super) fn row_cols(&self, s: &Seg, m: f64, r: usize, [c0, c1, _, _]: [usize; 4]) -> (usize, usize) {
+        let ((a, b), dy) = (*s, s.1.1 - s.0.1);
+        // A level segment's part is the whole of it, its bounds.
+        if dy == 0.0 || !dy.is_finite() {
+            return (c0, c1);
+        }
+        let (ox, oy) = self.origin;
+        // A thousandth of a tile for the rounding of the bounds, the
+        // division and the products.
+        let slack = 1e-3 * self.side;
+        let (y0, y1) = (oy + r as f64 * self.side, oy + (r + 1) as f64 * self.side);
+        let (ta, tb) = ((y0 - m - slack - a.1) / dy, (y1 + m + slack - a.1) / dy);
+        let (lo, hi) = (ta.min(tb).max(0.0), ta.max(tb).min(1.0));
+        // (NaN, or a part that rounding left empty, is taken whole.)
+        if lo.partial_cmp(&hi).is_none_or(|o| o == std::cmp::Ordering::Greater) {
+            return (c0, c1);
+        }
+        let (xa, xb) = (a.0 + lo * (b.0 - a.0), a.0 + hi * (b.0 - a.0));
+        let lo_x = xa.min(xb) - m - slack;
+        let hi_x = xa.max(xb) + m + slack;
+        // Wholly before the lattice's first column (which `index` would
+        // give it): on no tile, as wholly past its last.
+        if hi_x < ox {
+            return (1, 0);
+        }
+        (self.index(lo_x, ox, self.cols).max(c0), self.index(hi_x, ox, self.cols).min(c1))
+    }
+}
+
+/// The segments acting on each tile of `tiles` (row-major): those whose
+/// part within their reach of the tile's row meets the tile grown by the
+/// reach ([`Tiles::row_cols`]), in segment order; and each segment's span
+/// of tiles `[c0, c1, r0, r1]` by its bounds (inclusive; [`NO_TILES`] when
+/// it acts on none), within which [`Tiles::row_cols`] gives its tiles.
 ///
 /// The spans are kept in 16 bits (8 bytes a segment instead of 16, some
 /// 20 MB for each layer being built on the map at the input limit, 2.7 M
 /// segments a layer), so they are left out (empty) for a lattice of more
 /// than 65,535 tiles along one side: their only reader, the layer's grid,
 /// is never built for one (its cells are capped far below that).
-fn buckets_of(
-    segs: &[(Seg, Part, f64)],
-    (ox, oy): (f64, f64),
-    tile: f64,
-    (cols, rows): (usize, usize),
-) -> (Vec<Vec<u32>>, Vec<[u16; 4]>) {
+fn buckets_of(segs: &[(Seg, Part, f64)], tiles: &Tiles) -> (Vec<Vec<u32>>, Vec<[u16; 4]>) {
+    let (cols, rows) = (tiles.cols, tiles.rows);
     let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); cols * rows];
     let narrow = cols <= usize::from(u16::MAX) && rows <= usize::from(u16::MAX);
     let mut spans = Vec::with_capacity(if narrow { segs.len() } else { 0 });
     for (n, (s, _, m)) in segs.iter().enumerate() {
-        let b = seg_bounds(s);
-        // `floor` then not below 0: a truncation of what is above 0 (NaN
-        // and below give 0, +inf saturates), without the floor's work.
-        let tc = |v: f64, o: f64, n: usize| {
-            let x = (v - o) / tile;
-            (if x > 0.0 { x as usize } else { 0 }).min(n)
-        };
-        let (c0, c1) = (tc(b.0 - m, ox, cols), tc(b.2 + m, ox, cols));
-        let (r0, r1) = (tc(b.1 - m, oy, rows), tc(b.3 + m, oy, rows));
-        if b.2 + m < ox || b.3 + m < oy || c0 >= cols || r0 >= rows {
+        let Some(span) = tiles.span(s, *m) else {
             if narrow {
                 spans.push(NO_TILES);
             }
             continue;
-        }
-        let (c1, r1) = (c1.min(cols - 1), r1.min(rows - 1));
-        for r in r0..=r1 {
+        };
+        for r in span[2]..=span[3] {
+            let (c0, c1) = tiles.row_cols(s, *m, r, span);
             for c in c0..=c1 {
                 buckets[r * cols + c].push(n as u32);
             }
         }
         // Below `cols` and `rows`, so they fit when the lattice is narrow.
         if narrow {
-            spans.push([c0 as u16, c1 as u16, r0 as u16, r1 as u16]);
+            spans.push(span.map(|v| v as u16));
         }
     }
     (buckets, spans)
@@ -326,28 +390,58 @@ fn united_fills(fills: &[(&[Polyline], FillRule)]) -> Option<Vec<Polyline>> {
     if crate::geometry::crossings::crossings_exceed(&segments, UNION_MAX_CROSSINGS) {
         return None;
     }
-    let f = crate::vector::Frame { ox: all.0, oy: all.1, q: UNION_QUANTUM_MM };
+    let f = overlay::Frame { ox: all.0, oy: all.1, q: UNION_QUANTUM_MM };
     let mut each: Vec<Vec<i_overlay::i_float::int::point::IntPoint>> = Vec::new();
     for (pls, rule) in fills {
-        let shapes = crate::vector::shapes_of(&crate::vector::contours(pls, f, 0.0), crate::vector::ov_rule(*rule));
+        let shapes = overlay::shapes_of(&overlay::contours(pls, f), overlay::ov_rule(*rule));
         each.extend(shapes.into_iter().flatten());
     }
-    let union = crate::vector::shapes_of(&each, i_overlay::core::fill_rule::FillRule::NonZero);
+    let union = overlay::shapes_of(&each, i_overlay::core::fill_rule::FillRule::NonZero);
     let back = |p: &i_overlay::i_float::int::point::IntPoint| (f.ox + p.x as f64 * f.q, f.oy + p.y as f64 * f.q);
     Some(union.iter().flatten().map(|c| Polyline { points: c.iter().map(back).collect(), closed: true }).collect())
 }
 
 /// Builds the field of one layer; `None` when nothing of it is felt on the page.
 pub fn build_field(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
-    if let Some(union) = united_fills(&g.fills) {
-        let g = LayerGeometry { fills: vec![(&union[..], FillRule::NonZero)], ..g.clone() };
-        return build_united(&g, params);
-    }
-    build_united(g, params)
+    build_field_within(g, params, None).unwrap_or(None)
 }
 
-/// [`build_field`] once the fills share no side.
-fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
+/// [`build_field`] within a memory budget: [`OverBudget`] when the process
+/// holds more than `budget` allows before the field is done (looked at
+/// before the fills are united and at every tile).
+pub fn build_field_within(
+    g: &LayerGeometry<'_>,
+    params: FieldParams,
+    budget: Option<&MemoryBudget>,
+) -> Result<Option<Field>, OverBudget> {
+    let over = || budget.is_some_and(MemoryBudget::exceeded);
+    if over() {
+        return Err(OverBudget);
+    }
+    if let Some(union) = united_fills(&g.fills) {
+        let g = LayerGeometry { fills: vec![(&union[..], FillRule::NonZero)], ..g.clone() };
+        return build_united(&g, params, budget);
+    }
+    build_united(g, params, budget)
+}
+
+/// [`build_field_within`] once the fills share no side.
+fn build_united(
+    g: &LayerGeometry<'_>,
+    params: FieldParams,
+    budget: Option<&MemoryBudget>,
+) -> Result<Option<Field>, OverBudget> {
+    let Some(built) = build_united_inner(g, params, budget) else { return Ok(None) };
+    built.map(Some)
+}
+
+/// [`build_united`]: `None` when nothing is felt, `Some(Err)` when the
+/// budget stopped it.
+fn build_united_inner(
+    g: &LayerGeometry<'_>,
+    params: FieldParams,
+    budget: Option<&MemoryBudget>,
+) -> Option<Result<Field, OverBudget>> {
     let h = params.pitch_mm;
     if !(h.is_finite() && h > 0.0) {
         return None;
@@ -441,7 +535,9 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
             segs.extend(closed_segments(pl).map(|s| (s, Part::Occluder, reach)));
         }
     }
-    let (buckets, spans) = buckets_of(&segs, (ox, oy), tile, (cols, rows));
+    let tiles = Tiles { origin: (ox, oy), side: tile, cols, rows };
+    let (buckets, spans) = buckets_of(&segs, &tiles);
+    let stopped = AtomicBool::new(budget.is_some_and(MemoryBudget::exceeded));
     // Each segment's length, for the length of edge within a tile's reach.
     let seg_len: Vec<f64> =
         segs.iter().map(|&((a, b), _, _)| ((b.0 - a.0).powi(2) + (b.1 - a.1).powi(2)).sqrt()).collect();
@@ -473,14 +569,7 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
     // (every part is then beyond ±cap, and min, max and the clamp commute).
     let margin = cap - reach + step;
     // Every segment binned once for all the tiles' searches.
-    let lattice = layer_grid::Lattice {
-        origin: (ox, oy),
-        h,
-        cols,
-        rows,
-        margin,
-        slots: near::slots(cut_widths.len(), g.clips.len()),
-    };
+    let lattice = layer_grid::Lattice { tiles, h, margin, slots: near::slots(cut_widths.len(), g.clips.len()) };
     let layer_grid = layer_grid::LayerGrid::new(
         &segs,
         spans,
@@ -531,6 +620,11 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
         }
     };
     let tile_of = |Scratch { near, centres }: &mut Scratch, r: usize, c: usize, refine: bool| -> TileOut {
+        // Past the budget: the remaining tiles are not worked on.
+        if stopped.load(Ordering::Relaxed) || budget.is_some_and(MemoryBudget::exceeded) {
+            stopped.store(true, Ordering::Relaxed);
+            return TileOut::Constant(TILE_OUTSIDE);
+        }
         let bucket = &buckets[r * cols + c];
         let corner = at(c * TILE_CELLS, r * TILE_CELLS);
         if bucket.is_empty() && !page_edge_near(c, r) {
@@ -679,6 +773,9 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
         let mut s = scratch();
         (0..rows * cols).map(|k| tile_of(&mut s, k / cols, k % cols, false)).collect()
     };
+    if stopped.load(Ordering::Relaxed) {
+        return Some(Err(OverBudget));
+    }
     // Fine tiles (format 4.4) where stored tiles misplace the edge, the
     // worst first, while they add no more bytes than the layer has without
     // them (or [`FINE_BUDGET_FLOOR`]): refining every tile of a map drawn
@@ -737,6 +834,9 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
             break;
         }
     }
+    if stopped.load(Ordering::Relaxed) {
+        return Some(Err(OverBudget));
+    }
     let mut tiles = vec![TILE_OUTSIDE; cols * rows];
     let mut samples = Vec::new();
     let mut planes = Vec::new();
@@ -782,7 +882,7 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
     if tiles.iter().all(|&t| t == TILE_OUTSIDE) {
         return None;
     }
-    Some(Field {
+    Some(Ok(Field {
         origin: (ox, oy),
         tile_cols: cols as u32,
         tile_rows: rows as u32,
@@ -790,7 +890,7 @@ fn build_united(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
         tiles,
         planes,
         samples,
-    })
+    }))
 }
 
 /// The segment entries in a layer's tile buckets from which its tiles are
@@ -1194,5 +1294,7 @@ mod junctions;
 mod layer_grid;
 mod near;
 mod planes;
+mod sanity;
+pub use sanity::sanity_check;
 #[cfg(test)]
 pub(crate) mod tests;

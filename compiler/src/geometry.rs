@@ -18,6 +18,7 @@ use resvg::tiny_skia::{Path, PathSegment, Transform};
 
 mod area;
 pub(crate) mod crossings;
+pub(crate) mod overlay;
 pub use area::filled_area;
 
 /// Largest distance, in millimetres, between a curve and the polyline that replaces it.

@@ -14,6 +14,7 @@ pub mod annotation;
 pub mod auto;
 pub mod braille;
 pub mod brush;
+pub mod budget;
 mod diagnostic;
 #[doc(hidden)]
 pub mod distance;
@@ -25,12 +26,12 @@ mod options;
 pub mod pins;
 mod prepare;
 pub mod preview;
+pub mod print;
+pub mod sanity;
 pub mod spatial;
 pub mod stylesheet;
 pub mod svg;
 mod text_pos;
-#[doc(hidden)]
-pub mod vector;
 
 pub use diagnostic::{Diagnostic, Severity, has_errors};
 pub use options::{CompileOptions, DEFAULT_PX_PER_MM, Region, UpAxis};
@@ -52,4 +53,8 @@ pub struct Compiled {
     /// as [`drawing::fonts_used`] of its text; empty for a mesh), so that a
     /// content hash that covers them needs no second parse.
     pub fonts_used: Vec<drawing::FontFace>,
+    /// For a print profile, the legalised sheet (absent when there were
+    /// errors), written as the medium's file by [`print::write`]; print
+    /// media make no bundle.
+    pub print: Option<print::Sheet>,
 }

@@ -109,6 +109,10 @@ pub struct CompileOptions {
     /// writes the same cells on every system; the `taxel` binary loads
     /// liblouis.
     pub braille: Arc<crate::braille::Braille>,
+    /// The memory the compilation may take (`--max-memory`): the stages
+    /// whose work grows with the geometry stop with an error (T0308) past
+    /// it. `None` (the default): no limit.
+    pub memory: Option<crate::budget::MemoryBudget>,
 }
 
 impl CompileOptions {
@@ -128,6 +132,7 @@ impl CompileOptions {
             auto: false,
             languages: vec!["en".to_string()],
             braille: Arc::new(crate::braille::Braille::builtin()),
+            memory: None,
         }
     }
 }

@@ -327,13 +327,9 @@ pub fn render_bundle(bundle: &Bundle, backdrop: Option<&Backdrop>) -> Picture {
         return crate::pins::preview::render(image, &bundle.manifest.profile);
     }
     let (ex0, ey0, ex1, ey1) = extent(bundle);
-    let mut k = PREVIEW_PX_PER_MM;
-    let (wmm, hmm) = (ex1 - ex0 + 2.0 * MARGIN_MM, ey1 - ey0 + 2.0 * MARGIN_MM);
-    if wmm.max(hmm) * k > MAX_SIDE_PX {
-        k = MAX_SIDE_PX / wmm.max(hmm);
-    }
+    let (x0, y0, k, wmm, hmm) = layout((ex0, ey0, ex1, ey1));
     let (w, h) = ((wmm * k).ceil().max(1.0) as usize, (hmm * k).ceil().max(1.0) as usize);
-    let mut c = Canvas { w, h, x0: ex0 - MARGIN_MM, y0: ey0 - MARGIN_MM, k, rgb: vec![[1.0; 3]; w * h] };
+    let mut c = Canvas { w, h, x0, y0, k, rgb: vec![[1.0; 3]; w * h] };
     // The device's surface, lightly shaded, so the reachable area is visible.
     let p = bundle.manifest.profile;
     for j in c.rows(0.0, p.surface_h_mm as f64) {
@@ -382,7 +378,41 @@ pub fn render_bundle(bundle: &Bundle, backdrop: Option<&Backdrop>) -> Picture {
 /// The picture is `None` when the drawing did not compile (see the diagnostics).
 pub fn preview_svg(svg_text: &str, opts: &CompileOptions) -> (Option<Picture>, Compiled) {
     let compiled = svg::compile_svg(svg_text, opts);
+    // A print profile's sheet is drawn as it is felt on paper or as a relief.
+    if let Some(sheet) = compiled.print.as_ref() {
+        return (Some(crate::print::preview::render(sheet)), compiled);
+    }
     let Some(bundle) = compiled.bundle.as_ref() else { return (None, compiled) };
+    (Some(preview_compiled(svg_text, opts, bundle)), compiled)
+}
+
+/// Draws `bundle`, compiled from `svg_text` with `opts`, over a faint copy
+/// of the drawing: [`preview_svg`] for a caller that compiled it already.
+pub fn preview_compiled(svg_text: &str, opts: &CompileOptions, bundle: &Bundle) -> Picture {
+    let backdrop = drawing_pixmap(svg_text, opts).map(|pixmap| Backdrop { pixmap });
+    render_bundle(bundle, backdrop.as_ref())
+}
+
+/// The drawing alone, no tactile layer, rendered at [`PREVIEW_PX_PER_MM`]
+/// with page origin at its top-left, placed as the compiler placed it (under
+/// `fit` or a region): a picture of the drawing that never executes it
+/// (resvg draws; scripts and external files are not read). `None` when it
+/// cannot be read.
+pub fn drawing_picture(svg_text: &str, opts: &CompileOptions) -> Option<Picture> {
+    let pixmap = drawing_pixmap(svg_text, opts)?;
+    let (width, height) = (pixmap.width(), pixmap.height());
+    let rgba = pixmap
+        .pixels()
+        .iter()
+        .flat_map(|p| {
+            let c = p.demultiply();
+            [c.red(), c.green(), c.blue(), c.alpha()]
+        })
+        .collect();
+    Some(Picture { width, height, rgba })
+}
+
+fn drawing_pixmap(svg_text: &str, opts: &CompileOptions) -> Option<Pixmap> {
     // Under --fit or --region the backdrop is placed as the drawing was (that needs the resolved drawing).
     let placement = if opts.fit || opts.region.is_some() {
         crate::drawing::resolve_as_drawn(svg_text, opts)
@@ -391,8 +421,27 @@ pub fn preview_svg(svg_text: &str, opts: &CompileOptions) -> (Option<Picture>, C
     } else {
         None
     };
-    let backdrop = svg::render_page(svg_text, opts, PREVIEW_PX_PER_MM, placement).map(|pixmap| Backdrop { pixmap });
-    (Some(render_bundle(bundle, backdrop.as_ref())), compiled)
+    svg::render_page(svg_text, opts, PREVIEW_PX_PER_MM, placement)
+}
+
+/// Where [`render_bundle`]'s picture of `bundle` lies on the page: the page
+/// position in mm of its pixel (0, 0) and its pixels per mm, so that a
+/// caller can draw over it; `None` for a pin display (drawn pin by pin).
+pub fn bundle_frame(bundle: &Bundle) -> Option<(f64, f64, f64)> {
+    if bundle.pin_image().is_some() {
+        return None;
+    }
+    let (x0, y0, k, _, _) = layout(extent(bundle));
+    Some((x0, y0, k))
+}
+
+/// A preview's page mm at pixel (0, 0), its pixels per mm, and its size in
+/// mm, for the page extent `(x0, y0, x1, y1)`: the extent and a margin, at
+/// [`PREVIEW_PX_PER_MM`] unless that makes a side longer than [`MAX_SIDE_PX`].
+fn layout((ex0, ey0, ex1, ey1): (f64, f64, f64, f64)) -> (f64, f64, f64, f64, f64) {
+    let (wmm, hmm) = (ex1 - ex0 + 2.0 * MARGIN_MM, ey1 - ey0 + 2.0 * MARGIN_MM);
+    let k = if wmm.max(hmm) * PREVIEW_PX_PER_MM > MAX_SIDE_PX { MAX_SIDE_PX / wmm.max(hmm) } else { PREVIEW_PX_PER_MM };
+    (ex0 - MARGIN_MM, ey0 - MARGIN_MM, k, wmm, hmm)
 }
 
 #[cfg(test)]

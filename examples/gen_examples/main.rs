@@ -35,7 +35,7 @@ const INDEX_HEADER: &str = "\
 
 /// Every file the generator writes, relative to `examples/`, with its text.
 fn outputs() -> Vec<(String, String)> {
-    let scenes = [stress2::scenes(), map::scenes(), brush::scenes(), finger::scenes()].concat();
+    let scenes = [stress2::scenes(), map::scenes(), brush::scenes(), finger::scenes(), map::print_scenes()].concat();
     let mut files = Vec::new();
     let mut index = String::from(INDEX_HEADER);
     for s in &scenes {

@@ -67,6 +67,54 @@ pub fn scenes() -> Vec<Scene> {
     vec![map, plain, brush, dotpad, graphiti]
 }
 
+/// The same Inkscape file on paper and as a print (`docs/print.md`): one
+/// scene per print profile. They come last in the index, after the finger
+/// meshes, where they were first added.
+pub fn print_scenes() -> Vec<Scene> {
+    let map = scenes().swap_remove(0);
+    // T0724: the key's swatches (9 x 8 mm) are smaller than a texture needs
+    // on paper; on the 2.5 mm grid a key label also snaps onto the legend's
+    // line (T0722). The brushed road is drawn as a line with an arrowhead, so no T0120.
+    let print = |name: &str, profile: &'static str, warnings: Vec<&'static str>, description: &str| Scene {
+        name: name.into(),
+        profile,
+        external: Some(("map/tala-map.svg".into(), None)),
+        visits: None,
+        warnings,
+        description: description.into(),
+        ..map.clone()
+    };
+    vec![
+        print(
+            "tala-map-swell",
+            "swell-a4",
+            vec!["T0724"],
+            "The same tala-map.svg on A4 swell paper: a black vector PDF at true size, line textures that keep the \
+             gratings' orientations, point symbols, NLS-size braille dots (docs/print.md).",
+        ),
+        print(
+            "tala-map-tiger",
+            "tiger-20dpi",
+            vec!["T0724"],
+            "The same tala-map.svg for a ViewPlus Tiger embosser: every mark on the 20-dpi grid, textures lower than \
+             borders.",
+        ),
+        print(
+            "tala-map-braille-grid",
+            "emboss-braille-grid",
+            vec!["T0722", "T0724"],
+            "The same tala-map.svg for a braille embosser's graphics mode: dots on the 2.5 mm grid.",
+        ),
+        print(
+            "tala-map-print3d",
+            "print3d",
+            vec!["T0724"],
+            "The same tala-map.svg as a 3D-printed relief: a watertight binary STL on a 2 mm plate, borders and \
+             braille 1 mm high, textures 0.5 mm.",
+        ),
+    ]
+}
+
 /// What the map's pin scenes are expected to warn (see examples/README.md):
 /// the 110 x 60 mm map is only 44 x 24 pins at 2.5 mm, so the 3 mm grating is
 /// finer than the pitch (T0705), a key swatch is too small for its texture

@@ -82,7 +82,7 @@ pub use model::{Bundle, Chunk, RawChunk};
 pub use pins::{MAX_BLINK_MS, MAX_PIN_IMAGE, MAX_PIN_SIDE, MAX_TEXT_CELLS, Navigation, Pin, PinImage, PinImageView};
 pub use profile::{
     DeviceProfile, Family, FamilyParams, FingerParams, GridParams, MAX_ACTUATORS, MAX_PIN_HEIGHT, MAX_PINS,
-    MAX_RATE_HZ, MAX_TEXT_LINE_CELLS, PinParams, ProfileName,
+    MAX_PRINT_GRID, MAX_RATE_HZ, MAX_TEXT_LINE_CELLS, Medium, PinParams, PrintParams, ProfileName,
 };
 pub use provenance::{MAX_PROVENANCE_ENTRIES, Provenance, ProvenanceEntry, ProvenanceView};
 pub use strokes::{

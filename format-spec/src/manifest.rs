@@ -54,7 +54,8 @@ impl Manifest {
             .bytes(&self.content_hash)
             .bytes(self.generator.padded());
         match p.params {
-            FamilyParams::Laterotactile => {
+            // A print profile is never written ([`crate::Bundle::to_bytes`] refuses it).
+            FamilyParams::Laterotactile | FamilyParams::Print(_) => {
                 w.zeros(32);
             }
             FamilyParams::Grid(g) => {
@@ -142,6 +143,8 @@ impl Manifest {
                     refresh_ms: u(120),
                 })
             }
+            // `Family::from_code` never gives it: no bundle holds a print profile.
+            Family::Print => return Err(bad("family", "1, 2, 3 or 4")),
         };
         let profile = DeviceProfile {
             name,

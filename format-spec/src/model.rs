@@ -133,6 +133,15 @@ impl Bundle {
     /// tools that rewrite a bundle from a newer minor version (whose unknown
     /// optional chunks they keep as [`RawChunk`]s) without changing a byte.
     pub fn to_bytes_with_minor(&self, minor: u16) -> Result<Vec<u8>, FormatError> {
+        // Print media make device files, not bundles: no manifest holds the family.
+        if self.manifest.profile.family() == crate::Family::Print {
+            return Err(FormatError::InvalidValue {
+                tag: Tag::MANIFEST,
+                index: 0,
+                field: "family",
+                expected: "a family that plays bundles (a print profile makes PDF, PNG or STL files)",
+            });
+        }
         let mut encoded = Vec::with_capacity(self.chunks.len() + 1);
         encoded.push(Encoded { tag: Tag::MANIFEST, required: true, data: self.manifest.encode() });
         for (i, c) in self.chunks.iter().enumerate() {

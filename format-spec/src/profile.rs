@@ -3,7 +3,9 @@
 //! A profile is data, not code. It is stored in every bundle's manifest, so a
 //! player needs nothing but the bundle; the `std` feature adds TOML parsing and
 //! the built-in profiles (`stress2`, `brush-4x3`, `finger3`, and the pin
-//! arrays `dotpad`, `monarch`, `graphiti`, `hyperbraille`).
+//! arrays `dotpad`, `monarch`, `graphiti`, `hyperbraille`, and the print
+//! media `swell-a4`, `swell-letter`, `tiger-20dpi`, `emboss-braille-grid`,
+//! `print3d`).
 
 use crate::units::FixedStr;
 
@@ -21,6 +23,10 @@ pub enum Family {
     Finger,
     /// A refreshable pin-matrix display (Dot Pad, Monarch, Graphiti, HyperBraille).
     Pins,
+    /// Print media: swell paper, graphics embossers and 3D-printed reliefs.
+    /// A print profile makes device files (PDF, PNG, STL), never bundles: no
+    /// manifest holds this family ([`Family::from_code`] never returns it).
+    Print,
 }
 
 impl Family {
@@ -31,10 +37,12 @@ impl Family {
             Family::Grid => 2,
             Family::Finger => 3,
             Family::Pins => 4,
+            // Never written: a bundle cannot be made for a print profile.
+            Family::Print => 5,
         }
     }
 
-    /// The family for a manifest code.
+    /// The family for a manifest code (1 to 4; print profiles have no bundles).
     pub fn from_code(code: u8) -> Option<Self> {
         match code {
             1 => Some(Family::Laterotactile),
@@ -52,6 +60,7 @@ impl Family {
             Family::Grid => "grid",
             Family::Finger => "finger",
             Family::Pins => "pins",
+            Family::Print => "print",
         }
     }
 }
@@ -136,6 +145,164 @@ impl PinParams {
     }
 }
 
+/// The kind of print medium, which decides how a drawing is legalised and
+/// which files it gives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Medium {
+    /// Swell (microcapsule) paper: black vector art at true size, raised by heat.
+    Swell,
+    /// A graphics embosser: dots on the embosser's grid (`grid_mm`).
+    Emboss,
+    /// A 3D-printed relief: a base plate with raised features.
+    Relief,
+}
+
+impl Medium {
+    /// The name used in profile files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Medium::Swell => "swell",
+            Medium::Emboss => "emboss",
+            Medium::Relief => "relief",
+        }
+    }
+
+    /// The medium of a profile file's name.
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "swell" => Some(Medium::Swell),
+            "emboss" => Some(Medium::Emboss),
+            "relief" => Some(Medium::Relief),
+            _ => None,
+        }
+    }
+}
+
+/// Parameters that only print media have (`docs/print.md` gives each
+/// built-in value its source). The surface is the paper less its margins;
+/// the array is the grid: the embosser's dots, or for swell paper and reliefs
+/// the raster step of the preview, the design rules and the relief's mesh.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PrintParams {
+    /// Swell paper, embosser or relief.
+    pub medium: Medium,
+    /// Paper (or plate) width, in millimetres.
+    pub paper_w_mm: f32,
+    /// Paper (or plate) height, in millimetres.
+    pub paper_h_mm: f32,
+    /// Blank margin on every side, in millimetres.
+    pub margin_mm: f32,
+    /// The grid: an embosser's dot spacing, else the raster step (mm).
+    pub grid_mm: f32,
+    /// Dot heights an embosser has (1 when one); ignored elsewhere.
+    pub dot_levels: u8,
+    /// Narrowest raised line the medium keeps (mm).
+    pub min_line_mm: f32,
+    /// Narrowest gap between raised features a finger tells apart (mm).
+    pub min_gap_mm: f32,
+    /// Smallest side of a textured area that is felt as a texture (mm).
+    pub min_texture_mm: f32,
+    /// Size of a point symbol (mm).
+    pub symbol_mm: f32,
+    /// Braille dot base diameter (mm).
+    pub braille_dot_mm: f32,
+    /// Braille dot spacing within a cell (mm).
+    pub braille_dot_pitch_mm: f32,
+    /// Braille cell spacing, from a cell to the next (mm).
+    pub braille_cell_mm: f32,
+    /// Braille line spacing (mm).
+    pub braille_line_mm: f32,
+    /// A relief's base plate thickness (mm); 0 on paper.
+    pub base_mm: f32,
+    /// Height of a relief's lines, symbols and braille above the plate (mm).
+    pub raise_mm: f32,
+    /// Height of a relief's textures above the plate (mm).
+    pub texture_mm: f32,
+}
+
+/// Largest number of grid points of a print profile (`rows * cols`).
+pub const MAX_PRINT_GRID: u32 = 1 << 24;
+
+impl PrintParams {
+    /// The printable area (paper less margins), `(width, height)` in mm.
+    pub fn surface_mm(&self) -> (f32, f32) {
+        (self.paper_w_mm - 2.0 * self.margin_mm, self.paper_h_mm - 2.0 * self.margin_mm)
+    }
+
+    /// The grid points across and down the printable area, `(cols, rows)`.
+    pub fn grid_size(&self) -> (u64, u64) {
+        let (w, h) = self.surface_mm();
+        // In f64, a millionth up: 266.7 mm at 1.27 mm is 210 points, not
+        // 209.99998 rounded down.
+        let g = self.grid_mm as f64;
+        let n = |v: f32| {
+            let q = v as f64 / g * (1.0 + 1e-6);
+            if q.is_finite() && q > 0.0 { q.floor().min(1e9) as u64 } else { 0 }
+        };
+        (n(w), n(h))
+    }
+
+    /// Checks the print fields; `(key, expected)` on the first problem.
+    pub fn check(&self) -> Result<(), (&'static str, &'static str)> {
+        let within = |v: f32, lo: f32, hi: f32| v.is_finite() && v >= lo && v <= hi;
+        if !within(self.paper_w_mm, 20.0, 2000.0) {
+            return Err(("print.paper_width_mm", "from 20 to 2000 mm"));
+        }
+        if !within(self.paper_h_mm, 20.0, 2000.0) {
+            return Err(("print.paper_height_mm", "from 20 to 2000 mm"));
+        }
+        let (w, h) = self.surface_mm();
+        if !within(self.margin_mm, 0.0, 200.0) || w < 10.0 || h < 10.0 {
+            return Err(("print.margin_mm", "from 0 to 200 mm, leaving at least 10 x 10 mm to print on"));
+        }
+        if !within(self.grid_mm, 0.05, 10.0) {
+            return Err(("print.grid_mm", "from 0.05 to 10 mm"));
+        }
+        let (c, r) = self.grid_size();
+        if c.saturating_mul(r) > MAX_PRINT_GRID as u64 || c == 0 || r == 0 {
+            return Err(("print.grid_mm", "a grid of at most 16777216 points on the printable area"));
+        }
+        if self.dot_levels == 0 || self.dot_levels > 8 {
+            return Err(("print.dot_levels", "from 1 to 8 dot heights"));
+        }
+        for (v, key, lo, hi, what) in [
+            (self.min_line_mm, "print.min_line_mm", 0.05, 10.0, "from 0.05 to 10 mm"),
+            (self.min_gap_mm, "print.min_gap_mm", 0.05, 20.0, "from 0.05 to 20 mm"),
+            (self.min_texture_mm, "print.min_texture_mm", 1.0, 100.0, "from 1 to 100 mm"),
+            (self.symbol_mm, "print.symbol_mm", 1.0, 50.0, "from 1 to 50 mm"),
+            (self.braille_dot_mm, "print.braille_dot_mm", 0.5, 3.0, "from 0.5 to 3 mm"),
+            (self.braille_dot_pitch_mm, "print.braille_dot_pitch_mm", 1.0, 5.0, "from 1 to 5 mm"),
+            (self.braille_cell_mm, "print.braille_cell_mm", 3.0, 15.0, "from 3 to 15 mm"),
+            (self.braille_line_mm, "print.braille_line_mm", 5.0, 25.0, "from 5 to 25 mm"),
+            (self.base_mm, "print.base_mm", 0.0, 20.0, "from 0 to 20 mm"),
+            (self.raise_mm, "print.raise_mm", 0.0, 20.0, "from 0 to 20 mm"),
+            (self.texture_mm, "print.texture_mm", 0.0, 20.0, "from 0 to 20 mm"),
+        ] {
+            if !within(v, lo, hi) {
+                return Err((key, what));
+            }
+        }
+        if self.braille_dot_mm >= self.braille_dot_pitch_mm {
+            return Err(("print.braille_dot_mm", "smaller than the dot spacing, so that dots stay apart"));
+        }
+        if self.braille_cell_mm < 2.0 * self.braille_dot_pitch_mm {
+            return Err(("print.braille_cell_mm", "at least twice the dot spacing, so that cells stay apart"));
+        }
+        if self.braille_line_mm < 3.0 * self.braille_dot_pitch_mm {
+            return Err(("print.braille_line_mm", "at least three dot spacings, so that lines stay apart"));
+        }
+        if self.medium == Medium::Relief {
+            if self.base_mm < 0.2 {
+                return Err(("print.base_mm", "at least 0.2 mm for a relief (the plate holds it together)"));
+            }
+            if self.raise_mm < 0.1 || self.texture_mm < 0.1 {
+                return Err(("print.raise_mm", "raised features at least 0.1 mm high on a relief"));
+            }
+        }
+        Ok(())
+    }
+}
+
 /// What a family needs beyond the common fields.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum FamilyParams {
@@ -147,6 +314,8 @@ pub enum FamilyParams {
     Finger(FingerParams),
     /// Pin-matrix parameters.
     Pins(PinParams),
+    /// Print-medium parameters.
+    Print(PrintParams),
 }
 
 impl FamilyParams {
@@ -157,6 +326,7 @@ impl FamilyParams {
             FamilyParams::Grid(_) => Family::Grid,
             FamilyParams::Finger(_) => Family::Finger,
             FamilyParams::Pins(_) => Family::Pins,
+            FamilyParams::Print(_) => Family::Print,
         }
     }
 }
@@ -228,10 +398,11 @@ impl DeviceProfile {
             return Err((if self.rows == 0 { "array.rows" } else { "array.cols" }, "at least 1"));
         }
         let pins = self.family() == Family::Pins;
+        let print = self.family() == Family::Print;
         if pins && self.rows as u32 * self.cols as u32 > MAX_PINS {
             return Err(("array.rows", "rows * cols at most 65536 pins"));
         }
-        if !pins && self.rows as u32 * self.cols as u32 > MAX_ACTUATORS {
+        if !pins && !print && self.rows as u32 * self.cols as u32 > MAX_ACTUATORS {
             return Err(("array.rows", "rows * cols at most 4096 actuators"));
         }
         if !pos(self.pitch_x_mm) || self.pitch_x_mm > 1000.0 {
@@ -330,6 +501,23 @@ impl DeviceProfile {
                 }
                 if !near(self.surface_h_mm, self.rows as f32 * self.pitch_y_mm) {
                     return Err(("surface.height_mm", "rows * pitch_y_mm for a pin matrix (the pin area)"));
+                }
+            }
+            FamilyParams::Print(p) => {
+                p.check()?;
+                // The common fields are derived from the print fields
+                // (`profiles::parse` fills them in), so they must agree.
+                let (w, h) = p.surface_mm();
+                let (c, r) = p.grid_size();
+                let near = |a: f32, b: f32| (a - b).abs() <= 1e-3 * b.max(1.0);
+                if !near(self.surface_w_mm, w) || !near(self.surface_h_mm, h) {
+                    return Err(("surface.width_mm", "the paper less its margins for a print profile"));
+                }
+                if self.pitch_x_mm != p.grid_mm || self.pitch_y_mm != p.grid_mm {
+                    return Err(("array.pitch_x_mm", "print.grid_mm for a print profile"));
+                }
+                if (self.cols as u64, self.rows as u64) != (c.min(u16::MAX as u64), r.min(u16::MAX as u64)) {
+                    return Err(("array.cols", "the grid points on the printable area for a print profile"));
                 }
             }
         }

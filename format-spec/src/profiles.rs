@@ -11,7 +11,9 @@ use std::string::{String, ToString};
 use std::vec::Vec;
 use std::{fmt, format};
 
-use crate::profile::{DeviceProfile, FamilyParams, FingerParams, GridParams, PinParams, ProfileName};
+use crate::profile::{
+    DeviceProfile, FamilyParams, FingerParams, GridParams, Medium, PinParams, PrintParams, ProfileName,
+};
 
 /// The built-in profiles: `(name, TOML source)`.
 pub const BUILTIN: &[(&str, &str)] = &[
@@ -22,6 +24,11 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("monarch", include_str!("../profiles/monarch.toml")),
     ("graphiti", include_str!("../profiles/graphiti.toml")),
     ("hyperbraille", include_str!("../profiles/hyperbraille.toml")),
+    ("swell-a4", include_str!("../profiles/swell-a4.toml")),
+    ("swell-letter", include_str!("../profiles/swell-letter.toml")),
+    ("tiger-20dpi", include_str!("../profiles/tiger-20dpi.toml")),
+    ("emboss-braille-grid", include_str!("../profiles/emboss-braille-grid.toml")),
+    ("print3d", include_str!("../profiles/print3d.toml")),
 ];
 
 /// Why a profile file was refused.
@@ -48,13 +55,33 @@ impl std::error::Error for ProfileError {}
 
 /// The keys a profile file may have, per table; everything else is refused
 /// by name, so that a misspelt key cannot be silently ignored.
-const TOP_KEYS: &[&str] = &["name", "family", "rate_hz", "output_bits", "array", "surface", "grid", "finger", "pins"];
+const TOP_KEYS: &[&str] =
+    &["name", "family", "rate_hz", "output_bits", "array", "surface", "grid", "finger", "pins", "print"];
 const ARRAY_KEYS: &[&str] = &["rows", "cols", "pitch_x_mm", "pitch_y_mm"];
 const SURFACE_KEYS: &[&str] = &["width_mm", "height_mm"];
 const GRID_KEYS: &[&str] = &["carrier_min_hz", "carrier_max_hz", "audio_rate_hz", "ramp_ms"];
 const FINGER_KEYS: &[&str] = &["rhythm_max", "intensity_max", "flat_slope", "direction_window", "min_move_mm"];
 const PINS_KEYS: &[&str] =
     &["height_levels", "blink_step_ms", "cell_rows", "cell_gap_cols", "line_gap_rows", "text_cells", "refresh_ms"];
+const PRINT_KEYS: &[&str] = &[
+    "medium",
+    "paper_width_mm",
+    "paper_height_mm",
+    "margin_mm",
+    "grid_mm",
+    "dot_levels",
+    "min_line_mm",
+    "min_gap_mm",
+    "min_texture_mm",
+    "symbol_mm",
+    "braille_dot_mm",
+    "braille_dot_pitch_mm",
+    "braille_cell_mm",
+    "braille_line_mm",
+    "base_mm",
+    "raise_mm",
+    "texture_mm",
+];
 
 type Table<'i> = toml::de::DeTable<'i>;
 type Value<'i> = toml::de::DeValue<'i>;
@@ -160,6 +187,15 @@ pub fn parse(text: &str, source_name: &str) -> Result<DeviceProfile, ProfileErro
         message: e.to_string().trim_end().replace('\n', " "),
     })?;
     let top = Fields::new(doc.get_ref(), "", TOP_KEYS, source_name, text)?;
+    // Only a print profile turns here; a missing or mistyped family goes on
+    // to the other families' checks, which name the first thing missing in
+    // their own order (`[array]` before `family`), as before print existed.
+    if top.string("family").ok() == Some("print") {
+        return parse_print(&top, source_name, text);
+    }
+    if top.table("print")?.is_some() {
+        return Err(top.err("print", None, "only a print profile has a [print] table".into()));
+    }
     let array = top.table("array")?.ok_or_else(|| top.err("array", None, "missing table [array]".into()))?;
     let array = Fields::new(array, "array", ARRAY_KEYS, source_name, text)?;
     let surface = top.table("surface")?.ok_or_else(|| top.err("surface", None, "missing table [surface]".into()))?;
@@ -221,7 +257,7 @@ pub fn parse(text: &str, source_name: &str) -> Result<DeviceProfile, ProfileErro
             return Err(top.err(
                 "family",
                 None,
-                format!("unknown family \"{other}\", expected \"laterotactile\", \"grid\", \"finger\" or \"pins\""),
+                format!("unknown family \"{other}\", expected \"laterotactile\", \"grid\", \"finger\", \"pins\" or \"print\""),
             ));
         }
     };
@@ -242,6 +278,99 @@ pub fn parse(text: &str, source_name: &str) -> Result<DeviceProfile, ProfileErro
         key: Some(key.into()),
         message: format!("out of range, expected {expected}"),
     })?;
+    Ok(profile)
+}
+
+/// A print profile: the `[print]` table decides everything; the common
+/// fields (`[array]`, `[surface]`, `rate_hz`, `output_bits`) are derived from
+/// it, and where a file gives them they must agree.
+fn parse_print(top: &Fields<'_, '_>, source_name: &str, text: &str) -> Result<DeviceProfile, ProfileError> {
+    for t in ["grid", "finger", "pins"] {
+        if top.table(t)?.is_some() {
+            return Err(top.err(t, None, format!("a print profile has no [{t}] table")));
+        }
+    }
+    let name_text = top.string("name")?;
+    let name = ProfileName::new(name_text)
+        .filter(|_| !name_text.is_empty())
+        .ok_or_else(|| top.err("name", None, "expected a name of 1 to 31 bytes without NUL".into()))?;
+    let t = top
+        .table("print")?
+        .ok_or_else(|| top.err("print", None, "missing table [print] for family \"print\"".into()))?;
+    let f = Fields::new(t, "print", PRINT_KEYS, source_name, text)?;
+    let medium_name = f.string("medium")?;
+    let medium = Medium::from_name(medium_name).ok_or_else(|| {
+        f.err("medium", None, format!("unknown medium \"{medium_name}\", expected \"swell\", \"emboss\" or \"relief\""))
+    })?;
+    let p = PrintParams {
+        medium,
+        paper_w_mm: f.float("paper_width_mm")?,
+        paper_h_mm: f.float("paper_height_mm")?,
+        margin_mm: f.float("margin_mm")?,
+        grid_mm: f.float("grid_mm")?,
+        dot_levels: f.int("dot_levels", u8::MAX as u64)? as u8,
+        min_line_mm: f.float("min_line_mm")?,
+        min_gap_mm: f.float("min_gap_mm")?,
+        min_texture_mm: f.float("min_texture_mm")?,
+        symbol_mm: f.float("symbol_mm")?,
+        braille_dot_mm: f.float("braille_dot_mm")?,
+        braille_dot_pitch_mm: f.float("braille_dot_pitch_mm")?,
+        braille_cell_mm: f.float("braille_cell_mm")?,
+        braille_line_mm: f.float("braille_line_mm")?,
+        base_mm: f.float("base_mm")?,
+        raise_mm: f.float("raise_mm")?,
+        texture_mm: f.float("texture_mm")?,
+    };
+    let err = |(key, expected): (&str, &str)| ProfileError {
+        source_name: source_name.into(),
+        key: Some(key.into()),
+        message: format!("out of range, expected {expected}"),
+    };
+    p.check().map_err(err)?;
+    let (w, h) = p.surface_mm();
+    let (cols, rows) = p.grid_size();
+    let mut profile = DeviceProfile {
+        name,
+        rows: rows.min(u16::MAX as u64) as u16,
+        cols: cols.min(u16::MAX as u64) as u16,
+        pitch_x_mm: p.grid_mm,
+        pitch_y_mm: p.grid_mm,
+        rate_hz: 1,
+        output_bits: 8,
+        surface_w_mm: w,
+        surface_h_mm: h,
+        params: FamilyParams::Print(p),
+    };
+    // What a file gives of the common fields must be what the print table makes.
+    if top.get("rate_hz").is_ok() {
+        profile.rate_hz = top.int("rate_hz", u32::MAX as u64)? as u32;
+    }
+    if top.get("output_bits").is_ok() {
+        profile.output_bits = top.int("output_bits", u8::MAX as u64)? as u8;
+    }
+    if let Some(a) = top.table("array")? {
+        let a = Fields::new(a, "array", ARRAY_KEYS, source_name, text)?;
+        for k in ARRAY_KEYS {
+            if a.get(k).is_ok() {
+                match *k {
+                    "rows" => profile.rows = a.int(k, u16::MAX as u64)? as u16,
+                    "cols" => profile.cols = a.int(k, u16::MAX as u64)? as u16,
+                    "pitch_x_mm" => profile.pitch_x_mm = a.float(k)?,
+                    _ => profile.pitch_y_mm = a.float(k)?,
+                }
+            }
+        }
+    }
+    if let Some(sf) = top.table("surface")? {
+        let sf = Fields::new(sf, "surface", SURFACE_KEYS, source_name, text)?;
+        if sf.get("width_mm").is_ok() {
+            profile.surface_w_mm = sf.float("width_mm")?;
+        }
+        if sf.get("height_mm").is_ok() {
+            profile.surface_h_mm = sf.float("height_mm")?;
+        }
+    }
+    profile.check().map_err(err)?;
     Ok(profile)
 }
 
@@ -284,6 +413,28 @@ pub fn to_toml(p: &DeviceProfile) -> String {
                 f.rhythm_max, f.intensity_max, f.flat_slope, f.direction_window, f.min_move_mm
             )
         }
+        FamilyParams::Print(q) => {
+            s += &format!(
+                "\n[print]\nmedium = {:?}\npaper_width_mm = {}\npaper_height_mm = {}\nmargin_mm = {}\ngrid_mm = {}\ndot_levels = {}\nmin_line_mm = {}\nmin_gap_mm = {}\nmin_texture_mm = {}\nsymbol_mm = {}\nbraille_dot_mm = {}\nbraille_dot_pitch_mm = {}\nbraille_cell_mm = {}\nbraille_line_mm = {}\nbase_mm = {}\nraise_mm = {}\ntexture_mm = {}\n",
+                q.medium.name(),
+                q.paper_w_mm,
+                q.paper_h_mm,
+                q.margin_mm,
+                q.grid_mm,
+                q.dot_levels,
+                q.min_line_mm,
+                q.min_gap_mm,
+                q.min_texture_mm,
+                q.symbol_mm,
+                q.braille_dot_mm,
+                q.braille_dot_pitch_mm,
+                q.braille_cell_mm,
+                q.braille_line_mm,
+                q.base_mm,
+                q.raise_mm,
+                q.texture_mm
+            )
+        }
         FamilyParams::Pins(p) => {
             s += &format!(
                 "\n[pins]\nheight_levels = {}\nblink_step_ms = {}\ncell_rows = {}\ncell_gap_cols = {}\nline_gap_rows = {}\ntext_cells = {}\nrefresh_ms = {}\n",
@@ -303,6 +454,7 @@ pub fn to_toml(p: &DeviceProfile) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::profile::Medium;
 
     #[test]
     fn builtins_parse_with_the_papers_values() {
@@ -380,6 +532,104 @@ mod tests {
         assert_eq!(parse(&wrong_table, "p").unwrap_err().key.as_deref(), Some("pins"));
     }
 
+    fn print(name: &str) -> (DeviceProfile, PrintParams) {
+        let p = builtin(name).unwrap();
+        let FamilyParams::Print(q) = p.params else { panic!("{name} is a print profile") };
+        (p, q)
+    }
+
+    #[test]
+    fn print_builtins_have_their_paper_and_grid() {
+        // Tiger: 11 x 11.5 in at 20 dpi, half-inch margins: 10 x 10.5 in of 20 dots an inch.
+        let (t, tq) = print("tiger-20dpi");
+        assert_eq!((tq.medium, tq.paper_w_mm, tq.paper_h_mm, tq.grid_mm), (Medium::Emboss, 279.4, 292.1, 1.27));
+        assert_eq!((t.cols, t.rows), (200, 210));
+        let (b, bq) = print("emboss-braille-grid");
+        assert_eq!((bq.grid_mm, b.cols, b.rows), (2.5, 76, 110));
+        let (a4, q) = print("swell-a4");
+        assert_eq!((q.medium, q.paper_w_mm, q.paper_h_mm), (Medium::Swell, 210.0, 297.0));
+        assert_eq!((a4.surface_w_mm, a4.surface_h_mm), (190.0, 277.0));
+        let (_, l) = print("swell-letter");
+        assert_eq!((l.paper_w_mm, l.paper_h_mm), (215.9, 279.4));
+        let (_, r) = print("print3d");
+        assert_eq!(r.medium, Medium::Relief);
+        assert!(r.base_mm > 0.0 && r.raise_mm > r.texture_mm && r.texture_mm > 0.0);
+        // NLS Specification 800's ranges hold on every paper profile (Tiger's
+        // dot spacing is its grid's 2.54 mm, named in its file).
+        for n in ["swell-a4", "swell-letter", "emboss-braille-grid", "print3d", "tiger-20dpi"] {
+            let (_, q) = print(n);
+            assert!((1.5..=1.6).contains(&q.braille_dot_mm), "{n}");
+            assert!((6.1..=7.6).contains(&q.braille_cell_mm), "{n}");
+            assert!((10.0..=10.2).contains(&q.braille_line_mm), "{n}");
+            assert!((2.3..=2.5).contains(&q.braille_dot_pitch_mm) || n == "tiger-20dpi", "{n}");
+        }
+    }
+
+    #[test]
+    fn a_print_profile_file_may_change_paper_margins_and_dimensions() {
+        let a4 = BUILTIN.iter().find(|(n, _)| *n == "swell-a4").unwrap().1;
+        let text = a4
+            .replace("paper_width_mm = 210", "paper_width_mm = 297")
+            .replace("paper_height_mm = 297", "paper_height_mm = 420")
+            .replace("margin_mm = 10", "margin_mm = 15")
+            .replace("braille_cell_mm = 6.2", "braille_cell_mm = 6.5");
+        let p = parse(&text, "a3.toml").unwrap();
+        let FamilyParams::Print(q) = p.params else { panic!() };
+        assert_eq!((p.surface_w_mm, p.surface_h_mm, q.braille_cell_mm), (267.0, 390.0, 6.5));
+        assert_eq!((p.cols, p.rows), (1068, 1560));
+    }
+
+    #[test]
+    fn hostile_print_profiles_are_refused_by_key() {
+        let a4 = BUILTIN.iter().find(|(n, _)| *n == "swell-a4").unwrap().1;
+        let relief = BUILTIN.iter().find(|(n, _)| *n == "print3d").unwrap().1;
+        let cases = [
+            (a4, "paper_width_mm = 210", "paper_width_mm = 0", "print.paper_width_mm"),
+            (a4, "paper_width_mm = 210", "paper_width_mm = nan", "print.paper_width_mm"),
+            (a4, "paper_height_mm = 297", "paper_height_mm = 1e30", "print.paper_height_mm"),
+            (a4, "paper_height_mm = 297", "paper_height_mm = \"A4\"", "print.paper_height_mm"),
+            (a4, "margin_mm = 10", "margin_mm = 105", "print.margin_mm"),
+            (a4, "margin_mm = 10", "margin_mm = -1", "print.margin_mm"),
+            (a4, "grid_mm = 0.25", "grid_mm = 0", "print.grid_mm"),
+            // Too many grid points: 190 x 277 mm at 0.05 mm is 21 million.
+            (a4, "grid_mm = 0.25", "grid_mm = 0.05", "print.grid_mm"),
+            (a4, "dot_levels = 1", "dot_levels = 9", "print.dot_levels"),
+            (a4, "dot_levels = 1", "dot_levels = 300", "print.dot_levels"),
+            (a4, "min_line_mm = 0.8", "min_line_mm = inf", "print.min_line_mm"),
+            (a4, "braille_dot_mm = 1.5", "braille_dot_mm = 2.5", "print.braille_dot_mm"),
+            (a4, "braille_cell_mm = 6.2", "braille_cell_mm = 4", "print.braille_cell_mm"),
+            (a4, "braille_line_mm = 10.2", "braille_line_mm = 6", "print.braille_line_mm"),
+            (a4, "medium = \"swell\"", "medium = \"vellum\"", "print.medium"),
+            (a4, "texture_mm = 0", "texture_mm = 0\ncolour = 1", "print.colour"),
+            (a4, "texture_mm = 0", "", "print.texture_mm"),
+            (relief, "base_mm = 2", "base_mm = 0", "print.base_mm"),
+            (relief, "raise_mm = 1", "raise_mm = 0", "print.raise_mm"),
+        ];
+        for (base, from, to, key) in cases {
+            assert!(base.contains(from), "{from}");
+            let e = parse(&base.replace(from, to), "hostile.toml").unwrap_err();
+            assert_eq!(e.key.as_deref(), Some(key), "{to}: {e}");
+            assert!(e.to_string().starts_with("hostile.toml"), "{e}");
+        }
+        // The common fields, where given, must be what the print table makes.
+        let e = parse(&format!("{a4}\n[surface]\nwidth_mm = 200\n"), "p").unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("surface.width_mm"), "{e}");
+        let e = parse(&format!("{a4}\n[array]\ncols = 3\n"), "p").unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("array.cols"), "{e}");
+        let e = parse(&format!("{a4}\n[pins]\nheight_levels = 1\n"), "p").unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("pins"), "{e}");
+        let e = parse(&format!("{}\n[print]\nmedium = \"swell\"\n", BUILTIN[0].1), "p").unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("print"), "{e}");
+        let no_table = a4.split("[print]").next().unwrap();
+        assert_eq!(parse(no_table, "p").unwrap_err().key.as_deref(), Some("print"));
+    }
+
+    #[test]
+    fn a_print_profile_makes_no_bundle() {
+        let b = crate::Bundle::new(crate::Manifest::new(builtin("swell-a4").unwrap()));
+        assert!(b.to_bytes().is_err());
+    }
+
     #[test]
     fn a_profile_file_may_change_the_pitch() {
         let dotpad = BUILTIN.iter().find(|(n, _)| *n == "dotpad").unwrap().1;
@@ -413,6 +663,17 @@ mod tests {
         let text = BUILTIN[0].1.replace("rate_hz = 1000", "");
         let e = parse(&text, "my.toml").unwrap_err();
         assert_eq!(e.key.as_deref(), Some("rate_hz"), "{e}");
+    }
+
+    #[test]
+    fn a_profile_with_a_name_alone_misses_its_array_first() {
+        // Regression: the print family's check read `family` before
+        // anything else, so this profile named `family` instead of `[array]`.
+        let e = parse("name = \"x\"\n", "p").unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("array"), "{e}");
+        assert!(e.to_string().contains("missing table [array]"), "{e}");
+        let e = parse("name = \"x\"\nfamily = 5\n", "p").unwrap_err();
+        assert_eq!(e.key.as_deref(), Some("array"), "{e}");
     }
 
     #[test]

@@ -206,3 +206,13 @@ class ReadingBack(TestCase):
         self.assertAlmostEqual(values["amplitude"], 50.0)
         self.assertIsNone(tk.parse_style("grating(wavelength 6mm)"))
         self.assertIsNone(tk.parse_style("sparkle()"))
+
+
+class BrailleGrade(TestCase):
+    """The dialog's braille grade: its default writes none, as the compiler's."""
+
+    def test_the_default_grade_is_not_written_and_reads_as_the_language_s(self):
+        self.assertEqual(tk.format_style("braille", {"grade": 0.0}), "braille()")
+        self.assertEqual(tk.format_style("braille", {"grade": 2.0}), "braille(grade: 2)")
+        self.assertIn("grade as its language is read", tk.describe("braille()"))
+        self.assertIn("grade 1", tk.describe("braille(grade: 1)"))

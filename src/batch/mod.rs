@@ -22,6 +22,7 @@ use std::time::Instant;
 
 use anyhow::{Result, bail};
 use rayon::prelude::*;
+use taxel_compiler::print::FileKind;
 use taxel_compiler::{Compiled, Diagnostic, Severity};
 
 use crate::account::NoteTally;
@@ -33,6 +34,61 @@ pub use shard::Shard;
 /// Compiles one file from its bytes, read once by the builder (the real one
 /// is [`crate::compile::compile_bytes`]).
 pub type CompileFn = dyn Fn(&Path, Vec<u8>, &CompileOpts) -> Result<Compiled> + Sync;
+
+/// What a build writes for each input: a bundle, or a print medium's file
+/// (`--profile swell-a4` and the like; the kind follows `-o`'s extension).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Output {
+    /// A `.taxel` bundle.
+    #[default]
+    Bundle,
+    /// A print medium's file.
+    Print(FileKind),
+}
+
+impl Output {
+    /// The extension of what is written.
+    pub fn extension(self) -> &'static str {
+        match self {
+            Output::Bundle => "taxel",
+            Output::Print(k) => k.extension(),
+        }
+    }
+
+    /// What a build for `profile` writes when `-o` is `out`: for a print
+    /// profile, the kind `out`'s extension names, else the medium's usual
+    /// one; an extension the medium is not written as is refused.
+    pub fn for_profile(profile: &taxel_format::DeviceProfile, out: Option<&Path>) -> Result<Output> {
+        let ext = out.and_then(|o| o.extension()).and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        let taxel_format::FamilyParams::Print(p) = profile.params else {
+            if let Some(k) =
+                ext.as_deref().and_then(FileKind::from_extension).filter(|_| out.is_some_and(|o| !o.is_dir()))
+            {
+                bail!(
+                    "-o {}: .{} files come from print profiles (swell-a4, swell-letter, tiger-20dpi, \
+                     emboss-braille-grid, print3d), and {} makes bundles (.taxel)",
+                    out.map(|o| o.display().to_string()).unwrap_or_default(),
+                    k.extension(),
+                    profile.name
+                );
+            }
+            return Ok(Output::Bundle);
+        };
+        let kinds = FileKind::for_medium(p.medium);
+        let named = ext.as_deref().filter(|_| out.is_some_and(|o| !o.is_dir()));
+        match named.map(|e| (e, FileKind::from_extension(e))) {
+            Some((_, Some(k))) if kinds.contains(&k) => Ok(Output::Print(k)),
+            Some((e, _)) if e == "taxel" || FileKind::from_extension(e).is_some() => bail!(
+                "-o {}: {} ({} medium) writes .{}, not .{e}",
+                out.map(|o| o.display().to_string()).unwrap_or_default(),
+                profile.name,
+                p.medium.name(),
+                kinds.iter().map(|k| k.extension()).collect::<Vec<_>>().join(" or .")
+            ),
+            _ => Ok(Output::Print(kinds[0])),
+        }
+    }
+}
 
 /// Where the bundles go.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -49,9 +105,11 @@ impl Destination {
     /// `-o OUT` for these inputs: a path ending in `.taxel` that is not an
     /// existing folder names one bundle (and needs exactly one input);
     /// anything else is a folder.
-    pub fn choose(out: Option<&Path>, inputs_found: usize) -> Result<Destination> {
+    /// For a print profile (`output`), `-o` names one file when it ends in
+    /// that output's extension.
+    pub fn choose(out: Option<&Path>, inputs_found: usize, output: Output) -> Result<Destination> {
         let Some(out) = out else { return Ok(Destination::NextToInputs) };
-        let named_bundle = out.extension().is_some_and(|e| e.eq_ignore_ascii_case("taxel")) && !out.is_dir();
+        let named_bundle = out.extension().is_some_and(|e| e.eq_ignore_ascii_case(output.extension())) && !out.is_dir();
         if !named_bundle {
             return Ok(Destination::Folder(out.to_path_buf()));
         }
@@ -64,11 +122,11 @@ impl Destination {
         Ok(Destination::File(out.to_path_buf()))
     }
 
-    /// Where the bundle of `input` goes.
-    pub fn output_for(&self, input: &Input) -> PathBuf {
+    /// Where the output of `input` goes, with extension `ext` unless `-o` named the file.
+    pub fn output_with(&self, input: &Input, ext: &str) -> PathBuf {
         match self {
-            Destination::NextToInputs => input.path.with_extension("taxel"),
-            Destination::Folder(dir) => dir.join(&input.rel).with_extension("taxel"),
+            Destination::NextToInputs => input.path.with_extension(ext),
+            Destination::Folder(dir) => dir.join(&input.rel).with_extension(ext),
             Destination::File(f) => f.clone(),
         }
     }
@@ -88,9 +146,10 @@ pub struct Job {
 /// The jobs for `inputs`. Inputs that would write the same bundle (`a.svg`
 /// and `a.gltf` in one folder) are all refused rather than one silently
 /// overwriting another.
-pub fn plan(inputs: Vec<Input>, dest: &Destination) -> Vec<Job> {
+pub fn plan(inputs: Vec<Input>, dest: &Destination, output: Output) -> Vec<Job> {
+    let ext = output.extension();
     let mut jobs: Vec<Job> =
-        inputs.into_iter().map(|input| Job { output: dest.output_for(&input), input, conflict: None }).collect();
+        inputs.into_iter().map(|input| Job { output: dest.output_with(&input, ext), input, conflict: None }).collect();
     let mut by_output: HashMap<PathBuf, Vec<usize>> = HashMap::new();
     for (i, j) in jobs.iter().enumerate() {
         by_output.entry(j.output.clone()).or_default().push(i);
@@ -118,6 +177,8 @@ pub struct Settings {
     pub terminal: bool,
     /// List every diagnostic instead of one line per rule (`-v`).
     pub verbose: bool,
+    /// What is written for each input.
+    pub output: Output,
 }
 
 /// Builds every job in parallel; `problems` (unreadable folder entries) are
@@ -149,7 +210,7 @@ pub fn run(jobs: &[Job], problems: &[String], settings: &Settings, compile: &Com
             let _ = writeln!(err, "{l}");
         }
     }
-    Ok(Summary { counts, elapsed: started.elapsed() })
+    Ok(Summary { counts, elapsed: started.elapsed(), peak: crate::peak_held() })
 }
 
 /// Builds one job: `(outcome, plain line, diagnostics)`. With `notes`, the
@@ -178,7 +239,8 @@ fn build_one(
     // finished after the build with the font faces the build laid the text
     // out with, rather than parsing the drawing a second time for them.
     let part = hash::Partial::begin(&job.input.path, &bytes);
-    let checked = if settings.force || !job.output.is_file() {
+    // A print file records no content hash: it is always made anew.
+    let checked = if settings.force || !job.output.is_file() || settings.output != Output::Bundle {
         None
     } else {
         let hash = match part.fonts_by_parsing(&bytes, &settings.opts) {
@@ -203,7 +265,7 @@ fn build_one(
             return (Outcome::Failed, format!("failed {shown}"), vec![d.render(&shown)]);
         }
     };
-    let Compiled { bundle, diagnostics, fonts_used } = compiled;
+    let Compiled { bundle, diagnostics, fonts_used, print } = compiled;
     let styles = crate::account::style_summary(&diagnostics).map(|s| format!(": {s}")).unwrap_or_default();
     let warnings = diagnostics.iter().filter(|d| d.severity == Severity::Warning).count();
     let errors = diagnostics.iter().filter(|d| d.severity == Severity::Error).count();
@@ -222,8 +284,19 @@ fn build_one(
             .map_err(|e| format!("{shown}: internal error: the compiler made an invalid bundle: {e}"))?;
         crate::io::write_file(&job.output, &bytes).map_err(|e| e.to_string())
     };
+    // A print sheet is written as the file its output names.
+    let write_print = |sheet: taxel_compiler::print::Sheet| -> Result<(), String> {
+        let Output::Print(kind) = settings.output else {
+            return Err(format!("{shown}: internal error: a print sheet for a bundle"));
+        };
+        let bytes = taxel_compiler::print::write(&sheet, kind).map_err(|e| format!("{shown}: {e}"))?;
+        crate::io::write_file(&job.output, &bytes).map_err(|e| e.to_string())
+    };
     let (written, messages) = rayon::join(
-        || bundle.filter(|_| errors == 0).map(write),
+        || match print {
+            Some(sheet) if errors == 0 => Some(write_print(sheet)),
+            _ => bundle.filter(|_| errors == 0).map(write),
+        },
         || crate::account::lines(&diagnostics, &shown, Severity::Note, settings.verbose),
     );
     match written {
@@ -265,21 +338,32 @@ mod tests {
         let text = String::from_utf8(bytes)?;
         let bundle = Some(Bundle::new(Manifest::new(profiles::builtin("stress2").unwrap())));
         Ok(match text.trim() {
-            "good" => Compiled { bundle, diagnostics: vec![], fonts_used: vec![] },
-            "warn" => {
-                Compiled { bundle, diagnostics: vec![Diagnostic::warning("T9", "thin").at(1, 1)], fonts_used: vec![] }
-            }
+            "good" => Compiled { bundle, diagnostics: vec![], fonts_used: vec![], print: None },
+            "warn" => Compiled {
+                bundle,
+                diagnostics: vec![Diagnostic::warning("T9", "thin").at(1, 1)],
+                fonts_used: vec![],
+                print: None,
+            },
             "panic" => panic!("fake compiler panic"),
             _ => Compiled {
                 bundle: None,
                 diagnostics: vec![Diagnostic::error("T8", "broken").at(2, 3)],
                 fonts_used: vec![],
+                print: None,
             },
         })
     }
 
     fn settings(force: bool) -> Settings {
-        Settings { opts: CompileOpts::default(), force, jobs: Some(2), terminal: false, verbose: false }
+        Settings {
+            opts: CompileOpts::default(),
+            force,
+            jobs: Some(2),
+            terminal: false,
+            verbose: false,
+            output: Output::Bundle,
+        }
     }
 
     #[test]
@@ -293,7 +377,7 @@ mod tests {
         }
         let out = dir.path().join("out");
         let (inputs, problems) = discover(std::slice::from_ref(&src)).unwrap();
-        let jobs = plan(inputs, &Destination::Folder(out.clone()));
+        let jobs = plan(inputs, &Destination::Folder(out.clone()), Output::Bundle);
         let s = run(&jobs, &problems, &settings(false), &fake).unwrap();
         assert_eq!(s.counts, Counts { built: 2, warned: 1, skipped: 0, failed: 2 });
         assert!(out.join("a.taxel").is_file() && out.join("sub/b.taxel").is_file());
@@ -310,7 +394,7 @@ mod tests {
         let p = dir.path().join("d.svg");
         std::fs::write(&p, "panic").unwrap();
         let (inputs, _) = discover(&[dir.path().to_path_buf()]).unwrap();
-        let jobs = plan(inputs, &Destination::Folder(dir.path().join("out")));
+        let jobs = plan(inputs, &Destination::Folder(dir.path().join("out")), Output::Bundle);
         let (outcome, _, messages) = build_one(&jobs[0], &settings(true), &fake, None);
         assert_eq!(outcome, Outcome::Failed);
         assert_eq!(messages.len(), 1);
@@ -324,7 +408,7 @@ mod tests {
             std::fs::write(dir.path().join(f), "good").unwrap();
         }
         let (inputs, _) = discover(&[dir.path().to_path_buf()]).unwrap();
-        let jobs = plan(inputs, &Destination::NextToInputs);
+        let jobs = plan(inputs, &Destination::NextToInputs, Output::Bundle);
         let refused: Vec<_> = jobs.iter().filter(|j| j.conflict.is_some()).map(|j| j.input.key()).collect();
         assert_eq!(refused, ["a.gltf", "a.svg"]);
     }
@@ -332,9 +416,12 @@ mod tests {
     #[test]
     fn a_named_bundle_needs_exactly_one_input() {
         let f = Path::new("x.taxel");
-        assert_eq!(Destination::choose(Some(f), 1).unwrap(), Destination::File(f.into()));
-        assert!(Destination::choose(Some(f), 2).is_err());
-        assert_eq!(Destination::choose(Some(Path::new("out")), 2).unwrap(), Destination::Folder("out".into()));
-        assert_eq!(Destination::choose(None, 3).unwrap(), Destination::NextToInputs);
+        assert_eq!(Destination::choose(Some(f), 1, Output::Bundle).unwrap(), Destination::File(f.into()));
+        assert!(Destination::choose(Some(f), 2, Output::Bundle).is_err());
+        assert_eq!(
+            Destination::choose(Some(Path::new("out")), 2, Output::Bundle).unwrap(),
+            Destination::Folder("out".into())
+        );
+        assert_eq!(Destination::choose(None, 3, Output::Bundle).unwrap(), Destination::NextToInputs);
     }
 }

@@ -50,6 +50,9 @@ pub struct Summary {
     pub counts: Counts,
     /// Wall-clock time of the whole batch.
     pub elapsed: Duration,
+    /// The most memory the process held meanwhile, bytes (as its allocator
+    /// counts it; 0: not known, not said).
+    pub peak: usize,
 }
 
 impl fmt::Display for Summary {
@@ -64,7 +67,11 @@ impl fmt::Display for Summary {
             c.skipped,
             c.total(),
             self.elapsed.as_secs_f64()
-        )
+        )?;
+        if self.peak > 0 {
+            write!(f, ", peak memory {}", taxel_compiler::budget::human_bytes(self.peak))?;
+        }
+        Ok(())
     }
 }
 
@@ -150,7 +157,10 @@ mod tests {
         let s = Summary {
             counts: Counts { built: 3, warned: 1, skipped: 2, failed: 4 },
             elapsed: Duration::from_millis(1500),
+            peak: 0,
         };
         assert_eq!(s.to_string(), "built 3, with warnings 1, failed 4, skipped 2 (up to date); 9 inputs in 1.50 s");
+        let s = Summary { peak: 300 << 20, ..s };
+        assert!(s.to_string().ends_with("9 inputs in 1.50 s, peak memory 300 MB"), "{s}");
     }
 }

@@ -4,7 +4,7 @@
 use std::io::IsTerminal;
 use std::path::PathBuf;
 
-use crate::batch::{self, Destination, Settings, Shard};
+use crate::batch::{self, Destination, Output, Settings, Shard};
 use crate::cli::CompileOpts;
 use crate::compile::compile_bytes;
 use crate::error::{CliError, CmdResult};
@@ -37,7 +37,11 @@ pub fn run(args: BuildArgs) -> CmdResult {
     let others = discovered.others_line();
     let (found, problems) = (discovered.inputs, discovered.problems);
     let found_count = found.len();
-    let dest = Destination::choose(args.out.as_deref(), found_count)?;
+    // A print profile writes the medium's file (PDF, PNG, STL) instead of a bundle.
+    let profile =
+        crate::io::load::profile(args.opts.profile.as_deref().unwrap_or(crate::io::load::DEFAULT_DRAWING_PROFILE))?;
+    let output = Output::for_profile(&profile, args.out.as_deref())?;
+    let dest = Destination::choose(args.out.as_deref(), found_count, output)?;
     let selected: Vec<_> = match shard {
         Some(s) => found.into_iter().filter(|i| s.contains(&i.key())).collect(),
         None => found,
@@ -48,13 +52,14 @@ pub fn run(args: BuildArgs) -> CmdResult {
             args.inputs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
         );
     }
-    let jobs = batch::plan(selected, &dest);
+    let jobs = batch::plan(selected, &dest, output);
     let settings = Settings {
         opts: args.opts,
         force: args.force,
         jobs: args.jobs,
         terminal: std::io::stderr().is_terminal(),
         verbose: args.verbose,
+        output,
     };
     let summary = batch::run(&jobs, &problems, &settings, &compile_bytes)?;
     if let Some(line) = others {

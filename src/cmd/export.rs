@@ -26,6 +26,25 @@ pub fn run(bundle: &Path, format: ExportFormat, out: &Path) -> CmdResult {
             profile.family()
         )));
     };
+    let file_title = out.file_name().and_then(|n| n.to_str()).unwrap_or("drawing.dtms");
+    let data = data(&b, format, file_title).map_err(|e| CliError::input(anyhow::anyhow!("{shown}: {e}")))?;
+    io::write_file(out, &data)?;
+    let pages = export::pages(image, &profile).len();
+    eprintln!("wrote {} ({} bytes, {pages} page{})", out.display(), data.len(), if pages == 1 { "" } else { "s" });
+    Ok(())
+}
+
+/// The device's own file of a pin-display bundle in `format`; `file_title`
+/// names it inside a DTMS file. The studio's downloads are this too.
+pub fn data(b: &Bundle, format: ExportFormat, file_title: &str) -> Result<Vec<u8>, String> {
+    let profile = b.manifest.profile;
+    let Some(image) = b.pin_image() else {
+        return Err(format!(
+            "no pin image: the bundle was compiled for {} ({} family); export needs a pin-display bundle",
+            profile.name,
+            profile.family()
+        ));
+    };
     // The drawing's title, when the compiler recorded it (provenance entry 0,
     // id `svg`), and the key of its key codes (entry `key`): together the
     // print text of the device's text line.
@@ -35,15 +54,10 @@ pub fn run(bundle: &Path, format: ExportFormat, out: &Path) -> CmdResult {
     let title = entry("svg");
     let line =
         [title.as_str(), entry("key").as_str()].into_iter().filter(|s| !s.is_empty()).collect::<Vec<_>>().join("; ");
-    let file_title = out.file_name().and_then(|n| n.to_str()).unwrap_or("drawing.dtms").to_string();
     let data = match format {
         ExportFormat::Unicode => Ok(export::unicode(image).into_bytes()),
-        ExportFormat::Dtms => export::dtms(image, &profile, &file_title, &title, &line).map(String::into_bytes),
+        ExportFormat::Dtms => export::dtms(image, &profile, file_title, &title, &line).map(String::into_bytes),
         ExportFormat::Graphiti => export::graphiti(image, &profile),
     };
-    let data = data.map_err(|e| CliError::input(anyhow::anyhow!("{shown}: {e}")))?;
-    io::write_file(out, &data)?;
-    let pages = export::pages(image, &profile).len();
-    eprintln!("wrote {} ({} bytes, {pages} page{})", out.display(), data.len(), if pages == 1 { "" } else { "s" });
-    Ok(())
+    data.map_err(|e| e.to_string())
 }

@@ -115,6 +115,8 @@ fn describe(view: &BundleView<'_>) -> Value {
             "cell_gap_cols": q.cell_gap_cols, "line_gap_rows": q.line_gap_rows, "text_cells": q.text_cells,
             "refresh_ms": q.refresh_ms,
         }),
+        // No bundle holds a print profile; kept for completeness.
+        FamilyParams::Print(q) => json!({ "medium": q.medium.name() }),
     };
     let prov = view.provenance();
     let mut chunks = Vec::new();

@@ -6,7 +6,7 @@ use crate::error::{CliError, CmdResult};
 mod build;
 mod check;
 mod device;
-mod export;
+pub mod export;
 mod inkscape;
 mod inspect;
 mod load;
@@ -47,6 +47,9 @@ pub fn run(cli: Cli) -> CmdResult {
         Some(Command::Profiles) => profiles::run(),
         Some(Command::Inkscape(InkscapeCommand::Install { dir })) => inkscape::install(dir.as_deref()),
         Some(Command::Inkscape(InkscapeCommand::Uninstall { dir })) => inkscape::uninstall(dir.as_deref()),
+        Some(Command::Studio { path, port, no_open, listen, opts }) => {
+            crate::studio::run(crate::studio::StudioArgs { path, port, no_open, listen, opts })
+        }
     }
 }
 

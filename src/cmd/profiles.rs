@@ -7,7 +7,7 @@ use crate::io::stdout::outln;
 
 pub fn run() -> CmdResult {
     outln!(
-        "{:<12} {:<14} {:>9} {:>15} {:>8} {:>6} {:>15}  notes",
+        "{:<20} {:<14} {:>9} {:>15} {:>8} {:>6} {:>15}  notes",
         "name",
         "family",
         "actuators",
@@ -35,9 +35,26 @@ pub fn run() -> CmdResult {
                 q.cell_rows * 2,
                 if q.text_cells > 0 { format!("{}-cell text line", q.text_cells) } else { "no text line".into() }
             ),
+            FamilyParams::Print(q) => format!(
+                "{} on {} x {} mm paper, {} mm margins, {}{}",
+                q.medium.name(),
+                q.paper_w_mm,
+                q.paper_h_mm,
+                q.margin_mm,
+                match q.medium {
+                    taxel_format::Medium::Emboss => format!("dots every {} mm", q.grid_mm),
+                    taxel_format::Medium::Relief => format!("{} mm plate, features {} mm", q.base_mm, q.raise_mm),
+                    taxel_format::Medium::Swell => "vector art".into(),
+                },
+                match q.medium {
+                    taxel_format::Medium::Relief => ", writes STL",
+                    taxel_format::Medium::Emboss => ", writes PDF or PNG",
+                    taxel_format::Medium::Swell => ", writes PDF",
+                }
+            ),
         };
         outln!(
-            "{:<12} {:<14} {:>9} {:>15} {:>8} {:>6} {:>15}  {}",
+            "{:<20} {:<14} {:>9} {:>15} {:>8} {:>6} {:>15}  {}",
             name,
             p.family().name(),
             format!("{}x{}", p.cols, p.rows),

@@ -166,9 +166,10 @@ fn every_trace_is_a_plausible_exploration_at_20_to_80_mm_per_s() {
         let p = profiles::builtin(&s.profile).unwrap_or_else(|| panic!("{}: unknown profile", s.name));
         let grid = matches!(p.params, taxel_format::FamilyParams::Grid(_));
         let pins = matches!(p.params, taxel_format::FamilyParams::Pins(_));
+        let print = matches!(p.params, taxel_format::FamilyParams::Print(_));
         let Some(trace) = &s.trace else {
-            // Brush scenes are time-driven; pin displays show still pages.
-            assert!(grid || pins, "{}: a scene explored by hand needs a trace", s.name);
+            // Brush scenes are time-driven; pin displays show still pages; print is paper.
+            assert!(grid || pins || print, "{}: a scene explored by hand needs a trace", s.name);
             continue;
         };
         assert!(!grid, "{}: brush scenes are time-driven and take no trace", s.name);
@@ -281,6 +282,12 @@ fn every_example_builds_with_exactly_the_warnings_it_is_meant_to_show() {
         let out = build(&s);
         if let Some(b) = &out.bundle {
             sizes.push((s.name.clone(), b.to_bytes().map_or(usize::MAX, |bytes| bytes.len())));
+            // The layer plan keeps its invariants on every example drawing.
+            if b.manifest.profile.family() == taxel_format::Family::Laterotactile
+                && let Err(e) = taxel_compiler::sanity::latero_plan(b)
+            {
+                failures.push(format!("{}: the layer plan breaks an invariant: {e}", s.name));
+            }
         }
         let errors = out.diagnostics.iter().any(|d| d.severity == Severity::Error);
         let warnings: Vec<String> = out
@@ -291,13 +298,15 @@ fn every_example_builds_with_exactly_the_warnings_it_is_meant_to_show() {
             .collect::<BTreeSet<_>>()
             .into_iter()
             .collect();
-        if errors || out.bundle.is_none() || warnings != s.warnings {
+        // A print scene makes a sheet (its file), not a bundle.
+        let made = out.bundle.is_some() || out.print.is_some();
+        if errors || !made || warnings != s.warnings {
             let all: Vec<String> = out.diagnostics.iter().map(|d| d.render(&s.input)).collect();
             failures.push(format!(
                 "{}: expected warnings {:?}, got {warnings:?}{}\n{}",
                 s.name,
                 s.warnings,
-                if out.bundle.is_none() { " and no bundle" } else { "" },
+                if made { "" } else { " and no bundle" },
                 all.join("\n")
             ));
         }

@@ -8,7 +8,7 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 #[path = "../../compiler/benches/drawings/mod.rs"]
-mod drawings;
+pub(crate) mod drawings;
 
 fn taxel(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_taxel")).args(args).output().unwrap()

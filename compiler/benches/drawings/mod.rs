@@ -346,3 +346,51 @@ pub fn matplotlib_chart(bars: usize) -> String {
     s += " </defs>\n</svg>\n";
     s
 }
+
+// Drawings that ran away (issue 47): hand-drawn scribbles, noisy filled
+// areas and dense scatter plots.
+
+/// One filled path of `n` random segments across a `w` x `h` mm page, crossing
+/// itself some n²/10 times; `attrs` are its other attributes.
+pub fn scribble(n: usize, (w, h): (f64, f64), attrs: &str, seed: u64) -> String {
+    let mut rng = Rng::new(seed);
+    let mut d = format!("M{:.3},{:.3}", w / 2.0, h / 2.0);
+    for _ in 0..n {
+        d += &format!(" L{:.3},{:.3}", rng.next() * w, rng.next() * h);
+    }
+    d += " Z";
+    plain_svg((w, h), &format!(r##"<path fill="#c33" {attrs} d="{d}"/>"##))
+}
+
+/// `n` filled circles of radius `r` mm scattered over the page (a scatter plot).
+pub fn scatter(n: usize, r: f64, (w, h): (f64, f64), seed: u64) -> String {
+    let mut rng = Rng::new(seed);
+    let mut body = String::new();
+    for _ in 0..n {
+        body += &format!(r##"<circle cx="{:.2}" cy="{:.2}" r="{r}" fill="#36c"/>"##, rng.next() * w, rng.next() * h);
+        body.push('\n');
+    }
+    plain_svg((w, h), &body)
+}
+
+/// One closed filled ring of `n` points, each jittered `jitter` mm in or out
+/// from a circle of radius `radius` mm (a traced scan's noisy outline).
+pub fn jittered_ring(n: usize, radius: f64, jitter: f64, (w, h): (f64, f64), seed: u64) -> String {
+    let mut rng = Rng::new(seed);
+    let mut d = String::new();
+    for k in 0..n {
+        let a = k as f64 / n as f64 * std::f64::consts::TAU;
+        let r = radius + (rng.next() * 2.0 - 1.0) * jitter;
+        d += &format!("{}{:.3},{:.3}", if k == 0 { "M" } else { " L" }, w / 2.0 + r * a.cos(), h / 2.0 + r * a.sin());
+    }
+    d += " Z";
+    plain_svg((w, h), &format!(r##"<path fill="#3a3" d="{d}"/>"##))
+}
+
+fn plain_svg((w, h): (f64, f64), body: &str) -> String {
+    format!(
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}mm" height="{h}mm" viewBox="0 0 {w} {h}">
+{body}
+</svg>"#
+    )
+}

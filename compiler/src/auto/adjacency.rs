@@ -108,7 +108,7 @@ impl<'r, 'a> Neighbours<'r, 'a> {
 
     /// Whether each region lies across another that it meets: their
     /// outlines come within `abut` mm and one reaches into the other
-    /// ([`overlap`]). A tessellation's pieces only share sides; the marks of a
+    /// (as `overlap` tells). A tessellation's pieces only share sides; the marks of a
     /// scatter plot pile up across each other. Only the regions `asked` says
     /// yes to are looked at (the others are `false`).
     pub fn lying_across(&self, abut: f64, asked: impl Fn(usize) -> bool + Sync) -> Vec<bool> {

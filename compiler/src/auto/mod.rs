@@ -30,7 +30,7 @@
 //! [`sheet_toml`] writes the same decisions as a style sheet a teacher can
 //! start from (`taxel style auto [INPUT]`).
 
-mod adjacency;
+pub(crate) mod adjacency;
 mod sheet;
 
 pub use adjacency::{Neighbours, Region, abutting, abutting_alike, class_edges, colour, touching};

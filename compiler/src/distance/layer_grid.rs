@@ -21,7 +21,7 @@
 use taxel_format::TILE_CELLS;
 
 use super::near::row_cells;
-use super::{Part, Seg, seg_bounds};
+use super::{Part, Seg, Tiles, seg_bounds};
 
 /// Grid cells per lattice cell along each axis (the per-tile grid's `SUB`).
 pub(super) const SUB: usize = 2;
@@ -71,7 +71,10 @@ pub(super) struct LayerGrid {
     width: usize,
     height: usize,
     cols: usize,
-    /// Each segment's slot, and its bucket's span of tiles `[c0, c1, r0, r1]`.
+    /// The tiles, as the buckets count them.
+    tiles: Tiles,
+    /// Each segment's slot, and its span of tiles `[c0, c1, r0, r1]`
+    /// (its tiles within: [`Tiles::row_cols`]).
     slot: Vec<u8>,
     span: Vec<[u16; 4]>,
     /// Per tile, row-major.
@@ -84,10 +87,9 @@ pub(super) struct LayerGrid {
 
 /// What [`LayerGrid::new`] needs of a layer besides its segments.
 pub(super) struct Lattice {
-    pub origin: (f64, f64),
+    /// The tiles, as the buckets count them.
+    pub tiles: Tiles,
     pub h: f64,
-    pub cols: usize,
-    pub rows: usize,
     /// The clamp's margin added to every reach, mm.
     pub margin: f64,
     /// The layer's slots: the slot of a part, `None` for one it does not have.
@@ -109,7 +111,7 @@ impl LayerGrid {
         grid_from: usize,
         max_rings: f64,
     ) -> Option<LayerGrid> {
-        let (cols, rows, h) = (lat.cols, lat.rows, lat.h);
+        let (cols, rows, h) = (lat.tiles.cols, lat.tiles.rows, lat.h);
         if !(h.is_finite() && h > 0.0) || lat.slots >= 64 || span.len() != segs.len() {
             return None;
         }
@@ -117,17 +119,17 @@ impl LayerGrid {
         let mut stats = vec![TileStats::default(); cols.checked_mul(rows)?];
         let mut reach: Vec<Option<f64>> = vec![None; lat.slots];
         let mut slot = Vec::with_capacity(segs.len());
-        for (&((a, b), part, r), sp) in segs.iter().zip(span.iter_mut()) {
+        for (&(seg @ (a, b), part, m), sp) in segs.iter().zip(span.iter_mut()) {
             let Some(s) = slot_of(part).filter(|_| sp[0] <= sp[1] && sp[2] <= sp[3]) else {
                 slot.push(u8::MAX);
                 *sp = super::NO_TILES;
                 continue;
             };
-            if ![a.0, a.1, b.0, b.1, r].iter().all(|v| v.is_finite()) {
+            if ![a.0, a.1, b.0, b.1, m].iter().all(|v| v.is_finite()) {
                 return None;
             }
             // One reach per slot: a tile's is then its slots' reaches.
-            let r = r + lat.margin;
+            let r = m + lat.margin;
             if !(r > 0.0 && r.is_finite()) {
                 return None;
             }
@@ -136,9 +138,11 @@ impl LayerGrid {
                 _ => reach[s] = Some(r),
             }
             let own = is_own(s);
-            for row in sp[2]..=sp[3] {
-                for col in sp[0]..=sp[1] {
-                    let t = stats.get_mut(row as usize * cols + col as usize)?;
+            let whole = sp.map(usize::from);
+            for row in whole[2]..=whole[3] {
+                let (c0, c1) = lat.tiles.row_cols(&seg, m, row, whole);
+                for col in c0..=c1 {
+                    let t = stats.get_mut(row * cols + col)?;
                     if own {
                         t.own += 1;
                     } else {
@@ -170,7 +174,8 @@ impl LayerGrid {
             return None;
         }
         let mut grid = LayerGrid {
-            origin: lat.origin,
+            origin: lat.tiles.origin,
+            tiles: lat.tiles,
             cell,
             pad,
             width,
@@ -308,11 +313,16 @@ impl LayerGrid {
         }
     }
 
-    /// Segment `n`'s slot if tile `(c, r)`'s bucket holds it.
-    pub(super) fn slot_in(&self, n: usize, (c, r): (u32, u32)) -> Option<usize> {
-        let [c0, c1, r0, r1] = self.span.get(n)?.map(u32::from);
+    /// Segment `n` of `segs`'s slot if tile `(c, r)`'s bucket holds it.
+    pub(super) fn slot_in(&self, segs: &[(Seg, Part, f64)], n: usize, (c, r): (u32, u32)) -> Option<usize> {
+        let span = self.span.get(n)?.map(u32::from);
         let s = *self.slot.get(n)?;
-        (c0 <= c && c <= c1 && r0 <= r && r <= r1 && s != u8::MAX).then_some(s as usize)
+        if !(span[0] <= c && c <= span[1] && span[2] <= r && r <= span[3] && s != u8::MAX) {
+            return None;
+        }
+        let (seg, _, m) = segs.get(n)?;
+        let (c0, c1) = self.tiles.row_cols(seg, *m, r as usize, span.map(|v| v as usize));
+        (c0 as u32 <= c && c <= c1 as u32).then_some(s as usize)
     }
 
     /// Whether the group's segments were binned (only a group some tile's
@@ -357,7 +367,7 @@ impl LayerGrid {
         let (x, y) = xy;
         let visit = |items: &[u32], found: &mut Vec<(f64, u32)>| {
             for &n in items {
-                let Some(slot) = self.slot_in(n as usize, tile_u32) else { continue };
+                let Some(slot) = self.slot_in(segs, n as usize, tile_u32) else { continue };
                 if !want(slot) {
                     continue;
                 }

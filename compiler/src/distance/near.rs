@@ -91,7 +91,7 @@ struct Grid {
     start: Vec<u32>,
     items: Vec<u32>,
     /// Scratch: each entry's cell range, `None` when not in this grid.
-    ranges: Vec<Option<((f64, f64), (f64, f64), [isize; 4])>>,
+    ranges: Vec<Option<Binned>>,
 }
 
 /// Whether sample `t` is in a tile's last lattice row or column: on a
@@ -108,6 +108,10 @@ pub(super) fn floor_cell(v: f64) -> isize {
     if (t as f64) > v { t - 1 } else { t }
 }
 
+/// A segment in a tile's grid: its ends in cell units (the grid's padding
+/// added) and its box's cells `[x0, y0, x1, y1]`.
+type Binned = ((f64, f64), (f64, f64), [isize; 4]);
+
 /// The cells of row `y` (the band `y <= v <= y + 1`, in cell units) that the
 /// segment `a`-`b` (in cell units) passes through, within its box's columns
 /// `[x0, x1]`: a long slanted segment is binned in the cells along it, not in
@@ -121,7 +125,8 @@ pub(super) fn row_cells(a: (f64, f64), b: (f64, f64), y: isize, (x0, x1): (isize
     }
     let (ta, tb) = ((y as f64 - a.1) / dy, (y as f64 + 1.0 - a.1) / dy);
     let (lo, hi) = (ta.min(tb).max(0.0), ta.max(tb).min(1.0));
-    if !(lo <= hi) {
+    // (NaN, from a segment whose ends lie a world apart, is taken whole.)
+    if lo.partial_cmp(&hi).is_none_or(|o| o == std::cmp::Ordering::Greater) {
         return (x0, x1);
     }
     let (xa, xb) = (a.0 + lo * (b.0 - a.0), a.0 + hi * (b.0 - a.0));
@@ -149,9 +154,8 @@ impl Grid {
             let shift = pad as f64;
             (x0 <= x1 && y0 <= y1).then_some(((a.0 + shift, a.1 + shift), (b.0 + shift, b.1 + shift), [x0, y0, x1, y1]))
         }));
-        let spans = |&(a, b, [x0, y0, x1, y1]): &((f64, f64), (f64, f64), [isize; 4])| {
-            (y0..=y1).map(move |y| (y as usize, row_cells(a, b, y, (x0, x1))))
-        };
+        let spans =
+            |&(a, b, [x0, y0, x1, y1]): &Binned| (y0..=y1).map(move |y| (y as usize, row_cells(a, b, y, (x0, x1))));
         self.start.clear();
         self.start.resize(self.side * self.side + 1, 0);
         for r in self.ranges.iter().flatten() {
@@ -538,7 +542,7 @@ impl Near {
         let d = &mut self.d;
         let visit = |items: &[u32], d: &mut [f64], active: u64| {
             for &n in items {
-                let Some(slot) = grid.slot_in(n as usize, tile) else { continue };
+                let Some(slot) = grid.slot_in(segs, n as usize, tile) else { continue };
                 if slot >= 64 || active & (1 << slot) == 0 {
                     continue;
                 }
@@ -752,8 +756,9 @@ mod tests {
     fn layer_grid_of(segs: &[(Seg, Part, f64)], origin: (f64, f64), h: f64, margin: f64) -> (Vec<Vec<u32>>, LayerGrid) {
         let (cols, rows) = GRID_TILES;
         let tile = TILE_CELLS as f64 * h;
-        let (buckets, spans) = super::super::buckets_of(segs, origin, tile, (cols, rows));
-        let lattice = super::super::layer_grid::Lattice { origin, h, cols, rows, margin, slots: slots(1, 1) };
+        let tiles = super::super::Tiles { origin, side: tile, cols, rows };
+        let (buckets, spans) = super::super::buckets_of(segs, &tiles);
+        let lattice = super::super::layer_grid::Lattice { tiles, h, margin, slots: slots(1, 1) };
         let grid = LayerGrid::new(segs, spans, &lattice, |p| slot_of(p, 1, 1), 0, MAX_RINGS);
         (buckets, grid.expect("a layer grid"))
     }

@@ -267,7 +267,7 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
             )
             .with_help("build with --profile finger3 (or a profile file of family \"finger\")"),
         );
-        return Compiled { bundle: None, diagnostics, fonts_used: Vec::new() };
+        return Compiled { bundle: None, diagnostics, fonts_used: Vec::new(), print: None };
     }
     // A model read with the wrong axis up (a terrain exported Z-up) is seen
     // edge on: its errors say which flag reads it the other way.
@@ -296,7 +296,7 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
             // A model too far away is refused before its axis is chosen.
             let read = opts.up.unwrap_or_else(|| extent.map_or(UpAxis::Y, chosen_up));
             diagnostics.push(failed(e, extent, read));
-            return Compiled { bundle: None, diagnostics, fonts_used: Vec::new() };
+            return Compiled { bundle: None, diagnostics, fonts_used: Vec::new(), print: None };
         }
         Ok((soup, mm_per_metre)) => {
             let (extent, read, chosen) = (soup.extent, soup.up, soup.up_chosen);
@@ -307,7 +307,7 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
                 Ok((hf, report)) => (hf, report, read),
                 Err(e) => {
                     diagnostics.push(failed(e, Some(extent), read));
-                    return Compiled { bundle: None, diagnostics, fonts_used: Vec::new() };
+                    return Compiled { bundle: None, diagnostics, fonts_used: Vec::new(), print: None };
                 }
             }
         }
@@ -404,7 +404,7 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
     // The writer validates its own output; a refusal here is reported, not hidden.
     if let Err(e) = bundle.to_bytes() {
         diagnostics.push(Diagnostic::error("T0613", format!("the height field cannot be stored: {e}")));
-        return Compiled { bundle: None, diagnostics, fonts_used: Vec::new() };
+        return Compiled { bundle: None, diagnostics, fonts_used: Vec::new(), print: None };
     }
-    Compiled { bundle: Some(bundle), diagnostics, fonts_used: Vec::new() }
+    Compiled { bundle: Some(bundle), diagnostics, fonts_used: Vec::new(), print: None }
 }

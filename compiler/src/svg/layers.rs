@@ -18,7 +18,7 @@ use super::footprints::{self, Pending as FootPending};
 use crate::annotation::{Braille as BrailleStyle, Grating, Style, Vibrate};
 use crate::brush::{self, BrushRequest};
 use crate::diagnostic::Diagnostic;
-use crate::distance::{FieldParams, LayerGeometry, build_field};
+use crate::distance::{FieldParams, LayerGeometry, build_field_within};
 use crate::drawing::{Clip, Drawing, Element, Page, Shape, TextShape};
 use crate::geometry::Polyline;
 use crate::options::CompileOptions;
@@ -75,6 +75,9 @@ pub(crate) struct Built {
     /// they cover is hidden under opaque fills painted later, clipped away or
     /// off the surface. Said when nothing at all is made (T0300).
     pub unfelt: Vec<Unfelt>,
+    /// Styles whose layer the memory budget stopped (their style's name
+    /// and elements, drawing indices): each an error (T0308).
+    pub over_budget: Vec<(&'static str, Vec<usize>)>,
     /// Where gratings are not felt around the braille written
     /// ([`braille_clearing`]).
     pub braille_clear: Vec<Polyline>,
@@ -352,9 +355,14 @@ pub(crate) fn build<R: Send>(
     // Braille adds features and no layer (nor reads any), so it comes before the fields.
     braille_texts(&mut b, drawing, opts, diags);
     let features = std::mem::take(&mut b.features);
-    let (built_index, beside) =
-        rayon::join(|| distance_layers(&mut b, drawing, &pending, px, felt), || beside(&features));
+    let (built_index, beside) = rayon::join(
+        || distance_layers(&mut b, drawing, &pending, (px, opts.memory.as_ref()), felt),
+        || beside(&features),
+    );
     b.features = features;
+    for (style, elements) in std::mem::take(&mut b.over_budget) {
+        diags.push(over_budget(drawing, style, &elements, opts.memory.as_ref()));
+    }
     // Features name their built layer (a style whose field came out empty has none).
     for f in &mut b.features {
         if let Some(k) = f.mask {
@@ -432,6 +440,30 @@ fn layer_feature(
     });
 }
 
+/// The error for a style's layer that the memory budget stopped: at its
+/// first element, naming how many it has.
+fn over_budget(
+    drawing: &Drawing,
+    style: &str,
+    elements: &[usize],
+    budget: Option<&crate::budget::MemoryBudget>,
+) -> Diagnostic {
+    let limit = budget.map_or_else(|| "the memory budget".to_string(), |b| crate::budget::human_bytes(b.limit));
+    let more = match elements.len() {
+        0 | 1 => String::new(),
+        n => format!(" (and {} more of its elements)", n - 1),
+    };
+    let d = Diagnostic::error(
+        crate::budget::OVER_BUDGET,
+        format!("building the {style} layer needs more memory than the limit of {limit}{more}: stopped"),
+    )
+    .with_help(crate::budget::OVER_BUDGET_HELP);
+    match elements.first().and_then(|&i| drawing.elements.get(i)) {
+        Some(e) => d.with_element(&e.name).at_line(e.line),
+        None => d,
+    }
+}
+
 /// Builds one distance layer per style (and set of clip regions): vibrating
 /// outlines as one band of the style (touching borders merge), grated
 /// regions as one fill minus every vibrating band on the page that crosses
@@ -443,7 +475,7 @@ fn distance_layers(
     b: &mut Built,
     drawing: &Drawing,
     pending: &[Pending],
-    px: f32,
+    (px, budget): (f32, Option<&crate::budget::MemoryBudget>),
     surface: (f64, f64),
 ) -> Vec<Option<usize>> {
     let page = drawing.page;
@@ -527,20 +559,27 @@ fn distance_layers(
                 }
             };
             let params = FieldParams { pitch_mm: pitch, soft_mm: soft, page: page_rect };
-            let field = build_field(&geometry, params);
-            Some((k, geometry, params, field, kind, amplitude, soft, covered_by))
+            let field = build_field_within(&geometry, params, budget);
+            Some((k, field, kind, amplitude, soft, covered_by))
         })
         .collect();
     let mut built_index = vec![None; pending.len()];
-    for (k, geometry, params, field, kind, amplitude, soft, covered_by) in built.into_iter().flatten() {
+    for (k, field, kind, amplitude, soft, covered_by) in built.into_iter().flatten() {
         let p = &pending[k];
-        let Some(field) = field else {
-            let style = match p.style {
-                LayerStyle::Vibrate(_) => "vibrate",
-                LayerStyle::Grating(_) => "grating",
-            };
-            b.unfelt.push(Unfelt { style, elements: p.elements.clone(), covered_by });
-            continue;
+        let style = match p.style {
+            LayerStyle::Vibrate(_) => "vibrate",
+            LayerStyle::Grating(_) => "grating",
+        };
+        let field = match field {
+            Ok(Some(field)) => field,
+            Ok(None) => {
+                b.unfelt.push(Unfelt { style, elements: p.elements.clone(), covered_by });
+                continue;
+            }
+            Err(crate::budget::OverBudget) => {
+                b.over_budget.push((style, p.elements.clone()));
+                continue;
+            }
         };
         let mut sources: Vec<u32> = p
             .elements
@@ -565,10 +604,6 @@ fn distance_layers(
             planes: field.planes,
             samples: field.samples,
         };
-        // The vector-layer prototype's figures and benches see what was built.
-        if crate::vector::capture::active() {
-            crate::vector::capture::record(&geometry, params, &layer);
-        }
         b.layers.push(layer);
     }
     built_index

@@ -60,19 +60,22 @@ pub fn compile_svg(svg_text: &str, opts: &CompileOptions) -> Compiled {
 /// assert!(out.bundle.is_some(), "{:?}", out.diagnostics);
 /// ```
 pub fn compile_svg_with_fonts(svg_text: &str, opts: &CompileOptions, fonts: drawing::Fonts<'_>) -> Compiled {
-    let (mut diagnostics, mut fonts_used) = (Vec::new(), Vec::new());
-    let bundle = compile(svg_text, opts, fonts, &mut diagnostics, &mut fonts_used);
+    let (mut diagnostics, mut fonts_used, mut print) = (Vec::new(), Vec::new(), None);
+    let bundle = compile(svg_text, opts, fonts, &mut diagnostics, &mut fonts_used, &mut print);
     let bundle = if has_errors(&diagnostics) { None } else { bundle };
-    Compiled { bundle, diagnostics, fonts_used }
+    let print = if has_errors(&diagnostics) { None } else { print };
+    Compiled { bundle, diagnostics, fonts_used, print }
 }
 
-/// The pipeline: resolve → prepare → layers → design rules → bundle.
+/// The pipeline: resolve → prepare → layers → design rules → bundle (or,
+/// for a print profile, the print sheet in `print`).
 fn compile(
     text: &str,
     opts: &CompileOptions,
     fonts: drawing::Fonts<'_>,
     diags: &mut Vec<Diagnostic>,
     fonts_used: &mut Vec<drawing::FontFace>,
+    print: &mut Option<crate::print::Sheet>,
 ) -> Option<Bundle> {
     let px = match opts.resolution_px_per_mm {
         None => DEFAULT_PX_PER_MM,
@@ -89,9 +92,18 @@ fn compile(
     // Styles asked of shapes that are not drawn count as asked (for the T0300 message below).
     let not_drawn = diags.iter().filter(|d| d.code == drawing::NOT_DRAWN).count();
     crate::prepare::prepare(&mut drawing, opts, diags);
+    if let Some(d) = crate::budget::check(opts.memory.as_ref(), "reading the drawing") {
+        diags.push(d);
+        return None;
+    }
     // Pin displays are legalised from the same drawing into one pin image.
     if opts.profile.family() == taxel_format::Family::Pins {
         return crate::pins::build_bundle(&drawing, opts, diags);
+    }
+    // Print media are legalised from the same drawing into a sheet of raised marks (no bundle).
+    if opts.profile.family() == taxel_format::Family::Print {
+        *print = crate::print::legalise_with(&drawing, opts, diags);
+        return None;
     }
     // The design rules but the overlaps need only the features: they run
     // beside the distance fields, and add their diagnostics after them.

@@ -568,12 +568,13 @@ fn layer_problems() {
     );
     let huge = r#"<svg xmlns="http://www.w3.org/2000/svg" width="2000mm" height="2000mm" viewBox="0 0 2000 2000"><rect width="2000" height="2000" data-tactile="grating()"/></svg>"#;
     // Layers are distance fields stored only on the surface: a 2 m square
-    // needs no lowered resolution (T0303 is retired), and nothing beyond
-    // the 110 x 60 mm surface is stored.
+    // needs no lowered resolution (format 1.x lowered it, T0303, now
+    // retired): its lattice is the default 0.5 mm one (5 / 10 px/mm), and
+    // nothing beyond the 110 x 60 mm surface is stored.
     let c = compile(huge);
-    assert!(with_code(&c, "T0303").is_empty());
     let m = masks(bundle(&c));
     assert_eq!(m.len(), 1);
+    assert_eq!(m[0].pitch_mm, 0.5, "the default lattice, not a lowered one");
     let span = 8.0 * m[0].pitch_mm;
     assert!(m[0].tile_cols as f32 * span <= 110.0 + 3.0 + span && m[0].tile_rows as f32 * span <= 60.0 + 3.0 + span);
     assert_code(&page(r#"<text x="10" y="30" data-tactile="braille()">fjørd</text>"#), "T0304", Severity::Warning);

@@ -9,11 +9,17 @@ use taxel_compiler::{StyleSheet, annotation};
 use crate::common::*;
 use crate::svggen::{self, Choices};
 
-/// Compiles `svg` and fails on T0900.
+/// Compiles `svg` and fails on T0900, or on a bundle whose layer plan
+/// breaks an invariant ([`taxel_compiler::sanity::latero_plan`]).
 fn compiles_without_internal_error(svg: &str) {
     let c = compile(svg);
     let internal: Vec<_> = c.diagnostics.iter().filter(|d| d.code == "T0900").collect();
     assert!(internal.is_empty(), "internal error {internal:#?} on\n{svg}");
+    if let Some(b) = &c.bundle
+        && let Err(e) = taxel_compiler::sanity::latero_plan(b)
+    {
+        panic!("{e} on\n{svg}");
+    }
 }
 
 proptest! {

@@ -1,7 +1,8 @@
 //! Golden bundles: small one-feature scenes compiled and dumped as text that a
 //! person can review (chunk parameters, an ASCII picture of every mask, every
-//! dot, provenance). `TAXEL_BLESS=1 cargo test -p taxel-compiler golden`
-//! rewrites the `.txt` files; review the diff like code.
+//! dot, provenance). Every drawing in `golden/` runs, with no test of its
+//! own. `TAXEL_BLESS=1 cargo test -p taxel-compiler golden` rewrites the
+//! `.txt` files; review the diff like code.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -180,7 +181,9 @@ pub fn dump(b: &Bundle) -> String {
     s
 }
 
-fn check(name: &str) {
+/// The dump of golden drawing `name` (its `.svg`, with its `.toml` style
+/// sheet when there is one), followed by its diagnostics.
+fn dump_of(name: &str) -> String {
     let svg = std::fs::read_to_string(dir().join(format!("{name}.svg"))).unwrap();
     let mut opts = CompileOptions::new(stress2());
     if let Ok(sheet) = std::fs::read_to_string(dir().join(format!("{name}.toml"))) {
@@ -192,67 +195,63 @@ fn check(name: &str) {
     for d in &c.diagnostics {
         writeln!(got, "{}", d.render(&format!("{name}.svg"))).unwrap();
     }
-    let path = dir().join(format!("{name}.txt"));
-    if std::env::var_os("TAXEL_BLESS").is_some() {
-        std::fs::write(&path, &got).unwrap();
-        return;
+    got
+}
+
+/// The names of the golden drawings: every `.svg` in the folder, sorted.
+fn golden_names() -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "svg"))
+        .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+/// Every drawing in `golden/` compiles to the dump in its `.txt`: a new
+/// drawing needs no test of its own. Every failing drawing is named, with
+/// its first differing line; `TAXEL_BLESS=1` rewrites the dumps instead.
+#[test]
+fn every_golden_drawing_matches_its_dump() {
+    let names = golden_names();
+    // Every dump has its drawing (a drawing renamed or deleted leaves none behind).
+    let orphans: Vec<String> = std::fs::read_dir(dir())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "txt"))
+        .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
+        .filter(|n| !names.contains(n))
+        .collect();
+    assert!(orphans.is_empty(), "golden dumps without a drawing: {orphans:?}");
+    assert!(names.len() >= 11, "golden drawings missing from {}: {names:?}", dir().display());
+    let bless = std::env::var_os("TAXEL_BLESS").is_some();
+    let mut failed = Vec::new();
+    for name in &names {
+        let got = dump_of(name);
+        let path = dir().join(format!("{name}.txt"));
+        if bless {
+            std::fs::write(&path, &got).unwrap();
+            continue;
+        }
+        let Ok(want) = std::fs::read_to_string(&path) else {
+            failed.push(format!("{name}.svg: {} missing (run with TAXEL_BLESS=1)", path.display()));
+            continue;
+        };
+        if got != want {
+            let line = got
+                .lines()
+                .zip(want.lines())
+                .position(|(g, w)| g != w)
+                .unwrap_or(got.lines().count().min(want.lines().count()));
+            let (g, w) = (got.lines().nth(line).unwrap_or("(end)"), want.lines().nth(line).unwrap_or("(end)"));
+            failed.push(format!("{name}.svg: line {} differs:\n  got:  {g}\n  want: {w}", line + 1));
+        }
     }
-    let want =
-        std::fs::read_to_string(&path).unwrap_or_else(|_| panic!("{} missing: run with TAXEL_BLESS=1", path.display()));
-    assert_eq!(got, want, "{name}: golden differs (TAXEL_BLESS=1 to re-bless after review)");
-}
-
-#[test]
-fn vibrate_square() {
-    check("vibrate-square");
-}
-
-#[test]
-fn grating_circle() {
-    check("grating-circle");
-}
-
-#[test]
-fn icon() {
-    check("icon");
-}
-
-#[test]
-fn dots_route() {
-    check("dots-route");
-}
-
-#[test]
-fn dot_symbols() {
-    check("dot-symbols");
-}
-
-#[test]
-fn braille_label() {
-    check("braille-label");
-}
-
-#[test]
-fn inkscape_layers() {
-    check("inkscape-layers");
-}
-
-#[test]
-fn stylesheet_colours() {
-    check("stylesheet-colours");
-}
-
-#[test]
-fn use_inheritance() {
-    check("use-inheritance");
-}
-
-#[test]
-fn every_kind() {
-    check("every-kind");
-}
-
-#[test]
-fn no_size() {
-    check("no-size");
+    assert!(
+        failed.is_empty(),
+        "golden drawings differ (TAXEL_BLESS=1 to re-bless after review):\n{}",
+        failed.join("\n")
+    );
 }

@@ -1,75 +1,15 @@
 //! Drawings that ran away (issue 47): hand-drawn scribbles, noisy filled
 //! areas and dense scatter plots, at sizes a debug test build compiles in a
-//! few seconds. The same generators at the issue's sizes are the
-//! `runaway` group of `benches/real_build.rs`; here each case asserts what
-//! a reader gets, and `tests/cli` runs the binary on them under a memory cap.
+//! few seconds. The same generators (`benches/drawings`) at the issue's
+//! sizes are the `runaway` group of `benches/real_build.rs`; here each case
+//! asserts what a reader gets, and `tests/cli/runaway.rs` runs the binary
+//! on them within a memory limit.
 
 use taxel_format::DotKind;
 
+use super::realistic::drawings::{jittered_ring, scatter, scribble};
+
 use super::common::{bundle, compile, dots, masks, page, with_code};
-
-/// A seeded sequence in `[0, 1)` (xorshift), so every run draws the same drawing.
-pub struct Rng(u64);
-
-impl Rng {
-    /// A sequence from `seed` (any value but 0 works).
-    pub fn new(seed: u64) -> Self {
-        Rng(seed.max(1))
-    }
-
-    /// The next value in `[0, 1)`.
-    pub fn next(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
-/// One filled path of `n` random segments across a `w` x `h` mm page, crossing
-/// itself some n²/10 times; `attrs` are its other attributes.
-pub fn scribble(n: usize, (w, h): (f64, f64), attrs: &str, seed: u64) -> String {
-    let mut rng = Rng::new(seed);
-    let mut d = format!("M{:.3},{:.3}", w / 2.0, h / 2.0);
-    for _ in 0..n {
-        d += &format!(" L{:.3},{:.3}", rng.next() * w, rng.next() * h);
-    }
-    d += " Z";
-    svg((w, h), &format!(r##"<path fill="#c33" {attrs} d="{d}"/>"##))
-}
-
-/// `n` filled circles of radius `r` mm scattered over the page (a scatter plot).
-pub fn scatter(n: usize, r: f64, (w, h): (f64, f64), seed: u64) -> String {
-    let mut rng = Rng::new(seed);
-    let mut body = String::new();
-    for _ in 0..n {
-        body += &format!(r##"<circle cx="{:.2}" cy="{:.2}" r="{r}" fill="#36c"/>"##, rng.next() * w, rng.next() * h);
-        body.push('\n');
-    }
-    svg((w, h), &body)
-}
-
-/// One closed filled ring of `n` points, each jittered `jitter` mm in or out
-/// from a circle of radius `radius` mm (a traced scan's noisy outline).
-pub fn jittered_ring(n: usize, radius: f64, jitter: f64, (w, h): (f64, f64), seed: u64) -> String {
-    let mut rng = Rng::new(seed);
-    let mut d = String::new();
-    for k in 0..n {
-        let a = k as f64 / n as f64 * std::f64::consts::TAU;
-        let r = radius + (rng.next() * 2.0 - 1.0) * jitter;
-        d += &format!("{}{:.3},{:.3}", if k == 0 { "M" } else { " L" }, w / 2.0 + r * a.cos(), h / 2.0 + r * a.sin());
-    }
-    d += " Z";
-    svg((w, h), &format!(r##"<path fill="#3a3" d="{d}"/>"##))
-}
-
-fn svg((w, h): (f64, f64), body: &str) -> String {
-    format!(
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}mm" height="{h}mm" viewBox="0 0 {w} {h}">
-{body}
-</svg>"#
-    )
-}
 
 #[test]
 fn a_scatter_plot_s_overlapping_marks_are_dots_thinned_to_be_felt_apart() {

@@ -17,7 +17,21 @@ fn every_builtin_matches_the_papers() {
     assert_eq!(f.actuator_count(), 3);
     assert_eq!(
         profiles::builtin_names(),
-        ["stress2", "brush-4x3", "finger3", "dotpad", "monarch", "graphiti", "hyperbraille"]
+        [
+            "stress2",
+            "brush-4x3",
+            "finger3",
+            "dotpad",
+            "monarch",
+            "graphiti",
+            "hyperbraille",
+            // The print media (their papers' values: `profiles::tests` and docs/print.md).
+            "swell-a4",
+            "swell-letter",
+            "tiger-20dpi",
+            "emboss-braille-grid",
+            "print3d"
+        ]
     );
 }
 

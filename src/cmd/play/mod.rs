@@ -30,6 +30,8 @@ pub fn run(bundle: &Path, trace: Option<&Path>, out: Option<&Path>, elements: Op
         Family::Grid => grid::run(bundle, &view, trace, out),
         Family::Laterotactile => latero::run(bundle, &view, trace, out, elements),
         Family::Finger => finger::run(bundle, &view, trace, out),
+        // A bundle never holds a print profile (the manifest has no code for it).
+        Family::Print => Err(CliError::input(anyhow::anyhow!("{}: a print profile makes no bundle", bundle.display()))),
         Family::Pins => {
             // A pin display shows a still image (pages or a pannable surface);
             // there is nothing to play along a trace.

@@ -46,8 +46,8 @@ fn coordinates_at_1e_minus_6_mm() {
     assert!(!out.diagnostics.is_empty(), "a nanometre shape must not pass silently");
 }
 
-/// A kilometre-wide drawing: larger than the surface (T0202), its mask's
-/// resolution lowered to stay within the sample limit (T0303); finite values.
+/// A kilometre-wide drawing: larger than the surface (T0202), its layers
+/// storing nothing beyond the surface; finite values.
 #[test]
 fn coordinates_at_1e6_mm() {
     let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="1000000mm" height="600000mm" viewBox="0 0 1000000 600000">

@@ -9,7 +9,7 @@ mod playback;
 mod strokes;
 
 use taxel_compiler::{CompileOptions, Compiled, Diagnostic, svg::compile_svg};
-use taxel_format::{Bundle, BundleView, Chunk, profiles};
+use taxel_format::{Bundle, BundleView, Chunk, Family, profiles};
 
 /// Compiles `svg` for the built-in profile `profile`.
 pub fn compile(svg: &str, profile: &str) -> Compiled {
@@ -31,8 +31,10 @@ pub fn page(body: &str) -> String {
     format!(r#"<svg xmlns="http://www.w3.org/2000/svg" width="110mm" height="60mm" viewBox="0 0 110 60">{body}</svg>"#)
 }
 
-/// Asserts every number a bundle carries is finite and in its range, and
-/// that it survives its own writer and reader.
+/// Asserts every number a bundle carries is finite and in its range, that
+/// it survives its own writer and reader, and that its distance layers and
+/// layer plan keep the compiler's invariants (`distance::sanity_check`,
+/// `sanity::latero_plan`).
 pub fn assert_sane(b: &Bundle) {
     let bytes = b.to_bytes().expect("the bundle writes");
     BundleView::parse(&bytes).expect("the bundle reads back");
@@ -57,7 +59,22 @@ pub fn assert_sane(b: &Bundle) {
                     }
                 }
             }
-            _ => {}
+            Chunk::Distance(d) => {
+                assert!(d.origin_x.0.is_finite() && d.origin_y.0.is_finite());
+                assert!(d.pitch_mm > 0.0 && d.step_mm > 0.0 && d.soft_mm >= 0.0);
+                assert!((0.0..=1.0).contains(&d.amplitude));
+                // What the writer promises of its tiles beyond the format's checks.
+                if let Err(e) = taxel_compiler::distance::sanity_check(d) {
+                    panic!("{} layer: {e}", d.tag());
+                }
+            }
+            // Checked by the reader above; meshes and pin images have their own cases.
+            Chunk::Height(_) | Chunk::Pins(_) | Chunk::Provenance(_) | Chunk::Footprints(_) | Chunk::Raw(_) => {}
         }
+    }
+    if b.manifest.profile.family() == Family::Laterotactile
+        && let Err(e) = taxel_compiler::sanity::latero_plan(b)
+    {
+        panic!("the layer plan breaks an invariant: {e}");
     }
 }

@@ -1,0 +1,68 @@
+//! Outlines through `i_overlay`: a fill's contours made simple under its
+//! fill rule, in integer coordinates of a [`Frame`]. The distance writer
+//! unites the fills of a layer with these (`distance::united_fills`), once
+//! `crossings::crossings_exceed` has said the overlay's work is bounded (a
+//! fill's area is measured without an overlay, `area.rs`).
+
+use i_overlay::core::fill_rule::FillRule as OvFill;
+use i_overlay::core::overlay::{IntOverlayOptions, Overlay, ShapeType};
+use i_overlay::core::overlay_rule::OverlayRule;
+use i_overlay::i_float::int::point::IntPoint;
+
+use super::{FillRule, Polyline};
+
+/// Integer coordinates are kept within ±2^28.
+const LIMIT: f64 = (1u32 << 28) as f64;
+
+/// Integer frame: page mm to integer units.
+#[derive(Clone, Copy)]
+pub(crate) struct Frame {
+    pub(crate) ox: f64,
+    pub(crate) oy: f64,
+    pub(crate) q: f64,
+}
+
+impl Frame {
+    fn to_int(self, p: (f64, f64)) -> IntPoint {
+        // Far-off coordinates are clamped (the overlay's arithmetic stays in range).
+        let c = |v: f64| v.round().clamp(-LIMIT, LIMIT) as i32;
+        IntPoint::new(c((p.0 - self.ox) / self.q), c((p.1 - self.oy) / self.q))
+    }
+}
+
+/// The overlay's fill rule for ours.
+pub(crate) fn ov_rule(r: FillRule) -> OvFill {
+    match r {
+        FillRule::NonZero => OvFill::NonZero,
+        FillRule::EvenOdd => OvFill::EvenOdd,
+    }
+}
+
+/// One shape's closed contours, quantised: the points that lie exactly on
+/// the chord of their neighbours are dropped first ([`simplify`](super::simplify)
+/// at tolerance 0, on the walked ring), then repeats after rounding.
+pub(crate) fn contours(pls: &[Polyline], f: Frame) -> Vec<Vec<IntPoint>> {
+    pls.iter()
+        .filter(|pl| pl.points.len() >= 3)
+        .map(|pl| {
+            let mut w = pl.points.clone();
+            w.push(pl.points[0]);
+            let mut s = super::simplify(&w, false, 0.0);
+            s.pop();
+            let mut c: Vec<IntPoint> = s.into_iter().map(|p| f.to_int(p)).collect();
+            c.dedup();
+            c
+        })
+        .filter(|c| c.len() >= 3)
+        .collect()
+}
+
+/// The shapes of one set of contours under a fill rule, as simple contours.
+pub(crate) fn shapes_of(cs: &[Vec<IntPoint>], rule: OvFill) -> Vec<Vec<Vec<IntPoint>>> {
+    if cs.is_empty() {
+        return Vec::new();
+    }
+    let mut o = Overlay::new_custom(cs.len(), IntOverlayOptions::<u64>::default(), Default::default());
+    o.add_source(cs, ShapeType::Subject);
+    o.overlay(OverlayRule::Subject, rule)
+}

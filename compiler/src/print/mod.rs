@@ -1,0 +1,321 @@
+//! Print media (device family 5): a resolved [`Drawing`] legalised to a
+//! [`Sheet`] of raised marks on paper, from the same annotations as every
+//! other device, and the sheet written as the medium's own file.
+//!
+//! Each style becomes what paper or a print can say (`docs/print.md`):
+//! - `vibrate` → a solid raised line of at least the medium's width; a
+//!   drawing with several vibrating styles gets solid, dashed, double and
+//!   dotted lines, one per style in order of first use (`marks.rs`);
+//! - `grating` → a texture of lines or dots at spacings a finger tells apart,
+//!   the grating's own orientation where it is free, and never the texture of
+//!   a grated region that touches it (`texture.rs`, over the automatic sheet's
+//!   region adjacency);
+//! - `dots` → round dots along the path; `dot` → a point symbol, one shape
+//!   per dot style (disc, square, triangle, diamond, ring, cross);
+//! - `brush` → a line with an arrowhead where the stroke ends;
+//! - `braille` → braille cells at the medium's dimensions drawn as dots
+//!   (`braille.rs`), the texture cleared around them; the key of the labels
+//!   written as key codes goes on a page of its own.
+//!
+//! An embosser's sheet is then snapped to its grid: every mark becomes the
+//! grid's dots it covers (`grid.rs`). The files: [`pdf()`] (swell paper and
+//! embossers, through krilla), [`png()`] (an embosser's grid, a pixel a dot),
+//! [`stl()`] (a relief: a watertight height-field mesh). [`preview`] draws a
+//! sheet as it is felt; `rules.rs` checks the medium's design rules (T0720 to
+//! T0727).
+//!
+//! ```
+//! use taxel_compiler::drawing::{Drawing, Element, Page, PathShape, Shape};
+//! use taxel_compiler::annotation::{Style, Vibrate};
+//! use taxel_compiler::geometry::Polyline;
+//! use taxel_format::profiles;
+//!
+//! let square = Polyline { points: vec![(10.0, 10.0), (40.0, 10.0), (40.0, 40.0), (10.0, 40.0)], closed: true };
+//! let drawing = Drawing {
+//!     page: Page { width_mm: 190.0, height_mm: 277.0, scale: 1.0, offset_mm: (0.0, 0.0), sheet_mm: None },
+//!     elements: vec![Element {
+//!         name: "square".into(),
+//!         visible: true,
+//!         styles: vec![Style::Vibrate(Vibrate { width_mm: 1.5, freq_hz: 50.0, amplitude: 1.0, soft_mm: 0.0 })],
+//!         shape: Shape::Path(PathShape { outline: vec![square], ..Default::default() }),
+//!         ..Default::default()
+//!     }],
+//!     ..Default::default()
+//! };
+//! let mut diags = Vec::new();
+//! let sheet = taxel_compiler::print::legalise(&drawing, &profiles::builtin("swell-a4").unwrap(), &mut diags).unwrap();
+//! assert_eq!(sheet.paper_mm, (210.0, 297.0));
+//! let pdf = taxel_compiler::print::pdf(&sheet).unwrap();
+//! assert!(pdf.starts_with(b"%PDF"));
+//! ```
+
+mod braille;
+mod grid;
+mod marks;
+mod pdf;
+pub mod preview;
+mod raster;
+mod rules;
+mod stl;
+mod texture;
+
+pub use pdf::pdf;
+pub use raster::png;
+pub use stl::stl;
+
+use taxel_format::{DeviceProfile, FamilyParams, Medium, PrintParams};
+
+use crate::annotation::Style;
+use crate::diagnostic::Diagnostic;
+use crate::drawing::{Drawing, Shape};
+
+/// How high a mark stands, lowest first: on a relief each has its height,
+/// on an embosser with several dot heights its level, on swell paper all
+/// rise alike.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Level {
+    /// Area textures.
+    Texture,
+    /// Braille.
+    Braille,
+    /// Lines, point symbols, arrowheads.
+    Line,
+}
+
+/// What a mark draws, in paper millimetres (origin at the paper's top-left, y down).
+#[derive(Debug, Clone, PartialEq)]
+pub enum MarkShape {
+    /// A raised line along a polyline, with round ends and joins.
+    Line {
+        /// Its centre line.
+        points: Vec<(f64, f64)>,
+        /// Whether the last point joins the first.
+        closed: bool,
+        /// Its width.
+        width_mm: f64,
+    },
+    /// A filled polygon (point symbols, arrowheads), its rings by the non-zero rule.
+    Polygon {
+        /// Its rings.
+        rings: Vec<Vec<(f64, f64)>>,
+    },
+    /// A round dot (braille, dotted lines and textures, an embosser's dots).
+    Dot {
+        /// Its centre.
+        centre: (f64, f64),
+        /// Its base diameter.
+        diameter_mm: f64,
+    },
+}
+
+/// One raised mark.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mark {
+    /// What it draws.
+    pub shape: MarkShape,
+    /// How high it stands.
+    pub level: Level,
+    /// The drawing's element it comes from (its index), `None` for the key page's text.
+    pub element: Option<usize>,
+}
+
+/// A texture of the medium, as the sheet records it for each grated element.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct TextureId(pub u8);
+
+/// The drawing legalised for one print medium: the compiler's public stage
+/// between a [`Drawing`] and the medium's file, as the pin image is for pin
+/// displays.
+#[derive(Debug, Clone)]
+pub struct Sheet {
+    /// The profile it was made for.
+    pub profile: DeviceProfile,
+    /// Its print parameters.
+    pub params: PrintParams,
+    /// Paper size, `(width, height)` in mm.
+    pub paper_mm: (f64, f64),
+    /// The pages: the graphic first, then the key when there is one.
+    pub pages: Vec<Vec<Mark>>,
+    /// The texture each grated element got, by element index.
+    pub textures: Vec<(usize, TextureId)>,
+    /// The drawing's title (empty when none).
+    pub title: String,
+}
+
+impl Sheet {
+    /// The medium.
+    pub fn medium(&self) -> Medium {
+        self.params.medium
+    }
+
+    /// Where the printable area starts on the paper, in mm (the margin).
+    pub fn origin(&self) -> (f64, f64) {
+        (self.params.margin_mm as f64, self.params.margin_mm as f64)
+    }
+}
+
+/// The file kinds a sheet is written as.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FileKind {
+    /// A PDF at true size (swell paper, embossers).
+    Pdf,
+    /// A grey PNG a pixel per grid dot (embossers).
+    Png,
+    /// A binary STL relief (3D prints).
+    Stl,
+}
+
+impl FileKind {
+    /// The kind an output file's extension names, `None` for another.
+    pub fn from_extension(ext: &str) -> Option<Self> {
+        match ext.to_ascii_lowercase().as_str() {
+            "pdf" => Some(FileKind::Pdf),
+            "png" => Some(FileKind::Png),
+            "stl" => Some(FileKind::Stl),
+            _ => None,
+        }
+    }
+
+    /// Its extension.
+    pub fn extension(self) -> &'static str {
+        match self {
+            FileKind::Pdf => "pdf",
+            FileKind::Png => "png",
+            FileKind::Stl => "stl",
+        }
+    }
+
+    /// The kinds a medium is written as, its usual one first.
+    pub fn for_medium(m: Medium) -> &'static [FileKind] {
+        match m {
+            Medium::Swell => &[FileKind::Pdf],
+            Medium::Emboss => &[FileKind::Pdf, FileKind::Png],
+            Medium::Relief => &[FileKind::Stl],
+        }
+    }
+}
+
+/// Why a sheet could not be written.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PrintError(pub String);
+
+impl std::fmt::Display for PrintError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for PrintError {}
+
+/// Writes `sheet` as a file of `kind`.
+pub fn write(sheet: &Sheet, kind: FileKind) -> Result<Vec<u8>, PrintError> {
+    if !FileKind::for_medium(sheet.medium()).contains(&kind) {
+        let kinds: Vec<&str> = FileKind::for_medium(sheet.medium()).iter().map(|k| k.extension()).collect();
+        return Err(PrintError(format!(
+            "a {} sheet ({}) is not written as .{}; it is written as .{}",
+            sheet.medium().name(),
+            sheet.profile.name,
+            kind.extension(),
+            kinds.join(" or .")
+        )));
+    }
+    match kind {
+        FileKind::Pdf => pdf(sheet),
+        FileKind::Png => png(sheet),
+        FileKind::Stl => stl(sheet),
+    }
+}
+
+/// Legalises `drawing` for the print `profile`: the sheet, or `None` (with
+/// an error diagnostic) when the profile is not a print profile or nothing
+/// tactile was made.
+pub fn legalise(drawing: &Drawing, profile: &DeviceProfile, diags: &mut Vec<Diagnostic>) -> Option<Sheet> {
+    legalise_with(drawing, &crate::CompileOptions::new(*profile), diags)
+}
+
+/// [`legalise`] for `opts.profile`, its braille written as `opts` chooses
+/// (the braille service, the reader's language, a style sheet's table).
+pub fn legalise_with(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mut Vec<Diagnostic>) -> Option<Sheet> {
+    let profile = &opts.profile;
+    let FamilyParams::Print(params) = profile.params else {
+        diags.push(Diagnostic::error("T0900", format!("internal error: {} is not a print profile", profile.name)));
+        return None;
+    };
+    let origin = (params.margin_mm as f64, params.margin_mm as f64);
+    let mut b = marks::Builder::new(drawing, &params, origin);
+    let textures = texture::assign(drawing, &params, diags);
+    // Labels first, so that textures are cleared around them.
+    let mut notes = crate::braille::Notes::default();
+    let labels = braille::labels(drawing, &params, origin, &mut braille::Cx { opts, notes: &mut notes, diags });
+    for (i, e) in drawing.elements.iter().enumerate().filter(|(_, e)| e.visible) {
+        for style in &e.styles {
+            match (style, &e.shape) {
+                (Style::Vibrate(v), Shape::Path(p)) => b.outline(i, &p.outline, v),
+                (Style::Grating(_), Shape::Path(p)) => {
+                    if let Some(&(_, t)) = textures.iter().find(|(k, _)| *k == i) {
+                        let outlined = e.styles.iter().any(|s| matches!(s, Style::Vibrate(_) | Style::Dots(_)));
+                        let fill = texture::Fill { texture: t, outlined, clear: &labels.boxes };
+                        b.marks.extend(texture::fill(&params, origin, i, p, fill));
+                        rules::texture_area(&params, e, p, diags);
+                    }
+                }
+                (Style::Dots(d), Shape::Path(p)) => b.dotted(i, &p.outline, d.radius_mm, d.spacing_mm),
+                (Style::Dot(d), Shape::Path(p)) => {
+                    let centres = if p.markers.is_empty() {
+                        e.bounds().map(|b| vec![((b.0 + b.2) / 2.0, (b.1 + b.3) / 2.0)]).unwrap_or_default()
+                    } else {
+                        p.markers.clone()
+                    };
+                    b.symbols(i, &centres, d.radius_mm);
+                }
+                (Style::Brush(_), Shape::Path(p)) => b.arrow(i, &p.outline),
+                (Style::Braille(_), Shape::Text(_)) => {}
+                (Style::Braille(_), _) => diags.push(
+                    Diagnostic::warning("T0121", "braille() applies to <text> elements; this one is not text")
+                        .with_element(e.name.clone())
+                        .on_line(e.line),
+                ),
+                _ => {}
+            }
+        }
+    }
+    b.finish_notes(diags);
+    let mut page = b.marks;
+    page.extend(labels.marks.iter().cloned());
+    rules::check(&params, drawing, &page, &labels, diags);
+    let mut pages = vec![page];
+    let key = braille::key_page(drawing, &params, origin, &mut braille::Cx { opts, notes: &mut notes, diags });
+    notes.emit(diags);
+    if !key.is_empty() {
+        pages.push(key);
+    }
+    if params.medium == Medium::Emboss {
+        pages = pages.into_iter().map(|p| grid::snap(&params, origin, p, drawing, diags)).collect();
+    }
+    if pages[0].is_empty() {
+        if !crate::diagnostic::has_errors(diags) {
+            let help = if drawing.only_pictures() {
+                crate::drawing::PICTURES_HELP
+            } else {
+                "mark shapes with data-tactile=\"vibrate()\" (or grating(), dots(), dot(), braille()), \
+                 or convert it with --style auto (see docs/annotations.md)"
+            };
+            diags.push(
+                Diagnostic::error("T0300", format!("nothing in this drawing can be printed on {}", profile.name))
+                    .with_help(help),
+            );
+        }
+        return None;
+    }
+    Some(Sheet {
+        profile: *profile,
+        params,
+        paper_mm: (params.paper_w_mm as f64, params.paper_h_mm as f64),
+        pages,
+        textures,
+        title: drawing.title.clone(),
+    })
+}
+
+#[cfg(test)]
+mod tests;

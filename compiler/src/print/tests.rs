@@ -1,0 +1,402 @@
+//! The print back end on small drawings built in code: textures of touching
+//! regions, braille dimensions, the embosser's grid, the relief's mesh.
+
+use std::collections::HashMap;
+
+use taxel_format::{DeviceProfile, FamilyParams, PrintParams, profiles};
+
+use super::*;
+use crate::annotation::{Braille, Dot, Grating, Style, Vibrate};
+use crate::drawing::{Element, Page, PathShape, TextRun, TextShape};
+use crate::geometry::Polyline;
+
+fn profile(name: &str) -> (DeviceProfile, PrintParams) {
+    let p = profiles::builtin(name).unwrap();
+    let FamilyParams::Print(q) = p.params else { panic!("{name} is a print profile") };
+    (p, q)
+}
+
+fn rect(x: f64, y: f64, w: f64, h: f64) -> Vec<Polyline> {
+    vec![Polyline { points: vec![(x, y), (x + w, y), (x + w, y + h), (x, y + h)], closed: true }]
+}
+
+fn path(name: &str, outline: Vec<Polyline>, styles: Vec<Style>) -> Element {
+    Element {
+        name: name.into(),
+        visible: true,
+        styles,
+        shape: Shape::Path(PathShape { outline, ..Default::default() }),
+        ..Default::default()
+    }
+}
+
+fn grating(wavelength_mm: f64, angle_deg: f64) -> Style {
+    Style::Grating(Grating { wavelength_mm, angle_deg, amplitude: 1.0, soft_mm: 0.0 })
+}
+
+fn vibrate(width_mm: f64, freq_hz: f64) -> Style {
+    Style::Vibrate(Vibrate { width_mm, freq_hz, amplitude: 1.0, soft_mm: 0.0 })
+}
+
+fn label(name: &str, text: &str, x: f64, y: f64) -> Element {
+    Element {
+        name: name.into(),
+        visible: true,
+        styles: vec![Style::Braille(Braille { radius_mm: 0.72, amplitude: 1.0, grade: None })],
+        shape: Shape::Text(TextShape {
+            content: text.into(),
+            runs: vec![TextRun { text: text.into(), x_mm: x, y_mm: y, anchor: 0.0, continues: false }],
+            font_size_mm: 4.0,
+            ..Default::default()
+        }),
+        ..Default::default()
+    }
+}
+
+fn drawing(elements: Vec<Element>) -> Drawing {
+    Drawing {
+        page: Page { width_mm: 180.0, height_mm: 180.0, scale: 1.0, offset_mm: (0.0, 0.0), sheet_mm: None },
+        elements,
+        ..Default::default()
+    }
+}
+
+fn sheet(d: &Drawing, name: &str) -> (Sheet, Vec<Diagnostic>) {
+    let mut diags = Vec::new();
+    let s = legalise(d, &profile(name).0, &mut diags).unwrap_or_else(|| panic!("no sheet: {diags:?}"));
+    (s, diags)
+}
+
+#[test]
+fn touching_regions_never_share_a_texture() {
+    // A 6 x 6 checkerboard-like map of 20 mm squares with 5 grating styles
+    // laid out so that every style touches every other somewhere: the
+    // textures must still differ across every shared side.
+    let n = 6;
+    let mut elements = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let style = (i + 2 * j) % 5;
+            let g = grating(2.0 + style as f64, 0.0);
+            elements.push(path(
+                &format!("r{i}_{j}"),
+                rect(10.0 + 20.0 * i as f64, 10.0 + 20.0 * j as f64, 20.0, 20.0),
+                vec![g],
+            ));
+        }
+    }
+    let d = drawing(elements);
+    let (s, _) = sheet(&d, "swell-a4");
+    let tex: HashMap<usize, TextureId> = s.textures.iter().copied().collect();
+    assert_eq!(tex.len(), n * n);
+    // Neighbours by geometry: squares sharing a side (or a corner, which touches too).
+    let mut pairs = 0;
+    for j in 0..n {
+        for i in 0..n {
+            for (di, dj) in [(1, 0), (0, 1), (1, 1), (1, -1i64)] {
+                let (a, b) = (i as i64 + di, j as i64 + dj);
+                if a < 0 || b < 0 || a >= n as i64 || b >= n as i64 {
+                    continue;
+                }
+                let (k, m) = (j * n + i, b as usize * n + a as usize);
+                assert_ne!(tex[&k], tex[&m], "squares {k} and {m} touch and share a texture");
+                pairs += 1;
+            }
+        }
+    }
+    assert!(pairs > 50);
+    // Same style, same texture (it means the same thing).
+    for k in 0..n * n {
+        for m in 0..n * n {
+            if (k % n + 2 * (k / n)) % 5 == (m % n + 2 * (m / n)) % 5 {
+                assert_eq!(tex[&k], tex[&m]);
+            }
+        }
+    }
+}
+
+#[test]
+fn a_grating_keeps_its_orientation_when_free() {
+    let d = drawing(vec![
+        path("h", rect(10.0, 10.0, 40.0, 40.0), vec![grating(2.0, 0.0)]),
+        path("v", rect(60.0, 10.0, 40.0, 40.0), vec![grating(2.0, 90.0)]),
+    ]);
+    let (s, _) = sheet(&d, "swell-a4");
+    assert_eq!(s.textures, vec![(0, TextureId(0)), (1, TextureId(1))]);
+    // The horizontal one is horizontal lines inside its region, a gap from its sides.
+    let lines: Vec<_> = s.pages[0]
+        .iter()
+        .filter(|m| m.element == Some(0))
+        .map(|m| match &m.shape {
+            MarkShape::Line { points, .. } => (points[0], points[1]),
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    assert!(lines.len() >= 9, "{}", lines.len());
+    for (a, b) in lines {
+        assert!((a.1 - b.1).abs() < 1e-9, "horizontal");
+        // The region is at 10..50 on the drawing, 20..60 on the paper (10 mm margin).
+        assert!(a.0 > 20.0 && b.0 < 60.0 && a.1 > 20.0 && a.1 < 60.0);
+    }
+}
+
+fn dots_of(marks: &[Mark], elem: usize) -> Vec<((f64, f64), f64)> {
+    marks
+        .iter()
+        .filter(|m| m.element == Some(elem))
+        .filter_map(|m| match m.shape {
+            MarkShape::Dot { centre, diameter_mm } => Some((centre, diameter_mm)),
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn braille_is_dots_at_the_profile_s_dimensions() {
+    // "ll": two cells of dots 1-2-3, so columns one dot pitch apart within a
+    // cell and one cell pitch apart between cells.
+    let d = drawing(vec![label("t", "ll", 20.0, 40.0)]);
+    for name in ["swell-a4", "print3d"] {
+        let (s, _) = sheet(&d, name);
+        let (_, q) = profile(name);
+        let dots = dots_of(&s.pages[0], 0);
+        assert_eq!(dots.len(), 6, "{name}");
+        assert!(dots.iter().all(|d| d.1 == q.braille_dot_mm as f64));
+        let mut xs: Vec<f64> = dots.iter().map(|d| d.0.0).collect();
+        let mut ys: Vec<f64> = dots.iter().map(|d| d.0.1).collect();
+        xs.sort_by(f64::total_cmp);
+        ys.sort_by(f64::total_cmp);
+        xs.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+        ys.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+        assert_eq!(xs.len(), 2, "{name}: {xs:?}");
+        assert!((xs[1] - xs[0] - q.braille_cell_mm as f64).abs() < 1e-6, "{name}");
+        assert_eq!(ys.len(), 3);
+        assert!((ys[1] - ys[0] - q.braille_dot_pitch_mm as f64).abs() < 1e-6, "{name}");
+        // The lowest dots rest on the baseline (40 mm, plus the margin).
+        let m = q.margin_mm as f64;
+        assert!((ys[2] + q.braille_dot_mm as f64 / 2.0 - (40.0 + m)).abs() < 1e-6, "{name}");
+    }
+}
+
+#[test]
+fn an_embosser_s_dots_all_lie_on_its_grid() {
+    let d = drawing(vec![
+        path("a", rect(10.3, 10.7, 50.0, 33.3), vec![vibrate(1.5, 50.0), grating(2.0, 45.0)]),
+        path(
+            "b",
+            vec![Polyline { points: vec![(70.0, 20.0), (150.0, 90.0)], closed: false }],
+            vec![vibrate(0.5, 80.0)],
+        ),
+        label("t", "map", 20.0, 120.0),
+    ]);
+    for name in ["tiger-20dpi", "emboss-braille-grid"] {
+        let (s, _) = sheet(&d, name);
+        let (_, q) = profile(name);
+        let (g, m) = (q.grid_mm as f64, q.margin_mm as f64);
+        let marks = &s.pages[0];
+        assert!(marks.len() > 50, "{name}: {}", marks.len());
+        for mk in marks {
+            let MarkShape::Dot { centre, .. } = mk.shape else { panic!("{name}: {mk:?}") };
+            for v in [centre.0, centre.1] {
+                let k = (v - m) / g - 0.5;
+                assert!((k - k.round()).abs() < 1e-6, "{name}: {v} is off the grid");
+            }
+        }
+        // The embosser's braille keeps the cell's shape: a dot spacing that is whole grid steps.
+        let steps = q.braille_dot_pitch_mm as f64 / g;
+        assert!((steps - steps.round()).abs() < 1e-6, "{name}");
+    }
+    // Tiger's grid is 20 dots an inch.
+    assert!((profile("tiger-20dpi").1.grid_mm as f64 - 25.4 / 20.0).abs() < 1e-6);
+}
+
+#[test]
+fn several_vibrating_styles_get_distinct_line_styles_and_dot_styles_distinct_symbols() {
+    let mut elements = Vec::new();
+    for (k, f) in [50.0, 80.0, 120.0].into_iter().enumerate() {
+        let y = 20.0 + 30.0 * k as f64;
+        elements.push(path(
+            &format!("l{k}"),
+            vec![Polyline { points: vec![(10.0, y), (100.0, y)], closed: false }],
+            vec![vibrate(1.5, f)],
+        ));
+    }
+    for (k, r) in [1.0, 2.0].into_iter().enumerate() {
+        let mut e = path(
+            &format!("p{k}"),
+            rect(120.0 + 20.0 * k as f64, 20.0, 2.0, 2.0),
+            vec![Style::Dot(Dot { radius_mm: r, amplitude: 1.0 })],
+        );
+        e.styles = vec![Style::Dot(Dot { radius_mm: r, amplitude: 1.0 })];
+        elements.push(e);
+    }
+    let (s, _) = sheet(&drawing(elements), "swell-a4");
+    let marks = &s.pages[0];
+    let of = |e: usize| marks.iter().filter(|m| m.element == Some(e)).collect::<Vec<_>>();
+    // Solid: one line; dashed: many short lines; double: two lines.
+    assert_eq!(of(0).len(), 1);
+    assert!(of(1).len() > 5, "{}", of(1).len());
+    assert_eq!(of(2).len(), 2);
+    // A disc, then a square.
+    assert!(matches!(of(3)[0].shape, MarkShape::Dot { diameter_mm, .. } if diameter_mm >= 6.4));
+    assert!(matches!(&of(4)[0].shape, MarkShape::Polygon { rings } if rings[0].len() == 4));
+}
+
+#[test]
+fn a_thin_line_is_widened_with_a_note() {
+    let d = drawing(vec![path("thin", rect(10.0, 10.0, 30.0, 30.0), vec![vibrate(0.2, 50.0)])]);
+    let (s, diags) = sheet(&d, "swell-a4");
+    assert!(diags.iter().any(|d| d.code == "T0721"), "{diags:?}");
+    assert!(
+        matches!(s.pages[0][0].shape, MarkShape::Line { width_mm, .. } if width_mm == profile("swell-a4").1.min_line_mm as f64)
+    );
+}
+
+#[test]
+fn braille_over_a_line_and_lines_too_close_are_reported() {
+    let d = drawing(vec![
+        path(
+            "road",
+            vec![Polyline { points: vec![(10.0, 38.0), (120.0, 38.0)], closed: false }],
+            vec![vibrate(1.5, 50.0)],
+        ),
+        path(
+            "rail",
+            vec![Polyline { points: vec![(10.0, 41.0), (120.0, 41.0)], closed: false }],
+            vec![vibrate(1.5, 50.0)],
+        ),
+        label("name", "road", 20.0, 40.0),
+    ]);
+    let (_, diags) = sheet(&d, "swell-a4");
+    let codes: Vec<&str> = diags.iter().map(|d| d.code).collect();
+    assert!(codes.contains(&"T0722"), "{codes:?}");
+    assert!(codes.contains(&"T0723"), "{codes:?}");
+    // Apart and labelled clear of them: neither.
+    let d = drawing(vec![
+        path(
+            "road",
+            vec![Polyline { points: vec![(10.0, 38.0), (120.0, 38.0)], closed: false }],
+            vec![vibrate(1.5, 50.0)],
+        ),
+        path(
+            "rail",
+            vec![Polyline { points: vec![(10.0, 48.0), (120.0, 48.0)], closed: false }],
+            vec![vibrate(1.5, 50.0)],
+        ),
+        label("name", "road", 20.0, 80.0),
+    ]);
+    let (_, diags) = sheet(&d, "swell-a4");
+    assert!(diags.iter().all(|d| d.code != "T0722" && d.code != "T0723"), "{diags:?}");
+}
+
+#[test]
+fn a_small_textured_region_is_reported() {
+    let d = drawing(vec![path("speck", rect(10.0, 10.0, 5.0, 30.0), vec![grating(2.0, 0.0)])]);
+    let (_, diags) = sheet(&d, "swell-a4");
+    assert!(diags.iter().any(|d| d.code == "T0724"), "{diags:?}");
+}
+
+/// Checks a closed triangle mesh: every edge shared by exactly two
+/// triangles running along it in opposite directions; returns its volume
+/// (divergence theorem, positive for outward winding).
+fn closed_volume(tris: &[[[f32; 3]; 3]]) -> f64 {
+    let key = |v: [f32; 3]| v.map(f32::to_bits);
+    let mut edges: HashMap<([u32; 3], [u32; 3]), i32> = HashMap::new();
+    let mut volume = 0.0f64;
+    for t in tris {
+        for k in 0..3 {
+            let (a, b) = (key(t[k]), key(t[(k + 1) % 3]));
+            assert_ne!(a, b, "a degenerate edge");
+            *edges.entry((a, b)).or_default() += 1;
+        }
+        let [p, q, r] = t.map(|v| v.map(f64::from));
+        volume += (p[0] * (q[1] * r[2] - q[2] * r[1]) - p[1] * (q[0] * r[2] - q[2] * r[0])
+            + p[2] * (q[0] * r[1] - q[1] * r[0]))
+            / 6.0;
+    }
+    for (&(a, b), &n) in &edges {
+        assert_eq!(n, 1, "edge {a:?}-{b:?} run {n} times the same way");
+        assert_eq!(edges.get(&(b, a)), Some(&1), "edge {a:?}-{b:?} has no opposite half");
+    }
+    volume
+}
+
+#[test]
+fn the_relief_is_watertight_manifold_with_positive_volume_and_its_heights() {
+    let d = drawing(vec![
+        path("a", rect(20.0, 20.0, 60.0, 40.0), vec![vibrate(1.5, 50.0), grating(2.0, 0.0)]),
+        label("t", "ab", 30.0, 100.0),
+    ]);
+    let (s, _) = sheet(&d, "print3d");
+    let (_, q) = profile("print3d");
+    let tris = stl::triangles(&s).unwrap();
+    let v = closed_volume(&tris);
+    let (w, h) = (q.paper_w_mm as f64, q.paper_h_mm as f64);
+    // At least the plate's volume, at most the plate with everything raised.
+    assert!(v >= w * h * q.base_mm as f64 * 0.999, "{v}");
+    assert!(v <= w * h * (q.base_mm + q.raise_mm) as f64, "{v}");
+    let zs: std::collections::BTreeSet<u32> = tris.iter().flatten().map(|p| p[2].to_bits()).collect();
+    let want: std::collections::BTreeSet<u32> =
+        [0.0, q.base_mm, q.base_mm + q.texture_mm, q.base_mm + q.raise_mm].iter().map(|z| z.to_bits()).collect();
+    assert_eq!(zs, want, "the heights are the plate, the textures and the raised features");
+    // The binary STL: 84 bytes of header and count, 50 a triangle.
+    let bytes = stl(&s).unwrap();
+    assert_eq!(bytes.len(), 84 + 50 * tris.len());
+    assert_eq!(u32::from_le_bytes(bytes[80..84].try_into().unwrap()) as usize, tris.len());
+}
+
+#[test]
+fn each_medium_writes_only_its_own_files() {
+    let d = drawing(vec![path("a", rect(20.0, 20.0, 60.0, 40.0), vec![vibrate(1.5, 50.0)])]);
+    let (swell, _) = sheet(&d, "swell-a4");
+    assert!(write(&swell, FileKind::Pdf).unwrap().starts_with(b"%PDF-"));
+    assert!(write(&swell, FileKind::Stl).is_err());
+    assert!(write(&swell, FileKind::Png).is_err());
+    let (relief, _) = sheet(&d, "print3d");
+    assert!(write(&relief, FileKind::Pdf).is_err());
+    let (tiger, _) = sheet(&d, "tiger-20dpi");
+    let png = write(&tiger, FileKind::Png).unwrap();
+    let img = image::load_from_memory(&png).unwrap();
+    // 11 x 11.5 in at 20 px an inch.
+    assert_eq!((img.width(), img.height()), (220, 230));
+    assert!(img.to_luma8().pixels().any(|p| p.0[0] == 0));
+}
+
+#[test]
+fn the_pdf_page_is_the_paper() {
+    let d = drawing(vec![path("a", rect(20.0, 20.0, 60.0, 40.0), vec![vibrate(1.5, 50.0)])]);
+    for (name, w_in, h_in) in
+        [("swell-a4", 210.0 / 25.4, 297.0 / 25.4), ("swell-letter", 8.5, 11.0), ("tiger-20dpi", 11.0, 11.5)]
+    {
+        let (s, _) = sheet(&d, name);
+        let pdf = pdf(&s).unwrap();
+        let text = String::from_utf8_lossy(&pdf);
+        let at = text.find("/MediaBox [").unwrap_or_else(|| panic!("{name}: no MediaBox"));
+        let nums: Vec<f64> =
+            text[at + 11..].split(']').next().unwrap().split_whitespace().map(|v| v.parse().unwrap()).collect();
+        assert_eq!(nums.len(), 4);
+        assert!((nums[2] - nums[0] - w_in * 72.0).abs() < 0.01, "{name}: {nums:?}");
+        assert!((nums[3] - nums[1] - h_in * 72.0).abs() < 0.01, "{name}: {nums:?}");
+    }
+}
+
+#[test]
+fn the_key_is_a_page_of_its_own() {
+    let mut t = label("k", "ab", 30.0, 40.0);
+    if let Shape::Text(ts) = &mut t.shape {
+        ts.keyed = Some("Abbey Road".into());
+    }
+    let d = drawing(vec![t, path("a", rect(20.0, 60.0, 60.0, 40.0), vec![vibrate(1.5, 50.0)])]);
+    let (s, _) = sheet(&d, "swell-a4");
+    assert_eq!(s.pages.len(), 2);
+    assert!(s.pages[1].iter().all(|m| matches!(m.shape, MarkShape::Dot { .. }) && m.level == Level::Braille));
+    assert!(s.pages[1].len() > 20);
+}
+
+#[test]
+fn nothing_tactile_is_an_error_not_an_empty_page() {
+    let d = drawing(vec![path("plain", rect(20.0, 20.0, 60.0, 40.0), vec![])]);
+    let mut diags = Vec::new();
+    assert!(legalise(&d, &profile("swell-a4").0, &mut diags).is_none());
+    assert!(diags.iter().any(|d| d.code == "T0300"), "{diags:?}");
+}

@@ -1,0 +1,342 @@
+//! `taxel studio` against the running server on 127.0.0.1 (an ephemeral
+//! port): what it serves, what it refuses (other hosts and origins, paths
+//! outside the opened folder, uploads past the input limit), that a
+//! malformed file is the CLI's diagnostic and the server keeps serving, that
+//! the bundle downloaded is `taxel build`'s byte for byte, and that the WASM
+//! module it embeds plays a long trace frame for frame as the native runtime.
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpStream;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+
+const MAP: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/map/tala-map.svg");
+
+/// A studio serving a folder, stopped when dropped.
+pub struct Studio {
+    child: Child,
+    pub port: u16,
+}
+
+impl Studio {
+    pub fn start(path: &Path) -> Studio {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_taxel"))
+            .args(["studio", path.to_str().unwrap(), "--no-open", "--port", "0"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .unwrap();
+        let mut line = String::new();
+        BufReader::new(child.stdout.as_mut().unwrap()).read_line(&mut line).unwrap();
+        let url = line.split_whitespace().find(|w| w.starts_with("http://")).unwrap_or_else(|| panic!("{line}"));
+        let port = url.trim_end_matches('/').rsplit(':').next().unwrap().parse().unwrap();
+        Studio { child, port }
+    }
+
+    pub fn host(&self) -> String {
+        format!("127.0.0.1:{}", self.port)
+    }
+
+    /// One request with our own Host; `extra` headers may replace it.
+    pub fn request(&self, method: &str, path: &str, extra: &[(&str, &str)], body: &[u8]) -> Reply {
+        let mut s = TcpStream::connect(("127.0.0.1", self.port)).unwrap();
+        let host = self.host();
+        let mut head = format!("{method} {path} HTTP/1.1\r\nConnection: close\r\nContent-Length: {}\r\n", body.len());
+        if !extra.iter().any(|(k, _)| k.eq_ignore_ascii_case("host")) {
+            head += &format!("Host: {host}\r\n");
+        }
+        for (k, v) in extra {
+            head += &format!("{k}: {v}\r\n");
+        }
+        head += "\r\n";
+        s.write_all(head.as_bytes()).unwrap();
+        s.write_all(body).unwrap();
+        read_reply(s)
+    }
+
+    pub fn get(&self, path: &str) -> Reply {
+        self.request("GET", path, &[], b"")
+    }
+
+    pub fn post(&self, path: &str, body: &[u8]) -> Reply {
+        let origin = format!("http://{}", self.host());
+        self.request("POST", path, &[("Origin", &origin)], body)
+    }
+}
+
+impl Drop for Studio {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// A response: status, headers (lower-case names) and body.
+pub struct Reply {
+    pub status: u16,
+    pub headers: Vec<(String, String)>,
+    pub body: Vec<u8>,
+}
+
+impl Reply {
+    pub fn header(&self, name: &str) -> Option<&str> {
+        self.headers.iter().find(|(k, _)| k == name).map(|(_, v)| v.as_str())
+    }
+
+    pub fn json(&self) -> serde_json::Value {
+        serde_json::from_slice(&self.body).unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&self.body)))
+    }
+}
+
+fn read_reply(mut s: TcpStream) -> Reply {
+    let mut all = Vec::new();
+    s.read_to_end(&mut all).unwrap();
+    let split = all.windows(4).position(|w| w == b"\r\n\r\n").expect("a header");
+    let head = String::from_utf8_lossy(&all[..split]).into_owned();
+    let mut lines = head.split("\r\n");
+    let status = lines.next().unwrap().split_whitespace().nth(1).unwrap().parse().unwrap();
+    let headers: Vec<(String, String)> = lines
+        .filter_map(|l| l.split_once(':'))
+        .map(|(k, v)| (k.trim().to_ascii_lowercase(), v.trim().to_string()))
+        .collect();
+    let mut body = all[split + 4..].to_vec();
+    if headers.iter().any(|(k, v)| k == "transfer-encoding" && v.contains("chunked")) {
+        body = unchunk(&body);
+    }
+    Reply { status, headers, body }
+}
+
+fn unchunk(mut b: &[u8]) -> Vec<u8> {
+    let mut out = Vec::new();
+    loop {
+        let end = b.windows(2).position(|w| w == b"\r\n").unwrap();
+        let len = usize::from_str_radix(std::str::from_utf8(&b[..end]).unwrap().trim(), 16).unwrap();
+        if len == 0 {
+            return out;
+        }
+        out.extend_from_slice(&b[end + 2..end + 2 + len]);
+        b = &b[end + 4 + len..];
+    }
+}
+
+fn folder() -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path().join("maps");
+    std::fs::create_dir(&root).unwrap();
+    std::fs::copy(MAP, root.join("tala-map.svg")).unwrap();
+    (dir, root)
+}
+
+fn taxel(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_taxel")).args(args).output().unwrap()
+}
+
+#[test]
+fn the_page_and_its_assets_come_from_the_binary_with_a_strict_policy() {
+    let (_dir, root) = folder();
+    let s = Studio::start(&root);
+    let page = s.get("/");
+    assert_eq!(page.status, 200);
+    let html = String::from_utf8(page.body.clone()).unwrap();
+    assert!(html.contains("taxel studio") && html.contains("/studio.js"), "{html}");
+    // Nothing in the page comes from elsewhere.
+    assert!(!html.contains("http://") && !html.contains("https://"));
+    let csp = page.header("content-security-policy").unwrap();
+    assert!(csp.contains("default-src 'none'") && csp.contains("script-src 'self'"), "{csp}");
+    for asset in ["/studio.js", "/player.js", "/studio.css"] {
+        let r = s.get(asset);
+        assert_eq!(r.status, 200, "{asset}");
+        assert!(!String::from_utf8_lossy(&r.body).contains("https://"), "{asset} loads nothing from the internet");
+    }
+    let wasm = s.get("/taxel.wasm");
+    assert_eq!(wasm.header("content-type"), Some("application/wasm"));
+    assert!(wasm.body.starts_with(b"\0asm"));
+    let start = s.get("/api/start").json();
+    assert_eq!(start["files"], serde_json::json!(["tala-map.svg"]));
+    assert!(start["profiles"].as_array().unwrap().iter().any(|p| p == "stress2"));
+}
+
+#[test]
+fn requests_for_another_host_or_from_another_origin_are_refused() {
+    let (_dir, root) = folder();
+    let s = Studio::start(&root);
+    // DNS rebinding: the browser sends the attacker's name as Host.
+    assert_eq!(s.request("GET", "/api/start", &[("Host", "evil.example:80")], b"").status, 403);
+    assert_eq!(s.request("GET", "/", &[("Host", &format!("evil.example:{}", s.port))], b"").status, 403);
+    // CSRF: another page posts to the studio.
+    let open = "/api/open?path=tala-map.svg";
+    assert_eq!(s.request("POST", open, &[("Origin", "http://evil.example")], b"").status, 403);
+    assert_eq!(s.request("POST", open, &[("Origin", "null")], b"").status, 403);
+    // Our own name and origin pass, `localhost` too.
+    let localhost = format!("localhost:{}", s.port);
+    assert_eq!(s.request("GET", "/api/start", &[("Host", &localhost)], b"").status, 200);
+    assert_eq!(s.post(open, b"").status, 200);
+}
+
+#[test]
+fn no_path_outside_the_opened_folder_is_read() {
+    let (dir, root) = folder();
+    std::fs::write(
+        dir.path().join("secret.svg"),
+        "<svg xmlns='http://www.w3.org/2000/svg'><title>SECRET</title></svg>",
+    )
+    .unwrap();
+    #[cfg(unix)]
+    std::os::unix::fs::symlink(dir.path().join("secret.svg"), root.join("link.svg")).unwrap();
+    let s = Studio::start(&root);
+    let secret = dir.path().join("secret.svg");
+    let absolute = format!("/api/open?path={}", secret.display());
+    for path in [
+        "/api/open?path=../secret.svg",
+        "/api/open?path=%2e%2e%2fsecret.svg",
+        "/api/open?path=%2E%2E/secret.svg",
+        "/api/open?path=..%5csecret.svg",
+        "/api/open?path=%2Fetc%2Fpasswd",
+        "/api/open?path=/etc/passwd",
+        absolute.as_str(),
+        "/api/open?path=link.svg",
+    ] {
+        let r = s.post(path, b"");
+        assert_eq!(r.status, 403, "{path}: {}", String::from_utf8_lossy(&r.body));
+        assert!(!String::from_utf8_lossy(&r.body).contains("SECRET"), "{path}");
+    }
+    // No file is served by its path at all.
+    for path in ["/../secret.svg", "/%2e%2e/secret.svg", "/tala-map.svg", "/etc/passwd"] {
+        assert_eq!(s.get(path).status, 404, "{path}");
+    }
+    // The folder's own file opens.
+    assert_eq!(s.post("/api/open?path=tala-map.svg", b"").status, 200);
+}
+
+#[test]
+fn an_upload_past_the_input_limit_is_refused_before_it_is_read() {
+    let (_dir, root) = folder();
+    let s = Studio::start(&root);
+    let mut c = TcpStream::connect(("127.0.0.1", s.port)).unwrap();
+    let head = format!(
+        "POST /api/build?name=big.svg HTTP/1.1\r\nHost: {}\r\nConnection: close\r\nContent-Length: {}\r\n\r\n",
+        s.host(),
+        (64u64 << 20) + 1
+    );
+    c.write_all(head.as_bytes()).unwrap();
+    c.write_all(&[b' '; 4096]).unwrap();
+    let r = read_reply(c);
+    assert_eq!(r.status, 413);
+    assert!(r.json()["error"].as_str().unwrap().contains("64 MB input limit"));
+    assert_eq!(s.get("/api/start").status, 200, "the server keeps serving");
+}
+
+#[test]
+fn a_malformed_file_gets_the_cli_s_diagnostic_and_the_server_keeps_serving() {
+    let (dir, root) = folder();
+    let s = Studio::start(&root);
+    let bad = b"<svg xmlns='http://www.w3.org/2000/svg'><rect";
+    let r = s.post("/api/build?name=broken.svg", bad);
+    assert_eq!(r.status, 200);
+    let v = r.json();
+    assert!(v["errors"].as_u64().unwrap() >= 1, "{v}");
+    assert!(v["bundle"].is_null());
+    // The lines are `taxel check`'s for the same file.
+    let file = dir.path().join("broken.svg");
+    std::fs::write(&file, bad).unwrap();
+    let o = taxel(&["check", file.to_str().unwrap()]);
+    let cli = format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
+        .replace(file.to_str().unwrap(), "broken.svg");
+    let first = v["groups"][0]["lines"][0].as_str().unwrap();
+    assert!(cli.contains(first), "studio: {first}\ncli: {cli}");
+    // Not a bundle either, and not even a known kind.
+    let v = s.post("/api/build?name=x.taxel", b"TAXL garbage").json();
+    assert!(v["groups"][0]["lines"][0].as_str().unwrap().contains("not a valid taxel bundle"), "{v}");
+    assert_eq!(s.get("/").status, 200, "the server keeps serving");
+    assert_eq!(s.post("/api/open?path=tala-map.svg", b"").json()["errors"], 0);
+}
+
+#[test]
+fn the_bundle_downloaded_is_taxel_build_s_byte_for_byte() {
+    let (dir, root) = folder();
+    let s = Studio::start(&root);
+    for (query, args) in
+        [("", vec![]), ("&profile=stress2", vec!["-p", "stress2"]), ("&profile=dotpad", vec!["-p", "dotpad"])]
+    {
+        let v = s.post(&format!("/api/open?path=tala-map.svg{query}"), b"").json();
+        let bundle = s.get(&format!("{}bundle", v["base"].as_str().unwrap()));
+        assert_eq!(bundle.status, 200);
+        assert!(bundle.header("content-disposition").unwrap().contains("tala-map.taxel"));
+        let out = dir.path().join("cli.taxel");
+        let mut a = vec!["build", MAP, "-o", out.to_str().unwrap()];
+        a.extend(args);
+        let o = taxel(&a);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        assert!(std::fs::read(&out).unwrap() == bundle.body, "{query}: the studio's bundle differs from taxel build's");
+        // The pictures are PNG; a pin display's exports are `taxel export`'s.
+        let base = v["base"].as_str().unwrap();
+        assert!(s.get(&format!("{base}preview.png")).body.starts_with(b"\x89PNG"));
+        assert!(s.get(&format!("{base}drawing.png")).body.starts_with(b"\x89PNG"));
+        if query.contains("dotpad") {
+            let unicode = s.get(&format!("{base}export/unicode"));
+            let txt = dir.path().join("cli.txt");
+            assert!(
+                taxel(&["export", out.to_str().unwrap(), "--format", "unicode", "-o", txt.to_str().unwrap()])
+                    .status
+                    .success()
+            );
+            assert_eq!(unicode.body, std::fs::read(&txt).unwrap());
+        }
+    }
+}
+
+#[test]
+fn a_drawing_is_never_sent_to_the_page_as_markup() {
+    let (_dir, root) = folder();
+    std::fs::write(
+        root.join("evil.svg"),
+        "<svg xmlns='http://www.w3.org/2000/svg' width='50mm' height='30mm' viewBox='0 0 50 30' onload='alert(1)'>\
+         <script>alert(2)</script><foreignObject><div xmlns='http://www.w3.org/1999/xhtml'>x</div></foreignObject>\
+         <rect id='r' x='5' y='5' width='20' height='10' fill='red' onclick='alert(3)'/></svg>",
+    )
+    .unwrap();
+    let s = Studio::start(&root);
+    let v = s.post("/api/open?path=evil.svg", b"").json();
+    let base = v["base"].as_str().unwrap().to_string();
+    let drawing = s.get(&format!("{base}drawing.png"));
+    assert_eq!(drawing.header("content-type"), Some("image/png"));
+    assert!(!v.to_string().contains("alert"), "{v}");
+    // The copy is only ever a download, and sandboxed should a browser show it.
+    let copy = s.get(&format!("{base}copy.svg"));
+    assert!(copy.header("content-disposition").unwrap().starts_with("attachment"));
+    assert_eq!(copy.header("content-security-policy"), Some("sandbox"));
+}
+
+#[test]
+fn a_style_change_rebuilds_a_copy_and_saves_it_beside_the_original_only_when_asked() {
+    let (_dir, root) = folder();
+    let original = std::fs::read(root.join("tala-map.svg")).unwrap();
+    let s = Studio::start(&root);
+    let v = s.post("/api/open?path=tala-map.svg", b"").json();
+    let base = v["base"].as_str().unwrap().to_string();
+    let before = s.get(&format!("{base}bundle")).body;
+    let r = s.post(&format!("{base}restyle?element=path1&style={}", "dots(radius%3A%201mm)"), b"");
+    assert_eq!(r.status, 200, "{}", String::from_utf8_lossy(&r.body));
+    let v2 = r.json();
+    let base2 = v2["base"].as_str().unwrap().to_string();
+    let after = s.get(&format!("{base2}bundle")).body;
+    assert_ne!(before, after, "the style change changed the bundle");
+    let copy = String::from_utf8(s.get(&format!("{base2}copy.svg")).body).unwrap();
+    assert!(copy.contains("data-tactile=\"dots(radius: 1mm)\""), "{copy}");
+    // The bundle is `taxel build`'s of the copy.
+    let copy_file = root.join("copy-check.svg");
+    std::fs::write(&copy_file, &copy).unwrap();
+    let out = root.join("copy-check.taxel");
+    assert!(taxel(&["build", copy_file.to_str().unwrap(), "-o", out.to_str().unwrap()]).status.success());
+    assert!(std::fs::read(&out).unwrap() == after);
+    // Saved beside the original as a new file; again only when asked.
+    assert_eq!(s.post(&format!("{base2}save"), b"").status, 200);
+    assert_eq!(std::fs::read_to_string(root.join("tala-map.tactile.svg")).unwrap(), copy);
+    assert_eq!(s.post(&format!("{base2}save"), b"").status, 409);
+    assert_eq!(s.post(&format!("{base2}save?overwrite=1"), b"").status, 200);
+    assert_eq!(std::fs::read(root.join("tala-map.svg")).unwrap(), original, "the original is untouched");
+    // A style the compiler refuses is its diagnostic.
+    let bad = s.post(&format!("{base}restyle?element=path1&style=grating(wavelength%3A%20banana)"), b"").json();
+    assert!(bad["errors"].as_u64().unwrap() >= 1, "{bad}");
+    assert_eq!(s.post(&format!("{base}restyle?element=nope&style=dots()"), b"").status, 400);
+}
