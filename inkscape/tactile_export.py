@@ -17,6 +17,12 @@ import taxel_ink as tk  # noqa: E402
 
 # Each format: its file extension and whether it is a device file made from a bundle.
 FORMATS = {"bundle": ".taxel", "dtms": ".dtms", "graphiti": ".bin", "unicode": ".txt"}
+# The print profiles, each with the file it writes by default (taxel build
+# writes the medium's file, not a bundle; `.png` and `.3mf` when chosen).
+PRINT_FILES = {
+    "swell-a4": ".pdf", "swell-letter": ".pdf", "tiger-20dpi": ".pdf",
+    "emboss-braille-grid": ".pdf", "print3d": ".stl",
+}
 
 
 class Export(inkex.EffectExtension):
@@ -32,6 +38,12 @@ class Export(inkex.EffectExtension):
         fmt = self.options.format
         if fmt not in FORMATS:
             raise inkex.AbortExtension(f"unknown format {fmt!r}: expected one of {', '.join(FORMATS)}")
+        printed = PRINT_FILES.get(self.options.profile)
+        if printed and fmt != "bundle":
+            raise inkex.AbortExtension(
+                f"{self.options.profile} is paper or a 3D print: it writes its own file ({printed}), "
+                "not a pin device's; choose \"A taxel bundle ... or a print profile's file\" in \"Write\"."
+            )
         chosen = (self.options.out_file or "").strip()
         if chosen:
             return os.path.abspath(os.path.expanduser(chosen))
@@ -41,7 +53,7 @@ class Export(inkex.EffectExtension):
                 "The drawing has not been saved yet, so there is no folder to write beside it: "
                 "save it, or choose a file in \"File\"."
             )
-        return os.path.splitext(doc)[0] + FORMATS[fmt]
+        return os.path.splitext(doc)[0] + (printed or FORMATS[fmt])
 
     def effect(self):
         exe = tk.find_taxel(self.options.taxel)

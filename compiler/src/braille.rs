@@ -47,6 +47,35 @@ pub(crate) fn translate(
     opts.braille.translate(text, &request(shape, opts, grade, computer))
 }
 
+/// The cells of translation `t` of `text` (drawn by element `e`), after a
+/// warning (T0304) naming the characters its table has no braille for:
+/// none at all when what is left says nothing (its punctuation alone).
+/// Shared by every medium that writes braille cells (pins, paper).
+pub(crate) fn cells_warning_missing(
+    text: &str,
+    t: Translation,
+    e: Option<&crate::drawing::Element>,
+    diags: &mut Vec<Diagnostic>,
+) -> Vec<u8> {
+    let table = table_name(&t);
+    let (mut cells, missing) = (t.cells, t.missing);
+    if !missing.is_empty() {
+        let list = taxel_braille::left_out(&missing);
+        // Punctuation alone says nothing: then the text is left out whole.
+        if taxel_braille::says_nothing(text, &missing) {
+            cells.clear();
+        }
+        let left = if cells.iter().all(|&c| c == 0) { "the text is left out" } else { "these characters are left out" };
+        let mut d = Diagnostic::warning("T0304", format!("no braille in {table} for {list}; {left}"))
+            .with_help(crate::svg::braille_missing_help(&table));
+        if let Some(e) = e {
+            d = d.with_element(e.name.clone()).on_line(e.line);
+        }
+        diags.push(d);
+    }
+    cells
+}
+
 /// The table a translation used, for messages: its file name, or the built-in one.
 pub(crate) fn table_name(t: &Translation) -> String {
     match &t.table {

@@ -237,7 +237,9 @@ impl PrintParams {
         let g = self.grid_mm as f64;
         let n = |v: f32| {
             let q = v as f64 / g * (1.0 + 1e-6);
-            if q.is_finite() && q > 0.0 { q.floor().min(1e9) as u64 } else { 0 }
+            // A cast truncates, which for a positive value is its floor (and
+            // needs no `std`: this crate is `no_std`).
+            if q.is_finite() && q > 0.0 { q.min(1e9) as u64 } else { 0 }
         };
         (n(w), n(h))
     }

@@ -118,6 +118,29 @@ class ExportEffect(EffectCase):
                 with open(out, "rb") as mine, open(self.cli(fmt, profile, name), "rb") as theirs:
                     self.assertEqual(mine.read(), theirs.read())
 
+    def test_a_print_profile_writes_its_medium_s_file_as_the_command_line_does(self):
+        for profile, name, magic in [("swell-a4", "map.pdf", b"%PDF-"), ("print3d", "map.stl", None)]:
+            with self.subTest(profile=profile):
+                out, _ = self.exported("bundle", profile, name)
+                folder = os.path.join(self.tempdir, "cli")
+                os.makedirs(folder, exist_ok=True)
+                theirs = os.path.join(folder, name)
+                code, _, err = taxel("build", self.data_file(MAP), "-o", theirs, "--profile", profile, "--fit")
+                self.assertEqual(code, 0, err)
+                with open(out, "rb") as a, open(theirs, "rb") as b:
+                    mine = a.read()
+                    self.assertEqual(mine, b.read())
+                if magic:
+                    self.assertTrue(mine.startswith(magic))
+        # Beside the drawing, with the medium's extension.
+        copy = os.path.join(self.tempdir, "lesson.svg")
+        shutil.copy(self.data_file(MAP), copy)
+        self.run_effect(Export, copy, "--format=bundle", "--profile=swell-letter", "--fit=true")
+        self.assertTrue(os.path.isfile(os.path.join(self.tempdir, "lesson.pdf")))
+        # A pin device's file from a print profile is refused before anything is built.
+        doc, said, _ = self.run_effect(Export, copy, "--format=dtms", "--profile=swell-a4")
+        self.assertIn("writes its own file (.pdf)", said)
+
     def test_a_device_file_for_another_device_says_why(self):
         out = os.path.join(self.tempdir, "map.dtms")
         doc, said, _ = self.run_effect(Export, self.data_file(MAP), "--format=dtms", "--profile=stress2",

@@ -55,6 +55,9 @@ fn one_map_prints_on_every_medium() {
     }
     let stl = build(MAP, "print3d", &dir.path().join("map.stl"), &["--fit"]);
     assert!(stl.len() > 84);
+    // The same relief as 3MF: a zip package (its mesh is read back in the compiler's print tests).
+    let three_mf = build(MAP, "print3d", &dir.path().join("map.3mf"), &["--fit"]);
+    assert!(three_mf.starts_with(b"PK\x03\x04"), "a zip package");
     // Without -o the file goes beside the input with the medium's extension.
     let here = dir.path().join("tala.svg");
     std::fs::copy(MAP, &here).unwrap();
@@ -239,6 +242,7 @@ fn hostile_print_requests_are_refused_cleanly() {
     // A file the medium is not written as, and a print file from a device profile.
     for (profile, file, says) in [
         ("swell-a4", "m.stl", "writes .pdf"),
+        ("swell-a4", "m.3mf", "writes .pdf"),
         ("print3d", "m.pdf", "writes .stl"),
         ("swell-a4", "m.taxel", "writes .pdf"),
         ("stress2", "m.pdf", "print profiles"),

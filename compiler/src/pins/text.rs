@@ -61,23 +61,7 @@ fn cells(
     if ask.shape.is_none_or(|s| s.keyed.is_none()) {
         notes.add(&t);
     }
-    let table = crate::braille::table_name(&t);
-    let (mut cells, missing) = (t.cells, t.missing);
-    if !missing.is_empty() {
-        let list = taxel_braille::left_out(&missing);
-        // Punctuation alone says nothing: then the text is left out whole.
-        if taxel_braille::says_nothing(text, &missing) {
-            cells.clear();
-        }
-        let left = if cells.iter().all(|&c| c == 0) { "the text is left out" } else { "these characters are left out" };
-        let mut d = Diagnostic::warning("T0304", format!("no braille in {table} for {list}; {left}"))
-            .with_help(crate::svg::braille_missing_help(&table));
-        if let Some(e) = e {
-            d = d.with_element(e.name.clone()).on_line(e.line);
-        }
-        diags.push(d);
-    }
-    cells
+    crate::braille::cells_warning_missing(text, t, e, diags)
 }
 
 /// Places a label's braille on the cell grid, over whatever graphics are

@@ -32,21 +32,7 @@ fn cells(text: &str, ask: (Option<&TextShape>, Option<u8>), e: Option<&Element>,
     if ask.0.is_none_or(|s| s.keyed.is_none()) {
         cx.notes.add(&t);
     }
-    let table = crate::braille::table_name(&t);
-    let (mut cells, missing) = (t.cells, t.missing);
-    if !missing.is_empty() {
-        let list = taxel_braille::left_out(&missing);
-        if taxel_braille::says_nothing(text, &missing) {
-            cells.clear();
-        }
-        let left = if cells.iter().all(|&c| c == 0) { "the text is left out" } else { "these characters are left out" };
-        let mut d = Diagnostic::warning("T0304", format!("no braille in {table} for {list}; {left}"))
-            .with_help(crate::svg::braille_missing_help(&table));
-        if let Some(e) = e {
-            d = d.with_element(e.name.clone()).on_line(e.line);
-        }
-        cx.diags.push(d);
-    }
+    let mut cells = crate::braille::cells_warning_missing(text, t, e, cx.diags);
     // Paper has six-dot cells: an eight-dot table's dots 7 and 8 are not drawn.
     for c in &mut cells {
         *c &= 0x3f;

@@ -7,6 +7,8 @@
 //! ([`SYMBOLS`]). Sizes never fall below the medium's minimum line width and
 //! symbol size; where a style asked for less, a note says what was widened.
 
+use std::collections::HashMap;
+
 use taxel_format::PrintParams;
 
 use super::{Level, Mark, MarkShape};
@@ -71,7 +73,20 @@ pub(super) struct Builder<'d> {
     symbol_styles: Vec<u64>,
     /// Elements whose line was widened to the medium's minimum.
     widened: Vec<usize>,
+    /// The point symbols placed, by cell of [`SYMBOL_CELL_MM`]: centre and size.
+    placed: HashMap<(i64, i64), Vec<Placed>>,
+    /// The largest symbol placed, mm.
+    largest: f64,
+    /// Point symbols left out because they would touch one placed before
+    /// (how many, and the elements of the first three).
+    crowded: (usize, Vec<usize>),
 }
+
+/// A placed point symbol: its centre and size, mm.
+type Placed = ((f64, f64), f64);
+
+/// The side of the cells placed symbols are found by, mm.
+const SYMBOL_CELL_MM: f64 = 8.0;
 
 impl<'d> Builder<'d> {
     pub fn new(drawing: &'d Drawing, params: &PrintParams, origin: (f64, f64)) -> Self {
@@ -83,6 +98,9 @@ impl<'d> Builder<'d> {
             line_styles: Vec::new(),
             symbol_styles: Vec::new(),
             widened: Vec::new(),
+            placed: HashMap::new(),
+            largest: 0.0,
+            crowded: (0, Vec::new()),
         }
     }
 
@@ -184,8 +202,35 @@ impl<'d> Builder<'d> {
             if !(c.0.is_finite() && c.1.is_finite()) {
                 continue;
             }
+            if self.touches_a_symbol(c, size) {
+                self.crowded.0 += 1;
+                if self.crowded.1.len() < 3 && !self.crowded.1.contains(&elem) {
+                    self.crowded.1.push(elem);
+                }
+                continue;
+            }
+            let cell = ((c.0 / SYMBOL_CELL_MM).floor() as i64, (c.1 / SYMBOL_CELL_MM).floor() as i64);
+            self.placed.entry(cell).or_default().push((c, size));
+            self.largest = self.largest.max(size);
             self.symbol(SYMBOLS[k % SYMBOLS.len()], c, size, elem);
         }
+    }
+
+    /// Whether a symbol of `size` at `c` would come closer to one placed
+    /// before than the medium's least gap (the outer circles of the two
+    /// symbols, so that they are felt apart).
+    fn touches_a_symbol(&self, c: (f64, f64), size: f64) -> bool {
+        let gap = self.params.min_gap_mm as f64;
+        let reach = (size + self.largest) / 2.0 + gap;
+        let k = (reach / SYMBOL_CELL_MM).ceil() as i64;
+        let (cx, cy) = ((c.0 / SYMBOL_CELL_MM).floor() as i64, (c.1 / SYMBOL_CELL_MM).floor() as i64);
+        (cy - k..=cy + k).any(|y| {
+            (cx - k..=cx + k).any(|x| {
+                self.placed
+                    .get(&(x, y))
+                    .is_some_and(|v| v.iter().any(|&(o, s)| (o.0 - c.0).hypot(o.1 - c.1) < (size + s) / 2.0 + gap))
+            })
+        })
     }
 
     fn symbol(&mut self, s: Symbol, c: (f64, f64), size: f64, elem: usize) {
@@ -260,6 +305,26 @@ impl<'d> Builder<'d> {
                         self.params.min_line_mm
                     ),
                 )
+                .with_element(e.name.clone())
+                .on_line(e.line),
+            );
+        }
+        if let Some(&first) = self.crowded.1.first() {
+            let e = &self.drawing.elements[first];
+            let named: Vec<String> =
+                self.crowded.1.iter().map(|&i| format!("#{}", self.drawing.elements[i].name)).collect();
+            diags.push(
+                Diagnostic::note(
+                    "T0728",
+                    format!(
+                        "{} point symbol(s) left out where they would touch one already placed \
+                         (closer than the medium's {} mm gap): {}",
+                        self.crowded.0,
+                        self.params.min_gap_mm,
+                        named.join(", ")
+                    ),
+                )
+                .with_help("take part of the drawing with --region so that the marks spread out")
                 .with_element(e.name.clone())
                 .on_line(e.line),
             );

@@ -56,7 +56,7 @@ mod pdf;
 pub mod preview;
 mod raster;
 mod rules;
-mod stl;
+pub(crate) mod stl;
 mod texture;
 
 pub use pdf::pdf;
@@ -163,6 +163,9 @@ pub enum FileKind {
     Png,
     /// A binary STL relief (3D prints).
     Stl,
+    /// The same relief as a 3MF package (3D prints): indexed vertices, in
+    /// millimetres, which slicers read without repairing.
+    ThreeMf,
 }
 
 impl FileKind {
@@ -172,6 +175,7 @@ impl FileKind {
             "pdf" => Some(FileKind::Pdf),
             "png" => Some(FileKind::Png),
             "stl" => Some(FileKind::Stl),
+            "3mf" => Some(FileKind::ThreeMf),
             _ => None,
         }
     }
@@ -182,6 +186,7 @@ impl FileKind {
             FileKind::Pdf => "pdf",
             FileKind::Png => "png",
             FileKind::Stl => "stl",
+            FileKind::ThreeMf => "3mf",
         }
     }
 
@@ -190,7 +195,7 @@ impl FileKind {
         match m {
             Medium::Swell => &[FileKind::Pdf],
             Medium::Emboss => &[FileKind::Pdf, FileKind::Png],
-            Medium::Relief => &[FileKind::Stl],
+            Medium::Relief => &[FileKind::Stl, FileKind::ThreeMf],
         }
     }
 }
@@ -223,6 +228,7 @@ pub fn write(sheet: &Sheet, kind: FileKind) -> Result<Vec<u8>, PrintError> {
         FileKind::Pdf => pdf(sheet),
         FileKind::Png => png(sheet),
         FileKind::Stl => stl(sheet),
+        FileKind::ThreeMf => stl::three_mf(sheet),
     }
 }
 

@@ -7,8 +7,9 @@
 //! - T0725: a line narrower than a relief's grid step (it would vanish; an
 //!   embosser's lost marks are found when its grid is made, `grid.rs`).
 //!
-//! T0721 (lines widened) and T0726 (more styles than the medium tells apart)
-//! are said where the marks are made; T0727 where the key is laid out.
+//! T0721 (lines widened), T0726 (more styles than the medium tells apart)
+//! and T0728 (point symbols left out where they would touch) are said where
+//! the marks are made; T0727 where the key is laid out.
 
 use std::collections::BTreeMap;
 

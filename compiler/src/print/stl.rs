@@ -116,3 +116,48 @@ pub fn stl(sheet: &Sheet) -> Result<Vec<u8>, PrintError> {
     stl_io::write_stl(&mut out, mesh).map_err(|e| PrintError(format!("cannot write the STL: {e}")))?;
     Ok(out)
 }
+
+/// A mesh with shared corners: the distinct points, and each triangle as
+/// three indices into them.
+pub type Indexed = (Vec<[f32; 3]>, Vec<[usize; 3]>);
+
+/// The relief's triangles with their corners shared: each distinct corner
+/// (by its exact coordinates) once, and each triangle as three indices into
+/// them, in the order of [`triangles`].
+pub fn indexed(sheet: &Sheet) -> Result<Indexed, PrintError> {
+    let tris = triangles(sheet)?;
+    let mut index: std::collections::HashMap<[u32; 3], usize> = std::collections::HashMap::new();
+    let mut points: Vec<[f32; 3]> = Vec::new();
+    let faces = tris
+        .iter()
+        .map(|t| {
+            t.map(|p| {
+                *index.entry(p.map(f32::to_bits)).or_insert_with(|| {
+                    points.push(p);
+                    points.len() - 1
+                })
+            })
+        })
+        .collect();
+    Ok((points, faces))
+}
+
+/// Writes `sheet` (a relief) as a 3MF package: one object, its mesh in
+/// millimetres with shared vertices (the same triangles as the STL).
+pub fn three_mf(sheet: &Sheet) -> Result<Vec<u8>, PrintError> {
+    let (points, faces) = indexed(sheet)?;
+    let mesh = threemf::Mesh {
+        vertices: threemf::model::Vertices {
+            vertex: points
+                .iter()
+                .map(|p| threemf::model::Vertex { x: f64::from(p[0]), y: f64::from(p[1]), z: f64::from(p[2]) })
+                .collect(),
+        },
+        triangles: threemf::model::Triangles {
+            triangle: faces.iter().map(|f| threemf::model::Triangle { v1: f[0], v2: f[1], v3: f[2] }).collect(),
+        },
+    };
+    let mut out = std::io::Cursor::new(Vec::new());
+    threemf::write(&mut out, mesh).map_err(|e| PrintError(format!("cannot write the 3MF: {e}")))?;
+    Ok(out.into_inner())
+}

@@ -400,3 +400,72 @@ fn nothing_tactile_is_an_error_not_an_empty_page() {
     assert!(legalise(&d, &profile("swell-a4").0, &mut diags).is_none());
     assert!(diags.iter().any(|d| d.code == "T0300"), "{diags:?}");
 }
+
+#[test]
+fn the_relief_as_3mf_reads_back_as_the_stl_s_triangles_in_millimetres() {
+    let d = drawing(vec![
+        path("a", rect(20.0, 20.0, 60.0, 40.0), vec![vibrate(1.5, 50.0), grating(2.0, 0.0)]),
+        label("t", "ab", 30.0, 100.0),
+    ]);
+    let (s, _) = sheet(&d, "print3d");
+    let bytes = write(&s, FileKind::ThreeMf).unwrap();
+    // threemf's own reader, as a slicer would open the package.
+    let models = threemf::read(std::io::Cursor::new(&bytes)).unwrap();
+    assert_eq!(models.len(), 1);
+    let model = &models[0];
+    assert!(matches!(model.unit, threemf::model::Unit::Millimeter), "in millimetres");
+    assert_eq!(model.resources.object.len(), 1);
+    let mesh = model.resources.object[0].mesh.as_ref().expect("a mesh");
+    let v = &mesh.vertices.vertex;
+    let read: Vec<[[f32; 3]; 3]> = mesh
+        .triangles
+        .triangle
+        .iter()
+        .map(|t| [t.v1, t.v2, t.v3].map(|k| [v[k].x as f32, v[k].y as f32, v[k].z as f32]))
+        .collect();
+    // The STL's triangles, corner for corner, with each corner stored once.
+    let tris = stl::triangles(&s).unwrap();
+    assert_eq!(read, tris);
+    let distinct: std::collections::HashSet<[u32; 3]> = tris.iter().flatten().map(|p| p.map(f32::to_bits)).collect();
+    assert_eq!(v.len(), distinct.len());
+    assert!(closed_volume(&read) > 0.0);
+    // Not for other media.
+    let (swell, _) = sheet(&d, "swell-a4");
+    assert!(write(&swell, FileKind::ThreeMf).is_err());
+}
+
+#[test]
+fn point_symbols_that_would_touch_are_left_out_with_a_note() {
+    // A scatter plot's marks 3 mm apart in a row: paper draws each at least
+    // the medium's symbol size, so neighbours would touch.
+    let elements: Vec<Element> = (0..40)
+        .map(|k| {
+            let mut e = path(&format!("m{k}"), rect(20.0 + 3.0 * k as f64, 50.0, 1.0, 1.0), vec![]);
+            e.styles = vec![Style::Dot(Dot { radius_mm: 1.0, amplitude: 1.0 })];
+            e
+        })
+        .collect();
+    let (s, diags) = sheet(&drawing(elements), "swell-a4");
+    let (_, q) = profile("swell-a4");
+    let placed: Vec<((f64, f64), f64)> = (0..40).flat_map(|e| dots_of(&s.pages[0], e)).collect();
+    assert!(placed.len() > 5 && placed.len() < 40, "{} kept", placed.len());
+    for (i, a) in placed.iter().enumerate() {
+        for b in &placed[i + 1..] {
+            let d = (a.0.0 - b.0.0).hypot(a.0.1 - b.0.1);
+            assert!(d >= (a.1 + b.1) / 2.0 + q.min_gap_mm as f64 - 1e-9, "{a:?} and {b:?} {d} mm apart");
+        }
+    }
+    let note = diags.iter().find(|d| d.code == "T0728").expect("a note says so");
+    assert!(note.message.starts_with(&format!("{} point symbol(s) left out", 40 - placed.len())), "{}", note.message);
+    // Marks far apart are all kept, with no note.
+    let far: Vec<Element> = (0..5)
+        .map(|k| {
+            let mut e = path(&format!("f{k}"), rect(20.0 + 30.0 * k as f64, 50.0, 1.0, 1.0), vec![]);
+            e.styles = vec![Style::Dot(Dot { radius_mm: 1.0, amplitude: 1.0 })];
+            e
+        })
+        .collect();
+    let (s, diags) = sheet(&drawing(far), "swell-a4");
+    assert_eq!((0..5).map(|e| dots_of(&s.pages[0], e).len()).sum::<usize>(), 5);
+    assert!(diags.iter().all(|d| d.code != "T0728"));
+}
