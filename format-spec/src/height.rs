@@ -5,7 +5,9 @@ use alloc::vec::Vec;
 
 use crate::bytes::{Out, array_at, f32_at, u8_at, u32_at};
 use crate::error::FormatError;
-use crate::height_tiles::{self, CellHeights, ENCODING_TILED, TILED_HEADER_LEN, Tiled};
+use crate::height_tiles::{
+    self, CellHeights, ENCODING_TILED, ENCODING_TILED_4_5, TILE, TILED_HEADER_LEN, TileCache, TileNodes, Tiled,
+};
 use crate::units::Mm;
 use crate::{NO_SOURCE, Tag, in_range, source_from_raw};
 
@@ -25,8 +27,9 @@ pub enum HeightEncoding {
     /// Format 4.0: every node's height, gradient and flags as they are
     /// (`f32`, 13 bytes a node).
     Float,
-    /// Format 4.5 (section 9.1): heights quantised to `step` above `base`
-    /// in tiles that are empty, one plane, or sampled, each stored once;
+    /// Format 4.6 (section 9.1): heights quantised to `step` above `base`
+    /// in tiles that are empty, one plane, or coded (each code predicted
+    /// from its neighbours), each stored once;
     /// gradients are not stored (a player derives them from the heights),
     /// so [`HeightField::grad_x`] and [`HeightField::grad_y`] are only a
     /// writer's hint and come back as the planes' slopes (0 elsewhere).
@@ -150,8 +153,8 @@ impl HeightField {
             if !(step.is_finite() && step > 0.0 && base.is_finite()) {
                 return Err(bad("a finite step above 0 and a finite base"));
             }
-            let (supers, pool) = height_tiles::encode_tiles(self, step, base).map_err(bad)?;
-            height_tiles::write_tables(&mut w, step, base, &supers, &pool);
+            let tables = height_tiles::encode_tiles(self, step, base).map_err(bad)?;
+            height_tiles::write_tables(&mut w, step, base, &tables);
             // The extremes are those of the heights as stored: read them back.
             let view = HeightFieldView::parse(&out, index, false)?;
             let (lo, hi) = view.tiled_extremes();
@@ -172,6 +175,9 @@ impl HeightField {
     }
 
     pub(crate) fn from_view(v: &HeightFieldView<'_>) -> Self {
+        if let Some(t) = &v.tiled {
+            return Self::from_tiled(v, t);
+        }
         let n = v.cols * v.rows;
         HeightField {
             source: v.source,
@@ -185,11 +191,42 @@ impl HeightField {
             grad_x: (0..n).map(|k| v.gradient_at(k).0).collect(),
             grad_y: (0..n).map(|k| v.gradient_at(k).1).collect(),
             flags: (0..n).map(|k| v.flags_at(k)).collect(),
-            encoding: match v.tiled {
-                None => HeightEncoding::Float,
-                Some(t) => HeightEncoding::Tiled { step: t.step, base: t.base, max_gradient: v.max_gradient },
-            },
+            encoding: HeightEncoding::Float,
         }
+    }
+
+    /// A tiled field's nodes, decoded tile by tile: heights and flags as
+    /// stored, and the gradients of its plane tiles (0 elsewhere).
+    fn from_tiled(v: &HeightFieldView<'_>, t: &Tiled<'_>) -> Self {
+        let n = v.cols as usize * v.rows as usize;
+        let mut f = HeightField {
+            source: v.source,
+            cols: v.cols,
+            rows: v.rows,
+            origin_x: v.origin_x,
+            origin_y: v.origin_y,
+            cell: v.cell,
+            gradient_cap: v.gradient_cap,
+            heights: alloc::vec![0.0; n],
+            grad_x: alloc::vec![0.0; n],
+            grad_y: alloc::vec![0.0; n],
+            flags: alloc::vec![0; n],
+            encoding: HeightEncoding::Tiled { step: t.step, base: t.base, max_gradient: v.max_gradient },
+        };
+        v.for_each_tile(t, |tx, ty, nodes| {
+            let plane = t.plane_at(tx * TILE, ty * TILE);
+            for l in 0..TILE * TILE {
+                let (i, j) = (tx * TILE + l % TILE, ty * TILE + l / TILE);
+                if i < v.cols && j < v.rows {
+                    let k = (j * v.cols + i) as usize;
+                    (f.heights[k], f.flags[k]) = nodes.node(l);
+                    if let (Some((_, gx, gy)), true) = (plane, f.flags[k] & FIELD_CONTACT != 0) {
+                        (f.grad_x[k], f.grad_y[k]) = (gx, gy);
+                    }
+                }
+            }
+        });
+        f
     }
 }
 
@@ -223,7 +260,7 @@ pub struct HeightFieldView<'a> {
     grad_x: &'a [u8],
     grad_y: &'a [u8],
     flags: &'a [u8],
-    // The tiled encoding's tables (format 4.5); the four planes are empty then.
+    // The tiled encoding's tables (format 4.6); the four planes are empty then.
     tiled: Option<Tiled<'a>>,
 }
 
@@ -294,7 +331,18 @@ impl<'a> HeightFieldView<'a> {
         }
     }
 
-    /// Whether the field is tiled (format 4.5): then a player reads cells
+    /// `1 / cell` in `f32`, for a tiled field computed once when it was
+    /// read: a player of a tiled field multiplies height differences by it
+    /// (SPEC.md section 9.1) on every sample.
+    #[inline]
+    pub fn inverse_cell(&self) -> f32 {
+        match &self.tiled {
+            Some(t) => t.inv_cell,
+            None => 1.0 / self.cell.0,
+        }
+    }
+
+    /// Whether the field is tiled (format 4.6): then a player reads cells
     /// with [`HeightFieldView::cell_heights`] and derives the gradient.
     #[inline]
     pub fn is_tiled(&self) -> bool {
@@ -303,26 +351,45 @@ impl<'a> HeightFieldView<'a> {
 
     /// The four nodes of the cell whose top-left node is `(i, j)`, in a
     /// tiled field, or `None` when the field is not tiled or the cell is
-    /// not inside it (`i + 1 < cols`, `j + 1 < rows`).
+    /// not inside it (`i + 1 < cols`, `j + 1 < rows`). The tiles it needs
+    /// come from `cache`, which decodes them the first time (see
+    /// [`TileCache`]): a player keeps one cache per field, so a finger that
+    /// stays in a tile costs one decoding of it.
     #[inline]
-    pub fn cell_heights(&self, i: u32, j: u32) -> Option<CellHeights> {
+    pub fn cell_heights(&self, cache: &mut TileCache, i: u32, j: u32) -> Option<CellHeights> {
         let t = self.tiled.as_ref()?;
-        (i.checked_add(1)? < self.cols && j.checked_add(1)? < self.rows).then(|| t.cell(i, j))
+        (i.checked_add(1)? < self.cols && j.checked_add(1)? < self.rows).then(|| t.cell(cache, i, j))
     }
 
-    /// The lowest and highest height over the contact nodes of a tiled
-    /// field (section 9's derived extremes), 0 and 0 without contact.
+    /// Calls `visit` with every tile of a tiled field, decoded, row by row.
+    fn for_each_tile(&self, t: &Tiled<'_>, mut visit: impl FnMut(u32, u32, &TileNodes)) {
+        let mut nodes = TileNodes::EMPTY;
+        for ty in 0..self.rows.div_ceil(TILE) {
+            for tx in 0..self.cols.div_ceil(TILE) {
+                t.decode(tx, ty, &mut nodes);
+                visit(tx, ty, &nodes);
+            }
+        }
+    }
+
+    /// The least and greatest height over the contact nodes of a tiled
+    /// field (section 9.1's derived extremes, in IEEE 754 total order, so
+    /// the order the tiles are read in does not matter), 0 and 0 without
+    /// contact.
     fn tiled_extremes(&self) -> (f32, f32) {
         let Some(t) = &self.tiled else { return (0.0, 0.0) };
         let mut ext: Option<(f32, f32)> = None;
-        for j in 0..self.rows {
-            for i in 0..self.cols {
-                let (h, fl) = t.node(i, j);
-                if fl & FIELD_CONTACT != 0 {
-                    ext = Some(ext.map_or((h, h), |(lo, hi)| (lo.min(h), hi.max(h))));
+        self.for_each_tile(t, |tx, ty, nodes| {
+            for l in 0..TILE * TILE {
+                let (i, j) = (tx * TILE + l % TILE, ty * TILE + l / TILE);
+                let (h, fl) = nodes.node(l);
+                if i < self.cols && j < self.rows && fl & FIELD_CONTACT != 0 {
+                    ext = Some(ext.map_or((h, h), |(lo, hi)| {
+                        (if h.total_cmp(&lo).is_lt() { h } else { lo }, if h.total_cmp(&hi).is_gt() { h } else { hi })
+                    }));
                 }
             }
-        }
+        });
         ext.unwrap_or((0.0, 0.0))
     }
 
@@ -366,8 +433,11 @@ impl<'a> HeightFieldView<'a> {
         let cols = u32_at(d, 4).unwrap_or(0);
         let rows = u32_at(d, 8).unwrap_or(0);
         let encoding = u32_at(d, 12).unwrap_or(u32::MAX);
+        if encoding == ENCODING_TILED_4_5 {
+            return Err(bad("encoding", "0 or 2 (encoding 1 was 4.5's tiled field, a development version: rebuild)"));
+        }
         if encoding > ENCODING_TILED || u32_at(d, 44) != Some(0) {
-            return Err(bad("reserved", "zero (encoding: 0 or 1)"));
+            return Err(bad("reserved", "zero (encoding: 0 or 2)"));
         }
         for (field, v) in [("cols", cols), ("rows", rows)] {
             if !(2..=MAX_FIELD_SIDE).contains(&v) {
@@ -459,7 +529,7 @@ impl<'a> HeightFieldView<'a> {
         Ok(view)
     }
 
-    /// Reads a tiled field (format 4.5, section 9.1); with `full`, checks
+    /// Reads a tiled field (format 4.6, section 9.1); with `full`, checks
     /// every record and the derived extremes.
     fn parse_tiled(d: &'a [u8], index: u32, cols: u32, rows: u32, full: bool) -> Result<Self, FormatError> {
         let tag = Tag::HEIGHT;

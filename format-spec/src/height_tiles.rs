@@ -1,17 +1,25 @@
-//! The tiled encoding of a height field (format 4.5, SPEC.md section 9.1):
-//! heights quantised to a step, in tiles of 8 x 8 nodes that are empty,
-//! one plane, or sampled (a base code, a plane of codes and packed
-//! residuals), grouped in superblocks of 4 x 4 tiles that may all name one record. Identical
-//! records and tile lists are stored once. Gradients are not stored: a
-//! player derives them from the heights of the cell it is in.
+//! The tiled encoding of a height field (format 4.6, SPEC.md section 9.1):
+//! heights quantised to a step, in tiles of 8 x 8 nodes that are empty, one
+//! plane, or coded (each code predicted from its neighbours in the tile,
+//! the residuals in two fixed widths), grouped in superblocks of 4 x 4 tiles
+//! that may all name one record. Identical records and tile lists are
+//! stored once, and the index is packed in as few bits as the pool needs.
+//! Gradients are not stored: a player derives them from the heights of the
+//! cell it is in.
+//!
+//! A coded tile is decoded whole (its codes depend on the ones before), so
+//! a player keeps the tiles it decoded in a [`TileCache`] and decodes again
+//! only when the finger reaches another tile.
 
-use alloc::collections::BTreeMap;
-use alloc::vec::Vec;
+mod coded;
+mod write;
 
-use crate::bytes::{Out, f32_at, u32_at};
+use crate::bytes::{f32_at, u32_at};
 use crate::error::FormatError;
-use crate::height::{FIELD_CONTACT, FIELD_EDGE, HeightField};
+use crate::height::{FIELD_CONTACT, FIELD_EDGE};
 use crate::{Tag, in_range};
+
+pub(crate) use write::{encode_tiles, write_tables};
 
 /// Nodes along one side of a tile.
 pub const TILE: u32 = 8;
@@ -20,41 +28,55 @@ pub const SUPER: u32 = 4;
 /// Bytes before the superblock index.
 pub(crate) const TILED_HEADER_LEN: usize = 64;
 /// The encoding number of the tiled encoding (the word at offset 12).
-pub(crate) const ENCODING_TILED: u32 = 1;
-/// Largest number of bits of one residual.
-pub const MAX_RESIDUAL_BITS: u32 = 24;
-/// Largest code (base code, multiplier): codes stay exact in `f32`.
-const MAX_CODE: u32 = (1 << MAX_RESIDUAL_BITS) - 1;
-/// A superblock entry whose every tile names one record.
-const UNIFORM: u32 = 1 << 31;
-/// Record kinds.
+pub(crate) const ENCODING_TILED: u32 = 2;
+/// The encoding number 4.5's tiled fields had (a development version,
+/// never released): refused with a message that says so.
+pub(crate) const ENCODING_TILED_4_5: u32 = 1;
+/// Largest code a writer stores: codes stay exact in `f32`, and node 0's
+/// fits the 24 bits of its record's header.
+pub const MAX_CODE: u32 = (1 << 24) - 1;
+/// Record kinds (header bits 0–1).
 const KIND_EMPTY: u32 = 0;
 const KIND_PLANE: u32 = 1;
-const KIND_SAMPLED: u32 = 2;
-/// Record header bits: a contact mask follows; an edge mask follows.
-const HAS_CONTACT: u32 = 1 << 16;
-const HAS_EDGE: u32 = 1 << 17;
-
-/// The words of the pool, read in place.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Tiled<'a> {
-    /// Superblock entries, `4 * S` bytes.
-    pub supers: &'a [u8],
-    /// The pool of tile lists and records, `4 * W` bytes.
-    pub pool: &'a [u8],
-    /// Superblocks per row.
-    pub super_cols: u32,
-    /// Height of code 0.
-    pub base: f32,
-    /// Height of one code.
-    pub step: f32,
-    /// Node spacing (for planes).
-    pub cell: f32,
-}
+const KIND_CODED: u32 = 2;
+/// Record header bits: a contact mask follows; an edge mask follows; the
+/// plane has slopes.
+const HAS_CONTACT: u32 = 1 << 2;
+const HAS_EDGE: u32 = 1 << 3;
+const SLOPED: u32 = 1 << 4;
 
 #[inline]
 fn word(b: &[u8], w: u32) -> u32 {
     (w as usize).checked_mul(4).and_then(|o| u32_at(b, o)).unwrap_or(0)
+}
+
+/// Entry `n` of `w` bits (1 to 32) of a packed table.
+#[inline]
+fn entry(b: &[u8], n: u32, w: u32) -> u32 {
+    let p = n as u64 * w as u64;
+    let at = (p / 32) as u32;
+    let pair = word(b, at) as u64 | (word(b, at.wrapping_add(1)) as u64) << 32;
+    ((pair >> (p % 32)) & ((1u64 << w) - 1)) as u32
+}
+
+/// Bits needed to write every number below `n` (at least 1).
+#[inline]
+pub(crate) fn bits_below(n: u32) -> u32 {
+    (32 - n.saturating_sub(1).leading_zeros()).max(1)
+}
+
+/// The widths of a superblock entry and of a list entry, for `lists` lists
+/// and a pool of `pool` words.
+#[inline]
+pub(crate) fn index_widths(lists: u32, pool: u32) -> (u32, u32) {
+    let record = bits_below(pool);
+    (1 + record.max(bits_below(lists)), record)
+}
+
+/// Words of a packed table of `n` entries of `w` bits.
+#[inline]
+pub(crate) fn packed_words(n: u64, w: u32) -> u64 {
+    (n * w as u64).div_ceil(32)
 }
 
 /// The four nodes of one cell, as the tiled encoding gives them.
@@ -67,392 +89,238 @@ pub struct CellHeights {
     pub flags: [u8; 4],
 }
 
+/// One tile's nodes, decoded: heights (0 without contact) and flags
+/// ([`FIELD_CONTACT`], [`FIELD_EDGE`]), node `l` row-major in the tile.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct TileNodes {
+    pub heights: [f32; 64],
+    pub flags: [u8; 64],
+}
+
+impl TileNodes {
+    pub(crate) const EMPTY: TileNodes = TileNodes { heights: [0.0; 64], flags: [0; 64] };
+
+    /// Height and flags of node `l`.
+    #[inline]
+    pub fn node(&self, l: u32) -> (f32, u8) {
+        let l = (l & 63) as usize;
+        (self.heights[l], self.flags[l])
+    }
+}
+
+/// The tables of a tiled field, read in place.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Tiled<'a> {
+    /// Superblock entries, packed.
+    supers: &'a [u8],
+    /// Tile lists, packed.
+    lists: &'a [u8],
+    /// The records.
+    pool: &'a [u8],
+    /// Superblocks per row.
+    super_cols: u32,
+    /// Widths of a superblock entry and of a list entry.
+    widths: (u32, u32),
+    /// Height of code 0.
+    pub base: f32,
+    /// Height of one code.
+    pub step: f32,
+    /// Node spacing (for planes).
+    cell: f32,
+    /// `1 / cell`, for a player's slopes.
+    pub inv_cell: f32,
+}
+
 impl<'a> Tiled<'a> {
     /// The record offset of tile `(tx, ty)`.
     #[inline]
     fn record_of(&self, tx: u32, ty: u32) -> u32 {
-        let e = word(self.supers, (ty / SUPER) * self.super_cols + tx / SUPER);
-        if e & UNIFORM != 0 { e & !UNIFORM } else { word(self.pool, e.wrapping_add((ty % SUPER) * SUPER + tx % SUPER)) }
+        let e = entry(self.supers, (ty / SUPER) * self.super_cols + tx / SUPER, self.widths.0);
+        if e & 1 != 0 {
+            e >> 1
+        } else {
+            entry(
+                self.lists,
+                (e >> 1).wrapping_mul(SUPER * SUPER).wrapping_add((ty % SUPER) * SUPER + tx % SUPER),
+                self.widths.1,
+            )
+        }
     }
 
-    /// Height and flags of node `(i, j)` of the tile whose record is at `r`
-    /// (`l` is the node's index in the tile, row-major).
+    /// The masks of the record at `r` with header `head` as stored (all
+    /// nodes touching without a contact mask, none at a step without an
+    /// edge mask), and the word after them.
     #[inline]
-    fn node_in(&self, r: u32, i: u32, j: u32, l: u32) -> (f32, u8) {
+    fn masks(&self, r: u32, head: u32) -> (u64, u64, u32) {
+        let body = match head & 3 {
+            KIND_PLANE if head & SLOPED != 0 => 3,
+            KIND_PLANE => 1,
+            _ => 0,
+        };
+        let mut at = r.wrapping_add(1 + body);
+        let mut pair = || {
+            let m = word(self.pool, at) as u64 | (word(self.pool, at.wrapping_add(1)) as u64) << 32;
+            at = at.wrapping_add(2);
+            m
+        };
+        let contact = if head & HAS_CONTACT != 0 { pair() } else { u64::MAX };
+        let edge = if head & HAS_EDGE != 0 { pair() } else { 0 };
+        (contact, edge, at)
+    }
+
+    /// Decodes tile `(tx, ty)` into `out`.
+    #[inline(never)]
+    pub(crate) fn decode(&self, tx: u32, ty: u32, out: &mut TileNodes) {
+        let r = self.record_of(tx, ty);
         let head = word(self.pool, r);
-        let kind = head & 0xff;
-        let bits = (head >> 8) & 0xff;
-        let body = match kind {
-            KIND_PLANE => 3,
-            KIND_SAMPLED => 4 + 2 * bits,
-            _ => return (0.0, 0),
-        };
-        let mut at = r + 1 + body;
-        let mut flags = FIELD_CONTACT;
-        if head & HAS_CONTACT != 0 {
-            if !mask_bit(self.pool, at, l) {
-                return (0.0, 0);
+        let (contact, edge, at) = self.masks(r, head);
+        let kind = head & 3;
+        if kind != KIND_PLANE && kind != KIND_CODED {
+            *out = TileNodes::EMPTY;
+            return;
+        }
+        if contact == u64::MAX && edge == 0 {
+            // Most tiles: every node touching, none at a step.
+            out.flags = [FIELD_CONTACT; 64];
+        } else {
+            let edge = edge & contact;
+            for (l, f) in out.flags.iter_mut().enumerate() {
+                *f = ((contact >> l & 1) as u8 * FIELD_CONTACT) | ((edge >> l & 1) as u8 * FIELD_EDGE);
             }
-            at += 2;
         }
-        if head & HAS_EDGE != 0 && mask_bit(self.pool, at, l) {
-            flags |= FIELD_EDGE;
-        }
-        let h = if kind == KIND_PLANE {
-            let h0 = f32::from_bits(word(self.pool, r + 1));
-            let gx = f32::from_bits(word(self.pool, r + 2));
-            let gy = f32::from_bits(word(self.pool, r + 3));
-            h0 + gx * (i as f32 * self.cell) + gy * (j as f32 * self.cell)
+        if kind == KIND_PLANE {
+            let h0 = f32::from_bits(word(self.pool, r.wrapping_add(1)));
+            if head & SLOPED == 0 {
+                out.heights = [h0; 64];
+            } else {
+                let gx = f32::from_bits(word(self.pool, r.wrapping_add(2)));
+                let gy = f32::from_bits(word(self.pool, r.wrapping_add(3)));
+                for (l, h) in out.heights.iter_mut().enumerate() {
+                    let (i, j) = (tx.wrapping_mul(TILE) + l as u32 % TILE, ty.wrapping_mul(TILE) + l as u32 / TILE);
+                    *h = h0 + gx * (i as f32 * self.cell) + gy * (j as f32 * self.cell);
+                }
+            }
         } else {
-            let code = sampled_code(self.pool, r, l, bits);
-            self.base + code as f32 * self.step
-        };
-        (h, flags)
+            let mut codes = [0i32; 64];
+            coded::decode(self.pool, at, head >> 8, &mut codes);
+            for (h, c) in out.heights.iter_mut().zip(codes) {
+                *h = self.base + c as f32 * self.step;
+            }
+        }
+        if contact != u64::MAX {
+            for (h, f) in out.heights.iter_mut().zip(out.flags) {
+                if f == 0 {
+                    *h = 0.0;
+                }
+            }
+        }
     }
 
-    /// Height and flags of node `(i, j)` (inside the field).
-    #[inline]
+    /// Height and flags of node `(i, j)` (inside the field), decoding its tile.
     pub fn node(&self, i: u32, j: u32) -> (f32, u8) {
-        let r = self.record_of(i / TILE, j / TILE);
-        self.node_in(r, i, j, (j % TILE) * TILE + i % TILE)
+        let mut t = TileNodes::EMPTY;
+        self.decode(i / TILE, j / TILE, &mut t);
+        t.node((j % TILE) * TILE + i % TILE)
     }
 
-    /// The four nodes of the cell whose top-left node is `(i, j)`; the
-    /// caller keeps `i + 1` and `j + 1` inside the field.
+    /// The four nodes of the cell whose top-left node is `(i, j)`, from the
+    /// tiles `cache` holds or decodes; the caller keeps `i + 1` and `j + 1`
+    /// inside the field.
     #[inline]
-    pub fn cell(&self, i: u32, j: u32) -> CellHeights {
+    pub fn cell(&self, cache: &mut TileCache, i: u32, j: u32) -> CellHeights {
+        cache.serve(self.pool);
         let (li, lj) = (i % TILE, j % TILE);
-        let n = if li + 1 < TILE && lj + 1 < TILE {
-            // All four in one tile: one record lookup.
-            let r = self.record_of(i / TILE, j / TILE);
-            let l = lj * TILE + li;
-            [
-                self.node_in(r, i, j, l),
-                self.node_in(r, i + 1, j, l + 1),
-                self.node_in(r, i, j + 1, l + TILE),
-                self.node_in(r, i + 1, j + 1, l + TILE + 1),
-            ]
-        } else {
-            [self.node(i, j), self.node(i + 1, j), self.node(i, j + 1), self.node(i + 1, j + 1)]
-        };
-        CellHeights { heights: n.map(|v| v.0), flags: n.map(|v| v.1) }
+        if li + 1 < TILE && lj + 1 < TILE {
+            // All four in one tile (49 cells of 64).
+            let t = cache.tile(self, i / TILE, j / TILE);
+            let l = (lj * TILE + li) as usize;
+            let (h, f) = (&t.heights, &t.flags);
+            return CellHeights {
+                heights: [h[l], h[l + 1], h[l + 8], h[l + 9]],
+                flags: [f[l], f[l + 1], f[l + 8], f[l + 9]],
+            };
+        }
+        // A cell on a tile's last row or column: its nodes lie in two or
+        // four tiles. Each node is read into a register as its tile comes
+        // (a struct of them returned from another function was stored and
+        // read back in pieces, which the processor cannot forward).
+        let (tx, ty) = (i / TILE, j / TILE);
+        let (tx1, a1) = if li + 1 < TILE { (tx, li + 1) } else { (tx + 1, 0) };
+        let (ty1, b1) = if lj + 1 < TILE { (ty, lj + 1) } else { (ty + 1, 0) };
+        let (h0, f0) = cache.tile(self, tx, ty).node(lj * TILE + li);
+        let (h1, f1) = cache.tile(self, tx1, ty).node(lj * TILE + a1);
+        let (h2, f2) = cache.tile(self, tx, ty1).node(b1 * TILE + li);
+        let (h3, f3) = cache.tile(self, tx1, ty1).node(b1 * TILE + a1);
+        CellHeights { heights: [h0, h1, h2, h3], flags: [f0, f1, f2, f3] }
     }
 
     /// The plane `(h0, gx, gy)` of the tile holding node `(i, j)`, if it is a plane tile.
     pub fn plane_at(&self, i: u32, j: u32) -> Option<(f32, f32, f32)> {
         let r = self.record_of(i / TILE, j / TILE);
-        (word(self.pool, r) & 0xff == KIND_PLANE).then(|| {
-            let f = |k| f32::from_bits(word(self.pool, r + k));
-            (f(1), f(2), f(3))
+        let head = word(self.pool, r);
+        (head & 3 == KIND_PLANE).then(|| {
+            let f = |k: u32| f32::from_bits(word(self.pool, r.wrapping_add(k)));
+            if head & SLOPED != 0 { (f(1), f(2), f(3)) } else { (f(1), 0.0, 0.0) }
         })
     }
 }
 
-/// The code of node `l` of the sampled record at `r` with `bits`-bit
-/// residuals: `c0 + ((sx a + sy b) >> 8) + m r_l` for the node's place
-/// `(a, b)` in the tile (a checked record keeps it within `0..2^24`).
-#[inline]
-fn sampled_code(pool: &[u8], r: u32, l: u32, bits: u32) -> i64 {
-    let c0 = word(pool, r + 1) as i32 as i64;
-    let m = word(pool, r + 2) as i64;
-    let (sx, sy) = (word(pool, r + 3) as i32 as i64, word(pool, r + 4) as i32 as i64);
-    let pred = (sx * (l % TILE) as i64 + sy * (l / TILE) as i64) >> 8;
-    c0 + pred + m * residual(pool, r + 5, l, bits) as i64
+/// The tiles of a tiled field that a player decoded, kept between samples.
+///
+/// Four slots, one for each parity of the tile's column and row, so the up
+/// to four tiles a cell touches never evict one another, and a finger that
+/// stays in a tile decodes it once. A cache serves one field: it remembers
+/// which (the place and length of its tables) and starts over when handed
+/// another. About 1.1 KB; allocation-free.
+#[derive(Debug, Clone)]
+pub struct TileCache {
+    field: (usize, usize),
+    // Tile `(tx, ty)` held in a slot as `ty << 16 | tx` (both below 2^11).
+    keys: [u32; 4],
+    tiles: [TileNodes; 4],
 }
 
-#[inline]
-fn mask_bit(pool: &[u8], at: u32, l: u32) -> bool {
-    word(pool, at + l / 32) >> (l % 32) & 1 != 0
-}
-
-/// Residual `l` of `bits` bits from the bit stream starting at word `at`.
-#[inline]
-fn residual(pool: &[u8], at: u32, l: u32, bits: u32) -> u32 {
-    if bits == 0 || bits > MAX_RESIDUAL_BITS {
-        return 0;
-    }
-    let p = l * bits;
-    let w = at + p / 32;
-    let pair = word(pool, w) as u64 | (word(pool, w + 1) as u64) << 32;
-    ((pair >> (p % 32)) as u32) & ((1u32 << bits) - 1)
-}
-
-/// Records of a field being written: words, with identical records and
-/// lists stored once.
-struct Pool {
-    words: Vec<u32>,
-    seen: BTreeMap<Vec<u32>, u32>,
-}
-
-impl Pool {
-    fn add(&mut self, rec: Vec<u32>) -> u32 {
-        if let Some(&at) = self.seen.get(&rec) {
-            return at;
-        }
-        let at = self.words.len() as u32;
-        self.words.extend_from_slice(&rec);
-        self.seen.insert(rec, at);
-        at
+impl Default for TileCache {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
-/// The nodes of tile `(tx, ty)`: `(local index, i, j, height, flags)` of
-/// each node inside the field.
-fn tile_nodes(f: &HeightField, tx: u32, ty: u32) -> Vec<(u32, u32, u32, f32, u8)> {
-    let mut v = Vec::with_capacity(64);
-    for l in 0..TILE * TILE {
-        let (i, j) = (tx * TILE + l % TILE, ty * TILE + l / TILE);
-        if i < f.cols && j < f.rows {
-            let k = (j * f.cols + i) as usize;
-            let fl = f.flags.get(k).copied().unwrap_or(0);
-            v.push((l, i, j, f.heights.get(k).copied().unwrap_or(0.0), fl));
+impl TileCache {
+    const NONE: u32 = u32::MAX;
+
+    /// An empty cache.
+    pub const fn new() -> Self {
+        TileCache { field: (0, 0), keys: [Self::NONE; 4], tiles: [TileNodes::EMPTY; 4] }
+    }
+
+    /// Starts over unless the cache holds tiles of the field whose pool is `pool`.
+    #[inline]
+    fn serve(&mut self, pool: &[u8]) {
+        let field = (pool.as_ptr() as usize, pool.len());
+        if self.field != field {
+            self.field = field;
+            self.keys = [Self::NONE; 4];
         }
     }
-    v
-}
 
-/// The plane through a tile's contact nodes, quantised so that the tiles of
-/// one plane of the model write the same record, when every node lies within
-/// half a step of it.
-fn plane_of(f: &HeightField, step: f32, nodes: &[(u32, u32, u32, f32, u8)]) -> Option<[f32; 3]> {
-    let c: Vec<_> = nodes.iter().filter(|n| n.4 & FIELD_CONTACT != 0).collect();
-    if c.len() < 3 {
-        return None;
-    }
-    let cell = f.cell.0 as f64;
-    // Least squares h = a + b x + c y about the nodes' mean (x, y in mm).
-    let k = c.len() as f64;
-    let (mx, my, mh) = c
-        .iter()
-        .fold((0.0, 0.0, 0.0), |s, n| (s.0 + n.1 as f64 * cell / k, s.1 + n.2 as f64 * cell / k, s.2 + n.3 as f64 / k));
-    let (mut sxx, mut sxy, mut syy, mut sxh, mut syh) = (0.0, 0.0, 0.0, 0.0, 0.0);
-    for n in &c {
-        let (x, y, h) = (n.1 as f64 * cell - mx, n.2 as f64 * cell - my, n.3 as f64 - mh);
-        sxx += x * x;
-        sxy += x * y;
-        syy += y * y;
-        sxh += x * h;
-        syh += y * h;
-    }
-    let det = sxx * syy - sxy * sxy;
-    if det.is_nan() || det.abs() <= 1e-12 * (sxx * syy).max(f64::MIN_POSITIVE) {
-        return None;
-    }
-    let gx = (sxh * syy - syh * sxy) / det;
-    let gy = (syh * sxx - sxh * sxy) / det;
-    // The gradient on the coarsest lattice of 2^-4, 2^-6, ... 2^-24 that
-    // still holds every node within half a step, and the height at the
-    // field's origin on multiples of the step: so every tile of one plane of
-    // the model (an incline of 1 in 8, a level terrace) finds the same
-    // numbers from its own nodes, and its record is stored once.
-    let cap = f.gradient_cap * (1.0 + 1e-6);
-    for k in (4..=24).step_by(2) {
-        let unit = (1u32 << k) as f64;
-        let (gx, gy) = (((gx * unit).round() / unit) as f32, ((gy * unit).round() / unit) as f32);
-        let h0 = mh - gx as f64 * mx - gy as f64 * my;
-        let h0 = ((h0 / step as f64).round() * step as f64) as f32;
-        if ![h0, gx, gy].iter().all(|v| v.is_finite()) || gx.abs() > cap || gy.abs() > cap || h0.abs() > 1e9 {
-            return None;
+    /// Tile `(tx, ty)`, decoded now unless its slot holds it.
+    #[inline]
+    fn tile(&mut self, t: &Tiled<'_>, tx: u32, ty: u32) -> &TileNodes {
+        let slot = ((tx & 1) | (ty & 1) << 1) as usize;
+        let key = ty << 16 | tx;
+        if self.keys[slot] != key {
+            t.decode(tx, ty, &mut self.tiles[slot]);
+            self.keys[slot] = key;
         }
-        if fits(f, step, nodes, [h0, gx, gy]) {
-            return Some([h0, gx, gy]);
-        }
+        &self.tiles[slot]
     }
-    None
 }
 
-/// Whether every contact node lies within half a step of plane `p`.
-fn fits(f: &HeightField, step: f32, nodes: &[(u32, u32, u32, f32, u8)], p: [f32; 3]) -> bool {
-    let half = step as f64 / 2.0;
-    nodes.iter().filter(|n| n.4 & FIELD_CONTACT != 0).all(|n| {
-        let h = p[0] + p[1] * (n.1 as f32 * f.cell.0) + p[2] * (n.2 as f32 * f.cell.0);
-        (h as f64 - n.3 as f64).abs() <= half
-    })
-}
-
-/// Greatest common divisor.
-fn gcd(mut a: u64, mut b: u64) -> u64 {
-    while b != 0 {
-        (a, b) = (b, a % b);
-    }
-    a
-}
-
-/// The record of one tile, and its plane when it is a plane tile. A tile
-/// first tries the planes of its neighbours to the left and above (`near`),
-/// so one plane of the model is one record however far it reaches.
-fn record(
-    f: &HeightField,
-    step: f32,
-    base: f32,
-    (tx, ty): (u32, u32),
-    near: [Option<[f32; 3]>; 2],
-) -> Result<(Vec<u32>, Option<[f32; 3]>), &'static str> {
-    let nodes = tile_nodes(f, tx, ty);
-    // Nodes past the field's edge are never read: they count as touching,
-    // so an edge tile needs no mask for them and matches the tiles inside.
-    let mut contact = [u32::MAX; 2];
-    let mut edge = [0u32; 2];
-    for n in &nodes {
-        if n.4 & FIELD_CONTACT == 0 {
-            contact[(n.0 / 32) as usize] &= !(1 << (n.0 % 32));
-        } else if n.4 & FIELD_EDGE != 0 {
-            edge[(n.0 / 32) as usize] |= 1 << (n.0 % 32);
-        }
-    }
-    if nodes.iter().all(|n| n.4 & FIELD_CONTACT == 0) {
-        return Ok((alloc::vec![KIND_EMPTY], None));
-    }
-    let mut masks = Vec::new();
-    let mut flags = 0;
-    if contact != [u32::MAX, u32::MAX] {
-        flags |= HAS_CONTACT;
-        masks.extend_from_slice(&contact);
-    }
-    if edge != [0, 0] {
-        flags |= HAS_EDGE;
-        masks.extend_from_slice(&edge);
-    }
-    let plane = near.into_iter().flatten().find(|&p| fits(f, step, &nodes, p)).or_else(|| plane_of(f, step, &nodes));
-    if let Some([h0, gx, gy]) = plane {
-        let mut r = alloc::vec![KIND_PLANE | flags, h0.to_bits(), gx.to_bits(), gy.to_bits()];
-        r.extend_from_slice(&masks);
-        return Ok((r, plane));
-    }
-    let mut codes = [0i64; 64];
-    for n in nodes.iter().filter(|n| n.4 & FIELD_CONTACT != 0) {
-        let c = ((n.3 as f64 - base as f64) / step as f64).round();
-        if !(0.0..=MAX_CODE as f64).contains(&c) {
-            return Err("heights within 2^24 - 1 steps of the lowest");
-        }
-        codes[n.0 as usize] = c as i64;
-    }
-    let touching: Vec<u32> = nodes.iter().filter(|n| n.4 & FIELD_CONTACT != 0).map(|n| n.0).collect();
-    // The codes less a plane of codes (slopes in 1/256 code a node, from
-    // their least-squares plane) when that needs fewer bits than the codes
-    // themselves: a smooth surface's residuals are its bending within the
-    // tile, a terrace's or a step's are its levels.
-    let slopes = code_slopes(&touching, &codes);
-    let best = [(0, 0), slopes].into_iter().map(|sl| sampled(&touching, &codes, sl)).min_by_key(|r| r.0);
-    let Some((bits, c0, m, (sx, sy), res)) = best else { return Err("a tile with contact") };
-    let mut packed = alloc::vec![0u32; 2 * bits as usize];
-    for (l, &r) in res.iter().enumerate() {
-        let p = l as u32 * bits;
-        for b in 0..bits {
-            if r >> b & 1 != 0 {
-                let q = p + b;
-                packed[(q / 32) as usize] |= 1 << (q % 32);
-            }
-        }
-    }
-    let mut r = alloc::vec![KIND_SAMPLED | bits << 8 | flags, c0 as i32 as u32, m, sx as u32, sy as u32];
-    r.extend_from_slice(&packed);
-    r.extend_from_slice(&masks);
-    Ok((r, None))
-}
-
-/// The least-squares slopes of the codes of nodes `l` along the tile's
-/// columns and rows, in 1/256 code a node.
-fn code_slopes(l: &[u32], codes: &[i64; 64]) -> (i32, i32) {
-    let k = l.len() as f64;
-    let at = |l: u32| ((l % TILE) as f64, (l / TILE) as f64, codes[l as usize] as f64);
-    let (ma, mb, mc) = l.iter().fold((0.0, 0.0, 0.0), |s, &l| {
-        let (a, b, c) = at(l);
-        (s.0 + a / k, s.1 + b / k, s.2 + c / k)
-    });
-    let (mut saa, mut sab, mut sbb, mut sac, mut sbc) = (0.0, 0.0, 0.0, 0.0, 0.0);
-    for &l in l {
-        let (a, b, c) = at(l);
-        let (a, b, c) = (a - ma, b - mb, c - mc);
-        (saa, sab, sbb, sac, sbc) = (saa + a * a, sab + a * b, sbb + b * b, sac + a * c, sbc + b * c);
-    }
-    let det = saa * sbb - sab * sab;
-    if det.is_nan() || det <= 1e-9 {
-        return (0, 0);
-    }
-    let q = |v: f64| (v * 256.0).round().clamp(-(1 << 30) as f64, (1 << 30) as f64) as i32;
-    (q((sac * sbb - sbc * sab) / det), q((sbc * saa - sac * sab) / det))
-}
-
-/// A sampled tile's numbers with code slopes `sl`: residual bits, base
-/// code, multiplier, slopes and the 64 residuals.
-type Sampled = (u32, i64, u32, (i32, i32), [u32; 64]);
-
-fn sampled(l: &[u32], codes: &[i64; 64], sl: (i32, i32)) -> Sampled {
-    let pred = |l: u32| (sl.0 as i64 * (l % TILE) as i64 + sl.1 as i64 * (l / TILE) as i64) >> 8;
-    let d = |l: u32| codes[l as usize] - pred(l);
-    let c0 = l.iter().map(|&l| d(l)).min().unwrap_or(0);
-    let m = l.iter().fold(0u64, |g, &l| gcd(g, (d(l) - c0) as u64)).max(1);
-    let mut res = [0u32; 64];
-    let mut top = 0u64;
-    for &l in l {
-        let r = (d(l) - c0) as u64 / m;
-        top = top.max(r);
-        res[l as usize] = r.min(u32::MAX as u64) as u32;
-    }
-    let bits = 64 - top.leading_zeros();
-    // Residuals that do not fit in 24 bits cannot be stored: such a choice
-    // of slopes is never the smaller one (the plain codes fit).
-    let bits = if bits > MAX_RESIDUAL_BITS || m > MAX_CODE as u64 { u32::MAX } else { bits };
-    (bits, c0, m as u32, sl, res)
-}
-
-/// The superblock index and the pool of field `f` in the tiled encoding
-/// with height step `step` and base `base`.
-pub(crate) fn encode_tiles(f: &HeightField, step: f32, base: f32) -> Result<(Vec<u32>, Vec<u32>), &'static str> {
-    let (tcols, trows) = (f.cols.div_ceil(TILE), f.rows.div_ceil(TILE));
-    let (scols, srows) = (tcols.div_ceil(SUPER), trows.div_ceil(SUPER));
-    let mut pool = Pool { words: Vec::new(), seen: BTreeMap::new() };
-    let mut of_tile = Vec::with_capacity((tcols * trows) as usize);
-    let mut planes: Vec<Option<[f32; 3]>> = Vec::with_capacity((tcols * trows) as usize);
-    for ty in 0..trows {
-        for tx in 0..tcols {
-            let left = if tx > 0 { planes.last().copied().flatten() } else { None };
-            let above = if ty > 0 { planes.get(((ty - 1) * tcols + tx) as usize).copied().flatten() } else { None };
-            let (rec, plane) = record(f, step, base, (tx, ty), [left, above])?;
-            of_tile.push(pool.add(rec));
-            planes.push(plane);
-        }
-    }
-    // Lists after every record, so records are numbered in tile order.
-    let mut lists = Pool { words: Vec::new(), seen: BTreeMap::new() };
-    let records_len = pool.words.len() as u32;
-    let mut supers = Vec::with_capacity((scols * srows) as usize);
-    for sy in 0..srows {
-        for sx in 0..scols {
-            let mut list = Vec::with_capacity((SUPER * SUPER) as usize);
-            for k in 0..SUPER * SUPER {
-                let (tx, ty) = (sx * SUPER + k % SUPER, sy * SUPER + k / SUPER);
-                // A tile past the field's last one names the superblock's first tile's record.
-                list.push(if tx < tcols && ty < trows { of_tile[(ty * tcols + tx) as usize] } else { u32::MAX });
-            }
-            let first = list[0];
-            for e in list.iter_mut().filter(|e| **e == u32::MAX) {
-                *e = first;
-            }
-            if list.iter().all(|&e| e == first) {
-                supers.push(UNIFORM | first);
-            } else {
-                supers.push(records_len + lists.add(list));
-            }
-        }
-    }
-    pool.words.extend_from_slice(&lists.words);
-    if pool.words.len() >= UNIFORM as usize {
-        return Err("fewer than 2^31 words of tiles");
-    }
-    Ok((supers, pool.words))
-}
-
-/// Writes the header's tiled part and the tables after the common header.
-pub(crate) fn write_tables(w: &mut Out<'_>, step: f32, base: f32, supers: &[u32], pool: &[u32]) {
-    w.f32(step).f32(base).u32(supers.len() as u32).u32(pool.len() as u32);
-    for &s in supers {
-        w.u32(s);
-    }
-    for &p in pool {
-        w.u32(p);
-    }
+/// Whether the bits of the packed table at word `at` after its first `used`
+/// bits, to the end of the word, are 0.
+fn zero_past(b: &[u8], at: u32, used: u64) -> bool {
+    used.is_multiple_of(32) || word(b, at.wrapping_add((used / 32) as u32)) >> (used % 32) == 0
 }
 
 /// Reads the tiled part of a field chunk: the tables, checked for length;
@@ -472,33 +340,43 @@ pub(crate) fn parse_tiled<'a>(
     let step = in_range(f(48), 1e-12, 1e9, tag, index, "height step", "above 0, within 1e9 mm")?;
     let base = in_range(f(52), -1e9, 1e9, tag, index, "height base", "finite, within 1e9 mm")?;
     let (scols, srows) = (cols.div_ceil(TILE).div_ceil(SUPER), rows.div_ceil(TILE).div_ceil(SUPER));
-    let s = u32_at(d, 56).unwrap_or(0);
+    let s = scols as u64 * srows as u64;
+    let lists = u32_at(d, 56).unwrap_or(0);
     let w = u32_at(d, 60).unwrap_or(0);
-    if s as u64 != scols as u64 * srows as u64 {
-        return Err(bad("superblocks", "one entry per 64 x 64 nodes"));
+    if lists as u64 > s {
+        return Err(bad("tile lists", "at most one per superblock"));
     }
-    let expected = TILED_HEADER_LEN as u64 + 4 * s as u64 + 4 * w as u64;
+    if w == 0 || w > 1 << 30 {
+        return Err(bad("pool", "1 to 2^30 words"));
+    }
+    let widths = index_widths(lists, w);
+    let (sw, lw) = (packed_words(s, widths.0), packed_words(16 * lists as u64, widths.1));
+    let expected = TILED_HEADER_LEN as u64 + 4 * (sw + lw + w as u64);
     if d.len() as u64 != expected {
         return Err(FormatError::ChunkLength { tag, index, expected, found: d.len() as u64 });
     }
-    let (supers, pool) = d
-        .get(TILED_HEADER_LEN..)
-        .and_then(|b| b.split_at_checked(4 * s as usize))
-        .ok_or(FormatError::ChunkLength { tag, index, expected, found: d.len() as u64 })?;
-    let t = Tiled { supers, pool, super_cols: scols, base, step, cell };
+    let length = || FormatError::ChunkLength { tag, index, expected, found: d.len() as u64 };
+    let (supers, rest) =
+        d.get(TILED_HEADER_LEN..).and_then(|b| b.split_at_checked(4 * sw as usize)).ok_or_else(length)?;
+    let (lists_bytes, pool) = rest.split_at_checked(4 * lw as usize).ok_or_else(length)?;
+    let t =
+        Tiled { supers, lists: lists_bytes, pool, super_cols: scols, widths, base, step, cell, inv_cell: 1.0 / cell };
     if !full {
         return Ok(t);
     }
-    for k in 0..s {
-        let e = word(supers, k);
-        if e & UNIFORM != 0 {
-            check_record(&t, e & !UNIFORM, w, cap, index)?;
+    if !zero_past(supers, 0, s * widths.0 as u64) || !zero_past(lists_bytes, 0, 16 * lists as u64 * widths.1 as u64) {
+        return Err(bad("index", "0 in the bits after the last entry"));
+    }
+    for k in 0..s as u32 {
+        let e = entry(supers, k, widths.0);
+        if e & 1 != 0 {
+            check_record(&t, e >> 1, w, cap, index)?;
         } else {
-            if e as u64 + (SUPER * SUPER) as u64 > w as u64 {
-                return Err(bad("tile list", "16 entries inside the pool"));
+            if e >> 1 >= lists {
+                return Err(bad("superblock", "a record or a list inside the tables"));
             }
             for l in 0..SUPER * SUPER {
-                check_record(&t, word(pool, e + l), w, cap, index)?;
+                check_record(&t, entry(lists_bytes, (e >> 1) * SUPER * SUPER + l, widths.1), w, cap, index)?;
             }
         }
     }
@@ -513,53 +391,67 @@ fn check_record(t: &Tiled<'_>, r: u32, w: u32, cap: f32, index: u32) -> Result<(
         return Err(bad("tile record", "an offset inside the pool"));
     }
     let head = word(t.pool, r);
-    let kind = head & 0xff;
-    let bits = (head >> 8) & 0xff;
-    if head & !(0xffff | HAS_CONTACT | HAS_EDGE) != 0 || kind > KIND_SAMPLED || bits > MAX_RESIDUAL_BITS {
-        return Err(bad("tile record", "kind 0 to 2, at most 24 bits, reserved bits 0"));
-    }
-    if bits != 0 && kind != KIND_SAMPLED || kind == KIND_EMPTY && head != 0 {
-        return Err(bad("tile record", "bits only in a sampled tile, nothing else in an empty one"));
-    }
-    let body = match kind {
-        KIND_PLANE => 3,
-        KIND_SAMPLED => 4 + 2 * bits,
-        _ => 0,
+    let kind = head & 3;
+    let reserved = match kind {
+        KIND_PLANE => !(3 | HAS_CONTACT | HAS_EDGE | SLOPED),
+        KIND_CODED => 0xf0,
+        _ => !0,
     };
-    let masks = 2 * ((head & HAS_CONTACT != 0) as u32 + (head & HAS_EDGE != 0) as u32);
-    if r as u64 + 1 + body as u64 + masks as u64 > w as u64 {
+    if kind == 3 || head & reserved != 0 {
+        return Err(bad("tile record", "kind 0 to 2, reserved bits 0"));
+    }
+    if kind == KIND_EMPTY {
+        return Ok(());
+    }
+    let (contact, edge, at) = t.masks(r, head);
+    let stream = if kind == KIND_CODED {
+        let widths = coded::widths(t.pool, at);
+        if widths.iter().any(|&w| w > coded::MAX_WIDTH) {
+            return Err(bad("coded tile", "residual widths of at most 32 bits"));
+        }
+        coded::stream_bits(widths)
+    } else {
+        0
+    };
+    if at as u64 + stream.div_ceil(32) as u64 > w as u64 {
         return Err(bad("tile record", "inside the pool"));
     }
-    let contact = |l: u32| head & HAS_CONTACT == 0 || mask_bit(t.pool, r + 1 + body, l);
-    if head & HAS_CONTACT != 0 && (0..64).all(|l| !contact(l)) {
-        return Err(bad("contact mask", "at least one node (an empty tile otherwise)"));
+    if !zero_past(t.pool, at, stream as u64) {
+        return Err(bad("coded tile", "0 in the bits after the last residual"));
     }
-    if head & HAS_EDGE != 0 {
-        let at = r + 1 + body + if head & HAS_CONTACT != 0 { 2 } else { 0 };
-        if (0..64).any(|l| mask_bit(t.pool, at, l) && !contact(l)) || (0..64).all(|l| !mask_bit(t.pool, at, l)) {
-            return Err(bad("edge mask", "contact nodes only, at least one"));
-        }
+    if head & HAS_CONTACT != 0 && (contact == 0 || contact == u64::MAX) {
+        return Err(bad("contact mask", "some nodes, not all (an empty tile or no mask otherwise)"));
     }
-    match kind {
-        KIND_PLANE => {
-            let f = |k| f32::from_bits(word(t.pool, r + k));
-            in_range(f(1), -1e9, 1e9, tag, index, "plane height", "finite, within 1e9 mm")?;
+    if head & HAS_EDGE != 0 && (edge == 0 || edge & !contact != 0) {
+        return Err(bad("edge mask", "contact nodes only, at least one"));
+    }
+    if kind == KIND_PLANE {
+        let f = |k: u32| f32::from_bits(word(t.pool, r + k));
+        in_range(f(1), -1e9, 1e9, tag, index, "plane height", "finite, within 1e9 mm")?;
+        if head & SLOPED != 0 {
             let cap = cap * (1.0 + 1e-6);
-            in_range(f(2), -cap, cap, tag, index, "plane gradient x", "within the gradient cap")?;
-            in_range(f(3), -cap, cap, tag, index, "plane gradient y", "within the gradient cap")?;
-        }
-        KIND_SAMPLED => {
-            let m = word(t.pool, r + 2);
-            if !(1..=MAX_CODE).contains(&m) {
-                return Err(bad("sampled tile", "a multiplier from 1 to 2^24 - 1"));
-            }
-            for l in 0..64 {
-                if !contact(l) && residual(t.pool, r + 5, l, bits) != 0 {
-                    return Err(bad("sampled tile", "residual 0 at nodes without contact"));
-                }
+            let gx = in_range(f(2), -cap, cap, tag, index, "plane gradient x", "within the gradient cap")?;
+            let gy = in_range(f(3), -cap, cap, tag, index, "plane gradient y", "within the gradient cap")?;
+            if gx == 0.0 && gy == 0.0 {
+                return Err(bad("plane tile", "slopes only when one is not 0"));
             }
         }
-        _ => {}
+        return Ok(());
+    }
+    // A coded tile: residual 0 at the nodes without contact, and node 0,
+    // when it has none, coded as the first node that has.
+    let first = head >> 8;
+    let residuals = coded::residuals(t.pool, at);
+    if (1..64).any(|l| contact >> l & 1 == 0 && residuals[l] != 0) {
+        return Err(bad("coded tile", "residual 0 at nodes without contact"));
+    }
+    if contact & 1 == 0 {
+        let mut codes = [0i32; 64];
+        coded::decode(t.pool, at, first, &mut codes);
+        let want = (0..64).find(|&l| contact >> l & 1 != 0).map_or(0, |l| codes[l] as u32);
+        if first != want {
+            return Err(bad("coded tile", "node 0 without contact coded as the first node with contact"));
+        }
     }
     Ok(())
 }

@@ -86,7 +86,7 @@ impl Bundle {
     /// The canonical encoding, as format version
     /// [`FORMAT_MAJOR`](crate::FORMAT_MAJOR).*m*, where *m* is the lowest
     /// minor version that has every chunk of the bundle (SPEC.md section 12):
-    /// 5 when a height field is tiled (format 4.5), else 4 when a distance layer holds a fine tile (format 4.4), else 3 when
+    /// 6 when a height field is tiled (format 4.6), else 4 when a distance layer holds a fine tile (format 4.4), else 3 when
     /// one holds a cut arc (format 4.3), else 2 when one
     /// holds a segments tile (format 4.2), else 1
     /// when one holds an arc tile (format 4.1), else 0.
@@ -117,7 +117,7 @@ impl Bundle {
             .iter()
             .any(|c| matches!(c, Chunk::Height(h) if matches!(h.encoding, crate::HeightEncoding::Tiled { .. })));
         if tiled_field {
-            5
+            6
         } else if holds(|e| matches!(e, crate::TileEntry::Fine { .. })) {
             4
         } else if cut_arc {

@@ -1,8 +1,10 @@
 //! Cost of one finger-player sample: field lookup (bilinear over four
 //! nodes), direction window update, actuator choice, intensity and rhythm,
 //! on the same field stored as 4.0 (`f32` heights and gradients, 13 bytes a
-//! node) and tiled (format 4.5: quantised heights in tiles, the gradient
-//! derived from the cell's four heights), side by side in one run.
+//! node) and tiled (format 4.6: quantised heights in tiles, each code
+//! predicted from its neighbours, a tile decoded when the finger reaches
+//! it, the gradient derived from the cell's four heights), side by side in
+//! one run.
 //!
 //! Run briefly with
 //! `cargo bench -p taxel-runtime --bench finger -- --warm-up-time 1 --measurement-time 3`.
@@ -16,7 +18,7 @@ use taxel_format::{
 use taxel_runtime::finger::{FingerPlayer, Touch};
 
 /// A 120 x 60 mm convex cap sampled every 0.5 mm (the size of the paper's
-/// shapes), stored as 4.0 or (`tiled`) in format 4.5's tiles with a
+/// shapes), stored as 4.0 or (`tiled`) in format 4.6's tiles with a
 /// 0.0005 mm step.
 fn bytes(tiled: bool) -> Vec<u8> {
     let (cols, rows, cell) = (241u32, 121u32, 0.5f32);

@@ -239,7 +239,7 @@ fn chunk(c: &Table<'_, '_>, read: &dyn Fn(&str) -> Result<Vec<u8>, TextError>) -
                 grad_x: Vec::new(),
                 grad_y: Vec::new(),
                 flags: Vec::new(),
-                // A tiled field (format 4.5) names its step, base and largest gradient.
+                // A tiled field (format 4.6) names its step, base and largest gradient.
                 encoding: if c.has("height_step_mm") {
                     taxel_format::HeightEncoding::Tiled {
                         step: c.f32("height_step_mm")?,

@@ -1,7 +1,7 @@
-//! Finger bundles stored as the device needs them (format 4.5's tiled height
-//! fields): each of the paper's five shapes and a fitted terrain is at most
-//! a 16-bit PNG of its heights, and plays the same actuators as the 4.0
-//! field it replaces, within the stated error.
+//! Finger bundles stored as the device needs them (format 4.6's tiled height
+//! fields): each of the paper's five shapes (the demo's finger scenes) and a
+//! fitted terrain is at most a 16-bit PNG of its heights, and plays the same
+//! actuators as the 4.0 field it replaces, within the stated error.
 
 use std::path::Path;
 
@@ -91,13 +91,15 @@ fn finger_fields_are_at_most_a_16_bit_png_of_their_heights() {
     for (name, glb, opts) in &cases {
         let (float, tiled) = fields(glb, opts);
         let (old, new) = (field_bytes(&float), field_bytes(&tiled));
+        // The `image` crate's best compression is not always its smallest
+        // (the terrain's is larger than its default): the bar is the smaller.
         let (png, best) = (png_of(&float, CompressionType::Default), png_of(&float, CompressionType::Best));
         eprintln!(
             "{name}: {} x {} nodes: 4.0 field {old} B, tiled {new} B, 16-bit PNG {png} B (best compression {best} B)",
             float.cols, float.rows
         );
-        if new > png {
-            over.push(format!("{name}: the tiled field is {new} bytes, its PNG {png}"));
+        if new > png.min(best) {
+            over.push(format!("{name}: the tiled field is {new} bytes, its PNG {}", png.min(best)));
         }
     }
     assert!(over.is_empty(), "{over:?}");

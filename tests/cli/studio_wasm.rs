@@ -121,7 +121,7 @@ fn the_wasm_runtime_plays_a_tiled_height_field_bit_for_bit_as_the_native_one() {
 }
 
 /// The studio builds each of the paper's shapes (a step and a quadric) for
-/// `finger3`, stored as a tiled height field (format 4.5, gradients derived
+/// `finger3`, stored as a tiled height field (format 4.6, gradients derived
 /// in the player); the WASM runtime plays its trace sample for sample, bit
 /// for bit, as the native finger player does.
 fn play_the_finger_traces() {
@@ -137,8 +137,8 @@ fn play_the_finger_traces() {
     for shape in ["edge", "convex"] {
         let v = s.post(&format!("/api/open?path={shape}.glb&profile=finger3"), b"").json();
         let bundle = s.get(&format!("{}bundle", v["base"].as_str().unwrap())).body;
-        // Format 4.5: the header's minor version, and the field's encoding.
-        assert_eq!(u16::from_le_bytes([bundle[10], bundle[11]]), 5, "{shape}");
+        // Format 4.6: the header's minor version, and the field's encoding.
+        assert_eq!(u16::from_le_bytes([bundle[10], bundle[11]]), 6, "{shape}");
         let tiled = Bundle::from_bytes(&bundle)
             .unwrap()
             .chunks

@@ -1,5 +1,5 @@
 //! How a sampled height field is stored for the device: heights quantised
-//! to the device's resolution in the tiled encoding (format 4.5,
+//! to the device's resolution in the tiled encoding (format 4.6,
 //! `format-spec/SPEC.md` section 9.1), gradients left to the player.
 
 use taxel_format::{DeviceProfile, FIELD_CONTACT, HeightEncoding, HeightField};

@@ -1,6 +1,6 @@
 //! Bilinear sampling of a height field (no allocation, no panic).
 
-use taxel_format::{FIELD_CONTACT, FIELD_EDGE, HeightFieldView};
+use taxel_format::{FIELD_CONTACT, FIELD_EDGE, HeightFieldView, TileCache};
 
 /// The surface under one point of the page.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -22,8 +22,33 @@ pub struct SurfacePoint {
 /// and the point has contact only when the contact nodes carry at least half
 /// of the weight, so the mesh's outline is resolved to half a cell. Outside
 /// the field, or at a non-finite position, there is no contact (`None`).
-#[inline]
+///
+/// A tiled field (format 4.6) is decoded a tile at a time: this function
+/// decodes the tiles under the point each call. A player that samples one
+/// field many times keeps a [`TileCache`] and calls [`sample_cached`],
+/// which gives the same values bit for bit.
 pub fn sample(field: &HeightFieldView<'_>, x: f32, y: f32) -> Option<SurfacePoint> {
+    sample_cached(field, &mut TileCache::new(), x, y)
+}
+
+/// [`sample`] with the tiles of a tiled field kept in `cache` between
+/// calls (a 4.0 field is read in place and leaves the cache alone).
+#[inline]
+pub fn sample_cached(field: &HeightFieldView<'_>, cache: &mut TileCache, x: f32, y: f32) -> Option<SurfacePoint> {
+    if field.is_tiled() { sample_as::<true>(field, cache, x, y) } else { sample_as::<false>(field, cache, x, y) }
+}
+
+/// [`sample_cached`] for a field that is tiled exactly when `TILED` is:
+/// each encoding's path compiled on its own, so a player can keep one
+/// copy of its per-sample work for each (a 4.0 sample then costs what it
+/// did before tiled fields).
+#[inline(always)]
+pub(crate) fn sample_as<const TILED: bool>(
+    field: &HeightFieldView<'_>,
+    cache: &mut TileCache,
+    x: f32,
+    y: f32,
+) -> Option<SurfacePoint> {
     let cell = field.cell.0;
     let u = (x - field.origin_x.0) / cell;
     let v = (y - field.origin_y.0) / cell;
@@ -37,8 +62,8 @@ pub fn sample(field: &HeightFieldView<'_>, x: f32, y: f32) -> Option<SurfacePoin
     let i = (u as u32).min(cols - 2);
     let j = (v as u32).min(rows - 2);
     let (fx, fy) = (u - i as f32, v - j as f32);
-    if field.is_tiled() {
-        return sample_tiled(field, i, j, fx, fy);
+    if TILED {
+        return sample_tiled(field, cache, i, j, fx, fy);
     }
     // One read of the cell's four nodes, listed in the order of the weights.
     let nodes = field.cell_nodes(j * cols + i)?;
@@ -71,9 +96,11 @@ pub fn sample(field: &HeightFieldView<'_>, x: f32, y: f32) -> Option<SurfacePoin
     Some(SurfacePoint { height: h / w, grad_x: gx / w, grad_y: gy / w, edge })
 }
 
-/// [`sample`] in a tiled field (format 4.5), which stores heights only: the
-/// gradient is the slope of the bilinear surface through the cell's
-/// contact nodes at the point, capped at the field's gradient cap.
+/// [`sample`] in a tiled field (format 4.6), which stores heights only: the
+/// height is the bilinear interpolation of the cell's contact nodes (with
+/// all four touching their weights sum to one and are not divided by their
+/// sum), and the gradient the slope of that bilinear surface at the point,
+/// capped at the field's gradient cap.
 ///
 /// Along x that is the height difference of the top pair of nodes and of the
 /// bottom pair, blended by the point's row weights (a pair counts only when
@@ -81,10 +108,27 @@ pub fn sample(field: &HeightFieldView<'_>, x: f32, y: f32) -> Option<SurfacePoin
 /// y likewise with the left and right pairs. Over a plane tile this is the
 /// plane's slope; across a step it is the finite difference the 4.0 field
 /// stored there (SPEC.md section 9.1).
-#[inline]
-fn sample_tiled(field: &HeightFieldView<'_>, i: u32, j: u32, fx: f32, fy: f32) -> Option<SurfacePoint> {
-    let c = field.cell_heights(i, j)?;
+#[inline(always)]
+fn sample_tiled(
+    field: &HeightFieldView<'_>,
+    cache: &mut TileCache,
+    i: u32,
+    j: u32,
+    fx: f32,
+    fy: f32,
+) -> Option<SurfacePoint> {
+    let c = field.cell_heights(cache, i, j)?;
     let weights = [(1.0 - fx) * (1.0 - fy), fx * (1.0 - fy), (1.0 - fx) * fy, fx * fy];
+    let hs = c.heights;
+    let inv = field.inverse_cell();
+    let height = |w: [f32; 4]| 0.0 + w[0] * hs[0] + w[1] * hs[1] + w[2] * hs[2] + w[3] * hs[3];
+    if c.flags == [FIELD_CONTACT; 4] {
+        // The common cell, every node touching and none at a step: what the
+        // general path below gives for it, without its masks and branches.
+        let gx = ((hs[1] - hs[0]) * (1.0 - fy) + (hs[3] - hs[2]) * fy) * inv;
+        let gy = ((hs[2] - hs[0]) * (1.0 - fx) + (hs[3] - hs[1]) * fx) * inv;
+        return Some(capped(field, height(weights), gx, gy, false));
+    }
     let con = c.flags.map(|f| f & FIELD_CONTACT != 0);
     let mut wm = [0.0f32; 4];
     let mut edge = false;
@@ -92,21 +136,28 @@ fn sample_tiled(field: &HeightFieldView<'_>, i: u32, j: u32, fx: f32, fy: f32) -
         wm[n] = if con[n] { weights[n] } else { 0.0 };
         edge |= c.flags[n] & FIELD_EDGE != 0 && wm[n] > 0.0;
     }
-    let hs = c.heights;
     let w = 0.0 + wm[0] + wm[1] + wm[2] + wm[3];
     if w < 0.5 {
         return None;
     }
-    let h = 0.0 + wm[0] * hs[0] + wm[1] * hs[1] + wm[2] * hs[2] + wm[3] * hs[3];
+    // With every node touching the weights sum to one: the bilinear height
+    // as it is (no division on the common path); else renormalised.
+    let h = if con == [true; 4] { height(weights) } else { height(wm) / w };
     let slope = |a: bool, da: f32, wa: f32, b: bool, db: f32, wb: f32| match (a, b) {
         (true, true) => da * wa + db * wb,
         (true, false) => da,
         (false, true) => db,
         (false, false) => 0.0,
     };
-    let inv = 1.0 / field.cell.0;
-    let mut gx = slope(con[0] && con[1], hs[1] - hs[0], 1.0 - fy, con[2] && con[3], hs[3] - hs[2], fy) * inv;
-    let mut gy = slope(con[0] && con[2], hs[2] - hs[0], 1.0 - fx, con[1] && con[3], hs[3] - hs[1], fx) * inv;
+    let gx = slope(con[0] && con[1], hs[1] - hs[0], 1.0 - fy, con[2] && con[3], hs[3] - hs[2], fy) * inv;
+    let gy = slope(con[0] && con[2], hs[2] - hs[0], 1.0 - fx, con[1] && con[3], hs[3] - hs[1], fx) * inv;
+    Some(capped(field, h, gx, gy, edge))
+}
+
+/// The surface point with gradient `(gx, gy)` scaled down to the field's
+/// cap when it is longer.
+#[inline(always)]
+fn capped(field: &HeightFieldView<'_>, height: f32, mut gx: f32, mut gy: f32, edge: bool) -> SurfacePoint {
     let cap = field.gradient_cap;
     let m2 = gx * gx + gy * gy;
     if m2 > cap * cap {
@@ -114,5 +165,5 @@ fn sample_tiled(field: &HeightFieldView<'_>, i: u32, j: u32, fx: f32, fy: f32) -
         gx *= s;
         gy *= s;
     }
-    Some(SurfacePoint { height: h / w, grad_x: gx, grad_y: gy, edge })
+    SurfacePoint { height, grad_x: gx, grad_y: gy, edge }
 }

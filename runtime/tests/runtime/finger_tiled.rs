@@ -1,11 +1,14 @@
-//! The finger player on tiled height fields (format 4.5): the same field
+//! The finger player on tiled height fields (format 4.6): the same field
 //! stored as it is (4.0) and tiled plays the same heights within half a
 //! step and the same slopes within what the quantisation and the cell's
-//! bending allow; planes play exactly; no allocation per sample.
+//! bending allow; planes play exactly; the tiles a player keeps decoded
+//! give what a fresh decoding gives, bit for bit, wherever the finger goes;
+//! no allocation per sample.
 
 use proptest::prelude::*;
 use taxel_format::{
-    Bundle, BundleView, Chunk, FIELD_CONTACT, FIELD_EDGE, HeightEncoding, HeightField, Manifest, Mm, Tick, profiles,
+    Bundle, BundleView, Chunk, FIELD_CONTACT, FIELD_EDGE, HeightEncoding, HeightField, Manifest, Mm, Tick, TileCache,
+    profiles,
 };
 use taxel_runtime::finger::{FingerPlayer, Touch, field};
 
@@ -77,11 +80,10 @@ fn cap(x: f64, y: f64) -> Option<(f64, f64, f64)> {
     Some((35.0 - 20.0 * u * u - 10.0 * v * v + step, -40.0 * u / 60.0, -20.0 * v / 30.0))
 }
 
-#[test]
-fn a_tiled_field_plays_the_float_field_within_half_a_step_and_its_slope_within_the_bound() {
-    let f = field_of(241, 121, 0.5, cap);
-    // A step across x = 90 mm: the 4.0 field holds the finite difference there, flagged.
-    let mut f = f;
+/// [`cap`] every 0.5 mm with its step flagged: the 4.0 field holds the
+/// finite difference there.
+fn cap_field() -> HeightField {
+    let mut f = field_of(241, 121, 0.5, cap);
     for j in 0..f.rows {
         let (a, b) = ((j * f.cols + 179) as usize, (j * f.cols + 180) as usize);
         if f.flags[a] & f.flags[b] & FIELD_CONTACT != 0 {
@@ -92,10 +94,16 @@ fn a_tiled_field_plays_the_float_field_within_half_a_step_and_its_slope_within_t
             }
         }
     }
+    f
+}
+
+#[test]
+fn a_tiled_field_plays_the_float_field_within_half_a_step_and_its_slope_within_the_bound() {
+    let f = cap_field();
     let step = 0.0005f32;
     let (old, new) = (bytes_of(f.clone()), bytes_of(tiled(&f, step)));
     assert!(new.len() * 5 < old.len(), "tiled {} bytes, 4.0 {} bytes", new.len(), old.len());
-    assert_eq!(BundleView::parse(&new).unwrap().version(), (4, 5));
+    assert_eq!(BundleView::parse(&new).unwrap().version(), (4, 6));
     let (fo, fn_) = (height_view(&old), height_view(&new));
     assert!(fn_.is_tiled() && !fo.is_tiled());
     // The slope of a quadric differs from the secant slope across a cell by
@@ -164,5 +172,66 @@ proptest! {
         // A plane tile's slope is within the derived slope's bound, step / cell.
         let tol = step as f64 / 0.5;
         prop_assert!((p.grad_x as f64 - a).abs() <= tol && (p.grad_y as f64 - b).abs() <= tol, "{p:?}");
+    }
+}
+
+/// Points of a walk over a `w` x `h` mm field: steps of up to `reach` mm,
+/// now and then a jump anywhere (and past the edges), from `seed`.
+fn walk(seed: u64, w: f64, h: f64, reach: f64, n: usize) -> Vec<(f32, f32)> {
+    let mut s = seed | 1;
+    let mut next = move || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let (mut x, mut y) = (w / 2.0, h / 2.0);
+    (0..n)
+        .map(|_| {
+            if next() < 0.05 {
+                (x, y) = (next() * (w + 4.0) - 2.0, next() * (h + 4.0) - 2.0);
+            } else {
+                x += (next() - 0.5) * 2.0 * reach;
+                y += (next() - 0.5) * 2.0 * reach;
+            }
+            (x as f32, y as f32)
+        })
+        .collect()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    /// The tiles a cache keeps give, bit for bit, what a fresh decoding
+    /// gives, on any walk: within a tile, across tile sides and corners,
+    /// jumping, off the field; a cell at a step or a hole.
+    #[test]
+    fn a_kept_tile_plays_what_a_fresh_one_does(seed in any::<u64>(), reach in 0.05f64..6.0) {
+        let bytes = bytes_of(tiled(&cap_field(), 0.0005));
+        let view = height_view(&bytes);
+        let mut cache = TileCache::new();
+        for (x, y) in walk(seed, 120.0, 60.0, reach, 3000) {
+            let kept = field::sample_cached(&view, &mut cache, x, y);
+            let fresh = field::sample(&view, x, y);
+            prop_assert_eq!(kept.map(point_bits), fresh.map(point_bits), "at ({}, {})", x, y);
+        }
+    }
+}
+
+fn point_bits(p: field::SurfacePoint) -> [u32; 4] {
+    [p.height.to_bits(), p.grad_x.to_bits(), p.grad_y.to_bits(), p.edge as u32]
+}
+
+#[test]
+fn a_cache_handed_another_field_starts_over() {
+    // Two fields whose tiles sit at the same places but hold other heights.
+    let (a, b) = (field_of(81, 61, 0.5, |x, y| Some((5.0 + 0.01 * x * y, 0.0, 0.0))), field_of(81, 61, 0.5, cap));
+    let (ba, bb) = (bytes_of(tiled(&a, 0.001)), bytes_of(tiled(&b, 0.001)));
+    let (va, vb) = (height_view(&ba), height_view(&bb));
+    let mut cache = TileCache::new();
+    for (k, (x, y)) in walk(7, 40.0, 30.0, 1.0, 400).into_iter().enumerate() {
+        let v = if k % 3 == 0 { &vb } else { &va };
+        let kept = field::sample_cached(v, &mut cache, x, y).map(point_bits);
+        assert_eq!(kept, field::sample(v, x, y).map(point_bits), "sample {k} at ({x}, {y})");
     }
 }
