@@ -5,9 +5,7 @@ use alloc::vec::Vec;
 
 use crate::bytes::{Out, array_at, f32_at, u8_at, u32_at};
 use crate::error::FormatError;
-use crate::height_tiles::{
-    self, CellHeights, ENCODING_TILED, ENCODING_TILED_4_5, TILE, TILED_HEADER_LEN, TileCache, TileNodes, Tiled,
-};
+use crate::height_tiles::{self, ENCODING_TILED, ENCODING_TILED_4_5, TILE, TILED_HEADER_LEN, TileNodes, Tiled};
 use crate::units::Mm;
 use crate::{NO_SOURCE, Tag, in_range, source_from_raw};
 
@@ -343,22 +341,17 @@ impl<'a> HeightFieldView<'a> {
     }
 
     /// Whether the field is tiled (format 4.6): then a player reads cells
-    /// with [`HeightFieldView::cell_heights`] and derives the gradient.
+    /// with [`FieldReader::cell_heights`](crate::FieldReader::cell_heights)
+    /// and derives the gradient.
     #[inline]
     pub fn is_tiled(&self) -> bool {
         self.tiled.is_some()
     }
 
-    /// The four nodes of the cell whose top-left node is `(i, j)`, in a
-    /// tiled field, or `None` when the field is not tiled or the cell is
-    /// not inside it (`i + 1 < cols`, `j + 1 < rows`). The tiles it needs
-    /// come from `cache`, which decodes them the first time (see
-    /// [`TileCache`]): a player keeps one cache per field, so a finger that
-    /// stays in a tile costs one decoding of it.
+    /// The tiled encoding's tables, when the field is tiled.
     #[inline]
-    pub fn cell_heights(&self, cache: &mut TileCache, i: u32, j: u32) -> Option<CellHeights> {
-        let t = self.tiled.as_ref()?;
-        (i.checked_add(1)? < self.cols && j.checked_add(1)? < self.rows).then(|| t.cell(cache, i, j))
+    pub(crate) fn tiled(&self) -> Option<&Tiled<'a>> {
+        self.tiled.as_ref()
     }
 
     /// Calls `visit` with every tile of a tiled field, decoded, row by row.

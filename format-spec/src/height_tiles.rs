@@ -8,15 +8,16 @@
 //! cell it is in.
 //!
 //! A coded tile is decoded whole (its codes depend on the ones before), so
-//! a player keeps the tiles it decoded in a [`TileCache`] and decodes again
-//! only when the finger reaches another tile.
+//! a player reads the field through a [`FieldReader`], which keeps the
+//! tiles it decoded, and decodes again only when the finger reaches
+//! another tile.
 
 mod coded;
 mod write;
 
 use crate::bytes::{f32_at, u32_at};
 use crate::error::FormatError;
-use crate::height::{FIELD_CONTACT, FIELD_EDGE};
+use crate::height::{FIELD_CONTACT, FIELD_EDGE, HeightFieldView};
 use crate::{Tag, in_range};
 
 pub(crate) use write::{encode_tiles, write_tables};
@@ -223,35 +224,41 @@ impl<'a> Tiled<'a> {
         t.node((j % TILE) * TILE + i % TILE)
     }
 
-    /// The four nodes of the cell whose top-left node is `(i, j)`, from the
-    /// tiles `cache` holds or decodes; the caller keeps `i + 1` and `j + 1`
-    /// inside the field.
+    /// The four nodes of the cell whose top-left node is `(i, j)` from the
+    /// tiles `cache` (this field's) holds, or `None` when one of them is
+    /// not decoded yet; the caller keeps `i + 1` and `j + 1` inside the
+    /// field. It decodes nothing, so a player's common path makes no call.
     #[inline]
-    pub fn cell(&self, cache: &mut TileCache, i: u32, j: u32) -> CellHeights {
-        cache.serve(self.pool);
+    pub fn kept_cell(&self, cache: &TileCache, i: u32, j: u32) -> Option<CellHeights> {
         let (li, lj) = (i % TILE, j % TILE);
         if li + 1 < TILE && lj + 1 < TILE {
             // All four in one tile (49 cells of 64).
-            let t = cache.tile(self, i / TILE, j / TILE);
+            let t = cache.get(i / TILE, j / TILE)?;
             let l = (lj * TILE + li) as usize;
             let (h, f) = (&t.heights, &t.flags);
-            return CellHeights {
+            return Some(CellHeights {
                 heights: [h[l], h[l + 1], h[l + 8], h[l + 9]],
                 flags: [f[l], f[l + 1], f[l + 8], f[l + 9]],
-            };
+            });
         }
         // A cell on a tile's last row or column: its nodes lie in two or
-        // four tiles. Each node is read into a register as its tile comes
-        // (a struct of them returned from another function was stored and
-        // read back in pieces, which the processor cannot forward).
+        // four tiles.
         let (tx, ty) = (i / TILE, j / TILE);
         let (tx1, a1) = if li + 1 < TILE { (tx, li + 1) } else { (tx + 1, 0) };
         let (ty1, b1) = if lj + 1 < TILE { (ty, lj + 1) } else { (ty + 1, 0) };
-        let (h0, f0) = cache.tile(self, tx, ty).node(lj * TILE + li);
-        let (h1, f1) = cache.tile(self, tx1, ty).node(lj * TILE + a1);
-        let (h2, f2) = cache.tile(self, tx, ty1).node(b1 * TILE + li);
-        let (h3, f3) = cache.tile(self, tx1, ty1).node(b1 * TILE + a1);
-        CellHeights { heights: [h0, h1, h2, h3], flags: [f0, f1, f2, f3] }
+        let (h0, f0) = cache.get(tx, ty)?.node(lj * TILE + li);
+        let (h1, f1) = cache.get(tx1, ty)?.node(lj * TILE + a1);
+        let (h2, f2) = cache.get(tx, ty1)?.node(b1 * TILE + li);
+        let (h3, f3) = cache.get(tx1, ty1)?.node(b1 * TILE + a1);
+        Some(CellHeights { heights: [h0, h1, h2, h3], flags: [f0, f1, f2, f3] })
+    }
+
+    /// Decodes into `cache` the tiles of the cell whose top-left node is
+    /// `(i, j)` that it does not hold.
+    pub fn keep_cell(&self, cache: &mut TileCache, i: u32, j: u32) {
+        for (tx, ty) in [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)].map(|(i, j)| (i / TILE, j / TILE)) {
+            cache.load(self, tx, ty);
+        }
     }
 
     /// The plane `(h0, gx, gy)` of the tile holding node `(i, j)`, if it is a plane tile.
@@ -265,55 +272,119 @@ impl<'a> Tiled<'a> {
     }
 }
 
-/// The tiles of a tiled field that a player decoded, kept between samples.
+/// A height field read by a player: its view and, for a tiled field, the
+/// tiles decoded so far, kept between samples (a coded tile's codes depend
+/// on the ones before them, so a tile is decoded whole, once, when the
+/// finger first needs it).
 ///
-/// Four slots, one for each parity of the tile's column and row, so the up
-/// to four tiles a cell touches never evict one another, and a finger that
-/// stays in a tile decodes it once. A cache serves one field: it remembers
-/// which (the place and length of its tables) and starts over when handed
-/// another. About 1.1 KB; allocation-free.
+/// The reader owns its tiles, so they always belong to its field. Four
+/// slots, one for each parity of the tile's column and row: the up to four
+/// tiles a cell touches never evict one another, and a finger that stays
+/// in a tile decodes it once. About 1.3 KB; it allocates nothing.
+///
+/// ```
+/// use taxel_format::{BundleView, ChunkView, FieldReader, sample};
+///
+/// let bytes = sample::every_kind().to_bytes().unwrap();
+/// let bundle = BundleView::parse(&bytes).unwrap();
+/// let view = bundle.chunks().find_map(|c| if let ChunkView::Height(h) = c { Some(h) } else { None }).unwrap();
+/// let mut reader = FieldReader::new(view);
+/// // A 4.0 field is read in place (`HeightFieldView::cell_nodes`): no tiles.
+/// assert!(reader.cell_heights(0, 0).is_none());
+/// ```
 #[derive(Debug, Clone)]
-pub struct TileCache {
-    field: (usize, usize),
-    // Tile `(tx, ty)` held in a slot as `ty << 16 | tx` (both below 2^11).
-    keys: [u32; 4],
-    tiles: [TileNodes; 4],
+pub struct FieldReader<'a> {
+    view: HeightFieldView<'a>,
+    tiles: TileCache,
 }
 
-impl Default for TileCache {
-    fn default() -> Self {
-        Self::new()
+impl<'a> FieldReader<'a> {
+    /// A reader of `view`, no tile decoded yet.
+    pub fn new(view: HeightFieldView<'a>) -> Self {
+        FieldReader { view, tiles: TileCache::new() }
     }
+
+    /// The field.
+    #[inline]
+    pub fn view(&self) -> &HeightFieldView<'a> {
+        &self.view
+    }
+
+    /// The four nodes of the cell whose top-left node is `(i, j)` of a
+    /// tiled field, from the tiles kept or decoded now; `None` when the
+    /// field is not tiled or the cell is not inside it (`i + 1 < cols`,
+    /// `j + 1 < rows`).
+    #[inline]
+    pub fn cell_heights(&mut self, i: u32, j: u32) -> Option<CellHeights> {
+        self.keep_cell(i, j);
+        self.kept_cell(i, j)
+    }
+
+    /// [`FieldReader::cell_heights`] from the tiles already kept only:
+    /// `None` also when one of the cell's tiles is not decoded yet. It
+    /// decodes nothing, so a player's common path calls nothing and keeps
+    /// its values in registers; on `None` it calls
+    /// [`FieldReader::keep_cell`] and asks again.
+    #[inline]
+    pub fn kept_cell(&self, i: u32, j: u32) -> Option<CellHeights> {
+        let t = self.view.tiled()?;
+        let inside = i.checked_add(1)? < self.view.cols && j.checked_add(1)? < self.view.rows;
+        if !inside {
+            return None;
+        }
+        t.kept_cell(&self.tiles, i, j)
+    }
+
+    /// Decodes the tiles of the cell whose top-left node is `(i, j)` that
+    /// are not kept yet (nothing for a 4.0 field or a cell outside it).
+    #[inline(never)]
+    pub fn keep_cell(&mut self, i: u32, j: u32) {
+        let Some(t) = self.view.tiled() else { return };
+        let inside = i.checked_add(1).is_some_and(|i1| i1 < self.view.cols)
+            && j.checked_add(1).is_some_and(|j1| j1 < self.view.rows);
+        if inside {
+            t.keep_cell(&mut self.tiles, i, j);
+        }
+    }
+}
+
+/// The tiles of one tiled field decoded so far (see [`FieldReader`]).
+#[derive(Debug, Clone)]
+pub(crate) struct TileCache {
+    // The key of the tile each slot holds (`TileCache::slot`).
+    keys: [u32; 4],
+    tiles: [TileNodes; 4],
 }
 
 impl TileCache {
     const NONE: u32 = u32::MAX;
 
     /// An empty cache.
-    pub const fn new() -> Self {
-        TileCache { field: (0, 0), keys: [Self::NONE; 4], tiles: [TileNodes::EMPTY; 4] }
+    pub(crate) const fn new() -> Self {
+        TileCache { keys: [Self::NONE; 4], tiles: [TileNodes::EMPTY; 4] }
     }
 
-    /// Starts over unless the cache holds tiles of the field whose pool is `pool`.
+    /// The slot and key of tile `(tx, ty)`: one slot for each parity of
+    /// its column and row, the key `ty << 16 | tx` (both below 2^11).
     #[inline]
-    fn serve(&mut self, pool: &[u8]) {
-        let field = (pool.as_ptr() as usize, pool.len());
-        if self.field != field {
-            self.field = field;
-            self.keys = [Self::NONE; 4];
-        }
+    fn slot(tx: u32, ty: u32) -> (usize, u32) {
+        (((tx & 1) | (ty & 1) << 1) as usize, ty << 16 | tx)
     }
 
-    /// Tile `(tx, ty)`, decoded now unless its slot holds it.
+    /// Tile `(tx, ty)` when its slot holds it.
     #[inline]
-    fn tile(&mut self, t: &Tiled<'_>, tx: u32, ty: u32) -> &TileNodes {
-        let slot = ((tx & 1) | (ty & 1) << 1) as usize;
-        let key = ty << 16 | tx;
+    fn get(&self, tx: u32, ty: u32) -> Option<&TileNodes> {
+        let (slot, key) = Self::slot(tx, ty);
+        (self.keys[slot] == key).then(|| &self.tiles[slot])
+    }
+
+    /// Decodes tile `(tx, ty)` into its slot unless the slot holds it.
+    fn load(&mut self, t: &Tiled<'_>, tx: u32, ty: u32) {
+        let (slot, key) = Self::slot(tx, ty);
         if self.keys[slot] != key {
             t.decode(tx, ty, &mut self.tiles[slot]);
             self.keys[slot] = key;
         }
-        &self.tiles[slot]
     }
 }
 

@@ -76,7 +76,7 @@ pub use height::{
     CellNodes, FIELD_CONTACT, FIELD_EDGE, HeightEncoding, HeightField, HeightFieldView, MAX_FIELD_NODES, MAX_FIELD_SIDE,
 };
 pub use height_tiles::{
-    CellHeights, MAX_CODE as MAX_FIELD_CODE, SUPER as FIELD_SUPERBLOCK_TILES, TILE as FIELD_TILE, TileCache,
+    CellHeights, FieldReader, MAX_CODE as MAX_FIELD_CODE, SUPER as FIELD_SUPERBLOCK_TILES, TILE as FIELD_TILE,
 };
 pub use manifest::{MANIFEST_LEN, Manifest};
 pub use mask::{MAX_MASK_SAMPLES, MAX_MASK_SIDE, MaskKind, MaskLayer, MaskSamples, MaskView};

@@ -88,23 +88,32 @@ fn tile_nodes(f: &HeightField, tx: u32, ty: u32) -> Vec<Node> {
     v
 }
 
-/// The plane through a tile's contact nodes, quantised so that the tiles of
-/// one plane of the model write the same record, when every node lies within
-/// half a step of it.
-fn plane_of(f: &HeightField, step: f32, nodes: &[Node]) -> Option<[f32; 3]> {
+/// The planes a tile's own contact nodes suggest, coarsest first: their
+/// least-squares plane with the gradient on the lattices 2^-4, 2^-6, ...
+/// 2^-24 and the height at the field's origin on multiples of the step, so
+/// every tile of one plane of the model (an incline of 1 in 8, a level
+/// terrace) finds the same numbers from its own nodes and its record is
+/// stored once. A level plane is also tried at the height the least
+/// squares give (a level tile's own height, shared by every tile of its
+/// terrace; a sloped plane's would differ from tile to tile). Adding 0
+/// turns -0 into +0, so a level plane is always written level.
+fn own_planes(f: &HeightField, step: f32, nodes: &[Node]) -> Vec<[f32; 3]> {
     let c: Vec<_> = nodes.iter().filter(|n| n.touches()).collect();
-    if c.len() < 3 {
-        return None;
-    }
+    let mut out = Vec::new();
+    let Some(first) = c.first() else { return out };
     let cell = f.cell.0 as f64;
-    // Least squares h = a + b x + c y about the nodes' mean (x, y in mm).
+    // Least squares h = a + b x + c y about the nodes' mean, x and y in
+    // nodes from the first contact node (small integers, so nodes in one
+    // row or column are exactly that: their other spread is exactly 0, and
+    // they give a line, not a slope across them made of rounding noise).
     let k = c.len() as f64;
-    let (mx, my, mh) = c.iter().fold((0.0, 0.0, 0.0), |s, n| {
-        (s.0 + n.i as f64 * cell / k, s.1 + n.j as f64 * cell / k, s.2 + n.height as f64 / k)
-    });
+    let at = |n: &Node| ((n.i as f64 - first.i as f64), (n.j as f64 - first.j as f64));
+    let (sx, sy, sh) = c.iter().fold((0.0, 0.0, 0.0), |s, n| (s.0 + at(n).0, s.1 + at(n).1, s.2 + n.height as f64));
+    let (mx, my, mh) = (sx / k, sy / k, sh / k);
     let (mut sxx, mut sxy, mut syy, mut sxh, mut syh) = (0.0, 0.0, 0.0, 0.0, 0.0);
     for n in &c {
-        let (x, y, h) = (n.i as f64 * cell - mx, n.j as f64 * cell - my, n.height as f64 - mh);
+        let (x, y) = at(n);
+        let (x, y, h) = (x - mx, y - my, n.height as f64 - mh);
         sxx += x * x;
         sxy += x * y;
         syy += y * y;
@@ -112,50 +121,82 @@ fn plane_of(f: &HeightField, step: f32, nodes: &[Node]) -> Option<[f32; 3]> {
         syh += y * h;
     }
     let det = sxx * syy - sxy * sxy;
-    if det.is_nan() || det.abs() <= 1e-12 * (sxx * syy).max(f64::MIN_POSITIVE) {
-        return None;
-    }
-    let gx = (sxh * syy - syh * sxy) / det;
-    let gy = (syh * sxx - sxh * sxy) / det;
-    // The gradient on the coarsest lattice of 2^-4, 2^-6, ... 2^-24 that
-    // still holds every node within half a step, and the height at the
-    // field's origin on multiples of the step: so every tile of one plane of
-    // the model (an incline of 1 in 8, a level terrace) finds the same
-    // numbers from its own nodes, and its record is stored once. Adding 0
-    // turns -0 into +0, so a level plane is always written level.
+    // Slopes in height a node, then a millimetre.
+    let (gx, gy) = if sxx > 0.0 && syy > 0.0 && det > 1e-9 * sxx * syy {
+        ((sxh * syy - syh * sxy) / det, (syh * sxx - sxh * sxy) / det)
+    } else if sxx > 0.0 && syy == 0.0 {
+        (sxh / sxx, 0.0)
+    } else if syy > 0.0 && sxx == 0.0 {
+        (0.0, syh / syy)
+    } else if sxx == 0.0 && syy == 0.0 {
+        (0.0, 0.0)
+    } else {
+        // Nodes on a slanted line (a diagonal of a tile): no plane of their own.
+        return out;
+    };
+    let (gx, gy) = (gx / cell, gy / cell);
+    // The mean node's place in mm from the field's origin.
+    let (mx, my) = ((first.i as f64 + mx) * cell, (first.j as f64 + my) * cell);
     let cap = f.gradient_cap * (1.0 + 1e-6);
     for k in (4..=24).step_by(2) {
         let unit = (1u32 << k) as f64;
         let (gx, gy) = ((libm::round(gx * unit) / unit) as f32 + 0.0, (libm::round(gy * unit) / unit) as f32 + 0.0);
         let h0 = mh - gx as f64 * mx - gy as f64 * my;
-        let h0 = (libm::round(h0 / step as f64) * step as f64) as f32 + 0.0;
-        if ![h0, gx, gy].iter().all(|v| v.is_finite()) || gx.abs() > cap || gy.abs() > cap || h0.abs() > 1e9 {
-            return None;
-        }
-        if fits(f, step, nodes, [h0, gx, gy]) {
-            return Some([h0, gx, gy]);
+        let rounded = (libm::round(h0 / step as f64) * step as f64) as f32 + 0.0;
+        let level = gx == 0.0 && gy == 0.0;
+        for h0 in [rounded, h0 as f32 + 0.0].into_iter().take(1 + level as usize) {
+            if [h0, gx, gy].iter().all(|v| v.is_finite()) && gx.abs() <= cap && gy.abs() <= cap && h0.abs() <= 1e9 {
+                out.push([h0, gx, gy]);
+            }
         }
     }
-    None
+    out
+}
+
+/// The height of plane `p` at node `n`, as a player computes it.
+fn plane_height(f: &HeightField, p: [f32; 3], n: &Node) -> f32 {
+    if p[1] == 0.0 && p[2] == 0.0 {
+        p[0]
+    } else {
+        p[0] + p[1] * (n.i as f32 * f.cell.0) + p[2] * (n.j as f32 * f.cell.0)
+    }
+}
+
+/// Whether plane `p` gives every contact node its height exactly.
+fn exact(f: &HeightField, nodes: &[Node], p: [f32; 3]) -> bool {
+    nodes.iter().filter(|n| n.touches()).all(|n| plane_height(f, p, n).to_bits() == n.height.to_bits())
 }
 
 /// Whether every contact node lies within half a step of plane `p`, as a
 /// player computes the plane's heights.
 fn fits(f: &HeightField, step: f32, nodes: &[Node], p: [f32; 3]) -> bool {
     let half = step as f64 / 2.0;
-    nodes.iter().filter(|n| n.touches()).all(|n| {
-        let h = if p[1] == 0.0 && p[2] == 0.0 {
-            p[0]
-        } else {
-            p[0] + p[1] * (n.i as f32 * f.cell.0) + p[2] * (n.j as f32 * f.cell.0)
-        };
-        (h as f64 - n.height as f64).abs() <= half
-    })
+    nodes.iter().filter(|n| n.touches()).all(|n| (plane_height(f, p, n) as f64 - n.height as f64).abs() <= half)
+}
+
+/// The code of height `h`, rounded (`libm`'s rounding: `no_std` has no
+/// `f64::round`).
+fn code_of(h: f32, step: f32, base: f32) -> f64 {
+    libm::round((h as f64 - base as f64) / step as f64)
 }
 
 /// The record of one tile, and its plane when it is a plane tile. A tile
 /// first tries the planes of its neighbours to the left and above (`near`),
 /// so one plane of the model is one record however far it reaches.
+///
+/// The choice is made so that writing the field again from the heights a
+/// reader gets back gives the same record (the owned model of a read
+/// bundle holds those heights, and `taxel pack` of `taxel unpack` must
+/// give the same bytes): first a plane, of the neighbours' and then the
+/// tile's own, that gives every node its height exactly (a plane tile read
+/// back); else a coded tile when every height is exactly a code (a coded
+/// tile read back); else a plane within half a step of every height, of
+/// the neighbours' first, then the tile's own or one its codes suggest (a
+/// plane that gives the rounded heights exactly, which the tile read back
+/// would find, is tried on the heights first), an own plane written as the
+/// first of the planes its own heights suggest that gives them exactly (the
+/// one the tile read back finds; one that none gives exactly is passed
+/// over); else a coded tile.
 fn record(
     f: &HeightField,
     step: f32,
@@ -192,7 +233,27 @@ fn record(
         flags |= HAS_EDGE;
         masks.extend_from_slice(&[edge as u32, (edge >> 32) as u32]);
     }
-    let plane = near.into_iter().flatten().find(|&p| fits(f, step, &nodes, p)).or_else(|| plane_of(f, step, &nodes));
+    let near = near.into_iter().flatten();
+    let is_code = |n: &Node| {
+        let c = code_of(n.height, step, base);
+        (0.0..=MAX_CODE as f64).contains(&c) && (base + c as f32 * step).to_bits() == n.height.to_bits()
+    };
+    let own = own_planes(f, step, &nodes);
+    let plane = near.clone().chain(own.iter().copied()).find(|&p| exact(f, &nodes, p)).or_else(|| {
+        if nodes.iter().filter(|n| n.touches()).all(is_code) {
+            return None;
+        }
+        if let Some(p) = near.clone().find(|&p| fits(f, step, &nodes, p)) {
+            return Some(p);
+        }
+        let quantised: Vec<Node> =
+            nodes.iter().map(|n| Node { height: base + code_of(n.height, step, base) as f32 * step, ..*n }).collect();
+        own.into_iter().chain(own_planes(f, step, &quantised)).filter(|&p| fits(f, step, &nodes, p)).find_map(|p| {
+            // The tile as a reader gets it back, and the plane it finds there.
+            let back: Vec<Node> = nodes.iter().map(|n| Node { height: plane_height(f, p, n), ..*n }).collect();
+            own_planes(f, step, &back).into_iter().find(|&q| exact(f, &back, q))
+        })
+    });
     if let Some([h0, gx, gy]) = plane {
         let mut r = if gx == 0.0 && gy == 0.0 {
             alloc::vec![KIND_PLANE | flags, h0.to_bits()]
@@ -204,8 +265,7 @@ fn record(
     }
     let mut codes = [0u32; 64];
     for n in nodes.iter().filter(|n| n.touches()) {
-        // `libm`'s rounding: `no_std` has no `f64::round`.
-        let c = libm::round((n.height as f64 - base as f64) / step as f64);
+        let c = code_of(n.height, step, base);
         if !(0.0..=MAX_CODE as f64).contains(&c) {
             return Err("heights within 2^24 - 1 steps of the lowest");
         }

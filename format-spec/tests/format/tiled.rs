@@ -211,20 +211,25 @@ fn a_tiled_field_stores_every_height_within_half_a_step_and_reads_back_byte_for_
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(48))]
 
-    /// Random fields: a bumpy surface (its bending and noise from nothing
-    /// to far more than a step), holes, steps, any size; the specification
-    /// and the crate read every node alike, within half a step.
+    /// Random fields: a tilted bumpy surface (its bending and noise from
+    /// nothing to far more than a step), a level terrace (at any height, or exactly
+    /// at a code), holes, steps, any size, the codes from 0 or from the
+    /// lowest height; the specification and the crate read every node
+    /// alike, within half a step, and the field read back writes the same
+    /// bytes.
     #[test]
     fn random_tiled_fields_read_alike_by_the_spec_and_the_crate(
         cols in 2u32..90, rows in 2u32..75, bump in 0.0f64..40.0, noise in 0.0f64..0.05,
         hole in proptest::option::of((0.0f64..45.0, 0.0f64..37.0, 0.5f64..8.0)),
         step_at in proptest::option::of(1u32..89), seed in any::<u64>(),
+        terrace in proptest::option::of((1u32..90, 0.0f64..5.0, any::<bool>())), zero_base in any::<bool>(),
+        tilt in (-0.3f64..0.3, -0.3f64..0.3), cell in 0.05f32..2.0,
     ) {
         let mut rng = seed;
         let mut next = || { rng = rng.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407); (rng >> 33) as f64 / (1u64 << 31) as f64 };
         let n = (cols * rows) as usize;
         let mut f = HeightField {
-            source: None, cols, rows, origin_x: Mm(0.0), origin_y: Mm(0.0), cell: Mm(0.5), gradient_cap: 50.0,
+            source: None, cols, rows, origin_x: Mm(0.0), origin_y: Mm(0.0), cell: Mm(cell), gradient_cap: 50.0,
             heights: vec![0.0; n], grad_x: vec![0.0; n], grad_y: vec![0.0; n], flags: vec![0; n],
             encoding: HeightEncoding::Tiled { step: 0.001, base: 0.0, max_gradient: 1.0 },
         };
@@ -236,12 +241,19 @@ proptest! {
                 }
                 let k = (j * cols + i) as usize;
                 let up = step_at.is_some_and(|s| i >= s);
-                f.heights[k] = (2.0 + (x * 0.3).sin() * (y * 0.2).cos() * bump / 10.0 + noise * next() + if up { 3.0 } else { 0.0 }) as f32;
+                let surface = (x * 0.3).sin() * (y * 0.2).cos() * bump / 10.0 + tilt.0 * x + tilt.1 * y;
+                f.heights[k] = (40.0 + surface + noise * next() + if up { 3.0 } else { 0.0 }) as f32;
+                if let Some((width, level, on_code)) = terrace.filter(|t| i < t.0) {
+                    // A code of step 0.001 from 0, as the reader computes it.
+                    f.heights[k] = if on_code { 0.0 + (level * 1000.0).round() as f32 * 0.001 } else { level as f32 };
+                    let _ = width;
+                }
                 f.flags[k] = FIELD_CONTACT | if step_at.is_some_and(|s| i + 1 == s || i == s) { FIELD_EDGE } else { 0 };
             }
         }
-        let base = f.heights.iter().zip(&f.flags).filter(|(_, fl)| **fl != 0).map(|(h, _)| *h).fold(f32::INFINITY, f32::min);
-        f.encoding = HeightEncoding::Tiled { step: 0.001, base: if base.is_finite() { base } else { 0.0 }, max_gradient: 1.0 };
+        let lowest = f.heights.iter().zip(&f.flags).filter(|(_, fl)| **fl != 0).map(|(h, _)| *h).fold(f32::INFINITY, f32::min);
+        let base = if zero_base || !lowest.is_finite() { 0.0 } else { lowest };
+        f.encoding = HeightEncoding::Tiled { step: 0.001, base, max_gradient: 1.0 };
         let mut b = Bundle::new(Manifest::new(profiles::builtin("finger3").unwrap()));
         b.chunks.push(Chunk::Height(f.clone()));
         let bytes = b.to_bytes().unwrap();

@@ -7,7 +7,7 @@
 
 use proptest::prelude::*;
 use taxel_format::{
-    Bundle, BundleView, Chunk, FIELD_CONTACT, FIELD_EDGE, HeightEncoding, HeightField, Manifest, Mm, Tick, TileCache,
+    Bundle, BundleView, Chunk, FIELD_CONTACT, FIELD_EDGE, FieldReader, HeightEncoding, HeightField, Manifest, Mm, Tick,
     profiles,
 };
 use taxel_runtime::finger::{FingerPlayer, Touch, field};
@@ -202,16 +202,16 @@ fn walk(seed: u64, w: f64, h: f64, reach: f64, n: usize) -> Vec<(f32, f32)> {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(24))]
 
-    /// The tiles a cache keeps give, bit for bit, what a fresh decoding
+    /// The tiles a reader keeps give, bit for bit, what a fresh decoding
     /// gives, on any walk: within a tile, across tile sides and corners,
     /// jumping, off the field; a cell at a step or a hole.
     #[test]
     fn a_kept_tile_plays_what_a_fresh_one_does(seed in any::<u64>(), reach in 0.05f64..6.0) {
         let bytes = bytes_of(tiled(&cap_field(), 0.0005));
         let view = height_view(&bytes);
-        let mut cache = TileCache::new();
+        let mut reader = FieldReader::new(view);
         for (x, y) in walk(seed, 120.0, 60.0, reach, 3000) {
-            let kept = field::sample_cached(&view, &mut cache, x, y);
+            let kept = field::sample_with(&mut reader, x, y);
             let fresh = field::sample(&view, x, y);
             prop_assert_eq!(kept.map(point_bits), fresh.map(point_bits), "at ({}, {})", x, y);
         }
@@ -220,18 +220,4 @@ proptest! {
 
 fn point_bits(p: field::SurfacePoint) -> [u32; 4] {
     [p.height.to_bits(), p.grad_x.to_bits(), p.grad_y.to_bits(), p.edge as u32]
-}
-
-#[test]
-fn a_cache_handed_another_field_starts_over() {
-    // Two fields whose tiles sit at the same places but hold other heights.
-    let (a, b) = (field_of(81, 61, 0.5, |x, y| Some((5.0 + 0.01 * x * y, 0.0, 0.0))), field_of(81, 61, 0.5, cap));
-    let (ba, bb) = (bytes_of(tiled(&a, 0.001)), bytes_of(tiled(&b, 0.001)));
-    let (va, vb) = (height_view(&ba), height_view(&bb));
-    let mut cache = TileCache::new();
-    for (k, (x, y)) in walk(7, 40.0, 30.0, 1.0, 400).into_iter().enumerate() {
-        let v = if k % 3 == 0 { &vb } else { &va };
-        let kept = field::sample_cached(v, &mut cache, x, y).map(point_bits);
-        assert_eq!(kept, field::sample(v, x, y).map(point_bits), "sample {k} at ({x}, {y})");
-    }
 }
