@@ -48,10 +48,9 @@ pub enum BuiltinSheet {
 }
 
 /// Height axis of a mesh (`--up`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Up {
     /// +Y is up, as glTF 2.0 says.
-    #[default]
     Y,
     /// +Z is up, as GIS tools and some exporters write terrains.
     Z,
@@ -79,9 +78,10 @@ pub struct CompileOpts {
     /// Keep only part of the drawing, then fit it: `X,Y,W,H` in drawing units, or `#id`.
     #[arg(long, value_name = "X,Y,W,H|#id", value_parser = parse_region)]
     pub region: Option<taxel_compiler::Region>,
-    /// Meshes: which model axis is up (height).
-    #[arg(long, value_enum, default_value_t)]
-    pub up: Up,
+    /// Meshes: which model axis is up (height). Default: +Y as glTF says,
+    /// or +Z when the model is clearly flat across Z (a note says so).
+    #[arg(long, value_enum)]
+    pub up: Option<Up>,
     /// Meshes: multiply heights by this factor (above 0).
     #[arg(long, value_name = "F", value_parser = parse_exaggerate)]
     pub exaggerate: Option<f64>,

@@ -113,10 +113,7 @@ fn options_with_fonts(opts: &CompileOpts, fonts: bool) -> Result<Result<CompileO
         content_hash: [0; 32],
         fit: opts.fit,
         region: opts.region.clone(),
-        up: match opts.up {
-            crate::cli::Up::Y => taxel_compiler::UpAxis::Y,
-            crate::cli::Up::Z => taxel_compiler::UpAxis::Z,
-        },
+        up: up_axis(opts.up),
         exaggerate: opts.exaggerate.unwrap_or(1.0),
         fonts: match fonts {
             true => Some(font_database(opts.fonts.as_deref())?),
@@ -211,14 +208,19 @@ fn compile_mesh(path: &Path, bytes: &[u8], opts: &CompileOpts) -> Result<Compile
     Ok(taxel_compiler::mesh::compile_gltf(bytes, &mut resolve, &profile, &mesh_opts))
 }
 
+/// The compiler's up axis for `--up` (`None`: chosen from the model).
+fn up_axis(up: Option<crate::cli::Up>) -> Option<taxel_compiler::UpAxis> {
+    up.map(|u| match u {
+        crate::cli::Up::Y => taxel_compiler::UpAxis::Y,
+        crate::cli::Up::Z => taxel_compiler::UpAxis::Z,
+    })
+}
+
 /// The mesh compiler's options for `opts` on `profile` (`--fit` fits onto its surface).
 pub fn mesh_options(opts: &CompileOpts, profile: &DeviceProfile) -> taxel_compiler::mesh::MeshOptions {
     taxel_compiler::mesh::MeshOptions {
         nodes_per_mm: opts.resolution.map(f64::from),
-        up: match opts.up {
-            crate::cli::Up::Y => taxel_compiler::UpAxis::Y,
-            crate::cli::Up::Z => taxel_compiler::UpAxis::Z,
-        },
+        up: up_axis(opts.up),
         fit: opts.fit.then_some([profile.surface_w_mm as f64, profile.surface_h_mm as f64]),
         region: opts.region.clone(),
         exaggerate: opts.exaggerate.unwrap_or(1.0),

@@ -8,12 +8,19 @@
 //!   touching and overlapping in every row, so the arrangement splits
 //!   collinear walls, T-junctions and crossings before the bulk load.
 //!
+//! - a 179 x 179 quad grid of a 4 km terrain 200 m high (64,082 triangles,
+//!   +Y up), built with the right axis (seen from above) and with `--up z`
+//!   (seen edge on: every column of quads projects onto one thin strip, and
+//!   the triangles overlap many deep), both fitted to the surface: the wrong
+//!   axis must cost no more than the right one.
+//!
 //! Run briefly with
 //! `cargo bench -p taxel-compiler --bench mesh -- --warm-up-time 1 --measurement-time 3`.
 
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use taxel_compiler::UpAxis;
 use taxel_compiler::mesh::write::HeightMesh;
 use taxel_compiler::mesh::{self, MeshOptions};
 
@@ -57,6 +64,22 @@ fn bench(c: &mut Criterion) {
         g.bench_function(format!("{name}: height field from {triangles} triangles"), |b| {
             b.iter(|| {
                 let r = mesh::height_field(black_box(&glb), &mut |_| Err("none".into()), &MeshOptions::default());
+                black_box(r.map(|(f, _)| f.cols))
+            })
+        });
+    }
+    let n = 179;
+    let dem = HeightMesh::grid(n, n, |u, v| {
+        let h = 100.0 + 60.0 * (7.0 * u).sin() * (5.0 * v).cos() + 25.0 * (23.0 * u + 3.0).sin() * (19.0 * v).sin();
+        [4000.0 * u, h, 4000.0 * v]
+    });
+    let glb = dem.to_glb();
+    let triangles = dem.indices.len() / 3;
+    for (axis, up) in [("+Y up, seen from above", UpAxis::Y), ("--up z, seen edge on", UpAxis::Z)] {
+        let opts = MeshOptions { up: Some(up), fit: Some([160.0, 100.0]), ..MeshOptions::default() };
+        g.bench_function(format!("dem: {triangles} triangles, {axis}"), |b| {
+            b.iter(|| {
+                let r = mesh::height_field(black_box(&glb), &mut |_| Err("none".into()), &opts);
                 black_box(r.map(|(f, _)| f.cols))
             })
         });

@@ -81,8 +81,9 @@ pub struct CompileOptions {
     pub fit: bool,
     /// Keep only this part of the drawing or mesh, then fit it (`--region`).
     pub region: Option<Region>,
-    /// Height axis of a mesh (`--up`).
-    pub up: UpAxis,
+    /// Height axis of a mesh (`--up`); `None` takes +Y, as glTF says, unless
+    /// the model is clearly flat across Z (see `mesh::chosen_up`).
+    pub up: Option<UpAxis>,
     /// Factor on a mesh's heights (`--exaggerate`), above 0; 1 keeps them.
     pub exaggerate: f64,
     /// The fonts text is laid out with (glyph outlines for styles on text,
@@ -125,7 +126,7 @@ impl CompileOptions {
             content_hash: [0; 32],
             fit: false,
             region: None,
-            up: UpAxis::Y,
+            up: None,
             exaggerate: 1.0,
             fonts: None,
             auto: false,

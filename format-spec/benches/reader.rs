@@ -63,6 +63,7 @@ fn one_megabyte() -> Vec<u8> {
         grad_x: (0..n).map(|k| (k % 7) as f32 * 0.5).collect(),
         grad_y: (0..n).map(|k| (k % 5) as f32 * -0.5).collect(),
         flags: vec![FIELD_CONTACT; n],
+        encoding: taxel_format::HeightEncoding::Float,
     }));
     b.to_bytes().expect("the benchmark bundle is valid")
 }

@@ -15,7 +15,7 @@ pub const MAGIC: [u8; 8] = *b"\x89TXL\r\n\x1a\n";
 pub const FORMAT_MAJOR: u16 = 4;
 /// The newest minor version this crate knows; a bundle records the lowest
 /// minor that has all its chunks ([`Bundle::to_bytes`](crate::Bundle::to_bytes)).
-pub const FORMAT_MINOR: u16 = 4;
+pub const FORMAT_MINOR: u16 = 6;
 /// Length of the fixed header.
 pub const HEADER_LEN: usize = 32;
 /// Length of one chunk table entry.

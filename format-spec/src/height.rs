@@ -5,6 +5,7 @@ use alloc::vec::Vec;
 
 use crate::bytes::{Out, array_at, f32_at, u8_at, u32_at};
 use crate::error::FormatError;
+use crate::height_tiles::{self, ENCODING_TILED, ENCODING_TILED_4_5, TILE, TILED_HEADER_LEN, TileNodes, Tiled};
 use crate::units::Mm;
 use crate::{NO_SOURCE, Tag, in_range, source_from_raw};
 
@@ -17,6 +18,28 @@ pub const MAX_FIELD_NODES: u64 = 16 << 20;
 pub const FIELD_CONTACT: u8 = 1;
 /// Flag bit: a step (vertical wall) passes next to this node; its gradient is capped.
 pub const FIELD_EDGE: u8 = 2;
+
+/// How a height field is stored (SPEC.md section 9).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum HeightEncoding {
+    /// Format 4.0: every node's height, gradient and flags as they are
+    /// (`f32`, 13 bytes a node).
+    Float,
+    /// Format 4.6 (section 9.1): heights quantised to `step` above `base`
+    /// in tiles that are empty, one plane, or coded (each code predicted
+    /// from its neighbours), each stored once;
+    /// gradients are not stored (a player derives them from the heights),
+    /// so [`HeightField::grad_x`] and [`HeightField::grad_y`] are only a
+    /// writer's hint and come back as the planes' slopes (0 elsewhere).
+    Tiled {
+        /// Height of one code, mm (above 0).
+        step: f32,
+        /// Height of code 0, mm (at most the lowest contact height).
+        base: f32,
+        /// The largest gradient magnitude a player scales rhythm by (0 to the cap).
+        max_gradient: f32,
+    },
+}
 
 /// A height field: node `(i, j)` (column `i`, row `j`, row 0 at the top) is at
 /// page position `(origin_x + i * cell, origin_y + j * cell)`.
@@ -48,6 +71,8 @@ pub struct HeightField {
     pub grad_y: Vec<f32>,
     /// [`FIELD_CONTACT`] and [`FIELD_EDGE`] bits, row-major.
     pub flags: Vec<u8>,
+    /// How the field is stored.
+    pub encoding: HeightEncoding,
 }
 
 /// The little-endian `f32` of node `k` of a plane, 0 past its end.
@@ -93,7 +118,7 @@ impl HeightField {
         Ok(())
     }
 
-    pub(crate) fn encode(&self) -> Vec<u8> {
+    pub(crate) fn encode(&self, index: u32) -> Result<Vec<u8>, FormatError> {
         let n = self.cols as usize * self.rows as usize;
         let (lo, hi, g) = extremes((0..n).map(|k| {
             (
@@ -103,12 +128,16 @@ impl HeightField {
                 self.flags.get(k).copied().unwrap_or(0),
             )
         }));
+        let (encoding, g) = match self.encoding {
+            HeightEncoding::Float => (0, g),
+            HeightEncoding::Tiled { max_gradient, .. } => (ENCODING_TILED, max_gradient),
+        };
         let mut out = Vec::with_capacity(HEADER_LEN + 13 * n + 4);
         let mut w = Out(&mut out);
         w.u32(self.source.unwrap_or(NO_SOURCE))
             .u32(self.cols)
             .u32(self.rows)
-            .u32(0)
+            .u32(encoding)
             .f32(self.origin_x.0)
             .f32(self.origin_y.0)
             .f32(self.cell.0)
@@ -117,6 +146,20 @@ impl HeightField {
             .f32(g)
             .f32(self.gradient_cap)
             .u32(0);
+        if let HeightEncoding::Tiled { step, base, .. } = self.encoding {
+            let bad = |expected| FormatError::InvalidValue { tag: Tag::HEIGHT, index, field: "height step", expected };
+            if !(step.is_finite() && step > 0.0 && base.is_finite()) {
+                return Err(bad("a finite step above 0 and a finite base"));
+            }
+            let tables = height_tiles::encode_tiles(self, step, base).map_err(bad)?;
+            height_tiles::write_tables(&mut w, step, base, &tables);
+            // The extremes are those of the heights as stored: read them back.
+            let view = HeightFieldView::parse(&out, index, false)?;
+            let (lo, hi) = view.tiled_extremes();
+            out[28..32].copy_from_slice(&lo.to_le_bytes());
+            out[32..36].copy_from_slice(&hi.to_le_bytes());
+            return Ok(out);
+        }
         for v in [&self.heights, &self.grad_x, &self.grad_y] {
             for k in 0..n {
                 w.f32(v.get(k).copied().unwrap_or(0.0));
@@ -126,10 +169,13 @@ impl HeightField {
             w.u8(self.flags.get(k).copied().unwrap_or(0));
         }
         w.zeros(n.next_multiple_of(4) - n);
-        out
+        Ok(out)
     }
 
     pub(crate) fn from_view(v: &HeightFieldView<'_>) -> Self {
+        if let Some(t) = &v.tiled {
+            return Self::from_tiled(v, t);
+        }
         let n = v.cols * v.rows;
         HeightField {
             source: v.source,
@@ -143,7 +189,42 @@ impl HeightField {
             grad_x: (0..n).map(|k| v.gradient_at(k).0).collect(),
             grad_y: (0..n).map(|k| v.gradient_at(k).1).collect(),
             flags: (0..n).map(|k| v.flags_at(k)).collect(),
+            encoding: HeightEncoding::Float,
         }
+    }
+
+    /// A tiled field's nodes, decoded tile by tile: heights and flags as
+    /// stored, and the gradients of its plane tiles (0 elsewhere).
+    fn from_tiled(v: &HeightFieldView<'_>, t: &Tiled<'_>) -> Self {
+        let n = v.cols as usize * v.rows as usize;
+        let mut f = HeightField {
+            source: v.source,
+            cols: v.cols,
+            rows: v.rows,
+            origin_x: v.origin_x,
+            origin_y: v.origin_y,
+            cell: v.cell,
+            gradient_cap: v.gradient_cap,
+            heights: alloc::vec![0.0; n],
+            grad_x: alloc::vec![0.0; n],
+            grad_y: alloc::vec![0.0; n],
+            flags: alloc::vec![0; n],
+            encoding: HeightEncoding::Tiled { step: t.step, base: t.base, max_gradient: v.max_gradient },
+        };
+        v.for_each_tile(t, |tx, ty, nodes| {
+            let plane = t.plane_at(tx * TILE, ty * TILE);
+            for l in 0..TILE * TILE {
+                let (i, j) = (tx * TILE + l % TILE, ty * TILE + l / TILE);
+                if i < v.cols && j < v.rows {
+                    let k = (j * v.cols + i) as usize;
+                    (f.heights[k], f.flags[k]) = nodes.node(l);
+                    if let (Some((_, gx, gy)), true) = (plane, f.flags[k] & FIELD_CONTACT != 0) {
+                        (f.grad_x[k], f.grad_y[k]) = (gx, gy);
+                    }
+                }
+            }
+        });
+        f
     }
 }
 
@@ -177,6 +258,8 @@ pub struct HeightFieldView<'a> {
     grad_x: &'a [u8],
     grad_y: &'a [u8],
     flags: &'a [u8],
+    // The tiled encoding's tables (format 4.6); the four planes are empty then.
+    tiled: Option<Tiled<'a>>,
 }
 
 /// The four nodes around one cell of a height field, as read by
@@ -206,22 +289,101 @@ fn f32_pair(plane: &[u8], k: usize) -> Option<[f32; 2]> {
 }
 
 impl<'a> HeightFieldView<'a> {
+    /// The tiled node `k`, when the field is tiled and `k` inside it.
+    fn tiled_node(&self, t: &Tiled<'_>, k: u32) -> (f32, u8) {
+        if k as u64 >= self.cols as u64 * self.rows as u64 {
+            return (0.0, 0);
+        }
+        t.node(k % self.cols, k / self.cols)
+    }
+
     /// Height of node `k` (row-major index), 0 outside.
     #[inline]
     pub fn height_at(&self, k: u32) -> f32 {
-        plane_f32(self.heights, k)
+        match &self.tiled {
+            None => plane_f32(self.heights, k),
+            Some(t) => self.tiled_node(t, k).0,
+        }
     }
 
-    /// Gradient `(∂h/∂x, ∂h/∂y)` of node `k`, zero outside.
+    /// Gradient `(∂h/∂x, ∂h/∂y)` of node `k`, zero outside. A tiled field
+    /// stores no gradients: its nodes give their plane tile's slope, and 0
+    /// in sampled tiles (a player derives the gradient from the heights).
     #[inline]
     pub fn gradient_at(&self, k: u32) -> (f32, f32) {
-        (plane_f32(self.grad_x, k), plane_f32(self.grad_y, k))
+        match &self.tiled {
+            None => (plane_f32(self.grad_x, k), plane_f32(self.grad_y, k)),
+            Some(t) if (k as u64) < self.cols as u64 * self.rows as u64 && self.tiled_node(t, k).1 != 0 => {
+                t.plane_at(k % self.cols, k / self.cols).map_or((0.0, 0.0), |p| (p.1, p.2))
+            }
+            Some(_) => (0.0, 0.0),
+        }
     }
 
     /// Flags of node `k`, 0 (no contact) outside.
     #[inline]
     pub fn flags_at(&self, k: u32) -> u8 {
-        u8_at(self.flags, k as usize).unwrap_or(0)
+        match &self.tiled {
+            None => u8_at(self.flags, k as usize).unwrap_or(0),
+            Some(t) => self.tiled_node(t, k).1,
+        }
+    }
+
+    /// `1 / cell` in `f32`, for a tiled field computed once when it was
+    /// read: a player of a tiled field multiplies height differences by it
+    /// (SPEC.md section 9.1) on every sample.
+    #[inline]
+    pub fn inverse_cell(&self) -> f32 {
+        match &self.tiled {
+            Some(t) => t.inv_cell,
+            None => 1.0 / self.cell.0,
+        }
+    }
+
+    /// Whether the field is tiled (format 4.6): then a player reads cells
+    /// with [`FieldReader::cell_heights`](crate::FieldReader::cell_heights)
+    /// and derives the gradient.
+    #[inline]
+    pub fn is_tiled(&self) -> bool {
+        self.tiled.is_some()
+    }
+
+    /// The tiled encoding's tables, when the field is tiled.
+    #[inline]
+    pub(crate) fn tiled(&self) -> Option<&Tiled<'a>> {
+        self.tiled.as_ref()
+    }
+
+    /// Calls `visit` with every tile of a tiled field, decoded, row by row.
+    fn for_each_tile(&self, t: &Tiled<'_>, mut visit: impl FnMut(u32, u32, &TileNodes)) {
+        let mut nodes = TileNodes::EMPTY;
+        for ty in 0..self.rows.div_ceil(TILE) {
+            for tx in 0..self.cols.div_ceil(TILE) {
+                t.decode(tx, ty, &mut nodes);
+                visit(tx, ty, &nodes);
+            }
+        }
+    }
+
+    /// The least and greatest height over the contact nodes of a tiled
+    /// field (section 9.1's derived extremes, in IEEE 754 total order, so
+    /// the order the tiles are read in does not matter), 0 and 0 without
+    /// contact.
+    fn tiled_extremes(&self) -> (f32, f32) {
+        let Some(t) = &self.tiled else { return (0.0, 0.0) };
+        let mut ext: Option<(f32, f32)> = None;
+        self.for_each_tile(t, |tx, ty, nodes| {
+            for l in 0..TILE * TILE {
+                let (i, j) = (tx * TILE + l % TILE, ty * TILE + l / TILE);
+                let (h, fl) = nodes.node(l);
+                if i < self.cols && j < self.rows && fl & FIELD_CONTACT != 0 {
+                    ext = Some(ext.map_or((h, h), |(lo, hi)| {
+                        (if h.total_cmp(&lo).is_lt() { h } else { lo }, if h.total_cmp(&hi).is_gt() { h } else { hi })
+                    }));
+                }
+            }
+        });
+        ext.unwrap_or((0.0, 0.0))
     }
 
     /// The four nodes around the cell whose top-left node is `k` (row-major
@@ -234,6 +396,9 @@ impl<'a> HeightFieldView<'a> {
     /// `k + 1` and `k + cols + 1` are the first ones of the next rows.
     #[inline]
     pub fn cell_nodes(&self, k: u32) -> Option<CellNodes> {
+        if self.tiled.is_some() {
+            return None;
+        }
         let top = k as usize;
         let below = top.checked_add(self.cols as usize)?;
         let flags = |at: usize| -> Option<[u8; 2]> { array_at(self.flags, at) };
@@ -260,8 +425,12 @@ impl<'a> HeightFieldView<'a> {
         let bad = |field, expected| FormatError::InvalidValue { tag, index, field, expected };
         let cols = u32_at(d, 4).unwrap_or(0);
         let rows = u32_at(d, 8).unwrap_or(0);
-        if u32_at(d, 12) != Some(0) || u32_at(d, 44) != Some(0) {
-            return Err(bad("reserved", "zero"));
+        let encoding = u32_at(d, 12).unwrap_or(u32::MAX);
+        if encoding == ENCODING_TILED_4_5 {
+            return Err(bad("encoding", "0 or 2 (encoding 1 was 4.5's tiled field, a development version: rebuild)"));
+        }
+        if encoding > ENCODING_TILED || u32_at(d, 44) != Some(0) {
+            return Err(bad("reserved", "zero (encoding: 0 or 2)"));
         }
         for (field, v) in [("cols", cols), ("rows", rows)] {
             if !(2..=MAX_FIELD_SIDE).contains(&v) {
@@ -276,6 +445,9 @@ impl<'a> HeightFieldView<'a> {
         let n = cols as u64 * rows as u64;
         if n > MAX_FIELD_NODES {
             return Err(FormatError::Limit { tag, field: "nodes", value: n, limit: MAX_FIELD_NODES });
+        }
+        if encoding == ENCODING_TILED {
+            return Self::parse_tiled(d, index, cols, rows, full);
         }
         let expected = HEADER_LEN as u64 + 13 * n + (n.next_multiple_of(4) - n);
         if d.len() as u64 != expected {
@@ -312,6 +484,7 @@ impl<'a> HeightFieldView<'a> {
             grad_x,
             grad_y,
             flags,
+            tiled: None,
         };
         if !full {
             return Ok(view);
@@ -348,6 +521,54 @@ impl<'a> HeightFieldView<'a> {
         }
         Ok(view)
     }
+
+    /// Reads a tiled field (format 4.6, section 9.1); with `full`, checks
+    /// every record and the derived extremes.
+    fn parse_tiled(d: &'a [u8], index: u32, cols: u32, rows: u32, full: bool) -> Result<Self, FormatError> {
+        let tag = Tag::HEIGHT;
+        let bad = |field, expected| FormatError::InvalidValue { tag, index, field, expected };
+        if d.len() < TILED_HEADER_LEN {
+            return Err(FormatError::ChunkLength {
+                tag,
+                index,
+                expected: TILED_HEADER_LEN as u64,
+                found: d.len() as u64,
+            });
+        }
+        let f = |o| f32_at(d, o).unwrap_or(f32::NAN);
+        const BIG: f32 = 1e9;
+        let cell = in_range(f(24), 1e-9, BIG, tag, index, "cell_mm", "above 0, within 1e9 mm")?;
+        let cap = in_range(f(40), 0.0, BIG, tag, index, "gradient_cap", "from 0 to 1e9")?;
+        let tiled = height_tiles::parse_tiled(d, index, cols, rows, cell, cap, full)?;
+        let view = HeightFieldView {
+            source: source_from_raw(u32_at(d, 0).unwrap_or(NO_SOURCE)),
+            cols,
+            rows,
+            origin_x: Mm(in_range(f(16), -BIG, BIG, tag, index, "origin_x_mm", "finite, within 1e9 mm")?),
+            origin_y: Mm(in_range(f(20), -BIG, BIG, tag, index, "origin_y_mm", "finite, within 1e9 mm")?),
+            cell: Mm(cell),
+            height_min: f(28),
+            height_max: f(32),
+            max_gradient: in_range(f(36), 0.0, cap, tag, index, "max gradient", "from 0 to the gradient cap")?,
+            gradient_cap: cap,
+            heights: &[],
+            grad_x: &[],
+            grad_y: &[],
+            flags: &[],
+            tiled: Some(tiled),
+        };
+        if !full {
+            return Ok(view);
+        }
+        let (lo, hi) = view.tiled_extremes();
+        if !(lo.is_finite() && hi.is_finite() && lo >= -BIG && hi <= BIG) {
+            return Err(bad("height", "finite, within 1e9 mm"));
+        }
+        if lo.to_bits() != view.height_min.to_bits() || hi.to_bits() != view.height_max.to_bits() {
+            return Err(bad("extremes", "the lowest and highest height of the contact nodes"));
+        }
+        Ok(view)
+    }
 }
 
 #[cfg(test)]
@@ -370,6 +591,7 @@ mod tests {
             grad_x: (0..n).map(|k| 0.5 - k as f32).collect(),
             grad_y: (0..n).map(|k| 0.25 * k as f32).collect(),
             flags: alloc::vec![FIELD_CONTACT; n],
+            encoding: HeightEncoding::Float,
         };
         // Node 7 has no contact, so its values must be zero; node 8 is at a step.
         (f.heights[7], f.grad_x[7], f.grad_y[7], f.flags[7]) = (0.0, 0.0, 0.0, 0);
@@ -380,7 +602,7 @@ mod tests {
     #[test]
     fn cell_nodes_agree_with_the_single_node_reads() {
         let f = field();
-        let bytes = f.encode();
+        let bytes = f.encode(0).unwrap();
         let view = HeightFieldView::parse(&bytes, 0, true).unwrap();
         let n = f.cols * f.rows;
         for k in 0..n + 8 {
@@ -406,7 +628,7 @@ mod tests {
 
     #[test]
     fn single_node_reads_are_zero_past_the_last_node() {
-        let bytes = field().encode();
+        let bytes = field().encode(0).unwrap();
         let view = HeightFieldView::parse(&bytes, 0, true).unwrap();
         for k in [15, 16, u32::MAX / 4, u32::MAX] {
             assert_eq!(view.height_at(k), 0.0);

@@ -39,6 +39,7 @@ mod dots;
 mod error;
 mod footprint;
 mod height;
+mod height_tiles;
 #[cfg(feature = "std")]
 pub mod lookup;
 mod manifest;
@@ -71,7 +72,12 @@ pub use footprint::{
     Footprint, FootprintKind, FootprintRing, FootprintShape, FootprintView, Footprints, MAX_FOOTPRINT_POINTS,
     MAX_FOOTPRINT_RINGS, MAX_FOOTPRINT_SHAPES,
 };
-pub use height::{CellNodes, FIELD_CONTACT, FIELD_EDGE, HeightField, HeightFieldView, MAX_FIELD_NODES, MAX_FIELD_SIDE};
+pub use height::{
+    CellNodes, FIELD_CONTACT, FIELD_EDGE, HeightEncoding, HeightField, HeightFieldView, MAX_FIELD_NODES, MAX_FIELD_SIDE,
+};
+pub use height_tiles::{
+    CellHeights, FieldReader, MAX_CODE as MAX_FIELD_CODE, SUPER as FIELD_SUPERBLOCK_TILES, TILE as FIELD_TILE,
+};
 pub use manifest::{MANIFEST_LEN, Manifest};
 pub use mask::{MAX_MASK_SAMPLES, MAX_MASK_SIDE, MaskKind, MaskLayer, MaskSamples, MaskView};
 pub use model::{Bundle, Chunk, RawChunk};

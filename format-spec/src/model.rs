@@ -86,7 +86,7 @@ impl Bundle {
     /// The canonical encoding, as format version
     /// [`FORMAT_MAJOR`](crate::FORMAT_MAJOR).*m*, where *m* is the lowest
     /// minor version that has every chunk of the bundle (SPEC.md section 12):
-    /// 4 when a distance layer holds a fine tile (format 4.4), else 3 when
+    /// 6 when a height field is tiled (format 4.6), else 4 when a distance layer holds a fine tile (format 4.4), else 3 when
     /// one holds a cut arc (format 4.3), else 2 when one
     /// holds a segments tile (format 4.2), else 1
     /// when one holds an arc tile (format 4.1), else 0.
@@ -112,7 +112,13 @@ impl Bundle {
             }),
             _ => false,
         });
-        if holds(|e| matches!(e, crate::TileEntry::Fine { .. })) {
+        let tiled_field = self
+            .chunks
+            .iter()
+            .any(|c| matches!(c, Chunk::Height(h) if matches!(h.encoding, crate::HeightEncoding::Tiled { .. })));
+        if tiled_field {
+            6
+        } else if holds(|e| matches!(e, crate::TileEntry::Fine { .. })) {
             4
         } else if cut_arc {
             3
@@ -154,7 +160,7 @@ impl Bundle {
                 Chunk::Distance(d) => Encoded { tag: d.tag(), required: true, data: d.encode() },
                 Chunk::Dots(d) => Encoded { tag: Tag::DOTS, required: true, data: d.encode() },
                 Chunk::Strokes(s) => Encoded { tag: Tag::STROKES, required: true, data: s.encode() },
-                Chunk::Height(h) => Encoded { tag: Tag::HEIGHT, required: true, data: h.encode() },
+                Chunk::Height(h) => Encoded { tag: Tag::HEIGHT, required: true, data: h.encode(index)? },
                 Chunk::Pins(p) => Encoded { tag: Tag::PINS, required: true, data: p.encode() },
                 Chunk::Provenance(p) => Encoded { tag: Tag::PROVENANCE, required: false, data: p.encode() },
                 Chunk::Footprints(f) => Encoded { tag: Tag::FOOTPRINTS, required: false, data: f.encode() },

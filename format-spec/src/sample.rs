@@ -203,6 +203,7 @@ pub fn every_kind() -> Bundle {
         grad_x: vec![0.0, 0.5, -4.0, 1.0, 0.0, 0.0],
         grad_y: vec![0.0, -0.25, 0.0, 4.0, 0.1, 0.0],
         flags: vec![0, c, c | FIELD_EDGE, c | FIELD_EDGE, c, 0],
+        encoding: crate::HeightEncoding::Float,
     }));
     b.chunks.push(Chunk::Provenance(Provenance {
         entries: vec![

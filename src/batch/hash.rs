@@ -133,7 +133,7 @@ impl Partial {
         h.opt(opts.resolution.map(|r| r.to_le_bytes()).as_ref().map(|b| &b[..]));
         h.opt(opts.width_mm.map(|w| w.to_le_bytes()).as_ref().map(|b| &b[..]));
         // Fitting, the region, the up axis and the exaggeration change the bundle too.
-        h.field(&[opts.fit as u8, opts.up as u8]);
+        h.field(&[opts.fit as u8, opts.up.map_or(2, |u| u as u8)]);
         h.opt(opts.region.as_ref().map(|r| format!("{r:?}")).as_ref().map(|s| s.as_bytes()));
         h.opt(opts.exaggerate.map(|e| e.to_le_bytes()).as_ref().map(|b| &b[..]));
         // Text's braille: the braille service (liblouis's version, or the
@@ -240,7 +240,7 @@ mod tests {
             content_hash(svg, b"<svg/>", &CompileOpts { resolution: Some(8.0), ..opts() }).unwrap(),
             content_hash(svg, b"<svg/>", &CompileOpts { width_mm: Some(8.0), ..opts() }).unwrap(),
             content_hash(svg, b"<svg/>", &CompileOpts { fit: true, ..opts() }).unwrap(),
-            content_hash(svg, b"<svg/>", &CompileOpts { up: crate::cli::Up::Z, ..opts() }).unwrap(),
+            content_hash(svg, b"<svg/>", &CompileOpts { up: Some(crate::cli::Up::Z), ..opts() }).unwrap(),
             content_hash(svg, b"<svg/>", &CompileOpts { exaggerate: Some(2.0), ..opts() }).unwrap(),
             content_hash(svg, b"<svg/>", &CompileOpts { region: "1,2,3,4".parse().ok(), ..opts() }).unwrap(),
             content_hash(svg, b"<svg/>", &CompileOpts { style: Some(style.clone()), ..opts() }).unwrap(),

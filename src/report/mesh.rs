@@ -202,6 +202,12 @@ pub fn ladder(
             }
         };
         let m = measure(&bundle, &exact, trace)?;
+        if let Some(png) = bundle.chunks.iter().find_map(|c| if let Chunk::Height(h) = c { png16(h) } else { None }) {
+            notes.push(format!(
+                "{value} nodes/mm: the bundle is {} bytes; a 16-bit PNG of its field's heights is {png} bytes",
+                m.bytes
+            ));
+        }
         let run_ms = compile_ms + m.sample_us * trace.samples().len() as f64 / 1000.0;
         for (kernel, (max, rms), unit) in [("height", m.height, "mm"), ("gradient", m.slope, "degrees of slope")] {
             rows.push(Row {
@@ -230,6 +236,40 @@ pub fn ladder(
     }
     notes.push("touch samples at a step (an edge node around the point) are left out: there the exact slope is vertical and the field's is capped by design".into());
     Ok((rows, notes))
+}
+
+/// The size of a 16-bit grayscale PNG of `h`'s heights (contact nodes from
+/// 1 at the lowest to 65535 at the highest, 0 elsewhere), as the `image`
+/// crate encodes it with adaptive filters at its default or its best
+/// compression, whichever is smaller (its best is not always: on a fitted
+/// terrain it was larger), so a field is measured against the strongest
+/// PNG the crate writes. The crate's own default, its fastest compression,
+/// is more than twice as large on the paper's convex shape.
+pub fn png16(h: &taxel_format::HeightField) -> Option<usize> {
+    use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+    let contact = || h.heights.iter().zip(&h.flags).filter(|(_, f)| **f & taxel_format::FIELD_CONTACT != 0);
+    let lo = contact().map(|(v, _)| *v as f64).fold(f64::INFINITY, f64::min);
+    let hi = contact().map(|(v, _)| *v as f64).fold(f64::NEG_INFINITY, f64::max);
+    let scale = if hi > lo { 65534.0 / (hi - lo) } else { 0.0 };
+    let px: Vec<u16> = h
+        .heights
+        .iter()
+        .zip(&h.flags)
+        .map(
+            |(v, f)| {
+                if f & taxel_format::FIELD_CONTACT != 0 { 1 + ((*v as f64 - lo) * scale).round() as u16 } else { 0 }
+            },
+        )
+        .collect();
+    let img: image::ImageBuffer<image::Luma<u16>, Vec<u16>> = image::ImageBuffer::from_raw(h.cols, h.rows, px)?;
+    [CompressionType::Default, CompressionType::Best]
+        .into_iter()
+        .filter_map(|c| {
+            let mut out = Vec::new();
+            img.write_with_encoder(PngEncoder::new_with_quality(&mut out, c, FilterType::Adaptive)).ok()?;
+            Some(out.len())
+        })
+        .min()
 }
 
 /// The largest height error in mm of `bundle` along `trace` (for the demo).

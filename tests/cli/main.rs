@@ -7,6 +7,7 @@ mod compile;
 mod device;
 mod examples;
 mod finger;
+mod finger_size;
 mod format;
 mod inkscape;
 mod lookup;

@@ -1,5 +1,6 @@
 //! `taxel report`: the ladder's rows, the defaults on the efficient front,
-//! convergence towards the exact reference, the plot, and clear refusals.
+//! convergence towards the exact reference, the plot, a finger scene's
+//! bytes against its errors, and clear refusals.
 
 use std::process::Command;
 
@@ -290,4 +291,47 @@ fn bad_inputs_are_refused_clearly() {
     std::fs::write(&empty, r#"<svg xmlns="http://www.w3.org/2000/svg" width="10mm" height="10mm"/>"#).expect("write");
     let (ok, _, err) = report(&[empty.to_str().expect("utf-8")]);
     assert!(!ok && err.contains("T0300"), "{err}");
+}
+
+/// A finger scene's ladder puts each rung's bytes against its height and
+/// gradient error, and notes a 16-bit PNG of the field's heights beside each
+/// bundle (format 4.6's tiled fields: the whole bundle is smaller, at every rung).
+#[test]
+fn a_finger_scenes_report_puts_the_bundles_bytes_against_height_and_gradient_error() {
+    let input = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/finger/convex.gltf");
+    let (ok, out, err) = report(&[input, "--profile", "finger3", "--format", "json"]);
+    assert!(ok, "{err}");
+    let v: Value = serde_json::from_str(&out).expect("JSON report");
+    let rows = rows(&out);
+    let rungs: Vec<f64> = rows.iter().filter(|r| r["kernel"] == "height").map(|r| f(r, "setting")).collect();
+    assert!(rungs.len() >= 3, "{rungs:?}");
+    for &rung in &rungs {
+        let at = |kernel: &str| rows.iter().find(|r| r["kernel"] == kernel && f(r, "setting") == rung).expect("row");
+        let (height, gradient) = (at("height"), at("gradient"));
+        assert_eq!(height["error_unit"], "mm");
+        assert_eq!(gradient["error_unit"], "degrees of slope");
+        assert_eq!(f(height, "bundle_bytes"), f(gradient, "bundle_bytes"), "one bundle per rung");
+        assert!(f(height, "max_error").is_finite() && f(gradient, "max_error").is_finite());
+    }
+    // Finer rungs store more nodes.
+    let bytes: Vec<f64> = rungs
+        .iter()
+        .map(|&s| f(rows.iter().find(|r| r["kernel"] == "height" && f(r, "setting") == s).unwrap(), "bundle_bytes"))
+        .collect();
+    assert!(bytes.windows(2).all(|w| w[0] < w[1]), "{bytes:?}");
+    assert!(rows.iter().any(|r| r["default"] == true));
+    // One note per rung: "N nodes/mm: the bundle is B bytes; a 16-bit PNG of its field's heights is P bytes".
+    let notes: Vec<&str> = v["notes"].as_array().expect("notes").iter().filter_map(|n| n.as_str()).collect();
+    let sizes: Vec<(u64, u64)> = notes
+        .iter()
+        .filter_map(|n| {
+            let b = n.split("the bundle is ").nth(1)?.split(' ').next()?.parse().ok()?;
+            let p = n.split("heights is ").nth(1)?.split(' ').next()?.parse().ok()?;
+            Some((b, p))
+        })
+        .collect();
+    assert_eq!(sizes.len(), rungs.len(), "{notes:?}");
+    for (b, p) in sizes {
+        assert!(b <= p, "a bundle of {b} bytes against a PNG of {p}");
+    }
 }

@@ -192,6 +192,7 @@ mod tests {
                 grad_x: heights.iter().map(|h| if h.3 { h.1 } else { 0.0 }).collect(),
                 grad_y: heights.iter().map(|h| if h.3 { h.2 } else { 0.0 }).collect(),
                 flags: heights.iter().map(|h| contact(h.3)).collect(),
+                encoding: taxel_format::HeightEncoding::Float,
             }));
             let bytes = b.to_bytes().unwrap();
             prop_assert_eq!(round_trip(&bytes).unwrap(), bytes);

@@ -45,8 +45,20 @@ const FIELD_KEYS: &[&str] = &[
 ];
 const DOTS_KEYS: &[&str] = &["kind", "file", "dot_kind"];
 const FILE_KEYS: &[&str] = &["kind", "file"];
-const HEIGHT_KEYS: &[&str] =
-    &["kind", "file", "source", "cols", "rows", "origin_x_mm", "origin_y_mm", "cell_mm", "gradient_cap"];
+const HEIGHT_KEYS: &[&str] = &[
+    "kind",
+    "file",
+    "source",
+    "cols",
+    "rows",
+    "origin_x_mm",
+    "origin_y_mm",
+    "cell_mm",
+    "gradient_cap",
+    "height_step_mm",
+    "height_base_mm",
+    "max_gradient",
+];
 const FOOTPRINT_KEYS: &[&str] = &["kind", "file", "origin_x_mm", "origin_y_mm", "quantum_mm"];
 const RAW_KEYS: &[&str] = &["kind", "file", "tag", "tag_hex", "required"];
 
@@ -227,6 +239,16 @@ fn chunk(c: &Table<'_, '_>, read: &dyn Fn(&str) -> Result<Vec<u8>, TextError>) -
                 grad_x: Vec::new(),
                 grad_y: Vec::new(),
                 flags: Vec::new(),
+                // A tiled field (format 4.6) names its step, base and largest gradient.
+                encoding: if c.has("height_step_mm") {
+                    taxel_format::HeightEncoding::Tiled {
+                        step: c.f32("height_step_mm")?,
+                        base: c.f32("height_base_mm")?,
+                        max_gradient: c.f32("max_gradient")?,
+                    }
+                } else {
+                    taxel_format::HeightEncoding::Float
+                },
             };
             if (h.cols as u64) * (h.rows as u64) > taxel_format::MAX_FIELD_NODES {
                 return Err(c.err("rows", format!("expected cols * rows at most {}", taxel_format::MAX_FIELD_NODES)));

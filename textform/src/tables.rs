@@ -432,6 +432,7 @@ mod tests {
             grad_x: vec![],
             grad_y: vec![],
             flags: vec![],
+            encoding: taxel_format::HeightEncoding::Float,
         };
         let head = "col,row,height_mm,grad_x,grad_y,contact,edge\n";
         let e = parse_height("h.csv", format!("{head}0,0,1,0,0,1,0\n0,0,1,0,0,1,0\n").as_bytes(), &mut h).unwrap_err();

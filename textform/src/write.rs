@@ -135,6 +135,15 @@ pub fn unpack(name: &str, bytes: &[u8]) -> Result<Vec<(String, Vec<u8>)>, TextEr
                     f32_text(h.cell.0),
                     f32_text(h.gradient_cap)
                 );
+                if let taxel_format::HeightEncoding::Tiled { step, base, max_gradient } = h.encoding {
+                    let _ = writeln!(
+                        toml,
+                        "height_step_mm = {}\nheight_base_mm = {}\nmax_gradient = {}",
+                        f32_text(step),
+                        f32_text(base),
+                        f32_text(max_gradient)
+                    );
+                }
                 (file, height_csv(h))
             }
             Chunk::Provenance(p) => {

@@ -89,10 +89,12 @@ pub fn sample(s: &Surface, g: &Grid, source: Option<u32>) -> HeightField {
     let mut best = vec![f64::NEG_INFINITY; n];
     let mut grad = vec![[0.0f64; 2]; n];
     let mut ties = vec![0u16; n];
+    // The face on top at each node (for the steps of a raster surface).
+    let mut top = vec![u32::MAX; n];
     let cell = g.cell as f64;
     let tol = s.step_tol;
     let slack = 1e-3 * cell;
-    for f in &s.faces {
+    for (fi, f) in s.faces.iter().enumerate() {
         let [a, b, c] = f.corners;
         let area2 = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
         if area2 == 0.0 {
@@ -103,8 +105,28 @@ pub fn sample(s: &Surface, g: &Grid, source: Option<u32>) -> HeightField {
         let (lab, lbc, lca) = (dist(a, b), dist(b, c), dist(c, a));
         let Some((i0, i1)) = span(x0, x1, g.ox as f64, cell, g.cols) else { continue };
         let Some((j0, j1)) = span(y0, y1, g.oy as f64, cell, g.rows) else { continue };
+        let sign = area2.signum();
         for j in j0..=j1 {
-            for i in i0..=i1 {
+            // The nodes of this row inside the triangle (widened by the slack
+            // below): each side's test is linear in x, so the row meets the
+            // triangle in one interval, and a long thin triangle costs the
+            // nodes it covers, not its bounding box.
+            let y = g.node(0, j).1;
+            let (mut lo, mut hi) = (x0 - cell, x1 + cell);
+            for (p, q, len) in [(a, b, lab), (b, c, lbc), (c, a, lca)] {
+                // Inside: sign * ((q - p) x (node - p)) >= -slack * len, that is k x >= r.
+                let k = -sign * (q[1] - p[1]);
+                let r = -slack * len - sign * ((q[0] - p[0]) * (y - p[1]) + p[0] * (q[1] - p[1]));
+                if k > 0.0 {
+                    lo = lo.max(r / k);
+                } else if k < 0.0 {
+                    hi = hi.min(r / k);
+                } else if r > 0.0 {
+                    hi = f64::NEG_INFINITY;
+                }
+            }
+            let Some((ia, ib)) = span(lo, hi, g.ox as f64, cell, g.cols) else { continue };
+            for i in ia.max(i0)..=ib.min(i1) {
                 let (x, y) = g.node(i, j);
                 // Inside, or within a thousandth of a cell of the face: so a node on
                 // a shared edge is never lost to rounding between two faces, and a
@@ -121,6 +143,7 @@ pub fn sample(s: &Surface, g: &Grid, source: Option<u32>) -> HeightField {
                     best[k] = h;
                     grad[k] = [gx, gy];
                     ties[k] = 1;
+                    top[k] = fi as u32;
                 } else if h >= best[k] - tol && ties[k] < u16::MAX {
                     // Same height from another face (the node is on an edge or
                     // corner): average the slopes so a ridge on a node is level,
@@ -193,6 +216,9 @@ pub fn sample(s: &Surface, g: &Grid, source: Option<u32>) -> HeightField {
             }
         }
     }
+    if s.raster {
+        raster_steps(s, g, &best, &top, &mut |k1, k2, axis| mark(k1, k2, axis, &mut over, &mut flags));
+    }
     for (g2, o) in grad.iter_mut().zip(&over) {
         for axis in 0..2 {
             if !o[axis].is_nan() {
@@ -236,6 +262,32 @@ pub fn sample(s: &Surface, g: &Grid, source: Option<u32>) -> HeightField {
         grad_x: gxs,
         grad_y: gys,
         flags,
+        encoding: taxel_format::HeightEncoding::Float,
+    }
+}
+
+/// The steps of a raster surface (`Surface::raster`), whose faces are the
+/// mesh triangles themselves with no arrangement to find steps on: a pair of
+/// neighbouring contact nodes on different top faces whose heights differ by
+/// more than the steepest slope of the surface proper allows over one cell.
+/// A continuous surface cannot rise that fast, so nothing is flagged that is
+/// not a step; a step lower than that slope over a cell is felt as a slope.
+fn raster_steps(s: &Surface, g: &Grid, best: &[f64], top: &[u32], mark: &mut dyn FnMut(usize, usize, usize)) {
+    let rise = s.max_surface_slope.max(MIN_GRADIENT_CAP) * g.cell as f64 + s.step_tol;
+    let (cols, rows) = (g.cols as usize, g.rows as usize);
+    for j in 0..rows {
+        for i in 0..cols {
+            let k = j * cols + i;
+            for (next, axis) in
+                [(i + 1 < cols).then_some(k + 1), (j + 1 < rows).then_some(k + cols)].into_iter().zip(0..)
+            {
+                let Some(k2) = next else { continue };
+                let both = best[k].is_finite() && best[k2].is_finite();
+                if both && top[k] != top[k2] && (best[k2] - best[k]).abs() > rise {
+                    mark(k, k2, axis);
+                }
+            }
+        }
     }
 }
 

@@ -59,6 +59,11 @@ pub struct Soup {
     pub skipped: usize,
     /// The first of them, with its mode.
     pub first_skipped: Option<(Where, String)>,
+    /// The height axis the vertices were read with.
+    pub up: UpAxis,
+    /// Whether that axis was chosen from the model's shape (no `--up`; see
+    /// [`super::chosen_up`]) rather than given.
+    pub up_chosen: bool,
 }
 
 /// One node's mesh and where it lies, for `--region #name`.
@@ -144,7 +149,7 @@ pub fn load_with(bytes: &[u8], resolve: &mut Resolver<'_>, up: UpAxis) -> Result
     let buffers = load_buffers(&gltf.document, gltf.blob.clone(), resolve)?;
     let doc = &gltf.document;
     let scene = doc.default_scene().or_else(|| doc.scenes().next());
-    let mut soup = Soup { scene_name: scene.as_ref().and_then(|s| s.name()).map(str::to_owned), ..Soup::default() };
+    let mut soup = Soup { scene_name: scene.as_ref().and_then(|s| s.name()).map(str::to_owned), up, ..Soup::default() };
     let mut model = [[f64::INFINITY; 3], [f64::NEG_INFINITY; 3]];
     // Without a scene, every node that is nobody's child is a root.
     let roots: Vec<gltf::Node<'_>> = match &scene {

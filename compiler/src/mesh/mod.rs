@@ -32,6 +32,7 @@ pub(crate) mod place;
 pub(crate) mod planar;
 pub mod shapes;
 pub(crate) mod sheet;
+pub mod store;
 pub(crate) mod surface;
 pub mod write;
 
@@ -49,8 +50,8 @@ use crate::{Compiled, Diagnostic};
 pub struct MeshOptions {
     /// Height-field nodes per millimetre; `None` chooses from the mesh (see docs/finger.md).
     pub nodes_per_mm: Option<f64>,
-    /// The model's height axis (`--up`).
-    pub up: UpAxis,
+    /// The model's height axis (`--up`); `None` chooses it ([`chosen_up`]).
+    pub up: Option<UpAxis>,
     /// Scale and centre the footprint (or the region) into a surface of this
     /// width and height in mm, keeping its aspect ratio, with the lowest
     /// point at height 0 (`--fit`; [`MeshOptions::from_compile`] takes the profile's surface).
@@ -64,7 +65,7 @@ pub struct MeshOptions {
 
 impl Default for MeshOptions {
     fn default() -> Self {
-        MeshOptions { nodes_per_mm: None, up: UpAxis::Y, fit: None, region: None, exaggerate: 1.0 }
+        MeshOptions { nodes_per_mm: None, up: None, fit: None, region: None, exaggerate: 1.0 }
     }
 }
 
@@ -135,6 +136,15 @@ pub fn suggested_up(extent: [f64; 3], up: UpAxis) -> Option<UpAxis> {
     }
 }
 
+/// The height axis of a model read without `--up`: +Z when the model is
+/// clearly flat across Z (its Z extent under a quarter of both its X and Y
+/// extents, as a terrain exported Z-up is), else glTF's +Y. A model flat
+/// across Y stays +Y, and one flat across neither has no clear height axis,
+/// so it keeps glTF's convention too. `extent` is along X, Y and Z.
+pub fn chosen_up(extent: [f64; 3]) -> UpAxis {
+    suggested_up(extent, UpAxis::Y).unwrap_or(UpAxis::Y)
+}
+
 /// What to say of a model whose extent suggests the other height axis
 /// ([`suggested_up`]): the finding, and the flag that reads it so.
 fn other_up(extent: [f64; 3], up: UpAxis) -> Option<(String, &'static str)> {
@@ -152,12 +162,32 @@ fn other_up(extent: [f64; 3], up: UpAxis) -> Option<(String, &'static str)> {
     ))
 }
 
+/// The note that the height axis was chosen from the model's shape (T0619).
+fn up_note(extent: [f64; 3]) -> Diagnostic {
+    let [x, y, z] = extent.map(|v| number(v, 3));
+    Diagnostic::note(
+        "T0619",
+        format!(
+            "the model spans {x} x {y} x {z} m along X, Y, Z: it is flat across Z, so +Z is taken as up (as a \
+             terrain exported Z-up is), not glTF's +Y"
+        ),
+    )
+    .with_help("build with --up y to read it with +Y up")
+}
+
 /// The triangles a height field is built from: the scene read with
 /// `opts.up`, cut to `opts.region`, fitted and exaggerated, in page mm (the
 /// exact reference `taxel report` measures fields against). Also returns the
 /// page mm per model metre.
 pub fn placed(bytes: &[u8], resolve: &mut Resolver<'_>, opts: &MeshOptions) -> Result<(load::Soup, f64), MeshError> {
-    let mut soup = load::load_with(bytes, resolve, opts.up)?;
+    let mut soup = load::load_with(bytes, resolve, opts.up.unwrap_or(UpAxis::Y))?;
+    if opts.up.is_none() && chosen_up(soup.extent) != soup.up {
+        // Read again with the other axis: reading is a small part of a
+        // build, and the placement below (`--region`, `--fit`) must see the
+        // page as the chosen axis makes it.
+        soup = load::load_with(bytes, resolve, chosen_up(soup.extent))?;
+        soup.up_chosen = true;
+    }
     let mm_per_metre = place::place(&mut soup, opts)?;
     // Placing works in f64 on coordinates up to `MAX_MODEL_MM`, so `--fit`
     // recentres a model at UTM coordinates; without it the model must lie
@@ -243,8 +273,8 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
     }
     // A model read with the wrong axis up (a terrain exported Z-up) is seen
     // edge on: its errors say which flag reads it the other way.
-    let failed = |e: MeshError, extent: Option<[f64; 3]>| {
-        let up = extent.and_then(|x| other_up(x, opts.up));
+    let failed = |e: MeshError, extent: Option<[f64; 3]>, read: UpAxis| {
+        let up = extent.and_then(|x| other_up(x, read));
         // The help, then the up-axis finding when there is one.
         let up_help = |help: &str| {
             let finding = up.as_ref().map(|(finding, flag)| format!("{finding}: build with {flag}"));
@@ -262,18 +292,23 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
             _ => d,
         }
     };
-    let (hf, report) = match placed(bytes, resolve, opts) {
+    let (hf, report, read) = match placed(bytes, resolve, opts) {
         Err(e) => {
             let extent = if let MeshError::Far { extent, .. } = e { Some(extent) } else { None };
-            diagnostics.push(failed(e, extent));
+            // A model too far away is refused before its axis is chosen.
+            let read = opts.up.unwrap_or_else(|| extent.map_or(UpAxis::Y, chosen_up));
+            diagnostics.push(failed(e, extent, read));
             return Compiled { bundle: None, diagnostics, fonts_used: Vec::new(), print: None };
         }
         Ok((soup, mm_per_metre)) => {
-            let extent = soup.extent;
+            let (extent, read, chosen) = (soup.extent, soup.up, soup.up_chosen);
+            if chosen {
+                diagnostics.push(up_note(extent));
+            }
             match field_of(soup, mm_per_metre, opts) {
-                Ok(v) => v,
+                Ok((hf, report)) => (hf, report, read),
                 Err(e) => {
-                    diagnostics.push(failed(e, Some(extent)));
+                    diagnostics.push(failed(e, Some(extent), read));
                     return Compiled { bundle: None, diagnostics, fonts_used: Vec::new(), print: None };
                 }
             }
@@ -297,7 +332,7 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
             report.steps
         ),
     ));
-    if let Some((finding, flag)) = other_up(report.extent, opts.up) {
+    if let Some((finding, flag)) = other_up(report.extent, read) {
         diagnostics.push(
             Diagnostic::note("T0616", finding)
                 .with_help(format!("if the heights run along the other axis, build with {flag}")),
@@ -355,7 +390,8 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
         );
     }
     let mut bundle = Bundle::new(Manifest::new(*profile));
-    bundle.chunks.push(Chunk::Height(hf));
+    // Stored as the device needs it: quantised heights in tiles (store.rs).
+    bundle.chunks.push(Chunk::Height(store::tiled(hf, profile)));
     // Each mesh named once, in the file's order (many nodes may place one mesh).
     let mut seen = std::collections::HashSet::new();
     let names: Vec<&str> =

@@ -402,6 +402,7 @@ mod tests {
                 grad_x: vec![0.0; nodes],
                 grad_y: vec![0.0; nodes],
                 flags: vec![0; nodes],
+                encoding: taxel_format::HeightEncoding::Float,
             };
             let (w, h) = (240, 240);
             let k = PREVIEW_PX_PER_MM;

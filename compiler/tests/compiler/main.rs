@@ -10,6 +10,7 @@ mod layout;
 mod lookup;
 mod malformed;
 mod mesh;
+mod mesh_axis;
 mod realistic;
 mod runaway;
 mod scenes;

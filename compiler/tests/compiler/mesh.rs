@@ -390,8 +390,10 @@ fn malformed_files_are_errors_that_name_the_mesh_and_primitive() {
         assert!(mesh::height_field(&glb[..len], &mut no_files, &MeshOptions::default()).is_err(), "length {len}");
     }
     // All walls: nothing covers the page.
+    // (Read +Y up: without `--up` this plate, flat across Z, is read +Z up.)
     let wall = HeightMesh::grid(2, 2, |u, v| [0.01 * u, 0.01 * v, 0.0]);
-    assert!(matches!(error(&wall.to_glb()), MeshError::NoArea));
+    let y_up = MeshOptions { up: Some(UpAxis::Y), ..MeshOptions::default() };
+    assert!(matches!(mesh::height_field(&wall.to_glb(), &mut no_files, &y_up), Err(MeshError::NoArea)));
 }
 
 #[test]
@@ -794,11 +796,12 @@ fn dem(n: u32) -> HeightMesh {
 fn a_z_up_terrain_gets_the_up_note_and_fits_the_surface_with_up_z() {
     let profile = profiles::builtin("finger3").unwrap();
     let glb = dem(60).to_glb();
-    let plain = mesh::compile_gltf(&glb, &mut no_files, &profile, &MeshOptions::default());
+    let y_up = MeshOptions { up: Some(UpAxis::Y), ..MeshOptions::default() };
+    let plain = mesh::compile_gltf(&glb, &mut no_files, &profile, &y_up);
     let note = plain.diagnostics.iter().find(|d| d.code == "T0616").expect("the up note");
     assert!(note.help.as_deref().unwrap_or("").contains("--up z"), "{note:?}");
 
-    let fit = MeshOptions { up: UpAxis::Z, fit: Some([160.0, 100.0]), ..MeshOptions::default() };
+    let fit = MeshOptions { up: Some(UpAxis::Z), fit: Some([160.0, 100.0]), ..MeshOptions::default() };
     let out = mesh::compile_gltf(&glb, &mut no_files, &profile, &fit);
     assert!(out.diagnostics.iter().all(|d| d.code != "T0616" && d.code != "T0612"), "{:?}", out.diagnostics);
     let (f, report) = mesh::height_field(&glb, &mut no_files, &fit).unwrap();
@@ -837,7 +840,7 @@ fn a_terrain_at_utm_coordinates_builds_with_fit_and_is_refused_without_it() {
     // f32, so the field equals the one of the terrain at the origin.
     let near = dem(30);
     let far = HeightMesh { translation: Some([500_000.0, 5_000_000.0, 0.0]), ..dem(30) };
-    let fit = MeshOptions { up: UpAxis::Z, fit: Some([160.0, 100.0]), ..MeshOptions::default() };
+    let fit = MeshOptions { up: Some(UpAxis::Z), fit: Some([160.0, 100.0]), ..MeshOptions::default() };
     let same = |a: &HeightField, b: &HeightField| {
         assert_eq!((a.cols, a.rows, a.origin_x, a.origin_y, a.cell), (b.cols, b.rows, b.origin_x, b.origin_y, b.cell));
         assert_eq!(a.flags, b.flags);
@@ -854,7 +857,7 @@ fn a_terrain_at_utm_coordinates_builds_with_fit_and_is_refused_without_it() {
     same(&field_with(&near.to_glb(), region(0.0, 0.0)), &field_with(&far.to_glb(), region(500_000.0, 5_000_000.0)));
 
     // Without --fit it cannot go on the page: a clear refusal that suggests --fit.
-    let plain = MeshOptions { up: UpAxis::Z, ..MeshOptions::default() };
+    let plain = MeshOptions { up: Some(UpAxis::Z), ..MeshOptions::default() };
     let e = error_with(&far.to_glb(), plain.clone());
     assert!(
         e.contains("more than 100 km") && e.contains("node 'dem'") && e.contains("x 500000.000..509000.000"),
@@ -865,9 +868,10 @@ fn a_terrain_at_utm_coordinates_builds_with_fit_and_is_refused_without_it() {
     let d = out.diagnostics.iter().find(|d| d.code == "T0605").expect("the refusal");
     let help = d.help.as_deref().unwrap_or("");
     assert!(out.bundle.is_none() && help.contains("--fit") && !help.contains("--up"), "{d:?}");
-    // Read with +Y up (the default), the Z-up terrain lies flat across the
-    // axis taken as up: the refusal also says which flag reads it right.
-    let out = mesh::compile_gltf(&far.to_glb(), &mut no_files, &profile, &MeshOptions::default());
+    // Read with +Y up (as `--up y` asks), the Z-up terrain lies flat across
+    // the axis taken as up: the refusal also says which flag reads it right.
+    let y_up = MeshOptions { up: Some(UpAxis::Y), ..MeshOptions::default() };
+    let out = mesh::compile_gltf(&far.to_glb(), &mut no_files, &profile, &y_up);
     let d = out.diagnostics.iter().find(|d| d.code == "T0605").expect("the refusal");
     let help = d.help.as_deref().unwrap_or("");
     assert!(help.contains("--fit") && help.contains("flat across the +Y axis") && help.contains("--up z"), "{d:?}");
@@ -881,10 +885,11 @@ fn a_flat_model_seen_edge_on_fails_with_the_up_axis_that_reads_it() {
     let plate = HeightMesh::grid(4, 4, |u, v| [10.0 * u, 10.0 * v, 0.0]);
     let glb = plate.to_glb();
     let profile = profiles::builtin("finger3").unwrap();
-    let out = mesh::compile_gltf(&glb, &mut no_files, &profile, &MeshOptions::default());
+    let y_up = MeshOptions { up: Some(UpAxis::Y), ..MeshOptions::default() };
+    let out = mesh::compile_gltf(&glb, &mut no_files, &profile, &y_up);
     let d = out.diagnostics.iter().find(|d| d.code == "T0606").expect("no area");
     assert!(out.bundle.is_none() && d.help.as_deref().unwrap_or("").contains("build with --up z"), "{d:?}");
-    let z_up = MeshOptions { up: UpAxis::Z, fit: Some([160.0, 100.0]), ..MeshOptions::default() };
+    let z_up = MeshOptions { up: Some(UpAxis::Z), fit: Some([160.0, 100.0]), ..MeshOptions::default() };
     let out = mesh::compile_gltf(&glb, &mut no_files, &profile, &z_up);
     assert!(out.bundle.is_some(), "{:?}", out.diagnostics);
 }

@@ -136,7 +136,7 @@ const N: usize = 6;
 
 #[test]
 fn height_field_fields() {
-    invalid(edit_chunk(b"HFLD", |d| put_u32(d, 12, 1)), b"HFLD", "reserved");
+    invalid(edit_chunk(b"HFLD", |d| put_u32(d, 12, 3)), b"HFLD", "reserved");
     invalid(edit_chunk(b"HFLD", |d| put_f32(d, 24, 0.0)), b"HFLD", "cell_mm");
     invalid(edit_chunk(b"HFLD", |d| put_f32(d, 40, -1.0)), b"HFLD", "gradient_cap");
     invalid(edit_chunk(b"HFLD", |d| put_f32(d, 28, -5.0)), b"HFLD", "extremes");

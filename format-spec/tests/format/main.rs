@@ -14,3 +14,4 @@ mod profiles;
 mod props;
 mod roundtrip;
 mod spec;
+mod tiled;

@@ -61,6 +61,7 @@ fn the_spec_quotes_the_crates_constants() {
         ("MAX_DRIVES_PER_POINT", taxel_format::MAX_DRIVES_PER_POINT as u64),
         ("MAX_FIELD_SIDE", taxel_format::MAX_FIELD_SIDE as u64),
         ("MAX_FIELD_NODES", taxel_format::MAX_FIELD_NODES),
+        ("MAX_FIELD_CODE", taxel_format::MAX_FIELD_CODE as u64),
         ("MAX_PROVENANCE_ENTRIES", taxel_format::MAX_PROVENANCE_ENTRIES as u64),
         ("MAX_FOOTPRINT_SHAPES", taxel_format::MAX_FOOTPRINT_SHAPES as u64),
         ("MAX_FOOTPRINT_RINGS", taxel_format::MAX_FOOTPRINT_RINGS as u64),

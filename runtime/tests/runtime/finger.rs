@@ -25,6 +25,7 @@ fn field_of(cols: u32, rows: u32, cell: f32, h: impl Fn(f64, f64) -> Option<(f64
         grad_x: vec![0.0; n],
         grad_y: vec![0.0; n],
         flags: vec![0; n],
+        encoding: taxel_format::HeightEncoding::Float,
     };
     for j in 0..rows {
         for i in 0..cols {
@@ -449,6 +450,7 @@ fn random_field() -> impl Strategy<Value = HeightField> {
                     grad_x: vec![0.0; n],
                     grad_y: vec![0.0; n],
                     flags: vec![0; n],
+                    encoding: taxel_format::HeightEncoding::Float,
                 };
                 for (k, (contact, edge, h, gx, gy)) in nodes.into_iter().enumerate() {
                     (f.heights[k], f.grad_x[k], f.grad_y[k], f.flags[k]) = if contact {

@@ -13,6 +13,7 @@
 #[cfg(feature = "std")]
 mod device;
 mod finger;
+mod finger_tiled;
 #[cfg(feature = "std")]
 mod grid;
 mod latero_alloc;
