@@ -184,9 +184,10 @@ impl<'d> Draft<'d> {
         // A fill that encloses nothing (a `<line>`, which SVG fills by default, or
         // collinear points) is not seen, so not a region: taken for one, it would
         // abut the lines it crosses and lose its vibrating stroke (a chart's axes).
-        let filled = paint.filled
-            && paint.fill.is_none_or(|c| visible(c) && (ground.white_is_figure || !paper(c)))
-            && filled_area(&p.outline, p.fill_rule) > MIN_FILL_MM2;
+        let fill_seen = paint.filled && paint.fill.is_none_or(|c| visible(c) && (ground.white_is_figure || !paper(c)));
+        // Measured once: a scribble's area is a sweep of many rows.
+        let area = if fill_seen { filled_area(&p.outline, p.fill_rule) } else { 0.0 };
+        let filled = fill_seen && area > MIN_FILL_MM2;
         let stroked = paint.stroked && paint.stroke_width_mm > 0.0 && paint.stroke.is_none_or(visible);
         if filled && ground.backgrounds.contains(&i) {
             dec.left_out = Some(LeftOut::Background);
@@ -215,14 +216,13 @@ impl<'d> Draft<'d> {
             // mark at its line's end, not a piece of a tessellation
             // with the box its tip touches, which would lose its
             // outline there.
-            if compact(b, filled_area(&p.outline, p.fill_rule)) {
+            if compact(b, area) {
                 dec.mark = true;
                 self.braille.place(spatial::grow(b, BRAILLE_CLEARANCE_MM));
             } else if !dec.outline && !dec.mark {
                 dec.left_out = Some(LeftOut::SmallShape);
             }
         } else if filled {
-            let area = filled_area(&p.outline, p.fill_rule);
             self.shapes.push(Filled { i, region: Region { outline: &p.outline, bbox: b }, area });
         } else if !dec.outline && !dec.mark {
             dec.left_out = Some(if dec.faint { LeftOut::Faint } else { LeftOut::Unpainted });

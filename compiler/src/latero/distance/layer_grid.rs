@@ -73,6 +73,11 @@ const MIN_CELLS: usize = 1 << 16;
 /// The most cells of a layer's grid (two `u32` and a `u16` each, per group).
 const MAX_CELLS: usize = 1 << 22;
 
+/// The most entries of one group's cells (256 MB of `u32`): past it
+/// the per-tile grids, whose size follows each tile's segments, are used.
+/// (Also keeps the counts within `u32`.)
+const MAX_ITEMS: u64 = 1 << 26;
+
 /// The part of a layer's slots a group holds: the layer's own fills and
 /// band, or the parts that only lower its distance.
 pub(super) fn is_own(slot: usize) -> bool {
@@ -88,6 +93,16 @@ pub(super) struct TileStats {
     pub rest: u32,
     /// The slots with at least one entry (slot `s` at bit `s`).
     pub slots: u64,
+}
+
+/// A segment being binned, while the rows it spans are filled: its
+/// number, its ends in stored cell units, its box's columns and last row.
+struct Member {
+    n: u32,
+    a: (f64, f64),
+    b: (f64, f64),
+    cols: (isize, isize),
+    last_row: usize,
 }
 
 /// One group's segments by cell (compressed rows).
@@ -227,7 +242,7 @@ impl LayerGrid {
         };
         for (g, &want) in wanted.iter().enumerate() {
             if want {
-                grid.groups[g] = grid.bin(segs, g == 0);
+                grid.groups[g] = grid.bin(segs, g == 0)?;
             }
         }
         Some(grid)
@@ -243,8 +258,9 @@ impl LayerGrid {
     }
 
     /// The segments of one group (`own` or the others) that act on some
-    /// tile, in every cell their bounds meet, in segment order.
-    fn bin(&self, segs: &[(Seg, Part, f64)], own: bool) -> Cells {
+    /// tile, in every cell their bounds meet, in segment order; `None`
+    /// past [`MAX_ITEMS`] entries.
+    fn bin(&self, segs: &[(Seg, Part, f64)], own: bool) -> Option<Cells> {
         let n_cells = self.width * self.height;
         let in_group = |s: u8| s != u8::MAX && is_own(s as usize) == own;
         // Each member's cells are reckoned once and kept for the second
@@ -287,28 +303,79 @@ impl LayerGrid {
                 (c0 <= c1).then_some((y, c0 as usize, c1 as usize))
             })
         };
-        let mut start = vec![0u32; n_cells + 1];
+        // Each member's run of cells counted at its ends (a difference
+        // array, `+1` at the run's first cell and `-1` past its last, in
+        // wrapping arithmetic), then summed once over the cells into the
+        // counts and once more into the starts: the count pass follows the
+        // rows a member spans, not the cells (a scribble's segments cross
+        // hundreds of cells each).
+        let mut start = vec![0u32; n_cells + 2];
+        let mut total = 0u64;
         each(&mut |n, c| {
             for (y, x0, x1) in rows(n, c) {
-                for c in &mut start[y * self.width + x0 + 1..=y * self.width + x1 + 1] {
-                    *c += 1;
-                }
+                total += (x1 - x0 + 1) as u64;
+                start[y * self.width + x0 + 1] = start[y * self.width + x0 + 1].wrapping_add(1);
+                start[y * self.width + x1 + 2] = start[y * self.width + x1 + 2].wrapping_sub(1);
             }
         });
+        if total > MAX_ITEMS {
+            return None;
+        }
+        start.truncate(n_cells + 1);
         for c in 1..start.len() {
-            start[c] += start[c - 1];
+            start[c] = start[c].wrapping_add(start[c - 1]);
+        }
+        for c in 1..start.len() {
+            start[c] = start[c].wrapping_add(start[c - 1]);
         }
         let mut items = vec![0u32; start[n_cells] as usize];
         let mut next = start[..n_cells].to_vec();
-        each(&mut |n, c| {
-            for (y, x0, x1) in rows(n, c) {
-                for e in &mut next[y * self.width + x0..=y * self.width + x1] {
-                    items[*e as usize] = n;
+        // Filled row by row, so that the writes of a row go to its own
+        // stretch of `items` (one row of a scribble's cells holds some
+        // 100,000 entries, and written segment by segment, each entry went
+        // to a cache line of its own). The members spanning the row are in
+        // hand in segment order (those starting on it merged in), so each
+        // cell lists its segments in segment order, as counted.
+        let mut by_first: Vec<(u32, [usize; 4])> = Vec::new();
+        each(&mut |n, c| by_first.push((n, c)));
+        // Stable: in segment order within a first row.
+        by_first.sort_by_key(|&(_, c)| c[1]);
+        let (mut active, mut merged): (Vec<Member>, Vec<Member>) = (Vec::new(), Vec::new());
+        let mut k = 0;
+        for y in 0..self.height {
+            active.retain(|m| m.last_row >= y);
+            let first = k;
+            while by_first.get(k).is_some_and(|&(_, c)| c[1] <= y) {
+                k += 1;
+            }
+            let starting = by_first[first..k].iter().filter(|&&(_, c)| c[3] >= y).map(|&(n, [x0, _, x1, y1])| {
+                let ((a, b), _, _) = segs[n as usize];
+                Member { n, a: in_cells(a), b: in_cells(b), cols: (x0 as isize, x1 as isize), last_row: y1 }
+            });
+            if first < k {
+                merged.clear();
+                let mut old = active.drain(..).peekable();
+                for m in starting {
+                    while let Some(o) = old.next_if(|o| o.n < m.n) {
+                        merged.push(o);
+                    }
+                    merged.push(m);
+                }
+                merged.extend(old);
+                std::mem::swap(&mut active, &mut merged);
+            }
+            for m in &active {
+                let (c0, c1) = row_cells(m.a, m.b, y as isize, m.cols);
+                if c0 > c1 {
+                    continue;
+                }
+                for e in &mut next[y * self.width + c0 as usize..=y * self.width + c1 as usize] {
+                    items[*e as usize] = m.n;
                     *e += 1;
                 }
             }
-        });
-        Cells { start, items }
+        }
+        Some(Cells { start, items })
     }
 
     /// The stored position of the cell corner `(x, y)` (layer cells from
@@ -360,6 +427,11 @@ impl LayerGrid {
         let (seg, _, m) = segs.get(n)?;
         let (c0, c1) = self.tiles.row_cols(seg, *m, r as usize, span.map(|v| v as usize));
         (c0 as u32 <= c && c <= c1 as u32).then_some(s as usize)
+    }
+
+    /// The slot of segment `n`, `None` for one the grid does not hold.
+    pub(super) fn slot_of_segment(&self, n: usize) -> Option<usize> {
+        self.slot.get(n).filter(|&&s| s != u8::MAX).map(|&s| usize::from(s))
     }
 
     /// Whether the group's segments were binned (only a group some tile's

@@ -68,6 +68,13 @@ pub(super) struct Near {
     /// The slot of each bucket entry, and each slot's reach plus margin.
     slot_of: Vec<usize>,
     reach: Vec<f64>,
+    /// The layer grid's search: `in_tile[n] == tile_mark` for the
+    /// segments `n` of the tile being searched (its bucket), set once per
+    /// tile so that each segment a sample meets is kept or passed over with
+    /// one load (reckoning its tiles again per visit was half the build of
+    /// a scribble whose cells hold hundreds of segments).
+    in_tile: Vec<u32>,
+    tile_mark: u32,
 }
 
 /// Grid cells per lattice cell along each axis: half cells, so that a sample
@@ -212,6 +219,8 @@ impl Near {
             live: vec![true; slots * TILE_SAMPLES],
             grid: Grid::default(),
             slot_of: Vec::new(),
+            in_tile: Vec::new(),
+            tile_mark: 0,
             reach: vec![0.0; slots],
         }
     }
@@ -367,7 +376,7 @@ impl Near {
         let grid = (fits(true), fits(false));
         if n_own >= grid_from && grid.0 {
             match layer {
-                Some(at) => self.search_layer(segs, at, corner, h, true),
+                Some(at) => self.search_layer(segs, bucket, at, (corner, h), true),
                 None => self.search(segs, bucket, corner, h, true),
             }
         } else {
@@ -378,7 +387,7 @@ impl Near {
         }
         if n_rest >= grid_from && grid.1 {
             match layer {
-                Some(at) => self.search_layer(segs, at, corner, h, false),
+                Some(at) => self.search_layer(segs, bucket, at, (corner, h), false),
                 None => self.search(segs, bucket, corner, h, false),
             }
         } else {
@@ -469,30 +478,55 @@ impl Near {
     /// As [`search`](Self::search), in the layer's grid: the same rings
     /// round the same samples, keeping from each cell the segments of this
     /// tile's bucket.
-    fn search_layer(&mut self, segs: &[(Seg, Part, f64)], at: InLayer<'_>, corner: (f64, f64), h: f64, own: bool) {
+    fn search_layer(
+        &mut self,
+        segs: &[(Seg, Part, f64)],
+        bucket: &[u32],
+        at: InLayer<'_>,
+        (corner, h): ((f64, f64), f64),
+        own: bool,
+    ) {
         let cell = h / SUB as f64;
         let mask = if own { (1u64 << FILL) | (1 << BAND) } else { ((1u64 << self.slots()) - 1) & !0b11 };
         let in_group = |s: usize| s < 64 && mask & (1 << s) != 0;
         let reach_max = (0..self.slots()).filter(|&s| in_group(s)).map(|s| self.reach[s]).fold(0.0, f64::max);
         let rings = (reach_max / cell).ceil() as isize + 1;
-        let tile = (at.tile.0 as u32, at.tile.1 as u32);
+        self.mark_bucket(segs.len(), bucket);
         for j in 0..TILE_SIDE {
             for i in 0..TILE_SIDE {
                 let t = j * TILE_SIDE + i;
                 let p = (corner.0 + i as f64 * h, corner.1 + j as f64 * h);
                 let xy = at.grid.corner(at.tile, (i as isize * SUB + at.shift, j as isize * SUB + at.shift));
-                self.nearest_layer(segs, at.grid, (tile, own, cell, rings), (xy, t, p), mask);
+                self.nearest_layer(segs, at.grid, (own, cell, rings), (xy, t, p), mask);
+            }
+        }
+    }
+
+    /// Marks the segments of `bucket` (of a layer of `n` segments) as the
+    /// tile's: `in_tile[k] == tile_mark` for them alone.
+    fn mark_bucket(&mut self, n: usize, bucket: &[u32]) {
+        self.tile_mark = self.tile_mark.wrapping_add(1);
+        if self.tile_mark == 0 || self.in_tile.len() != n {
+            // A new layer, or the marks wrapped: none is left that could match.
+            self.in_tile.clear();
+            self.in_tile.resize(n, 0);
+            self.tile_mark = 1;
+        }
+        for &k in bucket {
+            if let Some(m) = self.in_tile.get_mut(k as usize) {
+                *m = self.tile_mark;
             }
         }
     }
 
     /// [`nearest`](Self::nearest) in the layer's grid for sample `t` (stored
-    /// cell corner `xy`, page point `p`), keeping only tile `tile`'s entries.
+    /// cell corner `xy`, page point `p`), keeping only the entries of the
+    /// tile's bucket ([`mark_bucket`](Self::mark_bucket)).
     fn nearest_layer(
         &mut self,
         segs: &[(Seg, Part, f64)],
         grid: &LayerGrid,
-        (tile, own, cell, rings): ((u32, u32), bool, f64, isize),
+        (own, cell, rings): (bool, f64, isize),
         ((x, y), t, p): ((isize, isize), usize, (f64, f64)),
         mask: u64,
     ) {
@@ -500,10 +534,13 @@ impl Near {
         if active == 0 {
             return;
         }
-        let d = &mut self.d;
+        let (d, in_tile, mark) = (&mut self.d, &self.in_tile, self.tile_mark);
         let visit = |items: &[u32], d: &mut [f64], active: u64| {
             for &n in items {
-                let Some(slot) = grid.slot_in(segs, n as usize, tile) else { continue };
+                if in_tile.get(n as usize) != Some(&mark) {
+                    continue;
+                }
+                let Some(slot) = grid.slot_of_segment(n as usize) else { continue };
                 if slot >= 64 || active & (1 << slot) == 0 {
                     continue;
                 }
