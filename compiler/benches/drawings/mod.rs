@@ -394,3 +394,23 @@ fn plain_svg((w, h): (f64, f64), body: &str) -> String {
 </svg>"#
     )
 }
+
+/// Seeds for the `svg` fuzz target (`fuzz/`), as (file name, drawing): each
+/// class of drawing above at a size a fuzzer mutates in milliseconds, so
+/// that it starts from real shapes (a self-crossing scribble, plain and
+/// annotated, a scatter plot, a jittered ring, an Inkscape map, a city plan,
+/// a matplotlib chart). `cargo run --example fuzz_seeds` writes them; the
+/// compiler's tests compile each (`fuzzed.rs`).
+pub fn fuzz_seeds() -> Vec<(&'static str, String)> {
+    let page = (200.0, 150.0);
+    let annotated = r##"stroke="#000" stroke-width="0.5" data-tactile="grating(); vibrate()""##;
+    vec![
+        ("scribble.svg", scribble(300, page, "", 1)),
+        ("scribble-annotated.svg", scribble(200, page, annotated, 2)),
+        ("scatter.svg", scatter(400, 0.6, page, 3)),
+        ("ring.svg", jittered_ring(3_000, 50.0, 3.0, page, 4)),
+        ("map.svg", inkscape_map(30, 4, 5)),
+        ("city-plan.svg", city_plan(60, 6)),
+        ("chart.svg", matplotlib_chart(6)),
+    ]
+}

@@ -364,6 +364,13 @@ impl<'d> Draft<'d> {
                 Figures::of(d, &self.shapes, abuts, &self.decisions)
             },
         };
-        place_labels(d, std::mem::take(&mut self.texts), &room, &mut self.decisions, &mut self.braille, m);
+        let mut texts = std::mem::take(&mut self.texts);
+        // An axis's tick labels that would run together, thinned to an even step first (T0328).
+        let thinned = super::ticks::thin(&texts, m);
+        for &(i, every) in &thinned {
+            self.decisions[i].left_out = Some(LeftOut::Thinned { every: every as u8 });
+        }
+        texts.retain(|(i, _)| !thinned.iter().any(|&(k, _)| k == *i));
+        place_labels(d, texts, &room, &mut self.decisions, &mut self.braille, m);
     }
 }

@@ -46,6 +46,7 @@ mod keys;
 mod labels;
 mod notes;
 mod sheet;
+mod ticks;
 
 pub use adjacency::{Neighbours, Region, abutting, abutting_alike, class_edges, colour, touching};
 pub use decide::{plan, plan_measured};
@@ -163,6 +164,12 @@ pub enum LeftOut {
     Faint,
     /// A mark among marks too dense to feel apart (a scatter plot's), thinned: see [`MARK_SPACING_MM`].
     Crowded,
+    /// A tick label of an axis whose labels' braille would run together,
+    /// thinned to every `every`-th label (T0328).
+    Thinned {
+        /// The step the axis kept: 2, 5, 10 or 20.
+        every: u8,
+    },
 }
 
 /// What the automatic sheet made of one element.

@@ -27,6 +27,7 @@ impl LeftOut {
             LeftOut::Image => "image(s)",
             LeftOut::Faint => "faint grey line(s)",
             LeftOut::Crowded => "mark(s) too crowded to feel apart",
+            LeftOut::Thinned { .. } => "tick label(s) thinned to an even step",
         }
     }
 }
@@ -181,6 +182,34 @@ pub(super) fn notes(plan: &Plan, d: &Drawing, diags: &mut Vec<Diagnostic>) {
                 ),
             )
             .with_help("to feel more of them, take part of the drawing with --region so they spread out, or draw a density texture (a grating) in a style sheet"),
+        );
+    }
+    // One note for every axis thinned (the steps named), so that grouped
+    // output, which shows one message a code, loses none of them.
+    let (mut thinned, mut steps) = (Vec::new(), Vec::new());
+    for (dec, e) in plan.decisions.iter().zip(&d.elements) {
+        if let Some(LeftOut::Thinned { every }) = dec.left_out {
+            thinned.push(format!("#{}", e.name));
+            if !steps.contains(&every) {
+                steps.push(every);
+            }
+        }
+    }
+    if !thinned.is_empty() {
+        steps.sort_unstable();
+        let nth = |n: &u8| if *n == 2 { "every other one".to_string() } else { format!("every {n}th") };
+        let steps: Vec<String> = steps.iter().map(nth).collect();
+        diags.push(
+            Diagnostic::note(
+                "T0328",
+                format!(
+                    "{} tick label(s) left out: axes whose labels' braille would run together were thinned to {}, so that the labels kept stand clear of each other ({})",
+                    thinned.len(),
+                    steps.join(" or "),
+                    first_three(&thinned)
+                ),
+            )
+            .with_help("to feel every label, take part of the chart with --region, or use a larger surface"),
         );
     }
     let text: Vec<String> = plan

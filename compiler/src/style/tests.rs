@@ -623,3 +623,98 @@ fn braille_keeps_off_figures_it_was_not_drawn_on() {
     let across = &plan_of(&d).decisions[2];
     assert!(across.braille && across.braille_shift == (0.0, 0.0) && across.key.is_none(), "{across:?}");
 }
+
+/// An axis of tick labels: `values` at `step` mm along a row at y = 90 mm
+/// (or down a column at x = 40 mm, each label ending there).
+fn axis(values: &[&str], step: f64, column: bool) -> Vec<Element> {
+    values
+        .iter()
+        .enumerate()
+        .map(|(k, v)| {
+            let mut e = if column {
+                text(&format!("t{k}"), v, 40.0, 10.0 + step * k as f64)
+            } else {
+                text(&format!("t{k}"), v, 10.0 + step * k as f64, 90.0)
+            };
+            if let (true, Shape::Text(t)) = (column, &mut e.shape) {
+                t.runs[0].anchor = 1.0;
+            }
+            e
+        })
+        .collect()
+}
+
+/// The element numbers a plan left out as thinned, with their steps.
+fn thinned(plan: &Plan) -> Vec<(usize, u8)> {
+    plan.decisions
+        .iter()
+        .enumerate()
+        .filter_map(|(i, d)| match d.left_out {
+            Some(LeftOut::Thinned { every }) => Some((i, every)),
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn an_axis_whose_labels_would_run_together_keeps_them_at_an_even_step() {
+    // 0 to 100 every 8 mm: "100" is four cells (over 20 mm), so every other
+    // label still meets the next kept one, and every fifth stands clear.
+    let values = ["0", "10", "20", "30", "40", "50", "60", "70", "80", "90", "100"];
+    let mut d = Drawing { page: page(200.0, 100.0), elements: axis(&values, 8.0, false), ..Default::default() };
+    let mut diags = Vec::new();
+    let plan = apply(&mut d, &stress2(), &mut diags);
+    let left = thinned(&plan);
+    let kept: Vec<usize> = (0..values.len()).filter(|i| !left.iter().any(|l| l.0 == *i)).collect();
+    assert_eq!(kept, [0, 5, 10], "{left:?}");
+    assert!(left.iter().all(|l| l.1 == 5), "{left:?}");
+    // The kept labels are written, and nothing else piles up under the axis.
+    assert!(kept.iter().all(|&i| plan.decisions[i].braille), "{:?}", plan.decisions);
+    let notes: Vec<_> = diags.iter().filter(|d| d.code == "T0328").collect();
+    assert_eq!(notes.len(), 1, "{diags:#?}");
+    assert!(notes[0].message.starts_with("8 tick label(s) left out") && notes[0].message.contains("to every 5th,"));
+    assert!(notes[0].message.contains("#t1, #t2, #t3 and 5 more"), "{}", notes[0].message);
+
+    // A column of values 4 mm apart (braille is a cell over 6 mm high): every fifth.
+    let values = ["0", "1", "2", "3", "4", "5", "6", "7", "8", "9", "10"];
+    let d = Drawing { page: page(200.0, 100.0), elements: axis(&values, 4.0, true), ..Default::default() };
+    let left = thinned(&plan_of(&d));
+    assert_eq!(left.len(), 8, "{left:?}");
+    assert!(left.iter().all(|&(i, every)| i % 5 != 0 && every == 5), "{left:?}");
+}
+
+#[test]
+fn labels_that_stand_clear_or_are_not_ticks_are_not_thinned() {
+    // Far enough apart for their braille.
+    let values = ["0", "10", "20", "30", "40", "50"];
+    let d = Drawing { page: page(200.0, 100.0), elements: axis(&values, 30.0, false), ..Default::default() };
+    let plan = plan_of(&d);
+    assert!(thinned(&plan).is_empty());
+    assert!(plan.decisions.iter().all(|d| d.braille), "{:?}", plan.decisions);
+    // Words as close: names, not an axis's values.
+    let words = ["Lyon", "Nice", "Metz", "Caen", "Brest", "Dijon"];
+    assert!(
+        thinned(&plan_of(&Drawing {
+            page: page(200.0, 100.0),
+            elements: axis(&words, 8.0, false),
+            ..Default::default()
+        }))
+        .is_empty()
+    );
+    // Three values are not an axis; nor are values unevenly spaced.
+    assert!(
+        thinned(&plan_of(&Drawing {
+            page: page(200.0, 100.0),
+            elements: axis(&values[..3], 8.0, false),
+            ..Default::default()
+        }))
+        .is_empty()
+    );
+    let mut uneven = axis(&values, 8.0, false);
+    if let Shape::Text(t) = &mut uneven[5].shape {
+        t.runs[0].x_mm += 30.0;
+    }
+    assert!(
+        thinned(&plan_of(&Drawing { page: page(200.0, 100.0), elements: uneven, ..Default::default() })).is_empty()
+    );
+}

@@ -122,3 +122,20 @@ fn a_circle_far_larger_than_the_page_compiles() {
     let c = compile(&svg);
     assert!(c.bundle.is_some(), "{:#?}", c.diagnostics);
 }
+
+/// The `svg` fuzz target's seeds (the drawing generators' classes, written
+/// by `cargo run --example fuzz_seeds`) are taken by the target as the
+/// drawings they are, and each compiles without an internal error; and
+/// bytes that are not an SVG document still go to the generator.
+#[test]
+fn the_fuzz_seeds_compile_as_they_are() {
+    let seeds = crate::realistic::drawings::fuzz_seeds();
+    assert!(seeds.len() >= 7, "{} seeds", seeds.len());
+    for (name, svg) in &seeds {
+        let taken = svggen::drawing(svg.as_bytes());
+        assert_eq!(&taken, svg, "{name}: the target would not compile the seed as it is");
+        compiles_without_internal_error(&taken);
+    }
+    let bytes = [7u8, 1, 200, 3];
+    assert_eq!(svggen::drawing(&bytes), svggen::svg(&mut Choices::new(&bytes)));
+}
