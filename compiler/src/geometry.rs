@@ -21,7 +21,7 @@ use resvg::tiny_skia::{Path, PathSegment, Transform};
 mod area;
 pub(crate) mod crossings;
 pub(crate) mod overlay;
-pub use area::filled_area;
+pub use area::{filled_area, filled_area_within};
 
 /// Largest distance, in millimetres, between a curve and the polyline that replaces it.
 ///

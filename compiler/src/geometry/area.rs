@@ -56,6 +56,31 @@ struct Edge {
 /// assert!((filled_area(&[square(0.0), square(5.0)], FillRule::EvenOdd) - 100.0).abs() < 1e-9);
 /// ```
 pub fn filled_area(pls: &[Polyline], rule: FillRule) -> f64 {
+    area_in(pls, rule, None)
+}
+
+/// The area, in mm², that the shape covers under `rule` inside the box
+/// `(x0, y0, x1, y1)`: the same sweep with each row's covered spans cut to
+/// the box and the rows to its height. Exact in the same sense as
+/// [`filled_area`]: the slabs also break where an edge crosses the box's
+/// sides, so that the covered length stays linear within each. (No ring is
+/// clipped: a clipped scribble would still cross itself as often, and an
+/// overlay's work follows its crossings.)
+///
+/// ```
+/// use taxel_compiler::geometry::{FillRule, Polyline, filled_area_within};
+///
+/// // A diamond of area 200 mm², half of it right of x = 10.
+/// let diamond = Polyline { points: vec![(10.0, 0.0), (20.0, 10.0), (10.0, 20.0), (0.0, 10.0)], closed: true };
+/// let right = filled_area_within(&[diamond], FillRule::NonZero, (10.0, -5.0, 30.0, 25.0));
+/// assert!((right - 100.0).abs() < 1e-9);
+/// ```
+pub fn filled_area_within(pls: &[Polyline], rule: FillRule, window: (f64, f64, f64, f64)) -> f64 {
+    area_in(pls, rule, Some(window))
+}
+
+/// [`filled_area`], within `window` where there is one.
+fn area_in(pls: &[Polyline], rule: FillRule, window: Option<(f64, f64, f64, f64)>) -> f64 {
     let mut edges: Vec<Edge> = Vec::with_capacity(pls.iter().map(|p| p.points.len()).sum());
     for pl in pls {
         let n = pl.points.len();
@@ -75,14 +100,33 @@ pub fn filled_area(pls: &[Polyline], rule: FillRule) -> f64 {
         return 0.0;
     }
     edges.sort_by(|a, b| a.y0.total_cmp(&b.y0));
-    let rows = rows_of(&edges);
-    sweep(&edges, &rows, rule)
+    let rows = rows_of(&edges, window);
+    let xs = window.map_or((f64::NEG_INFINITY, f64::INFINITY), |w| (w.0, w.2));
+    sweep(&edges, &rows, rule, xs)
 }
 
 /// The rows `(y, weight)` to integrate over: the slabs' midpoints where they
 /// fit the budget, else evenly spaced rows.
-fn rows_of(edges: &[Edge]) -> Vec<(f64, f64)> {
+fn rows_of(edges: &[Edge], window: Option<(f64, f64, f64, f64)>) -> Vec<(f64, f64)> {
     let mut ys: Vec<f64> = edges.iter().flat_map(|e| [e.y0, e.y1]).collect();
+    if let Some((x0, y0, x1, y1)) = window {
+        // Where an edge crosses the window's sides, the covered length within
+        // it bends: those heights are slab ends too. The window's own top and
+        // bottom bound the rows.
+        for e in edges {
+            for x in [x0, x1] {
+                let y = e.y0 + (x - e.x0) / e.slope;
+                if e.slope != 0.0 && y > e.y0 && y < e.y1 {
+                    ys.push(y);
+                }
+            }
+        }
+        ys.extend([y0, y1]);
+        ys.retain(|&y| y >= y0 && y <= y1);
+        if ys.len() < 2 {
+            return Vec::new();
+        }
+    }
     ys.sort_by(f64::total_cmp);
     ys.dedup();
     let (lo, hi) = (ys[0], ys[ys.len() - 1]);
@@ -99,11 +143,10 @@ fn rows_of(edges: &[Edge]) -> Vec<(f64, f64)> {
         total += split(w[1] - w[0]);
     }
     first_row.push(total);
-    // Rows each edge spans: those of the slabs between its ends.
-    let slab_work: usize = edges
-        .iter()
-        .map(|e| first_row[ys.partition_point(|&y| y < e.y1)] - first_row[ys.partition_point(|&y| y < e.y0)])
-        .sum();
+    // Rows each edge spans: those of the slabs between its ends (within
+    // the window's rows: an edge past them spans its last).
+    let row_at = |y: f64| first_row[ys.partition_point(|&v| v < y).min(ys.len() - 1)];
+    let slab_work: usize = edges.iter().map(|e| row_at(e.y1) - row_at(e.y0)).sum();
     if slab_work <= AREA_WORK {
         return ys
             .windows(2)
@@ -123,7 +166,7 @@ fn rows_of(edges: &[Edge]) -> Vec<(f64, f64)> {
 
 /// The covered length of each row under `rule`, times its weight, summed.
 /// `edges` are sorted by their lower end and `rows` ascend.
-fn sweep(edges: &[Edge], rows: &[(f64, f64)], rule: FillRule) -> f64 {
+fn sweep(edges: &[Edge], rows: &[(f64, f64)], rule: FillRule, (x0, x1): (f64, f64)) -> f64 {
     let mut active: Vec<Edge> = Vec::new();
     let mut next = 0;
     let mut xs: Vec<(f64, i32)> = Vec::new();
@@ -147,7 +190,11 @@ fn sweep(edges: &[Edge], rows: &[(f64, f64)], rule: FillRule) -> f64 {
                 FillRule::EvenOdd => crossings % 2 == 1,
             };
             if inside {
-                total += (pair[1].0 - pair[0].0) * weight;
+                // Cut to the window (a whole row's span where there is none).
+                let (a, b) = (pair[0].0.max(x0), pair[1].0.min(x1));
+                if b > a {
+                    total += (b - a) * weight;
+                }
             }
         }
     }
@@ -280,7 +327,7 @@ mod tests {
             })
             .collect();
         edges.sort_by(|a, b| a.y0.total_cmp(&b.y0));
-        let rows = rows_of(&edges);
+        let rows = rows_of(&edges, None);
         assert!(rows.len() >= MIN_EVEN_ROWS, "{} rows", rows.len());
         let w = work(&edges, &rows);
         assert!(w <= AREA_WORK, "{w} crossings in {} rows", rows.len());
@@ -295,5 +342,68 @@ mod tests {
             .count();
         let sampled = inside as f64 * cell * cell;
         assert!((got - sampled).abs() < 0.03 * 10_000.0, "{got} against {sampled} sampled");
+    }
+
+    /// The area of a simple ring inside a box, independently: the ring
+    /// clipped to the box side by side (Sutherland and Hodgman, exact for a
+    /// convex window), then the shoelace formula.
+    fn clipped_shoelace(points: &[(f64, f64)], (x0, y0, x1, y1): (f64, f64, f64, f64)) -> f64 {
+        let mut ring = points.to_vec();
+        let sides: [&dyn Fn((f64, f64)) -> f64; 4] = [&|p| p.0 - x0, &|p| p.1 - y0, &|p| x1 - p.0, &|p| y1 - p.1];
+        for f in sides {
+            let n = ring.len();
+            let mut next = Vec::new();
+            for k in 0..n {
+                let (a, c) = (ring[k], ring[(k + 1) % n]);
+                if f(a) >= 0.0 {
+                    next.push(a);
+                }
+                if (f(a) >= 0.0) != (f(c) >= 0.0) {
+                    let t = f(a) / (f(a) - f(c));
+                    next.push((a.0 + t * (c.0 - a.0), a.1 + t * (c.1 - a.1)));
+                }
+            }
+            ring = next;
+        }
+        if ring.len() < 3 { 0.0 } else { shoelace(&ring) }
+    }
+
+    #[test]
+    fn the_area_within_a_box_is_exact_for_rings_that_do_not_cross_themselves() {
+        let mut s = 0x0123_4567_89ab_cdef_u64;
+        let mut next = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..200 {
+            // A star-shaped ring (so simple) of 3 to 40 points round (50, 50).
+            let n = 3 + (next() * 38.0) as usize;
+            let pts: Vec<(f64, f64)> = (0..n)
+                .map(|k| {
+                    let a = (k as f64 + 0.8 * next()) / n as f64 * std::f64::consts::TAU;
+                    let r = 5.0 + 40.0 * next();
+                    (50.0 + r * a.cos(), 50.0 + r * a.sin())
+                })
+                .collect();
+            let (xa, xb, ya, yb) = (next() * 100.0, next() * 100.0, next() * 100.0, next() * 100.0);
+            let window = (xa.min(xb), ya.min(yb), xa.max(xb), ya.max(yb));
+            let want = clipped_shoelace(&pts, window);
+            for rule in [FillRule::NonZero, FillRule::EvenOdd] {
+                let got = filled_area_within(&[ring(&pts)], rule, window);
+                assert!(
+                    (got - want).abs() <= 1e-9 * shoelace(&pts),
+                    "{got} against {want}, window {window:?}, {pts:?}"
+                );
+            }
+        }
+        // A box that holds it all is the whole area, to the bit; one beside it, nothing.
+        let pts = [(0.0, 0.0), (10.0, 0.0), (3.0, 8.0)];
+        assert_eq!(
+            filled_area_within(&[ring(&pts)], FillRule::NonZero, (-1.0, -1.0, 11.0, 9.0)),
+            filled_area(&[ring(&pts)], FillRule::NonZero)
+        );
+        assert_eq!(filled_area_within(&[ring(&pts)], FillRule::NonZero, (20.0, 0.0, 30.0, 9.0)), 0.0);
     }
 }

@@ -6,7 +6,7 @@ use taxel_format::DeviceProfile;
 
 use super::{BACKGROUND_SHARE, LIGHT_GUIDE, MARK_MM, WHITE, visible};
 use crate::drawing::{Drawing, Element, Rgba, Shape};
-use crate::geometry::{FillRule, Polyline, filled_area};
+use crate::geometry::filled_area_within;
 use crate::spatial::{self, Bbox};
 
 /// What the elements lie on.
@@ -83,7 +83,7 @@ fn backgrounds(d: &Drawing, page: Bbox, sheet: Bbox) -> Vec<usize> {
     // What a shape covers is its own area on the page, not its box's: a flag's
     // cross or a logo's disc spans the page without covering it.
     let covered = |i: usize| match (&d.elements[i].shape, boxes[i]) {
-        (Shape::Path(p), Some(seen)) => area_within(&p.outline, p.fill_rule, seen),
+        (Shape::Path(p), Some(seen)) => filled_area_within(&p.outline, p.fill_rule, seen),
         _ => 0.0,
     };
     for (i, b) in boxes.iter().enumerate() {
@@ -134,40 +134,6 @@ fn very_light(e: &Element) -> bool {
         let a = c[3] as f64 / 255.0;
         c[..3].iter().all(|&v| a * v as f64 + (1.0 - a) * 255.0 >= LIGHT_GUIDE as f64)
     })
-}
-
-/// Area a fill of `polys` under `rule` covers inside the box `b`: each ring
-/// clipped to the box (Sutherland and Hodgman: exact for a convex window),
-/// then [`filled_area`].
-fn area_within(polys: &[Polyline], rule: FillRule, b: Bbox) -> f64 {
-    // The window's four sides as "keep where f(p) >= 0" and the crossing with the side.
-    type Side = (fn((f64, f64), f64) -> f64, f64);
-    let sides: [Side; 4] =
-        [(|p, x0| p.0 - x0, b.0), (|p, y0| p.1 - y0, b.1), (|p, x1| x1 - p.0, b.2), (|p, y1| y1 - p.1, b.3)];
-    let clipped: Vec<Polyline> = polys
-        .iter()
-        .map(|pl| {
-            let mut ring = pl.points.clone();
-            for (f, v) in sides {
-                let n = ring.len();
-                let mut next = Vec::with_capacity(n + 4);
-                for k in 0..n {
-                    let (a, c) = (ring[k], ring[(k + 1) % n]);
-                    let (fa, fc) = (f(a, v), f(c, v));
-                    if fa >= 0.0 {
-                        next.push(a);
-                    }
-                    if (fa >= 0.0) != (fc >= 0.0) {
-                        let t = fa / (fa - fc);
-                        next.push((a.0 + t * (c.0 - a.0), a.1 + t * (c.1 - a.1)));
-                    }
-                }
-                ring = next;
-            }
-            Polyline { points: ring, closed: true }
-        })
-        .collect();
-    filled_area(&clipped, rule)
 }
 
 /// Whether one of the element's clip regions lies wholly away from it.
