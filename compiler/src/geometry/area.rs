@@ -205,6 +205,16 @@ fn sweep(edges: &[Edge], rows: &[(f64, f64)], rule: FillRule, (x0, x1): (f64, f6
 mod tests {
     use super::*;
 
+    /// Uniform numbers in `[0, scale)` from a xorshift generator seeded with `seed`.
+    fn uniform(mut s: u64, scale: f64) -> impl FnMut() -> f64 {
+        move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64 * scale
+        }
+    }
+
     fn ring(points: &[(f64, f64)]) -> Polyline {
         Polyline { points: points.to_vec(), closed: true }
     }
@@ -276,13 +286,7 @@ mod tests {
         // 3,000 random segments over a 100 mm square: far over the budget
         // for slabs, so evenly spaced rows; the reference is the winding
         // rule sampled on a fine grid.
-        let mut s = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = move || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 11) as f64 / (1u64 << 53) as f64 * 100.0
-        };
+        let mut next = uniform(0x2545_f491_4f6c_dd1d_u64, 100.0);
         let pts: Vec<_> = (0..3_000).map(|_| (next(), next())).collect();
         let shape = [ring(&pts)];
         for rule in [FillRule::NonZero, FillRule::EvenOdd] {
@@ -311,13 +315,7 @@ mod tests {
     fn a_dense_scribble_takes_at_most_the_work_budget() {
         // 60,000 random segments over a 100 mm square cross each row some
         // 20,000 times: 256 rows would be five times the budget.
-        let mut s = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut next = move || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 11) as f64 / (1u64 << 53) as f64 * 100.0
-        };
+        let mut next = uniform(0x9e37_79b9_7f4a_7c15_u64, 100.0);
         let pts: Vec<_> = (0..60_000).map(|_| (next(), next())).collect();
         let mut edges: Vec<Edge> = (0..pts.len())
             .filter_map(|i| {
@@ -370,13 +368,7 @@ mod tests {
 
     #[test]
     fn the_area_within_a_box_is_exact_for_rings_that_do_not_cross_themselves() {
-        let mut s = 0x0123_4567_89ab_cdef_u64;
-        let mut next = move || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = uniform(0x0123_4567_89ab_cdef_u64, 1.0);
         for _ in 0..200 {
             // A star-shaped ring (so simple) of 3 to 40 points round (50, 50).
             let n = 3 + (next() * 38.0) as usize;
