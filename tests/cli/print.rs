@@ -271,6 +271,50 @@ fn hostile_print_requests_are_refused_cleanly() {
     let o = taxel(&["build", plain.to_str().unwrap(), "--profile", "print3d", "-o", &out("p.stl")]);
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
     assert!(!dir.path().join("p.stl").exists());
+    // A drawing 4 m wide would take more than a hundred pages: exit 1, no file, the way out.
+    let wall = dir.path().join("wall.svg");
+    std::fs::write(&wall, r#"<svg xmlns="http://www.w3.org/2000/svg" width="4000mm" height="3000mm" viewBox="0 0 4000 3000"><rect x="10" y="10" width="100" height="100" fill="none" stroke="black" data-tactile="vibrate()"/></svg>"#).unwrap();
+    let o = taxel(&["build", wall.to_str().unwrap(), "--profile", "swell-a4", "-o", &out("w.pdf")]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("T0213") && text(&o).contains("--fit"), "{}", text(&o));
+    assert!(!dir.path().join("w.pdf").exists());
+}
+
+/// A wall map larger than the paper, built without `--fit`, prints at its
+/// size on the pages that cover it: poppler reads six A4 pages, each the
+/// paper's size, and the note says so.
+#[test]
+fn a_large_drawing_prints_on_several_pages() {
+    if !poppler("pdfinfo") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("wall.svg");
+    std::fs::write(
+        &svg,
+        r##"<svg xmlns="http://www.w3.org/2000/svg" width="500mm" height="300mm" viewBox="0 0 500 300">
+  <rect x="10" y="10" width="480" height="280" fill="none" stroke="black" data-tactile="vibrate()"/>
+  <circle cx="250" cy="150" r="100" fill="#c33" data-tactile="grating(wavelength: 6mm)"/>
+</svg>"##,
+    )
+    .unwrap();
+    let pdf = dir.path().join("wall.pdf");
+    let o = taxel(&["build", svg.to_str().unwrap(), "--profile", "swell-a4", "-o", pdf.to_str().unwrap(), "-v"]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("T0212") && text(&o).contains("6 pages, 3 across and 2 down"), "{}", text(&o));
+    let info = Command::new("pdfinfo").arg(&pdf).output().unwrap();
+    let info = String::from_utf8_lossy(&info.stdout);
+    let pages = info.lines().find_map(|l| l.strip_prefix("Pages:")).map(str::trim);
+    assert_eq!(pages, Some("6"), "{info}");
+    // Every page is A4.
+    let o = Command::new("pdfinfo").args(["-f", "1", "-l", "6"]).arg(&pdf).output().unwrap();
+    let sizes: Vec<String> = String::from_utf8_lossy(&o.stdout)
+        .lines()
+        .filter(|l| l.starts_with("Page") && l.contains("size:"))
+        .map(String::from)
+        .collect();
+    assert_eq!(sizes.len(), 6, "{sizes:?}");
+    assert!(sizes.iter().all(|l| l.contains("595.276 x 841.89")), "{sizes:?}");
 }
 
 #[test]

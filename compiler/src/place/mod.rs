@@ -7,7 +7,7 @@
 //! the design rules judge the drawing at the size it will be felt.
 
 use rayon::prelude::*;
-use taxel_format::DeviceProfile;
+use taxel_format::{DeviceProfile, FamilyParams};
 
 use crate::diagnostic::{Diagnostic, number};
 use crate::drawing::{Clip, Drawing, Element, Shape};
@@ -202,8 +202,9 @@ pub fn placement(
 /// Applies `--region` and `--fit` (`region` and `fit`) to `d` for a device of
 /// `profile`'s surface, then leaves out what lies beyond the surface. A region
 /// implies fitting. Without fitting, a page larger than the surface gives one
-/// warning that suggests `--fit`. Returns `false` (with an error) when the
-/// region cannot be taken.
+/// warning that suggests `--fit`, except on paper, where it is printed on
+/// several pages ([`print_pages`]). Returns `false` (with an error) when the
+/// region cannot be taken or the drawing would take too many pages.
 pub fn apply(
     d: &mut Drawing,
     profile: &DeviceProfile,
@@ -271,6 +272,9 @@ pub fn apply(
     }
     let surface: Bbox = (0.0, 0.0, sw, sh);
     let (pw, ph) = (d.page.width_mm, d.page.height_mm);
+    if matches!(profile.params, FamilyParams::Print(_)) && place.is_none() {
+        return page_for_print(d, profile, diags);
+    }
     let dropped = crop(d, surface);
     if pw > sw + SLACK_MM || ph > sh + SLACK_MM {
         let left = if dropped > 0 { format!("; {dropped} element(s) beyond it are left out") } else { String::new() };
@@ -283,6 +287,71 @@ pub fn apply(
                 profile.name
             ),
         ));
+    }
+    true
+}
+
+/// Most pages a drawing is printed on (a 10 x 10 grid of sheets, a wall
+/// map of nearly 2 x 3 m on A4): beyond it the drawing is refused (T0213).
+pub const MAX_PRINT_PAGES: usize = 100;
+
+/// The pages `(across, down)` a drawing of `page` size takes on a print
+/// `profile` whose printable area is its surface: one when it fits (within
+/// half a millimetre), else as many whole printable areas as cover it,
+/// read row by row from the top left. `None` for a degenerate size.
+pub fn print_pages(page: (f64, f64), profile: &DeviceProfile) -> Option<(usize, usize)> {
+    let (sw, sh) = (profile.surface_w_mm as f64, profile.surface_h_mm as f64);
+    let count = |len: f64, side: f64| {
+        let n = ((len - SLACK_MM) / side).ceil().max(1.0);
+        (n.is_finite() && side > 0.0).then_some(n.min(1e9) as usize)
+    };
+    Some((count(page.0, sw)?, count(page.1, sh)?))
+}
+
+/// Without `--fit` or `--region`, a print drawing keeps its size: what lies
+/// on its page is kept (and only that), and a page larger than the paper's
+/// printable area is printed on several sheets (note T0212), as a
+/// transcriber tiles a wall map; more than [`MAX_PRINT_PAGES`] is refused
+/// (T0213).
+fn page_for_print(d: &mut Drawing, profile: &DeviceProfile, diags: &mut Vec<Diagnostic>) -> bool {
+    let (pw, ph) = (d.page.width_mm, d.page.height_mm);
+    let Some((across, down)) = print_pages((pw, ph), profile) else { return true };
+    let pages = across.saturating_mul(down);
+    if pages > MAX_PRINT_PAGES {
+        diags.push(
+            Diagnostic::error(
+                "T0213",
+                format!(
+                    "the drawing ({} x {} mm) would take {pages} pages of {}'s printable area ({} x {} mm), \
+                     more than {MAX_PRINT_PAGES}",
+                    number(pw, 1),
+                    number(ph, 1),
+                    profile.name,
+                    profile.surface_w_mm,
+                    profile.surface_h_mm
+                ),
+            )
+            .with_help("build with --fit to scale it to one page, or --region to take part of it"),
+        );
+        return false;
+    }
+    crop(d, (0.0, 0.0, pw, ph));
+    if pages > 1 {
+        diags.push(
+            Diagnostic::note(
+                "T0212",
+                format!(
+                    "the drawing ({} x {} mm) is larger than {}'s printable area ({} x {} mm): it is printed at \
+                     its size on {pages} pages, {across} across and {down} down, read row by row",
+                    number(pw, 1),
+                    number(ph, 1),
+                    profile.name,
+                    profile.surface_w_mm,
+                    profile.surface_h_mm
+                ),
+            )
+            .with_help("build with --fit to scale it to one page"),
+        );
     }
     true
 }

@@ -52,6 +52,7 @@
 //! ```
 
 mod braille;
+mod clip;
 mod grid;
 mod marks;
 mod pdf;
@@ -136,8 +137,13 @@ pub struct Sheet {
     pub params: PrintParams,
     /// Paper size, `(width, height)` in mm.
     pub paper_mm: (f64, f64),
-    /// The pages: the graphic first, then the key when there is one.
+    /// The pages: the graphic's first (`tiles.0 * tiles.1` of them, row by
+    /// row), then the key's when there is one.
     pub pages: Vec<Vec<Mark>>,
+    /// The pages the graphic is printed on, `(across, down)`: `(1, 1)` when
+    /// it fits the printable area, more for a larger drawing printed at its
+    /// size (note T0212).
+    pub tiles: (usize, usize),
     /// The texture each grated element got, by element index.
     pub textures: Vec<(usize, TextureId)>,
     /// The drawing's title (empty when none).
@@ -148,6 +154,19 @@ impl Sheet {
     /// The medium.
     pub fn medium(&self) -> Medium {
         self.params.medium
+    }
+
+    /// Where each page lies when the pages are shown together (the preview,
+    /// a relief's plates): `(column, row)`, the graphic's pages as they
+    /// join, the key's in a column to their right.
+    pub fn layout(&self) -> Vec<(usize, usize)> {
+        let (across, down) = (self.tiles.0.max(1), self.tiles.1.max(1));
+        (0..self.pages.len())
+            .map(|n| match n.checked_sub(across * down) {
+                None => (n % across, n / across),
+                Some(k) => (across + k / down, k % down),
+            })
+            .collect()
     }
 
     /// Where the printable area starts on the paper, in mm (the margin).
@@ -254,8 +273,10 @@ pub fn legalise_with(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mu
     let textures = texture::assign(drawing, &params, diags);
     // Labels first, so that textures are cleared around them.
     let mut notes = crate::braille::Notes::default();
+    let opaque = crate::drawing::OpaqueFills::of(drawing);
     let labels = braille::labels(drawing, &params, origin, &mut braille::Cx { opts, notes: &mut notes, diags });
     for (i, e) in drawing.elements.iter().enumerate().filter(|(_, e)| e.visible) {
+        let first = b.marks.len();
         for style in &e.styles {
             match (style, &e.shape) {
                 (Style::Vibrate(v), Shape::Path(p)) => b.outline(i, &p.outline, v),
@@ -263,7 +284,15 @@ pub fn legalise_with(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mu
                     if let Some(&(_, t)) = textures.iter().find(|(k, _)| *k == i) {
                         let outlined = e.styles.iter().any(|s| matches!(s, Style::Vibrate(_) | Style::Dots(_)));
                         let fill = texture::Fill { texture: t, outlined, clear: &labels.boxes };
-                        b.marks.extend(texture::fill(&params, origin, i, p, fill));
+                        let mut marks = texture::fill(&params, origin, i, p, fill);
+                        // Not where opaque fills painted over it hide it (a
+                        // legend's box, an inset), as on the pin arrays.
+                        for j in opaque.above(drawing, &[i]) {
+                            let over = &drawing.elements[j];
+                            let Shape::Path(o) = &over.shape else { continue };
+                            marks = clip::cut(marks, &clip::Region::new(&o.outline, o.fill_rule, origin).hiding());
+                        }
+                        b.marks.extend(marks);
                         rules::texture_area(&params, e, p, diags);
                     }
                 }
@@ -286,12 +315,23 @@ pub fn legalise_with(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mu
                 _ => {}
             }
         }
+        // Kept only inside its clip regions (and the crop to its page).
+        if let Shape::Path(p) = &e.shape {
+            for c in &p.clips {
+                let region = clip::Region::new(&c.outline, c.fill_rule, origin);
+                let cut = clip::cut(b.marks.split_off(first), &region);
+                b.marks.extend(cut);
+            }
+        }
     }
     b.finish_notes(diags);
     let mut page = b.marks;
     page.extend(labels.marks.iter().cloned());
     rules::check(&params, drawing, &page, &labels, diags);
-    let mut pages = vec![page];
+    let tiles = crate::place::print_pages((drawing.page.width_mm, drawing.page.height_mm), profile)
+        .filter(|&(a, d)| a * d <= crate::place::MAX_PRINT_PAGES)
+        .unwrap_or((1, 1));
+    let mut pages = if tiles == (1, 1) { vec![page] } else { tile(page, tiles, &params, origin) };
     let key = braille::key_page(drawing, &params, origin, &mut braille::Cx { opts, notes: &mut notes, diags });
     notes.emit(diags);
     if !key.is_empty() {
@@ -300,7 +340,7 @@ pub fn legalise_with(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mu
     if params.medium == Medium::Emboss {
         pages = pages.into_iter().map(|p| grid::snap(&params, origin, p, drawing, diags)).collect();
     }
-    if pages[0].is_empty() {
+    if pages[..tiles.0 * tiles.1].iter().all(Vec::is_empty) {
         if !crate::diagnostic::has_errors(diags) {
             let help = if drawing.only_pictures() {
                 crate::drawing::PICTURES_HELP
@@ -320,9 +360,43 @@ pub fn legalise_with(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mu
         params,
         paper_mm: (params.paper_w_mm as f64, params.paper_h_mm as f64),
         pages,
+        tiles,
         textures,
         title: drawing.title.clone(),
     })
+}
+
+/// The graphic's marks `page` (paper mm, the drawing at its size from
+/// `origin`) on `tiles` pages `(across, down)`, each the printable area's
+/// window of the drawing moved onto its own sheet, row by row. Marks are cut
+/// at the windows' edges, but a braille label is kept whole on the page
+/// where its first dot falls: a word cut in two cannot be read.
+fn tile(page: Vec<Mark>, (across, down): (usize, usize), p: &PrintParams, origin: (f64, f64)) -> Vec<Vec<Mark>> {
+    let (sw, sh) = (p.surface_mm().0 as f64, p.surface_mm().1 as f64);
+    let (mut braille, graphic): (Vec<Mark>, Vec<Mark>) =
+        page.into_iter().partition(|m| m.level == Level::Braille && matches!(m.shape, MarkShape::Dot { .. }));
+    let index = |c: (f64, f64)| {
+        let i = ((c.0 - origin.0) / sw).floor().clamp(0.0, (across - 1) as f64) as usize;
+        let j = ((c.1 - origin.1) / sh).floor().clamp(0.0, (down - 1) as f64) as usize;
+        j * across + i
+    };
+    // Each label's page: that of its first dot (braille marks come label by label).
+    let mut label_page: std::collections::HashMap<Option<usize>, usize> = Default::default();
+    let mut pages: Vec<Vec<Mark>> = vec![Vec::new(); across * down];
+    for m in braille.drain(..) {
+        let MarkShape::Dot { centre, .. } = m.shape else { continue };
+        let n = *label_page.entry(m.element).or_insert_with(|| index(centre));
+        pages[n].push(m);
+    }
+    for (n, marks) in pages.iter_mut().enumerate() {
+        let (i, j) = ((n % across) as f64, (n / across) as f64);
+        let window = (origin.0 + i * sw, origin.1 + j * sh, origin.0 + (i + 1.0) * sw, origin.1 + (j + 1.0) * sh);
+        let mut cut = clip::cut(graphic.clone(), &clip::Region::rect(window));
+        cut.append(marks);
+        clip::shift(&mut cut, (-i * sw, -j * sh));
+        *marks = cut;
+    }
+    pages
 }
 
 #[cfg(test)]

@@ -1,7 +1,7 @@
 //! A picture of a sheet as a reader feels it: the paper, its raised marks
 //! shaded as relief lit from the top left (darker where higher: on a relief
-//! and a multi-level embosser, textures lower than lines), pages side by
-//! side (the graphic, then its key).
+//! and a multi-level embosser, textures lower than lines), its pages as
+//! [`Sheet::layout`] places them (the graphic's as they join, then its key).
 
 use super::raster::{Frame, coverage};
 use super::{Level, Sheet};
@@ -33,16 +33,18 @@ fn relative(sheet: &Sheet) -> [f32; 3] {
 
 /// Draws `sheet`.
 pub fn render(sheet: &Sheet) -> Picture {
-    let pages = sheet.pages.len().max(1) as f64;
+    let layout = sheet.layout();
+    let across = layout.iter().map(|p| p.0 + 1).max().unwrap_or(1) as f64;
+    let down = layout.iter().map(|p| p.1 + 1).max().unwrap_or(1) as f64;
     let (pw, ph) = sheet.paper_mm;
-    let total_w = pw * pages + GAP_MM * (pages + 1.0);
-    let total_h = ph + 2.0 * GAP_MM;
+    let total_w = pw * across + GAP_MM * (across + 1.0);
+    let total_h = ph * down + GAP_MM * (down + 1.0);
     let k = PX_PER_MM.min(MAX_SIDE_PX / total_w).min(MAX_SIDE_PX / total_h);
     let (w, h) = ((total_w * k).ceil() as usize, (total_h * k).ceil() as usize);
     let mut rgb = vec![[226u8, 226, 230]; w * h];
     let rel = relative(sheet);
-    for (n, marks) in sheet.pages.iter().enumerate() {
-        let (ox, oy) = (GAP_MM + n as f64 * (pw + GAP_MM), GAP_MM);
+    for (marks, (c, r)) in sheet.pages.iter().zip(layout) {
+        let (ox, oy) = (GAP_MM + c as f64 * (pw + GAP_MM), GAP_MM + r as f64 * (ph + GAP_MM));
         let (pw_px, ph_px) = ((pw * k).round() as usize, (ph * k).round() as usize);
         let frame = Frame { x0: 0.0, y0: 0.0, px: k, w: pw_px as u32, h: ph_px as u32 };
         let Some(cov) = coverage(marks, frame, true) else { continue };

@@ -92,7 +92,7 @@ pub(super) fn coverage(marks: &[Mark], f: Frame, anti_alias: bool) -> Option<Cov
 }
 
 /// The embosser's grid as a grey PNG, a pixel per grid step over the whole
-/// paper (so exactly `25.4 / grid_mm` pixels an inch, recorded in its `pHYs`
+/// paper, its pages one under the other (so exactly `25.4 / grid_mm` pixels an inch, recorded in its `pHYs`
 /// chunk): white where no dot is, darker for higher dots, black the highest.
 pub fn png(sheet: &Sheet) -> Result<Vec<u8>, PrintError> {
     if sheet.medium() != Medium::Emboss {
@@ -103,19 +103,22 @@ pub fn png(sheet: &Sheet) -> Result<Vec<u8>, PrintError> {
     }
     let g = sheet.params.grid_mm as f64;
     let w = (sheet.paper_mm.0 / g * (1.0 + 1e-6)).floor() as u32;
-    let h = (sheet.paper_mm.1 / g * (1.0 + 1e-6)).floor() as u32;
+    let page_h = (sheet.paper_mm.1 / g * (1.0 + 1e-6)).floor() as u32;
+    let h = page_h.saturating_mul(sheet.pages.len().max(1) as u32);
     let levels = sheet.params.dot_levels.max(1) as u32;
     let mut gray = vec![255u8; w as usize * h as usize];
-    // The graphic's page only: the key is a page of its own, and a PNG has one.
-    for m in sheet.pages.first().into_iter().flatten() {
-        let MarkShape::Dot { centre, .. } = m.shape else { continue };
-        let (i, j) = ((centre.0 / g).floor(), (centre.1 / g).floor());
-        if i < 0.0 || j < 0.0 || i >= w as f64 || j >= h as f64 {
-            continue;
+    // Every page, one under the other, as on an embosser's fanfold paper.
+    for (n, page) in sheet.pages.iter().enumerate() {
+        for m in page {
+            let MarkShape::Dot { centre, .. } = m.shape else { continue };
+            let (i, j) = ((centre.0 / g).floor(), (centre.1 / g).floor());
+            if i < 0.0 || j < 0.0 || i >= w as f64 || j >= page_h as f64 {
+                continue;
+            }
+            let k = (j as usize + n * page_h as usize) * w as usize + i as usize;
+            let v = 255 - (255 * grid_level(m.level, levels) / levels) as u8;
+            gray[k] = gray[k].min(v);
         }
-        let k = j as usize * w as usize + i as usize;
-        let v = 255 - (255 * grid_level(m.level, levels) / levels) as u8;
-        gray[k] = gray[k].min(v);
     }
     let mut out = Vec::new();
     {

@@ -24,22 +24,34 @@ use super::{Level, PrintError, Sheet};
 /// for a fine grid over a large plate).
 pub const MAX_RELIEF_VERTICES: u64 = 16_000_000;
 
-/// The relief's height at every grid vertex, `(cols + 1) x (rows + 1)` of
-/// them row by row from the paper's top edge, in mm above z = 0; and the
-/// grid's size in cells `(cols, rows)`.
-pub fn heights(sheet: &Sheet) -> Result<(Vec<f32>, (u32, u32)), PrintError> {
-    let p = &sheet.params;
-    let g = p.grid_mm as f64;
+/// Gap between the plates of a relief printed on several pages (the
+/// graphic's pages and the key), in mm: a slicer splits them into objects.
+pub const PLATE_GAP_MM: f32 = 10.0;
+
+/// The grid's size in cells `(cols, rows)` of one plate of `sheet`.
+fn grid(sheet: &Sheet) -> Result<(u32, u32), PrintError> {
+    let g = sheet.params.grid_mm as f64;
     let cols = (sheet.paper_mm.0 / g * (1.0 + 1e-6)).floor().max(1.0);
     let rows = (sheet.paper_mm.1 / g * (1.0 + 1e-6)).floor().max(1.0);
-    if (cols + 1.0) * (rows + 1.0) > MAX_RELIEF_VERTICES as f64 {
+    let plates = sheet.pages.len().max(1) as f64;
+    if (cols + 1.0) * (rows + 1.0) * plates > MAX_RELIEF_VERTICES as f64 {
         return Err(PrintError(format!(
-            "a relief of {cols} x {rows} cells of {g} mm is more than {MAX_RELIEF_VERTICES} vertices: make grid_mm larger"
+            "a relief of {plates} plate(s) of {cols} x {rows} cells of {g} mm is more than {MAX_RELIEF_VERTICES} vertices: \
+             make grid_mm larger"
         )));
     }
-    let (cols, rows) = (cols as u32, rows as u32);
+    Ok((cols as u32, rows as u32))
+}
+
+/// The relief's height at every grid vertex of the plate of `marks` (a
+/// page of `sheet`), `(cols + 1) x (rows + 1)` of them row by row from the
+/// paper's top edge, in mm above z = 0; and the grid's size in cells
+/// `(cols, rows)`.
+pub fn heights(sheet: &Sheet, marks: &[super::Mark]) -> Result<(Vec<f32>, (u32, u32)), PrintError> {
+    let p = &sheet.params;
+    let g = p.grid_mm as f64;
+    let (cols, rows) = grid(sheet)?;
     let frame = Frame { x0: -g / 2.0, y0: -g / 2.0, px: 1.0 / g, w: cols + 1, h: rows + 1 };
-    let marks = sheet.pages.first().map_or(&[][..], Vec::as_slice);
     let cov = coverage(marks, frame, false).ok_or_else(|| PrintError("cannot draw the relief's raster".into()))?;
     let lift = |l: Level| match l {
         Level::Texture => p.texture_mm,
@@ -56,19 +68,33 @@ pub fn heights(sheet: &Sheet) -> Result<(Vec<f32>, (u32, u32)), PrintError> {
     Ok((z, (cols, rows)))
 }
 
-/// The relief's triangles, each three vertices `[x, y, z]` counter-clockwise seen from outside.
+/// The relief's triangles, each three vertices `[x, y, z]` counter-clockwise
+/// seen from outside: a plate a page, laid out as [`Sheet::layout`] places
+/// the pages, [`PLATE_GAP_MM`] apart (x right, y up).
 pub fn triangles(sheet: &Sheet) -> Result<Vec<[[f32; 3]; 3]>, PrintError> {
     if sheet.medium() != Medium::Relief {
         return Err(PrintError(format!("{} is not a relief: it is written as PDF, not STL", sheet.profile.name)));
     }
-    let (z, (cols, rows)) = heights(sheet)?;
+    let (cols, rows) = grid(sheet)?;
     let g = sheet.params.grid_mm;
+    let (w, h) = (cols as f32 * g + PLATE_GAP_MM, rows as f32 * g + PLATE_GAP_MM);
+    let mut out = Vec::new();
+    for (marks, (c, r)) in sheet.pages.iter().zip(sheet.layout()) {
+        let (z, _) = heights(sheet, marks)?;
+        plate(&z, (cols, rows), g, (c as f32 * w, -(r as f32) * h), &mut out);
+    }
+    Ok(out)
+}
+
+/// The closed mesh of one plate of heights `z` over a grid of `cols x rows`
+/// cells `g` apart, its top-left corner moved by `at` (mm, y up).
+fn plate(z: &[f32], (cols, rows): (u32, u32), g: f32, at: (f32, f32), out: &mut Vec<[[f32; 3]; 3]>) {
     let (nx, ny) = (cols as usize + 1, rows as usize + 1);
     let height = rows as f32 * g;
     // Vertex (i, j) of the grid, j from the paper's top edge; y runs up.
-    let top = |i: usize, j: usize| [i as f32 * g, height - j as f32 * g, z[j * nx + i]];
-    let bottom = |i: usize, j: usize| [i as f32 * g, height - j as f32 * g, 0.0];
-    let mut out = Vec::with_capacity(2 * cols as usize * rows as usize + 6 * (nx + ny));
+    let top = |i: usize, j: usize| [at.0 + i as f32 * g, at.1 + height - j as f32 * g, z[j * nx + i]];
+    let bottom = |i: usize, j: usize| [at.0 + i as f32 * g, at.1 + height - j as f32 * g, 0.0];
+    out.reserve(2 * cols as usize * rows as usize + 6 * (nx + ny));
     for j in 0..rows as usize {
         for i in 0..cols as usize {
             // Seen from above (y up), (i, j+1) -> (i+1, j+1) -> (i+1, j) is counter-clockwise.
@@ -84,7 +110,7 @@ pub fn triangles(sheet: &Sheet) -> Result<Vec<[[f32; 3]; 3]>, PrintError> {
     ring.extend((1..=rows as usize).rev().map(|j| (cols as usize, j)));
     ring.extend((1..=cols as usize).rev().map(|i| (i, 0)));
     ring.extend((0..rows as usize).map(|j| (0, j)));
-    let centre = [cols as f32 * g / 2.0, height / 2.0, 0.0];
+    let centre = [at.0 + cols as f32 * g / 2.0, at.1 + height / 2.0, 0.0];
     for k in 0..ring.len() {
         let (a, b) = (ring[k], ring[(k + 1) % ring.len()]);
         // A wall quad, outward: the boundary runs counter-clockwise, so
@@ -94,7 +120,6 @@ pub fn triangles(sheet: &Sheet) -> Result<Vec<[[f32; 3]; 3]>, PrintError> {
         // The bottom face, seen from below: clockwise seen from above.
         out.push([centre, bottom(b.0, b.1), bottom(a.0, a.1)]);
     }
-    Ok(out)
 }
 
 fn normal(t: &[[f32; 3]; 3]) -> [f32; 3] {

@@ -469,3 +469,250 @@ fn point_symbols_that_would_touch_are_left_out_with_a_note() {
     assert_eq!((0..5).map(|e| dots_of(&s.pages[0], e).len()).sum::<usize>(), 5);
     assert!(diags.iter().all(|d| d.code != "T0728"));
 }
+
+/// Every point a mark draws: a line's centre line, a polygon's corners, a dot's centre.
+fn mark_points(m: &Mark) -> Vec<(f64, f64)> {
+    match &m.shape {
+        MarkShape::Line { points, .. } => points.clone(),
+        MarkShape::Polygon { rings } => rings.iter().flatten().copied().collect(),
+        MarkShape::Dot { centre, .. } => vec![*centre],
+    }
+}
+
+/// The length of the lines of `marks` (their centre lines).
+fn line_length(marks: &[Mark]) -> f64 {
+    marks
+        .iter()
+        .map(|m| match &m.shape {
+            MarkShape::Line { points, closed, .. } => {
+                let open: f64 = points.windows(2).map(|w| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1)).sum();
+                let back = match (closed, points.first(), points.last()) {
+                    (true, Some(a), Some(b)) => (a.0 - b.0).hypot(a.1 - b.1),
+                    _ => 0.0,
+                };
+                open + back
+            }
+            _ => 0.0,
+        })
+        .sum()
+}
+
+/// A shape clipped to a square in its middle (a chart's data in its axes,
+/// an inset) prints only inside the square: its texture, its outline cut
+/// where it crosses the square, a point symbol inside kept and one outside
+/// left out. Every mark was printed over the whole shape before.
+#[test]
+fn a_clipped_shape_prints_only_inside_its_clip() {
+    let (_, q) = profile("swell-a4");
+    let o = q.margin_mm as f64;
+    let square = rect(50.0, 50.0, 60.0, 60.0);
+    let clip = crate::drawing::Clip { outline: square.clone(), fill_rule: crate::geometry::FillRule::NonZero };
+    let mut big = path("big", rect(20.0, 20.0, 140.0, 140.0), vec![vibrate(1.5, 50.0), grating(3.0, 45.0)]);
+    // A diagonal line through the square: 60 * sqrt 2 mm of it inside.
+    let mut diagonal = path(
+        "diagonal",
+        vec![Polyline { points: vec![(20.0, 20.0), (160.0, 160.0)], closed: false }],
+        // The same style as `big`'s outline: solid (a second style would be dashed).
+        vec![vibrate(1.5, 50.0)],
+    );
+    let mut dots: Vec<Element> = [(80.0, 80.0), (140.0, 140.0)]
+        .iter()
+        .enumerate()
+        .map(|(k, &(x, y))| {
+            let mut e = path(&format!("m{k}"), rect(x, y, 1.0, 1.0), vec![]);
+            e.styles = vec![Style::Dot(Dot { radius_mm: 1.0, amplitude: 1.0 })];
+            e
+        })
+        .collect();
+    for e in std::iter::once(&mut big).chain([&mut diagonal]).chain(dots.iter_mut()) {
+        if let Shape::Path(p) = &mut e.shape {
+            p.clips = vec![clip.clone()];
+        }
+    }
+    let mut elements = vec![big.clone(), diagonal.clone()];
+    elements.extend(dots.clone());
+    let (s, _) = sheet(&drawing(elements.clone()), "swell-a4");
+    let marks = &s.pages[0];
+    let inside = |p: (f64, f64)| (50.0 + o..=110.0 + o).contains(&p.0) && (50.0 + o..=110.0 + o).contains(&p.1);
+    let within = |p: (f64, f64)| {
+        (50.0 + o - 1e-6..=110.0 + o + 1e-6).contains(&p.0) && (50.0 + o - 1e-6..=110.0 + o + 1e-6).contains(&p.1)
+    };
+    assert!(marks.iter().flat_map(mark_points).all(within), "every mark lies in the clip");
+    // The big square's outline lies wholly outside the clip; its texture fills the clip.
+    let of = |e: usize| marks.iter().filter(move |m| m.element == Some(e));
+    assert!(of(0).all(|m| m.level == Level::Texture), "no outline of `big` is printed");
+    let texture: Vec<(f64, f64)> = of(0).flat_map(mark_points).collect();
+    let (x0, x1) = texture.iter().fold((f64::MAX, f64::MIN), |a, p| (a.0.min(p.0), a.1.max(p.0)));
+    assert!(x0 < 55.0 + o && x1 > 105.0 + o, "the texture spans the clip: {x0}..{x1}");
+    // The diagonal: only its 60 * sqrt 2 mm inside the square.
+    let diag: Vec<Mark> = of(1).cloned().collect();
+    assert!((line_length(&diag) - 60.0 * 2f64.sqrt()).abs() < 1e-6, "{}", line_length(&diag));
+    // The symbol inside is kept, the one outside is not.
+    assert!(of(2).count() > 0 && of(3).count() == 0);
+    assert!(of(2).flat_map(mark_points).all(inside));
+    // Unclipped, the same drawing prints beyond the square.
+    for e in &mut elements {
+        if let Shape::Path(p) = &mut e.shape {
+            p.clips.clear();
+        }
+    }
+    let (s, _) = sheet(&drawing(elements), "swell-a4");
+    assert!(s.pages[0].iter().flat_map(mark_points).any(|p| !within(p)));
+}
+
+/// A drawing larger than the printable area, at its size, is printed on
+/// several pages, each a window of it: a line across it is cut at the
+/// windows' edges and its pieces add up to its whole length; a braille
+/// label across a page edge is kept whole on one page; every mark lies on
+/// its page's printable area. The key follows the graphic's pages.
+#[test]
+fn a_large_drawing_is_printed_on_pages_that_join() {
+    let (p, q) = profile("swell-a4");
+    let (sw, sh) = (p.surface_w_mm as f64, p.surface_h_mm as f64);
+    let o = q.margin_mm as f64;
+    let (w, h) = (2.5 * sw, 1.5 * sh);
+    let line = path(
+        "across",
+        vec![Polyline { points: vec![(10.0, 10.0), (w - 10.0, h - 10.0)], closed: false }],
+        vec![vibrate(1.5, 50.0)],
+    );
+    let frame = path("frame", rect(5.0, 5.0, w - 10.0, h - 10.0), vec![vibrate(1.0, 50.0)]);
+    // A label that starts just left of the first vertical page edge.
+    let mut keyed = label("k", "ab", 30.0, 40.0);
+    if let Shape::Text(ts) = &mut keyed.shape {
+        ts.keyed = Some("Abbey Road".into());
+    }
+    let elements = vec![line.clone(), frame.clone(), label("t", "across the edge", sw - 10.0, 50.0), keyed];
+    let mut d = drawing(elements);
+    d.page.width_mm = w;
+    d.page.height_mm = h;
+    let mut diags = Vec::new();
+    assert!(crate::place::apply(&mut d, &p, false, None, &mut diags));
+    let note = diags.iter().find(|d| d.code == "T0212").expect("a note says how many pages");
+    assert!(note.message.contains("6 pages, 3 across and 2 down"), "{}", note.message);
+    assert!(!diags.iter().any(|d| d.code == "T0202"), "nothing is left out: {diags:?}");
+    let (s, _) = sheet(&d, "swell-a4");
+    assert_eq!(s.tiles, (3, 2));
+    assert_eq!(s.pages.len(), 7, "six pages of the graphic, then the key");
+    let on_page =
+        |p: (f64, f64)| (o - 1e-6..=o + sw + 1e-6).contains(&p.0) && (o - 1e-6..=o + sh + 1e-6).contains(&p.1);
+    for (n, page) in s.pages[..6].iter().enumerate() {
+        let lines = page.iter().filter(|m| m.level != Level::Braille);
+        assert!(lines.flat_map(mark_points).all(on_page), "page {n}: a mark beyond its printable area");
+    }
+    // The line's pieces, on every page, add up to the whole line.
+    let pieces: Vec<Mark> = s.pages[..6].iter().flatten().filter(|m| m.element == Some(0)).cloned().collect();
+    let whole = (w - 20.0).hypot(h - 20.0);
+    assert!((line_length(&pieces) - whole).abs() < 1e-6, "{} of {whole}", line_length(&pieces));
+    // The label's braille is on one page only, and as many dots as on one page.
+    let label_pages: Vec<usize> =
+        (0..6).filter(|&n| s.pages[n].iter().any(|m| m.element == Some(2) && m.level == Level::Braille)).collect();
+    assert_eq!(label_pages, vec![0]);
+    let alone = {
+        let (one, _) = sheet(&drawing(vec![label("t", "across the edge", 10.0, 50.0)]), "swell-a4");
+        one.pages[0].iter().filter(|m| m.element == Some(0)).count()
+    };
+    assert_eq!(s.pages[0].iter().filter(|m| m.element == Some(2)).count(), alone);
+    // The key's page comes last, beside the graphic in the preview's layout.
+    assert_eq!(s.layout()[6], (3, 0));
+    assert!(s.pages[6].iter().all(|m| m.element.is_none()));
+}
+
+/// A drawing that would take more than a hundred pages is refused, with
+/// the way out; one that fits a page prints on one.
+#[test]
+fn a_drawing_of_too_many_pages_is_refused() {
+    let (p, _) = profile("swell-a4");
+    let mut d = drawing(vec![path("a", rect(20.0, 20.0, 60.0, 40.0), vec![vibrate(1.5, 50.0)])]);
+    let mut diags = Vec::new();
+    assert!(crate::place::apply(&mut d.clone(), &p, false, None, &mut diags));
+    assert!(diags.iter().all(|d| d.code != "T0212"));
+    d.page.width_mm = 3000.0;
+    d.page.height_mm = 3000.0;
+    let mut diags = Vec::new();
+    assert!(!crate::place::apply(&mut d, &p, false, None, &mut diags));
+    let e = diags.iter().find(|d| d.code == "T0213").expect("refused");
+    assert!(e.message.contains("more than 100") && e.help.as_deref().is_some_and(|h| h.contains("--fit")), "{e:?}");
+}
+
+/// A relief on several pages is a plate a page, each closed: the mesh is
+/// still watertight and 2-manifold, with the plates' volume.
+#[test]
+fn a_relief_of_several_pages_is_a_closed_plate_a_page() {
+    let (p, q) = profile("print3d");
+    let (sw, sh) = (p.surface_w_mm as f64, p.surface_h_mm as f64);
+    let mut d = drawing(vec![path(
+        "across",
+        vec![Polyline { points: vec![(10.0, 10.0), (1.5 * sw, 10.0)], closed: false }],
+        vec![vibrate(1.5, 50.0)],
+    )]);
+    d.page.width_mm = 1.6 * sw;
+    d.page.height_mm = 0.5 * sh;
+    assert!(crate::place::apply(&mut d, &p, false, None, &mut Vec::new()));
+    let (s, _) = sheet(&d, "print3d");
+    assert_eq!((s.tiles, s.pages.len()), ((2, 1), 2));
+    let tris = stl::triangles(&s).unwrap();
+    let v = closed_volume(&tris);
+    let (w, h) = (q.paper_w_mm as f64, q.paper_h_mm as f64);
+    let plate = w * h * q.base_mm as f64;
+    assert!(v >= 2.0 * plate * 0.999 && v <= 2.0 * w * h * (q.base_mm + q.raise_mm) as f64, "{v}");
+    // Both plates carry part of the line.
+    let raised = |range: std::ops::Range<f32>| {
+        tris.iter().flatten().any(|c| range.contains(&c[0]) && c[2] > q.base_mm + 0.5 * q.raise_mm)
+    };
+    assert!(raised(0.0..w as f32) && raised(w as f32..2.0 * w as f32 + 20.0));
+}
+
+/// A texture is not printed under an opaque fill painted over it (a map's
+/// legend box, an inset), as on the pin arrays: no texture line runs
+/// through the box, and the texture around it stays.
+#[test]
+fn a_texture_is_hidden_under_an_opaque_fill_painted_over_it() {
+    let (_, q) = profile("swell-a4");
+    let o = q.margin_mm as f64;
+    let under = path("under", rect(20.0, 20.0, 120.0, 100.0), vec![grating(3.0, 0.0)]);
+    let mut over = path("box", rect(60.0, 50.0, 40.0, 30.0), vec![]);
+    over.paint.fill = Some([255, 255, 255, 255]);
+    over.paint.filled = true;
+    let (hidden, _) = sheet(&drawing(vec![under.clone(), over.clone()]), "swell-a4");
+    let (open, _) = sheet(&drawing(vec![under.clone()]), "swell-a4");
+    let in_box = |p: &(f64, f64)| {
+        p.0 > 60.0 + o + 1e-6 && p.0 < 100.0 + o - 1e-6 && p.1 > 50.0 + o + 1e-6 && p.1 < 80.0 + o - 1e-6
+    };
+    // Sample every texture line densely: no point of it inside the box.
+    let samples = |marks: &[Mark]| -> Vec<(f64, f64)> {
+        marks
+            .iter()
+            .filter(|m| m.element == Some(0))
+            .flat_map(|m| match &m.shape {
+                MarkShape::Line { points, .. } => points
+                    .windows(2)
+                    .flat_map(|w| {
+                        (0..=50).map(move |k| {
+                            let t = k as f64 / 50.0;
+                            (w[0].0 + t * (w[1].0 - w[0].0), w[0].1 + t * (w[1].1 - w[0].1))
+                        })
+                    })
+                    .collect::<Vec<_>>(),
+                _ => mark_points(m),
+            })
+            .collect()
+    };
+    assert!(samples(&open.pages[0]).iter().any(in_box), "the texture runs under the box when nothing is over it");
+    assert!(!samples(&hidden.pages[0]).iter().any(in_box), "no texture under the opaque box");
+    // What the box hides is its width of each line that crossed it: 40 mm
+    // for every line whose row runs through the box.
+    let rows_through = open.pages[0]
+        .iter()
+        .filter_map(|m| match &m.shape {
+            MarkShape::Line { points, .. } if m.element == Some(0) => Some(points[0].1),
+            _ => None,
+        })
+        .filter(|y| *y > 50.0 + o && *y < 80.0 + o)
+        .count() as f64;
+    let lost = line_length(&open.pages[0]) - line_length(&hidden.pages[0]);
+    assert!(rows_through > 3.0 && (lost - 40.0 * rows_through).abs() < 1e-6, "{lost} mm for {rows_through} rows");
+    // Painted under the texture instead, the box hides nothing.
+    let (below, _) = sheet(&drawing(vec![over, under]), "swell-a4");
+    assert!((line_length(&below.pages[0]) - line_length(&open.pages[0])).abs() < 1e-6);
+}
