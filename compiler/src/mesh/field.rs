@@ -4,7 +4,7 @@
 use taxel_format::{FIELD_CONTACT, FIELD_EDGE, HeightField, MAX_FIELD_NODES, MAX_FIELD_SIDE, Mm};
 
 use super::error::MeshError;
-use super::surface::Surface;
+use super::surface::{Face, Surface};
 
 /// Default node spacing ceiling: half a millimetre, finer than a touch
 /// screen reports a fingertip's position and than the ring can render.
@@ -86,139 +86,27 @@ pub fn grid(s: &Surface, cell: f64) -> Result<Grid, MeshError> {
 /// gradients, finite differences across steps, and the gradient cap.
 pub fn sample(s: &Surface, g: &Grid, source: Option<u32>) -> HeightField {
     let n = g.cols as usize * g.rows as usize;
-    let mut best = vec![f64::NEG_INFINITY; n];
-    let mut grad = vec![[0.0f64; 2]; n];
-    let mut ties = vec![0u16; n];
-    // The face on top at each node (for the steps of a raster surface).
-    let mut top = vec![u32::MAX; n];
-    let cell = g.cell as f64;
-    let tol = s.step_tol;
-    let slack = 1e-3 * cell;
+    let mut tops = Tops::new(n);
     for (fi, f) in s.faces.iter().enumerate() {
-        let [a, b, c] = f.corners;
-        let area2 = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
-        if area2 == 0.0 {
-            continue;
-        }
-        let (x0, x1) = (a[0].min(b[0]).min(c[0]), a[0].max(b[0]).max(c[0]));
-        let (y0, y1) = (a[1].min(b[1]).min(c[1]), a[1].max(b[1]).max(c[1]));
-        let (lab, lbc, lca) = (dist(a, b), dist(b, c), dist(c, a));
-        let Some((i0, i1)) = span(x0, x1, g.ox as f64, cell, g.cols) else { continue };
-        let Some((j0, j1)) = span(y0, y1, g.oy as f64, cell, g.rows) else { continue };
-        let sign = area2.signum();
-        for j in j0..=j1 {
-            // The nodes of this row inside the triangle (widened by the slack
-            // below): each side's test is linear in x, so the row meets the
-            // triangle in one interval, and a long thin triangle costs the
-            // nodes it covers, not its bounding box.
-            let y = g.node(0, j).1;
-            let (mut lo, mut hi) = (x0 - cell, x1 + cell);
-            for (p, q, len) in [(a, b, lab), (b, c, lbc), (c, a, lca)] {
-                // Inside: sign * ((q - p) x (node - p)) >= -slack * len, that is k x >= r.
-                let k = -sign * (q[1] - p[1]);
-                let r = -slack * len - sign * ((q[0] - p[0]) * (y - p[1]) + p[0] * (q[1] - p[1]));
-                if k > 0.0 {
-                    lo = lo.max(r / k);
-                } else if k < 0.0 {
-                    hi = hi.min(r / k);
-                } else if r > 0.0 {
-                    hi = f64::NEG_INFINITY;
-                }
-            }
-            let Some((ia, ib)) = span(lo, hi, g.ox as f64, cell, g.cols) else { continue };
-            for i in ia.max(i0)..=ib.min(i1) {
-                let (x, y) = g.node(i, j);
-                // Inside, or within a thousandth of a cell of the face: so a node on
-                // a shared edge is never lost to rounding between two faces, and a
-                // node on the outline is not lost to the f32 metres of glTF.
-                let out = |p: [f64; 2], q: [f64; 2], len: f64| {
-                    ((q[0] - p[0]) * (y - p[1]) - (x - p[0]) * (q[1] - p[1])) * area2.signum() < -slack * len
-                };
-                if out(a, b, lab) || out(b, c, lbc) || out(c, a, lca) {
-                    continue;
-                }
-                let Some((h, gx, gy)) = s.top(f, x, y) else { continue };
-                let k = j as usize * g.cols as usize + i as usize;
-                if h > best[k] + tol {
-                    best[k] = h;
-                    grad[k] = [gx, gy];
-                    ties[k] = 1;
-                    top[k] = fi as u32;
-                } else if h >= best[k] - tol && ties[k] < u16::MAX {
-                    // Same height from another face (the node is on an edge or
-                    // corner): average the slopes so a ridge on a node is level,
-                    // and keep the higher of the roundings, so the height does
-                    // not depend on the order of the faces.
-                    best[k] = best[k].max(h);
-                    grad[k][0] += gx;
-                    grad[k][1] += gy;
-                    ties[k] += 1;
-                }
-            }
-        }
+        tops.add_face(s, g, fi, f);
     }
+    let Tops { best, mut grad, ties, top } = tops;
     for (g2, &t) in grad.iter_mut().zip(&ties) {
         if t > 1 {
             g2[0] /= t as f64;
             g2[1] /= t as f64;
         }
     }
-    let mut flags: Vec<u8> = best.iter().map(|h| if h.is_finite() { FIELD_CONTACT } else { 0 }).collect();
+    let flags: Vec<u8> = best.iter().map(|h| if h.is_finite() { FIELD_CONTACT } else { 0 }).collect();
 
     // Across a step the finite difference between the two nodes is the
     // slope the bilinear field actually has there; it replaces the facet slope.
-    let mut over = vec![[f64::NAN; 2]; n];
-    let idx = |i: u32, j: u32| j as usize * g.cols as usize + i as usize;
-    let mark = |k1: usize, k2: usize, axis: usize, over: &mut Vec<[f64; 2]>, flags: &mut Vec<u8>| {
-        if flags[k1] & FIELD_CONTACT == 0 || flags[k2] & FIELD_CONTACT == 0 {
-            return;
-        }
-        let d = (best[k2] - best[k1]) / cell;
-        for k in [k1, k2] {
-            flags[k] |= FIELD_EDGE;
-            if over[k][axis].is_nan() || d.abs() > over[k][axis].abs() {
-                over[k][axis] = d;
-            }
-        }
-    };
-    for st in &s.steps {
-        // Rows the step crosses: the horizontal node pair it passes between.
-        for (along, across, axis) in [(0usize, 1usize, 0usize), (1, 0, 1)] {
-            let (o_across, o_along) = if axis == 0 { (g.oy as f64, g.ox as f64) } else { (g.ox as f64, g.oy as f64) };
-            let (n_across, n_along) = if axis == 0 { (g.rows, g.cols) } else { (g.cols, g.rows) };
-            let (c0, c1) = (st.a[across].min(st.b[across]), st.a[across].max(st.b[across]));
-            let Some((r0, r1)) = span(c0, c1, o_across, cell, n_across) else { continue };
-            for r in r0..=r1 {
-                let line = o_across + r as f64 * cell;
-                let dc = st.b[across] - st.a[across];
-                if dc == 0.0 {
-                    // Parallel to these node lines: the other axis sees it.
-                    continue;
-                }
-                let t = ((line - st.a[across]) / dc).clamp(0.0, 1.0);
-                let pos = st.a[along] + t * (st.b[along] - st.a[along]);
-                let u = (pos - o_along) / cell;
-                if !(u > -1.0 && u < n_along as f64) {
-                    continue;
-                }
-                let lo = u.floor();
-                // On a node: both neighbouring pairs straddle the step.
-                let pairs: &[(f64, f64)] =
-                    if (u - lo) < 1e-9 { &[(lo - 1.0, lo), (lo, lo + 1.0)] } else { &[(lo, lo + 1.0)] };
-                for &(p, q) in pairs {
-                    if p < 0.0 || q > (n_along - 1) as f64 {
-                        continue;
-                    }
-                    let (p, q) = (p as u32, q as u32);
-                    let (k1, k2) = if axis == 0 { (idx(p, r), idx(q, r)) } else { (idx(r, p), idx(r, q)) };
-                    mark(k1, k2, axis, &mut over, &mut flags);
-                }
-            }
-        }
-    }
+    let mut marks = StepMarks { best: &best, cell: g.cell as f64, over: vec![[f64::NAN; 2]; n], flags };
+    marks.cross_steps(s, g);
     if s.raster {
-        raster_steps(s, g, &best, &top, &mut |k1, k2, axis| mark(k1, k2, axis, &mut over, &mut flags));
+        raster_steps(s, g, &best, &top, &mut |k1, k2, axis| marks.mark(k1, k2, axis));
     }
+    let StepMarks { over, flags, .. } = marks;
     for (g2, o) in grad.iter_mut().zip(&over) {
         for axis in 0..2 {
             if !o[axis].is_nan() {
@@ -226,8 +114,221 @@ pub fn sample(s: &Surface, g: &Grid, source: Option<u32>) -> HeightField {
             }
         }
     }
+    capped(s, g, source, &best, &grad, flags)
+}
 
-    // The cap: the steepest slope of the surface proper, and at least 45°.
+/// The highest top over each node of a grid, as the faces are added.
+struct Tops {
+    /// The height, `-inf` where no face covers the node.
+    best: Vec<f64>,
+    /// The sum of the facet gradients of the faces tied for the top.
+    grad: Vec<[f64; 2]>,
+    /// How many faces are tied for the top.
+    ties: Vec<u16>,
+    /// The face on top at each node (for the steps of a raster surface).
+    top: Vec<u32>,
+}
+
+impl Tops {
+    /// No face over any of `n` nodes.
+    fn new(n: usize) -> Tops {
+        Tops {
+            best: vec![f64::NEG_INFINITY; n],
+            grad: vec![[0.0f64; 2]; n],
+            ties: vec![0u16; n],
+            top: vec![u32::MAX; n],
+        }
+    }
+
+    /// Offers the top of face `fi` (`f` of `s`) to every node of `g` it covers.
+    fn add_face(&mut self, s: &Surface, g: &Grid, fi: usize, f: &Face) {
+        let cell = g.cell as f64;
+        let Some(sides) = Sides::new(f.corners, 1e-3 * cell) else { return };
+        let [a, b, c] = f.corners;
+        let (x0, x1) = (a[0].min(b[0]).min(c[0]), a[0].max(b[0]).max(c[0]));
+        let (y0, y1) = (a[1].min(b[1]).min(c[1]), a[1].max(b[1]).max(c[1]));
+        let Some((i0, i1)) = span(x0, x1, g.ox as f64, cell, g.cols) else { return };
+        let Some((j0, j1)) = span(y0, y1, g.oy as f64, cell, g.rows) else { return };
+        for j in j0..=j1 {
+            let y = g.node(0, j).1;
+            let (lo, hi) = sides.row(y, x0 - cell, x1 + cell);
+            let Some((ia, ib)) = span(lo, hi, g.ox as f64, cell, g.cols) else { continue };
+            for i in ia.max(i0)..=ib.min(i1) {
+                let (x, y) = g.node(i, j);
+                if !sides.covers(x, y) {
+                    continue;
+                }
+                let Some(top) = s.top(f, x, y) else { continue };
+                self.offer(j as usize * g.cols as usize + i as usize, top, fi, s.step_tol);
+            }
+        }
+    }
+
+    /// Offers node `k` the top `(h, gx, gy)` of face `fi`: it wins when it
+    /// is higher by more than the rounding tolerance `tol`, and ties when
+    /// it is as high within it.
+    fn offer(&mut self, k: usize, (h, gx, gy): (f64, f64, f64), fi: usize, tol: f64) {
+        let (best, grad, ties, top) = (&mut self.best, &mut self.grad, &mut self.ties, &mut self.top);
+        if h > best[k] + tol {
+            best[k] = h;
+            grad[k] = [gx, gy];
+            ties[k] = 1;
+            top[k] = fi as u32;
+        } else if h >= best[k] - tol && ties[k] < u16::MAX {
+            // Same height from another face (the node is on an edge or
+            // corner): average the slopes so a ridge on a node is level,
+            // and keep the higher of the roundings, so the height does
+            // not depend on the order of the faces.
+            best[k] = best[k].max(h);
+            grad[k][0] += gx;
+            grad[k][1] += gy;
+            ties[k] += 1;
+        }
+    }
+}
+
+/// The sides of a face, for the tests of which nodes it covers.
+struct Sides {
+    /// Each side from one corner to the next, with its length.
+    sides: [([f64; 2], [f64; 2], f64); 3],
+    /// Twice the face's signed area.
+    area2: f64,
+    /// How far outside a side (mm) a node still counts as inside.
+    slack: f64,
+}
+
+impl Sides {
+    /// The sides of the triangle `corners`, or `None` when it has no area.
+    fn new(corners: [[f64; 2]; 3], slack: f64) -> Option<Sides> {
+        let [a, b, c] = corners;
+        let area2 = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
+        if area2 == 0.0 {
+            return None;
+        }
+        Some(Sides { sides: [(a, b, dist(a, b)), (b, c, dist(b, c)), (c, a, dist(c, a))], area2, slack })
+    }
+
+    /// The x interval, within `lo..hi`, of the nodes of the row at `y`
+    /// inside the triangle (widened by the slack): each side's test is
+    /// linear in x, so the row meets the triangle in one interval, and a
+    /// long thin triangle costs the nodes it covers, not its bounding box.
+    fn row(&self, y: f64, mut lo: f64, mut hi: f64) -> (f64, f64) {
+        let sign = self.area2.signum();
+        for (p, q, len) in self.sides {
+            // Inside: sign * ((q - p) x (node - p)) >= -slack * len, that is k x >= r.
+            let k = -sign * (q[1] - p[1]);
+            let r = -self.slack * len - sign * ((q[0] - p[0]) * (y - p[1]) + p[0] * (q[1] - p[1]));
+            if k > 0.0 {
+                lo = lo.max(r / k);
+            } else if k < 0.0 {
+                hi = hi.min(r / k);
+            } else if r > 0.0 {
+                hi = f64::NEG_INFINITY;
+            }
+        }
+        (lo, hi)
+    }
+
+    /// Whether node `(x, y)` is inside, or within the slack of the face: so
+    /// a node on a shared edge is never lost to rounding between two faces,
+    /// and a node on the outline is not lost to the f32 metres of glTF.
+    fn covers(&self, x: f64, y: f64) -> bool {
+        let out = |p: [f64; 2], q: [f64; 2], len: f64| {
+            ((q[0] - p[0]) * (y - p[1]) - (x - p[0]) * (q[1] - p[1])) * self.area2.signum() < -self.slack * len
+        };
+        let [(a, b, lab), (_, c, lbc), (_, _, lca)] = self.sides;
+        !(out(a, b, lab) || out(b, c, lbc) || out(c, a, lca))
+    }
+}
+
+/// The node pairs that straddle a step, with the finite difference across
+/// each, as they are marked.
+struct StepMarks<'a> {
+    /// The heights at the nodes.
+    best: &'a [f64],
+    /// The node spacing, mm.
+    cell: f64,
+    /// Per node and axis, the steepest finite difference across a step
+    /// (`NaN` where none crosses).
+    over: Vec<[f64; 2]>,
+    /// Per node, its contact flag, and the edge flag once marked.
+    flags: Vec<u8>,
+}
+
+impl StepMarks<'_> {
+    /// Marks the neighbouring nodes `k1` and `k2` along `axis` as on either
+    /// side of a step, when both are in contact.
+    fn mark(&mut self, k1: usize, k2: usize, axis: usize) {
+        let (over, flags) = (&mut self.over, &mut self.flags);
+        if flags[k1] & FIELD_CONTACT == 0 || flags[k2] & FIELD_CONTACT == 0 {
+            return;
+        }
+        let d = (self.best[k2] - self.best[k1]) / self.cell;
+        for k in [k1, k2] {
+            flags[k] |= FIELD_EDGE;
+            if over[k][axis].is_nan() || d.abs() > over[k][axis].abs() {
+                over[k][axis] = d;
+            }
+        }
+    }
+
+    /// Marks the node pairs of `g` that each of the surface's steps passes
+    /// between, along each axis.
+    fn cross_steps(&mut self, s: &Surface, g: &Grid) {
+        let cell = self.cell;
+        let idx = |i: u32, j: u32| j as usize * g.cols as usize + i as usize;
+        for st in &s.steps {
+            // Rows the step crosses: the horizontal node pair it passes between.
+            for (along, across, axis) in [(0usize, 1usize, 0usize), (1, 0, 1)] {
+                let (o_across, o_along) =
+                    if axis == 0 { (g.oy as f64, g.ox as f64) } else { (g.ox as f64, g.oy as f64) };
+                let (n_across, n_along) = if axis == 0 { (g.rows, g.cols) } else { (g.cols, g.rows) };
+                let (c0, c1) = (st.a[across].min(st.b[across]), st.a[across].max(st.b[across]));
+                let Some((r0, r1)) = span(c0, c1, o_across, cell, n_across) else { continue };
+                for r in r0..=r1 {
+                    let line = o_across + r as f64 * cell;
+                    let dc = st.b[across] - st.a[across];
+                    if dc == 0.0 {
+                        // Parallel to these node lines: the other axis sees it.
+                        continue;
+                    }
+                    let t = ((line - st.a[across]) / dc).clamp(0.0, 1.0);
+                    let pos = st.a[along] + t * (st.b[along] - st.a[along]);
+                    let u = (pos - o_along) / cell;
+                    if !(u > -1.0 && u < n_along as f64) {
+                        continue;
+                    }
+                    let lo = u.floor();
+                    // On a node: both neighbouring pairs straddle the step.
+                    let pairs: &[(f64, f64)] =
+                        if (u - lo) < 1e-9 { &[(lo - 1.0, lo), (lo, lo + 1.0)] } else { &[(lo, lo + 1.0)] };
+                    for &(p, q) in pairs {
+                        if p < 0.0 || q > (n_along - 1) as f64 {
+                            continue;
+                        }
+                        let (p, q) = (p as u32, q as u32);
+                        let (k1, k2) = if axis == 0 { (idx(p, r), idx(q, r)) } else { (idx(r, p), idx(r, q)) };
+                        self.mark(k1, k2, axis);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The field of `g` from the nodes' heights `best`, gradients `grad` and
+/// `flags`: gradients capped at the steepest slope of the surface proper
+/// and at least 45° (a capped node is flagged an edge), nodes out of
+/// contact zero.
+fn capped(
+    s: &Surface,
+    g: &Grid,
+    source: Option<u32>,
+    best: &[f64],
+    grad: &[[f64; 2]],
+    mut flags: Vec<u8>,
+) -> HeightField {
+    let n = best.len();
     let cap = s.max_surface_slope.max(MIN_GRADIENT_CAP);
     let cap32 = cap as f32;
     let mut heights = Vec::with_capacity(n);

@@ -257,48 +257,19 @@ fn field_of(soup: load::Soup, mm_per_metre: f64, opts: &MeshOptions) -> Result<(
 /// Problems in the file are error diagnostics, never panics.
 pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DeviceProfile, opts: &MeshOptions) -> Compiled {
     let mut diagnostics = Vec::new();
+    let refused =
+        |diagnostics: Vec<Diagnostic>| Compiled { bundle: None, diagnostics, fonts_used: Vec::new(), print: None };
     if profile.family() != Family::Finger {
-        diagnostics.push(
-            Diagnostic::error(
-                "T0609",
-                format!(
-                    "profile '{}' is for a {} device; a height mesh needs a finger profile",
-                    profile.name,
-                    profile.family()
-                ),
-            )
-            .with_help("build with --profile finger3 (or a profile file of family \"finger\")"),
-        );
-        return Compiled { bundle: None, diagnostics, fonts_used: Vec::new(), print: None };
+        diagnostics.push(not_finger(profile));
+        return refused(diagnostics);
     }
-    // A model read with the wrong axis up (a terrain exported Z-up) is seen
-    // edge on: its errors say which flag reads it the other way.
-    let failed = |e: MeshError, extent: Option<[f64; 3]>, read: UpAxis| {
-        let up = extent.and_then(|x| other_up(x, read));
-        // The help, then the up-axis finding when there is one.
-        let up_help = |help: &str| {
-            let finding = up.as_ref().map(|(finding, flag)| format!("{finding}: build with {flag}"));
-            [Some(help.to_string()).filter(|h| !h.is_empty()), finding]
-                .into_iter()
-                .flatten()
-                .collect::<Vec<_>>()
-                .join("; ")
-        };
-        let d = Diagnostic::error(e.code(), e.to_string());
-        match &e {
-            MeshError::Region(_) => d.with_help("a region is X,Y,W,H in model units along the page (x = X, y = Z, or -Y with --up z), or #name of a node or mesh"),
-            MeshError::Far { .. } => d.with_help(up_help("build with --fit (and --region for a part) to recentre the model and scale it onto the surface")),
-            MeshError::NoArea | MeshError::TooBig { .. } | MeshError::Triangulation(_) if up.is_some() => d.with_help(up_help("")),
-            _ => d,
-        }
-    };
     let (hf, report, read) = match placed(bytes, resolve, opts) {
         Err(e) => {
             let extent = if let MeshError::Far { extent, .. } = e { Some(extent) } else { None };
             // A model too far away is refused before its axis is chosen.
             let read = opts.up.unwrap_or_else(|| extent.map_or(UpAxis::Y, chosen_up));
-            diagnostics.push(failed(e, extent, read));
-            return Compiled { bundle: None, diagnostics, fonts_used: Vec::new(), print: None };
+            diagnostics.push(failure(e, extent, read));
+            return refused(diagnostics);
         }
         Ok((soup, mm_per_metre)) => {
             let (extent, read, chosen) = (soup.extent, soup.up, soup.up_chosen);
@@ -308,12 +279,68 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
             match field_of(soup, mm_per_metre, opts) {
                 Ok((hf, report)) => (hf, report, read),
                 Err(e) => {
-                    diagnostics.push(failed(e, Some(extent), read));
-                    return Compiled { bundle: None, diagnostics, fonts_used: Vec::new(), print: None };
+                    diagnostics.push(failure(e, Some(extent), read));
+                    return refused(diagnostics);
                 }
             }
         }
     };
+    field_notes(&hf, &report, read, opts, profile, &mut diagnostics);
+    let bundle = bundle_of(hf, &report, profile);
+    // The writer validates its own output; a refusal here is reported, not hidden.
+    if let Err(e) = bundle.to_bytes() {
+        diagnostics.push(Diagnostic::error("T0613", format!("the height field cannot be stored: {e}")));
+        return refused(diagnostics);
+    }
+    Compiled { bundle: Some(bundle), diagnostics, fonts_used: Vec::new(), print: None }
+}
+
+/// The error that `profile` is not for a finger device (T0609).
+fn not_finger(profile: &DeviceProfile) -> Diagnostic {
+    Diagnostic::error(
+        "T0609",
+        format!(
+            "profile '{}' is for a {} device; a height mesh needs a finger profile",
+            profile.name,
+            profile.family()
+        ),
+    )
+    .with_help("build with --profile finger3 (or a profile file of family \"finger\")")
+}
+
+/// The error diagnostic of a mesh that failed with `e`, read with `read`
+/// up. A model read with the wrong axis up (a terrain exported Z-up) is
+/// seen edge on: when its `extent` suggests so, the help says which flag
+/// reads it the other way.
+fn failure(e: MeshError, extent: Option<[f64; 3]>, read: UpAxis) -> Diagnostic {
+    let up = extent.and_then(|x| other_up(x, read));
+    // The help, then the up-axis finding when there is one.
+    let up_help = |help: &str| {
+        let finding = up.as_ref().map(|(finding, flag)| format!("{finding}: build with {flag}"));
+        [Some(help.to_string()).filter(|h| !h.is_empty()), finding].into_iter().flatten().collect::<Vec<_>>().join("; ")
+    };
+    let d = Diagnostic::error(e.code(), e.to_string());
+    match &e {
+        MeshError::Region(_) => d.with_help("a region is X,Y,W,H in model units along the page (x = X, y = Z, or -Y with --up z), or #name of a node or mesh"),
+        MeshError::Far { .. } => d.with_help(up_help("build with --fit (and --region for a part) to recentre the model and scale it onto the surface")),
+        MeshError::NoArea | MeshError::TooBig { .. } | MeshError::Triangulation(_) if up.is_some() => d.with_help(up_help("")),
+        _ => d,
+    }
+}
+
+/// The notes and warnings on a built height field `hf`, read with `read`
+/// up, after what `report` measured: its size (T0610), the other height
+/// axis (T0616), points and lines left out (T0618), crossings left
+/// (T0617), walls (T0611), and a mesh beyond the surface of `profile`
+/// (T0612).
+fn field_notes(
+    hf: &HeightField,
+    report: &MeshReport,
+    read: UpAxis,
+    opts: &MeshOptions,
+    profile: &DeviceProfile,
+    diagnostics: &mut Vec<Diagnostic>,
+) {
     let scale = if opts.fit.is_some() {
         format!("; fitted at {} mm per model metre", number(report.mm_per_metre, 3))
     } else {
@@ -389,6 +416,11 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
             .with_help("build with --fit to scale and centre the model onto the surface (glTF metres are page millimetres without it)"),
         );
     }
+}
+
+/// The bundle of height field `hf` for `profile`: the field stored as the
+/// device needs it, and one provenance entry naming the scene and its meshes.
+fn bundle_of(hf: HeightField, report: &MeshReport, profile: &DeviceProfile) -> Bundle {
     let mut bundle = Bundle::new(Manifest::new(*profile));
     // Stored as the device needs it: quantised heights in tiles (store.rs).
     bundle.chunks.push(Chunk::Height(store::tiled(hf, profile)));
@@ -403,10 +435,5 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
             line: 0,
         }],
     }));
-    // The writer validates its own output; a refusal here is reported, not hidden.
-    if let Err(e) = bundle.to_bytes() {
-        diagnostics.push(Diagnostic::error("T0613", format!("the height field cannot be stored: {e}")));
-        return Compiled { bundle: None, diagnostics, fonts_used: Vec::new(), print: None };
-    }
-    Compiled { bundle: Some(bundle), diagnostics, fonts_used: Vec::new(), print: None }
+    bundle
 }

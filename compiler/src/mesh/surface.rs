@@ -161,60 +161,164 @@ type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
 
 /// Builds the top surface of `soup`.
 pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
-    // Every referenced vertex snapped to the arrangement's grid (planar.rs),
-    // so the planes, the inside tests and the triangulation see the same points.
-    let mut foot = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
-    for t in &soup.triangles {
-        for &i in t {
-            if let Some(v) = soup.vertices.get(i as usize) {
-                foot = [foot[0].min(v[0]), foot[1].min(v[1]), foot[2].max(v[0]), foot[3].max(v[1])];
-            }
-        }
-    }
-    if !foot.iter().all(|v| v.is_finite()) {
-        return Err(MeshError::EmptyScene);
-    }
-    let snap = Snap::new(foot);
-    let grid_of: Vec<[i64; 2]> = soup.vertices.iter().map(|v| snap.to_grid(v[0], v[1])).collect();
-    let verts: Vec<[f64; 3]> = soup
-        .vertices
-        .iter()
-        .zip(&grid_of)
-        .map(|(v, &g)| {
-            let m = snap.to_mm(g);
-            [m[0], m[1], v[2]]
-        })
-        .collect();
-
-    // Planes of the triangles that cover area; the rest are walls or degenerate.
-    let mut planes = Vec::new();
-    let mut corners = Vec::new();
-    let mut degenerate = 0usize;
-    let (mut lo_h, mut hi_h) = (f64::INFINITY, f64::NEG_INFINITY);
-    for t in &soup.triangles {
-        let v = t.map(|i| verts.get(i as usize).copied().unwrap_or([f64::NAN; 3]));
-        for p in &v {
-            lo_h = lo_h.min(p[2]);
-            hi_h = hi_h.max(p[2]);
-        }
-        match Plane::through(v[0], v[1], v[2]) {
-            Some(p) => {
-                planes.push(p);
-                corners.push(*t);
-            }
-            None => degenerate += 1,
-        }
-    }
+    let snapped = Snapped::new(soup)?;
+    let Covering { planes, mut corners, degenerate, heights } = Covering::new(soup, &snapped.verts);
     let max_surface_slope = planes.iter().map(Plane::slope).filter(|&m| m <= WALL_SLOPE).fold(0.0, f64::max);
     if planes.is_empty() {
         return Err(MeshError::NoArea);
     }
+    let (grid_points, map) = distinct_points(&corners, &snapped.grid_of, soup.vertices.len());
+    let edges = projected_edges(&corners, &map);
+    let points = positions(&grid_points, &snapped.snap);
+    let mut surface = Surface::unarranged(planes, &points, &edges, heights, max_surface_slope, degenerate);
 
-    // Distinct grid points in first-seen order (spade keeps the order of a
-    // duplicate-free bulk load, so index i is vertex handle i).
+    // A mesh whose projection already tiles the page (a terrain) is its own
+    // triangulation: each triangle is a face covered by itself (sheet.rs).
+    let tris: Vec<[u32; 3]> = corners.iter().map(|t| t.map(|i| map[i as usize])).collect();
+    if let Some(shared) = sheet::tiling(&grid_points.at, &tris) {
+        surface.tile(&tris, &points, &shared);
+        return Ok(surface);
+    }
+
+    let Some((grid_points, edges)) = arrangement(&grid_points, &edges) else {
+        surface.rasterise(&corners, &snapped.verts);
+        return Ok(surface);
+    };
+    snapped.drop_hidden(&mut surface.planes, &mut corners);
+    let (cdt, unresolved) = triangulate(grid_points, edges, &snapped.snap, true)?;
+    surface.unresolved = unresolved;
+    check_bulk_order(&cdt, &points)?;
+    let pairs = cover_pairs(&cdt, &corners, &snapped.verts, &map)?;
+    let face_slot = surface.arrange(&cdt, &pairs);
+    surface.steps = constraint_steps(&cdt, &surface, &face_slot);
+    Ok(surface)
+}
+
+/// The soup's vertices snapped to the arrangement's grid (planar.rs), so
+/// the planes, the inside tests and the triangulation see the same points.
+struct Snapped {
+    /// The grid of the footprint of the referenced vertices.
+    snap: Snap,
+    /// Each vertex's grid point.
+    grid_of: Vec<[i64; 2]>,
+    /// Each vertex as `[x, y, h]`, its page position on the grid.
+    verts: Vec<[f64; 3]>,
+}
+
+impl Snapped {
+    /// Snaps every vertex of `soup` to the grid over the footprint of the
+    /// vertices its triangles reference, or fails when they have none.
+    fn new(soup: &Soup) -> Result<Snapped, MeshError> {
+        let mut foot = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
+        for t in &soup.triangles {
+            for &i in t {
+                if let Some(v) = soup.vertices.get(i as usize) {
+                    foot = [foot[0].min(v[0]), foot[1].min(v[1]), foot[2].max(v[0]), foot[3].max(v[1])];
+                }
+            }
+        }
+        if !foot.iter().all(|v| v.is_finite()) {
+            return Err(MeshError::EmptyScene);
+        }
+        let snap = Snap::new(foot);
+        let grid_of: Vec<[i64; 2]> = soup.vertices.iter().map(|v| snap.to_grid(v[0], v[1])).collect();
+        let verts: Vec<[f64; 3]> = soup
+            .vertices
+            .iter()
+            .zip(&grid_of)
+            .map(|(v, &g)| {
+                let m = snap.to_mm(g);
+                [m[0], m[1], v[2]]
+            })
+            .collect();
+        Ok(Snapped { snap, grid_of, verts })
+    }
+
+    /// Leaves out of `planes` and `corners` (in step) each triangle with
+    /// the same projection as another and nowhere above it (a block's
+    /// bottom under its top, a repeated triangle): it never makes the top
+    /// surface. (The tiling test refuses such pairs, so only an arranged
+    /// surface needs this.)
+    fn drop_hidden(&self, planes: &mut Vec<Plane>, corners: &mut Vec<[u32; 3]>) {
+        let corner_heights = |t: &[u32; 3]| {
+            let mut c = t.map(|i| (self.grid_of[i as usize], self.verts[i as usize][2]));
+            c.sort_unstable_by_key(|x| x.0);
+            c
+        };
+        let mut keep = vec![true; corners.len()];
+        let mut first: HashMap<[[i64; 2]; 3], usize> = HashMap::with_capacity(corners.len());
+        for (k, t) in corners.iter().enumerate() {
+            let c = corner_heights(t);
+            match first.entry(c.map(|x| x.0)) {
+                Entry::Vacant(e) => {
+                    e.insert(k);
+                }
+                Entry::Occupied(mut e) => {
+                    let o = corner_heights(&corners[*e.get()]);
+                    if c.iter().zip(&o).all(|(a, b)| a.1 <= b.1) {
+                        keep[k] = false;
+                    } else if c.iter().zip(&o).all(|(a, b)| a.1 >= b.1) {
+                        keep[*e.get()] = false;
+                        e.insert(k);
+                    }
+                }
+            }
+        }
+        if keep.contains(&false) {
+            let mut kept = keep.iter();
+            planes.retain(|_| kept.next().copied().unwrap_or(true));
+            let mut kept = keep.iter();
+            corners.retain(|_| kept.next().copied().unwrap_or(true));
+        }
+    }
+}
+
+/// The triangles of a soup that cover area, with their planes.
+struct Covering {
+    /// The plane of each covering triangle.
+    planes: Vec<Plane>,
+    /// The vertex indices of each covering triangle, in step with `planes`.
+    corners: Vec<[u32; 3]>,
+    /// How many triangles have no projected area (walls, degenerate).
+    degenerate: usize,
+    /// The lowest and highest height of any triangle's corner.
+    heights: [f64; 2],
+}
+
+impl Covering {
+    /// Sorts the triangles of `soup`, on the snapped `verts`, into those
+    /// that cover area and the rest, which are walls or degenerate.
+    fn new(soup: &Soup, verts: &[[f64; 3]]) -> Covering {
+        let mut planes = Vec::new();
+        let mut corners = Vec::new();
+        let mut degenerate = 0usize;
+        let (mut lo_h, mut hi_h) = (f64::INFINITY, f64::NEG_INFINITY);
+        for t in &soup.triangles {
+            let v = t.map(|i| verts.get(i as usize).copied().unwrap_or([f64::NAN; 3]));
+            for p in &v {
+                lo_h = lo_h.min(p[2]);
+                hi_h = hi_h.max(p[2]);
+            }
+            match Plane::through(v[0], v[1], v[2]) {
+                Some(p) => {
+                    planes.push(p);
+                    corners.push(*t);
+                }
+                None => degenerate += 1,
+            }
+        }
+        Covering { planes, corners, degenerate, heights: [lo_h, hi_h] }
+    }
+}
+
+/// The distinct grid points of the covering triangles' corners in
+/// first-seen order (spade keeps the order of a duplicate-free bulk load,
+/// so index i is vertex handle i), and each soup vertex's index among them
+/// (`u32::MAX` for a vertex no covering triangle uses).
+fn distinct_points(corners: &[[u32; 3]], grid_of: &[[i64; 2]], vertices: usize) -> (Points, Vec<u32>) {
     let mut grid_points = Points::default();
-    let mut map = vec![u32::MAX; soup.vertices.len()];
-    for t in &corners {
+    let mut map = vec![u32::MAX; vertices];
+    for t in corners {
         for &i in t {
             if let (Some(slot), Some(&g)) = (map.get_mut(i as usize), grid_of.get(i as usize))
                 && *slot == u32::MAX
@@ -223,8 +327,14 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
             }
         }
     }
+    (grid_points, map)
+}
+
+/// The projected edges of the covering triangles between distinct points,
+/// each once with its lower end first, sorted.
+fn projected_edges(corners: &[[u32; 3]], map: &[u32]) -> Vec<[u32; 2]> {
     let mut edges: Vec<[u32; 2]> = Vec::with_capacity(3 * corners.len());
-    for t in &corners {
+    for t in corners {
         let m = t.map(|i| map[i as usize]);
         for (a, b) in [(m[0], m[1]), (m[1], m[2]), (m[2], m[0])] {
             if a != b {
@@ -234,133 +344,48 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
     }
     edges.sort_unstable();
     edges.dedup();
-    let points = positions(&grid_points, &snap);
+    edges
+}
 
-    let mut bbox = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
-    for p in &points {
-        bbox = [bbox[0].min(p.x), bbox[1].min(p.y), bbox[2].max(p.x), bbox[3].max(p.y)];
-    }
-    let extent = (bbox[2] - bbox[0]).max(bbox[3] - bbox[1]).max(hi_h - lo_h);
-    let step_tol = (extent * 1e-7).max(f64::MIN_POSITIVE);
-
-    let mut lengths: Vec<f64> = edges
-        .iter()
-        .map(|&[a, b]| {
-            let (a, b) = (points[a as usize], points[b as usize]);
-            (a.x - b.x).hypot(a.y - b.y)
-        })
-        .collect();
-    let mid = lengths.len() / 2;
-    let median_edge = if lengths.is_empty() { 0.0 } else { *lengths.select_nth_unstable_by(mid, f64::total_cmp).1 };
-
-    let mut surface = Surface {
-        faces: Vec::new(),
-        cover: Vec::new(),
-        planes,
-        steps: Vec::new(),
-        bbox,
-        median_edge,
-        step_tol,
-        max_surface_slope,
-        degenerate,
-        unresolved: 0,
-        raster: false,
-    };
-
-    // A mesh whose projection already tiles the page (a terrain) is its own
-    // triangulation: each triangle is a face covered by itself (sheet.rs).
-    let tris: Vec<[u32; 3]> = corners.iter().map(|t| t.map(|i| map[i as usize])).collect();
-    if let Some(shared) = sheet::tiling(&grid_points.at, &tris) {
-        surface.faces = tris
-            .iter()
-            .zip(0u32..)
-            .map(|(t, k)| Face { corners: t.map(|i| [points[i as usize].x, points[i as usize].y]), cover: k..k + 1 })
-            .collect();
-        surface.cover = (0..tris.len() as u32).collect();
-        let steps = shared
-            .iter()
-            .filter_map(|e| {
-                let [a, b] = e.ends.map(|i| [points[i as usize].x, points[i as usize].y]);
-                let [f1, f2] = e.tris.map(|t| &surface.faces[t as usize]);
-                surface.is_step(f1, f2, a, b).then_some(Step { a, b })
-            })
-            .collect();
-        surface.steps = steps;
-        return Ok(surface);
-    }
-
-    // Triangles that cross one another many times (a terrain seen edge on:
-    // every column of its grid projects onto one thin strip where its
-    // slivers cross) make an arrangement, a triangulation and covers that
-    // grow with the crossings: 16 s to 35 s for a 64,000-triangle terrain
-    // read with the wrong axis, against 0.3 s from above. The arrangement
-    // of all edges is tried within a budget proportional to the edges; past
-    // it, or when it splits the edges into more than twice the points, the
-    // triangles are the faces as they are, each covered by itself, and the
-    // field takes the highest at each node: the exact top surface at the
-    // nodes, for the cost of the nodes the triangles cover.
+/// The arrangement of all projected `edges` over `grid_points`: the points
+/// with the crossings added and the edges split at them, or `None` when it
+/// costs too much.
+///
+/// Triangles that cross one another many times (a terrain seen edge on:
+/// every column of its grid projects onto one thin strip where its
+/// slivers cross) make an arrangement, a triangulation and covers that
+/// grow with the crossings: 16 s to 35 s for a 64,000-triangle terrain
+/// read with the wrong axis, against 0.3 s from above. The arrangement
+/// of all edges is tried within a budget proportional to the edges; past
+/// it, or when it splits the edges into more than twice the points, the
+/// triangles are the faces as they are, each covered by itself, and the
+/// field takes the highest at each node: the exact top surface at the
+/// nodes, for the cost of the nodes the triangles cover
+/// ([`Surface::rasterise`]).
+fn arrangement(grid_points: &Points, edges: &[[u32; 2]]) -> Option<(Points, Vec<[u32; 2]>)> {
     let mut split_points = grid_points.clone();
     let budget = 20 * edges.len() + 100_000;
-    let arranged = planar::split(&mut split_points, &edges, &edges, budget)
+    let arranged = planar::split(&mut split_points, edges, edges, budget)
         .ok()
-        .filter(|_| split_points.at.len() <= 2 * grid_points.at.len() + 1000);
-    let Some(arranged) = arranged else {
-        surface.faces = corners
-            .iter()
-            .zip(0u32..)
-            .map(|(t, k)| Face { corners: t.map(|i| [verts[i as usize][0], verts[i as usize][1]]), cover: k..k + 1 })
-            .collect();
-        surface.cover = (0..corners.len() as u32).collect();
-        surface.raster = true;
-        return Ok(surface);
-    };
-    let (grid_points, edges) = (split_points, arranged);
+        .filter(|_| split_points.at.len() <= 2 * grid_points.at.len() + 1000)?;
+    Some((split_points, arranged))
+}
 
-    // A triangle with the same projection as another and nowhere above it (a
-    // block's bottom under its top, a repeated triangle) never makes the top
-    // surface: leave it out of the covers. (The tiling test above
-    // refuses such pairs, so this only runs here.)
-    let corner_heights = |t: &[u32; 3]| {
-        let mut c = t.map(|i| (grid_of[i as usize], verts[i as usize][2]));
-        c.sort_unstable_by_key(|x| x.0);
-        c
-    };
-    let mut keep = vec![true; corners.len()];
-    let mut first: HashMap<[[i64; 2]; 3], usize> = HashMap::with_capacity(corners.len());
-    for (k, t) in corners.iter().enumerate() {
-        let c = corner_heights(t);
-        match first.entry(c.map(|x| x.0)) {
-            Entry::Vacant(e) => {
-                e.insert(k);
-            }
-            Entry::Occupied(mut e) => {
-                let o = corner_heights(&corners[*e.get()]);
-                if c.iter().zip(&o).all(|(a, b)| a.1 <= b.1) {
-                    keep[k] = false;
-                } else if c.iter().zip(&o).all(|(a, b)| a.1 >= b.1) {
-                    keep[*e.get()] = false;
-                    e.insert(k);
-                }
-            }
-        }
-    }
-    if keep.contains(&false) {
-        let mut kept = keep.iter();
-        surface.planes.retain(|_| kept.next().copied().unwrap_or(true));
-        let mut kept = keep.iter();
-        corners.retain(|_| kept.next().copied().unwrap_or(true));
-    }
-    let (cdt, unresolved) = triangulate(grid_points, edges, &snap, true)?;
-    surface.unresolved = unresolved;
-    // A handle in a bulk load is its input index; check rather than trust.
+/// Checks that each of `points` is the vertex of `cdt` with its index: a
+/// handle in a bulk load is its input index; check rather than trust.
+fn check_bulk_order(cdt: &Cdt, points: &[Point2<f64>]) -> Result<(), MeshError> {
     for (i, p) in points.iter().enumerate() {
         if i >= cdt.num_vertices() || cdt.vertex(FixedVertexHandle::from_index(i)).position() != *p {
             return Err(MeshError::Triangulation("vertex order changed in the bulk load".into()));
         }
     }
+    Ok(())
+}
 
-    // Which faces each triangle covers: a walk from the face under the
-    // triangle's centroid to neighbours whose centroid is inside it.
+/// Which faces of `cdt` each covering triangle covers, as sorted (face,
+/// triangle) pairs: a walk from the face under the triangle's centroid to
+/// neighbours whose centroid is inside it. Fails past [`MAX_COVER_PAIRS`].
+fn cover_pairs(cdt: &Cdt, corners: &[[u32; 3]], verts: &[[f64; 3]], map: &[u32]) -> Result<Vec<(u32, u32)>, MeshError> {
     let mut stamp = vec![u32::MAX; cdt.num_all_faces()];
     let mut pairs: Vec<(u32, u32)> = Vec::new();
     let mut queue: Vec<FixedFaceHandle<InnerTag>> = Vec::new();
@@ -370,20 +395,9 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
         let c = Point2::new((v[0][0] + v[1][0] + v[2][0]) / 3.0, (v[0][1] + v[1][1] + v[2][1]) / 3.0);
         let hint = FixedVertexHandle::from_index(map[t[0] as usize] as usize);
         queue.clear();
-        let seeds: Vec<FixedFaceHandle<InnerTag>> = match cdt.locate_with_hint(c, hint) {
-            PositionInTriangulation::OnFace(f) => vec![f],
-            PositionInTriangulation::OnEdge(e) => {
-                let d = cdt.directed_edge(e);
-                [d.face(), d.rev().face()].iter().filter_map(|f| f.as_inner()).map(|f| f.fix()).collect()
-            }
-            PositionInTriangulation::OnVertex(vh) => {
-                cdt.vertex(vh).out_edges().filter_map(|e| e.face().as_inner()).map(|f| f.fix()).collect()
-            }
-            _ => Vec::new(),
-        };
-        for f in seeds {
+        for f in seed_faces(cdt, c, hint) {
             let fi = f.index();
-            if stamp[fi] != ti as u32 && tri.contains(face_centroid(&cdt, f)) {
+            if stamp[fi] != ti as u32 && tri.contains(face_centroid(cdt, f)) {
                 stamp[fi] = ti as u32;
                 queue.push(f);
             }
@@ -396,7 +410,7 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
             for e in cdt.face(f).adjacent_edges() {
                 let Some(n) = e.rev().face().as_inner() else { continue };
                 let n = n.fix();
-                if stamp[n.index()] != ti as u32 && tri.contains(face_centroid(&cdt, n)) {
+                if stamp[n.index()] != ti as u32 && tri.contains(face_centroid(cdt, n)) {
                     stamp[n.index()] = ti as u32;
                     queue.push(n);
                 }
@@ -404,35 +418,30 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
         }
     }
     pairs.sort_unstable();
+    Ok(pairs)
+}
 
-    // Covered faces in triangulation order, with their covering triangles.
-    let mut handles: Vec<Option<FixedFaceHandle<InnerTag>>> = vec![None; cdt.num_all_faces()];
-    for f in cdt.inner_faces() {
-        if let Some(h) = handles.get_mut(f.fix().index()) {
-            *h = Some(f.fix());
+/// The inner faces of `cdt` at point `c` (located from vertex `hint`): the
+/// face it is in, the faces on either side of the edge it is on, or the
+/// faces around the vertex it is on.
+fn seed_faces(cdt: &Cdt, c: Point2<f64>, hint: FixedVertexHandle) -> Vec<FixedFaceHandle<InnerTag>> {
+    match cdt.locate_with_hint(c, hint) {
+        PositionInTriangulation::OnFace(f) => vec![f],
+        PositionInTriangulation::OnEdge(e) => {
+            let d = cdt.directed_edge(e);
+            [d.face(), d.rev().face()].iter().filter_map(|f| f.as_inner()).map(|f| f.fix()).collect()
         }
-    }
-    let mut face_slot = vec![u32::MAX; cdt.num_all_faces()];
-    let mut faces = Vec::new();
-    let mut cover = Vec::with_capacity(pairs.len());
-    let mut k = 0;
-    while k < pairs.len() {
-        let f = pairs[k].0;
-        let start = cover.len() as u32;
-        while k < pairs.len() && pairs[k].0 == f {
-            cover.push(pairs[k].1);
-            k += 1;
+        PositionInTriangulation::OnVertex(vh) => {
+            cdt.vertex(vh).out_edges().filter_map(|e| e.face().as_inner()).map(|f| f.fix()).collect()
         }
-        let Some(Some(fh)) = handles.get(f as usize) else { continue };
-        let pos = cdt.face(*fh).positions();
-        face_slot[f as usize] = faces.len() as u32;
-        faces.push(Face { corners: pos.map(|p| [p.x, p.y]), cover: start..cover.len() as u32 });
+        _ => Vec::new(),
     }
+}
 
-    surface.faces = faces;
-    surface.cover = cover;
-
-    // Steps: constraint edges with a covered face on each side whose tops differ.
+/// The steps of an arranged surface: constraint edges of `cdt` with a
+/// covered face on each side (`face_slot` of [`Surface::arrange`]) whose
+/// tops differ.
+fn constraint_steps(cdt: &Cdt, surface: &Surface, face_slot: &[u32]) -> Vec<Step> {
     let mut steps = Vec::new();
     for e in cdt.undirected_edges() {
         if !cdt.is_constraint_edge(e.fix()) {
@@ -448,8 +457,120 @@ pub fn build(soup: &Soup) -> Result<Surface, MeshError> {
             steps.push(Step { a, b });
         }
     }
-    surface.steps = steps;
-    Ok(surface)
+    steps
+}
+
+impl Surface {
+    /// The surface of `planes` with no faces yet: the footprint of
+    /// `points`, the rounding tolerance of steps from the extent of the
+    /// points and the corners' `heights` (lowest, highest), and the median
+    /// length of the projected `edges`.
+    fn unarranged(
+        planes: Vec<Plane>,
+        points: &[Point2<f64>],
+        edges: &[[u32; 2]],
+        heights: [f64; 2],
+        max_surface_slope: f64,
+        degenerate: usize,
+    ) -> Surface {
+        let [lo_h, hi_h] = heights;
+        let mut bbox = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
+        for p in points {
+            bbox = [bbox[0].min(p.x), bbox[1].min(p.y), bbox[2].max(p.x), bbox[3].max(p.y)];
+        }
+        let extent = (bbox[2] - bbox[0]).max(bbox[3] - bbox[1]).max(hi_h - lo_h);
+        let step_tol = (extent * 1e-7).max(f64::MIN_POSITIVE);
+
+        let mut lengths: Vec<f64> = edges
+            .iter()
+            .map(|&[a, b]| {
+                let (a, b) = (points[a as usize], points[b as usize]);
+                (a.x - b.x).hypot(a.y - b.y)
+            })
+            .collect();
+        let mid = lengths.len() / 2;
+        let median_edge = if lengths.is_empty() { 0.0 } else { *lengths.select_nth_unstable_by(mid, f64::total_cmp).1 };
+
+        Surface {
+            faces: Vec::new(),
+            cover: Vec::new(),
+            planes,
+            steps: Vec::new(),
+            bbox,
+            median_edge,
+            step_tol,
+            max_surface_slope,
+            degenerate,
+            unresolved: 0,
+            raster: false,
+        }
+    }
+
+    /// Makes each of `tris` (indices into `points`), which tile the page, a
+    /// face covered by itself, with its steps on the `shared` edges whose
+    /// two triangles' tops differ.
+    fn tile(&mut self, tris: &[[u32; 3]], points: &[Point2<f64>], shared: &[sheet::Shared]) {
+        self.faces = tris
+            .iter()
+            .zip(0u32..)
+            .map(|(t, k)| Face { corners: t.map(|i| [points[i as usize].x, points[i as usize].y]), cover: k..k + 1 })
+            .collect();
+        self.cover = (0..tris.len() as u32).collect();
+        let steps = shared
+            .iter()
+            .filter_map(|e| {
+                let [a, b] = e.ends.map(|i| [points[i as usize].x, points[i as usize].y]);
+                let [f1, f2] = e.tris.map(|t| &self.faces[t as usize]);
+                self.is_step(f1, f2, a, b).then_some(Step { a, b })
+            })
+            .collect();
+        self.steps = steps;
+    }
+
+    /// Makes each covering triangle (`corners` into `verts`) a face covered
+    /// by itself, for a surface with no arrangement ([`arrangement`]): the
+    /// field finds its top and steps node by node.
+    fn rasterise(&mut self, corners: &[[u32; 3]], verts: &[[f64; 3]]) {
+        self.faces = corners
+            .iter()
+            .zip(0u32..)
+            .map(|(t, k)| Face { corners: t.map(|i| [verts[i as usize][0], verts[i as usize][1]]), cover: k..k + 1 })
+            .collect();
+        self.cover = (0..corners.len() as u32).collect();
+        self.raster = true;
+    }
+
+    /// Sets the faces to the covered faces of `cdt` in triangulation order,
+    /// with their covering triangles from the sorted (face, triangle)
+    /// `pairs`. Returns each face's slot in [`Surface::faces`] by its index
+    /// in `cdt` (`u32::MAX` for a face nothing covers).
+    fn arrange(&mut self, cdt: &Cdt, pairs: &[(u32, u32)]) -> Vec<u32> {
+        let mut handles: Vec<Option<FixedFaceHandle<InnerTag>>> = vec![None; cdt.num_all_faces()];
+        for f in cdt.inner_faces() {
+            if let Some(h) = handles.get_mut(f.fix().index()) {
+                *h = Some(f.fix());
+            }
+        }
+        let mut face_slot = vec![u32::MAX; cdt.num_all_faces()];
+        let mut faces = Vec::new();
+        let mut cover = Vec::with_capacity(pairs.len());
+        let mut k = 0;
+        while k < pairs.len() {
+            let f = pairs[k].0;
+            let start = cover.len() as u32;
+            while k < pairs.len() && pairs[k].0 == f {
+                cover.push(pairs[k].1);
+                k += 1;
+            }
+            let Some(Some(fh)) = handles.get(f as usize) else { continue };
+            let pos = cdt.face(*fh).positions();
+            face_slot[f as usize] = faces.len() as u32;
+            faces.push(Face { corners: pos.map(|p| [p.x, p.y]), cover: start..cover.len() as u32 });
+        }
+        self.faces = faces;
+        self.cover = cover;
+        face_slot
+    }
 }
 
 /// Rounds of arrangement before giving up on a crossing (each round only

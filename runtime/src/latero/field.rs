@@ -331,6 +331,76 @@ impl<'a> FieldLayer<'a> {
         (i16x8::from_u8x16_low(bytes), i16x8::from_u8x16_high(bytes))
     }
 
+    /// Reads the lanes' tiles anew for the tile row that starts at index
+    /// `row`, the lanes at lattice columns `ci` and lattice x `u` within
+    /// their tiles: a sampled layer's windows, else constant and plane
+    /// lanes, else stored tiles' windows, else every kind of tile
+    /// ([`Self::tile_lanes`]).
+    #[inline(always)]
+    fn next_tiles<const ANALYTIC: bool, const BENDS: bool>(
+        &self,
+        row: usize,
+        ci: [u32; LANES],
+        u: f32x4,
+        lanes: &mut TileLanes<'a>,
+        bends: &mut BendLanes,
+    ) {
+        if !ANALYTIC {
+            // (`None` never happens in a layer of such tiles only.)
+            lanes.windows = self.sample_windows(row, ci).unwrap_or([&OUTSIDE_WINDOW; LANES]);
+        } else if self.affine_lanes(row, ci, u, lanes) {
+            // Constant and plane tiles only, the tiles the compiler writes
+            // along straight edges and inside and outside regions, first: no
+            // decode by kind, no second record, no samples.
+            if BENDS {
+                (bends.arced, bends.segged, bends.fined) = (false, false, false);
+            }
+        } else {
+            // Then outside, inside and stored tiles: their lanes need nothing
+            // but their windows. But lanes that met another kind of tile most
+            // likely meet one again in the next tile row (a band or a corner
+            // crosses rows of tiles): they skip the lookup that would fail.
+            // (`tile_lanes` reads every kind, so a wrong guess costs time,
+            // never a frame.)
+            let windows = if lanes.decoded { None } else { self.sample_windows(row, ci) };
+            match windows {
+                Some(windows) => {
+                    (lanes.windows, lanes.analytic, lanes.bent, lanes.affine, lanes.decoded) =
+                        (windows, false, false, false, false)
+                }
+                None => *lanes = self.tile_lanes::<BENDS>(row, ci, u, bends),
+            }
+        }
+    }
+
+    /// The analytic lanes' code at lattice y `wt` within their tile, in
+    /// units of `W`: `T − sign · |A|`, replaced in bend, arc, segments and
+    /// fine lanes by their own code.
+    #[inline(always)]
+    fn analytic_code<const BENDS: bool>(&self, lanes: &TileLanes<'a>, bends: &BendLanes, wt: f32) -> f32x4 {
+        let mut code = lanes.t0 + lanes.tgy * wt;
+        if !lanes.flat {
+            code -= lanes.sign * (lanes.a0 + lanes.gy * wt).abs();
+        }
+        if BENDS && lanes.bent {
+            code = cast::<i32x4, f32x4>(i32x4::new(bends.bend)).select(Self::bend(bends, wt), code);
+        }
+        if BENDS && bends.arced {
+            code = cast::<i32x4, f32x4>(i32x4::new(bends.arc)).select(Self::arc(bends, wt), code);
+        }
+        if BENDS && bends.segged {
+            code = cast::<i32x4, f32x4>(i32x4::new(bends.seg)).select(Self::segments(bends, wt), code);
+        }
+        if BENDS && bends.fined {
+            code = cast::<i32x4, f32x4>(i32x4::new(bends.fine)).select(self.fine(bends, wt), code);
+        }
+        code
+    }
+
+    /// The kernel: adds this layer's deflection for the frame's rows to
+    /// `acc`, up to eight rows and four columns at a time, for a grating or
+    /// a vibration (`GRATING`) over sampled tiles only or analytic ones
+    /// (`ANALYTIC`), with bend, arc, segments and fine tiles (`BENDS`).
     #[inline(always)]
     fn rows<const GRATING: bool, const ANALYTIC: bool, const BENDS: bool>(&self, f: &Frame, acc: &mut Acc) {
         let [c_lo, c_hi, r_lo, r_hi] = f.runs(self.bounds);
@@ -421,35 +491,7 @@ impl<'a> FieldLayer<'a> {
                     if ty != ty_now {
                         ty_now = ty;
                         let row = ty as usize * self.tile_cols as usize;
-                        if !ANALYTIC {
-                            // (`None` never happens in a layer of such tiles only.)
-                            lanes.windows = self.sample_windows(row, ci).unwrap_or([&OUTSIDE_WINDOW; LANES]);
-                        } else if self.affine_lanes(row, ci, u, &mut lanes) {
-                            // Constant and plane tiles only, the tiles the
-                            // compiler writes along straight edges and
-                            // inside and outside regions, first: no decode
-                            // by kind, no second record, no samples.
-                            if BENDS {
-                                (bends.arced, bends.segged, bends.fined) = (false, false, false);
-                            }
-                        } else {
-                            // Then outside, inside and stored tiles: their
-                            // lanes need nothing but their windows. But
-                            // lanes that met another kind of tile most
-                            // likely meet one again in the next tile row (a
-                            // band or a corner crosses rows of tiles): they
-                            // skip the lookup that would fail.
-                            // (`tile_lanes` reads every kind, so a wrong
-                            // guess costs time, never a frame.)
-                            let windows = if lanes.decoded { None } else { self.sample_windows(row, ci) };
-                            match windows {
-                                Some(windows) => {
-                                    (lanes.windows, lanes.analytic, lanes.bent, lanes.affine, lanes.decoded) =
-                                        (windows, false, false, false, false)
-                                }
-                                None => lanes = self.tile_lanes::<BENDS>(row, ci, u, &mut bends),
-                            }
-                        }
+                        self.next_tiles::<ANALYTIC, BENDS>(row, ci, u, &mut lanes, &mut bends);
                     }
                     // The lanes' interpolated samples.
                     let samples = |lanes: &TileLanes| {
@@ -464,25 +506,7 @@ impl<'a> FieldLayer<'a> {
                         // samples (one test for the rows of such tiles).
                         (lanes.t0 + lanes.tgy * wts[k]) * W as f32
                     } else if ANALYTIC && lanes.analytic {
-                        // The analytic lanes' code at this row's
-                        // lattice y within the tile, in units of `W`.
-                        let wt = wts[k];
-                        let mut code = lanes.t0 + lanes.tgy * wt;
-                        if !lanes.flat {
-                            code -= lanes.sign * (lanes.a0 + lanes.gy * wt).abs();
-                        }
-                        if BENDS && lanes.bent {
-                            code = cast::<i32x4, f32x4>(i32x4::new(bends.bend)).select(Self::bend(&bends, wt), code);
-                        }
-                        if BENDS && bends.arced {
-                            code = cast::<i32x4, f32x4>(i32x4::new(bends.arc)).select(Self::arc(&bends, wt), code);
-                        }
-                        if BENDS && bends.segged {
-                            code = cast::<i32x4, f32x4>(i32x4::new(bends.seg)).select(Self::segments(&bends, wt), code);
-                        }
-                        if BENDS && bends.fined {
-                            code = cast::<i32x4, f32x4>(i32x4::new(bends.fine)).select(self.fine(&bends, wt), code);
-                        }
+                        let code = self.analytic_code::<BENDS>(&lanes, &bends, wts[k]);
                         // Only lanes in stored tiles read samples.
                         if lanes.sampled {
                             cast::<i32x4, f32x4>(lanes.planar).select(code * W as f32, samples(&lanes))
