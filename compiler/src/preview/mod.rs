@@ -217,17 +217,30 @@ fn draw_height(c: &mut Canvas, f: &HeightField) {
 /// Millimetres from one line of the key to the next under the picture.
 const KEY_LINE_MM: f64 = 4.0;
 
-/// The key of the labels written as key codes (provenance entry `key`,
-/// `key: bs Bundle Store, kf 1 kHz frames`), one code and its meaning a line.
+/// The key as the bundle's provenance holds it, a line each: "Key", then
+/// each texture, line style and symbol with its meaning (entries `key.*`,
+/// `texture: Forest (grating 3 mm at 0°)`), then each key code and the label
+/// it stands for (entry `key`, `key: bs Bundle Store, kf 1 kHz frames`).
 fn key_lines(b: &Bundle) -> Vec<String> {
-    let key = b.chunks.iter().find_map(|c| match c {
-        Chunk::Provenance(p) => p.entries.iter().find(|e| e.id == "key").map(|e| e.label.as_str()),
+    let Some(p) = b.chunks.iter().find_map(|c| match c {
+        Chunk::Provenance(p) => Some(p),
         _ => None,
-    });
-    let Some(key) = key.map(|k| k.strip_prefix("key: ").unwrap_or(k)).filter(|k| !k.is_empty()) else {
+    }) else {
         return Vec::new();
     };
-    std::iter::once("Key".to_string()).chain(key.split(", ").map(String::from)).collect()
+    let mut lines: Vec<String> = p
+        .entries
+        .iter()
+        .filter_map(|e| crate::style::legend::kind_of_id(&e.id).map(|kind| format!("{kind}: {}", e.label)))
+        .collect();
+    let codes = p.entries.iter().find(|e| e.id == "key").map(|e| e.label.as_str());
+    if let Some(codes) = codes.map(|k| k.strip_prefix("key: ").unwrap_or(k)).filter(|k| !k.is_empty()) {
+        lines.extend(codes.split(", ").map(String::from));
+    }
+    if lines.is_empty() {
+        return lines;
+    }
+    std::iter::once("Key".to_string()).chain(lines).collect()
 }
 
 /// The page extent a bundle covers: the device surface and every layer.

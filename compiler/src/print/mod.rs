@@ -16,8 +16,11 @@
 //!   per dot style (disc, square, triangle, diamond, ring, cross);
 //! - `brush` → a line with an arrowhead where the stroke ends;
 //! - `braille` → braille cells at the medium's dimensions drawn as dots
-//!   (`braille.rs`), the texture cleared around them; the key of the labels
-//!   written as key codes goes on a page of its own.
+//!   (`braille.rs`), the texture cleared around them.
+//!
+//! When the drawing needs a key ([`crate::style::legend`]), it follows on
+//! pages of its own (`key.rs`): each texture, line style and point symbol
+//! felt as itself beside its meaning in braille, then the key codes.
 //!
 //! An embosser's sheet is then snapped to its grid: every mark becomes the
 //! grid's dots it covers (`grid.rs`). The files: [`pdf()`] (swell paper and
@@ -53,6 +56,7 @@
 
 mod braille;
 mod grid;
+mod key;
 mod marks;
 mod pdf;
 pub mod preview;
@@ -136,7 +140,7 @@ pub struct Sheet {
     pub params: PrintParams,
     /// Paper size, `(width, height)` in mm.
     pub paper_mm: (f64, f64),
-    /// The pages: the graphic first, then the key when there is one.
+    /// The pages: the graphic first, then the key's pages when there is one.
     pub pages: Vec<Vec<Mark>>,
     /// The texture each grated element got, by element index.
     pub textures: Vec<(usize, TextureId)>,
@@ -292,11 +296,10 @@ pub fn legalise_with(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mu
     page.extend(labels.marks.iter().cloned());
     rules::check(&params, drawing, &page, &labels, diags);
     let mut pages = vec![page];
-    let key = braille::key_page(drawing, &params, origin, &mut braille::Cx { opts, notes: &mut notes, diags });
+    let legend = crate::style::legend(drawing);
+    let cx = &mut braille::Cx { opts, notes: &mut notes, diags };
+    pages.extend(key::pages(drawing, &legend, &textures, &params, origin, cx));
     notes.emit(diags);
-    if !key.is_empty() {
-        pages.push(key);
-    }
     if params.medium == Medium::Emboss {
         pages = pages.into_iter().map(|p| grid::snap(&params, origin, p, drawing, diags)).collect();
     }
