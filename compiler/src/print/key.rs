@@ -16,9 +16,11 @@ use crate::geometry::Polyline;
 use crate::style::legend::{Entry, Legend, Swatch};
 
 /// A swatch's size on swell paper, `(width, height)` mm (spaced out with
-/// the medium's textures, [`texture::scale`]): about two fingertips wide,
-/// room for two or more lines of any texture of the catalogue.
-pub const SWATCH_MM: (f64, f64) = (15.0, 10.0);
+/// the medium's textures, [`texture::scale`]): room for two or more lines
+/// of any texture of the catalogue across its height, and long enough that
+/// a dashed line's sample holds three dashes ([`super::marks::DASH_MM`]
+/// and their gaps), so that it is not felt as a double line.
+pub const SWATCH_MM: (f64, f64) = (25.0, 10.0);
 
 /// One row of the key being laid out: a swatch (or none) and braille lines.
 struct Row<'a> {

@@ -414,33 +414,71 @@ fn paint_of(e: &Element, s: &Swatch) -> Option<Rgba> {
     }
 }
 
-/// The basic colour names (Berlin and Kay's eleven), by a typical sRGB value.
-const COLOURS: [(&str, [u8; 3]); 11] = [
-    ("black", [0, 0, 0]),
-    ("white", [255, 255, 255]),
-    ("grey", [128, 128, 128]),
-    ("red", [220, 30, 30]),
-    ("orange", [255, 140, 0]),
-    ("yellow", [240, 220, 30]),
-    ("green", [40, 160, 50]),
-    ("blue", [30, 90, 220]),
-    ("purple", [130, 50, 170]),
-    ("pink", [250, 150, 190]),
-    ("brown", [140, 85, 40]),
-];
-
-/// The basic colour name nearest `c` (in a rough perceptual distance:
-/// channels weighted as the eye weighs them), `None` when it is hardly seen.
+/// The basic colour name of `c` (one of Berlin and Kay's eleven: black,
+/// white, grey, red, orange, yellow, green, blue, purple, pink, brown), by
+/// its hue, saturation and lightness; `None` when it is hardly seen.
 pub fn colour_word(c: Rgba) -> Option<String> {
     if c[3] < super::MIN_ALPHA {
         return None;
     }
-    let d = |a: [u8; 3]| {
-        let (dr, dg, db) = (a[0] as f64 - c[0] as f64, a[1] as f64 - c[1] as f64, a[2] as f64 - c[2] as f64);
-        let rm = (a[0] as f64 + c[0] as f64) / 2.0;
-        (2.0 + rm / 256.0) * dr * dr + 4.0 * dg * dg + (2.0 + (255.0 - rm) / 256.0) * db * db
+    let [r, g, b] = [c[0], c[1], c[2]].map(|v| v as f64 / 255.0);
+    let (max, min) = (r.max(g).max(b), r.min(g).min(b));
+    let l = (max + min) / 2.0;
+    let chroma = max - min;
+    let word = if chroma < 0.12 {
+        // No hue: by lightness.
+        if l < 0.2 {
+            "black"
+        } else if l > 0.85 {
+            "white"
+        } else {
+            "grey"
+        }
+    } else {
+        let h = if max == r {
+            60.0 * ((g - b) / chroma).rem_euclid(6.0)
+        } else if max == g {
+            60.0 * ((b - r) / chroma + 2.0)
+        } else {
+            60.0 * ((r - g) / chroma + 4.0)
+        };
+        match h {
+            h if !(15.0..330.0).contains(&h) => {
+                if l > 0.7 {
+                    "pink"
+                } else if max < 0.45 {
+                    "brown"
+                } else {
+                    "red"
+                }
+            }
+            h if h < 45.0 => {
+                if max < 0.65 {
+                    "brown"
+                } else {
+                    "orange"
+                }
+            }
+            h if h < 70.0 => {
+                if max < 0.55 {
+                    "brown"
+                } else {
+                    "yellow"
+                }
+            }
+            h if h < 165.0 => "green",
+            h if h < 255.0 => "blue",
+            h if h < 290.0 => "purple",
+            _ => {
+                if l > 0.6 {
+                    "pink"
+                } else {
+                    "purple"
+                }
+            }
+        }
     };
-    COLOURS.iter().min_by(|a, b| d(a.1).total_cmp(&d(b.1))).map(|(n, _)| n.to_string())
+    Some(word.to_string())
 }
 
 /// Largest side of a legend's swatch, mm (matplotlib's patch is 2 em by
@@ -656,6 +694,23 @@ mod tests {
         assert_eq!(colour_word([0, 0, 139, 255]).as_deref(), Some("blue"));
         assert_eq!(colour_word([34, 139, 34, 255]).as_deref(), Some("green"));
         assert_eq!(colour_word([250, 250, 250, 255]).as_deref(), Some("white"));
+        assert_eq!(colour_word([30, 30, 30, 255]).as_deref(), Some("black"));
+        assert_eq!(colour_word([128, 128, 128, 255]).as_deref(), Some("grey"));
+        // CSS's named colours whose names say their basic colour.
+        for (rgb, word) in [
+            ([255, 165, 0], "orange"),
+            ([255, 255, 0], "yellow"),
+            ([128, 0, 128], "purple"),
+            ([255, 192, 203], "pink"),
+            ([139, 69, 19], "brown"),
+            ([0, 128, 0], "green"),
+            ([0, 0, 255], "blue"),
+            ([100, 149, 237], "blue"),
+            ([0, 128, 128], "blue"),
+            ([220, 20, 60], "red"),
+        ] {
+            assert_eq!(colour_word([rgb[0], rgb[1], rgb[2], 255]).as_deref(), Some(word), "{rgb:?}");
+        }
         assert_eq!(colour_word([255, 0, 0, 0]), None);
     }
 }
