@@ -7,9 +7,9 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 use serde_json::{Value, json};
+use taxel_compiler::style::legend;
 use taxel_format::lookup::PointLookup;
 use taxel_format::{BundleView, ChunkView, FamilyParams, MaskKind, ProvenanceView};
-use taxel_compiler::style::legend;
 
 use crate::cli::Format;
 use crate::error::{CliError, CmdResult};

@@ -155,12 +155,23 @@ impl Layout {
     /// cells' bottom row, so that `text::place` puts it there).
     fn text(&self, s: &str, k: u32, l: u32, pitch: (f64, f64)) -> Element {
         let (c, r) = ((k * self.cp) as f64, (self.top(l) + self.cell_rows - 1) as f64);
-        let run = TextRun { text: s.to_string(), x_mm: (c + 0.5) * pitch.0, y_mm: (r + 0.5) * pitch.1, anchor: 0.0, continues: false };
+        let run = TextRun {
+            text: s.to_string(),
+            x_mm: (c + 0.5) * pitch.0,
+            y_mm: (r + 0.5) * pitch.1,
+            anchor: 0.0,
+            continues: false,
+        };
         Element {
             name: "key".into(),
             visible: true,
             styles: vec![Style::Braille(Braille { radius_mm: 0.72, amplitude: 1.0, grade: None })],
-            shape: Shape::Text(TextShape { content: s.to_string(), runs: vec![run], font_size_mm: 4.0, ..Default::default() }),
+            shape: Shape::Text(TextShape {
+                content: s.to_string(),
+                runs: vec![run],
+                font_size_mm: 4.0,
+                ..Default::default()
+            }),
             ..Default::default()
         }
     }

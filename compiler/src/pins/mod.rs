@@ -455,7 +455,8 @@ pub fn build_bundle(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mut
         entries.push(ProvenanceEntry { id: "key".into(), label: key, line: 0 });
     }
     // The key's entries, for a host to say (the display shows them on its key pages).
-    entries.extend(crate::style::legend::provenance(&crate::style::legend(drawing), |s| !matches!(s, Swatch::Stroke(_))));
+    entries
+        .extend(crate::style::legend::provenance(&crate::style::legend(drawing), |s| !matches!(s, Swatch::Stroke(_))));
     if !entries.is_empty() {
         bundle.chunks.push(Chunk::Provenance(Provenance { entries }));
     }

@@ -210,9 +210,8 @@ fn gratings_that_would_feel_the_same_get_distinct_textures() {
     // (On the graphic's page: two gratings get a key page after it, whose
     // braille is no texture.)
     assert_eq!(image.rows, 80);
-    let cols_of = |c0: u32, c1: u32| -> Vec<u32> {
-        (c0..c1).filter(|&c| (0..40).any(|r| image.get(c, r).raised())).collect()
-    };
+    let cols_of =
+        |c0: u32, c1: u32| -> Vec<u32> { (c0..c1).filter(|&c| (0..40).any(|r| image.get(c, r).raised())).collect() };
     let (ca, cb) = (cols_of(0, 20), cols_of(20, 40));
     assert!(ca.windows(2).all(|w| w[1] - w[0] == 2), "a: every 2 pins: {ca:?}");
     assert!(cb.windows(2).all(|w| w[1] - w[0] == 4), "b: every 4 pins: {cb:?}");
@@ -635,7 +634,8 @@ fn the_key_is_a_display_page_after_the_graphic_with_each_texture_felt_and_its_me
     let items = |s: &str| s.matches("\"page\"").count();
     assert_eq!(items(&dtms(&keyed)), items(&dtms(&plain)) + 1);
     // Graphiti's display is 60 x 40 too: a 4,800-byte frame a page.
-    let frames = |image: &PinImage| export::graphiti(image, &profiles::builtin("graphiti").unwrap()).unwrap().len() / 4800;
+    let frames =
+        |image: &PinImage| export::graphiti(image, &profiles::builtin("graphiti").unwrap()).unwrap().len() / 4800;
     assert_eq!(frames(&keyed), frames(&plain) + 1);
     assert_eq!(unicode(&keyed).lines().count(), unicode(&plain).lines().count() + 10);
 }

@@ -371,6 +371,37 @@ mod tests {
     use taxel_format::Mm;
 
     #[test]
+    fn the_key_names_each_texture_line_and_symbol_before_its_codes() {
+        let mut b = Bundle::new(taxel_format::Manifest::new(taxel_format::profiles::builtin("stress2").unwrap()));
+        let plain = render_bundle(&b, None);
+        let entry =
+            |id: &str, label: &str| taxel_format::ProvenanceEntry { id: id.into(), label: label.into(), line: 0 };
+        let entries = vec![
+            entry("a", "a"),
+            entry("key", "key: cr Check rules"),
+            entry("key.texture", "Forest (grating 3 mm at 0°)"),
+            entry("key.line", "Road (vibrating line 1.5 mm, 50 Hz)"),
+            entry("key.symbol", "Town (dot of 2 mm)"),
+            // An id that merely starts alike is not the key's.
+            entry("key.other", "not a key entry"),
+        ];
+        b.chunks.push(Chunk::Provenance(taxel_format::Provenance { entries }));
+        assert_eq!(
+            key_lines(&b),
+            [
+                "Key",
+                "texture: Forest (grating 3 mm at 0°)",
+                "line: Road (vibrating line 1.5 mm, 50 Hz)",
+                "symbol: Town (dot of 2 mm)",
+                "cr Check rules"
+            ]
+        );
+        let keyed = render_bundle(&b, None);
+        let k = PREVIEW_PX_PER_MM;
+        assert_eq!(keyed.height, plain.height + (5.0 * KEY_LINE_MM * k).ceil() as u32);
+    }
+
+    #[test]
     fn the_key_of_a_bundle_is_listed_under_its_picture() {
         let mut b = Bundle::new(taxel_format::Manifest::new(taxel_format::profiles::builtin("stress2").unwrap()));
         let plain = render_bundle(&b, None);

@@ -26,7 +26,12 @@ pub(super) struct Labels {
 /// Translates `text` as the other devices do (`crate::braille`: liblouis
 /// where it is, contracted where the language has it, else the built-in UEB
 /// grade 1), warning (T0304) about characters left out; six-dot cells.
-pub(super) fn cells(text: &str, ask: (Option<&TextShape>, Option<u8>), e: Option<&Element>, cx: &mut Cx<'_>) -> Vec<u8> {
+pub(super) fn cells(
+    text: &str,
+    ask: (Option<&TextShape>, Option<u8>),
+    e: Option<&Element>,
+    cx: &mut Cx<'_>,
+) -> Vec<u8> {
     let t = crate::braille::translate(text, ask.0, cx.opts, ask.1, false);
     // (A key code's grade 1 is taxel's choice, not the reader's: no note for it.)
     if ask.0.is_none_or(|s| s.keyed.is_none()) {

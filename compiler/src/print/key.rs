@@ -96,8 +96,11 @@ pub(super) fn pages(
     }
     if pages.len() > 1 {
         cx.diags.push(
-            Diagnostic::note("T0727", format!("the key takes {} pages; it goes on over them, none of it left out", pages.len()))
-                .with_help("a shorter title or shorter legend texts make the key shorter"),
+            Diagnostic::note(
+                "T0727",
+                format!("the key takes {} pages; it goes on over them, none of it left out", pages.len()),
+            )
+            .with_help("a shorter title or shorter legend texts make the key shorter"),
         );
     }
     pages
@@ -139,10 +142,8 @@ fn swatch(
             // The texture the sheet gave the entry's regions (they all share
             // it: a grating style has one texture, `texture.rs`).
             let Some(&(_, t)) = textures.iter().find(|(i, _)| e.elements.contains(i)) else { return };
-            let rect = Polyline {
-                points: vec![at, (at.0 + w, at.1), (at.0 + w, at.1 + h), (at.0, at.1 + h)],
-                closed: true,
-            };
+            let rect =
+                Polyline { points: vec![at, (at.0 + w, at.1), (at.0 + w, at.1 + h), (at.0, at.1 + h)], closed: true };
             let path = PathShape { outline: vec![rect], ..Default::default() };
             let fill = texture::Fill { texture: t, outlined: false, clear: &[] };
             b.marks.extend(texture::fill(p, (0.0, 0.0), elem, &path, fill));

@@ -476,7 +476,12 @@ fn the_key_page_holds_each_texture_line_and_symbol_felt_as_itself_with_its_meani
         e.label = label.into();
         e
     };
-    let line = |k: usize| vec![Polyline { points: vec![(10.0, 120.0 + 10.0 * k as f64), (150.0, 120.0 + 10.0 * k as f64)], closed: false }];
+    let line = |k: usize| {
+        vec![Polyline {
+            points: vec![(10.0, 120.0 + 10.0 * k as f64), (150.0, 120.0 + 10.0 * k as f64)],
+            closed: false,
+        }]
+    };
     let dot = |r: f64| Style::Dot(Dot { radius_mm: r, amplitude: 1.0 });
     let d = drawing(vec![
         named(path("forest", rect(10.0, 10.0, 50.0, 40.0), vec![grating(2.0, 0.0)]), "Forest"),
@@ -523,8 +528,7 @@ fn the_key_page_holds_each_texture_line_and_symbol_felt_as_itself_with_its_meani
             }
         }
         let mid = (y0 + y1) / 2.0;
-        let beside: Vec<(f64, f64)> =
-            braille.iter().copied().filter(|b| (b.1 - mid).abs() < 4.0 && b.0 > x1).collect();
+        let beside: Vec<(f64, f64)> = braille.iter().copied().filter(|b| (b.1 - mid).abs() < 4.0 && b.0 > x1).collect();
         assert!(says(&beside, &braille_cells(&e.label, &p), &q), "{}: {beside:?}", e.label);
     }
     // Every entry is told apart from the others of its kind.

@@ -523,7 +523,11 @@ fn legend_texts(d: &Drawing, entries: &[Entry]) -> BTreeMap<usize, (String, Opti
             for (t, (tx, ty, size)) in &texts {
                 let gap = tx - b.2;
                 let reach = (h.max(*size) * 0.75).max(1.0);
-                if gap >= -0.5 && gap <= LEGEND_GAP_MM && (ty - mid).abs() <= reach && best.as_ref().is_none_or(|bb| gap < bb.0) {
+                if gap >= -0.5
+                    && gap <= LEGEND_GAP_MM
+                    && (ty - mid).abs() <= reach
+                    && best.as_ref().is_none_or(|bb| gap < bb.0)
+                {
                     best = Some((gap, b, super::keys::label_text(t), t.lang.clone()));
                 }
             }
@@ -535,7 +539,8 @@ fn legend_texts(d: &Drawing, entries: &[Entry]) -> BTreeMap<usize, (String, Opti
     let lined_up = |p: &(usize, (f64, f64, f64, f64), String, Option<String>)| {
         pairs.iter().any(|q| {
             q.0 != p.0
-                && ((q.1.0 - p.1.0).abs() <= ALIGN_MM || ((q.1.1 + q.1.3) / 2.0 - (p.1.1 + p.1.3) / 2.0).abs() <= ALIGN_MM)
+                && ((q.1.0 - p.1.0).abs() <= ALIGN_MM
+                    || ((q.1.1 + q.1.3) / 2.0 - (p.1.1 + p.1.3) / 2.0).abs() <= ALIGN_MM)
         })
     };
     pairs.iter().filter(|p| lined_up(p)).map(|p| (p.0, (p.2.clone(), p.3.clone()))).collect()
@@ -680,7 +685,11 @@ mod tests {
         let mut keyed = one_each.clone();
         keyed.elements.push(Element {
             visible: true,
-            shape: Shape::Text(TextShape { content: "fo".into(), keyed: Some("Forest office".into()), ..Default::default() }),
+            shape: Shape::Text(TextShape {
+                content: "fo".into(),
+                keyed: Some("Forest office".into()),
+                ..Default::default()
+            }),
             ..Default::default()
         });
         let l = legend(&keyed);
