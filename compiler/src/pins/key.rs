@@ -23,9 +23,18 @@ const SWATCH_CELLS: u32 = 3;
 /// Braille lines a swatch is high (less the gap under its last line).
 const SWATCH_LINES: u32 = 2;
 
-/// The key's pages as one image `dev_cols` wide and a whole number of
-/// displays high (page *k* at rows `k * dev_rows ..`), or `None` when the
-/// drawing needs no key. Brushed strokes are not in it: pins do not play them.
+/// The key on pins: none, its pages, or too large for a pin image.
+pub(crate) enum Key {
+    /// The drawing needs no key.
+    None,
+    /// The key's pages as one image one display wide and a whole number of
+    /// displays high (page *k* at rows `k * dev_rows ..`).
+    Pages(PinImage),
+    /// The key's pages would pass the pin image's limits.
+    TooLarge,
+}
+
+/// The key's pages ([`Key`]). Brushed strokes are not in it: pins do not play them.
 pub(crate) fn pages(
     drawing: &Drawing,
     legend: &Legend,
@@ -34,11 +43,12 @@ pub(crate) fn pages(
     pitch: (f64, f64),
     notes: &mut crate::braille::Notes,
     diags: &mut Vec<Diagnostic>,
-) -> Option<PinImage> {
+) -> Key {
     if !legend.needed() {
-        return None;
+        return Key::None;
     }
     let p = how.params;
+    let dev = (dev.0.max(2), dev.1.max(1));
     let lay = Layout::new(p, dev);
     let entries: Vec<&Entry> = legend.shown().iter().filter(|e| !matches!(e.swatch, Swatch::Stroke(_))).collect();
     let mut elements: Vec<Element> = Vec::new();
@@ -74,7 +84,11 @@ pub(crate) fn pages(
         }
     }
     let pages = (lay.top(line.saturating_sub(1)) / dev.1 + 1).max(1);
-    let rows = pages.checked_mul(dev.1)?;
+    let rows = pages as u64 * dev.1 as u64;
+    if rows > taxel_format::MAX_PIN_SIDE as u64 || rows * dev.0 as u64 > taxel_format::MAX_PIN_IMAGE as u64 {
+        return Key::TooLarge;
+    }
+    let rows = rows as u32;
     let page =
         Page { width_mm: dev.0 as f64 * pitch.0, height_mm: rows as f64 * pitch.1, scale: 1.0, ..Default::default() };
     let key = Drawing { page, title: String::new(), elements };
@@ -84,7 +98,7 @@ pub(crate) fn pages(
     let mut own = Vec::new();
     super::draw(&mut canvas, &key, how, notes, &mut own);
     diags.extend(own.into_iter().filter(|d| d.code != "T0707"));
-    Some(canvas.image)
+    Key::Pages(canvas.image)
 }
 
 /// Where the key's lines and swatches go on the display's cell grid.

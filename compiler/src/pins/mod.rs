@@ -265,8 +265,13 @@ pub fn legalise_with(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mu
     notes.emit(diags);
     rules::check(&canvas, drawing, diags);
     let mut image = canvas.image;
-    if let Some(key) = key {
-        match key::append(&mut image, &key, (dev_cols, dev_rows)) {
+    let appended = match &key {
+        key::Key::None => None,
+        key::Key::Pages(k) => Some(key::append(&mut image, k, (dev_cols, dev_rows))),
+        key::Key::TooLarge => Some(None),
+    };
+    if let Some(appended) = appended {
+        match appended {
             Some((first, n)) => diags.push(Diagnostic::note(
                 "T0710",
                 format!(

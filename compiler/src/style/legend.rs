@@ -236,6 +236,7 @@ impl Legend {
 /// ```
 pub fn legend(d: &Drawing) -> Legend {
     let mut entries: Vec<Entry> = Vec::new();
+    let mut of_identity: std::collections::HashMap<(u8, u64, u64), usize> = Default::default();
     for (i, e) in d.elements.iter().enumerate().filter(|(_, e)| e.visible) {
         let Shape::Path(_) = &e.shape else { continue };
         for s in &e.styles {
@@ -247,19 +248,22 @@ pub fn legend(d: &Drawing) -> Legend {
                 Style::Brush(b) => Swatch::Stroke(b),
                 Style::Braille(_) => continue,
             };
-            match entries.iter_mut().find(|x| x.swatch.identity() == swatch.identity()) {
+            match of_identity.get(&swatch.identity()).and_then(|&k| entries.get_mut(k)) {
                 Some(x) => {
                     if x.elements.last() != Some(&i) {
                         x.elements.push(i);
                     }
                 }
-                None => entries.push(Entry {
-                    swatch,
-                    meaning: String::new(),
-                    source: Source::Ordinal,
-                    lang: None,
-                    elements: vec![i],
-                }),
+                None => {
+                    of_identity.insert(swatch.identity(), entries.len());
+                    entries.push(Entry {
+                        swatch,
+                        meaning: String::new(),
+                        source: Source::Ordinal,
+                        lang: None,
+                        elements: vec![i],
+                    })
+                }
             }
         }
     }
@@ -329,20 +333,16 @@ fn name(d: &Drawing, entries: &mut [Entry]) {
     // An entry takes its first candidate; where two entries would say the
     // same (a layer, class or colour they share), both take their next.
     loop {
-        let mut changed = false;
-        for k in 0..entries.len() {
-            let Some((src, text, _)) = candidates[k].last().cloned() else { continue };
-            if src <= Source::Label {
-                continue;
+        let mut said: std::collections::HashMap<String, usize> = Default::default();
+        for c in &candidates {
+            if let Some((_, text, _)) = c.last() {
+                *said.entry(text.clone()).or_insert(0) += 1;
             }
-            let clash = (0..entries.len()).any(|j| j != k && candidates[j].last().is_some_and(|c| c.1 == text));
-            if clash {
-                // Every entry that says it moves on, this pass.
-                for j in 0..entries.len() {
-                    if candidates[j].last().is_some_and(|c| c.1 == text && c.0 > Source::Label) {
-                        candidates[j].pop();
-                    }
-                }
+        }
+        let mut changed = false;
+        for c in &mut candidates {
+            if c.last().is_some_and(|(src, text, _)| *src > Source::Label && said.get(text).is_some_and(|&n| n > 1)) {
+                c.pop();
                 changed = true;
             }
         }
@@ -504,11 +504,16 @@ fn legend_texts(d: &Drawing, entries: &[Entry]) -> BTreeMap<usize, (String, Opti
                 // Where the text starts, and its middle height (a capital's
                 // half above the baseline).
                 let x = run.x_mm - run.anchor * t.content.chars().count() as f64 * t.font_size_mm * 0.5;
-                Some((t, (x, run.y_mm - 0.35 * t.font_size_mm, t.font_size_mm)))
+                let at = (x, run.y_mm - 0.35 * t.font_size_mm, t.font_size_mm);
+                (at.0.is_finite() && at.1.is_finite() && at.2.is_finite()).then_some((t, at))
             }
             _ => None,
         })
         .collect();
+    // Sorted by where they start, so that a swatch looks only at the texts
+    // starting in its reach (no pass over all pairs).
+    let mut texts = texts;
+    texts.sort_by(|a, b| a.1.0.total_cmp(&b.1.0));
     // (entry, swatch's box, text, lang)
     let mut pairs: Vec<(usize, (f64, f64, f64, f64), String, Option<String>)> = Vec::new();
     for (k, x) in entries.iter().enumerate() {
@@ -520,7 +525,9 @@ fn legend_texts(d: &Drawing, entries: &[Entry]) -> BTreeMap<usize, (String, Opti
                 continue;
             }
             let mid = (b.1 + b.3) / 2.0;
-            for (t, (tx, ty, size)) in &texts {
+            let from = texts.partition_point(|t| t.1.0 < b.2 - 0.5);
+            let to = texts.partition_point(|t| t.1.0 <= b.2 + LEGEND_GAP_MM);
+            for (t, (tx, ty, size)) in texts.get(from..to).unwrap_or(&[]) {
                 let gap = tx - b.2;
                 let reach = (h.max(*size) * 0.75).max(1.0);
                 if gap >= -0.5
