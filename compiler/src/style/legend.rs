@@ -499,7 +499,7 @@ fn legend_texts(d: &Drawing, entries: &[Entry]) -> BTreeMap<usize, (String, Opti
         .elements
         .iter()
         .filter_map(|e| match &e.shape {
-            Shape::Text(t) if t.keyed.is_none() && !t.content.trim().is_empty() => {
+            Shape::Text(t) if !t.content.trim().is_empty() => {
                 let run = t.runs.iter().find(|r| !r.text.trim().is_empty())?;
                 // Where the text starts, and its middle height (a capital's
                 // half above the baseline).
@@ -535,7 +535,9 @@ fn legend_texts(d: &Drawing, entries: &[Entry]) -> BTreeMap<usize, (String, Opti
                     && (ty - mid).abs() <= reach
                     && best.as_ref().is_none_or(|bb| gap < bb.0)
                 {
-                    best = Some((gap, b, super::keys::label_text(t), t.lang.clone()));
+                    // A legend text written as a key code means the label it stands for.
+                    let text = t.keyed.clone().unwrap_or_else(|| super::keys::label_text(t));
+                    best = Some((gap, b, text, t.lang.clone()));
                 }
             }
         }
