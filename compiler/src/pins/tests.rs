@@ -576,7 +576,7 @@ fn holds_braille(image: &PinImage, r0: u32, rows: u32, cells: &[u8], p: &taxel_f
     let fits = |c0: u32, r: u32| {
         cells.iter().enumerate().all(|(k, &cell)| {
             text::DOT_POSITIONS.iter().enumerate().take(p.cell_rows as usize * 2).all(|(bit, &(dc, dr))| {
-                let pin = image.get(c0 + k as u32 * cp + dc as u32, r + dr as u32);
+                let pin = image.get(c0 + k as u32 * cp + dc, r + dr);
                 pin.raised() == (cell & (1 << bit) != 0)
             })
         })
@@ -628,7 +628,7 @@ fn the_key_is_a_display_page_after_the_graphic_with_each_texture_felt_and_its_me
     assert!(full_rows >= 2, "horizontal ridges across the first swatch: {blocks:?}");
     let (top, bottom) = (blocks[1][0], blocks[1][blocks[1].len() - 1]);
     let full_cols = (0..8).filter(|&c| (top..=bottom).all(|r| keyed.get(c, r).raised())).count();
-    assert!(full_cols >= 2 && full_cols < 8, "vertical ridges down the second swatch: {full_cols}");
+    assert!((2..8).contains(&full_cols), "vertical ridges down the second swatch: {full_cols}");
     // The exports carry it: DTMS one item more, Graphiti one frame more.
     let dtms = |image: &PinImage| export::dtms(image, &profile, "t", "t", "").unwrap();
     let items = |s: &str| s.matches("\"page\"").count();

@@ -515,9 +515,9 @@ fn legend_texts(d: &Drawing, entries: &[Entry]) -> BTreeMap<usize, (String, Opti
     let mut texts = texts;
     texts.sort_by(|a, b| a.1.0.total_cmp(&b.1.0));
     // (entry, swatch's box, text, lang)
-    let mut pairs: Vec<(usize, (f64, f64, f64, f64), String, Option<String>)> = Vec::new();
+    let mut pairs: Vec<(usize, Bounds, String, Option<String>)> = Vec::new();
     for (k, x) in entries.iter().enumerate() {
-        let mut best: Option<(f64, (f64, f64, f64, f64), String, Option<String>)> = None;
+        let mut best: Option<(f64, Bounds, String, Option<String>)> = None;
         for &i in &x.elements {
             let Some(b) = d.elements.get(i).and_then(Element::seen_bounds) else { continue };
             let (w, h) = (b.2 - b.0, b.3 - b.1);
@@ -530,8 +530,7 @@ fn legend_texts(d: &Drawing, entries: &[Entry]) -> BTreeMap<usize, (String, Opti
             for (t, (tx, ty, size)) in texts.get(from..to).unwrap_or(&[]) {
                 let gap = tx - b.2;
                 let reach = (h.max(*size) * 0.75).max(1.0);
-                if gap >= -0.5
-                    && gap <= LEGEND_GAP_MM
+                if (-0.5..=LEGEND_GAP_MM).contains(&gap)
                     && (ty - mid).abs() <= reach
                     && best.as_ref().is_none_or(|bb| gap < bb.0)
                 {
@@ -545,7 +544,7 @@ fn legend_texts(d: &Drawing, entries: &[Entry]) -> BTreeMap<usize, (String, Opti
             pairs.push((k, b, text, lang));
         }
     }
-    let lined_up = |p: &(usize, (f64, f64, f64, f64), String, Option<String>)| {
+    let lined_up = |p: &(usize, Bounds, String, Option<String>)| {
         pairs.iter().any(|q| {
             q.0 != p.0
                 && ((q.1.0 - p.1.0).abs() <= ALIGN_MM
@@ -554,6 +553,9 @@ fn legend_texts(d: &Drawing, entries: &[Entry]) -> BTreeMap<usize, (String, Opti
     };
     pairs.iter().filter(|p| lined_up(p)).map(|p| (p.0, (p.2.clone(), p.3.clone()))).collect()
 }
+
+/// A box `(x0, y0, x1, y1)` in page mm.
+type Bounds = (f64, f64, f64, f64);
 
 /// A number as the key writes it: at most two decimals, no trailing zeros.
 fn num(v: f64) -> String {
