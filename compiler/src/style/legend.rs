@@ -603,6 +603,33 @@ mod tests {
     }
 
     #[test]
+    fn a_legend_text_written_as_a_key_code_means_its_label() {
+        let mut d = drawing(&format!(
+            r#"<rect x="0" y="0" width="80" height="60" data-tactile="{FINE}"/>
+               <rect x="90" y="0" width="80" height="60" data-tactile="{COARSE}"/>
+               <rect x="10" y="100" width="10" height="6" data-tactile="{FINE}"/>
+               <text x="24" y="105" font-size="5">Farmland</text>
+               <rect x="10" y="112" width="10" height="6" data-tactile="{COARSE}"/>
+               <text x="24" y="117" font-size="5">Lake</text>"#
+        ));
+        // As the automatic sheet leaves a label that finds no place: its
+        // code in its place, the label it stands for kept.
+        for e in &mut d.elements {
+            if let Shape::Text(t) = &mut e.shape
+                && t.content == "Farmland"
+            {
+                t.keyed = Some("Farmland".into());
+                t.content = "fa".into();
+                for r in &mut t.runs {
+                    r.text = "fa".into();
+                }
+            }
+        }
+        let l = legend(&d);
+        assert_eq!(meanings(&l), [("Farmland", Source::Legend), ("Lake", Source::Legend)]);
+    }
+
+    #[test]
     fn a_lone_text_beside_a_small_region_is_not_a_legend() {
         // A small region with its name beside it (a lake on a map): no
         // second pair lines up, so the name is not taken for the texture's.
