@@ -45,7 +45,7 @@ fn the_dotpad_map_exports_a_dtms_file_with_the_documented_bit_layout() {
     // The 110 x 60 mm map fits one Dot Pad page; its several gratings need
     // a key, on whole pages after it (docs/pins.md, "The key page").
     assert_eq!(image.cols, 60);
-    assert!(image.rows > 40 && image.rows % 40 == 0, "{}", image.rows);
+    assert!(image.rows > 40 && image.rows.is_multiple_of(40), "{}", image.rows);
     let dtms = dir.path().join("map.dtms");
     let o = taxel(&["export", bundle.to_str().unwrap(), "--format", "dtms", "-o", dtms.to_str().unwrap()]);
     assert!(o.status.success(), "{}", text(&o));
