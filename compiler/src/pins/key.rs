@@ -1,6 +1,6 @@
 //! The key on a pin display: display-sized pages after the graphic's, each
 //! texture, line style and point symbol of the key
-//! ([`crate::style::legend`]) felt as itself (a patch of its texture, a
+//! ([`crate::style::legend()`]) felt as itself (a patch of its texture, a
 //! sample of its line, its symbol's cluster) with its meaning in braille on
 //! the cell grid to its right, then the key codes.
 //!

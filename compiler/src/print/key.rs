@@ -1,5 +1,5 @@
 //! The key pages on paper: the drawing's title, then each texture, line
-//! style and point symbol of the key ([`crate::style::legend`]) felt as
+//! style and point symbol of the key ([`crate::style::legend()`]) felt as
 //! itself (a swatch of the texture the sheet gave it, a sample of its line
 //! style, its symbol) with its meaning in braille to the right, then the key
 //! codes with the labels they stand for. A key longer than a page goes on

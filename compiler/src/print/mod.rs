@@ -18,7 +18,7 @@
 //! - `braille` → braille cells at the medium's dimensions drawn as dots
 //!   (`braille.rs`), the texture cleared around them.
 //!
-//! When the drawing needs a key ([`crate::style::legend`]), it follows on
+//! When the drawing needs a key ([`crate::style::legend()`]), it follows on
 //! pages of its own (`key.rs`): each texture, line style and point symbol
 //! felt as itself beside its meaning in braille, then the key codes.
 //!
