@@ -7,6 +7,7 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 use serde_json::{Value, json};
+use taxel_compiler::style::legend;
 use taxel_format::lookup::PointLookup;
 use taxel_format::{BundleView, ChunkView, FamilyParams, MaskKind, ProvenanceView};
 
@@ -277,6 +278,12 @@ fn describe(view: &BundleView<'_>) -> Value {
         "chunks": chunks,
         // The key of the labels written as key codes (provenance entry `key`: `key: co Count, fs Fruit sold`).
         "key": prov.as_ref().and_then(|p| (0..p.len()).filter_map(|i| p.get(i)).find(|e| e.0 == "key")).map(|e| e.1),
+        // The key's textures, line styles and symbols with their meanings
+        // (provenance entries `key.texture`, `key.line`, ...: SPEC.md 10.2).
+        "key_entries": prov.as_ref().map_or(Vec::new(), |p| (0..p.len())
+            .filter_map(|i| p.get(i))
+            .filter_map(|e| legend::kind_of_id(e.0).map(|kind| json!({ "kind": kind, "meaning": e.1 })))
+            .collect::<Vec<_>>()),
     })
 }
 
@@ -311,10 +318,19 @@ fn human(path: &Path, r: &Value) -> String {
         r["generator"].as_str().unwrap_or(""),
         r["content_hash"].as_str().unwrap_or(""),
     );
-    if let Some(key) = r["key"].as_str() {
-        // Before the chunks: the key, one code a line, as a transcriber's key page lists it.
-        let key = key.strip_prefix("key: ").unwrap_or(key).replace(", ", "\n           ");
-        out.insert_str(out.len() - 1, &format!("key        {key}\n"));
+    // Before the chunks: the key, one entry a line, as a transcriber's key
+    // page lists it: its textures, line styles and symbols, then its codes.
+    let mut key: Vec<String> = r["key_entries"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .map(|e| format!("{}: {}", e["kind"].as_str().unwrap_or("?"), e["meaning"].as_str().unwrap_or("")))
+        .collect();
+    if let Some(codes) = r["key"].as_str() {
+        key.extend(codes.strip_prefix("key: ").unwrap_or(codes).split(", ").map(String::from));
+    }
+    if !key.is_empty() {
+        out.insert_str(out.len() - 1, &format!("key        {}\n", key.join("\n           ")));
     }
     out += "     #  tag   flag         bytes  layer\n";
     for c in r["chunks"].as_array().into_iter().flatten() {

@@ -42,7 +42,10 @@ fn the_dotpad_map_exports_a_dtms_file_with_the_documented_bit_layout() {
     let bundle = dir.path().join("map.taxel");
     let b = build("dotpad", &bundle);
     let image = b.pin_image().expect("a pin image").clone();
-    assert_eq!((image.cols, image.rows), (60, 40), "the 110 x 60 mm map fits one Dot Pad page");
+    // The 110 x 60 mm map fits one Dot Pad page; its several gratings need
+    // a key, on whole pages after it (docs/pins.md, "The key page").
+    assert_eq!(image.cols, 60);
+    assert!(image.rows > 40 && image.rows.is_multiple_of(40), "{}", image.rows);
     let dtms = dir.path().join("map.dtms");
     let o = taxel(&["export", bundle.to_str().unwrap(), "--format", "dtms", "-o", dtms.to_str().unwrap()]);
     assert!(o.status.success(), "{}", text(&o));
@@ -53,7 +56,8 @@ fn the_dotpad_map_exports_a_dtms_file_with_the_documented_bit_layout() {
     }
     assert_eq!(v["device"], "dotpad320");
     let items = v["items"].as_array().unwrap();
-    assert_eq!(items.len(), 1);
+    // The graphic's page, then the key's (rows beyond the first 40).
+    assert_eq!(items.len(), image.rows as usize / 40);
     let item = &items[0];
     assert_eq!(item["page"], 1);
     assert_eq!(item["graphic"]["name"], "1.dtm");
@@ -92,7 +96,10 @@ fn graphiti_frames_unicode_art_preview_inspect_and_load() {
     let o = taxel(&["export", bundle.to_str().unwrap(), "--format", "graphiti", "-o", &path("map.bin")]);
     assert!(o.status.success(), "{}", text(&o));
     let frame = std::fs::read(path("map.bin")).unwrap();
-    assert_eq!(frame.len(), 4800);
+    // A frame a page: the graphic's, then the key's.
+    let pages = taxel_compiler::pins::export::pages(&image, &b.manifest.profile).len();
+    assert!(pages > 1);
+    assert_eq!(frame.len(), 4800 * pages);
     for r in 0..40u32 {
         for c in 0..60u32 {
             let i = ((r * 60 + c) * 2) as usize;
@@ -104,7 +111,8 @@ fn graphiti_frames_unicode_art_preview_inspect_and_load() {
     let o = taxel(&["export", bundle.to_str().unwrap(), "--format", "unicode", "-o", &path("map.txt")]);
     assert!(o.status.success(), "{}", text(&o));
     let art = std::fs::read_to_string(path("map.txt")).unwrap();
-    assert_eq!(art.lines().count(), 10);
+    // Four pins a line: the graphic's page and the key's.
+    assert_eq!(art.lines().count(), 10 * pages);
     assert!(
         art.lines().all(|l| l.chars().count() == 30 && l.chars().all(|ch| ('\u{2800}'..='\u{28FF}').contains(&ch)))
     );
@@ -112,7 +120,8 @@ fn graphiti_frames_unicode_art_preview_inspect_and_load() {
     let o = taxel(&["preview", bundle.to_str().unwrap(), "-o", &path("map.png")]);
     assert!(o.status.success(), "{}", text(&o));
     let png = image::open(path("map.png")).unwrap();
-    assert_eq!((png.width(), png.height()), (620, 420));
+    // (Every page, the key's too, one under the other.)
+    assert_eq!((png.width(), png.height()), (620, (image.rows + 2) * 10));
     let o = taxel(&["inspect", bundle.to_str().unwrap()]);
     assert!(o.status.success() && text(&o).contains("pins"), "{}", text(&o));
     // Loading onto a device folder stores it like any bundle.
@@ -170,11 +179,14 @@ fn key_codes_have_their_key_on_the_dot_pad_s_text_line() {
         .unwrap();
     assert!(o.status.success(), "{}", text(&o));
     assert!(text(&o).contains("T0326"), "{}", text(&o));
-    // `taxel inspect` gives the key, a code a line.
+    // `taxel inspect` gives the key: its line style and texture (the boxes'
+    // outlines and fill, named by their colours), then a code a line.
     let o = taxel(&["inspect", bundle.to_str().unwrap()]);
     let said = text(&o);
+    assert!(said.contains("key        texture: blue areas (grating "), "{said}");
+    assert!(said.contains("           line: black lines (vibrating line "), "{said}");
     assert!(
-        said.contains("key        dp Decide path\n           ri Read input\n           wo Write output\n"),
+        said.contains("\n           dp Decide path\n           ri Read input\n           wo Write output\n"),
         "{said}"
     );
     let dtms = dir.path().join("process.dtms");
@@ -183,6 +195,8 @@ fn key_codes_have_their_key_on_the_dot_pad_s_text_line() {
     let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&dtms).unwrap()).unwrap();
     let line = "Process; key: dp Decide path, ri Read input, wo Write output";
     assert_eq!(v["items"][0]["text"]["plain"], line);
+    // The graphic, then the key's page (docs/pins.md, "The key page").
+    assert_eq!(v["items"].as_array().unwrap().len(), 2);
     // In braille: a cell for each character but the capitals' signs (one
     // each: P, D, R, W), padded to whole 20-cell lines.
     let cells = v["items"][0]["text"]["data"].as_str().unwrap().len() / 2;
@@ -190,4 +204,40 @@ fn key_codes_have_their_key_on_the_dot_pad_s_text_line() {
     assert_eq!(cells, (line.chars().count() + capitals).div_ceil(20) * 20);
     let b = Bundle::from_bytes(&std::fs::read(&bundle).unwrap()).unwrap();
     assert_eq!(b.pin_image().unwrap().text.len(), line.chars().count() + capitals);
+}
+
+/// Two textures and a line, named by their titles: the key's entries are in
+/// the bundle for the laterotactile array (its provenance: the array has no
+/// page to show them on) and for the Dot Pad (a page after the graphic, and
+/// the provenance), and `taxel inspect` prints them for both.
+#[test]
+fn the_key_s_entries_are_inspected_on_every_family() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="150mm" height="100mm" viewBox="0 0 150 100">
+        <rect x="5" y="5" width="60" height="60" data-tactile="grating(wavelength: 3mm, angle: 0deg)"><title>Forest</title></rect>
+        <rect x="80" y="5" width="60" height="60" data-tactile="grating(wavelength: 6mm, angle: 90deg)"><title>Lake</title></rect>
+        <path d="M5 85 L140 85" stroke="black" data-tactile="vibrate()"><title>Road</title></path></svg>"#;
+    let input = dir.path().join("map.svg");
+    std::fs::write(&input, svg).unwrap();
+    for (profile, pages) in [("stress2", None), ("dotpad", Some(2))] {
+        let bundle = dir.path().join(format!("{profile}.taxel"));
+        let o =
+            taxel(&["build", input.to_str().unwrap(), "--profile", profile, "--fit", "-o", bundle.to_str().unwrap()]);
+        assert!(o.status.success(), "{profile}: {}", text(&o));
+        let o = taxel(&["inspect", bundle.to_str().unwrap()]);
+        let said = text(&o);
+        assert!(said.contains("key        texture: Forest (grating 3 mm at 0°)\n"), "{profile}: {said}");
+        assert!(said.contains("           texture: Lake (grating 6 mm at 90°)\n"), "{profile}: {said}");
+        assert!(said.contains("           line: Road (vibrating line 1.5 mm, 50 Hz)\n"), "{profile}: {said}");
+        let o = taxel(&["inspect", bundle.to_str().unwrap(), "--format", "json"]);
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        let kinds: Vec<&str> =
+            v["key_entries"].as_array().unwrap().iter().map(|e| e["kind"].as_str().unwrap()).collect();
+        assert_eq!(kinds, ["texture", "texture", "line"], "{profile}");
+        if let Some(pages) = pages {
+            let b = Bundle::from_bytes(&std::fs::read(&bundle).unwrap()).unwrap();
+            let profile = b.manifest.profile;
+            assert_eq!(taxel_compiler::pins::export::pages(b.pin_image().unwrap(), &profile).len(), pages);
+        }
+    }
 }

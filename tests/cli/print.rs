@@ -324,8 +324,9 @@ fn the_felt_preview_of_a_print_profile_is_drawn() {
     let o = taxel(&["preview", MAP, "--profile", "swell-a4", "-o", png.to_str().unwrap()]);
     assert!(o.status.success(), "{}", text(&o));
     let img = image::open(&png).unwrap().to_rgb8();
-    // The A4 page at 6 px/mm, with an 8 mm border around it.
-    assert_eq!(img.dimensions(), (((210.0 + 16.0) * 6.0) as u32, ((297.0 + 16.0) * 6.0) as u32));
+    // The A4 graphic and its key page side by side at 6 px/mm, with 8 mm
+    // around and between them (the map's several textures need a key).
+    assert_eq!(img.dimensions(), (((2.0 * 210.0 + 3.0 * 8.0) * 6.0) as u32, ((297.0 + 16.0) * 6.0) as u32));
     // Raised marks are shaded darker than the paper.
     assert!(img.pixels().filter(|p| p.0[0] < 200).count() > 1000);
 }

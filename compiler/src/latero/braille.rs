@@ -11,6 +11,7 @@ use crate::diagnostic::Diagnostic;
 use crate::drawing::{Drawing, Shape, TextShape};
 use crate::geometry::Polyline;
 use crate::options::CompileOptions;
+use crate::style::legend::Swatch;
 
 /// Braille for every text with a braille style, in document order, after the other layers.
 pub(super) fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOptions, diags: &mut Vec<Diagnostic>) {
@@ -75,6 +76,15 @@ pub(super) fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOpti
     if family == Family::Laterotactile && !key.is_empty() {
         b.provenance.push(ProvenanceEntry { id: "key".into(), label: key, line: 0 });
     }
+    // The key's textures, line styles and symbols (and, on a grid, its
+    // brushed strokes), each with its meaning, for a host to say: an array
+    // shows no page of its own (SPEC.md section 10.2).
+    let plays = |s: &Swatch| match family {
+        Family::Laterotactile => !matches!(s, Swatch::Stroke(_)),
+        Family::Grid => matches!(s, Swatch::Stroke(_)),
+        _ => false,
+    };
+    b.provenance.extend(crate::style::legend::provenance(&crate::style::legend(drawing), plays));
 }
 
 /// The braille dot centres of a text, the characters braille has no cell

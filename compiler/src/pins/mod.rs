@@ -47,6 +47,7 @@
 //! ```
 
 pub mod export;
+pub(crate) mod key;
 pub(crate) mod line;
 pub(crate) mod rules;
 pub(crate) mod text;
@@ -61,6 +62,7 @@ use crate::annotation::Style;
 use crate::diagnostic::Diagnostic;
 use crate::drawing::{Clip, Drawing, Element, Shape};
 use crate::geometry::{FillRule, Polyline};
+use crate::style::legend::Swatch;
 use line::PinPos;
 use texture::Pattern;
 
@@ -246,7 +248,91 @@ pub fn legalise_with(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mu
     // Gratings first get their patterns, in document order, so that the
     // textures of different gratings stay distinguishable.
     let patterns = assign_patterns(drawing, pitch.0.max(pitch.1), diags);
-    let regions = region_map(&canvas, drawing);
+    let how = Draw { opts, params: &params, patterns: &patterns, heights, blink };
+    let mut notes = crate::braille::Notes::default();
+    draw(&mut canvas, drawing, &how, &mut notes, diags);
+    // The device's text line says the drawing's title, then the key of the
+    // labels written as key codes (T0326), as a transcriber gives the key
+    // beside the graphic.
+    let key = crate::style::key_line(drawing);
+    let line = [drawing.title.as_str(), key.as_str()].into_iter().filter(|s| !s.is_empty()).collect::<Vec<_>>();
+    if params.text_cells > 0 && !line.is_empty() {
+        canvas.image.text = text::text_line(&line.join("; "), opts, &mut notes, diags);
+    }
+    // The key's pages (`key.rs`), drawn as the graphic is.
+    let legend = crate::style::legend(drawing);
+    let key = key::pages(drawing, &legend, &how, (dev_cols, dev_rows), pitch, &mut notes, diags);
+    notes.emit(diags);
+    rules::check(&canvas, drawing, diags);
+    let mut image = canvas.image;
+    let appended = match &key {
+        key::Key::None => None,
+        key::Key::Pages(k) => Some(key::append(&mut image, k, (dev_cols, dev_rows))),
+        key::Key::TooLarge => Some(None),
+    };
+    if let Some(appended) = appended {
+        match appended {
+            Some((first, n)) => diags.push(Diagnostic::note(
+                "T0710",
+                format!(
+                    "the key ({} entries{}) is on page{} {} of the pin image, after the graphic",
+                    legend.shown().len(),
+                    if legend.codes.is_empty() { String::new() } else { format!(", {} key codes", legend.codes.len()) },
+                    if n == 1 { "" } else { "s" },
+                    if n == 1 { first.to_string() } else { format!("{first} to {}", first + n - 1) }
+                ),
+            )),
+            None => diags.push(
+                Diagnostic::warning(
+                    "T0711",
+                    "the key's pages would make the pin image larger than a bundle holds: the key is in the \
+                     bundle's provenance only (a host says it), not on the display",
+                )
+                .with_help("use --fit to scale the drawing to one display"),
+            ),
+        }
+    }
+    if image.pins.iter().any(|p| p.blinks()) {
+        let step = params.blink_step_ms as u32;
+        image.blink_ms = BLINK_HALF_PERIOD_MS.div_ceil(step.max(1)) * step.max(1);
+    }
+    if cols > dev_cols || rows > dev_rows {
+        let (across, down) = (cols.div_ceil(dev_cols), rows.div_ceil(dev_rows));
+        let how = match image.navigation {
+            Navigation::Pages => format!("read as {} pages ({across} across, {down} down)", across * down),
+            Navigation::Pan => "read as a pannable surface".to_string(),
+        };
+        diags.push(
+            Diagnostic::note(
+                "T0702",
+                format!("the drawing is {cols} x {rows} pins, larger than the {dev_cols} x {dev_rows} display: {how}"),
+            )
+            .with_help("use --fit to scale it to one display"),
+        );
+    }
+    Some(image)
+}
+
+/// What a drawing's elements are drawn with on a canvas.
+pub(crate) struct Draw<'a> {
+    pub opts: &'a crate::CompileOptions,
+    pub params: &'a PinParams,
+    /// Each grating's pattern ([`assign_patterns`]).
+    pub patterns: &'a [((u64, u64), Pattern)],
+    pub heights: Heights,
+    pub blink: bool,
+}
+
+/// Draws every visible element of `drawing` on `canvas`, labels last.
+pub(crate) fn draw(
+    canvas: &mut Canvas,
+    drawing: &Drawing,
+    how: &Draw<'_>,
+    notes: &mut crate::braille::Notes,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let (heights, blink, pitch) = (how.heights, how.blink, canvas.pitch);
+    let regions = region_map(canvas, drawing);
     let opaque = crate::drawing::OpaqueFills::of(drawing);
     let mut labels = Vec::new();
     // Elements clipped alike (a chart's data in its axes) share one mask.
@@ -259,7 +345,7 @@ pub fn legalise_with(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mu
             Shape::Path(p) if !p.clips.is_empty() => match &clipped_by {
                 Some((c, mask)) if *c == &p.clips[..] => Some(mask.clone()),
                 _ => {
-                    let mask = std::rc::Rc::new(clip_mask(&canvas, &p.clips));
+                    let mask = std::rc::Rc::new(clip_mask(canvas, &p.clips));
                     clipped_by = Some((&p.clips[..], mask.clone()));
                     Some(mask)
                 }
@@ -269,10 +355,11 @@ pub fn legalise_with(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mu
         for style in &e.styles {
             match (style, &e.shape) {
                 (Style::Vibrate(_), Shape::Path(p)) => {
-                    outline(&mut canvas, &p.outline, i, heights.outline, blink);
+                    outline(canvas, &p.outline, i, heights.outline, blink);
                 }
                 (Style::Grating(g), Shape::Path(p)) => {
-                    let pattern = patterns
+                    let pattern = how
+                        .patterns
                         .iter()
                         .find(|(k, _)| *k == grating_key(g.wavelength_mm, g.angle_deg))
                         .map_or(Pattern::wanted(g.wavelength_mm, g.angle_deg, pitch.0), |(_, p)| *p);
@@ -281,14 +368,14 @@ pub fn legalise_with(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mu
                     // Not where opaque fills painted later hide it (a flag's
                     // canton over its stripes, a map's legend box), as the
                     // array's grated layers are not.
-                    canvas.hidden = hidden_under(&canvas, drawing, &opaque, i);
+                    canvas.hidden = hidden_under(canvas, drawing, &opaque, i);
                     canvas.filling = true;
-                    texture_fill(&mut canvas, &p.outline, fill, i, e, diags);
+                    texture_fill(canvas, &p.outline, fill, i, e, diags);
                     canvas.filling = false;
                     canvas.hidden.clear();
                 }
                 (Style::Dots(d), Shape::Path(p)) => {
-                    dotted(&mut canvas, &p.outline, d.radius_mm, d.spacing_mm, i, heights.outline);
+                    dotted(canvas, &p.outline, d.radius_mm, d.spacing_mm, i, heights.outline);
                 }
                 (Style::Dot(d), Shape::Path(p)) => {
                     let centres = if p.markers.is_empty() {
@@ -297,7 +384,7 @@ pub fn legalise_with(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mu
                         p.markers.clone()
                     };
                     for c in centres {
-                        cluster(&mut canvas, c, d.radius_mm, i, heights.outline);
+                        cluster(canvas, c, d.radius_mm, i, heights.outline);
                     }
                 }
                 (Style::Braille(br), Shape::Text(t)) => labels.push((i, t, br.grade)),
@@ -309,7 +396,10 @@ pub fn legalise_with(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mu
                 (Style::Brush(_), _) => diags.push(
                     Diagnostic::warning(
                         "T0120",
-                        format!("brush() strokes do not play on the pin-matrix display {}; left out", profile.name),
+                        format!(
+                            "brush() strokes do not play on the pin-matrix display {}; left out",
+                            how.opts.profile.name
+                        ),
                     )
                     .with_element(e.name.clone())
                     .with_help("brush() strokes play on vibrotactile grids such as brush-4x3")
@@ -321,40 +411,10 @@ pub fn legalise_with(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mu
     }
     canvas.clip = None;
     // Labels last, on top of the graphics they name.
-    let mut notes = crate::braille::Notes::default();
     for (i, t, grade) in labels {
         let label = text::Label { text: t, grade, elem: i, height: heights.outline, e: &drawing.elements[i] };
-        text::place(&mut canvas, &params, &label, opts, &mut notes, diags);
+        text::place(canvas, how.params, &label, how.opts, notes, diags);
     }
-    // The device's text line says the drawing's title, then the key of the
-    // labels written as key codes (T0326), as a transcriber gives the key
-    // beside the graphic.
-    let key = crate::style::key_line(drawing);
-    let line = [drawing.title.as_str(), key.as_str()].into_iter().filter(|s| !s.is_empty()).collect::<Vec<_>>();
-    if params.text_cells > 0 && !line.is_empty() {
-        canvas.image.text = text::text_line(&line.join("; "), opts, &mut notes, diags);
-    }
-    notes.emit(diags);
-    if canvas.image.pins.iter().any(|p| p.blinks()) {
-        let step = params.blink_step_ms as u32;
-        canvas.image.blink_ms = BLINK_HALF_PERIOD_MS.div_ceil(step.max(1)) * step.max(1);
-    }
-    rules::check(&canvas, drawing, diags);
-    if cols > dev_cols || rows > dev_rows {
-        let (across, down) = (cols.div_ceil(dev_cols), rows.div_ceil(dev_rows));
-        let how = match canvas.image.navigation {
-            Navigation::Pages => format!("read as {} pages ({across} across, {down} down)", across * down),
-            Navigation::Pan => "read as a pannable surface".to_string(),
-        };
-        diags.push(
-            Diagnostic::note(
-                "T0702",
-                format!("the drawing is {cols} x {rows} pins, larger than the {dev_cols} x {dev_rows} display: {how}"),
-            )
-            .with_help("use --fit to scale it to one display"),
-        );
-    }
-    Some(canvas.image)
 }
 
 /// A bundle for the pin-matrix `profile` from `drawing`: its manifest and
@@ -399,6 +459,9 @@ pub fn build_bundle(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mut
     if !key.is_empty() {
         entries.push(ProvenanceEntry { id: "key".into(), label: key, line: 0 });
     }
+    // The key's entries, for a host to say (the display shows them on its key pages).
+    entries
+        .extend(crate::style::legend::provenance(&crate::style::legend(drawing), |s| !matches!(s, Swatch::Stroke(_))));
     if !entries.is_empty() {
         bundle.chunks.push(Chunk::Provenance(Provenance { entries }));
     }

@@ -207,9 +207,11 @@ fn gratings_that_would_feel_the_same_get_distinct_textures() {
     );
     let (image, diags) = run("dotpad", &d);
     assert!(diags.iter().any(|d| d.code == "T0706" && d.element.as_deref() == Some("b")), "{diags:?}");
-    let cols_of = |c0: u32, c1: u32| -> Vec<u32> {
-        (c0..c1).filter(|&c| (0..image.rows).any(|r| image.get(c, r).raised())).collect()
-    };
+    // (On the graphic's page: two gratings get a key page after it, whose
+    // braille is no texture.)
+    assert_eq!(image.rows, 80);
+    let cols_of =
+        |c0: u32, c1: u32| -> Vec<u32> { (c0..c1).filter(|&c| (0..40).any(|r| image.get(c, r).raised())).collect() };
     let (ca, cb) = (cols_of(0, 20), cols_of(20, 40));
     assert!(ca.windows(2).all(|w| w[1] - w[0] == 2), "a: every 2 pins: {ca:?}");
     assert!(cb.windows(2).all(|w| w[1] - w[0] == 4), "b: every 4 pins: {cb:?}");
@@ -564,4 +566,111 @@ fn a_label_clears_the_texture_around_itself() {
     let far = |&(c, r): &(i64, i64)| (c0 - 4..=c1 + 4).contains(&c) && (r0 - 4..=r1 + 4).contains(&r) && !near(&(c, r));
     assert!(raised.iter().filter(|p| far(p)).count() > 6, "{}", unicode(&image));
     assert!(diags.iter().all(|d| d.code != "T0704"), "{diags:?}");
+}
+
+/// Whether the pins of `page` (rows `r0..r0 + rows` of `image`) hold the
+/// braille `cells` somewhere on one line, cell after cell at the device's
+/// cell pitch (found by search, so where the key puts them does not matter).
+fn holds_braille(image: &PinImage, r0: u32, rows: u32, cells: &[u8], p: &taxel_format::PinParams) -> bool {
+    let cp = p.cell_pitch_cols();
+    let fits = |c0: u32, r: u32| {
+        cells.iter().enumerate().all(|(k, &cell)| {
+            text::DOT_POSITIONS.iter().enumerate().take(p.cell_rows as usize * 2).all(|(bit, &(dc, dr))| {
+                let pin = image.get(c0 + k as u32 * cp + dc, r + dr);
+                pin.raised() == (cell & (1 << bit) != 0)
+            })
+        })
+    };
+    (r0..r0 + rows).any(|r| (0..image.cols).any(|c| fits(c, r)))
+}
+
+#[test]
+fn the_key_is_a_display_page_after_the_graphic_with_each_texture_felt_and_its_meaning() {
+    let profile = profiles::builtin("dotpad").unwrap();
+    let FamilyParams::Pins(params) = profile.params else { unreachable!() };
+    let region = |name: &str, x: f64, g: Style, label: &str| {
+        let mut e = path(name, &[(x, 10.0), (x + 60.0, 10.0), (x + 60.0, 90.0), (x, 90.0)], true, vec![g]);
+        e.label = label.into();
+        e
+    };
+    let one = drawing(150.0, 100.0, vec![region("a", 5.0, grating(5.0, 0.0), "Forest")]);
+    let two = drawing(
+        150.0,
+        100.0,
+        vec![region("a", 5.0, grating(5.0, 0.0), "Forest"), region("b", 80.0, grating(10.0, 90.0), "Lake")],
+    );
+    let (plain, _) = run("dotpad", &one);
+    let (keyed, diags) = run("dotpad", &two);
+    // One texture needs no key; two get a page of their own.
+    assert_eq!(export::pages(&plain, &profile).len(), 1);
+    assert_eq!(export::pages(&keyed, &profile).len(), 2, "{diags:?}");
+    assert_eq!((keyed.cols, keyed.rows), (60, 80));
+    assert!(diags.iter().any(|d| d.code == "T0710" && d.message.contains("page 2")), "{diags:?}");
+    let opts = crate::CompileOptions::new(profile);
+    for name in ["Forest", "Lake"] {
+        let cells = crate::braille::translate(name, None, &opts, None, false).cells;
+        assert!(holds_braille(&keyed, 40, 40, &cells, &params), "{name}'s braille on the key page");
+        assert!(!holds_braille(&keyed, 0, 40, &cells, &params), "{name} is not on the graphic");
+    }
+    // The swatches, left of the braille: blocks of rows apart from each
+    // other, the first of horizontal ridges (rows raised across it), the
+    // second of vertical ones (columns raised down it), as the textures are.
+    let raised_in = |r: u32| (0..8).filter(|&c| keyed.get(c, r).raised()).count();
+    let mut blocks: Vec<Vec<u32>> = Vec::new();
+    for r in (40..80).filter(|&r| raised_in(r) > 0) {
+        match blocks.last_mut() {
+            Some(b) if r - b[b.len() - 1] < 3 => b.push(r),
+            _ => blocks.push(vec![r]),
+        }
+    }
+    assert_eq!(blocks.len(), 2, "{blocks:?}");
+    let full_rows = blocks[0].iter().filter(|&&r| raised_in(r) == 8).count();
+    assert!(full_rows >= 2, "horizontal ridges across the first swatch: {blocks:?}");
+    let (top, bottom) = (blocks[1][0], blocks[1][blocks[1].len() - 1]);
+    let full_cols = (0..8).filter(|&c| (top..=bottom).all(|r| keyed.get(c, r).raised())).count();
+    assert!((2..8).contains(&full_cols), "vertical ridges down the second swatch: {full_cols}");
+    // The exports carry it: DTMS one item more, Graphiti one frame more.
+    let dtms = |image: &PinImage| export::dtms(image, &profile, "t", "t", "").unwrap();
+    let items = |s: &str| s.matches("\"page\"").count();
+    assert_eq!(items(&dtms(&keyed)), items(&dtms(&plain)) + 1);
+    // Graphiti's display is 60 x 40 too: a 4,800-byte frame a page.
+    let frames =
+        |image: &PinImage| export::graphiti(image, &profiles::builtin("graphiti").unwrap()).unwrap().len() / 4800;
+    assert_eq!(frames(&keyed), frames(&plain) + 1);
+    assert_eq!(unicode(&keyed).lines().count(), unicode(&plain).lines().count() + 10);
+}
+
+#[test]
+fn a_drawing_whose_key_is_not_needed_keeps_its_pages_and_a_long_key_takes_more() {
+    // Twelve distinct symbols, each named: a key longer than one Dot Pad page.
+    let elements: Vec<Element> = (0..12)
+        .map(|k| {
+            let (x, y) = (10.0 + 11.0 * (k % 12) as f64, 50.0);
+            let mut e = path(
+                &format!("s{k}"),
+                &[(x, y), (x + 1.0, y), (x + 1.0, y + 1.0), (x, y + 1.0)],
+                true,
+                vec![Style::Dot(Dot { radius_mm: 1.0 + 0.01 * k as f64, amplitude: 1.0 })],
+            );
+            e.label = format!("symbol named {k}");
+            e
+        })
+        .collect();
+    let (image, diags) = run("dotpad", &drawing(150.0, 100.0, elements));
+    let profile = profiles::builtin("dotpad").unwrap();
+    let pages = export::pages(&image, &profile).len();
+    assert!(pages >= 3, "{pages} pages");
+    assert!(diags.iter().any(|d| d.code == "T0710" && d.message.contains(&format!("pages 2 to {pages}"))), "{diags:?}");
+    let FamilyParams::Pins(params) = profile.params else { unreachable!() };
+    let opts = crate::CompileOptions::new(profile);
+    for k in 0..12 {
+        let cells = crate::braille::translate(&format!("symbol named {k}"), None, &opts, None, false).cells;
+        // (A meaning may wrap: its last word alone is found wherever it is.)
+        let last = crate::braille::translate(&k.to_string(), None, &opts, None, false).cells;
+        assert!(
+            holds_braille(&image, 40, image.rows - 40, &cells, &params)
+                || holds_braille(&image, 40, image.rows - 40, &last, &params),
+            "symbol {k}"
+        );
+    }
 }

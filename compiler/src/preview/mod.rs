@@ -217,17 +217,30 @@ fn draw_height(c: &mut Canvas, f: &HeightField) {
 /// Millimetres from one line of the key to the next under the picture.
 const KEY_LINE_MM: f64 = 4.0;
 
-/// The key of the labels written as key codes (provenance entry `key`,
-/// `key: bs Bundle Store, kf 1 kHz frames`), one code and its meaning a line.
+/// The key as the bundle's provenance holds it, a line each: "Key", then
+/// each texture, line style and symbol with its meaning (entries `key.*`,
+/// `texture: Forest (grating 3 mm at 0°)`), then each key code and the label
+/// it stands for (entry `key`, `key: bs Bundle Store, kf 1 kHz frames`).
 fn key_lines(b: &Bundle) -> Vec<String> {
-    let key = b.chunks.iter().find_map(|c| match c {
-        Chunk::Provenance(p) => p.entries.iter().find(|e| e.id == "key").map(|e| e.label.as_str()),
+    let Some(p) = b.chunks.iter().find_map(|c| match c {
+        Chunk::Provenance(p) => Some(p),
         _ => None,
-    });
-    let Some(key) = key.map(|k| k.strip_prefix("key: ").unwrap_or(k)).filter(|k| !k.is_empty()) else {
+    }) else {
         return Vec::new();
     };
-    std::iter::once("Key".to_string()).chain(key.split(", ").map(String::from)).collect()
+    let mut lines: Vec<String> = p
+        .entries
+        .iter()
+        .filter_map(|e| crate::style::legend::kind_of_id(&e.id).map(|kind| format!("{kind}: {}", e.label)))
+        .collect();
+    let codes = p.entries.iter().find(|e| e.id == "key").map(|e| e.label.as_str());
+    if let Some(codes) = codes.map(|k| k.strip_prefix("key: ").unwrap_or(k)).filter(|k| !k.is_empty()) {
+        lines.extend(codes.split(", ").map(String::from));
+    }
+    if lines.is_empty() {
+        return lines;
+    }
+    std::iter::once("Key".to_string()).chain(lines).collect()
 }
 
 /// The page extent a bundle covers: the device surface and every layer.
@@ -356,6 +369,37 @@ fn layout((ex0, ey0, ex1, ey1): (f64, f64, f64, f64)) -> (f64, f64, f64, f64, f6
 mod tests {
     use super::*;
     use taxel_format::Mm;
+
+    #[test]
+    fn the_key_names_each_texture_line_and_symbol_before_its_codes() {
+        let mut b = Bundle::new(taxel_format::Manifest::new(taxel_format::profiles::builtin("stress2").unwrap()));
+        let plain = render_bundle(&b, None);
+        let entry =
+            |id: &str, label: &str| taxel_format::ProvenanceEntry { id: id.into(), label: label.into(), line: 0 };
+        let entries = vec![
+            entry("a", "a"),
+            entry("key", "key: cr Check rules"),
+            entry("key.texture", "Forest (grating 3 mm at 0°)"),
+            entry("key.line", "Road (vibrating line 1.5 mm, 50 Hz)"),
+            entry("key.symbol", "Town (dot of 2 mm)"),
+            // An id that merely starts alike is not the key's.
+            entry("key.other", "not a key entry"),
+        ];
+        b.chunks.push(Chunk::Provenance(taxel_format::Provenance { entries }));
+        assert_eq!(
+            key_lines(&b),
+            [
+                "Key",
+                "texture: Forest (grating 3 mm at 0°)",
+                "line: Road (vibrating line 1.5 mm, 50 Hz)",
+                "symbol: Town (dot of 2 mm)",
+                "cr Check rules"
+            ]
+        );
+        let keyed = render_bundle(&b, None);
+        let k = PREVIEW_PX_PER_MM;
+        assert_eq!(keyed.height, plain.height + (5.0 * KEY_LINE_MM * k).ceil() as u32);
+    }
 
     #[test]
     fn the_key_of_a_bundle_is_listed_under_its_picture() {

@@ -2,8 +2,8 @@
 //! (`crate::braille`, the same as on every device), drawn as
 //! round dots at the medium's dimensions (base diameter, dot spacing, cell
 //! spacing, line spacing), never through a font. A label's cells start where
-//! its text starts (after its anchor) and stand on its baseline. The key of
-//! the labels written as key codes is printed on a page of its own.
+//! its text starts (after its anchor) and stand on its baseline. The key
+//! pages are `key.rs`'s.
 
 use taxel_format::{Medium, PrintParams};
 
@@ -26,7 +26,12 @@ pub(super) struct Labels {
 /// Translates `text` as the other devices do (`crate::braille`: liblouis
 /// where it is, contracted where the language has it, else the built-in UEB
 /// grade 1), warning (T0304) about characters left out; six-dot cells.
-fn cells(text: &str, ask: (Option<&TextShape>, Option<u8>), e: Option<&Element>, cx: &mut Cx<'_>) -> Vec<u8> {
+pub(super) fn cells(
+    text: &str,
+    ask: (Option<&TextShape>, Option<u8>),
+    e: Option<&Element>,
+    cx: &mut Cx<'_>,
+) -> Vec<u8> {
     let t = crate::braille::translate(text, ask.0, cx.opts, ask.1, false);
     // (A key code's grade 1 is taxel's choice, not the reader's: no note for it.)
     if ask.0.is_none_or(|s| s.keyed.is_none()) {
@@ -67,7 +72,7 @@ pub(super) fn run_dots(p: &PrintParams, cells: &[u8], x0: f64, y0: f64) -> Vec<(
     out
 }
 
-fn dot_marks(p: &PrintParams, dots: &[(f64, f64)], elem: Option<usize>) -> impl Iterator<Item = Mark> {
+pub(super) fn dot_marks(p: &PrintParams, dots: &[(f64, f64)], elem: Option<usize>) -> impl Iterator<Item = Mark> {
     let d = p.braille_dot_mm as f64;
     dots.iter().map(move |&c| Mark {
         shape: MarkShape::Dot { centre: c, diameter_mm: d },
@@ -129,46 +134,4 @@ pub(super) fn labels(drawing: &Drawing, p: &PrintParams, origin: (f64, f64), cx:
         }
     }
     out
-}
-
-/// The key page: the drawing's title, then each key code with the label it
-/// stands for, a braille line each, wrapped at the printable width. Empty
-/// when the drawing has no key codes.
-pub(super) fn key_page(drawing: &Drawing, p: &PrintParams, origin: (f64, f64), cx: &mut Cx<'_>) -> Vec<Mark> {
-    let key = crate::style::key_line(drawing);
-    let Some(entries) = key.strip_prefix("key: ") else { return Vec::new() };
-    let mut lines: Vec<String> = Vec::new();
-    if !drawing.title.is_empty() {
-        lines.push(drawing.title.clone());
-    }
-    lines.push("key".to_string());
-    lines.extend(entries.split(", ").map(str::to_string));
-    let (cp, lp) = (p.braille_cell_mm as f64, p.braille_line_mm as f64);
-    let r = p.braille_dot_mm as f64 / 2.0;
-    let per_line = ((p.surface_mm().0 as f64 - 2.0 * r) / cp).floor().max(1.0) as usize;
-    let max_lines = ((p.surface_mm().1 as f64) / lp).floor().max(1.0) as usize;
-    let mut marks = Vec::new();
-    let mut row = 0usize;
-    let mut cut = false;
-    for text in lines {
-        let cells = cells(&text, (None, None), None, cx);
-        for chunk in cells.chunks(per_line) {
-            if row >= max_lines {
-                cut = true;
-                break;
-            }
-            let (mut x0, mut y0) = (origin.0 + r, origin.1 + r + row as f64 * lp);
-            if p.medium == Medium::Emboss {
-                x0 = snap(x0, origin.0, p.grid_mm as f64);
-                y0 = snap(y0, origin.1, p.grid_mm as f64);
-            }
-            let dots = run_dots(p, chunk, x0, y0);
-            marks.extend(dot_marks(p, &dots, None));
-            row += 1;
-        }
-    }
-    if cut {
-        cx.diags.push(Diagnostic::warning("T0727", "the key is longer than one page; its last lines are left out"));
-    }
-    marks
 }

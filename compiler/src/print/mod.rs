@@ -16,8 +16,11 @@
 //!   per dot style (disc, square, triangle, diamond, ring, cross);
 //! - `brush` → a line with an arrowhead where the stroke ends;
 //! - `braille` → braille cells at the medium's dimensions drawn as dots
-//!   (`braille.rs`), the texture cleared around them; the key of the labels
-//!   written as key codes goes on a page of its own.
+//!   (`braille.rs`), the texture cleared around them.
+//!
+//! When the drawing needs a key ([`crate::style::legend()`]), it follows on
+//! pages of its own (`key.rs`): each texture, line style and point symbol
+//! felt as itself beside its meaning in braille, then the key codes.
 //!
 //! An embosser's sheet is then snapped to its grid: every mark becomes the
 //! grid's dots it covers (`grid.rs`). The files: [`pdf()`] (swell paper and
@@ -54,6 +57,7 @@
 mod braille;
 mod clip;
 mod grid;
+mod key;
 mod marks;
 mod pdf;
 pub mod preview;
@@ -138,7 +142,7 @@ pub struct Sheet {
     /// Paper size, `(width, height)` in mm.
     pub paper_mm: (f64, f64),
     /// The pages: the graphic's first (`tiles.0 * tiles.1` of them, row by
-    /// row), then the key's when there is one.
+    /// row), then the key's pages when there is a key.
     pub pages: Vec<Vec<Mark>>,
     /// The pages the graphic is printed on, `(across, down)`: `(1, 1)` when
     /// it fits the printable area, more for a larger drawing printed at its
@@ -332,11 +336,10 @@ pub fn legalise_with(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mu
         .filter(|&(a, d)| a * d <= crate::place::MAX_PRINT_PAGES)
         .unwrap_or((1, 1));
     let mut pages = if tiles == (1, 1) { vec![page] } else { tile(page, tiles, &params, origin) };
-    let key = braille::key_page(drawing, &params, origin, &mut braille::Cx { opts, notes: &mut notes, diags });
+    let legend = crate::style::legend(drawing);
+    let cx = &mut braille::Cx { opts, notes: &mut notes, diags };
+    pages.extend(key::pages(drawing, &legend, &textures, &params, origin, cx));
     notes.emit(diags);
-    if !key.is_empty() {
-        pages.push(key);
-    }
     if params.medium == Medium::Emboss {
         pages = pages.into_iter().map(|p| grid::snap(&params, origin, p, drawing, diags)).collect();
     }

@@ -44,6 +44,7 @@ mod decide;
 mod ground;
 mod keys;
 mod labels;
+pub mod legend;
 mod notes;
 mod sheet;
 mod ticks;
@@ -51,6 +52,7 @@ mod ticks;
 pub use adjacency::{Neighbours, Region, abutting, abutting_alike, class_edges, colour, touching};
 pub use decide::{plan, plan_measured};
 pub use keys::{KeyCode, key_line, label_text};
+pub use legend::{Legend, legend};
 pub use notes::{fill_name, nothing_made, summary};
 pub use sheet::sheet_toml;
 

@@ -1,0 +1,763 @@
+//! The key of a drawing: each texture, line style and point symbol a reader
+//! must tell apart, with its meaning, and the key codes (T0326).
+//!
+//! A public stage derived from the resolved styles, so that every back end
+//! (paper's key page, the pin displays' key page, the provenance a host
+//! speaks, `taxel inspect`, the preview) writes the same key. It is in the
+//! manner of BANA's *Guidelines and Standards for Tactile Graphics* (2010),
+//! which ask for a key whenever symbols, lines or textures are used that
+//! are not explained on the graphic itself, each shown "as it appears on the
+//! graphic" beside its meaning, and which limit a graphic to about five of
+//! each kind.
+//!
+//! **Entries.** One per distinct texture (a grating's wavelength and angle),
+//! vibrating line style (its width and frequency), dotted line (radius and
+//! spacing), point symbol (a dot's radius) and brushed stroke (its duration
+//! and frequency): the same identities the back ends give one texture, line
+//! style or symbol each, in order of first use.
+//!
+//! **Meaning**, the first that names it ([`Source`]): the text of the
+//! drawing's own legend (a small swatch of the style with a text just to its
+//! right on its line, as matplotlib, Vega-Lite and map legends draw them,
+//! accepted when two or more such pairs line up in a column or a row); else
+//! the label (`<title>`, `aria-label`, `inkscape:label`) all its elements
+//! share; else the innermost Inkscape layer they share; else a class they
+//! share; else the nearest basic colour name of their fill (of their stroke
+//! for lines: "red areas", "blue lines"); else an ordinal ("texture 2"). A
+//! layer, class or colour that two entries of the key would share tells
+//! neither apart, so those entries take their next meaning.
+//!
+//! **When** ([`Legend::needed`]): when the drawing has key codes, or a kind
+//! (textures, line styles, point symbols with dotted lines, brushed strokes)
+//! has two or more entries a reader must tell apart. A single texture or a
+//! single line style is not explained: BANA's guidelines keep the key for
+//! what the graphic does not say by itself, and one kind alone is read as
+//! "the region" or "the line" its braille label names.
+
+use std::collections::BTreeMap;
+
+use crate::annotation::{Brush, Dot, Dots, Grating, Style, Vibrate};
+use crate::drawing::{Drawing, Element, Rgba, Shape, TextShape};
+
+/// How an entry is felt: the style it explains.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Swatch {
+    /// A grated area (a texture).
+    Texture(Grating),
+    /// A vibrating line (a line style).
+    Line(Vibrate),
+    /// A dotted line.
+    Dotted(Dots),
+    /// A point symbol.
+    Symbol(Dot),
+    /// A brushed stroke (grid devices).
+    Stroke(Brush),
+}
+
+impl Swatch {
+    /// The kind's word, as the key and a host say it: `texture`, `line`,
+    /// `dotted line`, `symbol`, `stroke`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Swatch::Texture(_) => "texture",
+            Swatch::Line(_) => "line",
+            Swatch::Dotted(_) => "dotted line",
+            Swatch::Symbol(_) => "symbol",
+            Swatch::Stroke(_) => "stroke",
+        }
+    }
+
+    /// The provenance id of an entry of this kind: `key.texture`,
+    /// `key.line`, `key.dotted`, `key.symbol`, `key.stroke`.
+    pub fn id(&self) -> &'static str {
+        match self {
+            Swatch::Texture(_) => "key.texture",
+            Swatch::Line(_) => "key.line",
+            Swatch::Dotted(_) => "key.dotted",
+            Swatch::Symbol(_) => "key.symbol",
+            Swatch::Stroke(_) => "key.stroke",
+        }
+    }
+
+    /// What the style is, as written (`grating 6 mm at 45°`), for a host to
+    /// say what is felt on a device that plays the style itself.
+    pub fn felt(&self) -> String {
+        match self {
+            Swatch::Texture(g) => format!("grating {} mm at {}°", num(g.wavelength_mm), num(g.angle_deg)),
+            Swatch::Line(v) => format!("vibrating line {} mm, {} Hz", num(v.width_mm), num(v.freq_hz)),
+            Swatch::Dotted(d) => format!("dots of {} mm", num(2.0 * d.radius_mm)),
+            Swatch::Symbol(d) => format!("dot of {} mm", num(2.0 * d.radius_mm)),
+            Swatch::Stroke(b) => format!("brushed stroke {} ms", num(b.duration_ms)),
+        }
+    }
+
+    /// Its identity: the parameters the back ends tell one texture, line
+    /// style or symbol from another by (as bits, so that it can be compared).
+    fn identity(&self) -> (u8, u64, u64) {
+        match self {
+            Swatch::Texture(g) => (0, g.wavelength_mm.to_bits(), g.angle_deg.to_bits()),
+            Swatch::Line(v) => (1, v.width_mm.to_bits(), v.freq_hz.to_bits()),
+            Swatch::Dotted(d) => (2, d.radius_mm.to_bits(), d.spacing_mm.unwrap_or(-1.0).to_bits()),
+            Swatch::Symbol(d) => (3, d.radius_mm.to_bits(), 0),
+            Swatch::Stroke(b) => (4, b.duration_ms.to_bits(), b.freq_hz.to_bits()),
+        }
+    }
+
+    /// The group a reader tells entries apart within (dotted lines and
+    /// symbols are both dots on most devices).
+    fn group(&self) -> u8 {
+        match self {
+            Swatch::Texture(_) => 0,
+            Swatch::Line(_) => 1,
+            Swatch::Dotted(_) | Swatch::Symbol(_) => 2,
+            Swatch::Stroke(_) => 3,
+        }
+    }
+
+    /// The noun a colour word goes with ("red areas").
+    fn things(&self) -> &'static str {
+        match self {
+            Swatch::Texture(_) => "areas",
+            Swatch::Line(_) => "lines",
+            Swatch::Dotted(_) => "dotted lines",
+            Swatch::Symbol(_) => "points",
+            Swatch::Stroke(_) => "strokes",
+        }
+    }
+}
+
+/// The kind's word of a provenance id [`Swatch::id`] (`key.texture` →
+/// `texture`), `None` for an id that is not a key entry's.
+pub fn kind_of_id(id: &str) -> Option<&'static str> {
+    Some(match id {
+        "key.texture" => "texture",
+        "key.line" => "line",
+        "key.dotted" => "dotted line",
+        "key.symbol" => "symbol",
+        "key.stroke" => "stroke",
+        _ => return None,
+    })
+}
+
+/// Where an entry's meaning came from, first rule first.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Source {
+    /// The text beside its swatch in the drawing's own legend.
+    Legend,
+    /// The label its elements share (`<title>`, `aria-label`, `inkscape:label`).
+    Label,
+    /// The innermost Inkscape layer its elements share.
+    Layer,
+    /// A class its elements share.
+    Class,
+    /// The basic colour name of its elements' fill (stroke, for lines).
+    Colour,
+    /// Its place among the entries of its kind.
+    Ordinal,
+}
+
+/// One entry of the key.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Entry {
+    /// How it is felt.
+    pub swatch: Swatch,
+    /// What it means.
+    pub meaning: String,
+    /// Where the meaning came from.
+    pub source: Source,
+    /// The language of the meaning's text, when a legend text or label says.
+    pub lang: Option<String>,
+    /// The elements it stands for (indices into the drawing), in drawing order.
+    pub elements: Vec<usize>,
+}
+
+impl Entry {
+    /// The entry as one line of print: `texture: Forest`.
+    pub fn line(&self) -> String {
+        format!("{}: {}", self.swatch.kind(), self.meaning)
+    }
+}
+
+/// The key of a drawing: its entries (textures, then lines, dotted lines,
+/// symbols and strokes, each kind in order of first use) and its key codes.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Legend {
+    /// Each distinct texture, line style and point symbol.
+    pub entries: Vec<Entry>,
+    /// Each key code and the label it stands for, codes in order.
+    pub codes: Vec<(String, String)>,
+}
+
+impl Legend {
+    /// Whether a key is written: there are key codes, or a kind of entry
+    /// has two or more a reader must tell apart (module docs).
+    pub fn needed(&self) -> bool {
+        if !self.codes.is_empty() {
+            return true;
+        }
+        (0..4).any(|g| self.entries.iter().filter(|e| e.swatch.group() == g).count() >= 2)
+    }
+
+    /// The entries a key lists: all of them when a key is [`needed`](Self::needed), else none.
+    pub fn shown(&self) -> &[Entry] {
+        if self.needed() { &self.entries } else { &[] }
+    }
+
+    /// The key codes as lines of print: `bs Bundle Store`.
+    pub fn code_lines(&self) -> Vec<String> {
+        self.codes.iter().map(|(c, l)| format!("{c} {l}")).collect()
+    }
+}
+
+/// The key of `d` ([`Legend`]): its entries and their meanings, and its key
+/// codes.
+///
+/// ```
+/// use taxel_compiler::annotation::{Grating, Style};
+/// use taxel_compiler::drawing::{Drawing, Element, PathShape, Shape};
+/// use taxel_compiler::geometry::Polyline;
+/// use taxel_compiler::style::legend::{legend, Source};
+///
+/// let square = |x: f64, label: &str, wavelength_mm: f64| Element {
+///     label: label.into(),
+///     visible: true,
+///     styles: vec![Style::Grating(Grating { wavelength_mm, angle_deg: 0.0, amplitude: 1.0, soft_mm: 0.0 })],
+///     shape: Shape::Path(PathShape {
+///         outline: vec![Polyline { points: vec![(x, 0.0), (x + 30.0, 0.0), (x + 30.0, 30.0), (x, 30.0)], closed: true }],
+///         ..Default::default()
+///     }),
+///     ..Default::default()
+/// };
+/// let d = Drawing { elements: vec![square(0.0, "Forest", 3.0), square(40.0, "Lake", 6.0)], ..Default::default() };
+/// let key = legend(&d);
+/// assert!(key.needed());
+/// assert_eq!(key.entries[1].meaning, "Lake");
+/// assert_eq!(key.entries[1].source, Source::Label);
+/// ```
+pub fn legend(d: &Drawing) -> Legend {
+    let mut entries: Vec<Entry> = Vec::new();
+    let mut of_identity: std::collections::HashMap<(u8, u64, u64), usize> = Default::default();
+    for (i, e) in d.elements.iter().enumerate().filter(|(_, e)| e.visible) {
+        let Shape::Path(_) = &e.shape else { continue };
+        for s in &e.styles {
+            let swatch = match *s {
+                Style::Grating(g) => Swatch::Texture(g),
+                Style::Vibrate(v) => Swatch::Line(v),
+                Style::Dots(d) => Swatch::Dotted(d),
+                Style::Dot(d) => Swatch::Symbol(d),
+                Style::Brush(b) => Swatch::Stroke(b),
+                Style::Braille(_) => continue,
+            };
+            match of_identity.get(&swatch.identity()).and_then(|&k| entries.get_mut(k)) {
+                Some(x) => {
+                    if x.elements.last() != Some(&i) {
+                        x.elements.push(i);
+                    }
+                }
+                None => {
+                    of_identity.insert(swatch.identity(), entries.len());
+                    entries.push(Entry {
+                        swatch,
+                        meaning: String::new(),
+                        source: Source::Ordinal,
+                        lang: None,
+                        elements: vec![i],
+                    })
+                }
+            }
+        }
+    }
+    // Textures, then lines, dotted lines, symbols and strokes (stable: each
+    // kind keeps its order of first use).
+    entries.sort_by_key(|x| x.swatch.identity().0);
+    name(d, &mut entries);
+    Legend { entries, codes: codes(d) }
+}
+
+/// The provenance entries of the key's entries a device plays (those
+/// `plays` keeps), for a host to say: id [`Swatch::id`] (`key.texture`),
+/// label the meaning and, in brackets, the style as written
+/// (`Forest (grating 3 mm at 0°)`); none when no key is needed.
+pub fn provenance(legend: &Legend, plays: impl Fn(&Swatch) -> bool) -> Vec<taxel_format::ProvenanceEntry> {
+    legend
+        .shown()
+        .iter()
+        .filter(|e| plays(&e.swatch))
+        .map(|e| taxel_format::ProvenanceEntry {
+            id: e.swatch.id().into(),
+            label: format!("{} ({})", e.meaning, e.swatch.felt()),
+            line: 0,
+        })
+        .collect()
+}
+
+/// The key codes of `d` and the labels they stand for, codes in order.
+fn codes(d: &Drawing) -> Vec<(String, String)> {
+    let mut key: BTreeMap<&str, &str> = BTreeMap::new();
+    for e in &d.elements {
+        if let Shape::Text(TextShape { content, keyed: Some(label), .. }) = &e.shape {
+            key.insert(content, label);
+        }
+    }
+    key.into_iter().map(|(c, l)| (c.to_string(), l.to_string())).collect()
+}
+
+/// Gives every entry its meaning (module docs: the rules in order).
+fn name(d: &Drawing, entries: &mut [Entry]) {
+    let legends = legend_texts(d, entries);
+    let mut candidates: Vec<Vec<(Source, String, Option<String>)>> = entries
+        .iter()
+        .enumerate()
+        .map(|(k, x)| {
+            let mut c = Vec::new();
+            if let Some((text, lang)) = legends.get(&k) {
+                c.push((Source::Legend, text.clone(), lang.clone()));
+            }
+            let of = |f: &dyn Fn(&Element) -> Option<String>| shared(d, &x.elements, f);
+            if let Some(l) = of(&|e| Some(e.label.trim().to_string()).filter(|l| !l.is_empty())) {
+                c.push((Source::Label, l, None));
+            }
+            if let Some(l) = innermost_layer(d, &x.elements) {
+                c.push((Source::Layer, l, None));
+            }
+            if let Some(l) = shared_class(d, &x.elements) {
+                c.push((Source::Class, l, None));
+            }
+            if let Some(w) = of(&|e| colour_word(paint_of(e, &x.swatch)?)) {
+                c.push((Source::Colour, format!("{w} {}", x.swatch.things()), None));
+            }
+            c.reverse(); // popped from the end: the first rule last
+            c
+        })
+        .collect();
+    // An entry takes its first candidate; where two entries would say the
+    // same (a layer, class or colour they share), both take their next.
+    loop {
+        let mut said: std::collections::HashMap<String, usize> = Default::default();
+        for c in &candidates {
+            if let Some((_, text, _)) = c.last() {
+                *said.entry(text.clone()).or_insert(0) += 1;
+            }
+        }
+        let mut changed = false;
+        for c in &mut candidates {
+            if c.last().is_some_and(|(src, text, _)| *src > Source::Label && said.get(text).is_some_and(|&n| n > 1)) {
+                c.pop();
+                changed = true;
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    let mut ordinal: BTreeMap<&str, usize> = BTreeMap::new();
+    for (x, c) in entries.iter_mut().zip(&mut candidates) {
+        let n = ordinal.entry(x.swatch.kind()).or_insert(0);
+        *n += 1;
+        match c.pop() {
+            Some((source, meaning, lang)) => {
+                x.source = source;
+                x.meaning = meaning;
+                x.lang = lang;
+            }
+            None => {
+                x.source = Source::Ordinal;
+                x.meaning = format!("{} {n}", x.swatch.kind());
+            }
+        }
+    }
+}
+
+/// The value `f` gives every element of `elements`, when they all give the same one.
+fn shared(d: &Drawing, elements: &[usize], f: &dyn Fn(&Element) -> Option<String>) -> Option<String> {
+    let mut it = elements.iter().filter_map(|&i| d.elements.get(i));
+    let first = f(it.next()?)?;
+    it.all(|e| f(e).as_ref() == Some(&first)).then_some(first)
+}
+
+/// The innermost Inkscape layer every element of `elements` lies in (not a
+/// `tactile:` annotation, nor Inkscape's default "Layer 1").
+fn innermost_layer(d: &Drawing, elements: &[usize]) -> Option<String> {
+    let mut it = elements.iter().filter_map(|&i| d.elements.get(i));
+    let mut common: Vec<&str> = it.next()?.layers.iter().map(String::as_str).collect();
+    for e in it {
+        let n = common.iter().zip(&e.layers).take_while(|(a, b)| **a == b.as_str()).count();
+        common.truncate(n);
+    }
+    common.into_iter().rev().map(str::trim).find(|l| meaningful_layer(l)).map(str::to_string)
+}
+
+fn meaningful_layer(l: &str) -> bool {
+    let default = l.strip_prefix("Layer ").is_some_and(|n| n.trim().chars().all(|c| c.is_ascii_digit()));
+    !l.is_empty() && !default && !l.trim_start().starts_with("tactile:")
+}
+
+/// A class every element of `elements` has, as words (`land-use` → "land use").
+fn shared_class(d: &Drawing, elements: &[usize]) -> Option<String> {
+    let mut it = elements.iter().filter_map(|&i| d.elements.get(i));
+    let first = it.next()?;
+    let mut common: Vec<&str> = first.classes.split_whitespace().collect();
+    for e in it {
+        let theirs: Vec<&str> = e.classes.split_whitespace().collect();
+        common.retain(|c| theirs.contains(c));
+    }
+    let words = |c: &str| c.replace(['-', '_'], " ").trim().to_string();
+    common.into_iter().map(words).find(|w| w.chars().any(char::is_alphabetic))
+}
+
+/// The colour that names an element of an entry: its fill, or its stroke
+/// for a line (and a fill-less mark).
+fn paint_of(e: &Element, s: &Swatch) -> Option<Rgba> {
+    match s {
+        Swatch::Line(_) | Swatch::Dotted(_) | Swatch::Stroke(_) => e.paint.stroke.or(e.paint.fill),
+        Swatch::Texture(_) | Swatch::Symbol(_) => e.paint.fill.or(e.paint.stroke),
+    }
+}
+
+/// The basic colour name of `c` (one of Berlin and Kay's eleven: black,
+/// white, grey, red, orange, yellow, green, blue, purple, pink, brown), by
+/// its hue, saturation and lightness; `None` when it is hardly seen.
+pub fn colour_word(c: Rgba) -> Option<String> {
+    if c[3] < super::MIN_ALPHA {
+        return None;
+    }
+    let [r, g, b] = [c[0], c[1], c[2]].map(|v| v as f64 / 255.0);
+    let (max, min) = (r.max(g).max(b), r.min(g).min(b));
+    let l = (max + min) / 2.0;
+    let chroma = max - min;
+    let word = if chroma < 0.12 {
+        // No hue: by lightness.
+        if l < 0.2 {
+            "black"
+        } else if l > 0.85 {
+            "white"
+        } else {
+            "grey"
+        }
+    } else {
+        let h = if max == r {
+            60.0 * ((g - b) / chroma).rem_euclid(6.0)
+        } else if max == g {
+            60.0 * ((b - r) / chroma + 2.0)
+        } else {
+            60.0 * ((r - g) / chroma + 4.0)
+        };
+        match h {
+            h if !(15.0..330.0).contains(&h) => {
+                if l > 0.7 {
+                    "pink"
+                } else if max < 0.45 {
+                    "brown"
+                } else {
+                    "red"
+                }
+            }
+            h if h < 45.0 => {
+                if max < 0.65 {
+                    "brown"
+                } else {
+                    "orange"
+                }
+            }
+            h if h < 70.0 => {
+                if max < 0.55 {
+                    "brown"
+                } else {
+                    "yellow"
+                }
+            }
+            h if h < 165.0 => "green",
+            h if h < 255.0 => "blue",
+            h if h < 290.0 => "purple",
+            _ => {
+                if l > 0.6 {
+                    "pink"
+                } else {
+                    "purple"
+                }
+            }
+        }
+    };
+    Some(word.to_string())
+}
+
+/// Largest side of a legend's swatch, mm (matplotlib's patch is 2 em by
+/// 0.7 em, Vega-Lite's symbol 5 mm; a map legend's box rarely passes 15 mm).
+pub const SWATCH_MAX_MM: f64 = 20.0;
+/// Farthest a legend's text starts right of its swatch, mm (matplotlib:
+/// 0.8 em; Vega-Lite: 4 px), with room for larger legends.
+pub const LEGEND_GAP_MM: f64 = 12.0;
+/// Farthest the swatches of one legend's rows may stray from their column
+/// (or a horizontal legend's from its row), mm.
+const ALIGN_MM: f64 = 2.5;
+
+/// The legend texts of the entries: for each entry (by index) the text to
+/// the right of one of its small elements, when two or more such pairs line
+/// up as a legend's rows (or its columns).
+fn legend_texts(d: &Drawing, entries: &[Entry]) -> BTreeMap<usize, (String, Option<String>)> {
+    let texts: Vec<(&TextShape, (f64, f64, f64))> = d
+        .elements
+        .iter()
+        .filter_map(|e| match &e.shape {
+            Shape::Text(t) if !t.content.trim().is_empty() => {
+                let run = t.runs.iter().find(|r| !r.text.trim().is_empty())?;
+                // Where the text starts, and its middle height (a capital's
+                // half above the baseline).
+                let x = run.x_mm - run.anchor * t.content.chars().count() as f64 * t.font_size_mm * 0.5;
+                let at = (x, run.y_mm - 0.35 * t.font_size_mm, t.font_size_mm);
+                (at.0.is_finite() && at.1.is_finite() && at.2.is_finite()).then_some((t, at))
+            }
+            _ => None,
+        })
+        .collect();
+    // Sorted by where they start, so that a swatch looks only at the texts
+    // starting in its reach (no pass over all pairs).
+    let mut texts = texts;
+    texts.sort_by(|a, b| a.1.0.total_cmp(&b.1.0));
+    // (entry, swatch's box, text, lang)
+    let mut pairs: Vec<(usize, Bounds, String, Option<String>)> = Vec::new();
+    for (k, x) in entries.iter().enumerate() {
+        let mut best: Option<(f64, Bounds, String, Option<String>)> = None;
+        for &i in &x.elements {
+            let Some(b) = d.elements.get(i).and_then(Element::seen_bounds) else { continue };
+            let (w, h) = (b.2 - b.0, b.3 - b.1);
+            if w > SWATCH_MAX_MM || h > SWATCH_MAX_MM {
+                continue;
+            }
+            let mid = (b.1 + b.3) / 2.0;
+            let from = texts.partition_point(|t| t.1.0 < b.2 - 0.5);
+            let to = texts.partition_point(|t| t.1.0 <= b.2 + LEGEND_GAP_MM);
+            for (t, (tx, ty, size)) in texts.get(from..to).unwrap_or(&[]) {
+                let gap = tx - b.2;
+                let reach = (h.max(*size) * 0.75).max(1.0);
+                if (-0.5..=LEGEND_GAP_MM).contains(&gap)
+                    && (ty - mid).abs() <= reach
+                    && best.as_ref().is_none_or(|bb| gap < bb.0)
+                {
+                    // A legend text written as a key code means the label it stands for.
+                    let text = t.keyed.clone().unwrap_or_else(|| super::keys::label_text(t));
+                    best = Some((gap, b, text, t.lang.clone()));
+                }
+            }
+        }
+        if let Some((_, b, text, lang)) = best {
+            pairs.push((k, b, text, lang));
+        }
+    }
+    let lined_up = |p: &(usize, Bounds, String, Option<String>)| {
+        pairs.iter().any(|q| {
+            q.0 != p.0
+                && ((q.1.0 - p.1.0).abs() <= ALIGN_MM
+                    || ((q.1.1 + q.1.3) / 2.0 - (p.1.1 + p.1.3) / 2.0).abs() <= ALIGN_MM)
+        })
+    };
+    pairs.iter().filter(|p| lined_up(p)).map(|p| (p.0, (p.2.clone(), p.3.clone()))).collect()
+}
+
+/// A box `(x0, y0, x1, y1)` in page mm.
+type Bounds = (f64, f64, f64, f64);
+
+/// A number as the key writes it: at most two decimals, no trailing zeros.
+fn num(v: f64) -> String {
+    let s = format!("{:.2}", v);
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::CompileOptions;
+    use taxel_format::profiles;
+
+    fn drawing(body: &str) -> Drawing {
+        let svg = format!(
+            r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape"
+                width="200mm" height="150mm" viewBox="0 0 200 150">{body}</svg>"#
+        );
+        crate::drawing::resolve(&svg, &CompileOptions::new(profiles::builtin("swell-a4").unwrap())).drawing.unwrap()
+    }
+
+    const FINE: &str = "grating(wavelength: 3mm, angle: 0deg)";
+    const COARSE: &str = "grating(wavelength: 6mm, angle: 90deg)";
+
+    fn meanings(l: &Legend) -> Vec<(&str, Source)> {
+        l.entries.iter().map(|e| (e.meaning.as_str(), e.source)).collect()
+    }
+
+    #[test]
+    fn a_legends_text_beside_its_swatch_names_the_texture() {
+        // Two regions with titles that the legend overrides, and a legend of
+        // two swatches in a column, each with its text to the right.
+        let d = drawing(&format!(
+            r#"<rect x="0" y="0" width="80" height="60" fill="green" data-tactile="{FINE}"><title>region a</title></rect>
+               <rect x="90" y="0" width="80" height="60" fill="blue" data-tactile="{COARSE}"><title>region b</title></rect>
+               <rect x="10" y="100" width="10" height="6" fill="green" data-tactile="{FINE}"/>
+               <text x="24" y="105" font-size="5">Forest</text>
+               <rect x="10" y="112" width="10" height="6" fill="blue" data-tactile="{COARSE}"/>
+               <text x="24" y="117" font-size="5">Lake</text>"#
+        ));
+        let l = legend(&d);
+        assert_eq!(meanings(&l), [("Forest", Source::Legend), ("Lake", Source::Legend)]);
+        // Each entry stands for its region and its swatch.
+        assert_eq!(l.entries[0].elements.len(), 2);
+    }
+
+    #[test]
+    fn a_legend_text_written_as_a_key_code_means_its_label() {
+        let mut d = drawing(&format!(
+            r#"<rect x="0" y="0" width="80" height="60" data-tactile="{FINE}"/>
+               <rect x="90" y="0" width="80" height="60" data-tactile="{COARSE}"/>
+               <rect x="10" y="100" width="10" height="6" data-tactile="{FINE}"/>
+               <text x="24" y="105" font-size="5">Farmland</text>
+               <rect x="10" y="112" width="10" height="6" data-tactile="{COARSE}"/>
+               <text x="24" y="117" font-size="5">Lake</text>"#
+        ));
+        // As the automatic sheet leaves a label that finds no place: its
+        // code in its place, the label it stands for kept.
+        for e in &mut d.elements {
+            if let Shape::Text(t) = &mut e.shape
+                && t.content == "Farmland"
+            {
+                t.keyed = Some("Farmland".into());
+                t.content = "fa".into();
+                for r in &mut t.runs {
+                    r.text = "fa".into();
+                }
+            }
+        }
+        let l = legend(&d);
+        assert_eq!(meanings(&l), [("Farmland", Source::Legend), ("Lake", Source::Legend)]);
+    }
+
+    #[test]
+    fn a_lone_text_beside_a_small_region_is_not_a_legend() {
+        // A small region with its name beside it (a lake on a map): no
+        // second pair lines up, so the name is not taken for the texture's.
+        let d = drawing(&format!(
+            r#"<rect x="0" y="0" width="80" height="60" fill="green" data-tactile="{FINE}"/>
+               <rect x="100" y="10" width="10" height="6" fill="green" data-tactile="{FINE}"/>
+               <text x="114" y="15" font-size="5">Small wood</text>
+               <rect x="0" y="80" width="80" height="60" fill="blue" data-tactile="{COARSE}"/>"#
+        ));
+        let l = legend(&d);
+        assert_eq!(meanings(&l), [("green areas", Source::Colour), ("blue areas", Source::Colour)]);
+    }
+
+    #[test]
+    fn a_shared_label_then_the_innermost_layer_name_the_entries() {
+        let d = drawing(&format!(
+            r#"<g inkscape:groupmode="layer" inkscape:label="Land use">
+                 <g inkscape:groupmode="layer" inkscape:label="Farmland">
+                   <rect x="0" y="0" width="40" height="40" fill="yellow" data-tactile="{FINE}"/>
+                   <rect x="50" y="0" width="40" height="40" fill="orange" data-tactile="{FINE}"/>
+                 </g>
+                 <rect x="0" y="50" width="40" height="40" fill="blue" data-tactile="{COARSE}" aria-label="Water"/>
+                 <rect x="50" y="50" width="40" height="40" fill="navy" data-tactile="{COARSE}" aria-label="Water"/>
+               </g>"#
+        ));
+        let l = legend(&d);
+        assert_eq!(meanings(&l), [("Farmland", Source::Layer), ("Water", Source::Label)]);
+    }
+
+    #[test]
+    fn a_layer_two_entries_share_tells_neither_apart() {
+        // Both textures lie in "Land use" alone: the layer would name both
+        // alike, so their colours name them.
+        let d = drawing(&format!(
+            r#"<g inkscape:groupmode="layer" inkscape:label="Land use">
+                 <rect x="0" y="0" width="40" height="40" fill="rgb(200,30,30)" data-tactile="{FINE}"/>
+                 <rect x="50" y="0" width="40" height="40" fill="rgb(30,80,230)" data-tactile="{COARSE}"/>
+               </g>"#
+        ));
+        let l = legend(&d);
+        assert_eq!(meanings(&l), [("red areas", Source::Colour), ("blue areas", Source::Colour)]);
+    }
+
+    #[test]
+    fn without_names_or_colours_entries_are_numbered() {
+        // Two different fills per texture: no colour names either.
+        let d = drawing(&format!(
+            r#"<rect x="0" y="0" width="40" height="40" fill="red" data-tactile="{FINE}"/>
+               <rect x="50" y="0" width="40" height="40" fill="blue" data-tactile="{FINE}"/>
+               <rect x="0" y="50" width="40" height="40" fill="red" data-tactile="{COARSE}"/>
+               <rect x="50" y="50" width="40" height="40" fill="blue" data-tactile="{COARSE}"/>"#
+        ));
+        let l = legend(&d);
+        assert_eq!(meanings(&l), [("texture 1", Source::Ordinal), ("texture 2", Source::Ordinal)]);
+    }
+
+    #[test]
+    fn lines_are_named_by_their_stroke_and_symbols_by_their_fill() {
+        let d = drawing(
+            r#"<path d="M0 0 L100 0" stroke="rgb(0,150,40)" fill="none" data-tactile="vibrate()"/>
+               <path d="M0 20 L100 20" stroke="rgb(240,130,0)" fill="none" data-tactile="vibrate(width: 3mm)"/>
+               <circle cx="10" cy="50" r="2" fill="rgb(120,40,180)" data-tactile="dot(radius: 1mm)"/>"#,
+        );
+        let l = legend(&d);
+        let kinds: Vec<&str> = l.entries.iter().map(|e| e.swatch.kind()).collect();
+        assert_eq!(kinds, ["line", "line", "symbol"]);
+        assert_eq!(meanings(&l)[..2], [("green lines", Source::Colour), ("orange lines", Source::Colour)]);
+        assert_eq!(l.entries[2].meaning, "purple points");
+    }
+
+    #[test]
+    fn a_key_is_needed_for_two_of_a_kind_or_key_codes_only() {
+        let one_each = drawing(&format!(
+            r#"<rect x="0" y="0" width="40" height="40" fill="red" data-tactile="{FINE}"/>
+               <path d="M0 60 L100 60" stroke="black" data-tactile="vibrate()"/>
+               <circle cx="10" cy="90" r="2" data-tactile="dot()"/>"#
+        ));
+        let l = legend(&one_each);
+        assert_eq!(l.entries.len(), 3);
+        assert!(!l.needed(), "one texture, one line and one symbol need no key");
+        assert!(l.shown().is_empty());
+        let two_textures = drawing(&format!(
+            r#"<rect x="0" y="0" width="40" height="40" fill="red" data-tactile="{FINE}"/>
+               <rect x="50" y="0" width="40" height="40" fill="blue" data-tactile="{COARSE}"/>
+               <path d="M0 60 L100 60" stroke="black" data-tactile="vibrate()"/>"#
+        ));
+        let l = legend(&two_textures);
+        assert!(l.needed());
+        // The key then lists the line too.
+        assert_eq!(l.shown().len(), 3);
+        let mut keyed = one_each.clone();
+        keyed.elements.push(Element {
+            visible: true,
+            shape: Shape::Text(TextShape {
+                content: "fo".into(),
+                keyed: Some("Forest office".into()),
+                ..Default::default()
+            }),
+            ..Default::default()
+        });
+        let l = legend(&keyed);
+        assert_eq!(l.codes, [("fo".to_string(), "Forest office".to_string())]);
+        assert!(l.needed(), "key codes always need a key");
+    }
+
+    #[test]
+    fn colour_words_are_the_nearest_basic_names() {
+        assert_eq!(colour_word([255, 0, 0, 255]).as_deref(), Some("red"));
+        assert_eq!(colour_word([0, 0, 139, 255]).as_deref(), Some("blue"));
+        assert_eq!(colour_word([34, 139, 34, 255]).as_deref(), Some("green"));
+        assert_eq!(colour_word([250, 250, 250, 255]).as_deref(), Some("white"));
+        assert_eq!(colour_word([30, 30, 30, 255]).as_deref(), Some("black"));
+        assert_eq!(colour_word([128, 128, 128, 255]).as_deref(), Some("grey"));
+        // CSS's named colours whose names say their basic colour.
+        for (rgb, word) in [
+            ([255, 165, 0], "orange"),
+            ([255, 255, 0], "yellow"),
+            ([128, 0, 128], "purple"),
+            ([255, 192, 203], "pink"),
+            ([139, 69, 19], "brown"),
+            ([0, 128, 0], "green"),
+            ([0, 0, 255], "blue"),
+            ([100, 149, 237], "blue"),
+            ([0, 128, 128], "blue"),
+            ([220, 20, 60], "red"),
+        ] {
+            assert_eq!(colour_word([rgb[0], rgb[1], rgb[2], 255]).as_deref(), Some(word), "{rgb:?}");
+        }
+        assert_eq!(colour_word([255, 0, 0, 0]), None);
+    }
+}
