@@ -209,15 +209,18 @@ fn the_stl_is_watertight_manifold_outward_and_at_the_profile_s_heights() {
         assert_eq!(n, 1, "edge used {n} times in one direction");
         assert_eq!(edges.get(&(b, a)), Some(&1), "an edge without its opposite: a hole");
     }
-    // The built-in print3d: a 200 x 200 mm plate 2 mm thick, features 1 mm, textures 0.5 mm.
-    assert!(volume > 200.0 * 200.0 * 2.0 && volume < 200.0 * 200.0 * 3.0, "volume {volume} mm³");
+    // The built-in print3d: a 200 x 200 mm plate 2 mm thick, features 1 mm,
+    // textures 0.5 mm; a plate a page, 10 mm apart in a row: the map's, then
+    // its key's (tala-map has three textures, so it has a key).
+    let xs = tris.iter().flatten().map(|v| v[0]);
+    let (lo, hi) = xs.fold((f32::MAX, f32::MIN), |a, x| (a.0.min(x), a.1.max(x)));
+    assert_eq!((lo, hi), (0.0, 410.0), "two plates");
+    let plate = 200.0 * 200.0;
+    assert!(volume > 2.0 * plate * 2.0 && volume < 2.0 * plate * 3.0, "volume {volume} mm³");
     let mut zs: Vec<f32> = tris.iter().flatten().map(|v| v[2]).collect();
     zs.sort_by(f32::total_cmp);
     zs.dedup();
     assert_eq!(zs, vec![0.0, 2.0, 2.5, 3.0]);
-    let xs = tris.iter().flatten().map(|v| v[0]);
-    let (lo, hi) = xs.fold((f32::MAX, f32::MIN), |a, x| (a.0.min(x), a.1.max(x)));
-    assert_eq!((lo, hi), (0.0, 200.0));
 }
 
 #[test]
@@ -225,10 +228,13 @@ fn the_tiger_png_is_20_pixels_an_inch() {
     let dir = tempfile::tempdir().unwrap();
     let png = build(MAP, "tiger-20dpi", &dir.path().join("map.png"), &["--fit"]);
     let img = image::load_from_memory(&png).unwrap().to_luma8();
-    assert_eq!(img.dimensions(), (220, 230), "11 x 11.5 in at 20 px an inch");
-    // Dots only inside the half-inch margin (10 pixels).
+    // 11 x 11.5 in at 20 px an inch, a page under the other: the map's,
+    // then its key's (tala-map has three textures, so it has a key).
+    assert_eq!(img.dimensions(), (220, 2 * 230), "11 x 11.5 in at 20 px an inch, two pages");
+    // Dots only inside each page's half-inch margin (10 pixels).
     for (x, y, p) in img.enumerate_pixels() {
         if p.0[0] < 255 {
+            let y = y % 230;
             assert!((10..210).contains(&x) && (10..220).contains(&y), "a dot at ({x}, {y}) in the margin");
         }
     }
