@@ -291,6 +291,17 @@ pub fn apply(
     true
 }
 
+/// What can be felt of a placed drawing `d` on `profile`, in page mm: its
+/// page as far as it lies on the device's surface; on paper, its whole page
+/// (a page larger than the printable area is printed on several).
+pub fn felt(d: &Drawing, profile: &DeviceProfile) -> Bbox {
+    let (pw, ph) = (d.page.width_mm, d.page.height_mm);
+    if matches!(profile.params, FamilyParams::Print(_)) {
+        return (0.0, 0.0, pw, ph);
+    }
+    (0.0, 0.0, pw.min(profile.surface_w_mm as f64), ph.min(profile.surface_h_mm as f64))
+}
+
 /// Most pages a drawing is printed on (a 10 x 10 grid of sheets, a wall
 /// map of nearly 2 x 3 m on A4): beyond it the drawing is refused (T0213).
 pub const MAX_PRINT_PAGES: usize = 100;

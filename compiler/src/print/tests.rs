@@ -898,3 +898,31 @@ fn a_texture_is_hidden_under_an_opaque_fill_painted_over_it() {
     let (below, _) = sheet(&drawing(vec![over, under]), "swell-a4");
     assert!((line_length(&below.pages[0]) - line_length(&open.pages[0])).abs() < 1e-6);
 }
+
+/// Unannotated and larger than the paper, a drawing is styled by the
+/// automatic sheet on all of its page, not only on the first page's worth:
+/// a region and a line far beyond the printable area are made tactile, and
+/// printed on the page they lie on. They were left out before.
+#[test]
+fn the_automatic_sheet_styles_all_of_a_paged_drawing() {
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="500mm" height="300mm" viewBox="0 0 500 300">
+        <rect x="20" y="20" width="60" height="40" fill="#3a7"/>
+        <rect x="400" y="200" width="60" height="40" fill="#37a"/>
+        <path d="M300 50 L480 80" stroke="#000" stroke-width="1.5" fill="none"/>
+    </svg>"##;
+    let (p, _) = profile("swell-a4");
+    let opts = crate::CompileOptions { auto: true, ..crate::CompileOptions::new(p) };
+    let r = crate::pipeline::resolve(svg, &opts);
+    let d = r.drawing.expect("resolved");
+    let styled =
+        |x: f64| d.elements.iter().any(|e| e.bounds().is_some_and(|b| b.0 <= x && x <= b.2) && !e.styles.is_empty());
+    assert!(
+        styled(50.0) && styled(430.0) && styled(470.0),
+        "{:?}",
+        d.elements.iter().map(|e| &e.styles).collect::<Vec<_>>()
+    );
+    let (s, _) = sheet(&d, "swell-a4");
+    assert_eq!(s.tiles, (3, 2));
+    // The far region (400..460 x 200..240 mm) lies on the third page of the first row.
+    assert!(s.pages[2].iter().any(|m| m.element.is_some()), "the third page has marks");
+}

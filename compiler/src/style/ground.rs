@@ -11,7 +11,8 @@ use crate::spatial::{self, Bbox};
 
 /// What the elements lie on.
 pub(super) struct Ground {
-    /// What can be felt: the page, as far as it lies on the device's surface.
+    /// What can be felt: the page, as far as it lies on the device's surface
+    /// (on paper, all of it: [`crate::place::felt`]).
     pub(super) page: Bbox,
     /// The elements that are page backgrounds ([`backgrounds`]).
     pub(super) backgrounds: Vec<usize>,
@@ -21,9 +22,7 @@ pub(super) struct Ground {
 
 impl Ground {
     pub(super) fn of(d: &Drawing, profile: &DeviceProfile) -> Ground {
-        // What can be felt: the page, as far as it lies on the device's surface.
-        let (sw, sh) = (profile.surface_w_mm as f64, profile.surface_h_mm as f64);
-        let page: Bbox = (0.0, 0.0, d.page.width_mm.min(sw), d.page.height_mm.min(sh));
+        let page = crate::place::felt(d, profile);
         // The drawing's own page on it: all of it, unless `--fit` or `--region`
         // placed a page of another shape there (a 3:2 map on a 2:1 surface).
         let s = d.page.sheet();
