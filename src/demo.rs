@@ -55,6 +55,29 @@ pub struct Figures {
     pub frames: usize,
     /// Largest error against the exact reference, with its unit; `None` when there is no reference yet.
     pub max_error: Option<(f64, String)>,
+    /// The report's measures of a laterotactile scene (`taxel report`'s default rung).
+    pub measures: Option<Measures>,
+}
+
+/// How close a laterotactile scene plays to its exact drawing, in the
+/// measures `taxel report` defines (docs/report.md).
+#[derive(Debug, Clone, Copy)]
+pub struct Measures {
+    /// Where a felt edge lies from the drawn edge, away from corners, mm
+    /// (`None` when the scene has no distance layer).
+    pub edge_mm: Option<f64>,
+    /// Largest value error farther than [`report::EDGE_BAND_MM`] from every
+    /// exact edge and away from corners, output steps.
+    pub far_steps: f64,
+    /// Root-mean-square error over every actuator and frame, output steps.
+    pub rms_steps: f64,
+}
+
+impl Measures {
+    fn cell(&self) -> String {
+        let edge = self.edge_mm.map_or("n/a".to_string(), |e| format!("{e:.3} mm"));
+        format!("edge {edge}, far {:.1}, RMS {:.2}", self.far_steps, self.rms_steps)
+    }
 }
 
 /// The demo entry point: examples next to the current folder, else the source tree's.
@@ -134,6 +157,7 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
                 frame_us: m.frame_us,
                 frames: prep.positions.len(),
                 max_error: Some((m.max_error, format!("{}-bit steps", prep.profile.output_bits))),
+                measures: Some(Measures { edge_mm: m.edge.edge_mm, far_steps: m.far_error, rms_steps: m.rms_error }),
             })
         }
         Family::Grid => {
@@ -157,6 +181,7 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
                 frame_us,
                 frames: ticks as usize,
                 max_error: max_error.map(|e| (e, "ms".to_string())),
+                measures: None,
             })
         }
         Family::Finger => {
@@ -171,6 +196,7 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
                 frame_us: sample_us,
                 frames: tr.trace.samples().len(),
                 max_error: Some((max, "mm of height".to_string())),
+                measures: None,
             })
         }
         // Print scenes are made above, by `print_scene`; no bundle holds a print profile.
@@ -197,7 +223,15 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
                 let art = taxel_compiler::pins::export::unicode(image);
                 io::write_file(&out.join("frames").join(format!("{}.txt", s.name)), art.as_bytes())?;
             }
-            Ok(Figures { layers, bundle_bytes: bytes.len(), build_ms, frame_us, frames, max_error: None })
+            Ok(Figures {
+                layers,
+                bundle_bytes: bytes.len(),
+                build_ms,
+                frame_us,
+                frames,
+                max_error: None,
+                measures: None,
+            })
         }
     }
 }
@@ -227,6 +261,7 @@ fn print_scene(input: &Path, out: &Path, s: &Scene, opts: &CompileOpts) -> Resul
         frame_us: 0.0,
         frames: 0,
         max_error: None,
+        measures: None,
     })
 }
 
@@ -248,19 +283,23 @@ fn write_motors(path: &Path, bytes: &[u8], trace: &taxel_runtime::trace::Trace) 
     Ok(())
 }
 
-/// The summary table.
+/// The summary table, and a line saying what its accuracy column measures.
 pub fn summary(outcomes: &[Outcome]) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "{:<36} {:<10} {:>6} {:>9} {:>9} {:>9} {:>9}  max error",
+        "{:<36} {:<10} {:>6} {:>9} {:>9} {:>9} {:>9}  accuracy",
         "scene", "profile", "layers", "bytes", "build ms", "µs/frame", "frames"
     );
     let mut failed = 0;
     for o in outcomes {
         match &o.result {
             Ok(f) => {
-                let err = f.max_error.as_ref().map_or("n/a".to_string(), |(e, u)| format!("{e:.1} {u}"));
+                let err = match (&f.measures, &f.max_error) {
+                    (Some(m), _) => m.cell(),
+                    (None, Some((e, u))) => format!("{e:.1} {u}"),
+                    (None, None) => "n/a".to_string(),
+                };
                 let _ = writeln!(
                     s,
                     "{:<36} {:<10} {:>6} {:>9} {:>9.1} {:>9.3} {:>9}  {}",
@@ -274,6 +313,12 @@ pub fn summary(outcomes: &[Outcome]) -> String {
         }
     }
     let _ = writeln!(s, "{} scenes, {} built and played, {failed} failed", outcomes.len(), outcomes.len() - failed);
+    let _ = writeln!(
+        s,
+        "accuracy against the exact drawing: edge = felt edge to drawn edge, away from corners; far = largest \
+         error over {} mm from any edge; RMS = over every actuator (output steps); strokes: timing; finger: height",
+        report::EDGE_BAND_MM
+    );
     s
 }
 
@@ -350,6 +395,16 @@ mod tests {
         let dots = outcomes.iter().find(|o| o.scene == "exp1-dots-2cm").and_then(|o| o.result.as_ref().ok());
         let (err, unit) = dots.and_then(|f| f.max_error.clone()).expect("dots have a reference");
         assert!(err < 1.0 && unit == "10-bit steps", "{err} {unit}");
+        // The summary prints the report's measures, not a bare "max error",
+        // and says in one line what they are.
+        let m = dots.and_then(|f| f.measures).expect("a latero scene has the report's measures");
+        assert!(m.rms_steps <= m.far_steps.max(err) + 1e-9 && m.rms_steps < 1.0, "{m:?}");
+        assert_eq!(m.edge_mm, None, "dots have no distance layer, so no edge to place: {m:?}");
+        let line = summary.lines().find(|l| l.starts_with("exp1-dots-2cm")).expect("the scene's line");
+        assert!(line.contains("edge n/a, far ") && line.contains(", RMS "), "{line}");
+        let explained: Vec<&str> = summary.lines().filter(|l| l.starts_with("accuracy against")).collect();
+        assert_eq!(explained.len(), 1, "{summary}");
+        assert!(explained[0].contains("edge =") && explained[0].contains("RMS ="), "{summary}");
         // A 1 kHz stroke schedule is within one tick of the unquantised one.
         let brush = outcomes.iter().find(|o| o.scene == "brush-2-horizontal").and_then(|o| o.result.as_ref().ok());
         let (err, unit) = brush.and_then(|f| f.max_error.clone()).expect("strokes have a reference");

@@ -16,6 +16,7 @@ pub mod pins;
 
 pub use backdrop::{drawing_picture, preview_compiled};
 
+use rayon::prelude::*;
 use resvg::tiny_skia::Pixmap;
 
 use overlay::Overlay;
@@ -61,11 +62,7 @@ impl Canvas {
         if i >= self.w || j >= self.h || a.is_nan() || a <= 0.0 {
             return;
         }
-        let a = a.min(1.0) as f32;
-        let p = &mut self.rgb[j * self.w + i];
-        for c in 0..3 {
-            p[c] = p[c] * (1.0 - a) + colour[c] * a;
-        }
+        blend(&mut self.rgb[j * self.w + i], colour, a);
     }
 
     /// The page position of pixel centre `(i, j)`.
@@ -139,26 +136,54 @@ fn draw_distance(c: &mut Canvas, d: &DistanceLayer) {
     draw_layer(c, d.kind, d.amplitude as f64, (x0, y0, x1, y1), |x, y| d.coverage_at(x as f32, y as f32) as f64);
 }
 
-fn draw_layer(c: &mut Canvas, kind: MaskKind, amp: f64, b: (f64, f64, f64, f64), value: impl Fn(f64, f64) -> f64) {
-    for j in c.rows(b.1, b.3) {
-        for i in c.cols(b.0, b.2) {
-            let (x, y) = c.at(i, j);
+fn draw_layer(
+    c: &mut Canvas,
+    kind: MaskKind,
+    amp: f64,
+    b: (f64, f64, f64, f64),
+    value: impl Fn(f64, f64) -> f64 + Sync,
+) {
+    let (rows, cols) = (c.rows(b.1, b.3), c.cols(b.0, b.2));
+    let (w, x0, y0, k) = (c.w, c.x0, c.y0, c.k);
+    let Some(band) = c.rgb.get_mut(rows.start * w..rows.end * w) else { return };
+    // Row by row on every core: a large map's layers are most of a
+    // rebuild's preview (each pixel samples the layer as a player does).
+    band.par_chunks_mut(w.max(1)).enumerate().for_each(|(n, row)| {
+        let j = rows.start + n;
+        let y = y0 + (j as f64 + 0.5) / k;
+        for i in cols.clone() {
+            let x = x0 + (i as f64 + 0.5) / k;
             let v = value(x, y) * amp;
             if v <= 0.0 {
                 continue;
             }
-            match kind {
+            let a = match kind {
                 // Seed 000 drew vibration as a noise texture.
-                MaskKind::Vibration { .. } => c.paint(i, j, VIBRATION, v * (0.25 + 0.75 * noise(i, j))),
+                MaskKind::Vibration { .. } => v * (0.25 + 0.75 * noise(i, j)),
                 // Eq. 3 with the page's y axis flipped, so angles are counter-clockwise as seen.
                 MaskKind::Grating { wavelength, angle_deg } => {
                     let t = (angle_deg as f64).to_radians();
                     let d = -y * t.cos() - x * t.sin();
                     let delta = 0.5 + 0.5 * (2.0 * core::f64::consts::PI * d / wavelength.0 as f64).cos();
-                    c.paint(i, j, GRATING, v * (0.1 + 0.9 * delta));
+                    v * (0.1 + 0.9 * delta)
                 }
+            };
+            let colour = if matches!(kind, MaskKind::Vibration { .. }) { VIBRATION } else { GRATING };
+            if let Some(p) = row.get_mut(i)
+                && !a.is_nan()
+                && a > 0.0
+            {
+                blend(p, colour, a);
             }
         }
+    });
+}
+
+/// Blends `colour` over pixel `p` with opacity `a` (in `(0, 1]`; more is 1).
+fn blend(p: &mut [f32; 3], colour: [f32; 3], a: f64) {
+    let a = a.min(1.0) as f32;
+    for c in 0..3 {
+        p[c] = p[c] * (1.0 - a) + colour[c] * a;
     }
 }
 
