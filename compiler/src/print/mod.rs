@@ -24,7 +24,7 @@
 //!
 //! An embosser's sheet is then snapped to its grid: every mark becomes the
 //! grid's dots it covers (`grid.rs`). The files: [`pdf()`] (swell paper and
-//! embossers, through krilla), [`png()`] (an embosser's grid, a pixel a dot),
+//! embossers, through pdf-writer), [`png()`] (an embosser's grid, a pixel a dot),
 //! [`stl()`] (a relief: a watertight height-field mesh). [`preview`] draws a
 //! sheet as it is felt; `rules.rs` checks the medium's design rules (T0720 to
 //! T0727).
