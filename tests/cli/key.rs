@@ -54,7 +54,7 @@ fn build_writes_the_key_beside_the_bundle_as_a_bundle_that_plays() {
     let player = taxel_runtime::latero::LateroPlayer::new(&view).unwrap();
     let mut frame = [0u16; 64];
     let felt = (0..20).any(|k| {
-        player.frame(Tick(k), Mm(5.0 + k as f32 * 0.5), Mm(7.0), &mut frame);
+        player.frame(Tick(k), Mm(5.0 + k as f32 * 0.5), Mm(4.0), &mut frame);
         frame.iter().any(|&c| c > 0)
     });
     assert!(felt, "the key's first swatch plays");
@@ -66,7 +66,7 @@ fn build_writes_the_key_beside_the_bundle_as_a_bundle_that_plays() {
     let o = taxel(&["inspect", s(&dir.path().join("map.taxel"))]);
     assert!(text(&o).contains("texture: Forest"), "{}", text(&o));
     // The element under the finger on the key's first swatch is named by its meaning.
-    let o = taxel(&["inspect", s(&key), "--at", "10,7"]);
+    let o = taxel(&["inspect", s(&key), "--at", "10,4"]);
     assert!(text(&o).contains("Forest"), "{}", text(&o));
     // `-o OUT.taxel` puts the key at `OUT.key.taxel`.
     let out = dir.path().join("out/named.taxel");

@@ -24,8 +24,10 @@ use crate::style::legend::{Entry, Swatch};
 
 use super::MIN_GAP_MM;
 
-/// Margin kept free around the key on the surface, mm.
-const MARGIN_MM: f64 = 3.0;
+/// Margin kept free around the key on the surface, mm: one, so that six
+/// braille lines fit on `stress2`'s 60 mm (two entries whose meanings take
+/// three lines each, as "vertical grating, 1.5 mm" does beside a swatch).
+const MARGIN_MM: f64 = 1.0;
 /// Cells a swatch is wide on an array.
 const SWATCH_CELLS: f64 = 3.0;
 /// The braille dots' radius in the key (the default braille's).
