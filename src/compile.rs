@@ -180,7 +180,9 @@ fn compile_drawing(path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> Result<Co
     // ([`warm_up_fonts`]).
     let options = match options_with_fonts(opts, false)? {
         Ok(o) => o,
-        Err(d) => return Ok(Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new(), print: None }),
+        Err(d) => {
+            return Ok(Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new(), print: None, key: None });
+        }
     };
     // A compressed drawing is unpacked (within the input limit); what is
     // neither SVG text nor gzip is a problem of the input, said like the others.
@@ -191,7 +193,7 @@ fn compile_drawing(path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> Result<Co
             let why = format!("{e:#}");
             let why = why.strip_prefix(&format!("{shown}: ")).unwrap_or(&why).to_string();
             let d = Diagnostic::error("T0200", why);
-            return Ok(Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new(), print: None });
+            return Ok(Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new(), print: None, key: None });
         }
     };
     let fonts = || font_database(opts.fonts.as_deref()).ok();

@@ -210,6 +210,10 @@ pub struct TextShape {
     /// Its language: the nearest `xml:lang` (or `lang`) on it or around it;
     /// `None` when none says (the reader's language, `--lang`, is used).
     pub lang: Option<String>,
+    /// How far the automatic sheet moved its runs so that its braille finds
+    /// room `(dx, dy)`, mm; the runs less this are where the drawing has
+    /// it (a legend's text beside its swatch, `style::legend`).
+    pub moved_mm: (f64, f64),
 }
 
 /// One positioned run of text.

@@ -64,4 +64,9 @@ pub struct Compiled {
     /// errors), written as the medium's file by [`print::write`]; print
     /// media make no bundle.
     pub print: Option<print::Sheet>,
+    /// For a laterotactile array or a vibrotactile grid whose drawing needs a
+    /// key, the key's own bundle for the same profile (SPEC.md section 10.2:
+    /// each texture, line style, symbol or brushed stroke felt as itself
+    /// beside its meaning); absent otherwise, and when there were errors.
+    pub key: Option<Bundle>,
 }

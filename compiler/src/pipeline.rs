@@ -55,22 +55,31 @@ pub fn compile_svg(svg_text: &str, opts: &CompileOptions) -> Compiled {
 /// assert!(out.bundle.is_some(), "{:?}", out.diagnostics);
 /// ```
 pub fn compile_svg_with_fonts(svg_text: &str, opts: &CompileOptions, fonts: drawing::Fonts<'_>) -> Compiled {
-    let (mut diagnostics, mut fonts_used, mut print) = (Vec::new(), Vec::new(), None);
-    let bundle = compile(svg_text, opts, fonts, &mut diagnostics, &mut fonts_used, &mut print);
-    let bundle = if has_errors(&diagnostics) { None } else { bundle };
-    let print = if has_errors(&diagnostics) { None } else { print };
-    Compiled { bundle, diagnostics, fonts_used, print }
+    let (mut diagnostics, mut fonts_used, mut extra) = (Vec::new(), Vec::new(), Extra::default());
+    let bundle = compile(svg_text, opts, fonts, &mut diagnostics, &mut fonts_used, &mut extra);
+    let ok = !has_errors(&diagnostics);
+    let (bundle, print, key) = (bundle.filter(|_| ok), extra.print.filter(|_| ok), extra.key.filter(|_| ok));
+    Compiled { bundle, diagnostics, fonts_used, print, key }
+}
+
+/// What a compilation makes beside the bundle: a print profile's sheet, or
+/// the key's own bundle.
+#[derive(Default)]
+struct Extra {
+    print: Option<crate::print::Sheet>,
+    key: Option<Bundle>,
 }
 
 /// The pipeline: resolve → prepare → layers → design rules → bundle (or,
-/// for a print profile, the print sheet in `print`).
+/// for a print profile, the print sheet in `extra`; the key's bundle there
+/// too, for the families whose key is a bundle of its own).
 fn compile(
     text: &str,
     opts: &CompileOptions,
     fonts: drawing::Fonts<'_>,
     diags: &mut Vec<Diagnostic>,
     fonts_used: &mut Vec<drawing::FontFace>,
-    print: &mut Option<crate::print::Sheet>,
+    extra: &mut Extra,
 ) -> Option<Bundle> {
     let px = match opts.resolution_px_per_mm {
         None => DEFAULT_PX_PER_MM,
@@ -97,7 +106,7 @@ fn compile(
     }
     // Print media are legalised from the same drawing into a sheet of raised marks (no bundle).
     if opts.profile.family() == taxel_format::Family::Print {
-        *print = crate::print::legalise_with(&drawing, opts, diags);
+        extra.print = crate::print::legalise_with(&drawing, opts, diags);
         return None;
     }
     // The design rules but the overlaps need only the features: they run
@@ -139,6 +148,8 @@ fn compile(
         diags.push(d);
         return None;
     }
+    // The key, on the families that have one surface, is a second bundle (SPEC.md 10.2).
+    extra.key = latero::key::bundle(&drawing, opts, px, diags);
     // The drawing is no longer needed: it is freed on another thread while
     // the bundle is put together (on the map at the input limit, freeing its
     // hundred thousand elements took a tenth of a second on the one thread

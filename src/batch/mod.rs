@@ -150,15 +150,25 @@ pub fn plan(inputs: Vec<Input>, dest: &Destination, output: Output) -> Vec<Job> 
     let ext = output.extension();
     let mut jobs: Vec<Job> =
         inputs.into_iter().map(|input| Job { output: dest.output_with(&input, ext), input, conflict: None }).collect();
+    // A bundle's key may be written beside it (`a.key.taxel`): an input
+    // whose bundle would be another's key (`a.key.svg` beside `a.svg`) is
+    // refused too.
     let mut by_output: HashMap<PathBuf, Vec<usize>> = HashMap::new();
     for (i, j) in jobs.iter().enumerate() {
         by_output.entry(j.output.clone()).or_default().push(i);
+        if output == Output::Bundle {
+            by_output.entry(output::key_path(&j.output)).or_default().push(i);
+        }
     }
-    for same in by_output.values().filter(|v| v.len() > 1) {
+    let mut shared: Vec<(&PathBuf, &Vec<usize>)> = by_output.iter().filter(|(_, v)| v.len() > 1).collect();
+    shared.sort();
+    for (path, same) in shared {
         let names: Vec<String> = same.iter().map(|&i| jobs[i].input.path.display().to_string()).collect();
         for &i in same {
-            jobs[i].conflict =
-                Some(format!("{} would all write {}; rename one of them", names.join(", "), jobs[i].output.display()));
+            if jobs[i].conflict.is_none() {
+                jobs[i].conflict =
+                    Some(format!("{} would all write {}; rename one of them", names.join(", "), path.display()));
+            }
         }
     }
     jobs
@@ -248,7 +258,7 @@ fn build_one(
             Err(e) => Err(e),
         };
         match hash {
-            Ok(h) if output::up_to_date(&job.output, &h) => {
+            Ok(h) if output::complete(&job.output, &h) => {
                 return (Outcome::Skipped, format!("skipped {shown} ({out} is up to date)"), Vec::new());
             }
             Ok(h) => Some(h),
@@ -265,24 +275,38 @@ fn build_one(
             return (Outcome::Failed, format!("failed {shown}"), vec![d.render(&shown)]);
         }
     };
-    let Compiled { bundle, diagnostics, fonts_used, print } = compiled;
+    let Compiled { bundle, mut diagnostics, fonts_used, print, key } = compiled;
     let styles = crate::account::style_summary(&diagnostics).map(|s| format!(": {s}")).unwrap_or_default();
     let warnings = diagnostics.iter().filter(|d| d.severity == Severity::Warning).count();
     let errors = diagnostics.iter().filter(|d| d.severity == Severity::Error).count();
     // The account is written while the bundle is encoded and written: on
     // the map at the input limit each took a few tenths of a second, one
     // after the other on one thread, at the end of the build.
+    // The key's bundle goes beside the graphic's, and the note that says
+    // it is a second bundle says where.
+    let key_path = output::key_path(&job.output);
+    if key.is_some()
+        && let Some(d) = diagnostics.iter_mut().find(|d| d.code == "T0331")
+    {
+        d.message += &format!(", written to {}", key_path.display());
+    }
+    // The key is written first, so that a graphic's bundle that says it has
+    // a key is never beside a missing or older one (both record the hash).
     let write = |bundle: taxel_format::Bundle| -> Result<(), String> {
         let hash = match checked {
             Some(h) => h,
             None => part.finish(&fonts_used, &settings.opts).map_err(|e| format!("{shown}: {e:#}"))?,
         };
-        let mut bundle = bundle;
-        bundle.manifest.content_hash = hash;
-        let bytes = bundle
-            .to_bytes()
-            .map_err(|e| format!("{shown}: internal error: the compiler made an invalid bundle: {e}"))?;
-        crate::io::write_file(&job.output, &bytes).map_err(|e| e.to_string())
+        let encode = |mut b: taxel_format::Bundle| {
+            b.manifest.content_hash = hash;
+            b.to_bytes().map_err(|e| format!("{shown}: internal error: the compiler made an invalid bundle: {e}"))
+        };
+        match key {
+            Some(k) => crate::io::write_file(&key_path, &encode(k)?).map_err(|e| e.to_string())?,
+            None => output::remove_stale_key(&job.output)
+                .map_err(|e| format!("cannot remove {}: {e}", key_path.display()))?,
+        }
+        crate::io::write_file(&job.output, &encode(bundle)?).map_err(|e| e.to_string())
     };
     // A print sheet is written as the file its output names.
     let write_print = |sheet: taxel_compiler::print::Sheet| -> Result<(), String> {
@@ -338,12 +362,13 @@ mod tests {
         let text = String::from_utf8(bytes)?;
         let bundle = Some(Bundle::new(Manifest::new(profiles::builtin("stress2").unwrap())));
         Ok(match text.trim() {
-            "good" => Compiled { bundle, diagnostics: vec![], fonts_used: vec![], print: None },
+            "good" => Compiled { bundle, diagnostics: vec![], fonts_used: vec![], print: None, key: None },
             "warn" => Compiled {
                 bundle,
                 diagnostics: vec![Diagnostic::warning("T9", "thin").at(1, 1)],
                 fonts_used: vec![],
                 print: None,
+                key: None,
             },
             "panic" => panic!("fake compiler panic"),
             _ => Compiled {
@@ -351,6 +376,7 @@ mod tests {
                 diagnostics: vec![Diagnostic::error("T8", "broken").at(2, 3)],
                 fonts_used: vec![],
                 print: None,
+                key: None,
             },
         })
     }

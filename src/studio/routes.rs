@@ -9,7 +9,7 @@
 //! | `GET /api/start` | the opened folder's inputs and bundles, the profiles, the input limit |
 //! | `POST /api/build?name=N&profile=P&fit=1` | builds the uploaded body (at most the CLI's input limit) |
 //! | `POST /api/open?path=REL&profile=P&fit=1` | builds a file of the opened folder |
-//! | `GET /api/r/ID/bundle`, `/preview.png`, `/drawing.png`, `/export/FORMAT` | a build's parts |
+//! | `GET /api/r/ID/bundle`, `/key`, `/preview.png`, `/drawing.png`, `/export/FORMAT` | a build's parts (`key`: the key's own bundle) |
 //! | `GET /api/r/ID/outlines?ids=A,B` | the footprints of elements, for highlighting |
 //! | `POST /api/profile?name=FILE` | a profile file (the body) checked and kept; its key for `profile=` |
 //! | `POST /api/r/ID/restyle?element=ID&style=S` | the drawing rebuilt with that element's style (in a copy) |
@@ -130,6 +130,10 @@ fn part_reply(
         (Method::Get, "bundle") => match &built.bundle_bytes {
             Some(b) => download(b.clone(), &format!("{stem}.taxel"), "application/octet-stream"),
             None => error(404, "no bundle: the input has errors"),
+        },
+        (Method::Get, "key") => match &built.key_bytes {
+            Some(b) => download(b.clone(), &format!("{stem}.key.taxel"), "application/octet-stream"),
+            None => error(404, "no key bundle: the drawing needs no key, or its profile shows the key itself"),
         },
         (Method::Get, "preview.png") => png(built.preview_png.as_ref()),
         (Method::Get, "drawing.png") => png(built.drawing_png.as_ref()),

@@ -33,6 +33,9 @@ pub struct Built {
     pub bundle: Option<Bundle>,
     /// Its bytes, as `taxel build` writes them.
     pub bundle_bytes: Option<Vec<u8>>,
+    /// The key's own bundle, as `taxel build` writes it beside the bundle
+    /// (`NAME.key.taxel`, laterotactile and grid profiles), when the drawing needs a key.
+    pub key_bytes: Option<Vec<u8>>,
     /// The felt preview (PNG).
     pub preview_png: Option<Vec<u8>>,
     /// The drawing rasterised (PNG): drawings are never shown as SVG.
@@ -112,6 +115,7 @@ pub fn build(
         opts: opts.clone(),
         bundle: None,
         bundle_bytes: None,
+        key_bytes: None,
         preview_png: None,
         drawing_png: None,
         backdrop: None,
@@ -134,6 +138,13 @@ pub fn build(
     // As `taxel build`: a bundle only when there is no error, stamped with its content hash.
     if let Some(mut bundle) = compiled.bundle.clone().filter(|_| errors == 0) {
         bundle.manifest.content_hash = part.finish(&compiled.fonts_used, opts)?;
+        if let Some(mut key) = compiled.key.clone() {
+            key.manifest.content_hash = bundle.manifest.content_hash;
+            built.key_bytes = Some(
+                key.to_bytes()
+                    .map_err(|e| anyhow::anyhow!("internal error: the compiler made an invalid key bundle: {e}"))?,
+            );
+        }
         built.bundle_bytes = Some(
             bundle
                 .to_bytes()
@@ -240,6 +251,7 @@ fn describe(built: &mut Built) {
             "family": p.family().name(),
             "surface_mm": [p.surface_w_mm, p.surface_h_mm],
             "exports": if p.family() == Family::Pins { vec!["dtms", "graphiti", "unicode"] } else { vec![] },
+            "key": built.key_bytes.is_some(),
         }),
     );
     s.insert(

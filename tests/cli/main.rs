@@ -10,6 +10,7 @@ mod finger;
 mod finger_size;
 mod format;
 mod inkscape;
+mod key;
 mod lookup;
 mod outputs;
 mod pins;

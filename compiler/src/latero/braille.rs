@@ -77,13 +77,9 @@ pub(super) fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOpti
         b.provenance.push(ProvenanceEntry { id: "key".into(), label: key, line: 0 });
     }
     // The key's textures, line styles and symbols (and, on a grid, its
-    // brushed strokes), each with its meaning, for a host to say: an array
-    // shows no page of its own (SPEC.md section 10.2).
-    let plays = |s: &Swatch| match family {
-        Family::Laterotactile => !matches!(s, Swatch::Stroke(_)),
-        Family::Grid => matches!(s, Swatch::Stroke(_)),
-        _ => false,
-    };
+    // brushed strokes), each with its meaning, for a host to say (the key's
+    // own bundle, `key.rs`, is felt; SPEC.md section 10.2).
+    let plays = |s: &Swatch| super::key::plays(family, s);
     b.provenance.extend(crate::style::legend::provenance(&crate::style::legend(drawing), plays));
 }
 

@@ -4,13 +4,15 @@
 //! grating style (every shape of that style, SPEC.md section 6.2), dot
 //! tables per kind, brush requests for grid devices, provenance, and the
 //! features the design rules look at. Braille's dots and the clearing
-//! around them are placed in `braille.rs`.
+//! around them are placed in `braille.rs`; `key.rs` compiles the key as a
+//! second bundle.
 
 mod braille;
 #[doc(hidden)]
 pub mod distance;
 mod dots;
 mod footprints;
+pub(crate) mod key;
 
 pub use braille::{braille_clearing, clearing_within};
 

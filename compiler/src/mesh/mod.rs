@@ -257,8 +257,13 @@ fn field_of(soup: load::Soup, mm_per_metre: f64, opts: &MeshOptions) -> Result<(
 /// Problems in the file are error diagnostics, never panics.
 pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DeviceProfile, opts: &MeshOptions) -> Compiled {
     let mut diagnostics = Vec::new();
-    let refused =
-        |diagnostics: Vec<Diagnostic>| Compiled { bundle: None, diagnostics, fonts_used: Vec::new(), print: None };
+    let refused = |diagnostics: Vec<Diagnostic>| Compiled {
+        bundle: None,
+        diagnostics,
+        fonts_used: Vec::new(),
+        print: None,
+        key: None,
+    };
     if profile.family() != Family::Finger {
         diagnostics.push(not_finger(profile));
         return refused(diagnostics);
@@ -292,7 +297,7 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
         diagnostics.push(Diagnostic::error("T0613", format!("the height field cannot be stored: {e}")));
         return refused(diagnostics);
     }
-    Compiled { bundle: Some(bundle), diagnostics, fonts_used: Vec::new(), print: None }
+    Compiled { bundle: Some(bundle), diagnostics, fonts_used: Vec::new(), print: None, key: None }
 }
 
 /// The error that `profile` is not for a finger device (T0609).

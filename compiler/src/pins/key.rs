@@ -12,10 +12,9 @@
 use taxel_format::{PinImage, PinParams};
 
 use super::{Canvas, Draw};
-use crate::annotation::{Braille, Style};
 use crate::diagnostic::Diagnostic;
-use crate::drawing::{Drawing, Element, Page, PathShape, Shape, TextRun, TextShape};
-use crate::geometry::Polyline;
+use crate::drawing::{Drawing, Element, Page, Shape};
+use crate::style::key_page::{self, SwatchBox};
 use crate::style::legend::{Entry, Legend, Swatch};
 
 /// Cells a swatch is wide (its columns: this many cell pitches less one).
@@ -56,15 +55,15 @@ pub(crate) fn pages(
     let computer = p.cell_rows == 4;
     let width = |s: &str| crate::braille::translate(s, None, how.opts, None, computer).cells.len();
     // The heading, then each entry, then the key codes.
-    for text in lay.wrap("key", lay.full_cells(), &width) {
+    for text in key_page::wrap("key", lay.full_cells(), &width) {
         elements.push(lay.text(&text, 0, line, pitch));
         line += 1;
     }
     for e in entries {
-        let texts = lay.wrap(&e.meaning, lay.beside_cells(), &width);
+        let texts = key_page::wrap(&e.meaning, lay.beside_cells(), &width);
         let tall = (texts.len() as u32).max(SWATCH_LINES);
         line = lay.fit(line, tall);
-        elements.extend(swatch(e, drawing, &lay, line, pitch));
+        elements.push(swatch(e, drawing, &lay, line, pitch));
         for (n, t) in texts.iter().enumerate() {
             let mut el = lay.text(t, SWATCH_CELLS + 1, line + n as u32, pitch);
             if let Shape::Text(ts) = &mut el.shape {
@@ -76,7 +75,7 @@ pub(crate) fn pages(
         line += tall + 1;
     }
     for code in legend.code_lines() {
-        let texts = lay.wrap(&code, lay.full_cells(), &width);
+        let texts = key_page::wrap(&code, lay.full_cells(), &width);
         line = lay.fit(line, texts.len() as u32);
         for t in texts {
             elements.push(lay.text(&t, 0, line, pitch));
@@ -145,83 +144,28 @@ impl Layout {
         ((page + 1) * self.dev.1).div_ceil(self.lp)
     }
 
-    /// `text` cut into lines of at most `per_line` cells as `width`
-    /// measures them, at spaces (a word longer than a line stands alone).
-    fn wrap(&self, text: &str, per_line: usize, width: &dyn Fn(&str) -> usize) -> Vec<String> {
-        let mut out: Vec<String> = Vec::new();
-        let mut cur = String::new();
-        for w in text.split_whitespace() {
-            let with = if cur.is_empty() { w.to_string() } else { format!("{cur} {w}") };
-            if cur.is_empty() || width(&with) <= per_line {
-                cur = with;
-            } else {
-                out.push(std::mem::take(&mut cur));
-                cur = w.to_string();
-            }
-        }
-        if !cur.is_empty() {
-            out.push(cur);
-        }
-        out
-    }
-
     /// A braille text at cell `k` of line `l` (its run's baseline on the
     /// cells' bottom row, so that `text::place` puts it there).
     fn text(&self, s: &str, k: u32, l: u32, pitch: (f64, f64)) -> Element {
         let (c, r) = ((k * self.cp) as f64, (self.top(l) + self.cell_rows - 1) as f64);
-        let run = TextRun {
-            text: s.to_string(),
-            x_mm: (c + 0.5) * pitch.0,
-            y_mm: (r + 0.5) * pitch.1,
-            anchor: 0.0,
-            continues: false,
-        };
-        Element {
-            name: "key".into(),
-            visible: true,
-            styles: vec![Style::Braille(Braille { radius_mm: 0.72, amplitude: 1.0, grade: None })],
-            shape: Shape::Text(TextShape {
-                content: s.to_string(),
-                runs: vec![run],
-                font_size_mm: 4.0,
-                ..Default::default()
-            }),
-            ..Default::default()
-        }
+        key_page::braille_text(s, (c + 0.5) * pitch.0, (r + 0.5) * pitch.1, None)
     }
 }
 
-/// The swatch of entry `e` at line `l`: its texture over the swatch's box,
-/// its line or dots across the box's middle, or its symbol at its middle;
-/// named as the entry's first element, so that a message names that.
-fn swatch(e: &Entry, drawing: &Drawing, lay: &Layout, l: u32, pitch: (f64, f64)) -> Vec<Element> {
+/// The swatch of entry `e` at line `l` ([`key_page::swatch`]): a box
+/// [`SWATCH_CELLS`] cells wide and [`SWATCH_LINES`] lines high; a line runs
+/// along its middle row of pins, half a pin inside its ends, and a symbol is
+/// a quarter pin either side of that row's middle pin.
+fn swatch(e: &Entry, drawing: &Drawing, lay: &Layout, l: u32, pitch: (f64, f64)) -> Element {
     let (cols, rows) = (SWATCH_CELLS * lay.cp - 1, SWATCH_LINES * lay.lp - (lay.lp - lay.cell_rows).max(1));
-    let (x0, y0) = (0.0, lay.top(l) as f64 * pitch.1);
-    let (x1, y1) = (cols as f64 * pitch.0, y0 + rows as f64 * pitch.1);
-    let ym = ((lay.top(l) + rows / 2) as f64 + 0.5) * pitch.1;
-    let across = Polyline { points: vec![(0.5 * pitch.0, ym), (x1 - 0.5 * pitch.0, ym)], closed: false };
-    let (xm, half) = ((x0 + x1) / 2.0, pitch.0.min(pitch.1) / 4.0);
-    let point = Polyline {
-        points: vec![(xm - half, ym - half), (xm + half, ym - half), (xm + half, ym + half), (xm - half, ym + half)],
-        closed: true,
+    let y0 = lay.top(l) as f64 * pitch.1;
+    let at = SwatchBox {
+        rect: (0.0, y0, cols as f64 * pitch.0, y0 + rows as f64 * pitch.1),
+        mid_y: ((lay.top(l) + rows / 2) as f64 + 0.5) * pitch.1,
+        inset: 0.5 * pitch.0,
+        half: pitch.0.min(pitch.1) / 4.0,
     };
-    let (outline, style) = match e.swatch {
-        Swatch::Texture(g) => {
-            (Polyline { points: vec![(x0, y0), (x1, y0), (x1, y1), (x0, y1)], closed: true }, Style::Grating(g))
-        }
-        Swatch::Line(v) => (across, Style::Vibrate(v)),
-        Swatch::Dotted(d) => (across, Style::Dots(d)),
-        Swatch::Symbol(d) => (point, Style::Dot(d)),
-        Swatch::Stroke(_) => return Vec::new(),
-    };
-    let name = e.elements.first().and_then(|&i| drawing.elements.get(i)).map_or("key".to_string(), |x| x.name.clone());
-    vec![Element {
-        name,
-        visible: true,
-        styles: vec![style],
-        shape: Shape::Path(PathShape { outline: vec![outline], ..Default::default() }),
-        ..Default::default()
-    }]
+    key_page::swatch(e, drawing, at)
 }
 
 /// Appends the key's pages (`key`, one display wide) below the graphic in

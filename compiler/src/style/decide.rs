@@ -2,13 +2,14 @@
 //! ground it lies on, lines and marks, regions and their textures, the
 //! regions' borders, then labels.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use taxel_format::DeviceProfile;
 
 use super::arrows::LineEnds;
 use super::ground::{Ground, clipped_away, paper};
 use super::labels::{Figures, Lines, Room, place_labels};
+use super::legend;
 use super::{
     BRAILLE_CLEARANCE_MM, CIRCLE_MM, Decision, FAINT_SHARE, FillClass, Filled, LIGHT_GUIDE_GREY, LeftOut,
     MARK_KIND_MIN, MARK_MM, MARK_SPACING_MM, MAX_TEXTURES, MIN_FILL_MM2, Measure, NEAR_MM, Neighbours, Plan, Region,
@@ -47,6 +48,7 @@ pub fn plan_measured(d: &Drawing, profile: &DeviceProfile, m: Measure<'_>) -> Pl
     let neighbours = Neighbours::of(&regions);
     let abuts = neighbours.abutting(ABUT_MM);
     let small = draft.small(&neighbours, &abuts);
+    let small = draft.legend_swatches(small);
     let (class_of, fills) = draft.marks_and_classes(&small);
     // Colour the fill classes: touching regions of different fills get different textures.
     // Touching (or lying in) each other, through the R*-tree.
@@ -250,6 +252,36 @@ impl<'d> Draft<'d> {
         }
         let scattered = |f: &Filled<'_>| kinds.get(&kind_of(f)).is_some_and(|&(n, any)| any && n >= MARK_KIND_MIN);
         shapes.iter().enumerate().map(|(k, f)| small_size(f) && (!abuts[k] || across[k] || scattered(f))).collect()
+    }
+
+    /// `small` without a legend's swatches (a small shape with a text just
+    /// right of it, lined up with another such, as matplotlib, Vega-Lite and
+    /// map legends draw them: [`legend::Texts::beside`]) of a fill that has
+    /// regions elsewhere: those are regions of that fill, patches of its
+    /// texture. Made a dot, or left out as a small shape, a swatch would no
+    /// longer stand beside its text as the texture it explains, and the key
+    /// would list the legend's swatches as a symbol of their own ("symbol:
+    /// Legend") instead of giving the texture its legend text.
+    fn legend_swatches(&self, mut small: Vec<bool>) -> Vec<bool> {
+        let fill = |k: usize| self.d.elements[self.shapes[k].i].paint.fill.map(rgb);
+        let region_fills: BTreeSet<_> = (0..self.shapes.len()).filter(|&k| !small[k]).map(fill).collect();
+        let candidates: Vec<usize> =
+            (0..self.shapes.len()).filter(|&k| small[k] && region_fills.contains(&fill(k))).collect();
+        if candidates.is_empty() {
+            return small;
+        }
+        let texts = legend::Texts::of(self.d);
+        let pairs: Vec<(usize, Bbox)> = candidates
+            .into_iter()
+            .map(|k| (k, self.shapes[k].region.bbox))
+            .filter(|&(_, b)| texts.beside(b).is_some())
+            .collect();
+        for (&(k, _), lined) in pairs.iter().zip(legend::lined_up(&pairs)) {
+            if lined {
+                small[k] = false;
+            }
+        }
+        small
     }
 
     /// The `small` shapes become marks (thinned where crowded) and the

@@ -24,8 +24,10 @@
 //! share; else the innermost Inkscape layer they share; else a class they
 //! share; else the nearest basic colour name of their fill (of their stroke
 //! for lines: "red areas", "blue lines"); else an ordinal ("texture 2"). A
-//! layer, class or colour that two entries of the key would share tells
-//! neither apart, so those entries take their next meaning.
+//! meaning that two entries of the key would share (a legend text, label,
+//! layer, class or colour; of one kind or two, as a region's texture and its
+//! outline both titled "Lake") tells neither apart, so those entries take
+//! their next meaning, and every meaning in the key is its own.
 //!
 //! **When** ([`Legend::needed`]): when the drawing has key codes, or a kind
 //! (textures, line styles, point symbols with dotted lines, brushed strokes)
@@ -331,7 +333,9 @@ fn name(d: &Drawing, entries: &mut [Entry]) {
         })
         .collect();
     // An entry takes its first candidate; where two entries would say the
-    // same (a layer, class or colour they share), both take their next.
+    // same (a legend text, label, layer, class or colour they share: a
+    // region's texture and its outline, both titled "Lake"), both take
+    // their next, so that every meaning in the key is its own.
     loop {
         let mut said: std::collections::HashMap<String, usize> = Default::default();
         for c in &candidates {
@@ -341,7 +345,7 @@ fn name(d: &Drawing, entries: &mut [Entry]) {
         }
         let mut changed = false;
         for c in &mut candidates {
-            if c.last().is_some_and(|(src, text, _)| *src > Source::Label && said.get(text).is_some_and(|&n| n > 1)) {
+            if c.last().is_some_and(|(_, text, _)| said.get(text).is_some_and(|&n| n > 1)) {
                 c.pop();
                 changed = true;
             }
@@ -495,67 +499,107 @@ const ALIGN_MM: f64 = 2.5;
 /// the right of one of its small elements, when two or more such pairs line
 /// up as a legend's rows (or its columns).
 fn legend_texts(d: &Drawing, entries: &[Entry]) -> BTreeMap<usize, (String, Option<String>)> {
-    let texts: Vec<(&TextShape, (f64, f64, f64))> = d
-        .elements
-        .iter()
-        .filter_map(|e| match &e.shape {
-            Shape::Text(t) if !t.content.trim().is_empty() => {
-                let run = t.runs.iter().find(|r| !r.text.trim().is_empty())?;
-                // Where the text starts, and its middle height (a capital's
-                // half above the baseline).
-                let x = run.x_mm - run.anchor * t.content.chars().count() as f64 * t.font_size_mm * 0.5;
-                let at = (x, run.y_mm - 0.35 * t.font_size_mm, t.font_size_mm);
-                (at.0.is_finite() && at.1.is_finite() && at.2.is_finite()).then_some((t, at))
-            }
-            _ => None,
-        })
-        .collect();
-    // Sorted by where they start, so that a swatch looks only at the texts
-    // starting in its reach (no pass over all pairs).
-    let mut texts = texts;
-    texts.sort_by(|a, b| a.1.0.total_cmp(&b.1.0));
+    let texts = Texts::of(d);
     // (entry, swatch's box, text, lang)
     let mut pairs: Vec<(usize, Bounds, String, Option<String>)> = Vec::new();
     for (k, x) in entries.iter().enumerate() {
-        let mut best: Option<(f64, Bounds, String, Option<String>)> = None;
+        let mut best: Option<(f64, Bounds, &TextShape)> = None;
         for &i in &x.elements {
             let Some(b) = d.elements.get(i).and_then(Element::seen_bounds) else { continue };
-            let (w, h) = (b.2 - b.0, b.3 - b.1);
-            if w > SWATCH_MAX_MM || h > SWATCH_MAX_MM {
-                continue;
-            }
-            let mid = (b.1 + b.3) / 2.0;
-            let from = texts.partition_point(|t| t.1.0 < b.2 - 0.5);
-            let to = texts.partition_point(|t| t.1.0 <= b.2 + LEGEND_GAP_MM);
-            for (t, (tx, ty, size)) in texts.get(from..to).unwrap_or(&[]) {
-                let gap = tx - b.2;
-                let reach = (h.max(*size) * 0.75).max(1.0);
-                if (-0.5..=LEGEND_GAP_MM).contains(&gap)
-                    && (ty - mid).abs() <= reach
-                    && best.as_ref().is_none_or(|bb| gap < bb.0)
-                {
-                    // A legend text written as a key code means the label it stands for.
-                    let text = t.keyed.clone().unwrap_or_else(|| super::keys::label_text(t));
-                    best = Some((gap, b, text, t.lang.clone()));
-                }
+            if let Some((gap, t)) = texts.beside(b)
+                && best.as_ref().is_none_or(|bb| gap < bb.0)
+            {
+                best = Some((gap, b, t));
             }
         }
-        if let Some((_, b, text, lang)) = best {
-            pairs.push((k, b, text, lang));
+        if let Some((_, b, t)) = best {
+            // A legend text written as a key code means the label it stands for.
+            let text = t.keyed.clone().unwrap_or_else(|| super::keys::label_text(t));
+            pairs.push((k, b, text, t.lang.clone()));
         }
     }
-    let lined_up = |p: &(usize, Bounds, String, Option<String>)| {
-        pairs.iter().any(|q| {
-            q.0 != p.0
-                && ((q.1.0 - p.1.0).abs() <= ALIGN_MM
-                    || ((q.1.1 + q.1.3) / 2.0 - (p.1.1 + p.1.3) / 2.0).abs() <= ALIGN_MM)
+    let boxes: Vec<(usize, Bounds)> = pairs.iter().map(|p| (p.0, p.1)).collect();
+    let lined = lined_up(&boxes);
+    pairs.into_iter().zip(lined).filter(|(_, l)| *l).map(|(p, _)| (p.0, (p.2, p.3))).collect()
+}
+
+/// The texts of a drawing where a legend's are looked for: where each
+/// starts, its middle height (a capital's half above the baseline) and its
+/// size, where the drawing has them (before the automatic sheet moved their
+/// braille), sorted by where they start, so that a swatch looks only at the
+/// texts starting in its reach (no pass over all pairs).
+pub(crate) struct Texts<'d> {
+    texts: Vec<(&'d TextShape, (f64, f64, f64))>,
+}
+
+impl<'d> Texts<'d> {
+    /// The texts of `d` that say something.
+    pub(crate) fn of(d: &'d Drawing) -> Self {
+        let mut texts: Vec<(&TextShape, (f64, f64, f64))> = d
+            .elements
+            .iter()
+            .filter_map(|e| match &e.shape {
+                Shape::Text(t) if !t.content.trim().is_empty() => {
+                    // Where the drawing has it, before its braille was moved.
+                    let run = t.runs.iter().find(|r| !r.text.trim().is_empty())?;
+                    let (x, y) = (run.x_mm - t.moved_mm.0, run.y_mm - t.moved_mm.1);
+                    let x = x - run.anchor * t.content.chars().count() as f64 * t.font_size_mm * 0.5;
+                    let at = (x, y - 0.35 * t.font_size_mm, t.font_size_mm);
+                    (at.0.is_finite() && at.1.is_finite() && at.2.is_finite()).then_some((t, at))
+                }
+                _ => None,
+            })
+            .collect();
+        texts.sort_by(|a, b| a.1.0.total_cmp(&b.1.0));
+        Texts { texts }
+    }
+
+    /// The text a legend would write beside a swatch of box `b`, and how far
+    /// right of it it starts: the nearest that starts within
+    /// [`LEGEND_GAP_MM`] to its right, its middle level with the swatch's
+    /// (within half the swatch's height, or three quarters of the text's
+    /// size for a thin swatch). `None` when `b` is too large for a swatch.
+    pub(crate) fn beside(&self, b: Bounds) -> Option<(f64, &'d TextShape)> {
+        let (w, h) = (b.2 - b.0, b.3 - b.1);
+        if w > SWATCH_MAX_MM || h > SWATCH_MAX_MM {
+            return None;
+        }
+        let mid = (b.1 + b.3) / 2.0;
+        let from = self.texts.partition_point(|t| t.1.0 < b.2 - 0.5);
+        let to = self.texts.partition_point(|t| t.1.0 <= b.2 + LEGEND_GAP_MM);
+        let mut best: Option<(f64, &TextShape)> = None;
+        for (t, (tx, ty, size)) in self.texts.get(from..to).unwrap_or(&[]) {
+            let gap = tx - b.2;
+            // Level with the swatch: a bar's tick label, under the bar's
+            // foot, is not beside it, however tall the bar.
+            let reach = (h / 2.0).max(size * 0.75).max(1.0);
+            if (-0.5..=LEGEND_GAP_MM).contains(&gap) && (ty - mid).abs() <= reach && best.is_none_or(|bb| gap < bb.0) {
+                best = Some((gap, *t));
+            }
+        }
+        best
+    }
+}
+
+/// Which of the swatches `pairs` (each with something to tell it from the
+/// others by, and its box) line up with another's as a legend's rows or
+/// columns do: two or more swatches in a column (their left sides within
+/// [`ALIGN_MM`]) or a row (their middles).
+pub(crate) fn lined_up(pairs: &[(usize, Bounds)]) -> Vec<bool> {
+    pairs
+        .iter()
+        .map(|p| {
+            pairs.iter().any(|q| {
+                q.0 != p.0
+                    && ((q.1.0 - p.1.0).abs() <= ALIGN_MM
+                        || ((q.1.1 + q.1.3) / 2.0 - (p.1.1 + p.1.3) / 2.0).abs() <= ALIGN_MM)
+            })
         })
-    };
-    pairs.iter().filter(|p| lined_up(p)).map(|p| (p.0, (p.2.clone(), p.3.clone()))).collect()
+        .collect()
 }
 
 /// A box `(x0, y0, x1, y1)` in page mm.
-type Bounds = (f64, f64, f64, f64);
+pub(crate) type Bounds = (f64, f64, f64, f64);
 
 /// A number as the key writes it: at most two decimals, no trailing zeros.
 fn num(v: f64) -> String {

@@ -43,6 +43,7 @@ mod arrows;
 mod decide;
 mod ground;
 mod keys;
+pub(crate) mod key_page;
 mod labels;
 pub mod legend;
 mod notes;
@@ -396,6 +397,7 @@ pub fn apply_measured(d: &mut Drawing, profile: &DeviceProfile, m: Measure<'_>, 
                 r.x_mm += dx;
                 r.y_mm += dy;
             }
+            t.moved_mm = (t.moved_mm.0 + dx, t.moved_mm.1 + dy);
         }
     }
     notes::notes(&plan, d, diags);

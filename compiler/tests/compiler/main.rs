@@ -7,6 +7,7 @@ mod drawing;
 mod fuzzed;
 mod golden;
 mod layout;
+mod legend;
 mod lookup;
 mod malformed;
 mod mesh;

@@ -260,6 +260,7 @@ function showDownloads(r) {
     return;
   }
   add(`${r.base}bundle`, `Bundle (${stem}.taxel)`, `${stem}.taxel`);
+  if (r.bundle.key) add(`${r.base}key`, `Key, a bundle of its own (${stem}.key.taxel)`, `${stem}.key.taxel`);
   const names = { dtms: "Dot Pad (DTMS)", graphiti: "Graphiti", unicode: "Unicode braille text" };
   for (const f of r.bundle.exports) add(`${r.base}export/${f}`, names[f], "");
 }

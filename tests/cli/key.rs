@@ -1,0 +1,139 @@
+//! The key as a second bundle (`NAME.key.taxel`, SPEC.md section 10.2) on
+//! the laterotactile arrays and vibrotactile grids: written beside the
+//! graphic's bundle by `taxel build`, one input or a batch, kept up to date
+//! and removed when no longer needed.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use taxel_format::{BundleView, Mm, Tick};
+
+fn taxel(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_taxel")).args(args).output().unwrap()
+}
+
+fn text(o: &Output) -> String {
+    format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// Two textures and a line, each named by its title: a key is needed.
+const KEYED: &str = r#"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="60mm" viewBox="0 0 100 60">
+<rect x="5" y="5" width="40" height="30" data-tactile="grating(wavelength: 3mm, angle: 0deg)"><title>Forest</title></rect>
+<rect x="55" y="5" width="40" height="30" data-tactile="grating(wavelength: 6mm, angle: 90deg)"><title>Lake</title></rect>
+<path d="M5 50 L95 50" stroke="black" fill="none" data-tactile="vibrate(width: 2mm)"><title>Road</title></path>
+</svg>"#;
+
+/// One texture: no key.
+const PLAIN: &str = r#"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="60mm" viewBox="0 0 100 60">
+<rect x="5" y="5" width="40" height="30" data-tactile="grating(wavelength: 3mm, angle: 0deg)"><title>Forest</title></rect>
+</svg>"#;
+
+#[test]
+fn build_writes_the_key_beside_the_bundle_as_a_bundle_that_plays() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("map.svg");
+    std::fs::write(&input, KEYED).unwrap();
+    let o = taxel(&["build", s(&input), "--profile", "stress2"]);
+    assert!(o.status.success(), "{}", text(&o));
+    let key = dir.path().join("map.key.taxel");
+    assert!(text(&o).contains(&format!("written to {}", key.display())), "{}", text(&o));
+    assert!(text(&o).contains("note[T0331]"), "{}", text(&o));
+    let bytes = std::fs::read(&key).unwrap();
+    let view = BundleView::parse(&bytes).unwrap();
+    let main = std::fs::read(dir.path().join("map.taxel")).unwrap();
+    assert_eq!(
+        view.manifest().content_hash,
+        BundleView::parse(&main).unwrap().manifest().content_hash,
+        "both record the build's content hash"
+    );
+    // The runtime plays it: the first swatch, a grating, is felt at the key's left.
+    let player = taxel_runtime::latero::LateroPlayer::new(&view).unwrap();
+    let mut frame = [0u16; 64];
+    let felt = (0..20).any(|k| {
+        player.frame(Tick(k), Mm(5.0 + k as f32 * 0.5), Mm(4.0), &mut frame);
+        frame.iter().any(|&c| c > 0)
+    });
+    assert!(felt, "the key's first swatch plays");
+    // `inspect` reads it as a bundle like any other, and the graphic's
+    // bundle still lists the key's entries.
+    let o = taxel(&["inspect", s(&key)]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(!text(&o).contains("texture: Forest"), "{}", text(&o));
+    let o = taxel(&["inspect", s(&dir.path().join("map.taxel"))]);
+    assert!(text(&o).contains("texture: Forest"), "{}", text(&o));
+    // The element under the finger on the key's first swatch is named by its meaning.
+    let o = taxel(&["inspect", s(&key), "--at", "10,4"]);
+    assert!(text(&o).contains("Forest"), "{}", text(&o));
+    // `-o OUT.taxel` puts the key at `OUT.key.taxel`.
+    let out = dir.path().join("out/named.taxel");
+    let o = taxel(&["build", s(&input), "--profile", "stress2", "-o", s(&out)]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(dir.path().join("out/named.key.taxel").is_file());
+}
+
+#[test]
+fn a_batch_writes_each_key_keeps_it_up_to_date_and_removes_it_when_not_needed() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = dir.path().join("src");
+    std::fs::create_dir_all(&src).unwrap();
+    std::fs::write(src.join("a.svg"), KEYED).unwrap();
+    std::fs::write(src.join("b.svg"), PLAIN).unwrap();
+    let out = dir.path().join("out");
+    let build = || taxel(&["build", s(&src), "-o", s(&out), "--profile", "stress2", "--jobs", "2"]);
+    let o = build();
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(out.join("a.key.taxel").is_file() && !out.join("b.key.taxel").exists());
+    // Up to date: nothing is built again.
+    let o = build();
+    assert!(String::from_utf8_lossy(&o.stdout).contains("skipped 2"), "{}", text(&o));
+    // A missing key makes its graphic out of date.
+    std::fs::remove_file(out.join("a.key.taxel")).unwrap();
+    let o = build();
+    assert!(text(&o).contains("built 1"), "{}", text(&o));
+    assert!(out.join("a.key.taxel").is_file());
+    // A drawing that no longer needs a key loses its old one.
+    std::fs::write(src.join("a.svg"), PLAIN).unwrap();
+    let o = build();
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(!out.join("a.key.taxel").exists());
+}
+
+#[test]
+fn an_input_whose_bundle_would_be_anothers_key_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("a.svg"), KEYED).unwrap();
+    std::fs::write(dir.path().join("a.key.svg"), PLAIN).unwrap();
+    let o = taxel(&["build", s(dir.path()), "--profile", "stress2"]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("would all write"), "{}", text(&o));
+    assert!(!dir.path().join("a.taxel").exists() && !dir.path().join("a.key.taxel").exists());
+}
+
+#[test]
+fn a_grid_and_a_pin_display() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("wind.svg");
+    std::fs::write(
+        &input,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="60mm" viewBox="0 0 100 60">
+<path d="M5 10 L95 10" stroke="black" data-tactile="brush(duration: 800ms)"><title>Wind</title></path>
+<path d="M5 40 L95 40" stroke="black" data-tactile="brush(duration: 1500ms)"><title>Rain</title></path>
+</svg>"#,
+    )
+    .unwrap();
+    let o = taxel(&["build", s(&input), "--profile", "brush-4x3"]);
+    assert!(o.status.success(), "{}", text(&o));
+    let bytes = std::fs::read(dir.path().join("wind.key.taxel")).unwrap();
+    let view = BundleView::parse(&bytes).unwrap();
+    assert!(taxel_runtime::grid::GridPlayer::new(&view).is_ok());
+    // A pin display's key is pages of its own image: no second bundle.
+    let map = dir.path().join("map.svg");
+    std::fs::write(&map, KEYED).unwrap();
+    let o = taxel(&["build", s(&map), "--profile", "dotpad"]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("T0710") && !dir.path().join("map.key.taxel").exists(), "{}", text(&o));
+}
