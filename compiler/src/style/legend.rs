@@ -526,11 +526,21 @@ fn legend_texts(d: &Drawing, entries: &[Entry]) -> BTreeMap<usize, (String, Opti
 /// The texts of a drawing where a legend's are looked for: where each
 /// starts, its middle height (a capital's half above the baseline) and its
 /// size, where the drawing has them (before the automatic sheet moved their
-/// braille), sorted by where they start, so that a swatch looks only at the
-/// texts starting in its reach (no pass over all pairs).
+/// braille). They are filed by band of height and, within a band, by where
+/// they start, so that a swatch looks only at the texts in its reach: a map
+/// of tens of thousands of labelled regions asks this of every small region.
 pub(crate) struct Texts<'d> {
-    texts: Vec<(&'d TextShape, (f64, f64, f64))>,
+    /// `(text, (x, y, size), rank)` by band, then by `x`; `rank` is the
+    /// text's place in the order of `x` alone (drawing order among equals).
+    texts: Vec<(&'d TextShape, (f64, f64, f64), usize)>,
+    /// Each band's texts in `texts`, by band number (`y` / [`BAND_MM`]).
+    bands: BTreeMap<i64, core::ops::Range<usize>>,
+    /// The largest text size, mm (how far above or below a text may be level with a swatch).
+    max_size: f64,
 }
+
+/// Height of a band of [`Texts`], mm.
+const BAND_MM: f64 = 4.0;
 
 impl<'d> Texts<'d> {
     /// The texts of `d` that say something.
@@ -551,33 +561,51 @@ impl<'d> Texts<'d> {
             })
             .collect();
         texts.sort_by(|a, b| a.1.0.total_cmp(&b.1.0));
-        Texts { texts }
+        let band = |y: f64| (y / BAND_MM).floor().clamp(-1e15, 1e15) as i64;
+        let mut texts: Vec<_> = texts.into_iter().enumerate().map(|(rank, (t, at))| (t, at, rank)).collect();
+        texts.sort_by_key(|&(_, at, rank)| (band(at.1), rank));
+        let mut bands: BTreeMap<i64, core::ops::Range<usize>> = BTreeMap::new();
+        for (n, &(_, at, _)) in texts.iter().enumerate() {
+            bands.entry(band(at.1)).or_insert(n..n).end = n + 1;
+        }
+        let max_size = texts.iter().map(|t| t.1.2).fold(0.0, f64::max);
+        Texts { texts, bands, max_size }
     }
 
     /// The text a legend would write beside a swatch of box `b`, and how far
     /// right of it it starts: the nearest that starts within
     /// [`LEGEND_GAP_MM`] to its right, its middle level with the swatch's
     /// (within half the swatch's height, or three quarters of the text's
-    /// size for a thin swatch). `None` when `b` is too large for a swatch.
+    /// size for a thin swatch); the first in the order of `x` among equals.
+    /// `None` when `b` is too large for a swatch.
     pub(crate) fn beside(&self, b: Bounds) -> Option<(f64, &'d TextShape)> {
         let (w, h) = (b.2 - b.0, b.3 - b.1);
-        if w > SWATCH_MAX_MM || h > SWATCH_MAX_MM {
+        if w > SWATCH_MAX_MM || h > SWATCH_MAX_MM || !(b.1 + b.3).is_finite() {
             return None;
         }
         let mid = (b.1 + b.3) / 2.0;
-        let from = self.texts.partition_point(|t| t.1.0 < b.2 - 0.5);
-        let to = self.texts.partition_point(|t| t.1.0 <= b.2 + LEGEND_GAP_MM);
-        let mut best: Option<(f64, &TextShape)> = None;
-        for (t, (tx, ty, size)) in self.texts.get(from..to).unwrap_or(&[]) {
-            let gap = tx - b.2;
-            // Level with the swatch: a bar's tick label, under the bar's
-            // foot, is not beside it, however tall the bar.
-            let reach = (h / 2.0).max(size * 0.75).max(1.0);
-            if (-0.5..=LEGEND_GAP_MM).contains(&gap) && (ty - mid).abs() <= reach && best.is_none_or(|bb| gap < bb.0) {
-                best = Some((gap, *t));
+        // No text farther above or below than this is level with the swatch.
+        let most = (h / 2.0).max(self.max_size * 0.75).max(1.0);
+        let band = |y: f64| (y / BAND_MM).floor().clamp(-1e15, 1e15) as i64;
+        let mut best: Option<(f64, usize, &TextShape)> = None;
+        for range in self.bands.range(band(mid - most)..=band(mid + most)).map(|(_, r)| r.clone()) {
+            let texts = self.texts.get(range).unwrap_or(&[]);
+            let from = texts.partition_point(|t| t.1.0 < b.2 - 0.5);
+            let to = texts.partition_point(|t| t.1.0 <= b.2 + LEGEND_GAP_MM);
+            for &(t, (tx, ty, size), rank) in texts.get(from..to).unwrap_or(&[]) {
+                let gap = tx - b.2;
+                // Level with the swatch: a bar's tick label, under the bar's
+                // foot, is not beside it, however tall the bar.
+                let reach = (h / 2.0).max(size * 0.75).max(1.0);
+                if (-0.5..=LEGEND_GAP_MM).contains(&gap)
+                    && (ty - mid).abs() <= reach
+                    && best.is_none_or(|bb| (gap, rank) < (bb.0, bb.1))
+                {
+                    best = Some((gap, rank, t));
+                }
             }
         }
-        best
+        best.map(|(gap, _, t)| (gap, t))
     }
 }
 
@@ -586,16 +614,24 @@ impl<'d> Texts<'d> {
 /// columns do: two or more swatches in a column (their left sides within
 /// [`ALIGN_MM`]) or a row (their middles).
 pub(crate) fn lined_up(pairs: &[(usize, Bounds)]) -> Vec<bool> {
-    pairs
-        .iter()
-        .map(|p| {
-            pairs.iter().any(|q| {
-                q.0 != p.0
-                    && ((q.1.0 - p.1.0).abs() <= ALIGN_MM
-                        || ((q.1.1 + q.1.3) / 2.0 - (p.1.1 + p.1.3) / 2.0).abs() <= ALIGN_MM)
-            })
-        })
-        .collect()
+    // Along each axis in turn, sorted: a swatch lines up when the nearest
+    // other one (of another id) on either side is within ALIGN_MM, so a
+    // map's thousands of small regions are not compared pair by pair.
+    let mut lined = vec![false; pairs.len()];
+    let left = |p: &(usize, Bounds)| p.1.0;
+    let middle = |p: &(usize, Bounds)| (p.1.1 + p.1.3) / 2.0;
+    for key in [&left as &dyn Fn(&(usize, Bounds)) -> f64, &middle] {
+        let mut order: Vec<usize> = (0..pairs.len()).filter(|&n| key(&pairs[n]).is_finite()).collect();
+        order.sort_by(|&a, &b| key(&pairs[a]).total_cmp(&key(&pairs[b])));
+        for (at, &n) in order.iter().enumerate() {
+            let v = key(&pairs[n]);
+            let near = |m: &usize| (key(&pairs[*m]) - v).abs() <= ALIGN_MM;
+            let other = |m: &&usize| pairs[**m].0 != pairs[n].0;
+            let below = order[..at].iter().rev().take_while(|m| near(m)).find(other).is_some();
+            lined[n] |= below || order[at + 1..].iter().take_while(|m| near(m)).find(other).is_some();
+        }
+    }
+    lined
 }
 
 /// A box `(x0, y0, x1, y1)` in page mm.
@@ -608,200 +644,4 @@ fn num(v: f64) -> String {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::CompileOptions;
-    use taxel_format::profiles;
-
-    fn drawing(body: &str) -> Drawing {
-        let svg = format!(
-            r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape"
-                width="200mm" height="150mm" viewBox="0 0 200 150">{body}</svg>"#
-        );
-        crate::drawing::resolve(&svg, &CompileOptions::new(profiles::builtin("swell-a4").unwrap())).drawing.unwrap()
-    }
-
-    const FINE: &str = "grating(wavelength: 3mm, angle: 0deg)";
-    const COARSE: &str = "grating(wavelength: 6mm, angle: 90deg)";
-
-    fn meanings(l: &Legend) -> Vec<(&str, Source)> {
-        l.entries.iter().map(|e| (e.meaning.as_str(), e.source)).collect()
-    }
-
-    #[test]
-    fn a_legends_text_beside_its_swatch_names_the_texture() {
-        // Two regions with titles that the legend overrides, and a legend of
-        // two swatches in a column, each with its text to the right.
-        let d = drawing(&format!(
-            r#"<rect x="0" y="0" width="80" height="60" fill="green" data-tactile="{FINE}"><title>region a</title></rect>
-               <rect x="90" y="0" width="80" height="60" fill="blue" data-tactile="{COARSE}"><title>region b</title></rect>
-               <rect x="10" y="100" width="10" height="6" fill="green" data-tactile="{FINE}"/>
-               <text x="24" y="105" font-size="5">Forest</text>
-               <rect x="10" y="112" width="10" height="6" fill="blue" data-tactile="{COARSE}"/>
-               <text x="24" y="117" font-size="5">Lake</text>"#
-        ));
-        let l = legend(&d);
-        assert_eq!(meanings(&l), [("Forest", Source::Legend), ("Lake", Source::Legend)]);
-        // Each entry stands for its region and its swatch.
-        assert_eq!(l.entries[0].elements.len(), 2);
-    }
-
-    #[test]
-    fn a_legend_text_written_as_a_key_code_means_its_label() {
-        let mut d = drawing(&format!(
-            r#"<rect x="0" y="0" width="80" height="60" data-tactile="{FINE}"/>
-               <rect x="90" y="0" width="80" height="60" data-tactile="{COARSE}"/>
-               <rect x="10" y="100" width="10" height="6" data-tactile="{FINE}"/>
-               <text x="24" y="105" font-size="5">Farmland</text>
-               <rect x="10" y="112" width="10" height="6" data-tactile="{COARSE}"/>
-               <text x="24" y="117" font-size="5">Lake</text>"#
-        ));
-        // As the automatic sheet leaves a label that finds no place: its
-        // code in its place, the label it stands for kept.
-        for e in &mut d.elements {
-            if let Shape::Text(t) = &mut e.shape
-                && t.content == "Farmland"
-            {
-                t.keyed = Some("Farmland".into());
-                t.content = "fa".into();
-                for r in &mut t.runs {
-                    r.text = "fa".into();
-                }
-            }
-        }
-        let l = legend(&d);
-        assert_eq!(meanings(&l), [("Farmland", Source::Legend), ("Lake", Source::Legend)]);
-    }
-
-    #[test]
-    fn a_lone_text_beside_a_small_region_is_not_a_legend() {
-        // A small region with its name beside it (a lake on a map): no
-        // second pair lines up, so the name is not taken for the texture's.
-        let d = drawing(&format!(
-            r#"<rect x="0" y="0" width="80" height="60" fill="green" data-tactile="{FINE}"/>
-               <rect x="100" y="10" width="10" height="6" fill="green" data-tactile="{FINE}"/>
-               <text x="114" y="15" font-size="5">Small wood</text>
-               <rect x="0" y="80" width="80" height="60" fill="blue" data-tactile="{COARSE}"/>"#
-        ));
-        let l = legend(&d);
-        assert_eq!(meanings(&l), [("green areas", Source::Colour), ("blue areas", Source::Colour)]);
-    }
-
-    #[test]
-    fn a_shared_label_then_the_innermost_layer_name_the_entries() {
-        let d = drawing(&format!(
-            r#"<g inkscape:groupmode="layer" inkscape:label="Land use">
-                 <g inkscape:groupmode="layer" inkscape:label="Farmland">
-                   <rect x="0" y="0" width="40" height="40" fill="yellow" data-tactile="{FINE}"/>
-                   <rect x="50" y="0" width="40" height="40" fill="orange" data-tactile="{FINE}"/>
-                 </g>
-                 <rect x="0" y="50" width="40" height="40" fill="blue" data-tactile="{COARSE}" aria-label="Water"/>
-                 <rect x="50" y="50" width="40" height="40" fill="navy" data-tactile="{COARSE}" aria-label="Water"/>
-               </g>"#
-        ));
-        let l = legend(&d);
-        assert_eq!(meanings(&l), [("Farmland", Source::Layer), ("Water", Source::Label)]);
-    }
-
-    #[test]
-    fn a_layer_two_entries_share_tells_neither_apart() {
-        // Both textures lie in "Land use" alone: the layer would name both
-        // alike, so their colours name them.
-        let d = drawing(&format!(
-            r#"<g inkscape:groupmode="layer" inkscape:label="Land use">
-                 <rect x="0" y="0" width="40" height="40" fill="rgb(200,30,30)" data-tactile="{FINE}"/>
-                 <rect x="50" y="0" width="40" height="40" fill="rgb(30,80,230)" data-tactile="{COARSE}"/>
-               </g>"#
-        ));
-        let l = legend(&d);
-        assert_eq!(meanings(&l), [("red areas", Source::Colour), ("blue areas", Source::Colour)]);
-    }
-
-    #[test]
-    fn without_names_or_colours_entries_are_numbered() {
-        // Two different fills per texture: no colour names either.
-        let d = drawing(&format!(
-            r#"<rect x="0" y="0" width="40" height="40" fill="red" data-tactile="{FINE}"/>
-               <rect x="50" y="0" width="40" height="40" fill="blue" data-tactile="{FINE}"/>
-               <rect x="0" y="50" width="40" height="40" fill="red" data-tactile="{COARSE}"/>
-               <rect x="50" y="50" width="40" height="40" fill="blue" data-tactile="{COARSE}"/>"#
-        ));
-        let l = legend(&d);
-        assert_eq!(meanings(&l), [("texture 1", Source::Ordinal), ("texture 2", Source::Ordinal)]);
-    }
-
-    #[test]
-    fn lines_are_named_by_their_stroke_and_symbols_by_their_fill() {
-        let d = drawing(
-            r#"<path d="M0 0 L100 0" stroke="rgb(0,150,40)" fill="none" data-tactile="vibrate()"/>
-               <path d="M0 20 L100 20" stroke="rgb(240,130,0)" fill="none" data-tactile="vibrate(width: 3mm)"/>
-               <circle cx="10" cy="50" r="2" fill="rgb(120,40,180)" data-tactile="dot(radius: 1mm)"/>"#,
-        );
-        let l = legend(&d);
-        let kinds: Vec<&str> = l.entries.iter().map(|e| e.swatch.kind()).collect();
-        assert_eq!(kinds, ["line", "line", "symbol"]);
-        assert_eq!(meanings(&l)[..2], [("green lines", Source::Colour), ("orange lines", Source::Colour)]);
-        assert_eq!(l.entries[2].meaning, "purple points");
-    }
-
-    #[test]
-    fn a_key_is_needed_for_two_of_a_kind_or_key_codes_only() {
-        let one_each = drawing(&format!(
-            r#"<rect x="0" y="0" width="40" height="40" fill="red" data-tactile="{FINE}"/>
-               <path d="M0 60 L100 60" stroke="black" data-tactile="vibrate()"/>
-               <circle cx="10" cy="90" r="2" data-tactile="dot()"/>"#
-        ));
-        let l = legend(&one_each);
-        assert_eq!(l.entries.len(), 3);
-        assert!(!l.needed(), "one texture, one line and one symbol need no key");
-        assert!(l.shown().is_empty());
-        let two_textures = drawing(&format!(
-            r#"<rect x="0" y="0" width="40" height="40" fill="red" data-tactile="{FINE}"/>
-               <rect x="50" y="0" width="40" height="40" fill="blue" data-tactile="{COARSE}"/>
-               <path d="M0 60 L100 60" stroke="black" data-tactile="vibrate()"/>"#
-        ));
-        let l = legend(&two_textures);
-        assert!(l.needed());
-        // The key then lists the line too.
-        assert_eq!(l.shown().len(), 3);
-        let mut keyed = one_each.clone();
-        keyed.elements.push(Element {
-            visible: true,
-            shape: Shape::Text(TextShape {
-                content: "fo".into(),
-                keyed: Some("Forest office".into()),
-                ..Default::default()
-            }),
-            ..Default::default()
-        });
-        let l = legend(&keyed);
-        assert_eq!(l.codes, [("fo".to_string(), "Forest office".to_string())]);
-        assert!(l.needed(), "key codes always need a key");
-    }
-
-    #[test]
-    fn colour_words_are_the_nearest_basic_names() {
-        assert_eq!(colour_word([255, 0, 0, 255]).as_deref(), Some("red"));
-        assert_eq!(colour_word([0, 0, 139, 255]).as_deref(), Some("blue"));
-        assert_eq!(colour_word([34, 139, 34, 255]).as_deref(), Some("green"));
-        assert_eq!(colour_word([250, 250, 250, 255]).as_deref(), Some("white"));
-        assert_eq!(colour_word([30, 30, 30, 255]).as_deref(), Some("black"));
-        assert_eq!(colour_word([128, 128, 128, 255]).as_deref(), Some("grey"));
-        // CSS's named colours whose names say their basic colour.
-        for (rgb, word) in [
-            ([255, 165, 0], "orange"),
-            ([255, 255, 0], "yellow"),
-            ([128, 0, 128], "purple"),
-            ([255, 192, 203], "pink"),
-            ([139, 69, 19], "brown"),
-            ([0, 128, 0], "green"),
-            ([0, 0, 255], "blue"),
-            ([100, 149, 237], "blue"),
-            ([0, 128, 128], "blue"),
-            ([220, 20, 60], "red"),
-        ] {
-            assert_eq!(colour_word([rgb[0], rgb[1], rgb[2], 255]).as_deref(), Some(word), "{rgb:?}");
-        }
-        assert_eq!(colour_word([255, 0, 0, 0]), None);
-    }
-}
+mod tests;
