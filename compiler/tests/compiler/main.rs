@@ -11,6 +11,7 @@ mod lookup;
 mod malformed;
 mod mesh;
 mod mesh_axis;
+mod plan;
 mod realistic;
 mod runaway;
 mod scenes;
