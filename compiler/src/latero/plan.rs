@@ -263,7 +263,7 @@ impl<'d> LayerPlan<'d> {
 ///
 /// let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="60mm" height="40mm" viewBox="0 0 60 40">
 ///   <rect x="10" y="10" width="20" height="20" data-tactile="grating(wavelength: 2mm)"/>
-///   <circle cx="45" cy="20" r="8" fill="none" data-tactile="vibrate()"/>
+///   <circle cx="45" cy="20" r="8" fill="none" stroke="black" data-tactile="vibrate()"/>
 /// </svg>"#;
 /// let opts = CompileOptions::new(profiles::builtin("stress2").expect("a built-in profile"));
 /// let drawing = pipeline::resolve(svg, &opts).drawing.expect("a drawing");

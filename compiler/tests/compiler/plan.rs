@@ -81,7 +81,9 @@ fn a_gratings_plan_names_what_cuts_hides_and_clips_it() {
 
 #[test]
 fn brushed_paths_are_planned_for_a_grid() {
-    let svg = page(r#"<path id="stroke" d="M 10 10 L 50 40" fill="none" stroke="black" data-tactile="brush(duration: 400ms)"/>"#);
+    let svg = page(
+        r#"<path id="stroke" d="M 10 10 L 50 40" fill="none" stroke="black" data-tactile="brush(duration: 400ms)"/>"#,
+    );
     let opts = CompileOptions::new(profiles::builtin("brush-4x3").expect("built-in profile"));
     let compiled = no_internal_error(compile_svg(&svg, &opts));
     let drawing = pipeline::resolve(&svg, &opts).drawing.expect("a drawing");
