@@ -15,12 +15,15 @@
 //!
 //! The kinds of tile besides stored ones (plane, ridge, corner, notch,
 //! bend, arc, segments, fine), their records and codes are in
-//! `distance/tiles.rs`.
+//! `distance/tiles.rs`; `distance/tile.rs` reads one tile at a time
+//! ([`Tile`]), for the tools that look inside a layer.
 
 use alloc::vec::Vec;
 
+mod tile;
 mod tiles;
 
+pub use tile::{Tile, TileGroup, TileIter, TileKind};
 pub use tiles::{
     MAX_ARC_RADIUS, MAX_FINE, MAX_PLANE_CODE, MAX_PLANE_GRADIENT, PLANE_RECORD_LEN, SEGMENT_TILE_RECORDS,
     SEGMENTS_PER_TILE, TILE_ARC, TILE_BEND, TILE_CORNER, TILE_CORNER_RECORD_MASK, TILE_FINE, TILE_FINE_FIRST_MASK,

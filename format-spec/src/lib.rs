@@ -63,8 +63,8 @@ pub use distance::{
     MAX_PLANE_GRADIENT, MAX_SOFT_MM, PLANE_RECORD_LEN, SEGMENT_TILE_RECORDS, SEGMENTS_PER_TILE, TILE_ARC, TILE_BEND,
     TILE_CELLS, TILE_CORNER, TILE_CORNER_RECORD_MASK, TILE_FINE, TILE_FINE_FIRST_MASK, TILE_FINE_PAIR, TILE_FINE_SHIFT,
     TILE_FIRST_STORED, TILE_INSIDE, TILE_NOTCH, TILE_OUTSIDE, TILE_PLANE, TILE_RECORD_MASK, TILE_RIDGE, TILE_SAMPLES,
-    TILE_SEGMENTS, TILE_SIDE, TileEntry, TilePlane, arc_code, bend_code, fine_cell, fine_entry, is_cut_arc,
-    profile as edge_profile, ramp as edge_ramp, segments_code,
+    TILE_SEGMENTS, TILE_SIDE, Tile, TileEntry, TileGroup, TileIter, TileKind, TilePlane, arc_code, bend_code,
+    fine_cell, fine_entry, is_cut_arc, profile as edge_profile, ramp as edge_ramp, segments_code,
 };
 pub use dots::{Dot, DotGrid, DotKind, DotRun, DotTable, DotTableView, MAX_DOT_GRID_CELLS, MAX_DOTS};
 pub use error::FormatError;

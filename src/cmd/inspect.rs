@@ -9,7 +9,7 @@ use std::path::Path;
 use serde_json::{Value, json};
 use taxel_compiler::style::legend;
 use taxel_format::lookup::PointLookup;
-use taxel_format::{BundleView, ChunkView, FamilyParams, MaskKind, ProvenanceView};
+use taxel_format::{BundleView, ChunkView, FamilyParams, MaskKind, ProvenanceView, TileGroup};
 
 use crate::cli::Format;
 use crate::error::{CliError, CmdResult};
@@ -152,29 +152,18 @@ fn describe(view: &BundleView<'_>) -> Value {
             ChunkView::Distance(dv) => {
                 sources.extend((0..dv.source_count()).filter_map(|i| dv.source(i)));
                 let span = 8.0 * dv.pitch_mm;
-                // Plane and ridge tiles play one record, corner and notch tiles two.
-                // Bend and arc tiles (two records too) and segments tiles
-                // (four, format 4.2) are counted on their own, as bends.
-                // Stored and fine tiles (format 4.4, several stored tiles each) too.
+                // Counted by what plays them (`TileKind::group`): stored and
+                // fine tiles, plane and ridge tiles (one record), corner and
+                // notch tiles (two planes), and bend, arc and segments tiles as bends.
                 let (mut planar, mut bent, mut bends, mut stored, mut fine) = (0u32, 0u32, 0u32, 0u32, 0u32);
-                for i in 0..dv.tile_cols * dv.tile_rows {
-                    let entry = taxel_format::TileEntry::of(dv.tile_entry(i));
-                    match entry {
-                        taxel_format::TileEntry::Stored(_) => stored += 1,
-                        taxel_format::TileEntry::Fine { .. } => fine += 1,
-                        _ => {}
-                    }
-                    if let taxel_format::TileEntry::Bend(_)
-                    | taxel_format::TileEntry::Arc(_)
-                    | taxel_format::TileEntry::Segments(_) = entry
-                    {
-                        bends += 1;
-                        continue;
-                    }
-                    match entry.records() {
-                        1 => planar += 1,
-                        2 => bent += 1,
-                        _ => {}
+                for tile in dv.each_tile() {
+                    match tile.kind().group() {
+                        TileGroup::Stored => stored += 1,
+                        TileGroup::Fine => fine += 1,
+                        TileGroup::Plane => planar += 1,
+                        TileGroup::Corner => bent += 1,
+                        TileGroup::Bend => bends += 1,
+                        TileGroup::Constant => {}
                     }
                 }
                 let mut e = json!({

@@ -27,7 +27,7 @@
 
 use rstar::primitives::Line;
 use rstar::{PointDistance, RTree};
-use taxel_format::{DISTANCE_ZERO, DistanceLayer, TILE_CELLS, TILE_INSIDE, TILE_OUTSIDE, TileEntry};
+use taxel_format::{DISTANCE_ZERO, DistanceLayer, TILE_CELLS, Tile, TileKind};
 
 use super::exact::{Region, Seg};
 
@@ -154,47 +154,44 @@ pub fn contour(layer: &DistanceLayer, sample: f64) -> Vec<[f64; 2]> {
     }
     let lines = ((h / sample).ceil() as usize).max(1);
     let (ox, oy) = (layer.origin_x.0 as f64, layer.origin_y.0 as f64);
-    for ty in 0..layer.tile_rows as usize {
-        for tx in 0..layer.tile_cols as usize {
-            let entry = layer.tiles.get(ty * layer.tile_cols as usize + tx).copied().unwrap_or(TILE_OUTSIDE);
-            if entry == TILE_OUTSIDE || entry == TILE_INSIDE {
+    for tile in layer.each_tile() {
+        let (tx, ty) = (tile.col as usize, tile.row as usize);
+        match tile.kind() {
+            TileKind::Outside | TileKind::Inside => continue,
+            TileKind::Corner | TileKind::Notch => {
+                bent_contour(&tile, h, lines * TILE_CELLS, &mut out);
                 continue;
             }
-            if let bent @ (TileEntry::Corner(p) | TileEntry::Notch(p)) = TileEntry::of(entry) {
-                let corner = (ox + (tx * TILE_CELLS) as f64 * h, oy + (ty * TILE_CELLS) as f64 * h);
-                bent_contour(&layer.planes, bent, p, corner, h, lines * TILE_CELLS, &mut out);
+            TileKind::Bend | TileKind::Arc | TileKind::Segments => {
+                bend_contour(&tile, h, lines * TILE_CELLS, &mut out);
                 continue;
             }
-            if let bend @ (TileEntry::Bend(_) | TileEntry::Arc(_) | TileEntry::Segments(_)) = TileEntry::of(entry) {
-                let corner = (ox + (tx * TILE_CELLS) as f64 * h, oy + (ty * TILE_CELLS) as f64 * h);
-                bend_contour(&layer.planes, bend, corner, h, lines * TILE_CELLS, &mut out);
+            TileKind::Fine => {
+                fine_contour(layer, &tile, lines.div_ceil(tile.refinement()), &mut out);
                 continue;
             }
-            if let TileEntry::Fine { first, fine, pair } = TileEntry::of(entry) {
-                let corner = (ox + (tx * TILE_CELLS) as f64 * h, oy + (ty * TILE_CELLS) as f64 * h);
-                fine_contour(layer, (first, fine as usize, pair), corner, lines.div_ceil(fine as usize), &mut out);
-                continue;
-            }
-            for cj in ty * TILE_CELLS..(ty + 1) * TILE_CELLS {
-                for ci in tx * TILE_CELLS..(tx + 1) * TILE_CELLS {
-                    let (x0, y0) = (ox + ci as f64 * h, oy + cj as f64 * h);
-                    let Some(c) = cell_corners(layer, (x0, y0), h) else { continue };
-                    let inside = c.map(|d| d > 0.0);
-                    if inside.iter().all(|&s| s == inside[0]) {
-                        continue;
+            // Bilinear in each lattice cell: read through the SPEC's reference.
+            TileKind::Stored | TileKind::Plane | TileKind::Ridge => {}
+        }
+        for cj in ty * TILE_CELLS..(ty + 1) * TILE_CELLS {
+            for ci in tx * TILE_CELLS..(tx + 1) * TILE_CELLS {
+                let (x0, y0) = (ox + ci as f64 * h, oy + cj as f64 * h);
+                let Some(c) = cell_corners(layer, (x0, y0), h) else { continue };
+                let inside = c.map(|d| d > 0.0);
+                if inside.iter().all(|&s| s == inside[0]) {
+                    continue;
+                }
+                let [c00, c10, c01, c11] = c;
+                for k in 0..=lines {
+                    let t = k as f64 / lines as f64;
+                    // Along the vertical line u = t, then the horizontal line v = t.
+                    let (a, b) = (c00 + (c10 - c00) * t, c01 + (c11 - c01) * t);
+                    if (a > 0.0) != (b > 0.0) {
+                        out.push([x0 + t * h, y0 + a / (a - b) * h]);
                     }
-                    let [c00, c10, c01, c11] = c;
-                    for k in 0..=lines {
-                        let t = k as f64 / lines as f64;
-                        // Along the vertical line u = t, then the horizontal line v = t.
-                        let (a, b) = (c00 + (c10 - c00) * t, c01 + (c11 - c01) * t);
-                        if (a > 0.0) != (b > 0.0) {
-                            out.push([x0 + t * h, y0 + a / (a - b) * h]);
-                        }
-                        let (a, b) = (c00 + (c01 - c00) * t, c10 + (c11 - c10) * t);
-                        if (a > 0.0) != (b > 0.0) {
-                            out.push([x0 + a / (a - b) * h, y0 + t * h]);
-                        }
+                    let (a, b) = (c00 + (c01 - c00) * t, c10 + (c11 - c10) * t);
+                    if (a > 0.0) != (b > 0.0) {
+                        out.push([x0 + a / (a - b) * h, y0 + t * h]);
                     }
                 }
             }
@@ -203,33 +200,21 @@ pub fn contour(layer: &DistanceLayer, sample: f64) -> Vec<[f64; 2]> {
     out
 }
 
-/// Points of the half-amplitude contour of a fine tile (format 4.4; stored
-/// tiles from `first`, `fine` times finer than the lattice, two channels
-/// where `pair`) whose first lattice point is at page `corner`, where it
+/// Points of the half-amplitude contour of a fine tile (format 4.4;
+/// samples finer than the lattice, in one or two channels), where it
 /// crosses `lines + 1` lines across each fine cell in each direction. Each
 /// channel is bilinear in a fine cell, so its zero on a line is found
 /// exactly; with two channels it is on the contour where the other channel
 /// is not below 0 there (their lesser's zero). A code of exactly 0 counts
 /// as inside, so that an edge on the tile's side (a rectangle's side on a
 /// lattice line, where the samples are 0) is found from the outside tile.
-fn fine_contour(
-    layer: &DistanceLayer,
-    (first, fine, pair): (u32, usize, bool),
-    corner: (f64, f64),
-    lines: usize,
-    out: &mut Vec<[f64; 2]>,
-) {
+fn fine_contour(layer: &DistanceLayer, tile: &Tile<'_>, lines: usize, out: &mut Vec<[f64; 2]>) {
+    let (fine, corner) = (tile.refinement(), tile.corner_mm);
     let size = layer.pitch_mm as f64 / fine as f64;
     let lines = lines.max(1);
     // Channel `c`'s code (unbiased) at fine lattice point `(x, y)` of the tile.
-    let at = |c: usize, x: usize, y: usize| {
-        let (a, b) = ((x / TILE_CELLS).min(fine - 1), (y / TILE_CELLS).min(fine - 1));
-        let (i, j) = (x - a * TILE_CELLS, y - b * TILE_CELLS);
-        let k =
-            (first as usize + (c * fine + b) * fine + a) * taxel_format::TILE_SAMPLES + j * taxel_format::TILE_SIDE + i;
-        layer.samples.get(k).map_or(f64::NAN, |&v| v as f64 - DISTANCE_ZERO as f64)
-    };
-    let channels = if pair { 2 } else { 1 };
+    let at = |c: usize, x: usize, y: usize| tile.sample(c, x, y).map_or(f64::NAN, |v| v as f64 - DISTANCE_ZERO as f64);
+    let channels = tile.channels();
     for y in 0..TILE_CELLS * fine {
         for x in 0..TILE_CELLS * fine {
             let cell: [[f64; 4]; 2] =
@@ -268,32 +253,26 @@ fn fine_contour(
 /// `lines + 1` lines across the tile in each direction: the function is
 /// round round the vertex, so each line is walked in steps of a tenth of
 /// the lines' spacing and each change of sign is bisected.
-fn bend_contour(
-    planes: &[taxel_format::TilePlane],
-    bend: TileEntry,
-    corner: (f64, f64),
-    h: f64,
-    lines: usize,
-    out: &mut Vec<[f64; 2]>,
-) {
+fn bend_contour(tile: &Tile<'_>, h: f64, lines: usize, out: &mut Vec<[f64; 2]>) {
     let zero = DISTANCE_ZERO as f64;
     let span = TILE_CELLS as f64;
-    let f = |u: f64, w: f64| bend.code(planes, u, w).map_or(f64::NAN, |c| c - zero);
+    let (corner, r) = (tile.corner_mm, tile.records());
+    let f = |u: f64, w: f64| tile.code(u, w).map_or(f64::NAN, |c| c - zero);
     let steps = 10 * lines;
     // The code changes by at most `slope` codes per lattice cell (a bend's
     // and an arc's `k`: `k` times a distance), so a point `|v| / slope`
     // cells from one of value `v` has its sign: the walk skips the steps
     // that close to it, which cannot hold a change of sign (the same points
     // as a step-by-step walk; half the bound, for the f32 codes' rounding).
-    let slope = match bend {
-        TileEntry::Bend(p) => planes.get(p as usize + 1).map(|r| r.gy),
+    let slope = match tile.kind() {
+        TileKind::Bend => r.get(1).map(|r| r.gy),
         // A cut arc (format 4.3) is the lesser of its arc and a plane: its
         // slope is at most the greater of theirs.
-        TileEntry::Arc(p) => planes.get(p as usize).map(|r| {
-            let plane = planes.get(p as usize + 1).map_or(0.0, |s| s.gy.hypot(s.top));
-            r.top.abs().max(plane)
+        TileKind::Arc => r.first().map(|a| {
+            let plane = r.get(1).map_or(0.0, |s| s.gy.hypot(s.top));
+            a.top.abs().max(plane)
         }),
-        TileEntry::Segments(p) => planes.get(p as usize + taxel_format::SEGMENTS_PER_TILE).map(|r| r.c),
+        TileKind::Segments => r.get(taxel_format::SEGMENTS_PER_TILE).map(|r| r.c),
         _ => None,
     }
     .map(|k| f64::from(k).abs())
@@ -348,25 +327,17 @@ fn bend_contour(
 /// of one record's affine code on a line is on the contour where the other
 /// code is not below it (a corner's lesser) or not above it (a notch's
 /// greater).
-fn bent_contour(
-    planes: &[taxel_format::TilePlane],
-    bent: TileEntry,
-    p: u32,
-    corner: (f64, f64),
-    h: f64,
-    lines: usize,
-    out: &mut Vec<[f64; 2]>,
-) {
-    let (Some(r1), Some(r2)) = (planes.get(p as usize), planes.get(p as usize + 1)) else { return };
+fn bent_contour(tile: &Tile<'_>, h: f64, lines: usize, out: &mut Vec<[f64; 2]>) {
+    let (&[r1, r2], corner) = (tile.records(), tile.corner_mm) else { return };
     let zero = DISTANCE_ZERO as f64;
     let span = TILE_CELLS as f64;
-    let on = |u: f64, w: f64, other: &taxel_format::TilePlane| match bent {
-        TileEntry::Notch(_) => other.affine(u, w) <= zero,
-        _ => other.affine(u, w) >= zero,
+    let notch = tile.kind() == TileKind::Notch;
+    let on = |u: f64, w: f64, other: &taxel_format::TilePlane| {
+        if notch { other.affine(u, w) <= zero } else { other.affine(u, w) >= zero }
     };
     for k in 0..=lines {
         let t = k as f64 / lines as f64 * span;
-        for (r, other) in [(r1, r2), (r2, r1)] {
+        for (r, other) in [(&r1, &r2), (&r2, &r1)] {
             let (c, gx, gy) = (r.c as f64 - zero, r.gx as f64, r.gy as f64);
             // The vertical line u = t, then the horizontal line w = t.
             if gy != 0.0 {

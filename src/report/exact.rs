@@ -23,22 +23,23 @@ const PLATEAU: f64 = 0.25;
 /// one border, and do not add up.
 #[derive(Debug, Clone)]
 pub enum Region {
-    /// The union of the insides of closed outlines, minus every vibrating
-    /// band on the page (the compiler keeps gratings out from under vibrating
-    /// borders, so that a tactile icon's or a map region's two layers do not
-    /// overlap) and minus the opaque fills painted over the sources (a lake
-    /// drawn on the land hides the land's grating there).
+    /// The union of the insides of closed outlines, minus the vibrating
+    /// bands that cross it (the compiler keeps gratings out from under
+    /// vibrating borders, so that a tactile icon's or a map region's two
+    /// layers do not overlap) and minus the opaque fills painted over the
+    /// sources (a lake drawn on the land hides the land's grating there) and
+    /// the clearings round braille: the layer's plan says which.
     Fill {
         /// Each source's outline and SVG fill rule.
         fills: Vec<(Index, FillRule)>,
-        /// Each source's clip regions (outline and fill rule), in the order
-        /// of `fills` (a missing entry: none): a source is felt only inside
-        /// all of its own, as the compiler clips it (a nested `<svg>`'s
+        /// The layer's clip regions (outline and fill rule): it is felt only
+        /// inside all of them, as the compiler clips it (a nested `<svg>`'s
         /// viewport, `clip-path`).
-        clips: Vec<Vec<(Index, FillRule)>>,
+        clips: Vec<(Index, FillRule)>,
         /// Vibrating bands (outline, width in mm) that are left out.
         minus_bands: Vec<(Arc<Index>, f64)>,
-        /// Opaque fills painted over the sources (outline and fill rule), left out.
+        /// Occluders (outline and fill rule), left out: the opaque fills
+        /// painted over the sources and the braille clearings that meet them.
         minus_fills: Vec<(Index, FillRule)>,
         /// The corners of the outlines and of the cut bands' centre lines (see [`corners`]).
         corners: Vec<(f64, f64)>,
@@ -47,8 +48,8 @@ pub enum Region {
     Band {
         /// Each source's outline and band width.
         bands: Vec<(Arc<Index>, f64)>,
-        /// Each source's clip regions, in the order of `bands` (as a fill's).
-        clips: Vec<Vec<(Index, FillRule)>>,
+        /// The layer's clip regions (as a fill's).
+        clips: Vec<(Index, FillRule)>,
         /// The corners of the centre lines (see [`corners`]).
         corners: Vec<(f64, f64)>,
     },
@@ -59,14 +60,14 @@ impl Region {
     pub fn covers(&self, p: (f64, f64)) -> bool {
         match self {
             Region::Fill { fills, clips, minus_bands, minus_fills, .. } => {
-                fills.iter().enumerate().any(|(i, (f, rule))| {
-                    f.contains(p, *rule) && clips.get(i).is_none_or(|cs| cs.iter().all(|(c, r)| c.contains(p, *r)))
-                }) && !minus_bands.iter().any(|(b, w)| b.within(p, w / 2.0))
+                fills.iter().any(|(f, rule)| f.contains(p, *rule))
+                    && clips.iter().all(|(c, r)| c.contains(p, *r))
+                    && !minus_bands.iter().any(|(b, w)| b.within(p, w / 2.0))
                     && !minus_fills.iter().any(|(f, rule)| f.contains(p, *rule))
             }
-            Region::Band { bands, clips, .. } => bands.iter().enumerate().any(|(i, (b, w))| {
-                b.within(p, w / 2.0) && clips.get(i).is_none_or(|cs| cs.iter().all(|(c, r)| c.contains(p, *r)))
-            }),
+            Region::Band { bands, clips, .. } => {
+                bands.iter().any(|(b, w)| b.within(p, w / 2.0)) && clips.iter().all(|(c, r)| c.contains(p, *r))
+            }
         }
     }
 
@@ -80,11 +81,11 @@ impl Region {
         let band_near = |(b, w): &(Arc<Index>, f64)| b.within(p, r + w / 2.0);
         match self {
             Region::Fill { fills, clips, minus_bands, minus_fills, .. } => {
-                fills.iter().chain(minus_fills).chain(clips.iter().flatten()).any(|(f, _)| f.within(p, r))
+                fills.iter().chain(minus_fills).chain(clips.iter()).any(|(f, _)| f.within(p, r))
                     || minus_bands.iter().any(band_near)
             }
             Region::Band { bands, clips, .. } => {
-                bands.iter().any(band_near) || clips.iter().flatten().any(|(f, _)| f.within(p, r))
+                bands.iter().any(band_near) || clips.iter().any(|(f, _)| f.within(p, r))
             }
         }
     }
@@ -148,7 +149,7 @@ impl Region {
         };
         match self {
             Region::Fill { fills, clips, minus_bands, minus_fills, .. } => {
-                for (f, _) in fills.iter().chain(minus_fills).chain(clips.iter().flatten()) {
+                for (f, _) in fills.iter().chain(minus_fills).chain(clips.iter()) {
                     f.near(p, reach, |a, c| {
                         consider(nearest_on_segment(p, a, c), unit(a.1 - c.1, c.0 - a.0));
                         false
@@ -162,7 +163,7 @@ impl Region {
                 for (b, w) in bands {
                     band(b, *w, &mut consider);
                 }
-                for (f, _) in clips.iter().flatten() {
+                for (f, _) in clips.iter() {
                     f.near(p, reach, |a, c| {
                         consider(nearest_on_segment(p, a, c), unit(a.1 - c.1, c.0 - a.0));
                         false
@@ -203,7 +204,7 @@ impl Region {
         };
         match self {
             Region::Fill { fills, clips, minus_bands, minus_fills, .. } => {
-                for (f, _) in fills.iter().chain(minus_fills).chain(clips.iter().flatten()) {
+                for (f, _) in fills.iter().chain(minus_fills).chain(clips.iter()) {
                     out.extend_from_slice(&f.segs);
                 }
                 for (b, w) in minus_bands {
@@ -214,7 +215,7 @@ impl Region {
                 for (b, w) in bands {
                     band(b, *w, &mut out);
                 }
-                for (f, _) in clips.iter().flatten() {
+                for (f, _) in clips.iter() {
                     out.extend_from_slice(&f.segs);
                 }
             }

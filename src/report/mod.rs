@@ -12,8 +12,8 @@ pub mod edge;
 pub mod exact;
 pub mod mesh;
 pub mod plot;
+pub mod reference;
 pub mod strokes;
-pub mod svgref;
 pub mod trace;
 
 use std::path::{Path, PathBuf};
@@ -194,10 +194,9 @@ impl Prepared {
         }
         let svg = crate::io::read_input_text(input)?;
         let options = crate::compile::compile_options(opts)?.map_err(|d| anyhow::anyhow!("{}", d.message))?;
-        let (reference, gaps) =
-            svgref::exact_layers(&svg, base, &options).map_err(|e| anyhow::anyhow!("{}: {e}", input.display()))?;
-        let mut notes: Vec<String> = gaps
-            .missing
+        let (reference, missing) =
+            reference::exact_layers(&svg, base, &options).map_err(|e| anyhow::anyhow!("{}: {e}", input.display()))?;
+        let mut notes: Vec<String> = missing
             .iter()
             .map(|m| format!("no exact geometry for the layer of {m}; left out of the reference"))
             .collect();

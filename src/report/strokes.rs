@@ -1,15 +1,14 @@
 //! The exact reference for brushed strokes: the unquantised (f64 ms)
-//! schedule of every stroke, planned again from the drawing's own paths and
-//! `brush()` parameters, against the integer ticks stored in the bundle.
+//! schedule of every stroke, planned from the brush requests of the
+//! compiler's layer plan (`taxel_compiler::latero::plan`), against the
+//! integer ticks stored in the bundle.
 
 use std::path::Path;
 
-use anyhow::{Context, Result, anyhow, bail};
-use taxel_compiler::annotation::Style;
-use taxel_compiler::brush::{BrushRequest, plan_strokes};
+use anyhow::{Result, anyhow, bail};
+use taxel_compiler::brush::plan_strokes;
 use taxel_format::{Bundle, Chunk};
 
-use super::svgref::Drawing;
 use crate::cli::CompileOpts;
 
 /// Errors of one bundle's schedule against the unquantised one, in ms.
@@ -25,48 +24,25 @@ pub struct ScheduleError {
     pub points: usize,
 }
 
-/// Plans the strokes of `input` again in f64 and compares them with `bundle`'s ticks.
+/// Plans the strokes of `input` in f64, from the compiler's requests, and compares them with `bundle`'s ticks.
 pub fn schedule_error(input: &Path, opts: &CompileOpts, bundle: &Bundle) -> Result<ScheduleError> {
     let svg = crate::io::read_input_text(input)?;
     let profile = bundle.manifest.profile;
     let options = crate::compile::compile_options(opts)?.map_err(|d| anyhow!("{}", d.message))?;
-    let drawing = Drawing::read(&svg, &profile, &options).map_err(|e| anyhow!("{}: {e}", input.display()))?;
+    let options = taxel_compiler::CompileOptions { profile, ..options };
+    let resolved = taxel_compiler::pipeline::resolve(&svg, &options);
+    let Some(drawing) = resolved.drawing else {
+        let why = resolved.diagnostics.first().map_or("the SVG could not be read".into(), |d| d.message.clone());
+        bail!("{}: {why}", input.display());
+    };
     let Some(table) = bundle.chunks.iter().find_map(|c| if let Chunk::Strokes(t) = c { Some(t) } else { None }) else {
         bail!("{}: the bundle has no strokes", input.display());
     };
-    let prov = bundle.provenance();
-    // One request per subpath of each stroked element, in the bundle's order
-    // (the compiler keeps document order); an element is visited once.
-    let mut requests = Vec::new();
-    let mut seen = Vec::new();
-    for s in &table.strokes {
-        if seen.contains(&s.source) {
-            continue;
-        }
-        seen.push(s.source);
-        let entry = s.source.and_then(|i| prov.and_then(|p| p.entries.get(i as usize)));
-        let geo =
-            entry.and_then(|e| drawing.source(&e.id, e.line)).context("a stroke's source element was not found")?;
-        let Some(br) = geo.styles.iter().find_map(|st| if let Style::Brush(b) = st { Some(*b) } else { None }) else {
-            bail!("a stroke's element has no brush() style");
-        };
-        for pl in &geo.polys {
-            let polyline = pl.walked();
-            requests.push(BrushRequest {
-                polyline,
-                duration_ms: br.duration_ms,
-                intensity: br.intensity,
-                freq_hz: br.freq_hz,
-                start_ms: br.start_ms,
-                source: s.source,
-                element: String::new(),
-                line: None,
-            });
-        }
-    }
+    // The brush requests the compiler planned its strokes from.
+    let requests = taxel_compiler::latero::plan(&drawing, &options).brush;
     let plans: Vec<_> = plan_strokes(&requests, &profile, &mut Vec::new()).into_iter().flatten().collect();
     if plans.len() != table.strokes.len() {
-        bail!("{} strokes planned again, {} in the bundle", plans.len(), table.strokes.len());
+        bail!("{} strokes planned, {} in the bundle", plans.len(), table.strokes.len());
     }
     let ms = 1000.0 / profile.rate_hz.max(1) as f64;
     let (mut mo, mut md, mut sum2, mut n) = (0.0f64, 0.0f64, 0.0f64, 0usize);

@@ -142,6 +142,13 @@ mod tests {
         assert!(manifest.starts_with(MANIFEST_HEADER));
         assert!(manifest.contains("kind = \"grating\"\nfile = \"02-grating.png\"\namplitude = 0.1\n"), "{manifest}");
         assert!(manifest.contains("tag = \"XTRA\"\nrequired = false\n"), "{manifest}");
+        // The note on a distance layer's tile index names every kind of
+        // entry, as the format spells it (fine tiles too), in comment lines.
+        for kind in taxel_format::TileKind::ALL {
+            let first = kind.entry_text().split(' ').next().unwrap();
+            assert!(manifest.contains(&format!("{first} ")), "{kind:?}: {manifest}");
+        }
+        assert!(manifest.lines().filter(|l| l.contains("1610612736")).all(|l| l.starts_with("# ") && l.len() <= 100));
     }
 
     fn finite() -> impl Strategy<Value = f32> {

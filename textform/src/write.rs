@@ -63,15 +63,14 @@ pub fn unpack(name: &str, bytes: &[u8]) -> Result<Vec<(String, Vec<u8>)>, TextEr
                 };
                 let file = format!("{stem}-{kind}.png");
                 let tiles = format!("{stem}-{kind}-tiles.csv");
-                let _ = writeln!(
-                    toml,
-                    "kind = \"{kind}\"\n# {file}: the amplitude this layer produces at 10 px/mm, for people (pack ignores it);\n\
-                     # the exact data are the tile index ({tiles}: 0 outside, 1 inside, 2 + k stored tile k,\n\
-                     # 2147483648 + p plane record p, 3221225472 + p ridge record p, 2684354560 + p corner of records p\n\
-                     # and p + 1, 2952790016 + p notch of records p and p + 1, 2415919104 + p bend of records p and p + 1,\n\
-                     # 3489660928 + p arc of records p and p + 1, 3758096384 + p segments of records p to p + 3)\n\
-                     # and the stored tiles' codes and plane records.\nfile = \"{file}\"\ntiles = \"{tiles}\""
+                // Every kind of tile entry, as the format spells it.
+                let entries: Vec<&str> = taxel_format::TileKind::ALL.iter().map(|k| k.entry_text()).collect();
+                let note = format!(
+                    "{file}: the amplitude this layer produces at 10 px/mm, for people (pack ignores it); \
+                     the exact data are the tile index ({tiles}: {}) and the stored tiles' codes and plane records.",
+                    entries.join(", ")
                 );
+                let _ = writeln!(toml, "kind = \"{kind}\"\n{}\nfile = \"{file}\"\ntiles = \"{tiles}\"", comment(&note));
                 if d.stored_tiles() > 0 {
                     let samples = format!("{stem}-{kind}-samples.png");
                     let _ = writeln!(toml, "samples = \"{samples}\"");
@@ -223,4 +222,19 @@ fn amplitude_png(file: &str, d: &DistanceLayer) -> Result<Vec<u8>, TextError> {
         }
     }
     png::encode(file, w, h, &MaskSamples::U8(v))
+}
+
+/// `text` as TOML comment lines of at most about 100 characters, broken at spaces.
+fn comment(text: &str) -> String {
+    let mut lines: Vec<String> = Vec::new();
+    for word in text.split(' ') {
+        match lines.last_mut() {
+            Some(l) if l.len() + 1 + word.len() <= 100 => {
+                l.push(' ');
+                l.push_str(word);
+            }
+            _ => lines.push(format!("# {word}")),
+        }
+    }
+    lines.join("\n")
 }

@@ -132,19 +132,20 @@ fn braille_dots(
 }
 
 /// The boxes of `clearing` ([`braille_clearing`]) that meet `bounds` (a
-/// grated layer's shapes' box), as occluders of that layer: the ones the
-/// layer is built with, and that `taxel report`'s reference takes.
-pub fn clearing_within(
+/// grated layer's shapes' box), by their place in `clearing`: the ones the
+/// layer is built with, as occluders ([`LayerPlan`](super::LayerPlan)).
+pub(crate) fn clearing_within(
     clearing: &[Polyline],
     bounds: Option<(f64, f64, f64, f64)>,
-) -> impl Iterator<Item = (&[Polyline], crate::geometry::FillRule)> {
+) -> impl Iterator<Item = usize> + '_ {
     clearing
         .iter()
-        .filter(move |c| match (bounds, crate::geometry::bounds(std::slice::from_ref(*c))) {
+        .enumerate()
+        .filter(move |(_, c)| match (bounds, crate::geometry::bounds(std::slice::from_ref(*c))) {
             (Some(a), Some(r)) => r.0 <= a.2 && a.0 <= r.2 && r.1 <= a.3 && a.1 <= r.3,
             _ => false,
         })
-        .map(|c| (std::slice::from_ref(c), crate::geometry::FillRule::NonZero))
+        .map(|(n, _)| n)
 }
 
 /// Dot centres of one braille line lie within this of each other vertically
@@ -158,8 +159,8 @@ const LINE_SPLIT_MM: f64 = 5.0;
 /// Braille amid a texture reads as more texture, and the two would add up
 /// and clamp. Found from the braille dot table alone (its dots grouped by
 /// source, then into lines where their centres are more than 5 mm apart
-/// vertically), so that `taxel report`'s exact reference finds the same
-/// boxes in a bundle.
+/// vertically), so that a tool finds the same boxes from a bundle's dots
+/// ([`LayerPlan::braille_clearing`](super::LayerPlan::braille_clearing) holds them too).
 pub fn braille_clearing(dots: &[Dot]) -> Vec<Polyline> {
     let gap = MIN_GAP_MM;
     let mut by_source: Vec<&Dot> = dots.iter().collect();

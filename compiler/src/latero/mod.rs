@@ -4,8 +4,9 @@
 //! grating style (every shape of that style, SPEC.md section 6.2), dot
 //! tables per kind, brush requests for grid devices, provenance, and the
 //! features the design rules look at. Braille's dots and the clearing
-//! around them are placed in `braille.rs`; `key.rs` compiles the key as a
-//! second bundle.
+//! around them are placed in `braille.rs`. What each distance layer is made
+//! of is the public plan (`plan.rs`, [`LayerPlan`]), from which the layers
+//! are built; `key.rs` compiles the key as a second bundle.
 
 mod braille;
 #[doc(hidden)]
@@ -13,19 +14,22 @@ pub mod distance;
 mod dots;
 mod footprints;
 pub(crate) mod key;
+mod plan;
 
-pub use braille::{braille_clearing, clearing_within};
+pub use braille::braille_clearing;
+use braille::clearing_within;
+pub use distance::LayerGeometry;
+pub use plan::{LayerPlan, PlannedLayer, plan};
 
 use std::collections::HashMap;
 
 use rayon::prelude::*;
 
 use taxel_format::{
-    Chunk, DistanceLayer, Dot, DotKind, DotTable, Family, MaskKind, MilliHertz, Mm, Provenance, ProvenanceEntry,
-    StrokeTable,
+    Chunk, DistanceLayer, Dot, DotKind, DotTable, Family, MilliHertz, Mm, Provenance, ProvenanceEntry, StrokeTable,
 };
 
-use self::distance::{FieldParams, LayerGeometry, build_field_within};
+use self::distance::{FieldParams, build_field_within};
 use self::footprints::Pending as FootPending;
 use crate::annotation::{Grating, Style, Vibrate};
 use crate::brush::{self, BrushRequest};
@@ -248,6 +252,36 @@ pub(crate) fn build<R: Send>(
     diags: &mut Vec<Diagnostic>,
     beside: impl FnOnce(&[Feature]) -> R + Send,
 ) -> (Built, R) {
+    let (mut b, mut plan) = walk(drawing, opts, px, diags);
+    let requests = std::mem::take(&mut plan.brush);
+    let features = std::mem::take(&mut b.features);
+    let (built_index, beside) =
+        rayon::join(|| distance_layers(&mut b, drawing, &plan, opts.memory.as_ref()), || beside(&features));
+    b.features = features;
+    for (style, elements) in std::mem::take(&mut b.over_budget) {
+        diags.push(over_budget(drawing, style, &elements, opts.memory.as_ref()));
+    }
+    // Features name their built layer (a style whose field came out empty has none).
+    for f in &mut b.features {
+        if let Some(k) = f.mask {
+            f.mask = built_index.get(k).copied().flatten();
+        }
+    }
+    if !requests.is_empty() {
+        b.strokes = brush::compile_strokes(&requests, &opts.profile, diags);
+    }
+    (b, beside)
+}
+
+/// Walks `drawing`'s styled elements: the features, dots, braille and
+/// provenance (in the [`Built`]) and the [`LayerPlan`] of its layers, with
+/// the warnings of each element.
+fn walk<'d>(
+    drawing: &'d Drawing,
+    opts: &CompileOptions,
+    px: f32,
+    diags: &mut Vec<Diagnostic>,
+) -> (Built, LayerPlan<'d>) {
     let family = opts.profile.family();
     let profile = opts.profile.name.as_str();
     let page = drawing.page;
@@ -364,25 +398,20 @@ pub(crate) fn build<R: Send>(
     }
     // Braille adds features and no layer (nor reads any), so it comes before the fields.
     braille::braille_texts(&mut b, drawing, opts, diags);
-    let features = std::mem::take(&mut b.features);
-    let (built_index, beside) = rayon::join(
-        || distance_layers(&mut b, drawing, &pending, (px, opts.memory.as_ref()), felt),
-        || beside(&features),
-    );
-    b.features = features;
-    for (style, elements) in std::mem::take(&mut b.over_budget) {
-        diags.push(over_budget(drawing, style, &elements, opts.memory.as_ref()));
-    }
-    // Features name their built layer (a style whose field came out empty has none).
-    for f in &mut b.features {
-        if let Some(k) = f.mask {
-            f.mask = built_index.get(k).copied().flatten();
-        }
-    }
-    if !requests.is_empty() {
-        b.strokes = brush::compile_strokes(&requests, &opts.profile, diags);
-    }
-    (b, beside)
+    let clearing = std::mem::take(&mut b.braille_clear);
+    let source_of = |i: usize| {
+        let e = &drawing.elements[i];
+        b.prov_index.get(&(e.name.clone(), e.line)).copied()
+    };
+    let mut plan = LayerPlan::new(drawing, &pending, source_of, clearing, px, felt);
+    plan.dots =
+        [(DotKind::Outline, &b.outline_dots), (DotKind::Symbol, &b.symbol_dots), (DotKind::Braille, &b.braille_dots)]
+            .into_iter()
+            .filter(|(_, dots)| !dots.is_empty())
+            .map(|(kind, dots)| DotTable { kind, dots: dots.clone() })
+            .collect();
+    plan.brush = requests;
+    (b, plan)
 }
 
 /// Records one element's vibration or grating style: a feature for the
@@ -474,147 +503,63 @@ fn over_budget(
     }
 }
 
-/// Builds one distance layer per style (and set of clip regions): vibrating
-/// outlines as one band of the style (touching borders merge), grated
-/// regions as one fill minus every vibrating band on the page that crosses
-/// them (so an outline is never summed with the grating under it), each
-/// within its clip regions and the part of the page on the device's surface.
-/// Builds the styles' distance layers; returns each style's layer index
-/// (`None` for a style whose field came out empty).
+/// Builds each planned layer's distance field (vibrating outlines as one
+/// band of the style, so touching borders merge; grated regions as one fill
+/// less the vibrating bands that cross them, each within its clip regions
+/// and the part of the page on the device's surface); returns each
+/// gathered style's layer index (`None` for a style whose field came out
+/// empty).
 fn distance_layers(
     b: &mut Built,
     drawing: &Drawing,
-    pending: &[Pending],
-    (px, budget): (f32, Option<&crate::budget::MemoryBudget>),
-    surface: (f64, f64),
+    plan: &LayerPlan<'_>,
+    budget: Option<&crate::budget::MemoryBudget>,
 ) -> Vec<Option<usize>> {
-    let page = drawing.page;
-    let polys = |i: usize| outline(&drawing.elements[i]);
-    let bands: Vec<(usize, f64)> = pending
-        .iter()
-        .filter_map(|p| match p.style {
-            LayerStyle::Vibrate(v) => Some(p.elements.iter().map(move |&i| (i, v.width_mm))),
-            LayerStyle::Grating(_) => None,
-        })
-        .flatten()
-        .collect();
-    // Nothing beyond the page, or the device's surface, is felt or stored.
-    let page_rect = (0.0, 0.0, page.width_mm.min(surface.0), page.height_mm.min(surface.1));
-    // One lattice for every layer of the drawing: a grating's cut-out band
-    // is then sampled at the same points as the band itself, so the two
-    // interpolate to complementary values and never overlap.
-    let narrowest = bands.iter().map(|&(_, w)| w).reduce(f64::min);
-    let opaque = crate::drawing::OpaqueFills::of(drawing);
-    let braille_clear = std::mem::take(&mut b.braille_clear);
-    let pitch = field_pitch(px, narrowest);
     // Every style's field at once: a layer's own setup (its segments'
     // buckets, the inside bits) runs on one thread, and with the layers one
     // after another the other core would wait for it at every layer. They
     // are pushed in style order afterwards, as before.
-    let built: Vec<_> = pending
-        .par_iter()
-        .enumerate()
-        .map(|(k, p)| {
-            let clips: Vec<_> = p.clips.iter().map(|c| (&c.outline[..], c.fill_rule)).collect();
-            let mut covered_by = Vec::new();
-            let (geometry, kind, amplitude, soft) = match p.style {
-                LayerStyle::Vibrate(v) => {
-                    let freq = MilliHertz::from_hz(v.freq_hz)?;
-                    let band = Some((p.elements.iter().map(|&i| polys(i)).collect(), v.width_mm));
-                    (
-                        LayerGeometry { band, clips, ..Default::default() },
-                        MaskKind::Vibration { freq },
-                        v.amplitude,
-                        v.soft_mm,
-                    )
-                }
-                LayerStyle::Grating(gr) => {
-                    let fills: Vec<_> =
-                        p.elements.iter().map(|&i| (polys(i), fill_rule(&drawing.elements[i]))).collect();
-                    let reach = gr.soft_mm / 2.0 + 2.0 * pitch;
-                    let mine = p
-                        .elements
-                        .iter()
-                        .filter_map(|&i| crate::geometry::bounds(polys(i)))
-                        .reduce(|a, r| (a.0.min(r.0), a.1.min(r.1), a.2.max(r.2), a.3.max(r.3)));
-                    let cuts = bands
-                        .iter()
-                        .filter(|(i, w)| {
-                            let m = w / 2.0 + reach;
-                            match (mine, crate::geometry::bounds(polys(*i))) {
-                                (Some(a), Some(r)) => {
-                                    r.0 - m <= a.2 && a.0 <= r.2 + m && r.1 - m <= a.3 && a.1 <= r.3 + m
-                                }
-                                _ => false,
-                            }
-                        })
-                        .map(|&(i, w)| (polys(i), w))
-                        .collect();
-                    let kind =
-                        MaskKind::Grating { wavelength: Mm(gr.wavelength_mm as f32), angle_deg: gr.angle_deg as f32 };
-                    covered_by = opaque.above(drawing, &p.elements);
-                    let mut occluders: Vec<_> = covered_by
-                        .iter()
-                        .map(|&j| (outline(&drawing.elements[j]), fill_rule(&drawing.elements[j])))
-                        .collect();
-                    // Nor under braille and a gap around it: braille amid a
-                    // texture reads as more texture.
-                    occluders.extend(clearing_within(&braille_clear, mine));
-                    (
-                        LayerGeometry { fills, cuts, clips, occluders, ..Default::default() },
-                        kind,
-                        gr.amplitude,
-                        gr.soft_mm,
-                    )
-                }
-            };
-            let params = FieldParams { pitch_mm: pitch, soft_mm: soft, page: page_rect };
-            let field = build_field_within(&geometry, params, budget);
-            Some((k, field, kind, amplitude, soft, covered_by))
+    let built: Vec<_> = (0..plan.layers.len())
+        .into_par_iter()
+        .filter_map(|k| {
+            let l = &plan.layers[k];
+            let geometry = plan.geometry(drawing, k)?;
+            let params = FieldParams { pitch_mm: plan.pitch_mm, soft_mm: l.soft_mm, page: plan.page };
+            Some((k, build_field_within(&geometry, params, budget)))
         })
         .collect();
-    let mut built_index = vec![None; pending.len()];
-    for (k, field, kind, amplitude, soft, covered_by) in built.into_iter().flatten() {
-        let p = &pending[k];
-        let style = match p.style {
-            LayerStyle::Vibrate(_) => "vibrate",
-            LayerStyle::Grating(_) => "grating",
-        };
+    let pending = plan.layers.iter().map(|l| l.pending + 1).max().unwrap_or(0);
+    let mut built_index = vec![None; pending];
+    for (k, field) in built {
+        let l = &plan.layers[k];
+        let style = l.style_name();
         let field = match field {
             Ok(Some(field)) => field,
             Ok(None) => {
-                b.unfelt.push(Unfelt { style, elements: p.elements.clone(), covered_by });
+                b.unfelt.push(Unfelt { style, elements: l.elements.clone(), covered_by: l.covered_by.clone() });
                 continue;
             }
             Err(crate::budget::OverBudget) => {
-                b.over_budget.push((style, p.elements.clone()));
+                b.over_budget.push((style, l.elements.clone()));
                 continue;
             }
         };
-        let mut sources: Vec<u32> = p
-            .elements
-            .iter()
-            .filter_map(|&i| b.prov_index.get(&(drawing.elements[i].name.clone(), drawing.elements[i].line)).copied())
-            .collect();
-        sources.sort_unstable();
-        sources.dedup();
-        built_index[k] = Some(b.layers.len());
-        let layer = DistanceLayer {
-            kind,
-            amplitude: amplitude as f32,
-            soft_mm: soft as f32,
+        built_index[l.pending] = Some(b.layers.len());
+        b.layers.push(DistanceLayer {
+            kind: l.kind,
+            amplitude: l.amplitude as f32,
+            soft_mm: l.soft_mm as f32,
             step_mm: field.step_mm as f32,
             origin_x: Mm(field.origin.0 as f32),
             origin_y: Mm(field.origin.1 as f32),
-            pitch_mm: pitch as f32,
+            pitch_mm: plan.pitch_mm as f32,
             tile_cols: field.tile_cols,
             tile_rows: field.tile_rows,
-            sources,
+            sources: l.sources.clone(),
             tiles: field.tiles,
             planes: field.planes,
             samples: field.samples,
-        };
-        b.layers.push(layer);
+        });
     }
     built_index
 }

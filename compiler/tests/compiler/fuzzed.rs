@@ -10,7 +10,8 @@ use crate::common::*;
 use crate::svggen::{self, Choices};
 
 /// Compiles `svg` and fails on T0900, or on a bundle whose layer plan
-/// breaks an invariant ([`taxel_compiler::sanity::latero_plan`]).
+/// breaks an invariant ([`taxel_compiler::sanity::latero_plan`]), or whose
+/// public plan (`latero::plan`) does ([`LayerPlan::sanity_check`](taxel_compiler::latero::LayerPlan::sanity_check)).
 fn compiles_without_internal_error(svg: &str) {
     let c = compile(svg);
     let internal: Vec<_> = c.diagnostics.iter().filter(|d| d.code == "T0900").collect();
@@ -19,6 +20,20 @@ fn compiles_without_internal_error(svg: &str) {
         && let Err(e) = taxel_compiler::sanity::latero_plan(b)
     {
         panic!("{e} on\n{svg}");
+    }
+    // The public layer plan of the same drawing is sane, and holds every
+    // distance layer the bundle does (it also holds those that came out empty).
+    if let Some(b) = &c.bundle {
+        let opts = taxel_compiler::CompileOptions::new(stress2());
+        let drawing = taxel_compiler::pipeline::resolve(svg, &opts).drawing.expect("the drawing compiled");
+        let plan = taxel_compiler::latero::plan(&drawing, &opts);
+        if let Err(e) = plan.sanity_check(&drawing) {
+            panic!("{e} on\n{svg}");
+        }
+        for d in masks(b) {
+            let planned = plan.layers.iter().any(|l| l.kind == d.kind && l.sources == d.sources);
+            assert!(planned, "a {:?} layer of sources {:?} is not in the plan of\n{svg}", d.kind, d.sources);
+        }
     }
 }
 

@@ -12,6 +12,7 @@ mod lookup;
 mod malformed;
 mod mesh;
 mod mesh_axis;
+mod plan;
 mod realistic;
 mod runaway;
 mod scenes;

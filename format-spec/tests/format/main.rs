@@ -14,4 +14,5 @@ mod profiles;
 mod props;
 mod roundtrip;
 mod spec;
+mod tile_access;
 mod tiled;
