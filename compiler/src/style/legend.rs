@@ -500,6 +500,19 @@ const ALIGN_MM: f64 = 2.5;
 /// up as a legend's rows (or its columns).
 fn legend_texts(d: &Drawing, entries: &[Entry]) -> BTreeMap<usize, (String, Option<String>)> {
     let texts = Texts::of(d);
+    // A text over a region of a texture is that region's label (a map's),
+    // not a legend's: a legend's text lies on the page or on its own box.
+    let mut textured: Vec<usize> = entries
+        .iter()
+        .filter(|x| matches!(x.swatch, Swatch::Texture(_)))
+        .flat_map(|x| x.elements.iter().copied())
+        .collect();
+    textured.sort_unstable();
+    let grounds = Grounds::of(d);
+    let is_label = |t: &TextShape| {
+        let at = Texts::place(t);
+        at.and_then(|(x, y, _)| grounds.topmost_at((x, y))).is_some_and(|i| textured.binary_search(&i).is_ok())
+    };
     // (entry, swatch's box, text, lang)
     let mut pairs: Vec<(usize, Bounds, String, Option<String>)> = Vec::new();
     for (k, x) in entries.iter().enumerate() {
@@ -508,6 +521,7 @@ fn legend_texts(d: &Drawing, entries: &[Entry]) -> BTreeMap<usize, (String, Opti
             let Some(b) = d.elements.get(i).and_then(Element::seen_bounds) else { continue };
             if let Some((gap, t)) = texts.beside(b)
                 && best.as_ref().is_none_or(|bb| gap < bb.0)
+                && !is_label(t)
             {
                 best = Some((gap, b, t));
             }
@@ -549,14 +563,7 @@ impl<'d> Texts<'d> {
             .elements
             .iter()
             .filter_map(|e| match &e.shape {
-                Shape::Text(t) if !t.content.trim().is_empty() => {
-                    // Where the drawing has it, before its braille was moved.
-                    let run = t.runs.iter().find(|r| !r.text.trim().is_empty())?;
-                    let (x, y) = (run.x_mm - t.moved_mm.0, run.y_mm - t.moved_mm.1);
-                    let x = x - run.anchor * t.content.chars().count() as f64 * t.font_size_mm * 0.5;
-                    let at = (x, y - 0.35 * t.font_size_mm, t.font_size_mm);
-                    (at.0.is_finite() && at.1.is_finite() && at.2.is_finite()).then_some((t, at))
-                }
+                Shape::Text(t) if !t.content.trim().is_empty() => Some((t, Self::place(t)?)),
                 _ => None,
             })
             .collect();
@@ -570,6 +577,17 @@ impl<'d> Texts<'d> {
         }
         let max_size = texts.iter().map(|t| t.1.2).fold(0.0, f64::max);
         Texts { texts, bands, max_size }
+    }
+
+    /// Where a text starts, its middle height and its size, where the
+    /// drawing has it (before its braille was moved); `None` for a text
+    /// with nothing to say or no finite place.
+    fn place(t: &TextShape) -> Option<(f64, f64, f64)> {
+        let run = t.runs.iter().find(|r| !r.text.trim().is_empty())?;
+        let (x, y) = (run.x_mm - t.moved_mm.0, run.y_mm - t.moved_mm.1);
+        let x = x - run.anchor * t.content.chars().count() as f64 * t.font_size_mm * 0.5;
+        let at = (x, y - 0.35 * t.font_size_mm, t.font_size_mm);
+        (at.0.is_finite() && at.1.is_finite() && at.2.is_finite()).then_some(at)
     }
 
     /// The text a legend would write beside a swatch of box `b`, and how far
@@ -606,6 +624,41 @@ impl<'d> Texts<'d> {
             }
         }
         best.map(|(gap, _, t)| (gap, t))
+    }
+}
+
+/// The visible filled shapes of a drawing, by box: what lies under a point.
+struct Grounds<'d> {
+    d: &'d Drawing,
+    tree: rstar::RTree<rstar::primitives::GeomWithData<rstar::primitives::Rectangle<[f64; 2]>, usize>>,
+}
+
+impl<'d> Grounds<'d> {
+    fn of(d: &'d Drawing) -> Self {
+        let boxes = d
+            .elements
+            .iter()
+            .enumerate()
+            .filter(|(_, e)| e.visible && e.paint.fill.is_some() && matches!(e.shape, Shape::Path(_)))
+            .filter_map(|(i, e)| {
+                let b = e.seen_bounds()?;
+                let r = rstar::primitives::Rectangle::from_corners([b.0, b.1], [b.2, b.3]);
+                [b.0, b.1, b.2, b.3].iter().all(|v| v.is_finite()).then(|| rstar::primitives::GeomWithData::new(r, i))
+            })
+            .collect();
+        Grounds { d, tree: rstar::RTree::bulk_load(boxes) }
+    }
+
+    /// The last element in drawing order whose fill holds `p`.
+    fn topmost_at(&self, p: (f64, f64)) -> Option<usize> {
+        self.tree
+            .locate_all_at_point(&[p.0, p.1])
+            .map(|g| g.data)
+            .filter(|&i| match self.d.elements.get(i).map(|e| &e.shape) {
+                Some(Shape::Path(ps)) => crate::geometry::contains(&ps.outline, p, ps.fill_rule),
+                _ => false,
+            })
+            .max()
     }
 }
 

@@ -268,3 +268,33 @@ fn the_text_beside_a_swatch_is_found_as_by_a_look_at_every_text() {
     // The page is dense enough that most swatches have a text beside them.
     assert!(found > 1000, "{found}");
 }
+
+/// A map's region labels are not a legend, however they line up: a label
+/// over a region of a texture, just right of a small region, names no
+/// texture. The same texts on the page, beside the same swatches, do.
+#[test]
+fn a_regions_label_beside_a_small_region_is_not_a_legend_text() {
+    const THIRD: &str = "grating(wavelength: 9mm, angle: 45deg)";
+    // Two small regions of two textures in a column, each followed by a
+    // large region of a third whose label starts just right of the small
+    // one, level with it; `dy` moves the large regions out from under the labels.
+    let map = |dy: f64| {
+        let mut body = String::new();
+        for (row, (y, fill, style)) in [(10.0, "green", FINE), (40.0, "red", COARSE)].into_iter().enumerate() {
+            body.push_str(&format!(
+                r#"<rect x="10" y="{y}" width="6" height="6" fill="{fill}" data-tactile="{style}"/>
+                   <rect x="16" y="{y0}" width="60" height="20" fill="blue" data-tactile="{THIRD}"/>
+                   <text x="18" y="{ty}" font-size="4">R{row}</text>"#,
+                y0 = y - 7.0 + dy,
+                ty = y + 4.5,
+            ));
+        }
+        legend(&drawing(&body))
+    };
+    let from_legend = |l: &Legend| l.entries.iter().filter(|e| e.source == Source::Legend).count();
+    let labels = map(0.0);
+    assert_eq!(from_legend(&labels), 0, "{:?}", meanings(&labels));
+    let on_the_page = map(60.0);
+    assert_eq!(from_legend(&on_the_page), 2, "{:?}", meanings(&on_the_page));
+    assert!(meanings(&on_the_page).contains(&("R0", Source::Legend)), "{:?}", meanings(&on_the_page));
+}
