@@ -65,8 +65,13 @@ impl Polyline {
     /// The segments, including the closing one of a closed polyline.
     pub fn segments(&self) -> impl Iterator<Item = ((f64, f64), (f64, f64))> + '_ {
         let n = self.points.len();
-        let extra = if self.closed && n > 2 { 1 } else { 0 };
-        (0..(n.saturating_sub(1) + extra)).map(move |i| (self.points[i], self.points[(i + 1) % n]))
+        (0..self.segment_count()).map(move |i| (self.points[i], self.points[(i + 1) % n]))
+    }
+
+    /// How many segments [`Polyline::segments`] gives.
+    pub fn segment_count(&self) -> usize {
+        let n = self.points.len();
+        n.saturating_sub(1) + usize::from(self.closed && n > 2)
     }
 
     /// The length along the polyline (closing segment included when closed).
@@ -170,6 +175,42 @@ pub fn contains(polys: &[Polyline], p: (f64, f64), rule: FillRule) -> bool {
         for i in 0..n {
             let a = pl.points[i];
             let b = pl.points[(i + 1) % n];
+            if (a.1 <= p.1) != (b.1 <= p.1) {
+                let x = a.0 + (p.1 - a.1) / (b.1 - a.1) * (b.0 - a.0);
+                if x > p.0 {
+                    crossings += 1;
+                    winding += if b.1 > a.1 { 1 } else { -1 };
+                }
+            }
+        }
+    }
+    match rule {
+        FillRule::NonZero => winding != 0,
+        FillRule::EvenOdd => crossings % 2 == 1,
+    }
+}
+
+/// Whether `p` lies inside the shape (by `rule`) farther than `margin` from
+/// its outline: `contains(polys, p, rule)` and
+/// `distance_to_outline_within(polys, p, margin, margin) > margin`, in one
+/// pass over the sides that stops at the first side within `margin`.
+pub fn deep_inside(polys: &[Polyline], p: (f64, f64), rule: FillRule, margin: f64) -> bool {
+    let (mut winding, mut crossings) = (0i32, 0u32);
+    // The box test's slack, as in [`distance_to_outline_within`].
+    let t = margin + margin * 1e-9 + 1e-9;
+    for pl in polys {
+        let n = pl.points.len();
+        // The sides [`Polyline::segments`] measures; every side closes the ring for the winding.
+        let measured = pl.segment_count();
+        for i in 0..n {
+            let (a, b) = (pl.points[i], pl.points[(i + 1) % n]);
+            if i < measured {
+                let dx = (a.0.min(b.0) - p.0).max(p.0 - a.0.max(b.0)).max(0.0);
+                let dy = (a.1.min(b.1) - p.1).max(p.1 - a.1.max(b.1)).max(0.0);
+                if dx * dx + dy * dy <= t * t && distance_to_segment(p, a, b) <= margin {
+                    return false;
+                }
+            }
             if (a.1 <= p.1) != (b.1 <= p.1) {
                 let x = a.0 + (p.1 - a.1) / (b.1 - a.1) * (b.0 - a.0);
                 if x > p.0 {
@@ -481,262 +522,4 @@ pub fn points_at(pl: &Polyline, positions: &[f64]) -> Vec<(f64, f64)> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use resvg::tiny_skia::PathBuilder;
-
-    #[test]
-    fn walked_closes_only_closed_polylines() {
-        let pts = vec![(0.0, 0.0), (1.0, 0.0), (1.0, 1.0)];
-        let closed = Polyline { points: pts.clone(), closed: true };
-        assert_eq!(closed.walked(), vec![(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 0.0)]);
-        let open = Polyline { points: pts.clone(), closed: false };
-        assert_eq!(open.walked(), pts);
-        assert!(Polyline { points: vec![], closed: true }.walked().is_empty());
-    }
-
-    #[test]
-    fn circle_flattens_within_tolerance() {
-        let path = PathBuilder::from_circle(50.0, 50.0, 20.0).unwrap();
-        let polys = flatten(&path, Transform::from_scale(0.5, 0.5), 0.001);
-        assert_eq!(polys.len(), 1);
-        assert!(polys[0].closed);
-        // Vertices lie on the circle (centre 25,25, radius 10; tiny-skia's
-        // conic-to-quad circle is itself within ~1e-4 of exact) and chords stay close.
-        for (a, b) in polys[0].segments() {
-            let mid = ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0);
-            assert!((dist(a, (25.0, 25.0)) - 10.0).abs() < 2e-3);
-            assert!((dist(mid, (25.0, 25.0)) - 10.0).abs() < 3e-3);
-        }
-        let exact = 2.0 * core::f64::consts::PI * 10.0;
-        assert!((polys[0].length() - exact).abs() / exact < 1e-3);
-    }
-
-    #[test]
-    fn simplify_keeps_every_point_within_tolerance() {
-        // A small circle as the fields flatten it: many more sides than a
-        // 2 um tolerance needs.
-        let path = PathBuilder::from_circle(0.0, 0.0, 0.7).unwrap();
-        let ring = &flatten(&path, Transform::identity(), FLATTEN_TOLERANCE_MM)[0];
-        for tol in [0.002, 0.01, 0.05] {
-            let kept = simplify(&ring.points, true, tol);
-            assert!(kept.len() < ring.points.len(), "tolerance {tol}: nothing dropped");
-            assert!(kept.len() >= 3, "tolerance {tol}: the ring collapsed");
-            let out = Polyline { points: kept, closed: true };
-            for &p in &ring.points {
-                let d = out.segments().map(|(a, b)| distance_to_segment(p, a, b)).fold(f64::INFINITY, f64::min);
-                assert!(d <= tol + 1e-12, "tolerance {tol}: {p:?} is {d} from the simplified ring");
-            }
-        }
-        // Collinear points go, corners stay.
-        let l = [(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (2.0, 1.0), (2.0, 2.0)];
-        assert_eq!(simplify(&l, false, 0.001), vec![(0.0, 0.0), (2.0, 0.0), (2.0, 2.0)]);
-    }
-
-    /// Douglas–Peucker as it was written before [`Farthest`]: `hypot` for
-    /// every point, `max_by` over `total_cmp` for a ring's split.
-    fn simplify_measuring_every_point(points: &[(f64, f64)], closed: bool, tol: f64) -> Vec<(f64, f64)> {
-        if points.len() <= 3 {
-            return points.to_vec();
-        }
-        let mut keep = vec![false; points.len()];
-        let last = points.len() - 1;
-        keep[0] = true;
-        keep[last] = true;
-        let mut stack = vec![(0usize, last)];
-        if closed {
-            let far = (1..points.len())
-                .max_by(|&a, &b| dist(points[0], points[a]).total_cmp(&dist(points[0], points[b])))
-                .unwrap_or(last);
-            keep[far] = true;
-            stack = vec![(0, far), (far, last)];
-        }
-        while let Some((a, b)) = stack.pop() {
-            if b <= a + 1 {
-                continue;
-            }
-            let (mut worst, mut at) = (0.0, a);
-            for i in a + 1..b {
-                let d = distance_to_segment(points[i], points[a], points[b]);
-                if d > worst {
-                    (worst, at) = (d, i);
-                }
-            }
-            if worst > tol {
-                keep[at] = true;
-                stack.push((a, at));
-                stack.push((at, b));
-            }
-        }
-        points.iter().zip(keep).filter(|(_, k)| *k).map(|(p, _)| *p).collect()
-    }
-
-    /// A xorshift generator of uniform numbers in [0, 1) from `seed`.
-    fn uniform(mut state: u64) -> impl FnMut() -> f64 {
-        move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
-
-    #[test]
-    fn simplify_keeps_the_points_that_measuring_every_point_keeps() {
-        let mut next = uniform(0x9e37_79b9_7f4a_7c15u64);
-        let mut cases: Vec<Vec<(f64, f64)>> = Vec::new();
-        for k in 0..300 {
-            let n = 4 + (next() * 400.0) as usize;
-            let scale = [1e-3, 1.0, 300.0, 1e20, 1e150, 1e-150][k % 6];
-            let pts: Vec<(f64, f64)> = match k % 4 {
-                // Random walks.
-                0 => {
-                    let mut p = (0.0, 0.0);
-                    (0..n)
-                        .map(|_| {
-                            p = (p.0 + (next() - 0.5) * scale, p.1 + (next() - 0.5) * scale);
-                            p
-                        })
-                        .collect()
-                }
-                // Flattened arcs: the farthest point moves at almost every step.
-                1 => (0..n)
-                    .map(|i| {
-                        let t = i as f64 / n as f64 * 6.0;
-                        (scale * t.cos() + next() * scale * 1e-6, scale * t.sin())
-                    })
-                    .collect(),
-                // Lattice points: many equal distances, so ties decide.
-                2 => (0..n).map(|_| ((next() * 8.0).floor() * scale, (next() * 8.0).floor() * scale)).collect(),
-                // Nearly collinear points, within rounding of the chord.
-                _ => (0..n).map(|i| (i as f64 * scale, (i as f64 * scale) * (1.0 + next() * 1e-15))).collect(),
-            };
-            cases.push(pts);
-        }
-        for (k, pts) in cases.iter().enumerate() {
-            for closed in [false, true] {
-                for tol in [0.0, 0.002, 0.05, 1e-3 * pts[1].0.abs().max(1e-300)] {
-                    assert_eq!(
-                        simplify(pts, closed, tol),
-                        simplify_measuring_every_point(pts, closed, tol),
-                        "case {k}, closed {closed}, tolerance {tol}"
-                    );
-                }
-            }
-        }
-    }
-
-    /// Offsets `(a, b)` whose squares order them one way and whose `hypot`
-    /// the other (`a`'s square above `b`'s, `a` nearer): a few ulps apart.
-    fn squares_and_hypot_disagree() -> Vec<((f64, f64), (f64, f64))> {
-        let mut next = uniform(0x853c_49e6_748f_ea9bu64);
-        let ulps = |v: f64, k: i64| f64::from_bits((v.to_bits() as i64 + k) as u64);
-        let mut out = Vec::new();
-        while out.len() < 40 {
-            let base = (0.5 + 3.0 * next(), 0.5 + 3.0 * next());
-            let near: Vec<(f64, f64)> =
-                (0..144).map(|k| (ulps(base.0, k % 12 - 6), ulps(base.1, 6 - k / 12))).collect();
-            for &a in &near {
-                if let Some(&b) = near
-                    .iter()
-                    .find(|b| a.0 * a.0 + a.1 * a.1 > b.0 * b.0 + b.1 * b.1 && a.0.hypot(a.1) < b.0.hypot(b.1))
-                {
-                    out.push((a, b));
-                    break;
-                }
-            }
-        }
-        out
-    }
-
-    #[test]
-    fn simplify_measures_where_squares_and_hypot_disagree() {
-        for (a, b) in squares_and_hypot_disagree() {
-            // A ring split at the point farthest from its first: `b`, though
-            // `a`'s square is larger (offsets from (0, 0) are exact).
-            let ring = [(0.0, 0.0), (-a.0, -a.1), (1e-3, 0.0), (-b.0, -b.1), (2e-3, 0.0)];
-            // An open path back to its start: each point's offset from the
-            // chord is the point itself. `b` lies farther than `a`'s distance.
-            let there_and_back = [(0.0, 0.0), b, (1e-9, 0.0), (0.0, 0.0)];
-            for (pts, closed, tol) in
-                [(&ring[..], true, 1e9), (&ring[..], true, 0.0), (&there_and_back[..], false, a.0.hypot(a.1))]
-            {
-                assert_eq!(
-                    simplify(pts, closed, tol),
-                    simplify_measuring_every_point(pts, closed, tol),
-                    "{a:?} {b:?}, closed {closed}, tolerance {tol}"
-                );
-            }
-        }
-    }
-
-    #[test]
-    fn even_odd_and_nonzero_differ_for_a_doubled_square() {
-        let sq = Polyline { points: vec![(0.0, 0.0), (4.0, 0.0), (4.0, 4.0), (0.0, 4.0)], closed: true };
-        let polys = vec![sq.clone(), sq];
-        assert!(contains(&polys, (2.0, 2.0), FillRule::NonZero));
-        assert!(!contains(&polys, (2.0, 2.0), FillRule::EvenOdd));
-    }
-
-    #[test]
-    fn crossing_segments_have_zero_distance() {
-        assert_eq!(segment_distance((0.0, 0.0), (2.0, 2.0), (0.0, 2.0), (2.0, 0.0)), 0.0);
-        assert!((segment_distance((0.0, 0.0), (1.0, 0.0), (0.0, 3.0), (1.0, 3.0)) - 3.0).abs() < 1e-12);
-    }
-
-    #[test]
-    fn points_at_walks_arc_length() {
-        let pl = Polyline { points: vec![(0.0, 0.0), (10.0, 0.0), (10.0, 10.0)], closed: false };
-        let p = points_at(&pl, &[0.0, 5.0, 15.0, 20.0]);
-        assert_eq!(p, vec![(0.0, 0.0), (5.0, 0.0), (10.0, 5.0), (10.0, 10.0)]);
-    }
-
-    #[test]
-    fn distance_within_a_reach_is_the_full_distance_to_the_bit() {
-        // Random closed and open walks and points around them (a linear congruential sequence).
-        let mut s = 7u64;
-        let mut next = || {
-            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (s >> 33) as f64 / (1u64 << 31) as f64
-        };
-        let (mut within, mut stopped_early) = (0, 0);
-        for k in 0..200 {
-            let n = 2 + k % 40;
-            let (mut x, mut y) = (next() * 20.0, next() * 20.0);
-            let points: Vec<_> = (0..n)
-                .map(|_| {
-                    x += (next() - 0.5) * 3.0;
-                    y += (next() - 0.5) * 3.0;
-                    (x, y)
-                })
-                .collect();
-            let polys = vec![Polyline { points, closed: k % 2 == 0 }];
-            let p = (next() * 24.0 - 2.0, next() * 24.0 - 2.0);
-            let full = distance_to_outline(&polys, p);
-            for reach in [0.0, 0.5, 2.0, 8.0, f64::INFINITY] {
-                let d = distance_to_outline_within(&polys, p, reach, f64::NEG_INFINITY);
-                if full <= reach {
-                    within += 1;
-                    assert_eq!(d.to_bits(), full.to_bits(), "walk {k}, reach {reach}");
-                } else {
-                    assert!(d > reach, "walk {k}, reach {reach}: {d}, full {full}");
-                }
-                // Stopping at 1 mm: some value at or below it when the
-                // outline comes that close within the reach, the same value
-                // as without stopping when it does not come that close.
-                let stopped = distance_to_outline_within(&polys, p, reach, 1.0);
-                if full <= reach.min(1.0) {
-                    stopped_early += 1;
-                    assert!(stopped <= 1.0, "walk {k}, reach {reach}: {stopped}, full {full}");
-                } else if full > 1.0 {
-                    assert_eq!(stopped.to_bits(), d.to_bits(), "walk {k}, reach {reach}");
-                } else {
-                    assert!(stopped > reach, "walk {k}, reach {reach}: {stopped}, full {full}");
-                }
-            }
-        }
-        assert!(within > 300, "only {within} within reach");
-        assert!(stopped_early > 30, "only {stopped_early} stopped early");
-        assert_eq!(distance_to_outline_within(&[], (0.0, 0.0), 1.0, 0.0), f64::INFINITY);
-    }
-}
+mod tests;

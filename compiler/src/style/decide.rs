@@ -15,7 +15,7 @@ use super::{
     MARK_KIND_MIN, MARK_MM, MARK_SPACING_MM, MAX_TEXTURES, MIN_FILL_MM2, Measure, NEAR_MM, Neighbours, Plan, Region,
     colour, compact, darkness, grey, min_region_mm, outline_style, rgb, round, textures, visible,
 };
-use crate::drawing::{Drawing, PathShape, Rgba, Shape, StyledBy, TextShape};
+use crate::drawing::{Drawing, Paint, PathShape, Rgba, Shape, StyledBy, TextShape};
 use crate::geometry::filled_area;
 use crate::spatial::{self, Bbox, Occupancy};
 
@@ -90,6 +90,12 @@ fn faint(c: Option<Rgba>, darkest: Option<Rgba>) -> bool {
     })
 }
 
+/// Whether a fill of `paint` is seen on the page: painted, and not paper
+/// on a ground where paper is not a figure.
+fn fill_seen(paint: Paint, ground: &Ground) -> bool {
+    paint.filled && paint.fill.is_none_or(|c| visible(c) && (ground.white_is_figure || !paper(c)))
+}
+
 /// Small enough to be a mark (before its neighbours are looked at).
 fn small_size(f: &Filled<'_>) -> bool {
     let b = f.region.bbox;
@@ -139,6 +145,21 @@ impl<'d> Draft<'d> {
     fn elements(&mut self, ground: &Ground, darkest: Option<Rgba>) {
         let d = self.d;
         let line_ends = LineEnds::of(d);
+        // Each seen fill's area, measured once and on every core: a
+        // scribble's area is a sweep of many rows, and a map at the input
+        // limit has tens of thousands of regions.
+        let areas: Vec<f64> = {
+            use rayon::prelude::*;
+            d.elements
+                .par_iter()
+                .map(|e| match &e.shape {
+                    Shape::Path(p) if e.styled_by == StyledBy::Nothing && fill_seen(e.paint, ground) => {
+                        filled_area(&p.outline, p.fill_rule)
+                    }
+                    _ => 0.0,
+                })
+                .collect()
+        };
         for (i, e) in d.elements.iter().enumerate() {
             if e.styled_by != StyledBy::Nothing {
                 continue;
@@ -164,7 +185,7 @@ impl<'d> Draft<'d> {
                 Shape::Image { .. } => dec.left_out = Some(LeftOut::Image),
                 // Text is placed once every mark is known, so braille avoids the dots.
                 Shape::Text(t) => self.texts.push((i, t)),
-                Shape::Path(p) => self.path(i, p, b, ground, darkest, &line_ends),
+                Shape::Path(p) => self.path(i, p, b, areas[i], ground, darkest, &line_ends),
             }
         }
     }
@@ -177,6 +198,7 @@ impl<'d> Draft<'d> {
         i: usize,
         p: &'d PathShape,
         b: Bbox,
+        area: f64,
         ground: &Ground,
         darkest: Option<Rgba>,
         line_ends: &LineEnds,
@@ -186,10 +208,7 @@ impl<'d> Draft<'d> {
         // A fill that encloses nothing (a `<line>`, which SVG fills by default, or
         // collinear points) is not seen, so not a region: taken for one, it would
         // abut the lines it crosses and lose its vibrating stroke (a chart's axes).
-        let fill_seen = paint.filled && paint.fill.is_none_or(|c| visible(c) && (ground.white_is_figure || !paper(c)));
-        // Measured once: a scribble's area is a sweep of many rows.
-        let area = if fill_seen { filled_area(&p.outline, p.fill_rule) } else { 0.0 };
-        let filled = fill_seen && area > MIN_FILL_MM2;
+        let filled = fill_seen(paint, ground) && area > MIN_FILL_MM2;
         let stroked = paint.stroked && paint.stroke_width_mm > 0.0 && paint.stroke.is_none_or(visible);
         if filled && ground.backgrounds.contains(&i) {
             dec.left_out = Some(LeftOut::Background);

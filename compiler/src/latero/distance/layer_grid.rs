@@ -158,6 +158,7 @@ impl LayerGrid {
     /// allow.
     pub(super) fn new(
         segs: &[(Seg, Part, f64)],
+        buckets: &[Vec<u32>],
         mut span: Vec<[u16; 4]>,
         lat: &Lattice,
         slot_of: impl Fn(Part) -> Option<usize>,
@@ -165,14 +166,14 @@ impl LayerGrid {
         max_rings: f64,
     ) -> Option<LayerGrid> {
         let (cols, rows, h) = (lat.tiles.cols, lat.tiles.rows, lat.h);
-        if !(h.is_finite() && h > 0.0) || lat.slots >= 64 || span.len() != segs.len() {
+        if !(h.is_finite() && h > 0.0) || lat.slots >= 64 || span.len() != segs.len() || buckets.len() != cols * rows {
             return None;
         }
         let cell = h / SUB as f64;
         let mut stats = vec![TileStats::default(); cols.checked_mul(rows)?];
         let mut reach: Vec<Option<f64>> = vec![None; lat.slots];
         let mut slot = Vec::with_capacity(segs.len());
-        for (&(seg @ (a, b), part, m), sp) in segs.iter().zip(span.iter_mut()) {
+        for (&((a, b), part, m), sp) in segs.iter().zip(span.iter_mut()) {
             let Some(s) = slot_of(part).filter(|_| sp[0] <= sp[1] && sp[2] <= sp[3]) else {
                 slot.push(u8::MAX);
                 *sp = super::NO_TILES;
@@ -190,21 +191,23 @@ impl LayerGrid {
                 Some(v) if v.to_bits() != r.to_bits() => return None,
                 _ => reach[s] = Some(r),
             }
-            let own = is_own(s);
-            let whole = sp.map(usize::from);
-            for row in whole[2]..=whole[3] {
-                let (c0, c1) = lat.tiles.row_cols(&seg, m, row, whole);
-                for col in c0..=c1 {
-                    let t = stats.get_mut(row * cols + col)?;
-                    if own {
-                        t.own += 1;
-                    } else {
-                        t.rest += 1;
-                    }
-                    t.slots |= 1 << s;
-                }
-            }
             slot.push(s as u8);
+        }
+        // A segment's tiles are those whose buckets hold it (the buckets
+        // were filled by the same spans and rows, `Tiles::row_cols`).
+        for (t, bucket) in stats.iter_mut().zip(buckets) {
+            for &n in bucket {
+                let s = *slot.get(n as usize)?;
+                if s == u8::MAX {
+                    continue;
+                }
+                if is_own(usize::from(s)) {
+                    t.own += 1;
+                } else {
+                    t.rest += 1;
+                }
+                t.slots |= 1 << s;
+            }
         }
         let reach: Vec<f64> = reach.into_iter().map(|r| r.unwrap_or(0.0)).collect();
         let searched = |own: bool| stats.iter().any(|t| (if own { t.own } else { t.rest }) as usize >= grid_from);
@@ -311,7 +314,11 @@ impl LayerGrid {
         // hundreds of cells each).
         let mut start = vec![0u32; n_cells + 2];
         let mut total = 0u64;
+        // The members by first row, counted here and placed below (a
+        // counting sort, stable: in segment order within a row).
+        let mut first_row = vec![0u32; self.height + 1];
         each(&mut |n, c| {
+            first_row[c[1] + 1] += 1;
             for (y, x0, x1) in rows(n, c) {
                 total += (x1 - x0 + 1) as u64;
                 start[y * self.width + x0 + 1] = start[y * self.width + x0 + 1].wrapping_add(1);
@@ -336,22 +343,34 @@ impl LayerGrid {
         // to a cache line of its own). The members spanning the row are in
         // hand in segment order (those starting on it merged in), so each
         // cell lists its segments in segment order, as counted.
-        let mut by_first: Vec<(u32, [usize; 4])> = Vec::new();
-        each(&mut |n, c| by_first.push((n, c)));
-        // Stable: in segment order within a first row.
-        by_first.sort_by_key(|&(_, c)| c[1]);
+        for y in 1..first_row.len() {
+            first_row[y] += first_row[y - 1];
+        }
+        let mut by_first: Vec<(u32, [u32; 4])> = vec![(0, [0; 4]); first_row[self.height] as usize];
+        each(&mut |n, c| {
+            let at = &mut first_row[c[1]];
+            by_first[*at as usize] = (n, c.map(|v| v as u32));
+            *at += 1;
+        });
         let (mut active, mut merged): (Vec<Member>, Vec<Member>) = (Vec::new(), Vec::new());
         let mut k = 0;
         for y in 0..self.height {
             active.retain(|m| m.last_row >= y);
             let first = k;
-            while by_first.get(k).is_some_and(|&(_, c)| c[1] <= y) {
+            while by_first.get(k).is_some_and(|&(_, c)| c[1] as usize <= y) {
                 k += 1;
             }
-            let starting = by_first[first..k].iter().filter(|&&(_, c)| c[3] >= y).map(|&(n, [x0, _, x1, y1])| {
-                let ((a, b), _, _) = segs[n as usize];
-                Member { n, a: in_cells(a), b: in_cells(b), cols: (x0 as isize, x1 as isize), last_row: y1 }
-            });
+            let starting =
+                by_first[first..k].iter().filter(|&&(_, c)| c[3] as usize >= y).map(|&(n, [x0, _, x1, y1])| {
+                    let ((a, b), _, _) = segs[n as usize];
+                    Member {
+                        n,
+                        a: in_cells(a),
+                        b: in_cells(b),
+                        cols: (x0 as isize, x1 as isize),
+                        last_row: y1 as usize,
+                    }
+                });
             if first < k {
                 merged.clear();
                 let mut old = active.drain(..).peekable();

@@ -18,7 +18,7 @@ fn layer_grid_of(segs: &[(Seg, Part, f64)], origin: (f64, f64), h: f64, margin: 
     let tiles = super::super::Tiles { origin, side: tile, cols, rows };
     let (buckets, spans) = super::super::buckets_of(segs, &tiles);
     let lattice = super::super::layer_grid::Lattice { tiles, h, margin, slots: slots(1, 1) };
-    let grid = LayerGrid::new(segs, spans, &lattice, |p| slot_of(p, 1, 1), 0, MAX_RINGS);
+    let grid = LayerGrid::new(segs, &buckets, spans, &lattice, |p| slot_of(p, 1, 1), 0, MAX_RINGS);
     (buckets, grid.expect("a layer grid"))
 }
 
