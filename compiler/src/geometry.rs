@@ -19,9 +19,11 @@
 use resvg::tiny_skia::{Path, PathSegment, Transform};
 
 mod area;
+mod sides;
 pub(crate) mod crossings;
 pub(crate) mod overlay;
 pub use area::{filled_area, filled_area_within};
+pub use sides::SideRows;
 
 /// Largest distance, in millimetres, between a curve and the polyline that replaces it.
 ///

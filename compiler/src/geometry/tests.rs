@@ -284,3 +284,38 @@ fn deep_inside_agrees_with_contains_and_distance() {
         })
         .unwrap();
 }
+
+/// `SideRows::deep_inside` answers as `deep_inside` reading every side, on
+/// outlines of many sides (many strips), self-crossing and open ones too,
+/// at points near the sides, at the strips' edges and off the outline.
+#[test]
+fn filed_sides_answer_as_every_side() {
+    use proptest::prelude::*;
+    use proptest::test_runner::{Config, TestRunner};
+    let point = || (-5.0..15.0f64, -5.0..15.0f64);
+    let ring = (prop::collection::vec(point(), 1..300), any::<bool>())
+        .prop_map(|(points, closed)| Polyline { points, closed });
+    let case = (prop::collection::vec(ring, 1..4), prop::collection::vec(point(), 1..40), 0.0..2.0f64);
+    TestRunner::new(Config { cases: 200, ..Config::default() })
+        .run(&case, |(polys, points, margin)| {
+            let rows = SideRows::new(&polys).expect("finite");
+            let on: Vec<(f64, f64)> = polys
+                .iter()
+                .flat_map(|p| p.segments())
+                .flat_map(|(a, b)| [a, ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0), (a.0 - 0.3, b.1)])
+                .collect();
+            for &p in points.iter().chain(&on) {
+                for rule in [FillRule::NonZero, FillRule::EvenOdd] {
+                    let want = deep_inside(&polys, p, rule, margin);
+                    prop_assert_eq!(rows.deep_inside(p, rule, margin), want, "{:?} {:?} {}", p, rule, margin);
+                }
+            }
+            Ok(())
+        })
+        .unwrap();
+    // A level outline (one height) and an empty one.
+    let flat = [Polyline { points: vec![(0.0, 1.0), (5.0, 1.0), (9.0, 1.0)], closed: true }];
+    let rows = SideRows::new(&flat).expect("finite");
+    assert!(!rows.deep_inside((4.0, 1.0), FillRule::NonZero, 0.0));
+    assert!(!SideRows::new(&[]).expect("finite").deep_inside((0.0, 0.0), FillRule::EvenOdd, 0.1));
+}

@@ -1,7 +1,9 @@
 //! Which filled regions touch or nearly touch, and a colouring of the
 //! fill classes that keeps touching classes on different textures.
 
-use crate::geometry::{FillRule, Polyline, contains, deep_inside};
+use std::sync::OnceLock;
+
+use crate::geometry::{FillRule, Polyline, SideRows, contains, deep_inside};
 use crate::spatial::{self, Bbox};
 
 /// One filled region: its outline and box.
@@ -63,7 +65,14 @@ pub struct Neighbours<'r, 'a> {
     regions: &'r [Region<'a>],
     index: spatial::BoxIndex,
     outlines: spatial::OutlineSet,
+    /// The sides of each region of more than [`FILED_FROM`] sides, filed
+    /// when first asked about: a coastline beside hundreds of islands is
+    /// asked about each island's sides.
+    filed: Vec<OnceLock<Option<SideRows>>>,
 }
+
+/// Regions of more sides than this have theirs filed by strips ([`SideRows`]).
+const FILED_FROM: usize = 64;
 
 /// Regions per piece of work when [`Neighbours::class_edges`] runs in parallel.
 const REGIONS_PER_JOB: usize = 512;
@@ -77,7 +86,28 @@ impl<'r, 'a> Neighbours<'r, 'a> {
             || outlines(regions),
             || spatial::BoxIndex::new(&regions.iter().map(|r| r.bbox).collect::<Vec<Bbox>>()),
         );
-        Neighbours { regions, index, outlines }
+        let filed = regions.iter().map(|_| OnceLock::new()).collect();
+        Neighbours { regions, index, outlines, filed }
+    }
+
+    /// [`overlap`] of regions `a` and `b`, through the filed sides of large ones.
+    fn overlap(&self, a: usize, b: usize, abut: f64) -> bool {
+        let inside = |k: usize, m: (f64, f64)| {
+            let r = &self.regions[k];
+            let filed = self.filed.get(k).and_then(|f| {
+                f.get_or_init(|| {
+                    (r.outline.iter().map(Polyline::segment_count).sum::<usize>() > FILED_FROM)
+                        .then(|| SideRows::new(r.outline))
+                        .flatten()
+                })
+                .as_ref()
+            });
+            match filed {
+                Some(rows) => rows.deep_inside(m, FillRule::NonZero, abut),
+                None => deep_inside(r.outline, m, FillRule::NonZero, abut),
+            }
+        };
+        overlap_with(&self.regions[a], &self.regions[b], abut, [&|m| inside(a, m), &|m| inside(b, m)])
     }
 
     /// [`abutting`]. Regions are looked at in parallel; a region found to
@@ -119,7 +149,7 @@ impl<'r, 'a> Neighbours<'r, 'a> {
                 && self.index.meeting(spatial::grow(r.bbox, abut)).any(|j| {
                     j != k
                         && self.outlines.distance(k, j, abut, abut) <= abut
-                        && (overlap(r, &regions[j], abut) || overlap(&regions[j], r, abut))
+                        && (self.overlap(k, j, abut) || self.overlap(j, k, abut))
                 })
         };
         regions.par_iter().enumerate().with_min_len(REGIONS_PER_JOB).map(across).collect()
@@ -139,7 +169,7 @@ impl<'r, 'a> Neighbours<'r, 'a> {
                 if self.outlines.distance(k, j, abut, abut) > abut {
                     continue;
                 }
-                if overlap(r, &regions[j], abut) || overlap(&regions[j], r, abut) {
+                if self.overlap(k, j, abut) || self.overlap(j, k, abut) {
                     return false;
                 }
                 out = true;
@@ -310,7 +340,17 @@ fn outlines(regions: &[Region<'_>]) -> spatial::OutlineSet {
 /// lies inside `b` (and the centre inside `a`) farther than `abut` from the
 /// outline. Neighbours of a tessellation only share sides; two pieces of one
 /// figure (the bars of a cross) lie across each other.
+#[cfg(test)]
 fn overlap(a: &Region<'_>, b: &Region<'_>, abut: f64) -> bool {
+    let (oa, ob) = (a.outline, b.outline);
+    let inside_a = |m| deep_inside(oa, m, FillRule::NonZero, abut);
+    let inside_b = |m| deep_inside(ob, m, FillRule::NonZero, abut);
+    overlap_with(a, b, abut, [&inside_a, &inside_b])
+}
+
+/// [`overlap`], asking `inside[0](m)` (`inside[1](m)`) whether `m` lies
+/// inside `a` (`b`) farther than `abut` from its outline.
+fn overlap_with(a: &Region<'_>, b: &Region<'_>, abut: f64, inside: [&dyn Fn((f64, f64)) -> bool; 2]) -> bool {
     // The centre of `a`'s box, where it lies inside `a`, finds a duplicate (whose sides lie on `b`'s).
     let c = ((a.bbox.0 + a.bbox.2) / 2.0, (a.bbox.1 + a.bbox.3) / 2.0);
     // (Only whether the outline lies farther than `abut` is asked: the
@@ -322,18 +362,18 @@ fn overlap(a: &Region<'_>, b: &Region<'_>, abut: f64) -> bool {
         let b = r.bbox;
         m.0 - b.0 > abut && b.2 - m.0 > abut && m.1 - b.1 > abut && b.3 - m.1 > abut
     };
-    let deep = |r: &Region<'_>, m: (f64, f64)| {
+    let deep = |k: usize, m: (f64, f64)| {
+        let r = [a, b][k];
         let closed = r.outline.iter().all(|p| p.closed);
-        (if closed { shrunk(r, m) } else { spatial::meet((m.0, m.1, m.0, m.1), r.bbox) })
-            && deep_inside(r.outline, m, FillRule::NonZero, abut)
+        (if closed { shrunk(r, m) } else { spatial::meet((m.0, m.1, m.0, m.1), r.bbox) }) && inside[k](m)
     };
-    if deep(a, c) && deep(b, c) {
+    if deep(0, c) && deep(1, c) {
         return true;
     }
     let sides: usize = a.outline.iter().map(Polyline::segment_count).sum();
     let step = sides.div_ceil(OVERLAP_SAMPLES).max(1);
     let mids = a.outline.iter().flat_map(|p| p.segments()).map(|(p, q)| ((p.0 + q.0) / 2.0, (p.1 + q.1) / 2.0));
-    mids.step_by(step).any(|m| deep(b, m))
+    mids.step_by(step).any(|m| deep(1, m))
 }
 
 /// Most sides of a region [`overlap`] looks at.
