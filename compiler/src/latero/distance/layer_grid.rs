@@ -149,6 +149,30 @@ pub(super) struct Lattice {
     pub slots: usize,
 }
 
+/// `members` (segment number, stored cells `[x0, y0, x1, y1]`) ordered by
+/// their first row `y0`, those of one row in the order given: what a stable
+/// sort by `y0` gives, by counting the rows (all below `height`) instead of
+/// comparing (the sort was a fifth of the grid's build on a map of states,
+/// issue 46).
+fn by_first_row(members: Vec<(u32, [usize; 4])>, height: usize) -> Vec<(u32, [usize; 4])> {
+    let rows = height.max(1);
+    let row = |c: &[usize; 4]| c[1].min(rows - 1);
+    let mut start = vec![0usize; rows + 1];
+    for (_, c) in &members {
+        start[row(c) + 1] += 1;
+    }
+    for y in 1..start.len() {
+        start[y] += start[y - 1];
+    }
+    let mut out = vec![(0, [0; 4]); members.len()];
+    for m in members {
+        let y = row(&m.1);
+        out[start[y]] = m;
+        start[y] += 1;
+    }
+    out
+}
+
 impl LayerGrid {
     /// The grid of a layer's segments, with each segment's span of tiles
     /// (`span`, from [`buckets_of`](super::buckets_of)); `None` where the per-tile
@@ -338,8 +362,8 @@ impl LayerGrid {
         // cell lists its segments in segment order, as counted.
         let mut by_first: Vec<(u32, [usize; 4])> = Vec::new();
         each(&mut |n, c| by_first.push((n, c)));
-        // Stable: in segment order within a first row.
-        by_first.sort_by_key(|&(_, c)| c[1]);
+        // In segment order within a first row.
+        let by_first = by_first_row(by_first, self.height);
         let (mut active, mut merged): (Vec<Member>, Vec<Member>) = (Vec::new(), Vec::new());
         let mut k = 0;
         for y in 0..self.height {
@@ -521,5 +545,30 @@ impl LayerGrid {
     /// Tile `(c, r)`'s counts.
     pub(super) fn tile(&self, (c, r): (usize, usize)) -> TileStats {
         self.stats.get(r * self.cols + c).copied().unwrap_or_default()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::by_first_row;
+
+    /// The counting order is the stable sort by first row it replaces, on
+    /// members with many equal rows and out of order.
+    #[test]
+    fn members_by_first_row_as_a_stable_sort_orders_them() {
+        let mut s = 0x2545_f491_4f6c_dd1du64;
+        let mut next = |n: u64| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s % n) as usize
+        };
+        for (count, height) in [(0, 1), (1, 1), (7, 3), (500, 40), (3_000, 700)] {
+            let members: Vec<(u32, [usize; 4])> =
+                (0..count).map(|n| (n as u32, [next(50), next(height as u64), next(50), height - 1])).collect();
+            let mut sorted = members.clone();
+            sorted.sort_by_key(|&(_, c)| c[1]);
+            assert_eq!(by_first_row(members, height), sorted, "{count} members over {height} rows");
+        }
     }
 }
