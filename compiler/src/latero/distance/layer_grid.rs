@@ -174,15 +174,15 @@ fn by_first_row(members: Vec<(u32, [usize; 4])>, height: usize) -> Vec<(u32, [us
 }
 
 impl LayerGrid {
-    /// The grid of a layer's segments, with each segment's span of tiles
-    /// (`span`, from [`buckets_of`](super::buckets_of)); `None` where the per-tile
+    /// The grid of a layer's segments, with the tiles' buckets and each
+    /// segment's span of tiles (both from [`buckets_of`](super::buckets_of)); `None` where the per-tile
     /// grids do as well or better: no tile crowded enough to search, a
     /// segment that is not finite, a slot whose segments reach differently,
     /// no spans (a lattice too wide for them), or more cells than the caps
     /// allow.
     pub(super) fn new(
         segs: &[(Seg, Part, f64)],
-        mut span: Vec<[u16; 4]>,
+        (buckets, mut span): (&[Vec<u32>], Vec<[u16; 4]>),
         lat: &Lattice,
         slot_of: impl Fn(Part) -> Option<usize>,
         grid_from: usize,
@@ -196,7 +196,7 @@ impl LayerGrid {
         let mut stats = vec![TileStats::default(); cols.checked_mul(rows)?];
         let mut reach: Vec<Option<f64>> = vec![None; lat.slots];
         let mut slot = Vec::with_capacity(segs.len());
-        for (&(seg @ (a, b), part, m), sp) in segs.iter().zip(span.iter_mut()) {
+        for (&((a, b), part, m), sp) in segs.iter().zip(span.iter_mut()) {
             let Some(s) = slot_of(part).filter(|_| sp[0] <= sp[1] && sp[2] <= sp[3]) else {
                 slot.push(u8::MAX);
                 *sp = super::NO_TILES;
@@ -214,21 +214,25 @@ impl LayerGrid {
                 Some(v) if v.to_bits() != r.to_bits() => return None,
                 _ => reach[s] = Some(r),
             }
-            let own = is_own(s);
-            let whole = sp.map(usize::from);
-            for row in whole[2]..=whole[3] {
-                let (c0, c1) = lat.tiles.row_cols(&seg, m, row, whole);
-                for col in c0..=c1 {
-                    let t = stats.get_mut(row * cols + col)?;
-                    if own {
-                        t.own += 1;
-                    } else {
-                        t.rest += 1;
-                    }
-                    t.slots |= 1 << s;
-                }
-            }
             slot.push(s as u8);
+        }
+        // Counted from the buckets, which hold each segment in the tiles
+        // its span's rows give it ([`Tiles::row_cols`]): working those out
+        // again here was a tenth of the grid's build on a map of states
+        // (issue 46).
+        if buckets.len() != stats.len() {
+            return None;
+        }
+        for (t, bucket) in stats.iter_mut().zip(buckets) {
+            for &n in bucket {
+                let Some(&s) = slot.get(n as usize).filter(|&&s| s != u8::MAX) else { continue };
+                if is_own(usize::from(s)) {
+                    t.own += 1;
+                } else {
+                    t.rest += 1;
+                }
+                t.slots |= 1 << s;
+            }
         }
         let reach: Vec<f64> = reach.into_iter().map(|r| r.unwrap_or(0.0)).collect();
         let searched = |own: bool| stats.iter().any(|t| (if own { t.own } else { t.rest }) as usize >= grid_from);
