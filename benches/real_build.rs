@@ -23,6 +23,15 @@
 //! points), whole process, beside resvg's render of each at 1,100 px
 //! wide: `-- runaway`.
 //!
+//! A fourth group, `issue 46`, builds the shapes issue 46 found slow on
+//! public drawings (`drawings/world.rs`): a world map of 2,200 tiny islands
+//! and a few landmasses, a world map of 300 states with long shared wiggly
+//! borders, subway plans of 700 and 900 ways crossing each other, and the
+//! 380-region city map, each `taxel build --fit -p stress2` (whole process)
+//! beside resvg's render of the same file at the width it has once fitted to
+//! the surface, at 10 px/mm: `-- 'issue 46'`. `TAXEL_KEEP_DRAWINGS=DIR`
+//! writes them to DIR too.
+//!
 //! `cargo bench --bench real_build -- --warm-up-time 1 --measurement-time 10`
 
 use std::path::Path;
@@ -84,8 +93,60 @@ fn bench(c: &mut Criterion) {
         b.iter(|| resvg_png(&svg, (529.0 * PX_PER_MM) as u32, &png))
     });
     g.finish();
+    issue46(c, dir.path(), taxel);
     near_the_limit(c, dir.path(), taxel);
     runaway(c, dir.path(), taxel);
+}
+
+/// The stress2 surface, mm.
+const STRESS2_MM: (f64, f64) = (110.0, 60.0);
+
+/// The width in pixels at 10 px/mm of drawing `svg` fitted to a `surface`
+/// (its aspect kept, as `--fit` does).
+fn fitted_px(svg: &str, surface: (f64, f64)) -> u32 {
+    let tree = resvg::usvg::Tree::from_str(svg, &resvg::usvg::Options::default()).expect("the drawing parses");
+    let (w, h) = (tree.size().width() as f64, tree.size().height() as f64);
+    let mm = if h / w > surface.1 / surface.0 { surface.1 * w / h } else { surface.0 };
+    (mm * PX_PER_MM as f64).ceil() as u32
+}
+
+/// Issue 46's shapes: `taxel build --fit -p stress2` (whole process) beside
+/// resvg's render at the fitted width.
+fn issue46(c: &mut Criterion, dir: &Path, taxel: &str) {
+    let cases: Vec<(&str, &str, String)> = vec![
+        ("archipelago (2,200 islands)", "archipelago.svg", drawings::archipelago(12, 2_200, 46)),
+        ("world states (300, 40 points a border)", "states.svg", drawings::world_states(300, 40, 46)),
+        ("subway plan (700 ways)", "subway.svg", drawings::subway_plan(12, 700, 46)),
+        ("subway plan (900 ways)", "subway900.svg", drawings::subway_plan(16, 900, 47)),
+        ("city map (380 regions)", "city380.svg", drawings::inkscape_map(380, 16, 46)),
+    ];
+    let mut g = c.benchmark_group("issue 46");
+    g.sampling_mode(SamplingMode::Flat).sample_size(10);
+    for (name, file, svg) in &cases {
+        let input = dir.join(file);
+        std::fs::write(&input, svg).expect("drawing written");
+        if let Some(keep) = std::env::var_os("TAXEL_KEEP_DRAWINGS") {
+            std::fs::write(Path::new(&keep).join(file), svg).expect("kept drawing written");
+        }
+        let bundle = dir.join("issue46.taxel");
+        g.bench_function(format!("{name}: taxel build --fit -p stress2"), |b| {
+            b.iter(|| {
+                let out = Command::new(taxel)
+                    .args(["build", "--fit", "-p", "stress2", "--force", "-o"])
+                    .arg(&bundle)
+                    .arg(&input)
+                    .output()
+                    .expect("taxel runs");
+                assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+            })
+        });
+        let px = fitted_px(svg, STRESS2_MM);
+        let png = dir.join("issue46.png");
+        g.bench_function(format!("{name}: resvg at 10 px/mm, fitted ({px} px)"), |b| {
+            b.iter(|| resvg_png(svg, px, &png))
+        });
+    }
+    g.finish();
 }
 
 /// Issue 47's drawings: `taxel build` (whole process, the default memory

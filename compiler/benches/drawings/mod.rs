@@ -1,13 +1,19 @@
 //! Generated drawings shaped like the ones teachers have (issue 14): an
 //! Inkscape country map with many layers, non-ASCII layer names, touching
 //! regions, towns and labels; an OpenStreetMap-like city plan of many ways;
-//! a chart as matplotlib exports it (glyph `<use>` text, markers, clip paths).
+//! a chart as matplotlib exports it (glyph `<use>` text, markers, clip paths);
+//! the shapes of issue 46 (`world.rs`): thousands of tiny islands, states
+//! with long shared coasts, long ways crossing each other.
 //! Shared by the compiler's benchmarks and tests (`#[path]`-included), so
 //! what is measured is what is tested. Deterministic: the same arguments give
 //! the same text.
 #![allow(dead_code)]
 
 use std::fmt::Write as _;
+
+mod world;
+#[allow(unused_imports)]
+pub use world::{archipelago, subway_plan, world_states};
 
 /// A small deterministic generator (SplitMix64), so drawings need no dependency.
 pub struct Rng(u64);

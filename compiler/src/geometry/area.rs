@@ -41,6 +41,22 @@ struct Edge {
     x0: f64,
     slope: f64,
     dir: i32,
+    /// The `x` at the upper end, exactly as the outline has it.
+    x1: f64,
+}
+
+impl Edge {
+    /// The `x` at height `y` within the edge, its ends' own at its ends (so
+    /// that two edges meeting at a vertex meet there to the bit).
+    fn x_at(&self, y: f64) -> f64 {
+        if y <= self.y0 {
+            self.x0
+        } else if y >= self.y1 {
+            self.x1
+        } else {
+            self.x0 + (y - self.y0) * self.slope
+        }
+    }
 }
 
 /// The area, in mm², that the shape whose subpaths are `pls` (each closed
@@ -93,7 +109,7 @@ fn area_in(pls: &[Polyline], rule: FillRule, window: Option<(f64, f64, f64, f64)
                 continue;
             }
             let (lo, hi, dir) = if a.1 < b.1 { (a, b, 1) } else { (b, a, -1) };
-            edges.push(Edge { y0: lo.1, y1: hi.1, x0: lo.0, slope: (hi.0 - lo.0) / (hi.1 - lo.1), dir });
+            edges.push(Edge { y0: lo.1, y1: hi.1, x0: lo.0, slope: (hi.0 - lo.0) / (hi.1 - lo.1), dir, x1: hi.0 });
         }
     }
     if edges.is_empty() {
@@ -148,10 +164,16 @@ fn rows_of(edges: &[Edge], window: Option<(f64, f64, f64, f64)>) -> Vec<(f64, f6
     let row_at = |y: f64| first_row[ys.partition_point(|&v| v < y).min(ys.len() - 1)];
     let slab_work: usize = edges.iter().map(|e| row_at(e.y1) - row_at(e.y0)).sum();
     if slab_work <= AREA_WORK {
+        // A slab no two edges cross inside needs only its middle row: the
+        // length is linear there. Splitting every slab took 256 rows or
+        // more for each small island of a world map, most of the time
+        // the automatic sheet spent on it (issue 46).
+        let crossed = crossed_slabs(edges, &ys);
         return ys
             .windows(2)
-            .flat_map(|w| {
-                let k = split(w[1] - w[0]);
+            .zip(crossed)
+            .flat_map(|(w, crossed)| {
+                let k = if crossed { split(w[1] - w[0]) } else { 1 };
                 let dy = (w[1] - w[0]) / k as f64;
                 (0..k).map(move |i| (w[0] + (i as f64 + 0.5) * dy, dy))
             })
@@ -162,6 +184,32 @@ fn rows_of(edges: &[Edge], window: Option<(f64, f64, f64, f64)>) -> Vec<(f64, f6
     let n = ((AREA_WORK as f64 / share.max(1e-9)) as usize).clamp(MIN_EVEN_ROWS, MAX_ROWS);
     let dy = height / n as f64;
     (0..n).map(|k| (lo + (k as f64 + 0.5) * dy, dy)).collect()
+}
+
+/// For each slab `ys[k]..ys[k + 1]` (heights that hold every edge's ends,
+/// ascending, `edges` sorted by their lower end), whether two edges spanning
+/// it cross inside it: their order along the slab's bottom (ties broken by
+/// the top) is not their order along its top. Work within the rows' own,
+/// as every slab has a row for each edge spanning it.
+fn crossed_slabs(edges: &[Edge], ys: &[f64]) -> Vec<bool> {
+    let mut active: Vec<Edge> = Vec::new();
+    let mut next = 0;
+    let mut ends: Vec<(f64, f64)> = Vec::new();
+    ys.windows(2)
+        .map(|w| {
+            let (lo, hi) = (w[0], w[1]);
+            let mid = lo + (hi - lo) / 2.0;
+            while next < edges.len() && edges[next].y0 <= mid {
+                active.push(edges[next]);
+                next += 1;
+            }
+            active.retain(|e| e.y1 > mid);
+            ends.clear();
+            ends.extend(active.iter().map(|e| (e.x_at(lo), e.x_at(hi))));
+            ends.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+            ends.windows(2).any(|p| p[1].1 < p[0].1)
+        })
+        .collect()
 }
 
 /// The covered length of each row under `rule`, times its weight, summed.
@@ -305,6 +353,98 @@ mod tests {
         }
     }
 
+    fn edges_of(points: &[(f64, f64)]) -> Vec<Edge> {
+        let n = points.len();
+        let mut edges: Vec<Edge> = (0..n)
+            .filter_map(|i| {
+                let (a, b) = (points[i], points[(i + 1) % n]);
+                let (lo, hi, dir) = if a.1 < b.1 { (a, b, 1) } else { (b, a, -1) };
+                (a.1 != b.1).then(|| Edge {
+                    y0: lo.1,
+                    y1: hi.1,
+                    x0: lo.0,
+                    slope: (hi.0 - lo.0) / (hi.1 - lo.1),
+                    dir,
+                    x1: hi.0,
+                })
+            })
+            .collect();
+        edges.sort_by(|a, b| a.y0.total_cmp(&b.y0));
+        edges
+    }
+
+    /// The slabs found crossed are those where some pair of edges spanning
+    /// the slab swaps sides between its bottom and its top.
+    #[test]
+    fn crossed_slabs_are_those_a_pairwise_check_finds() {
+        let mut next = uniform(0x9e37_79b9_7f4a_7c15, 100.0);
+        for n in [3, 5, 12, 40, 150] {
+            let pts: Vec<_> = (0..n).map(|_| (next(), next())).collect();
+            let edges = edges_of(&pts);
+            let mut ys: Vec<f64> = edges.iter().flat_map(|e| [e.y0, e.y1]).collect();
+            ys.sort_by(f64::total_cmp);
+            ys.dedup();
+            let got = crossed_slabs(&edges, &ys);
+            let x_at = |e: &Edge, y: f64| e.x_at(y);
+            for (k, w) in ys.windows(2).enumerate() {
+                let spanning: Vec<&Edge> = edges.iter().filter(|e| e.y0 <= w[0] && e.y1 >= w[1]).collect();
+                let pairwise = spanning.iter().enumerate().any(|(i, a)| {
+                    spanning[i + 1..]
+                        .iter()
+                        .any(|b| (x_at(a, w[0]) - x_at(b, w[0])) * (x_at(a, w[1]) - x_at(b, w[1])) < 0.0)
+                });
+                assert_eq!(got[k], pairwise, "{n} points, slab {k}");
+            }
+        }
+        // A ring that does not cross itself has no crossed slab.
+        let star: Vec<_> = (0..9)
+            .map(|k| {
+                let (a, r) = (k as f64 / 9.0 * std::f64::consts::TAU, if k % 2 == 0 { 10.0 } else { 4.0 });
+                (r * a.cos(), r * a.sin())
+            })
+            .collect();
+        let edges = edges_of(&star);
+        let mut ys: Vec<f64> = edges.iter().flat_map(|e| [e.y0, e.y1]).collect();
+        ys.sort_by(f64::total_cmp);
+        ys.dedup();
+        assert!(crossed_slabs(&edges, &ys).iter().all(|&c| !c));
+    }
+
+    /// Splitting only the crossed slabs gives the area that splitting every
+    /// slab into rows of at most 1/`MIN_ROWS` of the height gave, up to
+    /// rounding, for outlines that cross themselves and outlines that do not.
+    #[test]
+    fn only_crossed_slabs_are_split_and_the_area_is_the_same() {
+        let mut next = uniform(0x1234_5678_9abc_def1, 50.0);
+        for n in [4, 9, 30, 120] {
+            let pts: Vec<_> = (0..n).map(|_| (next(), next())).collect();
+            let edges = edges_of(&pts);
+            let mut ys: Vec<f64> = edges.iter().flat_map(|e| [e.y0, e.y1]).collect();
+            ys.sort_by(f64::total_cmp);
+            ys.dedup();
+            let height = ys[ys.len() - 1] - ys[0];
+            let every: Vec<(f64, f64)> = ys
+                .windows(2)
+                .flat_map(|w| {
+                    let k = ((w[1] - w[0]) / height * MIN_ROWS as f64).ceil().max(1.0) as usize;
+                    let dy = (w[1] - w[0]) / k as f64;
+                    (0..k).map(move |i| (w[0] + (i as f64 + 0.5) * dy, dy))
+                })
+                .collect();
+            let rows = rows_of(&edges, None);
+            assert!(rows.len() <= every.len());
+            for rule in [FillRule::NonZero, FillRule::EvenOdd] {
+                let (new, old) = (
+                    sweep(&edges, &rows, rule, (f64::NEG_INFINITY, f64::INFINITY)),
+                    sweep(&edges, &every, rule, (f64::NEG_INFINITY, f64::INFINITY)),
+                );
+                assert!((new - old).abs() <= 1e-9 * old.max(1.0), "{n} points {rule:?}: {new} against {old}");
+            }
+        }
+        let square = [(0.0, 0.0), (3.0, 0.5), (2.5, 3.5), (-0.5, 3.0)];
+        assert_eq!(rows_of(&edges_of(&square), None).len(), 3, "one row per slab");
+    }
+
     /// The crossings the rows of [`rows_of`] take (the edges each row
     /// meets, half-open as the sweep counts them).
     fn work(edges: &[Edge], rows: &[(f64, f64)]) -> usize {
@@ -321,7 +461,14 @@ mod tests {
             .filter_map(|i| {
                 let (a, b) = (pts[i], pts[(i + 1) % pts.len()]);
                 let (lo, hi, dir) = if a.1 < b.1 { (a, b, 1) } else { (b, a, -1) };
-                (a.1 != b.1).then(|| Edge { y0: lo.1, y1: hi.1, x0: lo.0, slope: (hi.0 - lo.0) / (hi.1 - lo.1), dir })
+                (a.1 != b.1).then(|| Edge {
+                    y0: lo.1,
+                    y1: hi.1,
+                    x0: lo.0,
+                    slope: (hi.0 - lo.0) / (hi.1 - lo.1),
+                    dir,
+                    x1: hi.0,
+                })
             })
             .collect();
         edges.sort_by(|a, b| a.y0.total_cmp(&b.y0));

@@ -2,6 +2,8 @@
 //! [`OutlineSet`], many outlines prepared once for the distance between any
 //! two (the inner loop of the gap rule).
 
+use std::sync::OnceLock;
+
 use rstar::{AABB, RTree, RTreeObject};
 
 use super::{Bbox, envelope, grow, meet};
@@ -149,7 +151,12 @@ pub struct OutlineSet {
     /// Outline `k`'s segments are `segs[span[k].0..span[k].1]`.
     span: Vec<(usize, usize)>,
     bounds: Vec<Option<Bbox>>,
-    trees: Vec<Option<RTree<TreeSeg>>>,
+    /// The R*-tree of each outline of more than [`TREE_ABOVE`] segments,
+    /// built the first time a distance searches it: most outlines never
+    /// are (two neighbours' near parts are mostly short enough to scan), and
+    /// building every tree up front was a twentieth of the build of a map
+    /// of 1,200 states with detailed borders (issue 46).
+    trees: Vec<OnceLock<RTree<TreeSeg>>>,
 }
 
 impl OutlineSet {
@@ -173,7 +180,7 @@ impl OutlineSet {
             ),
             span: vec![(0, 0); n],
             bounds: outlines.iter().map(|o| crate::geometry::bounds(o)).collect(),
-            trees: (0..n).map(|_| None).collect(),
+            trees: (0..n).map(|_| OnceLock::new()).collect(),
         };
         let mut placed = vec![false; n];
         let order: Vec<usize> = order.into_iter().filter(|&k| k < n).collect();
@@ -184,11 +191,25 @@ impl OutlineSet {
             let first = set.segs.len();
             set.segs.extend(outlines[k].iter().flat_map(|p| p.segments()).map(|(a, b)| Seg { a, b }));
             set.span[k] = (first, set.segs.len());
-            let own = &set.segs[first..];
-            set.trees[k] =
-                (own.len() > TREE_ABOVE).then(|| RTree::bulk_load(own.iter().copied().map(TreeSeg::new).collect()));
         }
         set
+    }
+
+    /// Whether outline `k` has a tree (more than [`TREE_ABOVE`] segments).
+    fn has_tree(&self, k: usize) -> bool {
+        let (a, b) = self.span[k];
+        b - a > TREE_ABOVE
+    }
+
+    /// Which outlines' trees have been built (the tests look).
+    #[cfg(test)]
+    pub(super) fn trees_built(&self) -> Vec<bool> {
+        self.trees.iter().map(|t| t.get().is_some()).collect()
+    }
+
+    /// Outline `k`'s tree, built on first use.
+    fn tree(&self, k: usize) -> &RTree<TreeSeg> {
+        self.trees[k].get_or_init(|| RTree::bulk_load(self.segments(k).iter().copied().map(TreeSeg::new).collect()))
     }
 
     /// How many outlines were prepared.
@@ -228,27 +249,27 @@ impl OutlineSet {
         let (gi, gj) = (grow(bj, reach), grow(bi, reach));
         let near = |k: usize, g: Bbox| self.segments(k).iter().filter(move |s| meet(s.bbox(), g));
         let mut best = f64::INFINITY;
-        if self.trees[i].is_none() && self.trees[j].is_none() {
+        if !self.has_tree(i) && !self.has_tree(j) {
             return self.short_distance(i, gi, j, reach, stop_at);
         }
         // The side with fewer segments near the other's box is walked; the
         // other is searched, through its tree when it has one.
         let (ni, nj) = (near(i, gi).count(), near(j, gj).count());
         let (walk, wg, other, og) = if ni <= nj { (i, gi, j, gj) } else { (j, gj, i, gi) };
-        match &self.trees[other] {
-            Some(tree) if ni.min(nj).saturating_mul(ni.max(nj)) > 4096 => {
-                for s in near(walk, wg) {
-                    let r = best.min(reach);
-                    let q = envelope(grow(s.bbox(), r));
-                    for t in tree.locate_in_envelope_intersecting(&q) {
-                        best = best.min(segment_distance(s.a, s.b, t.seg.a, t.seg.b));
-                        if best <= stop_at {
-                            return best;
-                        }
+        if self.has_tree(other) && ni.min(nj).saturating_mul(ni.max(nj)) > 4096 {
+            let tree = self.tree(other);
+            for s in near(walk, wg) {
+                let r = best.min(reach);
+                let q = envelope(grow(s.bbox(), r));
+                for t in tree.locate_in_envelope_intersecting(&q) {
+                    best = best.min(segment_distance(s.a, s.b, t.seg.a, t.seg.b));
+                    if best <= stop_at {
+                        return best;
                     }
                 }
             }
-            _ => best = scan_pairs(near(walk, wg), || near(other, og), best, reach, stop_at),
+        } else {
+            best = scan_pairs(near(walk, wg), || near(other, og), best, reach, stop_at);
         }
         best
     }

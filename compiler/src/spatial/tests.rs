@@ -184,6 +184,37 @@ fn outlines_of_up_to_64_sides_measured_by_runs_are_exact() {
     assert!(runs > 1000 && within > 1000, "{runs} pairs by runs, {within} within reach");
 }
 
+/// Trees are built only for the outlines a distance searches through one
+/// (issue 46: building every long outline's tree up front cost more than
+/// the searches), and the distances are the all-pairs scan's either way.
+#[test]
+fn outline_trees_are_built_when_first_searched() {
+    // Two long wiggly borders side by side 0.2 mm apart (each far above
+    // `TREE_ABOVE` segments, so their near parts exceed 4,096 pairs), and a
+    // long outline far from both.
+    let border = |y: f64, n: usize| {
+        vec![Polyline {
+            points: (0..n).map(|k| (k as f64 * 0.1, y + 0.03 * ((k * 7 % 5) as f64))).collect(),
+            closed: false,
+        }]
+    };
+    let outlines = [border(0.0, 300), border(0.32, 300), border(50.0, 300)];
+    let set = OutlineSet::new(outlines.iter().map(Vec::as_slice));
+    let built = |set: &OutlineSet| set.trees_built().iter().filter(|&&b| b).count();
+    assert_eq!(built(&set), 0, "no tree before a search");
+    for (i, j) in [(0, 1), (1, 0), (0, 2)] {
+        let exact = all_pairs_distance(&outlines[i], &outlines[j]);
+        let d = set.distance(i, j, 3.2, 0.0);
+        if exact <= 3.2 {
+            assert_eq!(d, exact, "{i} {j}");
+        } else {
+            assert!(d > 3.2, "{i} {j}: {d}");
+        }
+    }
+    assert!((1..=2).contains(&built(&set)), "{} trees built", built(&set));
+    assert!(!set.trees_built()[2], "the far outline's tree was built");
+}
+
 #[test]
 fn shared_vertices_are_those_an_all_pairs_scan_finds_and_touch() {
     // Squares on a grid of spacing 1 with sides of 1 (sharing corners

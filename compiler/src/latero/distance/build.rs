@@ -292,8 +292,7 @@ impl<'a, 'g> Build<'a, 'g> {
             layer_grid::Lattice { tiles: s.tiles, h, margin, slots: near::slots(cut_widths.len(), g.clips.len()) };
         let layer_grid = layer_grid::LayerGrid::new(
             segs,
-            &buckets,
-            spans,
+            (&buckets, spans),
             &lattice,
             |part| near::slot_of(part, cut_widths.len(), g.clips.len()),
             near::GRID_FROM,

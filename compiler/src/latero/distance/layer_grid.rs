@@ -149,24 +149,47 @@ pub(super) struct Lattice {
     pub slots: usize,
 }
 
+/// `members` (segment number, stored cells `[x0, y0, x1, y1]`) ordered by
+/// their first row `y0`, those of one row in the order given: what a stable
+/// sort by `y0` gives, by counting the rows (all below `height`) instead of
+/// comparing (the sort was a fifth of the grid's build on a map of states,
+/// issue 46).
+fn by_first_row(members: Vec<(u32, [usize; 4])>, height: usize) -> Vec<(u32, [usize; 4])> {
+    let rows = height.max(1);
+    let row = |c: &[usize; 4]| c[1].min(rows - 1);
+    let mut start = vec![0usize; rows + 1];
+    for (_, c) in &members {
+        start[row(c) + 1] += 1;
+    }
+    for y in 1..start.len() {
+        start[y] += start[y - 1];
+    }
+    let mut out = vec![(0, [0; 4]); members.len()];
+    for m in members {
+        let y = row(&m.1);
+        out[start[y]] = m;
+        start[y] += 1;
+    }
+    out
+}
+
 impl LayerGrid {
-    /// The grid of a layer's segments, with each segment's span of tiles
-    /// (`span`, from [`buckets_of`](super::buckets_of)); `None` where the per-tile
+    /// The grid of a layer's segments, with the tiles' buckets and each
+    /// segment's span of tiles (both from [`buckets_of`](super::buckets_of)); `None` where the per-tile
     /// grids do as well or better: no tile crowded enough to search, a
     /// segment that is not finite, a slot whose segments reach differently,
     /// no spans (a lattice too wide for them), or more cells than the caps
     /// allow.
     pub(super) fn new(
         segs: &[(Seg, Part, f64)],
-        buckets: &[Vec<u32>],
-        mut span: Vec<[u16; 4]>,
+        (buckets, mut span): (&[Vec<u32>], Vec<[u16; 4]>),
         lat: &Lattice,
         slot_of: impl Fn(Part) -> Option<usize>,
         grid_from: usize,
         max_rings: f64,
     ) -> Option<LayerGrid> {
         let (cols, rows, h) = (lat.tiles.cols, lat.tiles.rows, lat.h);
-        if !(h.is_finite() && h > 0.0) || lat.slots >= 64 || span.len() != segs.len() || buckets.len() != cols * rows {
+        if !(h.is_finite() && h > 0.0) || lat.slots >= 64 || span.len() != segs.len() {
             return None;
         }
         let cell = h / SUB as f64;
@@ -193,14 +216,16 @@ impl LayerGrid {
             }
             slot.push(s as u8);
         }
-        // A segment's tiles are those whose buckets hold it (the buckets
-        // were filled by the same spans and rows, `Tiles::row_cols`).
+        // Counted from the buckets, which hold each segment in the tiles
+        // its span's rows give it ([`Tiles::row_cols`]): working those out
+        // again here was a tenth of the grid's build on a map of states
+        // (issue 46).
+        if buckets.len() != stats.len() {
+            return None;
+        }
         for (t, bucket) in stats.iter_mut().zip(buckets) {
             for &n in bucket {
-                let s = *slot.get(n as usize)?;
-                if s == u8::MAX {
-                    continue;
-                }
+                let Some(&s) = slot.get(n as usize).filter(|&&s| s != u8::MAX) else { continue };
                 if is_own(usize::from(s)) {
                     t.own += 1;
                 } else {
@@ -314,11 +339,7 @@ impl LayerGrid {
         // hundreds of cells each).
         let mut start = vec![0u32; n_cells + 2];
         let mut total = 0u64;
-        // The members by first row, counted here and placed below (a
-        // counting sort, stable: in segment order within a row).
-        let mut first_row = vec![0u32; self.height + 1];
         each(&mut |n, c| {
-            first_row[c[1] + 1] += 1;
             for (y, x0, x1) in rows(n, c) {
                 total += (x1 - x0 + 1) as u64;
                 start[y * self.width + x0 + 1] = start[y * self.width + x0 + 1].wrapping_add(1);
@@ -343,34 +364,22 @@ impl LayerGrid {
         // to a cache line of its own). The members spanning the row are in
         // hand in segment order (those starting on it merged in), so each
         // cell lists its segments in segment order, as counted.
-        for y in 1..first_row.len() {
-            first_row[y] += first_row[y - 1];
-        }
-        let mut by_first: Vec<(u32, [u32; 4])> = vec![(0, [0; 4]); first_row[self.height] as usize];
-        each(&mut |n, c| {
-            let at = &mut first_row[c[1]];
-            by_first[*at as usize] = (n, c.map(|v| v as u32));
-            *at += 1;
-        });
+        let mut by_first: Vec<(u32, [usize; 4])> = Vec::new();
+        each(&mut |n, c| by_first.push((n, c)));
+        // In segment order within a first row.
+        let by_first = by_first_row(by_first, self.height);
         let (mut active, mut merged): (Vec<Member>, Vec<Member>) = (Vec::new(), Vec::new());
         let mut k = 0;
         for y in 0..self.height {
             active.retain(|m| m.last_row >= y);
             let first = k;
-            while by_first.get(k).is_some_and(|&(_, c)| c[1] as usize <= y) {
+            while by_first.get(k).is_some_and(|&(_, c)| c[1] <= y) {
                 k += 1;
             }
-            let starting =
-                by_first[first..k].iter().filter(|&&(_, c)| c[3] as usize >= y).map(|&(n, [x0, _, x1, y1])| {
-                    let ((a, b), _, _) = segs[n as usize];
-                    Member {
-                        n,
-                        a: in_cells(a),
-                        b: in_cells(b),
-                        cols: (x0 as isize, x1 as isize),
-                        last_row: y1 as usize,
-                    }
-                });
+            let starting = by_first[first..k].iter().filter(|&&(_, c)| c[3] >= y).map(|&(n, [x0, _, x1, y1])| {
+                let ((a, b), _, _) = segs[n as usize];
+                Member { n, a: in_cells(a), b: in_cells(b), cols: (x0 as isize, x1 as isize), last_row: y1 }
+            });
             if first < k {
                 merged.clear();
                 let mut old = active.drain(..).peekable();
@@ -540,5 +549,30 @@ impl LayerGrid {
     /// Tile `(c, r)`'s counts.
     pub(super) fn tile(&self, (c, r): (usize, usize)) -> TileStats {
         self.stats.get(r * self.cols + c).copied().unwrap_or_default()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::by_first_row;
+
+    /// The counting order is the stable sort by first row it replaces, on
+    /// members with many equal rows and out of order.
+    #[test]
+    fn members_by_first_row_as_a_stable_sort_orders_them() {
+        let mut s = 0x2545_f491_4f6c_dd1du64;
+        let mut next = |n: u64| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s % n) as usize
+        };
+        for (count, height) in [(0, 1), (1, 1), (7, 3), (500, 40), (3_000, 700)] {
+            let members: Vec<(u32, [usize; 4])> =
+                (0..count).map(|n| (n as u32, [next(50), next(height as u64), next(50), height - 1])).collect();
+            let mut sorted = members.clone();
+            sorted.sort_by_key(|&(_, c)| c[1]);
+            assert_eq!(by_first_row(members, height), sorted, "{count} members over {height} rows");
+        }
     }
 }

@@ -18,8 +18,34 @@ fn layer_grid_of(segs: &[(Seg, Part, f64)], origin: (f64, f64), h: f64, margin: 
     let tiles = super::super::Tiles { origin, side: tile, cols, rows };
     let (buckets, spans) = super::super::buckets_of(segs, &tiles);
     let lattice = super::super::layer_grid::Lattice { tiles, h, margin, slots: slots(1, 1) };
-    let grid = LayerGrid::new(segs, &buckets, spans, &lattice, |p| slot_of(p, 1, 1), 0, MAX_RINGS);
-    (buckets, grid.expect("a layer grid"))
+    let grid = LayerGrid::new(segs, (&buckets, spans.clone()), &lattice, |p| slot_of(p, 1, 1), 0, MAX_RINGS)
+        .expect("a layer grid");
+    // Each tile's counts, taken from the buckets, are those of every
+    // segment's rows of tiles worked out again (as they were counted before).
+    let mut stats = vec![(0u32, 0u32, 0u64); cols * rows];
+    for (&(seg, part, m), sp) in segs.iter().zip(&spans) {
+        let Some(s) = slot_of(part, 1, 1).filter(|_| sp[0] <= sp[1] && sp[2] <= sp[3]) else { continue };
+        let whole = sp.map(usize::from);
+        for row in whole[2]..=whole[3] {
+            let (c0, c1) = tiles.row_cols(&seg, m, row, whole);
+            for col in c0..=c1 {
+                let t = &mut stats[row * cols + col];
+                if super::super::layer_grid::is_own(s) {
+                    t.0 += 1;
+                } else {
+                    t.1 += 1;
+                }
+                t.2 |= 1 << s;
+            }
+        }
+    }
+    for r in 0..rows {
+        for c in 0..cols {
+            let t = grid.tile((c, r));
+            assert_eq!((t.own, t.rest, t.slots), stats[r * cols + c], "tile {c} {r}");
+        }
+    }
+    (buckets, grid)
 }
 
 proptest! {
