@@ -18,7 +18,7 @@ mod plan;
 
 pub use braille::braille_clearing;
 use braille::clearing_within;
-pub use distance::LayerGeometry;
+pub use distance::{ExactRegion, LayerGeometry, ON_EDGE_MM, Segment};
 pub use plan::{LayerPlan, PlannedLayer, plan};
 
 use std::collections::HashMap;
