@@ -324,8 +324,10 @@ impl Outlines {
     /// boxes meet it.
     fn contains(&self, p: (f64, f64), rule: FillRule) -> bool {
         let Some(b) = self.bounds else { return false };
-        // (Nothing crosses the ray from a point right of every segment, or from NaN.)
-        if p.0.is_nan() || p.0 > b.2 {
+        // Nothing crosses the ray from a point right of every segment, above
+        // or below them all, or from NaN (a cheap test first: a layer's
+        // every fill and occluder is asked at every point).
+        if p.0.is_nan() || p.1.is_nan() || p.0 > b.2 || p.1 < b.1 || p.1 > b.3 {
             return false;
         }
         let (mut winding, mut crossings) = (0i32, 0u32);
@@ -349,7 +351,13 @@ impl Outlines {
     /// superset of those within `r` of it), each once, in no particular
     /// order; none for an `r` that is NaN or below 0.
     fn near(&self, p: (f64, f64), r: f64) -> impl Iterator<Item = Segment> + '_ {
-        let query = if r >= 0.0 { Some((p.0 - r, p.1 - r, p.0 + r, p.1 + r)) } else { None };
+        // (A query that misses every segment's box is answered without the index.)
+        let query = match self.bounds {
+            Some(b) if r >= 0.0 && p.0 + r >= b.0 && p.0 - r <= b.2 && p.1 + r >= b.1 && p.1 - r <= b.3 => {
+                Some((p.0 - r, p.1 - r, p.0 + r, p.1 + r))
+            }
+            _ => None,
+        };
         // (An infinite reach makes a box the index refuses: every segment is near.)
         let all = query.is_some() && !r.is_finite();
         let found = query.filter(|_| !all).into_iter().flat_map(|q| self.index.meeting(q)).map(|k| self.segs[k]);
