@@ -104,7 +104,7 @@ impl Outline {
             let n = dx.hypot(dy).max(1e-12);
             (dx / n, dy / n)
         };
-        let mut corners: Vec<(f64, f64)> = region.corners().to_vec();
+        let mut corners: Vec<(f64, f64)> = region.corners.clone();
         let mut mids = Vec::with_capacity(segs.len());
         for &(a, b) in &segs {
             let m = [(a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0];
@@ -377,8 +377,8 @@ fn cell_corners(layer: &DistanceLayer, (x0, y0): (f64, f64), size: f64) -> Optio
 /// height)`, as pieces at most `sample` mm long.
 pub fn outline(region: &Region, surface: (f64, f64), sample: f64) -> Vec<Seg> {
     let (w, h) = surface;
-    let covers = |p: (f64, f64)| (0.0..=w).contains(&p.0) && (0.0..=h).contains(&p.1) && region.covers(p);
-    let mut candidates = region.candidate_edges(SAGITTA_MM);
+    let covers = |p: (f64, f64)| (0.0..=w).contains(&p.0) && (0.0..=h).contains(&p.1) && region.exact.covers(p);
+    let mut candidates = region.exact.edge_candidates(SAGITTA_MM);
     candidates.extend([((0.0, 0.0), (w, 0.0)), ((w, 0.0), (w, h)), ((w, h), (0.0, h)), ((0.0, h), (0.0, 0.0))]);
     let mut out = Vec::new();
     for (a, b) in candidates {
@@ -407,8 +407,9 @@ pub fn outline(region: &Region, surface: (f64, f64), sample: f64) -> Vec<Seg> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::exact::{Index, corners};
+    use crate::report::exact::corners;
     use taxel_compiler::geometry::{FillRule, Polyline};
+    use taxel_compiler::latero::LayerGeometry;
     use taxel_format::{MaskKind, Mm, TILE_FIRST_STORED, TILE_SAMPLES, TILE_SIDE};
 
     /// One stored tile of pitch 0.5 mm at the origin whose samples are `f(x, y)` in steps of `step` mm.
@@ -518,16 +519,13 @@ mod tests {
         // is 125 steps of 0.004 mm); the exact square is 0.1 mm to the right.
         let layer = layer(square, 0.004);
         let shifted = Polyline { points: vec![(1.1, 1.0), (3.1, 1.0), (3.1, 3.0), (1.1, 3.0)], closed: true };
-        let corners_at = |c: Vec<(f64, f64)>| Region::Fill {
-            fills: vec![(Index::new(std::slice::from_ref(&shifted), true), FillRule::NonZero)],
-            clips: Vec::new(),
-            minus_bands: Vec::new(),
-            minus_fills: Vec::new(),
-            corners: c,
+        let corners_at = |c: Vec<(f64, f64)>| {
+            let fills = vec![(std::slice::from_ref(&shifted), FillRule::NonZero)];
+            Region { exact: LayerGeometry { fills, ..Default::default() }.exact(), corners: c }
         };
         // The outline finds the square's corners where its sides meet, named or not.
         let named = corners_at(corners(std::slice::from_ref(&shifted), true, None));
-        assert_eq!(named.corners().len(), 4);
+        assert_eq!(named.corners.len(), 4);
         for region in [corners_at(Vec::new()), named] {
             let out = Outline::new(&region, (4.0, 4.0));
             for c in [[1.1, 1.0], [3.1, 1.0], [3.1, 3.0], [1.1, 3.0]] {

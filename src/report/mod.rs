@@ -343,7 +343,7 @@ impl Prepared {
 /// The region of a vibration or grating layer.
 fn region_of(l: &ExactLayer) -> Option<&exact::Region> {
     match l {
-        ExactLayer::Vibration { region, .. } | ExactLayer::Grating { region, .. } => Some(region),
+        ExactLayer::Vibration { region, .. } | ExactLayer::Grating { region, .. } => Some(region.as_ref()),
         ExactLayer::Dots(_) => None,
     }
 }
@@ -366,18 +366,18 @@ fn actuator(p: &taxel_format::DeviceProfile, x: f64, y: f64, k: usize) -> (f64, 
 /// Whether an exact edge of any region passes within [`EDGE_BAND_MM`] of
 /// `p`: coverage at `p` differs from coverage at one of 16 points on the
 /// circle of that radius around it. Tested only where an edge may pass
-/// that close ([`exact::Region::edge_may_pass_within`]; elsewhere the
+/// that close (`ExactRegion::edge_may_pass_within`; elsewhere the
 /// coverage is the same on the whole disc), so that every compared frame's
 /// actuators are classified at the cost of an index query for most.
 fn near_edge(regions: &[&exact::Region], p: (f64, f64)) -> bool {
     regions.iter().any(|r| {
-        if !r.edge_may_pass_within(p, EDGE_BAND_MM) {
+        if !r.exact.edge_may_pass_within(p, EDGE_BAND_MM) {
             return false;
         }
-        let here = r.covers(p);
+        let here = r.exact.covers(p);
         (0..16).any(|k| {
             let a = k as f64 * std::f64::consts::TAU / 16.0;
-            r.covers((p.0 + EDGE_BAND_MM * a.cos(), p.1 + EDGE_BAND_MM * a.sin())) != here
+            r.exact.covers((p.0 + EDGE_BAND_MM * a.cos(), p.1 + EDGE_BAND_MM * a.sin())) != here
         })
     })
 }

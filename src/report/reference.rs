@@ -8,17 +8,16 @@
 //! vibrating bands cut out of a grating, clips, the opaque fills and braille
 //! clearings that hide it). Each distance chunk of the bundle is paired with
 //! the planned layer of the same kind and sources, and its region is that
-//! geometry, indexed for point queries ([`Region`]). The layers' other
+//! geometry's exact region, the compiler's ([`Region`]). The layers' other
 //! parameters (frequency, wavelength, angle, amplitude) come from the bundle
 //! itself, as the player reads them; dots are exact in the bundle already.
 
 use std::sync::Arc;
 
 use taxel_compiler::CompileOptions;
-use taxel_compiler::latero::LayerGeometry;
 use taxel_format::{Bundle, Chunk, MaskKind};
 
-use super::exact::{ExactLayer, Index, Region, corners};
+use super::exact::{ExactLayer, Region};
 
 /// The exact layers of `bundle`, compiled from `svg` with `opts`: one per
 /// distance layer, one for each dot table, in the bundle's order, and a
@@ -57,16 +56,17 @@ pub fn exact_layers(
                 };
                 taken[g.0] = true;
                 let (amplitude, sources) = (d.amplitude as f64, d.sources.clone());
+                let region = Arc::new(Region::of(&g.1));
                 layers.push(match d.kind {
                     MaskKind::Vibration { freq } => ExactLayer::Vibration {
-                        region: band_region(&g.1),
+                        region,
                         freq_hz: freq.0 as f64 / 1000.0,
                         amplitude,
                         ramp_mm: 0.0,
                         sources,
                     },
                     MaskKind::Grating { wavelength, angle_deg } => ExactLayer::Grating {
-                        region: fill_region(&g.1),
+                        region,
                         wavelength_mm: wavelength.0 as f64,
                         angle_deg: angle_deg as f64,
                         amplitude,
@@ -83,38 +83,4 @@ pub fn exact_layers(
         }
     }
     Ok((layers, missing))
-}
-
-/// The region of a vibrating layer: its band within its clips.
-fn band_region(g: &LayerGeometry<'_>) -> Region {
-    let (lines, w) = g.band.clone().unwrap_or_default();
-    let clips: Vec<_> = g.clips.iter().map(|&(c, rule)| (Index::new(c, true), rule)).collect();
-    Region::Band {
-        bands: lines.iter().map(|pl| (Arc::new(Index::new(pl, false)), w)).collect(),
-        clips,
-        corners: lines
-            .iter()
-            .flat_map(|pl| corners(pl, false, Some(w)))
-            .chain(g.clips.iter().flat_map(|(c, _)| corners(c, true, None)))
-            .collect(),
-    }
-}
-
-/// The region of a grated layer: its fills within its clips, less the
-/// vibrating bands cut out of it and its occluders.
-fn fill_region(g: &LayerGeometry<'_>) -> Region {
-    Region::Fill {
-        fills: g.fills.iter().map(|&(f, rule)| (Index::new(f, true), rule)).collect(),
-        clips: g.clips.iter().map(|&(c, rule)| (Index::new(c, true), rule)).collect(),
-        minus_bands: g.cuts.iter().map(|&(b, w)| (Arc::new(Index::new(b, false)), w)).collect(),
-        minus_fills: g.occluders.iter().map(|&(o, rule)| (Index::new(o, true), rule)).collect(),
-        corners: g
-            .fills
-            .iter()
-            .chain(&g.clips)
-            .chain(&g.occluders)
-            .flat_map(|(f, _)| corners(f, true, None))
-            .chain(g.cuts.iter().flat_map(|&(b, w)| corners(b, false, Some(w))))
-            .collect(),
-    }
 }

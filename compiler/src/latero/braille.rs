@@ -161,7 +161,7 @@ const LINE_SPLIT_MM: f64 = 5.0;
 /// source, then into lines where their centres are more than 5 mm apart
 /// vertically), so that a tool finds the same boxes from a bundle's dots
 /// ([`LayerPlan::braille_clearing`](super::LayerPlan::braille_clearing) holds them too).
-pub fn braille_clearing(dots: &[Dot]) -> Vec<Polyline> {
+pub(crate) fn braille_clearing(dots: &[Dot]) -> Vec<Polyline> {
     let gap = MIN_GAP_MM;
     let mut by_source: Vec<&Dot> = dots.iter().collect();
     by_source.sort_by(|a, b| a.source.cmp(&b.source).then(a.y.0.total_cmp(&b.y.0)));

@@ -427,6 +427,7 @@ mod arcs;
 mod bends;
 mod build;
 mod cut_arcs;
+mod exact;
 mod fine;
 mod inside;
 mod junctions;
@@ -435,6 +436,7 @@ mod near;
 mod planes;
 mod sanity;
 pub use build::{build_field, build_field_within};
+pub use exact::{ExactRegion, ON_EDGE_MM, Segment};
 use inside::{FineRows, fill_bits};
 pub use sanity::sanity_check;
 #[cfg(test)]

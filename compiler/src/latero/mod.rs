@@ -16,9 +16,8 @@ mod footprints;
 pub(crate) mod key;
 mod plan;
 
-pub use braille::braille_clearing;
 use braille::clearing_within;
-pub use distance::LayerGeometry;
+pub use distance::{ExactRegion, LayerGeometry, ON_EDGE_MM, Segment};
 pub use plan::{LayerPlan, PlannedLayer, plan};
 
 use std::collections::HashMap;
@@ -97,7 +96,7 @@ pub(crate) struct Built {
     /// and elements, drawing indices): each an error (T0308).
     pub over_budget: Vec<(&'static str, Vec<usize>)>,
     /// Where gratings are not felt around the braille written
-    /// ([`braille_clearing`]).
+    /// ([`braille::braille_clearing`]).
     pub braille_clear: Vec<Polyline>,
     prov_index: HashMap<(String, u32), u32>,
 }

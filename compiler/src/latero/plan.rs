@@ -33,7 +33,8 @@ pub struct LayerPlan<'d> {
     /// (the bundle's order, less the layers that come out empty).
     pub layers: Vec<PlannedLayer<'d>>,
     /// Where gratings are not felt around the braille written (closed
-    /// rectangles, [`braille_clearing`](super::braille_clearing)).
+    /// rectangles: the box of each braille line's dots, grown by the design
+    /// rules' gap).
     pub braille_clearing: Vec<Polyline>,
     /// The dot tables (outline, symbol and braille dots, the non-empty
     /// ones in that order): exact already, a centre, radius and amplitude each.

@@ -9,7 +9,7 @@ use taxel_format::{TILE_CELLS, TILE_INSIDE, TILE_OUTSIDE, TILE_SAMPLES};
 use super::*;
 
 mod curves;
-mod reference;
+pub(crate) mod reference;
 mod searches;
 
 use reference::{constant_tile_at, exact_signed_distance, field_distance};
@@ -454,7 +454,7 @@ fn soft_edges_reach_half_their_width() {
 /// A random outline: a polygon around a centre with random radii (spiky
 /// slivers when the radii jump), optionally self-intersecting (vertices in
 /// random angular order), with collinear midpoints inserted. Shared with
-/// the prototype's tests (`vector/tests.rs`).
+/// the exact region's tests (`exact/tests.rs`).
 pub(crate) fn outline() -> impl Strategy<Value = Polyline> {
     (
         2.0f64..38.0,

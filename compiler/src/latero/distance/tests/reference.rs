@@ -8,7 +8,7 @@ use crate::latero::distance::{Field, LayerGeometry, closed_segments, inside_rect
 
 /// The exact signed distance of a layer at `p`, in f64, before clamping:
 /// the reference the tests measure fields against.
-pub(super) fn exact_signed_distance(g: &LayerGeometry<'_>, page: (f64, f64, f64, f64), p: (f64, f64)) -> f64 {
+pub(crate) fn exact_signed_distance(g: &LayerGeometry<'_>, page: (f64, f64, f64, f64), p: (f64, f64)) -> f64 {
     let mut s = f64::NEG_INFINITY;
     if !g.fills.is_empty() {
         let d = g
