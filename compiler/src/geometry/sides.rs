@@ -37,7 +37,7 @@ pub struct SideRows {
 impl SideRows {
     /// Files the sides of `polys`; `None` when a coordinate is not finite
     /// or there are too many sides to number (callers then read every side).
-    pub fn new(polys: &[Polyline]) -> Option<SideRows> {
+    pub fn new<'a>(polys: impl IntoIterator<Item = &'a Polyline>) -> Option<SideRows> {
         let mut sides = Vec::new();
         for pl in polys {
             let n = pl.points.len();
@@ -111,7 +111,13 @@ impl SideRows {
                 }
             }
         }
-        // Every side that a ray from `p` at its height can cross is in its strip.
+        self.contains(p, rule)
+    }
+
+    /// [`super::contains`] of the outline this was made of (every subpath
+    /// closed): every side that the ray from `p` towards +x can cross is
+    /// filed in `p`'s strip.
+    pub fn contains(&self, p: (f64, f64), rule: FillRule) -> bool {
         let (k, _) = self.strips(p.1, p.1);
         let (mut winding, mut crossings) = (0i32, 0u32);
         for &n in &self.index[self.start[k] as usize..self.start[k + 1] as usize] {

@@ -317,5 +317,5 @@ fn filed_sides_answer_as_every_side() {
     let flat = [Polyline { points: vec![(0.0, 1.0), (5.0, 1.0), (9.0, 1.0)], closed: true }];
     let rows = SideRows::new(&flat).expect("finite");
     assert!(!rows.deep_inside((4.0, 1.0), FillRule::NonZero, 0.0));
-    assert!(!SideRows::new(&[]).expect("finite").deep_inside((0.0, 0.0), FillRule::EvenOdd, 0.1));
+    assert!(!SideRows::new(&[] as &[Polyline]).expect("finite").deep_inside((0.0, 0.0), FillRule::EvenOdd, 0.1));
 }

@@ -185,20 +185,19 @@ impl<'d> Draft<'d> {
                 Shape::Image { .. } => dec.left_out = Some(LeftOut::Image),
                 // Text is placed once every mark is known, so braille avoids the dots.
                 Shape::Text(t) => self.texts.push((i, t)),
-                Shape::Path(p) => self.path(i, p, b, areas[i], ground, darkest, &line_ends),
+                Shape::Path(p) => self.path(i, p, (b, areas[i]), ground, darkest, &line_ends),
             }
         }
     }
 
-    /// Path `i`, of box `b`: a line that vibrates or is faint, its markers'
+    /// Path `i`, of box `b` and filled area `area` (mm²): a line that vibrates or is faint, its markers'
     /// dots, an arrowhead, or a filled shape for [`Draft::small`] and
     /// [`Draft::marks_and_classes`] to tell apart.
     fn path(
         &mut self,
         i: usize,
         p: &'d PathShape,
-        b: Bbox,
-        area: f64,
+        (b, area): (Bbox, f64),
         ground: &Ground,
         darkest: Option<Rgba>,
         line_ends: &LineEnds,

@@ -8,7 +8,7 @@
 //! of their boxes ([`BoxIndex`]), so a query looks only at the segments
 //! near the point.
 
-use crate::geometry::{FillRule, Polyline, distance_to_segment};
+use crate::geometry::{FillRule, Polyline, SideRows, distance_to_segment};
 use crate::spatial::{Bbox, BoxIndex};
 
 use super::LayerGeometry;
@@ -292,6 +292,9 @@ struct Outlines {
     index: BoxIndex,
     /// The box of every segment, `None` when there is none.
     bounds: Option<Bbox>,
+    /// A fill's sides filed by strips, for the crossing test (`None` for a
+    /// band, or where a coordinate is not finite: the index then).
+    rows: Option<SideRows>,
 }
 
 impl Outlines {
@@ -301,6 +304,8 @@ impl Outlines {
     /// a segment of no length. Segments with a coordinate that is not
     /// finite are left out.
     fn new<'a>(sets: impl IntoIterator<Item = &'a [Polyline]>, fill: bool) -> Outlines {
+        let sets: Vec<&[Polyline]> = sets.into_iter().collect();
+        let rows = if fill { SideRows::new(sets.iter().copied().flatten()) } else { None };
         let mut segs = Vec::new();
         for pl in sets.into_iter().flatten() {
             let n = pl.points.len();
@@ -316,7 +321,7 @@ impl Outlines {
         let boxes: Vec<Bbox> =
             segs.iter().map(|&(a, b)| (a.0.min(b.0), a.1.min(b.1), a.0.max(b.0), a.1.max(b.1))).collect();
         let bounds = boxes.iter().copied().reduce(|a, b| (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)));
-        Outlines { index: BoxIndex::new(&boxes), segs, bounds }
+        Outlines { index: BoxIndex::new(&boxes), segs, bounds, rows }
     }
 
     /// Whether `p` is inside, by the crossing rule of `geometry::contains`:
@@ -329,6 +334,9 @@ impl Outlines {
         // every fill and occluder is asked at every point).
         if p.0.is_nan() || p.1.is_nan() || p.0 > b.2 || p.1 < b.1 || p.1 > b.3 {
             return false;
+        }
+        if let Some(rows) = &self.rows {
+            return rows.contains(p, rule);
         }
         let (mut winding, mut crossings) = (0i32, 0u32);
         for k in self.index.meeting((p.0, p.1, b.2, p.1)) {
