@@ -132,9 +132,10 @@ fn check(g: &LayerGeometry<'_>, points: &[(f64, f64)], simple: bool) -> Result<(
         if field.abs() > 1e-9 {
             prop_assert_eq!(field > 0.0, covers, "the field's sign at {:?}: {}", p, field);
         }
-        prop_assert!(field.abs() <= sd.abs() + 1e-9, "{:?}: field {} beyond exact {}", p, field, sd);
+        // (A micrometre: the oracle takes band widths as the fields store them, in f32.)
+        prop_assert!(field.abs() <= sd.abs() + 1e-6, "{:?}: field {} beyond exact {}", p, field, sd);
         if simple {
-            prop_assert!(field == sd || (field - sd).abs() <= 1e-9, "{:?}: field {}, exact {}", p, field, sd);
+            prop_assert!(field == sd || (field - sd).abs() <= 1e-6, "{:?}: field {}, exact {}", p, field, sd);
         }
     }
     Ok(())
