@@ -170,26 +170,53 @@ fn steps(m: f64, tol: f64) -> usize {
 /// Whether `p` is inside the shape whose subpaths are `polys` (each closed
 /// implicitly, as SVG fills do).
 pub fn contains(polys: &[Polyline], p: (f64, f64), rule: FillRule) -> bool {
-    let mut winding = 0i32;
-    let mut crossings = 0u32;
+    let mut ray = Crossings::default();
     for pl in polys {
         let n = pl.points.len();
         for i in 0..n {
-            let a = pl.points[i];
-            let b = pl.points[(i + 1) % n];
-            if (a.1 <= p.1) != (b.1 <= p.1) {
-                let x = a.0 + (p.1 - a.1) / (b.1 - a.1) * (b.0 - a.0);
-                if x > p.0 {
-                    crossings += 1;
-                    winding += if b.1 > a.1 { 1 } else { -1 };
-                }
+            ray.side(p, pl.points[i], pl.points[(i + 1) % n]);
+        }
+    }
+    ray.inside(rule)
+}
+
+/// The sides crossing the ray from a point towards +x, counted side by side
+/// (the crossing rule of [`contains`]): whether the point is inside by
+/// either fill rule once every side of the outline has been offered.
+#[derive(Debug, Default)]
+pub(crate) struct Crossings {
+    winding: i32,
+    crossings: u32,
+}
+
+impl Crossings {
+    /// Counts side `a`-`b` if it crosses the ray from `p`.
+    pub(crate) fn side(&mut self, p: (f64, f64), a: (f64, f64), b: (f64, f64)) {
+        if (a.1 <= p.1) != (b.1 <= p.1) {
+            let x = a.0 + (p.1 - a.1) / (b.1 - a.1) * (b.0 - a.0);
+            if x > p.0 {
+                self.crossings += 1;
+                self.winding += if b.1 > a.1 { 1 } else { -1 };
             }
         }
     }
-    match rule {
-        FillRule::NonZero => winding != 0,
-        FillRule::EvenOdd => crossings % 2 == 1,
+
+    /// Whether the point is inside by `rule`.
+    pub(crate) fn inside(&self, rule: FillRule) -> bool {
+        match rule {
+            FillRule::NonZero => self.winding != 0,
+            FillRule::EvenOdd => self.crossings % 2 == 1,
+        }
     }
+}
+
+/// Whether side `a`-`b` comes within `margin` of `p`, to the bit (its box
+/// first, with the slack of [`distance_to_outline_within`]).
+pub(crate) fn side_within(p: (f64, f64), a: (f64, f64), b: (f64, f64), margin: f64) -> bool {
+    let t = margin + margin * 1e-9 + 1e-9;
+    let dx = (a.0.min(b.0) - p.0).max(p.0 - a.0.max(b.0)).max(0.0);
+    let dy = (a.1.min(b.1) - p.1).max(p.1 - a.1.max(b.1)).max(0.0);
+    dx * dx + dy * dy <= t * t && distance_to_segment(p, a, b) <= margin
 }
 
 /// Whether `p` lies inside the shape (by `rule`) farther than `margin` from
@@ -197,35 +224,20 @@ pub fn contains(polys: &[Polyline], p: (f64, f64), rule: FillRule) -> bool {
 /// `distance_to_outline_within(polys, p, margin, margin) > margin`, in one
 /// pass over the sides that stops at the first side within `margin`.
 pub fn deep_inside(polys: &[Polyline], p: (f64, f64), rule: FillRule, margin: f64) -> bool {
-    let (mut winding, mut crossings) = (0i32, 0u32);
-    // The box test's slack, as in [`distance_to_outline_within`].
-    let t = margin + margin * 1e-9 + 1e-9;
+    let mut ray = Crossings::default();
     for pl in polys {
         let n = pl.points.len();
         // The sides [`Polyline::segments`] measures; every side closes the ring for the winding.
         let measured = pl.segment_count();
         for i in 0..n {
             let (a, b) = (pl.points[i], pl.points[(i + 1) % n]);
-            if i < measured {
-                let dx = (a.0.min(b.0) - p.0).max(p.0 - a.0.max(b.0)).max(0.0);
-                let dy = (a.1.min(b.1) - p.1).max(p.1 - a.1.max(b.1)).max(0.0);
-                if dx * dx + dy * dy <= t * t && distance_to_segment(p, a, b) <= margin {
-                    return false;
-                }
+            if i < measured && side_within(p, a, b, margin) {
+                return false;
             }
-            if (a.1 <= p.1) != (b.1 <= p.1) {
-                let x = a.0 + (p.1 - a.1) / (b.1 - a.1) * (b.0 - a.0);
-                if x > p.0 {
-                    crossings += 1;
-                    winding += if b.1 > a.1 { 1 } else { -1 };
-                }
-            }
+            ray.side(p, a, b);
         }
     }
-    match rule {
-        FillRule::NonZero => winding != 0,
-        FillRule::EvenOdd => crossings % 2 == 1,
-    }
+    ray.inside(rule)
 }
 
 /// Douglas–Peucker simplification: the points of `points` that keep every

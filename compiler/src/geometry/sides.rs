@@ -5,7 +5,7 @@
 //! the hundreds of islands beside it otherwise reads every side each time
 //! (a world map's automatic sheet spent half its build there).
 
-use super::{FillRule, Polyline, distance_to_segment};
+use super::{Crossings, FillRule, Polyline, side_within};
 
 /// Sides per strip, on average, that [`SideRows::new`] aims at.
 const SIDES_PER_STRIP: usize = 8;
@@ -96,17 +96,10 @@ impl SideRows {
     /// sides.
     pub fn deep_inside(&self, p: (f64, f64), rule: FillRule, margin: f64) -> bool {
         let (lo, hi) = self.strips(p.1 - margin, p.1 + margin);
-        // The box test's slack, as in [`super::distance_to_outline_within`].
-        let t = margin + margin * 1e-9 + 1e-9;
         for k in lo..=hi {
             for &n in &self.index[self.start[k] as usize..self.start[k + 1] as usize] {
                 let Side { a, b, measured } = self.sides[n as usize];
-                if !measured {
-                    continue;
-                }
-                let dx = (a.0.min(b.0) - p.0).max(p.0 - a.0.max(b.0)).max(0.0);
-                let dy = (a.1.min(b.1) - p.1).max(p.1 - a.1.max(b.1)).max(0.0);
-                if dx * dx + dy * dy <= t * t && distance_to_segment(p, a, b) <= margin {
+                if measured && side_within(p, a, b, margin) {
                     return false;
                 }
             }
@@ -119,20 +112,11 @@ impl SideRows {
     /// filed in `p`'s strip.
     pub fn contains(&self, p: (f64, f64), rule: FillRule) -> bool {
         let (k, _) = self.strips(p.1, p.1);
-        let (mut winding, mut crossings) = (0i32, 0u32);
+        let mut ray = Crossings::default();
         for &n in &self.index[self.start[k] as usize..self.start[k + 1] as usize] {
             let Side { a, b, .. } = self.sides[n as usize];
-            if (a.1 <= p.1) != (b.1 <= p.1) {
-                let x = a.0 + (p.1 - a.1) / (b.1 - a.1) * (b.0 - a.0);
-                if x > p.0 {
-                    crossings += 1;
-                    winding += if b.1 > a.1 { 1 } else { -1 };
-                }
-            }
+            ray.side(p, a, b);
         }
-        match rule {
-            FillRule::NonZero => winding != 0,
-            FillRule::EvenOdd => crossings % 2 == 1,
-        }
+        ray.inside(rule)
     }
 }

@@ -8,7 +8,7 @@
 //! of their boxes ([`BoxIndex`]), so a query looks only at the segments
 //! near the point.
 
-use crate::geometry::{FillRule, Polyline, SideRows, distance_to_segment};
+use crate::geometry::{Crossings, FillRule, Polyline, SideRows, distance_to_segment};
 use crate::spatial::{Bbox, BoxIndex};
 
 use super::LayerGeometry;
@@ -338,21 +338,12 @@ impl Outlines {
         if let Some(rows) = &self.rows {
             return rows.contains(p, rule);
         }
-        let (mut winding, mut crossings) = (0i32, 0u32);
+        let mut ray = Crossings::default();
         for k in self.index.meeting((p.0, p.1, b.2, p.1)) {
             let (a, b) = self.segs[k];
-            if (a.1 <= p.1) != (b.1 <= p.1) {
-                let x = a.0 + (p.1 - a.1) / (b.1 - a.1) * (b.0 - a.0);
-                if x > p.0 {
-                    crossings += 1;
-                    winding += if b.1 > a.1 { 1 } else { -1 };
-                }
-            }
+            ray.side(p, a, b);
         }
-        match rule {
-            FillRule::NonZero => winding != 0,
-            FillRule::EvenOdd => crossings % 2 == 1,
-        }
+        ray.inside(rule)
     }
 
     /// The segments whose boxes come within `r` mm of `p` in both axes (a
