@@ -457,21 +457,7 @@ mod tests {
         // 20,000 times: 256 rows would be five times the budget.
         let mut next = uniform(0x9e37_79b9_7f4a_7c15_u64, 100.0);
         let pts: Vec<_> = (0..60_000).map(|_| (next(), next())).collect();
-        let mut edges: Vec<Edge> = (0..pts.len())
-            .filter_map(|i| {
-                let (a, b) = (pts[i], pts[(i + 1) % pts.len()]);
-                let (lo, hi, dir) = if a.1 < b.1 { (a, b, 1) } else { (b, a, -1) };
-                (a.1 != b.1).then(|| Edge {
-                    y0: lo.1,
-                    y1: hi.1,
-                    x0: lo.0,
-                    slope: (hi.0 - lo.0) / (hi.1 - lo.1),
-                    dir,
-                    x1: hi.0,
-                })
-            })
-            .collect();
-        edges.sort_by(|a, b| a.y0.total_cmp(&b.y0));
+        let edges = edges_of(&pts);
         let rows = rows_of(&edges, None);
         assert!(rows.len() >= MIN_EVEN_ROWS, "{} rows", rows.len());
         let w = work(&edges, &rows);
