@@ -129,6 +129,7 @@ fn options_with_fonts(opts: &CompileOpts, fonts: bool) -> Result<Result<CompileO
             usize::MAX => None,
             limit => Some(taxel_compiler::budget::MemoryBudget { in_use: crate::held, limit }),
         },
+        flattening: taxel_compiler::geometry::Flattening::DEFAULT,
     }))
 }
 

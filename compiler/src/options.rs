@@ -113,6 +113,12 @@ pub struct CompileOptions {
     /// whose work grows with the geometry stop with an error (T0308) past
     /// it. `None` (the default): no limit.
     pub memory: Option<crate::budget::MemoryBudget>,
+    /// How finely the drawing's curves are flattened; default
+    /// [`Flattening::DEFAULT`](crate::geometry::Flattening::DEFAULT).
+    /// `taxel report`'s reference flattens circular arcs finer
+    /// ([`REFERENCE_FLATTENING`](crate::geometry::REFERENCE_FLATTENING)),
+    /// so that it stands for the circle itself.
+    pub flattening: crate::geometry::Flattening,
 }
 
 impl CompileOptions {
@@ -133,6 +139,7 @@ impl CompileOptions {
             languages: vec!["en".to_string()],
             braille: Arc::new(taxel_braille::Braille::builtin()),
             memory: None,
+            flattening: crate::geometry::Flattening::DEFAULT,
         }
     }
 }

@@ -28,7 +28,11 @@ pub fn exact_layers(
     bundle: &Bundle,
     opts: &CompileOptions,
 ) -> Result<(Vec<ExactLayer>, Vec<String>), String> {
-    let opts = CompileOptions { profile: bundle.manifest.profile, ..opts.clone() };
+    let opts = CompileOptions {
+        profile: bundle.manifest.profile,
+        flattening: taxel_compiler::geometry::REFERENCE_FLATTENING,
+        ..opts.clone()
+    };
     let resolved = taxel_compiler::pipeline::resolve(svg, &opts);
     let Some(drawing) = resolved.drawing else {
         return Err(resolved.diagnostics.first().map_or("the SVG could not be read".into(), |d| d.message.clone()));

@@ -191,7 +191,7 @@ pub(crate) fn run(
     let root = doc.root_element();
     let sizing = page::page(root, w as f64, h as f64, opts.width_mm, &opts.profile, diags);
     let root_ts = page::root_transform(root, w, h);
-    let mut walked = walk::walk(&tree, &src, opts.style.as_ref(), sizing.scale);
+    let mut walked = walk::walk(&tree, &src, opts.style.as_ref(), sizing.scale, opts.flattening);
     let outlines = std::mem::take(&mut walked.text_outlines);
     *fonts_used = faces_used(&tree);
     // usvg's tree and the second parse are freed on another thread while

@@ -63,14 +63,24 @@ struct Walker<'s, 't> {
     found: Vec<Found<'t>>,
     /// The glyph paths of each laid-out text, in tree order: its source element and its paths.
     glyphs: Vec<(usize, Vec<(&'t Path, Transform)>)>,
+    /// How finely outlines are flattened.
+    flattening: geometry::Flattening,
 }
 
-/// Walks `tree`; `mm_per_px` maps usvg pixels to page millimetres.
-pub(crate) fn walk(tree: &usvg::Tree, src: &Source, sheet: Option<&StyleSheet>, mm_per_px: f64) -> Walked {
+/// Walks `tree`; `mm_per_px` maps usvg pixels to page millimetres, and
+/// outlines are flattened within `flattening`.
+pub(crate) fn walk(
+    tree: &usvg::Tree,
+    src: &Source,
+    sheet: Option<&StyleSheet>,
+    mm_per_px: f64,
+    flattening: geometry::Flattening,
+) -> Walked {
     let s = mm_per_px as f32;
     let mut w = Walker {
         src,
         sheet,
+        flattening,
         page_ts: Transform::from_scale(s, s),
         out: Walked {
             elements: Vec::new(),
@@ -95,7 +105,7 @@ pub(crate) fn walk(tree: &usvg::Tree, src: &Source, sheet: Option<&StyleSheet>, 
                 .map(|f| {
                     let shape = match f.shape {
                         FoundShape::Path { data, ts, fill_rule, markers, clips } => Shape::Path(PathShape {
-                            outline: geometry::flatten(data, ts, geometry::FLATTEN_TOLERANCE_MM),
+                            outline: geometry::flatten_with(data, ts, flattening),
                             fill_rule,
                             markers,
                             clips,
@@ -110,10 +120,8 @@ pub(crate) fn walk(tree: &usvg::Tree, src: &Source, sheet: Option<&StyleSheet>, 
             glyphs
                 .par_iter()
                 .map(|(elem, paths)| {
-                    let outline = paths
-                        .iter()
-                        .flat_map(|&(data, ts)| geometry::flatten(data, ts, geometry::FLATTEN_TOLERANCE_MM))
-                        .collect();
+                    let outline =
+                        paths.iter().flat_map(|&(data, ts)| geometry::flatten_with(data, ts, flattening)).collect();
                     (*elem, outline)
                 })
                 .collect::<Vec<_>>()
@@ -161,29 +169,35 @@ pub(crate) fn paint_of(fill: Option<&usvg::Fill>, stroke: Option<&usvg::Stroke>,
 /// A clip path made of several shapes is their union; it is kept as one
 /// [`Clip`] whose outline holds them all under the first shape's rule, which
 /// is exact for shapes that do not overlap (the common case: one shape).
-fn clip_regions(clip: &usvg::ClipPath, base: Transform, out: &mut Vec<Clip>) {
+fn clip_regions(clip: &usvg::ClipPath, base: Transform, flattening: geometry::Flattening, out: &mut Vec<Clip>) {
     let ts = base.pre_concat(clip.transform());
     let mut region = Clip::default();
     let mut first_rule = None;
-    clip_group(clip.root(), ts, &mut region, &mut first_rule);
+    clip_group(clip.root(), ts, flattening, &mut region, &mut first_rule);
     region.fill_rule = first_rule.unwrap_or_default();
     out.push(region);
     if let Some(inner) = clip.clip_path() {
-        clip_regions(inner, base, out);
+        clip_regions(inner, base, flattening, out);
     }
 }
 
-fn clip_group(g: &Group, ts: Transform, region: &mut Clip, rule: &mut Option<FillRule>) {
+fn clip_group(
+    g: &Group,
+    ts: Transform,
+    flattening: geometry::Flattening,
+    region: &mut Clip,
+    rule: &mut Option<FillRule>,
+) {
     for c in g.children() {
         match c {
-            Node::Group(cg) => clip_group(cg, ts.pre_concat(cg.transform()), region, rule),
+            Node::Group(cg) => clip_group(cg, ts.pre_concat(cg.transform()), flattening, region, rule),
             Node::Path(p) => {
                 rule.get_or_insert(fill_rule(p));
-                region.outline.extend(geometry::flatten(p.data(), ts, geometry::FLATTEN_TOLERANCE_MM));
+                region.outline.extend(geometry::flatten_with(p.data(), ts, flattening));
             }
             Node::Text(t) => {
                 let fg = t.flattened();
-                clip_group(fg, ts.pre_concat(fg.transform()), region, rule);
+                clip_group(fg, ts.pre_concat(fg.transform()), flattening, region, rule);
             }
             Node::Image(_) => {}
         }
@@ -311,7 +325,7 @@ impl<'t> Walker<'_, 't> {
                     }
                     let before = clips.len();
                     if let Some(c) = cg.clip_path() {
-                        clip_regions(c, self.page_ts.pre_concat(cg.abs_transform()), clips);
+                        clip_regions(c, self.page_ts.pre_concat(cg.abs_transform()), self.flattening, clips);
                     }
                     let owner = own.filter(|&ei| self.src.elements[ei].tag == "use").or(owner);
                     self.group(cg, decl.as_ref(), owner, own.or(here), clips);

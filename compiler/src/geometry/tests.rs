@@ -28,6 +28,63 @@ fn circle_flattens_within_tolerance() {
     assert!((polys[0].length() - exact).abs() / exact < 1e-3);
 }
 
+/// The cubic that usvg (kurbo) writes for an arc of `sweep` radians round
+/// `c`, radius `r`, from angle `a0`: handles tangent, `4/3 tan(sweep / 4) r` long.
+fn arc_cubic(pb: &mut PathBuilder, c: (f64, f64), r: f64, a0: f64, sweep: f64) {
+    let arm = 4.0 / 3.0 * (sweep / 4.0).tan() * r;
+    let at = |a: f64| (c.0 + r * a.cos(), c.1 + r * a.sin());
+    let (p0, p3) = (at(a0), at(a0 + sweep));
+    let (t0, t3) = ((-a0.sin(), a0.cos()), (-(a0 + sweep).sin(), (a0 + sweep).cos()));
+    let c1 = (p0.0 + arm * t0.0, p0.1 + arm * t0.1);
+    let c2 = (p3.0 - arm * t3.0, p3.1 - arm * t3.1);
+    pb.cubic_to(c1.0 as f32, c1.1 as f32, c2.0 as f32, c2.1 as f32, p3.0 as f32, p3.1 as f32);
+}
+
+/// A circle as usvg writes it (four cubic arcs, each up to 0.027 % of the
+/// radius off the circle) is flattened on the circle: every vertex on it
+/// within the `f32` rounding of the path's points (where the Bézier is up
+/// to 4 µm off a 15 mm circle), every chord within the tolerance of it.
+/// Arcs of other sweeps, either way round and scaled by the transform, too.
+#[test]
+fn circular_arcs_are_flattened_on_their_circle() {
+    let (c, r) = ((55.0, 30.0), 15.0);
+    for (sweep, parts) in [(std::f64::consts::FRAC_PI_2, 4), (-std::f64::consts::FRAC_PI_2, 4), (0.3, 5), (2.5, 2)] {
+        let mut pb = PathBuilder::new();
+        pb.move_to((c.0 + r) as f32, c.1 as f32);
+        for k in 0..parts {
+            arc_cubic(&mut pb, c, r, k as f64 * sweep, sweep);
+        }
+        let path = pb.finish().unwrap();
+        for (scale, tol) in [(1.0, FLATTEN_TOLERANCE_MM), (0.5, 1e-6)] {
+            let ts = Transform::from_scale(scale, scale);
+            let (cs, rs) = ((c.0 * scale as f64, c.1 * scale as f64), r * scale as f64);
+            let pl = &flatten_with(&path, ts, Flattening { curves: FLATTEN_TOLERANCE_MM, arcs: tol })[0];
+            for &p in &pl.points {
+                assert!((dist(p, cs) - rs).abs() < 2e-5, "sweep {sweep}: {p:?} is {} off", dist(p, cs) - rs);
+            }
+            for (a, b) in pl.segments().take(pl.points.len() - 1) {
+                let mid = ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0);
+                assert!(rs - dist(mid, cs) <= tol + 2e-5, "sweep {sweep}: a chord {} inside", rs - dist(mid, cs));
+            }
+            // Not many more chords than the tolerance needs.
+            let needed = (sweep.abs() * parts as f64 / (2.0 * (1.0 - tol / rs).acos())).ceil();
+            assert!(pl.points.len() as f64 <= needed + 2.0 * parts as f64, "{} points for {needed}", pl.points.len());
+        }
+    }
+}
+
+/// A cubic that is not a circular arc's (an ellipse's quarter, handles of
+/// unequal length) is flattened as the cubic it is.
+#[test]
+fn other_cubics_are_not_taken_for_arcs() {
+    assert!(circular_arc((10.0, 0.0), (10.0, 2.761), (5.523, 5.0), (0.0, 5.0)).is_none());
+    assert!(circular_arc((10.0, 0.0), (10.0, 5.523), (4.0, 10.0), (0.0, 10.0)).is_none());
+    let k = 4.0 / 3.0 * (std::f64::consts::FRAC_PI_8).tan() * 10.0;
+    let arc = circular_arc((10.0, 0.0), (10.0, k), (k, 10.0), (0.0, 10.0)).expect("a quarter circle");
+    assert!(dist(arc.centre, (0.0, 0.0)) < 1e-9 && (arc.radius - 10.0).abs() < 1e-9, "{arc:?}");
+    assert!((arc.sweep - std::f64::consts::FRAC_PI_2).abs() < 1e-9, "{arc:?}");
+}
+
 #[test]
 fn simplify_keeps_every_point_within_tolerance() {
     // A small circle as the fields flatten it: many more sides than a

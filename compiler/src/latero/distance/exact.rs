@@ -217,13 +217,15 @@ impl ExactRegion {
 
     /// Segments on which every point of the region's edge lies (a superset
     /// of it), in page mm: the band's and cut bands' two offset lines and
-    /// the circles round their centre lines' vertices (polygons of chords
-    /// within `sagitta` mm of the circle, at least 16 and at most 4,096 of
-    /// them), and the fills', occluders' and clips' outlines.
+    /// the arcs round their centre lines' vertices that may be on the edge
+    /// (polygons of chords within `sagitta` mm of the circle, at most 4,096
+    /// to a whole circle), and the fills', occluders' and clips' outlines.
     pub fn edge_candidates(&self, sagitta: f64) -> Vec<Segment> {
         let mut out = Vec::new();
         let band = |b: &Outlines, w: f64, out: &mut Vec<Segment>| {
             let r = w / 2.0;
+            // The directions of the segments from each vertex.
+            let mut at: std::collections::HashMap<(u64, u64), Vec<(f64, f64)>> = std::collections::HashMap::new();
             for &(a, b) in &b.segs {
                 let (dx, dy) = (b.0 - a.0, b.1 - a.1);
                 let len = dx.hypot(dy);
@@ -231,10 +233,16 @@ impl ExactRegion {
                     let (nx, ny) = (-dy / len * r, dx / len * r);
                     out.push(((a.0 + nx, a.1 + ny), (b.0 + nx, b.1 + ny)));
                     out.push(((a.0 - nx, a.1 - ny), (b.0 - nx, b.1 - ny)));
+                    at.entry((a.0.to_bits(), a.1.to_bits())).or_default().push((dx / len, dy / len));
+                    at.entry((b.0.to_bits(), b.1.to_bits())).or_default().push((-dx / len, -dy / len));
+                } else {
+                    at.entry((a.0.to_bits(), a.1.to_bits())).or_default();
                 }
-                for c in [a, b] {
-                    circle(c, r, sagitta, out);
-                }
+            }
+            let mut vertices: Vec<_> = at.into_iter().collect();
+            vertices.sort_by(|x, y| x.0.cmp(&y.0));
+            for ((x, y), dirs) in vertices {
+                join(((f64::from_bits(x)), f64::from_bits(y)), &dirs, r, sagitta, out);
             }
         };
         if let Some((b, w)) = &self.band {
@@ -250,15 +258,42 @@ impl ExactRegion {
     }
 }
 
-/// The circle of radius `r` round `c` as a polygon of chords that stay within `sagitta` of it.
-fn circle(c: (f64, f64), r: f64, sagitta: f64, out: &mut Vec<Segment>) {
+/// The arc of the circle of radius `r` round a centre-line vertex `c` that
+/// may be on a band's edge, as chords that stay within `sagitta` of it: a
+/// point `c + r u` with `u · d > 0` for a segment leaving `c` along `d` is
+/// nearer than `r` to that segment, so inside the band; what is left is the
+/// arc where `u · d ≤ 0` for every such `d` (an open end's round cap, a
+/// bend's round join on its outer side, nothing much where the line goes
+/// straight on). A lone point (no direction) keeps the whole circle. Only
+/// that arc: a circle flattened finely has thousands of vertices, and whole
+/// circles round each made the report's outline millions of chords.
+fn join(c: (f64, f64), dirs: &[(f64, f64)], r: f64, sagitta: f64, out: &mut Vec<Segment>) {
+    use std::f64::consts::{FRAC_PI_2, PI, TAU};
     if !(r.is_finite() && r > 0.0) {
         return;
     }
-    // Sagitta of a chord over the angle 2π/n: r (1 − cos(π/n)) ≈ r π² / (2 n²).
-    let n = (std::f64::consts::PI * (r / (2.0 * sagitta.max(1e-9))).sqrt()).ceil().clamp(16.0, 4096.0) as usize;
+    // Each direction allows the half circle [θ + π/2, θ + 3π/2] of angles;
+    // their intersection is one arc (each is half the circle) or nothing.
+    let (mut s, mut e) = (0.0, TAU);
+    for (k, &(dx, dy)) in dirs.iter().enumerate() {
+        let from = dy.atan2(dx) + FRAC_PI_2;
+        if k == 0 {
+            (s, e) = (from, from + PI);
+            continue;
+        }
+        // The copy of the allowed half circle that may overlap [s, e].
+        let from = from + ((s - from) / TAU + 0.5).floor() * TAU;
+        let from = if from > s + PI - 1e-12 { from - TAU } else { from };
+        (s, e) = (s.max(from), e.min(from + PI));
+        if s > e {
+            return;
+        }
+    }
+    // Sagitta of a chord over the angle a: r (1 − cos(a/2)) ≈ r a² / 8.
+    let step = (8.0 * sagitta.max(1e-9) / r).sqrt().max(TAU / 4096.0);
+    let n = ((e - s) / step).ceil().max(1.0) as usize;
     let at = |k: usize| {
-        let a = std::f64::consts::TAU * k as f64 / n as f64;
+        let a = s + (e - s) * k as f64 / n as f64;
         (c.0 + r * a.cos(), c.1 + r * a.sin())
     };
     for k in 0..n {
