@@ -61,13 +61,39 @@ const FIT_SEGMENTS: [usize; 4] = [48, 24, 8, 3];
 /// the cell centres). A cone that a bend tile plays comes first (format 4.0), then
 /// an arc tile (format 4.1): a disc's cone, a hole, or a band's ring.
 pub(super) fn circles(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Vec<(u32, [TilePlane; 2])> {
-    let (band, offset) = match t.g.band.as_ref() {
-        Some((_, w)) => (true, w / 2.0),
-        None => (false, 0.0),
-    };
+    let mut out: Vec<(u32, [TilePlane; 2])> = Vec::new();
+    match t.g.band.as_ref() {
+        // A band round a circle: its outer side as a cone, or the ring.
+        Some((_, w)) => circles_of(t, exact, Part::Band, &[w / 2.0], Some(w / 2.0), &mut out),
+        // A fill's curved side: the disc, or the hole.
+        None => circles_of(t, exact, Part::Fill, &[0.0], None, &mut out),
+    }
+    // A vibrating band round a circle cut out of a grating: the grating's
+    // edge is the band's inner side (the disc inside it, `R − w / 2`) or its
+    // outer side (the hole round it, `R + w / 2`), the band's centre line's
+    // circle offset by half its width. (The experiment-5 circle icon: the
+    // grated disc less its vibrating outline; before these, its tiles on the
+    // cut's inner side were stored.)
+    for (k, w) in t.cut_widths().into_iter().enumerate() {
+        circles_of(t, exact, Part::Cut(k), &[-w / 2.0, w / 2.0], None, &mut out);
+    }
+    out
+}
+
+/// [`circles`] for the circles through the vertices of `part`'s segments
+/// nearest the tile, each grown by every one of `offsets` (mm), a band's
+/// ring `ring` wide on each side of it where `ring` is given.
+fn circles_of(
+    t: &TileCtx<'_, '_>,
+    exact: &[f64; TILE_SAMPLES],
+    part: Part,
+    offsets: &[f64],
+    ring: Option<f64>,
+    out: &mut Vec<(u32, [TilePlane; 2])>,
+) {
     let span = TILE_CELLS as f64 * t.h;
     let middle = t.middle();
-    let near = t.nearest(if band { Part::Band } else { Part::Fill }, FIT_SEGMENTS[0]);
+    let near = t.nearest(part, FIT_SEGMENTS[0]);
     // The outline's vertices over the tile (grown by a cell): where the
     // circle must follow the outline, since the tile's edge is there.
     let m = t.h;
@@ -92,18 +118,25 @@ pub(super) fn circles(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Vec<(
         fits.push((off, c, r));
     }
     fits.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut out: Vec<(u32, [TilePlane; 2])> = Vec::new();
     let order = t.order(exact);
     for (_, c, r) in fits {
-        let bend = cone(t, c, r + offset).map(|rec| (TILE_BEND, rec));
-        let ring = arcs(t, c, r, band.then_some(offset)).into_iter().map(|rec| (TILE_ARC, rec));
-        for rec in bend.into_iter().chain(ring) {
-            if plays(t, &rec, exact, order) && !out.contains(&rec) {
-                out.push(rec);
+        for &offset in offsets {
+            let radius = r + offset;
+            if !(radius > 0.0) {
+                continue;
+            }
+            let bend = cone(t, c, radius).map(|rec| (TILE_BEND, rec));
+            let ring = match ring {
+                Some(half) => arcs(t, c, r, Some(half)),
+                None => arcs(t, c, radius, None),
+            };
+            for rec in bend.into_iter().chain(ring.into_iter().map(|rec| (TILE_ARC, rec))) {
+                if plays(t, &rec, exact, order) && !out.contains(&rec) {
+                    out.push(rec);
+                }
             }
         }
     }
-    out
 }
 
 /// The circle through `points` (least squares), if every point lies on it

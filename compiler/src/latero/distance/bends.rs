@@ -145,12 +145,19 @@ impl Bend {
     pub(super) fn close(&self, u: f64, w: f64, e: f64, sat: Saturation) -> bool {
         let r = (u - self.vertex.0).hypot(w - self.vertex.1);
         let d = self.wedge(u, w, r);
-        if !sat.close(d, e) {
+        let played = self.played(u, w);
+        // The layer's distance is the rays' (round round the vertex), or,
+        // where it is a bound, the played miter itself: a grating less the
+        // vibrating band cut out of it has `d_c − w / 2` at the band's inner
+        // corners, the lesser of the two offset lines, exactly what a corner
+        // tile plays (the experiment-5 triangles' acute inner corners, whose
+        // tiles were refused for it and stored).
+        if !sat.close(d, e) && !sat.close(played, e) {
             return false;
         }
         let in_spot = r <= self.spot;
         let clamp = |v: f64| v.clamp(sat.lo, sat.hi);
-        in_spot || (clamp(self.played(u, w)) - clamp(d)).abs() <= TOLERANCE
+        in_spot || (clamp(played) - clamp(d)).abs() <= TOLERANCE
     }
 }
 

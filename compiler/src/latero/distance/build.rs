@@ -505,13 +505,23 @@ impl<'a, 'g> Build<'a, 'g> {
         let fitted = planes::fit(exact, self.ridge_top, sat, &lines)
             .into_iter()
             .find(|(e, rec)| tile.centres_fit(centres, *e, rec));
-        if let Some((entry, rec)) = fitted {
-            return TileOut::Record(entry, rec);
-        }
         // The kinds below play two lines, a circle or up to three segments:
         // where hundreds of segments lie within the tile's reach (a map
         // drawn far finer than the lattice) they are not tried.
-        if self.crowded(tile.bucket) {
+        let crowded = self.crowded(tile.bucket);
+        if let Some((entry, rec)) = fitted {
+            // A plane or ridge is exact on a straight edge. Where the edge is
+            // a circle's arc (a tile the arc only grazes), it is within half
+            // a code at the checked points, but between them off by the
+            // arc's sagitta, up to half a code more (20 steps at an actuator
+            // on the experiment-5 circle's band at the default pitch): the
+            // circle, where one plays the tile, is exact everywhere.
+            if !crowded && let Some((kind, r)) = self.circle(tile, centres, exact) {
+                return TileOut::Bend(kind, r);
+            }
+            return TileOut::Record(entry, rec);
+        }
+        if crowded {
             return self.stored(tile, centres, tile_buf, refine);
         }
         // Two straight edges meeting at a vertex: a corner or a notch.
@@ -531,13 +541,7 @@ impl<'a, 'g> Build<'a, 'g> {
             return TileOut::Bend(taxel_format::TILE_BEND, r);
         }
         // A circular arc: the cone round its centre as a bend tile, else an arc tile.
-        let circle = arcs::circles(tile, exact).into_iter().find(|(kind, r)| {
-            let entry = taxel_format::TileEntry::of(*kind);
-            tile.centres_all(centres, |u, w, e| {
-                entry.code(r, u, w).is_some_and(|code| sat.close(code - DISTANCE_ZERO as f64, e))
-            })
-        });
-        if let Some((kind, r)) = circle {
+        if let Some((kind, r)) = self.circle(tile, centres, exact) {
             return TileOut::Bend(kind, r);
         }
         // Where band centre lines meet: the nearest of up to three segments.
@@ -558,6 +562,23 @@ impl<'a, 'g> Build<'a, 'g> {
             return TileOut::Bend(taxel_format::TILE_ARC, cut.recs);
         }
         self.stored(tile, centres, tile_buf, refine)
+    }
+
+    /// The first circle ([`arcs::circles`]) that plays the tile within half
+    /// a code at its samples and cell centres: its index kind and records.
+    fn circle(
+        &self,
+        tile: &planes::TileCtx<'_, '_>,
+        centres: &mut Near,
+        exact: &[f64; TILE_SAMPLES],
+    ) -> Option<(u32, [TilePlane; 2])> {
+        let sat = self.sat;
+        arcs::circles(tile, exact).into_iter().find(|(kind, r)| {
+            let entry = taxel_format::TileEntry::of(*kind);
+            tile.centres_all(centres, |u, w, e| {
+                entry.code(r, u, w).is_some_and(|code| sat.close(code - DISTANCE_ZERO as f64, e))
+            })
+        })
     }
 
     /// A tile no other kind plays: its samples, finer where the lattice's
