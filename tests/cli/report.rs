@@ -101,10 +101,15 @@ fn the_default_meets_the_accuracy_targets_on_the_experiments_stimuli() {
     // And an experiment-5 icon's grating, whose edge is the inner edge of the
     // vibrating outline cut out of it (its tiles there were stored, RMS 2.6,
     // before the plane test told the layer's bound from the distance).
+    // Issue 46: the circle icon (its disc less the vibrating ring, whose
+    // inner side was stored, RMS 3.7) and the right triangle (its acute
+    // inner corners, fine tiles 0.063 mm off, RMS 2.2) too.
     let scenes = [
         ("exp1-grating-2cm", "grating"),
         ("exp1-vibrate-3cm-a", "vibration"),
         ("exp5-icon-square-horizontal-2mm", "grating"),
+        ("exp5-icon-circle-vertical-2mm", "all"),
+        ("exp5-icon-right-triangle-horizontal-2mm", "all"),
     ];
     for (scene, kernel) in scenes {
         let input = format!("{root}/examples/stress2/{scene}.svg");
@@ -117,12 +122,106 @@ fn the_default_meets_the_accuracy_targets_on_the_experiments_stimuli() {
             .find(|r| r["kernel"] == kernel && r["default"] == true)
             .unwrap_or_else(|| panic!("{scene}: no default {kernel} row"));
         assert!(f(d, "edge_error_mm") <= 0.05, "{scene}: edge error {} mm", f(d, "edge_error_mm"));
-        assert!(f(d, "corner_edge_error_mm") <= 0.05, "{scene}: corner edge error {} mm", f(d, "corner_edge_error_mm"));
         assert!(f(d, "far_error") <= 1.0, "{scene}: value error {} steps", f(d, "far_error"));
-        assert!(f(d, "corner_error") <= 1.0, "{scene}: value error at corners {} steps", f(d, "corner_error"));
         assert!(f(d, "rms_error") <= 1.0, "{scene}: RMS {} steps", f(d, "rms_error"));
+        // (A circle has no corner.)
+        if !scene.contains("circle") {
+            let crnr = f(d, "corner_edge_error_mm");
+            assert!(crnr <= 0.05, "{scene}: corner edge error {crnr} mm");
+            assert!(f(d, "corner_error") <= 1.0, "{scene}: value error at corners {} steps", f(d, "corner_error"));
+        }
     }
 }
+
+/// Issue 46: the errors converge. On the experiment-5 icons (one of each
+/// shape: a circle, a right triangle with two acute corners, a square, a
+/// triangle) and the experiment-1 stimuli (circles, triangles, a plus and a
+/// diamond, as bands and as regions), each finer rung of the ladder is, for
+/// every kernel, no worse than the coarser one on the edge error away from
+/// corners, the value error away from edges and the RMS over every
+/// actuator. The other examples (the maps, the experiment-2 to 4 gratings:
+/// straight edges the plane tiles play exactly at every rung) are left to
+/// `taxel report` and docs/report.md: a map's full ladder takes minutes in
+/// this profile. Each scene plays its own exploration trace four times as
+/// fast (every fourth sample, 10 ms apart): the same path over the same
+/// edges, a quarter of the frames to compare.
+///
+/// The tolerances are what playing in `f32` and rounding to whole steps
+/// leave, not the lattice: where every rung plays the same geometry (a
+/// circle as an arc tile, a side as a plane) the errors are the same up to
+/// the `f32` rounding of its records, a few nm at these coordinates
+/// (measured: edge errors equal within 1e-7 mm); away from edges every rung
+/// plays the same saturated amplitude, off by the final rounding (at most
+/// half a step) and the `f32` waveform (measured 0.5024-0.5028 steps); and
+/// the actuators on a hard edge's one-code ramp, fewer at a finer rung,
+/// each carry up to half a step of that rounding (measured RMS differences
+/// up to 0.0002 steps).
+#[test]
+fn each_finer_rung_is_no_worse_than_the_coarser() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let scenes = [
+        "exp5-icon-circle-horizontal-2mm",
+        "exp5-icon-right-triangle-vertical-6mm",
+        "exp5-icon-square-vertical-2mm",
+        "exp5-icon-triangle-down-horizontal-6mm",
+        "exp1-vibrate-2cm",
+        "exp1-grating-3cm-a",
+    ];
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mut worse = Vec::new();
+    for scene in scenes {
+        // The scene beside its faster trace (a drawing's sibling `.trace.csv` is its own trace).
+        let input = dir.path().join(format!("{scene}.svg"));
+        std::fs::copy(format!("{root}/examples/stress2/{scene}.svg"), &input).expect("copy the scene");
+        let own = std::fs::read_to_string(format!("{root}/examples/traces/{scene}.csv")).expect("the scene's trace");
+        std::fs::write(input.with_extension("trace.csv"), faster(&own, 4)).expect("write");
+        let (ok, out, err) = report(&[input.to_str().expect("utf-8"), "--format", "json"]);
+        assert!(ok, "{scene}: {err}");
+        let rows = rows(&out);
+        for kernel in ["vibration", "grating", "all"] {
+            let mut mine: Vec<&Value> = rows.iter().filter(|r| r["kernel"] == kernel).collect();
+            // Coarse to fine.
+            mine.sort_by(|a, b| f(b, "setting").total_cmp(&f(a, "setting")));
+            for pair in mine.windows(2) {
+                let [coarse, fine] = [pair[0], pair[1]];
+                for (measure, tolerance) in CONVERGES {
+                    let (c, x) = (coarse[measure].as_f64(), fine[measure].as_f64());
+                    let no_worse = match (c, x) {
+                        (Some(c), Some(x)) => x <= c + tolerance,
+                        // Nothing to measure at either rung, or only at the coarser one.
+                        (_, None) => true,
+                        (None, Some(_)) => false,
+                    };
+                    if !no_worse {
+                        worse.push(format!(
+                            "{scene} {kernel}: {measure} {x:?} at {} mm against {c:?} at {} mm",
+                            f(fine, "setting"),
+                            f(coarse, "setting")
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    assert!(worse.is_empty(), "a finer rung is worse:\n{}", worse.join("\n"));
+}
+
+/// The exploration trace `csv` (`t_ms,x_mm,y_mm`, samples 10 ms apart)
+/// played `times` times as fast: every `times`-th sample, 10 ms apart.
+fn faster(csv: &str, times: usize) -> String {
+    let mut lines = csv.lines();
+    let mut out = format!("{}\n", lines.next().expect("a header"));
+    for (k, line) in lines.step_by(times).enumerate() {
+        let (_, rest) = line.split_once(',').expect("t_ms,x_mm,y_mm");
+        out.push_str(&format!("{},{rest}\n", 10 * k));
+    }
+    out
+}
+
+/// The measures that converge, and how much worse a finer rung may be on
+/// each ([`each_finer_rung_is_no_worse_than_the_coarser`]): the edge error
+/// in mm and the value errors in steps.
+const CONVERGES: [(&str, f64); 3] = [("edge_error_mm", 0.000_001), ("far_error", 0.005), ("rms_error", 0.001)];
 
 /// Sample spacing of the edge position error (src/report/edge.rs), mm.
 const EDGE_SAMPLE_MM: f64 = 0.005;
