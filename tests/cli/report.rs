@@ -133,7 +133,7 @@ fn notes(json: &str) -> Vec<String> {
 }
 
 /// A map drawn far finer than the lattice, as a real map fitted to the
-/// surface is: 300 regions, each a sliver 0.34 mm wide and 5 mm tall once
+/// surface is: 300 regions, each a sliver 0.33 mm wide and 5.1 mm tall once
 /// fitted (drawn ten times larger), in two grating styles, crossed by a
 /// trace of its own. Its error is far above the targets, most of it where
 /// two sides of a sliver pass within a pitch of a lattice cell, and the
