@@ -111,7 +111,7 @@ fn compile(
     }
     // The design rules but the overlaps need only the features: they run
     // beside the distance fields, and add their diagnostics after them.
-    let (built, checked) = latero::build(&drawing, opts, px, diags, |f| rules::check_features(f, &opts.profile));
+    let (mut built, checked) = latero::build(&drawing, opts, px, diags, |f| rules::check_features(f, &opts.profile));
     if built.is_empty() {
         // A malformed annotation already explains why nothing is tactile.
         if has_errors(diags) {
@@ -149,7 +149,8 @@ fn compile(
         return None;
     }
     // The key, on the families that have one surface, is a second bundle (SPEC.md 10.2).
-    extra.key = latero::key::bundle(&drawing, opts, px, diags);
+    let legend = built.legend.take();
+    extra.key = latero::key::bundle(&drawing, legend, opts, px, diags);
     // The drawing is no longer needed: it is freed on another thread while
     // the bundle is put together (on the map at the input limit, freeing its
     // hundred thousand elements took a tenth of a second on the one thread

@@ -227,6 +227,7 @@ pub fn ladder(
                 edge_error_mm: None,
                 corner_edge_error_mm: None,
                 lattice_mm: None,
+                fine_detail: None,
                 error_unit: unit.into(),
                 frames: m.compared,
                 run_ms,

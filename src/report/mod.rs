@@ -8,6 +8,7 @@
 //! composite: a kernel's row plays only that kernel's chunks and compares them
 //! with only that kernel's exact layers, so the plot shows one line per kernel.
 
+pub mod detail;
 pub mod edge;
 pub mod exact;
 pub mod mesh;
@@ -103,6 +104,12 @@ pub struct Row {
     /// (the setting, or less for a narrow vibrating band).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub lattice_mm: Option<f64>,
+    /// Where the default rung's error comes from: the share of its squared
+    /// error at the lattice cells where the drawing has detail finer than
+    /// the lattice, and how many such cells (`detail.rs`; the default rows
+    /// of laterotactile kernels with distance layers).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fine_detail: Option<detail::Share>,
     /// Unit of the errors.
     pub error_unit: String,
     /// Frames compared.
@@ -150,7 +157,7 @@ pub struct Prepared {
 }
 
 /// What one bundle measured against the reference.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct Measured {
     /// Bundle bytes.
     pub bytes: usize,
@@ -172,6 +179,12 @@ pub struct Measured {
     pub edge: edge::EdgeError,
     /// The coarsest lattice pitch among the distance layers, mm.
     pub lattice_mm: Option<f64>,
+    /// The sum of the squared errors (output steps²) of every compared actuator.
+    pub square_error_sum: f64,
+    /// The compared actuators off by more than
+    /// [`detail::CLASSIFIED_ABOVE_STEPS`]: page position and squared error,
+    /// for [`detail::share`].
+    pub off: Vec<((f64, f64), f64)>,
 }
 
 impl Prepared {
@@ -280,6 +293,7 @@ impl Prepared {
         let (mut far_sum2, mut far_count) = (0.0f64, 0usize);
         let mut step_sum2 = 0.0f64;
         let mut corner_error: Option<f64> = None;
+        let mut off = Vec::new();
         // The kernel's exact layers with their outlines.
         let layers: Vec<(&ExactLayer, &edge::Outline)> = self
             .reference
@@ -301,6 +315,9 @@ impl Prepared {
                 sum2 += e * e;
                 count += 1;
                 let p = actuator(&self.profile, x, y, k);
+                if e > detail::CLASSIFIED_ABOVE_STEPS {
+                    off.push((p, e * e));
+                }
                 if near_edge(&regions, p) {
                     continue;
                 }
@@ -336,6 +353,8 @@ impl Prepared {
             corner_error,
             edge: edge_error,
             lattice_mm,
+            square_error_sum: sum2,
+            off,
         })
     }
 }
@@ -425,7 +444,10 @@ pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>, default_only:
         let (bundle, compile_ms) = compile(input, opts, Some(px))?;
         for (k, step_reference) in kernels.iter().zip(&steps) {
             let reference = prep.reference_frames_of(k, &bundle);
-            let m = prep.measure(&only_kernel(&bundle, k), &reference, step_reference, k)?;
+            let mine = only_kernel(&bundle, k);
+            let m = prep.measure(&mine, &reference, step_reference, k)?;
+            // Where the error comes from, at the default only: the note is about what `build` writes.
+            let fine_detail = if px == default_px { detail::share(&prep, &mine, &m, k) } else { None };
             rows.push(Row {
                 kernel: k.clone(),
                 setting: 5.0 / px as f64,
@@ -443,6 +465,7 @@ pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>, default_only:
                 edge_error_mm: m.edge.edge_mm,
                 corner_edge_error_mm: m.edge.corner_mm,
                 lattice_mm: m.lattice_mm,
+                fine_detail,
                 error_unit: format!("{}-bit steps", prep.profile.output_bits),
                 frames: prep.eval.len(),
                 run_ms: compile_ms + m.frame_us * prep.positions.len() as f64 / 1000.0,
@@ -452,13 +475,15 @@ pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>, default_only:
     }
     let frames = prep.positions.len();
     mark_front(&mut rows);
+    let mut notes = prep.notes;
+    notes.extend(detail::note(&rows));
     Ok(Report {
         input: input.display().to_string(),
         profile: prep.profile.name.as_str().to_string(),
         trace: prep.trace.origin,
         trace_frames: frames,
         rows,
-        notes: prep.notes,
+        notes,
     })
 }
 

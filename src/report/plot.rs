@@ -279,6 +279,7 @@ mod tests {
             edge_error_mm: None,
             corner_edge_error_mm: None,
             lattice_mm: None,
+            fine_detail: None,
             frames: 1,
             run_ms: ms,
             on_front: true,

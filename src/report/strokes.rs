@@ -131,6 +131,7 @@ pub fn ladder(input: &Path, opts: &CompileOpts, base: &Bundle, default_only: boo
             edge_error_mm: None,
             corner_edge_error_mm: None,
             lattice_mm: None,
+            fine_detail: None,
             error_unit: "ms".into(),
             frames: ticks as usize,
             run_ms: compile_ms + best * 1000.0,

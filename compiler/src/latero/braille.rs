@@ -80,7 +80,9 @@ pub(super) fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOpti
     // brushed strokes), each with its meaning, for a host to say (the key's
     // own bundle, `key.rs`, is felt; SPEC.md section 10.2).
     let plays = |s: &Swatch| super::key::plays(family, s);
-    b.provenance.extend(crate::style::legend::provenance(&crate::style::legend(drawing), plays));
+    let legend = crate::style::legend(drawing);
+    b.provenance.extend(crate::style::legend::provenance(&legend, plays));
+    b.legend = Some(legend);
 }
 
 /// The braille dot centres of a text, the characters braille has no cell

@@ -46,13 +46,20 @@ pub(crate) fn plays(family: Family, s: &Swatch) -> bool {
 /// The key's bundle for `drawing` (the graphic's, prepared) on `opts`'s
 /// profile, or `None` when the drawing needs no key or the family plays
 /// none of its entries; with note T0331 saying what it holds, and T0332
-/// when some of it does not fit on the surface.
-pub(crate) fn bundle(drawing: &Drawing, opts: &CompileOptions, px: f32, diags: &mut Vec<Diagnostic>) -> Option<Bundle> {
+/// when some of it does not fit on the surface. `legend` is the drawing's
+/// key when the caller has it already ([`super::Built::legend`]).
+pub(crate) fn bundle(
+    drawing: &Drawing,
+    legend: Option<crate::style::legend::Legend>,
+    opts: &CompileOptions,
+    px: f32,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<Bundle> {
     let family = opts.profile.family();
     if !matches!(family, Family::Laterotactile | Family::Grid) {
         return None;
     }
-    let legend = crate::style::legend(drawing);
+    let legend = legend.unwrap_or_else(|| crate::style::legend(drawing));
     let entries: Vec<&Entry> = legend.shown().iter().filter(|e| plays(family, &e.swatch)).collect();
     // Key codes are braille, which only an array plays.
     let codes = if family == Family::Laterotactile { legend.code_lines() } else { Vec::new() };
@@ -220,7 +227,7 @@ mod tests {
     fn a_drawing_that_needs_no_key_has_no_key_bundle() {
         let opts = CompileOptions::new(profiles::builtin("stress2").unwrap());
         let mut diags = Vec::new();
-        assert!(bundle(&Drawing::default(), &opts, 4.0, &mut diags).is_none());
+        assert!(bundle(&Drawing::default(), None, &opts, 4.0, &mut diags).is_none());
         assert!(diags.is_empty());
     }
 }

@@ -98,6 +98,11 @@ pub(crate) struct Built {
     /// Where gratings are not felt around the braille written
     /// ([`braille::braille_clearing`]).
     pub braille_clear: Vec<Polyline>,
+    /// The drawing's key ([`crate::style::legend()`]), as the braille stage
+    /// read it for the provenance: the key's own bundle is made from it
+    /// too, rather than reading the drawing again (a tenth of a second on
+    /// the map at the input limit).
+    pub legend: Option<crate::style::legend::Legend>,
     prov_index: HashMap<(String, u32), u32>,
 }
 

@@ -141,18 +141,41 @@ impl<'r, 'a> Neighbours<'r, 'a> {
     /// (as `overlap` tells). A tessellation's pieces only share sides; the marks of a
     /// scatter plot pile up across each other. Only the regions `asked` says
     /// yes to are looked at (the others are `false`).
+    ///
+    /// The test is the same both ways round, so a pair of asked regions is
+    /// tested once, from the first of the two, and marks both (on a map at
+    /// the input limit every region is asked, and each pair was tested
+    /// twice). A pair is skipped only when both of its ends that need an
+    /// answer already have it, so the marks do not depend on the order the
+    /// threads take.
     pub fn lying_across(&self, abut: f64, asked: impl Fn(usize) -> bool + Sync) -> Vec<bool> {
         use rayon::prelude::*;
-        let regions = self.regions;
-        let across = |(k, r): (usize, &Region<'_>)| {
-            asked(k)
-                && self.index.meeting(spatial::grow(r.bbox, abut)).any(|j| {
-                    j != k
-                        && self.outlines.distance(k, j, abut, abut) <= abut
-                        && (self.overlap(k, j, abut) || self.overlap(j, k, abut))
-                })
-        };
-        regions.par_iter().enumerate().with_min_len(REGIONS_PER_JOB).map(across).collect()
+        use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
+        let out: Vec<AtomicBool> = (0..self.regions.len()).map(|_| AtomicBool::new(false)).collect();
+        self.regions.par_iter().enumerate().with_min_len(REGIONS_PER_JOB).for_each(|(k, r)| {
+            if !asked(k) {
+                return;
+            }
+            for j in self.index.meeting(spatial::grow(r.bbox, abut)) {
+                let j_asked = asked(j);
+                if j == k || (j < k && j_asked) {
+                    continue;
+                }
+                let known = |i: usize| out.get(i).is_some_and(|o| o.load(Relaxed));
+                if known(k) && (!j_asked || known(j)) {
+                    continue;
+                }
+                if self.outlines.distance(k, j, abut, abut) <= abut
+                    && (self.overlap(k, j, abut) || self.overlap(j, k, abut))
+                {
+                    out[k].store(true, Relaxed);
+                    if let Some(o) = out.get(j).filter(|_| j_asked) {
+                        o.store(true, Relaxed);
+                    }
+                }
+            }
+        });
+        out.into_iter().map(AtomicBool::into_inner).collect()
     }
 
     /// [`abutting_alike`]: each region is decided on its own, so in parallel.
@@ -589,5 +612,43 @@ mod tests {
         let c = colour(6, &edges, &order, 3);
         assert_eq!(c[5], None);
         assert!(c[..5].iter().all(Option::is_some));
+    }
+
+    /// Each asked region is marked exactly when some other region lies
+    /// across it, as testing every pair both ways round finds, on a scatter
+    /// of squares that pile up, graze and share sides, with some regions
+    /// not asked (a pair is tested once, from the first of two asked ones).
+    #[test]
+    fn lying_across_marks_what_every_pair_tested_finds() {
+        let mut s = 11u64;
+        let mut next = || {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (s >> 33) as f64 / (1u64 << 31) as f64
+        };
+        // A tessellation's row of squares sharing sides, then a scatter.
+        let mut shapes: Vec<Vec<Polyline>> =
+            (0..8).map(|k| rect(k as f64 * 2.0, 0.0, k as f64 * 2.0 + 2.0, 2.0)).collect();
+        shapes.extend((0..120).map(|_| {
+            let (x, y, w) = (next() * 40.0, 5.0 + next() * 30.0, 0.5 + next() * 3.0);
+            rect(x, y, x + w, y + w)
+        }));
+        let regions: Vec<Region<'_>> =
+            shapes.iter().map(|s| Region { outline: s, bbox: crate::geometry::bounds(s).unwrap() }).collect();
+        let neighbours = Neighbours::of(&regions);
+        for skip in [0, 3] {
+            let asked = |k: usize| skip == 0 || k % skip != 1;
+            let want: Vec<bool> = (0..regions.len())
+                .map(|k| {
+                    asked(k)
+                        && (0..regions.len()).any(|j| {
+                            j != k
+                                && min_outline_distance(&regions[k], &regions[j]) <= ABUT
+                                && (overlap(&regions[k], &regions[j], ABUT) || overlap(&regions[j], &regions[k], ABUT))
+                        })
+                })
+                .collect();
+            assert!(want.iter().any(|&w| w) && !want.iter().all(|&w| w), "the scatter has both kinds");
+            assert_eq!(neighbours.lying_across(ABUT, asked), want, "every {skip}th not asked");
+        }
     }
 }

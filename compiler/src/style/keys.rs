@@ -48,9 +48,13 @@ impl Keys {
             .collect();
         let letters: Vec<u8> = words.concat();
         let &initial = letters.first()?;
-        let long = text.chars().filter(|c| !c.is_whitespace()).count() >= MIN_KEYED_CELLS
-            && m.cells(Some(t), &text) >= MIN_KEYED_CELLS;
-        if !long || letters.len() < 2 {
+        // Letters first: translating a label to count its cells is the
+        // dear part (liblouis, on a map's 45,000 region numbers), and a
+        // label of fewer than two letters gets no code whatever its length.
+        if letters.len() < 2 || text.chars().filter(|c| !c.is_whitespace()).count() < MIN_KEYED_CELLS {
+            return None;
+        }
+        if m.cells(Some(t), &text) < MIN_KEYED_CELLS {
             return None;
         }
         let code = match self.of_label.get(&text) {

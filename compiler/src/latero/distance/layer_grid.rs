@@ -154,18 +154,18 @@ pub(super) struct Lattice {
 /// sort by `y0` gives, by counting the rows (all below `height`) instead of
 /// comparing (the sort was a fifth of the grid's build on a map of states,
 /// issue 46).
-fn by_first_row(members: Vec<(u32, [usize; 4])>, height: usize) -> Vec<(u32, [usize; 4])> {
+fn by_first_row(members: &[(u32, [u32; 4])], height: usize) -> Vec<(u32, [u32; 4])> {
     let rows = height.max(1);
-    let row = |c: &[usize; 4]| c[1].min(rows - 1);
+    let row = |c: &[u32; 4]| (c[1] as usize).min(rows - 1);
     let mut start = vec![0usize; rows + 1];
-    for (_, c) in &members {
+    for (_, c) in members {
         start[row(c) + 1] += 1;
     }
     for y in 1..start.len() {
         start[y] += start[y - 1];
     }
     let mut out = vec![(0, [0; 4]); members.len()];
-    for m in members {
+    for &m in members {
         let y = row(&m.1);
         out[start[y]] = m;
         start[y] += 1;
@@ -291,32 +291,26 @@ impl LayerGrid {
     fn bin(&self, segs: &[(Seg, Part, f64)], own: bool) -> Option<Cells> {
         let n_cells = self.width * self.height;
         let in_group = |s: u8| s != u8::MAX && is_own(s as usize) == own;
-        // Each member's cells are reckoned once and kept for the second
-        // pass, in 16 bits (12 bytes a member, some 30 MB on the map at the
-        // input limit while one layer is binned): reckoning them again cost
-        // as much as the rest of the binning. A grid wider or taller than
-        // 16 bits reckons them in each pass.
-        let narrow = self.width <= 1 << 16 && self.height <= 1 << 16;
-        let mut kept: Vec<(u32, [u16; 4])> = Vec::new();
-        if narrow {
-            kept.reserve_exact(self.slot.iter().filter(|&&s| in_group(s)).count());
-            for (n, ((seg, _, _), &s)) in segs.iter().zip(&self.slot).enumerate() {
-                if in_group(s) {
-                    kept.push((n as u32, self.cells_of(seg).map(|v| v as u16)));
-                }
+        // Each member's cells are reckoned once and kept for both passes,
+        // in 32 bits (the grid has at most `MAX_CELLS` cells, so each side
+        // fits): reckoning them again cost as much as the rest of the
+        // binning. The same records, ordered by first row, feed the second
+        // pass (20 bytes a member twice, where cells kept in 16 bits and
+        // then widened to `usize` for the ordering took 92, grown by
+        // doubling: a fifth of the grid's build on the map at the input
+        // limit was page faults and copies, issue 47).
+        if u32::try_from(self.width).is_err() || u32::try_from(self.height).is_err() {
+            return None;
+        }
+        let mut kept: Vec<(u32, [u32; 4])> = Vec::with_capacity(self.slot.iter().filter(|&&s| in_group(s)).count());
+        for (n, ((seg, _, _), &s)) in segs.iter().zip(&self.slot).enumerate() {
+            if in_group(s) {
+                kept.push((n as u32, self.cells_of(seg).map(|v| v as u32)));
             }
         }
         let each = |f: &mut dyn FnMut(u32, [usize; 4])| {
-            if narrow {
-                for &(n, c) in &kept {
-                    f(n, c.map(usize::from));
-                }
-            } else {
-                for (n, ((seg, _, _), &s)) in segs.iter().zip(&self.slot).enumerate() {
-                    if in_group(s) {
-                        f(n as u32, self.cells_of(seg));
-                    }
-                }
+            for &(n, c) in &kept {
+                f(n, c.map(|v| v as usize));
             }
         };
         // The cells of each row that the segment passes through ([`row_cells`]).
@@ -364,22 +358,28 @@ impl LayerGrid {
         // to a cache line of its own). The members spanning the row are in
         // hand in segment order (those starting on it merged in), so each
         // cell lists its segments in segment order, as counted.
-        let mut by_first: Vec<(u32, [usize; 4])> = Vec::new();
-        each(&mut |n, c| by_first.push((n, c)));
-        // In segment order within a first row.
-        let by_first = by_first_row(by_first, self.height);
+        // The members in segment order within a first row.
+        let by_first = by_first_row(&kept, self.height);
+        drop(kept);
         let (mut active, mut merged): (Vec<Member>, Vec<Member>) = (Vec::new(), Vec::new());
         let mut k = 0;
         for y in 0..self.height {
             active.retain(|m| m.last_row >= y);
             let first = k;
-            while by_first.get(k).is_some_and(|&(_, c)| c[1] <= y) {
+            while by_first.get(k).is_some_and(|&(_, c)| c[1] as usize <= y) {
                 k += 1;
             }
-            let starting = by_first[first..k].iter().filter(|&&(_, c)| c[3] >= y).map(|&(n, [x0, _, x1, y1])| {
-                let ((a, b), _, _) = segs[n as usize];
-                Member { n, a: in_cells(a), b: in_cells(b), cols: (x0 as isize, x1 as isize), last_row: y1 }
-            });
+            let starting =
+                by_first[first..k].iter().filter(|&&(_, c)| c[3] as usize >= y).map(|&(n, [x0, _, x1, y1])| {
+                    let ((a, b), _, _) = segs[n as usize];
+                    Member {
+                        n,
+                        a: in_cells(a),
+                        b: in_cells(b),
+                        cols: (x0 as isize, x1 as isize),
+                        last_row: y1 as usize,
+                    }
+                });
             if first < k {
                 merged.clear();
                 let mut old = active.drain(..).peekable();
@@ -568,11 +568,12 @@ mod tests {
             (s % n) as usize
         };
         for (count, height) in [(0, 1), (1, 1), (7, 3), (500, 40), (3_000, 700)] {
-            let members: Vec<(u32, [usize; 4])> =
-                (0..count).map(|n| (n as u32, [next(50), next(height as u64), next(50), height - 1])).collect();
+            let members: Vec<(u32, [u32; 4])> = (0..count)
+                .map(|n| (n as u32, [next(50), next(height as u64), next(50), height - 1].map(|v| v as u32)))
+                .collect();
             let mut sorted = members.clone();
             sorted.sort_by_key(|&(_, c)| c[1]);
-            assert_eq!(by_first_row(members, height), sorted, "{count} members over {height} rows");
+            assert_eq!(by_first_row(&members, height), sorted, "{count} members over {height} rows");
         }
     }
 }
