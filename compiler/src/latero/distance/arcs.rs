@@ -122,7 +122,7 @@ fn circles_of(
     for (_, c, r) in fits {
         for &offset in offsets {
             let radius = r + offset;
-            if !(radius > 0.0) {
+            if radius.is_nan() || radius <= 0.0 {
                 continue;
             }
             let bend = cone(t, c, radius).map(|rec| (TILE_BEND, rec));

@@ -240,7 +240,7 @@ impl ExactRegion {
                 }
             }
             let mut vertices: Vec<_> = at.into_iter().collect();
-            vertices.sort_by(|x, y| x.0.cmp(&y.0));
+            vertices.sort_by_key(|x| x.0);
             for ((x, y), dirs) in vertices {
                 join(((f64::from_bits(x)), f64::from_bits(y)), &dirs, r, sagitta, out);
             }
