@@ -450,6 +450,19 @@ pub fn colour(n: usize, edges: &[(usize, usize)], order: &[usize], colours: usiz
 mod tests {
     use super::*;
 
+    /// Each outline as a region with its box.
+    fn regions_of(shapes: &[Vec<Polyline>]) -> Vec<Region<'_>> {
+        shapes.iter().map(|s| Region { outline: s, bbox: crate::geometry::bounds(s).expect("a shape") }).collect()
+    }
+
+    /// A deterministic stream of numbers in [0, 1) from `seed` (an LCG).
+    fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 33) as f64 / (1u64 << 31) as f64
+        }
+    }
+
     fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<Polyline> {
         vec![Polyline { points: vec![(x0, y0), (x1, y0), (x1, y1), (x0, y1)], closed: true }]
     }
@@ -464,8 +477,7 @@ mod tests {
             rect(42.0, 2.0, 44.0, 4.0),  // 4 lies inside 3
             rect(0.0, 10.5, 10.0, 20.0), // 5 is 0.5 mm below 0 and 0.5 mm from 1's corner
         ];
-        let regions: Vec<Region<'_>> =
-            shapes.iter().map(|s| Region { outline: s, bbox: crate::geometry::bounds(s).unwrap() }).collect();
+        let regions = regions_of(&shapes);
         assert_eq!(touching(&regions, 1.0), vec![(0, 1), (0, 5), (1, 5), (3, 4)]);
         assert_eq!(touching(&regions, 3.2), vec![(0, 1), (0, 5), (1, 2), (1, 5), (3, 4)]);
         // Only shared borders abut: 0 and 1 (2 is 2 mm off, 5 is 0.5 mm off).
@@ -475,19 +487,14 @@ mod tests {
     #[test]
     fn class_edges_are_the_classes_of_the_touching_pairs() {
         // A deterministic scatter of rectangles in four classes, some unclassed.
-        let mut s = 7u64;
-        let mut next = || {
-            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (s >> 33) as f64 / (1u64 << 31) as f64
-        };
+        let mut next = uniform(7u64);
         let shapes: Vec<Vec<Polyline>> = (0..150)
             .map(|_| {
                 let (x, y) = (next() * 120.0, next() * 80.0);
                 rect(x, y, x + 1.0 + next() * 9.0, y + 1.0 + next() * 9.0)
             })
             .collect();
-        let regions: Vec<Region<'_>> =
-            shapes.iter().map(|s| Region { outline: s, bbox: crate::geometry::bounds(s).unwrap() }).collect();
+        let regions = regions_of(&shapes);
         let class_of: Vec<Option<usize>> = (0..regions.len()).map(|k| (k % 5 < 4).then_some(k % 7 % 4)).collect();
         for near in [0.5, 3.2] {
             let mut want: Vec<(usize, usize)> = touching(&regions, near)
@@ -537,8 +544,7 @@ mod tests {
                     rect(x, y, x + f64::from(w) * 0.5, y + f64::from(h) * 0.5)
                 })
                 .collect();
-            let regions: Vec<Region<'_>> =
-                shapes.iter().map(|s| Region { outline: s, bbox: crate::geometry::bounds(s).unwrap() }).collect();
+            let regions = regions_of(&shapes);
             // Every fifth region has no class.
             let class_of: Vec<Option<usize>> =
                 cells.iter().enumerate().map(|(k, c)| (k % 5 != 4).then_some(c.4 % classes)).collect();
@@ -620,11 +626,7 @@ mod tests {
     /// not asked (a pair is tested once, from the first of two asked ones).
     #[test]
     fn lying_across_marks_what_every_pair_tested_finds() {
-        let mut s = 11u64;
-        let mut next = || {
-            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (s >> 33) as f64 / (1u64 << 31) as f64
-        };
+        let mut next = uniform(11u64);
         // A tessellation's row of squares sharing sides, then a scatter.
         let mut shapes: Vec<Vec<Polyline>> =
             (0..8).map(|k| rect(k as f64 * 2.0, 0.0, k as f64 * 2.0 + 2.0, 2.0)).collect();
@@ -632,8 +634,7 @@ mod tests {
             let (x, y, w) = (next() * 40.0, 5.0 + next() * 30.0, 0.5 + next() * 3.0);
             rect(x, y, x + w, y + w)
         }));
-        let regions: Vec<Region<'_>> =
-            shapes.iter().map(|s| Region { outline: s, bbox: crate::geometry::bounds(s).unwrap() }).collect();
+        let regions = regions_of(&shapes);
         let neighbours = Neighbours::of(&regions);
         for skip in [0, 3] {
             let asked = |k: usize| skip == 0 || k % skip != 1;
