@@ -1,7 +1,9 @@
 //! Builds the studio's WebAssembly runtime (`runtime-wasm/`, package
 //! `taxel-wasm`) for `wasm32-unknown-unknown` during the normal build of the
 //! binary, so that `taxel studio` embeds the module with no manual step
-//! (`rust-toolchain.toml` names the target, so rustup installs it).
+//! (`rust-toolchain.toml` names the target; where rustup did not install
+//! it with the toolchain, as rustup 1.28 and later do not for a toolchain
+//! already installed, this script asks rustup for it once).
 //!
 //! The module is built by a cargo of its own, in a target folder beside the
 //! outer build's (`target/taxel-wasm`), shared by `cargo build`, `test`,
@@ -20,6 +22,7 @@ fn main() {
         println!("cargo:rerun-if-changed={}", root.join(watched).display());
     }
     println!("cargo:rerun-if-changed={}", root.join("Cargo.lock").display());
+    ensure_target();
     let target_dir = shared_target_dir(&out).unwrap_or_else(|| out.join("taxel-wasm"));
     let cargo = env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let mut cmd = Command::new(cargo);
@@ -53,6 +56,32 @@ fn main() {
     let built = target_dir.join(TARGET).join("release").join("taxel_wasm.wasm");
     std::fs::copy(&built, out.join("taxel_wasm.wasm"))
         .unwrap_or_else(|e| panic!("cannot copy {}: {e}", built.display()));
+}
+
+/// Installs the wasm32 standard library through rustup when the compiler
+/// has none: `rust-toolchain.toml` names the target, but rustup installs a
+/// file's targets only with a toolchain it installs itself, so on a machine
+/// whose stable toolchain came first, `cargo run --release` would stop here.
+/// Without rustup (a distribution's Rust), the build's error says what to do.
+fn ensure_target() {
+    let rustc = env::var_os("RUSTC").unwrap_or_else(|| "rustc".into());
+    let Some(sysroot) = Command::new(rustc)
+        .args(["--print", "sysroot"])
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .map(|o| PathBuf::from(String::from_utf8_lossy(&o.stdout).trim()))
+    else {
+        return;
+    };
+    if sysroot.join("lib/rustlib").join(TARGET).join("lib").is_dir() {
+        return;
+    }
+    println!("cargo:warning=installing the {TARGET} target with rustup, for the studio's WASM runtime");
+    match Command::new("rustup").args(["target", "add", TARGET]).status() {
+        Ok(s) if s.success() => {}
+        _ => println!("cargo:warning=`rustup target add {TARGET}` failed; the build below says what is missing"),
+    }
 }
 
 /// `target/taxel-wasm` beside the outer build's profile folders, found from

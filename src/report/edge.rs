@@ -25,6 +25,7 @@
 //! Points within [`CORNER_RADIUS_MM`] of a corner of the outline are
 //! reported apart from the rest.
 
+use rayon::prelude::*;
 use rstar::primitives::Line;
 use rstar::{PointDistance, RTree};
 use taxel_format::{DISTANCE_ZERO, DistanceLayer, TILE_CELLS, Tile, TileKind};
@@ -125,22 +126,27 @@ impl Outline {
 /// The edge position error of `layer` against the exact `outline` of its style.
 pub fn edge_error(layer: &DistanceLayer, outline: &Outline) -> EdgeError {
     let contour = contour(layer, SAMPLE_MM);
-    let mut err = EdgeError::default();
-    let mut add = |p: [f64; 2], d: f64| {
-        let part = if outline.corners.near(p) { &mut err.corner_mm } else { &mut err.edge_mm };
-        *part = max_opt(*part, Some(d));
+    // Each point's distance on its own, the largest kept: the same on any
+    // number of threads. A curve with nothing to compare against is
+    // infinitely far from it.
+    let at = |p: [f64; 2], d: f64| {
+        if outline.corners.near(p) {
+            EdgeError { edge_mm: None, corner_mm: Some(d) }
+        } else {
+            EdgeError { edge_mm: Some(d), corner_mm: None }
+        }
     };
-    // A curve with nothing to compare against is infinitely far from it.
-    for &p in &contour {
-        let d = outline.pieces.nearest_neighbor(&p).map_or(f64::INFINITY, |l| l.distance_2(&p).sqrt());
-        add(p, d);
-    }
+    let to_outline = contour
+        .par_iter()
+        .map(|&p| at(p, outline.pieces.nearest_neighbor(&p).map_or(f64::INFINITY, |l| l.distance_2(&p).sqrt())))
+        .reduce(EdgeError::default, EdgeError::max);
     let points: RTree<[f64; 2]> = RTree::bulk_load(contour);
-    for &q in &outline.mids {
-        let d = points.nearest_neighbor(&q).map_or(f64::INFINITY, |c| c.distance_2(&q).sqrt());
-        add(q, d);
-    }
-    err
+    let to_contour = outline
+        .mids
+        .par_iter()
+        .map(|&q| at(q, points.nearest_neighbor(&q).map_or(f64::INFINITY, |c| c.distance_2(&q).sqrt())))
+        .reduce(EdgeError::default, EdgeError::max);
+    to_outline.max(to_contour)
 }
 
 /// Points of the half-amplitude contour of `layer` (the zero set of its

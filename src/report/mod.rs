@@ -21,6 +21,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
+use rayon::prelude::*;
 use serde::Serialize;
 use taxel_format::{Bundle, BundleView, Chunk, Family, Mm, Tick};
 use taxel_runtime::latero::LateroPlayer;
@@ -154,6 +155,8 @@ pub struct Prepared {
     pub eval: Vec<(u64, f64, f64)>,
     /// Things the reader should know.
     pub notes: Vec<String>,
+    /// [`Prepared::places`] of each kernel asked so far.
+    places: std::sync::Mutex<std::collections::HashMap<String, std::sync::Arc<Vec<Place>>>>,
 }
 
 /// What one bundle measured against the reference.
@@ -222,7 +225,7 @@ impl Prepared {
         }
         let surface = (profile.surface_w_mm as f64, profile.surface_h_mm as f64);
         let outlines = reference.iter().map(|l| region_of(l).map(|r| edge::Outline::new(r, surface))).collect();
-        Ok(Prepared { profile, reference, outlines, trace, positions, eval, notes })
+        Ok(Prepared { profile, reference, outlines, trace, positions, eval, notes, places: Default::default() })
     }
 
     /// Reference frames (δ in 0..=1, actuator-major per frame) of `kernel`'s
@@ -265,10 +268,54 @@ impl Prepared {
             .collect();
         let n = self.profile.actuator_count();
         let mut frames = vec![0.0; self.eval.len() * n];
-        for (i, &(tick, x, y)) in self.eval.iter().enumerate() {
-            exact::frame(&layers, &self.profile, tick, x, y, &mut frames[i * n..(i + 1) * n]);
-        }
+        // Each frame on its own: the frames are the same on any number of threads.
+        frames.par_chunks_mut(n.max(1)).zip(&self.eval).for_each(|(out, &(tick, x, y))| {
+            exact::frame(&layers, &self.profile, tick, x, y, out);
+        });
         frames
+    }
+
+    /// Where each compared actuator of `kernel` stands against the exact
+    /// edges and corners of the kernel's layers, frame by frame: the same
+    /// at every rung, so found once per kernel and kept.
+    fn places(&self, kernel: &str) -> std::sync::Arc<Vec<Place>> {
+        let mut known = self.places.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(p) = known.get(kernel) {
+            return p.clone();
+        }
+        let layers: Vec<(&ExactLayer, &edge::Outline)> = self.kernel_layers(kernel);
+        let regions: Vec<&exact::Region> = layers.iter().filter_map(|(l, _)| region_of(l)).collect();
+        let n = self.profile.actuator_count();
+        let places: Vec<Place> = self
+            .eval
+            .par_iter()
+            .flat_map_iter(|&(_, x, y)| {
+                let (layers, regions) = (&layers, &regions);
+                (0..n).map(move |k| {
+                    let p = actuator(&self.profile, x, y, k);
+                    if near_edge(regions, p) {
+                        Place::NearEdge
+                    } else if layers.iter().any(|(_, o)| o.corners.near([p.0, p.1])) {
+                        Place::NearCorner
+                    } else {
+                        Place::Far
+                    }
+                })
+            })
+            .collect();
+        let places = std::sync::Arc::new(places);
+        known.insert(kernel.to_string(), places.clone());
+        places
+    }
+
+    /// The exact layers of `kernel` with their outlines.
+    fn kernel_layers(&self, kernel: &str) -> Vec<(&ExactLayer, &edge::Outline)> {
+        self.reference
+            .iter()
+            .zip(&self.outlines)
+            .filter(|(l, _)| kernel == "all" || exact_kind(l) == kernel)
+            .filter_map(|(l, o)| Some((l, o.as_ref()?)))
+            .collect()
     }
 
     /// Plays `bundle` on the whole trace (timed) and compares it at the
@@ -294,16 +341,8 @@ impl Prepared {
         let mut step_sum2 = 0.0f64;
         let mut corner_error: Option<f64> = None;
         let mut off = Vec::new();
-        // The kernel's exact layers with their outlines.
-        let layers: Vec<(&ExactLayer, &edge::Outline)> = self
-            .reference
-            .iter()
-            .zip(&self.outlines)
-            .filter(|(l, _)| kernel == "all" || exact_kind(l) == kernel)
-            .filter_map(|(l, o)| Some((l, o.as_ref()?)))
-            .collect();
-        let regions: Vec<&exact::Region> = layers.iter().filter_map(|(l, _)| region_of(l)).collect();
-        let near_corner = |p: [f64; 2]| layers.iter().any(|(_, o)| o.corners.near(p));
+        let layers = self.kernel_layers(kernel);
+        let places = self.places(kernel);
         for (i, &(tick, x, y)) in self.eval.iter().enumerate() {
             player.frame(Tick(tick), Mm(x as f32), Mm(y as f32), &mut out);
             for (o, r) in out.iter().zip(step_reference.get(i * n..(i + 1) * n).unwrap_or(&[])) {
@@ -318,12 +357,13 @@ impl Prepared {
                 if e > detail::CLASSIFIED_ABOVE_STEPS {
                     off.push((p, e * e));
                 }
-                if near_edge(&regions, p) {
+                let place = places.get(i * n + k).copied().unwrap_or(Place::NearEdge);
+                if place == Place::NearEdge {
                     continue;
                 }
                 far_sum2 += e * e;
                 far_count += 1;
-                if near_corner([p.0, p.1]) {
+                if place == Place::NearCorner {
                     corner_error = edge::max_opt(corner_error, Some(e));
                 } else {
                     far = far.max(e);
@@ -357,6 +397,17 @@ impl Prepared {
             off,
         })
     }
+}
+
+/// Where a compared actuator stands against a kernel's exact layers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Place {
+    /// Within [`EDGE_BAND_MM`] of an exact edge: left out of the far errors.
+    NearEdge,
+    /// Away from every edge, within [`edge::CORNER_RADIUS_MM`] of a corner.
+    NearCorner,
+    /// Away from every edge and corner.
+    Far,
 }
 
 /// The region of a vibration or grating layer.

@@ -1,6 +1,6 @@
 // End-to-end tests of `taxel studio` in a real headless Chromium (Debian's
 // `chromium`), driven by playwright-core; axe-core checks every view.
-// Run by .ci/run after `cargo build` (TAXEL_BIN names the binary):
+// Run by .ci/run on the taxel `cargo test` built (TAXEL_BIN names the binary):
 //   cd tests/browser && npm ci && TAXEL_BIN=../../target/debug/taxel npm test
 // Screenshots go to target/studio-screens/ for people to look at.
 
