@@ -77,9 +77,13 @@ fn ensure_target() {
     if sysroot.join("lib/rustlib").join(TARGET).join("lib").is_dir() {
         return;
     }
-    println!("cargo:warning=installing the {TARGET} target with rustup, for the studio's WASM runtime");
+    // Said once it is done: cargo repeats a build script's warnings on
+    // every later build until the script runs again.
     match Command::new("rustup").args(["target", "add", TARGET]).status() {
-        Ok(s) if s.success() => {}
+        Ok(s) if s.success() => println!(
+            "cargo:warning=the toolchain had no {TARGET} target: `rustup target add {TARGET}` installed it, \
+             for the studio's WASM runtime"
+        ),
         _ => println!("cargo:warning=`rustup target add {TARGET}` failed; the build below says what is missing"),
     }
 }

@@ -182,7 +182,13 @@ fn compile_drawing(path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> Result<Co
     let options = match options_with_fonts(opts, false)? {
         Ok(o) => o,
         Err(d) => {
-            return Ok(Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new(), print: None, key: None });
+            return Ok(Compiled {
+                bundle: None,
+                diagnostics: vec![d],
+                fonts_used: Vec::new(),
+                print: None,
+                key: Vec::new(),
+            });
         }
     };
     // A compressed drawing is unpacked (within the input limit); what is
@@ -194,7 +200,13 @@ fn compile_drawing(path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> Result<Co
             let why = format!("{e:#}");
             let why = why.strip_prefix(&format!("{shown}: ")).unwrap_or(&why).to_string();
             let d = Diagnostic::error("T0200", why);
-            return Ok(Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new(), print: None, key: None });
+            return Ok(Compiled {
+                bundle: None,
+                diagnostics: vec![d],
+                fonts_used: Vec::new(),
+                print: None,
+                key: Vec::new(),
+            });
         }
     };
     let fonts = || font_database(opts.fonts.as_deref()).ok();

@@ -65,8 +65,10 @@ pub struct Compiled {
     /// media make no bundle.
     pub print: Option<print::Sheet>,
     /// For a laterotactile array or a vibrotactile grid whose drawing needs a
-    /// key, the key's own bundle for the same profile (SPEC.md section 10.2:
-    /// each texture, line style, symbol or brushed stroke felt as itself
-    /// beside its meaning); absent otherwise, and when there were errors.
-    pub key: Option<Bundle>,
+    /// key, the key's own bundles for the same profile, a page each, first
+    /// page first (SPEC.md section 10.2: each texture, line style, symbol or
+    /// brushed stroke felt as itself beside its meaning; a page's
+    /// [`latero::key::PAGE_ID`] entry says which page it is when there are
+    /// several); empty otherwise, and when there were errors.
+    pub key: Vec<Bundle>,
 }

@@ -58,16 +58,17 @@ pub fn compile_svg_with_fonts(svg_text: &str, opts: &CompileOptions, fonts: draw
     let (mut diagnostics, mut fonts_used, mut extra) = (Vec::new(), Vec::new(), Extra::default());
     let bundle = compile(svg_text, opts, fonts, &mut diagnostics, &mut fonts_used, &mut extra);
     let ok = !has_errors(&diagnostics);
-    let (bundle, print, key) = (bundle.filter(|_| ok), extra.print.filter(|_| ok), extra.key.filter(|_| ok));
+    let (bundle, print) = (bundle.filter(|_| ok), extra.print.filter(|_| ok));
+    let key = if ok { extra.key } else { Vec::new() };
     Compiled { bundle, diagnostics, fonts_used, print, key }
 }
 
 /// What a compilation makes beside the bundle: a print profile's sheet, or
-/// the key's own bundle.
+/// the key's own bundles.
 #[derive(Default)]
 struct Extra {
     print: Option<crate::print::Sheet>,
-    key: Option<Bundle>,
+    key: Vec<Bundle>,
 }
 
 /// The pipeline: resolve → prepare → layers → design rules → bundle (or,
@@ -150,7 +151,7 @@ fn compile(
     }
     // The key, on the families that have one surface, is a second bundle (SPEC.md 10.2).
     let legend = built.legend.take();
-    extra.key = latero::key::bundle(&drawing, legend, opts, px, diags);
+    extra.key = latero::key::bundles(&drawing, legend, opts, px, diags);
     // The drawing is no longer needed: it is freed on another thread while
     // the bundle is put together (on the map at the input limit, freeing its
     // hundred thousand elements took a tenth of a second on the one thread

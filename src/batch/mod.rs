@@ -150,14 +150,16 @@ pub fn plan(inputs: Vec<Input>, dest: &Destination, output: Output) -> Vec<Job> 
     let ext = output.extension();
     let mut jobs: Vec<Job> =
         inputs.into_iter().map(|input| Job { output: dest.output_with(&input, ext), input, conflict: None }).collect();
-    // A bundle's key may be written beside it (`a.key.taxel`): an input
-    // whose bundle would be another's key (`a.key.svg` beside `a.svg`) is
-    // refused too.
+    // A bundle's key may be written beside it (`a.key.taxel`, then
+    // `a.key2.taxel` ...): an input whose bundle would be another's key
+    // (`a.key.svg` or `a.key2.svg` beside `a.svg`) is refused too.
     let mut by_output: HashMap<PathBuf, Vec<usize>> = HashMap::new();
     for (i, j) in jobs.iter().enumerate() {
         by_output.entry(j.output.clone()).or_default().push(i);
         if output == Output::Bundle {
-            by_output.entry(output::key_path(&j.output)).or_default().push(i);
+            for page in 1..=taxel_compiler::latero::key::MAX_PAGES {
+                by_output.entry(output::key_page_path(&j.output, page)).or_default().push(i);
+            }
         }
     }
     let mut shared: Vec<(&PathBuf, &Vec<usize>)> = by_output.iter().filter(|(_, v)| v.len() > 1).collect();
@@ -282,16 +284,20 @@ fn build_one(
     // The account is written while the bundle is encoded and written: on
     // the map at the input limit each took a few tenths of a second, one
     // after the other on one thread, at the end of the build.
-    // The key's bundle goes beside the graphic's, and the note that says
-    // it is a second bundle says where.
-    let key_path = output::key_path(&job.output);
-    if key.is_some()
+    // The key's bundles go beside the graphic's, and the note that says
+    // they are bundles of their own says where.
+    let key_paths: Vec<PathBuf> = (1..=key.len()).map(|k| output::key_page_path(&job.output, k)).collect();
+    if let (Some(first), Some(last)) = (key_paths.first(), key_paths.last())
         && let Some(d) = diagnostics.iter_mut().find(|d| d.code == "T0331")
     {
-        d.message += &format!(", written to {}", key_path.display());
+        d.message += &match key_paths.len() {
+            1 => format!(", written to {}", first.display()),
+            _ => format!(", written to {} ... {}", first.display(), last.display()),
+        };
     }
     // The key is written first, so that a graphic's bundle that says it has
-    // a key is never beside a missing or older one (both record the hash).
+    // a key is never beside a missing or older one (all record the hash);
+    // pages an earlier build left past the last are removed.
     let write = |bundle: taxel_format::Bundle| -> Result<(), String> {
         let hash = match checked {
             Some(h) => h,
@@ -301,11 +307,11 @@ fn build_one(
             b.manifest.content_hash = hash;
             b.to_bytes().map_err(|e| format!("{shown}: internal error: the compiler made an invalid bundle: {e}"))
         };
-        match key {
-            Some(k) => crate::io::write_file(&key_path, &encode(k)?).map_err(|e| e.to_string())?,
-            None => output::remove_stale_key(&job.output)
-                .map_err(|e| format!("cannot remove {}: {e}", key_path.display()))?,
+        let pages = key.len();
+        for (page, path) in key.into_iter().zip(&key_paths) {
+            crate::io::write_file(path, &encode(page)?).map_err(|e| e.to_string())?;
         }
+        output::remove_stale_key(&job.output, pages + 1).map_err(|e| e.to_string())?;
         crate::io::write_file(&job.output, &encode(bundle)?).map_err(|e| e.to_string())
     };
     // A print sheet is written as the file its output names.
@@ -362,13 +368,13 @@ mod tests {
         let text = String::from_utf8(bytes)?;
         let bundle = Some(Bundle::new(Manifest::new(profiles::builtin("stress2").unwrap())));
         Ok(match text.trim() {
-            "good" => Compiled { bundle, diagnostics: vec![], fonts_used: vec![], print: None, key: None },
+            "good" => Compiled { bundle, diagnostics: vec![], fonts_used: vec![], print: None, key: Vec::new() },
             "warn" => Compiled {
                 bundle,
                 diagnostics: vec![Diagnostic::warning("T9", "thin").at(1, 1)],
                 fonts_used: vec![],
                 print: None,
-                key: None,
+                key: Vec::new(),
             },
             "panic" => panic!("fake compiler panic"),
             _ => Compiled {
@@ -376,7 +382,7 @@ mod tests {
                 diagnostics: vec![Diagnostic::error("T8", "broken").at(2, 3)],
                 fonts_used: vec![],
                 print: None,
-                key: None,
+                key: Vec::new(),
             },
         })
     }

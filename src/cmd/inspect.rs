@@ -273,6 +273,13 @@ fn describe(view: &BundleView<'_>) -> Value {
             .filter_map(|i| p.get(i))
             .filter_map(|e| legend::kind_of_id(e.0).map(|kind| json!({ "kind": kind, "meaning": e.1 })))
             .collect::<Vec<_>>()),
+        // A page of a key longer than the surface (`[page, pages]`; SPEC.md 10.2).
+        "key_page": prov.as_ref().and_then(|p| (0..p.len())
+            .filter_map(|i| p.get(i))
+            .filter(|e| e.0 == taxel_compiler::latero::key::PAGE_ID)
+            .map(|(id, label, line)| taxel_format::ProvenanceEntry { id: id.into(), label: label.into(), line })
+            .map(|e| taxel_compiler::latero::key::page_of(std::slice::from_ref(&e)))
+            .find(|&(_, n)| n > 1)),
     })
 }
 
@@ -320,6 +327,12 @@ fn human(path: &Path, r: &Value) -> String {
     }
     if !key.is_empty() {
         out.insert_str(out.len() - 1, &format!("key        {}\n", key.join("\n           ")));
+    }
+    if let Some([k, n]) = r["key_page"].as_array().and_then(|a| <&[Value; 2]>::try_from(a.as_slice()).ok()) {
+        out.insert_str(
+            out.len() - 1,
+            &format!("key page   {k} of {n}: a page of the key of the bundle it is beside\n"),
+        );
     }
     out += "     #  tag   flag         bytes  layer\n";
     for c in r["chunks"].as_array().into_iter().flatten() {

@@ -9,7 +9,7 @@
 //! | `GET /api/start` | the opened folder's inputs and bundles, the profiles, the input limit |
 //! | `POST /api/build?name=N&profile=P&fit=1` | builds the uploaded body (at most the CLI's input limit) |
 //! | `POST /api/open?path=REL&profile=P&fit=1` | builds a file of the opened folder |
-//! | `GET /api/r/ID/bundle`, `/key`, `/preview.png`, `/drawing.png`, `/export/FORMAT` | a build's parts (`key`: the key's own bundle) |
+//! | `GET /api/r/ID/bundle`, `/key`, `/preview.png`, `/drawing.png`, `/export/FORMAT` | a build's parts (`key`: the key's own bundle; `key2`, `key3` ...: its further pages) |
 //! | `GET /api/r/ID/outlines?ids=A,B` | the footprints of elements, for highlighting |
 //! | `POST /api/profile?name=FILE` | a profile file (the body) checked and kept; its key for `profile=` |
 //! | `POST /api/r/ID/restyle?element=ID&style=S` | the drawing rebuilt with that element's style (in a copy) |
@@ -131,9 +131,16 @@ fn part_reply(
             Some(b) => download(b.clone(), &format!("{stem}.taxel"), "application/octet-stream"),
             None => error(404, "no bundle: the input has errors"),
         },
-        (Method::Get, "key") => match &built.key_bytes {
-            Some(b) => download(b.clone(), &format!("{stem}.key.taxel"), "application/octet-stream"),
-            None => error(404, "no key bundle: the drawing needs no key, or its profile shows the key itself"),
+        // The key's pages: `key`, then `key2`, `key3` ..., named as `taxel build` writes them.
+        (Method::Get, p) if let Some(page) = key_page(p) => match built.key_bytes.get(page - 1) {
+            Some(b) => {
+                let name = crate::batch::output::key_page_path(Path::new(&format!("{stem}.taxel")), page);
+                download(b.clone(), &name.display().to_string(), "application/octet-stream")
+            }
+            None if built.key_bytes.is_empty() => {
+                error(404, "no key bundle: the drawing needs no key, or its profile shows the key itself")
+            }
+            None => error(404, &format!("no such page: the key has {} pages", built.key_bytes.len())),
         },
         (Method::Get, "preview.png") => png(built.preview_png.as_ref()),
         (Method::Get, "drawing.png") => png(built.drawing_png.as_ref()),
@@ -412,6 +419,15 @@ fn read_body(request: &mut Request) -> Result<Vec<u8>, Reply> {
 }
 
 /// The value of `key` in a query string, percent-decoded.
+/// The page of the key a part names: `key` is the first, `key2` the second ...
+fn key_page(part: &str) -> Option<usize> {
+    match part.strip_prefix("key")? {
+        "" => Some(1),
+        n if n.bytes().all(|b| b.is_ascii_digit()) && !n.starts_with('0') => n.parse().ok().filter(|&k| k >= 2),
+        _ => None,
+    }
+}
+
 fn query_param(query: &str, key: &str) -> Option<String> {
     query.split('&').find_map(|kv| {
         let (k, v) = kv.split_once('=').unwrap_or((kv, ""));

@@ -33,9 +33,10 @@ pub struct Built {
     pub bundle: Option<Bundle>,
     /// Its bytes, as `taxel build` writes them.
     pub bundle_bytes: Option<Vec<u8>>,
-    /// The key's own bundle, as `taxel build` writes it beside the bundle
-    /// (`NAME.key.taxel`, laterotactile and grid profiles), when the drawing needs a key.
-    pub key_bytes: Option<Vec<u8>>,
+    /// The key's own bundles, a page each, as `taxel build` writes them
+    /// beside the bundle (`NAME.key.taxel`, `NAME.key2.taxel` ...,
+    /// laterotactile and grid profiles); empty when the drawing needs no key.
+    pub key_bytes: Vec<Vec<u8>>,
     /// The felt preview (PNG).
     pub preview_png: Option<Vec<u8>>,
     /// The drawing rasterised (PNG): drawings are never shown as SVG.
@@ -115,7 +116,7 @@ pub fn build(
         opts: opts.clone(),
         bundle: None,
         bundle_bytes: None,
-        key_bytes: None,
+        key_bytes: Vec::new(),
         preview_png: None,
         drawing_png: None,
         backdrop: None,
@@ -138,9 +139,9 @@ pub fn build(
     // As `taxel build`: a bundle only when there is no error, stamped with its content hash.
     if let Some(mut bundle) = compiled.bundle.clone().filter(|_| errors == 0) {
         bundle.manifest.content_hash = part.finish(&compiled.fonts_used, opts)?;
-        if let Some(mut key) = compiled.key.clone() {
+        for mut key in compiled.key.iter().cloned() {
             key.manifest.content_hash = bundle.manifest.content_hash;
-            built.key_bytes = Some(
+            built.key_bytes.push(
                 key.to_bytes()
                     .map_err(|e| anyhow::anyhow!("internal error: the compiler made an invalid key bundle: {e}"))?,
             );
@@ -251,7 +252,8 @@ fn describe(built: &mut Built) {
             "family": p.family().name(),
             "surface_mm": [p.surface_w_mm, p.surface_h_mm],
             "exports": if p.family() == Family::Pins { vec!["dtms", "graphiti", "unicode"] } else { vec![] },
-            "key": built.key_bytes.is_some(),
+            // The key's pages, each a bundle: `key`, `key2` ... (0: no key).
+            "key": built.key_bytes.len(),
         }),
     );
     s.insert(

@@ -1,7 +1,8 @@
 //! The key as a second bundle (`NAME.key.taxel`, SPEC.md section 10.2) on
-//! the laterotactile arrays and vibrotactile grids: written beside the
-//! graphic's bundle by `taxel build`, one input or a batch, kept up to date
-//! and removed when no longer needed.
+//! the laterotactile arrays and vibrotactile grids, and more pages
+//! (`NAME.key2.taxel` ...) when it is longer than the surface: written
+//! beside the graphic's bundle by `taxel build`, one input or a batch, kept
+//! up to date and removed when no longer needed.
 
 use std::path::Path;
 use std::process::{Command, Output};
@@ -102,6 +103,72 @@ fn a_batch_writes_each_key_keeps_it_up_to_date_and_removes_it_when_not_needed() 
     assert!(!out.join("a.key.taxel").exists());
 }
 
+/// Eight textures with long names: more than the six braille lines of
+/// `stress2`'s surface, so the key goes on more pages.
+fn long_key() -> String {
+    let mut svg =
+        String::from(r#"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="60mm" viewBox="0 0 100 60">"#);
+    for k in 0..8 {
+        svg += &format!(
+            r#"<rect x="{}" y="5" width="10" height="30" data-tactile="grating(wavelength: {}mm, angle: 0deg)"><title>region number {k} of the map</title></rect>"#,
+            2 + 12 * k,
+            2 + k
+        );
+    }
+    svg + "</svg>"
+}
+
+#[test]
+fn a_key_longer_than_the_surface_is_written_page_after_page_and_kept_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = dir.path().join("src");
+    std::fs::create_dir_all(&src).unwrap();
+    std::fs::write(src.join("a.svg"), long_key()).unwrap();
+    let out = dir.path().join("out");
+    let build = || taxel(&["build", s(&src), "-o", s(&out), "--profile", "stress2"]);
+    let o = build();
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(!text(&o).contains("T0332"), "nothing is left out of the key: {}", text(&o));
+    // Pages 1, 2 ... without a gap, each saying which it is, all with the graphic's hash.
+    let pages: Vec<_> = (1..=9)
+        .map(|k| if k == 1 { out.join("a.key.taxel") } else { out.join(format!("a.key{k}.taxel")) })
+        .take_while(|p| p.is_file())
+        .collect();
+    assert!(pages.len() >= 2, "{}", text(&o));
+    let last = pages.last().unwrap();
+    assert!(text(&o).contains(&format!("{} more bundles", pages.len())), "{}", text(&o));
+    assert!(text(&o).contains(&format!("... {}", last.display())), "the note says where: {}", text(&o));
+    let hash = |p: &Path| BundleView::parse(&std::fs::read(p).unwrap()).unwrap().manifest().content_hash;
+    for (k, page) in pages.iter().enumerate() {
+        assert_eq!(hash(page), hash(&out.join("a.taxel")));
+        let o = taxel(&["inspect", s(page)]);
+        let want = format!("key page   {} of {}", k + 1, pages.len());
+        assert!(text(&o).contains(&want), "{want}: {}", text(&o));
+    }
+    // Up to date only with every page: a missing last page is built again.
+    let o = build();
+    assert!(String::from_utf8_lossy(&o.stdout).contains("skipped 1"), "{}", text(&o));
+    std::fs::remove_file(last).unwrap();
+    let o = build();
+    assert!(text(&o).contains("built 1") && last.is_file(), "{}", text(&o));
+    // A page of another build of the same name is not a page of this one.
+    std::fs::copy(&pages[0], last).unwrap();
+    let o = build();
+    assert!(text(&o).contains("built 1"), "{}", text(&o));
+    // A shorter key removes the pages past its last; a file of a page's name
+    // that is not a bundle is never removed.
+    std::fs::write(src.join("a.svg"), KEYED).unwrap();
+    let o = build();
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(out.join("a.key.taxel").is_file() && !out.join("a.key2.taxel").exists(), "{}", text(&o));
+    std::fs::write(out.join("a.key2.taxel"), "a teacher's notes").unwrap();
+    std::fs::write(src.join("a.svg"), PLAIN).unwrap();
+    let o = build();
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(!out.join("a.key.taxel").exists(), "{}", text(&o));
+    assert_eq!(std::fs::read_to_string(out.join("a.key2.taxel")).unwrap(), "a teacher's notes");
+}
+
 #[test]
 fn an_input_whose_bundle_would_be_anothers_key_is_refused() {
     let dir = tempfile::tempdir().unwrap();
@@ -111,6 +178,12 @@ fn an_input_whose_bundle_would_be_anothers_key_is_refused() {
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
     assert!(text(&o).contains("would all write"), "{}", text(&o));
     assert!(!dir.path().join("a.taxel").exists() && !dir.path().join("a.key.taxel").exists());
+    // Nor a later page's.
+    std::fs::remove_file(dir.path().join("a.key.svg")).unwrap();
+    std::fs::write(dir.path().join("a.key3.svg"), PLAIN).unwrap();
+    let o = taxel(&["build", s(dir.path()), "--profile", "stress2"]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("a.key3.taxel"), "{}", text(&o));
 }
 
 #[test]

@@ -286,6 +286,52 @@ fn the_bundle_downloaded_is_taxel_build_s_byte_for_byte() {
 }
 
 #[test]
+fn every_page_of_the_key_downloaded_is_taxel_build_s_byte_for_byte() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path().join("maps");
+    std::fs::create_dir(&root).unwrap();
+    // Eight textures with long names: more than one page of `stress2`'s key.
+    let mut svg =
+        String::from(r#"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="60mm" viewBox="0 0 100 60">"#);
+    for k in 0..8 {
+        svg += &format!(
+            r#"<rect x="{}" y="5" width="10" height="30" data-tactile="grating(wavelength: {}mm, angle: 0deg)"><title>region number {k} of the map</title></rect>"#,
+            2 + 12 * k,
+            2 + k
+        );
+    }
+    std::fs::write(root.join("regions.svg"), svg + "</svg>").unwrap();
+    let s = Studio::start(&root);
+    let v = s.post("/api/open?path=regions.svg&profile=stress2", b"").json();
+    let pages = v["bundle"]["key"].as_u64().unwrap() as usize;
+    assert!(pages >= 2, "{v}");
+    let out = dir.path().join("cli/regions.taxel");
+    let o = taxel(&["build", root.join("regions.svg").to_str().unwrap(), "-p", "stress2", "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let base = v["base"].as_str().unwrap();
+    for k in 1..=pages {
+        let (part, file) = if k == 1 {
+            ("key".to_string(), "regions.key.taxel".to_string())
+        } else {
+            (format!("key{k}"), format!("regions.key{k}.taxel"))
+        };
+        let got = s.get(&format!("{base}{part}"));
+        assert_eq!(got.status, 200, "{part}");
+        assert!(
+            got.header("content-disposition").unwrap().contains(&file),
+            "{part}: {:?}",
+            got.header("content-disposition")
+        );
+        assert!(
+            std::fs::read(dir.path().join("cli").join(&file)).unwrap() == got.body,
+            "{part}: the studio's page differs from taxel build's"
+        );
+    }
+    assert_eq!(s.get(&format!("{base}key{}", pages + 1)).status, 404);
+    assert_eq!(s.get(&format!("{base}key1")).status, 404, "the first page is `key`");
+}
+
+#[test]
 fn a_drawing_is_never_sent_to_the_page_as_markup() {
     let (_dir, root) = folder();
     std::fs::write(

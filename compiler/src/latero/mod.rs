@@ -13,7 +13,7 @@ mod braille;
 pub mod distance;
 mod dots;
 mod footprints;
-pub(crate) mod key;
+pub mod key;
 mod plan;
 
 use braille::clearing_within;

@@ -262,7 +262,7 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
         diagnostics,
         fonts_used: Vec::new(),
         print: None,
-        key: None,
+        key: Vec::new(),
     };
     if profile.family() != Family::Finger {
         diagnostics.push(not_finger(profile));
@@ -297,7 +297,7 @@ pub fn compile_gltf(bytes: &[u8], resolve: &mut Resolver<'_>, profile: &DevicePr
         diagnostics.push(Diagnostic::error("T0613", format!("the height field cannot be stored: {e}")));
         return refused(diagnostics);
     }
-    Compiled { bundle: Some(bundle), diagnostics, fonts_used: Vec::new(), print: None, key: None }
+    Compiled { bundle: Some(bundle), diagnostics, fonts_used: Vec::new(), print: None, key: Vec::new() }
 }
 
 /// The error that `profile` is not for a finger device (T0609).

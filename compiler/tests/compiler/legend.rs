@@ -25,7 +25,7 @@ fn provenance(b: &Bundle) -> Vec<&ProvenanceEntry> {
 
 /// The key's bundle, failing the test with the diagnostics when there is none.
 fn key(c: &Compiled) -> &Bundle {
-    c.key.as_ref().unwrap_or_else(|| panic!("no key bundle: {:#?}", c.diagnostics))
+    c.key.first().unwrap_or_else(|| panic!("no key bundle: {:#?}", c.diagnostics))
 }
 
 /// Two textures and a vibrating line, each named by its title.
@@ -103,29 +103,72 @@ fn no_key_bundle_when_the_key_is_not_needed_nor_on_pins() {
            <path d="M5 50 L95 50" stroke="black" data-tactile="vibrate()"/>"#,
     );
     let c = compile_for(&one, "stress2");
-    assert!(c.bundle.is_some() && c.key.is_none());
+    assert!(c.bundle.is_some() && c.key.is_empty());
     assert!(with_code(&c, "T0331").is_empty());
     // A pin display has its key as pages of its own image.
     let c = compile_for(&page(MAP), "dotpad");
-    assert!(c.bundle.is_some() && c.key.is_none());
+    assert!(c.bundle.is_some() && c.key.is_empty());
 }
 
 #[test]
-fn what_does_not_fit_on_the_keys_surface_is_said() {
-    // Eight textures with long names: the 60 mm surface holds a few lines.
+fn a_key_longer_than_the_surface_goes_on_more_pages_and_only_what_fits_on_none_is_said() {
+    // Eight textures with long names: the 60 mm surface holds six braille
+    // lines, and each meaning takes two or three.
     let mut body = String::new();
-    for k in 0..8 {
+    let meanings: Vec<String> = (0..8).map(|k| format!("region number {k} of the map")).collect();
+    for (k, m) in meanings.iter().enumerate() {
         body += &format!(
-            r#"<rect x="{}" y="5" width="10" height="30" data-tactile="grating(wavelength: {}mm, angle: 0deg)"><title>region number {k} of the map</title></rect>"#,
+            r#"<rect x="{}" y="5" width="10" height="30" data-tactile="grating(wavelength: {}mm, angle: 0deg)"><title>{m}</title></rect>"#,
             2 + 12 * k,
             2 + k
         );
     }
     let c = compile_for(&page(&body), "stress2");
-    assert!(c.key.is_some());
+    let pages = &c.key;
+    assert!(pages.len() >= 2, "{} pages: {:#?}", pages.len(), c.diagnostics);
+    // Nothing is left out: every entry is on a page.
+    assert!(with_code(&c, "T0332").is_empty(), "{:#?}", c.diagnostics);
+    let notes = with_code(&c, "T0331");
+    assert!(notes[0].message.contains(&format!("{} more bundles", pages.len())), "{}", notes[0].message);
+    let mut swatches = 0;
+    for (k, p) in pages.iter().enumerate() {
+        // Each page says which it is, and is a bundle like any other for the profile.
+        let entries = provenance(p);
+        let said: Vec<_> = entries.iter().filter(|e| e.id == "page").map(|e| e.label.as_str()).collect();
+        assert_eq!(said, [format!("page {} of {}", k + 1, pages.len())], "{entries:?}");
+        BundleView::parse(&p.to_bytes().unwrap()).unwrap();
+        swatches += masks(p).len();
+    }
+    assert_eq!(swatches, 8, "one swatch per entry over the pages");
+    // An entry is never split between pages: its swatch (labelled with the
+    // whole meaning) and its braille lines (pieces of it) are on one page.
+    for (n, m) in meanings.iter().enumerate() {
+        // Its pieces: the braille lines that are part of it and hold its number.
+        let piece = |label: &str| m.contains(label) && label.contains(&n.to_string());
+        let on: Vec<usize> =
+            (0..pages.len()).filter(|&k| provenance(&pages[k]).iter().any(|e| piece(&e.label))).collect();
+        let whole: Vec<usize> =
+            (0..pages.len()).filter(|&k| provenance(&pages[k]).iter().any(|e| e.label == *m)).collect();
+        assert_eq!(whole.len(), 1, "{m}: on pages {whole:?}");
+        assert!(on.iter().all(|k| *k == whole[0]), "{m}: pieces on pages {on:?}, the swatch on {}", whole[0]);
+    }
+
+    // A meaning longer than a whole page fits on none: said once, by name,
+    // and the others are still on their pages.
+    let long = "a legend text so long that its braille takes more lines than the whole surface of the device holds, \
+                however the key is laid out, which no page can show";
+    let body = format!(
+        r#"{body}<rect x="5" y="40" width="10" height="10" data-tactile="grating(wavelength: 11mm, angle: 45deg)"><title>{long}</title></rect>"#
+    );
+    let c = compile_for(&page(&body), "stress2");
     let w = with_code(&c, "T0332");
     assert_eq!(w.len(), 1, "{:#?}", c.diagnostics);
-    assert!(w[0].message.contains("of its 8 entries"), "{}", w[0].message);
+    assert!(
+        w[0].message.contains("8 of its 9 entries") && w[0].message.contains("a legend text so long"),
+        "{}",
+        w[0].message
+    );
+    assert_eq!(c.key.iter().map(|p| masks(p).len()).sum::<usize>(), 8);
 }
 
 #[test]

@@ -260,7 +260,13 @@ function showDownloads(r) {
     return;
   }
   add(`${r.base}bundle`, `Bundle (${stem}.taxel)`, `${stem}.taxel`);
-  if (r.bundle.key) add(`${r.base}key`, `Key, a bundle of its own (${stem}.key.taxel)`, `${stem}.key.taxel`);
+  // The key's bundles, a page each: NAME.key.taxel, NAME.key2.taxel ...
+  const pages = Number(r.bundle.key) || 0;
+  for (let k = 1; k <= pages; k++) {
+    const file = k === 1 ? `${stem}.key.taxel` : `${stem}.key${k}.taxel`;
+    const what = pages === 1 ? "Key, a bundle of its own" : `Key, page ${k} of ${pages}`;
+    add(`${r.base}${k === 1 ? "key" : `key${k}`}`, `${what} (${file})`, file);
+  }
   const names = { dtms: "Dot Pad (DTMS)", graphiti: "Graphiti", unicode: "Unicode braille text" };
   for (const f of r.bundle.exports) add(`${r.base}export/${f}`, names[f], "");
 }
