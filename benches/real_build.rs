@@ -21,7 +21,10 @@
 //! (a self-crossing scribble of 3,000 to 300,000 segments, unannotated and
 //! annotated, 20,000 and 100,000 scatter marks, a jittered ring of 300,000
 //! points), whole process, beside resvg's render of each at 1,100 px
-//! wide: `-- runaway`.
+//! wide: `-- runaway` (`TAXEL_KEEP_DRAWINGS=DIR` keeps them too, for their
+//! peak memory by hand). resvg takes minutes on the 300,000-segment
+//! scribbles: leave those out with
+//! `-- 'runaway/(.*scribble [0-9,]+: taxel|.*scribble (3,000|30,000): resvg|scatter|ring)'`.
 //!
 //! A fourth group, `issue 46`, builds the shapes issue 46 found slow on
 //! public drawings (`drawings/world.rs`): a world map of 2,200 tiny islands
@@ -169,8 +172,12 @@ fn runaway(c: &mut Criterion, dir: &Path, taxel: &str) {
     let mut g = c.benchmark_group("runaway");
     g.sampling_mode(SamplingMode::Flat).sample_size(10);
     for (name, svg) in &cases {
-        let input = dir.join(format!("{}.svg", name.replace([' ', ','], "")));
+        let file = format!("{}.svg", name.replace([' ', ','], ""));
+        let input = dir.join(&file);
         std::fs::write(&input, svg).expect("drawing written");
+        if let Some(keep) = std::env::var_os("TAXEL_KEEP_DRAWINGS") {
+            std::fs::write(Path::new(&keep).join(&file), svg).expect("kept drawing written");
+        }
         let bundle = dir.join("runaway.taxel");
         g.bench_function(format!("{name}: taxel build"), |b| {
             b.iter(|| {
