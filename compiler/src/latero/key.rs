@@ -2,7 +2,7 @@
 //! vibrotactile grids (SPEC.md section 10.2): a bundle has one surface, so
 //! the key ([`crate::style::legend()`]) is laid out as a drawing of its own
 //! on the same surface and compiled for the same profile by the same
-//! [`super::build`] as the graphic, so that each swatch is felt as the
+//! builder as the graphic (`latero::build`), so that each swatch is felt as the
 //! graphic has it.
 //!
 //! On an array, each entry is a line of the key: its swatch (a patch of its
