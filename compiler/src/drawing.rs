@@ -214,6 +214,10 @@ pub struct TextShape {
     /// room `(dx, dy)`, mm; the runs less this are where the drawing has
     /// it (a legend's text beside its swatch, `style::legend`).
     pub moved_mm: (f64, f64),
+    /// Whether the automatic sheet found no place on the graphic for its
+    /// braille, not even as a key code (note T0323): the key lists it
+    /// instead (`style::legend`).
+    pub unplaced: bool,
 }
 
 /// One positioned run of text.

@@ -49,9 +49,11 @@ pub fn has_key(v: &BundleView<'_>) -> bool {
     let one_surface = matches!(v.manifest().profile.family(), Family::Laterotactile | Family::Grid);
     one_surface
         && v.provenance().is_some_and(|p| {
-            (0..p.len())
-                .filter_map(|i| p.get(i))
-                .any(|e| e.0 == "key" || taxel_compiler::style::legend::kind_of_id(e.0).is_some())
+            (0..p.len()).filter_map(|i| p.get(i)).any(|e| {
+                e.0 == "key"
+                    || e.0 == taxel_compiler::style::legend::UNPLACED_ID
+                    || taxel_compiler::style::legend::kind_of_id(e.0).is_some()
+            })
         })
 }
 

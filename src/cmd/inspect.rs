@@ -273,6 +273,11 @@ fn describe(view: &BundleView<'_>) -> Value {
             .filter_map(|i| p.get(i))
             .filter_map(|e| legend::kind_of_id(e.0).map(|kind| json!({ "kind": kind, "meaning": e.1 })))
             .collect::<Vec<_>>()),
+        // The texts the graphic has no room for, which the key lists (`key.text`).
+        "key_text": prov.as_ref().and_then(|p| (0..p.len())
+            .filter_map(|i| p.get(i))
+            .find(|e| e.0 == legend::UNPLACED_ID)
+            .map(|e| e.1)),
         // A page of a key longer than the surface (`[page, pages]`; SPEC.md 10.2).
         "key_page": prov.as_ref().and_then(|p| (0..p.len())
             .filter_map(|i| p.get(i))
@@ -324,6 +329,9 @@ fn human(path: &Path, r: &Value) -> String {
         .collect();
     if let Some(codes) = r["key"].as_str() {
         key.extend(codes.strip_prefix("key: ").unwrap_or(codes).split(", ").map(String::from));
+    }
+    if let Some(texts) = r["key_text"].as_str() {
+        key.push(format!("not on the graphic: {texts}"));
     }
     if !key.is_empty() {
         out.insert_str(out.len() - 1, &format!("key        {}\n", key.join("\n           ")));

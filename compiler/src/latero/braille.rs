@@ -82,6 +82,10 @@ pub(super) fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOpti
     let plays = |s: &Swatch| super::key::plays(family, s);
     let legend = crate::style::legend(drawing);
     b.provenance.extend(crate::style::legend::provenance(&legend, plays));
+    // And the texts the graphic has no room for, which the key's bundle lists.
+    if family == Family::Laterotactile {
+        b.provenance.extend(legend.unplaced_entry());
+    }
     b.legend = Some(legend);
 }
 

@@ -73,8 +73,9 @@ pub(crate) fn bundles(
     }
     let legend = legend.unwrap_or_else(|| crate::style::legend(drawing));
     let entries: Vec<&Entry> = legend.shown().iter().filter(|e| plays(family, &e.swatch)).collect();
-    // Key codes are braille, which only an array plays.
-    let codes = if family == Family::Laterotactile { legend.code_lines() } else { Vec::new() };
+    // Key codes, and the texts the graphic has no room for, are braille,
+    // which only an array plays.
+    let codes = if family == Family::Laterotactile { legend.text_lines() } else { Vec::new() };
     if !legend.needed() || (entries.is_empty() && codes.is_empty()) {
         return Vec::new();
     }
@@ -127,11 +128,15 @@ pub(crate) fn bundles(
         Family::Grid => "each brushed stroke played once, named by its meaning",
         _ => "each texture, line style and symbol felt as itself beside its meaning in braille",
     };
-    let held = format!(
-        "{}{}",
-        plural(entries.len(), "entry", "entries"),
-        if codes.is_empty() { String::new() } else { format!(", {}", plural(codes.len(), "key code", "key codes")) },
-    );
+    let mut held = plural(entries.len(), "entry", "entries");
+    if family == Family::Laterotactile {
+        if !legend.codes.is_empty() {
+            held += &format!(", {}", plural(legend.codes.len(), "key code", "key codes"));
+        }
+        if !legend.unplaced.is_empty() {
+            held += &format!(", {} the graphic has no room for", plural(legend.unplaced.len(), "text", "texts"));
+        }
+    }
     let profile = opts.profile.name.as_str();
     let message = if count == 1 {
         format!("the key ({held}) is a second bundle for {profile}: {what}")
@@ -149,7 +154,7 @@ pub(crate) fn bundles(
             Diagnostic::warning(
                 "T0332",
                 format!(
-                    "the key's {} hold {} of its {total} entries and key codes: {named} {verb} in the \
+                    "the key's {} hold {} of its {total} entries and lines of text: {named} {verb} in the \
                      graphic's provenance only (a host says {them})",
                     plural(count, "page", "pages"),
                     total - left_out.len(),
@@ -184,7 +189,10 @@ fn plural(n: usize, one: &str, many: &str) -> String {
 /// provenance entries its own swatches would give (they stand beside their
 /// texts as a legend does) are not written, which come after the elements'.
 fn without_key_entries(mut built: super::Built) -> super::Built {
-    while built.provenance.last().is_some_and(|p| p.id == "key" || crate::style::legend::kind_of_id(&p.id).is_some()) {
+    let keyish = |id: &str| {
+        id == "key" || id == crate::style::legend::UNPLACED_ID || crate::style::legend::kind_of_id(id).is_some()
+    };
+    while built.provenance.last().is_some_and(|p| keyish(&p.id)) {
         built.provenance.pop();
     }
     built
@@ -236,6 +244,12 @@ fn lines(
         }
     }
     for code in codes {
+        // Past the last page nothing more fits: no braille to lay out (a
+        // map's thousands of texts with no room on the graphic).
+        if pages.full() {
+            left_out.push(code.clone());
+            continue;
+        }
         let texts = key_page::wrap(code, cells(MARGIN_MM), &width);
         let Some(line) = pages.room(texts.len().max(1)) else {
             left_out.push(code.clone());
@@ -277,6 +291,11 @@ impl Pages {
         let first = self.line;
         self.line += n;
         Some(first)
+    }
+
+    /// Whether the last page there may be is full.
+    fn full(&self) -> bool {
+        self.done.len() + 1 >= MAX_PAGES && self.line >= self.per_page
     }
 
     /// Every page with something on it.

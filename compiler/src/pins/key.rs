@@ -74,7 +74,7 @@ pub(crate) fn pages(
         // A blank line between entries, so that swatches are felt apart.
         line += tall + 1;
     }
-    for code in legend.code_lines() {
+    for code in legend.text_lines() {
         let texts = key_page::wrap(&code, lay.full_cells(), &width);
         line = lay.fit(line, texts.len() as u32);
         for t in texts {

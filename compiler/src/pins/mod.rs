@@ -459,9 +459,11 @@ pub fn build_bundle(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mut
     if !key.is_empty() {
         entries.push(ProvenanceEntry { id: "key".into(), label: key, line: 0 });
     }
-    // The key's entries, for a host to say (the display shows them on its key pages).
-    entries
-        .extend(crate::style::legend::provenance(&crate::style::legend(drawing), |s| !matches!(s, Swatch::Stroke(_))));
+    // The key's entries, and the texts the graphic has no room for, for a
+    // host to say (the display shows them on its key pages).
+    let legend = crate::style::legend(drawing);
+    entries.extend(crate::style::legend::provenance(&legend, |s| !matches!(s, Swatch::Stroke(_))));
+    entries.extend(legend.unplaced_entry());
     if !entries.is_empty() {
         bundle.chunks.push(Chunk::Provenance(Provenance { entries }));
     }

@@ -245,7 +245,8 @@ const KEY_LINE_MM: f64 = 4.0;
 /// The key as the bundle's provenance holds it, a line each: "Key", then
 /// each texture, line style and symbol with its meaning (entries `key.*`,
 /// `texture: Forest (grating 3 mm at 0°)`), then each key code and the label
-/// it stands for (entry `key`, `key: bs Bundle Store, kf 1 kHz frames`).
+/// it stands for (entry `key`, `key: bs Bundle Store, kf 1 kHz frames`),
+/// then the texts the graphic has no room for (entry `key.text`).
 fn key_lines(b: &Bundle) -> Vec<String> {
     let Some(p) = b.chunks.iter().find_map(|c| match c {
         Chunk::Provenance(p) => Some(p),
@@ -261,6 +262,10 @@ fn key_lines(b: &Bundle) -> Vec<String> {
     let codes = p.entries.iter().find(|e| e.id == "key").map(|e| e.label.as_str());
     if let Some(codes) = codes.map(|k| k.strip_prefix("key: ").unwrap_or(k)).filter(|k| !k.is_empty()) {
         lines.extend(codes.split(", ").map(String::from));
+    }
+    // The texts the graphic has no room for (entry `key.text`).
+    if let Some(e) = p.entries.iter().find(|e| e.id == crate::style::legend::UNPLACED_ID) {
+        lines.push(format!("not on the graphic: {}", e.label));
     }
     if lines.is_empty() {
         return lines;

@@ -48,7 +48,7 @@ pub(super) fn pages(
     for e in legend.shown() {
         rows.push(Row { entry: Some(e), cells: cells(&e.meaning, (None, None), None, cx) });
     }
-    for line in legend.code_lines() {
+    for line in legend.text_lines() {
         rows.push(Row { entry: None, cells: cells(&line, (None, None), None, cx) });
     }
     let k = texture::scale(p);

@@ -1,5 +1,6 @@
 //! The key of a drawing: each texture, line style and point symbol a reader
-//! must tell apart, with its meaning, and the key codes (T0326).
+//! must tell apart, with its meaning, the key codes (T0326), and the texts
+//! the graphic has no room for (T0323), which the key lists instead.
 //!
 //! A public stage derived from the resolved styles, so that every back end
 //! (paper's key page, the pin displays' key page, the provenance a host
@@ -29,7 +30,8 @@
 //! outline both titled "Lake") tells neither apart, so those entries take
 //! their next meaning, and every meaning in the key is its own.
 //!
-//! **When** ([`Legend::needed`]): when the drawing has key codes, or a kind
+//! **When** ([`Legend::needed`]): when the drawing has key codes or texts
+//! with no room on the graphic, or a kind
 //! (textures, line styles, point symbols with dotted lines, brushed strokes)
 //! has two or more entries a reader must tell apart. A single texture or a
 //! single line style is not explained: BANA's guidelines keep the key for
@@ -181,20 +183,39 @@ impl Entry {
 }
 
 /// The key of a drawing: its entries (textures, then lines, dotted lines,
-/// symbols and strokes, each kind in order of first use) and its key codes.
+/// symbols and strokes, each kind in order of first use), its key codes,
+/// and the texts the graphic has no room for.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Legend {
     /// Each distinct texture, line style and point symbol.
     pub entries: Vec<Entry>,
     /// Each key code and the label it stands for, codes in order.
     pub codes: Vec<(String, String)>,
+    /// The texts the automatic sheet found no place for on the graphic,
+    /// not even as a key code (note T0323: an axis's labels under a chart
+    /// fitted to the surface's height, single letters no code shortens),
+    /// in the drawing's order, each once: the key lists them rather than
+    /// leave them out.
+    pub unplaced: Vec<String>,
 }
 
+/// The provenance entry of [`Legend::unplaced`]: its label is the texts,
+/// `A, B, C`, for a host to say (SPEC.md section 10.2).
+pub const UNPLACED_ID: &str = "key.text";
+
+/// Texts of [`Legend::unplaced`] on one line of the key.
+const UNPLACED_PER_LINE: usize = 8;
+/// Most texts of [`Legend::unplaced`] the key lists (eight lines); past
+/// them it says how many more (a map's thousands of labels are no key a
+/// reader reads; the provenance entry [`UNPLACED_ID`] has them all).
+const UNPLACED_LISTED: usize = 64;
+
 impl Legend {
-    /// Whether a key is written: there are key codes, or a kind of entry
-    /// has two or more a reader must tell apart (module docs).
+    /// Whether a key is written: there are key codes or texts the graphic
+    /// has no room for, or a kind of entry has two or more a reader must
+    /// tell apart (module docs).
     pub fn needed(&self) -> bool {
-        if !self.codes.is_empty() {
+        if !self.codes.is_empty() || !self.unplaced.is_empty() {
             return true;
         }
         (0..4).any(|g| self.entries.iter().filter(|e| e.swatch.group() == g).count() >= 2)
@@ -208,6 +229,33 @@ impl Legend {
     /// The key codes as lines of print: `bs Bundle Store`.
     pub fn code_lines(&self) -> Vec<String> {
         self.codes.iter().map(|(c, l)| format!("{c} {l}")).collect()
+    }
+
+    /// The provenance entry [`UNPLACED_ID`] of the texts the graphic has no
+    /// room for, when there are any.
+    pub fn unplaced_entry(&self) -> Option<taxel_format::ProvenanceEntry> {
+        (!self.unplaced.is_empty()).then(|| taxel_format::ProvenanceEntry {
+            id: UNPLACED_ID.into(),
+            label: self.unplaced.join(", "),
+            line: 0,
+        })
+    }
+
+    /// The key's lines of print after its entries: the key codes, then the
+    /// texts the graphic has no room for, a few to a line, the first line
+    /// saying what they are: `not on the graphic: A, B, C`; past 64 of
+    /// them, a last line says how many more.
+    pub fn text_lines(&self) -> Vec<String> {
+        let mut lines = self.code_lines();
+        let listed = &self.unplaced[..self.unplaced.len().min(UNPLACED_LISTED)];
+        for (k, chunk) in listed.chunks(UNPLACED_PER_LINE).enumerate() {
+            let texts = chunk.join(", ");
+            lines.push(if k == 0 { format!("not on the graphic: {texts}") } else { texts });
+        }
+        if self.unplaced.len() > listed.len() {
+            lines.push(format!("and {} more not on the graphic", self.unplaced.len() - listed.len()));
+        }
+        lines
     }
 }
 
@@ -273,7 +321,7 @@ pub fn legend(d: &Drawing) -> Legend {
     // kind keeps its order of first use).
     entries.sort_by_key(|x| x.swatch.identity().0);
     name(d, &mut entries);
-    Legend { entries, codes: codes(d) }
+    Legend { entries, codes: codes(d), unplaced: unplaced(d) }
 }
 
 /// The provenance entries of the key's entries a device plays (those
@@ -290,6 +338,20 @@ pub fn provenance(legend: &Legend, plays: impl Fn(&Swatch) -> bool) -> Vec<taxel
             label: format!("{} ({})", e.meaning, e.swatch.felt()),
             line: 0,
         })
+        .collect()
+}
+
+/// The texts of `d` that found no place on the graphic
+/// ([`Legend::unplaced`]), in order, each once.
+fn unplaced(d: &Drawing) -> Vec<String> {
+    let mut seen = std::collections::HashSet::new();
+    d.elements
+        .iter()
+        .filter_map(|e| match &e.shape {
+            Shape::Text(t) if t.unplaced => Some(crate::style::keys::label_text(t)),
+            _ => None,
+        })
+        .filter(|t| !t.is_empty() && seen.insert(t.clone()))
         .collect()
 }
 

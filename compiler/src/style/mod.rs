@@ -380,6 +380,9 @@ pub fn apply_measured(d: &mut Drawing, profile: &DeviceProfile, m: Measure<'_>, 
             e.styles = styles;
             e.styled_by = StyledBy::Auto;
         }
+        if let (Some(LeftOut::TextDoesNotFit), Shape::Text(t)) = (plan.decisions[i].left_out, &mut e.shape) {
+            t.unplaced = true;
+        }
         let (dx, dy) = plan.decisions[i].braille_shift;
         if let (true, Shape::Text(t)) = (plan.decisions[i].braille, &mut e.shape) {
             if let Some(code) = plan.decisions[i].key {

@@ -265,7 +265,7 @@ fn text_left_out(plan: &Plan, d: &Drawing) -> Option<Diagnostic> {
         Diagnostic::note(
             "T0323",
             format!(
-                "{} text element(s) left out: their braille would leave the page, or run into other braille or a vibrating line ({})",
+                "{} text element(s) have no room on the graphic, so the key lists them instead: their braille would leave the page, or run into other braille or a vibrating line ({})",
                 text.len(),
                 first_three(&text)
             ),

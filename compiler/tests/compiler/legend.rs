@@ -252,3 +252,52 @@ fn a_charts_own_legend_names_its_textures_when_fit_shrinks_its_swatches() {
         );
     }
 }
+
+#[test]
+fn texts_the_graphic_has_no_room_for_are_listed_by_the_key() {
+    // A bar chart fitted to the surface's height: the axis's labels under
+    // it are single letters (no key code is shorter) and their braille has
+    // no room under the axis, nor beside the bars.
+    let mut body = String::new();
+    for k in 0..9 {
+        body += &format!(
+            r##"<rect x="{}" y="{}" width="8" height="{}" fill="#4c78a8"/>"##,
+            10 + 9 * k,
+            10 + 4 * k,
+            45 - 4 * k
+        );
+        body += &format!(
+            r#"<text x="{}" y="59.5" font-size="3" font-family="Tuffy">{}</text>"#,
+            13 + 9 * k,
+            (b'A' + k as u8) as char
+        );
+    }
+    body += r#"<path d="M5 55.5 H95" stroke="black" stroke-width="0.5" fill="none"/>"#;
+    let c = compile_for(&page(&body), "stress2");
+    let letters: Vec<String> = (0..9).map(|k| ((b'A' + k) as char).to_string()).collect();
+    // The note says where they went.
+    let n = with_code(&c, "T0323");
+    assert_eq!(n.len(), 1, "{:#?}", c.diagnostics);
+    assert!(
+        n[0].message.contains("9 text element(s)") && n[0].message.contains("the key lists them"),
+        "{}",
+        n[0].message
+    );
+    // The key's bundle lists them in braille, a few to a line, after what
+    // it says first; the graphic's provenance has them for a host.
+    let labels: Vec<String> = c.key.iter().flat_map(|k| provenance(k).into_iter().map(|e| e.label.clone())).collect();
+    // (Braille lines are wrapped at spaces: joined again, they read as written.)
+    let read = labels.join(" ");
+    let first = format!("not on the graphic: {}", letters[..8].join(", "));
+    assert!(read.contains(&format!("{first} ")), "{labels:?}");
+    assert!(labels.iter().any(|l| *l == letters[8]), "{labels:?}");
+    assert!(dots(&c.key[0], DotKind::Braille).is_some());
+    let texts: Vec<&str> =
+        provenance(bundle(&c)).into_iter().filter(|e| e.id == "key.text").map(|e| e.label.as_str()).collect();
+    assert_eq!(texts, [letters.join(", ")]);
+    // On a pin display, the key's pages list them too.
+    let pins = compile_for(&page(&body), "dotpad");
+    let texts: Vec<&str> =
+        provenance(bundle(&pins)).into_iter().filter(|e| e.id == "key.text").map(|e| e.label.as_str()).collect();
+    assert_eq!(texts, [letters.join(", ")]);
+}

@@ -298,3 +298,23 @@ fn a_regions_label_beside_a_small_region_is_not_a_legend_text() {
     assert_eq!(from_legend(&on_the_page), 2, "{:?}", meanings(&on_the_page));
     assert!(meanings(&on_the_page).contains(&("R0", Source::Legend)), "{:?}", meanings(&on_the_page));
 }
+
+#[test]
+fn the_key_lists_texts_with_no_room_a_few_to_a_line_and_says_how_many_more() {
+    let text = |n: usize| format!("t{n}");
+    let l = Legend { unplaced: (0..70).map(text).collect(), ..Legend::default() };
+    assert!(l.needed(), "texts with no room on the graphic need a key");
+    let lines = l.text_lines();
+    assert_eq!(lines[0], "not on the graphic: t0, t1, t2, t3, t4, t5, t6, t7");
+    assert_eq!(lines[1], "t8, t9, t10, t11, t12, t13, t14, t15");
+    assert_eq!(lines.len(), 9);
+    assert_eq!(lines[7], "t56, t57, t58, t59, t60, t61, t62, t63");
+    assert_eq!(lines[8], "and 6 more not on the graphic");
+    // The provenance has them all, for a host.
+    let e = l.unplaced_entry().expect("an entry");
+    assert_eq!((e.id.as_str(), e.label.split(", ").count()), (UNPLACED_ID, 70));
+    // Key codes come first.
+    let l = Legend { codes: vec![("fo".into(), "Forest office".into())], unplaced: vec!["A".into()], ..l };
+    assert_eq!(l.text_lines(), ["fo Forest office", "not on the graphic: A"]);
+    assert!(Legend::default().unplaced_entry().is_none());
+}
