@@ -275,9 +275,14 @@ pub fn legalise_with(drawing: &Drawing, opts: &crate::CompileOptions, diags: &mu
             Some((first, n)) => diags.push(Diagnostic::note(
                 "T0710",
                 format!(
-                    "the key ({} entries{}) is on page{} {} of the pin image, after the graphic",
+                    "the key ({} entries{}{}) is on page{} {} of the pin image, after the graphic",
                     legend.shown().len(),
                     if legend.codes.is_empty() { String::new() } else { format!(", {} key codes", legend.codes.len()) },
+                    if legend.unplaced.is_empty() {
+                        String::new()
+                    } else {
+                        format!(", {} texts the graphic has no room for", legend.unplaced.len())
+                    },
                     if n == 1 { "" } else { "s" },
                     if n == 1 { first.to_string() } else { format!("{first} to {}", first + n - 1) }
                 ),
