@@ -98,9 +98,17 @@ test("the teacher opens a drawing and reads its diagnostics as the command line 
   // Selecting a diagnostic outlines its elements (those the bundle has) on both pictures.
   let outlined = 0;
   for (const button of await page.locator("#diagnostics button").all()) {
+    // The status this click leads to, not the last one's.
+    const before = await page.$eval("#status", (s) => s.textContent);
     await button.click();
     assert.equal(await button.getAttribute("aria-pressed"), "true");
-    await page.waitForFunction(() => /elements shown|no element to show/.test(document.getElementById("status").textContent));
+    await page.waitForFunction(
+      (before) => {
+        const now = document.getElementById("status").textContent;
+        return now !== before && /elements shown|no element to show/.test(now);
+      },
+      before,
+    );
     const marks = await page.$$eval("#drawing-marks > *", (m) => m.length);
     const felt = await page.$$eval("#preview-marks > *", (m) => m.length);
     assert.equal(marks, felt);

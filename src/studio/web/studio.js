@@ -290,19 +290,24 @@ async function selectGroup(button, group) {
   }
   const ids = group.elements.slice(0, 200).join(",");
   const shapes = await api(`${state.result.base}outlines?ids=${encodeURIComponent(ids)}`);
+  // Another diagnostic chosen meanwhile draws its own marks.
+  if (button.getAttribute("aria-pressed") !== "true") return;
   const r = state.result;
-  drawMarks("drawing", shapes, 0, 0, r.drawing_px_per_mm);
+  await drawMarks("drawing", shapes, 0, 0, r.drawing_px_per_mm);
   if (r.preview_frame) {
     const f = r.preview_frame;
-    drawMarks("preview", shapes, f.x0_mm, f.y0_mm, f.px_per_mm);
+    await drawMarks("preview", shapes, f.x0_mm, f.y0_mm, f.px_per_mm);
   }
   const found = new Set(shapes.map((s) => s.id)).size;
   say(`${group.code}: ${found} of ${group.elements.length} elements shown${found < group.elements.length ? " (the others are not in the bundle)" : ""}.`);
 }
 
-function drawMarks(id, shapes, x0, y0, k) {
+async function drawMarks(id, shapes, x0, y0, k) {
   const svg = $(`${id}-marks`);
   const img = $(id);
+  // A picture still loading (a large preview, a diagnostic chosen at once)
+  // is waited for: the marks are drawn in its pixels.
+  if (!img.naturalWidth && img.getAttribute("src")) await img.decode().catch(() => {});
   if (!img.naturalWidth) return;
   svg.setAttribute("viewBox", `0 0 ${img.naturalWidth} ${img.naturalHeight}`);
   svg.setAttribute("preserveAspectRatio", "none");
