@@ -182,13 +182,7 @@ fn compile_drawing(path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> Result<Co
     let options = match options_with_fonts(opts, false)? {
         Ok(o) => o,
         Err(d) => {
-            return Ok(Compiled {
-                bundle: None,
-                diagnostics: vec![d],
-                fonts_used: Vec::new(),
-                print: None,
-                key: Vec::new(),
-            });
+            return Ok(stopped(d));
         }
     };
     // A compressed drawing is unpacked (within the input limit); what is
@@ -200,13 +194,7 @@ fn compile_drawing(path: &Path, bytes: Vec<u8>, opts: &CompileOpts) -> Result<Co
             let why = format!("{e:#}");
             let why = why.strip_prefix(&format!("{shown}: ")).unwrap_or(&why).to_string();
             let d = Diagnostic::error("T0200", why);
-            return Ok(Compiled {
-                bundle: None,
-                diagnostics: vec![d],
-                fonts_used: Vec::new(),
-                print: None,
-                key: Vec::new(),
-            });
+            return Ok(stopped(d));
         }
     };
     let fonts = || font_database(opts.fonts.as_deref()).ok();
@@ -263,6 +251,12 @@ fn read_beside(dir: &Path, uri: &str) -> Result<Vec<u8>, String> {
         return Err(format!("buffer '{}' lies outside the glTF file's folder", full.display()));
     }
     io::read_input(&real).map_err(|e| format!("buffer '{}': {e:#}", full.display()))
+}
+
+/// A compilation stopped by one diagnostic before the compiler ran (the
+/// options or the input's text were refused): nothing made but what it says.
+fn stopped(d: Diagnostic) -> Compiled {
+    Compiled { bundle: None, diagnostics: vec![d], fonts_used: Vec::new(), print: None, key: Vec::new() }
 }
 
 #[cfg(test)]

@@ -105,7 +105,7 @@ fn a_batch_writes_each_key_keeps_it_up_to_date_and_removes_it_when_not_needed() 
 
 /// Eight textures with long names: more than the six braille lines of
 /// `stress2`'s surface, so the key goes on more pages.
-fn long_key() -> String {
+pub fn long_key() -> String {
     let mut svg =
         String::from(r#"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="60mm" viewBox="0 0 100 60">"#);
     for k in 0..8 {

@@ -291,16 +291,7 @@ fn every_page_of_the_key_downloaded_is_taxel_build_s_byte_for_byte() {
     let root = dir.path().join("maps");
     std::fs::create_dir(&root).unwrap();
     // Eight textures with long names: more than one page of `stress2`'s key.
-    let mut svg =
-        String::from(r#"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="60mm" viewBox="0 0 100 60">"#);
-    for k in 0..8 {
-        svg += &format!(
-            r#"<rect x="{}" y="5" width="10" height="30" data-tactile="grating(wavelength: {}mm, angle: 0deg)"><title>region number {k} of the map</title></rect>"#,
-            2 + 12 * k,
-            2 + k
-        );
-    }
-    std::fs::write(root.join("regions.svg"), svg + "</svg>").unwrap();
+    std::fs::write(root.join("regions.svg"), crate::key::long_key()).unwrap();
     let s = Studio::start(&root);
     let v = s.post("/api/open?path=regions.svg&profile=stress2", b"").json();
     let pages = v["bundle"]["key"].as_u64().unwrap() as usize;
