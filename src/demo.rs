@@ -133,8 +133,10 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
         return print_scene(&input, out, s, &opts);
     }
     let (bundle, build_ms) = report::compile(&input, &opts, None)?;
+    // The file is the stored form, as `taxel build` writes it; the players read the plain bundle.
     let bytes = bundle.to_bytes().map_err(|e| anyhow::anyhow!("{e}"))?;
-    io::write_file(&out.join("bundles").join(format!("{}.taxel", s.name)), &bytes)?;
+    let file = taxel_format::stored::store(&bytes).map_err(|e| anyhow::anyhow!("{e}"))?;
+    io::write_file(&out.join("bundles").join(format!("{}.taxel", s.name)), &file)?;
     // The preview is drawn from the bundle alone, as `taxel preview B.taxel` does.
     let picture = taxel_compiler::preview::render_bundle(&bundle, None);
     io::write_file(&out.join("previews").join(format!("{}.png", s.name)), &io::png::encode_picture(&picture)?)?;
@@ -152,7 +154,7 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
             write_frames(&out.join("frames").join(format!("{}.csv", s.name)), &bytes, &prep.positions)?;
             Ok(Figures {
                 layers,
-                bundle_bytes: bytes.len(),
+                bundle_bytes: file.len(),
                 build_ms,
                 frame_us: m.frame_us,
                 frames: prep.positions.len(),
@@ -176,7 +178,7 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
             let max_error = report::strokes::max_schedule_error(&input, &opts, &bundle).ok();
             Ok(Figures {
                 layers,
-                bundle_bytes: bytes.len(),
+                bundle_bytes: file.len(),
                 build_ms,
                 frame_us,
                 frames: ticks as usize,
@@ -191,7 +193,7 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
             write_motors(&out.join("frames").join(format!("{}.csv", s.name)), &bytes, &tr.trace)?;
             Ok(Figures {
                 layers,
-                bundle_bytes: bytes.len(),
+                bundle_bytes: file.len(),
                 build_ms,
                 frame_us: sample_us,
                 frames: tr.trace.samples().len(),
@@ -225,7 +227,7 @@ fn scene(examples: &Path, out: &Path, s: &Scene) -> Result<Figures> {
             }
             Ok(Figures {
                 layers,
-                bundle_bytes: bytes.len(),
+                bundle_bytes: file.len(),
                 build_ms,
                 frame_us,
                 frames,
@@ -423,6 +425,7 @@ mod tests {
         assert_eq!(frames.lines().count(), dots.map_or(0, |f| f.frames) + 1);
         // The bundle written is a valid stress2 bundle.
         let b = std::fs::read(out.path().join("bundles/exp1-dots-2cm.taxel")).expect("bundle");
+        let b = taxel_format::stored::plain(&b).expect("a stored bundle");
         assert_eq!(BundleView::parse(&b).expect("valid").manifest().profile.name.as_str(), "stress2");
     }
 }

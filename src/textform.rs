@@ -98,7 +98,7 @@ pub fn pack_to(dir: &Path, out: &Path) -> Result<usize, TextError> {
     let read = |name: &str| -> Result<Vec<u8>, TextError> {
         let path = dir.join(name);
         // A folder holds one bundle's worth: its files have the bundle's size limit.
-        crate::io::read_bundle(&path)
+        crate::io::read_bundle_file(&path)
             .map_err(|e| TextError::io(path.display().to_string(), format!("cannot read: {}", e.root_cause())))
     };
     let bytes = pack(&read).map_err(|mut e| {
@@ -108,6 +108,9 @@ pub fn pack_to(dir: &Path, out: &Path) -> Result<usize, TextError> {
         }
         e
     })?;
+    // Written as `taxel build` writes a bundle: its stored form (SPEC.md 15).
+    let bytes =
+        taxel_format::stored::store(&bytes).map_err(|e| TextError::new(out.display().to_string(), e.to_string()))?;
     crate::io::write_file(out, &bytes).map_err(io_failure)?;
     Ok(bytes.len())
 }

@@ -38,6 +38,8 @@ fn bench(c: &mut Criterion) {
     // Size, measured once: the bundle beside the 8-bit grayscale PNG of the
     // same page at the same resolution (what an embosser workflow would store).
     let bundle_bytes = compiled.bundle.as_ref().and_then(|b| b.to_bytes().ok()).map_or(0, |b| b.len());
+    // The file `taxel build` writes: the stored form (SPEC.md 15).
+    let file_bytes = compiled.bundle.as_ref().and_then(|b| b.to_stored_bytes().ok()).map_or(0, |b| b.len());
     let mut pixmap = resvg::tiny_skia::Pixmap::new(w, h).expect("pixmap");
     pixmap.fill(resvg::tiny_skia::Color::WHITE);
     resvg::render(&tree, resvg::tiny_skia::Transform::from_scale(k, k), &mut pixmap.as_mut());
@@ -51,8 +53,9 @@ fn bench(c: &mut Criterion) {
     img.write_to(&mut png, image::ImageFormat::Png).expect("png");
     let png_bytes = png.into_inner().len();
     eprintln!(
-        "typical map: bundle {bundle_bytes} bytes, 8-bit PNG {w}x{h} {png_bytes} bytes, ratio {:.2}",
-        bundle_bytes as f64 / png_bytes as f64
+        "typical map: bundle {bundle_bytes} bytes, its file {file_bytes} bytes, 8-bit PNG {w}x{h} {png_bytes} bytes, ratios {:.2} and {:.3}",
+        bundle_bytes as f64 / png_bytes as f64,
+        file_bytes as f64 / png_bytes as f64
     );
 }
 

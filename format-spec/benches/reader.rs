@@ -1,6 +1,7 @@
 //! The reader's cost: validating (`BundleView::parse`, every check of
-//! SPEC.md section 3.4) a bundle of about 1 MB with every chunk kind, and
-//! reading its chunk views again after validation.
+//! SPEC.md section 3.4) a bundle of about 1 MB with every chunk kind,
+//! reading its chunk views again after validation, and inflating its stored
+//! form (SPEC.md section 15), which a host does once when it loads a file.
 //!
 //! `cargo bench -p taxel-format --bench reader -- --warm-up-time 1 --measurement-time 3`
 
@@ -77,6 +78,14 @@ fn reader(c: &mut Criterion) {
     g.bench_function("validate 1 MB bundle", |b| b.iter(|| BundleView::parse(black_box(&big)).is_ok()));
     let view = BundleView::parse(&big).expect("valid");
     g.bench_function("iterate chunk views after validation", |b| b.iter(|| black_box(view).chunks().count()));
+    // The stored form (SPEC.md 15): inflating the file once when it is
+    // loaded, beside validating the plain bundle it gives.
+    let file = taxel_format::stored::store(&big).expect("the benchmark bundle stores");
+    println!("stored form of the 1 MB bundle: {} bytes", file.len());
+    let mut buf = vec![0u8; big.len()];
+    g.bench_function("inflate the stored 1 MB bundle into a buffer", |b| {
+        b.iter(|| taxel_format::stored::inflate_into(black_box(&file), &mut buf).is_ok())
+    });
     g.finish();
     c.bench_function("validate smallest bundle", |b| b.iter(|| BundleView::parse(black_box(&smallest)).is_ok()));
 }

@@ -13,8 +13,10 @@ use crate::error::FormatError;
 pub const MAGIC: [u8; 8] = *b"\x89TXL\r\n\x1a\n";
 /// The major version this crate reads and writes.
 pub const FORMAT_MAJOR: u16 = 4;
-/// The newest minor version this crate knows; a bundle records the lowest
-/// minor that has all its chunks ([`Bundle::to_bytes`](crate::Bundle::to_bytes)).
+/// The newest minor version of the plain form this crate knows; a bundle
+/// records the lowest minor that has all its chunks
+/// ([`Bundle::to_bytes`](crate::Bundle::to_bytes)). The stored form is 4.7
+/// ([`STORED_MINOR`](crate::stored::STORED_MINOR)) and holds a plain bundle.
 pub const FORMAT_MINOR: u16 = 6;
 /// Length of the fixed header.
 pub const HEADER_LEN: usize = 32;
@@ -59,6 +61,11 @@ pub(crate) fn validate(bytes: &[u8]) -> Result<(u16, u16, u32), FormatError> {
     let total = bytes.len();
     // Magic first, so that a wrong file type is named as such even when short.
     let magic_len = total.min(8);
+    if crate::stored::is_stored(bytes) {
+        return Err(FormatError::Stored {
+            reason: "inflate it first (taxel_format::stored::plain or inflate_into), then read the plain bundle",
+        });
+    }
     if bytes[..magic_len] != MAGIC[..magic_len] {
         let mut found = [0u8; 8];
         found[..magic_len].copy_from_slice(&bytes[..magic_len]);

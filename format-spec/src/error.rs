@@ -141,6 +141,12 @@ pub enum FormatError {
         /// What the value must be.
         expected: &'static str,
     },
+    /// A stored (compressed) bundle (SPEC.md section 15) that cannot be
+    /// read, or one given where a plain bundle is needed.
+    Stored {
+        /// What is wrong.
+        reason: &'static str,
+    },
 }
 
 impl FormatError {
@@ -218,6 +224,7 @@ impl fmt::Display for FormatError {
             FormatError::InvalidValue { tag, index, field, expected } => {
                 write!(f, "chunk {index} ({tag}): {field} must be {expected}")
             }
+            FormatError::Stored { reason } => write!(f, "compressed bundle: {reason}"),
         }
     }
 }

@@ -11,6 +11,10 @@
 //!   zero-copy views of its chunks. It allocates nothing.
 //! - [`Bundle`] is the owned model; [`Bundle::to_bytes`] writes the canonical
 //!   encoding and [`Bundle::from_view`] copies a validated bundle into it.
+//! - [`stored`] is the form a bundle file has on a disk or a wire (format
+//!   4.7): the plain bundle compressed. [`stored::plain`] (or
+//!   [`stored::inflate_into`], without an allocator) gives the plain bundle
+//!   back, once, when a file is loaded; [`Bundle::to_stored_bytes`] writes it.
 //! - [`DeviceProfile`] describes a device; with the `std` feature,
 //!   [`profiles`] parses profile TOML files and provides the built-in ones.
 //!
@@ -51,6 +55,7 @@ mod profile;
 pub mod profiles;
 mod provenance;
 pub mod sample;
+pub mod stored;
 mod strokes;
 mod units;
 mod view;

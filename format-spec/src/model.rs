@@ -96,6 +96,14 @@ impl Bundle {
         self.to_bytes_with_minor(self.lowest_minor())
     }
 
+    /// The stored form (SPEC.md section 15): the canonical encoding
+    /// ([`Bundle::to_bytes`]) compressed for a file or a wire, as `taxel
+    /// build` writes it. [`stored::plain`](crate::stored::plain) gives the
+    /// canonical encoding back.
+    pub fn to_stored_bytes(&self) -> Result<Vec<u8>, FormatError> {
+        crate::stored::store(&self.to_bytes()?)
+    }
+
     /// The lowest minor version that defines every chunk of the bundle.
     pub fn lowest_minor(&self) -> u16 {
         let holds = |kind: fn(crate::TileEntry) -> bool| {
@@ -193,9 +201,10 @@ impl Bundle {
         Bundle { manifest: *view.manifest(), chunks }
     }
 
-    /// Reads and validates `bytes` into the owned model.
+    /// Reads and validates `bytes`, plain or stored (inflated first), into
+    /// the owned model.
     pub fn from_bytes(bytes: &[u8]) -> Result<Self, FormatError> {
-        Ok(Bundle::from_view(&BundleView::parse(bytes)?))
+        Ok(Bundle::from_view(&BundleView::parse(&crate::stored::plain(bytes)?)?))
     }
 
     /// The pin image, if the bundle has one.

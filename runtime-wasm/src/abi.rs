@@ -53,7 +53,17 @@ pub extern "C" fn taxel_load() -> u32 {
     with(|st| {
         // The bytes must outlive the player that reads them in place: they
         // live as long as the instance (one instance per bundle).
-        let bytes: &'static [u8] = std::mem::take(&mut st.input).leak();
+        // A stored (compressed) bundle is inflated once, here.
+        let input = std::mem::take(&mut st.input);
+        let plain = match taxel_format::stored::plain(&input) {
+            Ok(p) => p.into_owned(),
+            Err(e) => {
+                st.session = None;
+                set_text(st, &format!("not a valid taxel bundle: {e}"));
+                return 1;
+            }
+        };
+        let bytes: &'static [u8] = plain.leak();
         match Session::load(bytes) {
             Ok(s) => {
                 st.session = Some(s);

@@ -1,6 +1,9 @@
 //! taxel's runtime: plays bundles on tactile devices. The core is `no_std`
 //! and allocation-free per tick; the `std` feature adds sinks, the loader and
-//! the device simulator.
+//! the device simulator. The players read a plain bundle in place; a bundle
+//! file is usually its stored (compressed) form, which
+//! `taxel_format::stored::inflate_into` turns into the plain bundle once,
+//! when the file is loaded, without an allocator.
 //!
 //! - [`latero::LateroPlayer`]: laterotactile arrays (dots, vibration, gratings).
 //! - [`pins::PinsPlayer`]: refreshable pin-matrix displays (bit-packed pin frames).

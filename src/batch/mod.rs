@@ -305,7 +305,8 @@ fn build_one(
         };
         let encode = |mut b: taxel_format::Bundle| {
             b.manifest.content_hash = hash;
-            b.to_bytes().map_err(|e| format!("{shown}: internal error: the compiler made an invalid bundle: {e}"))
+            b.to_stored_bytes()
+                .map_err(|e| format!("{shown}: internal error: the compiler made an invalid bundle: {e}"))
         };
         let pages = key.len();
         for (page, path) in key.into_iter().zip(&key_paths) {

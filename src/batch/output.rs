@@ -66,7 +66,8 @@ pub fn remove_stale_key(output: &Path, from: usize) -> std::io::Result<()> {
     for page in from.max(1).. {
         let key = key_page_path(output, page);
         let is_bundle = std::fs::metadata(&key).is_ok_and(|m| m.is_file() && m.len() <= taxel_format::MAX_FILE_LEN)
-            && std::fs::read(&key).is_ok_and(|b| BundleView::parse(&b).is_ok());
+            && std::fs::read(&key)
+                .is_ok_and(|b| taxel_format::stored::plain(&b).is_ok_and(|p| BundleView::parse(&p).is_ok()));
         if !is_bundle {
             return Ok(());
         }
@@ -96,7 +97,8 @@ fn read(path: &Path, hash: &[u8; 32]) -> Option<Found> {
         _ => return None,
     }
     let bytes = std::fs::read(path).ok()?;
-    let v = BundleView::parse(&bytes).ok()?;
+    let plain = taxel_format::stored::plain(&bytes).ok()?;
+    let v = BundleView::parse(&plain).ok()?;
     if v.manifest().content_hash != *hash {
         return None;
     }

@@ -19,7 +19,9 @@ use crate::io::stdout::{self, outln};
 pub fn run(path: &Path, format: Format, at: Option<(f64, f64)>) -> CmdResult {
     let bytes = read_bundle(path)?;
     let view = BundleView::parse(&bytes).map_err(|e| CliError::input(anyhow::anyhow!("{}: {e}", path.display())))?;
-    let report = describe(&view);
+    let mut report = describe(&view);
+    // The file's own length: a stored bundle (SPEC.md 15) is smaller than its plain bundle.
+    report["file_bytes"] = json!(std::fs::metadata(path).map_or(bytes.len() as u64, |m| m.len()));
     if let Some(point) = at {
         let found = under(path, &view, &report, point)?;
         return match format {
@@ -303,10 +305,14 @@ fn pair(v: &Value, sep: &str) -> String {
 fn human(path: &Path, r: &Value) -> String {
     let p = &r["profile"];
     let mut out = format!(
-        "{}: taxel bundle {}, {} bytes, {} chunks\nprofile    {} ({}), {} x {} actuators, pitch {} mm, {} Hz, {}-bit output\nsurface    {} mm\ngenerator  {}\ncontent    {}\n\n",
+        "{}: taxel bundle {}, {} bytes{}, {} chunks\nprofile    {} ({}), {} x {} actuators, pitch {} mm, {} Hz, {}-bit output\nsurface    {} mm\ngenerator  {}\ncontent    {}\n\n",
         path.display(),
         r["format_version"].as_str().unwrap_or("?"),
         r["bytes"],
+        match r["file_bytes"].as_u64() {
+            Some(file) if r["bytes"].as_u64() != Some(file) => format!(" ({file} in the compressed file)"),
+            _ => String::new(),
+        },
         r["chunks"].as_array().map_or(0, Vec::len),
         p["name"].as_str().unwrap_or("?"),
         p["family"].as_str().unwrap_or("?"),

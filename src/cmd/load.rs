@@ -25,7 +25,7 @@ pub fn run(bundles: &[PathBuf], spec: &str) -> CmdResult {
             refused += 1;
             continue;
         };
-        let bytes = match crate::io::read_bundle(path) {
+        let bytes = match crate::io::read_bundle_file(path) {
             Ok(b) => b,
             Err(e) => {
                 eprintln!("error: {e:#}");

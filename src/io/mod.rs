@@ -19,5 +19,5 @@ pub mod read;
 pub mod stdout;
 pub mod write;
 
-pub use read::{drawing_text, is_gzip, read_bundle, read_drawing, read_input, read_input_text};
+pub use read::{drawing_text, is_gzip, read_bundle, read_bundle_file, read_drawing, read_input, read_input_text};
 pub use write::{IoError, write_file, write_folder, write_with};

@@ -122,11 +122,24 @@ pub fn read_drawing(path: &Path) -> Result<String> {
     drawing_text(path, read_input(path)?)
 }
 
-/// Reads a bundle of at most the format's own limit
-/// ([`taxel_format::MAX_FILE_LEN`]); the reader checks everything else.
-pub fn read_bundle(path: &Path) -> Result<Vec<u8>> {
+/// Reads a bundle file as it is, stored (compressed) or plain, of at most
+/// the format's own limit ([`taxel_format::MAX_FILE_LEN`]): what goes to a
+/// device as it is.
+pub fn read_bundle_file(path: &Path) -> Result<Vec<u8>> {
     check_size(path, taxel_format::MAX_FILE_LEN)?;
     std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))
+}
+
+/// Reads a bundle file and gives its plain bundle (SPEC.md 15: a stored
+/// bundle is inflated), for [`taxel_format::BundleView::parse`], which
+/// checks everything else.
+pub fn read_bundle(path: &Path) -> Result<Vec<u8>> {
+    let bytes = read_bundle_file(path)?;
+    match taxel_format::stored::plain(&bytes) {
+        Ok(std::borrow::Cow::Owned(plain)) => Ok(plain),
+        Ok(std::borrow::Cow::Borrowed(_)) => Ok(bytes),
+        Err(e) => anyhow::bail!("{}: not a valid taxel bundle: {e}", path.display()),
+    }
 }
 
 #[cfg(test)]

@@ -142,13 +142,13 @@ pub fn build(
         for mut key in compiled.key.iter().cloned() {
             key.manifest.content_hash = bundle.manifest.content_hash;
             built.key_bytes.push(
-                key.to_bytes()
+                key.to_stored_bytes()
                     .map_err(|e| anyhow::anyhow!("internal error: the compiler made an invalid key bundle: {e}"))?,
             );
         }
         built.bundle_bytes = Some(
             bundle
-                .to_bytes()
+                .to_stored_bytes()
                 .map_err(|e| anyhow::anyhow!("internal error: the compiler made an invalid bundle: {e}"))?,
         );
         built.bundle = Some(bundle);

@@ -65,7 +65,7 @@ fn bundles(dir: &Path) -> BTreeSet<String> {
     }
     for e in walk(dir) {
         if e.extension().is_some_and(|x| x == "taxel") {
-            let bytes = std::fs::read(&e).unwrap();
+            let bytes = crate::read_plain(&e);
             assert!(BundleView::parse(&bytes).is_ok(), "{} does not validate", e.display());
             out.insert(e.strip_prefix(dir).unwrap().to_string_lossy().replace('\\', "/"));
         }
@@ -185,7 +185,7 @@ fn where_the_bundles_go() {
     // One input and -o FILE.taxel: that file.
     let named = tmp.path().join("named/here.taxel");
     assert!(taxel(&["build", s(&one), "-o", s(&named), "--profile", "stress2"]).status.success());
-    assert!(BundleView::parse(&std::fs::read(&named).unwrap()).is_ok());
+    assert!(BundleView::parse(&crate::read_plain(&named)).is_ok());
     // Several inputs and -o FILE.taxel: a usage error, nothing written.
     let o = taxel(&["build", s(&one), s(&two), "-o", s(&tmp.path().join("x.taxel"))]);
     assert_eq!(o.status.code(), Some(2), "{}", all_text(&o));
@@ -237,7 +237,7 @@ fn drawings_and_meshes_in_one_folder_each_with_its_default_profile() {
     assert!(o.status.success(), "{}", all_text(&o));
     assert_eq!(bundles(&out), set(&["drawing.taxel", "meshes/concave.taxel", "meshes/convex.taxel"]));
     let profile = |name: &str| {
-        let bytes = std::fs::read(out.join(name)).unwrap();
+        let bytes = crate::read_plain(out.join(name));
         BundleView::parse(&bytes).unwrap().manifest().profile.name.as_str().to_string()
     };
     assert_eq!((profile("drawing.taxel"), profile("meshes/convex.taxel")), ("stress2".into(), "finger3".into()));

@@ -192,7 +192,7 @@ fn a_built_map_with_distance_layers_loads_and_plays_from_the_device() {
     let built = tmp.path().join("tala-map.taxel");
     let o = taxel(&["build", map, "-o", built.to_str().unwrap()]);
     assert!(o.status.success(), "{}", text(&o));
-    let bytes = std::fs::read(&built).unwrap();
+    let bytes = crate::read_plain(&built);
     let layers = BundleView::parse(&bytes)
         .unwrap()
         .chunks()
@@ -203,9 +203,11 @@ fn a_built_map_with_distance_layers_loads_and_plays_from_the_device() {
     assert!(o.status.success(), "{}", text(&o));
     let o = taxel(&["device", "ls", "--device", &sim.url]);
     assert!(String::from_utf8_lossy(&o.stdout).contains("tala-map.taxel"), "{}", text(&o));
+    // The device holds the file as `taxel build` wrote it (its stored form), byte for byte.
     let stored = std::fs::read(store.join("tala-map.taxel")).unwrap();
-    assert_eq!(stored, bytes, "the device holds the bundle byte for byte");
-    let view = BundleView::parse(&stored).unwrap();
+    assert_eq!(stored, std::fs::read(&built).unwrap(), "the device holds the bundle byte for byte");
+    assert_eq!(crate::plain(stored), bytes);
+    let view = BundleView::parse(&bytes).unwrap();
     let player = taxel_runtime::latero::LateroPlayer::new(&view).unwrap();
     let mut frame = [0u16; 64];
     // A sweep across the map meets its layers.

@@ -37,10 +37,21 @@ fn unpack_then_pack_gives_the_same_bytes() {
     let out = tmp.path().join("again.taxel");
     let o = taxel(&["pack", p(&dir), "-o", p(&out)]);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert_eq!(std::fs::read(&out).unwrap(), bytes);
+    // `pack` writes the stored form, as `taxel build` does (SPEC.md 15): the same bundle.
+    let packed = std::fs::read(&out).unwrap();
+    assert!(taxel_format::stored::is_stored(&packed));
+    assert_eq!(crate::plain(packed.clone()), bytes);
+    // A stored file unpacked and packed again is the same file, byte for byte.
+    let stored = tmp.path().join("stored.taxel");
+    std::fs::write(&stored, &packed).unwrap();
+    let again = tmp.path().join("stored-again");
+    assert!(taxel(&["unpack", p(&stored), "-o", p(&again)]).status.success());
+    let out2 = tmp.path().join("again2.taxel");
+    assert!(taxel(&["pack", p(&again), "-o", p(&out2)]).status.success());
+    assert_eq!(std::fs::read(&out2).unwrap(), packed);
     // No temporary files are left behind.
     let names: Vec<_> = std::fs::read_dir(tmp.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
-    assert_eq!(names.len(), 3, "{names:?}");
+    assert_eq!(names.len(), 6, "{names:?}");
 }
 
 #[test]
@@ -285,7 +296,7 @@ fn a_hand_painted_png_packs_into_a_raster_mask_beside_the_distance_layers() {
     let out = tmp.path().join("painted.taxel");
     let o = taxel(&["pack", p(&dir), "-o", p(&out)]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let bytes = std::fs::read(&out).unwrap();
+    let bytes = crate::read_plain(&out);
     let b = taxel_format::Bundle::from_bytes(&bytes).unwrap();
     let distance = b.chunks.iter().filter(|c| matches!(c, taxel_format::Chunk::Distance(_))).count();
     let masks: Vec<_> = b
@@ -309,7 +320,7 @@ fn a_hand_painted_png_packs_into_a_raster_mask_beside_the_distance_layers() {
         player.frame(taxel_format::Tick(0), taxel_format::Mm(85.0), taxel_format::Mm(42.5), &mut frame);
         frame
     };
-    let (with, without) = (play(&bytes), play(&std::fs::read(&built).unwrap()));
+    let (with, without) = (play(&bytes), play(&crate::read_plain(&built)));
     let raised = with.iter().zip(&without).filter(|(a, b)| a > b).count();
     assert!(raised >= 4 && with.contains(&1023), "the patch plays: {with:?} against {without:?}");
 }

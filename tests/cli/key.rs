@@ -43,9 +43,9 @@ fn build_writes_the_key_beside_the_bundle_as_a_bundle_that_plays() {
     let key = dir.path().join("map.key.taxel");
     assert!(text(&o).contains(&format!("written to {}", key.display())), "{}", text(&o));
     assert!(text(&o).contains("note[T0331]"), "{}", text(&o));
-    let bytes = std::fs::read(&key).unwrap();
+    let bytes = crate::read_plain(&key);
     let view = BundleView::parse(&bytes).unwrap();
-    let main = std::fs::read(dir.path().join("map.taxel")).unwrap();
+    let main = crate::read_plain(dir.path().join("map.taxel"));
     assert_eq!(
         view.manifest().content_hash,
         BundleView::parse(&main).unwrap().manifest().content_hash,
@@ -138,7 +138,7 @@ fn a_key_longer_than_the_surface_is_written_page_after_page_and_kept_whole() {
     let last = pages.last().unwrap();
     assert!(text(&o).contains(&format!("{} more bundles", pages.len())), "{}", text(&o));
     assert!(text(&o).contains(&format!("... {}", last.display())), "the note says where: {}", text(&o));
-    let hash = |p: &Path| BundleView::parse(&std::fs::read(p).unwrap()).unwrap().manifest().content_hash;
+    let hash = |p: &Path| BundleView::parse(&crate::read_plain(p)).unwrap().manifest().content_hash;
     for (k, page) in pages.iter().enumerate() {
         assert_eq!(hash(page), hash(&out.join("a.taxel")));
         let o = taxel(&["inspect", s(page)]);
@@ -200,7 +200,7 @@ fn a_grid_and_a_pin_display() {
     .unwrap();
     let o = taxel(&["build", s(&input), "--profile", "brush-4x3"]);
     assert!(o.status.success(), "{}", text(&o));
-    let bytes = std::fs::read(dir.path().join("wind.key.taxel")).unwrap();
+    let bytes = crate::read_plain(dir.path().join("wind.key.taxel"));
     let view = BundleView::parse(&bytes).unwrap();
     assert!(taxel_runtime::grid::GridPlayer::new(&view).is_ok());
     // A pin display's key is pages of its own image: no second bundle.

@@ -23,3 +23,15 @@ mod runaway;
 mod stability;
 mod studio;
 mod studio_wasm;
+
+/// The plain bundle of a bundle file's bytes: a stored (compressed) file,
+/// as `taxel build` writes it (SPEC.md 15), inflated; a plain one as it is.
+fn plain(bytes: Vec<u8>) -> Vec<u8> {
+    taxel_format::stored::plain(&bytes).expect("a bundle file inflates").into_owned()
+}
+
+/// The plain bundle of the bundle file at `path`.
+fn read_plain(path: impl AsRef<std::path::Path>) -> Vec<u8> {
+    let path = path.as_ref();
+    plain(std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display())))
+}

@@ -25,7 +25,7 @@ fn all(out: &Output) -> String {
 }
 
 fn bundle_bytes(path: &str) -> Vec<u8> {
-    std::fs::read(path).unwrap_or_else(|e| panic!("{path}: {e}"))
+    crate::read_plain(path)
 }
 
 #[test]

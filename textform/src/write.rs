@@ -12,7 +12,9 @@ use super::{MANIFEST, MANIFEST_HEADER, PROFILE, png};
 /// The files of the text form of `bytes` (a bundle), in the order they should
 /// be written, the manifest last. `name` is used in error messages.
 pub fn unpack(name: &str, bytes: &[u8]) -> Result<Vec<(String, Vec<u8>)>, TextError> {
-    let view = BundleView::parse(bytes).map_err(|e| TextError::new(name, e.to_string()))?;
+    // A stored bundle (SPEC.md 15) is inflated first.
+    let plain = taxel_format::stored::plain(bytes).map_err(|e| TextError::new(name, e.to_string()))?;
+    let view = BundleView::parse(&plain).map_err(|e| TextError::new(name, e.to_string()))?;
     let bundle = Bundle::from_view(&view);
     let (major, minor) = view.version();
     let m = &bundle.manifest;

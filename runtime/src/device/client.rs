@@ -137,8 +137,10 @@ impl Client {
                 std::format!("{name:?} is not a plain bundle name"),
             )));
         }
-        let view = BundleView::parse(bytes)
-            .map_err(|e| ClientError::Refused(Refusal::new(ErrorCode::InvalidBundle, std::format!("{name}: {e}"))))?;
+        // A stored (compressed) bundle is checked inflated and sent as it is.
+        let invalid = |e| ClientError::Refused(Refusal::new(ErrorCode::InvalidBundle, std::format!("{name}: {e}")));
+        let plain = taxel_format::stored::plain(bytes).map_err(invalid)?;
+        let view = BundleView::parse(&plain).map_err(invalid)?;
         let profile = view.manifest().profile.name.as_str().to_string();
         if !self.info.profile.is_empty() && self.info.profile != profile {
             return Err(ClientError::Refused(Refusal::new(

@@ -227,8 +227,8 @@ impl Store {
 
     /// Stores `bytes` as `name` in one call (the path of a mounted device folder).
     pub fn put(&self, name: &str, bytes: &[u8]) -> Result<Entry, Refusal> {
-        let profile = BundleView::parse(bytes)
-            .map(|v| v.manifest().profile.name.as_str().to_string())
+        let profile = taxel_format::stored::plain(bytes)
+            .and_then(|p| BundleView::parse(&p).map(|v| v.manifest().profile.name.as_str().to_string()))
             .map_err(|e| Refusal::new(ErrorCode::InvalidBundle, format!("{name}: {e}")))?;
         let offer = Offer { name: name.into(), profile, size: bytes.len() as u64, checksum: checksum(bytes) };
         let mut upload = self.begin(&offer)?;
@@ -350,8 +350,9 @@ impl Upload<'_> {
                 format!("{}: the received bytes do not match the offered checksum", self.name),
             ));
         }
-        let view = BundleView::parse(&bytes)
-            .map_err(|e| Refusal::new(ErrorCode::InvalidBundle, format!("{}: {e}", self.name)))?;
+        let invalid = |e| Refusal::new(ErrorCode::InvalidBundle, format!("{}: {e}", self.name));
+        let plain = taxel_format::stored::plain(&bytes).map_err(invalid)?;
+        let view = BundleView::parse(&plain).map_err(invalid)?;
         self.store.check_profile(view.manifest().profile.name.as_str())?;
         let target = self.store.dir.join(&self.name);
         {
