@@ -38,6 +38,14 @@ pub const SAMPLE_MM: f64 = 0.005;
 pub const CORNER_RADIUS_MM: f64 = 1.0;
 /// Offset either side of an outline piece at which coverage is compared, mm.
 const SIDE_MM: f64 = 0.001;
+/// How far beyond its tile's sides, in lattice cells, a corner or notch
+/// tile's edge still counts as its own. An edge on a tile's side (a
+/// rectangle's side on a lattice line) has its zero a few millionths of a
+/// cell inside the tile or outside it, as the records' rounding falls; with
+/// the tile taken as half-open, an edge just outside both tiles beside it
+/// was found by neither (`tala-map`'s key swatches at the default lattice:
+/// 1.75 mm of "edge error" where the field was right).
+const SIDE_CELLS: f64 = 1e-4;
 /// Largest gap between a band's round join and the chords standing for it, mm.
 const SAGITTA_MM: f64 = 0.000_25;
 
@@ -348,13 +356,13 @@ fn bent_contour(tile: &Tile<'_>, h: f64, lines: usize, out: &mut Vec<[f64; 2]>) 
             // The vertical line u = t, then the horizontal line w = t.
             if gy != 0.0 {
                 let w = -(c + gx * t) / gy;
-                if (0.0..span).contains(&w) && on(t, w, other) {
+                if (-SIDE_CELLS..=span + SIDE_CELLS).contains(&w) && on(t, w, other) {
                     out.push([corner.0 + t * h, corner.1 + w * h]);
                 }
             }
             if gx != 0.0 {
                 let u = -(c + gy * t) / gx;
-                if (0.0..span).contains(&u) && on(u, t, other) {
+                if (-SIDE_CELLS..=span + SIDE_CELLS).contains(&u) && on(u, t, other) {
                     out.push([corner.0 + u * h, corner.1 + t * h]);
                 }
             }
@@ -416,7 +424,7 @@ mod tests {
     use crate::report::exact::corners;
     use taxel_compiler::geometry::{FillRule, Polyline};
     use taxel_compiler::latero::LayerGeometry;
-    use taxel_format::{MaskKind, Mm, TILE_FIRST_STORED, TILE_SAMPLES, TILE_SIDE};
+    use taxel_format::{MaskKind, Mm, TILE_FIRST_STORED, TILE_SAMPLES, TILE_SIDE, TilePlane};
 
     /// One stored tile of pitch 0.5 mm at the origin whose samples are `f(x, y)` in steps of `step` mm.
     fn layer(f: impl Fn(f64, f64) -> f64, step: f32) -> DistanceLayer {
@@ -509,6 +517,26 @@ mod tests {
             }
             assert!(vertical > 100 && horizontal > 100, "fine {fine}: {vertical} and {horizontal} points");
         }
+    }
+
+    /// Two corner tiles side by side (`tala-map`'s key swatches at the
+    /// default lattice): the region is x < 4 mm (the tiles' shared side) and
+    /// y > 1 mm. The first tile's plane for the side is zero a millionth of a
+    /// cell past its right side, the second's a millionth before its left, as
+    /// rounded records put them: the side is still on the contour.
+    #[test]
+    fn an_edge_on_the_side_between_two_corner_tiles_is_found() {
+        let side = |c: f32| TilePlane { c, gx: -63.0, gy: 0.0, top: 0.0 };
+        let below = TilePlane { c: 128.0 - 126.0, gx: 0.0, gy: 63.0, top: 0.0 };
+        let mut l = layer(|x, _| 2.0 - x, 0.05);
+        l.tile_cols = 2;
+        l.samples.clear();
+        l.tiles = vec![taxel_format::TILE_CORNER, taxel_format::TILE_CORNER | 2];
+        // Zero at u = 8 + 1e-6 in the first tile, u = -1e-6 in the second.
+        l.planes = vec![side(128.0 + 63.0 * 8.000_001), below, side(128.0 - 63.0 * 0.000_001), below];
+        let pts = contour(&l, 0.01);
+        let on_side = pts.iter().filter(|p| (p[0] - 4.0).abs() < 1e-4 && p[1] > 1.0).count();
+        assert!(on_side > 100, "{on_side} points on the shared side");
     }
 
     #[test]
