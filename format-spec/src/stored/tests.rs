@@ -120,11 +120,29 @@ proptest! {
     #[test]
     fn the_filters_never_panic(mut bytes in proptest::collection::vec(any::<u8>(), 0..600), tag in 0usize..3) {
         let tags = [*b"VDST", *b"GDST", *b"FOOT"];
-        if bytes.len() >= 64 {
+        if bytes.len() >= 68 {
             bytes[12..16].copy_from_slice(&2u32.to_le_bytes());
             bytes[32..36].copy_from_slice(&tags[tag]);
             bytes[64..68].copy_from_slice(&tags[(tag + 1) % 3]);
         }
+        unfilter(&mut bytes);
+        filter(&mut bytes);
+    }
+
+    /// A real bundle whose distance and footprint headers (counts, tile
+    /// grid) or table entries hold any value: the filters never panic.
+    #[test]
+    fn the_filters_never_panic_on_a_bundle_with_changed_headers(field in 0usize..64, value in any::<u32>()) {
+        let mut bytes = every_kind_plain();
+        let found: Vec<(Tag, usize, usize)> = chunks(&bytes).collect();
+        let headers: Vec<usize> = found
+            .iter()
+            .filter(|(t, _, _)| [Tag::GRATING_DISTANCE, Tag::VIBRATION_DISTANCE, Tag::FOOTPRINTS].contains(t))
+            .flat_map(|&(_, start, _)| (0..12).step_by(4).map(move |o| start + o))
+            .chain((0..found.len()).flat_map(|i| [32 + 32 * i + 8, 32 + 32 * i + 16]))
+            .collect();
+        let at = headers[field % headers.len()];
+        bytes[at..at + 4].copy_from_slice(&value.to_le_bytes());
         unfilter(&mut bytes);
         filter(&mut bytes);
     }
