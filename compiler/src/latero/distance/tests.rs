@@ -39,8 +39,20 @@ fn params(pitch: f64, soft: f64) -> FieldParams {
 ///   saturated on the exact side; at the point itself on the exact side
 ///   farther than `h √2` plus a step from any edge.
 fn check(g: &LayerGeometry<'_>, p: FieldParams, points: &[(f64, f64)]) -> Result<(), TestCaseError> {
+    check_against(g, g, p, points)
+}
+
+/// [`check`] of the field built from `g` against the exact distance of
+/// `reference`: the same geometry with parts united as the builder unites
+/// them (see `occluded_fills_match_exact_geometry`).
+fn check_against(
+    g: &LayerGeometry<'_>,
+    reference: &LayerGeometry<'_>,
+    p: FieldParams,
+    points: &[(f64, f64)],
+) -> Result<(), TestCaseError> {
     let h = p.pitch_mm;
-    let exact = |q: (f64, f64)| exact_signed_distance(g, p.page, q);
+    let exact = |q: (f64, f64)| exact_signed_distance(reference, p.page, q);
     let reach = p.soft_mm / 2.0 + 2.0 * h;
     let Some(f) = build_field(g, p) else {
         // Nothing felt: the field is what outside constant tiles on the
@@ -406,6 +418,31 @@ fn regions_of_one_style_that_share_a_side_are_one_region() {
 }
 
 #[test]
+fn occluders_that_share_a_side_hide_the_fill_as_one() {
+    // A grated square under two occluders that share the side x = 15 and
+    // together cover it (a region under a label's clearing, and the region
+    // beside it): nothing is felt, and along the shared side the distance
+    // is to the occluders' union's boundary, not a crease up to 0.
+    // The fill reaches out below them (y 15 to 18), so the layer is felt there.
+    let fill = [square(8.0, 3.0, 15.0)];
+    let (left, right) = ([square(0.0, 0.0, 15.0)], [square(15.0, 0.0, 15.0)]);
+    let g = LayerGeometry {
+        fills: vec![(&fill[..], FillRule::NonZero)],
+        occluders: vec![(&left[..], FillRule::NonZero), (&right[..], FillRule::NonZero)],
+        ..Default::default()
+    };
+    let f = build_field(&g, params(0.5, 0.0)).expect("felt below the occluders");
+    assert!(field_distance(&f, 0.5, (15.0, 17.0)).expect("in the lattice") > 0.5, "felt below them");
+    for k in 0..=40 {
+        let y = 3.0 + 11.0 * k as f64 / 40.0;
+        for x in [14.9, 15.0, 15.1] {
+            let d = field_distance(&f, 0.5, (x, y)).expect("in the lattice");
+            assert!(d < -f.step_mm, "felt at ({x}, {y}): {d} under the occluders");
+        }
+    }
+}
+
+#[test]
 fn a_grating_minus_a_band_is_the_fill_outside_the_band() {
     let sq = [square(5.0, 5.0, 20.0)];
     let line = [Polyline { points: vec![(15.0, 0.0), (15.0, 30.0)], closed: false }];
@@ -497,6 +534,11 @@ proptest! {
 
     /// Fills minus the union of occluders of any shape painted over them.
     #[test]
+    ///
+    /// The builder measures the distance to the occluders' union (a side two
+    /// of them share, or a degenerate outline of no area, hides nothing and
+    /// is no edge), so the reference is the distance to that union; the
+    /// union covers exactly the points the occluders cover.
     fn occluded_fills_match_exact_geometry(a in outline(), b in outline(), c in outline(), pitch in prop::sample::select(vec![0.25, 0.5])) {
         let (shape, over) = ([a], [b, c]);
         let g = LayerGeometry {
@@ -504,7 +546,21 @@ proptest! {
             occluders: vec![(&over[..1], FillRule::NonZero), (&over[1..], FillRule::EvenOdd)],
             ..Default::default()
         };
-        check(&g, params(pitch, 0.0), &grid_points(0.37))?;
+        let points = grid_points(0.37);
+        let Some(union) = united_fills(&g.occluders) else {
+            return check(&g, params(pitch, 0.0), &points);
+        };
+        let covered = |q: (f64, f64), parts: &[(&[Polyline], FillRule)]| {
+            parts.iter().any(|(pls, rule)| crate::geometry::contains(pls, q, *rule))
+        };
+        let united = [(&union[..], FillRule::NonZero)];
+        for &q in &points {
+            // (Not on an outline, where either answer is right.)
+            let near = over.iter().flat_map(closed_segments).any(|(a, b)| crate::geometry::distance_to_segment(q, a, b) < 1e-3);
+            prop_assert!(near || covered(q, &g.occluders) == covered(q, &united), "{q:?}: the union covers it differently");
+        }
+        let reference = LayerGeometry { occluders: united.to_vec(), ..g.clone() };
+        check_against(&g, &reference, params(pitch, 0.0), &points)?;
     }
 
     /// Bands along open or closed polylines of any shape.
