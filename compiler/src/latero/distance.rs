@@ -17,7 +17,9 @@
 //! - clip regions: `min(s, ±d_clip)`, signed like a fill;
 //! - occluders (opaque fills painted above the layer's shapes): `min(s, ∓d_occ)`,
 //!   signed like a fill of their union but negated, so a region is not felt
-//!   where the drawing paints over it;
+//!   where the drawing paints over it; `d_occ` is the distance to their
+//!   union's outline (they are united as the fills are, up to
+//!   2,048 of them), so that a side two of them share is no edge;
 //! - the page: `min(s, distance inside the page)`, so nothing beyond the
 //!   surface is felt or stored.
 //!
