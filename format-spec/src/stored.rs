@@ -182,24 +182,31 @@ fn plain_of(stored: &[u8]) -> Option<Vec<u8>> {
     plain(stored).ok().map(Cow::into_owned)
 }
 
-/// Where each chunk of a plain bundle lies, by tag: `(tag, start, end)`,
-/// skipping entries that do not fit (the parser refuses them later).
+/// Where chunk `i` of a plain bundle lies, by tag: `(tag, start, end)`,
+/// `None` for an entry that does not fit (the parser refuses it later).
+fn chunk_at(b: &[u8], i: usize) -> Option<(Tag, usize, usize)> {
+    let at = 32usize.checked_add(i.checked_mul(32)?)?;
+    let tag = Tag(b.get(at..at.checked_add(4)?)?.try_into().ok()?);
+    let start = usize::try_from(u64_at(b, at.checked_add(8)?)?).ok()?;
+    let end = start.checked_add(usize::try_from(u64_at(b, at.checked_add(16)?)?).ok()?)?;
+    Some((tag, start, end.min(b.len())))
+}
+
+/// Every chunk of a plain bundle, as [`chunk_at`] finds them, up to the
+/// first entry that does not fit.
+#[cfg(test)]
 fn chunks(b: &[u8]) -> impl Iterator<Item = (Tag, usize, usize)> + '_ {
     let count = u32_at(b, 12).unwrap_or(0) as usize;
-    (0..count).map_while(move |i| {
-        let at = 32usize.checked_add(i.checked_mul(32)?)?;
-        let tag = Tag(b.get(at..at.checked_add(4)?)?.try_into().ok()?);
-        let start = usize::try_from(u64_at(b, at + 8)?).ok()?;
-        let end = start.checked_add(usize::try_from(u64_at(b, at + 16)?).ok()?)?;
-        Some((tag, start, end.min(b.len())))
-    })
+    (0..count).map_while(move |i| chunk_at(b, i))
 }
 
 /// One length-preserving filter over a plain bundle's chunks, forwards
-/// (the writer's) or backwards (the reader's).
+/// (the writer's) or backwards (the reader's), in place and without
+/// allocating (the reader's runs in [`inflate_into`]).
 fn each_chunk(b: &mut [u8], forwards: bool) {
-    let found: Vec<(Tag, usize, usize)> = chunks(b).collect();
-    for (tag, start, end) in found {
+    let count = u32_at(b, 12).unwrap_or(0) as usize;
+    for i in 0..count {
+        let Some((tag, start, end)) = chunk_at(b, i) else { return };
         let Some(d) = b.get_mut(start..end) else { continue };
         if tag == Tag::VIBRATION_DISTANCE || tag == Tag::GRATING_DISTANCE {
             index_numbers(d, forwards);

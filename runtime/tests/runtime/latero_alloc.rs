@@ -66,3 +66,21 @@ fn distance_layer_frames_allocate_nothing() {
     assert_eq!(info.count_total, 0, "allocations while playing distance layers: {info:?}");
     assert!(moved > 0, "the frames were not all at rest");
 }
+
+/// A device without an allocator loads a bundle file in its stored form
+/// (SPEC.md 15) by inflating it into a buffer of the plain length: that
+/// allocates nothing either, and gives the plain bundle byte for byte.
+#[test]
+fn a_stored_bundle_inflates_into_a_buffer_without_allocating() {
+    let bytes =
+        bundle_bytes(stress2(), vec![full_surface(vibration(50_000), 0.3), full_surface(grating(2.0, 45.0), 0.3)]);
+    let file = taxel_format::stored::store(&bytes).unwrap();
+    let mut buf = vec![0u8; taxel_format::stored::plain_len(&file).unwrap()];
+    let mut ok = false;
+    let info = allocation_counter::measure(|| {
+        ok = taxel_format::stored::inflate_into(&file, &mut buf).is_ok();
+    });
+    assert_eq!(info.count_total, 0, "allocations while inflating: {info:?}");
+    assert!(ok && buf == bytes, "the plain bundle comes back");
+    assert!(LateroPlayer::new(&BundleView::parse(&buf).unwrap()).is_ok());
+}
