@@ -155,7 +155,7 @@ fn measure(bundle: &Bundle, exact: &MeshRef, trace: &Trace) -> Result<MeshMeasur
     }
     let rms = |v: f64| (v / n.max(1) as f64).sqrt();
     Ok(MeshMeasured {
-        bytes: super::stored_len(bundle)?,
+        bytes: super::stored_len(&bytes)?,
         sample_us: best * 1e6 / trace.samples().len().max(1) as f64,
         height: (hm, rms(h2)),
         slope: (sm, rms(s2)),

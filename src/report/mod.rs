@@ -383,7 +383,7 @@ impl Prepared {
             }
         }
         Ok(Measured {
-            bytes: stored_len(bundle)?,
+            bytes: stored_len(&bytes)?,
             frame_us,
             max_error: max,
             rms_error: (sum2 / count.max(1) as f64).sqrt(),
@@ -680,8 +680,8 @@ fn time_frames(player: &LateroPlayer<'_>, positions: &[(u64, f64, f64)], n: usiz
     best * 1e6 / positions.len().max(1) as f64
 }
 
-/// The bytes of `bundle` as `taxel build` writes it: its stored
-/// (compressed) form, SPEC.md section 15.
-pub(crate) fn stored_len(bundle: &Bundle) -> Result<usize> {
-    Ok(bundle.to_stored_bytes().map_err(|e| anyhow::anyhow!("{e}"))?.len())
+/// The length of a bundle's file as `taxel build` writes it, from its
+/// plain encoding `plain`: its stored (compressed) form, SPEC.md section 15.
+pub(crate) fn stored_len(plain: &[u8]) -> Result<usize> {
+    Ok(taxel_format::stored::store(plain).map_err(|e| anyhow::anyhow!("{e}"))?.len())
 }

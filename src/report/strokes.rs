@@ -120,7 +120,7 @@ pub fn ladder(input: &Path, opts: &CompileOpts, base: &Bundle, default_only: boo
             unit: "Hz".into(),
             default: rate == default_rate,
             compile_ms,
-            bundle_bytes: super::stored_len(&bundle)?,
+            bundle_bytes: super::stored_len(&bytes)?,
             frame_us: best * 1e6 / ticks as f64,
             max_error: err.max_onset_ms.max(err.max_duration_ms),
             rms_error: err.rms_ms,
