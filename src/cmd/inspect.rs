@@ -336,8 +336,11 @@ fn human(path: &Path, r: &Value) -> String {
     if let Some(codes) = r["key"].as_str() {
         key.extend(codes.strip_prefix("key: ").unwrap_or(codes).split(", ").map(String::from));
     }
+    // A few to a line, then how many more, as the key prints them (all of
+    // them are in the JSON): a map's thousands of labels on one line was no
+    // screen's width.
     if let Some(texts) = r["key_text"].as_str() {
-        key.push(format!("not on the graphic: {texts}"));
+        key.extend(legend::unplaced_lines(&texts.split(", ").collect::<Vec<_>>()));
     }
     if !key.is_empty() {
         out.insert_str(out.len() - 1, &format!("key        {}\n", key.join("\n           ")));
@@ -459,4 +462,25 @@ fn human(path: &Path, r: &Value) -> String {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The texts a graphic has no room for are printed as the key prints
+    /// them, a few to a line and then how many more, so that a map's
+    /// thousands of labels fit on a screen.
+    #[test]
+    fn texts_with_no_room_are_printed_a_few_to_a_line() {
+        let texts = (0..1000).map(|k| format!("R{k}")).collect::<Vec<_>>().join(", ");
+        let r = json!({ "profile": {}, "chunks": [], "key_text": texts });
+        let out = human(Path::new("a.taxel"), &r);
+        // Eight lines of eight: the first 64.
+        let listed: Vec<&str> = out.lines().filter(|l| l.contains(", R")).collect();
+        assert_eq!(listed.len(), 8, "{out}");
+        assert!(listed[0].ends_with("not on the graphic: R0, R1, R2, R3, R4, R5, R6, R7"), "{out}");
+        assert!(out.contains("and 936 more not on the graphic"), "{out}");
+        assert!(out.lines().all(|l| l.chars().count() < 100), "{out}");
+    }
 }

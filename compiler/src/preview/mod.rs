@@ -263,9 +263,12 @@ fn key_lines(b: &Bundle) -> Vec<String> {
     if let Some(codes) = codes.map(|k| k.strip_prefix("key: ").unwrap_or(k)).filter(|k| !k.is_empty()) {
         lines.extend(codes.split(", ").map(String::from));
     }
-    // The texts the graphic has no room for (entry `key.text`).
+    // The texts the graphic has no room for (entry `key.text`, all of them
+    // joined by ", "), a few to a line as the key prints them: one line of
+    // thousands of labels ran off the picture.
     if let Some(e) = p.entries.iter().find(|e| e.id == crate::style::legend::UNPLACED_ID) {
-        lines.push(format!("not on the graphic: {}", e.label));
+        let texts: Vec<&str> = e.label.split(", ").collect();
+        lines.extend(crate::style::legend::unplaced_lines(&texts));
     }
     if lines.is_empty() {
         return lines;
@@ -429,6 +432,22 @@ mod tests {
         let keyed = render_bundle(&b, None);
         let k = PREVIEW_PX_PER_MM;
         assert_eq!(keyed.height, plain.height + (5.0 * KEY_LINE_MM * k).ceil() as u32);
+    }
+
+    /// A map's hundred labels with no room on the graphic are listed as the
+    /// key prints them, eight to a line and then how many more, not on one
+    /// line that runs off the picture.
+    #[test]
+    fn the_texts_with_no_room_are_listed_a_few_to_a_line() {
+        let mut b = Bundle::new(taxel_format::Manifest::new(taxel_format::profiles::builtin("stress2").unwrap()));
+        let label = (0..100).map(|k| format!("R{k}")).collect::<Vec<_>>().join(", ");
+        let entry = taxel_format::ProvenanceEntry { id: crate::style::legend::UNPLACED_ID.into(), label, line: 0 };
+        b.chunks.push(Chunk::Provenance(taxel_format::Provenance { entries: vec![entry] }));
+        let lines = key_lines(&b);
+        assert_eq!(lines.len(), 1 + 8 + 1, "{lines:?}");
+        assert_eq!(lines[1], "not on the graphic: R0, R1, R2, R3, R4, R5, R6, R7");
+        assert_eq!(lines[2], "R8, R9, R10, R11, R12, R13, R14, R15");
+        assert_eq!(lines[9], "and 36 more not on the graphic");
     }
 
     #[test]

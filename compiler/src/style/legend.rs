@@ -247,16 +247,29 @@ impl Legend {
     /// them, a last line says how many more.
     pub fn text_lines(&self) -> Vec<String> {
         let mut lines = self.code_lines();
-        let listed = &self.unplaced[..self.unplaced.len().min(UNPLACED_LISTED)];
-        for (k, chunk) in listed.chunks(UNPLACED_PER_LINE).enumerate() {
-            let texts = chunk.join(", ");
-            lines.push(if k == 0 { format!("not on the graphic: {texts}") } else { texts });
-        }
-        if self.unplaced.len() > listed.len() {
-            lines.push(format!("and {} more not on the graphic", self.unplaced.len() - listed.len()));
-        }
+        lines.extend(unplaced_lines(&self.unplaced));
         lines
     }
+}
+
+/// The lines that list `texts` the graphic has no room for, as the key
+/// prints them ([`Legend::text_lines`]): eight to a line, the first saying
+/// what they are, at most 64, then how many more. The preview lists a
+/// bundle's entry [`UNPLACED_ID`] with them too.
+pub fn unplaced_lines<S: AsRef<str>>(texts: &[S]) -> Vec<String> {
+    let listed = &texts[..texts.len().min(UNPLACED_LISTED)];
+    let mut lines: Vec<String> = listed
+        .chunks(UNPLACED_PER_LINE)
+        .enumerate()
+        .map(|(k, chunk)| {
+            let texts = chunk.iter().map(AsRef::as_ref).collect::<Vec<&str>>().join(", ");
+            if k == 0 { format!("not on the graphic: {texts}") } else { texts }
+        })
+        .collect();
+    if texts.len() > listed.len() {
+        lines.push(format!("and {} more not on the graphic", texts.len() - listed.len()));
+    }
+    lines
 }
 
 /// The key of `d` ([`Legend`]): its entries and their meanings, and its key
