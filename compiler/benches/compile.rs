@@ -48,10 +48,10 @@ fn bench(c: &mut Criterion) {
         .chunks_exact(4)
         .map(|p| ((p[0] as u32 * 299 + p[1] as u32 * 587 + p[2] as u32 * 114) / 1000) as u8)
         .collect();
-    let img = image::GrayImage::from_raw(w, h, gray).expect("gray image");
-    let mut png = std::io::Cursor::new(Vec::new());
-    img.write_to(&mut png, image::ImageFormat::Png).expect("png");
-    let png_bytes = png.into_inner().len();
+    // As the `image` crate writes an 8-bit gray PNG by default: fast compression, adaptive filters.
+    use taxel_textform::png::{BitDepth, ColorType, Compression, write};
+    let png = write(w, h, ColorType::Grayscale, BitDepth::Eight, &gray, Compression::Fast).expect("png");
+    let png_bytes = png.len();
     eprintln!(
         "typical map: bundle {bundle_bytes} bytes, its file {file_bytes} bytes, 8-bit PNG {w}x{h} {png_bytes} bytes, ratios {:.2} and {:.3}",
         bundle_bytes as f64 / png_bytes as f64,

@@ -1,20 +1,18 @@
-//! PNG encoding: previews, plots and the text form's masks.
+//! PNG encoding: previews and plots (through `taxel_textform::png`, which
+//! also writes the text form's masks).
 
-use anyhow::{Context, Result};
-use image::{DynamicImage, ImageFormat};
+use anyhow::{Context, Result, ensure};
 use taxel_compiler::preview::Picture;
+use taxel_textform::png::{self, BitDepth, ColorType, Compression};
 
-/// Encodes any image as PNG bytes.
-pub fn encode(image: &DynamicImage) -> Result<Vec<u8>> {
-    let mut out = std::io::Cursor::new(Vec::new());
-    image.write_to(&mut out, ImageFormat::Png).context("cannot encode PNG")?;
-    Ok(out.into_inner())
+/// Encodes 8-bit pixels of `color` (RGB or RGBA), rows top first.
+pub fn encode(width: u32, height: u32, color: ColorType, data: &[u8]) -> Result<Vec<u8>> {
+    let want = width as usize * height as usize * color.samples();
+    ensure!(data.len() == want, "the picture's {} bytes do not fill {width} x {height} pixels", data.len());
+    png::write(width, height, color, BitDepth::Eight, data, Compression::Fast).context("cannot encode PNG")
 }
 
 /// Encodes an RGBA preview picture.
 pub fn encode_picture(p: &Picture) -> Result<Vec<u8>> {
-    let img = image::RgbaImage::from_raw(p.width, p.height, p.rgba.clone()).with_context(|| {
-        format!("the picture's {} bytes do not fill {} x {} pixels", p.rgba.len(), p.width, p.height)
-    })?;
-    encode(&DynamicImage::ImageRgba8(img))
+    encode(p.width, p.height, ColorType::Rgba, &p.rgba)
 }

@@ -240,14 +240,15 @@ pub fn ladder(
 }
 
 /// The size of a 16-bit grayscale PNG of `h`'s heights (contact nodes from
-/// 1 at the lowest to 65535 at the highest, 0 elsewhere), as the `image`
-/// crate encodes it with adaptive filters at its default or its best
-/// compression, whichever is smaller (its best is not always: on a fitted
+/// 1 at the lowest to 65535 at the highest, 0 elsewhere), as the `png`
+/// crate encodes it with adaptive filters at its balanced or its high
+/// compression, whichever is smaller (high is not always: on a fitted
 /// terrain it was larger), so a field is measured against the strongest
-/// PNG the crate writes. The crate's own default, its fastest compression,
-/// is more than twice as large on the paper's convex shape.
+/// PNG the crate writes (the `image` crate's default and best compression,
+/// byte for byte). Fast compression is more than twice as large on the
+/// paper's convex shape.
 pub fn png16(h: &taxel_format::HeightField) -> Option<usize> {
-    use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+    use taxel_textform::png::{BitDepth, ColorType, Compression, be_bytes, write};
     let contact = || h.heights.iter().zip(&h.flags).filter(|(_, f)| **f & taxel_format::FIELD_CONTACT != 0);
     let lo = contact().map(|(v, _)| *v as f64).fold(f64::INFINITY, f64::min);
     let hi = contact().map(|(v, _)| *v as f64).fold(f64::NEG_INFINITY, f64::max);
@@ -262,14 +263,13 @@ pub fn png16(h: &taxel_format::HeightField) -> Option<usize> {
             },
         )
         .collect();
-    let img: image::ImageBuffer<image::Luma<u16>, Vec<u16>> = image::ImageBuffer::from_raw(h.cols, h.rows, px)?;
-    [CompressionType::Default, CompressionType::Best]
+    if px.len() != h.cols as usize * h.rows as usize {
+        return None;
+    }
+    let bytes = be_bytes(&px);
+    [Compression::Balanced, Compression::High]
         .into_iter()
-        .filter_map(|c| {
-            let mut out = Vec::new();
-            img.write_with_encoder(PngEncoder::new_with_quality(&mut out, c, FilterType::Adaptive)).ok()?;
-            Some(out.len())
-        })
+        .filter_map(|c| Some(write(h.cols, h.rows, ColorType::Grayscale, BitDepth::Sixteen, &bytes, c).ok()?.len()))
         .min()
 }
 

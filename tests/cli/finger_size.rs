@@ -5,8 +5,6 @@
 
 use std::path::Path;
 
-use image::codecs::png::{CompressionType, FilterType, PngEncoder};
-use image::{ImageBuffer, Luma};
 use taxel_compiler::mesh::write::HeightMesh;
 use taxel_compiler::mesh::{self, MeshOptions, store};
 use taxel_format::{
@@ -15,6 +13,7 @@ use taxel_format::{
 };
 use taxel_runtime::finger::{FingerPlayer, Touch};
 use taxel_runtime::trace::Trace;
+use taxel_textform::png::{BitDepth, ColorType, Compression, write};
 
 fn no_files(_: &str) -> Result<Vec<u8>, String> {
     Err("no external buffers".into())
@@ -22,8 +21,9 @@ fn no_files(_: &str) -> Result<Vec<u8>, String> {
 
 /// A 16-bit grayscale PNG of the field's heights: contact nodes from 1 (the
 /// lowest) to 65535 (the highest), 0 where there is no contact, encoded by
-/// the `image` crate with `compression`.
-fn png_of(f: &HeightField, compression: CompressionType) -> usize {
+/// the `png` crate with adaptive filters and `compression` (as the `image`
+/// crate encodes it at its default and its best compression).
+fn png_of(f: &HeightField, compression: Compression) -> usize {
     let contact = || f.heights.iter().zip(&f.flags).filter(|(_, fl)| **fl & FIELD_CONTACT != 0).map(|(h, _)| *h);
     let lo = contact().fold(f32::INFINITY, f32::min) as f64;
     let hi = contact().fold(f32::NEG_INFINITY, f32::max) as f64;
@@ -34,10 +34,9 @@ fn png_of(f: &HeightField, compression: CompressionType) -> usize {
         .zip(&f.flags)
         .map(|(h, fl)| if fl & FIELD_CONTACT != 0 { 1 + ((*h as f64 - lo) * scale).round() as u16 } else { 0 })
         .collect();
-    let img: ImageBuffer<Luma<u16>, Vec<u16>> = ImageBuffer::from_raw(f.cols, f.rows, px).expect("cols * rows pixels");
-    let mut out = Vec::new();
-    img.write_with_encoder(PngEncoder::new_with_quality(&mut out, compression, FilterType::Adaptive)).expect("png");
-    out.len()
+    assert_eq!(px.len(), (f.cols * f.rows) as usize, "cols * rows pixels");
+    let bytes: Vec<u8> = px.iter().flat_map(|v| v.to_be_bytes()).collect();
+    write(f.cols, f.rows, ColorType::Grayscale, BitDepth::Sixteen, &bytes, compression).expect("png").len()
 }
 
 /// The bytes a height field chunk takes in a bundle (its data, its table entry, its padding).
@@ -91,9 +90,9 @@ fn finger_fields_are_at_most_a_16_bit_png_of_their_heights() {
     for (name, glb, opts) in &cases {
         let (float, tiled) = fields(glb, opts);
         let (old, new) = (field_bytes(&float), field_bytes(&tiled));
-        // The `image` crate's best compression is not always its smallest
-        // (the terrain's is larger than its default): the bar is the smaller.
-        let (png, best) = (png_of(&float, CompressionType::Default), png_of(&float, CompressionType::Best));
+        // High compression is not always the smallest
+        // (the terrain's is larger than balanced): the bar is the smaller.
+        let (png, best) = (png_of(&float, Compression::Balanced), png_of(&float, Compression::High));
         eprintln!(
             "{name}: {} x {} nodes: 4.0 field {old} B, tiled {new} B, 16-bit PNG {png} B (best compression {best} B)",
             float.cols, float.rows

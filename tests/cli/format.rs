@@ -60,12 +60,14 @@ fn masks_are_grayscale_pngs_of_their_depth() {
     let (bundle, _) = every_kind(tmp.path());
     let dir = tmp.path().join("d");
     assert!(taxel(&["unpack", p(&bundle), "-o", p(&dir)]).status.success());
-    let v = image::open(dir.join("01-vibration.png")).unwrap();
-    assert_eq!((v.color(), v.width(), v.height()), (image::ColorType::L8, 3, 2));
-    assert_eq!(v.to_luma8().into_raw(), [0, 1, 127, 128, 254, 255]);
-    let g = image::open(dir.join("02-grating.png")).unwrap();
-    assert_eq!(g.color(), image::ColorType::L16);
-    assert_eq!(g.to_luma16().into_raw(), [0, 1, 255, 256, 65_534, 65_535]);
+    use taxel_textform::png::{BitDepth, ColorType};
+    let v = crate::read_png(dir.join("01-vibration.png"));
+    assert_eq!((v.color, v.depth, v.width, v.height), (ColorType::Grayscale, BitDepth::Eight, 3, 2));
+    assert_eq!(v.data, [0, 1, 127, 128, 254, 255]);
+    let g = crate::read_png(dir.join("02-grating.png"));
+    assert_eq!((g.color, g.depth), (ColorType::Grayscale, BitDepth::Sixteen));
+    let g16: Vec<u16> = g.data.chunks_exact(2).map(|b| u16::from_be_bytes([b[0], b[1]])).collect();
+    assert_eq!(g16, [0, 1, 255, 256, 65_534, 65_535]);
 }
 
 #[test]
@@ -284,11 +286,16 @@ fn a_hand_painted_png_packs_into_a_raster_mask_beside_the_distance_layers() {
     assert!(taxel(&["unpack", p(&built), "-o", p(&dir)]).status.success());
     // A 10 x 5 mm patch painted at 4 px/mm: full inside a disc, a soft rim.
     let (w, h) = (40u32, 20u32);
-    let painted = image::GrayImage::from_fn(w, h, |x, y| {
-        let r = ((x as f32 - 19.5).powi(2) + (y as f32 - 9.5).powi(2)).sqrt();
-        image::Luma([(255.0 * (9.0 - r).clamp(0.0, 1.0)) as u8])
-    });
-    painted.save(dir.join("99-painted.png")).unwrap();
+    let painted: Vec<u8> = (0..w * h)
+        .map(|k| {
+            let (x, y) = (k % w, k / w);
+            let r = ((x as f32 - 19.5).powi(2) + (y as f32 - 9.5).powi(2)).sqrt();
+            (255.0 * (9.0 - r).clamp(0.0, 1.0)) as u8
+        })
+        .collect();
+    use taxel_textform::png::{BitDepth, ColorType, Compression, write};
+    let png = write(w, h, ColorType::Grayscale, BitDepth::Eight, &painted, Compression::Fast).unwrap();
+    std::fs::write(dir.join("99-painted.png"), png).unwrap();
     let manifest = std::fs::read_to_string(dir.join("manifest.toml")).unwrap();
     let chunk = "\n[[chunk]]\nkind = \"vibration\"\nfile = \"99-painted.png\"\namplitude = 1.0\n\
                  origin_x_mm = 80.0\norigin_y_mm = 40.0\npx_per_mm = 4.0\nfreq_mhz = 50000\n";
@@ -310,7 +317,7 @@ fn a_hand_painted_png_packs_into_a_raster_mask_beside_the_distance_layers() {
     assert!(distance >= 2, "the map's distance layers stay: {distance}");
     assert_eq!(masks.len(), 1);
     assert_eq!((masks[0].width, masks[0].height, masks[0].px_per_mm), (w, h, 4.0));
-    assert_eq!(masks[0].samples, taxel_format::MaskSamples::U8(painted.into_raw()));
+    assert_eq!(masks[0].samples, taxel_format::MaskSamples::U8(painted));
     // Played: over the disc's middle, at tick 0, actuators whose row and
     // column parities differ are deflected by the patch on top of the map.
     let play = |bytes: &[u8]| {

@@ -136,11 +136,11 @@ fn unpack_draws_each_distance_layer_as_the_amplitude_it_plays() {
         chunks.iter().filter(|c| c["kind"].as_str() == Some("vibration-field")).collect();
     assert_eq!(vibration.len(), 1, "one vibrating style: {chunks:?}");
     let v = vibration[0];
-    let img = image::open(dir.join(v["file"].as_str().unwrap())).unwrap().to_luma8();
+    let img = crate::read_png(dir.join(v["file"].as_str().unwrap()));
     let origin = (v["origin_x_mm"].as_float().unwrap(), v["origin_y_mm"].as_float().unwrap());
     let px = |x: f64, y: f64| {
         let (i, j) = (((x - origin.0) * 10.0).floor() as u32, ((y - origin.1) * 10.0).floor() as u32);
-        img.get_pixel(i, j).0[0]
+        img.pixel(i, j)[0]
     };
     assert!(px(33.0, 16.5) >= 250, "on the border: {}", px(33.0, 16.5));
     assert_eq!(px(25.0, 15.0), 0, "inside ash province");

@@ -30,6 +30,13 @@ fn plain(bytes: Vec<u8>) -> Vec<u8> {
     taxel_format::stored::plain(&bytes).expect("a bundle file inflates").into_owned()
 }
 
+/// The PNG file at `path`, decoded.
+fn read_png(path: impl AsRef<std::path::Path>) -> taxel_textform::png::Image {
+    let path = path.as_ref();
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    taxel_textform::png::read(&bytes).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
 /// The plain bundle of the bundle file at `path`.
 fn read_plain(path: impl AsRef<std::path::Path>) -> Vec<u8> {
     let path = path.as_ref();

@@ -86,13 +86,14 @@ fn the_pdf_page_is_the_paper() {
 }
 
 /// Dark blobs of a grey image: `(centre x, centre y, area)` in pixels.
-fn blobs(img: &image::GrayImage) -> Vec<(f64, f64, f64)> {
-    let (w, h) = img.dimensions();
+fn blobs(img: &taxel_textform::png::Image) -> Vec<(f64, f64, f64)> {
+    let (w, h) = (img.width, img.height);
+    let gray = img.to_gray8();
     let mut seen = vec![false; (w * h) as usize];
     let mut out = Vec::new();
     for y in 0..h {
         for x in 0..w {
-            if seen[(y * w + x) as usize] || img.get_pixel(x, y).0[0] >= 128 {
+            if seen[(y * w + x) as usize] || gray[(y * w + x) as usize] >= 128 {
                 continue;
             }
             let (mut n, mut sx, mut sy) = (0.0, 0.0, 0.0);
@@ -108,7 +109,7 @@ fn blobs(img: &image::GrayImage) -> Vec<(f64, f64, f64)> {
                         continue;
                     }
                     let k = (qy as u32 * w + qx as u32) as usize;
-                    if !seen[k] && img.get_pixel(qx as u32, qy as u32).0[0] < 128 {
+                    if !seen[k] && gray[k] < 128 {
                         seen[k] = true;
                         stack.push((qx as u32, qy as u32));
                     }
@@ -147,7 +148,7 @@ fn braille_dots_read_back_from_the_pdf_have_the_nls_pitch_and_diameter() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let img = image::open(dir.path().join("r.png")).unwrap().to_luma8();
+    let img = crate::read_png(dir.path().join("r.png"));
     let mut dots = blobs(&img);
     assert_eq!(dots.len(), 6, "{dots:?}");
     for d in &dots {
@@ -227,18 +228,20 @@ fn the_stl_is_watertight_manifold_outward_and_at_the_profile_s_heights() {
 fn the_tiger_png_is_20_pixels_an_inch() {
     let dir = tempfile::tempdir().unwrap();
     let png = build(MAP, "tiger-20dpi", &dir.path().join("map.png"), &["--fit"]);
-    let img = image::load_from_memory(&png).unwrap().to_luma8();
+    let img = taxel_textform::png::read(&png).unwrap();
+    let gray = img.to_gray8();
     // 11 x 11.5 in at 20 px an inch, a page under the other: the map's,
     // then its key's (tala-map has three textures, so it has a key).
-    assert_eq!(img.dimensions(), (220, 2 * 230), "11 x 11.5 in at 20 px an inch, two pages");
+    assert_eq!((img.width, img.height), (220, 2 * 230), "11 x 11.5 in at 20 px an inch, two pages");
     // Dots only inside each page's half-inch margin (10 pixels).
-    for (x, y, p) in img.enumerate_pixels() {
-        if p.0[0] < 255 {
+    for (k, p) in gray.iter().enumerate() {
+        let (x, y) = (k as u32 % img.width, k as u32 / img.width);
+        if *p < 255 {
             let y = y % 230;
             assert!((10..210).contains(&x) && (10..220).contains(&y), "a dot at ({x}, {y}) in the margin");
         }
     }
-    assert!(img.pixels().filter(|p| p.0[0] < 255).count() > 500);
+    assert!(gray.iter().filter(|p| **p < 255).count() > 500);
 }
 
 #[test]
@@ -329,12 +332,12 @@ fn the_felt_preview_of_a_print_profile_is_drawn() {
     let png = dir.path().join("felt.png");
     let o = taxel(&["preview", MAP, "--profile", "swell-a4", "-o", png.to_str().unwrap()]);
     assert!(o.status.success(), "{}", text(&o));
-    let img = image::open(&png).unwrap().to_rgb8();
+    let img = crate::read_png(&png);
     // The A4 graphic and its key page side by side at 6 px/mm, with 8 mm
     // around and between them (the map's several textures need a key).
-    assert_eq!(img.dimensions(), (((2.0 * 210.0 + 3.0 * 8.0) * 6.0) as u32, ((297.0 + 16.0) * 6.0) as u32));
+    assert_eq!((img.width, img.height), (((2.0 * 210.0 + 3.0 * 8.0) * 6.0) as u32, ((297.0 + 16.0) * 6.0) as u32));
     // Raised marks are shaded darker than the paper.
-    assert!(img.pixels().filter(|p| p.0[0] < 200).count() > 1000);
+    assert!(img.to_rgb8().iter().filter(|p| p[0] < 200).count() > 1000);
 }
 
 /// A sheet as text a person can review: its pages and their marks by kind

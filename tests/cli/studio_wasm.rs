@@ -1,64 +1,110 @@
-//! The WASM runtime the studio embeds (served at `/taxel.wasm`), run in a
-//! WebAssembly interpreter (wasmi), plays the tala map along its whole
-//! example trace (every 13th tick), frame for frame, bit for bit, as the native runtime does;
-//! and names what is under the finger as the native point lookup does.
+//! The WASM runtime the studio embeds (served at `/taxel.wasm`), run in
+//! Node.js (`wasm/run.mjs`: V8, the engine of the browsers the studio
+//! serves), plays the tala map along its whole example trace (every 13th
+//! tick), frame for frame, bit for bit, as the native runtime does; and
+//! names what is under the finger as the native point lookup does.
+//!
+//! Without Node.js (20 or later) on the `PATH` these tests say so and pass,
+//! unless `TAXEL_REQUIRE_NODE` is set (as `.ci/run` sets it), when they fail.
 
+use std::io::{BufRead, BufReader, Write};
+use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
+
+use base64::Engine;
+use base64::engine::general_purpose::STANDARD as BASE64;
+use serde_json::{Value, json};
 use taxel_format::lookup::PointLookup;
 use taxel_format::{BundleView, Mm};
 use taxel_runtime::latero::{LateroPlayer, Layer};
 use taxel_runtime::trace::Trace;
-use wasmi::{Engine, Instance, Linker, Memory, Module, Store};
 
 use super::studio::Studio;
 
+/// The module running in a Node.js process.
 struct Wasm {
-    store: Store<()>,
-    instance: Instance,
-    memory: Memory,
+    child: Child,
+    input: ChildStdin,
+    output: BufReader<ChildStdout>,
+}
+
+/// Node.js, or `None` (after saying so) where it is not installed.
+fn node() -> Option<&'static str> {
+    let here = Command::new("node").arg("--version").output().is_ok_and(|o| o.status.success());
+    if !here {
+        assert!(std::env::var_os("TAXEL_REQUIRE_NODE").is_none(), "node is missing: install Node.js 20 or later");
+        eprintln!("node (Node.js) not found: the WASM runtime's test in it is skipped here");
+    }
+    here.then_some("node")
 }
 
 impl Wasm {
-    fn new(bytes: &[u8]) -> Wasm {
-        let engine = Engine::default();
-        let module = Module::new(&engine, bytes).unwrap();
-        let mut store = Store::new(&engine, ());
-        let instance = Linker::<()>::new(&engine).instantiate_and_start(&mut store, &module).unwrap();
-        let memory = instance.get_memory(&store, "memory").unwrap();
-        Wasm { store, instance, memory }
+    fn new(node: &str, module: &[u8], dir: &std::path::Path) -> Wasm {
+        let path = dir.join("taxel.wasm");
+        std::fs::write(&path, module).unwrap();
+        let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/cli/wasm/run.mjs");
+        let mut child = Command::new(node)
+            .arg(script)
+            .arg(&path)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .spawn()
+            .expect("node starts");
+        let (input, output) = (child.stdin.take().unwrap(), BufReader::new(child.stdout.take().unwrap()));
+        Wasm { child, input, output }
     }
 
-    fn call<P: wasmi::WasmParams, R: wasmi::WasmResults>(&mut self, name: &str, args: P) -> R {
-        let f = self.instance.get_typed_func::<P, R>(&self.store, name).unwrap();
-        f.call(&mut self.store, args).unwrap()
+    /// Sends one request and returns its answer. An `f32` argument goes as
+    /// the `f64` of its value, which JSON and JavaScript carry exactly.
+    fn ask(&mut self, request: Value) -> Value {
+        writeln!(self.input, "{request}").unwrap();
+        let mut line = String::new();
+        self.output.read_line(&mut line).unwrap();
+        let mut answer: Value = serde_json::from_str(&line).unwrap_or_else(|e| panic!("{e}: {line:?} for {request}"));
+        assert!(answer["err"].is_null(), "{request}: {}", answer["err"]);
+        answer["ok"].take()
+    }
+
+    /// A fresh instance of the module.
+    fn restart(&mut self) {
+        self.ask(json!({"op": "new"}));
+    }
+
+    /// An export's `u32` result (`i32` in WebAssembly, signed in JavaScript).
+    fn call(&mut self, name: &str, args: Value) -> u32 {
+        self.ask(json!({"op": "call", "name": name, "args": args})).as_i64().unwrap() as u32
+    }
+
+    fn read(&mut self, at: u32, len: usize) -> Vec<u8> {
+        let b64 = self.ask(json!({"op": "read", "at": at, "len": len}));
+        BASE64.decode(b64.as_str().unwrap()).unwrap()
     }
 
     fn load(&mut self, bundle: &[u8]) -> u32 {
-        let at: u32 = self.call("taxel_input", bundle.len() as u32);
-        self.memory.write(&mut self.store, at as usize, bundle).unwrap();
-        self.call("taxel_load", ())
+        let at = self.call("taxel_input", json!([bundle.len()]));
+        self.ask(json!({"op": "write", "at": at, "b64": BASE64.encode(bundle)}));
+        self.call("taxel_load", json!([]))
     }
 
     fn text(&mut self, len: u32) -> String {
-        let at: u32 = self.call("taxel_text_ptr", ());
-        let mut buf = vec![0; len as usize];
-        self.memory.read(&self.store, at as usize, &mut buf).unwrap();
-        String::from_utf8(buf).unwrap()
+        let at = self.call("taxel_text_ptr", json!([]));
+        String::from_utf8(self.read(at, len as usize)).unwrap()
     }
 
     fn codes(&mut self, at: u32, n: usize) -> Vec<u16> {
-        let mut buf = vec![0u8; 2 * n];
-        self.memory.read(&self.store, at as usize, &mut buf).unwrap();
-        buf.chunks_exact(2).map(|c| u16::from_le_bytes([c[0], c[1]])).collect()
+        self.read(at, 2 * n).chunks_exact(2).map(|c| u16::from_le_bytes([c[0], c[1]])).collect()
+    }
+}
+
+impl Drop for Wasm {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
     }
 }
 
 #[test]
 fn the_wasm_runtime_plays_a_long_trace_bit_for_bit_as_the_native_one() {
-    // The interpreter's frames in a debug build need more than a test thread's 2 MiB.
-    std::thread::Builder::new().stack_size(64 << 20).spawn(play_the_tala_trace).unwrap().join().unwrap();
-}
-
-fn play_the_tala_trace() {
+    let Some(node) = node() else { return };
     let dir = tempfile::tempdir().unwrap();
     std::fs::copy(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/map/tala-map.svg"), dir.path().join("tala.svg"))
         .unwrap();
@@ -68,13 +114,13 @@ fn play_the_tala_trace() {
     let bundle = s.get(&format!("{}bundle", v["base"].as_str().unwrap())).body;
     drop(s);
 
-    let mut wasm = Wasm::new(&wasm_bytes);
+    let mut wasm = Wasm::new(node, &wasm_bytes, dir.path());
     assert_eq!(wasm.load(b"not a bundle"), 1);
-    let len: u32 = wasm.call("taxel_text_len", ());
+    let len = wasm.call("taxel_text_len", json!([]));
     assert!(wasm.text(len).starts_with("not a valid taxel bundle"));
-    let mut wasm = Wasm::new(&wasm_bytes);
+    wasm.restart();
     assert_eq!(wasm.load(&bundle), 0);
-    let len: u32 = wasm.call("taxel_info", ());
+    let len = wasm.call("taxel_info", json!([]));
     let info: serde_json::Value = serde_json::from_str(&wasm.text(len)).unwrap();
     assert_eq!(info["family"], "laterotactile");
 
@@ -89,12 +135,13 @@ fn play_the_tala_trace() {
     let rate = view.manifest().profile.rate_hz;
     let (mut frames, mut moving, mut names) = (0u64, 0u64, 0u64);
     let mut last = Vec::new();
-    // Every 13th tick of the whole trace (62 s at 1 kHz): the interpreter in
-    // a test build plays a few hundred frames a second, and a frame depends on
-    // its tick and place alone. The browser test compares every frame.
+    // Every 13th tick of the whole trace (62 s at 1 kHz): each frame is a
+    // round trip to Node.js, and a frame depends on its tick and place
+    // alone. The browser test compares every frame.
     for (tick, p) in trace.ticks(rate).step_by(13) {
         player.frame(tick, Mm(p.x_mm as f32), Mm(p.y_mm as f32), &mut native);
-        let at: u32 = wasm.call("taxel_latero_frame", (tick.0 as f64, p.x_mm as f32, p.y_mm as f32));
+        let at =
+            wasm.call("taxel_latero_frame", json!([tick.0 as f64, f64::from(p.x_mm as f32), f64::from(p.y_mm as f32)]));
         let played = wasm.codes(at, n);
         assert_eq!(played, native, "tick {} at ({}, {})", tick.0, p.x_mm, p.y_mm);
         frames += 1;
@@ -102,7 +149,7 @@ fn play_the_tala_trace() {
         last = played;
         // The name under the finger, at every 7th frame compared.
         if frames % 7 == 0 {
-            let len: u32 = wasm.call("taxel_name_at", (p.x_mm, p.y_mm));
+            let len = wasm.call("taxel_name_at", json!([p.x_mm, p.y_mm]));
             let want = lookup.under(p.x_mm, p.y_mm).map(|h| h.name()).unwrap_or_default();
             assert_eq!(wasm.text(len), want, "tick {}", tick.0);
             names += u64::from(!want.is_empty());
@@ -114,18 +161,13 @@ fn play_the_tala_trace() {
     assert!(names > 100, "{names}");
 }
 
-#[test]
-fn the_wasm_runtime_plays_a_tiled_height_field_bit_for_bit_as_the_native_one() {
-    // Loading a tiled field runs long loops in one call, and the interpreter's
-    // handlers (not tail calls in a test build) take stack for each: 64 MiB overflow.
-    std::thread::Builder::new().stack_size(1 << 30).spawn(play_the_finger_traces).unwrap().join().unwrap();
-}
-
 /// The studio builds each of the paper's shapes (a step and a quadric) for
 /// `finger3`, stored as a tiled height field (format 4.6, gradients derived
 /// in the player); the WASM runtime plays its trace sample for sample, bit
 /// for bit, as the native finger player does.
-fn play_the_finger_traces() {
+#[test]
+fn the_wasm_runtime_plays_a_tiled_height_field_bit_for_bit_as_the_native_one() {
+    let Some(node) = node() else { return };
     use taxel_format::{Bundle, Chunk, HeightEncoding, Tick};
     use taxel_runtime::finger::{FingerPlayer, Touch};
     let examples = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/finger");
@@ -135,6 +177,7 @@ fn play_the_finger_traces() {
     }
     let s = Studio::start(dir.path());
     let wasm_bytes = s.get("/taxel.wasm").body;
+    let mut wasm = Wasm::new(node, &wasm_bytes, dir.path());
     for shape in ["edge", "convex"] {
         let v = s.post(&format!("/api/open?path={shape}.glb&profile=finger3"), b"").json();
         let bundle = s.get(&format!("{}bundle", v["base"].as_str().unwrap())).body;
@@ -148,9 +191,9 @@ fn play_the_finger_traces() {
             .any(|c| matches!(c, Chunk::Height(h) if matches!(h.encoding, HeightEncoding::Tiled { .. })));
         assert!(tiled, "{shape}: a tiled height field");
 
-        let mut wasm = Wasm::new(&wasm_bytes);
+        wasm.restart();
         assert_eq!(wasm.load(&bundle), 0, "{shape}");
-        let len: u32 = wasm.call("taxel_info", ());
+        let len = wasm.call("taxel_info", json!([]));
         let info: serde_json::Value = serde_json::from_str(&wasm.text(len)).unwrap();
         assert_eq!(info["family"], "finger");
         let view = BundleView::parse(&plain).unwrap();
@@ -163,9 +206,9 @@ fn play_the_finger_traces() {
             let f = native.sample(Touch { tick, x: Mm(x), y: Mm(y), contact: p.contact });
             let [l, d, r] = f.levels();
             let want = [l, d, r, f.period_ms, f.height, if f.on_edge { 1.0 } else { 0.0 }].map(f32::to_bits);
-            let at: u32 = wasm.call("taxel_finger_sample", (tick.0 as f64, x, y, u32::from(p.contact)));
-            let mut buf = [0u8; 24];
-            wasm.memory.read(&wasm.store, at as usize, &mut buf).unwrap();
+            let at = wasm
+                .call("taxel_finger_sample", json!([tick.0 as f64, f64::from(x), f64::from(y), u32::from(p.contact)]));
+            let buf = wasm.read(at, 24);
             let played: Vec<u32> = buf.chunks_exact(4).map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect();
             assert_eq!(played, want, "{shape}: t {} ms at ({x}, {y})", p.t_ms);
             touched += usize::from(f.active.is_some());

@@ -25,7 +25,7 @@
 
 pub mod error;
 mod pins;
-mod png;
+pub mod png;
 mod read;
 mod tables;
 pub mod toml_in;

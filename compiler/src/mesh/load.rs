@@ -216,11 +216,11 @@ fn load_buffers(
             Source::Uri(uri) if !uri.starts_with("data:") => {
                 resolve(uri).map_err(|message| MeshError::Buffer { index: b.index(), message })?
             }
-            src => {
-                gltf::buffer::Data::from_source_and_blob(src, None, &mut blob)
-                    .map_err(|e| MeshError::Buffer { index: b.index(), message: e.to_string() })?
-                    .0
-            }
+            Source::Uri(uri) => data_uri(uri).map_err(|message| MeshError::Buffer { index: b.index(), message })?,
+            Source::Bin => blob.take().ok_or_else(|| MeshError::Buffer {
+                index: b.index(),
+                message: "refers to the binary chunk of a GLB file, and this file has none".into(),
+            })?,
         };
         if data.len() < b.length() {
             return Err(MeshError::Buffer {
@@ -231,6 +231,21 @@ fn load_buffers(
         out.push(data);
     }
     Ok(out)
+}
+
+/// The bytes of a `data:` URI in base64 (RFC 2397), the only kind glTF
+/// defines for buffers; padding may be left out.
+fn data_uri(uri: &str) -> Result<Vec<u8>, String> {
+    use base64::Engine;
+    use base64::engine::{DecodePaddingMode, GeneralPurpose, GeneralPurposeConfig};
+    const LENIENT: GeneralPurpose = GeneralPurpose::new(
+        &base64::alphabet::STANDARD,
+        GeneralPurposeConfig::new().with_decode_padding_mode(DecodePaddingMode::Indifferent),
+    );
+    let Some((_, text)) = uri.split_once(";base64,") else {
+        return Err("is a data: URI that is not base64 (expected data:application/octet-stream;base64,...)".into());
+    };
+    LENIENT.decode(text.trim_end()).map_err(|e| format!("has a data: URI that is not valid base64: {e}"))
 }
 
 /// Adds `mesh`'s triangles placed by each of `worlds` (the node's world
@@ -622,6 +637,16 @@ fn apply(m: &[[f64; 4]; 4], p: [f64; 3]) -> [f64; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn data_uris_decode_with_or_without_padding() {
+        for uri in ["data:application/octet-stream;base64,Zm8=", "data:application/gltf-buffer;base64,Zm8"] {
+            assert_eq!(data_uri(uri).unwrap(), b"fo", "{uri}");
+        }
+        assert_eq!(data_uri("data:;base64,").unwrap(), b"");
+        assert!(data_uri("data:,fo").unwrap_err().contains("not base64"));
+        assert!(data_uri("data:;base64,Zm8*").unwrap_err().contains("not valid base64"));
+    }
 
     #[test]
     fn column_major_product_composes_translation_after_scale() {

@@ -370,7 +370,10 @@ fn malformed_files_are_errors_that_name_the_mesh_and_primitive() {
         (json.replace("\"nodes\":[0]", "\"nodes\":[]"), "the scene has no triangles"),
         (json.replace("\"mesh\":0", "\"mesh\":0,\"scale\":[1e30,1e30,1e30]"), "more than 10 million km"),
         (json.replace("\"mesh\":0", "\"mesh\":0,\"scale\":[1e39,1,1]"), "node 'Terrain' (#0)"),
-        (json.replace("base64,", "base64,@@"), "buffer 0"),
+        (json.replace("base64,", "base64,@@"), "buffer 0: has a data: URI that is not valid base64"),
+        (json.replace(";base64,", ","), "buffer 0: is a data: URI that is not base64"),
+        // A buffer without a URI is the GLB's binary chunk, which a .gltf has not.
+        (json.replace("\"uri\":", "\"extras\":"), "buffer 0: refers to the binary chunk of a GLB file"),
         ("{\"asset\":{\"version\":\"2.0\"}".to_string(), "not a valid glTF"),
         ("not json at all".to_string(), "not a valid glTF"),
     ];
