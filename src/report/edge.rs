@@ -34,6 +34,9 @@ use super::exact::{Region, Seg};
 
 /// Spacing of the sample lines across the contour and longest piece of the outline, mm.
 pub const SAMPLE_MM: f64 = 0.005;
+
+/// How closely a curved tile's contour point is bisected, mm.
+const BISECT_MM: f64 = 1e-9;
 /// Radius round each corner of an outline within which errors count as the corner's, mm.
 pub const CORNER_RADIUS_MM: f64 = 1.0;
 /// Offset either side of an outline piece at which coverage is compared, mm.
@@ -319,8 +322,10 @@ fn bend_contour(tile: &Tile<'_>, h: f64, lines: usize, out: &mut Vec<[f64; 2]>) 
                 let s = i as f64 / steps as f64 * span;
                 let v = g(s);
                 if (prev.1 > 0.0) != (v > 0.0) && prev.1.is_finite() && v.is_finite() {
+                    // Bisected to a nanometre (the report's figures are to
+                    // a micrometre; 40 halvings went to a ten-millionth of that).
                     let (mut a, mut b) = (prev.0, s);
-                    for _ in 0..40 {
+                    while (b - a) * h > BISECT_MM {
                         let m = (a + b) / 2.0;
                         if (g(m) > 0.0) == (prev.1 > 0.0) { a = m } else { b = m }
                     }

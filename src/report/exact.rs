@@ -178,7 +178,23 @@ pub fn dot_profile(r: f64) -> f64 {
 /// The exact frame at `tick` with the carrier at `(x, y)`: deflection δ of
 /// each actuator, composited by addition and clamped to `[0, 1]` (seed 000
 /// section 3.4), in the runtime's index order `cols · row + col`.
+#[cfg(test)]
 pub fn frame(layers: &[ExactLayer], profile: &DeviceProfile, tick: u64, x: f64, y: f64, out: &mut [f64]) {
+    frame_sum(layers, profile, tick, x, y, out);
+    for o in out.iter_mut() {
+        *o = clamp_sum(*o);
+    }
+}
+
+/// A frame's value from the sum of its layers' values: 0 for NaN, else clamped to 0..=1.
+pub fn clamp_sum(d: f64) -> f64 {
+    if d.is_nan() { 0.0 } else { d.clamp(0.0, 1.0) }
+}
+
+/// The sum of `layers`' values at each actuator, in layer order, before
+/// [`clamp_sum`]: [`frame`]'s sums, so that frames of several groups of
+/// layers can be added.
+pub fn frame_sum(layers: &[ExactLayer], profile: &DeviceProfile, tick: u64, x: f64, y: f64, out: &mut [f64]) {
     let (rows, cols) = (profile.rows as usize, profile.cols as usize);
     let (px, py) = (profile.pitch_x_mm as f64, profile.pitch_y_mm as f64);
     let (sw, sh) = (profile.surface_w_mm as f64, profile.surface_h_mm as f64);
@@ -224,7 +240,7 @@ pub fn frame(layers: &[ExactLayer], profile: &DeviceProfile, tick: u64, x: f64, 
                         .sum(),
                 };
             }
-            *o = if d.is_nan() { 0.0 } else { d.clamp(0.0, 1.0) };
+            *o = d;
         }
     }
 }

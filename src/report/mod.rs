@@ -243,7 +243,43 @@ impl Prepared {
         self.frames_of(kernel, Some(bundle))
     }
 
+    /// [`reference_frames_of`](Self::reference_frames_of) for every kernel
+    /// of `kernels` at once: each kind of layer is measured once (the
+    /// exact distances are most of a report's time), and `all` is the sum
+    /// of the kinds (so its last bits may differ from a sum in layer order).
+    pub fn reference_frames_for(&self, kernels: &[String], bundle: &Bundle) -> Vec<Vec<f64>> {
+        let kinds = ["vibration", "grating", "dots"];
+        let sums: Vec<Option<Vec<f64>>> = kinds
+            .iter()
+            .map(|kind| {
+                let wanted = kernels.iter().any(|k| k == kind || k == "all");
+                let present = self.reference.iter().any(|l| exact_kind(l) == *kind);
+                (wanted && present).then(|| self.sums_of(kind, Some(bundle)))
+            })
+            .collect();
+        kernels
+            .iter()
+            .map(|k| {
+                let mut out = vec![0.0; self.eval.len() * self.profile.actuator_count()];
+                for (kind, sum) in kinds.iter().zip(&sums) {
+                    if let Some(sum) = sum.as_ref().filter(|_| k == kind || k == "all") {
+                        out.iter_mut().zip(sum).for_each(|(o, s)| *o += s);
+                    }
+                }
+                out.iter_mut().for_each(|o| *o = exact::clamp_sum(*o));
+                out
+            })
+            .collect()
+    }
+
     fn frames_of(&self, kernel: &str, bundle: Option<&Bundle>) -> Vec<f64> {
+        let mut frames = self.sums_of(kernel, bundle);
+        frames.iter_mut().for_each(|o| *o = exact::clamp_sum(*o));
+        frames
+    }
+
+    /// The unclamped sums of `kernel`'s layers ([`exact::frame_sum`]).
+    fn sums_of(&self, kernel: &str, bundle: Option<&Bundle>) -> Vec<f64> {
         let ramp = |l: &ExactLayer| {
             let (kind, sources) = (exact_kind(l), sources_of(l)?);
             bundle?.chunks.iter().find_map(|c| match c {
@@ -270,7 +306,7 @@ impl Prepared {
         let mut frames = vec![0.0; self.eval.len() * n];
         // Each frame on its own: the frames are the same on any number of threads.
         frames.par_chunks_mut(n.max(1)).zip(&self.eval).for_each(|(out, &(tick, x, y))| {
-            exact::frame(&layers, &self.profile, tick, x, y, out);
+            exact::frame_sum(&layers, &self.profile, tick, x, y, out);
         });
         frames
     }
@@ -493,8 +529,8 @@ pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>, default_only:
     let mut rows = Vec::new();
     for &px in &ladder {
         let (bundle, compile_ms) = compile(input, opts, Some(px))?;
-        for (k, step_reference) in kernels.iter().zip(&steps) {
-            let reference = prep.reference_frames_of(k, &bundle);
+        let references = prep.reference_frames_for(&kernels, &bundle);
+        for ((k, step_reference), reference) in kernels.iter().zip(&steps).zip(references) {
             let mine = only_kernel(&bundle, k);
             let m = prep.measure(&mine, &reference, step_reference, k)?;
             // Where the error comes from, at the default only: the note is about what `build` writes.

@@ -139,11 +139,16 @@ impl ExactRegion {
             return None;
         }
         let mut best = f64::INFINITY;
+        // Compared squared first: most candidates are farther than the
+        // best so far, and a square root is cheaper than `hypot` (whose
+        // guard against overflow mm-scale coordinates never need).
         let mut consider = |q: (f64, f64), across: (f64, f64)| {
-            let d = (p.0 - q.0).hypot(p.1 - q.1);
-            if d >= reach || d >= best {
+            let (dx, dy) = (p.0 - q.0, p.1 - q.1);
+            let d2 = dx * dx + dy * dy;
+            if d2 >= reach * reach || d2 >= best * best {
                 return;
             }
+            let d = d2.sqrt();
             // Across the edge: away from `p` where `p` is off it, else the side's normal.
             let u = if d > ON_EDGE_MM { ((p.0 - q.0) / d, (p.1 - q.1) / d) } else { across };
             let s = ON_EDGE_MM;
@@ -163,9 +168,10 @@ impl ExactRegion {
             let r = w / 2.0;
             for (a, c) in b.near(p, reach + r) {
                 let m = nearest_on_segment(p, a, c);
-                let l = (p.0 - m.0).hypot(p.1 - m.1);
+                let (dx, dy) = (p.0 - m.0, p.1 - m.1);
+                let l = (dx * dx + dy * dy).sqrt();
                 if l > ON_EDGE_MM {
-                    let u = ((p.0 - m.0) / l, (p.1 - m.1) / l);
+                    let u = (dx / l, dy / l);
                     consider((m.0 + u.0 * r, m.1 + u.1 * r), u);
                 } else {
                     // `p` on the centre line: the edge is `r` away on either side.
