@@ -61,7 +61,7 @@ mod brute {
         for (l, w) in bands {
             for (a, c) in lines(l) {
                 let m = nearest_on_segment(p, a, c);
-                let len = (p.0 - m.0).hypot(p.1 - m.1);
+                let len = length(p.0 - m.0, p.1 - m.1);
                 let r = w / 2.0;
                 if len > ON_EDGE_MM {
                     let u = ((p.0 - m.0) / len, (p.1 - m.1) / len);
@@ -76,7 +76,7 @@ mod brute {
         candidates
             .into_iter()
             .filter_map(|(q, across)| {
-                let d = (p.0 - q.0).hypot(p.1 - q.1);
+                let d = length(p.0 - q.0, p.1 - q.1);
                 let u = if d > ON_EDGE_MM { ((p.0 - q.0) / d, (p.1 - q.1) / d) } else { across };
                 let s = ON_EDGE_MM;
                 let edge = covers(g, (q.0 + s * u.0, q.1 + s * u.1)) != covers(g, (q.0 - s * u.0, q.1 - s * u.1));
