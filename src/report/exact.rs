@@ -192,8 +192,8 @@ pub fn clamp_sum(d: f64) -> f64 {
 }
 
 /// The sum of `layers`' values at each actuator, in layer order, before
-/// [`clamp_sum`]: [`frame`]'s sums, so that frames of several groups of
-/// layers can be added.
+/// [`clamp_sum`] makes it the exact frame (the tests' `frame`), so that
+/// the sums of several groups of layers can be added first.
 pub fn frame_sum(layers: &[ExactLayer], profile: &DeviceProfile, tick: u64, x: f64, y: f64, out: &mut [f64]) {
     let (rows, cols) = (profile.rows as usize, profile.cols as usize);
     let (px, py) = (profile.pitch_x_mm as f64, profile.pitch_y_mm as f64);
