@@ -4,7 +4,9 @@
 //! When the rows measure an edge position error (distance layers), a second
 //! panel below draws it (the larger of the error at and away from corners,
 //! mm) against the same run time.
-//! Drawn with `plotters` into an RGB buffer and encoded by `image`; the text
+//! Point labels keep clear of every point and of each other (a label with
+//! no free spot is left out), and the legend's text is wrapped to its panel.
+//! Drawn with `plotters` into an RGB buffer and encoded as PNG; the text
 //! is DejaVu Sans, bundled in `assets/fonts/` (its licence is there), so the
 //! plot looks the same on every machine and needs no system font.
 
@@ -47,7 +49,22 @@ fn register_font() -> Result<()> {
 
 /// Draws the plot as PNG bytes; `title` goes on top.
 pub fn draw(rows: &[Row], title: &str) -> Result<Vec<u8>> {
+    Ok(layout(rows, title)?.0)
+}
+
+/// What [`draw`] drew where, in the picture's pixels: each panel's plotting
+/// area, the point labels' boxes, and the legend's text boxes.
+#[derive(Debug, Default)]
+struct Drawn {
+    areas: Vec<Boxed>,
+    labels: Vec<Boxed>,
+    legend: Vec<Boxed>,
+}
+
+/// The plot as PNG bytes, and where its labels went.
+fn layout(rows: &[Row], title: &str) -> Result<(Vec<u8>, Drawn)> {
     register_font()?;
+    let mut drawn = Drawn::default();
     let edges = rows.iter().any(|r| edge_mm(r).is_some());
     let height = if edges { 2 * H } else { H };
     let mut rgb = vec![0u8; (W * height * 3) as usize];
@@ -56,16 +73,16 @@ pub fn draw(rows: &[Row], title: &str) -> Result<Vec<u8>> {
         let fail = |e: DrawingAreaErrorKind<_>| anyhow!("cannot draw the plot: {e}");
         let (top, bottom) = root.split_vertically(H);
         let error_unit = rows.first().map_or("", |r| r.error_unit.as_str());
-        chart(&top, rows, title, &|r| Some(r.rms_error), &format!("RMS error ({error_unit}, log scale)"))
+        chart(&top, rows, title, &|r| Some(r.rms_error), &format!("RMS error ({error_unit}, log scale)"), &mut drawn)
             .map_err(fail)?;
         if edges {
             let title = format!("{title}: edge position error");
-            chart(&bottom, rows, &title, &edge_mm, "edge position error (mm, at or away from corners, log scale)")
-                .map_err(fail)?;
+            let y_desc = "edge position error (mm, at or away from corners, log scale)";
+            chart(&bottom, rows, &title, &edge_mm, y_desc, &mut drawn).map_err(fail)?;
         }
         root.present().map_err(fail)?;
     }
-    crate::io::png::encode(W, height, taxel_textform::png::ColorType::Rgb, &rgb)
+    Ok((crate::io::png::encode(W, height, taxel_textform::png::ColorType::Rgb, &rgb)?, drawn))
 }
 
 /// The larger of a row's edge position errors at and away from corners, mm.
@@ -84,9 +101,21 @@ struct Boxed {
     y1: i32,
 }
 
+/// Pixels kept clear round a label, so that two labels never touch.
+const LABEL_GAP: i32 = 3;
+
 impl Boxed {
     fn overlaps(&self, o: &Boxed) -> bool {
         self.x0 < o.x1 && o.x0 < self.x1 && self.y0 < o.y1 && o.y0 < self.y1
+    }
+
+    /// The box grown by `by` pixels on every side.
+    fn grown(&self, by: i32) -> Boxed {
+        Boxed { x0: self.x0 - by, y0: self.y0 - by, x1: self.x1 + by, y1: self.y1 + by }
+    }
+
+    fn within(&self, o: &Boxed) -> bool {
+        self.x0 >= o.x0 && self.y0 >= o.y0 && self.x1 <= o.x1 && self.y1 <= o.y1
     }
 }
 
@@ -96,6 +125,7 @@ fn chart(
     title: &str,
     value: &dyn Fn(&Row) -> Option<f64>,
     y_desc: &str,
+    drawn: &mut Drawn,
 ) -> DrawResult<()> {
     root.fill(&WHITE)?;
     // The rows that measured this value, with it as their error.
@@ -155,18 +185,22 @@ fn chart(
         }
     }
     let label_font: TextStyle = (FAMILY, 14).into_font().into();
+    // `backend_coord` and the plotting area are in the whole picture's
+    // pixels; `left` draws from its own top left corner.
     let area = chart.plotting_area().get_pixel_range();
+    let area = Boxed { x0: area.0.start, y0: area.1.start, x1: area.0.end, y1: area.1.end };
+    drawn.areas.push(area);
+    let base = left.get_base_pixel();
     for k in &kernels {
         let c = colour(k);
         for r in rows.iter().filter(|r| r.kernel == *k) {
             let text = number(r.setting);
             let (w, h) = left.estimate_text_size(&text, &label_font)?;
             let at = chart.backend_coord(&(clamp(r.run_ms, x_lo), clamp(r.rms_error, y_lo)));
-            if let Some(spot) =
-                place(at, (w as i32, h as i32), &taken, (area.0.start, area.1.start, area.0.end, area.1.end))
-            {
-                taken.push(spot);
-                placed.push((text, (spot.x0, spot.y0), c));
+            if let Some(spot) = place(at, (w as i32, h as i32), &taken, area) {
+                taken.push(spot.grown(LABEL_GAP));
+                drawn.labels.push(spot);
+                placed.push((text, (spot.x0 - base.0, spot.y0 - base.1), c));
             }
         }
     }
@@ -177,7 +211,7 @@ fn chart(
         left.draw(&Rectangle::new(ground, WHITE.mix(0.85).filled()))?;
         left.draw(&Text::new(text, at, label_font.color(&c)))?;
     }
-    legend(&right, &kernels, setting_unit)
+    legend(&right, &kernels, setting_unit, drawn)
 }
 
 /// Where a label of size `(w, h)` for the point at `at` goes: the first of
@@ -185,7 +219,7 @@ fn chart(
 /// corners, each at two distances) that stays inside `area` and clear of
 /// every box in `taken`; `None` when all are taken (the label is left out
 /// rather than drawn over another).
-fn place(at: (i32, i32), (w, h): (i32, i32), taken: &[Boxed], area: (i32, i32, i32, i32)) -> Option<Boxed> {
+fn place(at: (i32, i32), (w, h): (i32, i32), taken: &[Boxed], area: Boxed) -> Option<Boxed> {
     let (x, y) = at;
     let mut spots = Vec::new();
     for gap in [8, 20] {
@@ -200,34 +234,73 @@ fn place(at: (i32, i32), (w, h): (i32, i32), taken: &[Boxed], area: (i32, i32, i
             (x - gap - w, y + gap),
         ]);
     }
-    spots.into_iter().map(|(x0, y0)| Boxed { x0, y0, x1: x0 + w, y1: y0 + h }).find(|b| {
-        b.x0 >= area.0 && b.y0 >= area.1 && b.x1 <= area.2 && b.y1 <= area.3 && taken.iter().all(|t| !t.overlaps(b))
-    })
+    spots
+        .into_iter()
+        .map(|(x0, y0)| Boxed { x0, y0, x1: x0 + w, y1: y0 + h })
+        .find(|b| b.within(&area) && taken.iter().all(|t| !t.overlaps(b)))
 }
 
-/// The legend panel: one line per kernel, the default's ring, what the point labels are.
-fn legend(area: &DrawingArea<BitMapBackend<'_>, Shift>, kernels: &[&str], setting_unit: &str) -> DrawResult<()> {
-    let font = (FAMILY, 16).into_font();
-    let small = (FAMILY, 14).into_font();
+/// The legend panel: one line per kernel, the default's ring, what the
+/// point labels are, its text wrapped to the panel.
+fn legend(
+    area: &DrawingArea<BitMapBackend<'_>, Shift>,
+    kernels: &[&str],
+    setting_unit: &str,
+    drawn: &mut Drawn,
+) -> DrawResult<()> {
+    let font: TextStyle = (FAMILY, 16).into_font().into();
+    let small: TextStyle = (FAMILY, 14).into_font().into();
+    let base = area.get_base_pixel();
     let (x, mut y) = (12, 70);
-    area.draw(&Text::new("Kernels", (x, y - 30), font.clone()))?;
+    let mut text = |s: &str, at: (i32, i32), f: &TextStyle<'_>| -> DrawResult<()> {
+        let (w, h) = area.estimate_text_size(s, f)?;
+        let (x0, y0) = (base.0 + at.0, base.1 + at.1);
+        drawn.legend.push(Boxed { x0, y0, x1: x0 + w as i32, y1: y0 + h as i32 });
+        area.draw(&Text::new(s.to_string(), at, f.clone()))
+    };
+    text("Kernels", (x, y - 30), &font)?;
     for k in kernels {
         let c = colour(k);
         area.draw(&PathElement::new(vec![(x, y), (x + 34, y)], c.stroke_width(3)))?;
         area.draw(&Circle::new((x + 17, y), 4, c.filled()))?;
-        area.draw(&Text::new(k.to_string(), (x + 46, y - 9), font.clone()))?;
+        text(k, (x + 46, y - 9), &font)?;
         y += 28;
     }
     y += 12;
     area.draw(&Circle::new((x + 17, y), 4, BLACK.filled()))?;
     area.draw(&Circle::new((x + 17, y), 10, BLACK.stroke_width(2)))?;
-    area.draw(&Text::new("default setting", (x + 46, y - 9), font.clone()))?;
+    text("default setting", (x + 46, y - 9), &font)?;
     y += 40;
-    area.draw(&Text::new("Point labels: the setting", (x, y), small.clone()))?;
-    area.draw(&Text::new(format!("({setting_unit})"), (x, y + 18), small.clone()))?;
-    area.draw(&Text::new("Lower left is better: fast", (x, y + 48), small.clone()))?;
-    area.draw(&Text::new("and accurate.", (x, y + 66), small))?;
+    let width = LEGEND_W as i32 - 2 * x;
+    let paragraphs =
+        [format!("Point labels: the setting ({setting_unit})"), "Lower left is better: fast and accurate.".into()];
+    for p in &paragraphs {
+        for line in wrap(p, width, &|s| area.estimate_text_size(s, &small).map_or(0, |(w, _)| w as i32)) {
+            text(&line, (x, y), &small)?;
+            y += 18;
+        }
+        y += 12;
+    }
     Ok(())
+}
+
+/// `text` in lines of at most `width` pixels as `measure` measures them,
+/// broken between words (a word wider than a line has a line of its own).
+fn wrap(text: &str, width: i32, measure: &dyn Fn(&str) -> i32) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    let mut line = String::new();
+    for word in text.split_whitespace() {
+        let longer = if line.is_empty() { word.to_string() } else { format!("{line} {word}") };
+        if line.is_empty() || measure(&longer) <= width {
+            line = longer;
+        } else {
+            lines.push(std::mem::replace(&mut line, word.to_string()));
+        }
+    }
+    if !line.is_empty() {
+        lines.push(line);
+    }
+    lines
 }
 
 /// Whole decades around the values (at least one decade wide), as the axis range.
@@ -313,6 +386,76 @@ mod tests {
         assert!(lower.filter(|&(x, y)| rgb[(y * W + x) as usize] == [40, 110, 200]).count() > 20);
     }
 
+    /// Issue 46: on a ladder as crowded as `tala-map`'s (four kernels of
+    /// four rungs, the coarse rungs within a few ms of each other), every
+    /// point's label is drawn, whole, inside its panel, clear of every other
+    /// label; and the legend's text stays inside the picture.
+    #[test]
+    fn every_label_is_drawn_whole_and_none_overlaps() {
+        let unit = "mm lattice pitch of the distance layers (at most half a vibrating band's width)";
+        let mut rows = Vec::new();
+        for (k, ms, err, edge) in [
+            ("vibration", 25.0, 0.09, 0.0033),
+            ("grating", 36.0, 0.16, 0.006),
+            ("dots", 10.5, 0.035, f64::NAN),
+            ("all", 58.0, 0.18, 0.006),
+        ] {
+            for (setting, dms, derr, dedge) in
+                [(2.0, -1.5, 10.0, 11.0), (1.0, 1.0, 10.0, 11.0), (0.5, 0.0, 1.0, 1.0), (0.25, 12.0, 5.0, 7.0)]
+            {
+                let mut r = row(k, setting, ms + dms, err * derr, setting == 0.5);
+                r.unit = unit.into();
+                r.edge_error_mm = (!edge.is_nan()).then_some(edge * dedge);
+                rows.push(r);
+            }
+        }
+        let (png, drawn) = layout(&rows, "tala-map.svg on stress2").expect("plot");
+        let img = taxel_textform::png::read(&png).expect("decodes");
+        assert_eq!((img.width, img.height), (W, 2 * H));
+        // 16 points above, 12 below (the dots have no edge).
+        assert_eq!(drawn.labels.len(), 16 + 12, "{drawn:?}");
+        assert_eq!(drawn.areas.len(), 2);
+        for (i, a) in drawn.labels.iter().enumerate() {
+            assert!(drawn.areas.iter().any(|area| a.within(area)), "label {a:?} outside the panels {:?}", drawn.areas);
+            for b in &drawn.labels[i + 1..] {
+                assert!(!a.grown(LABEL_GAP).overlaps(b), "labels {a:?} and {b:?} touch");
+            }
+        }
+        let picture = Boxed { x0: (W - LEGEND_W) as i32, y0: 0, x1: W as i32, y1: (2 * H) as i32 };
+        assert!(drawn.legend.len() > 10, "{:?}", drawn.legend);
+        for t in &drawn.legend {
+            assert!(t.within(&picture), "legend text {t:?} outside its panel");
+        }
+    }
+
+    /// Each panel's label is drawn where it was placed: the lower panel's
+    /// too, whose area starts `H` pixels down the picture.
+    #[test]
+    fn labels_are_drawn_in_their_boxes_in_both_panels() {
+        let mut r = row("grating", 0.5, 20.0, 0.3, false);
+        r.edge_error_mm = Some(0.02);
+        let (png, drawn) = layout(&[r], "one point").expect("plot");
+        let rgb = taxel_textform::png::read(&png).expect("decodes").to_rgb8();
+        assert_eq!(drawn.labels.len(), 2, "{drawn:?}");
+        assert!(drawn.labels[1].y0 >= H as i32, "the lower panel's label: {drawn:?}");
+        for a in &drawn.labels {
+            // A lone point has no line: the only dark pixels in the box are its text's.
+            let dark = (a.y0..a.y1)
+                .flat_map(|y| (a.x0..a.x1).map(move |x| (x, y)))
+                .filter(|&(x, y)| rgb[(y as u32 * W + x as u32) as usize].iter().min().is_some_and(|&v| v < 150))
+                .count();
+            assert!(dark > 5, "no text in the label at {a:?}");
+        }
+    }
+
+    #[test]
+    fn wrapping_breaks_between_words_within_the_width() {
+        let measure = |s: &str| 10 * s.chars().count() as i32;
+        assert_eq!(wrap("aa bb cc", 50, &measure), ["aa bb", "cc"]);
+        assert_eq!(wrap("a verylongword b", 50, &measure), ["a", "verylongword", "b"]);
+        assert!(wrap("", 50, &measure).is_empty());
+    }
+
     #[test]
     fn decades_cover_the_values() {
         assert_eq!(decades([0.5, 30.0].into_iter()), (0.1, 100.0));
@@ -330,7 +473,7 @@ mod tests {
 
     #[test]
     fn labels_keep_clear_of_each_other_and_of_points() {
-        let area = (0, 0, 500, 500);
+        let area = Boxed { x0: 0, y0: 0, x1: 500, y1: 500 };
         let point = Boxed { x0: 95, y0: 95, x1: 105, y1: 105 };
         let first = place((100, 100), (20, 12), &[point], area).expect("room");
         assert_eq!(first, Boxed { x0: 108, y0: 94, x1: 128, y1: 106 }, "right of the point first");
