@@ -275,32 +275,14 @@ fn legend(
     let paragraphs =
         [format!("Point labels: the setting ({setting_unit})"), "Lower left is better: fast and accurate.".into()];
     for p in &paragraphs {
-        for line in wrap(p, width, &|s| area.estimate_text_size(s, &small).map_or(0, |(w, _)| w as i32)) {
+        let measure = |s: &str| area.estimate_text_size(s, &small).map_or(0, |(w, _)| w as usize);
+        for line in taxel_compiler::style::wrap(p, width as usize, &measure) {
             text(&line, (x, y), &small)?;
             y += 18;
         }
         y += 12;
     }
     Ok(())
-}
-
-/// `text` in lines of at most `width` pixels as `measure` measures them,
-/// broken between words (a word wider than a line has a line of its own).
-fn wrap(text: &str, width: i32, measure: &dyn Fn(&str) -> i32) -> Vec<String> {
-    let mut lines: Vec<String> = Vec::new();
-    let mut line = String::new();
-    for word in text.split_whitespace() {
-        let longer = if line.is_empty() { word.to_string() } else { format!("{line} {word}") };
-        if line.is_empty() || measure(&longer) <= width {
-            line = longer;
-        } else {
-            lines.push(std::mem::replace(&mut line, word.to_string()));
-        }
-    }
-    if !line.is_empty() {
-        lines.push(line);
-    }
-    lines
 }
 
 /// Whole decades around the values (at least one decade wide), as the axis range.
@@ -446,14 +428,6 @@ mod tests {
                 .count();
             assert!(dark > 5, "no text in the label at {a:?}");
         }
-    }
-
-    #[test]
-    fn wrapping_breaks_between_words_within_the_width() {
-        let measure = |s: &str| 10 * s.chars().count() as i32;
-        assert_eq!(wrap("aa bb cc", 50, &measure), ["aa bb", "cc"]);
-        assert_eq!(wrap("a verylongword b", 50, &measure), ["a", "verylongword", "b"]);
-        assert!(wrap("", 50, &measure).is_empty());
     }
 
     #[test]

@@ -52,6 +52,9 @@ mod ticks;
 
 pub use adjacency::{Neighbours, Region, abutting, abutting_alike, class_edges, colour, touching};
 pub use decide::{plan, plan_measured};
+/// Text broken into lines at spaces, as the key pages break theirs (also
+/// the report plot's legend).
+pub use key_page::wrap;
 pub use keys::{KeyCode, key_line, label_text};
 pub use legend::{Legend, legend};
 pub use notes::{fill_name, nothing_made, summary};
