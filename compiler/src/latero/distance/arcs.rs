@@ -77,6 +77,9 @@ pub(super) fn circles(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Vec<(
     for (k, w) in t.cut_widths().into_iter().enumerate() {
         circles_of(t, exact, Part::Cut(k), &[-w / 2.0, w / 2.0], None, &mut out);
     }
+    // A circle painted over the layer (a map's town on a grated region):
+    // the hole it makes.
+    circles_of(t, exact, Part::Occluder, &[0.0], None, &mut out);
     out
 }
 
