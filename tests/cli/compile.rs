@@ -86,7 +86,8 @@ fn build_is_deterministic_and_preview_draws_drawings_and_bundles() {
         // 100 x 60 mm page on the 110 x 60 surface, 8 mm margins, 8 px/mm.
         assert_eq!((img.width, img.height), ((110 + 16) * 8, (60 + 16) * 8));
         // Grating stripes inside the box: along y (angle 0) the colour changes, along x it does not.
-        let px = |x: f64, y: f64| img.pixel(((x + 8.0) * 8.0) as u32, ((y + 8.0) * 8.0) as u32);
+        let px =
+            |x: f64, y: f64| img.pixel(((x + 8.0) * 8.0) as u32, ((y + 8.0) * 8.0) as u32).expect("on the preview");
         assert_eq!(px(20.0, 24.0), px(30.0, 24.0));
         assert_ne!(px(20.0, 24.0), px(20.0, 27.0));
         // Far from every layer the surface stays light.

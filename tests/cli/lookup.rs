@@ -140,7 +140,7 @@ fn unpack_draws_each_distance_layer_as_the_amplitude_it_plays() {
     let origin = (v["origin_x_mm"].as_float().unwrap(), v["origin_y_mm"].as_float().unwrap());
     let px = |x: f64, y: f64| {
         let (i, j) = (((x - origin.0) * 10.0).floor() as u32, ((y - origin.1) * 10.0).floor() as u32);
-        img.pixel(i, j)[0]
+        img.pixel(i, j).expect("in the mask")[0]
     };
     assert!(px(33.0, 16.5) >= 250, "on the border: {}", px(33.0, 16.5));
     assert_eq!(px(25.0, 15.0), 0, "inside ash province");

@@ -38,11 +38,15 @@ impl Image {
         self.color.samples()
     }
 
-    /// The 8-bit samples of pixel `(x, y)` (16-bit samples by their high byte).
-    pub fn pixel(&self, x: u32, y: u32) -> Vec<u8> {
+    /// The 8-bit samples of pixel `(x, y)` (16-bit samples by their high
+    /// byte), or `None` outside the image.
+    pub fn pixel(&self, x: u32, y: u32) -> Option<Vec<u8>> {
+        if x >= self.width || y >= self.height {
+            return None;
+        }
         let (c, wide) = (self.channels(), usize::from(self.depth == BitDepth::Sixteen) + 1);
         let at = ((y as usize * self.width as usize) + x as usize) * c * wide;
-        (0..c).map(|k| self.data[at + k * wide]).collect()
+        (0..c).map(|k| self.data.get(at + k * wide).copied()).collect()
     }
 
     /// Each pixel as one gray byte: gray as it is, colour by its luma
@@ -181,7 +185,8 @@ mod tests {
             write(2, 1, ColorType::Rgba, BitDepth::Eight, &[255, 0, 0, 9, 10, 20, 30, 255], Compression::Fast).unwrap();
         let image = read(&rgba).unwrap();
         assert_eq!((image.width, image.height, image.channels()), (2, 1, 4));
-        assert_eq!(image.pixel(1, 0), [10, 20, 30, 255]);
+        assert_eq!(image.pixel(1, 0), Some(vec![10, 20, 30, 255]));
+        assert_eq!((image.pixel(2, 0), image.pixel(0, 1)), (None, None));
         assert_eq!(image.to_rgb8(), [[255, 0, 0], [10, 20, 30]]);
         // Rec. 709: 0.2126 of red; 0.2126 * 10 + 0.7152 * 20 + 0.0722 * 30 = 18.6.
         assert_eq!(image.to_gray8(), [54, 19]);
@@ -189,7 +194,7 @@ mod tests {
             read(&write(1, 1, ColorType::Grayscale, BitDepth::Sixteen, &[0x12, 0x34], Compression::Fast).unwrap())
                 .unwrap();
         assert_eq!(
-            (gray16.pixel(0, 0), gray16.to_gray8(), gray16.to_rgb8()),
+            (gray16.pixel(0, 0).unwrap(), gray16.to_gray8(), gray16.to_rgb8()),
             (vec![0x12], vec![0x12], vec![[0x12; 3]])
         );
     }
