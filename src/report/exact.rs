@@ -51,14 +51,43 @@ impl Region {
     /// the exact signed distance `d` (positive where the region is felt).
     /// A ramp of 0 is the ideal step: 1 where the region covers `p`, else 0.
     pub fn edge_profile(&self, p: (f64, f64), ramp: f64) -> f64 {
-        let here = self.exact.covers(p);
-        if ramp > 0.0
-            && let Some(d) = self.exact.distance_to_edge_within(p, ramp / 2.0)
-        {
-            let d = if here { d } else { -d };
+        self.edge_sample(p, ramp / 2.0).profile(ramp)
+    }
+
+    /// What [`Region::edge_profile`] needs at `p` for any ramp up to
+    /// `2 reach` mm wide: the coverage, and the distance to the edge where it
+    /// is less than `reach`. The distances are most of a report's time, and
+    /// the same at every rung: only the ramp changes.
+    pub fn edge_sample(&self, p: (f64, f64), reach: f64) -> EdgeSample {
+        let covers = self.exact.covers(p);
+        let distance = self.exact.distance_to_edge_within(p, reach).unwrap_or(f64::INFINITY);
+        EdgeSample { covers, distance }
+    }
+}
+
+/// Where a place stands against a region's edge ([`Region::edge_sample`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EdgeSample {
+    /// Whether the region covers the place.
+    pub covers: bool,
+    /// Its distance to the region's edge, mm, where less than the reach it
+    /// was sampled with; else infinite.
+    pub distance: f64,
+}
+
+impl EdgeSample {
+    /// The edge profile for a ramp `ramp` mm wide, at most twice the reach
+    /// the sample was taken with: SPEC.md section 6.2's `clamp(½ + d / ramp,
+    /// 0, 1)` of the signed distance `d`; the ideal step for a ramp of 0
+    /// (or NaN), and beyond half the ramp. The same as the distance within
+    /// half the ramp: the nearest edge point found within a larger reach is
+    /// the one found within a smaller reach, when it lies within that.
+    pub fn profile(&self, ramp: f64) -> f64 {
+        if ramp > 0.0 && self.distance < ramp / 2.0 {
+            let d = if self.covers { self.distance } else { -self.distance };
             return (0.5 + d / ramp).clamp(0.0, 1.0);
         }
-        if here { 1.0 } else { 0.0 }
+        if self.covers { 1.0 } else { 0.0 }
     }
 }
 
@@ -180,7 +209,7 @@ pub fn dot_profile(r: f64) -> f64 {
 /// section 3.4), in the runtime's index order `cols · row + col`.
 #[cfg(test)]
 pub fn frame(layers: &[ExactLayer], profile: &DeviceProfile, tick: u64, x: f64, y: f64, out: &mut [f64]) {
-    frame_sum(layers, profile, tick, x, y, out);
+    frame_sum(layers, &[], profile, tick, x, y, out);
     for o in out.iter_mut() {
         *o = clamp_sum(*o);
     }
@@ -193,8 +222,20 @@ pub fn clamp_sum(d: f64) -> f64 {
 
 /// The sum of `layers`' values at each actuator, in layer order, before
 /// [`clamp_sum`] makes it the exact frame (the tests' `frame`), so that
-/// the sums of several groups of layers can be added first.
-pub fn frame_sum(layers: &[ExactLayer], profile: &DeviceProfile, tick: u64, x: f64, y: f64, out: &mut [f64]) {
+/// the sums of several groups of layers can be added first. Where
+/// `samples[i]` is given, it holds layer `i`'s [`EdgeSample`] of each
+/// actuator (in the runtime's index order), taken with a reach of at least
+/// half the layer's ramp, and the layer's edge is read from it rather than
+/// measured again.
+pub fn frame_sum(
+    layers: &[ExactLayer],
+    samples: &[Option<&[EdgeSample]>],
+    profile: &DeviceProfile,
+    tick: u64,
+    x: f64,
+    y: f64,
+    out: &mut [f64],
+) {
     let (rows, cols) = (profile.rows as usize, profile.cols as usize);
     let (px, py) = (profile.pitch_x_mm as f64, profile.pitch_y_mm as f64);
     let (sw, sh) = (profile.surface_w_mm as f64, profile.surface_h_mm as f64);
@@ -211,10 +252,15 @@ pub fn frame_sum(layers: &[ExactLayer], profile: &DeviceProfile, tick: u64, x: f
                 continue;
             }
             let mut d = 0.0;
-            for layer in layers {
+            for (i, layer) in layers.iter().enumerate() {
+                let sampled = samples.get(i).copied().flatten().and_then(|s| s.get(row * cols + col));
+                let edge_of = |region: &Region, ramp: f64| match sampled {
+                    Some(s) => s.profile(ramp),
+                    None => region.edge_profile((ax, ay), ramp),
+                };
                 d += match layer {
                     ExactLayer::Vibration { region, freq_hz, amplitude, ramp_mm, .. } => {
-                        let edge = region.edge_profile((ax, ay), *ramp_mm);
+                        let edge = edge_of(region, *ramp_mm);
                         if edge == 0.0 {
                             continue;
                         }
@@ -223,7 +269,7 @@ pub fn frame_sum(layers: &[ExactLayer], profile: &DeviceProfile, tick: u64, x: f
                         amplitude * edge * v
                     }
                     ExactLayer::Grating { region, wavelength_mm, angle_deg, amplitude, ramp_mm, .. } => {
-                        let edge = region.edge_profile((ax, ay), *ramp_mm);
+                        let edge = edge_of(region, *ramp_mm);
                         if edge == 0.0 {
                             continue;
                         }
@@ -333,6 +379,37 @@ mod tests {
     /// SPEC.md 6.2's edge profile of the exact distance: `½ + d / ramp`
     /// within half a ramp of an edge, saturated beyond, a step for ramp 0;
     /// a side two fills of one style share is no edge.
+    /// A sample taken for the widest ramp gives, at every narrower ramp
+    /// (the finer rungs of the ladder), the very profile measured afresh:
+    /// on points swept across a fill's side, past its corner, and across
+    /// a band's edges, at reaches from far wider than the ramp to exactly
+    /// half of it.
+    #[test]
+    fn a_sample_for_a_wide_ramp_gives_every_narrower_ramp_s_profile() {
+        let sq = [Polyline { points: vec![(30.0, 20.0), (50.0, 20.0), (50.0, 40.0), (30.0, 40.0)], closed: true }];
+        let regions = [fill(&[(&sq, FillRule::NonZero)], &[]), band(vec![&sq], 1.5)];
+        let ramps = [2.0, 1.0, 0.5, 0.25, 0.008, 0.0];
+        let mut compared = 0;
+        for region in &regions {
+            for k in 0..=400 {
+                // Across the left side (and the band's two edges), and diagonally past the corner.
+                let t = -2.0 + 4.0 * k as f64 / 400.0;
+                for p in [(30.0 + t, 30.0 + t / 7.0), (30.0 + t, 20.0 + t)] {
+                    for (w, &wide) in ramps.iter().enumerate() {
+                        let sample = region.edge_sample(p, wide / 2.0);
+                        for &ramp in &ramps[w..] {
+                            let (kept, fresh) = (sample.profile(ramp), region.edge_profile(p, ramp));
+                            assert_eq!(kept.to_bits(), fresh.to_bits(), "{p:?}: ramp {ramp} from {wide}");
+                            compared += usize::from(fresh > 0.0 && fresh < 1.0);
+                        }
+                    }
+                }
+            }
+        }
+        // Many of the points are on a ramp, where the distance counts.
+        assert!(compared > 500, "{compared}");
+    }
+
     #[test]
     fn edge_profile_ramps_across_the_exact_edge_only() {
         let sq = |x0: f64| Polyline {

@@ -157,7 +157,23 @@ pub struct Prepared {
     pub notes: Vec<String>,
     /// [`Prepared::places`] of each kernel asked so far.
     places: std::sync::Mutex<std::collections::HashMap<String, std::sync::Arc<Vec<Place>>>>,
+    /// [`Prepared::edge_samples`] of each reference layer (by its index in
+    /// `reference`) taken so far.
+    edges: std::sync::Mutex<std::collections::HashMap<usize, std::sync::Arc<Sampled>>>,
 }
+
+/// A reference layer's [`exact::EdgeSample`] at every compared actuator
+/// (frame-major, as the frames), taken with `reach`.
+#[derive(Debug)]
+struct Sampled {
+    reach: f64,
+    samples: Vec<exact::EdgeSample>,
+}
+
+/// At most this many edge samples are kept between rungs (16 bytes each:
+/// 128 MiB), so that a report on a map of many layers does not hold all of
+/// them; the layers past it are measured afresh at each rung, as they were.
+const MAX_KEPT_SAMPLES: usize = 1 << 23;
 
 /// What one bundle measured against the reference.
 #[derive(Debug, Clone)]
@@ -225,7 +241,17 @@ impl Prepared {
         }
         let surface = (profile.surface_w_mm as f64, profile.surface_h_mm as f64);
         let outlines = reference.iter().map(|l| region_of(l).map(|r| edge::Outline::new(r, surface))).collect();
-        Ok(Prepared { profile, reference, outlines, trace, positions, eval, notes, places: Default::default() })
+        Ok(Prepared {
+            profile,
+            reference,
+            outlines,
+            trace,
+            positions,
+            eval,
+            notes,
+            places: Default::default(),
+            edges: Default::default(),
+        })
     }
 
     /// Reference frames (δ in 0..=1, actuator-major per frame) of `kernel`'s
@@ -289,26 +315,66 @@ impl Prepared {
                 _ => None,
             })
         };
-        let layers: Vec<ExactLayer> = self
+        let (indices, layers): (Vec<usize>, Vec<ExactLayer>) = self
             .reference
             .iter()
-            .filter(|l| kernel == "all" || exact_kind(l) == kernel)
-            .map(|l| {
+            .enumerate()
+            .filter(|(_, l)| kernel == "all" || exact_kind(l) == kernel)
+            .map(|(i, l)| {
                 let mut l = l.clone();
                 let r = ramp(&l).unwrap_or(0.0);
                 if let ExactLayer::Vibration { ramp_mm, .. } | ExactLayer::Grating { ramp_mm, .. } = &mut l {
                     *ramp_mm = r;
                 }
-                l
+                (i, l)
             })
-            .collect();
+            .unzip();
+        let sampled: Vec<Option<std::sync::Arc<Sampled>>> =
+            indices.iter().zip(&layers).map(|(&i, l)| self.edge_samples(i, l)).collect();
         let n = self.profile.actuator_count();
         let mut frames = vec![0.0; self.eval.len() * n];
         // Each frame on its own: the frames are the same on any number of threads.
-        frames.par_chunks_mut(n.max(1)).zip(&self.eval).for_each(|(out, &(tick, x, y))| {
-            exact::frame_sum(&layers, &self.profile, tick, x, y, out);
+        frames.par_chunks_mut(n.max(1)).zip(&self.eval).enumerate().for_each(|(f, (out, &(tick, x, y)))| {
+            let mine: Vec<Option<&[exact::EdgeSample]>> =
+                sampled.iter().map(|s| s.as_ref().and_then(|s| s.samples.get(f * n..(f + 1) * n))).collect();
+            exact::frame_sum(&layers, &mine, &self.profile, tick, x, y, out);
         });
         frames
+    }
+
+    /// The [`exact::EdgeSample`] of `layer` (reference layer `index`, with
+    /// its ramp for this bundle) at every compared actuator: taken once, with
+    /// a reach of half the ramp, and kept for every later rung whose ramp is
+    /// no wider (the ladder runs coarse to fine); `None` for dots, or where
+    /// keeping them would pass [`MAX_KEPT_SAMPLES`].
+    fn edge_samples(&self, index: usize, layer: &ExactLayer) -> Option<std::sync::Arc<Sampled>> {
+        let (region, ramp) = match layer {
+            ExactLayer::Vibration { region, ramp_mm, .. } | ExactLayer::Grating { region, ramp_mm, .. } => {
+                (region, *ramp_mm)
+            }
+            ExactLayer::Dots(_) => return None,
+        };
+        // (A ramp of 0 or NaN is the ideal step: the coverage alone.)
+        let reach = if ramp > 0.0 { ramp / 2.0 } else { 0.0 };
+        let mut known = self.edges.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(s) = known.get(&index).filter(|s| s.reach >= reach) {
+            return Some(s.clone());
+        }
+        let n = self.profile.actuator_count();
+        let held: usize = known.iter().filter(|(i, _)| **i != index).map(|(_, s)| s.samples.len()).sum();
+        if held.saturating_add(self.eval.len().saturating_mul(n)) > MAX_KEPT_SAMPLES {
+            return None;
+        }
+        let samples: Vec<exact::EdgeSample> = self
+            .eval
+            .par_iter()
+            .flat_map_iter(|&(_, x, y)| {
+                (0..n).map(move |k| region.edge_sample(actuator(&self.profile, x, y, k), reach))
+            })
+            .collect();
+        let sampled = std::sync::Arc::new(Sampled { reach, samples });
+        known.insert(index, sampled.clone());
+        Some(sampled)
     }
 
     /// Where each compared actuator of `kernel` stands against the exact

@@ -8,7 +8,7 @@
 //! of their boxes ([`BoxIndex`]), so a query looks only at the segments
 //! near the point.
 
-use crate::geometry::{Crossings, FillRule, Polyline, SideRows, distance_to_segment};
+use crate::geometry::{Crossings, FillRule, Polyline, SideRows, offset_to_segment};
 use crate::spatial::{Bbox, BoxIndex};
 
 use super::LayerGeometry;
@@ -405,9 +405,13 @@ impl Outlines {
         found.chain(if all { &self.segs[..] } else { &[] }.iter().copied())
     }
 
-    /// Whether `p` is within `r` mm of a segment.
+    /// Whether `p` is within `r` mm of a segment (its distance as
+    /// [`length`] measures it, as the distances to the edge are).
     fn within(&self, p: (f64, f64), r: f64) -> bool {
-        self.near(p, r).any(|(a, b)| distance_to_segment(p, a, b) <= r)
+        self.near(p, r).any(|(a, b)| {
+            let e = offset_to_segment(p, a, b);
+            length(e.0, e.1) <= r
+        })
     }
 }
 

@@ -23,6 +23,7 @@ fn square(x: f64, y: f64, s: f64) -> Polyline {
 /// The region's definitions over every segment, with no index.
 mod brute {
     use super::*;
+    use crate::geometry::distance_to_segment;
 
     fn sides(pls: &[Polyline]) -> Vec<Segment> {
         pls.iter()
