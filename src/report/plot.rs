@@ -14,6 +14,7 @@ use std::sync::OnceLock;
 
 use anyhow::{Result, anyhow};
 use plotters::coord::Shift;
+use plotters::coord::combinators::WithKeyPoints;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
@@ -143,7 +144,7 @@ fn chart(
         .margin(16)
         .x_label_area_size(52)
         .y_label_area_size(78)
-        .build_cartesian_2d((x_lo..x_hi).log_scale(), (y_lo..y_hi).log_scale())?;
+        .build_cartesian_2d(log_axis(x_lo, x_hi), log_axis(y_lo, y_hi))?;
     chart
         .configure_mesh()
         .x_desc("run time: compile + play the trace (ms, log scale)")
@@ -296,6 +297,41 @@ fn decades(v: impl Iterator<Item = f64>) -> (f64, f64) {
     (10f64.powf(a), 10f64.powf(b))
 }
 
+/// A log-scale axis over `lo..hi` (decades, from [`decades`]) with its
+/// own ticks: a label at every decade, and at 2, 3 and 5 times the lower
+/// one where the axis spans a single decade; light grid lines at the other
+/// whole multiples. plotters' own ticks for one decade gave its top twice,
+/// as the last light tick and the next bold one ("100" drawn over itself).
+fn log_axis(lo: f64, hi: f64) -> WithKeyPoints<LogCoord<f64>> {
+    let (bold, light) = log_ticks(lo, hi);
+    (lo..hi).log_scale().with_key_points(bold).with_light_points(light)
+}
+
+/// The labelled and the light ticks of [`log_axis`], each in increasing
+/// order, none twice, none in both, all within `lo..=hi`.
+fn log_ticks(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
+    let (a, b) = (lo.log10().round(), hi.log10().round());
+    // (Bounded: a plot's decades come from finite, positive values.)
+    let (a, b) = (a.clamp(-300.0, 300.0) as i32, b.clamp(-300.0, 300.0) as i32);
+    let single = b - a <= 1;
+    let (mut bold, mut light) = (Vec::new(), Vec::new());
+    for k in a..=b {
+        let decade = 10f64.powi(k);
+        for m in 1..=9 {
+            let v = f64::from(m) * decade;
+            if v < lo * (1.0 - 1e-9) || v > hi * (1.0 + 1e-9) {
+                continue;
+            }
+            if m == 1 || (single && matches!(m, 2 | 3 | 5)) {
+                bold.push(v);
+            } else {
+                light.push(v);
+            }
+        }
+    }
+    (bold, light)
+}
+
 /// A number as a person writes it on an axis: no trailing zeros, no exponent
 /// between 0.001 and 10⁶.
 fn number(v: f64) -> String {
@@ -435,6 +471,40 @@ mod tests {
         assert_eq!(decades([0.5, 30.0].into_iter()), (0.1, 100.0));
         assert_eq!(decades([3.0].into_iter()), (1.0, 10.0));
         assert_eq!(decades(std::iter::empty()), (1.0, 10.0));
+    }
+
+    /// Every labelled tick once, in order, at every decade; on a single
+    /// decade also at 2, 3 and 5 times its foot; the light ticks apart from
+    /// them; all within the axis. (plotters' own ticks on 10..100 had 100
+    /// twice.)
+    #[test]
+    fn log_axes_label_each_tick_once() {
+        use plotters::coord::ranged1d::{BoldPoints, LightPoints};
+        for (lo, hi) in [(10.0, 100.0), (1.0, 100.0), (0.001, 10.0), (0.1, 1.0), (1.0, 1e6)] {
+            let (bold, light) = log_ticks(lo, hi);
+            let axis = log_axis(lo, hi);
+            // What plotters labels, and draws its bold lines at; the light lines.
+            assert_eq!(axis.key_points(BoldPoints(100)), bold, "{lo}..{hi}");
+            assert_eq!(axis.key_points(LightPoints::new(100, 100)), light, "{lo}..{hi}");
+            assert!(
+                bold.windows(2).all(|w| w[0] < w[1]) && light.windows(2).all(|w| w[0] < w[1]),
+                "{bold:?} {light:?}"
+            );
+            assert!(light.iter().all(|l| !bold.contains(l)), "{bold:?} {light:?}");
+            assert!(bold.iter().chain(&light).all(|&v| v >= lo * 0.999_999 && v <= hi * 1.000_001), "{lo}..{hi}");
+            let decades = (hi / lo).log10().round() as usize;
+            let labels: Vec<String> = bold.iter().map(|&v| number(v)).collect();
+            let mut once = labels.clone();
+            once.dedup();
+            assert_eq!(once, labels, "{lo}..{hi}");
+            if decades == 1 {
+                assert_eq!(labels, [lo, 2.0 * lo, 3.0 * lo, 5.0 * lo, hi].map(number), "{lo}..{hi}");
+                assert_eq!(light.len(), 5, "{light:?}");
+            } else {
+                assert_eq!(bold.len(), decades + 1, "{labels:?}");
+                assert_eq!(light.len(), 8 * decades, "{light:?}");
+            }
+        }
     }
 
     #[test]
