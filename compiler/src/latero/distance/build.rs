@@ -9,7 +9,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use rayon::prelude::*;
 
 use taxel_format::{
-    DISTANCE_ZERO, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE, TILE_SAMPLES, TILE_SIDE, TilePlane,
+    DISTANCE_ZERO, TILE_CELLS, TILE_FIRST_STORED, TILE_INSIDE, TILE_OUTSIDE, TILE_PLANE, TILE_RIDGE, TILE_SAMPLES,
+    TILE_SIDE, TilePlane,
 };
 
 use super::near::{self, Near};
@@ -111,6 +112,15 @@ fn build_united_inner(
     build.refine(&mut outs);
     if build.stopped.load(Ordering::Relaxed) {
         return Some(Err(OverBudget));
+    }
+    // Stored samples that saturate on one side play as the constant (tiles
+    // kept for a fill's vertex that no other kind played, refined or not).
+    for out in &mut outs {
+        if let TileOut::Samples(buf) | TileOut::Refinable(buf, _) = out
+            && let Some(constant) = build.saturated(buf)
+        {
+            *out = TileOut::Constant(constant);
+        }
     }
     let (tiles, planes, samples) = number(outs, cols * rows)?;
     Some(Ok(Field {
@@ -383,6 +393,44 @@ impl<'a, 'g> Build<'a, 'g> {
         self.clip_bits.iter().all(|b| b[k])
     }
 
+    /// Whether a vertex of a fill's outline (an end of a segment of
+    /// `bucket`) lies inside the tile from `corner`: there the layer's edge
+    /// turns, and may enter the tile between its samples while every sample
+    /// is beyond the ramp on one side (a province's corner tip). A straight
+    /// edge that crosses the tile leaves samples on both sides, and a band's
+    /// joins and caps, at least a pitch in radius (a band's lattice is at
+    /// most half its width), always hold a sample.
+    fn fill_vertex_in(&self, bucket: &[u32], corner: (f64, f64)) -> bool {
+        let side = self.s.h * TILE_CELLS as f64;
+        let inside = |p: (f64, f64)| p.0 > corner.0 && p.0 < corner.0 + side && p.1 > corner.1 && p.1 < corner.1 + side;
+        bucket
+            .iter()
+            .filter_map(|&k| self.segs.get(k as usize))
+            .any(|&((a, b), part, _)| matches!(part, Part::Fill) && (inside(a) || inside(b)))
+    }
+
+    /// The constant tile that samples `buf` play, where every one saturates
+    /// the edge profile on the same side.
+    fn saturated(&self, buf: &[u8; TILE_SAMPLES]) -> Option<u32> {
+        if buf.iter().all(|&v| v >= self.full) {
+            Some(TILE_INSIDE)
+        } else if buf.iter().all(|&v| v <= self.none) {
+            Some(TILE_OUTSIDE)
+        } else {
+            None
+        }
+    }
+
+    /// Whether plane `rec` plays `constant` (inside or outside) over its
+    /// whole tile: saturated on that side at the four corners.
+    fn plane_saturated(&self, rec: &TilePlane, constant: u32) -> bool {
+        let side = TILE_CELLS as f64;
+        [(0.0, 0.0), (side, 0.0), (0.0, side), (side, side)].iter().all(|&(u, w)| {
+            let v = rec.affine(u, w);
+            if constant == TILE_INSIDE { v >= self.sat.hi } else { v <= self.sat.lo }
+        })
+    }
+
     /// Whether the page's edge lies within the reach of tile `(c, r)`.
     fn page_edge_near(&self, c: usize, r: usize) -> bool {
         let (pg, reach) = (self.s.page, self.s.reach);
@@ -422,11 +470,16 @@ impl<'a, 'g> Build<'a, 'g> {
             });
         }
         let (tile_buf, exact) = self.measure(near, bucket, corner, (c, r));
-        if tile_buf.iter().all(|&v| v >= self.full) {
-            return TileOut::Constant(TILE_INSIDE);
-        }
-        if tile_buf.iter().all(|&v| v <= self.none) {
-            return TileOut::Constant(TILE_OUTSIDE);
+        // Saturated samples play as a constant tile, unless a fill's vertex
+        // lies in the tile, whose corner may poke in between them (a
+        // province's corner tip): there the tile is written as any other,
+        // and stays constant where no kind but stored samples or a plane
+        // saturated over it, which play as the constant, plays it.
+        let saturated = self.saturated(&tile_buf);
+        if let Some(constant) = saturated
+            && !self.fill_vertex_in(bucket, corner)
+        {
+            return TileOut::Constant(constant);
         }
         let Tiles { origin: (ox, oy), side, rows, .. } = self.s.tiles;
         let ny = self.ny;
@@ -463,7 +516,16 @@ impl<'a, 'g> Build<'a, 'g> {
                 }
             }),
         };
-        self.write(&tile, centres, &exact, tile_buf, refine)
+        match (self.write(&tile, centres, &exact, tile_buf, refine), saturated) {
+            // A plane saturated at the tile's four corners is saturated
+            // over it (an affine function's extremes are at the corners).
+            (TileOut::Record(entry, rec), Some(constant))
+                if entry & TILE_RIDGE == TILE_PLANE && self.plane_saturated(&rec, constant) =>
+            {
+                TileOut::Constant(constant)
+            }
+            (out, _) => out,
+        }
     }
 
     /// The codes of tile `(c, r)`'s samples (of its `bucket`, from its

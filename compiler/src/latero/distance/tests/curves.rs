@@ -339,3 +339,37 @@ fn a_grating_s_wedge_inside_a_cut_outline_is_a_corner_tile() {
     );
     assert_amplitude_exact_round(&g, p, &f, q);
 }
+
+/// `tala-map`'s ash province and its key swatch, one grated layer, at the
+/// 0.25 mm rung: the province's east corner (a 74° tip at (31.02, 26.69))
+/// pokes into a tile between its samples, which all lie beyond the hard
+/// edge's ramp, outside, and the tile was written as outside: the tip was
+/// not felt (a corner edge error of 0.047 mm, one actuator off by 896
+/// steps). A tile holding a fill's vertex is written as any other: the
+/// amplitude round the tip is the exact distance's, and where the exact
+/// edge is farther than the writer's tolerance (0.03 mm), the tip is felt.
+#[test]
+fn a_province_s_corner_tip_between_a_tile_s_samples_is_felt() {
+    let ash = [
+        Polyline { points: vec![(7.55, 25.27), (9.58, 10.34), (26.89, 6.73), (31.02, 26.69)], closed: true },
+        ring((17.0, 18.0), 5.0, 720),
+    ];
+    let key = [square(73.0, 14.0, 8.0)];
+    let g = LayerGeometry { fills: vec![(&ash, FillRule::EvenOdd), (&key, FillRule::NonZero)], ..Default::default() };
+    let p = params(0.25, 0.0);
+    let f = build_field(&g, p).expect("a field");
+    let v: (f64, f64) = (31.02, 26.69);
+    // Into the province along the corner's bisector, and round it.
+    let (a, b): ((f64, f64), (f64, f64)) = ((26.89 - v.0, 6.73 - v.1), (7.55 - v.0, 25.27 - v.1));
+    let (la, lb) = (a.0.hypot(a.1), b.0.hypot(b.1));
+    let bis = (a.0 / la + b.0 / lb, a.1 / la + b.1 / lb);
+    let bis = (bis.0 / bis.0.hypot(bis.1), bis.1 / bis.0.hypot(bis.1));
+    let mut felt = 0;
+    for t in [0.02, 0.03, 0.04, 0.05, 0.06, 0.08, 0.1, 0.15, 0.2] {
+        let q = (v.0 + t * bis.0, v.1 + t * bis.1);
+        let (d, e) = (field_distance(&f, 0.25, q).expect("in the lattice"), exact_signed_distance(&g, p.page, q));
+        assert!((d - e).abs() <= 0.03, "{t} mm in, {q:?}: field {d}, exact {e}");
+        felt += usize::from(d > 0.0);
+    }
+    assert!(felt >= 7, "{felt}");
+}
