@@ -385,9 +385,40 @@ impl Prepared {
         if let Some(p) = known.get(kernel) {
             return p.clone();
         }
+        let n = self.profile.actuator_count();
+        if kernel == "all" {
+            // Near an edge of any layer, else near a corner of any, else far:
+            // each kind's places, already found or found now, combined.
+            drop(known);
+            let kinds: Vec<std::sync::Arc<Vec<Place>>> = ["vibration", "grating", "dots"]
+                .into_iter()
+                .filter(|k| !self.kernel_layers(k).is_empty())
+                .map(|k| self.places(k))
+                .collect();
+            let places: Vec<Place> = (0..self.eval.len() * n)
+                .map(|i| {
+                    let mut at = kinds.iter().filter_map(|p| p.get(i).copied());
+                    let (mut edge, mut corner) = (false, false);
+                    for p in &mut at {
+                        edge |= p == Place::NearEdge;
+                        corner |= p == Place::NearCorner;
+                    }
+                    if edge {
+                        Place::NearEdge
+                    } else if corner {
+                        Place::NearCorner
+                    } else {
+                        Place::Far
+                    }
+                })
+                .collect();
+            let places = std::sync::Arc::new(places);
+            let mut known = self.places.lock().unwrap_or_else(|e| e.into_inner());
+            known.insert(kernel.to_string(), places.clone());
+            return places;
+        }
         let layers: Vec<(&ExactLayer, &edge::Outline)> = self.kernel_layers(kernel);
         let regions: Vec<&exact::Region> = layers.iter().filter_map(|(l, _)| region_of(l)).collect();
-        let n = self.profile.actuator_count();
         let places: Vec<Place> = self
             .eval
             .par_iter()
