@@ -3,7 +3,7 @@
 //! `--jobs 2` (the scaling between them), every run with `--force` so that
 //! each diagram is compiled and written.
 //!
-//! `cargo bench --bench batch -- --warm-up-time 1 --measurement-time 3`
+//! `cargo bench --features bench --bench batch -- --warm-up-time 1 --measurement-time 3`
 
 use std::path::Path;
 use std::process::Command;

@@ -35,7 +35,7 @@
 //! the surface, at 10 px/mm: `-- 'issue 46'`. `TAXEL_KEEP_DRAWINGS=DIR`
 //! writes them to DIR too.
 //!
-//! `cargo bench --bench real_build -- --warm-up-time 1 --measurement-time 10`
+//! `cargo bench --features bench --bench real_build -- --warm-up-time 1 --measurement-time 10`
 
 use std::path::Path;
 use std::process::Command;

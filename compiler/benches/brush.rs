@@ -8,7 +8,7 @@
 //!   `StrokeTable` (the format's table owns a `Vec` of points and one of drives
 //!   per point, so it allocates) and runs the shared-actuator check.
 //!
-//! `cargo bench -p taxel-compiler --bench brush -- --warm-up-time 1 --measurement-time 3`
+//! `cargo bench -p taxel-compiler --features bench --bench brush -- --warm-up-time 1 --measurement-time 3`
 
 use std::hint::black_box;
 

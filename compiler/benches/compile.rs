@@ -3,7 +3,7 @@
 //! labels) beside resvg's own render of the same SVG at the same resolution
 //! (10 px/mm, the default mask resolution), in the same run.
 //!
-//! `cargo bench -p taxel-compiler --bench compile -- --warm-up-time 1 --measurement-time 3`
+//! `cargo bench -p taxel-compiler --features bench --bench compile -- --warm-up-time 1 --measurement-time 3`
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use taxel_compiler::{CompileOptions, DEFAULT_PX_PER_MM, compile_svg};

@@ -15,7 +15,7 @@
 //!   axis must cost no more than the right one.
 //!
 //! Run briefly with
-//! `cargo bench -p taxel-compiler --bench mesh -- --warm-up-time 1 --measurement-time 3`.
+//! `cargo bench -p taxel-compiler --features bench --bench mesh -- --warm-up-time 1 --measurement-time 3`.
 
 use std::hint::black_box;
 

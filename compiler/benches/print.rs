@@ -5,7 +5,7 @@
 //! takes after reading the file (resolve, legalise, design rules, write).
 //! The target is 2 s for each.
 //!
-//! `cargo bench -p taxel-compiler --bench print -- --warm-up-time 1 --measurement-time 3`
+//! `cargo bench -p taxel-compiler --features bench --bench print -- --warm-up-time 1 --measurement-time 3`
 
 use std::fmt::Write as _;
 use std::hint::black_box;

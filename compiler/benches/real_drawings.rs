@@ -7,7 +7,7 @@
 //! 10,000. The 10,000-region map is the drawing that once took minutes (the
 //! design rules compared all pairs).
 //!
-//! `cargo bench -p taxel-compiler --bench real_drawings -- --warm-up-time 1 --measurement-time 5`
+//! `cargo bench -p taxel-compiler --features bench --bench real_drawings -- --warm-up-time 1 --measurement-time 5`
 
 use criterion::{BenchmarkId, Criterion, SamplingMode, Throughput, criterion_group, criterion_main};
 use taxel_compiler::{CompileOptions, compile_svg};

@@ -2,7 +2,7 @@
 //! and 2,000 lines, and one `under` query, side by side with a scan that
 //! tests every shape (what the index saves).
 //!
-//! `cargo bench -p taxel-format --bench lookup -- --warm-up-time 1 --measurement-time 3`
+//! `cargo bench -p taxel-format --features bench --bench lookup -- --warm-up-time 1 --measurement-time 3`
 
 use std::hint::black_box;
 

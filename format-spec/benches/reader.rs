@@ -3,7 +3,7 @@
 //! reading its chunk views again after validation, and inflating its stored
 //! form (SPEC.md section 15), which a host does once when it loads a file.
 //!
-//! `cargo bench -p taxel-format --bench reader -- --warm-up-time 1 --measurement-time 3`
+//! `cargo bench -p taxel-format --features bench --bench reader -- --warm-up-time 1 --measurement-time 3`
 
 use std::hint::black_box;
 

@@ -10,7 +10,7 @@
 //! bench says so and measures nothing. `npm run bench` (in `tests/browser`)
 //! writes both and runs this bench itself:
 //!
-//! `TAXEL_BENCH_BUNDLE=B TAXEL_BENCH_TRACE=T cargo bench --bench native_frame`
+//! `TAXEL_BENCH_BUNDLE=B TAXEL_BENCH_TRACE=T cargo bench --features bench --bench native_frame`
 //!
 //! One criterion iteration plays every tick of the trace, as one timed round
 //! of the browser's does; the figure per frame is a sample's time over its

@@ -7,7 +7,7 @@
 //! one run.
 //!
 //! Run briefly with
-//! `cargo bench -p taxel-runtime --bench finger -- --warm-up-time 1 --measurement-time 3`.
+//! `cargo bench -p taxel-runtime --features bench --bench finger -- --warm-up-time 1 --measurement-time 3`.
 
 use std::hint::black_box;
 

@@ -1,7 +1,7 @@
 //! Grid player cost: one frame (every actuator's amplitude and carrier) per
 //! tick, and per audio sample (the WAV sink's envelope plus 12 carriers).
 //!
-//! `cargo bench -p taxel-runtime --bench grid -- --warm-up-time 1 --measurement-time 3`
+//! `cargo bench -p taxel-runtime --features bench --bench grid -- --warm-up-time 1 --measurement-time 3`
 
 use std::hint::black_box;
 use std::io::Cursor;

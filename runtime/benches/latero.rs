@@ -5,7 +5,7 @@
 //! fine tiles (format 4.4) under the array.
 //!
 //! Run briefly with
-//! `cargo bench -p taxel-runtime --bench latero -- --warm-up-time 1 --measurement-time 3`.
+//! `cargo bench -p taxel-runtime --features bench --bench latero -- --warm-up-time 1 --measurement-time 3`.
 
 use std::hint::black_box;
 

@@ -3,7 +3,7 @@
 //! with heights and blinking (Graphiti, 60 x 40 at 4 bits), on an image of
 //! four pages so that the viewport is away from the origin.
 //!
-//! `cargo bench -p taxel-runtime --bench pins -- --warm-up-time 1 --measurement-time 3`
+//! `cargo bench -p taxel-runtime --features bench --bench pins -- --warm-up-time 1 --measurement-time 3`
 
 use std::hint::black_box;
 

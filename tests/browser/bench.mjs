@@ -143,7 +143,7 @@ async function wasmFrames(page, rounds) {
 function nativeFrame(bundle) {
   execFileSync(
     "cargo",
-    ["bench", "--workspace", "--bench", "native_frame", "--", "--warm-up-time", "1", "--measurement-time", "5"],
+    ["bench", "--workspace", "--features", "bench", "--bench", "native_frame", "--", "--warm-up-time", "1", "--measurement-time", "5"],
     { cwd: repo, stdio: ["ignore", "ignore", "inherit"], env: { ...process.env, TAXEL_BENCH_BUNDLE: bundle, TAXEL_BENCH_TRACE: sweep } },
   );
   // Each iteration plays the whole sweep: a sample's time over its frames
