@@ -95,45 +95,60 @@ fn default_resolution_is_on_the_efficient_front() {
 /// corners and at them; the value within one step at actuators farther than
 /// 0.05 mm from any exact edge, and at the corners; the RMS over every
 /// actuator within one step.
-#[test]
-fn the_default_meets_the_accuracy_targets_on_the_experiments_stimuli() {
-    let root = env!("CARGO_MANIFEST_DIR");
+mod the_default_meets_the_accuracy_targets_on_the_experiments_stimuli {
     // And an experiment-5 icon's grating, whose edge is the inner edge of the
     // vibrating outline cut out of it (its tiles there were stored, RMS 2.6,
     // before the plane test told the layer's bound from the distance).
     // Issue 46: the circle icon (its disc less the vibrating ring, whose
     // inner side was stored, RMS 3.7) and the right triangle (its acute
     // inner corners, fine tiles 0.063 mm off, RMS 2.2) too.
-    let scenes = [
-        ("exp1-grating-2cm", "grating"),
-        ("exp1-vibrate-3cm-a", "vibration"),
-        ("exp5-icon-square-horizontal-2mm", "grating"),
-        ("exp5-icon-circle-vertical-2mm", "all"),
-        ("exp5-icon-right-triangle-horizontal-2mm", "all"),
-    ];
-    for (scene, kernel) in scenes {
-        let input = format!("{root}/examples/stress2/{scene}.svg");
-        let (ok, out, err) = report(&[&input, "--format", "json", "--default-only"]);
-        assert!(ok, "{scene}: {err}");
-        let rows = rows(&out);
-        assert!(rows.iter().all(|r| r["default"] == true), "{scene}: the default alone");
-        let d = rows
-            .iter()
-            .find(|r| r["kernel"] == kernel && r["default"] == true)
-            .unwrap_or_else(|| panic!("{scene}: no default {kernel} row"));
-        assert!(f(d, "edge_error_mm") <= 0.05, "{scene}: edge error {} mm", f(d, "edge_error_mm"));
-        assert!(f(d, "far_error") <= 1.0, "{scene}: value error {} steps", f(d, "far_error"));
-        assert!(f(d, "rms_error") <= 1.0, "{scene}: RMS {} steps", f(d, "rms_error"));
-        // (A circle has no corner.)
-        if !scene.contains("circle") {
-            let crnr = f(d, "corner_edge_error_mm");
-            assert!(crnr <= 0.05, "{scene}: corner edge error {crnr} mm");
-            assert!(f(d, "corner_error") <= 1.0, "{scene}: value error at corners {} steps", f(d, "corner_error"));
-        }
-        // Within the targets, the report does not say where the error comes from.
-        let notes = notes(&out);
-        assert!(!notes.iter().any(|n| n.contains("finer than")), "{scene}: {notes:?}");
+    super::one_test_a_scene!(super::meets_the_accuracy_targets:
+        grating_2cm => "exp1-grating-2cm", "grating";
+        vibrate_3cm_a => "exp1-vibrate-3cm-a", "vibration";
+        icon_square_horizontal_2mm => "exp5-icon-square-horizontal-2mm", "grating";
+        icon_circle_vertical_2mm => "exp5-icon-circle-vertical-2mm", "all";
+        icon_right_triangle_horizontal_2mm => "exp5-icon-right-triangle-horizontal-2mm", "all";
+    );
+}
+
+/// One test a scene, each `check(args)`: the harness shares them out over
+/// its threads, where one test of every scene kept a thread busy alone
+/// for a third of the CLI tests' run (issue 46 point 6).
+macro_rules! one_test_a_scene {
+    ($check:path: $($name:ident => $($arg:expr),+;)+) => {
+        $(
+            #[test]
+            fn $name() {
+                $check($($arg),+)
+            }
+        )+
+    };
+}
+use one_test_a_scene;
+
+fn meets_the_accuracy_targets(scene: &str, kernel: &str) {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let input = format!("{root}/examples/stress2/{scene}.svg");
+    let (ok, out, err) = report(&[&input, "--format", "json", "--default-only"]);
+    assert!(ok, "{scene}: {err}");
+    let rows = rows(&out);
+    assert!(rows.iter().all(|r| r["default"] == true), "{scene}: the default alone");
+    let d = rows
+        .iter()
+        .find(|r| r["kernel"] == kernel && r["default"] == true)
+        .unwrap_or_else(|| panic!("{scene}: no default {kernel} row"));
+    assert!(f(d, "edge_error_mm") <= 0.05, "{scene}: edge error {} mm", f(d, "edge_error_mm"));
+    assert!(f(d, "far_error") <= 1.0, "{scene}: value error {} steps", f(d, "far_error"));
+    assert!(f(d, "rms_error") <= 1.0, "{scene}: RMS {} steps", f(d, "rms_error"));
+    // (A circle has no corner.)
+    if !scene.contains("circle") {
+        let crnr = f(d, "corner_edge_error_mm");
+        assert!(crnr <= 0.05, "{scene}: corner edge error {crnr} mm");
+        assert!(f(d, "corner_error") <= 1.0, "{scene}: value error at corners {} steps", f(d, "corner_error"));
     }
+    // Within the targets, the report does not say where the error comes from.
+    let notes = notes(&out);
+    assert!(!notes.iter().any(|n| n.contains("finer than")), "{scene}: {notes:?}");
 }
 
 /// Issue 46: the errors converge. On the experiment-5 icons (one of each
@@ -159,49 +174,49 @@ fn the_default_meets_the_accuracy_targets_on_the_experiments_stimuli() {
 /// the actuators on a hard edge's one-code ramp, fewer at a finer rung,
 /// each carry up to half a step of that rounding (measured RMS differences
 /// up to 0.0002 steps).
-#[test]
-fn each_finer_rung_is_no_worse_than_the_coarser() {
+mod each_finer_rung_is_no_worse_than_the_coarser {
+    super::one_test_a_scene!(super::converges:
+        icon_circle_horizontal_2mm => "exp5-icon-circle-horizontal-2mm";
+        icon_right_triangle_vertical_6mm => "exp5-icon-right-triangle-vertical-6mm";
+        icon_square_vertical_2mm => "exp5-icon-square-vertical-2mm";
+        icon_triangle_down_horizontal_6mm => "exp5-icon-triangle-down-horizontal-6mm";
+        vibrate_2cm => "exp1-vibrate-2cm";
+        grating_3cm_a => "exp1-grating-3cm-a";
+    );
+}
+
+fn converges(scene: &str) {
     let root = env!("CARGO_MANIFEST_DIR");
-    let scenes = [
-        "exp5-icon-circle-horizontal-2mm",
-        "exp5-icon-right-triangle-vertical-6mm",
-        "exp5-icon-square-vertical-2mm",
-        "exp5-icon-triangle-down-horizontal-6mm",
-        "exp1-vibrate-2cm",
-        "exp1-grating-3cm-a",
-    ];
     let dir = tempfile::tempdir().expect("temp dir");
     let mut worse = Vec::new();
-    for scene in scenes {
-        // The scene beside its faster trace (a drawing's sibling `.trace.csv` is its own trace).
-        let input = dir.path().join(format!("{scene}.svg"));
-        std::fs::copy(format!("{root}/examples/stress2/{scene}.svg"), &input).expect("copy the scene");
-        let own = std::fs::read_to_string(format!("{root}/examples/traces/{scene}.csv")).expect("the scene's trace");
-        std::fs::write(input.with_extension("trace.csv"), faster(&own, 4)).expect("write");
-        let (ok, out, err) = report(&[input.to_str().expect("utf-8"), "--format", "json"]);
-        assert!(ok, "{scene}: {err}");
-        let rows = rows(&out);
-        for kernel in ["vibration", "grating", "all"] {
-            let mut mine: Vec<&Value> = rows.iter().filter(|r| r["kernel"] == kernel).collect();
-            // Coarse to fine.
-            mine.sort_by(|a, b| f(b, "setting").total_cmp(&f(a, "setting")));
-            for pair in mine.windows(2) {
-                let [coarse, fine] = [pair[0], pair[1]];
-                for (measure, tolerance) in CONVERGES {
-                    let (c, x) = (coarse[measure].as_f64(), fine[measure].as_f64());
-                    let no_worse = match (c, x) {
-                        (Some(c), Some(x)) => x <= c + tolerance,
-                        // Nothing to measure at either rung, or only at the coarser one.
-                        (_, None) => true,
-                        (None, Some(_)) => false,
-                    };
-                    if !no_worse {
-                        worse.push(format!(
-                            "{scene} {kernel}: {measure} {x:?} at {} mm against {c:?} at {} mm",
-                            f(fine, "setting"),
-                            f(coarse, "setting")
-                        ));
-                    }
+    // The scene beside its faster trace (a drawing's sibling `.trace.csv` is its own trace).
+    let input = dir.path().join(format!("{scene}.svg"));
+    std::fs::copy(format!("{root}/examples/stress2/{scene}.svg"), &input).expect("copy the scene");
+    let own = std::fs::read_to_string(format!("{root}/examples/traces/{scene}.csv")).expect("the scene's trace");
+    std::fs::write(input.with_extension("trace.csv"), faster(&own, 4)).expect("write");
+    let (ok, out, err) = report(&[input.to_str().expect("utf-8"), "--format", "json"]);
+    assert!(ok, "{scene}: {err}");
+    let rows = rows(&out);
+    for kernel in ["vibration", "grating", "all"] {
+        let mut mine: Vec<&Value> = rows.iter().filter(|r| r["kernel"] == kernel).collect();
+        // Coarse to fine.
+        mine.sort_by(|a, b| f(b, "setting").total_cmp(&f(a, "setting")));
+        for pair in mine.windows(2) {
+            let [coarse, fine] = [pair[0], pair[1]];
+            for (measure, tolerance) in CONVERGES {
+                let (c, x) = (coarse[measure].as_f64(), fine[measure].as_f64());
+                let no_worse = match (c, x) {
+                    (Some(c), Some(x)) => x <= c + tolerance,
+                    // Nothing to measure at either rung, or only at the coarser one.
+                    (_, None) => true,
+                    (None, Some(_)) => false,
+                };
+                if !no_worse {
+                    worse.push(format!(
+                        "{scene} {kernel}: {measure} {x:?} at {} mm against {c:?} at {} mm",
+                        f(fine, "setting"),
+                        f(coarse, "setting")
+                    ));
                 }
             }
         }
