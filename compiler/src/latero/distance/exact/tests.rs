@@ -295,3 +295,37 @@ fn an_empty_layer_has_no_edge() {
     assert_eq!(empty.signed_distance((1.0, 1.0)), f64::NEG_INFINITY);
     assert!(empty.edge_candidates(0.001).is_empty());
 }
+
+/// A map's layer of many parts (more than [`UNINDEXED_PARTS`]): fills side
+/// by side and overlapping, regions painted over them, a clip, a band and a
+/// cut. The region asks only the parts whose boxes hold or come near a
+/// point, and answers as brute force does over every part.
+#[test]
+fn a_layer_of_many_parts_is_brute_forces() {
+    let fills: Vec<[Polyline; 1]> = (0..24)
+        .map(|k| {
+            let (col, row) = ((k % 6) as f64, (k / 6) as f64);
+            // Every third one overlaps its neighbour; the others touch or stand apart.
+            [square(col * 3.0 + 0.13 * (k % 3) as f64, row * 3.0 + 0.07, if k % 3 == 0 { 3.4 } else { 2.9 })]
+        })
+        .collect();
+    let occluders: Vec<[Polyline; 1]> =
+        (0..20).map(|k| [square(1.1 + (k % 5) as f64 * 3.7, 0.9 + (k / 5) as f64 * 2.9, 0.8)]).collect();
+    let clip = [square(0.5, 0.2, 16.0)];
+    let band_line = [Polyline { points: vec![(0.0, 5.0), (9.0, 7.5), (18.0, 4.0)], closed: false }];
+    let cut_line = [Polyline { points: vec![(4.0, 0.0), (6.0, 12.0)], closed: false }];
+    let g = LayerGeometry {
+        fills: fills.iter().map(|f| (&f[..], FillRule::NonZero)).collect(),
+        occluders: occluders.iter().map(|f| (&f[..], FillRule::NonZero)).collect(),
+        clips: vec![(&clip[..], FillRule::EvenOdd)],
+        band: Some((vec![&band_line[..]], 0.6)),
+        cuts: vec![(&cut_line[..], 0.3)],
+    };
+    assert!(g.exact().index.is_some(), "indexed");
+    let polys: Vec<&Polyline> =
+        fills.iter().chain(&occluders).map(|f| &f[0]).chain([&clip[0], &band_line[0], &cut_line[0]]).collect();
+    let far: Vec<(f64, f64)> = (0..400).map(|k| ((k % 20) as f64 * 0.97 - 0.5, (k / 20) as f64 * 0.71 - 0.5)).collect();
+    if let Err(e) = check(&g, &probes(&polys, &far), false) {
+        panic!("{e}");
+    }
+}
