@@ -154,7 +154,7 @@ impl Buckets {
 pub struct Outline {
     /// The boundary's pieces.
     pieces: RTree<Line<[f64; 2]>>,
-    /// The same pieces, in the tree's order, filed by cells.
+    /// The same pieces, in the outline's order (the tree's is its own), filed by cells.
     piece_list: Vec<Line<[f64; 2]>>,
     near_pieces: Buckets,
     /// Their middles.
