@@ -150,7 +150,7 @@ pub fn run(args: StudioArgs) -> CmdResult {
     if !ip.is_loopback() {
         eprintln!("warning: --listen {ip}: the studio is reachable from other machines on this network");
     }
-    if !args.no_open && webbrowser::open(&url).is_err() {
+    if !args.no_open && open::that_detached(&url).is_err() {
         eprintln!("note: no browser could be opened; open {url} yourself");
     }
     serve(server, studio)
