@@ -51,7 +51,7 @@ mod mask;
 mod model;
 mod pins;
 mod profile;
-#[cfg(feature = "std")]
+#[cfg(feature = "profiles")]
 pub mod profiles;
 mod provenance;
 pub mod sample;

@@ -192,7 +192,7 @@ impl Buckets {
                 return Some(best.get());
             }
             let rings = f64::from(BUCKET_RINGS) * BUCKET_MM;
-            if k >= NEAR_RINGS && !(best.get() <= rings * rings) {
+            if k >= NEAR_RINGS && best.get() > rings * rings {
                 return None;
             }
         }
