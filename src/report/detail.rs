@@ -118,6 +118,21 @@ pub fn note(rows: &[Row]) -> Option<String> {
     ))
 }
 
+/// A note where the default rung's edge error is a feature smaller than
+/// the lattice that is not felt at all ([`super::Row::unfelt`]): what, where,
+/// and what to do.
+pub fn unfelt_note(rows: &[Row]) -> Option<String> {
+    let defaults = || rows.iter().filter(|r| r.default && r.unfelt.is_some());
+    let row = defaults().find(|r| r.kernel == "all").or_else(|| defaults().next())?;
+    let (u, lattice) = (row.unfelt?, row.lattice_mm?);
+    Some(format!(
+        "the edge error of {:.2} mm is a feature {:.2} mm across at ({:.1}, {:.1}) mm, smaller than the {} mm lattice, \
+         that is not felt at all: the distance from it to the nearest felt edge; enlarge it in the drawing, \
+         take part of the drawing with --region X,Y,W,H or #id, or use a profile with a larger surface",
+        u.edge_error_mm, u.across_mm, u.x_mm, u.y_mm, lattice
+    ))
+}
+
 /// `n` with its thousands grouped by commas (1,204).
 fn grouped(n: usize) -> String {
     let digits = n.to_string();
@@ -293,11 +308,46 @@ mod tests {
             corner_edge_error_mm: None,
             lattice_mm: Some(0.5),
             fine_detail: Some(Share { share, cells: 1204, lattice_mm: 0.5 }),
+            unfelt: None,
             error_unit: "10-bit steps".into(),
             frames: 1,
             run_ms: 1.0,
             on_front: true,
         }
+    }
+
+    /// The report's "every 3rd of N frames" (it said "3th").
+    #[test]
+    fn ordinals_read_as_english() {
+        let got: Vec<String> = [1, 2, 3, 4, 11, 12, 13, 21, 22, 23, 101, 111, 112].map(crate::report::ordinal).into();
+        assert_eq!(
+            got,
+            ["1st", "2nd", "3rd", "4th", "11th", "12th", "13th", "21st", "22nd", "23rd", "101st", "111th", "112th"]
+        );
+    }
+
+    /// A feature is unfelt where the outline's farthest place from the
+    /// contour is beyond the edge target and smaller than the lattice; the
+    /// note names it, of the composite row when there is one.
+    #[test]
+    fn an_unfelt_feature_is_one_smaller_than_the_lattice_beyond_the_edge_target() {
+        use crate::report::{Unfelt, edge::Farthest};
+        let at = |distance_mm: f64, across_mm: f64| Some(Farthest { at: (85.64, 32.29), distance_mm, across_mm });
+        let u = Unfelt::of(at(1.03, 0.4), Some(0.5)).expect("unfelt");
+        assert_eq!((u.x_mm, u.y_mm, u.across_mm, u.edge_error_mm), (85.64, 32.29, 0.4, 1.03));
+        // Within the edge target, as large as the lattice, or with no lattice: not.
+        assert_eq!(Unfelt::of(at(EDGE_TARGET_MM, 0.4), Some(0.5)), None);
+        assert_eq!(Unfelt::of(at(1.03, 0.5), Some(0.5)), None);
+        assert_eq!(Unfelt::of(at(1.03, 0.4), None), None);
+        assert_eq!(Unfelt::of(None, Some(0.5)), None);
+        let with = |kernel: &str, u: Option<Unfelt>| Row { unfelt: u, ..row(kernel, 34.0, 1.0, 0.1) };
+        let other = Unfelt { x_mm: 1.0, y_mm: 2.0, ..u };
+        let said = unfelt_note(&[with("grating", Some(other)), with("all", Some(u))]).expect("a note");
+        assert!(said.starts_with("the edge error of 1.03 mm is a feature 0.40 mm across at (85.6, 32.3) mm"), "{said}");
+        assert!(said.contains("smaller than the 0.5 mm lattice") && said.contains("--region X,Y,W,H or #id"), "{said}");
+        assert_eq!(unfelt_note(&[with("grating", None)]), None);
+        // Only a default row says it.
+        assert_eq!(unfelt_note(&[Row { default: false, ..with("grating", Some(u)) }]), None);
     }
 
     /// The note is said when the error is above a target and most of it is

@@ -61,12 +61,42 @@ pub struct EdgeError {
     pub edge_mm: Option<f64>,
     /// Within [`CORNER_RADIUS_MM`] of a corner.
     pub corner_mm: Option<f64>,
+    /// The place of the exact outline farthest from the played contour.
+    pub farthest: Option<Farthest>,
 }
+
+/// The place of an exact outline farthest from the played contour, and how
+/// large the outline there is: an island or a hole smaller than the
+/// lattice, which the field does not play, is as far from the contour as
+/// the nearest edge that is played (a town's 0.4 mm disc cut out of a
+/// region, 1 mm from the region's sides).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Farthest {
+    /// Page mm.
+    pub at: (f64, f64),
+    /// Its distance to the played contour, mm.
+    pub distance_mm: f64,
+    /// The larger side of the box of the connected piece of outline it
+    /// lies on, mm, up to [`FEATURE_CAP_MM`] (more stands for "at least").
+    pub across_mm: f64,
+}
+
+/// How far the outline round [`Farthest`] is followed, mm: features
+/// larger than this are not small.
+pub const FEATURE_CAP_MM: f64 = 2.0;
 
 impl EdgeError {
     /// The larger of two measurements, part by part.
     pub fn max(self, o: EdgeError) -> EdgeError {
-        EdgeError { edge_mm: max_opt(self.edge_mm, o.edge_mm), corner_mm: max_opt(self.corner_mm, o.corner_mm) }
+        let farthest = match (self.farthest, o.farthest) {
+            (Some(a), Some(b)) => Some(if b.distance_mm > a.distance_mm { b } else { a }),
+            (a, b) => a.or(b),
+        };
+        EdgeError {
+            edge_mm: max_opt(self.edge_mm, o.edge_mm),
+            corner_mm: max_opt(self.corner_mm, o.corner_mm),
+            farthest,
+        }
     }
 }
 
@@ -258,6 +288,32 @@ impl Outline {
         Outline { piece_list, near_pieces, pieces: OnceLock::new(), mids, corners: Corners::new(corners) }
     }
 
+    /// The larger side of the box of the outline connected to piece `n`
+    /// (pieces whose middles are within two sample spacings of each
+    /// other), followed until it is [`FEATURE_CAP_MM`] across.
+    fn extent(&self, n: usize) -> f64 {
+        let reach_2 = 4.0 * SAMPLE_MM * SAMPLE_MM;
+        let mut seen = vec![false; self.mids.len()];
+        let (mut todo, [x, y]) = (vec![n], self.mids[n]);
+        let (mut lo, mut hi) = ((x, y), (x, y));
+        seen[n] = true;
+        while let Some(k) = todo.pop() {
+            let m = self.mids[k];
+            (lo, hi) = ((lo.0.min(m[0]), lo.1.min(m[1])), (hi.0.max(m[0]), hi.1.max(m[1])));
+            if (hi.0 - lo.0).max(hi.1 - lo.1) >= FEATURE_CAP_MM {
+                break;
+            }
+            self.near_pieces.each_near(m, |o| {
+                let q = self.mids[o];
+                if !seen[o] && (q[0] - m[0]).powi(2) + (q[1] - m[1]).powi(2) <= reach_2 {
+                    seen[o] = true;
+                    todo.push(o);
+                }
+            });
+        }
+        (hi.0 - lo.0).max(hi.1 - lo.1)
+    }
+
     /// The squared distance from `p` to the nearest piece.
     fn nearest_2(&self, p: [f64; 2]) -> Option<f64> {
         self.near_pieces.nearest_2(p, |n| self.piece_list[n].distance_2(&p)).or_else(|| {
@@ -275,9 +331,9 @@ pub fn edge_error(layer: &DistanceLayer, outline: &Outline) -> EdgeError {
     // infinitely far from it.
     let at = |p: [f64; 2], d: f64| {
         if outline.corners.near(p) {
-            EdgeError { edge_mm: None, corner_mm: Some(d) }
+            EdgeError { edge_mm: None, corner_mm: Some(d), farthest: None }
         } else {
-            EdgeError { edge_mm: Some(d), corner_mm: None }
+            EdgeError { edge_mm: Some(d), corner_mm: None, farthest: None }
         }
     };
     let to_outline = contour
@@ -287,17 +343,28 @@ pub fn edge_error(layer: &DistanceLayer, outline: &Outline) -> EdgeError {
     let near_points = Buckets::new(contour.iter().map(|&c| (c, c)));
     // The tree only where a middle is farther than a cell from the contour.
     let points: OnceLock<RTree<[f64; 2]>> = OnceLock::new();
-    let to_contour = outline
+    let from_outline: Vec<f64> = outline
         .mids
         .par_iter()
         .map(|&q| {
             let near = near_points.nearest_2(q, |n| contour[n].distance_2(&q));
             let tree = || points.get_or_init(|| RTree::bulk_load(contour.clone()));
             let d2 = near.or_else(|| tree().nearest_neighbor(&q).map(|c| c.distance_2(&q)));
-            at(q, d2.map_or(f64::INFINITY, f64::sqrt))
+            d2.map_or(f64::INFINITY, f64::sqrt)
         })
-        .reduce(EdgeError::default, EdgeError::max);
-    to_outline.max(to_contour)
+        .collect();
+    let to_contour = outline.mids.iter().zip(&from_outline).fold(EdgeError::default(), |e, (&q, &d)| e.max(at(q, d)));
+    // The first of the farthest, for the same answer on any number of threads.
+    let farthest = from_outline.iter().enumerate().fold(None, |best: Option<(usize, f64)>, (n, &d)| match best {
+        Some((_, b)) if b >= d => best,
+        _ => Some((n, d)),
+    });
+    let farthest = farthest.map(|(n, d)| Farthest {
+        at: (outline.mids[n][0], outline.mids[n][1]),
+        distance_mm: d,
+        across_mm: outline.extent(n),
+    });
+    EdgeError { farthest, ..to_outline.max(to_contour) }
 }
 
 /// Points of the half-amplitude contour of `layer` (the zero set of its
@@ -736,6 +803,38 @@ mod tests {
         // Cell 3 spans x = 1.5..2.0: distances 0.5 and 0.
         assert!((c[0] - 0.5).abs() < 1e-5 && (c[2] - 0.5).abs() < 1e-5, "{c:?}");
         assert!(c[1].abs() < 1e-5 && c[3].abs() < 1e-5, "{c:?}");
+    }
+
+    /// An island of the exact region that the field does not play is
+    /// as far from the contour as the nearest played edge: the farthest
+    /// place is on it, and its size is the island's, where the square the
+    /// field plays is larger than any lattice.
+    #[test]
+    fn the_farthest_place_of_the_outline_is_an_unplayed_island_with_its_size() {
+        let layer = layer(square, 0.004);
+        let main = Polyline { points: vec![(1.0, 1.0), (3.0, 1.0), (3.0, 3.0), (1.0, 3.0)], closed: true };
+        let islet = Polyline { points: vec![(3.6, 3.6), (3.65, 3.6), (3.65, 3.65), (3.6, 3.65)], closed: true };
+        let region = |polys: &[Polyline]| {
+            let fills = vec![(polys, FillRule::NonZero)];
+            Region { exact: LayerGeometry { fills, ..Default::default() }.exact(), corners: Vec::new() }
+        };
+        let both = [main.clone(), islet];
+        let e = edge_error(&layer, &Outline::new(&region(&both), (4.0, 4.0)));
+        let far = e.farthest.expect("a farthest place");
+        // The islet's far corner, (3.65, 3.65), is 0.65 √2 mm from the
+        // square's corner (3, 3), where the contour is; the place is a
+        // piece's middle, within a sample of it.
+        assert!((far.at.0 - 3.65).abs() < 2.0 * SAMPLE_MM && (far.at.1 - 3.65).abs() < 2.0 * SAMPLE_MM, "{far:?}");
+        assert!((far.distance_mm - 0.65 * 2f64.sqrt()).abs() < 2.0 * SAMPLE_MM, "{far:?}");
+        assert!((far.across_mm - 0.05).abs() < 2.0 * SAMPLE_MM, "{far:?}");
+        // The square alone: played, its farthest place within micrometres of
+        // the contour, on an outline 2 mm across.
+        let alone = edge_error(&layer, &Outline::new(&region(std::slice::from_ref(&main)), (4.0, 4.0)));
+        let far = alone.farthest.expect("a farthest place");
+        assert!(far.distance_mm < 0.01 && far.across_mm > 1.9, "{far:?}");
+        // The larger of two layers' places is kept.
+        assert_eq!(alone.max(e).farthest, e.farthest);
+        assert_eq!(e.max(alone).farthest, e.farthest);
     }
 
     #[test]

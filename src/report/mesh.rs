@@ -228,6 +228,7 @@ pub fn ladder(
                 corner_edge_error_mm: None,
                 lattice_mm: None,
                 fine_detail: None,
+                unfelt: None,
                 error_unit: unit.into(),
                 frames: m.compared,
                 run_ms,

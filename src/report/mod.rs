@@ -111,6 +111,13 @@ pub struct Row {
     /// of laterotactile kernels with distance layers).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub fine_detail: Option<detail::Share>,
+    /// Where the edge error is a feature of the drawing smaller than the
+    /// lattice that is not felt at all (an island or a hole): the outline's
+    /// place farthest from the played contour, when that is more than the
+    /// edge target and the outline there is less than
+    /// [`Row::lattice_mm`] across (`edge.rs`, [`edge::Farthest`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unfelt: Option<Unfelt>,
     /// Unit of the errors.
     pub error_unit: String,
     /// Frames compared.
@@ -119,6 +126,34 @@ pub struct Row {
     pub run_ms: f64,
     /// No other setting of the same kernel is both faster (compile + play) and more accurate (RMS).
     pub on_front: bool,
+}
+
+/// A feature of the drawing smaller than the lattice that is not felt ([`Row::unfelt`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Unfelt {
+    /// Its place on the page, mm.
+    pub x_mm: f64,
+    /// Its place on the page, mm.
+    pub y_mm: f64,
+    /// The larger side of its outline's box, mm.
+    pub across_mm: f64,
+    /// Its distance to the nearest felt edge, mm: the edge error it makes.
+    pub edge_error_mm: f64,
+}
+
+impl Unfelt {
+    /// The farthest place of an outline from the played contour, if it makes
+    /// the edge error exceed its target and is smaller than the lattice
+    /// `lattice_mm`.
+    fn of(farthest: Option<edge::Farthest>, lattice_mm: Option<f64>) -> Option<Unfelt> {
+        let f = farthest?;
+        (f.distance_mm > detail::EDGE_TARGET_MM && lattice_mm.is_some_and(|l| f.across_mm < l)).then_some(Unfelt {
+            x_mm: f.at.0,
+            y_mm: f.at.1,
+            across_mm: f.across_mm,
+            edge_error_mm: f.distance_mm,
+        })
+    }
 }
 
 /// A whole report.
@@ -237,7 +272,7 @@ impl Prepared {
         let stride = positions.len().div_ceil(max_eval.max(1)).max(1);
         let eval: Vec<(u64, f64, f64)> = positions.iter().step_by(stride).copied().collect();
         if stride > 1 {
-            notes.push(format!("errors are measured on every {stride}th of {} frames", positions.len()));
+            notes.push(format!("errors are measured on every {} of {} frames", ordinal(stride), positions.len()));
         }
         let surface = (profile.surface_w_mm as f64, profile.surface_h_mm as f64);
         let outlines = reference.iter().map(|l| region_of(l).map(|r| edge::Outline::new(r, surface))).collect();
@@ -650,6 +685,7 @@ pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>, default_only:
                 corner_edge_error_mm: m.edge.corner_mm,
                 lattice_mm: m.lattice_mm,
                 fine_detail,
+                unfelt: Unfelt::of(m.edge.farthest, m.lattice_mm),
                 error_unit: format!("{}-bit steps", prep.profile.output_bits),
                 frames: prep.eval.len(),
                 run_ms: compile_ms + m.frame_us * prep.positions.len() as f64 / 1000.0,
@@ -661,6 +697,7 @@ pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>, default_only:
     mark_front(&mut rows);
     let mut notes = prep.notes;
     notes.extend(detail::note(&rows));
+    notes.extend(detail::unfelt_note(&rows));
     Ok(Report {
         input: input.display().to_string(),
         profile: prep.profile.name.as_str().to_string(),
@@ -669,6 +706,18 @@ pub fn run(input: &Path, opts: &CompileOpts, trace: Option<&Path>, default_only:
         rows,
         notes,
     })
+}
+
+/// `n` as an English ordinal: 2nd, 3rd, 11th, 21st.
+fn ordinal(n: usize) -> String {
+    let suffix = match (n % 10, n % 100) {
+        (_, 11..=13) => "th",
+        (1, _) => "st",
+        (2, _) => "nd",
+        (3, _) => "rd",
+        _ => "th",
+    };
+    format!("{n}{suffix}")
 }
 
 /// Marks, per kernel, the rows that no other row beats on both run time and RMS error.

@@ -370,6 +370,7 @@ mod tests {
             corner_edge_error_mm: None,
             lattice_mm: None,
             fine_detail: None,
+            unfelt: None,
             frames: 1,
             run_ms: ms,
             on_front: true,

@@ -132,6 +132,7 @@ pub fn ladder(input: &Path, opts: &CompileOpts, base: &Bundle, default_only: boo
             corner_edge_error_mm: None,
             lattice_mm: None,
             fine_detail: None,
+            unfelt: None,
             error_unit: "ms".into(),
             frames: ticks as usize,
             run_ms: compile_ms + best * 1000.0,
