@@ -248,6 +248,42 @@ fn notes(json: &str) -> Vec<String> {
     v["notes"].as_array().expect("notes").iter().filter_map(|n| n.as_str().map(String::from)).collect()
 }
 
+/// Three islets 0.04 mm square beside a grated square, in a tile with its
+/// edge: too small for the lattice and within the writer's tolerance, they
+/// are not felt at all, and the edge error is the distance from the
+/// farthest of them to the square. The report names it: its place, its
+/// size and the error it makes, in the default row's `unfelt` and a note.
+#[test]
+fn an_islet_smaller_than_the_lattice_is_named_where_it_makes_the_edge_error() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("islets.svg");
+    let style = r##"fill="#ccc" data-tactile="grating(wavelength: 3mm, angle: 0deg)""##;
+    let mut svg = format!(
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="60mm" height="40mm" viewBox="0 0 60 40"><rect id="land" x="10" y="10" width="20" height="20" {style}/>"#
+    );
+    for (k, (x, y)) in [(30.6, 20.2), (30.9, 20.7), (31.3, 20.4)].into_iter().enumerate() {
+        svg += &format!(r#"<rect id="islet{k}" x="{x}" y="{y}" width="0.04" height="0.04" {style}/>"#);
+    }
+    svg += "</svg>";
+    std::fs::write(&path, svg).expect("write");
+    let (ok, out, err) = report(&[path.to_str().expect("utf-8"), "--format", "json", "--default-only"]);
+    assert!(ok, "{err}");
+    let rows = rows(&out);
+    let d = rows.iter().find(|r| r["kernel"] == "grating" && r["default"] == true).expect("a default grating row");
+    let u = &d["unfelt"];
+    // The farthest islet's right side (x = 31.34 mm) is 1.34 mm from the square's (x = 30 mm).
+    assert!((f(u, "x_mm") - 31.34).abs() < 0.01 && (f(u, "y_mm") - 20.42).abs() < 0.03, "{d}");
+    assert!((f(u, "across_mm") - 0.04).abs() < 0.01, "{d}");
+    assert!((f(u, "edge_error_mm") - 1.34).abs() < 0.01, "{d}");
+    // It is the row's edge error (the islets are all corners: 1 mm round each).
+    let worst = f(d, "edge_error_mm").max(f(d, "corner_edge_error_mm"));
+    assert_eq!(f(u, "edge_error_mm"), worst, "{d}");
+    let notes = notes(&out);
+    let note = notes.iter().find(|n| n.contains("not felt at all")).unwrap_or_else(|| panic!("{notes:?}"));
+    assert!(note.starts_with("the edge error of 1.34 mm is a feature 0.04 mm across at (31.3, 20.4) mm"), "{note}");
+    assert!(note.contains("smaller than the 0.5 mm lattice"), "{note}");
+}
+
 /// A map drawn far finer than the lattice, as a real map fitted to the
 /// surface is: 300 regions, each a sliver 0.33 mm wide and 5.1 mm tall once
 /// fitted (drawn ten times larger), in two grating styles, crossed by a
