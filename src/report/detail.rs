@@ -340,6 +340,8 @@ mod tests {
         assert_eq!(Unfelt::of(at(1.03, 0.5), Some(0.5)), None);
         assert_eq!(Unfelt::of(at(1.03, 0.4), None), None);
         assert_eq!(Unfelt::of(None, Some(0.5)), None);
+        // Nothing played at all: no one feature's error.
+        assert_eq!(Unfelt::of(at(f64::INFINITY, 0.4), Some(0.5)), None);
         let with = |kernel: &str, u: Option<Unfelt>| Row { unfelt: u, ..row(kernel, 34.0, 1.0, 0.1) };
         let other = Unfelt { x_mm: 1.0, y_mm: 2.0, ..u };
         let said = unfelt_note(&[with("grating", Some(other)), with("all", Some(u))]).expect("a note");

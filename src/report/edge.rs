@@ -341,7 +341,7 @@ pub fn edge_error(layer: &DistanceLayer, outline: &Outline) -> EdgeError {
         .map(|&p| at(p, outline.nearest_2(p).map_or(f64::INFINITY, f64::sqrt)))
         .reduce(EdgeError::default, EdgeError::max);
     let near_points = Buckets::new(contour.iter().map(|&c| (c, c)));
-    // The tree only where a middle is farther than a cell from the contour.
+    // The tree only where a middle is beyond the buckets' rings.
     let points: OnceLock<RTree<[f64; 2]>> = OnceLock::new();
     let from_outline: Vec<f64> = outline
         .mids
@@ -353,7 +353,9 @@ pub fn edge_error(layer: &DistanceLayer, outline: &Outline) -> EdgeError {
             d2.map_or(f64::INFINITY, f64::sqrt)
         })
         .collect();
-    let to_contour = outline.mids.iter().zip(&from_outline).fold(EdgeError::default(), |e, (&q, &d)| e.max(at(q, d)));
+    let to_contour = (outline.mids.par_iter().zip(&from_outline))
+        .map(|(&q, &d)| at(q, d))
+        .reduce(EdgeError::default, EdgeError::max);
     // The first of the farthest, for the same answer on any number of threads.
     let farthest = from_outline.iter().enumerate().fold(None, |best: Option<(usize, f64)>, (n, &d)| match best {
         Some((_, b)) if b >= d => best,

@@ -144,10 +144,12 @@ pub struct Unfelt {
 impl Unfelt {
     /// The farthest place of an outline from the played contour, if it makes
     /// the edge error exceed its target and is smaller than the lattice
-    /// `lattice_mm`.
+    /// `lattice_mm`. (A layer with no contour at all is infinitely far:
+    /// its error is not one feature's.)
     fn of(farthest: Option<edge::Farthest>, lattice_mm: Option<f64>) -> Option<Unfelt> {
         let f = farthest?;
-        (f.distance_mm > detail::EDGE_TARGET_MM && lattice_mm.is_some_and(|l| f.across_mm < l)).then_some(Unfelt {
+        let beyond = f.distance_mm > detail::EDGE_TARGET_MM && f.distance_mm.is_finite();
+        (beyond && lattice_mm.is_some_and(|l| f.across_mm < l)).then_some(Unfelt {
             x_mm: f.at.0,
             y_mm: f.at.1,
             across_mm: f.across_mm,
