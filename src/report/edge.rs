@@ -39,6 +39,9 @@ pub const SAMPLE_MM: f64 = 0.005;
 
 /// How closely a curved tile's contour point is bisected, mm.
 const BISECT_MM: f64 = 1e-9;
+/// The fraction of the distance within which a curved tile's code keeps
+/// its sign (its value over its slope) that [`bend_contour`]'s walk skips.
+const SKIP_MARGIN: f64 = 0.999;
 /// Radius round each corner of an outline within which errors count as the corner's, mm.
 pub const CORNER_RADIUS_MM: f64 = 1.0;
 /// Offset either side of an outline piece at which coverage is compared, mm.
@@ -374,56 +377,71 @@ pub fn edge_error(layer: &DistanceLayer, outline: &Outline) -> EdgeError {
 /// each lattice cell, in page mm.
 pub fn contour(layer: &DistanceLayer, sample: f64) -> Vec<[f64; 2]> {
     let h = layer.pitch_mm as f64;
-    let mut out = Vec::new();
     if !(h.is_finite() && h > 0.0) {
-        return out;
+        return Vec::new();
     }
     let lines = ((h / sample).ceil() as usize).max(1);
     let (ox, oy) = (layer.origin_x.0 as f64, layer.origin_y.0 as f64);
-    for tile in layer.each_tile() {
-        let (tx, ty) = (tile.col as usize, tile.row as usize);
-        match tile.kind() {
-            TileKind::Outside | TileKind::Inside => continue,
-            TileKind::Corner | TileKind::Notch => {
-                bent_contour(&tile, h, lines * TILE_CELLS, &mut out);
-                continue;
-            }
-            TileKind::Bend | TileKind::Arc | TileKind::Segments => {
-                bend_contour(&tile, h, lines * TILE_CELLS, &mut out);
-                continue;
-            }
-            TileKind::Fine => {
-                fine_contour(layer, &tile, lines.div_ceil(tile.refinement()), &mut out);
-                continue;
-            }
-            // Bilinear in each lattice cell: read through the SPEC's reference.
-            TileKind::Stored | TileKind::Plane | TileKind::Ridge => {}
+    // The tiles with an edge, each on whichever core is free; their points
+    // in the tiles' order, as one pass would give them.
+    let tiles: Vec<Tile<'_>> =
+        layer.each_tile().filter(|t| !matches!(t.kind(), TileKind::Outside | TileKind::Inside)).collect();
+    let each: Vec<Vec<[f64; 2]>> = tiles
+        .par_iter()
+        .with_max_len(1)
+        .map(|tile| {
+            let mut out = Vec::new();
+            tile_contour(layer, tile, (ox, oy), lines, &mut out);
+            out
+        })
+        .collect();
+    each.concat()
+}
+
+/// [`contour`]'s points in one tile.
+fn tile_contour(layer: &DistanceLayer, tile: &Tile<'_>, (ox, oy): (f64, f64), lines: usize, out: &mut Vec<[f64; 2]>) {
+    let h = layer.pitch_mm as f64;
+    let (tx, ty) = (tile.col as usize, tile.row as usize);
+    match tile.kind() {
+        TileKind::Outside | TileKind::Inside => return,
+        TileKind::Corner | TileKind::Notch => {
+            bent_contour(tile, h, lines * TILE_CELLS, out);
+            return;
         }
-        for cj in ty * TILE_CELLS..(ty + 1) * TILE_CELLS {
-            for ci in tx * TILE_CELLS..(tx + 1) * TILE_CELLS {
-                let (x0, y0) = (ox + ci as f64 * h, oy + cj as f64 * h);
-                let Some(c) = cell_corners(layer, (x0, y0), h) else { continue };
-                let inside = c.map(|d| d > 0.0);
-                if inside.iter().all(|&s| s == inside[0]) {
-                    continue;
+        TileKind::Bend | TileKind::Arc | TileKind::Segments => {
+            bend_contour(tile, h, lines * TILE_CELLS, out);
+            return;
+        }
+        TileKind::Fine => {
+            fine_contour(layer, tile, lines.div_ceil(tile.refinement()), out);
+            return;
+        }
+        // Bilinear in each lattice cell: read through the SPEC's reference.
+        TileKind::Stored | TileKind::Plane | TileKind::Ridge => {}
+    }
+    for cj in ty * TILE_CELLS..(ty + 1) * TILE_CELLS {
+        for ci in tx * TILE_CELLS..(tx + 1) * TILE_CELLS {
+            let (x0, y0) = (ox + ci as f64 * h, oy + cj as f64 * h);
+            let Some(c) = cell_corners(layer, (x0, y0), h) else { continue };
+            let inside = c.map(|d| d > 0.0);
+            if inside.iter().all(|&s| s == inside[0]) {
+                continue;
+            }
+            let [c00, c10, c01, c11] = c;
+            for k in 0..=lines {
+                let t = k as f64 / lines as f64;
+                // Along the vertical line u = t, then the horizontal line v = t.
+                let (a, b) = (c00 + (c10 - c00) * t, c01 + (c11 - c01) * t);
+                if (a > 0.0) != (b > 0.0) {
+                    out.push([x0 + t * h, y0 + a / (a - b) * h]);
                 }
-                let [c00, c10, c01, c11] = c;
-                for k in 0..=lines {
-                    let t = k as f64 / lines as f64;
-                    // Along the vertical line u = t, then the horizontal line v = t.
-                    let (a, b) = (c00 + (c10 - c00) * t, c01 + (c11 - c01) * t);
-                    if (a > 0.0) != (b > 0.0) {
-                        out.push([x0 + t * h, y0 + a / (a - b) * h]);
-                    }
-                    let (a, b) = (c00 + (c01 - c00) * t, c10 + (c11 - c10) * t);
-                    if (a > 0.0) != (b > 0.0) {
-                        out.push([x0 + a / (a - b) * h, y0 + t * h]);
-                    }
+                let (a, b) = (c00 + (c01 - c00) * t, c10 + (c11 - c10) * t);
+                if (a > 0.0) != (b > 0.0) {
+                    out.push([x0 + a / (a - b) * h, y0 + t * h]);
                 }
             }
         }
     }
-    out
 }
 
 /// Points of the half-amplitude contour of a fine tile (format 4.4;
@@ -478,7 +496,7 @@ fn fine_contour(layer: &DistanceLayer, tile: &Tile<'_>, lines: usize, out: &mut 
 /// 6.2) whose first lattice point is at page `corner`, where it crosses
 /// `lines + 1` lines across the tile in each direction: the function is
 /// round round the vertex, so each line is walked in steps of a tenth of
-/// the lines' spacing and each change of sign is bisected.
+/// the lines' spacing ([`sign_changes`]) and each change of sign is bisected.
 fn bend_contour(tile: &Tile<'_>, h: f64, lines: usize, out: &mut Vec<[f64; 2]>) {
     let zero = DISTANCE_ZERO as f64;
     let span = TILE_CELLS as f64;
@@ -489,7 +507,10 @@ fn bend_contour(tile: &Tile<'_>, h: f64, lines: usize, out: &mut Vec<[f64; 2]>) 
     // and an arc's `k`: `k` times a distance), so a point `|v| / slope`
     // cells from one of value `v` has its sign: the walk skips the steps
     // that close to it, which cannot hold a change of sign (the same points
-    // as a step-by-step walk; half the bound, for the f32 codes' rounding).
+    // as a step-by-step walk). The codes are worked out in f64 from the
+    // records, so the bound holds but for f64 rounding, far below the
+    // [`SKIP_MARGIN`] kept. (Half the bound was kept before: approaching an
+    // edge then took a step for every halving of the distance, not a few.)
     let slope = match tile.kind() {
         TileKind::Bend => r.get(1).map(|r| r.gy),
         // A cut arc (format 4.3) is the lesser of its arc and a plane: its
@@ -504,46 +525,89 @@ fn bend_contour(tile: &Tile<'_>, h: f64, lines: usize, out: &mut Vec<[f64; 2]>) 
     .map(|k| f64::from(k).abs())
     .filter(|k| k.is_finite() && *k > 0.0);
     let step = span / steps as f64;
+    let reach = |v: f64| match slope {
+        Some(k) if v.is_finite() => (SKIP_MARGIN * v.abs() / k / step).floor().min(steps as f64) as usize,
+        _ => 0,
+    };
     for k in 0..=lines {
         let t = k as f64 / lines as f64 * span;
         // The vertical line u = t, then the horizontal line w = t.
         for vertical in [true, false] {
             let along = |s: f64| if vertical { (t, s) } else { (s, t) };
+            let at = |i: usize| i as f64 / steps as f64 * span;
             let g = |s: f64| {
                 let (u, w) = along(s);
                 f(u, w)
             };
-            let mut prev = (0.0, g(0.0));
-            let mut i = 0;
-            while i < steps {
-                let skip = match slope {
-                    Some(k) if prev.1.is_finite() => (0.5 * prev.1.abs() / k / step).floor().min(steps as f64) as usize,
-                    _ => 0,
-                };
-                if skip > 1 {
-                    // Steps `i + 1 ..= i + skip - 1` keep the sign: the last
-                    // of them is where the step-by-step walk would stand.
-                    i = (i + skip - 1).min(steps - 1);
-                    let s = i as f64 / steps as f64 * span;
-                    prev = (s, g(s));
-                }
-                i += 1;
-                let s = i as f64 / steps as f64 * span;
-                let v = g(s);
-                if (prev.1 > 0.0) != (v > 0.0) && prev.1.is_finite() && v.is_finite() {
-                    // Bisected to a nanometre (the report's figures are to
-                    // a micrometre; 40 halvings went to a ten-millionth of that).
-                    let (mut a, mut b) = (prev.0, s);
+            sign_changes(
+                steps,
+                |i| g(at(i)),
+                reach,
+                |i, v| {
+                    // Bisected to a picometre (the report's figures are to a
+                    // micrometre, the records' f32 positions to a few nm).
+                    let (mut a, mut b) = (at(i), at(i + 1));
                     while (b - a) * h > BISECT_MM {
                         let m = (a + b) / 2.0;
-                        if (g(m) > 0.0) == (prev.1 > 0.0) { a = m } else { b = m }
+                        if (g(m) > 0.0) == (v > 0.0) { a = m } else { b = m }
                     }
                     let (u, w) = along((a + b) / 2.0);
                     out.push([corner.0 + u * h, corner.1 + w * h]);
-                }
-                prev = (s, v);
-            }
+                },
+            );
         }
+    }
+}
+
+/// The steps `i` of `0..=steps` along a line where the sign of `g` (above
+/// 0 or not, both finite) changes between `i` and `i + 1`, handed to
+/// `found` with `g(i)` in increasing order: what a walk that evaluated
+/// every step finds, with `g` evaluated at few of them. `reach(v)` is how
+/// many steps either side of a step of value `v` surely have its sign.
+///
+/// Two ends close in. Each skips the steps its value allows; where the low
+/// end can skip none (it is next to a change) it steps by one and looks
+/// for a change there. Once the steps the two ends' values answer for
+/// cover the whole line between them, and their signs agree, no change is
+/// left. Every step skipped has the sign of the end it was skipped from,
+/// so a change lies between two steps both evaluated, next to each other.
+/// Walking from one end alone, leaving an edge took a step for every
+/// doubling of the distance from it; from both ends, a line crossing the
+/// contour once costs a few steps each side of it.
+fn sign_changes(
+    steps: usize,
+    g: impl Fn(usize) -> f64,
+    reach: impl Fn(f64) -> usize,
+    mut found: impl FnMut(usize, f64),
+) {
+    let changes = |a: f64, b: f64| (a > 0.0) != (b > 0.0) && a.is_finite() && b.is_finite();
+    let (mut lo, mut v_lo) = (0, g(0));
+    if steps == 0 {
+        return;
+    }
+    let (mut hi, mut v_hi) = (steps, g(steps));
+    while hi - lo > 1 {
+        let (a, b) = (reach(v_lo), reach(v_hi));
+        if !changes(v_lo, v_hi) && v_lo.is_finite() && v_hi.is_finite() && lo + a + b + 1 >= hi {
+            return;
+        }
+        if a >= 1 {
+            lo = (lo + a).min(hi - 1);
+            v_lo = g(lo);
+        } else {
+            let v = g(lo + 1);
+            if changes(v_lo, v) {
+                found(lo, v_lo);
+            }
+            (lo, v_lo) = (lo + 1, v);
+        }
+        if b >= 1 && hi - lo > 1 {
+            hi = hi.saturating_sub(b).max(lo + 1);
+            v_hi = g(hi);
+        }
+    }
+    if changes(v_lo, v_hi) {
+        found(lo, v_lo);
     }
 }
 
@@ -636,6 +700,73 @@ mod tests {
     use taxel_compiler::geometry::{FillRule, Polyline};
     use taxel_compiler::latero::LayerGeometry;
     use taxel_format::{MaskKind, Mm, TILE_FIRST_STORED, TILE_SAMPLES, TILE_SIDE, TilePlane};
+
+    proptest::proptest! {
+        /// [`sign_changes`] finds exactly the changes of sign a walk that
+        /// evaluates every step finds, in order, with the value before each,
+        /// on functions of at most the slope its `reach` is told: a sum of
+        /// "tent" and "wave" terms whose zeros fall anywhere, several to a
+        /// line or none, between steps or on them, with stretches of NaN.
+        #[test]
+        fn sign_changes_are_those_of_every_step(
+            steps in 1usize..400,
+            slope in 0.01f64..5.0,
+            offset in -3.0f64..3.0,
+            waves in proptest::collection::vec((0.0f64..1.0, 0.0f64..40.0, 0.0f64..6.3), 0..4),
+            gap in proptest::option::of((0usize..400, 0usize..20)),
+        ) {
+            // Slope at most `slope` per step in all: the terms' slopes share it out.
+            let n = waves.len().max(1) as f64;
+            let g = |i: usize| {
+                if gap.is_some_and(|(at, len)| (at..at + len).contains(&i)) {
+                    return f64::NAN;
+                }
+                let x = i as f64;
+                let mut v = offset;
+                for &(a, period, phase) in &waves {
+                    // Of slope at most `a · slope / n`: `sin`'s is 1 over its argument.
+                    let w = (period + 1.0).recip();
+                    v += a * slope / n / w * (w * x + phase).sin();
+                }
+                v
+            };
+            let reach = |v: f64| if v.is_finite() { (SKIP_MARGIN * v.abs() / slope).floor().min(steps as f64) as usize } else { 0 };
+            let mut every = Vec::new();
+            for i in 0..steps {
+                let (a, b) = (g(i), g(i + 1));
+                if (a > 0.0) != (b > 0.0) && a.is_finite() && b.is_finite() {
+                    every.push((i, a));
+                }
+            }
+            let mut found = Vec::new();
+            let evaluated = std::cell::Cell::new(0usize);
+            sign_changes(steps, |i| { evaluated.set(evaluated.get() + 1); g(i) }, reach, |i, v| found.push((i, v)));
+            proptest::prop_assert_eq!(found, every);
+            proptest::prop_assert!(evaluated.get() <= 2 * steps + 2);
+        }
+    }
+
+    /// Where a line crosses the contour once, far from its ends, the walk
+    /// evaluates a few steps either side of the change, not the line.
+    #[test]
+    fn one_change_costs_a_few_steps() {
+        let (steps, slope) = (8000, 1.0);
+        let g = |i: usize| (i as f64 - 3000.5) * 0.7;
+        let reach = |v: f64| (SKIP_MARGIN * v.abs() / slope).floor() as usize;
+        let evaluated = std::cell::Cell::new(0usize);
+        let mut found = Vec::new();
+        sign_changes(
+            steps,
+            |i| {
+                evaluated.set(evaluated.get() + 1);
+                g(i)
+            },
+            reach,
+            |i, v| found.push((i, v)),
+        );
+        assert_eq!(found, vec![(3000, g(3000))]);
+        assert!(evaluated.get() < 40, "{} evaluations", evaluated.get());
+    }
 
     /// One stored tile of pitch 0.5 mm at the origin whose samples are `f(x, y)` in steps of `step` mm.
     fn layer(f: impl Fn(f64, f64) -> f64, step: f32) -> DistanceLayer {

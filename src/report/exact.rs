@@ -189,8 +189,40 @@ pub enum ExactLayer {
         /// Provenance entries of the elements it holds (of its distance layer).
         sources: Vec<u32>,
     },
-    /// Eq. 1 for each dot `(x, y, radius, amplitude)` in mm.
-    Dots(Vec<(f64, f64, f64, f64)>),
+    /// Eq. 1 for each dot.
+    Dots(Dots),
+}
+
+/// A dots layer's dots `(x, y, radius, amplitude)` in mm, sorted by `x`,
+/// so that a point asks only the dots that may reach it (a map's dotted
+/// symbols hold hundreds, and every actuator of every frame asked each).
+#[derive(Debug, Clone, Default)]
+pub struct Dots {
+    dots: Vec<(f64, f64, f64, f64)>,
+    /// The largest radius.
+    reach: f64,
+}
+
+impl Dots {
+    /// The dots of radius above 0 among `dots` (`(x, y, radius, amplitude)`, mm).
+    pub fn new(dots: impl IntoIterator<Item = (f64, f64, f64, f64)>) -> Self {
+        let mut dots: Vec<_> =
+            dots.into_iter().filter(|&(x, y, r, _)| r > 0.0 && x.is_finite() && y.is_finite()).collect();
+        dots.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let reach = dots.iter().map(|d| d.2).fold(0.0, f64::max);
+        Dots { dots, reach }
+    }
+
+    /// Eq. 1 summed over the dots at `(x, y)`: those within their radius of it.
+    pub fn at(&self, x: f64, y: f64) -> f64 {
+        let from = self.dots.partition_point(|d| d.0 < x - self.reach);
+        self.dots[from..]
+            .iter()
+            .take_while(|d| d.0 <= x + self.reach)
+            .filter(|&&(cx, cy, r, _)| (x - cx).abs() < r && (y - cy).abs() < r)
+            .map(|&(cx, cy, r, a)| a * dot_profile((x - cx).hypot(y - cy) / r))
+            .sum()
+    }
 }
 
 /// Eq. 1 with plateau P = 0.25: deflection at normalised distance `r`.
@@ -279,11 +311,7 @@ pub fn frame_sum(
                         let dist = (-ay) * th.cos() - ax * th.sin();
                         amplitude * edge * (0.5 + 0.5 * (std::f64::consts::TAU * dist / wavelength_mm).cos())
                     }
-                    ExactLayer::Dots(dots) => dots
-                        .iter()
-                        .filter(|&&(_, _, r, _)| r > 0.0)
-                        .map(|&(cx, cy, r, a)| a * dot_profile((ax - cx).hypot(ay - cy) / r))
-                        .sum(),
+                    ExactLayer::Dots(dots) => dots.at(ax, ay),
                 };
             }
             *o = d;
@@ -475,7 +503,7 @@ mod tests {
 
     #[test]
     fn off_surface_actuators_rest() {
-        let layers = [ExactLayer::Dots(vec![(0.0, 0.0, 5.0, 1.0)])];
+        let layers = [ExactLayer::Dots(Dots::new([(0.0, 0.0, 5.0, 1.0)]))];
         let mut out = [9.0; 64];
         frame(&layers, &stress2(), 0, 0.0, 0.0, &mut out);
         // Actuator (0, 0) is at (−4.2, −4.9), off the page.

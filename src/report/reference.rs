@@ -80,9 +80,9 @@ pub fn exact_layers(
                 });
             }
             Chunk::Mask(m) => missing.push(named(&m.source.into_iter().collect::<Vec<_>>())),
-            Chunk::Dots(d) => layers.push(ExactLayer::Dots(
-                d.dots.iter().map(|d| (d.x.0 as f64, d.y.0 as f64, d.radius.0 as f64, d.amplitude as f64)).collect(),
-            )),
+            Chunk::Dots(d) => layers.push(ExactLayer::Dots(super::exact::Dots::new(
+                d.dots.iter().map(|d| (d.x.0 as f64, d.y.0 as f64, d.radius.0 as f64, d.amplitude as f64)),
+            ))),
             _ => {}
         }
     }
