@@ -28,12 +28,12 @@ struct Index {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 #[allow(dead_code)] // `source` and `description` are for people and the demo.
-struct Scene {
-    name: String,
-    input: String,
-    profile: String,
-    trace: Option<String>,
-    style: Option<String>,
+pub(crate) struct Scene {
+    pub(crate) name: String,
+    pub(crate) input: String,
+    pub(crate) profile: String,
+    pub(crate) trace: Option<String>,
+    pub(crate) style: Option<String>,
     warnings: Vec<String>,
     source: String,
     description: String,
@@ -270,7 +270,7 @@ fn build(s: &Scene) -> Compiled {
 }
 
 /// Every indexed scene (drawings and meshes alike).
-fn scenes() -> Vec<Scene> {
+pub(crate) fn scenes() -> Vec<Scene> {
     index().scene
 }
 
