@@ -149,7 +149,17 @@ const NEAR_RINGS: i32 = 2;
 struct Buckets {
     /// `(key, item)`, sorted: a key is the cell's row, then its column.
     keys: Vec<(u64, u32)>,
+    /// The first row with a key, and where each row's keys start in `keys`
+    /// from it on (one more entry than rows, the last `keys.len()`), so
+    /// that a row's cells are looked up among its own keys, not all of
+    /// them (the whole list's binary search was a fifth of a report's time
+    /// in the tests' build); empty where the rows would be too many.
+    first_row: i64,
+    row_start: Vec<u32>,
 }
+
+/// The most rows [`Buckets`] keeps a start for (a 4 m page at its cell).
+const BUCKET_MAX_ROWS: i64 = 1 << 18;
 
 impl Buckets {
     /// Files items by their boxes `(min, max)`.
@@ -164,7 +174,24 @@ impl Buckets {
             }
         }
         keys.sort_unstable();
-        Buckets { keys }
+        let row = |k: u64| i64::from((k >> 32) as u32);
+        let (first_row, last_row) = match (keys.first(), keys.last()) {
+            (Some(a), Some(b)) => (row(a.0), row(b.0)),
+            _ => (0, -1),
+        };
+        let mut row_start = Vec::new();
+        if last_row - first_row < BUCKET_MAX_ROWS && keys.len() < u32::MAX as usize {
+            let rows = (last_row - first_row + 1) as usize;
+            row_start.reserve(rows + 1);
+            for (n, &(k, _)) in keys.iter().enumerate() {
+                // Every row up to this key's starts here (empty rows included).
+                while row_start.len() as i64 <= row(k) - first_row {
+                    row_start.push(n as u32);
+                }
+            }
+            row_start.resize(rows + 1, keys.len() as u32);
+        }
+        Buckets { keys, first_row, row_start }
     }
 
     /// The cell of `p`: column and row.
@@ -180,8 +207,18 @@ impl Buckets {
     /// Calls `f` on every item filed in row `row`, columns `c0..=c1`.
     fn each_in_row(&self, row: i32, (c0, c1): (i32, i32), f: &mut impl FnMut(usize)) {
         let (from, to) = (Self::key(c0, row), Self::key(c1, row));
-        let start = self.keys.partition_point(|&(k, _)| k < from);
-        for &(_, n) in self.keys[start..].iter().take_while(|&&(k, _)| k <= to) {
+        let keys = if self.row_start.is_empty() {
+            &self.keys[..]
+        } else {
+            // The row's own keys (none for a row outside the filed ones).
+            let i = i64::from(row.wrapping_sub(i32::MIN) as u32) - self.first_row;
+            match usize::try_from(i).ok().and_then(|i| Some((*self.row_start.get(i)?, *self.row_start.get(i + 1)?))) {
+                Some((a, b)) => &self.keys[a as usize..b as usize],
+                None => return,
+            }
+        };
+        let start = keys.partition_point(|&(k, _)| k < from);
+        for &(_, n) in keys[start..].iter().take_while(|&&(k, _)| k <= to) {
             f(n as usize);
         }
     }
@@ -940,11 +977,17 @@ mod tests {
         }));
         let points: Vec<[f64; 2]> = (0..200).map(|k| wave(k as f64 * 1.7)).collect();
         let point_buckets = Buckets::new(points.iter().map(|&p| (p, p)));
+        // The rows' starts only narrow the search: without them (as past
+        // `BUCKET_MAX_ROWS` rows) every answer is the same.
+        assert!(!buckets.row_start.is_empty());
+        let flat = Buckets { keys: buckets.keys.clone(), first_row: 0, row_start: Vec::new() };
         let (mut found, mut ringed, mut beyond) = (0, 0, 0);
         for k in 0..4000 {
             let t = k as f64 * 0.151;
             let off = ((k * 37) % 101) as f64 / 100.0 * 0.5 - 0.25;
             let q = [wave(t)[0] + off * 0.3, wave(t)[1] + off];
+            let d2 = |n: usize| pieces[n].distance_2(&q);
+            assert_eq!(buckets.nearest_2(q, d2), flat.nearest_2(q, d2), "{q:?}");
             for (got, all) in [
                 (
                     buckets.nearest_2(q, |n| pieces[n].distance_2(&q)),
