@@ -610,7 +610,7 @@ fn bend_contour(tile: &Tile<'_>, h: f64, lines: usize, out: &mut Vec<[f64; 2]>) 
                 |i, v, next| {
                     // To a picometre (the report's figures are to a
                     // micrometre, the records' f32 positions to a few nm).
-                    let (u, w) = along(zero_between(&g, (at(i), v), (at(i + 1), next), BISECT_MM / h));
+                    let (u, w) = along(zero_between(g, (at(i), v), (at(i + 1), next), BISECT_MM / h));
                     out.push([corner.0 + u * h, corner.1 + w * h]);
                 },
             );
