@@ -252,11 +252,22 @@ impl OutlineSet {
         if !self.has_tree(i) && !self.has_tree(j) {
             return self.short_distance(i, gi, j, reach, stop_at);
         }
-        // The side with fewer segments near the other's box is walked; the
-        // other is searched, through its tree when it has one.
-        let (ni, nj) = (near(i, gi).count(), near(j, gj).count());
-        let (walk, wg, other, og) = if ni <= nj { (i, gi, j, gj) } else { (j, gj, i, gi) };
-        if self.has_tree(other) && ni.min(nj).saturating_mul(ni.max(nj)) > 4096 {
+        // A short outline beside a long one (an island beside a coast, a
+        // map's frame beside every region) is walked, and the long one
+        // searched through its tree: counting the long one's segments near
+        // the short one's box read all of them for each of its neighbours.
+        // Otherwise the side with fewer segments near the other's box is
+        // walked, and the other searched, through its tree when it has one.
+        let (walk, wg, other, og, tree) = match (self.has_tree(i), self.has_tree(j)) {
+            (true, false) => (j, gj, i, gi, true),
+            (false, true) => (i, gi, j, gj, true),
+            _ => {
+                let (ni, nj) = (near(i, gi).count(), near(j, gj).count());
+                let (walk, wg, other, og) = if ni <= nj { (i, gi, j, gj) } else { (j, gj, i, gi) };
+                (walk, wg, other, og, ni.min(nj).saturating_mul(ni.max(nj)) > 4096)
+            }
+        };
+        if tree {
             let tree = self.tree(other);
             for s in near(walk, wg) {
                 let r = best.min(reach);

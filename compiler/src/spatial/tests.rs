@@ -213,6 +213,18 @@ fn outline_trees_are_built_when_first_searched() {
     }
     assert!((1..=2).contains(&built(&set)), "{} trees built", built(&set));
     assert!(!set.trees_built()[2], "the far outline's tree was built");
+
+    // A short outline (an island) beside a long one (a coast): the short
+    // one is walked through the long one's tree, whichever is asked first,
+    // and the distance is exact.
+    let island = vec![Polyline { points: vec![(10.0, 0.5), (10.4, 0.6), (10.2, 0.9)], closed: true }];
+    let outlines = [border(0.0, 300), island];
+    for (i, j) in [(0, 1), (1, 0)] {
+        let set = OutlineSet::new(outlines.iter().map(Vec::as_slice));
+        let exact = all_pairs_distance(&outlines[i], &outlines[j]);
+        assert_eq!(set.distance(i, j, 3.2, 0.0), exact, "{i} {j}");
+        assert_eq!(set.trees_built(), vec![true, false], "{i} {j}");
+    }
 }
 
 #[test]
