@@ -685,7 +685,12 @@ fn zero_between(g: impl Fn(f64) -> f64, (mut a, mut ga): (f64, f64), (mut b, mut
     // Which end was kept last: -1 the low end, 1 the high end.
     let mut kept = 0;
     let mut secants = 0;
-    while b - a > tol {
+    // (A bound on the steps, for a tolerance below the floats' spacing: 8
+    // secant steps and 64 halvings narrow any bracket of a tile to it.)
+    for _ in 0..8 + 64 {
+        if b - a <= tol {
+            break;
+        }
         let mut m = (a * gb - b * ga) / (gb - ga);
         secants += 1;
         if secants > 8 || !(m >= a && m <= b) {
@@ -694,7 +699,7 @@ fn zero_between(g: impl Fn(f64) -> f64, (mut a, mut ga): (f64, f64), (mut b, mut
         // At least half the tolerance in from either end: where the secant
         // lands on the zero, the next step lands just past it and closes
         // the bracket, rather than crawl from the far end.
-        let m = m.clamp(a + 0.5 * tol, b - 0.5 * tol);
+        let m = m.max(a + 0.5 * tol).min(b - 0.5 * tol);
         let gm = g(m);
         if (gm > 0.0) == above {
             (a, ga) = (m, gm);
@@ -905,6 +910,14 @@ mod tests {
         let (z, n) = count(&|s| (s - 0.7) * if s < 0.7 { 0.01 } else { 100.0 }, 0.0, 0.7 + 1e-3);
         assert!((z - 0.7).abs() <= tol, "{z}");
         assert!(n <= 8 + 41, "{n} evaluations");
+        // A tolerance below the floats' spacing ends too, at the zero.
+        let n = std::cell::Cell::new(0);
+        let g = |s: f64| {
+            n.set(n.get() + 1);
+            s - 0.3
+        };
+        let z = zero_between(g, (0.0, -0.3), (1.0, 0.7), 1e-30);
+        assert!((z - 0.3).abs() < 1e-15 && n.get() <= 8 + 64, "{z} after {}", n.get());
     }
 
     /// Where a line crosses the contour once, far from its ends, the walk
