@@ -501,6 +501,38 @@ mod tests {
         assert!((out[0] - want).abs() < 1e-9);
     }
 
+    /// [`Dots::at`], which asks only the dots within the largest radius, is
+    /// the sum over every dot: overlapping dots of several radii, points on
+    /// and off them, and a dot of radius 0 that counts for nothing.
+    #[test]
+    fn dots_in_reach_sum_as_every_dot_does() {
+        let mut s = 7u64;
+        let mut next = || {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (s >> 33) as f64 / (1u64 << 31) as f64
+        };
+        let dots: Vec<(f64, f64, f64, f64)> = (0..300)
+            .map(|k| (next() * 40.0, next() * 20.0, if k == 7 { 0.0 } else { 0.2 + next() * 3.0 }, next()))
+            .collect();
+        let set = Dots::new(dots.iter().copied());
+        let mut felt = 0;
+        for _ in 0..2000 {
+            let (x, y) = (next() * 44.0 - 2.0, next() * 24.0 - 2.0);
+            let every: f64 = dots
+                .iter()
+                .filter(|d| d.2 > 0.0)
+                .map(|&(cx, cy, r, a)| a * dot_profile((x - cx).hypot(y - cy) / r))
+                .sum();
+            assert!(
+                (set.at(x, y) - every).abs() <= 1e-12 * every.max(1.0),
+                "({x}, {y}): {} against {every}",
+                set.at(x, y)
+            );
+            felt += usize::from(every > 0.0);
+        }
+        assert!(felt > 1000, "{felt} points on a dot");
+    }
+
     #[test]
     fn off_surface_actuators_rest() {
         let layers = [ExactLayer::Dots(Dots::new([(0.0, 0.0, 5.0, 1.0)]))];
