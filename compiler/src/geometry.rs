@@ -674,4 +674,4 @@ pub fn points_at(pl: &Polyline, positions: &[f64]) -> Vec<(f64, f64)> {
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

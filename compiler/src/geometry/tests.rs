@@ -30,7 +30,7 @@ fn circle_flattens_within_tolerance() {
 
 /// The cubic that usvg (kurbo) writes for an arc of `sweep` radians round
 /// `c`, radius `r`, from angle `a0`: handles tangent, `4/3 tan(sweep / 4) r` long.
-fn arc_cubic(pb: &mut PathBuilder, c: (f64, f64), r: f64, a0: f64, sweep: f64) {
+pub(crate) fn arc_cubic(pb: &mut PathBuilder, c: (f64, f64), r: f64, a0: f64, sweep: f64) {
     let arm = 4.0 / 3.0 * (sweep / 4.0).tan() * r;
     let at = |a: f64| (c.0 + r * a.cos(), c.1 + r * a.sin());
     let (p0, p3) = (at(a0), at(a0 + sweep));

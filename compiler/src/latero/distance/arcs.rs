@@ -49,6 +49,19 @@ use super::planes::{LeastSquares, TileCtx};
 /// 0.027% of its radius (4 µm on a 15 mm circle); over one tile they stay
 /// this close to a circle, the one the fit finds.
 pub(super) const ON_CIRCLE_MM: f64 = crate::geometry::FLATTEN_TOLERANCE_MM;
+/// How far the vertices of the segments nearest a tile may lie from a
+/// circle, mm, for them to count as a circular arc that the flattening
+/// laid on the circle ([`flattened_arc_circles`]): `geometry::flatten_with`
+/// computes an arc's vertices on it in `f64`, and only its ends are the
+/// drawing's `f32` points (a few nm off at page scale, as are the centres
+/// of a circle's four Béziers from one another).
+pub(super) const ARC_VERTEX_MM: f64 = 2e-5;
+/// The fewest distinct vertices near a tile that make an arc
+/// ([`flattened_arc_circles`]): any three lie on a circle.
+const ARC_VERTICES: usize = 6;
+/// How many of the segments nearest a tile must be a flattened arc
+/// ([`flattened_arc_circles`]).
+const ARC_SEGMENTS: usize = 8;
 /// The numbers of nearest segments whose vertices are fitted (besides the
 /// vertices over the tile); the first is also the most segments looked at.
 const FIT_SEGMENTS: [usize; 4] = [48, 24, 8, 3];
@@ -61,12 +74,32 @@ const FIT_SEGMENTS: [usize; 4] = [48, 24, 8, 3];
 /// the cell centres). A cone that a bend tile plays comes first (format 4.0), then
 /// an arc tile (format 4.1): a disc's cone, a hole, or a band's ring.
 pub(super) fn circles(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Vec<(u32, [TilePlane; 2])> {
+    circles_where(t, exact, false)
+}
+
+/// [`circles`] where the segments nearest the tile are a circular arc
+/// flattened within the build's tolerance: at least [`ARC_VERTICES`]
+/// distinct vertices, each within [`ARC_VERTEX_MM`] of the circle, and no
+/// chord's sagitta above `FLATTEN_TOLERANCE_MM`. Where such a tile is
+/// also played by a corner of two chords or a band's bend at a vertex,
+/// those play the chords, up to 0.5 µm inside the drawn circle, while the
+/// circle plays the drawing itself (45 nm there was 12 steps of a hard
+/// edge's one-code ramp at the 0.25 mm lattice, `taxel report`'s finer
+/// rung, on the experiment-5 circle icon).
+pub(super) fn flattened_arc_circles(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Vec<(u32, [TilePlane; 2])> {
+    circles_where(t, exact, true)
+}
+
+/// [`circles`], or [`flattened_arc_circles`] with `arcs_only`.
+fn circles_where(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES], arcs_only: bool) -> Vec<(u32, [TilePlane; 2])> {
     let mut out: Vec<(u32, [TilePlane; 2])> = Vec::new();
+    let circles_of =
+        |part, offsets: &[f64], ring, out: &mut Vec<_>| circles_of(t, exact, part, offsets, ring, arcs_only, out);
     match t.g.band.as_ref() {
         // A band round a circle: its outer side as a cone, or the ring.
-        Some((_, w)) => circles_of(t, exact, Part::Band, &[w / 2.0], Some(w / 2.0), &mut out),
+        Some((_, w)) => circles_of(Part::Band, &[w / 2.0], Some(w / 2.0), &mut out),
         // A fill's curved side: the disc, or the hole.
-        None => circles_of(t, exact, Part::Fill, &[0.0], None, &mut out),
+        None => circles_of(Part::Fill, &[0.0], None, &mut out),
     }
     // A vibrating band round a circle cut out of a grating: the grating's
     // edge is the band's inner side (the disc inside it, `R − w / 2`) or its
@@ -75,23 +108,26 @@ pub(super) fn circles(t: &TileCtx<'_, '_>, exact: &[f64; TILE_SAMPLES]) -> Vec<(
     // grated disc less its vibrating outline; before these, its tiles on the
     // cut's inner side were stored.)
     for (k, w) in t.cut_widths().into_iter().enumerate() {
-        circles_of(t, exact, Part::Cut(k), &[-w / 2.0, w / 2.0], None, &mut out);
+        circles_of(Part::Cut(k), &[-w / 2.0, w / 2.0], None, &mut out);
     }
     // A circle painted over the layer (a map's town on a grated region):
     // the hole it makes.
-    circles_of(t, exact, Part::Occluder, &[0.0], None, &mut out);
+    circles_of(Part::Occluder, &[0.0], None, &mut out);
     out
 }
 
 /// [`circles`] for the circles through the vertices of `part`'s segments
 /// nearest the tile, each grown by every one of `offsets` (mm), a band's
-/// ring `ring` wide on each side of it where `ring` is given.
+/// ring `ring` wide on each side of it where `ring` is given; with
+/// `arcs_only`, only where those segments are a flattened circular arc
+/// ([`flattened_arc_circles`]).
 fn circles_of(
     t: &TileCtx<'_, '_>,
     exact: &[f64; TILE_SAMPLES],
     part: Part,
     offsets: &[f64],
     ring: Option<f64>,
+    arcs_only: bool,
     out: &mut Vec<(u32, [TilePlane; 2])>,
 ) {
     let span = TILE_CELLS as f64 * t.h;
@@ -107,20 +143,28 @@ fn circles_of(
     here.dedup();
     // Candidate circles: through the vertices over the tile, and through
     // those of the nearest segments; the one that follows the vertices over
-    // the tile most closely first.
+    // the tile most closely first. For a flattened arc, the circle through
+    // the nearest segments' vertices only: every fit finds it within a few
+    // nm, and the other segments are not on it.
     let mut fits: Vec<(f64, (f64, f64), f64)> = Vec::new();
-    let sets = std::iter::once(here.clone()).chain(
-        FIT_SEGMENTS
-            .iter()
-            .filter(|&&n| near.len() >= n)
-            .map(|&n| near.iter().take(n).flat_map(|(_, (a, b))| [*a, *b]).collect::<Vec<_>>()),
-    );
+    let through = |n: usize| near.iter().take(n).flat_map(|(_, (a, b))| [*a, *b]).collect::<Vec<_>>();
+    let sets: Vec<Vec<(f64, f64)>> = if arcs_only {
+        vec![through(ARC_SEGMENTS)]
+    } else {
+        std::iter::once(here.clone())
+            .chain(FIT_SEGMENTS.iter().filter(|&&n| near.len() >= n).map(|&n| through(n)))
+            .collect()
+    };
     for points in sets {
         let Some((c, r)) = circle_through(points.iter().copied(), middle) else { continue };
         let off = here.iter().map(|v| ((v.0 - c.0).hypot(v.1 - c.1) - r).abs()).fold(0.0, f64::max);
         fits.push((off, c, r));
     }
     fits.sort_by(|a, b| a.0.total_cmp(&b.0));
+    if arcs_only {
+        let chords: Vec<super::Seg> = near.iter().take(ARC_SEGMENTS).map(|(_, ab)| *ab).collect();
+        fits.retain(|&(_, c, r)| is_flattened_arc(&chords, &here, c, r));
+    }
     let order = t.order(exact);
     for (_, c, r) in fits {
         for &offset in offsets {
@@ -140,6 +184,22 @@ fn circles_of(
             }
         }
     }
+}
+
+/// Whether `chords` (and the vertices `here`) are a circular arc of centre
+/// `c` and radius `r` flattened within the build's tolerance: at least
+/// [`ARC_VERTICES`] distinct vertices, every one within [`ARC_VERTEX_MM`]
+/// of the circle, and every chord's sagitta (the circle's distance beyond
+/// its middle) at most `FLATTEN_TOLERANCE_MM`.
+fn is_flattened_arc(chords: &[super::Seg], here: &[(f64, f64)], c: (f64, f64), r: f64) -> bool {
+    let on = |p: &(f64, f64)| ((p.0 - c.0).hypot(p.1 - c.1) - r).abs() <= ARC_VERTEX_MM;
+    let mut vertices: Vec<(f64, f64)> = chords.iter().flat_map(|(a, b)| [*a, *b]).chain(here.iter().copied()).collect();
+    vertices.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    vertices.dedup();
+    let sagitta = |(a, b): &super::Seg| r - ((a.0 + b.0) / 2.0 - c.0).hypot((a.1 + b.1) / 2.0 - c.1);
+    vertices.len() >= ARC_VERTICES
+        && vertices.iter().all(on)
+        && chords.iter().all(|ch| sagitta(ch) <= crate::geometry::FLATTEN_TOLERANCE_MM + ARC_VERTEX_MM)
 }
 
 /// The circle through `points` (least squares), if every point lies on it
@@ -249,4 +309,44 @@ fn plays(
         let code = TileEntry::of(*kind).code(r, (i % TILE_SIDE) as f64, (i / TILE_SIDE) as f64);
         code.is_some_and(|code| t.sat.close(code - DISTANCE_ZERO as f64, exact[i]))
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The chords between consecutive `points`.
+    fn chords(points: &[(f64, f64)]) -> Vec<super::super::Seg> {
+        points.windows(2).map(|w| (w[0], w[1])).collect()
+    }
+
+    /// `n + 1` points on the circle of radius `r` round `c`, `step` radians apart from angle `a0`.
+    fn on_circle(c: (f64, f64), r: f64, a0: f64, step: f64, n: usize) -> Vec<(f64, f64)> {
+        (0..=n).map(|k| (c.0 + r * (a0 + step * k as f64).cos(), c.1 + r * (a0 + step * k as f64).sin())).collect()
+    }
+
+    #[test]
+    fn only_a_circle_flattened_within_the_tolerance_is_a_flattened_arc() {
+        let (c, r) = ((55.0, 30.0), 15.0);
+        let tol = crate::geometry::FLATTEN_TOLERANCE_MM;
+        // Chords whose sagitta is the tolerance, as the flattening lays them.
+        let step = 2.0 * (1.0 - tol / r).acos();
+        let arc = on_circle(c, r, 2.1, step, 8);
+        assert!(is_flattened_arc(&chords(&arc), &[], c, r));
+        // The same vertices a few nm off (the drawing's f32 points): still the arc.
+        let nudged: Vec<_> = arc.iter().map(|p| (p.0 + 4e-6, p.1 - 3e-6)).collect();
+        assert!(is_flattened_arc(&chords(&nudged), &[], c, r));
+        // 0.1 µm off: not on the circle.
+        let off: Vec<_> = arc.iter().enumerate().map(|(k, p)| (p.0 + 1e-4 * (k % 2) as f64, p.1)).collect();
+        assert!(!is_flattened_arc(&chords(&off), &[], c, r));
+        // Chords twice as long (sagitta four times the tolerance): a polygon on the circle.
+        assert!(!is_flattened_arc(&chords(&on_circle(c, r, 2.1, 2.0 * step, 8)), &[], c, r));
+        // A hexagon's vertices lie on a circle too.
+        let hexagon = on_circle(c, r, 0.0, std::f64::consts::TAU / 6.0, 6);
+        assert!(!is_flattened_arc(&chords(&hexagon), &[], c, r));
+        // Five distinct vertices are too few to tell (any three are on a circle).
+        assert!(!is_flattened_arc(&chords(&arc[..5]), &[], c, r));
+        // A vertex over the tile off the circle.
+        assert!(!is_flattened_arc(&chords(&arc), &[(c.0 + r + 1e-3, c.1)], c, r));
+    }
 }

@@ -577,7 +577,8 @@ impl<'a, 'g> Build<'a, 'g> {
     /// their codes `tile_buf`) within half a code, checked at the cell
     /// centres with `centres`: a plane or ridge, else a corner or notch, a
     /// bend, an arc, a segments tile or a cut arc, else its samples
-    /// ([`Build::stored`]).
+    /// ([`Build::stored`]). Where a plane, ridge, corner or band's bend
+    /// plays a circle's chords, the circle plays instead if it can.
     fn write(
         &self,
         tile: &planes::TileCtx<'_, '_>,
@@ -615,6 +616,10 @@ impl<'a, 'g> Build<'a, 'g> {
             .into_iter()
             .find(|b| tile.centres_all(centres, |u, w, e| b.close(u, w, e, sat)));
         if let Some(b) = bent {
+            // Two chords of a flattened circle: the circle, where it plays the tile.
+            if let Some((kind, r)) = self.flattened_arc(tile, centres, exact) {
+                return TileOut::Bend(kind, r);
+            }
             return TileOut::Bend(b.kind, b.recs);
         }
         // A band's centre line bent at a vertex, or its end.
@@ -624,6 +629,10 @@ impl<'a, 'g> Build<'a, 'g> {
             })
         });
         if let Some(r) = band_bent {
+            // A band round a flattened circle: the circle, where it plays the tile.
+            if let Some((kind, r)) = self.flattened_arc(tile, centres, exact) {
+                return TileOut::Bend(kind, r);
+            }
             return TileOut::Bend(taxel_format::TILE_BEND, r);
         }
         // A circular arc: the cone round its centre as a bend tile, else an arc tile.
@@ -658,8 +667,29 @@ impl<'a, 'g> Build<'a, 'g> {
         centres: &mut Near,
         exact: &[f64; TILE_SAMPLES],
     ) -> Option<(u32, [TilePlane; 2])> {
+        self.first_at_centres(tile, centres, arcs::circles(tile, exact))
+    }
+
+    /// [`Build::circle`] for a tile whose nearest segments are a flattened
+    /// circular arc ([`arcs::flattened_arc_circles`]).
+    fn flattened_arc(
+        &self,
+        tile: &planes::TileCtx<'_, '_>,
+        centres: &mut Near,
+        exact: &[f64; TILE_SAMPLES],
+    ) -> Option<(u32, [TilePlane; 2])> {
+        self.first_at_centres(tile, centres, arcs::flattened_arc_circles(tile, exact))
+    }
+
+    /// The first of `circles` that plays the tile within half a code at its cell centres.
+    fn first_at_centres(
+        &self,
+        tile: &planes::TileCtx<'_, '_>,
+        centres: &mut Near,
+        circles: Vec<(u32, [TilePlane; 2])>,
+    ) -> Option<(u32, [TilePlane; 2])> {
         let sat = self.sat;
-        arcs::circles(tile, exact).into_iter().find(|(kind, r)| {
+        circles.into_iter().find(|(kind, r)| {
             let entry = taxel_format::TileEntry::of(*kind);
             tile.centres_all(centres, |u, w, e| {
                 entry.code(r, u, w).is_some_and(|code| sat.close(code - DISTANCE_ZERO as f64, e))

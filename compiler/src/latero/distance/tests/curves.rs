@@ -72,6 +72,46 @@ fn a_band_round_a_circle_and_a_hole_play_their_exact_distance_at_the_edges() {
     }
 }
 
+/// A band round a circle as a drawing's `<circle>` reaches the compiler:
+/// four cubic Béziers, flattened on the circle into chords within 0.5 µm of
+/// it. Where a tile holds the band's outer side over a chord's vertex, the
+/// band's bend at that vertex plays the chords too, up to the sagitta
+/// inside the circle; the circle through the vertices plays the drawing
+/// itself. At the 0.25 mm lattice (`taxel report`'s finest rung, whose
+/// hard ramp is 4 µm) the chords put the experiment-5 circle icon's edge
+/// 45 nm in at an actuator, 12 steps of its vibration. Every point within
+/// the ramp of either side plays the circle's amplitude within a 10-bit
+/// step, at both lattices.
+#[test]
+fn a_band_round_a_drawn_circle_plays_the_circle_not_its_chords() {
+    // The experiment-5 circle icon's outline on its 110 by 60 mm page.
+    let (c, r, w) = ((55.0, 30.0), 15.0, 1.5);
+    let quarter = std::f64::consts::FRAC_PI_2;
+    let mut pb = resvg::tiny_skia::PathBuilder::new();
+    pb.move_to((c.0 + r) as f32, c.1 as f32);
+    for k in 0..4 {
+        crate::geometry::tests::arc_cubic(&mut pb, c, r, k as f64 * quarter, quarter);
+    }
+    pb.close();
+    let path = pb.finish().expect("a path");
+    let lines = crate::geometry::flatten_with(&path, usvg::Transform::identity(), crate::geometry::Flattening::DEFAULT);
+    let g = LayerGeometry { band: Some((vec![&lines[..]], w)), ..Default::default() };
+    for pitch in [0.5, 0.25] {
+        let f = build_field(&g, FieldParams { pitch_mm: pitch, soft_mm: 0.0, page: (0.0, 0.0, 110.0, 60.0) })
+            .expect("a field");
+        let ramp = taxel_format::edge_ramp(0.0, f.step_mm as f32) as f64;
+        let amp = |d: f64| (0.5 + d / ramp).clamp(0.0, 1.0);
+        for side in [r - w / 2.0, r + w / 2.0] {
+            for q in along_circle(c, side, &[-0.0015, -0.001, -0.0002, 0.0, 0.0002, 0.001, 0.0015]) {
+                let d = field_distance(&f, pitch, q).expect("in the lattice");
+                // Positive within the band.
+                let e = w / 2.0 - ((q.0 - c.0).hypot(q.1 - c.1) - r).abs();
+                assert!((amp(d) - amp(e)).abs() <= 1e-3, "pitch {pitch}, {q:?}: field {d}, circle {e}");
+            }
+        }
+    }
+}
+
 /// A small circle painted over a grated region (a map's town, 1.2 mm in
 /// radius): the hole it makes plays the circle exactly. Its tiles were
 /// stored, whose interpolation put the hole's edge up to 0.029 mm inside
