@@ -83,12 +83,19 @@ impl MeshRef {
         Ok(MeshRef { tris })
     }
 
-    /// The top surface at `(x, y)`: height and gradient of the highest
-    /// triangle containing the point, or `None` off the mesh.
-    pub fn at(&self, x: f64, y: f64) -> Option<(f64, f64, f64)> {
-        let mut best: Option<(f64, f64, f64)> = None;
+    /// The top surface at `(x, y)`: its height and the gradients of every
+    /// highest triangle containing the point, or `None` off the mesh. Inside
+    /// a facet that is one gradient; on an edge or vertex that facets share
+    /// (a crease of the surface, where the height is the same from each) it
+    /// is each of theirs, since the exact slope there is any of them. "On"
+    /// is within [`CREASE_MM`]: glTF's `f32` metres put a shared edge drawn
+    /// at y = 50 mm a few nm off it, and a touch at 50 mm is on it.
+    pub fn slopes_at(&self, x: f64, y: f64) -> Option<(f64, Vec<(f64, f64)>)> {
+        // The highest facet's height and steepness so far, and the slopes at that height.
+        let (mut top, mut top_steep, mut slopes) = (f64::NEG_INFINITY, 0.0f64, Vec::new());
         for t in &self.tris {
-            if x < t.bbox[0] || x > t.bbox[2] || y < t.bbox[1] || y > t.bbox[3] {
+            let m = CREASE_MM;
+            if x < t.bbox[0] - m || x > t.bbox[2] + m || y < t.bbox[1] - m || y > t.bbox[3] + m {
                 continue;
             }
             let [a, b, c] = t.p;
@@ -96,17 +103,33 @@ impl MeshRef {
             let l1 = ((b[1] - c[1]) * (x - c[0]) + (c[0] - b[0]) * (y - c[1])) / d;
             let l2 = ((c[1] - a[1]) * (x - c[0]) + (a[0] - c[0]) * (y - c[1])) / d;
             let l3 = 1.0 - l1 - l2;
-            let eps = -1e-9;
-            if l1 >= eps && l2 >= eps && l3 >= eps {
-                let h = l1 * a[2] + l2 * b[2] + l3 * c[2];
-                if best.is_none_or(|(bh, _, _)| h > bh) {
-                    best = Some((h, t.plane.0, t.plane.1));
-                }
+            // Each barycentric coordinate is the distance to the opposite
+            // side over the altitude there, `|d|` over the side's length.
+            let side = |p: [f64; 3], q: [f64; 3]| (q[0] - p[0]).hypot(q[1] - p[1]);
+            let within = |l: f64, p, q| l * d.abs() >= -CREASE_MM * side(p, q);
+            if !(within(l1, b, c) && within(l2, c, a) && within(l3, a, b)) {
+                continue;
+            }
+            let h = l1 * a[2] + l2 * b[2] + l3 * c[2];
+            let (gx, gy) = (t.plane.0, t.plane.1);
+            let steep = gx.hypot(gy);
+            // The same height, within the planes' rise over `CREASE_MM`.
+            if !slopes.is_empty() && (h - top).abs() <= CREASE_MM * (1.0 + steep + top_steep) {
+                slopes.push((gx, gy));
+            } else if h > top {
+                (top, top_steep) = (h, steep);
+                slopes.clear();
+                slopes.push((gx, gy));
             }
         }
-        best
+        (!slopes.is_empty()).then_some((top, slopes))
     }
 }
+
+/// How near a facet's side a point is on it ([`MeshRef::slopes_at`]), mm:
+/// well above the `f32` rounding of glTF's metres at page scale (15 nm at
+/// 140 mm), well below a touch screen's resolution.
+const CREASE_MM: f64 = 1e-4;
 
 /// Height and slope errors of one bundle along `trace`.
 struct MeshMeasured {
@@ -139,14 +162,25 @@ fn measure(bundle: &Bundle, exact: &MeshRef, trace: &Trace) -> Result<MeshMeasur
     }
     let (mut hm, mut h2, mut sm, mut s2, mut n) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0usize);
     for &(_, x, y) in &points {
-        let (Some(s), Some((h, gx, gy))) = (field::sample(&hf, x as f32, y as f32), exact.at(x, y)) else { continue };
+        let (Some(s), Some((h, slopes))) = (field::sample(&hf, x as f32, y as f32), exact.slopes_at(x, y)) else {
+            continue;
+        };
         // At a step the exact slope is vertical and the field's is capped by design: not an error.
         if s.edge {
             continue;
         }
         let eh = (s.height as f64 - h).abs();
-        let ex = ((s.grad_x as f64).atan() - gx.atan()).abs().to_degrees();
-        let ey = ((s.grad_y as f64).atan() - gy.atan()).abs().to_degrees();
+        // On a crease the exact slope is any of its facets': the nearest.
+        let slope_error = |&(gx, gy): &(f64, f64)| {
+            let ex = ((s.grad_x as f64).atan() - gx.atan()).abs().to_degrees();
+            let ey = ((s.grad_y as f64).atan() - gy.atan()).abs().to_degrees();
+            (ex, ey)
+        };
+        let Some((ex, ey)) =
+            slopes.iter().map(slope_error).min_by(|a, b| (a.0 * a.0 + a.1 * a.1).total_cmp(&(b.0 * b.0 + b.1 * b.1)))
+        else {
+            continue;
+        };
         hm = hm.max(eh);
         h2 += eh * eh;
         sm = sm.max(ex).max(ey);
@@ -296,10 +330,38 @@ mod tests {
         let p = dir.path().join("m.glb");
         std::fs::write(&p, m.to_glb()).expect("write");
         let r = MeshRef::read(&p).expect("reads");
-        let (h, gx, gy) = r.at(30.0, 7.0).expect("on the mesh");
-        assert!((h - 7.5).abs() < 1e-6 && (gx - 0.25).abs() < 1e-6 && gy.abs() < 1e-6, "{h} {gx} {gy}");
-        let (h, _, _) = r.at(1.0, 1.0).expect("on the square");
+        let (h, s) = r.slopes_at(30.0, 7.0).expect("on the mesh");
+        assert!((h - 7.5).abs() < 1e-6 && s.iter().all(|g| (g.0 - 0.25).abs() < 1e-6 && g.1.abs() < 1e-6), "{h} {s:?}");
+        let (h, _) = r.slopes_at(1.0, 1.0).expect("on the square");
         assert!((h - 5.0).abs() < 1e-6, "{h}");
-        assert!(r.at(50.0, 5.0).is_none());
+        assert!(r.slopes_at(50.0, 5.0).is_none());
+    }
+
+    /// A valley of two facets meeting along x = 20 mm (glTF's `f32` metres
+    /// put that crease a few nm off): on it the slope is either facet's,
+    /// and a touch 1 µm to either side is on one facet only.
+    #[test]
+    fn on_a_crease_the_slope_is_each_facets() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let m = HeightMesh::grid(2, 3, |u, v| [0.04 * u, 0.01 * (u - 0.5).abs(), 0.03 * v]);
+        let p = dir.path().join("valley.glb");
+        std::fs::write(&p, m.to_glb()).expect("write");
+        let r = MeshRef::read(&p).expect("reads");
+        let sorted = |x: f64, y: f64| {
+            let (h, mut s) = r.slopes_at(x, y).expect("on the mesh");
+            s.sort_by(|a, b| a.0.total_cmp(&b.0));
+            s.dedup_by(|a, b| (a.0 - b.0).abs() < 1e-9 && (a.1 - b.1).abs() < 1e-9);
+            (h, s)
+        };
+        for y in [5.0, 10.0, 17.5] {
+            let (h, s) = sorted(20.0, y);
+            assert!(h.abs() < 1e-6, "{h}");
+            assert_eq!(s.len(), 2, "{s:?}");
+            assert!((s[0].0 + 0.25).abs() < 1e-6 && (s[1].0 - 0.25).abs() < 1e-6 && s.iter().all(|g| g.1.abs() < 1e-6));
+            for (x, gx) in [(19.999, -0.25), (20.001, 0.25)] {
+                let (_, s) = sorted(x, y);
+                assert!(s.len() == 1 && (s[0].0 - gx).abs() < 1e-6, "{x}: {s:?}");
+            }
+        }
     }
 }
