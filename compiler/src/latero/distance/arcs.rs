@@ -55,7 +55,7 @@ pub(super) const ON_CIRCLE_MM: f64 = crate::geometry::FLATTEN_TOLERANCE_MM;
 /// computes an arc's vertices on it in `f64`, and only its ends are the
 /// drawing's `f32` points (a few nm off at page scale, as are the centres
 /// of a circle's four Béziers from one another).
-pub(super) const ARC_VERTEX_MM: f64 = 2e-5;
+const ARC_VERTEX_MM: f64 = 2e-5;
 /// The fewest distinct vertices near a tile that make an arc
 /// ([`flattened_arc_circles`]): any three lie on a circle.
 const ARC_VERTICES: usize = 6;
