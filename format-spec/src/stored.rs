@@ -44,11 +44,20 @@ pub const STORED_MAGIC: [u8; 8] = *b"\x89TXZ\r\n\x1a\n";
 pub const STORED_MINOR: u16 = 7;
 /// Length of the stored form's header; the DEFLATE stream follows it.
 pub const STORED_HEADER_LEN: usize = 32;
-/// The DEFLATE level the writer uses: 6, zlib's default. Miniz's best, 10,
-/// made `tala-map`'s file 22 bytes smaller (3,775 against 3,797) and the
-/// 64 MB map's at the input limit 0.15 % smaller, and cost the latter 0.4
-/// to 1.5 s of its build (three runs each, alternated).
+/// The DEFLATE level the writer uses for a plain bundle of up to
+/// [`SMALL_LEN`] bytes: 6, zlib's default. Miniz's best, 10, made
+/// `tala-map`'s file 22 bytes smaller (3,775 against 3,797) and the 64 MB
+/// map's at the input limit 0.15 % smaller, and cost the latter 0.4 to
+/// 1.5 s of its build (three runs each, alternated).
 const LEVEL: u8 = 6;
+/// The level for a larger plain bundle: 4. On generated maps of 190 to
+/// 340 KB, level 6 took 2.8 to 3 times as long (11 to 22 ms, after the
+/// layers, with one core working) for a file 0.3 to 0.7 % smaller
+/// (docs/performance.md).
+const LEVEL_LARGE: u8 = 4;
+/// The plain length up to which [`LEVEL`] is used: 64 KiB, where level 6
+/// costs well under a millisecond.
+const SMALL_LEN: usize = 64 * 1024;
 
 /// Whether `bytes` start with the stored form's magic.
 pub fn is_stored(bytes: &[u8]) -> bool {
@@ -165,7 +174,8 @@ pub fn store(plain: &[u8]) -> Result<Vec<u8>, FormatError> {
     BundleView::parse(plain)?;
     let mut filtered = plain.to_vec();
     filter(&mut filtered);
-    let stream = miniz_oxide::deflate::compress_to_vec(&filtered, LEVEL);
+    let level = if plain.len() <= SMALL_LEN { LEVEL } else { LEVEL_LARGE };
+    let stream = miniz_oxide::deflate::compress_to_vec(&filtered, level);
     let mut out = Vec::with_capacity(STORED_HEADER_LEN + stream.len());
     out.extend_from_slice(&STORED_MAGIC);
     out.extend_from_slice(&FORMAT_MAJOR.to_le_bytes());

@@ -25,6 +25,46 @@ fn a_stored_bundle_reads_back_as_its_plain_bundle_byte_for_byte() {
     }
 }
 
+/// A bundle whose plain form is above [`SMALL_LEN`], so the writer takes
+/// its faster level: a 16-bit grating mask of 256 x 256 samples.
+fn large() -> Bundle {
+    use crate::{Chunk, MaskKind, MaskLayer, MaskSamples, Mm};
+    let mut b = sample::every_kind();
+    b.chunks.push(Chunk::Mask(MaskLayer {
+        source: None,
+        kind: MaskKind::Grating { wavelength: Mm(2.0), angle_deg: 90.0 },
+        amplitude: 1.0,
+        origin_x: Mm(0.0),
+        origin_y: Mm(0.0),
+        px_per_mm: 8.0,
+        width: 256,
+        height: 256,
+        // Squares of 16 samples, as a map's regions: it compresses.
+        samples: MaskSamples::U16(
+            (0..256u32 * 256).map(|k| if (k % 256 / 16 + k / 4096) % 2 == 0 { 0 } else { 65_535 }).collect(),
+        ),
+    }));
+    b
+}
+
+#[test]
+fn a_large_bundle_stored_at_the_faster_level_reads_back_and_is_deterministic() {
+    let b = large();
+    let plain_bytes = b.to_bytes().unwrap();
+    assert!(plain_bytes.len() > SMALL_LEN, "{} bytes", plain_bytes.len());
+    let file = b.to_stored_bytes().unwrap();
+    assert!(file.len() < plain_bytes.len() / 2, "{} of {} bytes", file.len(), plain_bytes.len());
+    assert_eq!(&*plain(&file).unwrap(), &plain_bytes[..]);
+    assert_eq!(Bundle::from_bytes(&file).unwrap(), b);
+    assert_eq!(b.to_stored_bytes().unwrap(), file);
+    // The stream is the one the larger level writes, not level 6's.
+    let mut filtered = plain_bytes.clone();
+    filter(&mut filtered);
+    let at_6 = miniz_oxide::deflate::compress_to_vec(&filtered, LEVEL);
+    assert_eq!(&file[STORED_HEADER_LEN..], &miniz_oxide::deflate::compress_to_vec(&filtered, LEVEL_LARGE)[..]);
+    assert_ne!(&file[STORED_HEADER_LEN..], &at_6[..]);
+}
+
 #[test]
 fn a_plain_bundle_passes_through_plain_unchanged() {
     let bytes = every_kind_plain();
