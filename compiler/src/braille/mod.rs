@@ -43,6 +43,18 @@ pub(crate) fn request<'a>(
     }
 }
 
+/// Makes liblouis ready for the drawing's labels: the table of the
+/// reader's first language at the default grade chosen (liblouis reads
+/// every table's metadata the first time) and compiled, as the first
+/// translation would. Nothing is kept but liblouis's and [`Braille`]'s
+/// caches, so a build that calls it gives the same bundle as one that
+/// does not.
+///
+/// [`Braille`]: taxel_braille::Braille
+pub(crate) fn warm(opts: &CompileOptions) {
+    translate("a", None, opts, None, false);
+}
+
 /// `text` of `shape` in braille as the options and its style ask.
 pub(crate) fn translate(
     text: &str,
