@@ -177,17 +177,7 @@ pub(crate) fn run(
             let tree = usvg::Tree::from_xmltree(&doc2, &usvg_options(fonts().as_ref(), &opts.languages));
             Some((doc2, tree))
         },
-        || {
-            let src = source::read(text, &doc, keys, opts.style.as_ref(), &opts.languages, diags);
-            // This side is done long before usvg's: meanwhile liblouis finds
-            // and compiles the labels' table, which the style sheet asks for
-            // first (reading every table's metadata: 9 ms of one core, which
-            // on a map of 2,000 islands came after the parse).
-            if src.elements.iter().any(|e| matches!(e.tag.as_str(), "text" | "flowRoot" | "foreignObject")) {
-                crate::braille::warm(opts);
-            }
-            src
-        },
+        || source::read(text, &doc, keys, opts.style.as_ref(), &opts.languages, diags),
     );
     let (doc2, tree) = converted?;
     let tree = match tree {
