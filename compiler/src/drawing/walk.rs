@@ -95,7 +95,7 @@ pub(crate) fn walk(
     // usvg's root group stands for the root `<svg>`, whose annotation applies to the whole drawing.
     let root = src.elements.first().and_then(|_| w.resolve(0, None, None, None));
     let here = (!src.elements.is_empty()).then_some(0);
-    w.group(tree.root(), root.as_ref(), None, here, &mut Vec::new());
+    w.group(tree.root(), root.as_ref(), None, here, &mut Vec::new(), tree.root().opacity().get());
     let Walker { mut out, found, glyphs, .. } = w;
     // Each element alone, in parallel; collected in the walk's order.
     let (elements, outlines) = rayon::join(
@@ -162,6 +162,15 @@ pub(crate) fn paint_of(fill: Option<&usvg::Fill>, stroke: Option<&usvg::Stroke>,
         stroked: stroke.is_some(),
         stroke_width_mm: stroke.map_or(0.0, |s| s.width().get() as f64 * length_scale(ts)),
     }
+}
+
+/// `paint` seen through groups of `opacity` in all: its colours' alpha scaled.
+fn faded(mut paint: Paint, opacity: f32) -> Paint {
+    let fade = |c: &mut Rgba| c[3] = (f32::from(c[3]) * opacity.clamp(0.0, 1.0)).round() as u8;
+    for c in [paint.fill.as_mut(), paint.stroke.as_mut()].into_iter().flatten() {
+        fade(c);
+    }
+    paint
 }
 
 /// The regions of a clip path (and of the clip path on it), in page mm.
@@ -291,6 +300,9 @@ impl<'t> Walker<'_, 't> {
     /// Walks a group. `owner` is the `<use>` whose copy this is, if any: usvg
     /// clears the ids of the elements it copies, so those belong to the `<use>`.
     /// `here` is the source element of the nearest group with one.
+    /// `opacity` is the product of the opacities of `g` and the groups
+    /// round it: what a path's paint is seen at (an element drawn at
+    /// opacity 0 is not seen, and does not hide what lies under it).
     fn group(
         &mut self,
         g: &'t Group,
@@ -298,6 +310,7 @@ impl<'t> Walker<'_, 't> {
         owner: Option<usize>,
         here: Option<usize>,
         clips: &mut Vec<Clip>,
+        opacity: f32,
     ) {
         let children = g.children();
         let mut skip_next = false;
@@ -328,7 +341,7 @@ impl<'t> Walker<'_, 't> {
                         clip_regions(c, self.page_ts.pre_concat(cg.abs_transform()), self.flattening, clips);
                     }
                     let owner = own.filter(|&ei| self.src.elements[ei].tag == "use").or(owner);
-                    self.group(cg, decl.as_ref(), owner, own.or(here), clips);
+                    self.group(cg, decl.as_ref(), owner, own.or(here), clips, opacity * cg.opacity().get());
                     clips.truncate(before);
                 }
                 Node::Path(p) => {
@@ -355,7 +368,7 @@ impl<'t> Walker<'_, 't> {
                     let ts = self.page_ts.pre_concat(p.abs_transform());
                     let shape =
                         FoundShape::Path { data: p.data(), ts, fill_rule: fill_rule(p), markers, clips: clips.clone() };
-                    let paint = paint_of(p.fill(), p.stroke(), ts);
+                    let paint = faded(paint_of(p.fill(), p.stroke(), ts), opacity);
                     self.element(ei, decl, p.is_visible(), paint, shape);
                 }
                 Node::Text(t) => {
@@ -367,7 +380,7 @@ impl<'t> Walker<'_, 't> {
                     let span = t.chunks().first().and_then(|c| c.spans().first());
                     if let Some(span) = span {
                         let ts = self.page_ts.pre_concat(t.abs_transform());
-                        let paint = paint_of(span.fill(), span.stroke(), ts);
+                        let paint = faded(paint_of(span.fill(), span.stroke(), ts), opacity);
                         self.out.text_paint.insert(ei, (paint, span.font_size().get() as f64 * length_scale(ts)));
                     }
                 }

@@ -82,6 +82,49 @@ fn every_drawn_element_is_in_the_drawing_with_its_paint_and_geometry() {
     bounds_close(road, (5.0, 50.0, 95.0, 50.0));
 }
 
+/// An element's `opacity`, and its groups', fold into its paint's alpha as
+/// `fill-opacity` does: what is drawn at opacity 0 is not seen.
+#[test]
+fn the_opacity_of_an_element_and_its_groups_folds_into_its_paint() {
+    let svg = page(
+        r##"<rect id="clear" width="10" height="10" fill="#ff0000" opacity="0"/>
+<g opacity="0.5"><rect id="half" width="10" height="10" fill="#000000" stroke="#0000ff" stroke-opacity="0.5"/>
+<g opacity="0.5"><rect id="quarter" width="10" height="10" fill="#000000" fill-opacity="0.5"/></g></g>
+<rect id="whole" width="10" height="10" fill="#000000"/>"##,
+    );
+    let d = resolve(&svg);
+    assert_eq!(by_id(&d, "clear").paint.fill, Some([255, 0, 0, 0]));
+    assert_eq!(by_id(&d, "half").paint.fill, Some([0, 0, 0, 128]));
+    assert_eq!(by_id(&d, "half").paint.stroke, Some([0, 0, 255, 64]));
+    assert_eq!(by_id(&d, "quarter").paint.fill, Some([0, 0, 0, 32]));
+    assert_eq!(by_id(&d, "whole").paint.fill, Some([0, 0, 0, 255]));
+}
+
+/// What is drawn at opacity 0 is not seen, so it is not felt and hides
+/// nothing: the automatic sheet leaves it out (resvg's test
+/// `painting/opacity/bBox-impact` drew it as a grating), and a grating
+/// under an opaque rectangle at opacity 0 is still felt there.
+#[test]
+fn an_element_drawn_at_opacity_0_is_not_felt_and_hides_nothing() {
+    let c = compile(&page(
+        r##"<rect id="land" x="5" y="5" width="40" height="40" fill="#00aa00"/>
+<g opacity="0"><rect id="ghost" x="50" y="5" width="40" height="40" fill="#ff0000"/></g>"##,
+    ));
+    let b = bundle(&c);
+    let layers = masks(b);
+    assert!(!layers.is_empty());
+    let felt_at = |x: f64, y: f64| layers.iter().map(|m| sample(m, x, y)).fold(0.0, f64::max);
+    assert!(felt_at(25.0, 25.0) > 0.99, "the land is felt");
+    assert_eq!(felt_at(70.0, 25.0), 0.0, "the ghost is not");
+    let under = compile(&page(
+        r##"<rect id="land" x="5" y="5" width="40" height="40" data-tactile="grating()"/>
+<rect id="ghost" x="15" y="15" width="20" height="20" fill="#ffffff" opacity="0"/>"##,
+    ));
+    let layers = masks(bundle(&under));
+    assert_eq!(layers.len(), 1);
+    assert!(sample(layers[0], 25.0, 25.0) > 0.99, "the grating is felt under the ghost");
+}
+
 #[test]
 fn styles_come_from_the_style_sheet_and_are_overridden_by_annotations() {
     let sheet = StyleSheet::parse("[[rule]]\nclass = \"water\"\ntactile = \"grating()\"\n", "s.toml").unwrap();
