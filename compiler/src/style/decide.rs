@@ -96,6 +96,16 @@ fn fill_seen(paint: Paint, ground: &Ground) -> bool {
     paint.filled && paint.fill.is_none_or(|c| visible(c) && (ground.white_is_figure || !paper(c)))
 }
 
+/// Whether text of `paint` is seen: unless a colour of it is known and
+/// neither its fill nor its stroke is painted in a colour with alpha. (A
+/// text that no fonts laid out has no known colour; a gradient or a
+/// pattern is taken to be seen.)
+fn text_seen(paint: Paint) -> bool {
+    let unseen = |painted: bool, c: Option<Rgba>| !painted || c.is_some_and(|c| !visible(c));
+    let known = paint.fill.is_some() || paint.stroke.is_some();
+    !(known && unseen(paint.filled, paint.fill) && unseen(paint.stroked, paint.stroke))
+}
+
 /// Small enough to be a mark (before its neighbours are looked at).
 fn small_size(f: &Filled<'_>) -> bool {
     let b = f.region.bbox;
@@ -183,6 +193,9 @@ impl<'d> Draft<'d> {
             }
             match &e.shape {
                 Shape::Image { .. } => dec.left_out = Some(LeftOut::Image),
+                // Text drawn in no colour that is seen (at opacity 0, as a
+                // chart's tooltip waiting for the pointer) is not a label.
+                Shape::Text(_) if !text_seen(e.paint) => dec.left_out = Some(LeftOut::Unpainted),
                 // Text is placed once every mark is known, so braille avoids the dots.
                 Shape::Text(t) => self.texts.push((i, t)),
                 Shape::Path(p) => self.path(i, p, (b, areas[i]), ground, darkest, &line_ends),

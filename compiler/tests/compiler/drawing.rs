@@ -435,3 +435,27 @@ fn text_turned_on_its_side_is_placed_at_its_middle() {
     let (x, y, anchor) = run("tilted");
     assert!(close(x, 20.0) && close(y, 20.0) && anchor == 1.0, "{:?}", run("tilted"));
 }
+
+/// A label drawn in no colour that is seen (at opacity 0, as an exported
+/// chart's tooltip that waits for the pointer) becomes no braille under the
+/// automatic sheet; the label beside it does.
+#[test]
+fn text_drawn_at_opacity_0_is_no_label() {
+    let opts = CompileOptions { fonts: Some(tuffy()), ..CompileOptions::new(stress2()) };
+    let braille_cells = |body: &str| {
+        let c = no_internal_error(taxel_compiler::compile_svg(&page(body), &opts));
+        dots(bundle(&c), DotKind::Braille).map_or(0, |t| t.dots.len())
+    };
+    let shown = r##"<rect x="5" y="5" width="40" height="40" fill="#00aa00"/><text x="55" y="40" font-family="Tuffy" font-size="6">Shown</text>"##;
+    let alone = braille_cells(shown);
+    assert!(alone > 0);
+    for hidden in [
+        r#"<text x="55" y="20" font-family="Tuffy" font-size="6" opacity="0">Hidden</text>"#,
+        r#"<g opacity="0"><text x="55" y="20" font-family="Tuffy" font-size="6">Hidden</text></g>"#,
+        r##"<text x="55" y="20" font-family="Tuffy" font-size="6" fill="#000000" fill-opacity="0">Hidden</text>"##,
+    ] {
+        assert_eq!(braille_cells(&format!("{shown}{hidden}")), alone, "{hidden}");
+    }
+    let seen = r#"<text x="55" y="20" font-family="Tuffy" font-size="6" opacity="0.5">Seen</text>"#;
+    assert!(braille_cells(&format!("{shown}{seen}")) > alone);
+}
