@@ -19,17 +19,7 @@ use taxel_format::{
 fn one_megabyte() -> Vec<u8> {
     let mut b: Bundle = sample::every_kind();
     let (w, h) = (512u32, 512u32);
-    b.chunks.push(Chunk::Mask(MaskLayer {
-        source: None,
-        kind: MaskKind::Grating { wavelength: Mm(2.0), angle_deg: 90.0 },
-        amplitude: 1.0,
-        origin_x: Mm(0.0),
-        origin_y: Mm(0.0),
-        px_per_mm: 8.0,
-        width: w,
-        height: h,
-        samples: MaskSamples::U16((0..w * h).map(|k| (k % 65_536) as u16).collect()),
-    }));
+    b.chunks.push(sample::grating_mask(w, h, (0..w * h).map(|k| (k % 65_536) as u16).collect()));
     b.chunks.push(Chunk::Mask(MaskLayer {
         source: None,
         kind: MaskKind::Vibration { freq: MilliHertz(50_000) },

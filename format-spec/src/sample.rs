@@ -254,6 +254,22 @@ pub fn distance_layer() -> DistanceLayer {
     }
 }
 
+/// A 16-bit grating mask (wavelength 2 mm, vertical) of `width` x `height`
+/// samples at 8 px/mm from the page origin, for bundles of a given size.
+pub fn grating_mask(width: u32, height: u32, samples: Vec<u16>) -> Chunk {
+    Chunk::Mask(MaskLayer {
+        source: None,
+        kind: MaskKind::Grating { wavelength: Mm(2.0), angle_deg: 90.0 },
+        amplitude: 1.0,
+        origin_x: Mm(0.0),
+        origin_y: Mm(0.0),
+        px_per_mm: 8.0,
+        width,
+        height,
+        samples: MaskSamples::U16(samples),
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

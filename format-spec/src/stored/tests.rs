@@ -28,22 +28,10 @@ fn a_stored_bundle_reads_back_as_its_plain_bundle_byte_for_byte() {
 /// A bundle whose plain form is above [`SMALL_LEN`], so the writer takes
 /// its faster level: a 16-bit grating mask of 256 x 256 samples.
 fn large() -> Bundle {
-    use crate::{Chunk, MaskKind, MaskLayer, MaskSamples, Mm};
     let mut b = sample::every_kind();
-    b.chunks.push(Chunk::Mask(MaskLayer {
-        source: None,
-        kind: MaskKind::Grating { wavelength: Mm(2.0), angle_deg: 90.0 },
-        amplitude: 1.0,
-        origin_x: Mm(0.0),
-        origin_y: Mm(0.0),
-        px_per_mm: 8.0,
-        width: 256,
-        height: 256,
-        // Squares of 16 samples, as a map's regions: it compresses.
-        samples: MaskSamples::U16(
-            (0..256u32 * 256).map(|k| if (k % 256 / 16 + k / 4096) % 2 == 0 { 0 } else { 65_535 }).collect(),
-        ),
-    }));
+    // Squares of 16 samples, as a map's regions: it compresses.
+    let samples = (0..256u32 * 256).map(|k| if (k % 256 / 16 + k / 4096) % 2 == 0 { 0 } else { 65_535 }).collect();
+    b.chunks.push(sample::grating_mask(256, 256, samples));
     b
 }
 
