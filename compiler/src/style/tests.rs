@@ -393,6 +393,30 @@ fn a_page_sized_shape_clipped_small_is_not_a_background() {
     assert!(plan.styles(1).iter().any(|s| matches!(s, Style::Grating(_))));
 }
 
+/// A page-sized shape drawn alone is the figure: a logo drawn as one
+/// rounded square with its letters cut out (Simple Icons' MobX) was left
+/// out as the page's background, and nothing was felt. With anything else
+/// drawn on the page, it is the background, as before.
+#[test]
+fn a_page_sized_shape_drawn_alone_is_the_figure() {
+    let mut outline = rect(0.0, 0.0, 200.0, 100.0);
+    outline.extend(rect(90.0, 40.0, 110.0, 60.0));
+    let alone = || {
+        let mut logo = shape("logo", outline.clone(), RED, None);
+        if let Shape::Path(p) = &mut logo.shape {
+            p.fill_rule = FillRule::EvenOdd;
+        }
+        logo
+    };
+    let d = Drawing { page: page(200.0, 100.0), elements: vec![alone()], ..Default::default() };
+    let plan = plan_of(&d);
+    assert_eq!(plan.decisions[0].left_out, None);
+    assert!(plan.styles(0).iter().any(|s| matches!(s, Style::Grating(_))));
+    let on_it = shape("mark", rect(20.0, 20.0, 60.0, 50.0), BLUE, None);
+    let d = Drawing { page: page(200.0, 100.0), elements: vec![alone(), on_it], ..Default::default() };
+    assert_eq!(plan_of(&d).decisions[0].left_out, Some(LeftOut::Background));
+}
+
 /// A label that runs off the page's side (a town on a fitted map's east
 /// coast) is pulled back onto it, whole, still covering where it began; it
 /// was left out. One wider than the page, or that would have to move past
