@@ -380,7 +380,14 @@ impl<'t> Walker<'_, 't> {
                     let span = t.chunks().first().and_then(|c| c.spans().first());
                     if let Some(span) = span {
                         let ts = self.page_ts.pre_concat(t.abs_transform());
-                        let paint = faded(paint_of(span.fill(), span.stroke(), ts), opacity);
+                        let mut paint = faded(paint_of(span.fill(), span.stroke(), ts), opacity);
+                        // Laid out with neither fill nor stroke (a scanned
+                        // PDF's hidden text layer): seen as a fill of no
+                        // alpha, unlike a text no fonts laid out, whose
+                        // paint is not known.
+                        if !(paint.filled || paint.stroked) {
+                            (paint.filled, paint.fill) = (true, Some([0, 0, 0, 0]));
+                        }
                         self.out.text_paint.insert(ei, (paint, span.font_size().get() as f64 * length_scale(ts)));
                     }
                 }

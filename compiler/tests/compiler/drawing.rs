@@ -437,8 +437,9 @@ fn text_turned_on_its_side_is_placed_at_its_middle() {
 }
 
 /// A label drawn in no colour that is seen (at opacity 0, as an exported
-/// chart's tooltip that waits for the pointer) becomes no braille under the
-/// automatic sheet; the label beside it does.
+/// chart's tooltip that waits for the pointer, or with no fill and no
+/// stroke, as a scanned PDF's hidden text layer) becomes no braille under
+/// the automatic sheet; the label beside it does.
 #[test]
 fn text_drawn_at_opacity_0_is_no_label() {
     let opts = CompileOptions { fonts: Some(tuffy()), ..CompileOptions::new(stress2()) };
@@ -453,9 +454,18 @@ fn text_drawn_at_opacity_0_is_no_label() {
         r#"<text x="55" y="20" font-family="Tuffy" font-size="6" opacity="0">Hidden</text>"#,
         r#"<g opacity="0"><text x="55" y="20" font-family="Tuffy" font-size="6">Hidden</text></g>"#,
         r##"<text x="55" y="20" font-family="Tuffy" font-size="6" fill="#000000" fill-opacity="0">Hidden</text>"##,
+        r#"<text x="55" y="20" font-family="Tuffy" font-size="6" fill="none">Hidden</text>"#,
     ] {
         assert_eq!(braille_cells(&format!("{shown}{hidden}")), alone, "{hidden}");
     }
     let seen = r#"<text x="55" y="20" font-family="Tuffy" font-size="6" opacity="0.5">Seen</text>"#;
     assert!(braille_cells(&format!("{shown}{seen}")) > alone);
+    // Annotated, hidden text is braille all the same: a label written for the reader's hand alone.
+    for asked in [
+        r#"<text x="55" y="20" font-family="Tuffy" font-size="6" fill="none" data-tactile="braille()">Asked</text>"#,
+        r#"<text x="55" y="20" font-family="Tuffy" font-size="6" opacity="0" data-tactile="braille()">Asked</text>"#,
+    ] {
+        let c = no_internal_error(taxel_compiler::compile_svg(&page(asked), &opts));
+        assert!(dots(bundle(&c), DotKind::Braille).is_some_and(|t| !t.dots.is_empty()), "{asked}");
+    }
 }
