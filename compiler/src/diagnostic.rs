@@ -142,9 +142,30 @@ pub(crate) fn number(v: f64, decimals: usize) -> String {
     }
 }
 
+/// Characters of a drawing's text that a message quotes: a label or a
+/// legend text, which may be a paragraph (or a scanned page's text layer).
+const QUOTED_CHARS: usize = 60;
+
+/// `text` for a message: as it is up to [`QUOTED_CHARS`] characters, else
+/// its start and an ellipsis, so that a message fits on a screen.
+pub(crate) fn quoted(text: &str) -> String {
+    match text.char_indices().nth(QUOTED_CHARS) {
+        Some((at, _)) => format!("{}…", text[..at].trim_end()),
+        None => text.to_string(),
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::number;
+    use super::{number, quoted};
+
+    #[test]
+    fn a_long_text_is_quoted_by_its_start() {
+        assert_eq!(quoted("Zürich"), "Zürich");
+        let long = "é".repeat(200);
+        assert_eq!(quoted(&long), format!("{}…", "é".repeat(60)));
+        assert_eq!(quoted(&"ab ".repeat(40)).chars().count(), 60);
+    }
 
     #[test]
     fn numbers_stay_short_at_every_magnitude() {

@@ -145,7 +145,7 @@ pub(crate) fn bundles(
     };
     diags.push(Diagnostic::note("T0331", message));
     if !left_out.is_empty() {
-        let mut named = left_out.iter().take(3).cloned().collect::<Vec<_>>().join(", ");
+        let mut named = left_out.iter().take(3).map(|t| crate::diagnostic::quoted(t)).collect::<Vec<_>>().join(", ");
         if left_out.len() > 3 {
             named += &format!(" and {} more", left_out.len() - 3);
         }

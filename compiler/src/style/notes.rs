@@ -186,8 +186,11 @@ fn keyed_labels(plan: &Plan, d: &Drawing) -> Option<Diagnostic> {
     if key.is_empty() {
         return None;
     }
-    let shown: Vec<String> =
-        key.iter().take(KEY_SHOWN).map(|(c, label)| format!("{} {label}", String::from_utf8_lossy(c))).collect();
+    let shown: Vec<String> = key
+        .iter()
+        .take(KEY_SHOWN)
+        .map(|(c, label)| format!("{} {}", String::from_utf8_lossy(c), crate::diagnostic::quoted(label)))
+        .collect();
     let more = if key.len() > KEY_SHOWN { format!(" and {} more", key.len() - KEY_SHOWN) } else { String::new() };
     Some(
         Diagnostic::note(

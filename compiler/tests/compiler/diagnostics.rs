@@ -773,3 +773,19 @@ fn dots_off_the_page_say_where_they_went() {
     assert_eq!(off[0].element.as_deref(), Some("arrow"));
     assert!(off[0].help.as_deref().is_some_and(|h| h.contains("beyond the page")), "{off:#?}");
 }
+
+/// A label of a paragraph's length (a scanned page's text layer, a long
+/// caption) is quoted by its start in the messages that name it (T0326,
+/// T0332): they printed all of its 200,000 characters on one line.
+#[test]
+fn a_long_label_is_quoted_by_its_start_in_every_message() {
+    let text = "lorem ipsum dolor sit amet ".repeat(800);
+    let svg = page(&format!(
+        r#"<rect x="5" y="5" width="40" height="40" fill="green"/><text x="50" y="30" font-size="4">{text}</text>"#
+    ));
+    let c = compile(&svg);
+    assert!(c.diagnostics.iter().any(|d| d.code == "T0326"), "{:#?}", c.diagnostics);
+    for d in &c.diagnostics {
+        assert!(d.message.chars().count() < 400, "{}: {} characters", d.code, d.message.chars().count());
+    }
+}
