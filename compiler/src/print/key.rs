@@ -60,14 +60,20 @@ pub(super) fn pages(
     let mut b = Builder::new(drawing, p, (0.0, 0.0));
     let mut pages: Vec<Vec<Mark>> = vec![Vec::new()];
     let mut y = origin.1;
+    let bottom = origin.1 + h + 1e-9;
     for row in rows {
         // Braille beside a swatch starts right of it; other lines at the margin.
         let x0 = origin.0 + r + if row.entry.is_some() { sw + gap } else { 0.0 };
         let per_line = ((origin.0 + w - x0 - r) / cp).floor().max(1.0) as usize;
         let lines = wrap(&row.cells, per_line);
         let text_h = lines.len() as f64 * lp;
-        let tall = if row.entry.is_some() { text_h.max(sh + p.min_gap_mm as f64) } else { text_h };
-        if y + tall > origin.1 + h + 1e-9 && y > origin.1 {
+        let swatch_h = if row.entry.is_some() { sh + p.min_gap_mm as f64 } else { 0.0 };
+        let tall = text_h.max(swatch_h);
+        // A row that fits on a page starts on the next page when it would
+        // run past this one's bottom; a longer one (a paragraph of a label)
+        // starts here, with its swatch and first line, and goes on over.
+        let needs = if tall <= h + 1e-9 { tall } else { lp.max(swatch_h) };
+        if y + needs > bottom && y > origin.1 {
             pages.push(Vec::new());
             y = origin.1;
         }
@@ -79,10 +85,17 @@ pub(super) fn pages(
                 page.extend(marks);
             }
         }
+        let swatch_end = y + swatch_h;
+        let page_of_swatch = pages.len();
         // The first line's dots centred on the swatch's height.
-        let top = if row.entry.is_some() { y + ((sh - 2.0 * dp) / 2.0).max(r) } else { y + r };
+        let mut dots_below = if row.entry.is_some() { ((sh - 2.0 * dp) / 2.0).max(r) } else { r };
+        let mut line_y = y;
         for (n, chunk) in lines.iter().enumerate() {
-            let (mut cx0, mut cy0) = (x0, top + n as f64 * lp);
+            if n > 0 && line_y + lp > bottom {
+                pages.push(Vec::new());
+                (line_y, dots_below) = (origin.1, r);
+            }
+            let (mut cx0, mut cy0) = (x0, line_y + dots_below);
             if p.medium == Medium::Emboss {
                 cx0 = snap(cx0, origin.0, p.grid_mm as f64);
                 cy0 = snap(cy0, origin.1, p.grid_mm as f64);
@@ -91,8 +104,9 @@ pub(super) fn pages(
             if let Some(page) = pages.last_mut() {
                 page.extend(dot_marks(p, &dots, None));
             }
+            line_y += lp;
         }
-        y += tall;
+        y = if pages.len() == page_of_swatch { line_y.max(swatch_end) } else { line_y };
     }
     if pages.len() > 1 {
         cx.diags.push(

@@ -196,3 +196,43 @@ fn a_long_key_goes_on_over_more_pages_and_leaves_nothing_out() {
         }
     }
 }
+
+/// A key entry whose meaning is a paragraph (a label of thousands of
+/// words) goes on over as many pages as its lines take: it was laid out on
+/// one page and ran off its bottom, unseen, while the note said that none
+/// of it was left out.
+#[test]
+fn a_key_entry_longer_than_a_page_goes_on_over_pages() {
+    let mut e = path(
+        "long",
+        vec![Polyline { points: vec![(10.0, 20.0), (150.0, 20.0)], closed: false }],
+        vec![vibrate(1.5, 50.0)],
+    );
+    e.label = "a long legend text ".repeat(200);
+    let mut short = path(
+        "short",
+        vec![Polyline { points: vec![(10.0, 60.0), (150.0, 60.0)], closed: false }],
+        vec![vibrate(1.5, 80.0)],
+    );
+    short.label = "a road".into();
+    let d = drawing(vec![e, short]);
+    let (s, diags) = sheet(&d, "swell-a4");
+    assert!(s.pages.len() >= 4, "{} pages", s.pages.len());
+    let note = diags.iter().find(|d| d.code == "T0727").expect("a note says the key takes pages");
+    assert!(note.message.contains(&format!("{} pages", s.pages.len() - 1)), "{}", note.message);
+    let (pr, q) = profile("swell-a4");
+    let m = q.margin_mm as f64;
+    let mut dots = 0;
+    for page in &s.pages[1..] {
+        for mk in page {
+            if let MarkShape::Dot { centre, .. } = mk.shape {
+                dots += 1;
+                assert!(centre.1 > m && centre.1 < q.paper_h_mm as f64 - m, "{centre:?}");
+            }
+        }
+    }
+    // Every cell's dots are there: the text's braille, less nothing.
+    let cells = braille_cells(&"a long legend text ".repeat(200), &pr);
+    let raised: usize = cells.iter().map(|c| c.count_ones() as usize).sum();
+    assert!(dots >= raised, "{dots} dots for {raised}");
+}
