@@ -20,6 +20,7 @@ use resvg::tiny_skia::{Path, PathSegment, Transform};
 
 mod area;
 mod sides;
+pub(crate) mod apart;
 pub(crate) mod crossings;
 pub(crate) mod overlay;
 pub use area::{filled_area, filled_area_within};

@@ -431,6 +431,7 @@ mod build;
 mod cut_arcs;
 mod exact;
 mod fine;
+mod hiding;
 mod inside;
 mod junctions;
 mod layer_grid;

@@ -13,6 +13,7 @@ use taxel_format::{
     TILE_SIDE, TilePlane,
 };
 
+use super::hiding::occluders_that_hide;
 use super::near::{self, Near};
 use super::{
     Field, FieldParams, FineRows, LayerGeometry, Part, Seg, Tiles, arcs, bends, buckets_of, closed_segments, cut_arcs,
@@ -48,17 +49,43 @@ pub fn build_field_within(
     // inside their union, where the layer is not felt, and measured as an
     // occluder's edge it made a crease of half amplitude there (a region
     // under a braille label's clearing and the region beside it).
-    let occluders = (g.occluders.len() <= MAX_UNITED_OCCLUDERS).then(|| united_fills(&g.occluders)).flatten();
+    // Only the occluders that can hide some of the layer (a map's regions
+    // of other styles border it and hide nothing).
+    let hiding = occluders_that_hide(&g.fills, &g.occluders, Clamp::of(params).cap);
+    let occluders = (hiding.len() <= MAX_UNITED_OCCLUDERS).then(|| united_fills(&hiding)).flatten();
     let fills = united_fills(&g.fills);
-    if fills.is_none() && occluders.is_none() {
-        return build_united(g, params, budget);
-    }
     let g = LayerGeometry {
         fills: one(fills.as_deref(), &g.fills),
-        occluders: one(occluders.as_deref(), &g.occluders),
+        occluders: one(occluders.as_deref(), &hiding),
         ..g.clone()
     };
     build_united(&g, params, budget)
+}
+
+/// [`build_field`] with every occluder measured, as before the occluders
+/// that hide nothing were left out (their union as it would be).
+#[cfg(test)]
+pub(super) fn build_field_with_every_occluder(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
+    let occluders = united_fills(&g.occluders);
+    let g = LayerGeometry { occluders: one(occluders.as_deref(), &g.occluders), ..g.clone() };
+    build_united(&g, params, None).unwrap_or(None)
+}
+
+/// How far a layer's edges act and how its samples are coded: the reach
+/// `soft/2 + 2h`, the step of one code (codes run from −128 to +127 steps)
+/// and the clamp, 127 steps.
+struct Clamp {
+    reach: f64,
+    step: f64,
+    cap: f64,
+}
+
+impl Clamp {
+    fn of(params: FieldParams) -> Clamp {
+        let reach = params.soft_mm.max(0.0) / 2.0 + 2.0 * params.pitch_mm;
+        let step = reach / 126.0;
+        Clamp { reach, step, cap: 127.0 * step }
+    }
 }
 
 /// A union as the one shape that stands for `parts`, or `parts` themselves.
@@ -156,10 +183,7 @@ impl Sampling {
             return None;
         }
         let soft = params.soft_mm.max(0.0);
-        // Codes run from −128 to +127 steps; the cap is 127 steps.
-        let reach = soft / 2.0 + 2.0 * h;
-        let step = reach / 126.0;
-        let cap = 127.0 * step;
+        let Clamp { reach, step, cap } = Clamp::of(params);
         // The felt region's bounds, grown by the reach, within the page grown by it.
         let mut felt: Option<(f64, f64, f64, f64)> = None;
         let mut grow = |b: (f64, f64, f64, f64), m: f64| {

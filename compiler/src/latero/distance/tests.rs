@@ -442,6 +442,102 @@ fn occluders_that_share_a_side_hide_the_fill_as_one() {
     }
 }
 
+/// A map's region under the regions around it, painted after it, which
+/// only border it, and under a label's clearing that covers its right side
+/// and reaches into the neighbour there: the field is the one built with
+/// every occluder measured (within a step, the unions' rounding), matches
+/// the exact geometry, and is hidden under the clearing right up to the
+/// neighbour (no crease where the clearing's side crosses it).
+#[test]
+fn regions_that_border_a_layer_leave_its_field_as_it_was() {
+    let wiggle = |a: (f64, f64), b: (f64, f64)| -> Vec<(f64, f64)> {
+        (0..20)
+            .map(|k| {
+                let t = k as f64 / 20.0;
+                let off = if k == 0 { 0.0 } else { 0.3 * (t * 17.0).sin() };
+                (a.0 + (b.0 - a.0) * t + off * (b.1 - a.1) / 10.0, a.1 + (b.1 - a.1) * t - off * (b.0 - a.0) / 10.0)
+            })
+            .collect()
+    };
+    // The region's four borders, shared point for point with its neighbours.
+    let corners = [(10.0, 8.0), (20.0, 8.0), (20.0, 18.0), (10.0, 18.0)];
+    let sides: Vec<Vec<(f64, f64)>> = (0..4).map(|k| wiggle(corners[k], corners[(k + 1) % 4])).collect();
+    let region = [Polyline { points: sides.concat(), closed: true }];
+    let outer = [(0.0, 0.0), (30.0, 0.0), (30.0, 26.0), (0.0, 26.0)];
+    let neighbour = |k: usize| {
+        let mut points: Vec<(f64, f64)> = sides[k].iter().rev().copied().collect();
+        points.insert(0, corners[(k + 1) % 4]);
+        points.extend([outer[k], outer[(k + 1) % 4]]);
+        if k % 2 == 1 {
+            points.rotate_left(3);
+        }
+        [Polyline { points, closed: true }]
+    };
+    let around: Vec<[Polyline; 1]> = (0..4).map(neighbour).collect();
+    let clearing = [square(17.0, 11.0, 3.4)];
+    let p = params(0.5, 0.0);
+    for with_label in [false, true] {
+        let mut occluders: Vec<(&[Polyline], FillRule)> = around.iter().map(|n| (&n[..], FillRule::NonZero)).collect();
+        if with_label {
+            occluders.push((&clearing[..], FillRule::NonZero));
+        }
+        let g = LayerGeometry { fills: vec![(&region[..], FillRule::NonZero)], occluders, ..Default::default() };
+        let f = build_field(&g, p).expect("felt");
+        let every = build::build_field_with_every_occluder(&g, p).expect("felt");
+        for &q in &grid_points(0.173) {
+            let (a, b) = (field_distance(&f, 0.5, q), field_distance(&every, 0.5, q));
+            assert!(
+                a.zip(b).is_none_or(|(a, b)| (a - b).abs() <= f.step_mm + 1e-9),
+                "{q:?} (label {with_label}): {a:?} against {b:?} with every occluder"
+            );
+        }
+        let union = united_fills(&g.occluders).expect("the occluders meet");
+        let reference = LayerGeometry { occluders: vec![(&union[..], FillRule::NonZero)], ..g.clone() };
+        check_against(&g, &reference, p, &grid_points(0.173)).expect("field within bounds");
+        if with_label {
+            // Under the clearing, up to the region's right border and past it.
+            for y in [11.5, 12.5, 13.5, 14.0] {
+                for x in [19.0, 19.5, 19.8, 20.2] {
+                    let d = field_distance(&f, 0.5, (x, y)).expect("in the lattice");
+                    assert!(d < -f.step_mm, "felt at ({x}, {y}): {d} under the clearing");
+                }
+            }
+        }
+    }
+}
+
+/// A label's clearing over a region's side and a thin neighbour beyond it,
+/// then a neighbour that only touches the thin one, within the clamp's
+/// reach of the clearing: that one is kept too (the thin neighbour's far
+/// side, shared with it, is no edge of the union), and the field is the one
+/// built with every occluder.
+#[test]
+fn a_region_beyond_a_thin_neighbour_of_a_clearing_still_counts() {
+    let region = [square(10.0, 8.0, 10.0)];
+    let thin = [Polyline { points: vec![(20.0, 8.0), (20.5, 8.0), (20.5, 18.0), (20.0, 18.0)], closed: true }];
+    let beyond = [Polyline { points: vec![(20.5, 8.0), (30.0, 8.0), (30.0, 18.0), (20.5, 18.0)], closed: true }];
+    let clearing = [Polyline { points: vec![(17.0, 11.0), (20.3, 11.0), (20.3, 14.0), (17.0, 14.0)], closed: true }];
+    let p = params(0.5, 0.0);
+    let g = LayerGeometry {
+        fills: vec![(&region[..], FillRule::NonZero)],
+        occluders: vec![
+            (&thin[..], FillRule::NonZero),
+            (&beyond[..], FillRule::NonZero),
+            (&clearing[..], FillRule::NonZero),
+        ],
+        ..Default::default()
+    };
+    let f = build_field(&g, p).expect("felt");
+    let every = build::build_field_with_every_occluder(&g, p).expect("felt");
+    for &q in &grid_points(0.173) {
+        let (a, b) = (field_distance(&f, 0.5, q), field_distance(&every, 0.5, q));
+        assert!(
+            a.zip(b).is_none_or(|(a, b)| (a - b).abs() <= f.step_mm + 1e-9),
+            "{q:?}: {a:?} against {b:?} with every occluder"
+        );
+    }
+}
+
 #[test]
 fn a_grating_minus_a_band_is_the_fill_outside_the_band() {
     let sq = [square(5.0, 5.0, 20.0)];
