@@ -6,7 +6,7 @@
 //! (and is also the answer when the outlines come within [`NEAR_MM`] of each
 //! other anywhere but at shared vertices and shared sides, when a shared side
 //! belongs to a shape that is not one simple ring, or when the work would pass
-//! [`MAX_RUNS`] tests). No overlay is computed: the work is one sweep over the
+//! its bounds: [`SWEEP_WORK`] open sides a side, [`MAX_RUNS`] tests). No overlay is computed: the work is one sweep over the
 //! two outlines' sides near their common box, and one point-in-shape test per
 //! run of sides between points where the outlines touch.
 //!
@@ -33,6 +33,9 @@ const COLLINEAR: f64 = 1e-9;
 
 /// Most runs of sides tested against the other shape, for each shape.
 const MAX_RUNS: usize = 64;
+
+/// Most open sides a sweep looks at for each side it meets, on average.
+const SWEEP_WORK: usize = 64;
 
 type Point = (f64, f64);
 
@@ -79,7 +82,7 @@ impl<'a> Filled<'a> {
             let sides = sides_of(ring, 0);
             let n = ring.len();
             let mut simple = true;
-            sweep(&sides, &sides, |s, t| {
+            let swept = sweep(&sides, &sides, |s, t| {
                 if s.side >= t.side {
                     return true;
                 }
@@ -87,6 +90,7 @@ impl<'a> Filled<'a> {
                 simple = if neighbours { !folds_back(s, t) } else { segment_distance(s.a, s.b, t.a, t.b) > NEAR_MM };
                 simple
             });
+            simple &= swept;
             let area: f64 = (0..n).map(|i| cross(ring[i], ring[(i + 1) % n])).sum();
             (simple && area != 0.0 && area.is_finite()).then_some(area.signum())
         })
@@ -145,8 +149,11 @@ fn shared_end(s: &Side, t: &Side) -> Option<(Point, Point, Point)> {
 
 /// Calls `pair(s, t)` for every side `s` of `xs` and `t` of `ys` whose
 /// bounds come within [`NEAR_MM`] of each other (a sweep along x); stops when
-/// it returns `false`.
-fn sweep(xs: &[Side], ys: &[Side], mut pair: impl FnMut(&Side, &Side) -> bool) {
+/// it returns `false`. `false` when the sweep would look at more than
+/// [`SWEEP_WORK`] open sides for each side (long sides across each other,
+/// as a scribble's: the answer is then "may meet", and the caller's other
+/// bounds apply).
+fn sweep(xs: &[Side], ys: &[Side], mut pair: impl FnMut(&Side, &Side) -> bool) -> bool {
     let mut order: Vec<(f64, bool, usize)> = xs
         .iter()
         .enumerate()
@@ -154,10 +161,15 @@ fn sweep(xs: &[Side], ys: &[Side], mut pair: impl FnMut(&Side, &Side) -> bool) {
         .chain(ys.iter().enumerate().map(|(i, s)| (s.x0, false, i)))
         .collect();
     order.sort_by(|p, q| p.0.total_cmp(&q.0));
+    let mut budget = SWEEP_WORK.saturating_mul(order.len());
     let (mut open_x, mut open_y): (Vec<usize>, Vec<usize>) = (Vec::new(), Vec::new());
     for (x0, from_x, i) in order {
         let (s, others, mine, other_sides) =
             if from_x { (&xs[i], &mut open_y, &mut open_x, ys) } else { (&ys[i], &mut open_x, &mut open_y, xs) };
+        budget = match budget.checked_sub(others.len()) {
+            Some(b) => b,
+            None => return false,
+        };
         others.retain(|&j| other_sides[j].x1 >= x0 - NEAR_MM);
         for &j in others.iter() {
             let t = &other_sides[j];
@@ -166,11 +178,12 @@ fn sweep(xs: &[Side], ys: &[Side], mut pair: impl FnMut(&Side, &Side) -> bool) {
             }
             let go = if from_x { pair(s, t) } else { pair(t, s) };
             if !go {
-                return;
+                return true;
             }
         }
         mine.push(i);
     }
+    true
 }
 
 /// What the sweep learned of one shape's sides against the other's.
@@ -258,7 +271,7 @@ pub(crate) fn apart(a: &Filled<'_>, b: &Filled<'_>) -> bool {
     // Each shared side: whether it runs the same way in both.
     let mut shared_ways: Vec<bool> = Vec::new();
     let mut meet = false;
-    sweep(&sa, &sb, |s, t| {
+    let swept = sweep(&sa, &sb, |s, t| {
         if (s.a == t.a && s.b == t.b) || (s.a == t.b && s.b == t.a) {
             ca.share(s);
             cb.share(t);
@@ -277,7 +290,7 @@ pub(crate) fn apart(a: &Filled<'_>, b: &Filled<'_>) -> bool {
         }
         !meet
     });
-    if meet {
+    if meet || !swept {
         return false;
     }
     if !shared_ways.is_empty() {

@@ -218,3 +218,24 @@ fn the_cells_of_a_map_are_apart() {
         }
     }
 }
+
+/// Long sides across each other (a scribble's) stop the sweep within its
+/// bounds, and the answer is "may meet".
+#[test]
+fn a_scribble_is_looked_at_within_bounds() {
+    let n = 2_000;
+    let across: Vec<(f64, f64)> =
+        (0..n).map(|k| if k % 2 == 0 { (0.0, k as f64 * 0.01) } else { (100.0, k as f64 * 0.01) }).collect();
+    let down: Vec<(f64, f64)> =
+        (0..n).map(|k| if k % 2 == 0 { (k as f64 * 0.05, -5.0) } else { (k as f64 * 0.05, 40.0) }).collect();
+    let (a, b) = (ring(&across), ring(&down));
+    let (fa, fb) = (Filled::new(&a, NZ), Filled::new(&b, NZ));
+    let sides = |f: &Filled<'_>| super::sides_of(&f.rings[0], 0);
+    let mut pairs = 0usize;
+    assert!(!super::sweep(&sides(&fa), &sides(&fb), |_, _| {
+        pairs += 1;
+        true
+    }));
+    assert!(pairs <= super::SWEEP_WORK * 2 * n, "{pairs} pairs looked at");
+    assert!(!apart(&fa, &fb));
+}

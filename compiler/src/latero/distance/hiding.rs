@@ -31,6 +31,12 @@ use crate::geometry::apart::{Filled, apart};
 use crate::geometry::{FillRule, Polyline, bounds};
 use crate::spatial::{self, Bbox, BoxIndex};
 
+/// The most points (an occluder's and a fill's, summed over the pairs whose
+/// boxes meet) one layer's look at its occluders may read: the 1,200-state
+/// map's layers read 110,000 to 118,000, the Wikipedia world map's land
+/// 2.7 million.
+const MAX_WORK: usize = 20_000_000;
+
 /// The occluders of `fills` (in their order) that can change the field whose
 /// samples are clamped to `±cap`.
 pub(super) fn occluders_that_hide<'a>(
@@ -44,6 +50,21 @@ pub(super) fn occluders_that_hide<'a>(
     let no_box = (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
     let fill_boxes: Vec<Bbox> = fills.iter().map(|(pls, _)| bounds(pls).unwrap_or(no_box)).collect();
     let index = BoxIndex::new(&fill_boxes);
+    // The work is bounded: past it, every occluder is kept, as before they
+    // were looked at (a thousand long strokes' fills across a thousand
+    // regions would be a million pairs).
+    let points = |pls: &[Polyline]| pls.iter().map(|p| p.points.len()).sum::<usize>();
+    let fill_points: Vec<usize> = fills.iter().map(|(pls, _)| points(pls)).collect();
+    let mut work = 0usize;
+    for (pls, _) in occluders {
+        let own = points(pls);
+        for k in bounds(pls).into_iter().flat_map(|b| index.meeting(b)) {
+            work = work.saturating_add(own + fill_points[k]);
+        }
+        if work > MAX_WORK {
+            return occluders.to_vec();
+        }
+    }
     let prepared: Vec<OnceLock<Filled<'a>>> = fills.iter().map(|_| OnceLock::new()).collect();
     let fill = |k: usize| prepared[k].get_or_init(|| Filled::new(fills[k].0, fills[k].1));
     // Each occluder's box, and where it may cover a fill: the common boxes
