@@ -21,7 +21,11 @@
 use super::{FillRule, Polyline};
 
 /// Most row crossings one area may take before its rows are spaced evenly.
-pub const AREA_WORK: usize = 4_000_000;
+/// (At 4 million, the area of a 3,000-segment scribble, 4,000 rows of 1,000
+/// crossings each, was 0.17 s of its 0.25 s build, on one core; at 1 million
+/// it is 1,000 rows, within 0.02 % of that, and the build takes 0.10 s. The
+/// automatic sheet compares areas with shares of the page.)
+pub const AREA_WORK: usize = 1_000_000;
 /// Fewest rows over the outline's height (slabs are split into rows no
 /// taller than its share).
 const MIN_ROWS: usize = 256;
