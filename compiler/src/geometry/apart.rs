@@ -82,10 +82,8 @@ impl<'a> Filled<'a> {
             let sides = sides_of(ring, 0);
             let n = ring.len();
             let mut simple = true;
-            let swept = sweep(&sides, &sides, |s, t| {
-                if s.side >= t.side {
-                    return true;
-                }
+            let swept = sweep_one(&sides, |s, t| {
+                let (s, t) = if s.side < t.side { (s, t) } else { (t, s) };
                 let neighbours = t.side == s.side + 1 || (s.side == 0 && t.side == n - 1);
                 simple = if neighbours { !folds_back(s, t) } else { segment_distance(s.a, s.b, t.a, t.b) > NEAR_MM };
                 simple
@@ -160,7 +158,7 @@ fn sweep(xs: &[Side], ys: &[Side], mut pair: impl FnMut(&Side, &Side) -> bool) -
         .map(|(i, s)| (s.x0, true, i))
         .chain(ys.iter().enumerate().map(|(i, s)| (s.x0, false, i)))
         .collect();
-    order.sort_by(|p, q| p.0.total_cmp(&q.0));
+    order.sort_unstable_by(|p, q| p.0.total_cmp(&q.0));
     let mut budget = SWEEP_WORK.saturating_mul(order.len());
     let (mut open_x, mut open_y): (Vec<usize>, Vec<usize>) = (Vec::new(), Vec::new());
     for (x0, from_x, i) in order {
@@ -182,6 +180,33 @@ fn sweep(xs: &[Side], ys: &[Side], mut pair: impl FnMut(&Side, &Side) -> bool) -
             }
         }
         mine.push(i);
+    }
+    true
+}
+
+/// [`sweep`] of the sides of one shape against each other: each pair once.
+fn sweep_one(sides: &[Side], mut pair: impl FnMut(&Side, &Side) -> bool) -> bool {
+    let mut order: Vec<usize> = (0..sides.len()).collect();
+    order.sort_unstable_by(|&p, &q| sides[p].x0.total_cmp(&sides[q].x0));
+    let mut budget = SWEEP_WORK.saturating_mul(order.len());
+    let mut open: Vec<usize> = Vec::new();
+    for i in order {
+        let s = &sides[i];
+        budget = match budget.checked_sub(open.len()) {
+            Some(b) => b,
+            None => return false,
+        };
+        open.retain(|&j| sides[j].x1 >= s.x0 - NEAR_MM);
+        for &j in open.iter() {
+            let t = &sides[j];
+            if t.y0 > s.y1 + NEAR_MM || s.y0 > t.y1 + NEAR_MM {
+                continue;
+            }
+            if !pair(s, t) {
+                return true;
+            }
+        }
+        open.push(i);
     }
     true
 }
