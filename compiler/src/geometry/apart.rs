@@ -109,13 +109,18 @@ struct Side {
 }
 
 fn sides_of(ring: &[Point], k: usize) -> Vec<Side> {
+    sides_in(ring, k, None).collect()
+}
+
+/// The sides of ring `k` whose bounds meet `window` (all of them without one).
+fn sides_in(ring: &[Point], k: usize, window: Option<(f64, f64, f64, f64)>) -> impl Iterator<Item = Side> + '_ {
     let n = ring.len();
-    (0..n)
-        .map(|i| {
-            let (a, b) = (ring[i], ring[(i + 1) % n]);
-            Side { a, b, x0: a.0.min(b.0), x1: a.0.max(b.0), y0: a.1.min(b.1), y1: a.1.max(b.1), ring: k, side: i }
-        })
-        .collect()
+    (0..n).filter_map(move |i| {
+        let (a, b) = (ring[i], ring[(i + 1) % n]);
+        let (x0, x1, y0, y1) = (a.0.min(b.0), a.0.max(b.0), a.1.min(b.1), a.1.max(b.1));
+        let meets = window.is_none_or(|w| x1 >= w.0 && x0 <= w.2 && y1 >= w.1 && y0 <= w.3);
+        meets.then_some(Side { a, b, x0, x1, y0, y1, ring: k, side: i })
+    })
 }
 
 fn cross(p: Point, q: Point) -> f64 {
@@ -284,12 +289,7 @@ pub(crate) fn apart(a: &Filled<'_>, b: &Filled<'_>) -> bool {
         return true;
     }
     let near = |f: &Filled<'_>| -> Vec<Side> {
-        f.rings
-            .iter()
-            .enumerate()
-            .flat_map(|(k, r)| sides_of(r, k))
-            .filter(|s| s.x1 >= common.0 && s.x0 <= common.2 && s.y1 >= common.1 && s.y0 <= common.3)
-            .collect()
+        f.rings.iter().enumerate().flat_map(|(k, r)| sides_in(r, k, Some(common))).collect()
     };
     let (sa, sb) = (near(a), near(b));
     let (mut ca, mut cb) = (Contacts::of(a), Contacts::of(b));

@@ -37,6 +37,13 @@ use crate::spatial::{self, Bbox, BoxIndex};
 /// 2.7 million.
 const MAX_WORK: usize = 20_000_000;
 
+/// ... and at most this many points for each of the occluders' own, and
+/// [`WORK_FLOOR`] more: what leaving an occluder out saves follows its own
+/// points (its union, its distances), what looking costs follows the fills
+/// it is looked at against.
+const WORK_PER_POINT: usize = 16;
+const WORK_FLOOR: usize = 100_000;
+
 /// The occluders of `fills` (in their order) that can change the field whose
 /// samples are clamped to `±cap`.
 pub(super) fn occluders_that_hide<'a>(
@@ -56,12 +63,14 @@ pub(super) fn occluders_that_hide<'a>(
     let points = |pls: &[Polyline]| pls.iter().map(|p| p.points.len()).sum::<usize>();
     let fill_points: Vec<usize> = fills.iter().map(|(pls, _)| points(pls)).collect();
     let mut work = 0usize;
+    let own_points: usize = occluders.iter().map(|(pls, _)| points(pls)).sum();
+    let most = MAX_WORK.min(own_points.saturating_mul(WORK_PER_POINT).saturating_add(WORK_FLOOR));
     for (pls, _) in occluders {
         let own = points(pls);
         for k in bounds(pls).into_iter().flat_map(|b| index.meeting(b)) {
             work = work.saturating_add(own + fill_points[k]);
         }
-        if work > MAX_WORK {
+        if work > most {
             return occluders.to_vec();
         }
     }

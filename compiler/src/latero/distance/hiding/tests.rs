@@ -40,3 +40,25 @@ fn what_covers_the_layer_is_kept_with_what_borders_it_near_there() {
     ];
     assert_eq!(kept(&fills, &occluders), vec![0, 1]);
 }
+
+/// A small occluder beside a coast of 300,000 points is not looked at (the
+/// look would read the coast for an occluder whose union costs next to
+/// nothing): it is kept, as it would be beside a fill that may lie under
+/// it. Beside a small fill, the same occluder is looked at and left out.
+#[test]
+fn a_small_occluder_beside_a_long_coast_is_kept_without_a_look() {
+    let n = 300_000;
+    let coast: Vec<Polyline> = vec![Polyline {
+        points: (0..n)
+            .map(|k| {
+                let t = k as f64 / n as f64 * std::f64::consts::TAU;
+                (50.0 + 40.0 * t.cos(), 50.0 + 40.0 * t.sin())
+            })
+            .collect(),
+        closed: true,
+    }];
+    // Just outside the coast, touching its box.
+    let beside = square(90.0, 45.0, 2.0);
+    assert_eq!(kept(&[coast], std::slice::from_ref(&beside)), vec![0]);
+    assert!(kept(&[square(88.0, 45.0, 2.0)], &[beside]).is_empty());
+}
