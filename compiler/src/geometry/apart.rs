@@ -156,62 +156,43 @@ fn shared_end(s: &Side, t: &Side) -> Option<(Point, Point, Point)> {
 /// [`SWEEP_WORK`] open sides for each side (long sides across each other,
 /// as a scribble's: the answer is then "may meet", and the caller's other
 /// bounds apply).
-fn sweep(xs: &[Side], ys: &[Side], mut pair: impl FnMut(&Side, &Side) -> bool) -> bool {
-    let mut order: Vec<(f64, bool, usize)> = xs
-        .iter()
-        .enumerate()
-        .map(|(i, s)| (s.x0, true, i))
-        .chain(ys.iter().enumerate().map(|(i, s)| (s.x0, false, i)))
-        .collect();
+fn sweep(xs: &[Side], ys: &[Side], pair: impl FnMut(&Side, &Side) -> bool) -> bool {
+    sweep_lists([xs, ys], false, pair)
+}
+
+/// [`sweep`] of the sides of one shape against each other: each pair once,
+/// in either order.
+fn sweep_one(sides: &[Side], pair: impl FnMut(&Side, &Side) -> bool) -> bool {
+    sweep_lists([sides, &[]], true, pair)
+}
+
+/// The sweep of [`sweep`] and [`sweep_one`] (`within`: the first list's
+/// sides against each other, the second list empty).
+fn sweep_lists(lists: [&[Side]; 2], within: bool, mut pair: impl FnMut(&Side, &Side) -> bool) -> bool {
+    let mut order: Vec<(f64, usize, usize)> =
+        (0..2).flat_map(|l| lists[l].iter().enumerate().map(move |(i, s)| (s.x0, l, i))).collect();
     order.sort_unstable_by(|p, q| p.0.total_cmp(&q.0));
     let mut budget = SWEEP_WORK.saturating_mul(order.len());
-    let (mut open_x, mut open_y): (Vec<usize>, Vec<usize>) = (Vec::new(), Vec::new());
-    for (x0, from_x, i) in order {
-        let (s, others, mine, other_sides) =
-            if from_x { (&xs[i], &mut open_y, &mut open_x, ys) } else { (&ys[i], &mut open_x, &mut open_y, xs) };
-        budget = match budget.checked_sub(others.len()) {
+    let mut open: [Vec<usize>; 2] = [Vec::new(), Vec::new()];
+    for (x0, l, i) in order {
+        let s = &lists[l][i];
+        let other = if within { l } else { 1 - l };
+        budget = match budget.checked_sub(open[other].len()) {
             Some(b) => b,
             None => return false,
         };
-        others.retain(|&j| other_sides[j].x1 >= x0 - NEAR_MM);
-        for &j in others.iter() {
-            let t = &other_sides[j];
+        open[other].retain(|&j| lists[other][j].x1 >= x0 - NEAR_MM);
+        for &j in &open[other] {
+            let t = &lists[other][j];
             if t.y0 > s.y1 + NEAR_MM || s.y0 > t.y1 + NEAR_MM {
                 continue;
             }
-            let go = if from_x { pair(s, t) } else { pair(t, s) };
+            let go = if l == 0 { pair(s, t) } else { pair(t, s) };
             if !go {
                 return true;
             }
         }
-        mine.push(i);
-    }
-    true
-}
-
-/// [`sweep`] of the sides of one shape against each other: each pair once.
-fn sweep_one(sides: &[Side], mut pair: impl FnMut(&Side, &Side) -> bool) -> bool {
-    let mut order: Vec<usize> = (0..sides.len()).collect();
-    order.sort_unstable_by(|&p, &q| sides[p].x0.total_cmp(&sides[q].x0));
-    let mut budget = SWEEP_WORK.saturating_mul(order.len());
-    let mut open: Vec<usize> = Vec::new();
-    for i in order {
-        let s = &sides[i];
-        budget = match budget.checked_sub(open.len()) {
-            Some(b) => b,
-            None => return false,
-        };
-        open.retain(|&j| sides[j].x1 >= s.x0 - NEAR_MM);
-        for &j in open.iter() {
-            let t = &sides[j];
-            if t.y0 > s.y1 + NEAR_MM || s.y0 > t.y1 + NEAR_MM {
-                continue;
-            }
-            if !pair(s, t) {
-                return true;
-            }
-        }
-        open.push(i);
+        open[l].push(i);
     }
     true
 }
@@ -283,8 +264,7 @@ pub(crate) fn apart(a: &Filled<'_>, b: &Filled<'_>) -> bool {
         return false;
     }
     let (Some(ba), Some(bb)) = (a.bounds, b.bounds) else { return true };
-    let common =
-        (ba.0.max(bb.0) - NEAR_MM, ba.1.max(bb.1) - NEAR_MM, ba.2.min(bb.2) + NEAR_MM, ba.3.min(bb.3) + NEAR_MM);
+    let common = crate::spatial::grow(crate::spatial::common(ba, bb), NEAR_MM);
     if common.0 > common.2 || common.1 > common.3 {
         return true;
     }

@@ -86,7 +86,8 @@ pub(super) fn occluders_that_hide<'a>(
             if !(b.0.is_finite() && b.1.is_finite() && b.2.is_finite() && b.3.is_finite()) {
                 return (Some(b), None);
             }
-            let covers = index.meeting(b).filter(|&k| !apart(&o, fill(k))).map(|k| common(b, fill_boxes[k])).collect();
+            let covers =
+                index.meeting(b).filter(|&k| !apart(&o, fill(k))).map(|k| spatial::common(b, fill_boxes[k])).collect();
             (Some(b), Some(covers))
         })
         .collect();
@@ -108,11 +109,6 @@ pub(super) fn occluders_that_hide<'a>(
         })
         .map(|(o, _)| *o)
         .collect()
-}
-
-/// The box two boxes have in common.
-fn common(a: Bbox, b: Bbox) -> Bbox {
-    (a.0.max(b.0), a.1.max(b.1), a.2.min(b.2), a.3.min(b.3))
 }
 
 #[cfg(test)]
