@@ -649,6 +649,12 @@ pub fn segment_distance(a0: (f64, f64), a1: (f64, f64), b0: (f64, f64), b1: (f64
         .min(distance_to_segment(b1, a0, a1))
 }
 
+/// The box two boxes `(x0, y0, x1, y1)` have in common (inverted when they
+/// do not meet).
+pub(crate) fn common_bounds(a: (f64, f64, f64, f64), b: (f64, f64, f64, f64)) -> (f64, f64, f64, f64) {
+    (a.0.max(b.0), a.1.max(b.1), a.2.min(b.2), a.3.min(b.3))
+}
+
 /// Axis-aligned bounds `(x0, y0, x1, y1)` of polylines, or `None` when empty.
 pub fn bounds(polys: &[Polyline]) -> Option<(f64, f64, f64, f64)> {
     let mut it = polys.iter().flat_map(|p| p.points.iter());

@@ -29,11 +29,6 @@ pub fn grow(b: Bbox, m: f64) -> Bbox {
     (b.0 - m, b.1 - m, b.2 + m, b.3 + m)
 }
 
-/// The box two boxes have in common (inverted when they do not meet).
-pub fn common(a: Bbox, b: Bbox) -> Bbox {
-    (a.0.max(b.0), a.1.max(b.1), a.2.min(b.2), a.3.min(b.3))
-}
-
 /// Whether two boxes meet (touching edges count).
 pub fn meet(a: Bbox, b: Bbox) -> bool {
     a.0 <= b.2 && b.0 <= a.2 && a.1 <= b.3 && b.1 <= a.3

@@ -264,7 +264,8 @@ pub(crate) fn apart(a: &Filled<'_>, b: &Filled<'_>) -> bool {
         return false;
     }
     let (Some(ba), Some(bb)) = (a.bounds, b.bounds) else { return true };
-    let common = crate::spatial::grow(crate::spatial::common(ba, bb), NEAR_MM);
+    let c = super::common_bounds(ba, bb);
+    let common = (c.0 - NEAR_MM, c.1 - NEAR_MM, c.2 + NEAR_MM, c.3 + NEAR_MM);
     if common.0 > common.2 || common.1 > common.3 {
         return true;
     }

@@ -28,7 +28,7 @@ use std::sync::OnceLock;
 use rayon::prelude::*;
 
 use crate::geometry::apart::{Filled, apart};
-use crate::geometry::{FillRule, Polyline, bounds};
+use crate::geometry::{FillRule, Polyline, bounds, common_bounds};
 use crate::spatial::{self, Bbox, BoxIndex};
 
 /// The most points (an occluder's and a fill's, summed over the pairs whose
@@ -87,7 +87,7 @@ pub(super) fn occluders_that_hide<'a>(
                 return (Some(b), None);
             }
             let covers =
-                index.meeting(b).filter(|&k| !apart(&o, fill(k))).map(|k| spatial::common(b, fill_boxes[k])).collect();
+                index.meeting(b).filter(|&k| !apart(&o, fill(k))).map(|k| common_bounds(b, fill_boxes[k])).collect();
             (Some(b), Some(covers))
         })
         .collect();
