@@ -164,13 +164,151 @@ pub(crate) fn paint_of(fill: Option<&usvg::Fill>, stroke: Option<&usvg::Stroke>,
     }
 }
 
-/// `paint` seen through groups of `opacity` in all: its colours' alpha scaled.
+/// `paint` seen through groups of `opacity` in all: its colours' alpha
+/// scaled. A gradient or a pattern (no one colour) seen at no opacity at all
+/// is a colour of no alpha: not seen, as a colour would not be.
 fn faded(mut paint: Paint, opacity: f32) -> Paint {
-    let fade = |c: &mut Rgba| c[3] = (f32::from(c[3]) * opacity.clamp(0.0, 1.0)).round() as u8;
+    let opacity = if opacity.is_nan() { 0.0 } else { opacity.clamp(0.0, 1.0) };
+    let fade = |c: &mut Rgba| c[3] = (f32::from(c[3]) * opacity).round() as u8;
     for c in [paint.fill.as_mut(), paint.stroke.as_mut()].into_iter().flatten() {
         fade(c);
     }
+    if (opacity * 255.0).round() == 0.0 {
+        for (painted, c) in [(paint.filled, &mut paint.fill), (paint.stroked, &mut paint.stroke)] {
+            if painted && c.is_none() {
+                *c = Some([0, 0, 0, 0]);
+            }
+        }
+    }
     paint
+}
+
+/// The most a mask lets through, from 0 (it hides all it masks: no
+/// content, or content that is black in a luminance mask or clear in an
+/// alpha one) to 1, as a factor on the masked group's opacity: an upper
+/// bound, as resvg renders it (the mask's value at a point is its
+/// content's luminance, or alpha, there; the mask of the mask multiplies).
+fn mask_strength(mask: &usvg::Mask) -> f32 {
+    if mask.root().children().is_empty() {
+        return 0.0;
+    }
+    let alpha = matches!(mask.kind(), usvg::MaskType::Alpha);
+    let own = nodes_strength(mask.root(), alpha);
+    own * mask.mask().map_or(1.0, mask_strength)
+}
+
+/// The most that the children of `g` show in a mask (see [`mask_strength`]).
+fn nodes_strength(g: &Group, alpha: bool) -> f32 {
+    let mut most = 0.0f32;
+    for c in g.children() {
+        let s = match c {
+            Node::Group(cg) => cg.opacity().get() * nodes_strength(cg, alpha) * cg.mask().map_or(1.0, mask_strength),
+            Node::Path(p) if !p.is_visible() => 0.0,
+            Node::Path(p) => {
+                let fill = p.fill().map_or(0.0, |f| paint_strength(f.paint(), alpha) * f.opacity().get());
+                let stroke = p.stroke().map_or(0.0, |s| paint_strength(s.paint(), alpha) * s.opacity().get());
+                fill.max(stroke)
+            }
+            Node::Text(t) => nodes_strength(t.flattened(), alpha),
+            Node::Image(im) if !im.is_visible() => 0.0,
+            Node::Image(_) => 1.0,
+        };
+        most = most.max(if s.is_nan() { 1.0 } else { s.clamp(0.0, 1.0) });
+    }
+    most
+}
+
+/// The most a paint shows in a mask: a colour's luminance (the weights
+/// tiny-skia's luminance masks use), or 1 in an alpha mask; a gradient's
+/// most between any two of its stops; a pattern may show anything.
+fn paint_strength(p: &usvg::Paint, alpha: bool) -> f32 {
+    let luma = |c: usvg::Color| {
+        if alpha {
+            1.0
+        } else {
+            (0.2125 * f32::from(c.red) + 0.7154 * f32::from(c.green) + 0.0721 * f32::from(c.blue)) / 255.0
+        }
+    };
+    let stops = |s: &[usvg::Stop]| {
+        let at = |s: &usvg::Stop| (luma(s.color()), s.opacity().get());
+        let one = s.iter().map(|s| at(s).0 * at(s).1).fold(0.0, f32::max);
+        s.windows(2).map(|w| between(at(&w[0]), at(&w[1]))).fold(one, f32::max)
+    };
+    match p {
+        usvg::Paint::Color(c) => luma(*c),
+        usvg::Paint::LinearGradient(g) => stops(g.stops()),
+        usvg::Paint::RadialGradient(g) => stops(g.stops()),
+        usvg::Paint::Pattern(_) => 1.0,
+    }
+}
+
+/// The most of `l(t) a(t)` for `t` in 0..1, where luminance `l` and alpha
+/// `a` go in a straight line from `(l0, a0)` to `(l1, a1)`: between two
+/// stops, a colour going lighter as it fades shows most in the middle
+/// (white at alpha 0 to black shows a quarter at half way).
+fn between((l0, a0): (f32, f32), (l1, a1): (f32, f32)) -> f32 {
+    let (dl, da) = (l1 - l0, a1 - a0);
+    let f = |t: f32| (l0 + dl * t) * (a0 + da * t);
+    // The product's turning point, where its slope l0 da + a0 dl + 2 dl da t is 0.
+    let turn = -(l0 * da + a0 * dl) / (2.0 * dl * da);
+    let inner = if turn.is_finite() && (0.0..=1.0).contains(&turn) { f(turn) } else { 0.0 };
+    f(0.0).max(f(1.0)).max(inner)
+}
+
+/// The regions a mask may show, in page mm (`base` maps the masked group's
+/// user units there): its rectangle, and, where its content is only filled
+/// shapes, those of them that show anything (their union, kept as one
+/// [`Clip`] as [`clip_regions`] keeps a clip path's). Where the content
+/// strokes, draws images or text, or masks again, its rectangle alone
+/// bounds it: what is felt may then reach past what is seen, never less.
+fn mask_regions(mask: &usvg::Mask, base: Transform, flattening: geometry::Flattening, out: &mut Vec<Clip>) {
+    let rect = resvg::tiny_skia::PathBuilder::from_rect(mask.rect().to_rect());
+    out.push(Clip { outline: geometry::flatten_with(&rect, base, flattening), fill_rule: FillRule::NonZero });
+    let alpha = matches!(mask.kind(), usvg::MaskType::Alpha);
+    let mut shown = Clip::default();
+    let mut rule = None;
+    if mask_shapes(mask.root(), base, flattening, alpha, &mut shown, &mut rule) {
+        shown.fill_rule = rule.unwrap_or_default();
+        out.push(shown);
+    }
+    if let Some(inner) = mask.mask() {
+        mask_regions(inner, base, flattening, out);
+    }
+}
+
+/// Gathers into `region` the outlines of the shapes under `g` that show in
+/// a mask; `false` where some content is not a plain filled shape (its
+/// extent is not its outline).
+fn mask_shapes(
+    g: &Group,
+    ts: Transform,
+    flattening: geometry::Flattening,
+    alpha: bool,
+    region: &mut Clip,
+    rule: &mut Option<FillRule>,
+) -> bool {
+    for c in g.children() {
+        match c {
+            Node::Group(cg) => {
+                let plain = cg.filters().is_empty() && cg.mask().is_none() && cg.clip_path().is_none();
+                if !plain || !mask_shapes(cg, ts.pre_concat(cg.transform()), flattening, alpha, region, rule) {
+                    return false;
+                }
+            }
+            Node::Path(p) => {
+                if p.stroke().is_some_and(|s| paint_strength(s.paint(), alpha) * s.opacity().get() > 0.0) {
+                    return false;
+                }
+                let shows = p.fill().is_some_and(|f| paint_strength(f.paint(), alpha) * f.opacity().get() > 0.0);
+                if p.is_visible() && shows {
+                    rule.get_or_insert(fill_rule(p));
+                    region.outline.extend(geometry::flatten_with(p.data(), ts, flattening));
+                }
+            }
+            Node::Text(_) | Node::Image(_) => return false,
+        }
+    }
+    true
 }
 
 /// The regions of a clip path (and of the clip path on it), in page mm.
@@ -337,11 +475,20 @@ impl<'t> Walker<'_, 't> {
                         continue;
                     }
                     let before = clips.len();
+                    let base = self.page_ts.pre_concat(cg.abs_transform());
                     if let Some(c) = cg.clip_path() {
-                        clip_regions(c, self.page_ts.pre_concat(cg.abs_transform()), self.flattening, clips);
+                        clip_regions(c, base, self.flattening, clips);
+                    }
+                    // A mask is seen as what it may show: a clip to where
+                    // it shows anything, and a fade to the most it shows
+                    // (none: the group is not seen, as at opacity 0).
+                    let mut seen = opacity * cg.opacity().get();
+                    if let Some(m) = cg.mask() {
+                        mask_regions(m, base, self.flattening, clips);
+                        seen *= mask_strength(m);
                     }
                     let owner = own.filter(|&ei| self.src.elements[ei].tag == "use").or(owner);
-                    self.group(cg, decl.as_ref(), owner, own.or(here), clips, opacity * cg.opacity().get());
+                    self.group(cg, decl.as_ref(), owner, own.or(here), clips, seen);
                     clips.truncate(before);
                 }
                 Node::Path(p) => {

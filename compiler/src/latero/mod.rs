@@ -330,7 +330,7 @@ fn walk<'d>(
         }
         let clipped_away = clips_of(e).iter().any(|c| c.outline.is_empty());
         if polylines.is_empty() || clipped_away {
-            let what = if clipped_away { "this shape is clipped away" } else { "this shape is empty" };
+            let what = if clipped_away { "this shape is clipped or masked away" } else { "this shape is empty" };
             diags.push(
                 Diagnostic::warning("T0301", format!("{what}; nothing is rendered for it"))
                     .with_element(&e.name)

@@ -19,7 +19,7 @@ impl LeftOut {
             LeftOut::Hidden => "hidden",
             LeftOut::Empty => "empty",
             LeftOut::OffPage => "off the page",
-            LeftOut::ClippedAway => "clipped away",
+            LeftOut::ClippedAway => "clipped or masked away",
             LeftOut::Background => "page background(s)",
             LeftOut::Unpainted => "with no visible fill or stroke (white, transparent or none)",
             LeftOut::SmallShape => "small shape(s) (glyph outlines, slivers)",

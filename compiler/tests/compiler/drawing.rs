@@ -125,6 +125,69 @@ fn an_element_drawn_at_opacity_0_is_not_felt_and_hides_nothing() {
     assert!(sample(layers[0], 25.0, 25.0) > 0.99, "the grating is felt under the ghost");
 }
 
+/// A gradient drawn at opacity 0 is not seen either: no colour of it is
+/// known, but none of it shows.
+#[test]
+fn a_gradient_drawn_at_opacity_0_is_not_felt() {
+    let c = compile(&page(
+        r##"<defs><linearGradient id="k"><stop offset="0" stop-color="#f00"/><stop offset="1" stop-color="#00f"/></linearGradient></defs>
+<rect id="land" x="5" y="5" width="40" height="40" fill="#00aa00"/>
+<g opacity="0"><rect id="ghost" x="50" y="5" width="40" height="40" fill="url(#k)"/></g>
+<rect id="seen" x="50" y="48" width="40" height="10" fill="url(#k)" opacity="0.5"/>"##,
+    ));
+    let layers = masks(bundle(&c));
+    let felt_at = |x: f64, y: f64| layers.iter().map(|m| sample(m, x, y)).fold(0.0, f64::max);
+    assert!(felt_at(25.0, 25.0) > 0.99, "the land is felt");
+    assert_eq!(felt_at(70.0, 25.0), 0.0, "the ghost is not");
+    assert!(felt_at(70.0, 53.0) > 0.99, "a gradient at opacity 0.5 is");
+}
+
+/// A mask hides what it masks where it shows nothing, as resvg draws it:
+/// an element under a mask of black content (a luminance mask), of clear
+/// content (an alpha mask), of a black gradient or of no content is not
+/// seen, so not felt, and hides nothing under it; under a mask that shows
+/// one part of it, only that part is felt.
+#[test]
+fn an_element_is_felt_only_where_its_mask_shows_it() {
+    let c = compile(&page(
+        r##"<defs>
+  <mask id="black" maskUnits="userSpaceOnUse" x="0" y="0" width="100" height="60"><rect width="100" height="60" fill="#000"/></mask>
+  <mask id="clear" mask-type="alpha"><rect x="0" y="0" width="1" height="1" fill="#fff" fill-opacity="0" maskContentUnits="objectBoundingBox"/></mask>
+  <linearGradient id="dark"><stop offset="0" stop-color="#000"/><stop offset="1" stop-color="#000"/></linearGradient>
+  <mask id="fade" maskUnits="userSpaceOnUse" x="0" y="0" width="100" height="60"><rect width="100" height="60" fill="url(#dark)"/></mask>
+  <mask id="left" maskUnits="userSpaceOnUse" x="0" y="0" width="100" height="60"><rect x="0" y="0" width="20" height="60" fill="#fff"/></mask>
+</defs>
+<rect id="land" x="5" y="5" width="40" height="40" fill="#00aa00"/>
+<rect id="a" x="50" y="5" width="20" height="15" fill="#ff0000" mask="url(#black)"/>
+<rect id="b" x="75" y="5" width="20" height="15" fill="#ff0000" mask="url(#clear)"/>
+<rect id="c" x="50" y="25" width="20" height="15" fill="#ff0000" mask="url(#fade)"/>
+<rect id="over" x="15" y="15" width="20" height="20" fill="#ffffff" mask="url(#black)"/>
+<g transform="translate(5 0)" mask="url(#left)"><rect id="half" x="5" y="48" width="40" height="10" fill="#0000ff"/></g>"##,
+    ));
+    let layers = masks(bundle(&c));
+    let felt_at = |x: f64, y: f64| layers.iter().map(|m| sample(m, x, y)).fold(0.0, f64::max);
+    assert!(felt_at(25.0, 25.0) > 0.99, "the land is felt, under a white square masked out");
+    assert_eq!(felt_at(60.0, 12.0), 0.0, "under a black luminance mask");
+    assert_eq!(felt_at(85.0, 12.0), 0.0, "under a clear alpha mask");
+    assert_eq!(felt_at(60.0, 32.0), 0.0, "under a black gradient");
+    // The mask's user space is the group's, translated 5 mm: it shows 5..25 mm.
+    assert!(felt_at(15.0, 53.0) > 0.99, "where the mask shows the band");
+    assert_eq!(felt_at(40.0, 53.0), 0.0, "where it does not");
+    let d = resolve(&page(
+        r##"<defs><mask id="dim"><rect x="0" y="0" width="100" height="60" fill="#808080"/></mask>
+<linearGradient id="fading"><stop offset="0" stop-color="#fff" stop-opacity="0"/><stop offset="1" stop-color="#000"/></linearGradient>
+<mask id="middle"><rect x="0" y="0" width="100" height="60" fill="url(#fading)"/></mask></defs>
+<rect id="dimmed" x="5" y="5" width="40" height="40" fill="#000000" mask="url(#dim)"/>
+<rect id="midway" x="50" y="5" width="40" height="40" fill="#000000" mask="url(#middle)"/>"##,
+    ));
+    let alpha = |id: &str| by_id(&d, id).paint.fill.map(|c| c[3]);
+    // #808080's luminance is 128 / 255 of white.
+    assert_eq!(alpha("dimmed"), Some(128), "a grey mask fades the paint as opacity would");
+    // Neither stop shows (clear white, black); half way, grey at half alpha
+    // shows a quarter: resvg's `masking/mask/simple-case`.
+    assert_eq!(alpha("midway"), Some(64), "a mask shows most between its gradient's stops");
+}
+
 #[test]
 fn styles_come_from_the_style_sheet_and_are_overridden_by_annotations() {
     let sheet = StyleSheet::parse("[[rule]]\nclass = \"water\"\ntactile = \"grating()\"\n", "s.toml").unwrap();
