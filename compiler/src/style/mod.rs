@@ -25,7 +25,7 @@
 //!   key; the label's words are its name, said when the finger is on it), and
 //!   is left out otherwise, with one note;
 //! - page backgrounds (and a chart's very light plot panel under its bars),
-//!   white or transparent fills, hidden, clipped-away and
+//!   white or transparent fills, hidden, clipped- or masked-away and
 //!   off-page elements, and images are left out (white fills count as regions
 //!   when they are all a coloured background carries: a flag's white cross on red).
 //!

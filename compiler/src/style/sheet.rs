@@ -66,7 +66,7 @@ pub fn sheet_toml(profile: &DeviceProfile, input: Option<(&Drawing, &Plan)>) -> 
     s += "#   - text becomes braille where it fits on the page without running into other braille\n";
     s += "#     (moved a little, or pulled back onto the page when it runs off its side), else a\n";
     s += "#     two-letter key code where that fits (note T0326 gives the key);\n";
-    s += "#   - page backgrounds (and a chart's very light plot panel), white or transparent fills, hidden, clipped-away and\n";
+    s += "#   - page backgrounds (and a chart's very light plot panel), white or transparent fills, hidden, clipped- or masked-away and\n";
     s += "#     off-page elements, and images are left out (white fills are regions\n";
     s += "#     when they are all that a coloured background carries).\n";
     s += "# A style sheet selects by id, class, layer, fill and stroke only; for braille and\n";
