@@ -231,7 +231,8 @@ fn paint_strength(p: &usvg::Paint, alpha: bool) -> f32 {
     };
     let stops = |s: &[usvg::Stop]| {
         let at = |s: &usvg::Stop| (luma(s.color()), s.opacity().get());
-        let one = s.iter().map(|s| at(s).0 * at(s).1).fold(0.0, f32::max);
+        // One stop alone has no pair to lie between.
+        let one = s.iter().map(at).map(|(l, a)| l * a).fold(0.0, f32::max);
         s.windows(2).map(|w| between(at(&w[0]), at(&w[1]))).fold(one, f32::max)
     };
     match p {
