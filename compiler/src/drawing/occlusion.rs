@@ -2,7 +2,22 @@
 //! painted under them, on paper as under the finger.
 
 use super::{Drawing, Shape};
+use crate::geometry::crossings::{Segment, crossings_exceed};
+use crate::geometry::overlay;
 use crate::spatial::{Bbox, BoxIndex};
+
+/// Integer units of the overlay that measures what is left of a shape
+/// under the fills over it: 1/65536 mm, as the distance layers' union.
+const QUANTUM_MM: f64 = 1.0 / 65_536.0;
+
+/// Most crossings of a shape's outline with those of the fills over it for
+/// which what they leave of it is measured (an overlay's work follows them).
+const MAX_CROSSINGS: usize = 10_000;
+
+/// Less area than this left of a shape under the fills over it, in mm²,
+/// is none: a sliver a tenth of a millimetre square, far finer than a
+/// texture's lattice or a finger.
+const LEFT_MM2: f64 = 0.01;
 
 /// The opaque fills of `drawing` that hide a grated layer made of
 /// `elements` (drawing indices, in drawing order), as the layers are built:
@@ -64,5 +79,63 @@ impl OpaqueFills {
             }
         }
         out
+    }
+
+    /// Whether the opaque fills painted over the filled `elements` ([`Self::above`]:
+    /// over some of them and under none) hide every one of them wholly, so
+    /// that nothing of their texture is felt, as nothing of it is seen: each
+    /// element's fill less the fills over it leaves no area. `false` when
+    /// that cannot be told within a budget (outlines that cross too often,
+    /// coordinates beyond the overlay's range): a texture is then counted as felt.
+    pub(crate) fn hide_all(&self, drawing: &Drawing, elements: &[usize]) -> bool {
+        let over = self.above(drawing, elements);
+        !over.is_empty() && elements.iter().all(|&i| self.hides(drawing, i, &over))
+    }
+
+    /// Whether the fills `over` (drawing indices) that are painted after
+    /// element `i` leave nothing of its fill.
+    fn hides(&self, drawing: &Drawing, i: usize, over: &[usize]) -> bool {
+        let Some(Shape::Path(p)) = drawing.elements.get(i).map(|e| &e.shape) else { return false };
+        let Some(b) = crate::geometry::bounds(&p.outline) else { return true };
+        let meets = |o: Bbox| o.0 <= b.2 && b.0 <= o.2 && o.1 <= b.3 && b.1 <= o.3;
+        let fills: Vec<(&super::PathShape, Bbox)> = over
+            .iter()
+            .filter(|&&j| j > i)
+            .filter_map(|&j| {
+                let k = self.shapes.binary_search_by_key(&j, |s| s.0).ok()?;
+                let bj = self.shapes[k].1;
+                match &drawing.elements.get(j)?.shape {
+                    Shape::Path(q) if meets(bj) => Some((q, bj)),
+                    _ => None,
+                }
+            })
+            .collect();
+        if fills.is_empty() {
+            return false;
+        }
+        let segments: Vec<Segment> = std::iter::once(&p.outline)
+            .chain(fills.iter().map(|(q, _)| &q.outline))
+            .flat_map(|pls| pls.iter())
+            .flat_map(|pl| {
+                let n = pl.points.len();
+                (0..if n > 1 { n } else { 0 }).map(move |k| (pl.points[k], pl.points[(k + 1) % n]))
+            })
+            .collect();
+        if crossings_exceed(&segments, MAX_CROSSINGS) {
+            return false;
+        }
+        let all = fills.iter().fold(b, |a, (_, o)| (a.0.min(o.0), a.1.min(o.1), a.2.max(o.2), a.3.max(o.3)));
+        let span = (all.2 - all.0).max(all.3 - all.1);
+        if !(span.is_finite() && span / QUANTUM_MM < (1u64 << 28) as f64) {
+            return false;
+        }
+        let f = overlay::Frame { ox: all.0, oy: all.1, q: QUANTUM_MM };
+        let simple = |q: &super::PathShape| -> Vec<Vec<i_overlay::i_float::int::point::IntPoint>> {
+            let shapes = overlay::shapes_of(&overlay::contours(&q.outline, f), overlay::ov_rule(q.fill_rule));
+            shapes.into_iter().flatten().collect()
+        };
+        let cover: Vec<_> = fills.iter().flat_map(|(q, _)| simple(q)).collect();
+        let left = overlay::difference(&simple(p), &cover);
+        overlay::area(&left) * QUANTUM_MM * QUANTUM_MM < LEFT_MM2
     }
 }

@@ -66,3 +66,35 @@ pub(crate) fn shapes_of(cs: &[Vec<IntPoint>], rule: OvFill) -> Vec<Vec<Vec<IntPo
     o.add_source(cs, ShapeType::Subject);
     o.overlay(OverlayRule::Subject, rule)
 }
+
+/// The part of `subject` that `clip` does not cover, both as simple
+/// contours ([`shapes_of`]'s), under the non-zero rule.
+pub(crate) fn difference(subject: &[Vec<IntPoint>], clip: &[Vec<IntPoint>]) -> Vec<Vec<Vec<IntPoint>>> {
+    if subject.is_empty() {
+        return Vec::new();
+    }
+    let mut o =
+        Overlay::new_custom(subject.len() + clip.len(), IntOverlayOptions::<u64>::default(), Default::default());
+    o.add_source(subject, ShapeType::Subject);
+    o.add_source(clip, ShapeType::Clip);
+    o.overlay(OverlayRule::Difference, OvFill::NonZero)
+}
+
+/// The area that shapes of simple contours enclose ([`shapes_of`]'s: each
+/// an outer contour, then its holes), in square units of the frame.
+pub(crate) fn area(shapes: &[Vec<Vec<IntPoint>>]) -> f64 {
+    let ring = |c: &Vec<IntPoint>| -> f64 {
+        let n = c.len();
+        let twice: f64 = (0..n)
+            .map(|k| {
+                let (a, b) = (c[k], c[(k + 1) % n]);
+                a.x as f64 * b.y as f64 - b.x as f64 * a.y as f64
+            })
+            .sum();
+        twice.abs() / 2.0
+    };
+    shapes
+        .iter()
+        .map(|s| s.split_first().map_or(0.0, |(outer, holes)| ring(outer) - holes.iter().map(ring).sum::<f64>()))
+        .sum()
+}

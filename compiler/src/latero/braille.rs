@@ -14,7 +14,13 @@ use crate::options::CompileOptions;
 use crate::style::legend::Swatch;
 
 /// Braille for every text with a braille style, in document order, after the other layers.
-pub(super) fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOptions, diags: &mut Vec<Diagnostic>) {
+pub(super) fn braille_texts(
+    b: &mut Built,
+    drawing: &Drawing,
+    opts: &CompileOptions,
+    opaque: &crate::drawing::OpaqueFills,
+    diags: &mut Vec<Diagnostic>,
+) {
     let family = opts.profile.family();
     let mut notes = crate::braille::Notes::default();
     for (order, e) in drawing.elements.iter().enumerate() {
@@ -80,7 +86,7 @@ pub(super) fn braille_texts(b: &mut Built, drawing: &Drawing, opts: &CompileOpti
     // brushed strokes), each with its meaning, for a host to say (the key's
     // own bundle, `key.rs`, is felt; SPEC.md section 10.2).
     let plays = |s: &Swatch| super::key::plays(family, s);
-    let legend = crate::style::legend(drawing);
+    let legend = crate::style::legend::legend_with(drawing, opaque);
     b.provenance.extend(crate::style::legend::provenance(&legend, plays));
     // And the texts the graphic has no room for, which the key's bundle lists.
     if family == Family::Laterotactile {

@@ -401,13 +401,16 @@ fn walk<'d>(
         }
     }
     // Braille adds features and no layer (nor reads any), so it comes before the fields.
-    braille::braille_texts(&mut b, drawing, opts, diags);
+    // The opaque fills, which hide what is painted under them: from the
+    // key's textures (braille) and from the grated layers (the plan).
+    let opaque = crate::drawing::OpaqueFills::of(drawing);
+    braille::braille_texts(&mut b, drawing, opts, &opaque, diags);
     let clearing = std::mem::take(&mut b.braille_clear);
     let source_of = |i: usize| {
         let e = &drawing.elements[i];
         b.prov_index.get(&(e.name.clone(), e.line)).copied()
     };
-    let mut plan = LayerPlan::new(drawing, &pending, source_of, clearing, px, felt);
+    let mut plan = LayerPlan::new(drawing, &pending, source_of, clearing, px, felt, &opaque);
     plan.dots =
         [(DotKind::Outline, &b.outline_dots), (DotKind::Symbol, &b.symbol_dots), (DotKind::Braille, &b.braille_dots)]
             .into_iter()

@@ -167,6 +167,7 @@ impl<'d> LayerPlan<'d> {
         braille_clearing: Vec<Polyline>,
         px: f32,
         felt: (f64, f64),
+        opaque: &OpaqueFills,
     ) -> LayerPlan<'d> {
         let page = drawing.page;
         let polys = |i: usize| outline(&drawing.elements[i]);
@@ -183,7 +184,6 @@ impl<'d> LayerPlan<'d> {
         // interpolate to complementary values and never overlap.
         let narrowest = bands.iter().map(|&(_, w)| w).reduce(f64::min);
         let pitch = field_pitch(px, narrowest);
-        let opaque = OpaqueFills::of(drawing);
         let mut layers = Vec::with_capacity(pending.len());
         for (k, p) in pending.iter().enumerate() {
             // The clips every element of the layer shares (its first element's).

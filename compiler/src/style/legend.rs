@@ -298,10 +298,20 @@ pub fn unplaced_lines<S: AsRef<str>>(texts: &[S]) -> Vec<String> {
 /// assert_eq!(key.entries[1].source, Source::Label);
 /// ```
 pub fn legend(d: &Drawing) -> Legend {
+    legend_with(d, &crate::drawing::OpaqueFills::of(d))
+}
+
+/// [`legend()`], with the drawing's opaque fills already gathered.
+pub(crate) fn legend_with(d: &Drawing, opaque: &crate::drawing::OpaqueFills) -> Legend {
     let mut entries: Vec<Entry> = Vec::new();
     let mut of_identity: std::collections::HashMap<(u8, u64, u64), usize> = Default::default();
     for (i, e) in d.elements.iter().enumerate().filter(|(_, e)| e.visible) {
-        let Shape::Path(_) = &e.shape else { continue };
+        // Only what is felt somewhere: not a shape that is empty, or
+        // clipped or masked away (T0301).
+        let Shape::Path(p) = &e.shape else { continue };
+        if p.outline.is_empty() || p.clips.iter().any(|c| c.outline.is_empty()) {
+            continue;
+        }
         for s in &e.styles {
             let swatch = match *s {
                 Style::Grating(g) => Swatch::Texture(g),
@@ -330,6 +340,9 @@ pub fn legend(d: &Drawing) -> Legend {
             }
         }
     }
+    // Nor a texture that opaque fills painted over it hide wholly, as
+    // they do on every device and on paper (its layer is not felt).
+    entries.retain(|x| !matches!(x.swatch, Swatch::Texture(_)) || !opaque.hide_all(d, &x.elements));
     // Textures, then lines, dotted lines, symbols and strokes (stable: each
     // kind keeps its order of first use).
     entries.sort_by_key(|x| x.swatch.identity().0);

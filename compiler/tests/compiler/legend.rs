@@ -301,3 +301,40 @@ fn texts_the_graphic_has_no_room_for_are_listed_by_the_key() {
         provenance(bundle(&pins)).into_iter().filter(|e| e.id == "key.text").map(|e| e.label.as_str()).collect();
     assert_eq!(texts, [letters.join(", ")]);
 }
+
+#[test]
+fn the_key_lists_only_what_is_felt_somewhere() {
+    // Marsh lies wholly under two white fills painted after it (neither
+    // covers it alone); Fen is masked away (T0301); Lake is half under a
+    // white fill; Forest and the Road are in plain view.
+    let drawing = page(
+        r#"<defs><mask id="none"><rect x="0" y="0" width="100" height="60" fill="black"/></mask></defs>
+<rect x="5" y="5" width="30" height="20" data-tactile="grating(wavelength: 3mm, angle: 0deg)"><title>Marsh</title></rect>
+<rect x="40" y="5" width="20" height="20" data-tactile="grating(wavelength: 4mm, angle: 45deg)"><title>Forest</title></rect>
+<rect x="65" y="5" width="30" height="20" data-tactile="grating(wavelength: 6mm, angle: 90deg)"><title>Lake</title></rect>
+<rect x="5" y="30" width="20" height="20" mask="url(#none)" data-tactile="grating(wavelength: 5mm, angle: 0deg)"><title>Fen</title></rect>
+<path d="M5 55 L95 55" stroke="black" fill="none" data-tactile="vibrate(width: 2mm)"><title>Road</title></path>
+<rect x="4" y="4" width="16" height="22" fill="white"/>
+<rect x="19" y="4" width="17" height="22" fill="white"/>
+<rect x="64" y="4" width="16" height="22" fill="white"/>"#,
+    );
+    let opts = CompileOptions::new(profiles::builtin("stress2").unwrap());
+    let d = pipeline::resolve(&drawing, &opts).drawing.expect("a drawing");
+    let key = legend(&d);
+    let meanings: Vec<&str> = key.entries.iter().map(|e| e.meaning.as_str()).collect();
+    assert_eq!(meanings, ["Forest", "Lake", "Road"]);
+    // The key the devices give, and what they tell a host, say the same.
+    for profile in ["stress2", "dotpad"] {
+        let c = compile_for(&drawing, profile);
+        let said: Vec<&str> = provenance(bundle(&c))
+            .iter()
+            .filter(|p| p.id.starts_with("key."))
+            .map(|p| p.label.split(" (").next().unwrap_or_default())
+            .collect();
+        assert_eq!(said, ["Forest", "Lake", "Road"], "{profile}");
+    }
+    // The textures' layers agree: Marsh's is not felt, Lake's is.
+    let c = compile_for(&drawing, "stress2");
+    let gratings = masks(bundle(&c)).iter().filter(|m| matches!(m.kind, MaskKind::Grating { .. })).count();
+    assert_eq!(gratings, 2);
+}

@@ -21,6 +21,7 @@ use super::{
 };
 use crate::budget::{MemoryBudget, OverBudget};
 use crate::geometry::{FillRule, Polyline};
+use crate::spatial::Bbox;
 
 /// Builds the field of one layer; `None` when nothing of it is felt on the page.
 pub fn build_field(g: &LayerGeometry<'_>, params: FieldParams) -> Option<Field> {
@@ -284,6 +285,9 @@ fn segments(g: &LayerGeometry<'_>, reach: f64) -> (Vec<(Seg, Part, f64)>, Vec<f6
     (segs, cut_widths)
 }
 
+/// The bounds of a layer's occluders, and of its clips, in order.
+type ShadeBoxes = (Vec<Option<Bbox>>, Vec<Option<Bbox>>);
+
 /// One layer being built: what each of its tiles reads (the layer's
 /// geometry, its segments and their buckets, what the lattice points are
 /// inside of), shared by the threads that build the tiles.
@@ -309,6 +313,9 @@ struct Build<'a, 'g> {
     centre_bits: OnceLock<planes::CentreBits>,
     /// The shapes each row of tiles crosses, when a fine tile is first measured.
     fine_rows: OnceLock<FineRows>,
+    /// The bounds of each occluder and each clip, when a fill's vertex in
+    /// a tile they shade is first asked about ([`Build::fill_vertex_in`]).
+    shade_boxes: OnceLock<ShadeBoxes>,
     /// A segment is measured only at the tile's samples within its reach plus
     /// this margin: farther ones would clamp to the same code anyway
     /// (every part is then beyond ±cap, and min, max and the clamp commute).
@@ -385,6 +392,7 @@ impl<'a, 'g> Build<'a, 'g> {
             ridge_top,
             centre_bits: OnceLock::new(),
             fine_rows: OnceLock::new(),
+            shade_boxes: OnceLock::new(),
             margin,
             layer_grid,
             full,
@@ -423,14 +431,52 @@ impl<'a, 'g> Build<'a, 'g> {
     /// is beyond the ramp on one side (a province's corner tip). A straight
     /// edge that crosses the tile leaves samples on both sides, and a band's
     /// joins and caps, at least a pitch in radius (a band's lattice is at
-    /// most half its width), always hold a sample.
-    fn fill_vertex_in(&self, bucket: &[u32], corner: (f64, f64)) -> bool {
+    /// most half its width), always hold a sample. A vertex that an
+    /// occluder covers, or that lies outside a clip, by more than a code
+    /// turns no felt edge: a region wholly under opaque fills is then not
+    /// kept as a layer that plays nothing.
+    fn fill_vertex_in(&self, bucket: &[u32], (c, r): (usize, usize), corner: (f64, f64)) -> bool {
         let side = self.s.h * TILE_CELLS as f64;
         let inside = |p: (f64, f64)| p.0 > corner.0 && p.0 < corner.0 + side && p.1 > corner.1 && p.1 < corner.1 + side;
-        bucket
+        let mut vertices = bucket
             .iter()
             .filter_map(|&k| self.segs.get(k as usize))
-            .any(|&((a, b), part, _)| matches!(part, Part::Fill) && (inside(a) || inside(b)))
+            .filter(|(_, part, _)| matches!(part, Part::Fill))
+            .flat_map(|&((a, b), _, _)| [a, b])
+            .filter(|&p| inside(p));
+        // Where every sample of the tile is felt but for the fills (none
+        // under an occluder or outside a clip), any vertex counts.
+        let first = r * TILE_CELLS * self.nx + c * TILE_CELLS;
+        let shaded = (0..=TILE_CELLS)
+            .flat_map(|j| (0..=TILE_CELLS).map(move |i| first + j * self.nx + i))
+            .filter(|&k| k < self.inside.len())
+            .any(|k| self.occluded.get(k) == Some(&true) || !self.in_clips(k));
+        if !shaded {
+            return vertices.next().is_some();
+        }
+        let (occluder_boxes, clip_boxes) = self.shade_boxes.get_or_init(|| {
+            let boxes = |parts: &[(&[Polyline], FillRule)]| -> Vec<Option<Bbox>> {
+                parts.iter().map(|(pls, _)| crate::geometry::bounds(pls)).collect()
+            };
+            (boxes(&self.g.occluders), boxes(&self.g.clips))
+        });
+        let m = self.s.step;
+        let within = |b: &Option<Bbox>, p: (f64, f64)| {
+            b.is_some_and(|b| p.0 >= b.0 - m && p.0 <= b.2 + m && p.1 >= b.1 - m && p.1 <= b.3 + m)
+        };
+        let felt = |p: (f64, f64)| {
+            self.g
+                .occluders
+                .iter()
+                .zip(occluder_boxes)
+                .all(|(&(pls, rule), b)| !within(b, p) || !crate::geometry::deep_inside(pls, p, rule, m))
+                && self.g.clips.iter().zip(clip_boxes).all(|(&(pls, rule), b)| {
+                    within(b, p)
+                        && (crate::geometry::contains(pls, p, rule)
+                            || crate::geometry::distance_to_outline_within(pls, p, m, m) <= m)
+                })
+        };
+        vertices.any(felt)
     }
 
     /// The constant tile that samples `buf` play, where every one saturates
@@ -501,7 +547,7 @@ impl<'a, 'g> Build<'a, 'g> {
         // saturated over it, which play as the constant, plays it.
         let saturated = self.saturated(&tile_buf);
         if let Some(constant) = saturated
-            && !self.fill_vertex_in(bucket, corner)
+            && !self.fill_vertex_in(bucket, (c, r), corner)
         {
             return TileOut::Constant(constant);
         }
