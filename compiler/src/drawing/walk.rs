@@ -95,7 +95,8 @@ pub(crate) fn walk(
     // usvg's root group stands for the root `<svg>`, whose annotation applies to the whole drawing.
     let root = src.elements.first().and_then(|_| w.resolve(0, None, None, None));
     let here = (!src.elements.is_empty()).then_some(0);
-    w.group(tree.root(), root.as_ref(), None, here, &mut Vec::new(), tree.root().opacity().get());
+    let seen = Seen { ts: tree.root().abs_transform(), opacity: tree.root().opacity().get() };
+    w.group(tree.root(), root.as_ref(), None, here, &mut Vec::new(), seen);
     let Walker { mut out, found, glyphs, .. } = w;
     // Each element alone, in parallel; collected in the walk's order.
     let (elements, outlines) = rayon::join(
@@ -312,6 +313,16 @@ fn mask_shapes(
     true
 }
 
+/// How a group is seen: its transform to the root, and the product of its
+/// opacity and those of the groups round it, which its paths' paint is
+/// seen at (an element drawn at opacity 0 is not seen, and does not hide
+/// what lies under it).
+#[derive(Clone, Copy)]
+struct Seen {
+    ts: Transform,
+    opacity: f32,
+}
+
 /// The regions of a clip path (and of the clip path on it), in page mm.
 ///
 /// A clip path made of several shapes is their union; it is kept as one
@@ -339,10 +350,12 @@ fn clip_group(
     for c in g.children() {
         match c {
             Node::Group(cg) => clip_group(cg, ts.pre_concat(cg.transform()), flattening, region, rule),
-            Node::Path(p) => {
+            // A hidden shape clips nothing in (SVG 1.1, 14.3.5).
+            Node::Path(p) if p.is_visible() => {
                 rule.get_or_insert(fill_rule(p));
                 region.outline.extend(geometry::flatten_with(p.data(), ts, flattening));
             }
+            Node::Path(_) => {}
             Node::Text(t) => {
                 let fg = t.flattened();
                 clip_group(fg, ts.pre_concat(fg.transform()), flattening, region, rule);
@@ -439,9 +452,7 @@ impl<'t> Walker<'_, 't> {
     /// Walks a group. `owner` is the `<use>` whose copy this is, if any: usvg
     /// clears the ids of the elements it copies, so those belong to the `<use>`.
     /// `here` is the source element of the nearest group with one.
-    /// `opacity` is the product of the opacities of `g` and the groups
-    /// round it: what a path's paint is seen at (an element drawn at
-    /// opacity 0 is not seen, and does not hide what lies under it).
+    /// `seen` is how `g` is seen: its transform to the root, and its opacity.
     fn group(
         &mut self,
         g: &'t Group,
@@ -449,8 +460,9 @@ impl<'t> Walker<'_, 't> {
         owner: Option<usize>,
         here: Option<usize>,
         clips: &mut Vec<Clip>,
-        opacity: f32,
+        seen: Seen,
     ) {
+        let opacity = seen.opacity;
         let children = g.children();
         let mut skip_next = false;
         for (i, child) in children.iter().enumerate() {
@@ -460,10 +472,14 @@ impl<'t> Walker<'_, 't> {
             match child {
                 Node::Group(cg) => {
                     let own = self.src.get(cg.id(), here).map(|(ei, _)| ei);
+                    // The group's transform to the root, from its parent's
+                    // (usvg's own leaves out the transform of the group it
+                    // adds to clip a `<use>` of a symbol to its viewport).
+                    let abs = seen.ts.pre_concat(cg.transform());
                     let decl = match own {
                         Some(ei) => {
                             self.out.seen.insert(ei);
-                            self.out.group_ts.insert(cg.id().to_string(), cg.abs_transform());
+                            self.out.group_ts.insert(cg.id().to_string(), abs);
                             self.resolve(ei, None, None, inherited)
                         }
                         None => inherited.cloned(),
@@ -476,20 +492,20 @@ impl<'t> Walker<'_, 't> {
                         continue;
                     }
                     let before = clips.len();
-                    let base = self.page_ts.pre_concat(cg.abs_transform());
+                    let base = self.page_ts.pre_concat(abs);
                     if let Some(c) = cg.clip_path() {
                         clip_regions(c, base, self.flattening, clips);
                     }
                     // A mask is seen as what it may show: a clip to where
                     // it shows anything, and a fade to the most it shows
                     // (none: the group is not seen, as at opacity 0).
-                    let mut seen = opacity * cg.opacity().get();
+                    let mut shown = opacity * cg.opacity().get();
                     if let Some(m) = cg.mask() {
                         mask_regions(m, base, self.flattening, clips);
-                        seen *= mask_strength(m);
+                        shown *= mask_strength(m);
                     }
                     let owner = own.filter(|&ei| self.src.elements[ei].tag == "use").or(owner);
-                    self.group(cg, decl.as_ref(), owner, own.or(here), clips, seen);
+                    self.group(cg, decl.as_ref(), owner, own.or(here), clips, Seen { ts: abs, opacity: shown });
                     clips.truncate(before);
                 }
                 Node::Path(p) => {
@@ -513,7 +529,8 @@ impl<'t> Walker<'_, 't> {
                         rgb(p.stroke().map(|s| s.paint())),
                         inherited,
                     );
-                    let ts = self.page_ts.pre_concat(p.abs_transform());
+                    // (Its group's transform to the root, as composed above.)
+                    let ts = self.page_ts.pre_concat(seen.ts);
                     let shape =
                         FoundShape::Path { data: p.data(), ts, fill_rule: fill_rule(p), markers, clips: clips.clone() };
                     let paint = faded(paint_of(p.fill(), p.stroke(), ts), opacity);

@@ -532,3 +532,52 @@ fn text_drawn_at_opacity_0_is_no_label() {
         assert!(dots(bundle(&c), DotKind::Braille).is_some_and(|t| !t.dots.is_empty()), "{asked}");
     }
 }
+
+#[test]
+fn a_symbol_placed_by_a_transformed_use_is_clipped_to_its_own_viewport() {
+    // Inkscape places a symbol from its libraries with a `<use>` moved by
+    // `transform`; the symbol's viewport clips it there, not at the origin
+    // (usvg's transform to the root of the group that clips it leaves the
+    // move out). 200 user units are 100 mm.
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink" width="100mm" height="50mm" viewBox="0 0 200 100">
+  <defs>
+    <symbol id="church" viewBox="0 0 20 20"><path d="M2 18 L10 2 L18 18 Z" fill="black"/></symbol>
+    <symbol id="wide"><rect x="-20" y="-10" width="60" height="60" fill="green"/></symbol>
+  </defs>
+  <use id="far" xlink:href="#church" width="20" height="20" transform="translate(150,40)"/>
+  <use id="over" xlink:href="#wide" transform="translate(50,20)"/>
+</svg>"##;
+    let d = resolve(svg);
+    let clip_bounds = |e: &Element| match &e.shape {
+        Shape::Path(p) => p.clips.iter().map(|c| taxel_compiler::geometry::bounds(&c.outline)).collect::<Vec<_>>(),
+        _ => panic!("{} is not a path", e.name),
+    };
+    // The church, felt where it is drawn: its viewport is the use's 20 x 20
+    // units at (150, 40), and the triangle lies inside it.
+    let far = by_id(&d, "far");
+    assert!(!far.styles.is_empty(), "the symbol is felt: {far:#?}");
+    bounds_close(far, (76.0, 21.0, 84.0, 29.0));
+    let [Some(c)] = clip_bounds(far)[..] else { panic!("one clip: {:?}", clip_bounds(far)) };
+    assert!(close(c.0, 75.0) && close(c.1, 20.0) && close(c.2, 85.0) && close(c.3, 30.0), "{c:?}");
+    // A symbol without a viewBox takes the page's viewport, moved with the
+    // use: what it draws left of and above the use's origin is cut away.
+    let over = by_id(&d, "over");
+    bounds_close(over, (15.0, 5.0, 45.0, 35.0));
+    let [Some(c)] = clip_bounds(over)[..] else { panic!("one clip: {:?}", clip_bounds(over)) };
+    assert!(close(c.0, 25.0) && close(c.1, 10.0), "the viewport starts at the use's origin: {c:?}");
+}
+
+#[test]
+fn a_clip_path_of_hidden_shapes_clips_everything_away() {
+    let svg = page(
+        r#"<clipPath id="hidden"><rect x="0" y="0" width="100" height="60" visibility="hidden"/></clipPath>
+<clipPath id="shown"><rect x="0" y="0" width="100" height="60"/></clipPath>
+<rect id="away" x="10" y="10" width="30" height="30" fill="red" clip-path="url(#hidden)" data-tactile="grating()"/>
+<rect id="kept" x="50" y="10" width="30" height="30" fill="green" clip-path="url(#shown)" data-tactile="grating()"/>"#,
+    );
+    let c = compile(&svg);
+    let away = with_code(&c, "T0301");
+    assert_eq!(away.len(), 1, "{:#?}", c.diagnostics);
+    assert!(away[0].message.contains("clipped or masked away") && away[0].element.as_deref() == Some("away"));
+    assert_eq!(masks(bundle(&c)).len(), 1);
+}
