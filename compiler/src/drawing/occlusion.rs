@@ -14,6 +14,12 @@ const QUANTUM_MM: f64 = 1.0 / 65_536.0;
 /// which what they leave of it is measured (an overlay's work follows them).
 const MAX_CROSSINGS: usize = 10_000;
 
+/// Most outline points, the shapes' and the fills' over them together,
+/// that [`OpaqueFills::hide_all`] runs overlays on for one key entry: past
+/// it the texture counts as felt (a sea painted over ten thousand islands
+/// of one texture costs a bounded time).
+const MAX_POINTS: usize = 250_000;
+
 /// Less area than this left of a shape under the fills over it, in mm²,
 /// is none: a sliver a tenth of a millimetre square, far finer than a
 /// texture's lattice or a finger.
@@ -86,15 +92,17 @@ impl OpaqueFills {
     /// that nothing of their texture is felt, as nothing of it is seen: each
     /// element's fill less the fills over it leaves no area. `false` when
     /// that cannot be told within a budget (outlines that cross too often,
-    /// coordinates beyond the overlay's range): a texture is then counted as felt.
+    /// more points than [`MAX_POINTS`], coordinates beyond the overlay's
+    /// range): a texture is then counted as felt.
     pub(crate) fn hide_all(&self, drawing: &Drawing, elements: &[usize]) -> bool {
         let over = self.above(drawing, elements);
-        !over.is_empty() && elements.iter().all(|&i| self.hides(drawing, i, &over))
+        let mut budget = MAX_POINTS;
+        !over.is_empty() && elements.iter().all(|&i| self.hides(drawing, i, &over, &mut budget))
     }
 
     /// Whether the fills `over` (drawing indices) that are painted after
     /// element `i` leave nothing of its fill.
-    fn hides(&self, drawing: &Drawing, i: usize, over: &[usize]) -> bool {
+    fn hides(&self, drawing: &Drawing, i: usize, over: &[usize], budget: &mut usize) -> bool {
         let Some(Shape::Path(p)) = drawing.elements.get(i).map(|e| &e.shape) else { return false };
         let Some(b) = crate::geometry::bounds(&p.outline) else { return true };
         let meets = |o: Bbox| o.0 <= b.2 && b.0 <= o.2 && o.1 <= b.3 && b.1 <= o.3;
@@ -112,6 +120,15 @@ impl OpaqueFills {
             .collect();
         if fills.is_empty() {
             return false;
+        }
+        let points: usize = std::iter::once(&p.outline)
+            .chain(fills.iter().map(|(q, _)| &q.outline))
+            .flat_map(|pls| pls.iter())
+            .map(|pl| pl.points.len())
+            .sum();
+        match budget.checked_sub(points) {
+            Some(left) => *budget = left,
+            None => return false,
         }
         let segments: Vec<Segment> = std::iter::once(&p.outline)
             .chain(fills.iter().map(|(q, _)| &q.outline))

@@ -80,3 +80,40 @@ fn a_jittered_ring_is_one_grated_region() {
     let c = compile(&jittered_ring(20_000, 20.0, 2.0, (100.0, 60.0), 5));
     assert_eq!(masks(bundle(&c)).len(), 1, "{:#?}", c.diagnostics);
 }
+
+#[test]
+fn a_detailed_sea_painted_over_many_islands_is_weighed_in_bounded_time() {
+    // 1,500 islands of one texture, then an opaque sea of 20,000 points
+    // painted over them all, and a lake of a second texture over the sea.
+    // Whether the sea hides every island wholly would take an overlay of
+    // the sea's outline per island: past a budget of points the islands'
+    // texture counts as felt, and stays in the key.
+    let mut body = String::new();
+    for k in 0..1_500 {
+        let (x, y) = (8.0 + (k % 50) as f64 * 1.7, 8.0 + (k / 50) as f64 * 1.4);
+        body += &format!(
+            r#"<rect x="{x:.2}" y="{y:.2}" width="0.6" height="0.6" data-tactile="grating(wavelength: 3mm)"/>"#
+        );
+    }
+    let n = 5_000;
+    let side = |k: usize| -> (f64, f64) {
+        let (t, w) = ((k % n) as f64 / n as f64, 0.3 * (k as f64 * 0.7).sin());
+        match k / n {
+            0 => (4.0 + 92.0 * t, 4.0 + w),
+            1 => (96.0 + w, 4.0 + 52.0 * t),
+            2 => (96.0 - 92.0 * t, 56.0 + w),
+            _ => (4.0 + w, 56.0 - 52.0 * t),
+        }
+    };
+    let sea: Vec<String> = (0..4 * n).map(|k| format!("{:.3},{:.3}", side(k).0, side(k).1)).collect();
+    body += &format!(r##"<path fill="#9cf" d="M{} Z"/>"##, sea.join(" L"));
+    body += r#"<rect x="40" y="25" width="20" height="10" fill="white" data-tactile="grating(wavelength: 6mm)"/>"#;
+    let c = compile(&page(&body));
+    let b = bundle(&c);
+    // So is whether each island's corners lie under the sea: past a budget
+    // of point pairs they count, and the islands' layer is kept as before.
+    assert_eq!(masks(b).len(), 2);
+    let key = with_code(&c, "T0331");
+    assert_eq!(key.len(), 1, "{:#?}", c.diagnostics.iter().filter(|d| d.code != "T0407").collect::<Vec<_>>());
+    assert!(key[0].message.contains("(2 entries)"), "{}", key[0].message);
+}

@@ -288,6 +288,15 @@ fn segments(g: &LayerGeometry<'_>, reach: f64) -> (Vec<(Seg, Part, f64)>, Vec<f6
 /// The bounds of a layer's occluders, and of its clips, in order.
 type ShadeBoxes = (Vec<Option<Bbox>>, Vec<Option<Bbox>>);
 
+/// Most pairs of a fill's point and an occluder's or clip's point for which
+/// a layer asks whether each fill vertex lies under an occluder or outside a
+/// clip ([`Build::fill_vertex_in`]; the fills' points times the others', a
+/// bound decided before any tile, so the layer is the same however its
+/// tiles are shared out). Past it every vertex counts, as before the
+/// question was asked: a coastline painted over ten thousand islands costs
+/// a bounded time.
+const SHADE_PAIRS: usize = 50_000_000;
+
 /// One layer being built: what each of its tiles reads (the layer's
 /// geometry, its segments and their buckets, what the lattice points are
 /// inside of), shared by the threads that build the tiles.
@@ -316,6 +325,9 @@ struct Build<'a, 'g> {
     /// The bounds of each occluder and each clip, when a fill's vertex in
     /// a tile they shade is first asked about ([`Build::fill_vertex_in`]).
     shade_boxes: OnceLock<ShadeBoxes>,
+    /// Whether the fills' points times the occluders' and clips' are
+    /// within [`SHADE_PAIRS`].
+    shade_affordable: bool,
     /// A segment is measured only at the tile's samples within its reach plus
     /// this margin: farther ones would clamp to the same code anyway
     /// (every part is then beyond ±cap, and min, max and the clamp commute).
@@ -393,6 +405,13 @@ impl<'a, 'g> Build<'a, 'g> {
             centre_bits: OnceLock::new(),
             fine_rows: OnceLock::new(),
             shade_boxes: OnceLock::new(),
+            shade_affordable: {
+                let points = |parts: &[(&[Polyline], FillRule)]| -> usize {
+                    parts.iter().flat_map(|(pls, _)| pls.iter()).map(|pl| pl.points.len()).sum()
+                };
+                let others = points(&g.occluders) + points(&g.clips);
+                points(&g.fills).checked_mul(others).is_some_and(|n| n <= SHADE_PAIRS)
+            },
             margin,
             layer_grid,
             full,
@@ -451,7 +470,7 @@ impl<'a, 'g> Build<'a, 'g> {
             .flat_map(|j| (0..=TILE_CELLS).map(move |i| first + j * self.nx + i))
             .filter(|&k| k < self.inside.len())
             .any(|k| self.occluded.get(k) == Some(&true) || !self.in_clips(k));
-        if !shaded {
+        if !shaded || !self.shade_affordable {
             return vertices.next().is_some();
         }
         let (occluder_boxes, clip_boxes) = self.shade_boxes.get_or_init(|| {
