@@ -6,15 +6,11 @@ use crate::geometry::crossings::{Segment, crossings_exceed};
 use crate::geometry::overlay;
 use crate::spatial::{Bbox, BoxIndex};
 
-/// Integer units of the overlay that measures what is left of a shape
-/// under the fills over it: 1/65536 mm, as the distance layers' union.
-const QUANTUM_MM: f64 = 1.0 / 65_536.0;
-
 /// Most crossings of a shape's outline with those of the fills over it for
 /// which what they leave of it is measured (an overlay's work follows them).
 const MAX_CROSSINGS: usize = 10_000;
 
-/// Most outline points, the shapes' and the fills' over them together,
+/// Most outline points (sides), the shapes' and the fills' over them together,
 /// that [`OpaqueFills::hide_all`] runs overlays on for one key entry: past
 /// it the texture counts as felt (a sea painted over ten thousand islands
 /// of one texture costs a bounded time).
@@ -121,15 +117,6 @@ impl OpaqueFills {
         if fills.is_empty() {
             return false;
         }
-        let points: usize = std::iter::once(&p.outline)
-            .chain(fills.iter().map(|(q, _)| &q.outline))
-            .flat_map(|pls| pls.iter())
-            .map(|pl| pl.points.len())
-            .sum();
-        match budget.checked_sub(points) {
-            Some(left) => *budget = left,
-            None => return false,
-        }
         let segments: Vec<Segment> = std::iter::once(&p.outline)
             .chain(fills.iter().map(|(q, _)| &q.outline))
             .flat_map(|pls| pls.iter())
@@ -138,21 +125,17 @@ impl OpaqueFills {
                 (0..if n > 1 { n } else { 0 }).map(move |k| (pl.points[k], pl.points[(k + 1) % n]))
             })
             .collect();
+        match budget.checked_sub(segments.len()) {
+            Some(left) => *budget = left,
+            None => return false,
+        }
         if crossings_exceed(&segments, MAX_CROSSINGS) {
             return false;
         }
         let all = fills.iter().fold(b, |a, (_, o)| (a.0.min(o.0), a.1.min(o.1), a.2.max(o.2), a.3.max(o.3)));
-        let span = (all.2 - all.0).max(all.3 - all.1);
-        if !(span.is_finite() && span / QUANTUM_MM < (1u64 << 28) as f64) {
-            return false;
-        }
-        let f = overlay::Frame { ox: all.0, oy: all.1, q: QUANTUM_MM };
-        let simple = |q: &super::PathShape| -> Vec<Vec<i_overlay::i_float::int::point::IntPoint>> {
-            let shapes = overlay::shapes_of(&overlay::contours(&q.outline, f), overlay::ov_rule(q.fill_rule));
-            shapes.into_iter().flatten().collect()
-        };
-        let cover: Vec<_> = fills.iter().flat_map(|(q, _)| simple(q)).collect();
-        let left = overlay::difference(&simple(p), &cover);
-        overlay::area(&left) * QUANTUM_MM * QUANTUM_MM < LEFT_MM2
+        let Some(f) = overlay::Frame::over(all) else { return false };
+        let cover: Vec<_> = fills.iter().flat_map(|(q, _)| overlay::simple(&q.outline, q.fill_rule, f)).collect();
+        let left = overlay::difference(&overlay::simple(&p.outline, p.fill_rule, f), &cover);
+        overlay::area(&left) * f.q * f.q < LEFT_MM2
     }
 }

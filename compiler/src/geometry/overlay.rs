@@ -14,6 +14,11 @@ use super::{FillRule, Polyline};
 /// Integer coordinates are kept within ±2^28.
 const LIMIT: f64 = (1u32 << 28) as f64;
 
+/// Integer units of the overlays taken in page mm (a layer's fills united,
+/// a shape less the fills over it): 1/65536 mm, so that an edge moves by at
+/// most 8 nm, far below a sample step.
+pub(crate) const QUANTUM_MM: f64 = 1.0 / 65_536.0;
+
 /// Integer frame: page mm to integer units.
 #[derive(Clone, Copy)]
 pub(crate) struct Frame {
@@ -23,6 +28,14 @@ pub(crate) struct Frame {
 }
 
 impl Frame {
+    /// The frame of [`QUANTUM_MM`] units from the corner of `bounds`
+    /// `(x0, y0, x1, y1)`; `None` when they span too far for the integer
+    /// coordinates to stay within ±2^28.
+    pub(crate) fn over(bounds: (f64, f64, f64, f64)) -> Option<Frame> {
+        let span = (bounds.2 - bounds.0).max(bounds.3 - bounds.1);
+        (span.is_finite() && span / QUANTUM_MM < LIMIT).then_some(Frame { ox: bounds.0, oy: bounds.1, q: QUANTUM_MM })
+    }
+
     fn to_int(self, p: (f64, f64)) -> IntPoint {
         // Far-off coordinates are clamped (the overlay's arithmetic stays in range).
         let c = |v: f64| v.round().clamp(-LIMIT, LIMIT) as i32;
@@ -65,6 +78,11 @@ pub(crate) fn shapes_of(cs: &[Vec<IntPoint>], rule: OvFill) -> Vec<Vec<Vec<IntPo
     let mut o = Overlay::new_custom(cs.len(), IntOverlayOptions::<u64>::default(), Default::default());
     o.add_source(cs, ShapeType::Subject);
     o.overlay(OverlayRule::Subject, rule)
+}
+
+/// One filled shape's outlines (`pls` under `rule`) as simple contours.
+pub(crate) fn simple(pls: &[Polyline], rule: FillRule, f: Frame) -> Vec<Vec<IntPoint>> {
+    shapes_of(&contours(pls, f), ov_rule(rule)).into_iter().flatten().collect()
 }
 
 /// The part of `subject` that `clip` does not cover, both as simple

@@ -298,10 +298,6 @@ enum Part {
     Occluder,
 }
 
-/// Integer units of the fills' union: 1/65536 mm, so that it moves an edge
-/// by at most 8 nm, far below a sample step.
-const UNION_QUANTUM_MM: f64 = 1.0 / 65_536.0;
-
 /// Most crossings of a layer's fills for which their union is taken.
 const UNION_MAX_CROSSINGS: usize = 100_000;
 
@@ -321,11 +317,7 @@ fn united_fills(fills: &[(&[Polyline], FillRule)]) -> Option<Vec<Polyline>> {
         return None;
     }
     let all = boxes.iter().copied().reduce(|a, b| (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)))?;
-    // The integer frame keeps coordinates within ±2^28 units.
-    let span = (all.2 - all.0).max(all.3 - all.1);
-    if !(span.is_finite() && span / UNION_QUANTUM_MM < (1u64 << 28) as f64) {
-        return None;
-    }
+    let f = overlay::Frame::over(all)?;
     // An overlay's work follows the outlines' crossings: a map's regions
     // share sides and cross a few times, a scribble's fill crosses itself
     // by the million (16 GB). Past the budget the fills are kept as they are
@@ -334,12 +326,7 @@ fn united_fills(fills: &[(&[Polyline], FillRule)]) -> Option<Vec<Polyline>> {
     if crate::geometry::crossings::crossings_exceed(&segments, UNION_MAX_CROSSINGS) {
         return None;
     }
-    let f = overlay::Frame { ox: all.0, oy: all.1, q: UNION_QUANTUM_MM };
-    let mut each: Vec<Vec<i_overlay::i_float::int::point::IntPoint>> = Vec::new();
-    for (pls, rule) in fills {
-        let shapes = overlay::shapes_of(&overlay::contours(pls, f), overlay::ov_rule(*rule));
-        each.extend(shapes.into_iter().flatten());
-    }
+    let each: Vec<_> = fills.iter().flat_map(|&(pls, rule)| overlay::simple(pls, rule, f)).collect();
     let union = overlay::shapes_of(&each, i_overlay::core::fill_rule::FillRule::NonZero);
     let back = |p: &i_overlay::i_float::int::point::IntPoint| (f.ox + p.x as f64 * f.q, f.oy + p.y as f64 * f.q);
     Some(union.iter().flatten().map(|c| Polyline { points: c.iter().map(back).collect(), closed: true }).collect())

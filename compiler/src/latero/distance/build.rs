@@ -462,7 +462,11 @@ impl<'a, 'g> Build<'a, 'g> {
             .filter_map(|&k| self.segs.get(k as usize))
             .filter(|(_, part, _)| matches!(part, Part::Fill))
             .flat_map(|&((a, b), _, _)| [a, b])
-            .filter(|&p| inside(p));
+            .filter(|&p| inside(p))
+            .peekable();
+        if vertices.peek().is_none() {
+            return false;
+        }
         // Where every sample of the tile is felt but for the fills (none
         // under an occluder or outside a clip), any vertex counts.
         let first = r * TILE_CELLS * self.nx + c * TILE_CELLS;
@@ -471,7 +475,7 @@ impl<'a, 'g> Build<'a, 'g> {
             .filter(|&k| k < self.inside.len())
             .any(|k| self.occluded.get(k) == Some(&true) || !self.in_clips(k));
         if !shaded || !self.shade_affordable {
-            return vertices.next().is_some();
+            return true;
         }
         let (occluder_boxes, clip_boxes) = self.shade_boxes.get_or_init(|| {
             let boxes = |parts: &[(&[Polyline], FillRule)]| -> Vec<Option<Bbox>> {
