@@ -420,6 +420,45 @@ pub fn simplify(points: &[(f64, f64)], closed: bool, tol: f64) -> Vec<(f64, f64)
     points.iter().zip(keep).filter(|(_, k)| *k).map(|(p, _)| *p).collect()
 }
 
+/// The points of `points` that keep every dropped point within `tol` of the
+/// result, as [`simplify`] keeps them but in windows of at most
+/// [`THIN_WINDOW`] points whose ends are kept, so that the work is linear in
+/// the points whatever their shape (Douglas–Peucker's worst case is
+/// quadratic, a spiral's). A closed ring keeps its first point; one that
+/// would keep fewer than three points, or a `tol` that is not positive,
+/// leaves `points` as they are.
+pub fn thin(points: &[(f64, f64)], closed: bool, tol: f64) -> Vec<(f64, f64)> {
+    if points.len() <= 3 || !(tol > 0.0 && tol.is_finite()) {
+        return points.to_vec();
+    }
+    // A ring is walked back to its first point, which ends the last window.
+    let ring: Vec<(f64, f64)>;
+    let chain = if closed {
+        ring = points.iter().chain(points.first()).copied().collect();
+        &ring[..]
+    } else {
+        points
+    };
+    let last = chain.len() - 1;
+    let mut out = Vec::with_capacity(points.len() / 2 + 2);
+    let mut start = 0;
+    while start < last {
+        let end = (start + THIN_WINDOW - 1).min(last);
+        let kept = simplify(&chain[start..=end], false, tol);
+        out.extend_from_slice(&kept[..kept.len() - 1]);
+        start = end;
+    }
+    if !closed {
+        out.push(chain[last]);
+    } else if out.len() < 3 {
+        return points.to_vec();
+    }
+    out
+}
+
+/// The most points [`thin`] simplifies at once.
+pub const THIN_WINDOW: usize = 256;
+
 /// Which of equally far points [`farthest`] names.
 #[derive(Clone, Copy, PartialEq)]
 enum Ties {

@@ -212,7 +212,7 @@ fn adapt(d: &mut Drawing, opts: &CompileOptions, diags: &mut Vec<Diagnostic>) ->
     // outside `--region`) still make it an annotated drawing, not one for the
     // automatic sheet.
     let annotated = !style::unannotated(d);
-    if !place::apply(d, &opts.profile, opts.fit, opts.region.as_ref(), diags) {
+    if !place::apply(d, &opts.profile, opts.fit, opts.region.as_ref(), opts.flattening, diags) {
         return false;
     }
     if annotated && style::unannotated(d) {

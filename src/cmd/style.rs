@@ -46,7 +46,9 @@ pub fn decided(text: &str, options: &CompileOptions) -> Result<String, Vec<Diagn
     let mut diags = resolved.diagnostics;
     let mut drawing = resolved.drawing.filter(|_| !taxel_compiler::has_errors(&diags));
     let placed = match &mut drawing {
-        Some(d) => place::apply(d, &options.profile, options.fit, options.region.as_ref(), &mut diags),
+        Some(d) => {
+            place::apply(d, &options.profile, options.fit, options.region.as_ref(), options.flattening, &mut diags)
+        }
         None => false,
     };
     let Some(d) = drawing.filter(|_| placed) else { return Err(diags) };

@@ -106,6 +106,58 @@ fn simplify_keeps_every_point_within_tolerance() {
     assert_eq!(simplify(&l, false, 0.001), vec![(0.0, 0.0), (2.0, 0.0), (2.0, 2.0)]);
 }
 
+/// [`thin`] keeps every dropped point within the tolerance of the chord
+/// between the kept points either side of it (so of the result), keeps a
+/// ring's first point and both ends of a line, keeps the points in order,
+/// and leaves alone a ring it would collapse. A spiral, Douglas–Peucker's
+/// quadratic case, is thinned in windows like any curve.
+#[test]
+fn thin_keeps_every_dropped_point_within_tolerance_of_its_chord() {
+    let spiral: Vec<(f64, f64)> = (0..5_000)
+        .map(|i| (i as f64 * 0.01, 0.002 + i as f64 * 1e-4))
+        .map(|(a, r)| (r * a.cos(), r * a.sin()))
+        .collect();
+    let wiggle: Vec<(f64, f64)> = (0..1_000)
+        .map(|i| std::f64::consts::TAU * i as f64 / 1_000.0)
+        .map(|a| (10.0 * a.cos() + 0.003 * (37.0 * a).sin(), 7.0 * a.sin()))
+        .collect();
+    for (points, closed) in [(&spiral, false), (&wiggle, true), (&wiggle, false)] {
+        for tol in [0.0005, 0.002, 0.05] {
+            let kept = thin(points, closed, tol);
+            assert!(kept.len() < points.len(), "tolerance {tol}: nothing dropped");
+            assert_eq!(kept[0], points[0]);
+            if !closed {
+                assert_eq!(kept.last(), points.last());
+            }
+            // Each kept point's position in `points`, in order.
+            let mut at = Vec::new();
+            let mut i = 0;
+            for k in &kept {
+                while points[i] != *k {
+                    i += 1;
+                }
+                at.push(i);
+            }
+            if closed {
+                at.push(points.len());
+            }
+            for w in at.windows(2) {
+                let (a, b) = (points[w[0]], points[w[1] % points.len()]);
+                for &p in &points[w[0] + 1..w[1]] {
+                    let d = distance_to_segment(p, a, b);
+                    assert!(d <= tol + 1e-12, "tolerance {tol}: {p:?} is {d} from its chord");
+                }
+            }
+        }
+    }
+    // A ring smaller than the tolerance is kept whole, a tolerance of 0 or
+    // none changes nothing.
+    let speck = [(0.0, 0.0), (1e-4, 0.0), (1e-4, 1e-4), (5e-5, 1.2e-4), (0.0, 1e-4)];
+    assert_eq!(thin(&speck, true, 0.01), speck.to_vec());
+    assert_eq!(thin(&wiggle, true, 0.0), wiggle);
+    assert_eq!(thin(&wiggle, true, f64::NAN), wiggle);
+}
+
 /// Douglas–Peucker as it was written before [`Farthest`]: `hypot` for
 /// every point, `max_by` over `total_cmp` for a ring's split.
 fn simplify_measuring_every_point(points: &[(f64, f64)], closed: bool, tol: f64) -> Vec<(f64, f64)> {

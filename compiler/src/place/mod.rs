@@ -11,7 +11,7 @@ use taxel_format::{DeviceProfile, FamilyParams};
 
 use crate::diagnostic::{Diagnostic, number};
 use crate::drawing::{Clip, Drawing, Element, Shape};
-use crate::geometry::{FillRule, Polyline};
+use crate::geometry::{self, FillRule, Flattening, Polyline};
 use crate::options::Region;
 use crate::spatial::{Bbox, meet};
 
@@ -52,6 +52,24 @@ fn region_box(d: &Drawing, region: &Region) -> Result<Bbox, Diagnostic> {
                 )
             })
         }
+    }
+}
+
+/// Drops the points of `e`'s outlines (its shape's, its clips' and its
+/// glyphs') that lie within `tol` of the rest ([`geometry::thin`]).
+fn thin(e: &mut Element, tol: f64) {
+    let polys = |v: &mut Vec<Polyline>| {
+        for p in v.iter_mut() {
+            p.points = geometry::thin(&p.points, p.closed, tol);
+        }
+    };
+    match &mut e.shape {
+        Shape::Path(p) => {
+            polys(&mut p.outline);
+            p.clips.iter_mut().for_each(|c| polys(&mut c.outline));
+        }
+        Shape::Text(t) => polys(&mut t.outline),
+        Shape::Image { .. } => {}
     }
 }
 
@@ -203,13 +221,16 @@ pub fn placement(
 /// `profile`'s surface, then leaves out what lies beyond the surface. A region
 /// implies fitting. Without fitting, a page larger than the surface gives one
 /// warning that suggests `--fit`, except on paper, where it is printed on
-/// several pages ([`print_pages`]). Returns `false` (with an error) when the
-/// region cannot be taken or the drawing would take too many pages.
+/// several pages ([`print_pages`]). A drawing shrunk keeps its outlines
+/// within `flattening` of its curves, and no finer (the tolerance it was
+/// flattened at). Returns `false` (with an error) when the region cannot be
+/// taken or the drawing would take too many pages.
 pub fn apply(
     d: &mut Drawing,
     profile: &DeviceProfile,
     fit: bool,
     region: Option<&Region>,
+    flattening: Flattening,
     diags: &mut Vec<Diagnostic>,
 ) -> bool {
     let (sw, sh) = (profile.surface_w_mm as f64, profile.surface_h_mm as f64);
@@ -234,7 +255,19 @@ pub fn apply(
         let shown = part.is_none() && from != page;
         {
             let (s, t) = (p.scale, p.shift);
-            d.elements.par_iter_mut().for_each(|e| transform(e, s, t));
+            // The drawing was flattened at its own size, within `flattening`:
+            // shrunk by `s`, its curves have `1 / s` times the points that
+            // tolerance asks (a world map fitted to a 110 mm surface, 638,000
+            // for 214,000). What the shrinking brought within the rest of the
+            // tolerance of its neighbours goes, so every point of a curve
+            // stays within `flattening` of its polyline.
+            let tol = flattening.curves.min(flattening.arcs) * (1.0 - s);
+            d.elements.par_iter_mut().for_each(|e| {
+                transform(e, s, t);
+                if s < 1.0 {
+                    thin(e, tol);
+                }
+            });
             let sheet = d.page.sheet();
             d.page.sheet_mm = Some((sheet.0 * s + t.0, sheet.1 * s + t.1, sheet.2 * s + t.0, sheet.3 * s + t.1));
             d.page.scale *= s;
@@ -408,7 +441,7 @@ mod tests {
         let p = profiles::builtin("stress2").unwrap(); // 110 x 60 mm
         let mut d = big();
         let mut diags = Vec::new();
-        assert!(apply(&mut d, &p, true, None, &mut diags));
+        assert!(apply(&mut d, &p, true, None, Flattening::DEFAULT, &mut diags));
         // 500 mm square into 110 x 60: scale 60 / 500 = 0.12, 60 mm wide, centred: x offset 25 mm.
         assert_eq!(points(&d.elements[0])[2], (25.0 + 12.0, 12.0));
         assert_eq!(points(&d.elements[1])[0], (25.0 + 48.0, 48.0));
@@ -439,7 +472,7 @@ mod tests {
         };
         let mut d = shown(vec![]);
         let mut diags = Vec::new();
-        assert!(apply(&mut d, &p, true, None, &mut diags));
+        assert!(apply(&mut d, &p, true, None, Flattening::DEFAULT, &mut diags));
         // Shown: 10..50 x 10..40 mm, grown by 1.2 mm: 42.4 x 32.4 mm, so 60 mm high.
         let s = 60.0 / 32.4;
         let b = d.elements[0].bounds().unwrap();
@@ -468,7 +501,7 @@ mod tests {
             [vec![square("c", 185.0, 85.0, 10.0), square("d", 5.0, 5.0, 1.0)], vec![triangle], vec![background]]
         {
             let mut d = shown(extra);
-            assert!(apply(&mut d, &p, true, None, &mut Vec::new()));
+            assert!(apply(&mut d, &p, true, None, Flattening::DEFAULT, &mut Vec::new()));
             let b = d.elements[0].bounds().unwrap();
             assert!((b.0 - 5.5).abs() < 1e-9 && (b.2 - 22.0).abs() < 1e-9, "{b:?}");
         }
@@ -479,7 +512,7 @@ mod tests {
         let p = profiles::builtin("stress2").unwrap();
         let mut d = big();
         let mut diags = Vec::new();
-        assert!(apply(&mut d, &p, false, None, &mut diags));
+        assert!(apply(&mut d, &p, false, None, Flattening::DEFAULT, &mut diags));
         let w: Vec<_> = diags.iter().filter(|d| d.code == "T0202").collect();
         assert_eq!(w.len(), 1);
         assert!(w[0].message.contains("--fit") && w[0].message.contains("2 element(s) beyond it"), "{}", w[0].message);
@@ -496,7 +529,7 @@ mod tests {
         // Drawing units are 2 mm: 200,200,50,50 is page mm 400..500, the square `b`.
         for region in [Region::Rect { x: 200.0, y: 200.0, w: 50.0, h: 50.0 }, Region::Element("b".into())] {
             let mut d = big();
-            assert!(apply(&mut d, &p, false, Some(&region), &mut Vec::new()), "{region:?}");
+            assert!(apply(&mut d, &p, false, Some(&region), Flattening::DEFAULT, &mut Vec::new()), "{region:?}");
             assert_eq!(d.elements.len(), 1, "{region:?}");
             assert_eq!(d.elements[0].id, "b");
             // 100 mm into 60 mm high: scale 0.6, centred x offset (110 - 60) / 2.
@@ -506,7 +539,14 @@ mod tests {
             }
         }
         let mut diags = Vec::new();
-        assert!(!apply(&mut big(), &p, false, Some(&Region::Element("nowhere".into())), &mut diags));
+        assert!(!apply(
+            &mut big(),
+            &p,
+            false,
+            Some(&Region::Element("nowhere".into())),
+            Flattening::DEFAULT,
+            &mut diags
+        ));
         assert_eq!(diags[0].code, "T0210");
     }
 
@@ -525,8 +565,56 @@ mod tests {
             }),
             ..Default::default()
         });
-        assert!(apply(&mut d, &p, true, None, &mut Vec::new()));
+        assert!(apply(&mut d, &p, true, None, Flattening::DEFAULT, &mut Vec::new()));
         let Shape::Text(t) = &d.elements[3].shape else { panic!() };
         assert_eq!((t.runs[0].x_mm, t.runs[0].y_mm, t.font_size_mm), (25.0 + 30.0, 30.0, 1.2));
     }
+
+    /// A drawing of curves shrunk by `--fit` keeps the points its curves
+    /// need at the size they are felt, not the size they were drawn: a
+    /// tenth of the size, about a third of the points (flattening's chords
+    /// go as the square root of the tolerance). Every point of the curve
+    /// stays within the flattening tolerance of its polyline.
+    #[test]
+    fn a_shrunk_drawing_keeps_the_points_its_felt_size_needs() {
+        // 40 wiggles of cubics round a ring, none a circular arc, drawn on a
+        // page of 1,100 x 600 mm (fitted to stress2's 110 x 60 mm at 0.1)
+        // and on one of 110 x 60 mm (not scaled), over a background that
+        // makes `--fit` take the whole page.
+        let mut d = String::from("M 550 40");
+        for k in 0..40 {
+            let a = |t: f64| std::f64::consts::TAU * (k as f64 + t) / 40.0;
+            let at = |t: f64, r: f64| (550.0 + 500.0 * r * a(t).sin(), 300.0 - 260.0 * r * a(t).cos());
+            let (c1, c2, e) = (at(0.3, 1.08), at(0.6, 0.9), at(1.0, 1.0));
+            d += &format!(" C {} {} {} {} {} {}", c1.0, c1.1, c2.0, c2.1, e.0, e.1);
+        }
+        let svg = |w: u32, h: u32| {
+            format!(
+                r##"<svg xmlns="http://www.w3.org/2000/svg" width="{w}mm" height="{h}mm" viewBox="0 0 1100 600"><rect width="1100" height="600" fill="#fff"/><path d="{d} Z" fill="#000"/></svg>"##
+            )
+        };
+        let outline = |svg: &str, fit: bool, flattening: Flattening| {
+            let opts = crate::CompileOptions {
+                fit,
+                flattening,
+                ..crate::CompileOptions::new(profiles::builtin("stress2").unwrap())
+            };
+            let d = crate::pipeline::resolve(svg, &opts).drawing.expect("the drawing resolves");
+            let Shape::Path(p) = &d.elements[1].shape else { panic!("a path") };
+            p.outline.clone()
+        };
+        let shrunk = outline(&svg(1100, 600), true, Flattening::DEFAULT);
+        let felt = outline(&svg(110, 60), false, Flattening::DEFAULT);
+        let count = |o: &[Polyline]| o.iter().map(|p| p.points.len()).sum::<usize>();
+        let (n_shrunk, n_felt) = (count(&shrunk), count(&felt));
+        assert!(n_felt > 200, "the curve has {n_felt} points at its felt size");
+        assert!(n_shrunk * 4 <= n_felt * 5, "{n_shrunk} points shrunk from 1,100 mm against {n_felt} drawn at 110 mm");
+        let fine = outline(&svg(110, 60), false, Flattening { curves: 1e-5, arcs: 1e-5 });
+        for p in fine.iter().flat_map(|pl| pl.points.iter()) {
+            let off = geometry::distance_to_outline(&shrunk, *p);
+            assert!(off <= FLATTEN_MM + 1e-5 + 1e-9, "{p:?} of the curve is {off} mm from the shrunk outline");
+        }
+    }
+
+    const FLATTEN_MM: f64 = geometry::FLATTEN_TOLERANCE_MM;
 }

@@ -575,7 +575,7 @@ fn a_large_drawing_is_printed_on_pages_that_join() {
     d.page.width_mm = w;
     d.page.height_mm = h;
     let mut diags = Vec::new();
-    assert!(crate::place::apply(&mut d, &p, false, None, &mut diags));
+    assert!(crate::place::apply(&mut d, &p, false, None, crate::geometry::Flattening::DEFAULT, &mut diags));
     let note = diags.iter().find(|d| d.code == "T0212").expect("a note says how many pages");
     assert!(note.message.contains("6 pages, 3 across and 2 down"), "{}", note.message);
     assert!(!diags.iter().any(|d| d.code == "T0202"), "nothing is left out: {diags:?}");
@@ -613,12 +613,12 @@ fn a_drawing_of_too_many_pages_is_refused() {
     let (p, _) = profile("swell-a4");
     let mut d = drawing(vec![path("a", rect(20.0, 20.0, 60.0, 40.0), vec![vibrate(1.5, 50.0)])]);
     let mut diags = Vec::new();
-    assert!(crate::place::apply(&mut d.clone(), &p, false, None, &mut diags));
+    assert!(crate::place::apply(&mut d.clone(), &p, false, None, crate::geometry::Flattening::DEFAULT, &mut diags));
     assert!(diags.iter().all(|d| d.code != "T0212"));
     d.page.width_mm = 3000.0;
     d.page.height_mm = 3000.0;
     let mut diags = Vec::new();
-    assert!(!crate::place::apply(&mut d, &p, false, None, &mut diags));
+    assert!(!crate::place::apply(&mut d, &p, false, None, crate::geometry::Flattening::DEFAULT, &mut diags));
     let e = diags.iter().find(|d| d.code == "T0213").expect("refused");
     assert!(e.message.contains("more than 100") && e.help.as_deref().is_some_and(|h| h.contains("--fit")), "{e:?}");
 }
@@ -636,7 +636,7 @@ fn a_relief_of_several_pages_is_a_closed_plate_a_page() {
     )]);
     d.page.width_mm = 1.6 * sw;
     d.page.height_mm = 0.5 * sh;
-    assert!(crate::place::apply(&mut d, &p, false, None, &mut Vec::new()));
+    assert!(crate::place::apply(&mut d, &p, false, None, crate::geometry::Flattening::DEFAULT, &mut Vec::new()));
     let (s, _) = sheet(&d, "print3d");
     assert_eq!((s.tiles, s.pages.len()), ((2, 1), 2));
     let tris = stl::triangles(&s).unwrap();
