@@ -70,14 +70,18 @@ pub fn min_outline_distance(a: &[Polyline], b: &[Polyline], reach: f64, stop_at:
         }
         return best;
     }
-    let tree = RTree::bulk_load(large.into_iter().map(|(a, b)| TreeSeg::new(Seg { a, b })).collect());
+    let large: Vec<Seg> = large.into_iter().map(|(a, b)| Seg { a, b }).collect();
+    let tree = RTree::bulk_load(runs(&large));
     for &(p0, p1) in &small {
         let r = best.min(reach);
-        let q = envelope(grow(seg_box((p0, p1)), r));
-        for s in tree.locate_in_envelope_intersecting(&q) {
-            best = best.min(segment_distance(p0, p1, s.seg.a, s.seg.b));
-            if best <= stop_at {
-                return best;
+        let q = grow(seg_box((p0, p1)), r);
+        for run in tree.locate_in_envelope_intersecting(&envelope(q)) {
+            let (a, n) = (run.first as usize, run.len as usize);
+            for t in large.get(a..a + n).into_iter().flatten().filter(|t| meet(t.bbox(), q)) {
+                best = best.min(segment_distance(p0, p1, t.a, t.b));
+                if best <= stop_at {
+                    return best;
+                }
             }
         }
     }
@@ -107,27 +111,45 @@ impl Seg {
     }
 }
 
-/// A segment in an R*-tree, with its box worked out once: bulk loading asks
-/// for an item's envelope at every comparison of its partitioning, and an
+/// A run of up to [`TREE_RUN`] consecutive segments of one outline in an
+/// R*-tree, with the box of the run worked out once: bulk loading asks for
+/// an item's envelope at every comparison of its partitioning, and an
 /// outline of millions of segments (a curve-heavy path far larger than the
 /// page) spent most of its build recomputing them.
+///
+/// The tree holds runs, not segments: consecutive segments of an outline lie
+/// side by side, so a run's box is hardly larger than its segments' and the
+/// tree is a run's length times smaller. Building the trees of a map of
+/// 1,200 states with detailed borders was a quarter of the gap rule's time
+/// when each segment was an item.
 #[derive(Debug, Clone, Copy)]
-struct TreeSeg {
-    seg: Seg,
+struct TreeRun {
+    /// The run is `segments(k)[first..first + len]`.
+    first: u32,
+    len: u32,
     env: AABB<[f64; 2]>,
 }
 
-impl TreeSeg {
-    fn new(seg: Seg) -> Self {
-        TreeSeg { seg, env: envelope(seg.bbox()) }
-    }
-}
-
-impl RTreeObject for TreeSeg {
+impl RTreeObject for TreeRun {
     type Envelope = AABB<[f64; 2]>;
     fn envelope(&self) -> Self::Envelope {
         self.env
     }
+}
+
+/// Consecutive segments per item of an outline's R*-tree ([`TreeRun`]).
+const TREE_RUN: usize = 8;
+
+/// The runs of [`TREE_RUN`] consecutive segments of `segs`, each with its box.
+fn runs(segs: &[Seg]) -> Vec<TreeRun> {
+    segs.chunks(TREE_RUN)
+        .enumerate()
+        .filter_map(|(k, run)| {
+            let b =
+                run.iter().map(Seg::bbox).reduce(|p, b| (p.0.min(b.0), p.1.min(b.1), p.2.max(b.2), p.3.max(b.3)))?;
+            Some(TreeRun { first: u32::try_from(k * TREE_RUN).ok()?, len: run.len() as u32, env: envelope(b) })
+        })
+        .collect()
 }
 
 /// Outlines with more segments than this get their own R*-tree, so that two
@@ -156,7 +178,7 @@ pub struct OutlineSet {
     /// are (two neighbours' near parts are mostly short enough to scan), and
     /// building every tree up front was a twentieth of the build of a map
     /// of 1,200 states with detailed borders (issue 46).
-    trees: Vec<OnceLock<RTree<TreeSeg>>>,
+    trees: Vec<OnceLock<RTree<TreeRun>>>,
 }
 
 impl OutlineSet {
@@ -207,9 +229,9 @@ impl OutlineSet {
         self.trees.iter().map(|t| t.get().is_some()).collect()
     }
 
-    /// Outline `k`'s tree, built on first use.
-    fn tree(&self, k: usize) -> &RTree<TreeSeg> {
-        self.trees[k].get_or_init(|| RTree::bulk_load(self.segments(k).iter().copied().map(TreeSeg::new).collect()))
+    /// Outline `k`'s tree of runs, built on first use.
+    fn tree(&self, k: usize) -> &RTree<TreeRun> {
+        self.trees[k].get_or_init(|| RTree::bulk_load(runs(self.segments(k))))
     }
 
     /// How many outlines were prepared.
@@ -268,14 +290,19 @@ impl OutlineSet {
             }
         };
         if tree {
-            let tree = self.tree(other);
+            let (tree, segs) = (self.tree(other), self.segments(other));
             for s in near(walk, wg) {
                 let r = best.min(reach);
-                let q = envelope(grow(s.bbox(), r));
-                for t in tree.locate_in_envelope_intersecting(&q) {
-                    best = best.min(segment_distance(s.a, s.b, t.seg.a, t.seg.b));
-                    if best <= stop_at {
-                        return best;
+                let q = grow(s.bbox(), r);
+                for run in tree.locate_in_envelope_intersecting(&envelope(q)) {
+                    let (a, n) = (run.first as usize, run.len as usize);
+                    // The segments of the run whose own boxes meet the
+                    // query: the pairs a tree of segments would give.
+                    for t in segs.get(a..a + n).into_iter().flatten().filter(|t| meet(t.bbox(), q)) {
+                        best = best.min(segment_distance(s.a, s.b, t.a, t.b));
+                        if best <= stop_at {
+                            return best;
+                        }
                     }
                 }
             }
