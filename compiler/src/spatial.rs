@@ -104,6 +104,67 @@ impl BoxIndex {
     }
 }
 
+/// Items joined into groups, each group named by its lowest position (a
+/// union–find with path halving).
+#[derive(Debug)]
+pub struct Groups {
+    parent: Vec<usize>,
+}
+
+impl Groups {
+    /// `n` items, each in a group of its own.
+    pub fn new(n: usize) -> Self {
+        Groups { parent: (0..n).collect() }
+    }
+
+    /// The lowest position in `k`'s group.
+    pub fn root(&mut self, mut k: usize) -> usize {
+        while self.parent[k] != k {
+            self.parent[k] = self.parent[self.parent[k]];
+            k = self.parent[k];
+        }
+        k
+    }
+
+    /// Joins the groups of `a` and `b`; whether they were apart.
+    pub fn join(&mut self, a: usize, b: usize) -> bool {
+        let (ra, rb) = (self.root(a), self.root(b));
+        // The lower position stays the root: the group's first item.
+        self.parent[ra.max(rb)] = ra.min(rb);
+        ra != rb
+    }
+
+    /// The groups, each as its positions in order, in the order of their
+    /// first positions.
+    pub fn lists(mut self) -> Vec<Vec<usize>> {
+        let mut at = vec![usize::MAX; self.parent.len()];
+        let mut lists: Vec<Vec<usize>> = Vec::new();
+        for k in 0..self.parent.len() {
+            let r = self.root(k);
+            if at[r] == usize::MAX {
+                at[r] = lists.len();
+                lists.push(Vec::new());
+            }
+            lists[at[r]].push(k);
+        }
+        lists
+    }
+}
+
+/// `boxes` in groups that meet, directly or through others (touching edges
+/// count): each group as its positions in order, in the order of their first
+/// positions. A box with non-finite or inverted corners is a group of its own.
+pub fn meeting_groups(boxes: &[Bbox]) -> Vec<Vec<usize>> {
+    let index = BoxIndex::new(boxes);
+    let mut groups = Groups::new(boxes.len());
+    for (a, &b) in boxes.iter().enumerate() {
+        for c in index.meeting(b).filter(|&c| c > a) {
+            groups.join(a, c);
+        }
+    }
+    groups.lists()
+}
+
 /// Boxes placed one at a time, each refused when it would meet one already
 /// placed (braille labels that must not run into each other).
 #[derive(Debug, Default)]

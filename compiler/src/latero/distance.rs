@@ -306,30 +306,47 @@ const UNION_MAX_CROSSINGS: usize = 100_000;
 /// two regions of the style share (which lies inside the union and would
 /// play at half amplitude). `None` when no two fills' boxes meet (nothing to
 /// unite) or the fills lie too far out for the union's integer units.
+///
+/// Fills whose boxes do not meet, directly or through others, share no
+/// side and cross nowhere, so each such group is united on its own (in
+/// parallel: a world map's continents and islands), and the union is the
+/// groups' unions one after another, in the order of their first fills.
 fn united_fills(fills: &[(&[Polyline], FillRule)]) -> Option<Vec<Polyline>> {
+    use rayon::prelude::*;
     if fills.len() < 2 {
         return None;
     }
-    let boxes: Vec<_> = fills.iter().filter_map(|(pls, _)| crate::geometry::bounds(pls)).collect();
-    let index = crate::spatial::BoxIndex::new(&boxes);
-    let meet = boxes.iter().enumerate().any(|(i, b)| index.meeting(*b).any(|j| j != i));
-    if !meet {
+    let boxed: Vec<(&[Polyline], FillRule, crate::spatial::Bbox)> =
+        fills.iter().filter_map(|&(pls, rule)| Some((pls, rule, crate::geometry::bounds(pls)?))).collect();
+    let boxes: Vec<_> = boxed.iter().map(|f| f.2).collect();
+    let groups = crate::spatial::meeting_groups(&boxes);
+    if groups.iter().all(|g| g.len() < 2) {
         return None;
     }
     let all = boxes.iter().copied().reduce(|a, b| (a.0.min(b.0), a.1.min(b.1), a.2.max(b.2), a.3.max(b.3)))?;
     let f = overlay::Frame::over(all)?;
     // An overlay's work follows the outlines' crossings: a map's regions
     // share sides and cross a few times, a scribble's fill crosses itself
-    // by the million (16 GB). Past the budget the fills are kept as they are
-    // (a side two of them share then plays as an edge).
-    let segments: Vec<Seg> = fills.iter().flat_map(|(pls, _)| pls.iter().flat_map(closed_segments)).collect();
-    if crate::geometry::crossings::crossings_exceed(&segments, UNION_MAX_CROSSINGS) {
+    // by the million (16 GB). Past the budget (in any one group: no two
+    // groups cross) the fills are kept as they are (a side two of them
+    // share then plays as an edge).
+    let tangled = groups.par_iter().filter(|g| g.len() > 1).any(|g| {
+        let segments: Vec<Seg> = g.iter().flat_map(|&k| boxed[k].0.iter().flat_map(closed_segments)).collect();
+        crate::geometry::crossings::crossings_exceed(&segments, UNION_MAX_CROSSINGS)
+    });
+    if tangled {
         return None;
     }
-    let each: Vec<_> = fills.iter().flat_map(|&(pls, rule)| overlay::simple(pls, rule, f)).collect();
-    let union = overlay::shapes_of(&each, i_overlay::core::fill_rule::FillRule::NonZero);
     let back = |p: &i_overlay::i_float::int::point::IntPoint| (f.ox + p.x as f64 * f.q, f.oy + p.y as f64 * f.q);
-    Some(union.iter().flatten().map(|c| Polyline { points: c.iter().map(back).collect(), closed: true }).collect())
+    let united: Vec<Vec<Polyline>> = groups
+        .par_iter()
+        .map(|g| {
+            let each: Vec<_> = g.iter().flat_map(|&k| overlay::simple(boxed[k].0, boxed[k].1, f)).collect();
+            let union = overlay::shapes_of(&each, i_overlay::core::fill_rule::FillRule::NonZero);
+            union.iter().flatten().map(|c| Polyline { points: c.iter().map(back).collect(), closed: true }).collect()
+        })
+        .collect();
+    Some(united.into_iter().flatten().collect())
 }
 
 /// The `max` entries of `items` with the least keys, nearest first, in the

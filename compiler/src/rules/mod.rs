@@ -161,34 +161,26 @@ type Textures = std::collections::HashMap<usize, (usize, (f64, f64, f64, f64))>;
 fn one_texture(f: &[Feature]) -> Textures {
     let gratings: Vec<usize> =
         (0..f.len()).filter(|&k| f[k].mask.is_some() && matches!(f[k].kind, FeatureKind::Grating { .. })).collect();
-    let mut parent: Vec<usize> = (0..f.len()).collect();
-    fn root(parent: &mut [usize], mut k: usize) -> usize {
-        while parent[k] != k {
-            parent[k] = parent[parent[k]];
-            k = parent[k];
-        }
-        k
-    }
+    let mut groups = spatial::Groups::new(f.len());
     let index = spatial::BoxIndex::new(&gratings.iter().map(|&k| f[k].bbox).collect::<Vec<_>>());
     for &a in &gratings {
         for b in index.meeting(f[a].bbox).map(|n| gratings[n]) {
             if b <= a || f[a].mask != f[b].mask {
                 continue;
             }
-            let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
-            if ra != rb
+            if groups.root(a) != groups.root(b)
                 && spatial::min_outline_distance(&f[a].outline, &f[b].outline, GAP_TOLERANCE_MM, GAP_TOLERANCE_MM)
                     <= GAP_TOLERANCE_MM
             {
                 // The lower index stays the root: the texture's first feature.
-                parent[ra.max(rb)] = ra.min(rb);
+                groups.join(a, b);
             }
         }
     }
     // Per texture (its root): how many gratings, and their box.
     let mut whole: Textures = Default::default();
     for &k in &gratings {
-        let r = root(&mut parent, k);
+        let r = groups.root(k);
         let b = bounds(&f[k].outline).unwrap_or(f[k].bbox);
         let e = whole.entry(r).or_insert((0, b));
         e.0 += 1;
@@ -196,7 +188,7 @@ fn one_texture(f: &[Feature]) -> Textures {
     }
     let mut out = std::collections::HashMap::new();
     for &k in &gratings {
-        let r = root(&mut parent, k);
+        let r = groups.root(k);
         if let Some(&(_, b)) = whole.get(&r).filter(|(n, _)| *n > 1) {
             out.insert(k, (r, b));
         }

@@ -37,6 +37,60 @@ fn near_pairs_match_an_all_pairs_scan() {
     }
 }
 
+#[test]
+fn meeting_groups_are_the_boxes_joined_through_every_meeting_pair() {
+    let mut s = 777u64;
+    let mut next = || {
+        s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (s >> 33) as f64 / (1u64 << 31) as f64
+    };
+    let boxes: Vec<Bbox> = (0..300)
+        .map(|_| {
+            let (x, y, w, h) = (next() * 200.0, next() * 100.0, next() * 6.0, next() * 6.0);
+            (x, y, x + w, y + h)
+        })
+        .chain([(f64::NAN, 0.0, 1.0, 1.0), (5.0, 5.0, 4.0, 4.0), (300.0, 0.0, 301.0, 1.0), (301.0, 0.0, 302.0, 1.0)])
+        .collect();
+    // The reference: a label per box, spread along every meeting pair until
+    // nothing changes (the lowest position of its group).
+    let mut label: Vec<usize> = (0..boxes.len()).collect();
+    let pairs = brute(&boxes, 0.0);
+    loop {
+        let mut changed = false;
+        for &(i, j) in &pairs {
+            let l = label[i].min(label[j]);
+            for k in [i, j] {
+                changed |= label[k] != l;
+                label[k] = l;
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    let groups = meeting_groups(&boxes);
+    let mut seen = vec![false; boxes.len()];
+    let mut firsts = Vec::new();
+    for g in &groups {
+        assert!(g.windows(2).all(|w| w[0] < w[1]), "positions in order: {g:?}");
+        assert!(g.iter().all(|&k| label[k] == g[0]), "one group per label: {g:?}");
+        assert_eq!(label.iter().filter(|&&l| l == g[0]).count(), g.len(), "the whole label in the group");
+        for &k in g {
+            assert!(!std::mem::replace(&mut seen[k], true), "box {k} in two groups");
+        }
+        firsts.push(g[0]);
+    }
+    assert!(seen.iter().all(|&s| s), "every box in a group");
+    assert!(firsts.windows(2).all(|w| w[0] < w[1]), "groups in the order of their first boxes");
+    // Touching edges join; the inverted and the non-finite box stand alone.
+    let at = |k: usize| groups.iter().position(|g| g.contains(&k)).expect("grouped");
+    let n = boxes.len();
+    assert_eq!(at(n - 1), at(n - 2), "boxes that touch are one group");
+    assert_eq!(groups[at(n - 3)], vec![n - 3]);
+    assert_eq!(groups[at(n - 4)], vec![n - 4]);
+    assert!(groups.len() > 10 && groups.iter().any(|g| g.len() > 3), "a scatter with groups of every size");
+}
+
 fn square(x: f64, y: f64, s: f64, n: usize) -> Vec<Polyline> {
     // A square with `n` vertices per side, so that the tree path is taken for large n.
     let mut pts = Vec::new();

@@ -449,6 +449,46 @@ fn occluders_that_share_a_side_hide_the_fill_as_one() {
 /// the exact geometry, and is hidden under the clearing right up to the
 /// neighbour (no crease where the clearing's side crosses it).
 #[test]
+fn fills_united_group_by_group_are_the_fills_united_at_once() {
+    // Clusters of squares that overlap or share sides, the clusters apart,
+    // and in one of them a square with a hole under the even-odd rule.
+    let mut s = 4242u64;
+    let mut next = || {
+        s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (s >> 33) as f64 / (1u64 << 31) as f64
+    };
+    let mut shapes: Vec<(Vec<Polyline>, FillRule)> = Vec::new();
+    for c in 0..12 {
+        let (cx, cy) = ((c % 4) as f64 * 40.0, (c / 4) as f64 * 40.0);
+        for k in 0..c % 5 + 1 {
+            let side = 4.0 + (next() * 8.0).floor();
+            shapes.push((vec![square(cx + k as f64 * 3.0, cy + (next() * 6.0).floor(), side)], FillRule::NonZero));
+        }
+    }
+    shapes.push((vec![square(0.0, 100.0, 10.0), square(3.0, 103.0, 4.0)], FillRule::EvenOdd));
+    shapes.push((vec![square(10.0, 100.0, 6.0)], FillRule::NonZero));
+    let fills: Vec<(&[Polyline], FillRule)> = shapes.iter().map(|(p, r)| (&p[..], *r)).collect();
+    let grouped = united_fills(&fills).expect("the squares meet");
+    // All the fills in one overlay, in the frame of their bounds.
+    let all = crate::geometry::bounds(&shapes.iter().flat_map(|s| s.0.clone()).collect::<Vec<_>>()).expect("bounded");
+    let f = overlay::Frame::over(all).expect("in range");
+    let each: Vec<_> = fills.iter().flat_map(|&(pls, rule)| overlay::simple(pls, rule, f)).collect();
+    let at_once = overlay::shapes_of(&each, i_overlay::core::fill_rule::FillRule::NonZero);
+    let back = |p: &i_overlay::i_float::int::point::IntPoint| (f.ox + p.x as f64 * f.q, f.oy + p.y as f64 * f.q);
+    let at_once: Vec<Polyline> =
+        at_once.iter().flatten().map(|c| Polyline { points: c.iter().map(back).collect(), closed: true }).collect();
+    let sorted = |pls: &[Polyline]| {
+        let mut v: Vec<Vec<(u64, u64)>> =
+            pls.iter().map(|p| p.points.iter().map(|q| (q.0.to_bits(), q.1.to_bits())).collect()).collect();
+        v.sort();
+        v
+    };
+    assert_eq!(sorted(&grouped), sorted(&at_once));
+    // The shared sides are gone: fewer contours than squares, and the hole kept.
+    assert!(grouped.len() < shapes.len() && grouped.len() > 12, "{} contours", grouped.len());
+}
+
+#[test]
 fn regions_that_border_a_layer_leave_its_field_as_it_was() {
     let wiggle = |a: (f64, f64), b: (f64, f64)| -> Vec<(f64, f64)> {
         (0..20)
